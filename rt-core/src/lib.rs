@@ -1,0 +1,6 @@
+//! # mcm-rt-core: the real-time core of the Motion Control Module
+//!
+//! A deterministic controller over plain data, with all I/O at the edges (clock, bus, IPC).
+//! Each module says at its top whether it runs inside the cycle.
+
+pub mod bus;

@@ -1,0 +1,559 @@
+//! The robot configuration file (TOML), read by both processes.
+//!
+//! Every physical parameter of the arm, its drives and the bus lives here, never in code.
+//! Units in the file are the user's units (degrees, seconds, amperes, newton-metres);
+//! the accessors named `*_rad` convert to the SI units used inside the controller.
+//!
+//! ```
+//! let cfg = mcm_shared::config::RobotConfig::from_toml_str(
+//!     mcm_shared::config::PROB2_DEFAULT_TOML).unwrap();
+//! assert_eq!(cfg.axes.len(), 6);
+//! assert_eq!(cfg.cycle.rate_hz, 200);
+//! ```
+
+use crate::NUM_AXES;
+use serde::Deserialize;
+use std::path::Path;
+
+/// The P-Rob2 configuration shipped in `deploy/prob2.toml`, embedded so that the simulated
+/// robot runs with no file at all.
+pub const PROB2_DEFAULT_TOML: &str = include_str!("../../deploy/prob2.toml");
+
+/// Why a configuration was refused. Every variant names the key.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum ConfigError {
+    #[error("cannot read config file {path}: {reason}")]
+    Read { path: String, reason: String },
+    #[error("config is not valid TOML or has an unknown/missing key: {0}")]
+    Parse(String),
+    #[error("config key `{key}` = {value} is not allowed: {allowed}")]
+    Invalid {
+        key: String,
+        value: String,
+        allowed: String,
+    },
+}
+
+fn invalid(key: impl Into<String>, value: impl ToString, allowed: impl Into<String>) -> ConfigError {
+    ConfigError::Invalid {
+        key: key.into(),
+        value: value.to_string(),
+        allowed: allowed.into(),
+    }
+}
+
+/// The whole robot configuration.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RobotConfig {
+    pub robot: RobotSection,
+    pub cycle: CycleConfig,
+    pub bus: BusConfig,
+    pub safety: SafetyConfig,
+    /// Exactly six axes, in order 1..6.
+    #[serde(rename = "axis")]
+    pub axes: Vec<AxisConfig>,
+    pub arm: ArmConfig,
+    pub sim: SimConfig,
+}
+
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSection {
+    /// Model name shown to users, e.g. "P-Rob2".
+    pub name: String,
+}
+
+/// The real-time cycle.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CycleConfig {
+    /// Control and SYNC rate [Hz]. Bounded by the bus load budget (see `bus.load_budget`).
+    pub rate_hz: u32,
+    /// SCHED_FIFO priority of the cycle thread (1..=99).
+    pub priority: u8,
+    /// CPU core the cycle thread is pinned to.
+    pub cpu: usize,
+}
+
+/// Which bus backend drives the arm.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum BusBackend {
+    /// The simulated P-Rob2: simulated CiA 402 drives on an in-process bus.
+    Sim,
+    /// A real CAN interface through Linux SocketCAN.
+    Socketcan,
+}
+
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BusConfig {
+    pub backend: BusBackend,
+    /// SocketCAN interface name (ignored by the simulation, which names its bus `sim0`).
+    pub interface: String,
+    /// Bit rate [bit/s]; used for the bus load check (and by the simulated bus).
+    pub bitrate: u32,
+    /// Refuse a configuration whose worst-case cyclic bus load exceeds this fraction (0..1].
+    pub load_budget: f64,
+    /// Node id of the master (for its own heartbeat, consumed by the drives).
+    pub master_node_id: u8,
+    /// Master heartbeat period [ms].
+    pub master_heartbeat_ms: u16,
+    /// Heartbeat period the drives are configured to produce (0x1017) [ms].
+    pub drive_heartbeat_ms: u16,
+    /// Heartbeat consumer timeout per drive [ms]; must exceed `drive_heartbeat_ms`.
+    pub heartbeat_timeout_ms: u16,
+    /// Timeout of one SDO transaction [ms].
+    pub sdo_timeout_ms: u16,
+    /// How long to wait for a drive's boot-up before reporting it missing [ms].
+    pub boot_timeout_ms: u32,
+    /// Consecutive missed TPDOs after which a drive counts as disconnected.
+    pub max_missed_tpdos: u16,
+    /// If set, every frame is logged in candump format to this file.
+    #[serde(default)]
+    pub candump_log: Option<String>,
+}
+
+/// Safety parameters shared by all axes.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SafetyConfig {
+    /// Position margin kept before each limit by the dynamic (braking distance) check [deg].
+    pub limit_margin_deg: f64,
+    /// Fraction of the maximum deceleration assumed available for braking (0..1].
+    pub braking_efficiency: f64,
+    /// Reaction latency assumed by the braking check, in cycles.
+    pub reaction_cycles: u32,
+    /// Velocity above `overspeed_factor * max_velocity` trips the velocity check.
+    pub overspeed_factor: f64,
+    /// Seconds of cycles kept by the flight recorder.
+    pub flight_recorder_seconds: f64,
+    /// Directory where flight-recorder files are written.
+    pub flight_recorder_dir: String,
+}
+
+/// How an axis finds its zero during calibration.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CalibrationConfig {
+    /// +1: search the stop at the positive end; -1: at the negative end.
+    pub direction: i8,
+    /// Joint angle of the mechanical stop in that direction [deg].
+    pub stop_deg: f64,
+    /// Joint angle at which the light barrier switches, if the axis has one [deg].
+    #[serde(default)]
+    pub light_barrier_deg: Option<f64>,
+    /// Search velocity [deg/s].
+    pub search_velocity_deg_s: f64,
+    /// Current limit while searching [A].
+    pub search_current_a: f64,
+}
+
+/// One axis: limits, drive, motor and gear.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct AxisConfig {
+    pub name: String,
+    /// CANopen node id of the axis's drive (1..=127).
+    pub node_id: u8,
+    /// Software position limits [deg].
+    pub min_deg: f64,
+    pub max_deg: f64,
+    /// Maximum joint velocity [deg/s], acceleration [deg/s^2], jerk [deg/s^3].
+    pub max_velocity_deg_s: f64,
+    pub max_acceleration_deg_s2: f64,
+    #[serde(default)]
+    pub max_jerk_deg_s3: Option<f64>,
+    /// Gear ratio (motor turns per joint turn).
+    pub gear_ratio: f64,
+    /// Gear efficiency (0..1].
+    pub gear_efficiency: f64,
+    /// Encoder counts per motor revolution.
+    pub encoder_counts_per_rev: u32,
+    /// Motor torque constant [Nm/A].
+    pub torque_constant_nm_a: f64,
+    /// Rated (continuous) motor current [A]; the i2t reference.
+    pub rated_current_a: f64,
+    /// Peak motor current [A].
+    pub max_current_a: f64,
+    /// Thermal time constant of the motor winding for i2t [s].
+    pub i2t_time_constant_s: f64,
+    /// Current limit applied while the motor is derated by i2t [A].
+    pub i2t_derated_current_a: f64,
+    /// Joint friction: Coulomb [Nm] and viscous [Nm s/rad], joint side.
+    pub coulomb_friction_nm: f64,
+    pub viscous_friction_nm_s_rad: f64,
+    /// Reflected motor inertia N^2 * J_rotor [kg m^2], joint side.
+    pub armature_kg_m2: f64,
+    /// Following error band: |commanded - actual| above this trips [deg].
+    pub following_error_deg: f64,
+    /// Whether the joint has a holding brake, engaged while the drive is not enabled.
+    #[serde(default)]
+    pub brake: bool,
+    pub calibration: CalibrationConfig,
+}
+
+/// Rigid-body model: standard DH parameters and inertial data per link.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ArmConfig {
+    /// Gravity vector in the base frame [m/s^2].
+    pub gravity: [f64; 3],
+    #[serde(rename = "link")]
+    pub links: Vec<LinkConfig>,
+    pub tool: ToolConfig,
+}
+
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LinkConfig {
+    /// Standard DH: theta = q + offset; d, a [m]; alpha [deg].
+    pub d: f64,
+    pub a: f64,
+    pub alpha_deg: f64,
+    pub offset_deg: f64,
+    pub mass: f64,
+    /// Centre of mass in the link's DH frame [m].
+    pub com: [f64; 3],
+    /// Principal inertia about the centre of mass, axes of the link frame [kg m^2].
+    pub inertia: [f64; 3],
+}
+
+/// Gripper plus payload, lumped at one point of the last frame.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ToolConfig {
+    pub mass: f64,
+    pub com: [f64; 3],
+}
+
+/// The simulated robot.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SimConfig {
+    /// True joint angles at power-up [deg].
+    pub initial_position_deg: [f64; NUM_AXES],
+    /// Physics integration step [us]; the cycle period must be a multiple of it.
+    pub physics_step_us: u32,
+    /// Seed of the pseudo-random encoder offsets drawn at every power-up.
+    pub seed: u64,
+    /// Largest encoder offset drawn at power-up [deg of joint angle].
+    pub max_encoder_offset_deg: f64,
+    /// Stiffness [Nm/rad] and damping [Nm s/rad] of the mechanical stops and of obstacles.
+    pub stop_stiffness_nm_rad: f64,
+    pub stop_damping_nm_s_rad: f64,
+}
+
+impl RobotConfig {
+    /// Parse and validate a configuration.
+    pub fn from_toml_str(text: &str) -> Result<Self, ConfigError> {
+        let cfg: RobotConfig = toml::from_str(text).map_err(|e| ConfigError::Parse(e.to_string()))?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// Read, parse and validate a configuration file.
+    pub fn from_file(path: &Path) -> Result<Self, ConfigError> {
+        let text = std::fs::read_to_string(path).map_err(|e| ConfigError::Read {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        Self::from_toml_str(&text)
+    }
+
+    /// The embedded P-Rob2 configuration.
+    pub fn prob2_default() -> Self {
+        Self::from_toml_str(PROB2_DEFAULT_TOML).expect("embedded deploy/prob2.toml is valid")
+    }
+
+    /// Cycle period [s].
+    pub fn cycle_period_s(&self) -> f64 {
+        1.0 / f64::from(self.cycle.rate_hz)
+    }
+
+    /// Cycle period [ns].
+    pub fn cycle_period_ns(&self) -> u64 {
+        1_000_000_000 / u64::from(self.cycle.rate_hz)
+    }
+
+    /// Check every value; the first problem found is returned, naming its key.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let c = &self.cycle;
+        if !(1..=1000).contains(&c.rate_hz) {
+            return Err(invalid("cycle.rate_hz", c.rate_hz, "1..=1000 Hz"));
+        }
+        if 1_000_000_000 % c.rate_hz != 0 {
+            return Err(invalid(
+                "cycle.rate_hz",
+                c.rate_hz,
+                "a rate whose period is a whole number of nanoseconds (e.g. 100, 200, 250)",
+            ));
+        }
+        if !(1..=99).contains(&c.priority) {
+            return Err(invalid("cycle.priority", c.priority, "1..=99 (SCHED_FIFO)"));
+        }
+        let b = &self.bus;
+        if b.bitrate == 0 {
+            return Err(invalid("bus.bitrate", b.bitrate, "> 0 bit/s"));
+        }
+        if !(b.load_budget > 0.0 && b.load_budget <= 1.0) {
+            return Err(invalid("bus.load_budget", b.load_budget, "0 < budget <= 1"));
+        }
+        if !(1..=127).contains(&b.master_node_id) {
+            return Err(invalid("bus.master_node_id", b.master_node_id, "1..=127"));
+        }
+        if b.drive_heartbeat_ms == 0 {
+            return Err(invalid("bus.drive_heartbeat_ms", 0, "> 0 ms"));
+        }
+        if b.heartbeat_timeout_ms <= b.drive_heartbeat_ms {
+            return Err(invalid(
+                "bus.heartbeat_timeout_ms",
+                b.heartbeat_timeout_ms,
+                format!("more than bus.drive_heartbeat_ms ({})", b.drive_heartbeat_ms),
+            ));
+        }
+        if b.master_heartbeat_ms == 0 {
+            return Err(invalid("bus.master_heartbeat_ms", 0, "> 0 ms"));
+        }
+        if b.sdo_timeout_ms == 0 {
+            return Err(invalid("bus.sdo_timeout_ms", 0, "> 0 ms"));
+        }
+        if b.max_missed_tpdos == 0 {
+            return Err(invalid("bus.max_missed_tpdos", 0, ">= 1"));
+        }
+        let s = &self.safety;
+        if !(s.limit_margin_deg >= 0.0) {
+            return Err(invalid("safety.limit_margin_deg", s.limit_margin_deg, ">= 0 deg"));
+        }
+        if !(s.braking_efficiency > 0.0 && s.braking_efficiency <= 1.0) {
+            return Err(invalid("safety.braking_efficiency", s.braking_efficiency, "0 < x <= 1"));
+        }
+        if !(s.overspeed_factor >= 1.0) {
+            return Err(invalid("safety.overspeed_factor", s.overspeed_factor, ">= 1"));
+        }
+        if !(s.flight_recorder_seconds > 0.0 && s.flight_recorder_seconds <= 60.0) {
+            return Err(invalid(
+                "safety.flight_recorder_seconds",
+                s.flight_recorder_seconds,
+                "0 < s <= 60",
+            ));
+        }
+        if self.axes.len() != NUM_AXES {
+            return Err(invalid("axis", self.axes.len(), "exactly 6 [[axis]] tables"));
+        }
+        let mut seen_ids = [false; 128];
+        for (i, a) in self.axes.iter().enumerate() {
+            a.validate(&format!("axis[{}]", i + 1), &mut seen_ids)?;
+            if a.node_id == b.master_node_id {
+                return Err(invalid(
+                    format!("axis[{}].node_id", i + 1),
+                    a.node_id,
+                    "a node id different from bus.master_node_id",
+                ));
+            }
+        }
+        if self.arm.links.len() != NUM_AXES {
+            return Err(invalid("arm.link", self.arm.links.len(), "exactly 6 [[arm.link]] tables"));
+        }
+        for (i, l) in self.arm.links.iter().enumerate() {
+            let key = format!("arm.link[{}]", i + 1);
+            if !(l.mass > 0.0) {
+                return Err(invalid(format!("{key}.mass"), l.mass, "> 0 kg"));
+            }
+            if l.inertia.iter().any(|v| !(*v > 0.0)) {
+                return Err(invalid(format!("{key}.inertia"), format!("{:?}", l.inertia), "three values > 0 kg m^2"));
+            }
+        }
+        if !(self.arm.tool.mass >= 0.0) {
+            return Err(invalid("arm.tool.mass", self.arm.tool.mass, ">= 0 kg"));
+        }
+        let sim = &self.sim;
+        if sim.physics_step_us == 0 || self.cycle_period_ns() % (u64::from(sim.physics_step_us) * 1000) != 0 {
+            return Err(invalid(
+                "sim.physics_step_us",
+                sim.physics_step_us,
+                format!("> 0 and a divisor of the cycle period ({} us)", self.cycle_period_ns() / 1000),
+            ));
+        }
+        for (i, (q, a)) in sim.initial_position_deg.iter().zip(&self.axes).enumerate() {
+            if !(*q >= a.min_deg && *q <= a.max_deg) {
+                return Err(invalid(
+                    format!("sim.initial_position_deg[{}]", i + 1),
+                    q,
+                    format!("within the axis limits [{}, {}] deg", a.min_deg, a.max_deg),
+                ));
+            }
+        }
+        if !(sim.max_encoder_offset_deg >= 0.0) {
+            return Err(invalid("sim.max_encoder_offset_deg", sim.max_encoder_offset_deg, ">= 0 deg"));
+        }
+        if !(sim.stop_stiffness_nm_rad > 0.0) {
+            return Err(invalid("sim.stop_stiffness_nm_rad", sim.stop_stiffness_nm_rad, "> 0"));
+        }
+        Ok(())
+    }
+}
+
+impl AxisConfig {
+    fn validate(&self, key: &str, seen_ids: &mut [bool; 128]) -> Result<(), ConfigError> {
+        if !(1..=127).contains(&self.node_id) {
+            return Err(invalid(format!("{key}.node_id"), self.node_id, "1..=127"));
+        }
+        if seen_ids[self.node_id as usize] {
+            return Err(invalid(format!("{key}.node_id"), self.node_id, "a node id no other axis uses"));
+        }
+        seen_ids[self.node_id as usize] = true;
+        if !(self.min_deg.is_finite() && self.max_deg.is_finite() && self.min_deg < self.max_deg) {
+            return Err(invalid(
+                format!("{key}.min_deg"),
+                self.min_deg,
+                format!("finite and below {key}.max_deg ({})", self.max_deg),
+            ));
+        }
+        let positive = [
+            ("max_velocity_deg_s", self.max_velocity_deg_s),
+            ("max_acceleration_deg_s2", self.max_acceleration_deg_s2),
+            ("gear_ratio", self.gear_ratio),
+            ("torque_constant_nm_a", self.torque_constant_nm_a),
+            ("rated_current_a", self.rated_current_a),
+            ("max_current_a", self.max_current_a),
+            ("i2t_time_constant_s", self.i2t_time_constant_s),
+            ("i2t_derated_current_a", self.i2t_derated_current_a),
+            ("armature_kg_m2", self.armature_kg_m2),
+            ("following_error_deg", self.following_error_deg),
+            ("calibration.search_velocity_deg_s", self.calibration.search_velocity_deg_s),
+            ("calibration.search_current_a", self.calibration.search_current_a),
+        ];
+        for (name, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(invalid(format!("{key}.{name}"), v, "a finite value > 0"));
+            }
+        }
+        if let Some(j) = self.max_jerk_deg_s3
+            && !(j.is_finite() && j > 0.0)
+        {
+            return Err(invalid(format!("{key}.max_jerk_deg_s3"), j, "a finite value > 0"));
+        }
+        if !(self.gear_efficiency > 0.0 && self.gear_efficiency <= 1.0) {
+            return Err(invalid(format!("{key}.gear_efficiency"), self.gear_efficiency, "0 < x <= 1"));
+        }
+        if self.encoder_counts_per_rev == 0 {
+            return Err(invalid(format!("{key}.encoder_counts_per_rev"), 0, "> 0"));
+        }
+        if self.rated_current_a > self.max_current_a {
+            return Err(invalid(
+                format!("{key}.rated_current_a"),
+                self.rated_current_a,
+                format!("<= {key}.max_current_a ({})", self.max_current_a),
+            ));
+        }
+        if self.i2t_derated_current_a > self.max_current_a {
+            return Err(invalid(
+                format!("{key}.i2t_derated_current_a"),
+                self.i2t_derated_current_a,
+                format!("<= {key}.max_current_a ({})", self.max_current_a),
+            ));
+        }
+        if self.coulomb_friction_nm < 0.0 || self.viscous_friction_nm_s_rad < 0.0 {
+            return Err(invalid(format!("{key}.coulomb_friction_nm"), self.coulomb_friction_nm, "friction >= 0"));
+        }
+        let cal = &self.calibration;
+        if cal.direction != 1 && cal.direction != -1 {
+            return Err(invalid(format!("{key}.calibration.direction"), cal.direction, "+1 or -1"));
+        }
+        let outside = if cal.direction > 0 { cal.stop_deg > self.max_deg } else { cal.stop_deg < self.min_deg };
+        if !outside {
+            return Err(invalid(
+                format!("{key}.calibration.stop_deg"),
+                cal.stop_deg,
+                format!(
+                    "beyond the software limit in the search direction ({} deg)",
+                    if cal.direction > 0 { self.max_deg } else { self.min_deg }
+                ),
+            ));
+        }
+        if let Some(lb) = cal.light_barrier_deg
+            && !(lb > self.min_deg && lb < self.max_deg)
+        {
+            return Err(invalid(
+                format!("{key}.calibration.light_barrier_deg"),
+                lb,
+                format!("inside the limits ({}, {}) deg", self.min_deg, self.max_deg),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Joint-side torque produced by `current` amperes [Nm].
+    pub fn torque_per_amp(&self) -> f64 {
+        self.torque_constant_nm_a * self.gear_ratio * self.gear_efficiency
+    }
+
+    /// Encoder counts per joint radian.
+    pub fn counts_per_rad(&self) -> f64 {
+        f64::from(self.encoder_counts_per_rev) * self.gear_ratio / core::f64::consts::TAU
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn with(edit: impl Fn(&mut String)) -> Result<RobotConfig, ConfigError> {
+        let mut text = PROB2_DEFAULT_TOML.to_string();
+        edit(&mut text);
+        RobotConfig::from_toml_str(&text)
+    }
+
+    #[test]
+    fn embedded_default_is_valid() {
+        let cfg = RobotConfig::prob2_default();
+        assert_eq!(cfg.axes.len(), NUM_AXES);
+        assert_eq!(cfg.bus.backend, BusBackend::Sim);
+        assert_eq!(cfg.cycle_period_ns(), 5_000_000);
+    }
+
+    #[test]
+    fn unknown_key_is_named() {
+        let err = with(|t| *t = t.replacen("[cycle]", "[cycle]\nrate = 3", 1)).unwrap_err();
+        let ConfigError::Parse(msg) = err else { panic!("{err:?}") };
+        assert!(msg.contains("rate"), "{msg}");
+    }
+
+    #[test]
+    fn bad_rate_names_key_value_and_range() {
+        let err = with(|t| *t = t.replacen("rate_hz = 200", "rate_hz = 0", 1)).unwrap_err();
+        assert_eq!(err.to_string(), "config key `cycle.rate_hz` = 0 is not allowed: 1..=1000 Hz");
+    }
+
+    #[test]
+    fn inverted_limits_are_refused() {
+        let err = with(|t| *t = t.replacen("min_deg = -170.0", "min_deg = 171.0", 1)).unwrap_err();
+        assert!(err.to_string().contains("axis[1].min_deg"), "{err}");
+    }
+
+    #[test]
+    fn duplicate_node_id_is_refused() {
+        let err = with(|t| *t = t.replacen("node_id = 2", "node_id = 1", 1)).unwrap_err();
+        assert!(err.to_string().contains("axis[2].node_id"), "{err}");
+    }
+
+    #[test]
+    fn heartbeat_timeout_must_exceed_period() {
+        let err = with(|t| *t = t.replacen("heartbeat_timeout_ms = 150", "heartbeat_timeout_ms = 10", 1)).unwrap_err();
+        assert!(err.to_string().contains("bus.heartbeat_timeout_ms"), "{err}");
+    }
+
+    #[test]
+    fn missing_section_is_a_parse_error() {
+        let err = with(|t| *t = t.replacen("[safety]", "[safetyx]", 1)).unwrap_err();
+        assert!(matches!(err, ConfigError::Parse(_)), "{err:?}");
+    }
+
+    #[test]
+    fn missing_file_names_the_path() {
+        let err = RobotConfig::from_file(Path::new("/nonexistent/robot.toml")).unwrap_err();
+        assert!(err.to_string().contains("/nonexistent/robot.toml"), "{err}");
+    }
+}

@@ -1,0 +1,31 @@
+//! # mcm-shared: the contract between the MCM processes
+//!
+//! Everything two MCM processes (or a co-located controller) must agree on lives here:
+//!
+//! - [`sample`]: the fixed-size `#[repr(C)]` IPC samples (commands in, state and replies out),
+//!   with versioned iceoryx2 type names;
+//! - [`service`]: the iceoryx2 service names, derived from an instance name so that several
+//!   MCMs (and parallel tests) can run side by side on one machine;
+//! - [`mode`]: the operating modes and the typed reasons a command can be refused;
+//! - [`config`]: the robot configuration file;
+//! - [`units`]: the unit conventions at the boundary (degrees outside, radians inside).
+//!
+//! ```
+//! use mcm_shared::{service::ServiceNames, sample::StateSample, NUM_AXES};
+//! let names = ServiceNames::new("robot1").unwrap();
+//! assert_eq!(names.state(), "mcm/robot1/state");
+//! let s = StateSample::default();
+//! assert_eq!(s.position.len(), NUM_AXES);
+//! ```
+
+pub mod config;
+pub mod mode;
+pub mod sample;
+pub mod service;
+pub mod units;
+
+/// Number of axes of the arm. The samples are sized for exactly this many.
+pub const NUM_AXES: usize = 6;
+
+/// The MCM version reported by `info` and the HMI banner.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -1,0 +1,252 @@
+//! Operating modes, command kinds and the typed reasons the real-time core gives when it refuses
+//! or fails a command. They travel through shared memory as `u32`; each enum converts both ways,
+//! and an unknown number is an error, never a silent default.
+
+use core::fmt;
+
+/// A `u32` on the wire that is not a known value of the named enum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("{what} {value} is not known to this MCM version")]
+pub struct UnknownValue {
+    pub what: &'static str,
+    pub value: u32,
+}
+
+macro_rules! wire_enum {
+    ($(#[$m:meta])* $name:ident, $what:literal { $($(#[$vm:meta])* $variant:ident = $num:literal => $text:literal,)* }) => {
+        $(#[$m])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[repr(u32)]
+        pub enum $name { $($(#[$vm])* $variant = $num,)* }
+
+        impl $name {
+            /// Every value, in wire order.
+            pub const ALL: &'static [$name] = &[$($name::$variant,)*];
+
+            /// The name used in the protocol.
+            pub const fn as_str(self) -> &'static str {
+                match self { $($name::$variant => $text,)* }
+            }
+
+            /// The value as sent through shared memory.
+            pub const fn to_wire(self) -> u32 {
+                self as u32
+            }
+        }
+
+        impl TryFrom<u32> for $name {
+            type Error = UnknownValue;
+            fn try_from(value: u32) -> Result<Self, UnknownValue> {
+                match value {
+                    $($num => Ok($name::$variant),)*
+                    _ => Err(UnknownValue { what: $what, value }),
+                }
+            }
+        }
+
+        impl fmt::Display for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(self.as_str())
+            }
+        }
+    };
+}
+
+wire_enum!(
+    /// The operating mode, as reported in `operating_mode`.
+    Mode, "operating mode" {
+        /// Drives powered off, not calibrated (the mode at start-up).
+        Off = 0 => "OFF",
+        /// A safety check tripped; axes stopped. `hold` tries to clear it.
+        Error = 1 => "ERROR",
+        /// Axes kept at their current positions.
+        Hold = 2 => "HOLD",
+        /// Axes can be moved by hand (gravity and friction compensated).
+        Release = 3 => "RELEASE",
+        /// Torques given by an external controller.
+        TorqueControl = 4 => "TORQUE_CONTROL",
+        /// Smooth position control (move_axis, move_all, pvt_points).
+        Pvt = 5 => "PVT",
+        /// Calibration running.
+        Calibration = 6 => "CALIBRATION",
+    }
+);
+
+impl Default for Mode {
+    fn default() -> Self {
+        Mode::Off
+    }
+}
+
+wire_enum!(
+    /// What a command sample asks the real-time core to do.
+    CommandKind, "command kind" {
+        Status = 1 => "status",
+        Hold = 2 => "hold",
+        Info = 3 => "info",
+        Calibrate = 4 => "calibrate",
+        Release = 5 => "release",
+        TorqueControl = 6 => "torque_control",
+        Pvt = 7 => "pvt",
+        MoveAxis = 8 => "move_axis",
+        MoveAll = 9 => "move_all",
+        PvtPoints = 10 => "pvt_points",
+        SetTorques = 11 => "set_torques",
+        Sim = 12 => "sim",
+    }
+);
+
+wire_enum!(
+    /// How the real-time core answered a command.
+    ReplyStatus, "reply status" {
+        /// Done (or accepted, for commands that start a motion).
+        Ok = 0 => "OK",
+        /// Refused; `code` says why, nothing changed.
+        Rejected = 1 => "REJECTED",
+        /// Accepted but failed while running (e.g. calibration could not find its stop).
+        Failed = 2 => "FAILED",
+    }
+);
+
+wire_enum!(
+    /// Why a command was refused or failed, or which safety check tripped. The reply's `axis`
+    /// and `values` carry the details; [`RejectCode::describe`] turns them into words.
+    RejectCode, "reject code" {
+        None = 0 => "none",
+        /// `values[0]` = the current mode as `Mode::to_wire`.
+        WrongMode = 1 => "wrong_mode",
+        /// `axis` = the first uncalibrated axis.
+        NotCalibrated = 2 => "not_calibrated",
+        /// The emergency stop is pressed.
+        EmergencyStop = 3 => "emergency_stop",
+        /// `axis` = the drive that does not answer.
+        DriveDisconnected = 4 => "drive_disconnected",
+        /// `axis` = the drive in fault; `values[0]` = its error code.
+        DriveFault = 5 => "drive_fault",
+        /// `axis`, `values[0]` = value, `values[1]`/`values[2]` = allowed min/max.
+        OutOfRange = 6 => "out_of_range",
+        /// The command exists in the manual but this build does not implement it yet.
+        NotAvailable = 7 => "not_available",
+        /// The command needs the simulated robot.
+        NotSimulated = 8 => "not_simulated",
+        /// `values[0]` = points offered, `values[1]` = free places.
+        QueueFull = 9 => "queue_full",
+        /// `axis`, `values[0]` = position [deg], `values[1]` = limit [deg].
+        PositionLimit = 10 => "position_limit",
+        /// `axis`, `values[0]` = velocity [deg/s], `values[1]` = limit [deg/s].
+        VelocityLimit = 11 => "velocity_limit",
+        /// `axis`, `values[0]` = predicted stop position [deg], `values[1]` = limit [deg].
+        BrakingDistance = 12 => "braking_distance",
+        /// `axis`, `values[0]` = following error [deg], `values[1]` = band [deg].
+        FollowingError = 13 => "following_error",
+        /// `axis`, `values[0]` = step that failed (see the message).
+        CalibrationFailed = 14 => "calibration_failed",
+        /// The command was superseded or the mode left before it finished.
+        Aborted = 15 => "aborted",
+    }
+);
+
+impl Default for RejectCode {
+    fn default() -> Self {
+        RejectCode::None
+    }
+}
+
+impl RejectCode {
+    /// Words for a person: what was wrong, the value, and what is allowed.
+    pub fn describe(self, axis: u32, values: &[f64]) -> String {
+        let v = |i: usize| values.get(i).copied().unwrap_or(f64::NAN);
+        let mode_name = |x: f64| {
+            Mode::try_from(x as u32).map(Mode::as_str).unwrap_or("an unknown mode")
+        };
+        match self {
+            RejectCode::None => "no error".to_string(),
+            RejectCode::WrongMode => format!("not allowed in mode {}", mode_name(v(0))),
+            RejectCode::NotCalibrated => {
+                format!("axis {axis} is not calibrated; run `calibrate` first")
+            }
+            RejectCode::EmergencyStop => {
+                "the emergency stop is pressed; release it, then send `hold`".to_string()
+            }
+            RejectCode::DriveDisconnected => {
+                format!("the drive of axis {axis} does not answer on the bus")
+            }
+            RejectCode::DriveFault => {
+                format!("the drive of axis {axis} is in fault (error code 0x{:04X})", v(0) as u32)
+            }
+            RejectCode::OutOfRange => format!(
+                "axis {axis}: value {} is outside the allowed range [{}, {}]",
+                v(0),
+                v(1),
+                v(2)
+            ),
+            RejectCode::NotAvailable => "not available yet in this MCM version".to_string(),
+            RejectCode::NotSimulated => {
+                "only available when the simulated robot is running".to_string()
+            }
+            RejectCode::QueueFull => format!(
+                "queue full: {} points offered, {} places free; nothing was queued",
+                v(0),
+                v(1)
+            ),
+            RejectCode::PositionLimit => format!(
+                "position limit: axis {axis} at {:.3} deg, limit {:.3} deg",
+                v(0),
+                v(1)
+            ),
+            RejectCode::VelocityLimit => format!(
+                "velocity limit: axis {axis} at {:.3} deg/s, limit {:.3} deg/s",
+                v(0),
+                v(1)
+            ),
+            RejectCode::BrakingDistance => format!(
+                "braking distance: axis {axis} would stop at {:.3} deg, beyond the limit {:.3} deg",
+                v(0),
+                v(1)
+            ),
+            RejectCode::FollowingError => format!(
+                "following error: axis {axis} is {:.3} deg away from its commanded position, band {:.3} deg",
+                v(0),
+                v(1)
+            ),
+            RejectCode::CalibrationFailed => format!("calibration of axis {axis} failed"),
+            RejectCode::Aborted => "aborted".to_string(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wire_round_trip() {
+        for m in Mode::ALL {
+            assert_eq!(Mode::try_from(m.to_wire()), Ok(*m));
+        }
+        for k in CommandKind::ALL {
+            assert_eq!(CommandKind::try_from(k.to_wire()), Ok(*k));
+        }
+        for c in RejectCode::ALL {
+            assert_eq!(RejectCode::try_from(c.to_wire()), Ok(*c));
+        }
+        assert_eq!(
+            Mode::try_from(99).unwrap_err().to_string(),
+            "operating mode 99 is not known to this MCM version"
+        );
+    }
+
+    #[test]
+    fn protocol_names() {
+        assert_eq!(Mode::TorqueControl.as_str(), "TORQUE_CONTROL");
+        assert_eq!(CommandKind::MoveAll.as_str(), "move_all");
+    }
+
+    #[test]
+    fn descriptions_name_the_values() {
+        let s = RejectCode::WrongMode.describe(0, &[Mode::Release.to_wire() as f64]);
+        assert_eq!(s, "not allowed in mode RELEASE");
+        let s = RejectCode::FollowingError.describe(3, &[2.5, 2.0]);
+        assert!(s.contains("axis 3") && s.contains("2.500") && s.contains("2.000"), "{s}");
+    }
+}

@@ -1,0 +1,316 @@
+//! The IPC samples: fixed-size `#[repr(C)]` types shared through iceoryx2.
+//!
+//! iceoryx2 only compares a type's name, size and alignment when a peer opens a service; it
+//! does not see field layouts. So every type name carries a version (`.v1`), every struct has
+//! explicit padding, and the tests at the bottom pin size, alignment and every field offset.
+//! **Any layout change must bump the version in the type name** (and the Python mirror).
+//!
+//! Values are in the user's units: degrees, degrees/s, degrees/s^2, amperes, newton-metres,
+//! seconds. Times are `CLOCK_MONOTONIC` nanoseconds (Python: `time.monotonic_ns()`).
+//!
+//! ## Command arguments (`CommandSample::args`, by kind)
+//! | kind | args | flags |
+//! | --- | --- | --- |
+//! | `Calibrate` | `[0]` which: 0 ALL, 1..6 axis, 7 ELBOW, 8 WRIST; `[1]` elbow direction ±1; `[2]` wrist direction ±1 | bit 0: force mechanical stop |
+//! | `Pvt` | `[0]` dt [s] | |
+//! | `TorqueControl` | `[0]` timeout [s] (negative: none) | bit 0: no gravity compensation |
+//! | `MoveAxis` | `[0]` axis 1..6, `[1]` target [deg], `[2]` velocity factor | |
+//! | `MoveAll` | `[0..6]` targets [deg], `[6]` velocity factor | |
+//! | `SetTorques` | `[0..6]` torques [Nm] | |
+//! | `PvtPoints` | up to [`PVT_POINTS_PER_COMMAND`] points, each 6 positions [deg] then 6 velocities [deg/s] | bits 0..7: points in this sample; bit 8: last sample of the batch |
+//! | `Sim` | `[0]` emergency stop 0/1; `[1]` disconnect axis; `[2]` reconnect axis; `[3]` block axis; `[4]` unblock axis; `[5..11]` external torques [Nm] | bit *n* set: `args` field *n* is present (bit 5 covers all six torques); bit 11: power cycle |
+
+use crate::NUM_AXES;
+use iceoryx2::prelude::ZeroCopySend;
+
+/// Arguments in one command sample.
+pub const COMMAND_ARGS: usize = 64;
+/// PVT points carried by one `PvtPoints` command sample.
+pub const PVT_POINTS_PER_COMMAND: usize = 4;
+/// Replies kept in the state sample's reply ring.
+pub const REPLY_RING: usize = 16;
+/// Values carried by one reply or error record.
+pub const REPLY_VALUES: usize = 8;
+
+/// `CommandSample::flags` for `PvtPoints`: this sample closes its batch.
+pub const PVT_FLAG_LAST: u32 = 1 << 8;
+/// `CommandSample::flags` for `TorqueControl`: torques are not added to the gravity compensation.
+pub const TORQUE_FLAG_NO_GRAVITY: u32 = 1;
+/// `CommandSample::flags` for `Calibrate`: use mechanical stops even where light barriers exist.
+pub const CALIBRATE_FLAG_FORCE_STOP: u32 = 1;
+/// `CommandSample::flags` for `Sim`: power cycle the drives.
+pub const SIM_FLAG_POWER_CYCLE: u32 = 1 << 11;
+
+/// `StateSample::flags`: the emergency stop is pressed.
+pub const STATE_ESTOP: u32 = 1;
+/// `StateSample::flags`: the robot is the simulation (`sim_*` fields are valid).
+pub const STATE_SIMULATED: u32 = 1 << 1;
+/// `StateSample::flags`: every axis is calibrated.
+pub const STATE_ALL_CALIBRATED: u32 = 1 << 2;
+/// `StateSample::flags`: the PVT queue ran dry and the axes were stopped.
+pub const STATE_PVT_STARVED: u32 = 1 << 3;
+/// `StateSample::flags`: the cycle runs without real-time scheduling (see the log of mcm-rt).
+pub const STATE_NOT_REALTIME: u32 = 1 << 4;
+/// `StateSample::flags`: the simulated emergency switch is pressed (ground truth).
+pub const STATE_SIM_ESTOP: u32 = 1 << 5;
+
+/// `StateSample::axis_flags`: the axis is calibrated.
+pub const AXIS_CALIBRATED: u32 = 1;
+/// `StateSample::axis_flags`: the drive answers on the bus.
+pub const AXIS_ONLINE: u32 = 1 << 1;
+/// `StateSample::axis_flags`: the drive is in Operation Enabled.
+pub const AXIS_ENABLED: u32 = 1 << 2;
+/// `StateSample::axis_flags`: the drive reports a fault.
+pub const AXIS_FAULT: u32 = 1 << 3;
+/// `StateSample::axis_flags`: i2t protection has reduced the motor's maximum current.
+pub const AXIS_I2T_DERATED: u32 = 1 << 4;
+
+/// A command to the real-time core. See the module docs for the meaning of `args` per kind.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("mcm.CommandSample.v1")]
+pub struct CommandSample {
+    /// Who sent it: unique per gateway connection or controller (never 0).
+    pub client_id: u64,
+    /// Increasing per client; echoed in the reply.
+    pub request_id: u64,
+    /// [`crate::mode::CommandKind`] as `u32`.
+    pub kind: u32,
+    /// Kind-specific flags.
+    pub flags: u32,
+    pub args: [f64; COMMAND_ARGS],
+}
+
+impl Default for CommandSample {
+    fn default() -> Self {
+        Self {
+            client_id: 0,
+            request_id: 0,
+            kind: 0,
+            flags: 0,
+            args: [0.0; COMMAND_ARGS],
+        }
+    }
+}
+
+/// The answer to one command, kept in the state sample's reply ring.
+#[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+pub struct Reply {
+    /// Position of this reply in the stream of all replies (1, 2, 3, ...; 0 = empty slot).
+    pub seq: u64,
+    pub client_id: u64,
+    pub request_id: u64,
+    /// [`crate::mode::CommandKind`] of the command answered.
+    pub kind: u32,
+    /// [`crate::mode::ReplyStatus`].
+    pub status: u32,
+    /// [`crate::mode::RejectCode`] when not OK.
+    pub code: u32,
+    /// Axis the reply concerns (1..6), 0 for none.
+    pub axis: u32,
+    /// Kind-specific values. `MoveAll` OK: `[0..6]` velocities [deg/s], `[6]` longest axis
+    /// (1..6), `[7]` max time to target [s]. Errors: see [`crate::mode::RejectCode`].
+    pub values: [f64; REPLY_VALUES],
+}
+
+/// The latest safety violation (or drive error), reported spontaneously to every client.
+#[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+pub struct ErrorRecord {
+    /// Increments with every new error; 0 = none since start.
+    pub seq: u64,
+    /// Cycle in which it tripped.
+    pub cycle: u64,
+    /// [`crate::mode::RejectCode`] naming the check.
+    pub code: u32,
+    /// Axis 1..6, 0 for none.
+    pub axis: u32,
+    /// Measured value and limit (see [`crate::mode::RejectCode`]).
+    pub values: [f64; 4],
+}
+
+/// Timing figures of the real-time cycle.
+#[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+pub struct CycleTiming {
+    /// Configured period [ns].
+    pub period_ns: u64,
+    /// Cycles that started later than their whole period.
+    pub overruns: u64,
+    /// Wake-up latency percentiles since start [ns] (from a fixed-bucket histogram).
+    pub latency_p50_ns: u64,
+    pub latency_p99_ns: u64,
+    pub latency_max_ns: u64,
+    /// Longest time spent in one cycle's work (read, step, write, publish) [ns].
+    pub work_max_ns: u64,
+}
+
+/// The state of the arm and of the controller, published once per cycle.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("mcm.StateSample.v1")]
+pub struct StateSample {
+    /// Cycle counter (increments by one every cycle).
+    pub seq: u64,
+    /// `CLOCK_MONOTONIC` at the start of the cycle [ns].
+    pub t_ns: u64,
+    /// [`crate::mode::Mode`] as `u32`.
+    pub mode: u32,
+    /// `STATE_*` bits.
+    pub flags: u32,
+    /// Reported per the manual's notes: commanded in PVT and HOLD, measured otherwise [deg].
+    pub position: [f64; NUM_AXES],
+    /// [deg/s], same rule as `position`.
+    pub velocity: [f64; NUM_AXES],
+    /// [deg/s^2].
+    pub acceleration: [f64; NUM_AXES],
+    /// Motor currents [A]: measured in PVT and HOLD, commanded in RELEASE and TORQUE_CONTROL.
+    pub current: [f64; NUM_AXES],
+    /// Measured position [deg] (raw encoder position until calibrated).
+    pub measured_position: [f64; NUM_AXES],
+    /// Commanded position [deg].
+    pub commanded_position: [f64; NUM_AXES],
+    /// Commanded minus measured position [deg].
+    pub following_error: [f64; NUM_AXES],
+    /// i2t level per motor, 1.0 = threshold.
+    pub i2t: [f64; NUM_AXES],
+    /// Simulation ground truth: joint angles [deg] and velocities [deg/s].
+    pub sim_true_position: [f64; NUM_AXES],
+    pub sim_true_velocity: [f64; NUM_AXES],
+    /// `AXIS_*` bits per axis.
+    pub axis_flags: [u32; NUM_AXES],
+    /// PVT queue: points queued and capacity.
+    pub pvt_queued: u32,
+    pub pvt_capacity: u32,
+    pub timing: CycleTiming,
+    pub last_error: ErrorRecord,
+    /// `seq` of the newest reply in `replies` (0 = none yet). Reply `n` is in slot `n % REPLY_RING`.
+    pub reply_head: u64,
+    pub replies: [Reply; REPLY_RING],
+}
+
+impl Default for StateSample {
+    fn default() -> Self {
+        Self {
+            seq: 0,
+            t_ns: 0,
+            mode: 0,
+            flags: 0,
+            position: [0.0; NUM_AXES],
+            velocity: [0.0; NUM_AXES],
+            acceleration: [0.0; NUM_AXES],
+            current: [0.0; NUM_AXES],
+            measured_position: [0.0; NUM_AXES],
+            commanded_position: [0.0; NUM_AXES],
+            following_error: [0.0; NUM_AXES],
+            i2t: [0.0; NUM_AXES],
+            sim_true_position: [0.0; NUM_AXES],
+            sim_true_velocity: [0.0; NUM_AXES],
+            axis_flags: [0; NUM_AXES],
+            pvt_queued: 0,
+            pvt_capacity: 0,
+            timing: CycleTiming::default(),
+            last_error: ErrorRecord::default(),
+            reply_head: 0,
+            replies: [Reply::default(); REPLY_RING],
+        }
+    }
+}
+
+impl StateSample {
+    /// Append a reply to the ring.
+    pub fn push_reply(&mut self, mut reply: Reply) {
+        self.reply_head += 1;
+        reply.seq = self.reply_head;
+        self.replies[(self.reply_head % REPLY_RING as u64) as usize] = reply;
+    }
+
+    /// The reply with sequence number `seq`, if it is still in the ring.
+    pub fn reply(&self, seq: u64) -> Option<&Reply> {
+        let r = &self.replies[(seq % REPLY_RING as u64) as usize];
+        (seq != 0 && r.seq == seq).then_some(r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::mem::{align_of, offset_of, size_of};
+
+    #[test]
+    fn command_sample_layout_is_pinned() {
+        assert_eq!(size_of::<CommandSample>(), 536);
+        assert_eq!(align_of::<CommandSample>(), 8);
+        assert_eq!(offset_of!(CommandSample, client_id), 0);
+        assert_eq!(offset_of!(CommandSample, request_id), 8);
+        assert_eq!(offset_of!(CommandSample, kind), 16);
+        assert_eq!(offset_of!(CommandSample, flags), 20);
+        assert_eq!(offset_of!(CommandSample, args), 24);
+    }
+
+    #[test]
+    fn reply_and_error_layouts_are_pinned() {
+        assert_eq!(size_of::<Reply>(), 104);
+        assert_eq!(offset_of!(Reply, seq), 0);
+        assert_eq!(offset_of!(Reply, client_id), 8);
+        assert_eq!(offset_of!(Reply, request_id), 16);
+        assert_eq!(offset_of!(Reply, kind), 24);
+        assert_eq!(offset_of!(Reply, status), 28);
+        assert_eq!(offset_of!(Reply, code), 32);
+        assert_eq!(offset_of!(Reply, axis), 36);
+        assert_eq!(offset_of!(Reply, values), 40);
+        assert_eq!(size_of::<ErrorRecord>(), 56);
+        assert_eq!(offset_of!(ErrorRecord, code), 16);
+        assert_eq!(offset_of!(ErrorRecord, values), 24);
+        assert_eq!(size_of::<CycleTiming>(), 48);
+    }
+
+    #[test]
+    fn state_sample_layout_is_pinned() {
+        assert_eq!(align_of::<StateSample>(), 8);
+        let expected = [
+            (offset_of!(StateSample, seq), 0),
+            (offset_of!(StateSample, t_ns), 8),
+            (offset_of!(StateSample, mode), 16),
+            (offset_of!(StateSample, flags), 20),
+            (offset_of!(StateSample, position), 24),
+            (offset_of!(StateSample, velocity), 72),
+            (offset_of!(StateSample, acceleration), 120),
+            (offset_of!(StateSample, current), 168),
+            (offset_of!(StateSample, measured_position), 216),
+            (offset_of!(StateSample, commanded_position), 264),
+            (offset_of!(StateSample, following_error), 312),
+            (offset_of!(StateSample, i2t), 360),
+            (offset_of!(StateSample, sim_true_position), 408),
+            (offset_of!(StateSample, sim_true_velocity), 456),
+            (offset_of!(StateSample, axis_flags), 504),
+            (offset_of!(StateSample, pvt_queued), 528),
+            (offset_of!(StateSample, pvt_capacity), 532),
+            (offset_of!(StateSample, timing), 536),
+            (offset_of!(StateSample, last_error), 584),
+            (offset_of!(StateSample, reply_head), 640),
+            (offset_of!(StateSample, replies), 648),
+        ];
+        for (i, (got, want)) in expected.iter().enumerate() {
+            assert_eq!(got, want, "field #{i} moved");
+        }
+        assert_eq!(size_of::<StateSample>(), 648 + REPLY_RING * 104);
+    }
+
+    #[test]
+    fn reply_ring_keeps_the_newest() {
+        let mut s = StateSample::default();
+        for i in 1..=40u64 {
+            s.push_reply(Reply {
+                request_id: i,
+                ..Reply::default()
+            });
+        }
+        assert_eq!(s.reply_head, 40);
+        assert_eq!(s.reply(40).unwrap().request_id, 40);
+        assert_eq!(s.reply(25).unwrap().request_id, 25);
+        assert!(s.reply(24).is_none(), "overwritten");
+        assert!(s.reply(0).is_none());
+    }
+}

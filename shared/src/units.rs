@@ -1,0 +1,44 @@
+//! Unit conventions.
+//!
+//! Users (JSON, HMI, config file, IPC samples) speak degrees, degrees/s, degrees/s^2, newton-metres
+//! and amperes, as the manual says. Inside the controller everything is SI: radians, rad/s, rad/s^2.
+//! Conversion happens once, at the boundary of the real-time core.
+
+/// Degrees to radians.
+#[inline]
+pub fn deg_to_rad(deg: f64) -> f64 {
+    deg.to_radians()
+}
+
+/// Radians to degrees.
+#[inline]
+pub fn rad_to_deg(rad: f64) -> f64 {
+    rad.to_degrees()
+}
+
+/// Convert six values from degrees to radians.
+#[inline]
+pub fn deg_to_rad6(v: &[f64; 6]) -> [f64; 6] {
+    v.map(deg_to_rad)
+}
+
+/// Convert six values from radians to degrees.
+#[inline]
+pub fn rad_to_deg6(v: &[f64; 6]) -> [f64; 6] {
+    v.map(rad_to_deg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip() {
+        let d = [0.0, 90.0, -45.0, 180.0, 1e-3, -170.0];
+        let back = rad_to_deg6(&deg_to_rad6(&d));
+        for (a, b) in d.iter().zip(back) {
+            assert!((a - b).abs() < 1e-12);
+        }
+        assert!((deg_to_rad(180.0) - core::f64::consts::PI).abs() < 1e-15);
+    }
+}
