@@ -4,3 +4,7 @@
 //! Each module says at its top whether it runs inside the cycle.
 
 pub mod bus;
+pub mod clock;
+pub mod histogram;
+pub mod ipc;
+pub mod realtime;

@@ -28,7 +28,11 @@ impl Frame {
         }
         let mut data = [0u8; 8];
         data[..payload.len()].copy_from_slice(payload);
-        Some(Frame { id, len: payload.len() as u8, data })
+        Some(Frame {
+            id,
+            len: payload.len() as u8,
+            data,
+        })
     }
 
     /// The valid payload bytes.

@@ -13,7 +13,10 @@ pub use frame::Frame;
 pub enum BusError {
     /// The transmit queue is full; the frame was not sent.
     #[error("CAN transmit queue of {interface} is full; frame {frame} not sent")]
-    TxQueueFull { interface: &'static str, frame: Frame },
+    TxQueueFull {
+        interface: &'static str,
+        frame: Frame,
+    },
     /// The interface reported an error (errno).
     #[error("CAN interface {interface} failed: os error {errno}")]
     Os { interface: &'static str, errno: i32 },
@@ -74,7 +77,10 @@ pub trait SimControl {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimCommandError {
     #[error("sim: {argument} = {value} is not an axis; allowed 1..=6")]
-    NoSuchAxis { argument: &'static str, value: usize },
+    NoSuchAxis {
+        argument: &'static str,
+        value: usize,
+    },
     #[error("sim: external_torques[{index}] = {value} is not finite")]
     TorqueNotFinite { index: usize, value: f64 },
 }

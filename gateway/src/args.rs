@@ -1,0 +1,266 @@
+//! Typed access to a command's `arguments` object, with errors that name the command, the
+//! argument, the value received and what is allowed.
+
+use crate::framing::json_kind;
+use serde_json::{Map, Value};
+
+/// Why a command line was refused before it reached the robot.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CommandError {
+    #[error("invalid input: {0}")]
+    Framing(String),
+    #[error("invalid JSON ({0})")]
+    Json(String),
+    #[error(
+        "a command needs a \"command\" field with the command name, e.g. {{\"command\":\"status\"}}"
+    )]
+    MissingCommand,
+    #[error("\"command\" must be a string, got a JSON {got}")]
+    CommandNotString { got: &'static str },
+    #[error("unknown command \"{name}\"{}; known commands: {known}", suggestion.as_ref().map(|s| format!(" (did you mean \"{s}\"?)")).unwrap_or_default())]
+    UnknownCommand {
+        name: String,
+        suggestion: Option<&'static str>,
+        known: String,
+    },
+    #[error(
+        "{command}: unknown field \"{field}\"; a command has only \"command\" and \"arguments\""
+    )]
+    UnknownField {
+        command: &'static str,
+        field: String,
+    },
+    #[error("{command}: \"arguments\" must be an object, got a JSON {got}")]
+    ArgumentsNotObject {
+        command: &'static str,
+        got: &'static str,
+    },
+    #[error("{command}: unknown argument \"{argument}\"; allowed: {allowed}")]
+    UnknownArgument {
+        command: &'static str,
+        argument: String,
+        allowed: String,
+    },
+    #[error("{command}: missing argument \"{argument}\" ({expected})")]
+    Missing {
+        command: &'static str,
+        argument: &'static str,
+        expected: String,
+    },
+    #[error("{command}: argument \"{argument}\" = {value} is not allowed; expected {expected}")]
+    Invalid {
+        command: &'static str,
+        argument: String,
+        value: String,
+        expected: String,
+    },
+}
+
+fn show(v: &Value) -> String {
+    let s = v.to_string();
+    if s.len() > 60 {
+        format!("{}...", &s[..60])
+    } else {
+        s
+    }
+}
+
+/// The `arguments` of one command.
+pub struct Args<'a> {
+    command: &'static str,
+    map: Option<&'a Map<String, Value>>,
+}
+
+impl<'a> Args<'a> {
+    /// Check the argument names against `allowed`.
+    pub fn new(
+        command: &'static str,
+        arguments: Option<&'a Value>,
+        allowed: &[&str],
+    ) -> Result<Self, CommandError> {
+        let map = match arguments {
+            None | Some(Value::Null) => None,
+            Some(Value::Object(m)) => Some(m),
+            Some(other) => {
+                return Err(CommandError::ArgumentsNotObject {
+                    command,
+                    got: json_kind(other),
+                });
+            }
+        };
+        if let Some(m) = map {
+            for key in m.keys() {
+                if !allowed.contains(&key.as_str()) {
+                    return Err(CommandError::UnknownArgument {
+                        command,
+                        argument: key.clone(),
+                        allowed: if allowed.is_empty() {
+                            "none (this command takes no arguments)".to_string()
+                        } else {
+                            allowed.join(", ")
+                        },
+                    });
+                }
+            }
+        }
+        Ok(Self { command, map })
+    }
+
+    pub fn command(&self) -> &'static str {
+        self.command
+    }
+
+    fn get(&self, name: &str) -> Option<&'a Value> {
+        self.map.and_then(|m| m.get(name)).filter(|v| !v.is_null())
+    }
+
+    /// An error for argument `name` holding `value`.
+    pub fn invalid(&self, name: &str, value: &Value, expected: impl Into<String>) -> CommandError {
+        CommandError::Invalid {
+            command: self.command,
+            argument: name.to_string(),
+            value: show(value),
+            expected: expected.into(),
+        }
+    }
+
+    /// An error for a value that is not a JSON value (e.g. computed).
+    pub fn invalid_value(
+        &self,
+        name: &str,
+        value: impl ToString,
+        expected: impl Into<String>,
+    ) -> CommandError {
+        CommandError::Invalid {
+            command: self.command,
+            argument: name.to_string(),
+            value: value.to_string(),
+            expected: expected.into(),
+        }
+    }
+
+    fn missing(&self, name: &'static str, expected: &str) -> CommandError {
+        CommandError::Missing {
+            command: self.command,
+            argument: name,
+            expected: expected.to_string(),
+        }
+    }
+
+    /// An optional finite number within `[min, max]`.
+    pub fn number(
+        &self,
+        name: &'static str,
+        min: f64,
+        max: f64,
+        unit: &str,
+    ) -> Result<Option<f64>, CommandError> {
+        let Some(v) = self.get(name) else {
+            return Ok(None);
+        };
+        let expected = || format!("a number from {min} to {max}{unit}");
+        let x = v
+            .as_f64()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| self.invalid(name, v, expected()))?;
+        if x < min || x > max {
+            return Err(self.invalid(name, v, expected()));
+        }
+        Ok(Some(x))
+    }
+
+    /// A required finite number within `[min, max]`.
+    pub fn required_number(
+        &self,
+        name: &'static str,
+        min: f64,
+        max: f64,
+        unit: &str,
+    ) -> Result<f64, CommandError> {
+        self.number(name, min, max, unit)?
+            .ok_or_else(|| self.missing(name, &format!("a number from {min} to {max}{unit}")))
+    }
+
+    /// An optional boolean; `0` and `1` are accepted too (the manual writes `<bool>` as 1).
+    pub fn boolean(&self, name: &'static str) -> Result<Option<bool>, CommandError> {
+        let Some(v) = self.get(name) else {
+            return Ok(None);
+        };
+        match v {
+            Value::Bool(b) => Ok(Some(*b)),
+            Value::Number(n) if n.as_f64() == Some(0.0) => Ok(Some(false)),
+            Value::Number(n) if n.as_f64() == Some(1.0) => Ok(Some(true)),
+            _ => Err(self.invalid(name, v, "true, false, 1 or 0")),
+        }
+    }
+
+    /// An optional axis number 1..=6.
+    pub fn axis(&self, name: &'static str) -> Result<Option<usize>, CommandError> {
+        let Some(v) = self.get(name) else {
+            return Ok(None);
+        };
+        match v.as_u64() {
+            Some(n @ 1..=6) => Ok(Some(n as usize)),
+            _ => Err(self.invalid(name, v, "an axis number from 1 to 6")),
+        }
+    }
+
+    /// A required axis number 1..=6.
+    pub fn required_axis(&self, name: &'static str) -> Result<usize, CommandError> {
+        self.axis(name)?
+            .ok_or_else(|| self.missing(name, "an axis number from 1 to 6"))
+    }
+
+    /// The raw value of an argument.
+    pub fn raw(&self, name: &'static str) -> Option<&'a Value> {
+        self.get(name)
+    }
+
+    /// A required array of exactly six finite numbers, each checked by `check(axis0, x)`.
+    pub fn six(
+        &self,
+        name: &'static str,
+        what: &str,
+        check: impl Fn(usize, f64) -> Result<(), String>,
+    ) -> Result<Option<[f64; 6]>, CommandError> {
+        let Some(v) = self.get(name) else {
+            return Ok(None);
+        };
+        Ok(Some(six_numbers(self, name, v, what, check)?))
+    }
+
+    pub fn required_six(
+        &self,
+        name: &'static str,
+        what: &str,
+        check: impl Fn(usize, f64) -> Result<(), String>,
+    ) -> Result<[f64; 6], CommandError> {
+        self.six(name, what, check)?
+            .ok_or_else(|| self.missing(name, &format!("an array of 6 {what}")))
+    }
+}
+
+/// Six finite numbers from `v`, each checked by `check`.
+pub fn six_numbers(
+    args: &Args<'_>,
+    name: &str,
+    v: &Value,
+    what: &str,
+    check: impl Fn(usize, f64) -> Result<(), String>,
+) -> Result<[f64; 6], CommandError> {
+    let arr = v
+        .as_array()
+        .filter(|a| a.len() == 6)
+        .ok_or_else(|| args.invalid(name, v, format!("an array of 6 {what}")))?;
+    let mut out = [0.0; 6];
+    for (i, x) in arr.iter().enumerate() {
+        let item = format!("{name}[{i}]");
+        let n = x
+            .as_f64()
+            .filter(|n| n.is_finite())
+            .ok_or_else(|| args.invalid(&item, x, format!("a number ({what})")))?;
+        check(i, n).map_err(|allowed| args.invalid(&item, x, allowed))?;
+        out[i] = n;
+    }
+    Ok(out)
+}

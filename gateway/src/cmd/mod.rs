@@ -1,0 +1,252 @@
+//! The commands of the JSON protocol, one file each: parsing and validation of the arguments
+//! (`parse`), and the shared-memory sample that carries them to the real-time core (`sample`).
+//!
+//! The text HMI parses its words into the same [`Command`] type, so both channels share one
+//! execution path.
+
+mod calibrate;
+mod info;
+mod modes;
+mod move_all;
+mod move_axis;
+mod pvt_points;
+mod set_torques;
+mod sim;
+mod sleep;
+mod status;
+
+pub use calibrate::{Calibrate, Which};
+pub use modes::{Pvt, TorqueControl};
+pub use move_all::MoveAll;
+pub use move_axis::MoveAxis;
+pub use pvt_points::{PvtPoint, PvtPoints};
+pub use set_torques::SetTorques;
+pub use sim::Sim;
+pub use sleep::Sleep;
+pub use status::Status;
+
+use crate::args::CommandError;
+use crate::framing::json_kind;
+use mcm_shared::config::RobotConfig;
+use mcm_shared::mode::CommandKind;
+use mcm_shared::sample::CommandSample;
+use serde_json::Value;
+
+/// Every command name of the protocol, in the order `help` lists them.
+pub const COMMAND_NAMES: &[&str] = &[
+    "status",
+    "info",
+    "hold",
+    "calibrate",
+    "release",
+    "torque_control",
+    "set_torques",
+    "pvt",
+    "move_axis",
+    "move_all",
+    "pvt_points",
+    "sleep",
+    "sim",
+];
+
+/// The default `velocity_factor` of the manual.
+pub const DEFAULT_VELOCITY_FACTOR: f64 = 0.33333;
+
+/// One parsed, validated command.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    Status(Status),
+    Info,
+    Hold,
+    Calibrate(Calibrate),
+    Release,
+    TorqueControl(TorqueControl),
+    SetTorques(SetTorques),
+    Pvt(Pvt),
+    MoveAxis(MoveAxis),
+    MoveAll(MoveAll),
+    PvtPoints(PvtPoints),
+    Sleep(Sleep),
+    Sim(Sim),
+}
+
+impl Command {
+    /// Parse one JSON text (a complete object from the framing layer).
+    pub fn from_json(text: &str, cfg: &RobotConfig) -> Result<Command, CommandError> {
+        let value: Value =
+            serde_json::from_str(text).map_err(|e| CommandError::Json(e.to_string()))?;
+        Self::from_value(&value, cfg)
+    }
+
+    /// Parse one JSON value.
+    pub fn from_value(value: &Value, cfg: &RobotConfig) -> Result<Command, CommandError> {
+        let obj = value.as_object().ok_or_else(|| {
+            CommandError::Framing(format!(
+                "expected a JSON object, got a JSON {}",
+                json_kind(value)
+            ))
+        })?;
+        let name = match obj.get("command") {
+            None => return Err(CommandError::MissingCommand),
+            Some(Value::String(s)) => s.as_str(),
+            Some(other) => {
+                return Err(CommandError::CommandNotString {
+                    got: json_kind(other),
+                });
+            }
+        };
+        let canonical = COMMAND_NAMES
+            .iter()
+            .copied()
+            .find(|n| *n == name)
+            .ok_or_else(|| unknown_command(name))?;
+        if let Some(field) = obj.keys().find(|k| *k != "command" && *k != "arguments") {
+            return Err(CommandError::UnknownField {
+                command: canonical,
+                field: field.clone(),
+            });
+        }
+        Self::parse(canonical, obj.get("arguments"), cfg)
+    }
+
+    /// Parse the arguments of the command `name` (one of [`COMMAND_NAMES`]).
+    pub fn parse(
+        name: &'static str,
+        arguments: Option<&Value>,
+        cfg: &RobotConfig,
+    ) -> Result<Command, CommandError> {
+        use crate::args::Args;
+        let no_args = |n| Args::new(n, arguments, &[]).map(|_| ());
+        Ok(match name {
+            "status" => Command::Status(Status::parse(arguments)?),
+            "info" => {
+                no_args(name)?;
+                Command::Info
+            }
+            "hold" => {
+                no_args(name)?;
+                Command::Hold
+            }
+            "release" => {
+                no_args(name)?;
+                Command::Release
+            }
+            "calibrate" => Command::Calibrate(Calibrate::parse(arguments)?),
+            "torque_control" => Command::TorqueControl(TorqueControl::parse(arguments)?),
+            "set_torques" => Command::SetTorques(SetTorques::parse(arguments, cfg)?),
+            "pvt" => Command::Pvt(Pvt::parse(arguments, cfg)?),
+            "move_axis" => Command::MoveAxis(MoveAxis::parse(arguments, cfg)?),
+            "move_all" => Command::MoveAll(MoveAll::parse(arguments, cfg)?),
+            "pvt_points" => Command::PvtPoints(PvtPoints::parse(arguments, cfg)?),
+            "sleep" => Command::Sleep(Sleep::parse(arguments)?),
+            "sim" => Command::Sim(Sim::parse(arguments)?),
+            other => return Err(unknown_command(other)),
+        })
+    }
+
+    /// The protocol name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Command::Status(_) => "status",
+            Command::Info => "info",
+            Command::Hold => "hold",
+            Command::Calibrate(_) => "calibrate",
+            Command::Release => "release",
+            Command::TorqueControl(_) => "torque_control",
+            Command::SetTorques(_) => "set_torques",
+            Command::Pvt(_) => "pvt",
+            Command::MoveAxis(_) => "move_axis",
+            Command::MoveAll(_) => "move_all",
+            Command::PvtPoints(_) => "pvt_points",
+            Command::Sleep(_) => "sleep",
+            Command::Sim(_) => "sim",
+        }
+    }
+
+    /// The samples that carry this command to the real-time core (several for a long
+    /// `pvt_points` batch); empty for commands the gateway executes itself (`sleep`).
+    pub fn samples(&self) -> Vec<CommandSample> {
+        let one = |kind: CommandKind| vec![sample(kind)];
+        match self {
+            Command::Status(_) => one(CommandKind::Status),
+            Command::Info => one(CommandKind::Info),
+            Command::Hold => one(CommandKind::Hold),
+            Command::Release => one(CommandKind::Release),
+            Command::Calibrate(c) => vec![c.sample()],
+            Command::TorqueControl(c) => vec![c.sample()],
+            Command::SetTorques(c) => vec![c.sample()],
+            Command::Pvt(c) => vec![c.sample()],
+            Command::MoveAxis(c) => vec![c.sample()],
+            Command::MoveAll(c) => vec![c.sample()],
+            Command::PvtPoints(c) => c.samples(),
+            Command::Sleep(_) => Vec::new(),
+            Command::Sim(c) => vec![c.sample()],
+        }
+    }
+}
+
+/// An empty sample of `kind` (client and request ids are filled in by the bridge).
+pub fn sample(kind: CommandKind) -> CommandSample {
+    CommandSample {
+        kind: kind.to_wire(),
+        ..CommandSample::default()
+    }
+}
+
+fn unknown_command(name: &str) -> CommandError {
+    CommandError::UnknownCommand {
+        name: name.chars().take(40).collect(),
+        suggestion: suggest(name, COMMAND_NAMES),
+        known: COMMAND_NAMES.join(", "),
+    }
+}
+
+/// The closest of `candidates` to `word` when it is a plausible typo (edit distance <= 2, or
+/// a unique prefix of at least 3 letters).
+pub fn suggest(word: &str, candidates: &[&'static str]) -> Option<&'static str> {
+    let word = word.to_ascii_lowercase();
+    let best = candidates
+        .iter()
+        .map(|c| (edit_distance(&word, c), *c))
+        .min_by_key(|(d, _)| *d)?;
+    if best.0 <= 2 && best.0 < word.len() {
+        return Some(best.1);
+    }
+    let prefixed: Vec<_> = candidates
+        .iter()
+        .filter(|c| word.len() >= 3 && c.starts_with(&word))
+        .collect();
+    (prefixed.len() == 1).then(|| *prefixed[0])
+}
+
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for (j, cb) in b.iter().enumerate() {
+            let cost = usize::from(ca != *cb);
+            cur[j + 1] = (prev[j] + cost).min(prev[j + 1] + 1).min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+/// Check a joint position against the axis limits of the config.
+pub fn check_position(cfg: &RobotConfig, axis0: usize, deg: f64) -> Result<(), String> {
+    let a = &cfg.axes[axis0];
+    if deg < a.min_deg || deg > a.max_deg {
+        Err(format!(
+            "a position of axis {} within its limits [{}, {}] deg",
+            axis0 + 1,
+            a.min_deg,
+            a.max_deg
+        ))
+    } else {
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests;

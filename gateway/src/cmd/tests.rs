@@ -1,0 +1,192 @@
+use super::*;
+use mcm_shared::sample::PVT_FLAG_LAST;
+
+fn cfg() -> RobotConfig {
+    RobotConfig::prob2_default()
+}
+
+fn parse(text: &str) -> Result<Command, CommandError> {
+    Command::from_json(text, &cfg())
+}
+
+fn err(text: &str) -> String {
+    parse(text).unwrap_err().to_string()
+}
+
+#[test]
+fn simple_commands() {
+    assert_eq!(parse(r#"{"command":"hold"}"#).unwrap(), Command::Hold);
+    assert_eq!(
+        parse(r#"{"command":"status"}"#).unwrap(),
+        Command::Status(Status { detail: false })
+    );
+    assert_eq!(
+        parse(r#"{"command":"status","arguments":{"detail":true}}"#).unwrap(),
+        Command::Status(Status { detail: true })
+    );
+    assert_eq!(
+        parse(r#"{"command":"info","arguments":{}}"#).unwrap(),
+        Command::Info
+    );
+}
+
+#[test]
+fn unknown_command_suggests() {
+    let e = err(r#"{"command":"stauts"}"#);
+    assert!(
+        e.contains("unknown command \"stauts\"") && e.contains("did you mean \"status\""),
+        "{e}"
+    );
+    let e = err(r#"{"command":"fly"}"#);
+    assert!(!e.contains("did you mean"), "{e}");
+    assert!(e.contains("known commands: status, info"), "{e}");
+}
+
+#[test]
+fn structural_errors() {
+    assert!(err(r#"{"arguments":{}}"#).contains("needs a \"command\" field"));
+    assert!(err(r#"{"command":5}"#).contains("must be a string, got a JSON number"));
+    assert!(err(r#"{"command":"hold","argument":{}}"#).contains("unknown field \"argument\""));
+    assert!(
+        err(r#"{"command":"status","arguments":[1]}"#).contains("\"arguments\" must be an object")
+    );
+    assert!(err(r#"{"command":"hold","arguments":{"x":1}}"#).contains("takes no arguments"));
+}
+
+#[test]
+fn move_axis_validation_names_argument_value_and_range() {
+    let m = parse(r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":30}}"#)
+        .unwrap();
+    assert_eq!(
+        m,
+        Command::MoveAxis(MoveAxis {
+            axis: 2,
+            target: 30.0,
+            velocity_factor: DEFAULT_VELOCITY_FACTOR
+        })
+    );
+    let e = err(r#"{"command":"move_axis","arguments":{"axis_index":7,"target_position":30}}"#);
+    assert_eq!(
+        e,
+        "move_axis: argument \"axis_index\" = 7 is not allowed; expected an axis number from 1 to 6"
+    );
+    let e = err(r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":130}}"#);
+    assert!(
+        e.contains("\"target_position\" = 130") && e.contains("-120 to 120"),
+        "{e}"
+    );
+    let e = err(r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":"30"}}"#);
+    assert!(e.contains("\"target_position\" = \"30\""), "{e}");
+    let e = err(r#"{"command":"move_axis","arguments":{"axis_index":2}}"#);
+    assert!(e.contains("missing argument \"target_position\""), "{e}");
+    let e = err(
+        r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":3,"velocity_factor":0}}"#,
+    );
+    assert!(
+        e.contains("velocity_factor") && e.contains("above 0"),
+        "{e}"
+    );
+}
+
+#[test]
+fn move_all_checks_each_target() {
+    let e = err(r#"{"command":"move_all","arguments":{"target_positions":[0,0,0,0,200,0]}}"#);
+    assert!(
+        e.contains("target_positions[4]") && e.contains("axis 5"),
+        "{e}"
+    );
+    let e = err(r#"{"command":"move_all","arguments":{"target_positions":[0,0,0]}}"#);
+    assert!(e.contains("an array of 6"), "{e}");
+    let Command::MoveAll(m) = parse(r#"{"command":"move_all","arguments":{"target_positions":[1,2,3,4,5,6],"velocity_factor":0.5}}"#).unwrap() else {
+        panic!()
+    };
+    let s = m.sample();
+    assert_eq!(&s.args[..7], &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 0.5]);
+}
+
+#[test]
+fn calibrate_arguments() {
+    let Command::Calibrate(c) = parse(r#"{"command":"calibrate","arguments":{"which":"wrist","wrist_direction":-1,"force_mechanical_stop":1}}"#).unwrap() else {
+        panic!()
+    };
+    assert_eq!(c.which, Which::Wrist);
+    assert_eq!(c.wrist_direction, -1);
+    assert!(c.force_mechanical_stop);
+    assert_eq!(
+        parse(r#"{"command":"calibrate","arguments":{"which":3}}"#).unwrap(),
+        Command::Calibrate(Calibrate {
+            which: Which::Axis(3),
+            elbow_direction: 1,
+            wrist_direction: 1,
+            force_mechanical_stop: false
+        })
+    );
+    assert!(
+        err(r#"{"command":"calibrate","arguments":{"which":"KNEE"}}"#)
+            .contains("\"ALL\", \"ELBOW\"")
+    );
+    assert!(
+        err(r#"{"command":"calibrate","arguments":{"elbow_direction":2}}"#).contains("1 or -1")
+    );
+}
+
+#[test]
+fn pvt_points_batches_are_split() {
+    let point = r#"{"position":[0,0,0,0,0,0],"velocity":[0,0,0,0,0,0]}"#;
+    let pts = vec![point; 9].join(",");
+    let Command::PvtPoints(p) = parse(&format!(
+        r#"{{"command":"pvt_points","arguments":{{"points":[{pts}]}}}}"#
+    ))
+    .unwrap() else {
+        panic!()
+    };
+    let samples = p.samples();
+    assert_eq!(samples.len(), 3);
+    assert_eq!(samples[0].flags, 4);
+    assert_eq!(samples[2].flags, 1 | PVT_FLAG_LAST);
+    let e = err(
+        r#"{"command":"pvt_points","arguments":{"points":[{"position":[0,0,0,0,0,0],"velocity":[0,500,0,0,0,0]}]}}"#,
+    );
+    assert!(e.contains("points[0].velocity[1]"), "{e}");
+    assert!(err(r#"{"command":"pvt_points","arguments":{"points":[]}}"#).contains("1 to 1000"));
+}
+
+#[test]
+fn torque_control_and_sleep() {
+    assert_eq!(
+        parse(r#"{"command":"torque_control","arguments":{"timeout":0.1,"dt_status":0.01}}"#)
+            .unwrap(),
+        Command::TorqueControl(TorqueControl {
+            timeout: 0.1,
+            dt_status: 0.01,
+            gravity_compensation: true
+        })
+    );
+    assert!(err(r#"{"command":"torque_control","arguments":{"timeout":0}}"#).contains("positive"));
+    assert!(err(r#"{"command":"sleep","arguments":{"duration":-1}}"#).contains("0 to 3600"));
+    assert!(err(r#"{"command":"sleep"}"#).contains("missing argument \"duration\""));
+    assert!(
+        err(r#"{"command":"set_torques","arguments":{"torques":[0,0,0,0,0,1e9]}}"#)
+            .contains("torques[5]")
+    );
+}
+
+#[test]
+fn sim_flags() {
+    let Command::Sim(s) = parse(r#"{"command":"sim","arguments":{"emergency_stop":true,"block_axis":2,"power_cycle":true}}"#).unwrap() else {
+        panic!()
+    };
+    let sample = s.sample();
+    assert_eq!(sample.flags & 1, 1);
+    assert_eq!(sample.args[0], 1.0);
+    assert_eq!(sample.flags & (1 << 3), 1 << 3);
+    assert_eq!(sample.args[3], 2.0);
+    assert_ne!(sample.flags & mcm_shared::sample::SIM_FLAG_POWER_CYCLE, 0);
+}
+
+#[test]
+fn suggestions() {
+    assert_eq!(suggest("stat", COMMAND_NAMES), Some("status"));
+    assert_eq!(suggest("mov_all", COMMAND_NAMES), Some("move_all"));
+    assert_eq!(suggest("zzzzzz", COMMAND_NAMES), None);
+}

@@ -1,0 +1,353 @@
+//! Splitting the JSON byte stream of one connection into commands.
+//!
+//! The transport rules (docs/protocol.md): one JSON object per command, terminated by `\n`
+//! (`\r\n` accepted). A complete object that is not yet followed by a newline is taken as soon
+//! as it is complete (the manual's own Python example sends none). Whitespace between objects
+//! is ignored. A line that does not hold a JSON object, or holds non-ASCII bytes, becomes one
+//! [`Frame::Invalid`] and decoding resumes after that line. A command that grows beyond
+//! [`MAX_COMMAND_BYTES`] without completing is [`Frame::Oversize`]; the connection is then
+//! closed, so the memory a connection holds stays bounded.
+//!
+//! ```
+//! use mcm_gateway::framing::{Decoder, Frame};
+//! let mut d = Decoder::new();
+//! d.extend(b"{\"command\":\"status\"}{\"command\":");
+//! assert_eq!(d.next_frame(), Some(Frame::Object("{\"command\":\"status\"}".into())));
+//! assert_eq!(d.next_frame(), None); // the second object is not complete yet
+//! d.extend(b"\"hold\"}\r\n");
+//! assert_eq!(d.next_frame(), Some(Frame::Object("{\"command\":\"hold\"}".into())));
+//! ```
+
+/// Longest command accepted (64 KiB).
+pub const MAX_COMMAND_BYTES: usize = 64 * 1024;
+
+/// One unit of input.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Frame {
+    /// A syntactically complete JSON object (ASCII), still to be parsed.
+    Object(String),
+    /// A line that is not a JSON object; `reason` says why.
+    Invalid { reason: String },
+    /// A command longer than [`MAX_COMMAND_BYTES`] without completing.
+    Oversize,
+}
+
+/// Incremental decoder. Feed bytes with [`Decoder::extend`], take frames with
+/// [`Decoder::next_frame`].
+#[derive(Debug, Default)]
+pub struct Decoder {
+    buf: Vec<u8>,
+    /// Scan position inside the current frame (bytes before it are already classified).
+    scan: usize,
+    depth: usize,
+    in_string: bool,
+    escape: bool,
+    non_ascii: Option<(usize, u8)>,
+    /// Discarding the rest of a bad line up to its newline.
+    skipping_line: bool,
+}
+
+fn excerpt(bytes: &[u8]) -> String {
+    let text = String::from_utf8_lossy(bytes);
+    let text = text.trim();
+    if text.chars().count() > 40 {
+        format!("{}...", text.chars().take(40).collect::<String>())
+    } else {
+        text.to_string()
+    }
+}
+
+impl Decoder {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Append received bytes.
+    pub fn extend(&mut self, bytes: &[u8]) {
+        self.buf.extend_from_slice(bytes);
+    }
+
+    /// Bytes held that do not form a frame yet.
+    pub fn buffered(&self) -> usize {
+        self.buf.len()
+    }
+
+    fn reset_scan(&mut self, consumed: usize) {
+        self.buf.drain(..consumed);
+        self.scan = 0;
+        self.depth = 0;
+        self.in_string = false;
+        self.escape = false;
+        self.non_ascii = None;
+    }
+
+    /// The next complete frame, or `None` if more bytes are needed.
+    pub fn next_frame(&mut self) -> Option<Frame> {
+        loop {
+            if self.skipping_line {
+                match self.buf.iter().position(|&b| b == b'\n') {
+                    Some(nl) => {
+                        self.reset_scan(nl + 1);
+                        self.skipping_line = false;
+                    }
+                    None => {
+                        self.buf.clear();
+                        return None;
+                    }
+                }
+            }
+            // Skip whitespace between frames.
+            if self.scan == 0 {
+                let ws = self
+                    .buf
+                    .iter()
+                    .take_while(|b| matches!(b, b' ' | b'\t' | b'\r' | b'\n'))
+                    .count();
+                if ws > 0 {
+                    self.reset_scan(ws);
+                }
+                if self.buf.is_empty() {
+                    return None;
+                }
+            }
+            if self.buf[0] != b'{' {
+                // Not an object: the frame is the whole line.
+                return match self.buf.iter().position(|&b| b == b'\n') {
+                    Some(nl) => {
+                        let line = &self.buf[..nl];
+                        let reason = describe_non_object(line);
+                        self.reset_scan(nl + 1);
+                        Some(Frame::Invalid { reason })
+                    }
+                    None if self.buf.len() > MAX_COMMAND_BYTES => {
+                        self.buf.clear();
+                        self.skipping_line = true;
+                        Some(Frame::Oversize)
+                    }
+                    None => None,
+                };
+            }
+            if let Some(frame) = self.scan_object() {
+                return Some(frame);
+            }
+            if self.buf.len() > MAX_COMMAND_BYTES {
+                self.reset_scan(self.buf.len());
+                self.skipping_line = true;
+                return Some(Frame::Oversize);
+            }
+            return None;
+        }
+    }
+
+    /// Continue scanning an object that starts at `buf[0]`.
+    fn scan_object(&mut self) -> Option<Frame> {
+        while self.scan < self.buf.len() {
+            let i = self.scan;
+            let b = self.buf[i];
+            self.scan += 1;
+            if b >= 0x80 && self.non_ascii.is_none() {
+                self.non_ascii = Some((i, b));
+            }
+            if b == b'\n' {
+                // A newline ends the line: the object is incomplete.
+                let text = excerpt(&self.buf[..i]);
+                self.reset_scan(i + 1);
+                return Some(Frame::Invalid {
+                    reason: format!(
+                        "incomplete JSON object at end of line: `{text}` (a command must be one JSON object on one line)"
+                    ),
+                });
+            }
+            if self.in_string {
+                if self.escape {
+                    self.escape = false;
+                } else if b == b'\\' {
+                    self.escape = true;
+                } else if b == b'"' {
+                    self.in_string = false;
+                }
+                continue;
+            }
+            match b {
+                b'"' => self.in_string = true,
+                b'{' | b'[' => self.depth += 1,
+                b'}' | b']' => {
+                    self.depth = self.depth.saturating_sub(1);
+                    if self.depth == 0 {
+                        let end = i + 1;
+                        let frame = match self.non_ascii {
+                            Some((pos, byte)) => Frame::Invalid {
+                                reason: format!(
+                                    "non-ASCII byte 0x{byte:02X} at position {pos}; commands must be ASCII (use \\u escapes in strings)"
+                                ),
+                            },
+                            None => Frame::Object(
+                                String::from_utf8(self.buf[..end].to_vec()).expect("checked ASCII"),
+                            ),
+                        };
+                        self.reset_scan(end);
+                        return Some(frame);
+                    }
+                }
+                _ => {}
+            }
+        }
+        None
+    }
+}
+
+fn describe_non_object(line: &[u8]) -> String {
+    if let Some((pos, b)) = line.iter().enumerate().find(|(_, b)| **b >= 0x80) {
+        return format!(
+            "non-ASCII byte 0x{b:02X} at position {pos}; commands must be ASCII JSON objects"
+        );
+    }
+    match serde_json::from_slice::<serde_json::Value>(line) {
+        Ok(v) => format!(
+            "expected a JSON object like {{\"command\":\"status\"}}, got a JSON {}: `{}`",
+            json_kind(&v),
+            excerpt(line)
+        ),
+        Err(e) => format!("invalid JSON ({e}): `{}`", excerpt(line)),
+    }
+}
+
+/// The JSON type name of a value, for messages.
+pub fn json_kind(v: &serde_json::Value) -> &'static str {
+    match v {
+        serde_json::Value::Null => "null",
+        serde_json::Value::Bool(_) => "boolean",
+        serde_json::Value::Number(_) => "number",
+        serde_json::Value::String(_) => "string",
+        serde_json::Value::Array(_) => "array",
+        serde_json::Value::Object(_) => "object",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frames(input: &[u8]) -> Vec<Frame> {
+        let mut d = Decoder::new();
+        d.extend(input);
+        std::iter::from_fn(|| d.next_frame()).collect()
+    }
+
+    fn obj(s: &str) -> Frame {
+        Frame::Object(s.to_string())
+    }
+
+    #[test]
+    fn newline_delimited() {
+        assert_eq!(
+            frames(b"{\"command\":\"status\"}\n{\"command\":\"hold\"}\n"),
+            vec![
+                obj("{\"command\":\"status\"}"),
+                obj("{\"command\":\"hold\"}")
+            ]
+        );
+    }
+
+    #[test]
+    fn complete_object_without_newline_is_taken_at_once() {
+        assert_eq!(
+            frames(b"{\"command\":\"release\"}"),
+            vec![obj("{\"command\":\"release\"}")]
+        );
+    }
+
+    #[test]
+    fn crlf_and_whitespace_between_objects() {
+        assert_eq!(
+            frames(b"  {\"a\":1}\r\n\r\n\t{\"b\":[1,{\"c\":2}]} \r\n"),
+            vec![obj("{\"a\":1}"), obj("{\"b\":[1,{\"c\":2}]}")]
+        );
+    }
+
+    #[test]
+    fn braces_inside_strings_do_not_count() {
+        assert_eq!(
+            frames(b"{\"s\":\"}{\\\"\"}\n"),
+            vec![obj("{\"s\":\"}{\\\"\"}")]
+        );
+    }
+
+    #[test]
+    fn byte_by_byte_feeding() {
+        let input = b"{\"command\":\"status\",\"arguments\":{\"detail\":true}}\n{\"x\":1}";
+        let mut d = Decoder::new();
+        let mut out = Vec::new();
+        for b in input {
+            d.extend(&[*b]);
+            while let Some(f) = d.next_frame() {
+                out.push(f);
+            }
+        }
+        assert_eq!(
+            out,
+            vec![
+                obj("{\"command\":\"status\",\"arguments\":{\"detail\":true}}"),
+                obj("{\"x\":1}")
+            ]
+        );
+    }
+
+    #[test]
+    fn non_ascii_is_refused_and_decoding_resumes() {
+        let f = frames("{\"command\":\"stätus\"}\n{\"command\":\"hold\"}\n".as_bytes());
+        assert_eq!(f.len(), 2);
+        let Frame::Invalid { reason } = &f[0] else {
+            panic!("{f:?}")
+        };
+        assert!(reason.contains("non-ASCII byte 0xC3"), "{reason}");
+        assert_eq!(f[1], obj("{\"command\":\"hold\"}"));
+    }
+
+    #[test]
+    fn invalid_json_lines() {
+        let f = frames(b"hello\n[1,2]\n42\n{\"a\":\n{\"ok\":true}\n");
+        assert_eq!(f.len(), 5, "{f:?}");
+        let reasons: Vec<String> = f[..4]
+            .iter()
+            .map(|x| match x {
+                Frame::Invalid { reason } => reason.clone(),
+                other => panic!("{other:?}"),
+            })
+            .collect();
+        assert!(reasons[0].starts_with("invalid JSON"), "{}", reasons[0]);
+        assert!(reasons[1].contains("got a JSON array"), "{}", reasons[1]);
+        assert!(reasons[2].contains("got a JSON number"), "{}", reasons[2]);
+        assert!(
+            reasons[3].starts_with("incomplete JSON object"),
+            "{}",
+            reasons[3]
+        );
+        assert_eq!(f[4], obj("{\"ok\":true}"));
+    }
+
+    #[test]
+    fn oversize_object_is_reported_once_and_memory_is_bounded() {
+        let mut d = Decoder::new();
+        d.extend(b"{\"command\":\"");
+        let chunk = vec![b'a'; 8192];
+        let mut got = Vec::new();
+        for _ in 0..20 {
+            d.extend(&chunk);
+            while let Some(f) = d.next_frame() {
+                got.push(f);
+            }
+            assert!(d.buffered() <= MAX_COMMAND_BYTES + chunk.len());
+        }
+        assert_eq!(got, vec![Frame::Oversize]);
+    }
+
+    #[test]
+    fn oversize_garbage_line_without_newline() {
+        let mut d = Decoder::new();
+        d.extend(&vec![b'x'; MAX_COMMAND_BYTES + 1]);
+        assert_eq!(d.next_frame(), Some(Frame::Oversize));
+        d.extend(b"xx\n{\"a\":1}\n");
+        assert_eq!(d.next_frame(), Some(obj("{\"a\":1}")));
+    }
+}
