@@ -6,6 +6,11 @@
 
 mod frame;
 
+#[cfg(unix)]
+pub mod candump;
+#[cfg(target_os = "linux")]
+pub mod socketcan;
+
 pub use frame::Frame;
 
 /// A bus operation failed.

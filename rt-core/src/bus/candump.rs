@@ -1,0 +1,794 @@
+//! A candump logger for any bus: [`LoggingBus<B>`] wraps a [`Bus`] and records every frame
+//! sent and received, with a `clock_gettime` timestamp and its direction, into a preallocated
+//! lock-free single-producer single-consumer ring. A separate, non-real-time writer thread
+//! drains the ring and writes `candump -L` lines to a file:
+//!
+//! ```text
+//! (1735270496.916858) can0 185#3702A0860100
+//! (1735270496.916901) can0 205#0F00048701000000 T      <- with LogOptions::direction_suffix
+//! # mcm-candump: end of log, 2 frames written, 0 dropped
+//! ```
+//!
+//! The cycle side (`send`/`recv`) never blocks and never allocates: when the ring is full the
+//! frame is counted as dropped. Drop counts are written as `#` comment lines when they change
+//! and at the end of the file (strip them with `grep -v '^#'` before feeding `canplayer`).
+//! [`parse_line`] reads the lines back (comments and blank lines give `Ok(None)`); the frame
+//! lines are also readable by `socketcan::dump::Reader`.
+//!
+//! Runs inside the cycle: `LoggingBus::send`/`recv`. Not in the cycle: `new`, `finish`, the
+//! writer thread, `parse_line`.
+
+use super::{Bus, BusError, Frame, SimControl};
+use std::cell::UnsafeCell;
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+/// Which way a frame went, like `candump -x`: `T` sent by us, `R` received.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    Transmitted,
+    Received,
+}
+
+impl Direction {
+    pub fn letter(self) -> char {
+        match self {
+            Direction::Transmitted => 'T',
+            Direction::Received => 'R',
+        }
+    }
+}
+
+/// Clock of the timestamps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LogClock {
+    /// Wall clock, like candump.
+    Realtime,
+    /// Time since boot, comparable with the cycle's `CLOCK_MONOTONIC` deadlines.
+    Monotonic,
+}
+
+/// Logger settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogOptions {
+    /// Ring capacity in frames (rounded up to a power of two, at least 2).
+    pub capacity: usize,
+    pub clock: LogClock,
+    /// Append ` T` / ` R` to every line (candump -x style).
+    pub direction_suffix: bool,
+    /// How long the writer sleeps when the ring is empty.
+    pub poll_interval: Duration,
+}
+
+impl Default for LogOptions {
+    /// 16384 frames (about 4 s of the P-Rob2's ~4000 frames/s), wall clock, no suffix, 10 ms.
+    fn default() -> Self {
+        LogOptions {
+            capacity: 16384,
+            clock: LogClock::Realtime,
+            direction_suffix: false,
+            poll_interval: Duration::from_millis(10),
+        }
+    }
+}
+
+/// The logger could not be started or writing failed.
+#[derive(Debug, thiserror::Error)]
+pub enum CandumpError {
+    #[error("cannot create candump log {path}: {source}")]
+    Create {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
+    #[error("cannot start the candump writer thread for {path}: {source}")]
+    Spawn {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
+    #[error("writing candump log {path} failed: {source}")]
+    Write {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
+    #[error("the candump writer thread for {path} panicked")]
+    WriterPanicked { path: PathBuf },
+}
+
+/// Counts at the end of a log.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LogSummary {
+    pub written: u64,
+    pub dropped: u64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+struct Record {
+    t_ns: u64,
+    frame: Frame,
+    received: bool,
+}
+
+/// Bounded SPSC ring of `Record`s.
+struct Ring {
+    slots: Box<[UnsafeCell<Record>]>,
+    mask: usize,
+    /// Next slot the producer writes (only the producer stores it).
+    head: AtomicUsize,
+    /// Next slot the consumer reads (only the consumer stores it).
+    tail: AtomicUsize,
+    dropped: AtomicU64,
+    stop: AtomicBool,
+    /// The writer may drain (tests hold it back to force a full ring).
+    go: AtomicBool,
+}
+
+// SAFETY: the slots are shared by exactly one `Producer` and one `Consumer` (neither is
+// `Clone`). The producer writes slot `head` only when `head - tail < capacity` (so the consumer
+// is not reading it) and then publishes it with a Release store of `head`; the consumer reads
+// slot `tail` only when `tail != head` (Acquire load, so the write is visible) and releases it
+// with a Release store of `tail`, which the producer Acquire-loads before reusing the slot.
+unsafe impl Sync for Ring {}
+
+impl Ring {
+    fn new(capacity: usize) -> Ring {
+        let cap = capacity.max(2).next_power_of_two();
+        Ring {
+            slots: (0..cap)
+                .map(|_| UnsafeCell::new(Record::default()))
+                .collect(),
+            mask: cap - 1,
+            head: AtomicUsize::new(0),
+            tail: AtomicUsize::new(0),
+            dropped: AtomicU64::new(0),
+            stop: AtomicBool::new(false),
+            go: AtomicBool::new(true),
+        }
+    }
+
+    fn capacity(&self) -> usize {
+        self.mask + 1
+    }
+}
+
+struct Producer(Arc<Ring>);
+
+impl Producer {
+    /// Store one record; `false` (and counted as dropped) when the ring is full.
+    fn push(&mut self, rec: Record) -> bool {
+        let r = &*self.0;
+        let head = r.head.load(Ordering::Relaxed);
+        let tail = r.tail.load(Ordering::Acquire);
+        if head.wrapping_sub(tail) >= r.capacity() {
+            r.dropped.fetch_add(1, Ordering::Relaxed);
+            return false;
+        }
+        // SAFETY: see `impl Sync for Ring`: this slot is not visible to the consumer until the
+        // Release store below, and the consumer has released it (tail checked above).
+        unsafe { *r.slots[head & r.mask].get() = rec };
+        r.head.store(head.wrapping_add(1), Ordering::Release);
+        true
+    }
+}
+
+struct Consumer(Arc<Ring>);
+
+impl Consumer {
+    fn pop(&mut self) -> Option<Record> {
+        let r = &*self.0;
+        let tail = r.tail.load(Ordering::Relaxed);
+        let head = r.head.load(Ordering::Acquire);
+        if tail == head {
+            return None;
+        }
+        // SAFETY: see `impl Sync for Ring`: the producer published this slot (head Acquire
+        // above) and will not touch it until the Release store of `tail` below.
+        let rec = unsafe { *r.slots[tail & r.mask].get() };
+        r.tail.store(tail.wrapping_add(1), Ordering::Release);
+        Some(rec)
+    }
+}
+
+fn now_ns(clock: LogClock) -> u64 {
+    let id = match clock {
+        LogClock::Realtime => libc::CLOCK_REALTIME,
+        LogClock::Monotonic => libc::CLOCK_MONOTONIC,
+    };
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec and `id` a clock every Linux kernel has.
+    unsafe { libc::clock_gettime(id, &mut ts) };
+    (ts.tv_sec as u64)
+        .saturating_mul(1_000_000_000)
+        .saturating_add(ts.tv_nsec as u64)
+}
+
+/// Write one candump -L line (with newline).
+pub fn write_line(
+    out: &mut impl Write,
+    t_ns: u64,
+    interface: &str,
+    frame: &Frame,
+    direction: Option<Direction>,
+) -> io::Result<()> {
+    let t_us = t_ns / 1000;
+    write!(
+        out,
+        "({}.{:06}) {} {}",
+        t_us / 1_000_000,
+        t_us % 1_000_000,
+        interface,
+        frame
+    )?;
+    if let Some(d) = direction {
+        write!(out, " {}", d.letter())?;
+    }
+    out.write_all(b"\n")
+}
+
+/// Wraps a bus and logs every frame to a candump file (see the module documentation).
+pub struct LoggingBus<B: Bus> {
+    inner: B,
+    producer: Producer,
+    ring: Arc<Ring>,
+    clock: LogClock,
+    path: PathBuf,
+    writer: Option<JoinHandle<io::Result<u64>>>,
+}
+
+impl<B: Bus> LoggingBus<B> {
+    /// Create (truncate) `path` and start the writer thread. `interface` is the name written in
+    /// every line (e.g. `can0`, or `sim0` for the simulation).
+    pub fn new(
+        inner: B,
+        path: impl AsRef<Path>,
+        interface: &str,
+        options: LogOptions,
+    ) -> Result<Self, CandumpError> {
+        Self::build(inner, path.as_ref(), interface, options, true)
+    }
+
+    fn build(
+        inner: B,
+        path: &Path,
+        interface: &str,
+        options: LogOptions,
+        go: bool,
+    ) -> Result<Self, CandumpError> {
+        let file = File::create(path).map_err(|source| CandumpError::Create {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let ring = Arc::new(Ring::new(options.capacity));
+        ring.go.store(go, Ordering::Release);
+        let consumer = Consumer(Arc::clone(&ring));
+        let iface = interface.to_owned();
+        let clock = options.clock;
+        let writer = std::thread::Builder::new()
+            .name("mcm-candump".into())
+            .spawn(move || writer_loop(consumer, BufWriter::new(file), &iface, &options))
+            .map_err(|source| CandumpError::Spawn {
+                path: path.to_path_buf(),
+                source,
+            })?;
+        Ok(LoggingBus {
+            inner,
+            producer: Producer(Arc::clone(&ring)),
+            ring,
+            clock,
+            path: path.to_path_buf(),
+            writer: Some(writer),
+        })
+    }
+
+    pub fn inner(&self) -> &B {
+        &self.inner
+    }
+
+    pub fn inner_mut(&mut self) -> &mut B {
+        &mut self.inner
+    }
+
+    /// Frames not logged so far because the ring was full.
+    pub fn dropped(&self) -> u64 {
+        self.ring.dropped.load(Ordering::Relaxed)
+    }
+
+    fn log(&mut self, frame: &Frame, received: bool) {
+        let rec = Record {
+            t_ns: now_ns(self.clock),
+            frame: *frame,
+            received,
+        };
+        self.producer.push(rec);
+    }
+
+    fn shutdown(&mut self) -> Result<LogSummary, CandumpError> {
+        let Some(handle) = self.writer.take() else {
+            return Ok(LogSummary {
+                written: 0,
+                dropped: self.dropped(),
+            });
+        };
+        self.ring.go.store(true, Ordering::Release);
+        self.ring.stop.store(true, Ordering::Release);
+        handle.thread().unpark();
+        let written = handle
+            .join()
+            .map_err(|_| CandumpError::WriterPanicked {
+                path: self.path.clone(),
+            })?
+            .map_err(|source| CandumpError::Write {
+                path: self.path.clone(),
+                source,
+            })?;
+        Ok(LogSummary {
+            written,
+            dropped: self.dropped(),
+        })
+    }
+
+    /// Stop the writer after it has written everything in the ring and the end line; returns
+    /// the counts (the inner bus is dropped).
+    pub fn finish(mut self) -> Result<LogSummary, CandumpError> {
+        self.shutdown()
+    }
+}
+
+impl<B: Bus> Drop for LoggingBus<B> {
+    fn drop(&mut self) {
+        let _ = self.shutdown();
+    }
+}
+
+impl<B: Bus> Bus for LoggingBus<B> {
+    fn send(&mut self, frame: &Frame) -> Result<(), BusError> {
+        let r = self.inner.send(frame);
+        if r.is_ok() {
+            self.log(frame, false);
+        }
+        r
+    }
+
+    fn recv(&mut self, deadline_ns: u64) -> Result<Option<Frame>, BusError> {
+        let r = self.inner.recv(deadline_ns);
+        if let Ok(Some(f)) = &r {
+            self.log(f, true);
+        }
+        r
+    }
+
+    fn sim(&mut self) -> Option<&mut dyn SimControl> {
+        self.inner.sim()
+    }
+}
+
+fn writer_loop(
+    mut c: Consumer,
+    mut out: BufWriter<File>,
+    iface: &str,
+    opt: &LogOptions,
+) -> io::Result<u64> {
+    let mut written = 0u64;
+    let mut reported_dropped = 0u64;
+    loop {
+        let stopping = c.0.stop.load(Ordering::Acquire);
+        if !c.0.go.load(Ordering::Acquire) {
+            std::thread::park_timeout(opt.poll_interval);
+            continue;
+        }
+        let mut n = 0;
+        while let Some(rec) = c.pop() {
+            let dir = opt.direction_suffix.then_some(if rec.received {
+                Direction::Received
+            } else {
+                Direction::Transmitted
+            });
+            write_line(&mut out, rec.t_ns, iface, &rec.frame, dir)?;
+            n += 1;
+        }
+        written += n;
+        let dropped = c.0.dropped.load(Ordering::Relaxed);
+        if dropped != reported_dropped && !stopping {
+            writeln!(
+                out,
+                "# mcm-candump: {dropped} frames dropped so far (log ring of {} full)",
+                c.0.capacity()
+            )?;
+            reported_dropped = dropped;
+        }
+        if stopping {
+            break;
+        }
+        if n == 0 {
+            out.flush()?;
+            std::thread::park_timeout(opt.poll_interval);
+        }
+    }
+    let dropped = c.0.dropped.load(Ordering::Relaxed);
+    writeln!(
+        out,
+        "# mcm-candump: end of log, {written} frames written, {dropped} dropped"
+    )?;
+    out.flush()?;
+    Ok(written)
+}
+
+/// One parsed candump line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LogLine<'a> {
+    /// Timestamp in microseconds.
+    pub t_us: u64,
+    pub interface: &'a str,
+    pub frame: Frame,
+    pub direction: Option<Direction>,
+}
+
+/// A line is not a candump -L line of a classic 11-bit frame.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("candump line {line:?}: {problem}")]
+pub struct LogParseError {
+    pub line: String,
+    pub problem: &'static str,
+}
+
+fn hex_nibble(b: u8) -> Option<u8> {
+    (b as char).to_digit(16).map(|v| v as u8)
+}
+
+/// Parse `(sec.usec) iface ID#DATA [T|R]`. Blank lines and `#` comments give `Ok(None)`.
+pub fn parse_line(line: &str) -> Result<Option<LogLine<'_>>, LogParseError> {
+    let err = |problem| LogParseError {
+        line: line.to_owned(),
+        problem,
+    };
+    let trimmed = line.trim();
+    if trimmed.is_empty() || trimmed.starts_with('#') {
+        return Ok(None);
+    }
+    let mut fields = trimmed.split_ascii_whitespace();
+    let ts = fields.next().ok_or_else(|| err("empty line"))?;
+    let ts = ts
+        .strip_prefix('(')
+        .and_then(|t| t.strip_suffix(')'))
+        .ok_or_else(|| err("timestamp must be (seconds.microseconds)"))?;
+    let (sec, usec) = ts
+        .split_once('.')
+        .ok_or_else(|| err("timestamp must be (seconds.microseconds)"))?;
+    if usec.len() != 6 {
+        return Err(err("timestamp needs exactly 6 digits of microseconds"));
+    }
+    let sec: u64 = sec
+        .parse()
+        .map_err(|_| err("timestamp seconds are not a number"))?;
+    let usec: u64 = usec
+        .parse()
+        .map_err(|_| err("timestamp microseconds are not a number"))?;
+    let interface = fields.next().ok_or_else(|| err("missing interface"))?;
+    let body = fields.next().ok_or_else(|| err("missing frame"))?;
+    let direction = match fields.next() {
+        None => None,
+        Some("T") | Some("t") => Some(Direction::Transmitted),
+        Some("R") | Some("r") => Some(Direction::Received),
+        Some(_) => return Err(err("direction must be T or R")),
+    };
+    if fields.next().is_some() {
+        return Err(err("unexpected text after the direction"));
+    }
+    let (id, data) = body
+        .split_once('#')
+        .ok_or_else(|| err("frame must be ID#DATA"))?;
+    if id.len() != 3 {
+        return Err(err("only 3-digit (11-bit) ids are supported"));
+    }
+    let id = u16::from_str_radix(id, 16).map_err(|_| err("id is not hex"))?;
+    let bytes = data.as_bytes();
+    if bytes.len() % 2 != 0 || bytes.len() > 16 {
+        return Err(err(
+            "data must be 0..=8 bytes as pairs of hex digits (no RTR, no CAN FD)",
+        ));
+    }
+    let mut payload = [0u8; 8];
+    for (i, pair) in bytes.chunks(2).enumerate() {
+        let (Some(h), Some(l)) = (hex_nibble(pair[0]), hex_nibble(pair[1])) else {
+            return Err(err("data is not hex"));
+        };
+        payload[i] = h << 4 | l;
+    }
+    let frame = Frame::new(id, &payload[..bytes.len() / 2]).ok_or_else(|| err("id above 0x7FF"))?;
+    Ok(Some(LogLine {
+        t_us: sec * 1_000_000 + usec,
+        interface,
+        frame,
+        direction,
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::VecDeque;
+
+    /// A bus that returns what was sent, for the logger tests.
+    #[derive(Default)]
+    struct Loopback(VecDeque<Frame>);
+
+    impl Bus for Loopback {
+        fn send(&mut self, frame: &Frame) -> Result<(), BusError> {
+            self.0.push_back(*frame);
+            Ok(())
+        }
+        fn recv(&mut self, _deadline_ns: u64) -> Result<Option<Frame>, BusError> {
+            Ok(self.0.pop_front())
+        }
+    }
+
+    fn temp_path(name: &str) -> PathBuf {
+        std::env::temp_dir().join(format!("mcm-candump-{}-{name}.log", std::process::id()))
+    }
+
+    fn frames() -> Vec<Frame> {
+        vec![
+            Frame::new(0x080, &[]).unwrap(),
+            Frame::new(0x185, &[0x37, 0x02, 0xA0, 0x86, 0x01, 0x00, 0x00, 0x00]).unwrap(),
+            Frame::new(0x605, &[0x40, 0x41, 0x60, 0, 0, 0, 0, 0]).unwrap(),
+            Frame::new(0x77F, &[0x05]).unwrap(),
+        ]
+    }
+
+    #[test]
+    fn lines_look_like_candump() {
+        let mut s = Vec::new();
+        let f = Frame::new(0x185, &[0x37, 0x02, 0xA0, 0x86, 0x01, 0x00]).unwrap();
+        write_line(&mut s, 1_735_270_496_916_858_123, "can0", &f, None).unwrap();
+        write_line(
+            &mut s,
+            1_002_135_000,
+            "sim0",
+            &Frame::new(0x80, &[]).unwrap(),
+            Some(Direction::Transmitted),
+        )
+        .unwrap();
+        assert_eq!(
+            String::from_utf8(s).unwrap(),
+            "(1735270496.916858) can0 185#3702A0860100\n(1.002135) sim0 080# T\n"
+        );
+    }
+
+    #[test]
+    fn parser_reads_lines_and_refuses_garbage() {
+        let l = parse_line("(1735270496.916858) can0 185#3702A0860100 R")
+            .unwrap()
+            .unwrap();
+        assert_eq!(l.t_us, 1_735_270_496_916_858);
+        assert_eq!(l.interface, "can0");
+        assert_eq!(l.frame.to_string(), "185#3702A0860100");
+        assert_eq!(l.direction, Some(Direction::Received));
+        assert_eq!(parse_line("# comment").unwrap(), None);
+        assert_eq!(parse_line("   ").unwrap(), None);
+        for bad in [
+            "(1.5) can0 080#",
+            "1.000000 can0 080#",
+            "(1.000000) can0 12345678#00",
+            "(1.000000) can0 080#0",
+            "(1.000000) can0 080#R",
+            "(1.000000) can0 080#00 X",
+            "(1.000000) can0 800#",
+            "(1.000000) can0",
+        ] {
+            assert!(parse_line(bad).is_err(), "{bad}");
+        }
+        assert_eq!(
+            parse_line("(1.000000) can0 080#0").unwrap_err().to_string(),
+            "candump line \"(1.000000) can0 080#0\": data must be 0..=8 bytes as pairs of hex digits (no RTR, no CAN FD)"
+        );
+    }
+
+    #[test]
+    fn ring_counts_drops_when_full_and_keeps_order() {
+        let ring = Arc::new(Ring::new(3));
+        assert_eq!(ring.capacity(), 4);
+        let (mut p, mut c) = (Producer(Arc::clone(&ring)), Consumer(Arc::clone(&ring)));
+        for i in 0..6 {
+            let ok = p.push(Record {
+                t_ns: i,
+                ..Record::default()
+            });
+            assert_eq!(ok, i < 4);
+        }
+        assert_eq!(ring.dropped.load(Ordering::Relaxed), 2);
+        assert_eq!(c.pop().unwrap().t_ns, 0);
+        assert!(p.push(Record {
+            t_ns: 10,
+            ..Record::default()
+        }));
+        let rest: Vec<u64> = std::iter::from_fn(|| c.pop()).map(|r| r.t_ns).collect();
+        assert_eq!(rest, [1, 2, 3, 10]);
+    }
+
+    #[test]
+    fn ring_is_consistent_across_threads() {
+        let ring = Arc::new(Ring::new(64));
+        let mut p = Producer(Arc::clone(&ring));
+        let mut c = Consumer(Arc::clone(&ring));
+        const N: u64 = 50_000;
+        let reader = std::thread::spawn(move || {
+            let mut got = Vec::new();
+            loop {
+                match c.pop() {
+                    Some(r) => {
+                        if r.t_ns == u64::MAX {
+                            return got;
+                        }
+                        assert_eq!(r.frame.data[0], r.t_ns as u8, "torn record");
+                        got.push(r.t_ns);
+                    }
+                    None => std::thread::yield_now(),
+                }
+            }
+        });
+        let mut pushed = 0;
+        for i in 0..N {
+            let mut f = Frame::new(0x100, &[0; 8]).unwrap();
+            f.data[0] = i as u8;
+            pushed += usize::from(p.push(Record {
+                t_ns: i,
+                frame: f,
+                received: false,
+            }));
+        }
+        while !p.push(Record {
+            t_ns: u64::MAX,
+            ..Record::default()
+        }) {
+            std::thread::yield_now();
+        }
+        let got = reader.join().unwrap();
+        assert!(
+            got.windows(2).all(|w| w[0] < w[1]),
+            "order kept, no duplicates"
+        );
+        assert_eq!(got.len(), pushed);
+    }
+
+    #[test]
+    fn logged_file_parses_line_by_line() {
+        let path = temp_path("roundtrip");
+        let opts = LogOptions {
+            direction_suffix: true,
+            ..LogOptions::default()
+        };
+        let mut bus = LoggingBus::new(Loopback::default(), &path, "sim0", opts).unwrap();
+        for f in frames() {
+            bus.send(&f).unwrap();
+            assert_eq!(bus.recv(0).unwrap(), Some(f));
+        }
+        assert_eq!(bus.recv(0).unwrap(), None);
+        let summary = bus.finish().unwrap();
+        assert_eq!(
+            summary,
+            LogSummary {
+                written: 8,
+                dropped: 0
+            }
+        );
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 9, "{text}");
+        assert_eq!(
+            lines[8],
+            "# mcm-candump: end of log, 8 frames written, 0 dropped"
+        );
+        let parsed: Vec<LogLine> = lines
+            .iter()
+            .filter_map(|l| parse_line(l).unwrap())
+            .collect();
+        assert_eq!(parsed.len(), 8);
+        for (k, l) in parsed.iter().enumerate() {
+            assert_eq!(l.interface, "sim0");
+            assert_eq!(l.frame, frames()[k / 2]);
+            let dir = if k % 2 == 0 {
+                Direction::Transmitted
+            } else {
+                Direction::Received
+            };
+            assert_eq!(l.direction, Some(dir));
+        }
+        assert!(parsed.windows(2).all(|w| w[0].t_us <= w[1].t_us));
+        #[cfg(target_os = "linux")]
+        {
+            let frame_lines: String = lines
+                .iter()
+                .filter(|l| !l.starts_with('#'))
+                .map(|l| format!("{l}\n"))
+                .collect();
+            let mut reader = ::socketcan::dump::Reader::from_reader(frame_lines.as_bytes());
+            for (k, line) in parsed.iter().enumerate() {
+                let rec = reader.next_record().unwrap().unwrap();
+                assert_eq!(rec.device, "sim0");
+                assert_eq!(format!("{:X}", rec.frame), frames()[k / 2].to_string());
+                assert_eq!(rec.t_us, line.t_us);
+            }
+            assert!(reader.next_record().unwrap().is_none());
+        }
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn full_ring_counts_drops_and_reports_them_in_the_file() {
+        let path = temp_path("drops");
+        let opts = LogOptions {
+            capacity: 8,
+            clock: LogClock::Monotonic,
+            ..LogOptions::default()
+        };
+        // The writer is held back so that the ring fills deterministically.
+        let mut bus = LoggingBus::build(Loopback::default(), &path, "can0", opts, false).unwrap();
+        for k in 0..20u8 {
+            bus.send(&Frame::new(0x200, &[k]).unwrap()).unwrap();
+        }
+        assert_eq!(bus.dropped(), 12);
+        let summary = bus.finish().unwrap();
+        assert_eq!(
+            summary,
+            LogSummary {
+                written: 8,
+                dropped: 12
+            }
+        );
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            text.ends_with("# mcm-candump: end of log, 8 frames written, 12 dropped\n"),
+            "{text}"
+        );
+        let first: Vec<u8> = text
+            .lines()
+            .filter_map(|l| parse_line(l).unwrap())
+            .map(|l| l.frame.data[0])
+            .collect();
+        assert_eq!(first, [0, 1, 2, 3, 4, 5, 6, 7]);
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn dropping_the_bus_ends_the_log() {
+        let path = temp_path("drop");
+        {
+            let mut bus =
+                LoggingBus::new(Loopback::default(), &path, "can0", LogOptions::default()).unwrap();
+            bus.send(&Frame::new(0x080, &[]).unwrap()).unwrap();
+        }
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            text.ends_with("# mcm-candump: end of log, 1 frames written, 0 dropped\n"),
+            "{text}"
+        );
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn unwritable_path_is_named() {
+        let err = LoggingBus::new(
+            Loopback::default(),
+            "/nonexistent-dir/x.log",
+            "can0",
+            LogOptions::default(),
+        )
+        .err()
+        .unwrap();
+        assert!(
+            err.to_string()
+                .starts_with("cannot create candump log /nonexistent-dir/x.log:"),
+            "{err}"
+        );
+    }
+}

@@ -1,0 +1,206 @@
+//! Worst-case bus load of the cyclic traffic, checked against `bus.load_budget` at start-up.
+//!
+//! Frame length (classic CAN, 11-bit id, `s` data bytes, worst-case bit stuffing, Davis et
+//! al. 2007): `bits(s) = 47 + 8 s + floor((33 + 8 s) / 4)`, i.e. 55 bits for SYNC, 65 for a
+//! heartbeat, 135 for an 8-byte PDO. Per cycle the MCM sends SYNC and, per axis, RPDO1 and
+//! TPDO1 (8 bytes each); heartbeats (every drive at `bus.drive_heartbeat_ms`, the master at
+//! `bus.master_heartbeat_ms`) are added as a rate. Event-driven PDOs (RPDO2/TPDO2), EMCY and
+//! SDO are not cyclic and are left out: the budget is what leaves room for them.
+//!
+//! Runs once at start-up (not in the cycle).
+//!
+//! ```
+//! use mcm_rt_core::canopen::busload::frame_bits_worst_case;
+//! assert_eq!(frame_bits_worst_case(8), 135);
+//! assert_eq!(frame_bits_worst_case(0), 55);
+//! ```
+
+use mcm_shared::config::RobotConfig;
+
+/// Worst-case length of a classic CAN frame with an 11-bit id and `len` data bytes, including
+/// stuff bits and the 3-bit interframe space.
+pub const fn frame_bits_worst_case(len: u8) -> u32 {
+    let s = len as u32;
+    47 + 8 * s + (33 + 8 * s) / 4
+}
+
+/// The same frame without any stuff bits (best case).
+pub const fn frame_bits_unstuffed(len: u8) -> u32 {
+    47 + 8 * len as u32
+}
+
+/// Bytes of the cyclic PDOs (RPDO1 and TPDO1 of the MCM drive profile).
+pub const CYCLIC_RPDO_BYTES: u8 = 8;
+pub const CYCLIC_TPDO_BYTES: u8 = 8;
+
+/// The computed load and every number that went into it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BusLoad {
+    pub axes: u32,
+    pub rpdo_bits: u32,
+    pub tpdo_bits: u32,
+    pub sync_bits: u32,
+    /// `axes * (rpdo_bits + tpdo_bits) + sync_bits`.
+    pub bits_per_cycle: u32,
+    pub rate_hz: u32,
+    pub bitrate: u32,
+    pub heartbeat_producers: u32,
+    pub heartbeat_bits_per_s: f64,
+    /// Total worst-case bits per second.
+    pub bits_per_s: f64,
+    /// Fraction of the bit rate (0.67 = 67 %).
+    pub load: f64,
+    pub budget: f64,
+    /// Highest cycle rate that fits the budget with these frames.
+    pub max_rate_hz: f64,
+}
+
+impl BusLoad {
+    /// Compute the load of `axes` axes at `rate_hz` on a `bitrate` bus with the given
+    /// heartbeat periods (`drive_hb_ms` for each drive, `master_hb_ms` for the master; 0 =
+    /// no heartbeat).
+    pub fn compute(
+        axes: u32,
+        rate_hz: u32,
+        bitrate: u32,
+        drive_hb_ms: u16,
+        master_hb_ms: u16,
+        budget: f64,
+    ) -> BusLoad {
+        let rpdo_bits = frame_bits_worst_case(CYCLIC_RPDO_BYTES);
+        let tpdo_bits = frame_bits_worst_case(CYCLIC_TPDO_BYTES);
+        let sync_bits = frame_bits_worst_case(0);
+        let bits_per_cycle = axes * (rpdo_bits + tpdo_bits) + sync_bits;
+        let hb_bits = f64::from(frame_bits_worst_case(1));
+        let per_s = |ms: u16| if ms == 0 { 0.0 } else { 1000.0 / f64::from(ms) };
+        let heartbeat_bits_per_s =
+            hb_bits * (f64::from(axes) * per_s(drive_hb_ms) + per_s(master_hb_ms));
+        let heartbeat_producers =
+            if drive_hb_ms == 0 { 0 } else { axes } + u32::from(master_hb_ms != 0);
+        let bits_per_s = f64::from(bits_per_cycle) * f64::from(rate_hz) + heartbeat_bits_per_s;
+        let bitrate_f = f64::from(bitrate.max(1));
+        BusLoad {
+            axes,
+            rpdo_bits,
+            tpdo_bits,
+            sync_bits,
+            bits_per_cycle,
+            rate_hz,
+            bitrate,
+            heartbeat_producers,
+            heartbeat_bits_per_s,
+            bits_per_s,
+            load: bits_per_s / bitrate_f,
+            budget,
+            max_rate_hz: ((budget * bitrate_f - heartbeat_bits_per_s) / f64::from(bits_per_cycle))
+                .max(0.0),
+        }
+    }
+
+    /// The load of a robot configuration.
+    pub fn of_config(cfg: &RobotConfig) -> BusLoad {
+        let b = &cfg.bus;
+        BusLoad::compute(
+            cfg.axes.len() as u32,
+            cfg.cycle.rate_hz,
+            b.bitrate,
+            b.drive_heartbeat_ms,
+            b.master_heartbeat_ms,
+            b.load_budget,
+        )
+    }
+
+    /// Bus time of one cycle's frames [µs].
+    pub fn cycle_bus_time_us(&self) -> f64 {
+        f64::from(self.bits_per_cycle) * 1e6 / f64::from(self.bitrate.max(1))
+    }
+
+    /// `Ok(self)` within the budget, else the error with all numbers.
+    pub fn check(self) -> Result<BusLoad, BusLoadError> {
+        if self.load <= self.budget {
+            Ok(self)
+        } else {
+            Err(BusLoadError::OverBudget(self))
+        }
+    }
+}
+
+/// Check the configuration's cyclic bus load against `bus.load_budget`.
+pub fn check_config(cfg: &RobotConfig) -> Result<BusLoad, BusLoadError> {
+    BusLoad::of_config(cfg).check()
+}
+
+/// The configured traffic does not fit the bus.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum BusLoadError {
+    #[error(
+        "worst-case bus load {:.1} % exceeds bus.load_budget {:.1} %: per cycle {} bits \
+         ({} axes x (RPDO1 {} + TPDO1 {} bits) + SYNC {} bits) = {:.0} us at {} bit/s, \
+         x cycle.rate_hz {} = {:.0} bit/s, plus heartbeats {:.0} bit/s ({} producers x {} bits); \
+         allowed: cycle.rate_hz <= {:.0} Hz at this bit rate, or a higher bus.bitrate",
+        .0.load * 100.0, .0.budget * 100.0, .0.bits_per_cycle, .0.axes, .0.rpdo_bits, .0.tpdo_bits,
+        .0.sync_bits, .0.cycle_bus_time_us(), .0.bitrate, .0.rate_hz,
+        f64::from(.0.bits_per_cycle) * f64::from(.0.rate_hz), .0.heartbeat_bits_per_s,
+        .0.heartbeat_producers, frame_bits_worst_case(1), .0.max_rate_hz.floor()
+    )]
+    OverBudget(BusLoad),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_sizes_match_the_reference() {
+        let sizes: Vec<u32> = [0u8, 1, 2, 4, 6, 8]
+            .iter()
+            .map(|&s| frame_bits_worst_case(s))
+            .collect();
+        assert_eq!(sizes, [55, 65, 75, 95, 115, 135]);
+        assert_eq!(frame_bits_unstuffed(8), 111);
+        assert_eq!(frame_bits_unstuffed(0), 47);
+    }
+
+    #[test]
+    fn reference_numbers_at_1_mbit() {
+        let l = BusLoad::compute(6, 250, 1_000_000, 0, 0, 0.7);
+        assert_eq!(l.bits_per_cycle, 1675);
+        assert!((l.cycle_bus_time_us() - 1675.0).abs() < 1e-9);
+        assert!((l.load - 0.41875).abs() < 1e-12, "{}", l.load);
+        assert!((BusLoad::compute(6, 500, 1_000_000, 0, 0, 1.0).load - 0.8375).abs() < 1e-12);
+        assert!((BusLoad::compute(6, 1000, 1_000_000, 0, 0, 1.0).load - 1.675).abs() < 1e-12);
+        // 70 % ceiling: 418 Hz.
+        assert_eq!(l.max_rate_hz.floor(), 417.0);
+        assert!((l.max_rate_hz - 417.91).abs() < 0.01);
+        // Heartbeats of 7 nodes at 100 ms: +0.46 % of 1 Mbit/s.
+        let hb = BusLoad::compute(6, 250, 1_000_000, 100, 100, 0.7);
+        assert!((hb.heartbeat_bits_per_s / 1e6 - 0.00455).abs() < 1e-6);
+        assert_eq!(hb.heartbeat_producers, 7);
+    }
+
+    #[test]
+    fn prob2_default_is_accepted() {
+        let cfg = RobotConfig::prob2_default();
+        let l = check_config(&cfg).unwrap();
+        assert_eq!(l.bits_per_cycle, 1675);
+        assert_eq!((l.rate_hz, l.bitrate), (200, 500_000));
+        assert!((l.cycle_bus_time_us() - 3350.0).abs() < 1e-9);
+        // 1675 * 200 + 65 * (6 * 20 + 20) = 344100 bit/s of 500000.
+        assert!((l.load - 0.6882).abs() < 1e-9, "{}", l.load);
+        assert!(l.load > 0.67 && l.load < 0.70);
+    }
+
+    #[test]
+    fn prob2_at_250_hz_is_refused_with_the_numbers() {
+        let mut cfg = RobotConfig::prob2_default();
+        cfg.cycle.rate_hz = 250;
+        let err = check_config(&cfg).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "worst-case bus load 85.6 % exceeds bus.load_budget 80.0 %: per cycle 1675 bits \
+             (6 axes x (RPDO1 135 + TPDO1 135 bits) + SYNC 55 bits) = 3350 us at 500000 bit/s, \
+             x cycle.rate_hz 250 = 418750 bit/s, plus heartbeats 9100 bit/s (7 producers x 65 bits); \
+             allowed: cycle.rate_hz <= 233 Hz at this bit rate, or a higher bus.bitrate"
+        );
+    }
+}

@@ -1,0 +1,686 @@
+//! The CANopen master of the MCM: boots and configures the six drives, supervises them
+//! (heartbeat, missed TPDOs, EMCY) and turns per-axis [`DriveRequest`]s into RPDOs, walking the
+//! CiA 402 state machine one hop per cycle and handling CSP/CST mode switches safely.
+//!
+//! Sans-I/O and lock-step: per cycle the controller
+//! 1. passes every received frame to [`Master::handle_frame`],
+//! 2. reads [`Master::feedback`] and [`Master::poll_event`],
+//! 3. calls [`Master::cycle`], which appends the frames to send (SYNC last) to a [`FrameBuf`].
+//!
+//! Runs inside the cycle: `handle_frame`, `cycle`, `feedback` and `poll_event` allocate
+//! nothing, take no locks and never panic on bad frames; everything is preallocated by
+//! [`Master::new`], which also refuses a configuration above the bus-load budget.
+//!
+//! Axis indices are 0-based (0..6) everywhere in this API.
+//!
+//! ```
+//! use mcm_rt_core::canopen::master::{DriveRequest, FrameBuf, Master};
+//! let cfg = mcm_shared::config::RobotConfig::prob2_default();
+//! let mut master = Master::new(&cfg).unwrap();
+//! let mut out = FrameBuf::new();
+//! master.cycle(0, &[DriveRequest::Disable; 6], &[1.0; 6], &mut out);
+//! assert_eq!(out.as_slice().last().unwrap().to_string(), "080#"); // SYNC last
+//! ```
+
+use super::boot::{BootOutput, BootParams, BootSequence};
+use super::busload::{BusLoad, check_config};
+use super::cia402::{ControlWord, State, StatusWord, Target, next_controlword};
+use super::emcy::Emcy;
+use super::heartbeat::{HeartbeatConsumer, HeartbeatProducer};
+use super::nmt::{NmtCommand, NmtState, decode_heartbeat, nmt_frame, sync_frame};
+use super::objects::{Service, classify};
+use super::pdo::{Rpdo1, Rpdo2, Tpdo1, Tpdo2};
+use super::sdo::{SdoClient, SdoDone, SdoError};
+use super::types::EventRing;
+pub use super::types::{
+    AxisFeedback, DriveRequest, EVENT_CAPACITY, FAULT_RESET_EDGES, FRAME_BUF_CAPACITY, FrameBuf,
+    LostReason, MODE_CSP, MODE_CST, MODE_RESEND_CYCLES, MasterEvent, MasterSetupError,
+};
+use crate::bus::Frame;
+use mcm_shared::NUM_AXES;
+use mcm_shared::config::{AxisConfig, RobotConfig};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Link {
+    WaitingBootUp,
+    Configuring,
+    Operational,
+    Failed,
+}
+
+/// Runtime state of one drive.
+#[derive(Debug, Clone)]
+struct AxisRt {
+    node: u8,
+    counts_per_rad: f64,
+    /// Amperes per per-mille of rated current.
+    amps_per_permille: f64,
+    torque_per_amp: f64,
+    /// Per-mille of rated motor torque per joint Nm.
+    permille_per_joint_nm: f64,
+    rated_current_a: f64,
+    max_current_permille: u16,
+    /// Largest position step per cycle [counts].
+    max_step_counts: f64,
+
+    link: Link,
+    boot: BootSequence,
+    sdo: SdoClient,
+    sdo_outcome: Option<Result<SdoDone, SdoError>>,
+    hb: HeartbeatConsumer,
+    boot_deadline_ns: Option<u64>,
+    reset_pending: bool,
+    reset_sent: bool,
+    started_ns: u64,
+    lost: bool,
+    tpdo_this_cycle: bool,
+    tpdo_seen_since_start: bool,
+    missed: u16,
+    last_tpdo_ns: Option<u64>,
+    last_pos_counts: i32,
+    prev_cw: ControlWord,
+    commanded_mode: i8,
+    rpdo2_sent: Option<Rpdo2>,
+    rpdo2_age: u16,
+    fault_reset_edges: u8,
+    last_emcy_code: u16,
+    last_target_counts: i32,
+}
+
+impl AxisRt {
+    fn new(index: usize, a: &AxisConfig, cfg: &RobotConfig) -> Result<AxisRt, MasterSetupError> {
+        let b = &cfg.bus;
+        let period_s = cfg.cycle_period_s();
+        let bad = |key, value, derived, derived_value, allowed| MasterSetupError::AxisValue {
+            axis: index,
+            key,
+            value,
+            derived,
+            derived_value,
+            allowed,
+        };
+        let rated_ma = (a.rated_current_a * 1000.0).round();
+        if !(1.0..=f64::from(u32::MAX)).contains(&rated_ma) {
+            return Err(bad(
+                "rated_current_a",
+                a.rated_current_a,
+                "0x6075 [mA]",
+                rated_ma,
+                "u32 1..=4294967295",
+            ));
+        }
+        let rated_torque_mnm = (a.torque_constant_nm_a * a.rated_current_a * 1000.0).round();
+        if !(1.0..=f64::from(u32::MAX)).contains(&rated_torque_mnm) {
+            return Err(bad(
+                "torque_constant_nm_a",
+                a.torque_constant_nm_a,
+                "0x6076 [mNm]",
+                rated_torque_mnm,
+                "u32 1..=4294967295",
+            ));
+        }
+        let max_pm = (a.max_current_a / a.rated_current_a * 1000.0).round();
+        if !(0.0..=f64::from(u16::MAX)).contains(&max_pm) {
+            return Err(bad(
+                "max_current_a",
+                a.max_current_a,
+                "0x6073 [per-mille]",
+                max_pm,
+                "u16 0..=65535",
+            ));
+        }
+        let cycle_ms = (cfg.cycle_period_ns() / 1_000_000) as u8;
+        let params = BootParams {
+            node: a.node_id,
+            axis: index,
+            drive_heartbeat_ms: b.drive_heartbeat_ms,
+            master_node_id: b.master_node_id,
+            master_heartbeat_ms: b.master_heartbeat_ms,
+            cycle_ms,
+            rated_current_ma: rated_ma as u32,
+            rated_torque_mnm: rated_torque_mnm as u32,
+            max_current_permille: max_pm as u16,
+        };
+        let counts_per_rad = a.counts_per_rad();
+        let rated_motor_torque_nm = rated_torque_mnm / 1000.0;
+        Ok(AxisRt {
+            node: a.node_id,
+            counts_per_rad,
+            amps_per_permille: a.rated_current_a / 1000.0,
+            torque_per_amp: a.torque_per_amp(),
+            permille_per_joint_nm: 1000.0
+                / (rated_motor_torque_nm * a.gear_ratio * a.gear_efficiency),
+            rated_current_a: a.rated_current_a,
+            max_current_permille: max_pm as u16,
+            max_step_counts: a.max_velocity_deg_s.to_radians()
+                * cfg.safety.overspeed_factor
+                * period_s
+                * counts_per_rad,
+            link: Link::WaitingBootUp,
+            boot: BootSequence::new(&params),
+            sdo: SdoClient::new(a.node_id, u64::from(b.sdo_timeout_ms) * 1_000_000),
+            sdo_outcome: None,
+            hb: HeartbeatConsumer::new(u64::from(b.heartbeat_timeout_ms) * 1_000_000),
+            boot_deadline_ns: None,
+            reset_pending: false,
+            reset_sent: false,
+            started_ns: 0,
+            lost: false,
+            tpdo_this_cycle: false,
+            tpdo_seen_since_start: false,
+            missed: 0,
+            last_tpdo_ns: None,
+            last_pos_counts: 0,
+            prev_cw: ControlWord(0),
+            commanded_mode: MODE_CSP,
+            rpdo2_sent: None,
+            rpdo2_age: 0,
+            fault_reset_edges: 0,
+            last_emcy_code: 0,
+            last_target_counts: 0,
+        })
+    }
+
+    /// Back to "just booted": configuration state and feedback forgotten.
+    fn forget(&mut self, fb: &mut AxisFeedback) {
+        self.sdo.cancel();
+        self.sdo_outcome = None;
+        self.boot.stop();
+        self.hb.reset();
+        self.boot_deadline_ns = None;
+        self.reset_pending = false;
+        self.reset_sent = false;
+        self.lost = false;
+        self.tpdo_this_cycle = false;
+        self.tpdo_seen_since_start = false;
+        self.missed = 0;
+        self.last_tpdo_ns = None;
+        self.prev_cw = ControlWord(0);
+        self.commanded_mode = MODE_CSP;
+        self.rpdo2_sent = None;
+        self.rpdo2_age = 0;
+        self.fault_reset_edges = 0;
+        let last_emcy = fb.last_emcy;
+        *fb = AxisFeedback {
+            position_rad: fb.position_rad,
+            last_emcy,
+            ..AxisFeedback::new(self.node)
+        };
+    }
+}
+
+/// Fixed-capacity FIFO of events.
+/// The CANopen master (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct Master {
+    period_ns: u64,
+    max_missed: u16,
+    boot_timeout_ns: u64,
+    hb_grace_ns: u64,
+    hb_producer: HeartbeatProducer,
+    axes: [AxisRt; NUM_AXES],
+    feedback: [AxisFeedback; NUM_AXES],
+    events: EventRing,
+    frames_dropped: u64,
+    bad_frames: u64,
+    load: BusLoad,
+}
+
+impl Master {
+    /// Check the configuration (bus load, cycle period, per-axis values) and preallocate
+    /// everything.
+    pub fn new(cfg: &RobotConfig) -> Result<Master, MasterSetupError> {
+        if cfg.axes.len() != NUM_AXES {
+            return Err(MasterSetupError::AxisCount {
+                got: cfg.axes.len(),
+            });
+        }
+        let load = check_config(cfg)?;
+        if u32::from(cfg.bus.master_heartbeat_ms) * 3 > u32::from(u16::MAX) {
+            return Err(MasterSetupError::ConsumerTime {
+                master_heartbeat_ms: cfg.bus.master_heartbeat_ms,
+            });
+        }
+        let period_ns = cfg.cycle_period_ns();
+        if !period_ns.is_multiple_of(1_000_000) || !(1..=255).contains(&(period_ns / 1_000_000)) {
+            return Err(MasterSetupError::CyclePeriod {
+                rate_hz: cfg.cycle.rate_hz,
+                period_us: period_ns / 1000,
+            });
+        }
+        let mut built = Vec::with_capacity(NUM_AXES);
+        for (i, a) in cfg.axes.iter().enumerate() {
+            built.push(AxisRt::new(i, a, cfg)?);
+        }
+        let axes: [AxisRt; NUM_AXES] = built
+            .try_into()
+            .map_err(|v: Vec<AxisRt>| MasterSetupError::AxisCount { got: v.len() })?;
+        let feedback = core::array::from_fn(|i| AxisFeedback::new(axes[i].node));
+        let b = &cfg.bus;
+        Ok(Master {
+            period_ns,
+            max_missed: b.max_missed_tpdos,
+            boot_timeout_ns: u64::from(b.boot_timeout_ms) * 1_000_000,
+            hb_grace_ns: u64::from(b.heartbeat_timeout_ms) * 1_000_000,
+            hb_producer: HeartbeatProducer::new(
+                b.master_node_id,
+                u64::from(b.master_heartbeat_ms) * 1_000_000,
+            ),
+            axes,
+            feedback,
+            events: EventRing::new(),
+            frames_dropped: 0,
+            bad_frames: 0,
+            load,
+        })
+    }
+
+    /// The bus load computed (and accepted) at start-up.
+    pub fn bus_load(&self) -> &BusLoad {
+        &self.load
+    }
+
+    /// Per-axis feedback, updated by `handle_frame` and `cycle`.
+    pub fn feedback(&self) -> &[AxisFeedback; NUM_AXES] {
+        &self.feedback
+    }
+
+    /// The next event, oldest first.
+    pub fn poll_event(&mut self) -> Option<MasterEvent> {
+        self.events.pop()
+    }
+
+    /// Events lost because the ring was full.
+    pub fn events_dropped(&self) -> u64 {
+        self.events.dropped
+    }
+
+    /// Frames not sent because the caller's `FrameBuf` was full.
+    pub fn frames_dropped(&self) -> u64 {
+        self.frames_dropped
+    }
+
+    /// Frames of known drives that could not be decoded (wrong length).
+    pub fn bad_frames(&self) -> u64 {
+        self.bad_frames
+    }
+
+    /// The next cycles send the fault-reset edge (up to [`FAULT_RESET_EDGES`] times) to every
+    /// drive that is in FAULT (or FAULT REACTION ACTIVE) now.
+    pub fn reset_faults(&mut self) {
+        for (ax, fb) in self.axes.iter_mut().zip(&self.feedback) {
+            if fb.state.is_fault() {
+                ax.fault_reset_edges = FAULT_RESET_EDGES;
+            }
+        }
+    }
+
+    /// Reset the communication of one drive (NMT `82`) in the next cycle: it boots again and
+    /// is reconfigured. Use after `ConfigFailed`. Out-of-range axes are ignored.
+    pub fn reset_node(&mut self, axis: usize) {
+        if let (Some(ax), Some(fb)) = (self.axes.get_mut(axis), self.feedback.get_mut(axis)) {
+            ax.forget(fb);
+            ax.link = Link::WaitingBootUp;
+            ax.reset_pending = true;
+        }
+    }
+
+    fn axis_of(&self, node: u8) -> Option<usize> {
+        self.axes.iter().position(|a| a.node == node)
+    }
+
+    /// Process one received frame.
+    pub fn handle_frame(&mut self, now_ns: u64, frame: &Frame) {
+        let (i, service) = match classify(frame.id) {
+            s @ (Service::Heartbeat { node }
+            | Service::Tpdo { node, .. }
+            | Service::Emcy { node }
+            | Service::SdoResponse { node }) => match self.axis_of(node) {
+                Some(i) => (i, s),
+                None => return,
+            },
+            _ => return,
+        };
+        match service {
+            Service::Heartbeat { .. } => match decode_heartbeat(frame) {
+                Some(NmtState::BootUp) => self.on_boot_up(i),
+                Some(state) => self.on_heartbeat(i, now_ns, state),
+                None => self.bad_frames += 1,
+            },
+            Service::Tpdo { pdo: 1, .. } => match Tpdo1::decode(frame) {
+                Ok(t) => self.on_tpdo1(i, now_ns, t),
+                Err(_) => self.bad_frames += 1,
+            },
+            Service::Tpdo { pdo: 2, .. } => match Tpdo2::decode(frame) {
+                Ok(t) if self.axes[i].link == Link::Operational => {
+                    self.feedback[i].mode_display = Some(t.mode_display);
+                }
+                Ok(_) => {}
+                Err(_) => self.bad_frames += 1,
+            },
+            Service::Emcy { .. } => match Emcy::decode(frame, i) {
+                Ok(e) => {
+                    self.events.push(MasterEvent::Emcy { axis: i, emcy: e });
+                    self.axes[i].last_emcy_code = e.code;
+                    self.feedback[i].last_emcy = (!e.is_reset()).then_some(e);
+                }
+                Err(_) => self.bad_frames += 1,
+            },
+            Service::SdoResponse { .. } => {
+                if let Some(o) = self.axes[i].sdo.on_frame(frame) {
+                    self.axes[i].sdo_outcome = Some(o);
+                }
+            }
+            _ => {}
+        }
+        self.refresh(i, now_ns);
+    }
+
+    fn on_boot_up(&mut self, i: usize) {
+        let (ax, fb) = (&mut self.axes[i], &mut self.feedback[i]);
+        if ax.link == Link::Operational && !ax.lost {
+            self.events.push(MasterEvent::Lost {
+                axis: i,
+                node: ax.node,
+                reason: LostReason::BootUp,
+            });
+        }
+        self.events.push(MasterEvent::Booted { axis: i });
+        ax.forget(fb);
+        ax.link = Link::Configuring;
+        ax.boot.start();
+    }
+
+    fn on_heartbeat(&mut self, i: usize, now_ns: u64, state: NmtState) {
+        let grace = self.hb_grace_ns;
+        let ax = &mut self.axes[i];
+        ax.hb.on_heartbeat(now_ns, state);
+        match ax.link {
+            Link::WaitingBootUp if !ax.reset_sent => ax.reset_pending = true,
+            Link::Operational
+                if state != NmtState::Operational
+                    && now_ns.saturating_sub(ax.started_ns) >= grace =>
+            {
+                let node = ax.node;
+                ax.forget(&mut self.feedback[i]);
+                ax.link = Link::WaitingBootUp;
+                ax.reset_pending = true;
+                self.events.push(MasterEvent::Lost {
+                    axis: i,
+                    node,
+                    reason: LostReason::NotOperational { state },
+                });
+            }
+            _ => {}
+        }
+    }
+
+    fn on_tpdo1(&mut self, i: usize, now_ns: u64, t: Tpdo1) {
+        let period_ns = self.period_ns;
+        let (ax, fb) = (&mut self.axes[i], &mut self.feedback[i]);
+        if ax.link != Link::Operational {
+            return;
+        }
+        let sw = StatusWord(t.statusword);
+        let state = sw.state();
+        if state == State::Fault && fb.state != State::Fault {
+            self.events.push(MasterEvent::Fault {
+                axis: i,
+                code: ax.last_emcy_code,
+            });
+        }
+        fb.velocity_rad_s = match ax.last_tpdo_ns {
+            Some(prev) => {
+                let cycles = ((now_ns.saturating_sub(prev)) as f64 / period_ns as f64)
+                    .round()
+                    .max(1.0);
+                let delta =
+                    f64::from(t.position.wrapping_sub(ax.last_pos_counts)) / ax.counts_per_rad;
+                delta / (cycles * period_ns as f64 * 1e-9)
+            }
+            None => 0.0,
+        };
+        ax.last_tpdo_ns = Some(now_ns);
+        ax.last_pos_counts = t.position;
+        ax.tpdo_this_cycle = true;
+        ax.tpdo_seen_since_start = true;
+        fb.state = state;
+        fb.statusword = t.statusword;
+        fb.estop = sw.emergency_stop();
+        fb.light_barrier = sw.light_barrier();
+        fb.position_rad = f64::from(t.position) / ax.counts_per_rad;
+        fb.current_a = f64::from(t.current_permille) * ax.amps_per_permille;
+        fb.torque_nm = fb.current_a * ax.torque_per_amp;
+        fb.tpdo_age_cycles = 0;
+    }
+
+    /// Recompute the derived flags of axis `i`.
+    fn refresh(&mut self, i: usize, now_ns: u64) {
+        let (ax, fb) = (&self.axes[i], &mut self.feedback[i]);
+        let started = ax.link == Link::Operational;
+        fb.online = started && !ax.lost && ax.hb.is_fresh(now_ns);
+        fb.operational =
+            started && (ax.hb.state() == Some(NmtState::Operational) || ax.tpdo_seen_since_start);
+        fb.enabled = started
+            && fb.state == State::OperationEnabled
+            && fb.mode_display == Some(ax.commanded_mode);
+    }
+
+    /// Run one cycle: supervision, boot configuration, CiA 402 and setpoints. Appends the
+    /// frames to send to `out` (SYNC last). `max_current_a` is the current limit per axis [A]
+    /// (clamped to `0..=axis.max_current_a`; sent in RPDO2 when it changes).
+    pub fn cycle(
+        &mut self,
+        now_ns: u64,
+        requests: &[DriveRequest; NUM_AXES],
+        max_current_a: &[f64; NUM_AXES],
+        out: &mut FrameBuf,
+    ) {
+        if let Some(f) = self.hb_producer.poll(now_ns) {
+            self.push(out, f);
+        }
+        for i in 0..NUM_AXES {
+            self.axis_cycle(i, now_ns, requests[i], max_current_a[i], out);
+            self.axes[i].tpdo_this_cycle = false;
+            self.refresh(i, now_ns);
+        }
+        self.push(out, sync_frame());
+    }
+
+    fn push(&mut self, out: &mut FrameBuf, f: Frame) {
+        push_counted(out, f, &mut self.frames_dropped);
+    }
+
+    fn axis_cycle(
+        &mut self,
+        i: usize,
+        now_ns: u64,
+        req: DriveRequest,
+        max_current_a: f64,
+        out: &mut FrameBuf,
+    ) {
+        let boot_timeout = self.boot_timeout_ns;
+        let node = self.axes[i].node;
+        match self.axes[i].link {
+            Link::WaitingBootUp => {
+                let ax = &mut self.axes[i];
+                let deadline = *ax.boot_deadline_ns.get_or_insert(now_ns + boot_timeout);
+                if ax.reset_pending || now_ns >= deadline {
+                    if !ax.reset_pending {
+                        self.events.push(MasterEvent::Missing { axis: i, node });
+                    }
+                    ax.reset_pending = false;
+                    ax.reset_sent = true;
+                    ax.boot_deadline_ns = Some(now_ns + boot_timeout);
+                    push_counted(
+                        out,
+                        nmt_frame(NmtCommand::ResetCommunication, node),
+                        &mut self.frames_dropped,
+                    );
+                }
+            }
+            Link::Configuring => {
+                let ax = &mut self.axes[i];
+                let outcome = ax.sdo_outcome.take();
+                match ax.boot.poll(now_ns, &mut ax.sdo, outcome) {
+                    BootOutput::Send(f) => push_counted(out, f, &mut self.frames_dropped),
+                    BootOutput::Done(f) => {
+                        ax.link = Link::Operational;
+                        ax.started_ns = now_ns;
+                        ax.hb.arm(now_ns);
+                        ax.missed = 0;
+                        self.events.push(MasterEvent::Configured { axis: i });
+                        push_counted(out, f, &mut self.frames_dropped);
+                    }
+                    BootOutput::Failed(error) => {
+                        ax.link = Link::Failed;
+                        self.events.push(MasterEvent::ConfigFailed {
+                            axis: i,
+                            node,
+                            error,
+                        });
+                    }
+                    BootOutput::Waiting | BootOutput::Idle => {}
+                }
+            }
+            Link::Operational => {
+                self.supervise(i, now_ns);
+                self.setpoints(i, req, max_current_a, out);
+            }
+            Link::Failed => self.axes[i].sdo_outcome = None,
+        }
+    }
+
+    fn supervise(&mut self, i: usize, now_ns: u64) {
+        let max_missed = self.max_missed;
+        let (ax, fb) = (&mut self.axes[i], &mut self.feedback[i]);
+        if ax.tpdo_this_cycle {
+            ax.missed = 0;
+        } else {
+            ax.missed = ax.missed.saturating_add(1);
+            fb.tpdo_age_cycles = fb.tpdo_age_cycles.saturating_add(1);
+            if ax.missed == max_missed && !ax.lost {
+                ax.lost = true;
+                self.events.push(MasterEvent::Lost {
+                    axis: i,
+                    node: ax.node,
+                    reason: LostReason::MissedTpdos { missed: ax.missed },
+                });
+            }
+        }
+        if ax.hb.check(now_ns) && !ax.lost {
+            ax.lost = true;
+            self.events.push(MasterEvent::Lost {
+                axis: i,
+                node: ax.node,
+                reason: LostReason::HeartbeatTimeout,
+            });
+        }
+        if ax.lost && ax.missed == 0 && ax.hb.is_fresh(now_ns) {
+            ax.lost = false;
+            self.events.push(MasterEvent::Recovered {
+                axis: i,
+                node: ax.node,
+            });
+        }
+    }
+
+    fn setpoints(&mut self, i: usize, req: DriveRequest, max_current_a: f64, out: &mut FrameBuf) {
+        let (ax, fb) = (&mut self.axes[i], &mut self.feedback[i]);
+        let target = match req {
+            DriveRequest::Disable => Target::SwitchOnDisabled,
+            DriveRequest::QuickStop => Target::QuickStop,
+            DriveRequest::Position { .. } => {
+                ax.commanded_mode = MODE_CSP;
+                Target::OperationEnabled
+            }
+            DriveRequest::Torque { .. } => {
+                ax.commanded_mode = MODE_CST;
+                Target::OperationEnabled
+            }
+        };
+        // RPDO2: mode and current limit, on change (and repeated while unconfirmed).
+        let pm = max_current_a / ax.rated_current_a * 1000.0;
+        let pm = if pm.is_nan() {
+            0.0
+        } else {
+            pm.round().clamp(0.0, f64::from(ax.max_current_permille))
+        };
+        let rpdo2 = Rpdo2 {
+            mode: ax.commanded_mode,
+            max_current_permille: pm as u16,
+        };
+        let confirmed = fb.mode_display == Some(ax.commanded_mode);
+        let mut frames = [None, None];
+        if ax.rpdo2_sent != Some(rpdo2) || (!confirmed && ax.rpdo2_age >= MODE_RESEND_CYCLES) {
+            frames[0] = Some(rpdo2.encode(ax.node));
+            ax.rpdo2_sent = Some(rpdo2);
+            ax.rpdo2_age = 0;
+        } else {
+            ax.rpdo2_age = ax.rpdo2_age.saturating_add(1);
+        }
+        // Controlword: one hop towards the target, fault-reset edges when asked for.
+        if !fb.state.is_fault() {
+            ax.fault_reset_edges = 0;
+        }
+        let reset = ax.fault_reset_edges > 0 && fb.state == State::Fault;
+        let cw = next_controlword(fb.state, target, ax.prev_cw, reset);
+        if reset && cw.fault_reset_bit() {
+            ax.fault_reset_edges -= 1;
+        }
+        ax.prev_cw = cw;
+        // Setpoints: only the confirmed mode in OPERATION ENABLED gets the request.
+        let enabled = fb.state == State::OperationEnabled && confirmed;
+        let actual = ax.last_pos_counts;
+        fb.target_clamped = false;
+        let (position, torque) = match req {
+            DriveRequest::Position { position_rad } if enabled && ax.commanded_mode == MODE_CSP => {
+                let wanted = position_rad * ax.counts_per_rad;
+                let last = f64::from(ax.last_target_counts);
+                let p = if wanted.is_finite() {
+                    let clamped =
+                        wanted.clamp(last - ax.max_step_counts, last + ax.max_step_counts);
+                    fb.target_clamped = clamped != wanted;
+                    clamped
+                        .round()
+                        .clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32
+                } else {
+                    ax.last_target_counts
+                };
+                (p, 0)
+            }
+            DriveRequest::Torque { torque_nm } if enabled && ax.commanded_mode == MODE_CST => {
+                let t = torque_nm * ax.permille_per_joint_nm;
+                let t = if t.is_finite() {
+                    t.round().clamp(-32767.0, 32767.0) as i16
+                } else {
+                    0
+                };
+                (actual, t)
+            }
+            _ => (actual, 0),
+        };
+        ax.last_target_counts = position;
+        frames[1] = Some(
+            Rpdo1 {
+                controlword: cw.0,
+                target_position: position,
+                target_torque: torque,
+            }
+            .encode(ax.node),
+        );
+        for f in frames.into_iter().flatten() {
+            self.push(out, f);
+        }
+    }
+}
+
+fn push_counted(out: &mut FrameBuf, f: Frame, dropped: &mut u64) {
+    if !out.push(f) {
+        *dropped += 1;
+    }
+}
+
+#[cfg(test)]
+#[path = "master_tests.rs"]
+mod tests;

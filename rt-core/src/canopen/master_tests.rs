@@ -1,0 +1,634 @@
+//! Tests of the master against six tiny fake drives (`testdrive.rs`), in lock-step: the drives
+//! answer SDO/NMT at once (read by the master in the next cycle) and send TPDO1 on SYNC.
+
+use super::*;
+use crate::canopen::cia402::State;
+use crate::canopen::testdrive::{FakeDrive, Fault};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+/// Counts heap allocations of the current thread, to check the cyclic path allocates nothing.
+struct CountingAlloc;
+
+thread_local! {
+    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
+}
+
+// SAFETY: forwards to the system allocator unchanged; only counts calls.
+unsafe impl GlobalAlloc for CountingAlloc {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.with(|c| c.set(c.get() + 1));
+        // SAFETY: same contract as our caller's.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: same contract as our caller's.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAlloc = CountingAlloc;
+
+fn allocations() -> u64 {
+    ALLOCATIONS.with(|c| c.get())
+}
+
+const MS: u64 = 1_000_000;
+const T: u64 = 5 * MS;
+
+struct World {
+    master: Master,
+    drives: Vec<FakeDrive>,
+    inbox: Vec<Frame>,
+    now: u64,
+    events: Vec<MasterEvent>,
+    max_current: [f64; 6],
+    /// Allocations counted inside handle_frame/cycle/poll_event.
+    cyclic_allocations: u64,
+}
+
+impl World {
+    fn new() -> World {
+        let cfg = RobotConfig::prob2_default();
+        let drives: Vec<FakeDrive> = (1..=6).map(FakeDrive::new).collect();
+        let inbox = drives.iter().map(|d| d.boot_up()).collect();
+        World {
+            master: Master::new(&cfg).unwrap(),
+            drives,
+            inbox,
+            now: 0,
+            events: Vec::new(),
+            max_current: [4.0, 4.0, 4.0, 2.0, 2.0, 2.0],
+            cyclic_allocations: 0,
+        }
+    }
+
+    /// One cycle; returns the frames the master sent.
+    fn step(&mut self, reqs: [DriveRequest; 6]) -> Vec<Frame> {
+        let inbox = std::mem::take(&mut self.inbox);
+        let mut out = FrameBuf::new();
+        let mut events = [None; 16];
+        let before = allocations();
+        for f in &inbox {
+            self.master.handle_frame(self.now, f);
+        }
+        for e in events.iter_mut() {
+            *e = self.master.poll_event();
+        }
+        self.master
+            .cycle(self.now, &reqs, &self.max_current, &mut out);
+        self.cyclic_allocations += allocations() - before;
+        self.events.extend(events.iter().flatten());
+        for f in out.iter() {
+            for d in &mut self.drives {
+                let replies = d.receive(f);
+                self.inbox.extend(replies);
+            }
+        }
+        self.now += T;
+        out.as_slice().to_vec()
+    }
+
+    fn run(&mut self, cycles: usize, reqs: [DriveRequest; 6]) -> Vec<Vec<Frame>> {
+        (0..cycles).map(|_| self.step(reqs)).collect()
+    }
+
+    fn fb(&self, axis: usize) -> AxisFeedback {
+        self.master.feedback()[axis]
+    }
+
+    fn take_events(&mut self) -> Vec<MasterEvent> {
+        while let Some(e) = self.master.poll_event() {
+            self.events.push(e);
+        }
+        std::mem::take(&mut self.events)
+    }
+
+    /// Boot all six drives and bring them to SWITCH ON DISABLED, operational.
+    fn booted() -> World {
+        let mut w = World::new();
+        w.run(60, [DriveRequest::Disable; 6]);
+        for a in 0..6 {
+            let fb = w.fb(a);
+            assert!(fb.online && fb.operational, "axis {a}: {fb:?}");
+            assert_eq!(fb.state, State::SwitchOnDisabled);
+            assert_eq!(fb.mode_display, Some(MODE_CSP));
+        }
+        w
+    }
+
+    fn hold_all(&self) -> [DriveRequest; 6] {
+        core::array::from_fn(|a| DriveRequest::Position {
+            position_rad: self.fb(a).position_rad,
+        })
+    }
+}
+
+fn rpdo1_of(frames: &[Frame], node: u8) -> Option<Rpdo1> {
+    frames
+        .iter()
+        .find(|f| f.id == 0x200 + u16::from(node))
+        .map(|f| Rpdo1::decode(f).unwrap())
+}
+
+fn rpdo2_of(frames: &[Frame], node: u8) -> Option<Rpdo2> {
+    frames
+        .iter()
+        .find(|f| f.id == 0x300 + u16::from(node))
+        .map(|f| Rpdo2::decode(f).unwrap())
+}
+
+#[test]
+fn sync_is_sent_last_from_the_first_cycle_on() {
+    let mut w = World::new();
+    for frames in w.run(80, [DriveRequest::Disable; 6]) {
+        assert_eq!(frames.last().unwrap().to_string(), "080#");
+        assert_eq!(frames.iter().filter(|f| f.id == 0x080).count(), 1);
+    }
+}
+
+#[test]
+fn master_heartbeat_every_50_ms() {
+    let mut w = World::new();
+    let cycles = w.run(40, [DriveRequest::Disable; 6]);
+    let with_hb: Vec<usize> = cycles
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| f.iter().any(|f| f.to_string() == "77F#05"))
+        .map(|(k, _)| k)
+        .collect();
+    assert_eq!(with_hb, [0, 10, 20, 30]);
+}
+
+#[test]
+fn boots_configures_and_enables_all_axes_one_hop_per_cycle() {
+    let mut w = World::booted();
+    let events = w.take_events();
+    for a in 0..6 {
+        assert!(
+            events.contains(&MasterEvent::Booted { axis: a }),
+            "{events:?}"
+        );
+        assert!(
+            events.contains(&MasterEvent::Configured { axis: a }),
+            "{events:?}"
+        );
+    }
+    assert_eq!(w.drives[2].object(0x1016, 1), Some((127 << 16) | 150));
+    let hold = w.hold_all();
+    let cycles = w.run(5, hold);
+    let cws: Vec<u16> = cycles
+        .iter()
+        .map(|f| rpdo1_of(f, 1).unwrap().controlword)
+        .collect();
+    assert_eq!(cws, [0x06, 0x07, 0x0F, 0x0F, 0x0F]);
+    // The enabling cycle (controlword 0x0F from SWITCHED ON) sends target = actual.
+    let actual = w.drives[0].position;
+    assert_eq!(rpdo1_of(&cycles[2], 1).unwrap().target_position, actual);
+    for a in 0..6 {
+        assert!(w.fb(a).enabled, "axis {a}: {:?}", w.fb(a));
+        assert_eq!(w.drives[a].state, State::OperationEnabled);
+    }
+    assert_eq!(w.master.frames_dropped(), 0);
+    assert_eq!(w.master.events_dropped(), 0);
+}
+
+#[test]
+fn cyclic_path_does_not_allocate() {
+    let mut w = World::booted();
+    let hold = w.hold_all();
+    w.run(20, hold);
+    w.drives[3].drop_tpdos = true;
+    w.run(5, hold);
+    assert!(
+        w.cyclic_allocations == 0,
+        "{} allocations in handle_frame/cycle/poll_event",
+        w.cyclic_allocations
+    );
+}
+
+#[test]
+fn position_feedback_and_velocity() {
+    let mut w = World::booted();
+    let mut hold = w.hold_all();
+    w.run(5, hold);
+    let cfg = RobotConfig::prob2_default();
+    let cpr = cfg.axes[0].counts_per_rad();
+    let p0 = w.fb(0).position_rad;
+    assert!((p0 - 1000.0 / cpr).abs() < 1e-12);
+    // Move axis 1 by 0.001 rad per cycle = 0.2 rad/s.
+    for k in 1..=10 {
+        hold[0] = DriveRequest::Position {
+            position_rad: p0 + 0.001 * k as f64,
+        };
+        w.step(hold);
+    }
+    w.step(hold);
+    let fb = w.fb(0);
+    assert!((fb.position_rad - (p0 + 0.010)).abs() < 1.0 / cpr, "{fb:?}");
+    hold[0] = DriveRequest::Position {
+        position_rad: p0 + 0.011,
+    };
+    w.step(hold);
+    w.step(hold);
+    assert!((w.fb(0).velocity_rad_s - 0.2).abs() < 0.01, "{:?}", w.fb(0));
+    assert!(!w.fb(0).target_clamped);
+}
+
+#[test]
+fn position_steps_are_clamped_to_the_velocity_limit() {
+    let mut w = World::booted();
+    let mut hold = w.hold_all();
+    w.run(5, hold);
+    let cfg = RobotConfig::prob2_default();
+    let cpr = cfg.axes[0].counts_per_rad();
+    let before = w.drives[0].position;
+    hold[0] = DriveRequest::Position {
+        position_rad: w.fb(0).position_rad + 1.0,
+    };
+    let frames = w.step(hold);
+    let max_step = 90f64.to_radians() * 1.1 * 0.005 * cpr;
+    let sent = rpdo1_of(&frames, 1).unwrap().target_position;
+    assert_eq!(sent, (f64::from(before) + max_step).round() as i32);
+    assert!(w.fb(0).target_clamped);
+}
+
+#[test]
+fn mode_switch_keeps_the_drive_safe_until_confirmed() {
+    let mut w = World::booted();
+    let hold = w.hold_all();
+    w.run(5, hold);
+    let mut reqs = hold;
+    reqs[1] = DriveRequest::Torque { torque_nm: 10.0 };
+    let c0 = w.step(reqs);
+    assert_eq!(
+        rpdo2_of(&c0, 2),
+        Some(Rpdo2 {
+            mode: MODE_CST,
+            max_current_permille: 1000
+        })
+    );
+    let r = rpdo1_of(&c0, 2).unwrap();
+    assert_eq!(
+        (r.controlword, r.target_torque),
+        (0x0F, 0),
+        "torque 0 until 0x6061 confirms"
+    );
+    assert_eq!(r.target_position, w.drives[1].position);
+    assert!(!w.fb(1).enabled);
+    let c1 = w.step(reqs);
+    assert!(w.fb(1).enabled);
+    assert_eq!(w.fb(1).mode_display, Some(MODE_CST));
+    // 10 Nm joint / (120 * 0.9) = 0.0926 Nm motor of 0.48 Nm rated = 192.9 per-mille.
+    assert_eq!(rpdo1_of(&c1, 2).unwrap().target_torque, 193);
+    assert_eq!(rpdo2_of(&c1, 2), None, "RPDO2 only on change");
+    // Back to position: target = actual until confirmed.
+    reqs[1] = DriveRequest::Position { position_rad: 5.0 };
+    let c2 = w.step(reqs);
+    assert_eq!(rpdo2_of(&c2, 2).unwrap().mode, MODE_CSP);
+    let r = rpdo1_of(&c2, 2).unwrap();
+    assert_eq!(
+        (r.target_position, r.target_torque),
+        (w.drives[1].position, 0)
+    );
+}
+
+#[test]
+fn current_limit_changes_send_rpdo2() {
+    let mut w = World::booted();
+    w.max_current = [2.0, 4.0, 4.0, 2.0, 2.0, 2.0];
+    let frames = w.step([DriveRequest::Disable; 6]);
+    assert_eq!(
+        rpdo2_of(&frames, 1),
+        Some(Rpdo2 {
+            mode: MODE_CSP,
+            max_current_permille: 500
+        })
+    );
+    assert_eq!(rpdo2_of(&frames, 2), None);
+    w.max_current[0] = 100.0; // clamped to the configured 10 A = 2500 per-mille
+    let frames = w.step([DriveRequest::Disable; 6]);
+    assert_eq!(rpdo2_of(&frames, 1).unwrap().max_current_permille, 2500);
+    w.max_current[0] = f64::NAN;
+    let frames = w.step([DriveRequest::Disable; 6]);
+    assert_eq!(rpdo2_of(&frames, 1).unwrap().max_current_permille, 0);
+}
+
+#[test]
+fn quick_stop_and_disable_requests() {
+    let mut w = World::booted();
+    let hold = w.hold_all();
+    w.run(5, hold);
+    let mut reqs = hold;
+    reqs[0] = DriveRequest::QuickStop;
+    reqs[1] = DriveRequest::Disable;
+    let frames = w.step(reqs);
+    assert_eq!(rpdo1_of(&frames, 1).unwrap().controlword, 0x02);
+    assert_eq!(rpdo1_of(&frames, 2).unwrap().controlword, 0x00);
+    w.step(reqs);
+    assert_eq!(w.fb(0).state, State::SwitchOnDisabled);
+    assert_eq!(w.fb(1).state, State::SwitchOnDisabled);
+    assert!(!w.fb(0).enabled);
+}
+
+#[test]
+fn missed_tpdos_make_the_axis_lost_then_recovered() {
+    let mut w = World::booted();
+    w.take_events();
+    w.drives[2].drop_tpdos = true;
+    w.step([DriveRequest::Disable; 6]); // reads the last TPDO
+    w.run(2, [DriveRequest::Disable; 6]);
+    assert!(w.take_events().is_empty());
+    assert_eq!(w.fb(2).tpdo_age_cycles, 2);
+    w.step([DriveRequest::Disable; 6]);
+    let events = w.take_events();
+    assert_eq!(
+        events,
+        [MasterEvent::Lost {
+            axis: 2,
+            node: 3,
+            reason: LostReason::MissedTpdos { missed: 3 }
+        }]
+    );
+    assert!(!w.fb(2).online);
+    w.drives[2].drop_tpdos = false;
+    w.run(2, [DriveRequest::Disable; 6]);
+    assert_eq!(
+        w.take_events(),
+        [MasterEvent::Recovered { axis: 2, node: 3 }]
+    );
+    assert!(w.fb(2).online);
+}
+
+#[test]
+fn heartbeat_timeout_at_exactly_the_configured_time() {
+    let mut w = World::booted();
+    w.take_events();
+    while !w.inbox.iter().any(|f| f.id == 0x705) {
+        w.step([DriveRequest::Disable; 6]);
+    }
+    let last_hb = w.now; // handled in this cycle
+    w.step([DriveRequest::Disable; 6]);
+    w.drives[4].mute_heartbeat = true;
+    for _ in 0..60 {
+        let t = w.now;
+        w.step([DriveRequest::Disable; 6]);
+        let events = w.take_events();
+        if !events.is_empty() {
+            assert_eq!(
+                events,
+                [MasterEvent::Lost {
+                    axis: 4,
+                    node: 5,
+                    reason: LostReason::HeartbeatTimeout
+                }]
+            );
+            assert_eq!(
+                t,
+                last_hb + 150 * MS,
+                "detected at exactly heartbeat_timeout_ms"
+            );
+            assert!(!w.fb(4).online);
+            return;
+        }
+        assert!(w.fb(4).online, "online until the timeout");
+    }
+    panic!("no heartbeat timeout");
+}
+
+#[test]
+fn boot_up_while_operational_is_lost_and_reconfigured() {
+    let mut w = World::booted();
+    w.take_events();
+    let boot_up = w.drives[0].boot_up();
+    w.drives[0] = FakeDrive::new(1);
+    w.inbox.push(boot_up);
+    w.step([DriveRequest::Disable; 6]);
+    let events = w.take_events();
+    assert_eq!(
+        events,
+        [
+            MasterEvent::Lost {
+                axis: 0,
+                node: 1,
+                reason: LostReason::BootUp
+            },
+            MasterEvent::Booted { axis: 0 }
+        ]
+    );
+    assert!(!w.fb(0).online);
+    w.run(45, [DriveRequest::Disable; 6]);
+    assert_eq!(w.take_events(), [MasterEvent::Configured { axis: 0 }]);
+    assert!(w.fb(0).online);
+}
+
+#[test]
+fn missing_drive_is_reported_and_reset_until_it_boots() {
+    let mut w = World::new();
+    w.inbox.retain(|f| f.id != 0x706);
+    w.drives[5].silent = true; // powered off: listens to nothing useful, sends nothing
+    let cycles = w.run(400, [DriveRequest::Disable; 6]);
+    assert!(!cycles.concat().iter().any(|f| f.to_string() == "000#8206"));
+    assert!(
+        !w.take_events()
+            .contains(&MasterEvent::Missing { axis: 5, node: 6 })
+    );
+    // boot_timeout_ms = 2000: reported in the cycle at 2000 ms, with NMT reset communication.
+    let frames = w.step([DriveRequest::Disable; 6]);
+    assert!(frames.iter().any(|f| f.to_string() == "000#8206"));
+    assert_eq!(w.take_events(), [MasterEvent::Missing { axis: 5, node: 6 }]);
+    // Powered on: the next reset communication (at 4000 ms) makes it boot.
+    w.drives[5].silent = false;
+    let frames = w.run(399, [DriveRequest::Disable; 6]);
+    assert!(!frames.concat().iter().any(|f| f.to_string() == "000#8206"));
+    let frames = w.step([DriveRequest::Disable; 6]);
+    assert!(frames.iter().any(|f| f.to_string() == "000#8206"));
+    w.run(45, [DriveRequest::Disable; 6]);
+    let events = w.take_events();
+    assert_eq!(
+        events,
+        [
+            MasterEvent::Missing { axis: 5, node: 6 },
+            MasterEvent::Booted { axis: 5 },
+            MasterEvent::Configured { axis: 5 }
+        ]
+    );
+    assert!(w.fb(5).online, "{:?}", w.fb(5));
+}
+
+#[test]
+fn emcy_fault_and_fault_reset_edge() {
+    let mut w = World::booted();
+    let hold = w.hold_all();
+    w.run(5, hold);
+    w.take_events();
+    let emcy = w.drives[3].fault(0x8130, 0x11);
+    w.inbox.extend(emcy);
+    w.step(hold);
+    w.step(hold);
+    let events = w.take_events();
+    assert!(
+        matches!(events[0], MasterEvent::Emcy { axis: 3, emcy } if emcy.code == 0x8130 && emcy.node == 4)
+    );
+    assert_eq!(
+        events[1],
+        MasterEvent::Fault {
+            axis: 3,
+            code: 0x8130
+        }
+    );
+    assert_eq!(w.fb(3).state, State::Fault);
+    assert_eq!(w.fb(3).last_emcy.unwrap().code, 0x8130);
+    // Without reset_faults the fault is held with 0x0000.
+    let frames = w.run(3, hold);
+    assert!(
+        frames
+            .iter()
+            .all(|f| rpdo1_of(f, 4).unwrap().controlword == 0)
+    );
+    w.master.reset_faults();
+    let frames = w.run(5, hold);
+    let cws: Vec<u16> = frames
+        .iter()
+        .map(|f| rpdo1_of(f, 4).unwrap().controlword)
+        .collect();
+    assert_eq!(cws, [0x80, 0x06, 0x07, 0x0F, 0x0F]);
+    assert!(w.fb(3).enabled);
+}
+
+#[test]
+fn fault_reset_edges_are_bounded_when_the_fault_persists() {
+    let mut w = World::booted();
+    let hold = w.hold_all();
+    w.run(5, hold);
+    let emcy = w.drives[0].fault(0x5441, 0x05);
+    w.inbox.extend(emcy);
+    w.run(2, hold);
+    w.drives[0].refuse_fault_reset = true; // the cause persists
+    w.master.reset_faults();
+    let mut cws = Vec::new();
+    for _ in 0..10 {
+        let f = w.step(hold);
+        cws.push(rpdo1_of(&f, 1).unwrap().controlword);
+    }
+    assert_eq!(cws, [0x80, 0, 0x80, 0, 0x80, 0, 0, 0, 0, 0]);
+}
+
+#[test]
+fn estop_bit_blocks_enabling_and_is_reported() {
+    let mut w = World::booted();
+    w.drives[0].estop = true;
+    let hold = w.hold_all();
+    w.run(6, hold);
+    assert!(w.fb(0).estop);
+    assert_eq!(w.fb(0).state, State::SwitchOnDisabled);
+    assert!(!w.fb(0).enabled);
+    assert!(w.fb(1).enabled);
+}
+
+#[test]
+fn config_failure_is_reported_and_reset_node_retries() {
+    let mut w = World::new();
+    w.drives[1].script(0x6060, 0, Fault::Abort(0x0609_0030), 3);
+    w.run(80, [DriveRequest::Disable; 6]);
+    let events = w.take_events();
+    let failed = events.iter().find_map(|e| match e {
+        MasterEvent::ConfigFailed {
+            axis: 1,
+            node: 2,
+            error,
+        } => Some(*error),
+        _ => None,
+    });
+    let err = failed.expect("ConfigFailed");
+    assert_eq!(
+        err.to_string(),
+        "node 2 (axis 2) configuration step 11 (0x6060:0 modes of operation = 8 (CSP)) failed after 3 \
+         attempt(s): SDO abort 0x06090030 (value range of parameter exceeded)"
+    );
+    assert!(!w.fb(1).online);
+    w.master.reset_node(1);
+    w.run(60, [DriveRequest::Disable; 6]);
+    assert!(w.fb(1).online);
+}
+
+#[test]
+fn heartbeat_of_an_already_running_drive_triggers_a_reset() {
+    let mut w = World::new();
+    w.inbox.clear(); // drives were up before the master started: no boot-ups
+    for d in &mut w.drives {
+        d.set_object(0x1017, 0, 50);
+    }
+    let cycles = w.run(100, [DriveRequest::Disable; 6]);
+    let resets = cycles
+        .concat()
+        .iter()
+        .filter(|f| f.id == 0 && f.data[0] == 0x82)
+        .count();
+    assert_eq!(resets, 6);
+    for a in 0..6 {
+        assert!(w.fb(a).online, "axis {a}");
+    }
+    assert!(
+        !w.take_events()
+            .iter()
+            .any(|e| matches!(e, MasterEvent::Missing { .. }))
+    );
+}
+
+#[test]
+fn setup_refuses_250_hz_at_500_kbit() {
+    let mut cfg = RobotConfig::prob2_default();
+    cfg.cycle.rate_hz = 250;
+    let err = Master::new(&cfg).unwrap_err();
+    assert!(matches!(err, MasterSetupError::BusLoad(_)));
+    assert!(err.to_string().contains("85.6 %"), "{err}");
+    cfg.bus.bitrate = 1_000_000;
+    assert!(Master::new(&cfg).is_ok());
+    cfg.cycle.rate_hz = 400; // 2.5 ms is not a whole number of ms
+    let err = Master::new(&cfg).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "cycle period 2500 us (cycle.rate_hz = 400) is not allowed: 0x60C2 is configured in whole \
+         milliseconds, so the period must be 1..=255 ms"
+    );
+}
+
+#[test]
+fn setup_refuses_a_consumer_time_beyond_16_bits() {
+    let mut cfg = RobotConfig::prob2_default();
+    cfg.bus.master_heartbeat_ms = 30_000;
+    let err = Master::new(&cfg).unwrap_err();
+    assert_eq!(
+        err,
+        MasterSetupError::ConsumerTime {
+            master_heartbeat_ms: 30_000
+        }
+    );
+    assert!(err.to_string().contains("<= 21845 ms"), "{err}");
+}
+
+#[test]
+fn frames_of_unknown_nodes_and_garbage_are_ignored() {
+    let mut w = World::booted();
+    for id in [0x18F, 0x70F, 0x58F, 0x08F, 0x185, 0x705, 0x081, 0x585] {
+        w.master
+            .handle_frame(w.now, &Frame::new(id, &[1, 2]).unwrap());
+    }
+    assert_eq!(w.master.bad_frames(), 3);
+    w.run(2, [DriveRequest::Disable; 6]);
+    assert!(w.fb(0).online);
+}
+
+#[test]
+fn frame_buf_is_bounded() {
+    let mut b = FrameBuf::new();
+    for _ in 0..FRAME_BUF_CAPACITY {
+        assert!(b.push(Frame::default()));
+    }
+    assert!(!b.push(Frame::default()));
+    assert_eq!(b.len(), FRAME_BUF_CAPACITY);
+    b.clear();
+    assert!(b.is_empty());
+}

@@ -1,0 +1,228 @@
+//! The four PDOs of the MCM drive profile (DRIVE_PROFILE.md, "Cyclic data"), packed and
+//! unpacked little-endian.
+//!
+//! | PDO   | COB-ID  | bytes | content |
+//! |-------|---------|-------|---------|
+//! | RPDO1 | 0x200+n | 8 | controlword u16, target position i32 (counts), target torque i16 (‰ of 0x6076) |
+//! | RPDO2 | 0x300+n | 3 | modes of operation i8, max current u16 (‰ of 0x6075) |
+//! | TPDO1 | 0x180+n | 8 | statusword u16, position actual i32 (counts), current actual i16 (‰ of 0x6075) |
+//! | TPDO2 | 0x280+n | 1 | modes of operation display i8 |
+//!
+//! Runs inside the cycle: no allocation; bad lengths are typed errors.
+//!
+//! ```
+//! use mcm_rt_core::canopen::pdo::Rpdo1;
+//! let f = Rpdo1 { controlword: 0x000F, target_position: 100_100, target_torque: 0 }.encode(5);
+//! assert_eq!(f.to_string(), "205#0F00048701000000");
+//! ```
+
+use super::objects::{rpdo_id, tpdo_id};
+use crate::bus::Frame;
+
+/// A PDO frame had the wrong length.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{pdo} from COB-ID 0x{id:03X} has {len} data bytes; the MCM drive profile maps exactly {expected}"
+)]
+pub struct PdoLengthError {
+    pub pdo: &'static str,
+    pub id: u16,
+    pub len: u8,
+    pub expected: u8,
+}
+
+fn check(frame: &Frame, pdo: &'static str, expected: u8) -> Result<(), PdoLengthError> {
+    if frame.len == expected {
+        Ok(())
+    } else {
+        Err(PdoLengthError {
+            pdo,
+            id: frame.id,
+            len: frame.len,
+            expected,
+        })
+    }
+}
+
+/// RPDO1: cyclic setpoints (transmission type 1, applied at the next SYNC).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Rpdo1 {
+    pub controlword: u16,
+    pub target_position: i32,
+    pub target_torque: i16,
+}
+
+impl Rpdo1 {
+    pub const LEN: u8 = 8;
+
+    pub fn encode(&self, node: u8) -> Frame {
+        let mut data = [0u8; 8];
+        data[0..2].copy_from_slice(&self.controlword.to_le_bytes());
+        data[2..6].copy_from_slice(&self.target_position.to_le_bytes());
+        data[6..8].copy_from_slice(&self.target_torque.to_le_bytes());
+        Frame {
+            id: rpdo_id(1, node),
+            len: Self::LEN,
+            data,
+        }
+    }
+
+    pub fn decode(frame: &Frame) -> Result<Rpdo1, PdoLengthError> {
+        check(frame, "RPDO1", Self::LEN)?;
+        let d = frame.data;
+        Ok(Rpdo1 {
+            controlword: u16::from_le_bytes([d[0], d[1]]),
+            target_position: i32::from_le_bytes([d[2], d[3], d[4], d[5]]),
+            target_torque: i16::from_le_bytes([d[6], d[7]]),
+        })
+    }
+}
+
+/// RPDO2: mode and current limit (event-driven, applied on reception).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Rpdo2 {
+    pub mode: i8,
+    pub max_current_permille: u16,
+}
+
+impl Rpdo2 {
+    pub const LEN: u8 = 3;
+
+    pub fn encode(&self, node: u8) -> Frame {
+        let [c0, c1] = self.max_current_permille.to_le_bytes();
+        Frame {
+            id: rpdo_id(2, node),
+            len: Self::LEN,
+            data: [self.mode as u8, c0, c1, 0, 0, 0, 0, 0],
+        }
+    }
+
+    pub fn decode(frame: &Frame) -> Result<Rpdo2, PdoLengthError> {
+        check(frame, "RPDO2", Self::LEN)?;
+        let d = frame.data;
+        Ok(Rpdo2 {
+            mode: d[0] as i8,
+            max_current_permille: u16::from_le_bytes([d[1], d[2]]),
+        })
+    }
+}
+
+/// TPDO1: cyclic feedback, sampled at SYNC.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Tpdo1 {
+    pub statusword: u16,
+    pub position: i32,
+    pub current_permille: i16,
+}
+
+impl Tpdo1 {
+    pub const LEN: u8 = 8;
+
+    pub fn encode(&self, node: u8) -> Frame {
+        let mut data = [0u8; 8];
+        data[0..2].copy_from_slice(&self.statusword.to_le_bytes());
+        data[2..6].copy_from_slice(&self.position.to_le_bytes());
+        data[6..8].copy_from_slice(&self.current_permille.to_le_bytes());
+        Frame {
+            id: tpdo_id(1, node),
+            len: Self::LEN,
+            data,
+        }
+    }
+
+    pub fn decode(frame: &Frame) -> Result<Tpdo1, PdoLengthError> {
+        check(frame, "TPDO1", Self::LEN)?;
+        let d = frame.data;
+        Ok(Tpdo1 {
+            statusword: u16::from_le_bytes([d[0], d[1]]),
+            position: i32::from_le_bytes([d[2], d[3], d[4], d[5]]),
+            current_permille: i16::from_le_bytes([d[6], d[7]]),
+        })
+    }
+}
+
+/// TPDO2: modes of operation display (sent on change and on entering OPERATIONAL).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Tpdo2 {
+    pub mode_display: i8,
+}
+
+impl Tpdo2 {
+    pub const LEN: u8 = 1;
+
+    pub fn encode(&self, node: u8) -> Frame {
+        Frame {
+            id: tpdo_id(2, node),
+            len: Self::LEN,
+            data: [self.mode_display as u8, 0, 0, 0, 0, 0, 0, 0],
+        }
+    }
+
+    pub fn decode(frame: &Frame) -> Result<Tpdo2, PdoLengthError> {
+        check(frame, "TPDO2", Self::LEN)?;
+        Ok(Tpdo2 {
+            mode_display: frame.data[0] as i8,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn pdos_match_the_reference_bytes() {
+        // Reference: `185#3702A0860100` (statusword 0x0237, position 100000), here with the
+        // profile's current field appended.
+        let t = Tpdo1 {
+            statusword: 0x0237,
+            position: 100_000,
+            current_permille: -2,
+        };
+        assert_eq!(t.encode(5).to_string(), "185#3702A0860100FEFF");
+        assert_eq!(Tpdo1::decode(&t.encode(5)), Ok(t));
+        // Reference: `205#0F0004870100` (controlword 0x000F, target 100100) plus target torque.
+        let r = Rpdo1 {
+            controlword: 0x000F,
+            target_position: 100_100,
+            target_torque: 0x0102,
+        };
+        assert_eq!(r.encode(5).to_string(), "205#0F00048701000201");
+        assert_eq!(Rpdo1::decode(&r.encode(5)), Ok(r));
+        let r2 = Rpdo2 {
+            mode: 10,
+            max_current_permille: 2500,
+        };
+        assert_eq!(r2.encode(3).to_string(), "303#0AC409");
+        assert_eq!(Rpdo2::decode(&r2.encode(3)), Ok(r2));
+        let t2 = Tpdo2 { mode_display: 8 };
+        assert_eq!(t2.encode(6).to_string(), "286#08");
+        assert_eq!(
+            Tpdo2::decode(&Frame::new(0x286, &[0xF6]).unwrap()),
+            Ok(Tpdo2 { mode_display: -10 })
+        );
+    }
+
+    #[test]
+    fn wrong_lengths_are_named() {
+        let short = Frame::new(0x185, &[0x37, 0x02, 0xA0, 0x86, 0x01, 0x00]).unwrap();
+        let err = Tpdo1::decode(&short).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "TPDO1 from COB-ID 0x185 has 6 data bytes; the MCM drive profile maps exactly 8"
+        );
+        assert!(Tpdo2::decode(&Frame::new(0x285, &[]).unwrap()).is_err());
+        assert!(Rpdo2::decode(&Frame::new(0x305, &[1, 2]).unwrap()).is_err());
+    }
+
+    proptest! {
+        #[test]
+        fn pdos_round_trip(cw: u16, pos: i32, tq: i16, node in 1u8..=127) {
+            let r = Rpdo1 { controlword: cw, target_position: pos, target_torque: tq };
+            prop_assert_eq!(Rpdo1::decode(&r.encode(node)), Ok(r));
+            let t = Tpdo1 { statusword: cw, position: pos, current_permille: tq };
+            prop_assert_eq!(Tpdo1::decode(&t.encode(node)), Ok(t));
+        }
+    }
+}
