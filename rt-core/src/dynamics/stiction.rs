@@ -1,0 +1,174 @@
+//! Coulomb friction with true stiction for the simulator: a velocity-level (time-stepping)
+//! friction solve, the model used by Stewart–Trinkle / Anitescu-type integrators.
+//!
+//! Runs inside the cycle: allocation-free and panic-free.
+//!
+//! Over one step the velocity after the step is `v = v_free + W λ`, where `v_free` is the
+//! velocity without Coulomb friction, `W = dt·A⁻¹` (A: mass matrix plus the implicit
+//! spring/damper terms) and `λ` are the Coulomb torques. Each `λᵢ` lies in `[−Fᵢ, Fᵢ]` and:
+//! - `vᵢ = 0` when `|λᵢ| < Fᵢ` (the joint sticks: friction supplies whatever torque holds it),
+//! - `λᵢ = −Fᵢ·sign(vᵢ)` when `vᵢ ≠ 0` (the joint slides against the full Coulomb level).
+//!
+//! This is a box-constrained linear complementarity problem; it is solved by projected
+//! Gauss-Seidel (bounded number of sweeps, deterministic), then polished: the joints found
+//! sticking get their `λ` from an exact linear solve so their velocity is exactly zero, and a
+//! joint at rest whose applied torque stays below its Coulomb (or brake) level does not creep
+//! at all. The static level equals the Coulomb level (no Stribeck peak).
+
+use super::mass::solve_spd;
+use mcm_shared::NUM_AXES;
+use nalgebra::{Matrix6, Vector6};
+
+const N: usize = NUM_AXES;
+
+/// Upper bound on projected Gauss-Seidel sweeps per step.
+const MAX_SWEEPS: usize = 100;
+/// Sweeps stop when no λ changed by more than this fraction of its bound.
+const SWEEP_TOLERANCE: f64 = 1e-12;
+
+/// Find the friction torques `lambda` (warm-started with its input) for `v = v_free + w·λ`,
+/// `|λᵢ| ≤ bound[i]`. Returns the velocity after the step; sticking joints get exactly 0.
+/// `w` must be symmetric positive definite; `bound[i] ≤ 0` means no friction on joint i.
+pub(super) fn solve_friction(
+    w: &Matrix6<f64>,
+    v_free: &Vector6<f64>,
+    bound: &Vector6<f64>,
+    lambda: &mut Vector6<f64>,
+) -> Vector6<f64> {
+    for i in 0..N {
+        let b = bound[i].max(0.0);
+        let ok = lambda[i].is_finite() && w[(i, i)] > 0.0 && w[(i, i)].is_finite();
+        lambda[i] = if ok { lambda[i].clamp(-b, b) } else { 0.0 };
+    }
+    for _ in 0..MAX_SWEEPS {
+        let mut change: f64 = 0.0;
+        for i in 0..N {
+            let b = bound[i];
+            let d = w[(i, i)];
+            if !(b > 0.0 && d > 0.0 && d.is_finite()) {
+                continue;
+            }
+            let vi = v_free[i] + w.row(i).dot(&lambda.transpose());
+            let new = (lambda[i] - vi / d).clamp(-b, b);
+            if new.is_finite() {
+                change = change.max((new - lambda[i]).abs() / b);
+                lambda[i] = new;
+            }
+        }
+        if change <= SWEEP_TOLERANCE {
+            break;
+        }
+    }
+    let stuck = polish(w, v_free, bound, lambda);
+    let mut v = v_free + w * *lambda;
+    for i in 0..N {
+        if stuck[i] {
+            v[i] = 0.0;
+        }
+    }
+    v
+}
+
+/// Solve exactly for the λ of the joints that stick (|λ| strictly inside its bound), the
+/// others held at their bound. Keeps the Gauss-Seidel λ if the exact solution leaves a bound.
+fn polish(
+    w: &Matrix6<f64>,
+    v_free: &Vector6<f64>,
+    bound: &Vector6<f64>,
+    lambda: &mut Vector6<f64>,
+) -> [bool; N] {
+    let mut stuck = [false; N];
+    for i in 0..N {
+        stuck[i] = bound[i] > 0.0 && lambda[i].abs() < bound[i] * (1.0 - 1e-9);
+    }
+    if !stuck.iter().any(|s| *s) {
+        return stuck;
+    }
+    // Rows of sticking joints: Σ_{j stuck} w_ij λ_j = −v_free_i − Σ_{j sliding} w_ij λ_j.
+    // Rows of sliding joints: identity (λ_j unchanged). The matrix stays SPD.
+    let mut a = Matrix6::identity();
+    let mut rhs = *lambda;
+    for i in 0..N {
+        if !stuck[i] {
+            continue;
+        }
+        rhs[i] = -v_free[i];
+        for j in 0..N {
+            if stuck[j] {
+                a[(i, j)] = w[(i, j)];
+            } else {
+                rhs[i] -= w[(i, j)] * lambda[j];
+            }
+        }
+    }
+    let exact = solve_spd(&a, &rhs);
+    let inside = (0..N).all(|i| !stuck[i] || (exact[i].is_finite() && exact[i].abs() <= bound[i]));
+    if inside {
+        *lambda = exact;
+        stuck
+    } else {
+        [false; N]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn coupled_w() -> Matrix6<f64> {
+        let mut w = Matrix6::identity() * 2.0;
+        w[(0, 1)] = 0.8;
+        w[(1, 0)] = 0.8;
+        w[(2, 3)] = -0.5;
+        w[(3, 2)] = -0.5;
+        w * 0.01
+    }
+
+    #[test]
+    fn below_the_level_the_joint_sticks_exactly() {
+        let w = coupled_w();
+        let v_free = Vector6::new(0.01, -0.005, 0.0, 0.002, 0.0, 0.0);
+        let bound = Vector6::repeat(5.0);
+        let mut lambda = Vector6::zeros();
+        let v = solve_friction(&w, &v_free, &bound, &mut lambda);
+        assert_eq!(v, Vector6::zeros());
+        assert!(lambda.iter().zip(bound.iter()).all(|(l, b)| l.abs() <= *b));
+    }
+
+    #[test]
+    fn above_the_level_the_joint_slides_against_full_friction() {
+        let w = coupled_w();
+        let v_free = Vector6::new(1.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let bound = Vector6::new(3.0, 100.0, 0.0, 0.0, 0.0, 0.0);
+        let mut lambda = Vector6::zeros();
+        let v = solve_friction(&w, &v_free, &bound, &mut lambda);
+        assert_eq!(lambda[0], -3.0, "sliding joint gets the full Coulomb level");
+        assert!(v[0] > 0.0, "still moving forward: {v}");
+        assert_eq!(v[1], 0.0, "joint 2 holds (its level is high)");
+        // Complementarity: the joint without friction moves freely.
+        assert_eq!(lambda[2], 0.0);
+    }
+
+    #[test]
+    fn friction_never_reverses_the_motion() {
+        let w = Matrix6::identity() * 0.001;
+        let v_free = Vector6::new(0.001, -0.001, 0.0, 0.0, 0.0, 0.0);
+        let bound = Vector6::repeat(10.0);
+        let mut lambda = Vector6::zeros();
+        let v = solve_friction(&w, &v_free, &bound, &mut lambda);
+        assert_eq!(
+            v,
+            Vector6::zeros(),
+            "friction stops the joint, does not push it back"
+        );
+    }
+
+    #[test]
+    fn bad_input_gives_finite_output() {
+        let w = Matrix6::from_element(f64::NAN);
+        let mut lambda = Vector6::repeat(f64::NAN);
+        let v = solve_friction(&w, &Vector6::zeros(), &Vector6::repeat(1.0), &mut lambda);
+        assert!(lambda.iter().all(|l| l.is_finite()), "{lambda}");
+        let _ = v;
+    }
+}
