@@ -1,0 +1,412 @@
+//! 1-D rest-to-rest motion profiles (motion notes §5.2). Planning and sampling both run
+//! **inside the cycle** if needed: O(1), no allocation, no panics.
+//!
+//! - No jerk limit: **trapezoid** (accelerate at A, cruise at V, decelerate at A), or a triangle
+//!   when V is not reached (peak velocity √(D·A)).
+//! - Jerk limit J: **double-S** with 7 phases (jerk +J, hold a, jerk −J, cruise, mirrored),
+//!   symmetric acceleration and deceleration; the acceleration or the velocity plateau may
+//!   vanish when A or V is not reached.
+//!
+//! The plan is closed-form and time-optimal for a symmetric rest-to-rest move. Samples are
+//! displacements from the start: 0 at t = 0 and exactly `distance` (with v = a = 0) from
+//! `duration()` on. The deceleration half is evaluated as the mirror image of the
+//! acceleration half, anchored at the end, so the end state is exact.
+//!
+//! ```
+//! use mcm_rt_core::trajectory::{AxisLimits, Profile1D};
+//! let deg = std::f64::consts::PI / 180.0;
+//! let lim = AxisLimits { velocity: 90.0 * deg, acceleration: 180.0 * deg, jerk: Some(1800.0 * deg) };
+//! let p = Profile1D::plan(90.0 * deg, lim).unwrap();
+//! assert!((p.duration() - 1.6).abs() < 1e-12);
+//! assert_eq!(p.sample(p.duration()), (90.0 * deg, 0.0, 0.0));
+//! ```
+
+use super::{AxisLimits, PlanError};
+
+/// A planned rest-to-rest move over a signed distance. `Copy`, 12 numbers.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Profile1D {
+    /// Signed distance (rad).
+    distance: f64,
+    /// |distance|.
+    length: f64,
+    /// +1 or −1.
+    sign: f64,
+    /// Jerk of the ramps (0 for a trapezoid).
+    jerk: f64,
+    /// Duration of each jerk ramp (0 for a trapezoid).
+    t_j: f64,
+    /// Duration of constant acceleration.
+    t_ca: f64,
+    /// Duration of the whole acceleration half: 2·t_j + t_ca.
+    t_acc: f64,
+    /// Duration of cruise at peak velocity.
+    t_v: f64,
+    duration: f64,
+    a_peak: f64,
+    v_peak: f64,
+    /// Distance covered while accelerating: v_peak·t_acc/2.
+    p_acc: f64,
+}
+
+impl Profile1D {
+    /// Plans the time-optimal rest-to-rest move over `distance` (signed) under `limits`
+    /// (already scaled by any velocity factor). A zero distance gives a zero-length profile.
+    pub fn plan(distance: f64, limits: AxisLimits) -> Result<Profile1D, PlanError> {
+        if !distance.is_finite() {
+            return Err(PlanError::Distance { value: distance });
+        }
+        limits.validate()?;
+        let length = distance.abs();
+        let sign = if distance < 0.0 { -1.0 } else { 1.0 };
+        let (v_max, a_max) = (limits.velocity, limits.acceleration);
+        let (v_peak, a_peak, jerk) = match limits.jerk {
+            None => {
+                let v = if length >= v_max * v_max / a_max {
+                    v_max
+                } else {
+                    (length * a_max).sqrt()
+                };
+                (v.min(v_max), a_max, 0.0)
+            }
+            Some(j) => {
+                let v = if length >= v_max * accel_time(v_max, a_max, j) {
+                    v_max
+                } else {
+                    // v·T_acc(v) = D with an acceleration plateau (rationalised, no cancellation):
+                    let r = a_max / j;
+                    let v = 2.0 * length / (r + (r * r + 4.0 * length / a_max).sqrt());
+                    if v * j >= a_max * a_max {
+                        v
+                    } else {
+                        // ... or without one: v·2√(v/J) = D.
+                        let c = (length * j.sqrt() / 2.0).cbrt();
+                        c * c
+                    }
+                };
+                let v = v.min(v_max);
+                let a = if v * j >= a_max * a_max {
+                    a_max
+                } else {
+                    (v * j).sqrt().min(a_max)
+                };
+                (v, a, j)
+            }
+        };
+        if length == 0.0 || !(v_peak > 0.0 && a_peak > 0.0) {
+            // Zero distance, or one so small that v_peak underflows: nothing to move.
+            return Ok(Profile1D {
+                distance,
+                sign,
+                length,
+                ..Profile1D::default()
+            });
+        }
+        let t_j = if jerk > 0.0 { a_peak / jerk } else { 0.0 };
+        let t_ca = (v_peak / a_peak - t_j).max(0.0);
+        let t_acc = 2.0 * t_j + t_ca;
+        let p_acc = v_peak * t_acc / 2.0;
+        let t_v = (length / v_peak - t_acc).max(0.0);
+        let duration = 2.0 * t_acc + t_v;
+        if !duration.is_finite() {
+            return Err(PlanError::Duration { value: duration });
+        }
+        let profile = Profile1D {
+            distance,
+            length,
+            sign,
+            jerk,
+            t_j,
+            t_ca,
+            t_acc,
+            t_v,
+            duration,
+            a_peak,
+            v_peak,
+            p_acc,
+        };
+        // Guard against limit ratios so extreme that floating point cannot plan them.
+        let covered = 2.0 * p_acc + v_peak * t_v;
+        let error = (covered - length).abs();
+        if error.is_nan() || error > 1e-9 * length {
+            return Err(PlanError::Numeric { distance });
+        }
+        Ok(profile)
+    }
+
+    /// Total duration (s).
+    pub fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// Signed distance of the move (rad).
+    pub fn distance(&self) -> f64 {
+        self.distance
+    }
+
+    /// Peak |velocity| reached (rad/s).
+    pub fn peak_velocity(&self) -> f64 {
+        self.v_peak
+    }
+
+    /// Peak |acceleration| reached (rad/s²).
+    pub fn peak_acceleration(&self) -> f64 {
+        self.a_peak
+    }
+
+    /// True for a double-S (jerk-limited) profile, false for a trapezoid.
+    pub fn is_jerk_limited(&self) -> bool {
+        self.jerk > 0.0
+    }
+
+    /// Start times of the 7 phases plus the end time; phases of zero length repeat a time.
+    /// (Trapezoid: the jerk phases have zero length.)
+    pub fn phase_times(&self) -> [f64; 8] {
+        let (tj, tca, ta) = (self.t_j, self.t_ca, self.t_acc);
+        let td = ta + self.t_v;
+        [
+            0.0,
+            tj,
+            tj + tca,
+            ta,
+            td,
+            td + tj,
+            td + tj + tca,
+            self.duration,
+        ]
+    }
+
+    /// (displacement, velocity, acceleration) at time `t` since the start. `t` is clamped to
+    /// [0, duration]; NaN counts as 0. From `duration()` on the result is exactly
+    /// (distance, 0, 0).
+    pub fn sample(&self, t: f64) -> (f64, f64, f64) {
+        if t.is_nan() || t <= 0.0 {
+            return (0.0, 0.0, 0.0);
+        }
+        if t >= self.duration {
+            return (self.distance, 0.0, 0.0);
+        }
+        let cruise_end = self.t_acc + self.t_v;
+        let (p, v, a) = if t <= self.t_acc {
+            self.accelerating(t)
+        } else if t <= cruise_end {
+            (
+                self.p_acc + self.v_peak * (t - self.t_acc),
+                self.v_peak,
+                0.0,
+            )
+        } else {
+            let (p, v, a) = self.accelerating(self.duration - t);
+            (self.length - p, v, -a)
+        };
+        let p = p.max(0.0).min(self.length);
+        (self.sign * p, self.sign * v, self.sign * a)
+    }
+
+    /// The acceleration half (magnitudes), 0 <= t <= t_acc.
+    fn accelerating(&self, t: f64) -> (f64, f64, f64) {
+        let (j, a, tj) = (self.jerk, self.a_peak, self.t_j);
+        if t < tj {
+            (j * t * t * t / 6.0, j * t * t / 2.0, j * t)
+        } else if t < tj + self.t_ca {
+            let tau = t - tj;
+            let (p1, v1) = (a * tj * tj / 6.0, a * tj / 2.0);
+            (p1 + v1 * tau + a * tau * tau / 2.0, v1 + a * tau, a)
+        } else {
+            // Last jerk ramp, evaluated backwards from the end of the half (exact v_peak there).
+            // Clamped to the ramp: t_acc carries the rounding of t_ca, which may exceed a tiny
+            // t_j, and J·τ must not exceed the peak acceleration.
+            let tau = (self.t_acc - t).max(0.0).min(tj);
+            let v = self.v_peak;
+            (
+                self.p_acc - v * tau + j * tau * tau * tau / 6.0,
+                v - j * tau * tau / 2.0,
+                j * tau,
+            )
+        }
+    }
+}
+
+/// Time to accelerate from rest to `v` (and back to a = 0) under A and J (§5.2).
+fn accel_time(v: f64, a: f64, j: f64) -> f64 {
+    if v * j >= a * a {
+        v / a + a / j
+    } else {
+        2.0 * (v / j).sqrt()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn lim(v: f64, a: f64, j: Option<f64>) -> AxisLimits {
+        AxisLimits {
+            velocity: v,
+            acceleration: a,
+            jerk: j,
+        }
+    }
+
+    #[test]
+    fn durations_match_the_reference_table() {
+        // §5.2: (D, V, A, J, T double-S, T trapezoid); units cancel, degrees are fine here.
+        let table = [
+            (90.0, 90.0, 180.0, 1800.0, 1.600, 1.500),
+            (10.0, 90.0, 180.0, 1800.0, 0.5819, 0.4714),
+            (1.0, 90.0, 180.0, 1800.0, 0.2610, 0.1491),
+            (180.0, 150.0, 360.0, 3600.0, 1.7167, 1.6167),
+        ];
+        for (d, v, a, j, t_s, t_trap) in table {
+            for sign in [1.0, -1.0] {
+                let s = Profile1D::plan(sign * d, lim(v, a, Some(j))).unwrap();
+                let t = Profile1D::plan(sign * d, lim(v, a, None)).unwrap();
+                assert!(
+                    (s.duration() - t_s).abs() < 6e-5,
+                    "double-S {d}: {}",
+                    s.duration()
+                );
+                assert!(
+                    (t.duration() - t_trap).abs() < 6e-5,
+                    "trapezoid {d}: {}",
+                    t.duration()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn ends_exactly_and_clamps_time() {
+        let p = Profile1D::plan(-1.234, lim(0.7, 2.0, Some(9.0))).unwrap();
+        assert_eq!(p.sample(p.duration()), (-1.234, 0.0, 0.0));
+        assert_eq!(p.sample(1e9), (-1.234, 0.0, 0.0));
+        assert_eq!(p.sample(-1.0), (0.0, 0.0, 0.0));
+        assert_eq!(p.sample(f64::NAN), (0.0, 0.0, 0.0));
+        let z = Profile1D::plan(0.0, lim(1.0, 1.0, None)).unwrap();
+        assert_eq!((z.duration(), z.sample(0.5)), (0.0, (0.0, 0.0, 0.0)));
+    }
+
+    #[test]
+    fn bad_inputs_are_typed_errors() {
+        let ok = lim(1.0, 1.0, Some(1.0));
+        assert!(matches!(
+            Profile1D::plan(f64::NAN, ok),
+            Err(PlanError::Distance { .. })
+        ));
+        assert!(matches!(
+            Profile1D::plan(f64::INFINITY, ok),
+            Err(PlanError::Distance { .. })
+        ));
+        assert!(matches!(
+            Profile1D::plan(1.0, lim(0.0, 1.0, None)),
+            Err(PlanError::Limit {
+                name: "velocity",
+                ..
+            })
+        ));
+        assert!(matches!(
+            Profile1D::plan(1.0, lim(1.0, -1.0, None)),
+            Err(PlanError::Limit {
+                name: "acceleration",
+                ..
+            })
+        ));
+        assert!(matches!(
+            Profile1D::plan(1.0, lim(1.0, 1.0, Some(f64::INFINITY))),
+            Err(PlanError::Limit { name: "jerk", .. })
+        ));
+        assert!(matches!(
+            Profile1D::plan(1e300, lim(1e-300, 1.0, None)),
+            Err(PlanError::Duration { .. })
+        ));
+        let msg = Profile1D::plan(1.0, lim(-2.0, 1.0, None))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            msg.contains("velocity limit -2") && msg.contains("finite and > 0"),
+            "{msg}"
+        );
+    }
+
+    /// Grid of 1000 points plus every phase boundary and points just beside it.
+    fn grid(p: &Profile1D) -> impl Iterator<Item = f64> + '_ {
+        let n = 1000;
+        let t = p.duration();
+        let eps = 1e-9 * t.max(1e-9);
+        let uniform = (0..=n).map(move |k| t * k as f64 / n as f64);
+        let bounds = p
+            .phase_times()
+            .into_iter()
+            .flat_map(move |b| [b - eps, b, b + eps]);
+        uniform.chain(bounds)
+    }
+
+    fn limits_strategy() -> impl Strategy<Value = (f64, AxisLimits)> {
+        (
+            prop_oneof![1e-6..1e-3f64, 1e-3..20.0f64],
+            any::<bool>(),
+            1e-2..10.0f64,
+            1e-2..100.0f64,
+            prop_oneof![Just(None), (1e-2..1e4f64).prop_map(Some)],
+        )
+            .prop_map(|(d, neg, v, a, j)| (if neg { -d } else { d }, lim(v, a, j)))
+    }
+
+    proptest! {
+        // No regression files: failures print their minimal input instead.
+        #![proptest_config(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() })]
+
+        #[test]
+        fn samples_respect_limits_and_end_at_rest((d, l) in limits_strategy()) {
+            let p = Profile1D::plan(d, l).unwrap();
+            let tol = |x: f64| x * (1.0 + 1e-9) + 1e-12;
+            let (lo, hi) = (d.min(0.0), d.max(0.0));
+            let mut last = (0.0, 0.0); // (t, a)
+            for t in grid(&p) {
+                let (pos, v, a) = p.sample(t);
+                prop_assert!(v.abs() <= tol(l.velocity), "v {v} > {} at {t}", l.velocity);
+                prop_assert!(a.abs() <= tol(l.acceleration), "a {a} > {} at {t}", l.acceleration);
+                prop_assert!(pos >= lo && pos <= hi, "p {pos} outside [{lo}, {hi}]");
+                prop_assert!(v * d.signum() >= -1e-12, "moves backwards: v {v}");
+                if let Some(j) = l.jerk {
+                    let t_c = t.clamp(0.0, p.duration());
+                    let (t0, a0) = last;
+                    if t_c > t0 {
+                        let bound = j * (t_c - t0) * (1.0 + 1e-6) + 1e-9 * l.acceleration.max(1.0);
+                        prop_assert!((a - a0).abs() <= bound, "jerk over {j} between {t0} and {t_c}");
+                    }
+                    last = (t_c, a);
+                }
+            }
+            prop_assert_eq!(p.sample(p.duration()), (d, 0.0, 0.0));
+            // Time-optimality: some limit is active.
+            let v_active = (p.peak_velocity() - l.velocity).abs() <= 1e-9 * l.velocity;
+            let a_active = (p.peak_acceleration() - l.acceleration).abs() <= 1e-9 * l.acceleration;
+            prop_assert!(v_active || a_active || p.is_jerk_limited());
+        }
+
+        #[test]
+        fn position_velocity_acceleration_are_consistent((d, l) in limits_strategy()) {
+            // Within one phase v is quadratic and a linear: Simpson and the trapezoid rule are
+            // exact there, so p, v, a must agree up to rounding.
+            let p = Profile1D::plan(d, l).unwrap();
+            let b = p.phase_times();
+            let n = 500;
+            let h = p.duration() / n as f64;
+            for k in 0..n {
+                let (t0, t1) = (k as f64 * h, (k + 1) as f64 * h);
+                if b.iter().any(|&x| x >= t0 - 1e-12 * h && x <= t1 + 1e-12 * h) {
+                    continue;
+                }
+                let (p0, v0, a0) = p.sample(t0);
+                let (_, vm, _) = p.sample(t0 + h / 2.0);
+                let (p1, v1, a1) = p.sample(t1);
+                let tol_p = 1e-9 * (d.abs() + l.velocity * h);
+                let tol_v = 1e-9 * (l.velocity + l.acceleration * h);
+                prop_assert!((p1 - p0 - h / 6.0 * (v0 + 4.0 * vm + v1)).abs() <= tol_p);
+                prop_assert!((v1 - v0 - h / 2.0 * (a0 + a1)).abs() <= tol_v);
+            }
+        }
+    }
+}

@@ -1,0 +1,291 @@
+//! Fixed-capacity FIFO ring of PVT points (motion notes §5.4). Every operation is O(1) per
+//! point, allocation- and panic-free: usable **inside the cycle**.
+//!
+//! A batch (one `pvt_points` command) is queued atomically: either all of its points fit and are
+//! appended, or nothing is queued and [`QueueFull`] says how many were offered and how many
+//! places were free. Points are plain data; validating them (e.g. with
+//! [`super::PvtSegment::check`] from [`PvtQueue::last`] through the batch) is the caller's job,
+//! before pushing.
+//!
+//! The ring is stored inline (`N` × 96 bytes, ≈ 96 KiB for the default 1024): create it once
+//! at start-up (e.g. in a `Box` or a long-lived struct) and reuse it with [`PvtQueue::clear`].
+//!
+//! ```
+//! use mcm_rt_core::trajectory::{PvtPoint, PvtQueue};
+//! let mut q: PvtQueue<4> = PvtQueue::new();
+//! q.push_batch(&[PvtPoint::default(); 3]).unwrap();
+//! let err = q.push_batch(&[PvtPoint::default(); 2]).unwrap_err();
+//! assert_eq!((err.offered, err.free, q.len()), (2, 1, 3)); // nothing of the batch was queued
+//! assert!(q.pop().is_some());
+//! ```
+
+use super::QueueFull;
+use mcm_shared::NUM_AXES;
+
+/// Default capacity; the protocol requires at least 1000 points.
+pub const DEFAULT_PVT_CAPACITY: usize = 1024;
+const _: () = assert!(DEFAULT_PVT_CAPACITY >= 1000);
+
+/// One PVT point of all six axes (rad, rad/s). Points are spaced by the stream's `dt`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PvtPoint {
+    pub position: [f64; NUM_AXES],
+    pub velocity: [f64; NUM_AXES],
+}
+
+impl PvtPoint {
+    pub const ZERO: PvtPoint = PvtPoint {
+        position: [0.0; NUM_AXES],
+        velocity: [0.0; NUM_AXES],
+    };
+}
+
+/// FIFO ring of at most `N` PVT points (`N` > 0, checked at compile time).
+#[derive(Clone)]
+pub struct PvtQueue<const N: usize = DEFAULT_PVT_CAPACITY> {
+    buf: [PvtPoint; N],
+    /// Index of the oldest point.
+    head: usize,
+    len: usize,
+}
+
+impl<const N: usize> PvtQueue<N> {
+    /// An empty queue.
+    pub const fn new() -> Self {
+        const { assert!(N > 0, "a PvtQueue needs a capacity > 0") };
+        PvtQueue {
+            buf: [PvtPoint::ZERO; N],
+            head: 0,
+            len: 0,
+        }
+    }
+
+    pub const fn capacity(&self) -> usize {
+        N
+    }
+
+    pub const fn len(&self) -> usize {
+        self.len
+    }
+
+    pub const fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    pub const fn is_full(&self) -> bool {
+        self.len == N
+    }
+
+    /// Free places.
+    pub const fn free(&self) -> usize {
+        N - self.len
+    }
+
+    /// Appends all `points` in order, or none of them if they do not all fit.
+    pub fn push_batch(&mut self, points: &[PvtPoint]) -> Result<(), QueueFull> {
+        let free = self.free();
+        if points.len() > free {
+            return Err(QueueFull {
+                offered: points.len(),
+                free,
+                capacity: N,
+            });
+        }
+        let tail = (self.head + self.len) % N;
+        let first = (N - tail).min(points.len());
+        let (a, b) = points.split_at(first);
+        self.buf[tail..tail + first].copy_from_slice(a);
+        self.buf[..b.len()].copy_from_slice(b);
+        self.len += points.len();
+        Ok(())
+    }
+
+    /// Appends one point (a batch of one).
+    pub fn push(&mut self, point: PvtPoint) -> Result<(), QueueFull> {
+        self.push_batch(core::slice::from_ref(&point))
+    }
+
+    /// Removes and returns the oldest point.
+    pub fn pop(&mut self) -> Option<PvtPoint> {
+        if self.len == 0 {
+            return None;
+        }
+        let point = self.buf[self.head];
+        self.head = (self.head + 1) % N;
+        self.len -= 1;
+        Some(point)
+    }
+
+    /// The oldest point, without removing it.
+    pub fn peek(&self) -> Option<&PvtPoint> {
+        self.get(0)
+    }
+
+    /// The `i`-th point from the oldest (0 = oldest), if queued.
+    pub fn get(&self, i: usize) -> Option<&PvtPoint> {
+        if i < self.len {
+            self.buf.get((self.head + i) % N)
+        } else {
+            None
+        }
+    }
+
+    /// The newest point: where the next batch must continue from.
+    pub fn last(&self) -> Option<&PvtPoint> {
+        self.len.checked_sub(1).and_then(|i| self.get(i))
+    }
+
+    /// Points from oldest to newest.
+    pub fn iter(&self) -> impl Iterator<Item = &PvtPoint> + '_ {
+        (0..self.len).filter_map(move |i| self.get(i))
+    }
+
+    /// Drops every queued point.
+    pub fn clear(&mut self) {
+        self.head = 0;
+        self.len = 0;
+    }
+}
+
+impl<const N: usize> Default for PvtQueue<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> core::fmt::Debug for PvtQueue<N> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("PvtQueue")
+            .field("len", &self.len)
+            .field("capacity", &N)
+            .finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use std::collections::VecDeque;
+
+    fn pt(x: f64) -> PvtPoint {
+        PvtPoint {
+            position: [x; NUM_AXES],
+            velocity: [-x; NUM_AXES],
+        }
+    }
+
+    fn contents<const N: usize>(q: &PvtQueue<N>) -> Vec<f64> {
+        q.iter().map(|p| p.position[0]).collect()
+    }
+
+    #[test]
+    fn batch_push_is_all_or_nothing() {
+        let mut q: PvtQueue<8> = PvtQueue::new();
+        q.push_batch(&[pt(1.0), pt(2.0), pt(3.0), pt(4.0), pt(5.0)])
+            .unwrap();
+        let err = q
+            .push_batch(&[pt(6.0), pt(7.0), pt(8.0), pt(9.0)])
+            .unwrap_err();
+        assert_eq!(
+            err,
+            QueueFull {
+                offered: 4,
+                free: 3,
+                capacity: 8
+            }
+        );
+        assert!(
+            err.to_string()
+                .contains("4 points offered but only 3 of 8 places are free"),
+            "{err}"
+        );
+        assert_eq!(contents(&q), [1.0, 2.0, 3.0, 4.0, 5.0]);
+        q.push_batch(&[pt(6.0), pt(7.0), pt(8.0)]).unwrap();
+        assert!(q.is_full());
+        assert_eq!(q.push_batch(&[]), Ok(()));
+        assert_eq!(
+            q.push(pt(9.0)),
+            Err(QueueFull {
+                offered: 1,
+                free: 0,
+                capacity: 8
+            })
+        );
+        assert_eq!(q.last(), Some(&pt(8.0)));
+        q.clear();
+        assert_eq!(
+            (q.len(), q.pop(), q.peek(), q.last()),
+            (0, None, None, None)
+        );
+    }
+
+    #[test]
+    fn wraps_around_in_fifo_order() {
+        let mut q: PvtQueue<4> = PvtQueue::new();
+        q.push_batch(&[pt(1.0), pt(2.0), pt(3.0)]).unwrap();
+        assert_eq!(q.pop(), Some(pt(1.0)));
+        assert_eq!(q.pop(), Some(pt(2.0)));
+        q.push_batch(&[pt(4.0), pt(5.0), pt(6.0)]).unwrap(); // crosses the end of the array
+        assert_eq!(q.peek(), Some(&pt(3.0)));
+        assert_eq!(q.get(3), Some(&pt(6.0)));
+        assert_eq!(q.get(4), None);
+        assert_eq!(contents(&q), [3.0, 4.0, 5.0, 6.0]);
+        let popped: Vec<_> = std::iter::from_fn(|| q.pop()).collect();
+        assert_eq!(popped, [pt(3.0), pt(4.0), pt(5.0), pt(6.0)]);
+    }
+
+    #[test]
+    fn default_capacity_holds_the_protocols_thousand_points() {
+        let mut q: Box<PvtQueue> = Box::default();
+        assert!(q.capacity() >= 1000);
+        let batch = [pt(0.5); 1000];
+        q.push_batch(&batch).unwrap();
+        assert_eq!(q.len(), 1000);
+    }
+
+    #[derive(Clone, Debug)]
+    enum Op {
+        Push(usize),
+        Pop,
+        Clear,
+    }
+
+    proptest! {
+        // No regression files: failures print their minimal input instead.
+        #![proptest_config(ProptestConfig { failure_persistence: None, ..ProptestConfig::default() })]
+
+        #[test]
+        fn behaves_like_a_bounded_deque(
+            ops in proptest::collection::vec(
+                prop_oneof![4 => (0..7usize).prop_map(Op::Push), 5 => Just(Op::Pop), 1 => Just(Op::Clear)],
+                0..200,
+            )
+        ) {
+            let mut q: PvtQueue<10> = PvtQueue::new();
+            let mut model: VecDeque<f64> = VecDeque::new();
+            let mut next = 0.0;
+            for op in ops {
+                match op {
+                    Op::Push(n) => {
+                        let batch: Vec<PvtPoint> = (0..n).map(|k| pt(next + k as f64)).collect();
+                        let fits = model.len() + n <= 10;
+                        let r = q.push_batch(&batch);
+                        prop_assert_eq!(r.is_ok(), fits);
+                        if fits {
+                            model.extend((0..n).map(|k| next + k as f64));
+                            next += n as f64;
+                        } else {
+                            prop_assert_eq!(r, Err(QueueFull { offered: n, free: 10 - model.len(), capacity: 10 }));
+                        }
+                    }
+                    Op::Pop => prop_assert_eq!(q.pop().map(|p| p.position[0]), model.pop_front()),
+                    Op::Clear => { q.clear(); model.clear(); }
+                }
+                prop_assert_eq!(q.len(), model.len());
+                prop_assert_eq!(contents(&q), model.iter().copied().collect::<Vec<_>>());
+                prop_assert_eq!(q.last().map(|p| p.position[0]), model.back().copied());
+            }
+        }
+    }
+}

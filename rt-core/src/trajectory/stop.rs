@@ -1,0 +1,462 @@
+//! Controlled stops and stopping distances (motion notes §5.5, §5.6). Planning and sampling are
+//! O(1) per axis, allocation- and panic-free: they run **inside the cycle** (a stop is planned
+//! in the cycle that decides to stop).
+//!
+//! Each axis stops on its own, as fast as its limits allow:
+//! - **second order** (no jerk limit): constant deceleration D from the current velocity until
+//!   v = 0; the current acceleration is dropped at once. Distance d₂ = v²/(2D).
+//! - **jerk-limited** from (v, a): Ruckig's three-phase brake: ramp a at ±J to a peak
+//!   deceleration of at most D (or from beyond D back to D), hold it, ramp back to a = 0 exactly
+//!   when v reaches 0. From a = 0 the distance is d₃ of §5.6. If the axis is already braking so
+//!   hard that ramping a back to zero would reverse it, the velocity crosses zero once and the
+//!   axis comes back to rest (unavoidable under the jerk limit).
+//!
+//! After `duration()` every axis holds its end position with v = a = 0 exactly.
+//!
+//! ```
+//! use mcm_rt_core::trajectory::{StopPlan, stopping_distance};
+//! let deg = std::f64::consts::PI / 180.0;
+//! let v = 90.0 * deg;
+//! assert!((stopping_distance(v, 180.0 * deg, None) - 22.5 * deg).abs() < 1e-12);
+//! assert!((stopping_distance(v, 180.0 * deg, Some(1800.0 * deg)) - 27.0 * deg).abs() < 1e-12);
+//! let stop = StopPlan::plan([0.0; 6], [v; 6], [180.0 * deg; 6]);
+//! assert!((stop.duration() - 0.5).abs() < 1e-12);
+//! assert_eq!(stop.sample(0.5).velocity, [0.0; 6]);
+//! ```
+
+use super::{JointSample, StopError};
+use mcm_shared::NUM_AXES;
+
+/// Distance (≥ 0, rad) needed to stop from speed |v| starting at a = 0 with deceleration
+/// `decel` and optional jerk limit (§5.6):
+/// d₂ = v²/(2D); d₃ = v²/(2D) + |v|·D/(2J) if |v|·J ≥ D², else |v|^{3/2}/√J.
+/// Conservative on bad input: a non-finite v or a decel/jerk that is not finite and > 0 gives
+/// `f64::INFINITY` ("cannot stop"). Latency (v·t_lat) is the caller's to add.
+pub fn stopping_distance(v: f64, decel: f64, jerk: Option<f64>) -> f64 {
+    let v = v.abs();
+    let valid = |x: f64| x.is_finite() && x > 0.0;
+    if !v.is_finite() || !valid(decel) || !jerk.is_none_or(valid) {
+        return f64::INFINITY;
+    }
+    let d2 = v * v / (2.0 * decel);
+    match jerk {
+        None => d2,
+        Some(j) if v * j >= decel * decel => d2 + v * decel / (2.0 * j),
+        Some(j) => v * (v / j).sqrt(),
+    }
+}
+
+/// Signed displacement (rad) of the stop from velocity `v` and acceleration `a` (see the module
+/// doc); `f64::INFINITY` on bad input as for [`stopping_distance`].
+pub fn stopping_distance_from(v: f64, a: f64, decel: f64, jerk: Option<f64>) -> f64 {
+    match AxisStop::try_plan(0.0, v, a, decel, jerk) {
+        Ok(s) => s.p_end,
+        Err(_) => f64::INFINITY,
+    }
+}
+
+/// One axis's stop: up to three constant-jerk phases (jerk j1, 0, j3), then rest.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct AxisStop {
+    p: f64,
+    v: f64,
+    a: f64,
+    t1: f64,
+    j1: f64,
+    t2: f64,
+    a_peak: f64,
+    t3: f64,
+    j3: f64,
+    /// State at the ends of phases 1 and 2.
+    p1: f64,
+    v1: f64,
+    p2: f64,
+    v2: f64,
+    p_end: f64,
+    duration: f64,
+}
+
+impl AxisStop {
+    /// An axis that is already held: stays at `p`.
+    fn hold(p: f64) -> AxisStop {
+        AxisStop {
+            p,
+            p1: p,
+            p2: p,
+            p_end: p,
+            ..AxisStop::default()
+        }
+    }
+
+    fn try_plan(
+        p: f64,
+        v: f64,
+        a: f64,
+        decel: f64,
+        jerk: Option<f64>,
+    ) -> Result<AxisStop, StopError> {
+        let state = [("position", p), ("velocity", v), ("acceleration", a)];
+        for (name, value) in state {
+            if !value.is_finite() {
+                return Err(StopError::State {
+                    axis: 0,
+                    name,
+                    value,
+                });
+            }
+        }
+        if !(decel.is_finite() && decel > 0.0) {
+            return Err(StopError::Deceleration {
+                axis: 0,
+                value: decel,
+            });
+        }
+        match jerk {
+            Some(j) if !(j.is_finite() && j > 0.0) => Err(StopError::Jerk { axis: 0, value: j }),
+            Some(j) => Ok(AxisStop::jerk_limited(p, v, a, decel, j)),
+            None => Ok(AxisStop::second_order(p, v, decel)),
+        }
+    }
+
+    fn second_order(p: f64, v: f64, decel: f64) -> AxisStop {
+        let sign = if v < 0.0 { -1.0 } else { 1.0 };
+        AxisStop {
+            p,
+            v,
+            t2: v.abs() / decel,
+            a_peak: -sign * decel,
+            ..AxisStop::default()
+        }
+        .finish()
+    }
+
+    fn jerk_limited(p: f64, v: f64, a: f64, decel: f64, j: f64) -> AxisStop {
+        // Normalise so that the axis must end up decelerating (negative peak acceleration):
+        // σ is the sign of the velocity left after ramping a straight to zero.
+        let v_after = v + a * a.abs() / (2.0 * j);
+        let sigma = if v_after > 0.0 || (v_after == 0.0 && a <= 0.0) {
+            1.0
+        } else {
+            -1.0
+        };
+        let (vn, an) = (sigma * v, sigma * a);
+        let rest = (vn + an * an.abs() / (2.0 * j)).max(0.0);
+        let (a_p, t2) = if an < -decel {
+            // Braking harder than allowed: ramp up to −D, hold, ramp to zero.
+            (decel, rest / decel)
+        } else {
+            let triangle = (j * vn + an * an / 2.0).max(0.0).sqrt();
+            if triangle <= decel {
+                (triangle, 0.0)
+            } else {
+                (
+                    decel,
+                    ((vn + an * an / (2.0 * j) - decel * decel / j) / decel).max(0.0),
+                )
+            }
+        };
+        let j1 = if an + a_p >= 0.0 { -j } else { j };
+        let stop = AxisStop {
+            p,
+            v,
+            a,
+            t1: (an + a_p).abs() / j,
+            j1: sigma * j1,
+            t2,
+            a_peak: -sigma * a_p,
+            t3: a_p / j,
+            j3: sigma * j,
+            ..AxisStop::default()
+        };
+        stop.finish()
+    }
+
+    /// Fills in the phase-boundary states and the end.
+    fn finish(mut self) -> AxisStop {
+        let (t1, t2, t3) = (self.t1, self.t2, self.t3);
+        self.p1 = self.p + self.v * t1 + self.a * t1 * t1 / 2.0 + self.j1 * t1 * t1 * t1 / 6.0;
+        self.v1 = self.v + self.a * t1 + self.j1 * t1 * t1 / 2.0;
+        self.p2 = self.p1 + self.v1 * t2 + self.a_peak * t2 * t2 / 2.0;
+        self.v2 = self.v1 + self.a_peak * t2;
+        self.p_end =
+            self.p2 + self.v2 * t3 + self.a_peak * t3 * t3 / 2.0 + self.j3 * t3 * t3 * t3 / 6.0;
+        self.duration = t1 + t2 + t3;
+        self
+    }
+
+    fn sample(&self, t: f64) -> (f64, f64, f64) {
+        if t.is_nan() || t >= self.duration {
+            return if t.is_nan() && self.duration > 0.0 {
+                (self.p, self.v, self.a)
+            } else {
+                (self.p_end, 0.0, 0.0)
+            };
+        }
+        let t = t.max(0.0);
+        if t < self.t1 {
+            let (a, j) = (self.a, self.j1);
+            (
+                self.p + t * (self.v + t * (a / 2.0 + t * j / 6.0)),
+                self.v + t * (a + t * j / 2.0),
+                a + j * t,
+            )
+        } else if t < self.t1 + self.t2 {
+            let tau = t - self.t1;
+            let a = self.a_peak;
+            (
+                self.p1 + tau * (self.v1 + tau * a / 2.0),
+                self.v1 + a * tau,
+                a,
+            )
+        } else {
+            let tau = (t - self.t1 - self.t2).min(self.t3);
+            let (a, j) = (self.a_peak, self.j3);
+            (
+                self.p2 + tau * (self.v2 + tau * (a / 2.0 + tau * j / 6.0)),
+                self.v2 + tau * (a + tau * j / 2.0),
+                a + j * tau,
+            )
+        }
+    }
+}
+
+/// A stop of all six axes, each as fast as its own limits allow. `Copy`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StopPlan {
+    axes: [AxisStop; NUM_AXES],
+    duration: f64,
+}
+
+impl StopPlan {
+    /// Second-order stop from positions `p` and velocities `v` at decelerations `decel`
+    /// (per axis, rad/s²). Never fails; see [`StopPlan::plan_from_state`] for bad input.
+    pub fn plan(p: [f64; NUM_AXES], v: [f64; NUM_AXES], decel: [f64; NUM_AXES]) -> StopPlan {
+        StopPlan::plan_from_state(p, v, [0.0; NUM_AXES], decel, [None; NUM_AXES])
+    }
+
+    /// Stop from the state (p, v, a) with per-axis deceleration and optional jerk limit.
+    /// Never fails, because a stop must always be possible: an axis with a non-finite velocity
+    /// or acceleration, or a deceleration that is not finite and > 0, is stopped at once
+    /// (holds `p`); an invalid jerk limit is ignored (second-order stop). Use
+    /// [`StopPlan::try_plan_from_state`] to have such input reported instead.
+    pub fn plan_from_state(
+        p: [f64; NUM_AXES],
+        v: [f64; NUM_AXES],
+        a: [f64; NUM_AXES],
+        decel: [f64; NUM_AXES],
+        jerk: [Option<f64>; NUM_AXES],
+    ) -> StopPlan {
+        let axes = std::array::from_fn(|i| {
+            let jerk_i = jerk[i].filter(|j| j.is_finite() && *j > 0.0);
+            AxisStop::try_plan(p[i], v[i], a[i], decel[i], jerk_i).unwrap_or(AxisStop::hold(p[i]))
+        });
+        StopPlan::from_axes(axes)
+    }
+
+    /// As [`StopPlan::plan_from_state`], but any non-finite state value or invalid
+    /// deceleration or jerk is an error naming the axis.
+    pub fn try_plan_from_state(
+        p: [f64; NUM_AXES],
+        v: [f64; NUM_AXES],
+        a: [f64; NUM_AXES],
+        decel: [f64; NUM_AXES],
+        jerk: [Option<f64>; NUM_AXES],
+    ) -> Result<StopPlan, StopError> {
+        let mut axes = [AxisStop::default(); NUM_AXES];
+        for (i, axis) in axes.iter_mut().enumerate() {
+            *axis = AxisStop::try_plan(p[i], v[i], a[i], decel[i], jerk[i])
+                .map_err(|e| with_axis(e, i))?;
+        }
+        Ok(StopPlan::from_axes(axes))
+    }
+
+    fn from_axes(axes: [AxisStop; NUM_AXES]) -> StopPlan {
+        let duration = axes.iter().fold(0.0, |d: f64, a| d.max(a.duration));
+        StopPlan { axes, duration }
+    }
+
+    /// Time until the last axis is at rest (s).
+    pub fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// Each axis's own stopping time (s).
+    pub fn durations(&self) -> [f64; NUM_AXES] {
+        self.axes.map(|a| a.duration)
+    }
+
+    /// Where each axis comes to rest (rad).
+    pub fn end_positions(&self) -> [f64; NUM_AXES] {
+        self.axes.map(|a| a.p_end)
+    }
+
+    /// Signed stopping distance per axis (rad).
+    pub fn distances(&self) -> [f64; NUM_AXES] {
+        self.axes.map(|a| a.p_end - a.p)
+    }
+
+    /// Commanded state `t` seconds after the stop began (t clamped to >= 0; NaN counts as 0).
+    /// From an axis's own duration on it holds its end position with v = a = 0 exactly.
+    pub fn sample(&self, t: f64) -> JointSample {
+        let mut out = JointSample::default();
+        for (i, axis) in self.axes.iter().enumerate() {
+            (out.position[i], out.velocity[i], out.acceleration[i]) = axis.sample(t);
+        }
+        out
+    }
+}
+
+fn with_axis(e: StopError, axis: usize) -> StopError {
+    match e {
+        StopError::State { name, value, .. } => StopError::State { axis, name, value },
+        StopError::Deceleration { value, .. } => StopError::Deceleration { axis, value },
+        StopError::Jerk { value, .. } => StopError::Jerk { axis, value },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    const DEG: f64 = std::f64::consts::PI / 180.0;
+
+    #[test]
+    fn distances_match_the_reference_table() {
+        // §5.6: (v, a, j, d2, d3) in degrees.
+        let table = [
+            (90.0, 180.0, 1800.0, 22.5, 27.0),
+            (30.0, 180.0, 1800.0, 2.5, 4.0),
+            (150.0, 360.0, 3600.0, 31.25, 38.75),
+        ];
+        for (v, a, j, d2, d3) in table {
+            for sign in [1.0, -1.0] {
+                let (v, a, j) = (sign * v * DEG, a * DEG, j * DEG);
+                assert!((stopping_distance(v, a, None) - d2 * DEG).abs() < 1e-12);
+                assert!((stopping_distance(v, a, Some(j)) - d3 * DEG).abs() < 1e-12);
+                assert!(
+                    (stopping_distance_from(v, 0.0, a, Some(j)) - sign * d3 * DEG).abs() < 1e-12
+                );
+            }
+        }
+        // Triangular deceleration (v·J < D²): v^{3/2}/√J.
+        assert!((stopping_distance(0.01, 1.0, Some(1.0)) - 0.001).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_input_is_conservative_or_typed() {
+        assert_eq!(stopping_distance(1.0, 0.0, None), f64::INFINITY);
+        assert_eq!(stopping_distance(f64::NAN, 1.0, None), f64::INFINITY);
+        assert_eq!(stopping_distance(1.0, 1.0, Some(-1.0)), f64::INFINITY);
+        assert_eq!(stopping_distance(0.0, 1.0, Some(1.0)), 0.0);
+        let p = [0.5; 6];
+        let mut decel = [2.0; 6];
+        decel[3] = f64::NAN;
+        let e = StopPlan::try_plan_from_state(p, [1.0; 6], [0.0; 6], decel, [None; 6]).unwrap_err();
+        assert!(matches!(e, StopError::Deceleration { axis: 3, .. }));
+        assert!(e.to_string().contains("axis index 3") && e.to_string().contains("finite and > 0"));
+        let stop = StopPlan::plan_from_state(p, [1.0; 6], [0.0; 6], decel, [Some(-5.0); 6]);
+        assert_eq!(stop.sample(0.0).position[3], 0.5); // stopped at once
+        assert_eq!(stop.sample(0.0).velocity[3], 0.0);
+        assert!((stop.duration() - 0.5).abs() < 1e-12); // invalid jerk ignored: second order
+        let mut v = [1.0; 6];
+        v[1] = f64::INFINITY;
+        let e = StopPlan::try_plan_from_state(p, v, [0.0; 6], [2.0; 6], [None; 6]).unwrap_err();
+        assert!(matches!(
+            e,
+            StopError::State {
+                axis: 1,
+                name: "velocity",
+                ..
+            }
+        ));
+    }
+
+    #[test]
+    fn overshooting_brake_state_still_ends_at_rest() {
+        // Braking at 10 rad/s² with only 1 rad/s left and J = 1: v must cross zero once.
+        let stop =
+            StopPlan::plan_from_state([0.0; 6], [1.0; 6], [-10.0; 6], [20.0; 6], [Some(1.0); 6]);
+        let end = stop.sample(stop.duration());
+        assert_eq!((end.velocity, end.acceleration), ([0.0; 6], [0.0; 6]));
+        let just_before = stop.sample(stop.duration() * (1.0 - 1e-9));
+        assert!(just_before.velocity[0].abs() < 1e-6 && just_before.acceleration[0].abs() < 1e-6);
+    }
+
+    fn state() -> impl Strategy<Value = (f64, f64, f64, f64, Option<f64>)> {
+        (
+            -3.0..3.0f64,
+            -5.0..5.0f64,
+            0.05..50.0f64,
+            prop_oneof![Just(None), (0.5..2000.0f64).prop_map(Some)],
+        )
+            .prop_flat_map(|(p, v, d, j)| (Just(p), Just(v), -2.0 * d..2.0 * d, Just(d), Just(j)))
+    }
+
+    proptest! {
+        // No regression files: failures print their minimal input instead.
+        #![proptest_config(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() })]
+
+        #[test]
+        fn stop_from_cruise_stays_within_the_predicted_distance(
+            axes in proptest::array::uniform6((-3.0..3.0f64, -5.0..5.0f64, 0.05..50.0f64,
+                prop_oneof![Just(None), (0.5..2000.0f64).prop_map(Some)])),
+        ) {
+            let (p, v, d, j) = (axes.map(|x| x.0), axes.map(|x| x.1), axes.map(|x| x.2), axes.map(|x| x.3));
+            let stop = StopPlan::plan_from_state(p, v, [0.0; 6], d, j);
+            let n = 1000;
+            let mut prev = stop.sample(0.0);
+            for k in 1..=n {
+                let s = stop.sample(stop.duration() * k as f64 / n as f64);
+                for i in 0..6 {
+                    let bound = stopping_distance(v[i], d[i], j[i]);
+                    let moved = (s.position[i] - p[i]) * v[i].signum();
+                    prop_assert!(moved >= -1e-12 && moved <= bound * (1.0 + 1e-9) + 1e-12, "axis {i}: {moved} vs {bound}");
+                    // Speed only decreases, never reverses.
+                    prop_assert!(s.velocity[i].abs() <= prev.velocity[i].abs() + 1e-12);
+                    prop_assert!(s.velocity[i] * v[i] >= -1e-12);
+                    prop_assert!(s.acceleration[i].abs() <= d[i] * (1.0 + 1e-9));
+                }
+                prev = s;
+            }
+            let end = stop.sample(stop.duration());
+            prop_assert_eq!(end.velocity, [0.0; 6]);
+            prop_assert_eq!(end.acceleration, [0.0; 6]);
+            for i in 0..6 {
+                let bound = stopping_distance(v[i], d[i], j[i]);
+                prop_assert!((stop.distances()[i].abs() - bound).abs() <= 1e-9 * bound.max(1e-3));
+                prop_assert_eq!(end.position[i], stop.end_positions()[i]);
+            }
+        }
+
+        #[test]
+        fn stop_from_any_state_ends_at_rest_within_limits((p, v, a, d, j) in state()) {
+            let stop = StopPlan::plan_from_state([p; 6], [v; 6], [a; 6], [d; 6], [j; 6]);
+            let t_end = stop.duration();
+            let n = 1000;
+            let a_bound = if j.is_some() { d.max(a.abs()) } else { d };
+            let mut prev = (0.0, stop.sample(0.0));
+            prop_assert_eq!(prev.1.position[0], p);
+            for k in 1..=n {
+                let t = t_end * k as f64 / n as f64;
+                let s = stop.sample(t);
+                prop_assert!(s.acceleration[0].abs() <= a_bound * (1.0 + 1e-9) + 1e-12);
+                if let Some(j) = j {
+                    let da = (s.acceleration[0] - prev.1.acceleration[0]).abs();
+                    prop_assert!(da <= j * (t - prev.0) * (1.0 + 1e-6) + 1e-9 * d, "jerk {}", da / (t - prev.0));
+                    // Continuity: position and velocity change no faster than v and a allow.
+                    let dv = (s.velocity[0] - prev.1.velocity[0]).abs();
+                    prop_assert!(dv <= d.max(a.abs()) * (t - prev.0) * (1.0 + 1e-6) + 1e-9);
+                }
+                prev = (t, s);
+            }
+            let end = stop.sample(t_end);
+            prop_assert_eq!((end.velocity[0], end.acceleration[0]), (0.0, 0.0));
+            // The last sample before the end is already (almost) at rest: no jump at the end.
+            let before = stop.sample(t_end * (1.0 - 1e-12));
+            prop_assert!(before.velocity[0].abs() <= 1e-6 * v.abs().max(1.0));
+            prop_assert!((before.position[0] - end.position[0]).abs() <= 1e-9);
+            prop_assert!((stopping_distance_from(v, a, d, j) - (end.position[0] - p)).abs() <= 1e-12 * (1.0 + (end.position[0] - p).abs()));
+        }
+    }
+}

@@ -1,0 +1,423 @@
+//! `move_all` / `move_axis`: a phase-synchronised straight line in joint space (motion notes
+//! §5.3). Planning (once per command, O(1) per axis) and sampling (O(1)) may run **inside the
+//! cycle**: no allocation, no panics.
+//!
+//! All axes follow q_i(t) = q_i0 + Δ_i·s(t) with one normalised profile s: 0 → 1, so they start
+//! together, stay on the straight line and arrive together. Per axis the limits are scaled by
+//! the velocity factor f: V_i = f·v_max,i, **A_i = f·a_max,i, J_i = f·j_max,i** (f_a = f, §5.2).
+//! The path limits are S_v = min V_i/|Δ_i|, S_a = min A_i/|Δ_i|, S_j = min J_i/|Δ_i| over the
+//! moving axes (axes without a jerk limit do not constrain S_j; without any, s is a trapezoid).
+//! The axis limiting each quantity gets its full limit; every other axis stays below its own.
+//!
+//! Reply fields of `move_all`: [`MovePlan::velocities`] (peak |q̇_i|), [`MovePlan::longest_axis`]
+//! (argmax of each axis's own minimum time under its own scaled limits) and
+//! [`MovePlan::duration`] = max_time_to_target (the synchronised duration, which is ≥ every
+//! axis's own time and equal to the longest one when the axes' limits are proportional).
+//!
+//! The move starts from rest; position limits are checked by the caller (the path is monotone
+//! per axis, so checking start and target suffices).
+//!
+//! ```
+//! use mcm_rt_core::trajectory::{AxisLimits, MovePlan};
+//! let deg = std::f64::consts::PI / 180.0;
+//! let lim = AxisLimits { velocity: 90.0 * deg, acceleration: 180.0 * deg, jerk: None };
+//! let plan = MovePlan::plan_axis([0.0; 6], 2, 90.0 * deg, &[lim; 6], 1.0).unwrap();
+//! assert!((plan.duration() - 1.5).abs() < 1e-12);
+//! assert_eq!(plan.longest_axis(), 2);
+//! ```
+
+use super::{AxisLimits, JointSample, PlanError, Profile1D};
+use mcm_shared::NUM_AXES;
+
+/// Largest accepted axis limit (velocity, acceleration or jerk, SI units), as in Ruckig; keeps
+/// the normalised path limits far from floating-point overflow.
+pub const MAX_LIMIT: f64 = 1e9;
+
+/// Moves smaller than this (rad) are timed as if they were this long. They still follow the
+/// line exactly; this only keeps the normalised limits V_i/|Δ_i| finite.
+pub const MIN_MOVE: f64 = 1e-12;
+
+/// One straight-line joint move of all six axes from rest to rest. `Copy`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MovePlan {
+    start: [f64; NUM_AXES],
+    target: [f64; NUM_AXES],
+    delta: [f64; NUM_AXES],
+    /// Normalised path s: 0 → 1.
+    path: Profile1D,
+    /// Each axis's own minimum time under its own scaled limits (0 if it does not move).
+    axis_durations: [f64; NUM_AXES],
+    longest: usize,
+}
+
+impl MovePlan {
+    /// Plans the move from `start` to `target` (rad) with the velocity factor `f` in (0, 1]
+    /// applied to each axis's velocity, acceleration and jerk limits.
+    pub fn plan(
+        start: [f64; NUM_AXES],
+        target: [f64; NUM_AXES],
+        limits: &[AxisLimits; NUM_AXES],
+        velocity_factor: f64,
+    ) -> Result<MovePlan, PlanError> {
+        let f = velocity_factor;
+        if !(f > 0.0 && f <= 1.0) {
+            return Err(PlanError::VelocityFactor { value: f });
+        }
+        let mut delta = [0.0; NUM_AXES];
+        for axis in 0..NUM_AXES {
+            validate_axis_limits(axis, &limits[axis])?;
+            let (a, b) = (start[axis], target[axis]);
+            if !a.is_finite() {
+                return Err(PlanError::Start { axis, value: a });
+            }
+            if !b.is_finite() {
+                return Err(PlanError::Target { axis, value: b });
+            }
+            delta[axis] = b - a;
+            if !delta[axis].is_finite() {
+                return Err(PlanError::Delta {
+                    axis,
+                    value: delta[axis],
+                });
+            }
+        }
+        let (mut s_v, mut s_a, mut s_j) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+        let mut axis_durations = [0.0; NUM_AXES];
+        let mut moving = false;
+        for axis in 0..NUM_AXES {
+            if delta[axis] == 0.0 {
+                continue;
+            }
+            moving = true;
+            let l = limits[axis].scaled(f);
+            let d = delta[axis].abs().max(MIN_MOVE);
+            s_v = s_v.min(l.velocity / d);
+            s_a = s_a.min(l.acceleration / d);
+            if let Some(j) = l.jerk {
+                s_j = s_j.min(j / d);
+            }
+            axis_durations[axis] = Profile1D::plan(delta[axis], l)?.duration();
+        }
+        let path = if moving {
+            let jerk = if s_j.is_finite() { Some(s_j) } else { None };
+            Profile1D::plan(
+                1.0,
+                AxisLimits {
+                    velocity: s_v,
+                    acceleration: s_a,
+                    jerk,
+                },
+            )?
+        } else {
+            Profile1D::default()
+        };
+        let mut longest = 0;
+        for axis in 1..NUM_AXES {
+            if axis_durations[axis] > axis_durations[longest] {
+                longest = axis;
+            }
+        }
+        Ok(MovePlan {
+            start,
+            target,
+            delta,
+            path,
+            axis_durations,
+            longest,
+        })
+    }
+
+    /// `move_axis`: the same move with only `axis` (0-based) going to `target_position`.
+    pub fn plan_axis(
+        start: [f64; NUM_AXES],
+        axis: usize,
+        target_position: f64,
+        limits: &[AxisLimits; NUM_AXES],
+        velocity_factor: f64,
+    ) -> Result<MovePlan, PlanError> {
+        let mut target = start;
+        match target.get_mut(axis) {
+            Some(q) => *q = target_position,
+            None => return Err(PlanError::AxisIndex { axis }),
+        }
+        MovePlan::plan(start, target, limits, velocity_factor)
+    }
+
+    /// Synchronised duration (s): `max_time_to_target` of the `move_all` result.
+    pub fn duration(&self) -> f64 {
+        self.path.duration()
+    }
+
+    /// Commanded state at `t` seconds after the start; `t` is clamped to [0, duration] (NaN
+    /// counts as 0). From `duration()` on: exactly the target, at rest.
+    pub fn sample(&self, t: f64) -> JointSample {
+        if t >= self.path.duration() {
+            return JointSample {
+                position: self.target,
+                ..JointSample::default()
+            };
+        }
+        let (s, ds, dds) = self.path.sample(t);
+        let mut out = JointSample::default();
+        for i in 0..NUM_AXES {
+            out.position[i] = self.start[i] + self.delta[i] * s;
+            out.velocity[i] = self.delta[i] * ds;
+            out.acceleration[i] = self.delta[i] * dds;
+        }
+        out
+    }
+
+    /// Peak |velocity| per axis (rad/s): the "velocities used" of the `move_all` result.
+    pub fn velocities(&self) -> [f64; NUM_AXES] {
+        self.delta.map(|d| d.abs() * self.path.peak_velocity())
+    }
+
+    /// Peak |acceleration| per axis (rad/s²).
+    pub fn accelerations(&self) -> [f64; NUM_AXES] {
+        self.delta.map(|d| d.abs() * self.path.peak_acceleration())
+    }
+
+    /// 0-based index of the axis whose own minimum time is longest (first one on ties; 0 if
+    /// nothing moves).
+    pub fn longest_axis(&self) -> usize {
+        self.longest
+    }
+
+    /// Each axis's own minimum time (s) under its own scaled limits; 0 for axes that stay.
+    pub fn axis_durations(&self) -> [f64; NUM_AXES] {
+        self.axis_durations
+    }
+
+    pub fn start(&self) -> [f64; NUM_AXES] {
+        self.start
+    }
+
+    pub fn target(&self) -> [f64; NUM_AXES] {
+        self.target
+    }
+
+    /// The normalised path profile s(t), 0 → 1.
+    pub fn path(&self) -> &Profile1D {
+        &self.path
+    }
+}
+
+fn validate_axis_limits(axis: usize, l: &AxisLimits) -> Result<(), PlanError> {
+    let bad = |x: f64| !(x.is_finite() && x > 0.0 && x <= MAX_LIMIT);
+    let err = |name, value| {
+        Err(PlanError::AxisLimit {
+            axis,
+            name,
+            value,
+            max: MAX_LIMIT,
+        })
+    };
+    if bad(l.velocity) {
+        return err("velocity", l.velocity);
+    }
+    if bad(l.acceleration) {
+        return err("acceleration", l.acceleration);
+    }
+    match l.jerk {
+        Some(j) if bad(j) => err("jerk", j),
+        _ => Ok(()),
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::needless_range_loop)] // tests index several per-axis arrays at once
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    const DEG: f64 = std::f64::consts::PI / 180.0;
+
+    fn lim(v: f64, a: f64, j: Option<f64>) -> AxisLimits {
+        AxisLimits {
+            velocity: v * DEG,
+            acceleration: a * DEG,
+            jerk: j.map(|j| j * DEG),
+        }
+    }
+
+    #[test]
+    fn reference_move_all() {
+        let l = [lim(90.0, 180.0, Some(1800.0)); 6];
+        let target = [90.0 * DEG, -30.0 * DEG, 0.0, 45.0 * DEG, 0.0, 10.0 * DEG];
+        let p = MovePlan::plan([0.0; 6], target, &l, 1.0).unwrap();
+        assert!((p.duration() - 1.6).abs() < 1e-9);
+        assert_eq!(p.longest_axis(), 0);
+        let v = p.velocities();
+        assert!((v[0] - 90.0 * DEG).abs() < 1e-12 && (v[1] - 30.0 * DEG).abs() < 1e-12);
+        assert_eq!(v[2], 0.0);
+        let mid = p.sample(0.8);
+        assert!((mid.velocity[3] - 45.0 * DEG).abs() < 1e-9);
+        assert_eq!(p.sample(1.6).position, target);
+        // f = 0.5 scales V, A (and J) by 0.5; trapezoid: T = D/(fV) + V/A = 2 + 0.5.
+        let l = [lim(90.0, 180.0, None); 6];
+        let p = MovePlan::plan([0.0; 6], target, &l, 0.5).unwrap();
+        assert!((p.duration() - 2.5).abs() < 1e-9);
+        assert!((p.velocities()[0] - 45.0 * DEG).abs() < 1e-12);
+    }
+
+    #[test]
+    fn longest_axis_is_the_slowest_on_its_own() {
+        let mut l = [lim(90.0, 180.0, None); 6];
+        l[4] = lim(30.0, 60.0, None);
+        let target = [1.0, 0.5, 0.0, 0.0, 0.6, 0.0];
+        let p = MovePlan::plan([0.0; 6], target, &l, 1.0).unwrap();
+        assert_eq!(p.longest_axis(), 4);
+        let own = Profile1D::plan(0.6, l[4]).unwrap().duration();
+        assert!((p.axis_durations()[4] - own).abs() < 1e-15);
+        assert!(p.duration() >= own * (1.0 - 1e-12));
+        assert!((p.velocities()[4] - l[4].velocity).abs() < 1e-12 || p.duration() > own);
+    }
+
+    #[test]
+    fn move_axis_is_a_single_axis_profile() {
+        let l = [lim(150.0, 360.0, Some(3600.0)); 6];
+        let start = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6];
+        let p = MovePlan::plan_axis(start, 5, 0.6 - 180.0 * DEG, &l, 1.0).unwrap();
+        assert!((p.duration() - 1.7167).abs() < 6e-5);
+        assert_eq!(p.longest_axis(), 5);
+        let s = p.sample(0.5);
+        assert_eq!(s.position[..5], start[..5]);
+        assert!(matches!(
+            MovePlan::plan_axis(start, 6, 0.0, &l, 1.0),
+            Err(PlanError::AxisIndex { axis: 6 })
+        ));
+        let none = MovePlan::plan(start, start, &l, 1.0).unwrap();
+        assert_eq!((none.duration(), none.sample(0.0).position), (0.0, start));
+    }
+
+    #[test]
+    fn bad_inputs_are_typed_errors() {
+        let l = [lim(90.0, 180.0, None); 6];
+        for f in [0.0, -0.1, 1.0001, f64::NAN] {
+            let e = MovePlan::plan([0.0; 6], [1.0; 6], &l, f).unwrap_err();
+            assert!(matches!(e, PlanError::VelocityFactor { .. }));
+            assert!(e.to_string().contains("(0, 1]"));
+        }
+        let mut t = [0.0; 6];
+        t[3] = f64::INFINITY;
+        assert!(matches!(
+            MovePlan::plan([0.0; 6], t, &l, 1.0),
+            Err(PlanError::Target { axis: 3, .. })
+        ));
+        assert!(matches!(
+            MovePlan::plan(t, [0.0; 6], &l, 1.0),
+            Err(PlanError::Start { axis: 3, .. })
+        ));
+        let big = [1e308, 0.0, 0.0, 0.0, 0.0, 0.0];
+        assert!(matches!(
+            MovePlan::plan(big.map(|x| -x), big, &l, 1.0),
+            Err(PlanError::Delta { axis: 0, .. })
+        ));
+        let mut bad = l;
+        bad[2].acceleration = 0.0;
+        let e = MovePlan::plan([0.0; 6], [1.0; 6], &bad, 1.0).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                PlanError::AxisLimit {
+                    axis: 2,
+                    name: "acceleration",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        bad[2] = lim(1.0, 1.0, Some(f64::NAN));
+        assert!(matches!(
+            MovePlan::plan([0.0; 6], [1.0; 6], &bad, 1.0),
+            Err(PlanError::AxisLimit { name: "jerk", .. })
+        ));
+    }
+
+    fn axis_strategy() -> impl Strategy<Value = (f64, f64, AxisLimits)> {
+        (
+            -3.0..3.0f64,
+            prop_oneof![Just(0.0), -4.0..-1e-3f64, 1e-3..4.0f64],
+            0.05..5.0f64,
+            0.05..50.0f64,
+            prop_oneof![Just(None), (0.5..2000.0f64).prop_map(Some)],
+        )
+            .prop_map(|(s, d, v, a, j)| {
+                (
+                    s,
+                    d,
+                    AxisLimits {
+                        velocity: v,
+                        acceleration: a,
+                        jerk: j,
+                    },
+                )
+            })
+    }
+
+    proptest! {
+        // No regression files: failures print their minimal input instead.
+        #![proptest_config(ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() })]
+
+        #[test]
+        fn synchronised_straight_line_within_limits(
+            axes in proptest::array::uniform6(axis_strategy()),
+            f in prop_oneof![Just(1.0), 0.01..1.0f64],
+        ) {
+            let start = axes.map(|a| a.0);
+            let target = axes.map(|a| a.0 + a.1);
+            let limits = axes.map(|a| a.2);
+            let p = MovePlan::plan(start, target, &limits, f).unwrap();
+            let t_end = p.duration();
+            let delta: [f64; 6] = std::array::from_fn(|i| target[i] - start[i]);
+            let moving: Vec<usize> = (0..6).filter(|&i| delta[i] != 0.0).collect();
+
+            // Reply fields.
+            let own: Vec<f64> = (0..6).map(|i| if delta[i] == 0.0 { 0.0 } else {
+                Profile1D::plan(delta[i], limits[i].scaled(f)).unwrap().duration()
+            }).collect();
+            let max_own = own.iter().cloned().fold(0.0, f64::max);
+            prop_assert_eq!(own[p.longest_axis()], max_own);
+            prop_assert!(t_end >= max_own * (1.0 - 1e-12));
+
+            let n = 1000;
+            let times = (0..=n).map(|k| t_end * k as f64 / n as f64)
+                .chain(p.path().phase_times().into_iter().flat_map(|b| [b * (1.0 - 1e-9), b, b * (1.0 + 1e-9)]));
+            let mut prev: Option<(f64, JointSample)> = None;
+            for t in times {
+                let s = p.sample(t);
+                let tc = t.clamp(0.0, t_end);
+                for i in 0..6 {
+                    let l = limits[i].scaled(f);
+                    prop_assert!(s.velocity[i].abs() <= l.velocity * (1.0 + 1e-9) + 1e-12, "axis {i} v");
+                    prop_assert!(s.acceleration[i].abs() <= l.acceleration * (1.0 + 1e-9) + 1e-12, "axis {i} a");
+                    prop_assert!(s.velocity[i].abs() <= p.velocities()[i] * (1.0 + 1e-9) + 1e-15);
+                    if let (Some(j), Some((t0, s0))) = (l.jerk, prev)
+                        && tc > t0
+                        && p.path().is_jerk_limited()
+                    {
+                        let da = (s.acceleration[i] - s0.acceleration[i]).abs();
+                        prop_assert!(da <= j * (tc - t0) * (1.0 + 1e-6) + 1e-9 * l.acceleration.max(1.0), "axis {i} jerk");
+                    }
+                }
+                // Straight line: the same fraction of the way on every moving axis.
+                if let Some(&first) = moving.first() {
+                    let frac = (s.position[first] - start[first]) / delta[first];
+                    for &i in &moving {
+                        let fi = (s.position[i] - start[i]) / delta[i];
+                        prop_assert!((fi - frac).abs() <= 1e-9, "axis {i} off the line: {fi} vs {frac}");
+                    }
+                    if tc < t_end * 0.999 {
+                        prop_assert!(frac < 1.0, "arrived early at {tc} of {t_end}");
+                    }
+                }
+                prev = Some((tc, s));
+            }
+            let end = p.sample(t_end);
+            prop_assert_eq!(end.position, target);
+            prop_assert_eq!(end.velocity, [0.0; 6]);
+            prop_assert_eq!(end.acceleration, [0.0; 6]);
+            prop_assert_eq!(p.sample(0.0).position, start);
+        }
+    }
+}
