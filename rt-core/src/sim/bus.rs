@@ -1,0 +1,288 @@
+//! The simulated CAN bus of the P-Rob2: six [`SimDrive`]s, the arm model, the emergency switch
+//! and the fault injections, behind [`crate::bus::Bus`] and [`crate::bus::SimControl`].
+//!
+//! Runs inside the cycle: `send` and `recv` never block and never allocate (the receive queue
+//! is a fixed ring of [`RX_CAPACITY`] frames; when it is full, new frames are dropped and
+//! counted, like a CAN controller's receive overrun).
+//!
+//! Lock-step time (`DRIVE_PROFILE.md`): time advances only on SYNC (`080#`), by exactly one
+//! cycle period. On SYNC every drive applies its latched RPDOs and sends its TPDOs (sampled at
+//! the SYNC), then the physics runs the period in sub-steps of `sim.physics_step_us`; in each
+//! sub-step every drive computes its motor current from the true joint state, the joint
+//! torques (current x `torque_per_amp`) go to [`ArmSim::step`], and the holding brakes are
+//! engaged for axes with `brake = true` whose drive is not enabled. Any other frame is handled
+//! by the drives the moment it is sent; their answers are queued for the master's next
+//! [`Bus::recv`]. Everything is deterministic: the same frames sent give the same frames
+//! received and the same truth, bit for bit.
+//!
+//! ```
+//! use mcm_rt_core::bus::{Bus, Frame, SimCommand};
+//! let cfg = mcm_shared::config::RobotConfig::prob2_default();
+//! let mut bus = mcm_rt_core::sim::SimBus::new(&cfg);
+//! while bus.recv(0).unwrap().is_some() {} // boot-ups
+//! let sim = bus.sim().unwrap();
+//! sim.apply(&SimCommand { emergency_stop: Some(true), ..SimCommand::default() }).unwrap();
+//! assert!(sim.truth().emergency_stop);
+//! assert!(sim.apply(&SimCommand { block_axis: Some(6), ..SimCommand::default() }).is_err());
+//! ```
+
+use super::drive::{DriveParams, SimDrive};
+use super::{Discard, FrameSink};
+use crate::bus::{Bus, BusError, Frame, SimCommand, SimCommandError, SimControl, SimTruth};
+use crate::dynamics::{ArmModel, ArmSim};
+use mcm_shared::NUM_AXES;
+use mcm_shared::config::RobotConfig;
+
+/// Frames the receive queue holds (several cycles' worth of traffic).
+pub const RX_CAPACITY: usize = 512;
+/// COB-ID of SYNC.
+pub const SYNC_ID: u16 = 0x080;
+
+/// Fixed-capacity FIFO of frames to the master.
+#[derive(Debug, Clone)]
+struct RxRing {
+    frames: [Frame; RX_CAPACITY],
+    head: usize,
+    len: usize,
+    overruns: u64,
+}
+
+impl RxRing {
+    fn new() -> RxRing {
+        RxRing {
+            frames: [Frame::default(); RX_CAPACITY],
+            head: 0,
+            len: 0,
+            overruns: 0,
+        }
+    }
+
+    fn pop(&mut self) -> Option<Frame> {
+        if self.len == 0 {
+            return None;
+        }
+        let f = self.frames[self.head];
+        self.head = (self.head + 1) % RX_CAPACITY;
+        self.len -= 1;
+        Some(f)
+    }
+}
+
+impl FrameSink for RxRing {
+    fn emit(&mut self, frame: Frame) {
+        if self.len == RX_CAPACITY {
+            self.overruns += 1;
+            return;
+        }
+        self.frames[(self.head + self.len) % RX_CAPACITY] = frame;
+        self.len += 1;
+    }
+}
+
+/// The simulated robot on its bus.
+pub struct SimBus {
+    drives: [SimDrive; NUM_AXES],
+    connected: [bool; NUM_AXES],
+    brakes: [bool; NUM_AXES],
+    torques: [f64; NUM_AXES],
+    arm: ArmSim,
+    rx: RxRing,
+    emergency_stop: bool,
+    now_ns: u64,
+    period_ns: u64,
+    substeps: u32,
+    step_s: f64,
+}
+
+impl SimBus {
+    /// The robot at power-up: the arm at `sim.initial_position_deg`, every drive booted (their
+    /// boot-up frames are queued). `cfg` must be a validated configuration (six axes, a
+    /// physics step dividing the cycle period), as `RobotConfig` loading guarantees.
+    pub fn new(cfg: &RobotConfig) -> SimBus {
+        let arm = ArmSim::new(ArmModel::from_config(cfg), cfg);
+        let (q, v) = (arm.position(), arm.velocity());
+        let mut rx = RxRing::new();
+        let drives = core::array::from_fn(|i| {
+            SimDrive::new(
+                DriveParams::from_config(cfg, &cfg.axes[i]),
+                q[i],
+                v[i],
+                &mut rx,
+            )
+        });
+        let step_ns = u64::from(cfg.sim.physics_step_us.max(1)) * 1000;
+        let period_ns = cfg.cycle_period_ns();
+        let mut bus = SimBus {
+            drives,
+            connected: [true; NUM_AXES],
+            brakes: [false; NUM_AXES],
+            torques: [0.0; NUM_AXES],
+            arm,
+            rx,
+            emergency_stop: false,
+            now_ns: 0,
+            period_ns,
+            substeps: (period_ns / step_ns).max(1) as u32,
+            step_s: step_ns as f64 * 1e-9,
+        };
+        bus.update_brakes();
+        bus
+    }
+
+    /// Simulated time [ns]: SYNCs so far x cycle period.
+    pub fn now_ns(&self) -> u64 {
+        self.now_ns
+    }
+
+    /// The drive of `axis` (0-based), for inspection.
+    pub fn drive(&self, axis: usize) -> Option<&SimDrive> {
+        self.drives.get(axis)
+    }
+
+    /// Frames dropped because the receive queue was full.
+    pub fn rx_overruns(&self) -> u64 {
+        self.rx.overruns
+    }
+
+    fn update_brakes(&mut self) {
+        for (i, d) in self.drives.iter().enumerate() {
+            let engaged = d.brake_engaged();
+            if engaged != self.brakes[i] {
+                self.arm.set_brake(i, engaged);
+                self.brakes[i] = engaged;
+            }
+        }
+    }
+
+    fn sync(&mut self) {
+        let (q, v) = (self.arm.position(), self.arm.velocity());
+        for (i, d) in self.drives.iter_mut().enumerate() {
+            d.observe(q[i], v[i]);
+            if self.connected[i] {
+                d.on_sync(true, &mut self.rx);
+            } else {
+                d.on_sync(false, &mut Discard);
+            }
+        }
+        for k in 0..self.substeps {
+            let fraction = f64::from(k) / f64::from(self.substeps);
+            let (q, v) = (self.arm.position(), self.arm.velocity());
+            for (i, d) in self.drives.iter_mut().enumerate() {
+                self.torques[i] = d.control(q[i], v[i], fraction, self.step_s);
+            }
+            self.update_brakes();
+            self.arm.step(&self.torques, self.step_s);
+        }
+        for d in &mut self.drives {
+            d.end_period();
+        }
+        self.now_ns += self.period_ns;
+    }
+
+    fn check_axis(argument: &'static str, axis: Option<usize>) -> Result<(), SimCommandError> {
+        match axis {
+            Some(a) if a >= NUM_AXES => Err(SimCommandError::NoSuchAxis {
+                argument,
+                value: a.saturating_add(1),
+            }),
+            _ => Ok(()),
+        }
+    }
+}
+
+impl core::fmt::Debug for SimBus {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("SimBus")
+            .field("now_ns", &self.now_ns)
+            .field("connected", &self.connected)
+            .field("emergency_stop", &self.emergency_stop)
+            .field("queued", &self.rx.len)
+            .field("overruns", &self.rx.overruns)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Bus for SimBus {
+    fn send(&mut self, frame: &Frame) -> Result<(), BusError> {
+        if frame.id == SYNC_ID {
+            self.sync();
+            return Ok(());
+        }
+        for (i, d) in self.drives.iter_mut().enumerate() {
+            if self.connected[i] {
+                d.on_frame(frame, &mut self.rx);
+            }
+        }
+        Ok(())
+    }
+
+    fn recv(&mut self, _deadline_ns: u64) -> Result<Option<Frame>, BusError> {
+        Ok(self.rx.pop())
+    }
+
+    fn sim(&mut self) -> Option<&mut dyn SimControl> {
+        Some(self)
+    }
+}
+
+impl SimControl for SimBus {
+    /// Applies a fault injection. A refused command changes nothing. `NoSuchAxis` reports the
+    /// axis 1-based, as the user names it.
+    fn apply(&mut self, cmd: &SimCommand) -> Result<(), SimCommandError> {
+        Self::check_axis("disconnect_axis", cmd.disconnect_axis)?;
+        Self::check_axis("reconnect_axis", cmd.reconnect_axis)?;
+        Self::check_axis("block_axis", cmd.block_axis)?;
+        Self::check_axis("unblock_axis", cmd.unblock_axis)?;
+        if let Some(tau) = cmd.external_torques
+            && let Some((index, &value)) = tau.iter().enumerate().find(|(_, t)| !t.is_finite())
+        {
+            return Err(SimCommandError::TorqueNotFinite { index, value });
+        }
+        if let Some(pressed) = cmd.emergency_stop {
+            self.emergency_stop = pressed;
+            for (i, d) in self.drives.iter_mut().enumerate() {
+                let out: &mut dyn FrameSink = if self.connected[i] {
+                    &mut self.rx
+                } else {
+                    &mut Discard
+                };
+                d.set_safe_torque_off(pressed, out);
+            }
+        }
+        if let Some(a) = cmd.disconnect_axis {
+            self.connected[a] = false;
+        }
+        if let Some(a) = cmd.reconnect_axis {
+            self.connected[a] = true;
+        }
+        if let Some(a) = cmd.block_axis {
+            self.arm.set_blocked(a, true);
+        }
+        if let Some(a) = cmd.unblock_axis {
+            self.arm.set_blocked(a, false);
+        }
+        if let Some(tau) = cmd.external_torques {
+            self.arm.set_external_torques(tau);
+        }
+        if cmd.power_cycle {
+            for (i, d) in self.drives.iter_mut().enumerate() {
+                let out: &mut dyn FrameSink = if self.connected[i] {
+                    &mut self.rx
+                } else {
+                    &mut Discard
+                };
+                d.power_cycle(out);
+            }
+        }
+        self.update_brakes();
+        Ok(())
+    }
+
+    fn truth(&self) -> SimTruth {
+        SimTruth {
+            position: self.arm.position(),
+            velocity: self.arm.velocity(),
+            emergency_stop: self.emergency_stop,
+        }
+    }
+}

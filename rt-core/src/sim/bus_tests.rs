@@ -1,0 +1,629 @@
+//! Whole-bus tests of the simulated P-Rob2 with the real arm model: a scripted master
+//! ([`super::test_master`]) configures the six drives exactly as `DRIVE_PROFILE.md` says,
+//! enables them in CSP and streams targets; the truth of the arm is checked.
+
+use super::SimBus;
+use super::test_master::TestMaster;
+use crate::bus::{Bus, Frame, SimCommand, SimCommandError, SimControl, SimTruth};
+use mcm_shared::NUM_AXES;
+use mcm_shared::config::RobotConfig;
+
+const DEG: f64 = core::f64::consts::PI / 180.0;
+
+fn cfg_at(pose_deg: [f64; NUM_AXES]) -> RobotConfig {
+    let mut cfg = RobotConfig::prob2_default();
+    cfg.sim.initial_position_deg = pose_deg;
+    cfg.validate().unwrap();
+    cfg
+}
+
+fn apply(bus: &mut SimBus, cmd: SimCommand) {
+    bus.apply(&cmd).unwrap();
+}
+
+/// Boot, configure and enable every drive in CSP holding its position. With `block`, rigid
+/// obstacles hold every axis where it is until the drives are enabled (the P-Rob2 has no
+/// brakes, so the arm would otherwise sag during the ~40 configuration cycles).
+fn enabled(cfg: &RobotConfig, block: bool) -> (SimBus, TestMaster) {
+    let mut bus = SimBus::new(cfg);
+    let mut m = TestMaster::new(cfg);
+    for axis in (0..NUM_AXES).filter(|_| block) {
+        apply(
+            &mut bus,
+            SimCommand {
+                block_axis: Some(axis),
+                ..SimCommand::default()
+            },
+        );
+    }
+    let cycles = m.run_until_enabled(&mut bus, 100);
+    assert!(cycles < 60, "{cycles} cycles to enable");
+    for axis in (0..NUM_AXES).filter(|_| block) {
+        apply(
+            &mut bus,
+            SimCommand {
+                unblock_axis: Some(axis),
+                ..SimCommand::default()
+            },
+        );
+    }
+    for n in &m.nodes {
+        assert!(
+            n.aborts.is_empty(),
+            "node {}: aborts {:X?}",
+            n.node,
+            n.aborts
+        );
+        assert_eq!((n.boot_ups, n.mode_display), (1, 8), "node {}", n.node);
+    }
+    (bus, m)
+}
+
+/// The joint angle [rad] the master's current target of `axis` means.
+fn target_angle(cfg: &RobotConfig, bus: &SimBus, m: &TestMaster, axis: usize) -> f64 {
+    let offset = bus.drive(axis).unwrap().encoder_offset_counts();
+    (i64::from(m.nodes[axis].target) - offset) as f64 / cfg.axes[axis].counts_per_rad()
+}
+
+/// Run `cycles` master cycles, returning the truth after each SYNC.
+fn run(bus: &mut SimBus, m: &mut TestMaster, cycles: usize) -> Vec<SimTruth> {
+    (0..cycles)
+        .map(|_| {
+            m.run_cycle(bus);
+            bus.truth()
+        })
+        .collect()
+}
+
+/// Largest |truth - target| per axis over `truths` [deg].
+fn max_error_deg(truths: &[SimTruth], target: &[f64; NUM_AXES]) -> [f64; NUM_AXES] {
+    core::array::from_fn(|i| {
+        truths
+            .iter()
+            .map(|t| (t.position[i] - target[i]).abs() / DEG)
+            .fold(0.0, f64::max)
+    })
+}
+
+#[test]
+fn whole_bus_boot_configure_enable_and_hold_still_for_2_s() {
+    let cfg = RobotConfig::prob2_default();
+    let (mut bus, mut m) = enabled(&cfg, false);
+    let hold: [f64; NUM_AXES] = core::array::from_fn(|i| target_angle(&cfg, &bus, &m, i));
+    let tpdos_before: Vec<u64> = m.nodes.iter().map(|n| n.tpdos).collect();
+    let truths = run(&mut bus, &mut m, 400);
+    for (n, before) in m.nodes.iter().zip(tpdos_before) {
+        assert_eq!(
+            n.tpdos - before,
+            400,
+            "one TPDO1 per SYNC from node {}",
+            n.node
+        );
+        assert!(
+            n.is_enabled() && n.emcy.is_empty(),
+            "node {}: {:04X} {:?}",
+            n.node,
+            n.statusword,
+            n.emcy
+        );
+    }
+    let all = max_error_deg(&truths, &hold);
+    let settled = max_error_deg(&truths[200..], &hold);
+    let last = truths.last().unwrap();
+    eprintln!("hold at {hold:?}: max error {all:?} deg, last second {settled:?} deg");
+    for i in 0..NUM_AXES {
+        assert!(all[i] < 0.5, "axis {}: {} deg", i + 1, all[i]);
+        assert!(settled[i] < 0.05, "axis {}: {} deg", i + 1, settled[i]);
+        assert!(
+            last.velocity[i].abs() < 0.01 * DEG,
+            "axis {}: {} rad/s",
+            i + 1,
+            last.velocity[i]
+        );
+    }
+}
+
+#[test]
+fn holds_any_pose_with_the_full_tool_within_0_05_deg() {
+    let poses = [
+        [0.0, 90.0, 0.0, 0.0, 0.0, 0.0],
+        [0.0, -90.0, 0.0, 0.0, 90.0, 0.0],
+        [30.0, 60.0, -90.0, 45.0, 90.0, -45.0],
+        [-120.0, 45.0, 90.0, -150.0, -110.0, 160.0],
+        [90.0, 115.0, -130.0, 90.0, 45.0, 0.0],
+    ];
+    for pose in poses {
+        let cfg = cfg_at(pose);
+        let (mut bus, mut m) = enabled(&cfg, true);
+        let hold: [f64; NUM_AXES] = core::array::from_fn(|i| target_angle(&cfg, &bus, &m, i));
+        let truths = run(&mut bus, &mut m, 400);
+        let all = max_error_deg(&truths, &hold);
+        let settled = max_error_deg(&truths[200..], &hold);
+        eprintln!("pose {pose:?}: max error {all:.3?} deg, last second {settled:.4?} deg");
+        for i in 0..NUM_AXES {
+            assert!(all[i] < 0.5, "pose {pose:?} axis {}: {} deg", i + 1, all[i]);
+            assert!(
+                settled[i] < 0.05,
+                "pose {pose:?} axis {}: {} deg",
+                i + 1,
+                settled[i]
+            );
+        }
+    }
+}
+
+#[test]
+fn follows_a_30_deg_s_ramp_with_small_lag() {
+    let cfg = cfg_at([0.0, 45.0, 45.0, 0.0, 45.0, 0.0]);
+    let (mut bus, mut m) = enabled(&cfg, true);
+    run(&mut bus, &mut m, 100);
+    let step: Vec<i32> = (0..NUM_AXES)
+        .map(|i| (30.0 * DEG * cfg.cycle_period_s() * cfg.axes[i].counts_per_rad()).round() as i32)
+        .collect();
+    let mut lag = [0.0f64; NUM_AXES];
+    for k in 0..300 {
+        for (n, s) in m.nodes.iter_mut().zip(&step) {
+            n.target += if k < 200 { *s } else { 0 };
+        }
+        m.run_cycle(&mut bus);
+        // the target sent in this cycle is the set-point at the end of this SYNC period
+        let truth = bus.truth();
+        for (i, l) in lag.iter_mut().enumerate() {
+            let e = (truth.position[i] - target_angle(&cfg, &bus, &m, i)).abs() / DEG;
+            if (20..200).contains(&k) || k >= 280 {
+                *l = l.max(e);
+            }
+        }
+    }
+    eprintln!("30 deg/s ramp: max lag {lag:.4?} deg");
+    for (i, l) in lag.iter().enumerate() {
+        assert!(
+            *l < 0.15,
+            "axis {}: lag {l} deg (one cycle at 30 deg/s is 0.15 deg)",
+            i + 1
+        );
+    }
+}
+
+/// One run of a scripted scenario with fault injections: the frames sent, the frames
+/// received and the truth (as bits) after every SYNC.
+type Run = (Vec<Frame>, Vec<Frame>, Vec<[u64; 12]>);
+
+fn bits(t: &SimTruth) -> [u64; 12] {
+    core::array::from_fn(|i| {
+        if i < 6 {
+            t.position[i].to_bits()
+        } else {
+            t.velocity[i - 6].to_bits()
+        }
+    })
+}
+
+/// Fault injections of the determinism scenario, applied before the given cycle.
+fn scenario_commands() -> Vec<(u64, SimCommand)> {
+    let push = SimCommand {
+        external_torques: Some([5.0, -20.0, 8.0, 1.0, -2.0, 0.5]),
+        ..SimCommand::default()
+    };
+    vec![
+        (60, push),
+        (
+            90,
+            SimCommand {
+                external_torques: Some([0.0; 6]),
+                block_axis: Some(2),
+                ..SimCommand::default()
+            },
+        ),
+        (
+            100,
+            SimCommand {
+                emergency_stop: Some(true),
+                unblock_axis: Some(2),
+                ..SimCommand::default()
+            },
+        ),
+        (
+            110,
+            SimCommand {
+                emergency_stop: Some(false),
+                disconnect_axis: Some(4),
+                ..SimCommand::default()
+            },
+        ),
+        (
+            150,
+            SimCommand {
+                reconnect_axis: Some(4),
+                power_cycle: true,
+                ..SimCommand::default()
+            },
+        ),
+    ]
+}
+
+fn scenario_with_master() -> Run {
+    let cfg = cfg_at([10.0, 60.0, -30.0, 20.0, 45.0, 0.0]);
+    let mut bus = SimBus::new(&cfg);
+    let mut m = TestMaster::new(&cfg);
+    let commands = scenario_commands();
+    let mut truth = Vec::new();
+    for cycle in 0..250 {
+        for (_, c) in commands.iter().filter(|(at, _)| *at == cycle) {
+            bus.apply(c).unwrap();
+        }
+        for n in m.nodes.iter_mut() {
+            n.reset_faults = true;
+            n.target += 30; // keep moving slowly once enabled
+        }
+        m.run_cycle(&mut bus);
+        truth.push(bits(&bus.truth()));
+    }
+    (m.sent, m.received, truth)
+}
+
+/// Replay exactly the frames `sent` (and the same fault injections) on a fresh bus.
+fn replay(sent: &[Frame]) -> Run {
+    let cfg = cfg_at([10.0, 60.0, -30.0, 20.0, 45.0, 0.0]);
+    let mut bus = SimBus::new(&cfg);
+    let commands = scenario_commands();
+    let (mut received, mut truth, mut syncs) = (Vec::new(), Vec::new(), 0u64);
+    let mut applied = 0;
+    // the master drains the queue at the start of each cycle; so does the replay
+    while let Some(f) = bus.recv(0).unwrap() {
+        received.push(f);
+    }
+    for f in sent {
+        while applied < commands.len() && commands[applied].0 == syncs {
+            bus.apply(&commands[applied].1).unwrap();
+            applied += 1;
+        }
+        bus.send(f).unwrap();
+        if f.id == 0x080 {
+            syncs += 1;
+            truth.push(bits(&bus.truth()));
+            while let Some(f) = bus.recv(0).unwrap() {
+                received.push(f);
+            }
+        }
+    }
+    (sent.to_vec(), received, truth)
+}
+
+#[test]
+fn deterministic_same_frames_sent_give_the_same_frames_and_truth_bit_for_bit() {
+    let (sent, received, truth) = scenario_with_master();
+    let (sent2, received2, truth2) = scenario_with_master();
+    assert_eq!(sent, sent2);
+    assert_eq!(received, received2);
+    assert_eq!(truth, truth2);
+    let (_, received3, truth3) = replay(&sent);
+    // the master's last drain happens in a cycle that was never run: compare the common part
+    assert_eq!(&received3[..received.len()], &received[..]);
+    assert_eq!(truth3, truth);
+    // the scenario did something: EMCYs of the emergency stop, boot-ups of the power cycle
+    let count = |id_base: u16, first: u8| {
+        received
+            .iter()
+            .filter(|f| f.id & !0x7F == id_base && f.data[0] == first)
+            .count()
+    };
+    assert_eq!(count(0x080, 0x41), 6, "six EMCY 0x5441");
+    assert_eq!(
+        count(0x700, 0x00) - 6,
+        6,
+        "six boot-ups after the power cycle"
+    );
+}
+
+#[test]
+fn emergency_stop_faults_all_drives_and_blocks_enabling_until_released() {
+    let cfg = RobotConfig::prob2_default();
+    let (mut bus, mut m) = enabled(&cfg, false);
+    apply(
+        &mut bus,
+        SimCommand {
+            emergency_stop: Some(true),
+            ..SimCommand::default()
+        },
+    );
+    assert!(bus.truth().emergency_stop);
+    run(&mut bus, &mut m, 2);
+    for n in &mut m.nodes {
+        assert_eq!(n.emcy, [0x5441], "node {}", n.node);
+        assert!(n.is_fault(), "node {}: {:04X}", n.node, n.statusword);
+        assert_eq!(
+            n.statusword & 0x4010,
+            0x4000,
+            "bit 14 set, bit 4 clear: {:04X}",
+            n.statusword
+        );
+        n.reset_faults = true;
+    }
+    run(&mut bus, &mut m, 20);
+    for n in &m.nodes {
+        assert_eq!(n.emcy, [0x5441, 0x0000], "fault reset while pressed");
+        assert_eq!(
+            n.statusword & 0x4F,
+            0x40,
+            "stays SWITCH ON DISABLED: {:04X}",
+            n.statusword
+        );
+        assert_eq!(n.controlword, 0x06, "the master asked for shutdown");
+    }
+    for i in 0..NUM_AXES {
+        assert_eq!(bus.drive(i).unwrap().current_a(), 0.0);
+    }
+    apply(
+        &mut bus,
+        SimCommand {
+            emergency_stop: Some(false),
+            ..SimCommand::default()
+        },
+    );
+    assert!(!bus.truth().emergency_stop);
+    run(&mut bus, &mut m, 6);
+    assert!(
+        m.nodes
+            .iter()
+            .all(|n| n.is_enabled() && n.statusword & 0x4010 == 0x0010),
+        "{:?}",
+        m.states()
+    );
+}
+
+#[test]
+fn a_disconnected_drive_goes_silent_and_faults_on_the_lost_master_heartbeat() {
+    let cfg = RobotConfig::prob2_default();
+    let (mut bus, mut m) = enabled(&cfg, false);
+    let before: Vec<u64> = m.nodes.iter().map(|n| n.tpdos).collect();
+    apply(
+        &mut bus,
+        SimCommand {
+            disconnect_axis: Some(2),
+            ..SimCommand::default()
+        },
+    );
+    run(&mut bus, &mut m, 40);
+    for (i, n) in m.nodes.iter().enumerate() {
+        let got = n.tpdos - before[i];
+        assert_eq!(got, if i == 2 { 1 } else { 40 }, "node {}", n.node); // the first cycle reads the last TPDO
+    }
+    assert_eq!(
+        bus.drive(2).unwrap().state(),
+        super::cia402::State::Fault,
+        "its heartbeat consumer fired"
+    );
+    assert!(
+        m.nodes[2].emcy.is_empty(),
+        "the EMCY was lost on the cut cable"
+    );
+    assert!(
+        m.nodes
+            .iter()
+            .enumerate()
+            .all(|(i, n)| i == 2 || n.is_enabled())
+    );
+    apply(
+        &mut bus,
+        SimCommand {
+            reconnect_axis: Some(2),
+            ..SimCommand::default()
+        },
+    );
+    run(&mut bus, &mut m, 2);
+    assert!(m.nodes[2].is_fault(), "{:04X}", m.nodes[2].statusword);
+    assert_eq!(
+        bus.drive(2).unwrap().od().raw(super::od::ERROR_CODE),
+        0x8130
+    );
+}
+
+#[test]
+fn power_cycle_reboots_every_drive_with_new_offsets_and_the_master_reconfigures() {
+    let cfg = RobotConfig::prob2_default();
+    let (mut bus, mut m) = enabled(&cfg, false);
+    let offsets: Vec<i64> = (0..NUM_AXES)
+        .map(|i| bus.drive(i).unwrap().encoder_offset_counts())
+        .collect();
+    let positions: Vec<i32> = m.nodes.iter().map(|n| n.position).collect();
+    let tpdos: Vec<u64> = m.nodes.iter().map(|n| n.tpdos).collect();
+    apply(
+        &mut bus,
+        SimCommand {
+            power_cycle: true,
+            ..SimCommand::default()
+        },
+    );
+    run(&mut bus, &mut m, 3);
+    for (i, n) in m.nodes.iter().enumerate() {
+        assert_eq!(n.boot_ups, 2, "node {}", n.node);
+        assert_eq!(
+            n.tpdos,
+            tpdos[i] + 1,
+            "no TPDO after the reboot: the mapping is gone (node {})",
+            n.node
+        );
+        assert_ne!(bus.drive(i).unwrap().encoder_offset_counts(), offsets[i]);
+    }
+    m.run_until_enabled(&mut bus, 100);
+    for (i, n) in m.nodes.iter().enumerate() {
+        let shift = i64::from(n.position) - i64::from(positions[i]);
+        let offset_change = bus.drive(i).unwrap().encoder_offset_counts() - offsets[i];
+        assert!(
+            (shift - offset_change).abs() < 50,
+            "node {}: position moved with the new offset",
+            n.node
+        );
+        assert!(n.aborts.is_empty());
+    }
+}
+
+#[test]
+fn sim_commands_are_validated_and_a_refused_one_changes_nothing() {
+    let cfg = RobotConfig::prob2_default();
+    let mut bus = SimBus::new(&cfg);
+    let bad = SimCommand {
+        emergency_stop: Some(true),
+        block_axis: Some(6),
+        ..SimCommand::default()
+    };
+    let err = bus.apply(&bad).unwrap_err();
+    assert_eq!(
+        err,
+        SimCommandError::NoSuchAxis {
+            argument: "block_axis",
+            value: 7
+        }
+    );
+    assert_eq!(
+        err.to_string(),
+        "sim: block_axis = 7 is not an axis; allowed 1..=6"
+    );
+    assert!(!bus.truth().emergency_stop, "nothing applied");
+    for (cmd, argument) in [
+        (
+            SimCommand {
+                disconnect_axis: Some(9),
+                ..SimCommand::default()
+            },
+            "disconnect_axis",
+        ),
+        (
+            SimCommand {
+                reconnect_axis: Some(6),
+                ..SimCommand::default()
+            },
+            "reconnect_axis",
+        ),
+        (
+            SimCommand {
+                unblock_axis: Some(usize::MAX),
+                ..SimCommand::default()
+            },
+            "unblock_axis",
+        ),
+    ] {
+        assert!(
+            matches!(bus.apply(&cmd), Err(SimCommandError::NoSuchAxis { argument: a, .. }) if a == argument)
+        );
+    }
+    let nan = SimCommand {
+        external_torques: Some([0.0, 0.0, 0.0, f64::NAN, 0.0, 0.0]),
+        ..SimCommand::default()
+    };
+    assert!(matches!(
+        bus.apply(&nan),
+        Err(SimCommandError::TorqueNotFinite { index: 3, .. })
+    ));
+    assert!(bus.sim().is_some());
+    assert!(bus.recv(0).unwrap().is_some(), "boot-ups queued");
+}
+
+#[test]
+fn external_push_is_rejected_by_the_integral_and_a_blocked_axis_saturates_the_current() {
+    let cfg = cfg_at([0.0, 90.0, 0.0, 0.0, 0.0, 0.0]);
+    let (mut bus, mut m) = enabled(&cfg, true);
+    run(&mut bus, &mut m, 100);
+    let hold: [f64; NUM_AXES] = core::array::from_fn(|i| target_angle(&cfg, &bus, &m, i));
+    apply(
+        &mut bus,
+        SimCommand {
+            external_torques: Some([0.0, 20.0, 0.0, 0.0, 0.0, 0.0]),
+            ..SimCommand::default()
+        },
+    );
+    let pushed = run(&mut bus, &mut m, 200);
+    let err = max_error_deg(&pushed, &hold);
+    let settled = max_error_deg(&pushed[100..], &hold);
+    assert!(
+        err[1] > 0.005 && err[1] < 0.5 && settled[1] < 0.05,
+        "{err:?} {settled:?}"
+    );
+    apply(
+        &mut bus,
+        SimCommand {
+            external_torques: Some([0.0; 6]),
+            block_axis: Some(0),
+            ..SimCommand::default()
+        },
+    );
+    let q0 = bus.truth().position[0];
+    let step = (2.0 * DEG * cfg.axes[0].counts_per_rad()) as i32;
+    m.nodes[0].target += step; // 2 deg away, against the obstacle
+    run(&mut bus, &mut m, 100);
+    // the obstacle is a stiff spring (sim.stop_stiffness_nm_rad): 129.6 Nm deflect it ~0.37 deg
+    let pressed = (bus.truth().position[0] - q0).abs() / DEG;
+    assert!(pressed < 0.5, "held by the obstacle: {pressed} deg");
+    assert_eq!(
+        m.nodes[0].current, 2500,
+        "current at the 0x6073 limit (per-mille of rated)"
+    );
+    m.nodes[0].target -= step;
+    apply(
+        &mut bus,
+        SimCommand {
+            unblock_axis: Some(0),
+            ..SimCommand::default()
+        },
+    );
+    let released = run(&mut bus, &mut m, 200);
+    let err = max_error_deg(&released[100..], &hold);
+    assert!(err[0] < 0.05, "no wind-up after the block: {err:?}");
+}
+
+#[test]
+fn brakes_hold_a_disabled_axis_and_release_when_enabled() {
+    let mut cfg = cfg_at([0.0, 90.0, 0.0, 0.0, 0.0, 0.0]);
+    cfg.axes[1].brake = true;
+    let mut bus = SimBus::new(&cfg);
+    let mut m = TestMaster::new(&cfg);
+    for n in &mut m.nodes {
+        n.enable = false;
+    }
+    let q0 = bus.truth().position;
+    run(&mut bus, &mut m, 60);
+    let q = bus.truth().position;
+    assert!(
+        (q[1] - q0[1]).abs() < 0.01 * DEG,
+        "the braked shoulder holds: {}",
+        (q[1] - q0[1]) / DEG
+    );
+    assert!((q[2] - q0[2]).abs() > 1.0 * DEG, "the unbraked elbow falls");
+    assert!(bus.drive(1).unwrap().brake_engaged());
+    for n in &mut m.nodes {
+        n.enable = true;
+    }
+    m.run_until_enabled(&mut bus, 20);
+    assert!(!bus.drive(1).unwrap().brake_engaged());
+}
+
+#[test]
+fn light_barrier_bit_15_shows_the_positive_side() {
+    for (base_deg, set) in [(10.0, true), (-10.0, false)] {
+        let mut bus = SimBus::new(&cfg_at([base_deg, 0.0, 0.0, 0.0, 0.0, 0.0]));
+        bus.send(&Frame::new(0x080, &[]).unwrap()).unwrap();
+        let sw =
+            |axis: usize| bus.drive(axis).unwrap().od().raw(super::od::STATUSWORD) & 0x8000 != 0;
+        assert_eq!(sw(0), set, "base at {base_deg} deg, barrier at 0 deg");
+        assert!(!sw(1), "the shoulder has no light barrier");
+    }
+}
+
+#[test]
+fn receive_queue_is_a_bounded_ring_that_counts_overruns() {
+    let mut bus = SimBus::new(&RobotConfig::prob2_default());
+    assert_eq!(bus.now_ns(), 0);
+    let read = Frame::new(0x601, &[0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]).unwrap();
+    for _ in 0..600 {
+        bus.send(&read).unwrap();
+    }
+    assert_eq!(bus.rx_overruns(), 6 + 600 - super::bus::RX_CAPACITY as u64);
+    let mut n = 0;
+    while bus.recv(u64::MAX).unwrap().is_some() {
+        n += 1;
+    }
+    assert_eq!(n, super::bus::RX_CAPACITY);
+    bus.send(&Frame::new(0x080, &[]).unwrap()).unwrap();
+    assert_eq!(bus.now_ns(), 5_000_000);
+}

@@ -1,0 +1,535 @@
+//! PDO engine of the simulated drive (CiA 301 §7.2.2, `canopen-cia402.md` §1.7): two RPDOs and
+//! two TPDOs whose communication and mapping parameters live in the object dictionary
+//! (0x1400/0x1401, 0x1600/0x1601, 0x1800/0x1801, 0x1A00/0x1A01).
+//!
+//! Runs inside the cycle: fixed-size state, no allocation. What it does:
+//! - [`check_write`]: the rules for SDO writes to PDO parameters (COB-ID bit 31 = invalid,
+//!   11-bit ids only, the id changes only while invalid; transmission types 1..=240, 254, 255;
+//!   mapping only while the PDO is invalid, its count is 0 and the node is not OPERATIONAL;
+//!   mapped objects must exist, be mappable in the PDO's direction and have their real length;
+//!   at most 64 bits per PDO);
+//! - RPDOs: [`PdoEngine::on_frame`] latches a synchronous RPDO (applied by
+//!   [`PdoEngine::take_latched`] at the next SYNC) and returns an event-driven one at once;
+//!   frames shorter than the mapping are ignored;
+//! - TPDOs: [`PdoEngine::sync_tx`] sends synchronous TPDOs every n-th SYNC;
+//!   [`PdoEngine::event_tx`] sends an event-driven TPDO when its data changed, and once after
+//!   [`PdoEngine::start`] (entering OPERATIONAL).
+//!
+//! The caller (the drive) gates everything on the NMT state: PDOs only in OPERATIONAL.
+
+use super::abort::SdoAbort;
+use super::od::{self, Mappable, Od};
+use crate::bus::Frame;
+
+/// Number of RPDOs and TPDOs of the drive.
+pub const NUM_RPDO: usize = 2;
+pub const NUM_TPDO: usize = 2;
+const MAX_ENTRIES: usize = 8;
+
+/// The object writes of one received PDO: (slot, raw value) in mapping order.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PdoWrites {
+    entries: [(usize, u32); MAX_ENTRIES],
+    len: usize,
+}
+
+impl PdoWrites {
+    /// The writes, in mapping order.
+    pub fn iter(&self) -> impl Iterator<Item = (usize, u32)> + '_ {
+        self.entries[..self.len].iter().copied()
+    }
+}
+
+/// What became of a received frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RxOutcome {
+    /// Not one of this drive's valid RPDOs.
+    NotMine,
+    /// An RPDO, but shorter than its mapping: ignored.
+    TooShort,
+    /// A synchronous RPDO: latched for the next SYNC.
+    Latched,
+    /// An event-driven RPDO: apply these writes now.
+    Apply(PdoWrites),
+}
+
+/// Runtime state of the PDOs (their parameters are in the object dictionary).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PdoEngine {
+    latch: [Option<[u8; 8]>; NUM_RPDO],
+    sync_count: [u8; NUM_TPDO],
+    last_event: [Option<Frame>; NUM_TPDO],
+    force_event: [bool; NUM_TPDO],
+}
+
+const COB_ID_INVALID: u32 = 1 << 31;
+const COB_ID_ALLOWED_BITS: u32 = COB_ID_INVALID | (1 << 30) | 0x7FF;
+
+fn is_sync_type(t: u32) -> bool {
+    (1..=240).contains(&t)
+}
+
+fn valid(od: &Od, cob_slot: usize) -> Option<u16> {
+    let cob = od.raw(cob_slot);
+    (cob & COB_ID_INVALID == 0).then_some((cob & 0x7FF) as u16)
+}
+
+/// The slot a mapping entry `0xIIIISSLL` refers to, if it is mappable in `dir`.
+fn mapped_slot(entry: u32, dir: Mappable) -> Option<usize> {
+    let slot = Od::lookup((entry >> 16) as u16, (entry >> 8) as u8).ok()?;
+    let def = Od::def(slot);
+    (def.mappable == dir && u32::from(def.dtype.bits()) == entry & 0xFF).then_some(slot)
+}
+
+/// For a mapping slot: (count slot, comm slots, direction).
+fn mapping_of(slot: usize) -> Option<(usize, od::PdoCommSlots, Mappable)> {
+    let within = |base: usize| (base..=base + MAX_ENTRIES).contains(&slot);
+    (0..NUM_RPDO)
+        .find(|&i| within(od::RPDO_MAP[i]))
+        .map(|i| (od::RPDO_MAP[i], od::RPDO_COMM[i], Mappable::Rx))
+        .or_else(|| {
+            (0..NUM_TPDO)
+                .find(|&i| within(od::TPDO_MAP[i]))
+                .map(|i| (od::TPDO_MAP[i], od::TPDO_COMM[i], Mappable::Tx))
+        })
+}
+
+fn comm_of(slot: usize) -> Option<od::PdoCommSlots> {
+    od::RPDO_COMM
+        .iter()
+        .chain(od::TPDO_COMM.iter())
+        .find(|c| c.cob_id == slot || c.transmission == slot)
+        .copied()
+}
+
+/// Check an SDO write of `value` to `slot` against the PDO rules; `Ok` for non-PDO objects.
+pub fn check_write(od: &Od, operational: bool, slot: usize, value: u32) -> Result<(), SdoAbort> {
+    let def = Od::def(slot);
+    let (index, sub) = (def.index, def.sub);
+    if let Some(comm) = comm_of(slot) {
+        if slot == comm.transmission {
+            if !(is_sync_type(value) || value == 254 || value == 255) {
+                return Err(SdoAbort::ValueRange {
+                    index,
+                    sub,
+                    value,
+                    allowed: "1..=240 (synchronous), 254 or 255 (event)",
+                });
+            }
+        } else if value & !COB_ID_ALLOWED_BITS != 0 {
+            return Err(SdoAbort::ValueRange {
+                index,
+                sub,
+                value,
+                allowed: "an 11-bit COB-ID, bit 30 and bit 31 (invalid)",
+            });
+        } else if let Some(id) = valid(od, slot)
+            && value & COB_ID_INVALID == 0
+            && (value & 0x7FF) as u16 != id
+        {
+            return Err(SdoAbort::ValueRange {
+                index,
+                sub,
+                value,
+                allowed: "a new COB-ID only while the PDO is invalid (bit 31 set)",
+            });
+        }
+        return Ok(());
+    }
+    let Some((count_slot, comm, dir)) = mapping_of(slot) else {
+        return Ok(());
+    };
+    if operational || valid(od, comm.cob_id).is_some() {
+        return Err(SdoAbort::DeviceState { index, sub });
+    }
+    if slot != count_slot {
+        if od.raw(count_slot) != 0 {
+            return Err(SdoAbort::DeviceState { index, sub });
+        }
+        if value != 0 && mapped_slot(value, dir).is_none() {
+            return Err(SdoAbort::NotMappable {
+                index,
+                sub,
+                entry: value,
+            });
+        }
+        return Ok(());
+    }
+    if value as usize > MAX_ENTRIES {
+        return Err(SdoAbort::ValueRange {
+            index,
+            sub,
+            value,
+            allowed: "0..=8 mapping entries",
+        });
+    }
+    let mut bits = 0;
+    for k in 1..=value as usize {
+        let entry = od.raw(count_slot + k);
+        if mapped_slot(entry, dir).is_none() {
+            return Err(SdoAbort::NotMappable {
+                index,
+                sub: k as u8,
+                entry,
+            });
+        }
+        bits += entry & 0xFF;
+    }
+    if bits > 64 {
+        return Err(SdoAbort::MappingTooLong {
+            index,
+            count: value as u8,
+            bits,
+        });
+    }
+    Ok(())
+}
+
+fn unpack(od: &Od, map: usize, data: &[u8]) -> Option<PdoWrites> {
+    let mut w = PdoWrites::default();
+    let mut at = 0;
+    for k in 1..=(od.raw(map) as usize).min(MAX_ENTRIES) {
+        let slot = mapped_slot(od.raw(map + k), Mappable::Rx)?;
+        let n = usize::from(Od::def(slot).dtype.size());
+        let bytes = data.get(at..at + n)?;
+        let mut raw = [0u8; 4];
+        raw[..n].copy_from_slice(bytes);
+        w.entries[w.len] = (slot, u32::from_le_bytes(raw));
+        w.len += 1;
+        at += n;
+    }
+    Some(w)
+}
+
+fn pack(od: &Od, map: usize, id: u16) -> Frame {
+    let mut f = Frame {
+        id,
+        len: 0,
+        data: [0; 8],
+    };
+    for k in 1..=(od.raw(map) as usize).min(MAX_ENTRIES) {
+        let Some(slot) = mapped_slot(od.raw(map + k), Mappable::Tx) else {
+            continue;
+        };
+        let n = usize::from(Od::def(slot).dtype.size());
+        let at = usize::from(f.len);
+        if at + n > 8 {
+            break;
+        }
+        f.data[at..at + n].copy_from_slice(&od.raw(slot).to_le_bytes()[..n]);
+        f.len += n as u8;
+    }
+    f
+}
+
+impl PdoEngine {
+    /// Entering OPERATIONAL: counters restart and every event-driven TPDO is sent once.
+    pub fn start(&mut self) {
+        *self = PdoEngine {
+            force_event: [true; NUM_TPDO],
+            ..PdoEngine::default()
+        };
+    }
+
+    /// Leaving OPERATIONAL (or a reset): latched data is dropped.
+    pub fn stop(&mut self) {
+        *self = PdoEngine::default();
+    }
+
+    /// A PDO's communication parameter was written: restart that PDO's runtime state.
+    pub fn comm_written(&mut self, slot: usize) {
+        for i in 0..NUM_RPDO {
+            if od::RPDO_COMM[i].cob_id == slot || od::RPDO_COMM[i].transmission == slot {
+                self.latch[i] = None;
+            }
+        }
+        for i in 0..NUM_TPDO {
+            if od::TPDO_COMM[i].cob_id == slot || od::TPDO_COMM[i].transmission == slot {
+                self.sync_count[i] = 0;
+                self.last_event[i] = None;
+                self.force_event[i] = true;
+            }
+        }
+    }
+
+    /// A frame received while OPERATIONAL.
+    pub fn on_frame(&mut self, od: &Od, frame: &Frame) -> RxOutcome {
+        for i in 0..NUM_RPDO {
+            let comm = od::RPDO_COMM[i];
+            if valid(od, comm.cob_id) != Some(frame.id) {
+                continue;
+            }
+            let Some(writes) = unpack(od, od::RPDO_MAP[i], frame.payload()) else {
+                return RxOutcome::TooShort;
+            };
+            if is_sync_type(od.raw(comm.transmission)) {
+                self.latch[i] = Some(frame.data);
+                return RxOutcome::Latched;
+            }
+            return RxOutcome::Apply(writes);
+        }
+        RxOutcome::NotMine
+    }
+
+    /// At SYNC: the writes of the synchronous RPDOs received since the last SYNC.
+    pub fn take_latched(&mut self, od: &Od) -> [Option<PdoWrites>; NUM_RPDO] {
+        let mut out = [None; NUM_RPDO];
+        for (i, o) in out.iter_mut().enumerate() {
+            if let Some(data) = self.latch[i].take() {
+                *o = unpack(od, od::RPDO_MAP[i], &data);
+            }
+        }
+        out
+    }
+
+    /// At SYNC, after sampling: the synchronous TPDOs due at this SYNC.
+    pub fn sync_tx(&mut self, od: &Od) -> [Option<Frame>; NUM_TPDO] {
+        let mut out = [None; NUM_TPDO];
+        for (i, o) in out.iter_mut().enumerate() {
+            let comm = od::TPDO_COMM[i];
+            let t = od.raw(comm.transmission);
+            let Some(id) = valid(od, comm.cob_id) else {
+                continue;
+            };
+            if !is_sync_type(t) {
+                continue;
+            }
+            self.sync_count[i] = self.sync_count[i].saturating_add(1);
+            if u32::from(self.sync_count[i]) >= t {
+                self.sync_count[i] = 0;
+                *o = Some(pack(od, od::TPDO_MAP[i], id));
+            }
+        }
+        out
+    }
+
+    /// Event-driven TPDOs whose data changed since they were last sent (or that are due once
+    /// after [`PdoEngine::start`]).
+    pub fn event_tx(&mut self, od: &Od) -> [Option<Frame>; NUM_TPDO] {
+        let mut out = [None; NUM_TPDO];
+        for (i, o) in out.iter_mut().enumerate() {
+            let comm = od::TPDO_COMM[i];
+            let t = od.raw(comm.transmission);
+            let Some(id) = valid(od, comm.cob_id) else {
+                continue;
+            };
+            if t != 254 && t != 255 {
+                continue;
+            }
+            let f = pack(od, od::TPDO_MAP[i], id);
+            if self.force_event[i] || self.last_event[i] != Some(f) {
+                self.force_event[i] = false;
+                self.last_event[i] = Some(f);
+                *o = Some(f);
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::od::{OdDefaults, slot};
+
+    fn od() -> Od {
+        Od::new(&OdDefaults {
+            node_id: 2,
+            rated_current_ma: 4000,
+            rated_torque_mnm: 480,
+            peak_current_permille: 2500,
+        })
+    }
+
+    /// Write through the checks, like the SDO server does.
+    fn w(od: &mut Od, op: bool, index: u16, sub: u8, v: u32) -> Result<(), SdoAbort> {
+        let s = Od::lookup(index, sub)?;
+        check_write(od, op, s, v)?;
+        od.set_raw(s, v);
+        Ok(())
+    }
+
+    fn configure_rpdo1(od: &mut Od, trans: u32) {
+        for (i, s, v) in [
+            (0x1400, 1, 0x8000_0202),
+            (0x1600, 0, 0),
+            (0x1600, 1, 0x6040_0010),
+            (0x1600, 2, 0x607A_0020),
+            (0x1600, 3, 0x6071_0010),
+            (0x1600, 0, 3),
+            (0x1400, 2, trans),
+            (0x1400, 1, 0x0000_0202),
+        ] {
+            w(od, false, i, s, v).unwrap();
+        }
+    }
+
+    #[test]
+    fn mapping_rules_and_abort_codes() {
+        let mut od = od();
+        // valid PDO: mapping refused
+        w(&mut od, false, 0x1400, 1, 0x202).unwrap();
+        assert_eq!(
+            w(&mut od, false, 0x1600, 0, 0).unwrap_err().code(),
+            0x0800_0022
+        );
+        w(&mut od, false, 0x1400, 1, 0x8000_0202).unwrap();
+        // OPERATIONAL: refused even while invalid
+        assert_eq!(
+            w(&mut od, true, 0x1600, 1, 0x6040_0010).unwrap_err().code(),
+            0x0800_0022
+        );
+        // wrong direction, wrong length, missing object, not mappable
+        for entry in [0x6041_0010, 0x6040_0020, 0x2000_0010, 0x6075_0020] {
+            assert_eq!(
+                w(&mut od, false, 0x1600, 1, entry).unwrap_err().code(),
+                0x0604_0041,
+                "{entry:08X}"
+            );
+        }
+        // 3 x 32 bits = 96 > 64
+        for k in 1..=3 {
+            w(&mut od, false, 0x1600, k, 0x607A_0020).unwrap();
+        }
+        assert_eq!(
+            w(&mut od, false, 0x1600, 0, 3).unwrap_err().code(),
+            0x0604_0042
+        );
+        assert_eq!(
+            w(&mut od, false, 0x1600, 0, 9).unwrap_err().code(),
+            0x0609_0030
+        );
+        w(&mut od, false, 0x1600, 0, 2).unwrap();
+        // entries only while the count is 0
+        assert_eq!(
+            w(&mut od, false, 0x1600, 1, 0x6040_0010)
+                .unwrap_err()
+                .code(),
+            0x0800_0022
+        );
+        // TPDO mapping takes transmit objects only
+        assert_eq!(
+            w(&mut od, false, 0x1A00, 1, 0x6040_0010)
+                .unwrap_err()
+                .code(),
+            0x0604_0041
+        );
+        w(&mut od, false, 0x1A00, 1, 0x6041_0010).unwrap();
+    }
+
+    #[test]
+    fn comm_parameter_rules() {
+        let mut od = od();
+        for t in [0, 241, 252, 253] {
+            assert_eq!(
+                w(&mut od, false, 0x1400, 2, t).unwrap_err().code(),
+                0x0609_0030,
+                "type {t}"
+            );
+        }
+        for t in [1, 240, 254, 255] {
+            w(&mut od, false, 0x1400, 2, t).unwrap();
+        }
+        assert_eq!(
+            w(&mut od, false, 0x1400, 1, 0x2000_0202)
+                .unwrap_err()
+                .code(),
+            0x0609_0030,
+            "29-bit"
+        );
+        w(&mut od, false, 0x1400, 1, 0x202).unwrap();
+        assert_eq!(
+            w(&mut od, false, 0x1400, 1, 0x203).unwrap_err().code(),
+            0x0609_0030,
+            "id change while valid"
+        );
+        w(&mut od, false, 0x1400, 1, 0x8000_0203).unwrap();
+    }
+
+    #[test]
+    fn sync_rpdo_is_latched_until_sync_and_event_rpdo_applies_now() {
+        let mut od = od();
+        configure_rpdo1(&mut od, 1);
+        let mut e = PdoEngine::default();
+        e.start();
+        let f = Frame::new(0x202, &[0x0F, 0x00, 0x10, 0x27, 0x00, 0x00, 0x9C, 0xFF]).unwrap();
+        assert_eq!(e.on_frame(&od, &f), RxOutcome::Latched);
+        let g = Frame::new(0x202, &[0x06, 0x00, 0x20, 0x4E, 0x00, 0x00, 0x00, 0x00]).unwrap();
+        assert_eq!(
+            e.on_frame(&od, &g),
+            RxOutcome::Latched,
+            "the newest one wins"
+        );
+        let [first, second] = e.take_latched(&od);
+        let writes: Vec<_> = first.unwrap().iter().collect();
+        assert_eq!(
+            writes,
+            [
+                (od::CONTROLWORD, 0x06),
+                (od::TARGET_POSITION, 20000),
+                (od::TARGET_TORQUE, 0)
+            ]
+        );
+        assert_eq!(second, None);
+        assert_eq!(e.take_latched(&od), [None, None], "applied once");
+        assert_eq!(
+            e.on_frame(&od, &Frame::new(0x202, &[0x0F, 0]).unwrap()),
+            RxOutcome::TooShort
+        );
+        assert_eq!(
+            e.on_frame(&od, &Frame::new(0x302, &[0; 8]).unwrap()),
+            RxOutcome::NotMine,
+            "RPDO2 invalid"
+        );
+
+        let mut od = self::od();
+        configure_rpdo1(&mut od, 255);
+        let RxOutcome::Apply(writes) = e.on_frame(&od, &f) else {
+            panic!()
+        };
+        assert_eq!(writes.iter().nth(2), Some((od::TARGET_TORQUE, 0xFF9C)));
+    }
+
+    #[test]
+    fn tpdos_sync_every_nth_and_events_on_change() {
+        let mut od = od();
+        for (i, s, v) in [
+            (0x1A00, 1, 0x6041_0010),
+            (0x1A00, 2, 0x6064_0020),
+            (0x1A00, 0, 2),
+            (0x1800, 2, 2),
+            (0x1800, 1, 0x182),
+        ] {
+            w(&mut od, false, i, s, v).unwrap();
+        }
+        for (i, s, v) in [
+            (0x1A01, 1, 0x6061_0008),
+            (0x1A01, 0, 1),
+            (0x1801, 2, 255),
+            (0x1801, 1, 0x282),
+        ] {
+            w(&mut od, false, i, s, v).unwrap();
+        }
+        od.set_raw(od::STATUSWORD, 0x0237);
+        od.set_i32(od::POSITION_ACTUAL, -2);
+        let mut e = PdoEngine::default();
+        e.start();
+        let sent: Vec<bool> = (0..4).map(|_| e.sync_tx(&od)[0].is_some()).collect();
+        assert_eq!(sent, [false, true, false, true], "type 2: every 2nd SYNC");
+        assert_eq!(e.sync_tx(&od)[0], None);
+        assert_eq!(e.sync_tx(&od)[0].unwrap().to_string(), "182#3702FEFFFFFF");
+        assert_eq!(
+            e.event_tx(&od)[1].unwrap().to_string(),
+            "282#00",
+            "once on start"
+        );
+        assert_eq!(e.event_tx(&od), [None, None]);
+        od.set_i32(od::MODES_DISPLAY, 8);
+        assert_eq!(e.event_tx(&od)[1].unwrap().to_string(), "282#08");
+        assert_eq!(e.event_tx(&od), [None, None]);
+        w(&mut od, false, 0x1801, 1, 0x8000_0282).unwrap();
+        od.set_i32(od::MODES_DISPLAY, 10);
+        assert_eq!(e.event_tx(&od), [None, None], "invalid PDO sends nothing");
+        let _ = slot(0x1A01, 8);
+    }
+}
