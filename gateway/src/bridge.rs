@@ -79,6 +79,7 @@ impl BridgeThread {
 impl Bridge {
     /// Start the bridge thread for `names`.
     pub fn start(names: &ServiceNames) -> (Bridge, BridgeThread) {
+        set_log_level_from_env_or(LogLevel::Error);
         let (req_tx, req_rx) = mpsc::channel(256);
         let (state_tx, state_rx) = watch::channel(None);
         let (err_tx, _) = broadcast::channel(64);

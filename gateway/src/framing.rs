@@ -83,60 +83,58 @@ impl Decoder {
 
     /// The next complete frame, or `None` if more bytes are needed.
     pub fn next_frame(&mut self) -> Option<Frame> {
-        loop {
-            if self.skipping_line {
-                match self.buf.iter().position(|&b| b == b'\n') {
-                    Some(nl) => {
-                        self.reset_scan(nl + 1);
-                        self.skipping_line = false;
-                    }
-                    None => {
-                        self.buf.clear();
-                        return None;
-                    }
+        if self.skipping_line {
+            match self.buf.iter().position(|&b| b == b'\n') {
+                Some(nl) => {
+                    self.reset_scan(nl + 1);
+                    self.skipping_line = false;
                 }
-            }
-            // Skip whitespace between frames.
-            if self.scan == 0 {
-                let ws = self
-                    .buf
-                    .iter()
-                    .take_while(|b| matches!(b, b' ' | b'\t' | b'\r' | b'\n'))
-                    .count();
-                if ws > 0 {
-                    self.reset_scan(ws);
-                }
-                if self.buf.is_empty() {
+                None => {
+                    self.buf.clear();
                     return None;
                 }
             }
-            if self.buf[0] != b'{' {
-                // Not an object: the frame is the whole line.
-                return match self.buf.iter().position(|&b| b == b'\n') {
-                    Some(nl) => {
-                        let line = &self.buf[..nl];
-                        let reason = describe_non_object(line);
-                        self.reset_scan(nl + 1);
-                        Some(Frame::Invalid { reason })
-                    }
-                    None if self.buf.len() > MAX_COMMAND_BYTES => {
-                        self.buf.clear();
-                        self.skipping_line = true;
-                        Some(Frame::Oversize)
-                    }
-                    None => None,
-                };
-            }
-            if let Some(frame) = self.scan_object() {
-                return Some(frame);
-            }
-            if self.buf.len() > MAX_COMMAND_BYTES {
-                self.reset_scan(self.buf.len());
-                self.skipping_line = true;
-                return Some(Frame::Oversize);
-            }
-            return None;
         }
+        // Skip whitespace between frames.
+        if self.scan == 0 {
+            let ws = self
+                .buf
+                .iter()
+                .take_while(|b| matches!(b, b' ' | b'\t' | b'\r' | b'\n'))
+                .count();
+            if ws > 0 {
+                self.reset_scan(ws);
+            }
+            if self.buf.is_empty() {
+                return None;
+            }
+        }
+        if self.buf[0] != b'{' {
+            // Not an object: the frame is the whole line.
+            return match self.buf.iter().position(|&b| b == b'\n') {
+                Some(nl) => {
+                    let line = &self.buf[..nl];
+                    let reason = describe_non_object(line);
+                    self.reset_scan(nl + 1);
+                    Some(Frame::Invalid { reason })
+                }
+                None if self.buf.len() > MAX_COMMAND_BYTES => {
+                    self.buf.clear();
+                    self.skipping_line = true;
+                    Some(Frame::Oversize)
+                }
+                None => None,
+            };
+        }
+        if let Some(frame) = self.scan_object() {
+            return Some(frame);
+        }
+        if self.buf.len() > MAX_COMMAND_BYTES {
+            self.reset_scan(self.buf.len());
+            self.skipping_line = true;
+            return Some(Frame::Oversize);
+        }
+        None
     }
 
     /// Continue scanning an object that starts at `buf[0]`.

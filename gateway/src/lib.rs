@@ -12,10 +12,12 @@
 
 pub mod args;
 pub mod bridge;
+pub mod cli;
 pub mod cmd;
 pub mod connection;
 pub mod exec;
 pub mod framing;
+pub mod hmi;
 pub mod result;
 pub mod server;
 pub mod shutdown;
@@ -37,41 +39,58 @@ pub struct GatewayOptions {
     pub names: ServiceNames,
     /// Address of the JSON listener (port 0: any free port).
     pub json_addr: SocketAddr,
+    /// Address of the telnet HMI listener (port 0: any free port).
+    pub hmi_addr: SocketAddr,
 }
 
 /// Starting the gateway failed.
 #[derive(Debug, thiserror::Error)]
 pub enum GatewayError {
-    #[error("cannot listen for JSON clients on {addr}: {source}")]
+    #[error("cannot listen on {addr}: {source}")]
     Bind {
         addr: SocketAddr,
         source: std::io::Error,
     },
 }
 
-/// Run the gateway until `shutdown` resolves. `ready` is called once with the bound addresses.
+async fn bind(addr: SocketAddr) -> Result<(tokio::net::TcpListener, SocketAddr), GatewayError> {
+    let listener = tokio::net::TcpListener::bind(addr)
+        .await
+        .map_err(|source| GatewayError::Bind { addr, source })?;
+    let local = listener
+        .local_addr()
+        .map_err(|source| GatewayError::Bind { addr, source })?;
+    Ok((listener, local))
+}
+
+/// Run the gateway until `shutdown` resolves. `ready` is called once with the bound addresses
+/// of the JSON and the HMI listeners.
 pub async fn run(
     opts: GatewayOptions,
-    ready: impl FnOnce(SocketAddr),
+    ready: impl FnOnce(SocketAddr, SocketAddr),
     shutdown: impl std::future::Future,
 ) -> Result<(), GatewayError> {
-    let listener = tokio::net::TcpListener::bind(opts.json_addr)
-        .await
-        .map_err(|source| GatewayError::Bind {
-            addr: opts.json_addr,
-            source,
-        })?;
-    let json_addr = listener.local_addr().map_err(|source| GatewayError::Bind {
-        addr: opts.json_addr,
-        source,
-    })?;
+    let (json, json_addr) = bind(opts.json_addr).await?;
+    let (hmi, hmi_addr) = bind(opts.hmi_addr).await?;
     let (bridge, bridge_thread) = bridge::Bridge::start(&opts.names);
     let ctx = exec::Context {
         cfg: Arc::new(opts.config),
         bridge,
     };
-    ready(json_addr);
-    server::run_json(listener, ctx, shutdown).await;
+    let (stop_tx, _) = tokio::sync::broadcast::channel::<()>(1);
+    let stopped = |tx: &tokio::sync::broadcast::Sender<()>| {
+        let mut rx = tx.subscribe();
+        async move {
+            let _ = rx.recv().await;
+        }
+    };
+    let json_task = tokio::spawn(server::run_json(json, ctx.clone(), stopped(&stop_tx)));
+    let hmi_task = tokio::spawn(hmi::run(hmi, ctx, stopped(&stop_tx)));
+    ready(json_addr, hmi_addr);
+    shutdown.await;
+    let _ = stop_tx.send(());
+    let _ = json_task.await;
+    let _ = hmi_task.await;
     bridge_thread.stop();
     Ok(())
 }

@@ -203,9 +203,11 @@ mod tests {
 
     #[test]
     fn status_has_the_manual_fields() {
-        let mut s = StateSample::default();
-        s.mode = Mode::Hold.to_wire();
-        s.position = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+        let s = StateSample {
+            mode: Mode::Hold.to_wire(),
+            position: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
+            ..StateSample::default()
+        };
         let v = status(&s, false);
         assert_eq!(v["result_type"], "status");
         assert_eq!(v["operating_mode"], "HOLD");

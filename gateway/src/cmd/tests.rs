@@ -133,7 +133,7 @@ fn calibrate_arguments() {
 #[test]
 fn pvt_points_batches_are_split() {
     let point = r#"{"position":[0,0,0,0,0,0],"velocity":[0,0,0,0,0,0]}"#;
-    let pts = vec![point; 9].join(",");
+    let pts = [point; 9].join(",");
     let Command::PvtPoints(p) = parse(&format!(
         r#"{{"command":"pvt_points","arguments":{{"points":[{pts}]}}}}"#
     ))

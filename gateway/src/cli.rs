@@ -1,0 +1,81 @@
+//! The command line of `mcm-gateway` (also `mcm gateway`).
+
+use crate::{DEFAULT_HMI_PORT, DEFAULT_JSON_PORT, GatewayOptions};
+use clap::Parser;
+use mcm_shared::config::RobotConfig;
+use mcm_shared::service::ServiceNames;
+use std::net::{IpAddr, SocketAddr};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Serve the MCM's JSON protocol and pass commands to the real-time core (mcm-rt).
+#[derive(Parser, Debug)]
+#[command(name = "mcm-gateway", version, about)]
+struct Cli {
+    /// Robot configuration file (TOML); the embedded P-Rob2 configuration when omitted.
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Instance name: which mcm-rt to talk to (several can run on one machine).
+    #[arg(long, default_value = ServiceNames::DEFAULT_INSTANCE)]
+    instance: String,
+    /// Address to listen on.
+    #[arg(long, default_value = "0.0.0.0")]
+    bind: IpAddr,
+    /// TCP port of the JSON protocol (0: any free port).
+    #[arg(long, default_value_t = DEFAULT_JSON_PORT)]
+    json_port: u16,
+    /// TCP port of the telnet text HMI (0: any free port).
+    #[arg(long, default_value_t = DEFAULT_HMI_PORT)]
+    hmi_port: u16,
+}
+
+/// Run `mcm-gateway` with these command-line arguments (the first is the program name).
+pub fn main<I, T>(args: I) -> ExitCode
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = Cli::parse_from(args);
+    match mcm_gateway_main(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("mcm-gateway: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    let config = match &cli.config {
+        Some(p) => RobotConfig::from_file(p)?,
+        None => RobotConfig::prob2_default(),
+    };
+    let names = ServiceNames::new(&cli.instance)?;
+    let opts = GatewayOptions {
+        config,
+        names,
+        json_addr: SocketAddr::new(cli.bind, cli.json_port),
+        hmi_addr: SocketAddr::new(cli.bind, cli.hmi_port),
+    };
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()?;
+    rt.block_on(async move {
+        let ready = |json: SocketAddr, hmi: SocketAddr| {
+            // Machine-readable line for the launcher; keep its shape.
+            println!("mcm-gateway ready json={json} hmi={hmi}");
+        };
+        crate::run(opts, ready, shutdown_signal()).await
+    })?;
+    Ok(())
+}
+
+async fn shutdown_signal() {
+    use tokio::signal::unix::{SignalKind, signal};
+    let mut term = signal(SignalKind::terminate()).expect("install the SIGTERM handler");
+    tokio::select! {
+        _ = tokio::signal::ctrl_c() => {}
+        _ = term.recv() => {}
+    }
+}

@@ -1,0 +1,257 @@
+//! The HMI's help texts: `help` lists every command with one line each (grouped by the modes
+//! that accept them, as in the manual); `help CMD` explains one command: usage, arguments
+//! with units and defaults, the modes that accept it, its reply, examples and the axis limits
+//! of the configured robot. Built from [`super::spec`]. Not used inside the real-time cycle.
+
+use super::render::{BOLD, RESET};
+use super::spec::{self, CommandSpec};
+use super::words::SESSION_COMMANDS;
+use crate::cmd::{COMMAND_NAMES, suggest};
+use mcm_shared::config::RobotConfig;
+use std::fmt::Write as _;
+
+/// The commands grouped by the modes that accept them.
+const GROUPS: &[(&str, &[&str])] = &[
+    ("In every mode", &["status", "info", "hold", "sleep", "sim"]),
+    ("In OFF and HOLD", &["calibrate"]),
+    (
+        "In HOLD (all axes calibrated): change the mode",
+        &["release", "pvt", "torque_control"],
+    ),
+    ("In PVT", &["move_axis", "move_all", "pvt_points"]),
+    ("In TORQUE_CONTROL", &["set_torques"]),
+];
+
+const SESSION: &[(&str, &str, &str)] = &[
+    (
+        "help",
+        "help [CMD]",
+        "this list, or the details of one command (also `CMD ?`)",
+    ),
+    (
+        "watch",
+        "watch [detail]",
+        "the status table, refreshed in place until a key is pressed",
+    ),
+    ("clear", "clear", "clear the screen"),
+    (
+        "quit",
+        "quit, exit",
+        "end the session (also Ctrl-D on an empty line)",
+    ),
+];
+
+const KEYS: &str = "\
+Editing keys (telnet; with nc your terminal edits the line):
+  Left/Right, Home/End, Ctrl-A/E   move            Up/Down, Ctrl-P/N   history
+  Backspace, Delete, Ctrl-D        erase a char    Ctrl-W              erase a word
+  Ctrl-U                           erase the line  Ctrl-K              erase to the end
+  Tab                              complete        Ctrl-L              clear the screen
+  Ctrl-C                           drop the line, or stop waiting for a command
+";
+
+/// The list of commands, one line each.
+pub fn overview() -> String {
+    let mut s = format!(
+        "{BOLD}Robot commands{RESET} - arguments by position or as name=value; `help CMD` explains one\n"
+    );
+    for (title, names) in GROUPS {
+        let _ = writeln!(s, "{title}:");
+        for name in *names {
+            let spec = spec::find(name).expect("grouped commands exist");
+            let _ = writeln!(s, "  {:<16}{}", spec.name, spec.summary);
+        }
+    }
+    let _ = writeln!(s, "{BOLD}Session commands{RESET}:");
+    for (_, usage, what) in SESSION {
+        let _ = writeln!(s, "  {usage:<16}{what}");
+    }
+    s.push_str(
+        "A line starting with { is a JSON command of the M2M protocol (port 18010); its result \
+         is shown as JSON.\n`help keys` lists the editing keys.\n",
+    );
+    s
+}
+
+/// The help for `topic`: a command, a session command, or `keys`.
+pub fn topic(topic: &str, cfg: &RobotConfig) -> String {
+    let t = topic.to_ascii_lowercase();
+    if t == "keys" {
+        return KEYS.to_string();
+    }
+    if let Some(spec) = spec::find(&t) {
+        return command(spec, cfg);
+    }
+    if let Some((name, usage, what)) = SESSION
+        .iter()
+        .find(|(n, _, _)| *n == t || (*n == "quit" && t == "exit"))
+    {
+        return format!("{BOLD}{name}{RESET} - {what}\nusage:  {usage}\n");
+    }
+    let words: Vec<&'static str> = COMMAND_NAMES
+        .iter()
+        .chain(SESSION_COMMANDS)
+        .chain(&["keys"])
+        .copied()
+        .collect();
+    format!(
+        "no help for \"{}\"{}; `help` lists the commands\n",
+        topic.chars().take(40).collect::<String>(),
+        suggest(&t, &words)
+            .map(|s| format!(" (did you mean \"{s}\"?)"))
+            .unwrap_or_default()
+    )
+}
+
+/// The full help of one command.
+pub fn command(spec: &CommandSpec, cfg: &RobotConfig) -> String {
+    let mut s = format!("{BOLD}{}{RESET} - {}\n\n", spec.name, spec.summary);
+    let _ = writeln!(s, "usage:       {}", spec.usage());
+    if !spec.args.is_empty() {
+        s.push_str(
+            "             arguments by position, or as name=value in any order\n\narguments:\n",
+        );
+        let label = |a: &spec::ArgSpec| match a.alias {
+            "" => a.name.to_string(),
+            alias => format!("{} ({alias})", a.name),
+        };
+        let width = spec.args.iter().map(|a| label(a).len()).max().unwrap_or(0);
+        for a in spec.args {
+            let need = match (a.default, a.positional) {
+                ("", true) => "required".to_string(),
+                ("", false) => "optional".to_string(),
+                (d, _) => format!("default {d}"),
+            };
+            let _ = writeln!(s, "  {:<width$}  {need:<16}  {}", label(a), a.help);
+        }
+    }
+    s.push('\n');
+    let _ = write!(s, "accepted in: {}", spec.modes);
+    if !spec.how.is_empty() {
+        let _ = write!(s, " ({})", spec.how);
+    }
+    let _ = writeln!(s, "\nreply:       {}", spec.reply);
+    if !spec.notes.is_empty() {
+        let _ = writeln!(s, "note:        {}", spec.notes);
+    }
+    s.push_str("examples:\n");
+    for e in spec.examples {
+        let _ = writeln!(s, "  {e}");
+    }
+    limits(&mut s, spec.name, cfg);
+    s
+}
+
+/// The configured robot's limits that matter for the command.
+fn limits(s: &mut String, command: &str, cfg: &RobotConfig) {
+    let per_axis = |f: &dyn Fn(&mcm_shared::config::AxisConfig) -> String| {
+        cfg.axes
+            .iter()
+            .enumerate()
+            .map(|(i, a)| format!("{} {} {}", i + 1, a.name, f(a)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if matches!(command, "move_axis" | "move_all" | "pvt_points") {
+        let _ = writeln!(
+            s,
+            "axis limits [deg]: {}",
+            per_axis(&|a| format!("{}..{}", a.min_deg, a.max_deg))
+        );
+        let _ = writeln!(
+            s,
+            "max velocity [deg/s] (velocity_factor 1): {}",
+            per_axis(&|a| format!("{}", a.max_velocity_deg_s))
+        );
+    }
+    if command == "set_torques" {
+        let _ = writeln!(
+            s,
+            "peak torque [Nm]: {}",
+            per_axis(&|a| format!("{:.1}", a.max_current_a * a.torque_per_amp()))
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::render::strip_ansi;
+    use super::*;
+
+    fn cfg() -> RobotConfig {
+        RobotConfig::prob2_default()
+    }
+
+    #[test]
+    fn overview_lists_every_command_once() {
+        let text = strip_ansi(&overview());
+        for name in COMMAND_NAMES {
+            let n = text
+                .lines()
+                .filter(|l| l.trim_start().split(' ').next() == Some(*name))
+                .count();
+            assert_eq!(n, 1, "{name}:\n{text}");
+        }
+        assert!(
+            text.contains("  move_axis       move one axis to a target position\n"),
+            "{text}"
+        );
+        for w in ["watch [detail]", "quit, exit", "help [CMD]", "JSON command"] {
+            assert!(text.contains(w), "{w}");
+        }
+    }
+
+    #[test]
+    fn command_help_explains_arguments_units_defaults_and_modes() {
+        let text = strip_ansi(&topic("move_axis", &cfg()));
+        for w in [
+            "move_axis - move one axis to a target position",
+            "usage:       move_axis <axis_index> <target_position> [velocity_factor]",
+            "axis_index (axis)",
+            "target angle [deg]",
+            "velocity_factor (vf)",
+            "default 0.33333",
+            "accepted in: PVT (enter PVT mode first: `hold`, then `pvt`)",
+            "reply:       OK as soon as the motion starts",
+            "  move_axis 1 30 0.5",
+            "axis limits [deg]: 1 base -170..170, 2 shoulder -120..120",
+        ] {
+            assert!(text.contains(w), "{w}:\n{text}");
+        }
+        let text = strip_ansi(&topic("CALIBRATE", &cfg()));
+        assert!(text.contains("accepted in: OFF and HOLD"), "{text}");
+        assert!(
+            text.contains("which") && text.contains("default ALL"),
+            "{text}"
+        );
+        let text = strip_ansi(&topic("set_torques", &cfg()));
+        assert!(text.contains("peak torque [Nm]: 1 base "), "{text}");
+        let text = strip_ansi(&topic("status", &cfg()));
+        assert!(text.contains("accepted in: every mode\n"), "{text}");
+    }
+
+    #[test]
+    fn session_topics_and_typos() {
+        assert!(topic("watch", &cfg()).contains("refreshed in place"));
+        assert!(topic("exit", &cfg()).contains("end the session"));
+        assert!(topic("keys", &cfg()).contains("Ctrl-C"));
+        assert_eq!(
+            topic("stauts", &cfg()),
+            "no help for \"stauts\" (did you mean \"status\"?); `help` lists the commands\n"
+        );
+    }
+
+    #[test]
+    fn every_command_has_help() {
+        let grouped: Vec<&str> = GROUPS.iter().flat_map(|(_, n)| n.iter().copied()).collect();
+        assert_eq!(grouped.len(), COMMAND_NAMES.len());
+        for name in COMMAND_NAMES {
+            assert!(grouped.contains(name), "{name}");
+            let text = topic(name, &cfg());
+            assert!(
+                text.contains("accepted in:") && text.contains("examples:"),
+                "{name}"
+            );
+        }
+    }
+}

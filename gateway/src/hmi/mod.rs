@@ -1,0 +1,107 @@
+//! # The text HMI: a telnet session for people (default TCP port 18011)
+//!
+//! Next to the JSON channel the gateway serves a human-machine interface: connect with
+//! `telnet <host> 18011` (or `nc <host> 18011`), get a banner with the version, the robot and
+//! its mode, and type commands as words, e.g. `move_axis 1 30 0.5`, `move_all 0 10 20 0 0 0
+//! vf=0.5`, `calibrate which=WRIST`, `status detail`. `help` lists the commands, `help CMD`
+//! explains one; results come back as aligned tables with units; `watch` refreshes the status
+//! table in place; `quit`, `exit` or Ctrl-D leave. A line starting with `{` is a JSON command
+//! and is answered in (pretty) JSON.
+//!
+//! It runs in the gateway's async tasks, never inside the real-time cycle. It shares the
+//! JSON channel's command path: the words become a JSON `arguments` object parsed by
+//! [`crate::cmd::Command::parse`] and executed by [`crate::exec::execute`], so both channels
+//! accept and refuse exactly the same things.
+//!
+//! Layout: [`telnet`] (option negotiation, NVT line ends) -> [`editor`] (line editing, echo,
+//! history) -> [`words`] (the line parser, with [`spec`] describing each command's
+//! arguments) -> `crate::exec` -> [`render`] (results for people); [`help`] holds the help
+//! texts and [`session`] ties one connection together. [`run`] accepts connections.
+//!
+//! Telnet choice: the server offers `WILL ECHO` and `WILL SUPPRESS-GO-AHEAD`, i.e. character
+//! mode with the server echoing (see [`telnet`]); clients that do not negotiate (`nc`) keep
+//! their terminal's own line editing and get no echo.
+//!
+//! ```no_run
+//! # async fn example(ctx: mcm_gateway::exec::Context) -> std::io::Result<()> {
+//! let listener = tokio::net::TcpListener::bind(("0.0.0.0", mcm_gateway::DEFAULT_HMI_PORT)).await?;
+//! mcm_gateway::hmi::run(listener, ctx, tokio::signal::ctrl_c()).await;
+//! # Ok(()) }
+//! ```
+
+pub mod editor;
+pub mod help;
+pub mod render;
+pub mod session;
+pub mod spec;
+pub mod telnet;
+pub mod words;
+
+use crate::exec::Context;
+use crate::server::MAX_CONNECTIONS;
+use crate::shutdown::Shutdown;
+use std::future::Future;
+use std::sync::Arc;
+use tokio::io::AsyncWriteExt;
+use tokio::net::TcpListener;
+use tokio::sync::{Semaphore, broadcast, mpsc};
+
+/// Longest line a person may type (64 KiB); a longer one is dropped with a message.
+pub const MAX_LINE_BYTES: usize = 64 * 1024;
+
+/// Accept HMI sessions on `listener` until `shutdown` resolves, then tell every session to
+/// stop (each gets a goodbye line) and wait for them.
+pub async fn run(listener: TcpListener, ctx: Context, shutdown: impl Future) {
+    let (notify, _) = broadcast::channel(1);
+    let (done_tx, mut done_rx) = mpsc::channel::<()>(1);
+    let limit = Arc::new(Semaphore::new(MAX_CONNECTIONS));
+    tokio::select! {
+        () = accept_loop(&listener, &ctx, &notify, &done_tx, &limit) => {}
+        _ = shutdown => {}
+    }
+    drop(notify);
+    drop(done_tx);
+    let _ = done_rx.recv().await;
+}
+
+async fn accept_loop(
+    listener: &TcpListener,
+    ctx: &Context,
+    notify: &broadcast::Sender<()>,
+    done: &mpsc::Sender<()>,
+    limit: &Arc<Semaphore>,
+) {
+    loop {
+        let (mut socket, _peer) = match listener.accept().await {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("mcm-gateway: HMI accept failed: {e}");
+                tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+                continue;
+            }
+        };
+        let Ok(permit) = limit.clone().try_acquire_owned() else {
+            let msg = format!(
+                "MCM HMI: too many sessions (at most {MAX_CONNECTIONS}); try again later\r\n"
+            );
+            let _ = socket.write_all(msg.as_bytes()).await;
+            continue;
+        };
+        let ctx = ctx.clone();
+        let shutdown = Shutdown::new(notify.subscribe());
+        let done = done.clone();
+        tokio::spawn(async move {
+            if let Err(e) = session::serve(socket, ctx, shutdown).await
+                && e.kind() != std::io::ErrorKind::BrokenPipe
+                && e.kind() != std::io::ErrorKind::ConnectionReset
+            {
+                eprintln!("mcm-gateway: HMI session ended with an error: {e}");
+            }
+            drop(permit);
+            drop(done);
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests;

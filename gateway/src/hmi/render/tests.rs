@@ -1,0 +1,236 @@
+use super::*;
+use mcm_shared::mode::RejectCode;
+use mcm_shared::sample::{ErrorRecord, Reply};
+
+fn cfg() -> RobotConfig {
+    RobotConfig::prob2_default()
+}
+
+fn state(mode: Mode) -> StateSample {
+    let mut s = StateSample {
+        mode: mode.to_wire(),
+        t_ns: 12_345_000_000,
+        position: [1.0, -2.5, 30.0, 0.0, 0.0, 170.0],
+        velocity: [0.0, 0.0, 12.25, 0.0, 0.0, 0.0],
+        current: [0.1, 2.0, 1.5, 0.0, 0.0, 0.0],
+        i2t: [0.5; 6],
+        ..StateSample::default()
+    };
+    s.axis_flags = [AXIS_CALIBRATED; 6];
+    s.flags = STATE_ALL_CALIBRATED;
+    s.timing.period_ns = 5_000_000;
+    s
+}
+
+#[test]
+fn status_table_is_aligned_with_units() {
+    let st = state(Mode::Hold);
+    let text = strip_ansi(&status(
+        &crate::result::status(&st, false),
+        &cfg(),
+        Some(&st),
+    ));
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(
+        lines[0].starts_with("mode HOLD - axes hold their positions"),
+        "{text}"
+    );
+    assert!(lines[0].contains("t = 12.345 s"), "{text}");
+    assert!(lines[1].contains("position") && lines[1].contains("current"));
+    assert!(lines[2].contains("deg") && lines[2].contains("deg/s") && lines[2].ends_with('A'));
+    assert_eq!(
+        lines[5], "   3  elbow          30.000      12.250       1.500",
+        "{text}"
+    );
+    assert_eq!(
+        lines[1].len(),
+        lines[2].len(),
+        "header and units line up:\n{text}"
+    );
+    assert_eq!(
+        lines[2].len(),
+        lines[3].len(),
+        "units and rows line up:\n{text}"
+    );
+    assert_eq!(lines.len(), 9, "{text}");
+    assert!(!text.contains("commanded"));
+}
+
+#[test]
+fn detailed_status_and_notes() {
+    let mut st = state(Mode::Error);
+    st.axis_flags[4] = 0;
+    st.flags = STATE_ESTOP;
+    st.last_error = ErrorRecord {
+        seq: 3,
+        code: RejectCode::FollowingError.to_wire(),
+        axis: 2,
+        values: [2.5, 2.0, 0.0, 0.0],
+        ..ErrorRecord::default()
+    };
+    let text = strip_ansi(&status(
+        &crate::result::status(&st, true),
+        &cfg(),
+        Some(&st),
+    ));
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(lines[0].contains("mode ERROR") && lines[0].contains("`hold` clears"));
+    for col in ["commanded", "measured", "foll. err", "i2t", "calibrated"] {
+        assert!(lines[1].contains(col), "{col}: {text}");
+    }
+    assert!(lines[3].ends_with("50.0         yes"), "{text}");
+    assert!(lines[7].ends_with("NO"), "{text}");
+    assert!(text.contains("hardware:  drives online 0/6"), "{text}");
+    assert!(text.contains("PVT queue: 0 of 0 points"), "{text}");
+    assert!(text.contains("cycle:     5.000 ms (200 Hz)"), "{text}");
+    assert!(text.contains("emergency stop PRESSED"), "{text}");
+    assert!(text.contains("not calibrated: axis 5 "), "{text}");
+    assert!(
+        text.contains(
+            "last error: safety check tripped, mode is now ERROR: following error: axis 2"
+        ),
+        "{text}"
+    );
+    assert_eq!(lines[1].len(), lines[3].len(), "{text}");
+}
+
+#[test]
+fn move_all_timing() {
+    let r = Reply {
+        values: [10.0, 20.0, 0.0, 0.0, 0.0, 30.0, 6.0, 1.5],
+        ..Reply::default()
+    };
+    let text = strip_ansi(&result(
+        "move_all",
+        &crate::result::move_all(&r),
+        &cfg(),
+        None,
+    ));
+    assert!(
+        text.starts_with("OK - all axes arrive together in 1.500 s; axis 6 (flange) takes longest"),
+        "{text}"
+    );
+    assert!(text.contains("   2  shoulder       20.000\n"), "{text}");
+    assert!(
+        text.contains("   6  flange         30.000  <- longest"),
+        "{text}"
+    );
+}
+
+#[test]
+fn info_and_sim_tables() {
+    let r = Reply {
+        values: [6.0, 0.005, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ..Reply::default()
+    };
+    let text = strip_ansi(&result(
+        "info",
+        &crate::result::initialization(&cfg(), &r),
+        &cfg(),
+        None,
+    ));
+    assert!(text.starts_with("P-Rob2, MCM "), "{text}");
+    assert!(
+        text.contains("6 axes, cycle 5.000 ms (200 Hz), simulated robot"),
+        "{text}"
+    );
+    assert!(
+        text.contains("   1  base        -170.0     170.0       90.0"),
+        "{text}"
+    );
+    let mut st = state(Mode::Hold);
+    st.sim_true_position[0] = 1.25;
+    let text = strip_ansi(&result("sim", &crate::result::sim(&st), &cfg(), None));
+    assert!(text.contains("emergency switch released"), "{text}");
+    assert!(text.contains("   1  base              1.250"), "{text}");
+}
+
+#[test]
+fn errors_say_how_to_fix_them() {
+    let st = state(Mode::Hold);
+    let msg = "move_axis refused: not allowed in mode HOLD";
+    let text = strip_ansi(&error("move_axis", msg, Some(&st)));
+    assert_eq!(
+        text,
+        "error: move_axis refused: not allowed in mode HOLD\n  hint: `move_axis` is accepted in PVT; \
+         the mode is HOLD. Enter PVT mode first: `pvt`.\n"
+    );
+    let text = strip_ansi(&error("move_axis", msg, Some(&state(Mode::Release))));
+    assert!(
+        text.ends_with("the mode is RELEASE. Enter PVT mode first: `hold`, then `pvt`.\n"),
+        "{text}"
+    );
+    let text = strip_ansi(&result(
+        "status",
+        &crate::result::error(
+            "status failed: the real-time core (mcm-rt, instance `x`) is not running or not answering",
+        ),
+        &cfg(),
+        None,
+    ));
+    assert!(
+        text.contains("hint: the real-time core (mcm-rt) is not running: start it"),
+        "{text}"
+    );
+    let text = strip_ansi(&result("hold", &crate::result::ok(), &cfg(), None));
+    assert_eq!(text, "OK\n");
+}
+
+#[test]
+fn line_errors_show_the_usage() {
+    let e = super::super::words::parse_line("move_axis 1", &cfg()).unwrap_err();
+    let text = strip_ansi(&line_error(&e));
+    assert!(
+        text.starts_with("error: move_axis: missing argument \"target_position\""),
+        "{text}"
+    );
+    assert!(
+        text.contains("usage: move_axis <axis_index> <target_position> [velocity_factor]"),
+        "{text}"
+    );
+    assert!(text.contains("`help move_axis`"), "{text}");
+    let e = super::super::words::parse_line("stauts", &cfg()).unwrap_err();
+    assert!(!line_error(&e).contains("usage"));
+}
+
+#[test]
+fn safety_errors_prompt_and_banner() {
+    let rec = ErrorRecord {
+        seq: 1,
+        code: RejectCode::PositionLimit.to_wire(),
+        axis: 3,
+        values: [121.0, 120.0, 0.0, 0.0],
+        ..ErrorRecord::default()
+    };
+    let text = strip_ansi(&safety(&crate::result::safety_error(&rec)));
+    assert!(
+        text.starts_with("*** safety check tripped, mode is now ERROR: position limit: axis 3"),
+        "{text}"
+    );
+    assert!(text.contains("`hold` clears"), "{text}");
+    assert_eq!(strip_ansi(&prompt(Some(&state(Mode::Pvt)))), "mcm PVT> ");
+    assert_eq!(strip_ansi(&prompt(None)), "mcm NO-CORE> ");
+    let b = strip_ansi(&banner(&cfg(), Some(&state(Mode::Off)), "default"));
+    assert!(
+        b.contains(mcm_shared::VERSION) && b.contains("robot: P-Rob2"),
+        "{b}"
+    );
+    assert!(
+        b.contains("mode:  OFF - drives powered off") && b.contains("`help`"),
+        "{b}"
+    );
+    let b = strip_ansi(&banner(&cfg(), None, "robot7"));
+    assert!(b.contains("instance `robot7`) is not running"), "{b}");
+}
+
+#[test]
+fn watch_frames() {
+    let st = state(Mode::Pvt);
+    let f = strip_ansi(&watch_frame(Some(&st), true, &cfg(), "x"));
+    assert!(
+        f.starts_with("watch: ") && f.contains("mode PVT") && f.contains("calibrated"),
+        "{f}"
+    );
+    let f = strip_ansi(&watch_frame(None, false, &cfg(), "x"));
+    assert!(f.contains("not running"), "{f}");
+}

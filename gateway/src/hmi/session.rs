@@ -1,0 +1,428 @@
+//! One HMI session: a telnet (or `nc`) connection. Greets, shows a prompt with the current
+//! mode, edits lines ([`super::editor`]), parses them ([`super::words`]), executes commands
+//! through the same path as the JSON channel (`crate::exec::execute`) and prints the results
+//! for people ([`super::render`]). Safety errors are printed as they happen without breaking
+//! the line being typed. Runs in the gateway's async tasks, not in the real-time cycle.
+//!
+//! Memory per session is bounded: the line ([`super::MAX_LINE_BYTES`]), the history, the
+//! type-ahead while a command runs ([`MAX_PENDING`]) and the output buffer (flushed after
+//! every batch of input, and written with back-pressure).
+
+use super::editor::{Action, Editor};
+use super::telnet::{Input, Telnet};
+use super::words::{Line, LineError};
+use super::{MAX_LINE_BYTES, help, render};
+use crate::cmd::Command;
+use crate::exec::{self, Context};
+use crate::result;
+use crate::shutdown::Shutdown;
+use mcm_shared::sample::ErrorRecord;
+use std::collections::VecDeque;
+use std::fmt::Write as _;
+use std::io;
+use std::time::Duration;
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::net::TcpStream;
+use tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
+use tokio::sync::broadcast::{self, error::RecvError};
+use tokio::time::{MissedTickBehavior, interval};
+
+/// Most inputs kept as type-ahead while a command runs (reading pauses beyond it).
+pub const MAX_PENDING: usize = MAX_LINE_BYTES + 4096;
+/// Refresh period of `watch`.
+pub const WATCH_PERIOD: Duration = Duration::from_millis(200);
+/// How often the prompt is checked against the current mode while a line is edited.
+pub const PROMPT_CHECK: Duration = Duration::from_millis(250);
+/// Longest wait to write the goodbye on shutdown.
+const GOODBYE_TIMEOUT: Duration = Duration::from_secs(1);
+
+/// Words for the session's command names (Tab completion).
+pub const COMPLETIONS: &[&str] = &[
+    "status",
+    "info",
+    "hold",
+    "calibrate",
+    "release",
+    "torque_control",
+    "set_torques",
+    "pvt",
+    "move_axis",
+    "move_all",
+    "pvt_points",
+    "sleep",
+    "sim",
+    "help",
+    "watch",
+    "clear",
+    "quit",
+    "exit",
+];
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Flow {
+    Continue,
+    Quit,
+}
+
+enum Event {
+    Read(io::Result<usize>),
+    Error(Result<ErrorRecord, RecvError>),
+    Tick,
+}
+
+/// Serve one HMI connection until the person leaves, the connection closes or the gateway
+/// shuts down.
+pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> io::Result<()> {
+    socket.set_nodelay(true)?;
+    let (rd, wr) = socket.into_split();
+    let mut session = Session::new(ctx, rd, wr);
+    let ended = tokio::select! {
+        r = session.run() => Some(r),
+        () = shutdown.recv() => None,
+    };
+    match ended {
+        Some(r) => r,
+        None => {
+            let bye = format!(
+                "\r\n\x1b[?25h{}the MCM gateway is shutting down; goodbye{}\r\n",
+                render::YELLOW,
+                render::RESET
+            );
+            let write = session.wr.write_all(bye.as_bytes());
+            let _ = tokio::time::timeout(GOODBYE_TIMEOUT, write).await;
+            Ok(())
+        }
+    }
+}
+
+struct Session {
+    ctx: Context,
+    rd: OwnedReadHalf,
+    wr: OwnedWriteHalf,
+    telnet: Telnet,
+    editor: Editor,
+    /// Inputs received and not processed yet (type-ahead while a command runs).
+    pending: VecDeque<Input>,
+    /// The client closed its side: finish what is pending, then end.
+    closed: bool,
+    errors: broadcast::Receiver<ErrorRecord>,
+    errors_open: bool,
+    client_id: u64,
+    out: Vec<u8>,
+    buf: Vec<u8>,
+    shown_prompt: String,
+}
+
+impl Session {
+    fn new(ctx: Context, rd: OwnedReadHalf, wr: OwnedWriteHalf) -> Self {
+        Self {
+            errors: ctx.bridge.subscribe_errors(),
+            client_id: ctx.bridge.new_client_id(),
+            ctx,
+            rd,
+            wr,
+            telnet: Telnet::new(),
+            editor: Editor::new(MAX_LINE_BYTES, COMPLETIONS),
+            pending: VecDeque::new(),
+            closed: false,
+            errors_open: true,
+            out: Vec::new(),
+            buf: vec![0; 4096],
+            shown_prompt: String::new(),
+        }
+    }
+
+    async fn run(&mut self) -> io::Result<()> {
+        self.out.extend_from_slice(&Telnet::greeting());
+        // A client that does not speak telnet (nc) prints the greeting: erase it.
+        self.out.extend_from_slice(b"\r\x1b[K");
+        let state = self.ctx.bridge.latest_state();
+        let banner = render::banner(&self.ctx.cfg, state.as_deref(), self.ctx.bridge.instance());
+        self.say(&banner);
+        self.prompt();
+        let mut tick = interval(PROMPT_CHECK);
+        tick.set_missed_tick_behavior(MissedTickBehavior::Skip);
+        loop {
+            while let Some(input) = self.pending.pop_front() {
+                if self.handle(input).await? == Flow::Quit {
+                    return self.flush().await;
+                }
+            }
+            self.flush().await?;
+            if self.closed {
+                return Ok(());
+            }
+            let event = tokio::select! {
+                n = self.rd.read(&mut self.buf) => Event::Read(n),
+                e = self.errors.recv(), if self.errors_open => Event::Error(e),
+                _ = tick.tick() => Event::Tick,
+            };
+            match event {
+                Event::Read(n) => self.received(n?),
+                Event::Error(e) => self.interject(e),
+                Event::Tick => self.refresh_prompt(),
+            }
+        }
+    }
+
+    /// Append text, with the terminal's line ends.
+    fn say(&mut self, text: &str) {
+        for part in text.split_inclusive('\n') {
+            match part.strip_suffix('\n') {
+                Some(l) => {
+                    self.out.extend_from_slice(l.as_bytes());
+                    self.out.extend_from_slice(b"\r\n");
+                }
+                None => self.out.extend_from_slice(part.as_bytes()),
+            }
+        }
+    }
+
+    async fn flush(&mut self) -> io::Result<()> {
+        if !self.out.is_empty() {
+            self.wr.write_all(&self.out).await?;
+            self.out.clear();
+            self.out.shrink_to(64 * 1024);
+        }
+        Ok(())
+    }
+
+    fn current_prompt(&self) -> String {
+        render::prompt(self.ctx.bridge.latest_state().as_deref())
+    }
+
+    fn prompt(&mut self) {
+        let p = self.current_prompt();
+        self.out.extend_from_slice(p.as_bytes());
+        self.editor.set_prompt(&p);
+        self.shown_prompt = p;
+    }
+
+    /// Decode bytes read from the client (`0`: the client closed its side).
+    fn received(&mut self, n: usize) {
+        if n == 0 {
+            self.closed = true;
+            return;
+        }
+        let mut inputs = Vec::new();
+        self.telnet.feed(&self.buf[..n], &mut inputs, &mut self.out);
+        self.pending.extend(inputs);
+    }
+
+    /// With server echo, redraw the prompt when the mode changed (e.g. a torque timeout).
+    fn refresh_prompt(&mut self) {
+        if !self.telnet.server_echoes() {
+            return;
+        }
+        let p = self.current_prompt();
+        if p != self.shown_prompt {
+            self.editor.set_prompt(&p);
+            self.editor.redraw(&mut self.out);
+            self.shown_prompt = p;
+        }
+    }
+
+    fn error_text(&mut self, e: Result<ErrorRecord, RecvError>) -> Option<String> {
+        match e {
+            Ok(rec) => Some(render::safety(&result::safety_error(&rec))),
+            Err(RecvError::Lagged(n)) => Some(format!(
+                "{}*** {n} safety errors were not shown (this session was too slow){}\n",
+                render::RED,
+                render::RESET
+            )),
+            Err(RecvError::Closed) => {
+                self.errors_open = false;
+                None
+            }
+        }
+    }
+
+    /// Print a spontaneous safety error above the line being typed, then redraw it.
+    fn interject(&mut self, e: Result<ErrorRecord, RecvError>) {
+        let Some(text) = self.error_text(e) else {
+            return;
+        };
+        if self.telnet.server_echoes() {
+            self.out.extend_from_slice(b"\r\x1b[K");
+            self.say(&text);
+            let p = self.current_prompt();
+            self.editor.set_prompt(&p);
+            self.editor.redraw(&mut self.out);
+            self.shown_prompt = p;
+        } else {
+            // The client's terminal holds the typed text; leave it and start a new row.
+            self.out.extend_from_slice(b"\r\n");
+            self.say(&text);
+            self.prompt();
+        }
+    }
+
+    async fn handle(&mut self, input: Input) -> io::Result<Flow> {
+        let echo = self.telnet.server_echoes();
+        match self.editor.feed(input, echo, &mut self.out) {
+            None => return Ok(Flow::Continue),
+            Some(Action::Line(text)) => {
+                if self.line(&text).await? == Flow::Quit {
+                    return Ok(Flow::Quit);
+                }
+            }
+            Some(Action::Interrupt) => {
+                if echo {
+                    self.out.extend_from_slice(b"^C");
+                }
+                self.out.extend_from_slice(b"\r\n");
+            }
+            Some(Action::Eof) => {
+                self.say("\nbye\n");
+                return Ok(Flow::Quit);
+            }
+            Some(Action::TooLong { limit }) => {
+                let msg = format!(
+                    "{}error:{} line longer than {limit} bytes; it was dropped. Split a long \
+                     pvt_points batch into several commands.\n",
+                    render::RED,
+                    render::RESET
+                );
+                self.say(&msg);
+            }
+        }
+        self.prompt();
+        Ok(Flow::Continue)
+    }
+
+    async fn line(&mut self, text: &str) -> io::Result<Flow> {
+        let cfg = self.ctx.cfg.clone();
+        match super::words::parse_line(text, &cfg) {
+            Ok(Line::Empty) => {}
+            Ok(Line::Help(None)) => self.say(&help::overview()),
+            Ok(Line::Help(Some(t))) => self.say(&help::topic(&t, &cfg)),
+            Ok(Line::Clear) => self.out.extend_from_slice(b"\x1b[H\x1b[2J"),
+            Ok(Line::Quit) => {
+                self.say("bye\n");
+                return Ok(Flow::Quit);
+            }
+            Ok(Line::Watch { detail }) => self.watch(detail).await?,
+            Ok(Line::Command { cmd, json }) => self.command(cmd, json).await?,
+            Err(LineError::Json(e)) => self.say(&render::pretty(&result::error(e.to_string()))),
+            Err(e) => self.say(&render::line_error(&e)),
+        }
+        Ok(Flow::Continue)
+    }
+
+    async fn command(&mut self, cmd: Command, json: bool) -> io::Result<()> {
+        if matches!(cmd, Command::Calibrate(_)) && !json {
+            self.say("calibrating; this can take a while (Ctrl-C stops waiting, not the calibration) ...\n");
+        }
+        self.flush().await?;
+        let ctx = self.ctx.clone();
+        let fut = exec::execute(&ctx, self.client_id, &cmd);
+        tokio::pin!(fut);
+        let outcome = loop {
+            let event = tokio::select! {
+                out = &mut fut => break Some(out),
+                e = self.errors.recv(), if self.errors_open => Event::Error(e),
+                n = self.rd.read(&mut self.buf), if !self.closed && self.pending.len() < MAX_PENDING => Event::Read(n),
+            };
+            match event {
+                Event::Error(e) => {
+                    if let Some(text) = self.error_text(e) {
+                        self.say(&text);
+                    }
+                }
+                Event::Read(n) => {
+                    self.received(n?);
+                    let ctrl_c = self
+                        .pending
+                        .iter()
+                        .position(|i| matches!(i, Input::Interrupt | Input::Byte(0x03)));
+                    if let Some(k) = ctrl_c {
+                        self.pending.drain(..=k);
+                        break None;
+                    }
+                }
+                Event::Tick => {}
+            }
+            self.flush().await?;
+        };
+        let name = cmd.name();
+        let Some(outcome) = outcome else {
+            let mut msg = format!("^C - stopped waiting for `{name}`");
+            if !matches!(cmd, Command::Sleep(_)) {
+                msg.push_str(
+                    "; the robot may still be executing it (`status` shows the mode, `hold` stops a motion)",
+                );
+            }
+            self.say(&msg);
+            self.say("\n");
+            return Ok(());
+        };
+        let state = outcome.state.or_else(|| self.ctx.bridge.latest_state());
+        let text = match (&outcome.result, json) {
+            (Some(v), true) => render::pretty(v),
+            (None, true) => "(no result: set_torques answers nothing on success)\n".to_string(),
+            (Some(v), false) => render::result(name, v, &self.ctx.cfg, state.as_deref()),
+            (None, false) => render::result(name, &result::ok(), &self.ctx.cfg, state.as_deref()),
+        };
+        self.say(&text);
+        Ok(())
+    }
+
+    /// Refresh the status table in place until a key is pressed.
+    async fn watch(&mut self, detail: bool) -> io::Result<()> {
+        self.out.extend_from_slice(b"\x1b[?25l");
+        let mut tick = interval(WATCH_PERIOD);
+        tick.set_missed_tick_behavior(MissedTickBehavior::Skip);
+        let mut drawn = 0usize;
+        loop {
+            let event = tokio::select! {
+                _ = tick.tick() => Event::Tick,
+                n = self.rd.read(&mut self.buf), if !self.closed => Event::Read(n),
+                e = self.errors.recv(), if self.errors_open => Event::Error(e),
+            };
+            match event {
+                Event::Tick => {
+                    let state = self.ctx.bridge.latest_state();
+                    let frame = render::watch_frame(
+                        state.as_deref(),
+                        detail,
+                        &self.ctx.cfg,
+                        self.ctx.bridge.instance(),
+                    );
+                    let mut text = String::new();
+                    if drawn > 0 {
+                        let _ = write!(text, "\x1b[{drawn}A");
+                    }
+                    text.push('\r');
+                    for l in frame.lines() {
+                        let _ = write!(text, "{l}\x1b[K\r\n");
+                    }
+                    text.push_str("\x1b[J");
+                    drawn = frame.lines().count();
+                    self.out.extend_from_slice(text.as_bytes());
+                }
+                Event::Read(n) => {
+                    let n = n?;
+                    if n == 0 {
+                        self.closed = true;
+                        break;
+                    }
+                    let mut keys = Vec::new();
+                    self.telnet.feed(&self.buf[..n], &mut keys, &mut self.out);
+                    if !keys.is_empty() {
+                        break;
+                    }
+                }
+                Event::Error(e) => {
+                    if let Some(text) = self.error_text(e) {
+                        // Below the table; the next frame starts under it.
+                        self.say(&text);
+                        drawn = 0;
+                    }
+                }
+            }
+            self.flush().await?;
+        }
+        self.out.extend_from_slice(b"\x1b[?25h");
+        Ok(())
+    }
+}
