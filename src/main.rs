@@ -1,1 +1,25 @@
-fn main() {}
+//! `mcm`: the Motion Control Module.
+//!
+//! With no arguments (`cargo run --release`) it starts the simulated P-Rob2: the real-time
+//! core and the gateway as two processes, prints where to connect, and stops both on Ctrl-C
+//! or SIGTERM. `mcm rt ...` and `mcm gateway ...` run one process each (the same programs as
+//! `mcm-rt` and `mcm-gateway`); the launcher starts its children that way.
+
+mod launcher;
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    let mut args = std::env::args_os();
+    let program = args.next().unwrap_or_else(|| "mcm".into());
+    let rest: Vec<_> = args.collect();
+    match rest.first().and_then(|a| a.to_str()) {
+        Some("rt") => {
+            mcm_rt_core::cli::main(std::iter::once("mcm-rt".into()).chain(rest.into_iter().skip(1)))
+        }
+        Some("gateway") => mcm_gateway::cli::main(
+            std::iter::once("mcm-gateway".into()).chain(rest.into_iter().skip(1)),
+        ),
+        _ => launcher::main(std::iter::once(program).chain(rest)),
+    }
+}

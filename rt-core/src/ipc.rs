@@ -58,6 +58,8 @@ pub struct RtIpc {
 impl RtIpc {
     /// Create the node and both services of `names`.
     pub fn create(names: &ServiceNames) -> Result<Self, IpcSetupError> {
+        // iceoryx2 warns about its own defaults (no config file); IOX2_LOG_LEVEL overrides.
+        set_log_level_from_env_or(LogLevel::Error);
         let node_name = names.node("mcm-rt");
         let node = NodeBuilder::new()
             .name(

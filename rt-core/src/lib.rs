@@ -4,7 +4,17 @@
 //! Each module says at its top whether it runs inside the cycle.
 
 pub mod bus;
+pub mod canopen;
+pub mod cli;
 pub mod clock;
+pub mod controller;
+pub mod cycle;
+pub mod dynamics;
 pub mod histogram;
 pub mod ipc;
 pub mod realtime;
+pub mod request;
+pub mod runner;
+pub mod safety;
+pub mod sim;
+pub mod trajectory;

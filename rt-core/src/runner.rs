@@ -1,0 +1,201 @@
+//! The real-time loop: the edges around [`crate::cycle::Cycle`].
+//!
+//! Set-up (bus, real-time thread, IPC) runs once; then every period, on absolute deadlines:
+//! wake, record the wake-up latency, drain commands, run the cycle, add timing, publish the
+//! state. Stops when SIGINT or SIGTERM arrives (checked once per cycle).
+
+use crate::bus::Bus;
+use crate::clock;
+use crate::cycle::{COMMANDS_PER_CYCLE, Cycle};
+use crate::histogram::Histogram;
+use crate::ipc::{IpcSetupError, RtIpc};
+use crate::realtime::{self, RtReport};
+use mcm_shared::config::{BusBackend, RobotConfig};
+use mcm_shared::sample::{CommandSample, STATE_NOT_REALTIME};
+use mcm_shared::service::ServiceNames;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+static STOP: AtomicBool = AtomicBool::new(false);
+
+extern "C" fn on_signal(_: libc::c_int) {
+    STOP.store(true, Ordering::SeqCst);
+}
+
+/// Make SIGINT and SIGTERM stop the loop after the current cycle.
+pub fn install_signal_handlers() {
+    for sig in [libc::SIGINT, libc::SIGTERM] {
+        // SAFETY: the handler only stores to an atomic, which is async-signal-safe; the
+        // sigaction struct is fully initialised before use.
+        unsafe {
+            let mut sa: libc::sigaction = core::mem::zeroed();
+            sa.sa_sigaction = on_signal as *const () as usize;
+            libc::sigemptyset(&mut sa.sa_mask);
+            libc::sigaction(sig, &sa, core::ptr::null_mut());
+        }
+    }
+}
+
+/// Ask the loop to stop (as a signal would).
+pub fn request_stop() {
+    STOP.store(true, Ordering::SeqCst);
+}
+
+/// What the real-time process runs.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    pub config: RobotConfig,
+    pub names: ServiceNames,
+    /// Run even when memory locking, SCHED_FIFO or pinning is not possible.
+    pub allow_non_realtime: bool,
+    /// Write every bus frame in candump format to this file (overrides `bus.candump_log`).
+    pub candump: Option<std::path::PathBuf>,
+}
+
+/// Why the real-time process could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error("{0}")]
+    MasterSetup(#[from] crate::canopen::MasterSetupError),
+    #[error("{0}")]
+    Ipc(#[from] IpcSetupError),
+    #[error(
+        "{report}; refusing to run without real-time scheduling (pass --allow-non-realtime to run anyway, e.g. in simulation)"
+    )]
+    NotRealtime { report: RtReport },
+    #[error("cannot open the CAN bus: {0}")]
+    Bus(String),
+    #[error("cannot open the candump log {path}: {reason}")]
+    Candump { path: String, reason: String },
+    #[error("the real-time thread panicked")]
+    Panicked,
+}
+
+/// What happened during the run.
+#[derive(Debug, Clone)]
+pub struct RunSummary {
+    pub realtime: RtReport,
+    pub cycles: u64,
+    pub overruns: u64,
+    pub latency_p99_ns: u64,
+    pub latency_max_ns: u64,
+}
+
+/// Run until stopped. Blocks the calling thread; the cycle runs on its own thread.
+pub fn run(
+    opts: RunOptions,
+    on_started: impl FnOnce(&RtReport) + Send + 'static,
+) -> Result<RunSummary, RunError> {
+    let candump = opts
+        .candump
+        .clone()
+        .or_else(|| opts.config.bus.candump_log.clone().map(Into::into));
+    match (opts.config.bus.backend, candump) {
+        (BusBackend::Sim, None) => spawn(opts, on_started, |cfg| Ok(crate::sim::SimBus::new(cfg))),
+        (BusBackend::Sim, Some(path)) => spawn(opts, on_started, move |cfg| {
+            logging(crate::sim::SimBus::new(cfg), "sim0", &path)
+        }),
+        (BusBackend::Socketcan, None) => spawn(opts, on_started, socketcan),
+        (BusBackend::Socketcan, Some(path)) => spawn(opts, on_started, move |cfg| {
+            let bus = socketcan(cfg)?;
+            logging(bus, &cfg.bus.interface.clone(), &path)
+        }),
+    }
+}
+
+fn socketcan(cfg: &RobotConfig) -> Result<crate::bus::socketcan::SocketCanBus, RunError> {
+    crate::bus::socketcan::SocketCanBus::open(&cfg.bus.interface)
+        .map_err(|e| RunError::Bus(e.to_string()))
+}
+
+fn logging<B: Bus>(
+    bus: B,
+    iface: &str,
+    path: &std::path::Path,
+) -> Result<crate::bus::candump::LoggingBus<B>, RunError> {
+    crate::bus::candump::LoggingBus::new(
+        bus,
+        path,
+        iface,
+        crate::bus::candump::LogOptions::default(),
+    )
+    .map_err(|e| RunError::Candump {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    })
+}
+
+fn spawn<B: Bus + 'static>(
+    opts: RunOptions,
+    on_started: impl FnOnce(&RtReport) + Send + 'static,
+    make_bus: impl FnOnce(&RobotConfig) -> Result<B, RunError> + Send + 'static,
+) -> Result<RunSummary, RunError> {
+    let handle = std::thread::Builder::new()
+        .name("mcm-rt-cycle".into())
+        .spawn(move || -> Result<RunSummary, RunError> {
+            let cfg = &opts.config;
+            let report = realtime::setup_current_thread(cfg.cycle.priority, cfg.cycle.cpu);
+            if !report.is_realtime() && !opts.allow_non_realtime {
+                return Err(RunError::NotRealtime { report });
+            }
+            let bus = make_bus(cfg)?;
+            let mut cycle = Cycle::new(cfg, bus)?;
+            let mut ipc = RtIpc::create(&opts.names)?;
+            on_started(&report);
+            Ok(cycle_loop(cfg, &mut cycle, &mut ipc, report))
+        })
+        .expect("spawn the real-time thread");
+    handle.join().map_err(|_| RunError::Panicked)?
+}
+
+fn cycle_loop<B: Bus>(
+    cfg: &RobotConfig,
+    cycle: &mut Cycle<B>,
+    ipc: &mut RtIpc,
+    report: RtReport,
+) -> RunSummary {
+    let period = cfg.cycle_period_ns();
+    let mut latency = Histogram::new();
+    let mut work_max = 0u64;
+    let mut overruns = 0u64;
+    let mut commands = [CommandSample::default(); COMMANDS_PER_CYCLE];
+    let mut k: u64 = 0;
+    let mut next = clock::now_ns() + period;
+    let not_rt = if report.is_realtime() {
+        0
+    } else {
+        STATE_NOT_REALTIME
+    };
+    while !STOP.load(Ordering::Relaxed) {
+        clock::sleep_until_ns(next);
+        let wake = clock::now_ns();
+        latency.record(wake.saturating_sub(next));
+        let n = ipc.drain(&mut commands).unwrap_or(0);
+        cycle.run(k * period, &commands[..n]);
+        let s = cycle.controller_mut().state_mut();
+        s.t_ns = wake;
+        s.flags |= not_rt;
+        s.timing.period_ns = period;
+        s.timing.overruns = overruns;
+        s.timing.latency_p50_ns = latency.percentile(0.5);
+        s.timing.latency_p99_ns = latency.percentile(0.99);
+        s.timing.latency_max_ns = latency.max();
+        s.timing.work_max_ns = work_max;
+        ipc.publish(cycle.controller().state());
+        k += 1;
+        let end = clock::now_ns();
+        work_max = work_max.max(end - wake);
+        next += period;
+        if end > next {
+            // Missed one or more deadlines: count them and start again from now.
+            overruns += (end - next) / period + 1;
+            next = end + period - (end - next) % period;
+        }
+    }
+    RunSummary {
+        realtime: report,
+        cycles: k,
+        overruns,
+        latency_p99_ns: latency.percentile(0.99),
+        latency_max_ns: latency.max(),
+    }
+}

@@ -1,0 +1,260 @@
+//! Test harness: start the real `mcm` launcher (both processes) on free ports with a unique
+//! instance name, talk to it over TCP, stop it on drop. Every wait is bounded.
+
+#![allow(dead_code)]
+
+use serde_json::Value;
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+static COUNTER: AtomicU32 = AtomicU32::new(0);
+
+/// How long any single wait may take before the test fails.
+pub const WAIT: Duration = Duration::from_secs(20);
+
+/// A unique instance name for this test process.
+pub fn unique_instance(tag: &str) -> String {
+    format!(
+        "t{}-{}-{}",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed),
+        tag
+    )
+}
+
+/// A running MCM (launcher + mcm-rt + mcm-gateway).
+pub struct Mcm {
+    child: Child,
+    lines: mpsc::Receiver<String>,
+    pub instance: String,
+    pub json: SocketAddr,
+    pub hmi: SocketAddr,
+    pub rt_pid: i32,
+    pub gateway_pid: i32,
+}
+
+fn field(line: &str, key: &str) -> Option<String> {
+    line.split(|c: char| c.is_whitespace() || c == '[' || c == ']')
+        .find_map(|w| {
+            w.strip_prefix(key)
+                .and_then(|r| r.strip_prefix('='))
+                .map(str::to_string)
+        })
+}
+
+impl Mcm {
+    /// Start with the embedded configuration.
+    pub fn start(tag: &str) -> Mcm {
+        Self::start_with(tag, &[])
+    }
+
+    /// Start with extra launcher arguments.
+    pub fn start_with(tag: &str, extra: &[&str]) -> Mcm {
+        Self::start_named(&unique_instance(tag), extra)
+    }
+
+    /// Start with the instance name `instance` and extra launcher arguments.
+    pub fn start_named(instance: &str, extra: &[&str]) -> Mcm {
+        let instance = instance.to_string();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_mcm"))
+            .args([
+                "--instance",
+                &instance,
+                "--bind",
+                "127.0.0.1",
+                "--json-port",
+                "0",
+                "--hmi-port",
+                "0",
+            ])
+            .args(extra)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .spawn()
+            .expect("start mcm");
+        let stdout = child.stdout.take().unwrap();
+        let (tx, rx) = mpsc::channel();
+        std::thread::spawn(move || {
+            for line in BufReader::new(stdout).lines().map_while(Result::ok) {
+                eprintln!("[mcm] {line}");
+                if tx.send(line).is_err() {
+                    break;
+                }
+            }
+        });
+        let mut mcm = Mcm {
+            child,
+            lines: rx,
+            instance,
+            json: "0.0.0.0:0".parse().unwrap(),
+            hmi: "0.0.0.0:0".parse().unwrap(),
+            rt_pid: 0,
+            gateway_pid: 0,
+        };
+        mcm.wait_ready();
+        mcm
+    }
+
+    /// Wait for the launcher's ready line and take the addresses and pids from it.
+    pub fn wait_ready(&mut self) {
+        let line = self.wait_line("MCM ready");
+        self.json = field(&line, "json").expect("json=").parse().unwrap();
+        self.hmi = field(&line, "hmi").expect("hmi=").parse().unwrap();
+        self.rt_pid = field(&line, "rt_pid").expect("rt_pid=").parse().unwrap();
+        self.gateway_pid = field(&line, "gateway_pid")
+            .expect("gateway_pid=")
+            .parse()
+            .unwrap();
+    }
+
+    /// The next stdout line starting with `prefix` (other lines are skipped).
+    pub fn wait_line(&self, prefix: &str) -> String {
+        let deadline = Instant::now() + WAIT;
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.lines.recv_timeout(left) {
+                Ok(l) if l.starts_with(prefix) => return l,
+                Ok(_) => {}
+                Err(e) => panic!("no line starting with {prefix:?} from mcm within {WAIT:?}: {e}"),
+            }
+        }
+    }
+
+    /// A new JSON client.
+    pub fn client(&self) -> Client {
+        Client::connect(self.json)
+    }
+
+    /// Stop with SIGTERM; returns the launcher's exit status.
+    pub fn stop(mut self) -> std::process::ExitStatus {
+        self.terminate()
+    }
+
+    fn terminate(&mut self) -> std::process::ExitStatus {
+        // SAFETY: signalling our own child.
+        unsafe { libc::kill(self.child.id() as i32, libc::SIGTERM) };
+        let deadline = Instant::now() + WAIT;
+        loop {
+            if let Some(s) = self.child.try_wait().unwrap() {
+                return s;
+            }
+            if Instant::now() > deadline {
+                let _ = self.child.kill();
+                panic!("mcm did not stop within {WAIT:?} after SIGTERM");
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+}
+
+impl Drop for Mcm {
+    fn drop(&mut self) {
+        if self.child.try_wait().ok().flatten().is_none() {
+            self.terminate();
+        }
+    }
+}
+
+/// Whether a process exists.
+pub fn alive(pid: i32) -> bool {
+    // SAFETY: signal 0 only checks existence.
+    unsafe { libc::kill(pid, 0) == 0 }
+}
+
+/// A JSON protocol client speaking raw bytes.
+pub struct Client {
+    stream: TcpStream,
+    reader: BufReader<TcpStream>,
+}
+
+impl Client {
+    pub fn connect(addr: SocketAddr) -> Client {
+        let stream = TcpStream::connect(addr).expect("connect");
+        stream.set_nodelay(true).unwrap();
+        stream.set_read_timeout(Some(WAIT)).unwrap();
+        let reader = BufReader::new(stream.try_clone().unwrap());
+        Client { stream, reader }
+    }
+
+    /// Send raw bytes.
+    pub fn send_raw(&mut self, bytes: &[u8]) {
+        self.stream.write_all(bytes).unwrap();
+    }
+
+    /// Read one result line.
+    pub fn recv(&mut self) -> Value {
+        let mut line = String::new();
+        let n = self
+            .reader
+            .read_line(&mut line)
+            .expect("read a result line");
+        assert!(n > 0, "connection closed while waiting for a result");
+        assert!(line.ends_with('\n'), "results end with a newline: {line:?}");
+        serde_json::from_str(&line).unwrap_or_else(|e| panic!("result is not JSON ({e}): {line:?}"))
+    }
+
+    /// Read one result line, skipping spontaneous results that do not match `keep`.
+    pub fn recv_matching(&mut self, keep: impl Fn(&Value) -> bool) -> Value {
+        loop {
+            let v = self.recv();
+            if keep(&v) {
+                return v;
+            }
+        }
+    }
+
+    /// Send one command line and read its result.
+    pub fn request(&mut self, json: &str) -> Value {
+        self.send_raw(format!("{json}\n").as_bytes());
+        self.recv()
+    }
+
+    /// True when the server closed the connection (reads EOF within the wait).
+    pub fn closed(&mut self) -> bool {
+        let mut buf = [0u8; 1];
+        matches!(self.reader.read(&mut buf), Ok(0))
+    }
+
+    /// Poll `status` (detail) until `pred` holds; panics after [`WAIT`].
+    pub fn wait_status(&mut self, what: &str, pred: impl Fn(&Value) -> bool) -> Value {
+        let deadline = Instant::now() + WAIT;
+        loop {
+            let s = self.request(r#"{"command":"status","arguments":{"detail":true}}"#);
+            if pred(&s) {
+                return s;
+            }
+            assert!(
+                Instant::now() < deadline,
+                "timed out waiting for {what}; last status: {s}"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    /// Wait until every drive is online (the drives boot when mcm-rt starts).
+    pub fn wait_drives_online(&mut self) -> Value {
+        self.wait_status("all drives online", |s| {
+            s["detail"]["drive_online"]
+                .as_array()
+                .is_some_and(|a| a.iter().all(|x| x == true))
+        })
+    }
+}
+
+/// The `error_status` of a generic result.
+pub fn is_error(v: &Value) -> bool {
+    v["result_type"] == "generic" && v["error_status"] == "ERROR"
+}
+
+/// Assert a generic ERROR whose message contains every one of `words`.
+pub fn assert_error(v: &Value, words: &[&str]) {
+    assert!(is_error(v), "expected a generic ERROR, got {v}");
+    let msg = v["error_message"].as_str().unwrap_or_default();
+    for w in words {
+        assert!(msg.contains(w), "error message {msg:?} lacks {w:?}");
+    }
+}
