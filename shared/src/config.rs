@@ -34,7 +34,21 @@ pub enum ConfigError {
     },
 }
 
-fn invalid(key: impl Into<String>, value: impl ToString, allowed: impl Into<String>) -> ConfigError {
+/// `x` is a finite number at least `min` (NaN fails).
+fn finite_ge(x: f64, min: f64) -> bool {
+    x.is_finite() && x >= min
+}
+
+/// `x` is a finite number above `min` (NaN fails).
+fn finite_gt(x: f64, min: f64) -> bool {
+    x.is_finite() && x > min
+}
+
+fn invalid(
+    key: impl Into<String>,
+    value: impl ToString,
+    allowed: impl Into<String>,
+) -> ConfigError {
     ConfigError::Invalid {
         key: key.into(),
         value: value.to_string(),
@@ -248,7 +262,8 @@ pub struct SimConfig {
 impl RobotConfig {
     /// Parse and validate a configuration.
     pub fn from_toml_str(text: &str) -> Result<Self, ConfigError> {
-        let cfg: RobotConfig = toml::from_str(text).map_err(|e| ConfigError::Parse(e.to_string()))?;
+        let cfg: RobotConfig =
+            toml::from_str(text).map_err(|e| ConfigError::Parse(e.to_string()))?;
         cfg.validate()?;
         Ok(cfg)
     }
@@ -310,7 +325,10 @@ impl RobotConfig {
             return Err(invalid(
                 "bus.heartbeat_timeout_ms",
                 b.heartbeat_timeout_ms,
-                format!("more than bus.drive_heartbeat_ms ({})", b.drive_heartbeat_ms),
+                format!(
+                    "more than bus.drive_heartbeat_ms ({})",
+                    b.drive_heartbeat_ms
+                ),
             ));
         }
         if b.master_heartbeat_ms == 0 {
@@ -323,14 +341,26 @@ impl RobotConfig {
             return Err(invalid("bus.max_missed_tpdos", 0, ">= 1"));
         }
         let s = &self.safety;
-        if !(s.limit_margin_deg >= 0.0) {
-            return Err(invalid("safety.limit_margin_deg", s.limit_margin_deg, ">= 0 deg"));
+        if !finite_ge(s.limit_margin_deg, 0.0) {
+            return Err(invalid(
+                "safety.limit_margin_deg",
+                s.limit_margin_deg,
+                ">= 0 deg",
+            ));
         }
         if !(s.braking_efficiency > 0.0 && s.braking_efficiency <= 1.0) {
-            return Err(invalid("safety.braking_efficiency", s.braking_efficiency, "0 < x <= 1"));
+            return Err(invalid(
+                "safety.braking_efficiency",
+                s.braking_efficiency,
+                "0 < x <= 1",
+            ));
         }
-        if !(s.overspeed_factor >= 1.0) {
-            return Err(invalid("safety.overspeed_factor", s.overspeed_factor, ">= 1"));
+        if !finite_ge(s.overspeed_factor, 1.0) {
+            return Err(invalid(
+                "safety.overspeed_factor",
+                s.overspeed_factor,
+                ">= 1",
+            ));
         }
         if !(s.flight_recorder_seconds > 0.0 && s.flight_recorder_seconds <= 60.0) {
             return Err(invalid(
@@ -340,7 +370,11 @@ impl RobotConfig {
             ));
         }
         if self.axes.len() != NUM_AXES {
-            return Err(invalid("axis", self.axes.len(), "exactly 6 [[axis]] tables"));
+            return Err(invalid(
+                "axis",
+                self.axes.len(),
+                "exactly 6 [[axis]] tables",
+            ));
         }
         let mut seen_ids = [false; 128];
         for (i, a) in self.axes.iter().enumerate() {
@@ -354,26 +388,41 @@ impl RobotConfig {
             }
         }
         if self.arm.links.len() != NUM_AXES {
-            return Err(invalid("arm.link", self.arm.links.len(), "exactly 6 [[arm.link]] tables"));
+            return Err(invalid(
+                "arm.link",
+                self.arm.links.len(),
+                "exactly 6 [[arm.link]] tables",
+            ));
         }
         for (i, l) in self.arm.links.iter().enumerate() {
             let key = format!("arm.link[{}]", i + 1);
-            if !(l.mass > 0.0) {
+            if !finite_gt(l.mass, 0.0) {
                 return Err(invalid(format!("{key}.mass"), l.mass, "> 0 kg"));
             }
-            if l.inertia.iter().any(|v| !(*v > 0.0)) {
-                return Err(invalid(format!("{key}.inertia"), format!("{:?}", l.inertia), "three values > 0 kg m^2"));
+            if l.inertia.iter().any(|v| !finite_gt(*v, 0.0)) {
+                return Err(invalid(
+                    format!("{key}.inertia"),
+                    format!("{:?}", l.inertia),
+                    "three values > 0 kg m^2",
+                ));
             }
         }
-        if !(self.arm.tool.mass >= 0.0) {
+        if !finite_ge(self.arm.tool.mass, 0.0) {
             return Err(invalid("arm.tool.mass", self.arm.tool.mass, ">= 0 kg"));
         }
         let sim = &self.sim;
-        if sim.physics_step_us == 0 || self.cycle_period_ns() % (u64::from(sim.physics_step_us) * 1000) != 0 {
+        if sim.physics_step_us == 0
+            || !self
+                .cycle_period_ns()
+                .is_multiple_of(u64::from(sim.physics_step_us) * 1000)
+        {
             return Err(invalid(
                 "sim.physics_step_us",
                 sim.physics_step_us,
-                format!("> 0 and a divisor of the cycle period ({} us)", self.cycle_period_ns() / 1000),
+                format!(
+                    "> 0 and a divisor of the cycle period ({} us)",
+                    self.cycle_period_ns() / 1000
+                ),
             ));
         }
         for (i, (q, a)) in sim.initial_position_deg.iter().zip(&self.axes).enumerate() {
@@ -385,11 +434,19 @@ impl RobotConfig {
                 ));
             }
         }
-        if !(sim.max_encoder_offset_deg >= 0.0) {
-            return Err(invalid("sim.max_encoder_offset_deg", sim.max_encoder_offset_deg, ">= 0 deg"));
+        if !finite_ge(sim.max_encoder_offset_deg, 0.0) {
+            return Err(invalid(
+                "sim.max_encoder_offset_deg",
+                sim.max_encoder_offset_deg,
+                ">= 0 deg",
+            ));
         }
-        if !(sim.stop_stiffness_nm_rad > 0.0) {
-            return Err(invalid("sim.stop_stiffness_nm_rad", sim.stop_stiffness_nm_rad, "> 0"));
+        if !finite_gt(sim.stop_stiffness_nm_rad, 0.0) {
+            return Err(invalid(
+                "sim.stop_stiffness_nm_rad",
+                sim.stop_stiffness_nm_rad,
+                "> 0",
+            ));
         }
         Ok(())
     }
@@ -401,7 +458,11 @@ impl AxisConfig {
             return Err(invalid(format!("{key}.node_id"), self.node_id, "1..=127"));
         }
         if seen_ids[self.node_id as usize] {
-            return Err(invalid(format!("{key}.node_id"), self.node_id, "a node id no other axis uses"));
+            return Err(invalid(
+                format!("{key}.node_id"),
+                self.node_id,
+                "a node id no other axis uses",
+            ));
         }
         seen_ids[self.node_id as usize] = true;
         if !(self.min_deg.is_finite() && self.max_deg.is_finite() && self.min_deg < self.max_deg) {
@@ -422,8 +483,14 @@ impl AxisConfig {
             ("i2t_derated_current_a", self.i2t_derated_current_a),
             ("armature_kg_m2", self.armature_kg_m2),
             ("following_error_deg", self.following_error_deg),
-            ("calibration.search_velocity_deg_s", self.calibration.search_velocity_deg_s),
-            ("calibration.search_current_a", self.calibration.search_current_a),
+            (
+                "calibration.search_velocity_deg_s",
+                self.calibration.search_velocity_deg_s,
+            ),
+            (
+                "calibration.search_current_a",
+                self.calibration.search_current_a,
+            ),
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0) {
@@ -433,10 +500,18 @@ impl AxisConfig {
         if let Some(j) = self.max_jerk_deg_s3
             && !(j.is_finite() && j > 0.0)
         {
-            return Err(invalid(format!("{key}.max_jerk_deg_s3"), j, "a finite value > 0"));
+            return Err(invalid(
+                format!("{key}.max_jerk_deg_s3"),
+                j,
+                "a finite value > 0",
+            ));
         }
         if !(self.gear_efficiency > 0.0 && self.gear_efficiency <= 1.0) {
-            return Err(invalid(format!("{key}.gear_efficiency"), self.gear_efficiency, "0 < x <= 1"));
+            return Err(invalid(
+                format!("{key}.gear_efficiency"),
+                self.gear_efficiency,
+                "0 < x <= 1",
+            ));
         }
         if self.encoder_counts_per_rev == 0 {
             return Err(invalid(format!("{key}.encoder_counts_per_rev"), 0, "> 0"));
@@ -456,20 +531,36 @@ impl AxisConfig {
             ));
         }
         if self.coulomb_friction_nm < 0.0 || self.viscous_friction_nm_s_rad < 0.0 {
-            return Err(invalid(format!("{key}.coulomb_friction_nm"), self.coulomb_friction_nm, "friction >= 0"));
+            return Err(invalid(
+                format!("{key}.coulomb_friction_nm"),
+                self.coulomb_friction_nm,
+                "friction >= 0",
+            ));
         }
         let cal = &self.calibration;
         if cal.direction != 1 && cal.direction != -1 {
-            return Err(invalid(format!("{key}.calibration.direction"), cal.direction, "+1 or -1"));
+            return Err(invalid(
+                format!("{key}.calibration.direction"),
+                cal.direction,
+                "+1 or -1",
+            ));
         }
-        let outside = if cal.direction > 0 { cal.stop_deg > self.max_deg } else { cal.stop_deg < self.min_deg };
+        let outside = if cal.direction > 0 {
+            cal.stop_deg > self.max_deg
+        } else {
+            cal.stop_deg < self.min_deg
+        };
         if !outside {
             return Err(invalid(
                 format!("{key}.calibration.stop_deg"),
                 cal.stop_deg,
                 format!(
                     "beyond the software limit in the search direction ({} deg)",
-                    if cal.direction > 0 { self.max_deg } else { self.min_deg }
+                    if cal.direction > 0 {
+                        self.max_deg
+                    } else {
+                        self.min_deg
+                    }
                 ),
             ));
         }
@@ -517,14 +608,19 @@ mod tests {
     #[test]
     fn unknown_key_is_named() {
         let err = with(|t| *t = t.replacen("[cycle]", "[cycle]\nrate = 3", 1)).unwrap_err();
-        let ConfigError::Parse(msg) = err else { panic!("{err:?}") };
+        let ConfigError::Parse(msg) = err else {
+            panic!("{err:?}")
+        };
         assert!(msg.contains("rate"), "{msg}");
     }
 
     #[test]
     fn bad_rate_names_key_value_and_range() {
         let err = with(|t| *t = t.replacen("rate_hz = 200", "rate_hz = 0", 1)).unwrap_err();
-        assert_eq!(err.to_string(), "config key `cycle.rate_hz` = 0 is not allowed: 1..=1000 Hz");
+        assert_eq!(
+            err.to_string(),
+            "config key `cycle.rate_hz` = 0 is not allowed: 1..=1000 Hz"
+        );
     }
 
     #[test]
@@ -541,8 +637,13 @@ mod tests {
 
     #[test]
     fn heartbeat_timeout_must_exceed_period() {
-        let err = with(|t| *t = t.replacen("heartbeat_timeout_ms = 150", "heartbeat_timeout_ms = 10", 1)).unwrap_err();
-        assert!(err.to_string().contains("bus.heartbeat_timeout_ms"), "{err}");
+        let err =
+            with(|t| *t = t.replacen("heartbeat_timeout_ms = 150", "heartbeat_timeout_ms = 10", 1))
+                .unwrap_err();
+        assert!(
+            err.to_string().contains("bus.heartbeat_timeout_ms"),
+            "{err}"
+        );
     }
 
     #[test]

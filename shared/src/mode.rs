@@ -72,6 +72,7 @@ wire_enum!(
     }
 );
 
+#[allow(clippy::derivable_impls)] // the wire_enum! macro derives no Default
 impl Default for Mode {
     fn default() -> Self {
         Mode::Off
@@ -146,6 +147,7 @@ wire_enum!(
     }
 );
 
+#[allow(clippy::derivable_impls)] // the wire_enum! macro derives no Default
 impl Default for RejectCode {
     fn default() -> Self {
         RejectCode::None
@@ -157,7 +159,9 @@ impl RejectCode {
     pub fn describe(self, axis: u32, values: &[f64]) -> String {
         let v = |i: usize| values.get(i).copied().unwrap_or(f64::NAN);
         let mode_name = |x: f64| {
-            Mode::try_from(x as u32).map(Mode::as_str).unwrap_or("an unknown mode")
+            Mode::try_from(x as u32)
+                .map(Mode::as_str)
+                .unwrap_or("an unknown mode")
         };
         match self {
             RejectCode::None => "no error".to_string(),
@@ -172,7 +176,10 @@ impl RejectCode {
                 format!("the drive of axis {axis} does not answer on the bus")
             }
             RejectCode::DriveFault => {
-                format!("the drive of axis {axis} is in fault (error code 0x{:04X})", v(0) as u32)
+                format!(
+                    "the drive of axis {axis} is in fault (error code 0x{:04X})",
+                    v(0) as u32
+                )
             }
             RejectCode::OutOfRange => format!(
                 "axis {axis}: value {} is outside the allowed range [{}, {}]",
@@ -247,6 +254,9 @@ mod tests {
         let s = RejectCode::WrongMode.describe(0, &[Mode::Release.to_wire() as f64]);
         assert_eq!(s, "not allowed in mode RELEASE");
         let s = RejectCode::FollowingError.describe(3, &[2.5, 2.0]);
-        assert!(s.contains("axis 3") && s.contains("2.500") && s.contains("2.000"), "{s}");
+        assert!(
+            s.contains("axis 3") && s.contains("2.500") && s.contains("2.000"),
+            "{s}"
+        );
     }
 }
