@@ -25,9 +25,11 @@ use tokio::sync::{broadcast, mpsc, oneshot, watch};
 const STALE_AFTER: Duration = Duration::from_millis(500);
 /// Poll period of the blackboard.
 const POLL: Duration = Duration::from_millis(1);
-/// Commands published and not yet answered, at most (keeps the core's command buffer from
+/// Samples published and not yet answered, at most (keeps the core's command buffer from
 /// overflowing).
 const MAX_IN_FLIGHT: usize = COMMAND_BUFFER / 2;
+/// A published sample not answered within this time no longer counts as in flight.
+const UNACKED_EXPIRY: Duration = Duration::from_secs(5);
 
 /// A request through the bridge failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -223,8 +225,11 @@ impl Worker {
         let mut alive = false;
         let mut last_reply = 0u64;
         let mut last_error_seq: Option<u64> = None;
-        // Requests that wait for room in the core's command buffer.
-        let mut waiting: std::collections::VecDeque<Request> = Default::default();
+        // Requests that wait for room in the core's command buffer, with the index of their
+        // next sample to publish.
+        let mut waiting: std::collections::VecDeque<(Request, usize)> = Default::default();
+        // Every sample published and not answered yet, with when it was published.
+        let mut unacked: HashMap<u64, Instant> = HashMap::new();
 
         while !self.stop.load(Ordering::Relaxed) {
             if ports.is_none()
@@ -254,6 +259,7 @@ impl Worker {
                     let first = (last_reply + 1).max(oldest);
                     for n in first..=state.reply_head {
                         if let Some(r) = state.reply(n) {
+                            unacked.remove(&r.request_id);
                             let ours = pending
                                 .get(&r.request_id)
                                 .is_some_and(|p| p.client_id == r.client_id);
@@ -272,6 +278,7 @@ impl Worker {
                     self.state.send_replace(Some(Box::new(state)));
                 } else if alive && last_change.elapsed() > STALE_AFTER {
                     alive = false;
+                    unacked.clear();
                     self.state.send_replace(None);
                     for (_, p) in pending.drain() {
                         let _ = p.answer.send(Err(self.not_running()));
@@ -279,48 +286,51 @@ impl Worker {
                 }
             }
 
-            // Take new requests.
+            // Take new requests; publish their samples while the core's buffer has room (a long
+            // pvt_points batch goes out over several polls, paced by the core's answers).
             while let Ok(req) = self.requests.try_recv() {
-                waiting.push_back(req);
+                waiting.push_back((req, 0));
             }
-            while let Some(req) = waiting.front() {
+            while let Some((req, next)) = waiting.front_mut() {
                 if !alive {
-                    let req = waiting.pop_front().expect("front exists");
+                    let (req, _) = waiting.pop_front().expect("front exists");
                     let _ = req.answer.send(Err(self.not_running()));
                     continue;
                 }
-                if pending.len() + req.samples.len() > MAX_IN_FLIGHT.max(req.samples.len()) {
-                    break;
-                }
-                let req = waiting.pop_front().expect("front exists");
                 let p = ports.as_ref().expect("alive implies ports");
-                let mut result = Ok(0);
-                for mut s in req.samples.iter().copied() {
+                let mut failed = None;
+                while *next < req.samples.len() && unacked.len() < MAX_IN_FLIGHT {
+                    let mut s = req.samples[*next];
                     s.request_id = next_request;
                     next_request += 1;
                     if let Err(e) = p.publisher.send_copy(s) {
-                        result = Err(BridgeError::Publish(format!("{e:?}")));
+                        failed = Some(BridgeError::Publish(format!("{e:?}")));
                         break;
                     }
-                    result = Ok(s.request_id);
+                    unacked.insert(s.request_id, Instant::now());
+                    *next += 1;
                 }
-                match result {
-                    Ok(last_id) => {
-                        pending.insert(
-                            last_id,
-                            Pending {
-                                client_id: req.samples.last().map_or(0, |s| s.client_id),
-                                deadline: Instant::now() + req.timeout,
-                                timeout: req.timeout,
-                                answer: req.answer,
-                            },
-                        );
-                    }
-                    Err(e) => {
-                        let _ = req.answer.send(Err(e));
-                    }
+                if let Some(e) = failed {
+                    let (req, _) = waiting.pop_front().expect("front exists");
+                    let _ = req.answer.send(Err(e));
+                    continue;
                 }
+                if *next < req.samples.len() {
+                    break;
+                }
+                let (req, _) = waiting.pop_front().expect("front exists");
+                pending.insert(
+                    next_request - 1,
+                    Pending {
+                        client_id: req.samples.last().map_or(0, |s| s.client_id),
+                        deadline: Instant::now() + req.timeout,
+                        timeout: req.timeout,
+                        answer: req.answer,
+                    },
+                );
             }
+            // Samples whose answer never came (a lost reply) stop counting after a while.
+            unacked.retain(|_, t| t.elapsed() < UNACKED_EXPIRY);
 
             // Time out what waited too long.
             let now = Instant::now();

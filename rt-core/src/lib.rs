@@ -4,6 +4,7 @@
 //! Each module says at its top whether it runs inside the cycle.
 
 pub mod bus;
+pub mod calibration;
 pub mod canopen;
 pub mod cli;
 pub mod clock;
@@ -12,6 +13,8 @@ pub mod cycle;
 pub mod dynamics;
 pub mod histogram;
 pub mod ipc;
+pub mod params;
+pub mod pvt;
 pub mod realtime;
 pub mod request;
 pub mod runner;

@@ -140,10 +140,20 @@ wire_enum!(
         BrakingDistance = 12 => "braking_distance",
         /// `axis`, `values[0]` = following error [deg], `values[1]` = band [deg].
         FollowingError = 13 => "following_error",
-        /// `axis`, `values[0]` = step that failed (see the message).
+        /// `axis`; `values[0]` = what failed: 1 no mechanical stop found, 2 no light-barrier
+        /// edge found (`values[1]` = distance searched [deg]), 3 the drive stopped answering.
         CalibrationFailed = 14 => "calibration_failed",
         /// The command was superseded or the mode left before it finished.
         Aborted = 15 => "aborted",
+        /// A motion is in progress (`values[0]` = its remaining time [s]).
+        Busy = 16 => "busy",
+        /// A PVT point breaks a limit: `axis`; `values[0]` = point number (1-based), `[1]` =
+        /// what (1 position [deg], 2 velocity [deg/s], 3 acceleration [deg/s^2]), `[2]` = the
+        /// value, `[3]` = the limit.
+        PvtPoint = 17 => "pvt_point",
+        /// The requested position is outside the reachable range: `axis`, `values[0]` = target
+        /// [deg], `[1]`/`[2]` = reachable min/max [deg].
+        Unreachable = 18 => "unreachable",
     }
 );
 
@@ -216,8 +226,44 @@ impl RejectCode {
                 v(0),
                 v(1)
             ),
-            RejectCode::CalibrationFailed => format!("calibration of axis {axis} failed"),
-            RejectCode::Aborted => "aborted".to_string(),
+            RejectCode::CalibrationFailed => match v(0) as u32 {
+                1 => format!(
+                    "calibration of axis {axis} failed: no mechanical stop found within {:.1} deg; the arm holds where it is",
+                    v(1)
+                ),
+                2 => format!(
+                    "calibration of axis {axis} failed: no light-barrier edge found within {:.1} deg; the arm holds where it is",
+                    v(1)
+                ),
+                3 => format!("calibration of axis {axis} failed: its drive stopped answering"),
+                _ => format!("calibration of axis {axis} failed"),
+            },
+            RejectCode::Aborted => {
+                "aborted (superseded by another command or a mode change)".to_string()
+            }
+            RejectCode::Busy => format!(
+                "a motion is in progress ({:.3} s left); wait until it ends, or send `hold` to stop it",
+                v(0)
+            ),
+            RejectCode::PvtPoint => {
+                let (what, unit) = match v(1) as u32 {
+                    1 => ("position", "deg"),
+                    2 => ("velocity", "deg/s"),
+                    _ => ("acceleration", "deg/s^2"),
+                };
+                format!(
+                    "point {}: axis {axis} {what} {:.3} {unit} exceeds the limit {:.3} {unit}; nothing was queued",
+                    v(0) as u64,
+                    v(2),
+                    v(3)
+                )
+            }
+            RejectCode::Unreachable => format!(
+                "axis {axis}: target {:.3} deg is outside the reachable range [{:.3}, {:.3}] deg (the limits less the safety margin)",
+                v(0),
+                v(1),
+                v(2)
+            ),
         }
     }
 }
