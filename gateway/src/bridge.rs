@@ -47,6 +47,16 @@ pub enum BridgeError {
 /// A reply and the state of the cycle that produced it.
 pub type Answer = (Reply, Box<StateSample>);
 
+/// A new safety violation or drive error, as seen in the state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SafetyEvent {
+    pub record: ErrorRecord,
+    /// The mode right after it ([`mcm_shared::mode::Mode`] as `u32`).
+    pub mode: u32,
+    /// The flight-recorder file the real-time core writes for it.
+    pub file: std::path::PathBuf,
+}
+
 struct Request {
     samples: Vec<CommandSample>,
     timeout: Duration,
@@ -58,7 +68,7 @@ struct Request {
 pub struct Bridge {
     requests: mpsc::Sender<Request>,
     state: watch::Receiver<Option<Box<StateSample>>>,
-    errors: broadcast::Sender<ErrorRecord>,
+    errors: broadcast::Sender<SafetyEvent>,
     next_client: Arc<AtomicU64>,
     instance: String,
 }
@@ -79,8 +89,8 @@ impl BridgeThread {
 }
 
 impl Bridge {
-    /// Start the bridge thread for `names`.
-    pub fn start(names: &ServiceNames) -> (Bridge, BridgeThread) {
+    /// Start the bridge thread for `names`; flight-recorder files are named for `flight_dir`.
+    pub fn start(names: &ServiceNames, flight_dir: &str) -> (Bridge, BridgeThread) {
         set_log_level_from_env_or(LogLevel::Error);
         let (req_tx, req_rx) = mpsc::channel(256);
         let (state_tx, state_rx) = watch::channel(None);
@@ -91,6 +101,7 @@ impl Bridge {
             requests: req_rx,
             state: state_tx,
             errors: err_tx.clone(),
+            flight_dir: flight_dir.to_string(),
             stop: stop.clone(),
         };
         let handle = std::thread::Builder::new()
@@ -152,7 +163,7 @@ impl Bridge {
     }
 
     /// A receiver of new safety errors.
-    pub fn subscribe_errors(&self) -> broadcast::Receiver<ErrorRecord> {
+    pub fn subscribe_errors(&self) -> broadcast::Receiver<SafetyEvent> {
         self.errors.subscribe()
     }
 
@@ -204,7 +215,8 @@ struct Worker {
     names: ServiceNames,
     requests: mpsc::Receiver<Request>,
     state: watch::Sender<Option<Box<StateSample>>>,
-    errors: broadcast::Sender<ErrorRecord>,
+    errors: broadcast::Sender<SafetyEvent>,
+    flight_dir: String,
     stop: Arc<AtomicBool>,
 }
 
@@ -272,7 +284,15 @@ impl Worker {
                     if last_error_seq != Some(state.last_error.seq) {
                         last_error_seq = Some(state.last_error.seq);
                         if state.last_error.seq != 0 {
-                            let _ = self.errors.send(state.last_error);
+                            let _ = self.errors.send(SafetyEvent {
+                                record: state.last_error,
+                                mode: state.mode,
+                                file: mcm_shared::sample::flight_recorder_file(
+                                    &self.flight_dir,
+                                    self.names.instance(),
+                                    &state.last_error,
+                                ),
+                            });
                         }
                     }
                     self.state.send_replace(Some(Box::new(state)));

@@ -124,10 +124,10 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> s
 
 async fn forward_error(
     wr: &mut BufWriter<OwnedWriteHalf>,
-    e: Result<mcm_shared::sample::ErrorRecord, RecvError>,
+    e: Result<crate::bridge::SafetyEvent, RecvError>,
 ) -> std::io::Result<()> {
     match e {
-        Ok(rec) => send(wr, &result::safety_error(&rec)).await,
+        Ok(ev) => send(wr, &result::safety_event(&ev)).await,
         Err(RecvError::Lagged(n)) => {
             send(
                 wr,

@@ -72,7 +72,8 @@ pub async fn run(
 ) -> Result<(), GatewayError> {
     let (json, json_addr) = bind(opts.json_addr).await?;
     let (hmi, hmi_addr) = bind(opts.hmi_addr).await?;
-    let (bridge, bridge_thread) = bridge::Bridge::start(&opts.names);
+    let (bridge, bridge_thread) =
+        bridge::Bridge::start(&opts.names, &opts.config.safety.flight_recorder_dir);
     let ctx = exec::Context {
         cfg: Arc::new(opts.config),
         bridge,

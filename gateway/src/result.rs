@@ -35,11 +35,27 @@ pub fn reply_error(command: &str, reply: &Reply) -> Value {
     ))
 }
 
-/// The spontaneous ERROR sent to every client when a safety check trips.
+/// The spontaneous ERROR sent to every client when a safety check trips: the check, the axis,
+/// the values, the mode it left the robot in, and the flight-recorder file.
+pub fn safety_event(ev: &crate::bridge::SafetyEvent) -> Value {
+    let mut v = safety_error(&ev.record);
+    let mode = Mode::try_from(ev.mode)
+        .map(Mode::as_str)
+        .unwrap_or("UNKNOWN");
+    let file = ev.file.display().to_string();
+    v["error_message"] = json!(format!(
+        "{}; mode is now {mode}; flight recorder: {file}",
+        v["error_message"].as_str().unwrap_or_default()
+    ));
+    v["flight_recorder"] = json!(file);
+    v
+}
+
+/// A safety error in words (without the mode and the flight-recorder file).
 pub fn safety_error(e: &ErrorRecord) -> Value {
     let code = RejectCode::try_from(e.code).unwrap_or(RejectCode::None);
     let mut v = error(format!(
-        "safety check tripped, mode is now ERROR: {}",
+        "safety check tripped: {}",
         code.describe(e.axis, &e.values)
     ));
     v["check"] = json!(code.as_str());

@@ -40,6 +40,8 @@ const BASELINE_ALPHA_SLOW: f64 = 0.02;
 /// (fast search / slow approach).
 const FAST_THRESHOLD: f64 = 0.5;
 const SLOW_THRESHOLD: f64 = 0.2;
+/// Cycles in a row the current must stay beyond the threshold to count as contact.
+const CONTACT_CYCLES: u32 = 2;
 
 /// How an axis finds its zero.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -168,6 +170,10 @@ pub struct AxisCalibration {
     start: f64,
     baseline: f64,
     baseline_age: f64,
+    /// Cycles in a row the current has been beyond the contact threshold.
+    over: u32,
+    /// Where the current slow approach began (raw).
+    approach_start: f64,
     prev: AxisInput,
 }
 
@@ -198,6 +204,8 @@ impl AxisCalibration {
             start: now.position,
             baseline: now.current,
             baseline_age: 0.0,
+            over: 0,
+            approach_start: now.position,
             prev: now,
         }
     }
@@ -234,6 +242,8 @@ impl AxisCalibration {
                 self.track_baseline(input.current, dt);
                 self.phase = if left <= dt {
                     self.baseline_age = 0.0;
+                    self.over = 0;
+                    self.approach_start = self.target;
                     Phase::Search {
                         search: next,
                         speed: 0.0,
@@ -297,7 +307,15 @@ impl AxisCalibration {
                     FAST_THRESHOLD
                 } * self.s.search_current;
                 let settled = at_speed && self.baseline_age >= SETTLE;
-                if settled && (input.current - self.baseline).abs() > threshold {
+                // A stop holds the axis still; a jolt from another axis does not.
+                let speed_now = (input.position - prev.position).abs() / dt;
+                let still = search.slow || speed_now < 0.5 * top;
+                if settled && still && (input.current - self.baseline).abs() > threshold {
+                    self.over += 1;
+                } else {
+                    self.over = 0;
+                }
+                if self.over >= CONTACT_CYCLES {
                     if search.slow {
                         self.target = input.position;
                         self.phase = Phase::Done {
@@ -313,6 +331,18 @@ impl AxisCalibration {
                     return;
                 }
                 self.track_baseline(input.current, dt);
+                if search.slow && (self.target - self.approach_start).abs() > 3.0 * BACKOFF {
+                    // The fast search's contact was not the stop: search fast again.
+                    self.phase = Phase::Search {
+                        search: Search {
+                            slow: false,
+                            ..search
+                        },
+                        speed,
+                    };
+                    self.baseline_age = 0.0;
+                    return;
+                }
             }
             Method::Barrier { edge } => {
                 if input.light_barrier != prev.light_barrier && self.baseline_age > 0.0 {

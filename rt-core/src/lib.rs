@@ -11,6 +11,7 @@ pub mod clock;
 pub mod controller;
 pub mod cycle;
 pub mod dynamics;
+pub mod flight;
 pub mod histogram;
 pub mod ipc;
 pub mod params;

@@ -7,6 +7,7 @@
 use crate::bus::Bus;
 use crate::clock;
 use crate::cycle::{COMMANDS_PER_CYCLE, Cycle};
+use crate::flight::{FlightRecorder, Record};
 use crate::histogram::Histogram;
 use crate::ipc::{IpcSetupError, RtIpc};
 use crate::realtime::{self, RtReport};
@@ -68,6 +69,8 @@ pub enum RunError {
     Candump { path: String, reason: String },
     #[error("the real-time thread panicked")]
     Panicked,
+    #[error("cannot start the flight recorder: {0}")]
+    FlightRecorder(String),
 }
 
 /// What happened during the run.
@@ -140,8 +143,18 @@ fn spawn<B: Bus + 'static>(
             let bus = make_bus(cfg)?;
             let mut cycle = Cycle::new(cfg, bus)?;
             let mut ipc = RtIpc::create(&opts.names)?;
+            let records =
+                (cfg.safety.flight_recorder_seconds * f64::from(cfg.cycle.rate_hz)).ceil() as usize;
+            let (recorder, writer) = FlightRecorder::start(
+                records,
+                &cfg.safety.flight_recorder_dir,
+                opts.names.instance(),
+            )
+            .map_err(|e| RunError::FlightRecorder(e.to_string()))?;
             on_started(&report);
-            Ok(cycle_loop(cfg, &mut cycle, &mut ipc, report))
+            let summary = cycle_loop(cfg, &mut cycle, &mut ipc, recorder, report);
+            writer.stop();
+            Ok(summary)
         })
         .expect("spawn the real-time thread");
     handle.join().map_err(|_| RunError::Panicked)?
@@ -151,6 +164,7 @@ fn cycle_loop<B: Bus>(
     cfg: &RobotConfig,
     cycle: &mut Cycle<B>,
     ipc: &mut RtIpc,
+    mut recorder: FlightRecorder,
     report: RtReport,
 ) -> RunSummary {
     let period = cfg.cycle_period_ns();
@@ -159,6 +173,7 @@ fn cycle_loop<B: Bus>(
     let mut overruns = 0u64;
     let mut commands = [CommandSample::default(); COMMANDS_PER_CYCLE];
     let mut k: u64 = 0;
+    let mut error_seq = 0u64;
     let mut next = clock::now_ns() + period;
     let not_rt = if report.is_realtime() {
         0
@@ -180,6 +195,16 @@ fn cycle_loop<B: Bus>(
         s.timing.latency_p99_ns = latency.percentile(0.99);
         s.timing.latency_max_ns = latency.max();
         s.timing.work_max_ns = work_max;
+        let new_error = s.last_error.seq != error_seq;
+        if new_error {
+            error_seq = s.last_error.seq;
+            s.last_error.unix_ns = clock::realtime_ns();
+        }
+        let last_command = if n > 0 { commands[n - 1].kind } else { 0 };
+        recorder.record(&Record::of(s, last_command));
+        if new_error {
+            recorder.trigger(&s.last_error);
+        }
         ipc.publish(cycle.controller().state());
         k += 1;
         let end = clock::now_ns();

@@ -122,6 +122,9 @@ pub struct ErrorRecord {
     pub seq: u64,
     /// Cycle in which it tripped.
     pub cycle: u64,
+    /// `CLOCK_REALTIME` of that cycle [ns since the Unix epoch]; names the flight-recorder file
+    /// (see [`flight_recorder_file`]).
+    pub unix_ns: u64,
     /// [`crate::mode::RejectCode`] naming the check.
     pub code: u32,
     /// Axis 1..6, 0 for none.
@@ -149,7 +152,7 @@ pub struct CycleTiming {
 /// The state of the arm and of the controller, published once per cycle.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("mcm.StateSample.v1")]
+#[type_name("mcm.StateSample.v2")]
 pub struct StateSample {
     /// Cycle counter (increments by one every cycle).
     pub seq: u64,
@@ -233,6 +236,18 @@ impl StateSample {
     }
 }
 
+/// The flight-recorder file of an error: `<dir>/mcm-<instance>-<unix ms>-<check>.csv`. The
+/// real-time core writes it; the gateway names it in the error message.
+pub fn flight_recorder_file(dir: &str, instance: &str, e: &ErrorRecord) -> std::path::PathBuf {
+    let check = crate::mode::RejectCode::try_from(e.code)
+        .map(crate::mode::RejectCode::as_str)
+        .unwrap_or("error");
+    std::path::Path::new(dir).join(format!(
+        "mcm-{instance}-{}-{check}.csv",
+        e.unix_ns / 1_000_000
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -260,9 +275,10 @@ mod tests {
         assert_eq!(offset_of!(Reply, code), 32);
         assert_eq!(offset_of!(Reply, axis), 36);
         assert_eq!(offset_of!(Reply, values), 40);
-        assert_eq!(size_of::<ErrorRecord>(), 56);
-        assert_eq!(offset_of!(ErrorRecord, code), 16);
-        assert_eq!(offset_of!(ErrorRecord, values), 24);
+        assert_eq!(size_of::<ErrorRecord>(), 64);
+        assert_eq!(offset_of!(ErrorRecord, unix_ns), 16);
+        assert_eq!(offset_of!(ErrorRecord, code), 24);
+        assert_eq!(offset_of!(ErrorRecord, values), 32);
         assert_eq!(size_of::<CycleTiming>(), 48);
     }
 
@@ -289,13 +305,28 @@ mod tests {
             (offset_of!(StateSample, pvt_capacity), 532),
             (offset_of!(StateSample, timing), 536),
             (offset_of!(StateSample, last_error), 584),
-            (offset_of!(StateSample, reply_head), 640),
-            (offset_of!(StateSample, replies), 648),
+            (offset_of!(StateSample, reply_head), 648),
+            (offset_of!(StateSample, replies), 656),
         ];
         for (i, (got, want)) in expected.iter().enumerate() {
             assert_eq!(got, want, "field #{i} moved");
         }
-        assert_eq!(size_of::<StateSample>(), 648 + REPLY_RING * 104);
+        assert_eq!(size_of::<StateSample>(), 656 + REPLY_RING * 104);
+    }
+
+    #[test]
+    fn flight_recorder_file_names_instance_time_and_check() {
+        let e = ErrorRecord {
+            seq: 3,
+            unix_ns: 1_700_000_000_123_456_789,
+            code: crate::mode::RejectCode::FollowingError.to_wire(),
+            ..ErrorRecord::default()
+        };
+        let p = flight_recorder_file("/var/log/mcm", "robot1", &e);
+        assert_eq!(
+            p.to_str().unwrap(),
+            "/var/log/mcm/mcm-robot1-1700000000123-following_error.csv"
+        );
     }
 
     #[test]

@@ -16,7 +16,6 @@ use crate::cmd::Command;
 use crate::exec::{self, Context};
 use crate::result;
 use crate::shutdown::Shutdown;
-use mcm_shared::sample::ErrorRecord;
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 use std::io;
@@ -66,7 +65,7 @@ enum Flow {
 
 enum Event {
     Read(io::Result<usize>),
-    Error(Result<ErrorRecord, RecvError>),
+    Error(Result<crate::bridge::SafetyEvent, RecvError>),
     Tick,
 }
 
@@ -105,7 +104,7 @@ struct Session {
     pending: VecDeque<Input>,
     /// The client closed its side: finish what is pending, then end.
     closed: bool,
-    errors: broadcast::Receiver<ErrorRecord>,
+    errors: broadcast::Receiver<crate::bridge::SafetyEvent>,
     errors_open: bool,
     client_id: u64,
     out: Vec<u8>,
@@ -222,9 +221,9 @@ impl Session {
         }
     }
 
-    fn error_text(&mut self, e: Result<ErrorRecord, RecvError>) -> Option<String> {
+    fn error_text(&mut self, e: Result<crate::bridge::SafetyEvent, RecvError>) -> Option<String> {
         match e {
-            Ok(rec) => Some(render::safety(&result::safety_error(&rec))),
+            Ok(ev) => Some(render::safety(&result::safety_event(&ev))),
             Err(RecvError::Lagged(n)) => Some(format!(
                 "{}*** {n} safety errors were not shown (this session was too slow){}\n",
                 render::RED,
@@ -238,7 +237,7 @@ impl Session {
     }
 
     /// Print a spontaneous safety error above the line being typed, then redraw it.
-    fn interject(&mut self, e: Result<ErrorRecord, RecvError>) {
+    fn interject(&mut self, e: Result<crate::bridge::SafetyEvent, RecvError>) {
         let Some(text) = self.error_text(e) else {
             return;
         };

@@ -35,7 +35,10 @@ async fn start() -> Gateway {
         std::process::id(),
         NEXT.fetch_add(1, Ordering::Relaxed)
     );
-    let (bridge, thread) = Bridge::start(&ServiceNames::new(&instance).unwrap());
+    let (bridge, thread) = Bridge::start(
+        &ServiceNames::new(&instance).unwrap(),
+        "/tmp/mcm-flight-recorder",
+    );
     let ctx = Context {
         cfg: Arc::new(RobotConfig::prob2_default()),
         bridge,

@@ -22,7 +22,7 @@ use crate::canopen::{AxisFeedback, DriveRequest, FrameBuf, Master, MasterEvent};
 use crate::dynamics::ArmModel;
 use crate::params::JointParams;
 use crate::pvt::PvtStream;
-use crate::safety::{I2t, SafetyParams};
+use crate::safety::{self, ActiveChecks, I2t, SafetyParams};
 use crate::trajectory::JointSample;
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;
@@ -76,6 +76,12 @@ pub struct Controller {
     p: JointParams,
     model: ArmModel,
     i2t: I2t,
+    safety: SafetyParams,
+    /// The emergency stop input of the last cycle (a press is reported once, on its edge).
+    estop_seen: bool,
+    /// An error was reported and not yet cleared by a successful `hold`: later trips of the
+    /// same incident are not reported again.
+    error_latched: bool,
     /// Calibration settings per axis: `[reverse][force_mechanical_stop]`.
     cal_settings: [[[AxisSettings; 2]; 2]; NUM_AXES],
     simulated: bool,
@@ -85,8 +91,9 @@ pub struct Controller {
     motion: Motion,
     /// The commanded reference of this cycle (joint frame).
     cmd: JointSample,
-    /// Last cycle's commanded position (what the drives should be at now).
-    prev_cmd: [f64; NUM_AXES],
+    /// The commanded positions of the last two cycles: `[k-1, k-2]`. The position measured in
+    /// cycle k was sampled when the drives were reaching the command of cycle k-2.
+    cmd_hist: [[f64; NUM_AXES]; 2],
     /// Joint torques commanded in the torque modes.
     cmd_torque: [f64; NUM_AXES],
     stream: PvtStream,
@@ -120,6 +127,9 @@ impl Controller {
             master,
             model: ArmModel::from_config(cfg),
             i2t: I2t::new(&SafetyParams::from_config(cfg)),
+            safety: SafetyParams::from_config(cfg),
+            estop_seen: false,
+            error_latched: false,
             cal_settings: core::array::from_fn(|axis| {
                 core::array::from_fn(|rev| {
                     core::array::from_fn(|force| {
@@ -132,7 +142,7 @@ impl Controller {
             offsets: [None; NUM_AXES],
             motion: Motion::Hold,
             cmd: JointSample::default(),
-            prev_cmd: [0.0; NUM_AXES],
+            cmd_hist: [[0.0; NUM_AXES]; 2],
             cmd_torque: [0.0; NUM_AXES],
             stream,
             starved: false,
@@ -203,7 +213,8 @@ impl Controller {
             self.on_command(c);
         }
         self.update_enabling();
-        self.prev_cmd = self.cmd.position;
+        self.check_safety();
+        self.cmd_hist = [self.cmd.position, self.cmd_hist[0]];
         self.advance_motion();
         self.update_i2t();
         self.master
@@ -289,6 +300,7 @@ impl Controller {
             match e.then_calibrate {
                 None => {
                     self.mode = Mode::Hold;
+                    self.error_latched = false;
                     self.hold_here();
                     self.reply(e.waiting, ReplyStatus::Ok, RejectCode::None, 0, &[]);
                 }
@@ -319,7 +331,7 @@ impl Controller {
             position: self.measured(),
             ..JointSample::default()
         };
-        self.prev_cmd = self.cmd.position;
+        self.cmd_hist = [self.cmd.position; 2];
         self.motion = Motion::Hold;
     }
 
@@ -334,20 +346,10 @@ impl Controller {
             }
             MasterEvent::Emcy { axis, emcy } => {
                 if emcy.code != 0 {
-                    self.trip(
-                        RejectCode::DriveFault,
-                        axis,
-                        [f64::from(emcy.code), 0.0, 0.0, 0.0],
-                    );
+                    self.drive_fault(axis, emcy.code);
                 }
             }
-            MasterEvent::Fault { axis, code } => {
-                self.trip(
-                    RejectCode::DriveFault,
-                    axis,
-                    [f64::from(code), 0.0, 0.0, 0.0],
-                );
-            }
+            MasterEvent::Fault { axis, code } => self.drive_fault(axis, code),
             MasterEvent::ConfigFailed { axis, .. } => {
                 self.lost[axis] = true;
                 self.trip(RejectCode::DriveDisconnected, axis, [0.0; 4]);
@@ -362,20 +364,76 @@ impl Controller {
         }
     }
 
+    /// A drive reports a fault: the emergency stop (which cuts the drives' power) when its
+    /// input is active, a drive fault otherwise.
+    fn drive_fault(&mut self, axis: usize, code: u16) {
+        if self.master.feedback().iter().any(|f| f.estop) {
+            self.estop_seen = true;
+            self.trip_axis(RejectCode::EmergencyStop, 0, [1.0, 0.0, 0.0, 0.0]);
+        } else {
+            self.trip(
+                RejectCode::DriveFault,
+                axis,
+                [f64::from(code), 0.0, 0.0, 0.0],
+            );
+        }
+    }
+
+    /// The checks of the manual's "Safety checks" evaluated every cycle (drive connections
+    /// come as master events).
+    fn check_safety(&mut self) {
+        let estop = self.master.feedback().iter().any(|f| f.estop);
+        if estop && !self.estop_seen {
+            self.estop_seen = true;
+            self.trip_axis(RejectCode::EmergencyStop, 0, [1.0, 0.0, 0.0, 0.0]);
+        }
+        self.estop_seen = estop;
+        if self.enabling.is_some()
+            || !matches!(
+                self.mode,
+                Mode::Hold | Mode::Pvt | Mode::Release | Mode::TorqueControl
+            )
+        {
+            return;
+        }
+        let active = ActiveChecks::for_mode(self.mode);
+        let q = self.measured();
+        let qd = self.measured_velocity();
+        let mut result = Ok(());
+        if active.limits {
+            result = result
+                .and_then(|()| safety::check_position_limits_returning(&self.safety, &q, &qd))
+                .and_then(|()| safety::check_velocity_limits(&self.safety, &qd));
+        }
+        // A planned move or stop is validated when planned: it ends inside the reachable range
+        // at the deceleration it plans with; the braking check watches everything else.
+        if active.braking && !matches!(self.motion, Motion::Move { .. } | Motion::Stop { .. }) {
+            result = result.and_then(|()| safety::check_braking(&self.safety, &q, &qd));
+        }
+        if active.following {
+            result = result
+                .and_then(|()| safety::check_following_error(&self.safety, &self.cmd_hist[1], &q));
+        }
+        if let Err(v) = result {
+            let [value, limit] = v.user_values();
+            self.trip(v.check.reject_code(), v.axis, [value, limit, 0.0, 0.0]);
+        }
+    }
+
     /// A safety check or drive error: mode ERROR (from any mode but OFF, where nothing moves
-    /// and the error is only reported), axes stopped, and one spontaneous error record.
+    /// and the error is only reported), axes stopped, and one spontaneous error record per
+    /// incident (until a `hold` succeeds).
     fn trip(&mut self, code: RejectCode, axis0: usize, values: [f64; 4]) {
+        self.trip_axis(code, axis0 as u32 + 1, values);
+    }
+
+    /// [`Controller::trip`] with a 1-based axis (0: no axis).
+    fn trip_axis(&mut self, code: RejectCode, axis: u32, values: [f64; 4]) {
         if let Some(w) = self.calibrating.take() {
-            self.reply(w, ReplyStatus::Failed, code, axis0 as u32 + 1, &values);
+            self.reply(w, ReplyStatus::Failed, code, axis, &values);
         }
         if let Some(e) = self.enabling.take() {
-            self.reply(
-                e.waiting,
-                ReplyStatus::Failed,
-                code,
-                axis0 as u32 + 1,
-                &values,
-            );
+            self.reply(e.waiting, ReplyStatus::Failed, code, axis, &values);
         }
         if self.mode != Mode::Off {
             if self.mode != Mode::Error {
@@ -383,12 +441,17 @@ impl Controller {
             }
             self.mode = Mode::Error;
         }
+        if self.error_latched {
+            return;
+        }
+        self.error_latched = true;
         let e = &mut self.state.last_error;
         *e = ErrorRecord {
             seq: e.seq + 1,
             cycle: self.cycle,
+            unix_ns: 0,
             code: code.to_wire(),
-            axis: axis0 as u32 + 1,
+            axis,
             values,
         };
     }
@@ -452,7 +515,7 @@ impl Controller {
             s.current[i] = cur;
             s.measured_position[i] = measured[i].to_degrees();
             s.commanded_position[i] = self.cmd.position[i].to_degrees();
-            s.following_error[i] = (self.prev_cmd[i] - measured[i]).to_degrees();
+            s.following_error[i] = (self.cmd_hist[1][i] - measured[i]).to_degrees();
             s.i2t[i] = level[i];
             let mut af = 0;
             if f.online {

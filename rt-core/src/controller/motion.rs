@@ -11,7 +11,7 @@ use mcm_shared::NUM_AXES;
 use mcm_shared::mode::{Mode, RejectCode, ReplyStatus};
 
 /// Velocity factor of the move back to zero after calibration.
-const RETURN_VELOCITY_FACTOR: f64 = 1.0 / 3.0;
+const RETURN_VELOCITY_FACTOR: f64 = 0.5;
 
 /// What the axes do.
 #[derive(Debug, Clone, Copy)]

@@ -9,12 +9,22 @@ const DT: f64 = 500e-6;
 /// Steps in 5 s of simulated time at 500 µs.
 const FIVE_SECONDS: usize = 10_000;
 
+/// The P-Rob2 configuration with every brake removed: these tests are about the bare physics
+/// (each brake test adds its brake itself).
+fn unbraked() -> RobotConfig {
+    let mut cfg = RobotConfig::prob2_default();
+    for a in &mut cfg.axes {
+        a.brake = false;
+    }
+    cfg
+}
+
 fn sim_with(cfg: &RobotConfig) -> ArmSim {
     ArmSim::new(ArmModel::from_config(cfg), cfg)
 }
 
 fn sim() -> ArmSim {
-    sim_with(&RobotConfig::prob2_default())
+    sim_with(&unbraked())
 }
 
 fn deg(v: [f64; N]) -> [f64; N] {
@@ -30,7 +40,7 @@ fn max_abs_diff(a: &[f64; N], b: &[f64; N]) -> f64 {
 
 #[test]
 fn starts_at_the_configured_position_at_rest() {
-    let mut cfg = RobotConfig::prob2_default();
+    let mut cfg = unbraked();
     cfg.sim.initial_position_deg = [10.0, -20.0, 30.0, 0.0, 45.0, 0.0];
     let s = sim_with(&cfg);
     assert_eq!(s.position(), deg([10.0, -20.0, 30.0, 0.0, 45.0, 0.0]));
@@ -163,7 +173,7 @@ fn energy_does_not_grow_in_a_frictionless_free_swing() {
     // Ceiling-mounted arm (gravity +z): q = 0 hangs down and the arm swings about it, every
     // axis moving, the base turning (Coriolis terms). The stops are moved out of the way (the
     // free wrist roll turns several times).
-    let mut cfg = RobotConfig::prob2_default();
+    let mut cfg = unbraked();
     cfg.arm.gravity = [0.0, 0.0, 9.81];
     for a in &mut cfg.axes {
         (a.min_deg, a.max_deg) = (-3600.0, 3600.0);
@@ -186,7 +196,7 @@ fn energy_does_not_grow_in_a_frictionless_free_swing() {
     // implicit springs may only remove energy. Measured: growth 0 J, -87.6 J after 5 s,
     // deepest penetration 1.33 deg.
     let q0 = deg([0.0, 30.0, 0.0, 0.0, 10.0, 0.0]);
-    let (e0, growth, change, deepest) = free_swing(&RobotConfig::prob2_default(), q0, [0.0; N], DT);
+    let (e0, growth, change, deepest) = free_swing(&unbraked(), q0, [0.0; N], DT);
     eprintln!(
         "fall onto the stops: E0 = {e0:.3} J, max growth {growth:.3e} J, change {change:.3e} J, \
          penetration {:.2} deg",
@@ -211,7 +221,7 @@ fn blocked_axis_does_not_move_under_large_torques() {
     let mut tau = s.model().gravity_torques(&q0);
     tau[0] += 200.0;
     tau[3] -= 40.0;
-    let k = RobotConfig::prob2_default().sim.stop_stiffness_nm_rad;
+    let k = unbraked().sim.stop_stiffness_nm_rad;
     let mut worst = [0.0f64; N];
     for _ in 0..2000 {
         s.step(&tau, DT);
@@ -251,7 +261,7 @@ fn external_torques_accelerate_the_arm_in_their_direction() {
 
 #[test]
 fn engaged_brake_holds_up_to_twice_the_peak_torque() {
-    let mut cfg = RobotConfig::prob2_default();
+    let mut cfg = unbraked();
     cfg.axes[1].brake = true;
     let mut s = sim_with(&cfg);
     // 2 x 10 A x 0.12 Nm/A x 120 x 0.9
@@ -296,7 +306,7 @@ fn arm_driven_into_a_stop_rests_at_the_spring_deflection() {
         s.step(&tau, DT);
     }
     let (_, hi) = s.mechanical_stops(0);
-    let k = RobotConfig::prob2_default().sim.stop_stiffness_nm_rad;
+    let k = unbraked().sim.stop_stiffness_nm_rad;
     // Rests where the spring carries the torque, give or take what static friction (3 Nm on
     // J1) holds in either direction.
     let pen = s.position()[0] - hi;

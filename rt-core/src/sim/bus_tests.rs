@@ -10,8 +10,12 @@ use mcm_shared::config::RobotConfig;
 
 const DEG: f64 = core::f64::consts::PI / 180.0;
 
+/// The P-Rob2 configuration at a pose, without brakes (the brake test adds its own).
 fn cfg_at(pose_deg: [f64; NUM_AXES]) -> RobotConfig {
     let mut cfg = RobotConfig::prob2_default();
+    for a in &mut cfg.axes {
+        a.brake = false;
+    }
     cfg.sim.initial_position_deg = pose_deg;
     cfg.validate().unwrap();
     cfg

@@ -86,9 +86,7 @@ fn detailed_status_and_notes() {
     assert!(text.contains("emergency stop PRESSED"), "{text}");
     assert!(text.contains("not calibrated: axis 5 "), "{text}");
     assert!(
-        text.contains(
-            "last error: safety check tripped, mode is now ERROR: following error: axis 2"
-        ),
+        text.contains("last error: safety check tripped: following error: axis 2"),
         "{text}"
     );
     assert_eq!(lines[1].len(), lines[3].len(), "{text}");
@@ -202,9 +200,18 @@ fn safety_errors_prompt_and_banner() {
         values: [121.0, 120.0, 0.0, 0.0],
         ..ErrorRecord::default()
     };
-    let text = strip_ansi(&safety(&crate::result::safety_error(&rec)));
+    let ev = crate::bridge::SafetyEvent {
+        record: rec,
+        mode: Mode::Error.to_wire(),
+        file: "/tmp/f.csv".into(),
+    };
+    let text = strip_ansi(&safety(&crate::result::safety_event(&ev)));
     assert!(
-        text.starts_with("*** safety check tripped, mode is now ERROR: position limit: axis 3"),
+        text.starts_with("*** safety check tripped: position limit: axis 3"),
+        "{text}"
+    );
+    assert!(
+        text.contains("mode is now ERROR; flight recorder: /tmp/f.csv"),
         "{text}"
     );
     assert!(text.contains("`hold` clears"), "{text}");

@@ -1,0 +1,358 @@
+//! The flight recorder: the last seconds of every cycle, kept in a preallocated ring, written
+//! to a CSV file when a safety check trips.
+//!
+//! [`FlightRecorder::record`] and [`FlightRecorder::trigger`] run inside the cycle: they copy
+//! one small record into a preallocated buffer and flip an atomic; they never allocate, lock,
+//! block or touch a file. A separate writer thread (not real-time) writes the file.
+//!
+//! Two buffers take turns: the cycle records into one; on a trigger it hands that buffer to
+//! the writer and goes on in the other. If the writer still holds the other buffer (two errors
+//! within the time it takes to write one file), the second dump is skipped and counted.
+//!
+//! ```no_run
+//! # use mcm_rt_core::flight::{FlightRecorder, Record};
+//! # use mcm_shared::sample::ErrorRecord;
+//! let (mut rec, writer) = FlightRecorder::start(1000, "/tmp/mcm-flight-recorder", "default").unwrap();
+//! rec.record(&Record::default());
+//! rec.trigger(&ErrorRecord::default()); // written to mcm_shared::sample::flight_recorder_file(..)
+//! writer.stop(); // writes what is pending, then ends
+//! ```
+
+use mcm_shared::NUM_AXES;
+use mcm_shared::sample::{ErrorRecord, StateSample, flight_recorder_file};
+use std::cell::UnsafeCell;
+use std::io::Write;
+use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU8, AtomicU64, Ordering};
+use std::time::Duration;
+
+/// One cycle as the recorder keeps it (user units: deg, deg/s, A).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Record {
+    pub cycle: u64,
+    pub t_ns: u64,
+    pub mode: u32,
+    pub flags: u32,
+    /// Kind of the last command served in this cycle (0: none).
+    pub command: u32,
+    pub commanded: [f64; NUM_AXES],
+    pub measured: [f64; NUM_AXES],
+    pub velocity: [f64; NUM_AXES],
+    pub current: [f64; NUM_AXES],
+    pub following_error: [f64; NUM_AXES],
+    pub i2t: [f64; NUM_AXES],
+    pub sim_true: [f64; NUM_AXES],
+}
+
+impl Record {
+    /// The record of a published state sample.
+    pub fn of(s: &StateSample, command: u32) -> Record {
+        Record {
+            cycle: s.seq,
+            t_ns: s.t_ns,
+            mode: s.mode,
+            flags: s.flags,
+            command,
+            commanded: s.commanded_position,
+            measured: s.measured_position,
+            velocity: s.velocity,
+            current: s.current,
+            following_error: s.following_error,
+            i2t: s.i2t,
+            sim_true: s.sim_true_position,
+        }
+    }
+}
+
+const OWNED_BY_CYCLE: u8 = 0;
+const HANDED_TO_WRITER: u8 = 1;
+
+struct Buffer {
+    records: UnsafeCell<Box<[Record]>>,
+    /// Next slot to write, records held, and the error to write it for (valid while handed
+    /// over).
+    next: UnsafeCell<usize>,
+    held: UnsafeCell<usize>,
+    error: UnsafeCell<ErrorRecord>,
+    owner: AtomicU8,
+}
+
+struct Shared {
+    buffers: [Buffer; 2],
+    dir: String,
+    instance: String,
+    stop: AtomicBool,
+    written: AtomicU64,
+    skipped: AtomicU64,
+}
+
+// SAFETY: each buffer's cells are touched only by the side that owns it according to `owner`
+// (the cycle while OWNED_BY_CYCLE, the writer while HANDED_TO_WRITER); ownership changes with a
+// Release store that the other side observes with an Acquire load before touching the cells.
+unsafe impl Sync for Shared {}
+
+/// The cycle's side of the recorder.
+pub struct FlightRecorder {
+    shared: Arc<Shared>,
+    active: usize,
+    capacity: usize,
+}
+
+/// The writer thread; stop it to flush pending files.
+pub struct FlightWriter {
+    shared: Arc<Shared>,
+    handle: Option<std::thread::JoinHandle<()>>,
+}
+
+impl FlightWriter {
+    /// Files written so far.
+    pub fn written(&self) -> u64 {
+        self.shared.written.load(Ordering::Relaxed)
+    }
+
+    /// Write what is pending, then stop the thread.
+    pub fn stop(mut self) {
+        self.shared.stop.store(true, Ordering::Release);
+        if let Some(h) = self.handle.take() {
+            let _ = h.join();
+        }
+    }
+}
+
+impl FlightRecorder {
+    /// Allocate two buffers of `capacity` records and start the writer thread, which writes
+    /// into `dir` the files named by [`flight_recorder_file`] for `instance`.
+    pub fn start(
+        capacity: usize,
+        dir: &str,
+        instance: &str,
+    ) -> std::io::Result<(FlightRecorder, FlightWriter)> {
+        let capacity = capacity.max(1);
+        let buffer = || Buffer {
+            records: UnsafeCell::new(vec![Record::default(); capacity].into_boxed_slice()),
+            next: UnsafeCell::new(0),
+            held: UnsafeCell::new(0),
+            error: UnsafeCell::new(ErrorRecord::default()),
+            owner: AtomicU8::new(OWNED_BY_CYCLE),
+        };
+        let shared = Arc::new(Shared {
+            buffers: [buffer(), buffer()],
+            dir: dir.to_string(),
+            instance: instance.to_string(),
+            stop: AtomicBool::new(false),
+            written: AtomicU64::new(0),
+            skipped: AtomicU64::new(0),
+        });
+        let writer_shared = shared.clone();
+        let handle = std::thread::Builder::new()
+            .name("mcm-flight-recorder".into())
+            .spawn(move || writer_loop(&writer_shared))?;
+        Ok((
+            FlightRecorder {
+                shared: shared.clone(),
+                active: 0,
+                capacity,
+            },
+            FlightWriter {
+                shared,
+                handle: Some(handle),
+            },
+        ))
+    }
+
+    /// Dumps skipped because the writer was still busy with the previous one.
+    pub fn skipped(&self) -> u64 {
+        self.shared.skipped.load(Ordering::Relaxed)
+    }
+
+    /// Keep one cycle. Inside the cycle: a copy into the preallocated ring.
+    pub fn record(&mut self, r: &Record) {
+        let b = &self.shared.buffers[self.active];
+        // SAFETY: the active buffer is owned by the cycle (it only becomes active when its
+        // owner is OWNED_BY_CYCLE, checked in `trigger`), so no other thread touches its cells.
+        unsafe {
+            let next = &mut *b.next.get();
+            let held = &mut *b.held.get();
+            (*b.records.get())[*next] = *r;
+            *next = (*next + 1) % self.capacity;
+            *held = (*held + 1).min(self.capacity);
+        }
+    }
+
+    /// Hand the recorded cycles to the writer, to be written for `error`; go on recording in
+    /// the other buffer.
+    pub fn trigger(&mut self, error: &ErrorRecord) {
+        let other = 1 - self.active;
+        if self.shared.buffers[other].owner.load(Ordering::Acquire) != OWNED_BY_CYCLE {
+            self.shared.skipped.fetch_add(1, Ordering::Relaxed);
+            return;
+        }
+        let b = &self.shared.buffers[self.active];
+        // SAFETY: as in `record`, the active buffer is ours until the Release store below.
+        unsafe {
+            *b.error.get() = *error;
+        }
+        b.owner.store(HANDED_TO_WRITER, Ordering::Release);
+        self.active = other;
+        let o = &self.shared.buffers[other];
+        // SAFETY: `other` is owned by the cycle (checked above with Acquire).
+        unsafe {
+            *o.next.get() = 0;
+            *o.held.get() = 0;
+        }
+    }
+}
+
+fn writer_loop(shared: &Shared) {
+    loop {
+        let stopping = shared.stop.load(Ordering::Acquire);
+        for b in &shared.buffers {
+            if b.owner.load(Ordering::Acquire) == HANDED_TO_WRITER {
+                // SAFETY: the cycle handed this buffer over (Release store observed by the
+                // Acquire load above) and does not touch it until we give it back.
+                let (records, next, held, error) = unsafe {
+                    (
+                        &*b.records.get(),
+                        *b.next.get(),
+                        *b.held.get(),
+                        *b.error.get(),
+                    )
+                };
+                let path = flight_recorder_file(&shared.dir, &shared.instance, &error);
+                let result = write_csv(&path, records, next, held);
+                b.owner.store(OWNED_BY_CYCLE, Ordering::Release);
+                match result {
+                    Ok(()) => {
+                        shared.written.fetch_add(1, Ordering::Relaxed);
+                    }
+                    Err(e) => {
+                        eprintln!(
+                            "mcm-rt: cannot write the flight recorder file {}: {e}",
+                            path.display()
+                        );
+                    }
+                }
+            }
+        }
+        if stopping {
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+fn write_csv(path: &Path, records: &[Record], next: usize, held: usize) -> std::io::Result<()> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
+    write!(f, "cycle,t_s,mode,flags,command")?;
+    for name in [
+        "commanded_deg",
+        "measured_deg",
+        "velocity_deg_s",
+        "current_a",
+        "following_error_deg",
+        "i2t",
+        "sim_true_deg",
+    ] {
+        for axis in 1..=NUM_AXES {
+            write!(f, ",{name}_{axis}")?;
+        }
+    }
+    writeln!(f)?;
+    let n = records.len();
+    let start = (next + n - held) % n;
+    for k in 0..held {
+        let r = &records[(start + k) % n];
+        let mode = mcm_shared::mode::Mode::try_from(r.mode)
+            .map(|m| m.as_str())
+            .unwrap_or("?");
+        write!(
+            f,
+            "{},{:.6},{mode},{},{}",
+            r.cycle,
+            r.t_ns as f64 / 1e9,
+            r.flags,
+            r.command
+        )?;
+        for arr in [
+            &r.commanded,
+            &r.measured,
+            &r.velocity,
+            &r.current,
+            &r.following_error,
+            &r.i2t,
+            &r.sim_true,
+        ] {
+            for x in arr.iter() {
+                write!(f, ",{x:.6}")?;
+            }
+        }
+        writeln!(f)?;
+    }
+    f.flush()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wait_written(w: &FlightWriter, n: u64) {
+        let deadline = std::time::Instant::now() + Duration::from_secs(10);
+        while w.written() < n {
+            assert!(std::time::Instant::now() < deadline, "file not written");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
+    #[test]
+    fn writes_the_last_cycles_in_order() {
+        let dir = std::env::temp_dir().join(format!("mcm-flight-test-{}", std::process::id()));
+        let (mut rec, writer) = FlightRecorder::start(5, dir.to_str().unwrap(), "t").unwrap();
+        let error = |n: u64| ErrorRecord {
+            seq: n,
+            unix_ns: n * 1_000_000,
+            code: mcm_shared::mode::RejectCode::FollowingError.to_wire(),
+            ..ErrorRecord::default()
+        };
+        for cycle in 1..=12 {
+            rec.record(&Record {
+                cycle,
+                ..Record::default()
+            });
+        }
+        let path = flight_recorder_file(dir.to_str().unwrap(), "t", &error(1));
+        rec.trigger(&error(1));
+        wait_written(&writer, 1);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let cycles: Vec<&str> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').next().unwrap())
+            .collect();
+        assert_eq!(
+            cycles,
+            ["8", "9", "10", "11", "12"],
+            "the last five, oldest first"
+        );
+        assert!(
+            text.lines()
+                .next()
+                .unwrap()
+                .contains("following_error_deg_6")
+        );
+        // Recording goes on in the other buffer; a second trigger writes only what came after.
+        rec.record(&Record {
+            cycle: 13,
+            ..Record::default()
+        });
+        let path2 = flight_recorder_file(dir.to_str().unwrap(), "t", &error(2));
+        rec.trigger(&error(2));
+        writer.stop();
+        let text = std::fs::read_to_string(&path2).unwrap();
+        assert_eq!(text.lines().count(), 2, "{text}");
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}
