@@ -34,6 +34,9 @@ pub const WATCH_PERIOD: Duration = Duration::from_millis(200);
 pub const PROMPT_CHECK: Duration = Duration::from_millis(250);
 /// Longest wait to write the goodbye on shutdown.
 const GOODBYE_TIMEOUT: Duration = Duration::from_secs(1);
+/// Longest wait for the core's first state before the banner (just after the gateway started,
+/// the bridge may not have read it yet).
+const FIRST_STATE_WAIT: Duration = Duration::from_secs(1);
 
 /// Words for the session's command names (Tab completion).
 pub const COMPLETIONS: &[&str] = &[
@@ -135,6 +138,12 @@ impl Session {
         self.out.extend_from_slice(&Telnet::greeting());
         // A client that does not speak telnet (nc) prints the greeting: erase it.
         self.out.extend_from_slice(b"\r\x1b[K");
+        if self.ctx.bridge.latest_state().is_none() {
+            // Do not greet with "the real-time core is not running" while the bridge is still
+            // reading the core's first state.
+            let mut first = self.ctx.bridge.watch_state();
+            let _ = tokio::time::timeout(FIRST_STATE_WAIT, first.wait_for(Option::is_some)).await;
+        }
         let state = self.ctx.bridge.latest_state();
         let banner = render::banner(&self.ctx.cfg, state.as_deref(), self.ctx.bridge.instance());
         self.say(&banner);

@@ -14,6 +14,8 @@ use mcm_shared::mode::{Mode, RejectCode, ReplyStatus};
 const RETURN_VELOCITY_FACTOR: f64 = 0.5;
 
 /// What the axes do.
+// The calibration variant is large; boxing it would allocate inside the cycle.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy)]
 pub enum Motion {
     /// Keep the commanded position.
