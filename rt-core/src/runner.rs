@@ -137,10 +137,11 @@ fn spawn<B: Bus + 'static>(
         .spawn(move || -> Result<RunSummary, RunError> {
             let cfg = &opts.config;
             let report = realtime::setup_current_thread(cfg.cycle.priority, cfg.cycle.cpu);
+            // Open the bus first: a missing CAN interface is the more useful message.
+            let bus = make_bus(cfg)?;
             if !report.is_realtime() && !opts.allow_non_realtime {
                 return Err(RunError::NotRealtime { report });
             }
-            let bus = make_bus(cfg)?;
             let mut cycle = Cycle::new(cfg, bus)?;
             let mut ipc = RtIpc::create(&opts.names)?;
             let records =

@@ -1,0 +1,165 @@
+//! Benchmarks of the work done inside the real-time cycle (criterion).
+//!
+//! ```sh
+//! cargo bench -p mcm-rt-core --bench cycle
+//! ```
+//!
+//! - `cycle/run_hold_sim`: one whole [`Cycle::run`] in HOLD against the simulated robot: the
+//!   controller, the CANopen master, six simulated CiA 402 drives and the arm physics (10
+//!   physics sub-steps of 500 µs). On a real arm the simulation is replaced by SocketCAN
+//!   system calls, so this is an upper bound of the controller's share.
+//! - `dynamics/gravity_torques`, `dynamics/forward_dynamics`: the arm model's per-call
+//!   functions (RNEA; mass matrix + RNEA + Cholesky solve).
+//! - `canopen/master_hold`: the CANopen master alone, `handle_frame` for one cycle's received
+//!   frames plus `cycle` (RPDOs, SYNC), replaying frames recorded from the simulated drives in
+//!   HOLD.
+//!
+//! Results and the machine they were measured on: `docs/performance.md`.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use mcm_rt_core::bus::{Bus, Frame};
+use mcm_rt_core::canopen::{DriveRequest, FrameBuf, Master};
+use mcm_rt_core::cycle::Cycle;
+use mcm_rt_core::dynamics::ArmModel;
+use mcm_rt_core::sim::SimBus;
+use mcm_shared::config::RobotConfig;
+use mcm_shared::mode::{CommandKind, Mode};
+use mcm_shared::sample::CommandSample;
+use std::hint::black_box;
+use std::time::Duration;
+
+/// Longest the drives may take to boot and enable (virtual time).
+const BOOT_CYCLES: u64 = 2_000;
+
+fn cycle_in_hold(c: &mut Criterion) {
+    let cfg = RobotConfig::prob2_default();
+    let period = cfg.cycle_period_ns();
+    let mut cycle = Cycle::new(&cfg, SimBus::new(&cfg)).unwrap();
+    let mut k = 0u64;
+    let mut step = |cycle: &mut Cycle<SimBus>, commands: &[CommandSample]| {
+        cycle.run(k * period, commands);
+        k += 1;
+        k
+    };
+    while !cycle.controller().feedback().iter().all(|f| f.online) {
+        assert!(
+            step(&mut cycle, &[]) < BOOT_CYCLES,
+            "the drives did not come online"
+        );
+    }
+    let hold = CommandSample {
+        client_id: 1,
+        request_id: 1,
+        kind: CommandKind::Hold.to_wire(),
+        ..CommandSample::default()
+    };
+    step(&mut cycle, &[hold]);
+    while cycle.controller().mode() != Mode::Hold {
+        assert!(step(&mut cycle, &[]) < 2 * BOOT_CYCLES, "HOLD not reached");
+    }
+    c.bench_function("cycle/run_hold_sim", |b| {
+        b.iter(|| {
+            cycle.run(k * period, black_box(&[]));
+            k += 1;
+        })
+    });
+    assert_eq!(cycle.controller().mode(), Mode::Hold, "held throughout");
+}
+
+fn dynamics(c: &mut Criterion) {
+    let cfg = RobotConfig::prob2_default();
+    let model = ArmModel::from_config(&cfg);
+    let q = [0.3, 1.2, -0.7, 0.4, 0.9, -0.2];
+    let qd = [0.5, -0.3, 0.8, -1.0, 0.2, 1.5];
+    let tau = [1.0, -40.0, -15.0, 0.5, -3.0, 0.1];
+    c.bench_function("dynamics/gravity_torques", |b| {
+        b.iter(|| model.gravity_torques(black_box(&q)))
+    });
+    c.bench_function("dynamics/forward_dynamics", |b| {
+        b.iter(|| model.forward_dynamics(black_box(&q), black_box(&qd), black_box(&tau)))
+    });
+}
+
+/// Frames received per cycle over this many cycles of HOLD are replayed (1 s: several
+/// heartbeats of every drive).
+const RECORDED_CYCLES: usize = 200;
+
+/// A master brought to HOLD against the simulated drives, and the frames the drives sent in
+/// the following [`RECORDED_CYCLES`] cycles (one list per cycle).
+fn master_in_hold(cfg: &RobotConfig) -> (Master, u64, [DriveRequest; 6], Vec<Vec<Frame>>) {
+    let period = cfg.cycle_period_ns();
+    let max_current: [f64; 6] = core::array::from_fn(|i| cfg.axes[i].max_current_a);
+    let mut master = Master::new(cfg).unwrap();
+    let mut bus = SimBus::new(cfg);
+    let mut out = FrameBuf::new();
+    let mut requests = [DriveRequest::Disable; 6];
+    let mut recorded = Vec::new();
+    let mut holding = false;
+    for k in 0..2 * BOOT_CYCLES {
+        let now = k * period;
+        let mut rx = Vec::new();
+        while let Some(f) = bus.recv(0).unwrap() {
+            master.handle_frame(now, &f);
+            rx.push(f);
+        }
+        while master.poll_event().is_some() {}
+        let fb = *master.feedback();
+        if !holding && fb.iter().all(|f| f.online) {
+            holding = true;
+            master.reset_faults();
+            requests = core::array::from_fn(|i| DriveRequest::Position {
+                position_rad: fb[i].position_rad,
+            });
+        }
+        if holding && fb.iter().all(|f| f.enabled) {
+            recorded.push(rx);
+            if recorded.len() == RECORDED_CYCLES {
+                return (master, now + period, requests, recorded);
+            }
+        }
+        out.clear();
+        master.cycle(now, &requests, &max_current, &mut out);
+        for f in out.iter() {
+            bus.send(f).unwrap();
+        }
+    }
+    panic!(
+        "the drives were not enabled within {} cycles",
+        2 * BOOT_CYCLES
+    );
+}
+
+fn master_alone(c: &mut Criterion) {
+    let cfg = RobotConfig::prob2_default();
+    let period = cfg.cycle_period_ns();
+    let max_current: [f64; 6] = core::array::from_fn(|i| cfg.axes[i].max_current_a);
+    let (mut master, mut now, requests, recorded) = master_in_hold(&cfg);
+    let mut out = FrameBuf::new();
+    let mut k = 0usize;
+    c.bench_function("canopen/master_hold", |b| {
+        b.iter(|| {
+            for f in &recorded[k % RECORDED_CYCLES] {
+                master.handle_frame(now, black_box(f));
+            }
+            while master.poll_event().is_some() {}
+            out.clear();
+            master.cycle(now, &requests, &max_current, &mut out);
+            now += period;
+            k += 1;
+            black_box(out.len())
+        })
+    });
+    assert!(
+        master.feedback().iter().all(|f| f.enabled && f.online),
+        "the replayed drives stayed online and enabled"
+    );
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default()
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3));
+    targets = cycle_in_hold, dynamics, master_alone
+}
+criterion_main!(benches);

@@ -1,0 +1,285 @@
+//! The whole cycle allocates nothing, and the whole robot is deterministic.
+//!
+//! A counting global allocator counts the allocations (and bytes) made on the test thread
+//! while [`Cycle::run`] runs the controller, the CANopen master, the six simulated drives and
+//! the arm physics in virtual time, with `status`, `hold`, `info` and `sim` commands mixed in.
+//! Only the thread that sets the thread-local flag is counted, so the test harness's own
+//! threads cannot disturb the figure.
+//!
+//! The second half runs the same scenario twice and compares every published state sample:
+//! the same inputs must give the same outputs, bit for bit.
+
+use mcm_rt_core::cycle::Cycle;
+use mcm_rt_core::sim::SimBus;
+use mcm_shared::config::RobotConfig;
+use mcm_shared::mode::{CommandKind, Mode};
+use mcm_shared::sample::{CommandSample, StateSample};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Counts allocations made by threads that have switched counting on.
+struct CountingAlloc;
+
+static ALLOCS: AtomicU64 = AtomicU64::new(0);
+static BYTES: AtomicU64 = AtomicU64::new(0);
+
+thread_local! {
+    // `const` initialisation: reading it never allocates (no lazy init, no destructor).
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+}
+
+fn note(size: usize) {
+    // `try_with` so an allocation during thread teardown never panics inside the allocator.
+    if COUNTING.try_with(Cell::get).unwrap_or(false) {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        BYTES.fetch_add(size as u64, Ordering::Relaxed);
+    }
+}
+
+// SAFETY: every method forwards to the system allocator with the caller's arguments unchanged;
+// the counting only touches atomics and a const-initialised thread-local, which never allocate.
+unsafe impl GlobalAlloc for CountingAlloc {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        note(layout.size());
+        // SAFETY: forwarded unchanged; the caller upholds `alloc`'s contract.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        note(layout.size());
+        // SAFETY: forwarded unchanged; the caller upholds `alloc_zeroed`'s contract.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        note(new_size);
+        // SAFETY: forwarded unchanged; the caller upholds `realloc`'s contract.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: forwarded unchanged; `ptr` came from this allocator, i.e. from `System`.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAlloc = CountingAlloc;
+
+/// Allocations and bytes counted on this thread while `f` ran.
+fn count_allocations(f: impl FnOnce()) -> (u64, u64) {
+    // The test threads run in parallel and share the counters: serialise the measurements.
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let (a0, b0) = (ALLOCS.load(Ordering::SeqCst), BYTES.load(Ordering::SeqCst));
+    COUNTING.with(|c| c.set(true));
+    f();
+    COUNTING.with(|c| c.set(false));
+    (
+        ALLOCS.load(Ordering::SeqCst) - a0,
+        BYTES.load(Ordering::SeqCst) - b0,
+    )
+}
+
+/// Longest the drives may take to boot, and `hold` to enable them (virtual time).
+const BOOT_CYCLES: u64 = 2_000;
+const CLIENT: u64 = 1;
+
+fn command(kind: CommandKind, request_id: u64) -> CommandSample {
+    CommandSample {
+        client_id: CLIENT,
+        request_id,
+        kind: kind.to_wire(),
+        ..CommandSample::default()
+    }
+}
+
+/// A `sim` command setting the external torques (a hand pushing on the joints) [Nm].
+fn external_torques(request_id: u64, torques: [f64; 6]) -> CommandSample {
+    let mut c = command(CommandKind::Sim, request_id);
+    c.flags = 1 << 5;
+    c.args[5..11].copy_from_slice(&torques);
+    c
+}
+
+/// The simulated robot in virtual time, with a command counter.
+struct Robot {
+    cycle: Cycle<SimBus>,
+    period_ns: u64,
+    k: u64,
+    next_request: u64,
+}
+
+impl Robot {
+    fn new() -> Robot {
+        let cfg = RobotConfig::prob2_default();
+        let cycle = Cycle::new(&cfg, SimBus::new(&cfg)).expect("the P-Rob2 config is valid");
+        Robot {
+            cycle,
+            period_ns: cfg.cycle_period_ns(),
+            k: 0,
+            next_request: 1,
+        }
+    }
+
+    fn request_id(&mut self) -> u64 {
+        let id = self.next_request;
+        self.next_request += 1;
+        id
+    }
+
+    fn run(&mut self, commands: &[CommandSample]) -> &StateSample {
+        self.cycle.run(self.k * self.period_ns, commands);
+        self.k += 1;
+        self.cycle.controller().state()
+    }
+
+    /// Run until `done` holds; panics after `max` cycles.
+    fn run_until(&mut self, what: &str, max: u64, done: impl Fn(&Cycle<SimBus>) -> bool) {
+        for _ in 0..max {
+            if done(&self.cycle) {
+                return;
+            }
+            self.run(&[]);
+        }
+        panic!("{what} not reached within {max} cycles");
+    }
+
+    /// Boot the drives, send `hold`, wait for HOLD, warm up `warmup` cycles.
+    fn enter_hold(&mut self, warmup: u64) {
+        self.run_until("all drives online", BOOT_CYCLES, |c| {
+            c.controller().feedback().iter().all(|f| f.online)
+        });
+        let hold = command(CommandKind::Hold, self.request_id());
+        self.run(&[hold]);
+        self.run_until("mode HOLD", BOOT_CYCLES, |c| {
+            c.controller().state().mode == Mode::Hold.to_wire()
+        });
+        for _ in 0..warmup {
+            self.run(&[]);
+        }
+    }
+
+    /// The commands of cycle `i` of the measured scenario: status, hold and info every few
+    /// cycles, and once a push on the joints (and its release) through `sim`.
+    fn scenario_commands(&mut self, i: u64, push: [f64; 6], out: &mut [CommandSample; 4]) -> usize {
+        let mut kinds = [None; 4];
+        let mut n = 0;
+        for (every, kind) in [
+            (5, CommandKind::Status),
+            (7, CommandKind::Hold),
+            (11, CommandKind::Info),
+        ] {
+            if i.is_multiple_of(every) {
+                kinds[n] = Some(kind);
+                n += 1;
+            }
+        }
+        for (slot, kind) in out.iter_mut().zip(kinds.iter().flatten()) {
+            *slot = command(*kind, self.request_id());
+        }
+        // A hand pushes on the joints for 1000 cycles (5 s), then lets go.
+        let torques = match i {
+            500 => Some(push),
+            1500 => Some([0.0; 6]),
+            _ => None,
+        };
+        if let Some(t) = torques {
+            out[n] = external_torques(self.request_id(), t);
+            n += 1;
+        }
+        n
+    }
+}
+
+const MEASURED_CYCLES: u64 = 2_000;
+const PUSH: [f64; 6] = [0.0, 5.0, -3.0, 0.0, 1.0, 0.0];
+
+#[test]
+fn the_whole_cycle_allocates_nothing() {
+    let mut robot = Robot::new();
+    robot.enter_hold(300);
+    let replies_before = robot.cycle.controller().state().reply_head;
+    let mut commands = [CommandSample::default(); 4];
+    let mut last_mode = 0;
+    let (allocs, bytes) = count_allocations(|| {
+        for i in 0..MEASURED_CYCLES {
+            let n = robot.scenario_commands(i, PUSH, &mut commands);
+            last_mode = robot.run(&commands[..n]).mode;
+        }
+    });
+    let state = robot.cycle.controller().state();
+    // The scenario did what it says: commands were answered, the arm is still held.
+    assert!(
+        state.reply_head - replies_before > 800,
+        "the commands were served: {} replies",
+        state.reply_head - replies_before
+    );
+    assert_eq!(last_mode, Mode::Hold.to_wire(), "still holding");
+    assert_eq!(
+        (allocs, bytes),
+        (0, 0),
+        "the cycle allocated {allocs} times ({bytes} bytes) in {MEASURED_CYCLES} cycles"
+    );
+}
+
+#[test]
+fn the_counting_allocator_does_count() {
+    // Guards the test above against a counter that cannot see anything.
+    let (allocs, bytes) = count_allocations(|| {
+        let v: Vec<u64> = std::hint::black_box(Vec::with_capacity(16));
+        drop(v);
+    });
+    assert_eq!((allocs, bytes), (1, 128));
+}
+
+/// The published samples of the whole scenario: boot, hold, warm-up, commands, a push.
+fn scenario_states(push: [f64; 6]) -> Vec<StateSample> {
+    let mut robot = Robot::new();
+    let mut states = Vec::new();
+    let mut commands = [CommandSample::default(); 4];
+    for _ in 0..BOOT_CYCLES {
+        if robot.cycle.controller().feedback().iter().all(|f| f.online) {
+            break;
+        }
+        states.push(*robot.run(&[]));
+    }
+    let hold = command(CommandKind::Hold, robot.request_id());
+    states.push(*robot.run(&[hold]));
+    for i in 0..MEASURED_CYCLES {
+        let n = robot.scenario_commands(i, push, &mut commands);
+        states.push(*robot.run(&commands[..n]));
+    }
+    assert_eq!(
+        states.last().unwrap().mode,
+        Mode::Hold.to_wire(),
+        "the scenario ends in HOLD"
+    );
+    states
+}
+
+#[test]
+fn the_same_inputs_give_the_same_outputs() {
+    let a = scenario_states(PUSH);
+    let b = scenario_states(PUSH);
+    assert_eq!(a.len(), b.len(), "both runs took as many cycles to boot");
+    for (k, (x, y)) in a.iter().zip(&b).enumerate() {
+        assert_eq!(x.seq, y.seq, "seq of cycle {k}");
+        assert_eq!(x.position, y.position, "positions of cycle {k}");
+        assert_eq!(x.current, y.current, "currents of cycle {k}");
+        assert_eq!(
+            x.sim_true_position, y.sim_true_position,
+            "true positions of cycle {k}"
+        );
+        assert_eq!(x, y, "state sample of cycle {k}");
+    }
+    // The comparison can see a difference: another push gives another trajectory.
+    let c = scenario_states([0.0, -5.0, 3.0, 0.0, -1.0, 0.0]);
+    assert!(
+        a.iter()
+            .zip(&c)
+            .any(|(x, y)| x.sim_true_position != y.sim_true_position),
+        "a different input must change the outputs"
+    );
+}
