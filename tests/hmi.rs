@@ -651,3 +651,55 @@ fn nc_style_use_without_negotiation_gets_readable_output_and_a_close() {
     assert_status_table(&table.replace("\r\n", "\n"), "OFF");
     assert_eq!(tail, "bye\r\n");
 }
+
+/// What the issue asks of the HMI: a person calibrates the arm, moves it and reads its state with
+/// words only, and the simulation's truth agrees.
+#[test]
+fn a_person_calibrates_moves_and_reads_the_state_with_words() {
+    let mcm = Mcm::start("hmi-motion");
+    let mut json = mcm.client();
+    json.wait_drives_online();
+    let mut t = Telnet::connect(mcm.hmi);
+    t.expect("mcm OFF> ");
+
+    // Calibration runs about 12 s; the prompt comes back when it is done.
+    let out = t.run("calibrate", b"\r\n", "HOLD");
+    assert!(!out.contains("ERROR"), "calibrate failed:\n{out}");
+    let s = t.run("status detail", b"\r\n", "HOLD");
+    let rows = assert_status_table(&s, "HOLD");
+    assert!(
+        rows.iter().all(|r| r.ends_with(" yes")),
+        "all calibrated: {rows:?}"
+    );
+
+    t.run("pvt", b"\r\n", "PVT");
+    let out = t.run("move_axis 1 20 1.0", b"\r\n", "PVT");
+    assert!(
+        !out.contains("ERROR") && !out.contains("refused"),
+        "move_axis:\n{out}"
+    );
+    json.wait_status("axis 1 at 20 deg", |s| {
+        (s["axis_states"]["position"][0].as_f64().unwrap_or(0.0) - 20.0).abs() < 0.01
+    });
+    let truth = json.request(r#"{"command":"sim"}"#);
+    let true_deg = truth["true_position"][0].as_f64().unwrap();
+    assert!(
+        (true_deg - 20.0).abs() < 0.05,
+        "the simulated arm is at 20 deg: {truth}"
+    );
+    let s = t.run("status", b"\r\n", "PVT");
+    let rows = assert_status_table(&s, "PVT");
+    assert!(
+        rows[0].contains("20.000"),
+        "axis 1 row shows 20 deg: {}",
+        rows[0]
+    );
+
+    // A motion command in the wrong mode explains how to get there.
+    t.run("hold", b"\r\n", "HOLD");
+    let out = t.run("move_axis 1 0", b"\r\n", "HOLD");
+    assert!(out.contains("HOLD"), "names the mode:\n{out}");
+    t.send(b"quit\r\n");
+    t.expect("bye\r\n");
+    t.expect_closed();
+}
