@@ -39,12 +39,8 @@ pub mod words;
 
 use crate::exec::Context;
 use crate::server::MAX_CONNECTIONS;
-use crate::shutdown::Shutdown;
 use std::future::Future;
-use std::sync::Arc;
-use tokio::io::AsyncWriteExt;
 use tokio::net::TcpListener;
-use tokio::sync::{Semaphore, broadcast, mpsc};
 
 /// Longest line a person may type (64 KiB); a longer one is dropped with a message.
 pub const MAX_LINE_BYTES: usize = 64 * 1024;
@@ -52,55 +48,17 @@ pub const MAX_LINE_BYTES: usize = 64 * 1024;
 /// Accept HMI sessions on `listener` until `shutdown` resolves, then tell every session to
 /// stop (each gets a goodbye line) and wait for them.
 pub async fn run(listener: TcpListener, ctx: Context, shutdown: impl Future) {
-    let (notify, _) = broadcast::channel(1);
-    let (done_tx, mut done_rx) = mpsc::channel::<()>(1);
-    let limit = Arc::new(Semaphore::new(MAX_CONNECTIONS));
-    tokio::select! {
-        () = accept_loop(&listener, &ctx, &notify, &done_tx, &limit) => {}
-        _ = shutdown => {}
-    }
-    drop(notify);
-    drop(done_tx);
-    let _ = done_rx.recv().await;
-}
-
-async fn accept_loop(
-    listener: &TcpListener,
-    ctx: &Context,
-    notify: &broadcast::Sender<()>,
-    done: &mpsc::Sender<()>,
-    limit: &Arc<Semaphore>,
-) {
-    loop {
-        let (mut socket, _peer) = match listener.accept().await {
-            Ok(s) => s,
-            Err(e) => {
-                eprintln!("mcm-gateway: HMI accept failed: {e}");
-                tokio::time::sleep(std::time::Duration::from_millis(50)).await;
-                continue;
-            }
-        };
-        let Ok(permit) = limit.clone().try_acquire_owned() else {
-            let msg = format!(
-                "MCM HMI: too many sessions (at most {MAX_CONNECTIONS}); try again later\r\n"
-            );
-            let _ = socket.write_all(msg.as_bytes()).await;
-            continue;
-        };
-        let ctx = ctx.clone();
-        let shutdown = Shutdown::new(notify.subscribe());
-        let done = done.clone();
-        tokio::spawn(async move {
-            if let Err(e) = session::serve(socket, ctx, shutdown).await
-                && e.kind() != std::io::ErrorKind::BrokenPipe
-                && e.kind() != std::io::ErrorKind::ConnectionReset
-            {
-                eprintln!("mcm-gateway: HMI session ended with an error: {e}");
-            }
-            drop(permit);
-            drop(done);
-        });
-    }
+    let refusal =
+        format!("MCM HMI: too many sessions (at most {MAX_CONNECTIONS}); try again later\r\n");
+    crate::server::run(
+        listener,
+        ctx,
+        shutdown,
+        "HMI session",
+        refusal,
+        session::serve,
+    )
+    .await;
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@ use crate::bridge::{Bridge, BridgeThread};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::service::ServiceNames;
 use std::net::SocketAddr;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Duration;
 use tokio::io::AsyncReadExt;

@@ -629,7 +629,8 @@ impl Master {
             ax.fault_reset_edges -= 1;
         }
         ax.prev_cw = cw;
-        // Setpoints: only the confirmed mode in OPERATION ENABLED gets the request.
+        // Setpoints: a position only in OPERATION ENABLED with CSP confirmed (target = actual
+        // otherwise, so nothing jumps); a torque in OPERATION ENABLED (see below).
         let enabled = fb.state == State::OperationEnabled && confirmed;
         let actual = ax.last_pos_counts;
         fb.target_clamped = false;
@@ -649,7 +650,10 @@ impl Master {
                 };
                 (p, 0)
             }
-            DriveRequest::Torque { torque_nm } if enabled && ax.commanded_mode == MODE_CST => {
+            // The torque goes out as soon as the drive is enabled, even before it confirms
+            // CST: in CSP the drive ignores 0x6071, and the moment it switches it already has
+            // the right torque (a zero there would let a gravity-loaded arm sag).
+            DriveRequest::Torque { torque_nm } if fb.state == State::OperationEnabled => {
                 let t = torque_nm * ax.permille_per_joint_nm;
                 let t = if t.is_finite() {
                     t.round().clamp(-32767.0, 32767.0) as i16

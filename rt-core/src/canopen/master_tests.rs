@@ -255,7 +255,7 @@ fn position_steps_are_clamped_to_the_velocity_limit() {
 }
 
 #[test]
-fn mode_switch_keeps_the_drive_safe_until_confirmed() {
+fn mode_switch_sends_the_torque_at_once_and_keeps_the_position_at_actual() {
     let mut w = World::booted();
     let hold = w.hold_all();
     w.run(5, hold);
@@ -269,12 +269,10 @@ fn mode_switch_keeps_the_drive_safe_until_confirmed() {
             max_current_permille: 1000
         })
     );
+    // The torque goes out at once (a CSP drive ignores it; a drive that switches has it
+    // already), the position stays at actual.
     let r = rpdo1_of(&c0, 2).unwrap();
-    assert_eq!(
-        (r.controlword, r.target_torque),
-        (0x0F, 0),
-        "torque 0 until 0x6061 confirms"
-    );
+    assert_eq!((r.controlword, r.target_torque), (0x0F, 193));
     assert_eq!(r.target_position, w.drives[1].position);
     assert!(!w.fb(1).enabled);
     let c1 = w.step(reqs);

@@ -26,9 +26,11 @@ pub enum Motion {
     Stop { plan: StopPlan, t: f64 },
     /// Follow the PVT stream.
     Stream,
-    /// Calibration searches (raw frame, per axis; `None`: the axis holds).
+    /// Calibration searches (raw frame, per axis; `None`: the axis holds or is done);
+    /// `selected` has bit `i` set for every axis this calibration covers.
     Calibrate {
         axes: [Option<AxisCalibration>; NUM_AXES],
+        selected: u8,
     },
     /// Gravity and friction compensation (RELEASE).
     Release,
@@ -89,8 +91,10 @@ impl Controller {
     ) {
         let fb = *self.master.feedback();
         let mut axes = [None; NUM_AXES];
+        let mut selected = 0u8;
         for (i, s) in settings.iter().enumerate() {
             if let Some(s) = s {
+                selected |= 1 << i;
                 self.offsets[i] = None;
                 axes[i] = Some(AxisCalibration::start(
                     *s,
@@ -105,7 +109,7 @@ impl Controller {
         self.hold_here();
         self.mode = Mode::Calibration;
         self.calibrating = Some(waiting);
-        self.motion = Motion::Calibrate { axes };
+        self.motion = Motion::Calibrate { axes, selected };
     }
 
     /// Advance the motion by one period and set the drive requests.
@@ -154,7 +158,7 @@ impl Controller {
                 }
                 (StreamState::Idle, _) => self.motion = Motion::Hold,
             },
-            Motion::Calibrate { axes } => self.advance_calibration(axes, dt),
+            Motion::Calibrate { axes, selected } => self.advance_calibration(axes, selected, dt),
             Motion::Release => {
                 let qd = self.measured_velocity();
                 let damping: [f64; NUM_AXES] =
@@ -226,7 +230,12 @@ impl Controller {
         };
     }
 
-    fn advance_calibration(&mut self, mut axes: [Option<AxisCalibration>; NUM_AXES], dt: f64) {
+    fn advance_calibration(
+        &mut self,
+        mut axes: [Option<AxisCalibration>; NUM_AXES],
+        selected: u8,
+        dt: f64,
+    ) {
         let fb = *self.master.feedback();
         let mut running = false;
         for (i, slot) in axes.iter_mut().enumerate() {
@@ -272,13 +281,14 @@ impl Controller {
             }
         }
         if running {
-            self.motion = Motion::Calibrate { axes };
+            self.motion = Motion::Calibrate { axes, selected };
             return;
         }
-        // Every axis found its zero: move the calibrated axes back to zero.
+        // Every axis found its zero: move the axes of this calibration back to zero (the
+        // others stay where they are).
         let start = self.cmd.position;
         let target: [f64; NUM_AXES] = core::array::from_fn(|i| {
-            if self.offsets[i].is_some() {
+            if selected & (1 << i) != 0 {
                 0.0
             } else {
                 start[i]
