@@ -24,6 +24,8 @@ pub struct JointParams {
     pub max_current: [f64; NUM_AXES],
     /// Viscous friction coefficient of each joint [Nm s/rad].
     pub viscous: [f64; NUM_AXES],
+    /// Encoder counts per joint radian (the drives' position unit).
+    pub counts_per_rad: [f64; NUM_AXES],
     /// Cycle period [s].
     pub period: f64,
 }
@@ -47,6 +49,7 @@ impl JointParams {
             torque_per_amp: per(&|i| a[i].torque_per_amp()),
             max_current: per(&|i| a[i].max_current_a),
             viscous: per(&|i| a[i].viscous_friction_nm_s_rad),
+            counts_per_rad: per(&|i| a[i].counts_per_rad()),
             period: cfg.cycle_period_s(),
         }
     }

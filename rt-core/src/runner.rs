@@ -3,6 +3,10 @@
 //! Set-up (bus, real-time thread, IPC) runs once; then every period, on absolute deadlines:
 //! wake, record the wake-up latency, drain commands, run the cycle, add timing, publish the
 //! state. Stops when SIGINT or SIGTERM arrives (checked once per cycle).
+//!
+//! With the simulated bus, the simulated robot outlives a restart of `mcm-rt` the way real
+//! drives that keep their power do: it is resumed from [`sim_state_path`] at start (the file is
+//! then deleted) and saved there when the loop stops.
 
 use crate::bus::Bus;
 use crate::clock;
@@ -14,6 +18,7 @@ use crate::realtime::{self, RtReport};
 use mcm_shared::config::{BusBackend, RobotConfig};
 use mcm_shared::sample::{CommandSample, STATE_NOT_REALTIME};
 use mcm_shared::service::ServiceNames;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -92,16 +97,66 @@ pub fn run(
         .candump
         .clone()
         .or_else(|| opts.config.bus.candump_log.clone().map(Into::into));
+    let state = sim_state_path(opts.names.instance());
+    let save_to = state.clone();
     match (opts.config.bus.backend, candump) {
-        (BusBackend::Sim, None) => spawn(opts, on_started, |cfg| Ok(crate::sim::SimBus::new(cfg))),
-        (BusBackend::Sim, Some(path)) => spawn(opts, on_started, move |cfg| {
-            logging(crate::sim::SimBus::new(cfg), "sim0", &path)
-        }),
-        (BusBackend::Socketcan, None) => spawn(opts, on_started, socketcan),
-        (BusBackend::Socketcan, Some(path)) => spawn(opts, on_started, move |cfg| {
-            let bus = socketcan(cfg)?;
-            logging(bus, &cfg.bus.interface.clone(), &path)
-        }),
+        (BusBackend::Sim, None) => spawn(
+            opts,
+            on_started,
+            move |cfg| Ok(sim_bus(cfg, &state)),
+            move |bus: &mut crate::sim::SimBus| save_sim(bus, &save_to),
+        ),
+        (BusBackend::Sim, Some(path)) => spawn(
+            opts,
+            on_started,
+            move |cfg| logging(sim_bus(cfg, &state), "sim0", &path),
+            move |bus: &mut crate::bus::candump::LoggingBus<crate::sim::SimBus>| {
+                save_sim(bus.inner(), &save_to)
+            },
+        ),
+        (BusBackend::Socketcan, None) => spawn(opts, on_started, socketcan, |_| {}),
+        (BusBackend::Socketcan, Some(path)) => spawn(
+            opts,
+            on_started,
+            move |cfg| {
+                let bus = socketcan(cfg)?;
+                logging(bus, &cfg.bus.interface.clone(), &path)
+            },
+            |_| {},
+        ),
+    }
+}
+
+/// Where the simulated robot waits while `mcm-rt` of `instance` restarts: real drives keep
+/// their power (encoder counts, stored calibration) when only the MCM restarts, so the
+/// simulation is saved here when the loop stops and resumed from here at the next start.
+pub fn sim_state_path(instance: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("mcm-sim-{instance}.state"))
+}
+
+/// The simulated robot: resumed from `state` (which is then deleted) if an earlier run of the
+/// same instance saved it, powered up fresh otherwise (also when the file is unreadable).
+fn sim_bus(cfg: &RobotConfig, state: &Path) -> crate::sim::SimBus {
+    let resumed = crate::sim::SimBus::resume(cfg, state);
+    if !matches!(resumed, Ok(None)) {
+        let _ = std::fs::remove_file(state);
+    }
+    match resumed {
+        Ok(Some(bus)) => bus,
+        Ok(None) => crate::sim::SimBus::new(cfg),
+        Err(e) => {
+            eprintln!("mcm-rt: WARNING: {e}; the simulated drives power up fresh");
+            crate::sim::SimBus::new(cfg)
+        }
+    }
+}
+
+fn save_sim(bus: &crate::sim::SimBus, state: &Path) {
+    if let Err(e) = bus.save(state) {
+        eprintln!(
+            "mcm-rt: WARNING: cannot save the simulation to {}: {e}; the next start powers the drives up fresh",
+            state.display()
+        );
     }
 }
 
@@ -127,10 +182,13 @@ fn logging<B: Bus>(
     })
 }
 
+/// Run the cycle over the bus `make_bus` opens; `finish` gets the bus after the loop stopped
+/// (outside the cycle).
 fn spawn<B: Bus + 'static>(
     opts: RunOptions,
     on_started: impl FnOnce(&RtReport) + Send + 'static,
     make_bus: impl FnOnce(&RobotConfig) -> Result<B, RunError> + Send + 'static,
+    finish: impl FnOnce(&mut B) + Send + 'static,
 ) -> Result<RunSummary, RunError> {
     let handle = std::thread::Builder::new()
         .name("mcm-rt-cycle".into())
@@ -154,6 +212,7 @@ fn spawn<B: Bus + 'static>(
             .map_err(|e| RunError::FlightRecorder(e.to_string()))?;
             on_started(&report);
             let summary = cycle_loop(cfg, &mut cycle, &mut ipc, recorder, report);
+            finish(cycle.bus_mut());
             writer.stop();
             Ok(summary)
         })

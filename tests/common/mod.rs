@@ -155,8 +155,15 @@ impl Drop for Mcm {
     fn drop(&mut self) {
         if self.child.try_wait().ok().flatten().is_none() {
             self.terminate();
+            // The simulation mcm-rt saved for a restart (only `stop` keeps it for one).
+            let _ = std::fs::remove_file(sim_state_path(&self.instance));
         }
     }
+}
+
+/// Where mcm-rt of `instance` saves the simulated robot when it stops (for the next start).
+pub fn sim_state_path(instance: &str) -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("mcm-sim-{instance}.state"))
 }
 
 /// Whether a process exists.

@@ -2,6 +2,15 @@
 //! state machine the master drives once per cycle: one expedited SDO transaction at a time,
 //! each step retried at most [`MAX_RETRIES`] times after a timeout or an abort, then NMT start.
 //!
+//! Before the NMT start, the sequence reads the drive's stored calibration (step 12, see
+//! [`CALIBRATION_OPS`]): 0x2100:2 (valid, u8) and, only if it is 1, 0x2100:1 (offset, i32,
+//! encoder counts: the raw position actual at joint angle 0). 0x2100 is a manufacturer-specific
+//! volatile object the drive keeps until it loses power (NMT resets keep it), so a restart of
+//! the MCM finds the calibration the drives still hold; the master writes it with
+//! [`super::master::Master::store_calibration`]. A drive that aborts the read (it has no such
+//! object) counts as not calibrated; a timeout is retried and fails the boot like any step.
+//! The result is [`BootSequence::calibration`], valid once the sequence is done.
+//!
 //! Runs inside the cycle (only while the node is not operational): the operation list is a
 //! fixed array built once from the configuration; `poll` allocates nothing.
 //!
@@ -26,7 +35,33 @@ pub enum BootAction {
         expect: u32,
     },
     Write(SdoValue),
+    /// Upload and keep the value (the stored calibration).
+    Upload,
 }
+
+/// Index of the drive's stored calibration (manufacturer-specific, volatile until power-off).
+pub const CALIBRATION: u16 = 0x2100;
+/// 0x2100:1, the calibration offset (i32, encoder counts at joint angle 0).
+pub const CALIBRATION_OFFSET_SUB: u8 = 1;
+/// 0x2100:2, the calibration is valid (u8, 0/1).
+pub const CALIBRATION_VALID_SUB: u8 = 2;
+
+/// Step 12, after the 38 operations of [`boot_ops`] and before the NMT start: read whether
+/// the drive holds a calibration, then (only if it does) the offset.
+pub const CALIBRATION_OPS: [BootOp; 2] = [
+    BootOp {
+        step: 12,
+        addr: ObjectAddr::new(CALIBRATION, CALIBRATION_VALID_SUB),
+        action: BootAction::Upload,
+        what: "stored calibration valid",
+    },
+    BootOp {
+        step: 12,
+        addr: ObjectAddr::new(CALIBRATION, CALIBRATION_OFFSET_SUB),
+        action: BootAction::Upload,
+        what: "stored calibration offset",
+    },
+];
 
 /// One SDO operation of the sequence.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -303,7 +338,8 @@ pub enum BootOutput {
     Waiting,
     /// Send this SDO request.
     Send(Frame),
-    /// All steps done: send this NMT start (step 12); the node is configured.
+    /// All steps done: send this NMT start (after step 12); the node is configured and
+    /// [`BootSequence::calibration`] holds what it stored.
     Done(Frame),
     /// The node could not be configured.
     Failed(BootError),
@@ -321,9 +357,12 @@ pub struct BootSequence {
     node: u8,
     axis: usize,
     ops: [BootOp; BOOT_OPS],
+    /// Index of the current operation: `0..BOOT_OPS` in `ops`, then `BOOT_OPS + k` for
+    /// `CALIBRATION_OPS[k]`.
     next: usize,
     failures: u8,
     phase: Phase,
+    calibration: Option<i32>,
 }
 
 impl BootSequence {
@@ -335,6 +374,20 @@ impl BootSequence {
             next: 0,
             failures: 0,
             phase: Phase::Idle,
+            calibration: None,
+        }
+    }
+
+    /// The calibration offset [counts] the drive holds (0x2100:1 when 0x2100:2 is 1), as read
+    /// by the last run of the sequence; `None` before it is done.
+    pub fn calibration(&self) -> Option<i32> {
+        self.calibration
+    }
+
+    fn op(&self, k: usize) -> BootOp {
+        match k.checked_sub(BOOT_OPS) {
+            None => self.ops[k],
+            Some(c) => CALIBRATION_OPS[c],
         }
     }
 
@@ -346,6 +399,7 @@ impl BootSequence {
     pub fn start(&mut self) {
         self.next = 0;
         self.failures = 0;
+        self.calibration = None;
         self.phase = Phase::Running { waiting: false };
     }
 
@@ -358,7 +412,8 @@ impl BootSequence {
         matches!(self.phase, Phase::Running { .. })
     }
 
-    /// Index of the current operation (0..BOOT_OPS), for progress displays.
+    /// Index of the current operation (0..BOOT_OPS, then up to 2 more for the calibration
+    /// reads), for progress displays.
     pub fn progress(&self) -> usize {
         self.next
     }
@@ -374,7 +429,7 @@ impl BootSequence {
         let Phase::Running { waiting } = self.phase else {
             return BootOutput::Idle;
         };
-        let op = self.ops[self.next];
+        let op = self.op(self.next);
         if waiting {
             let result = match outcome {
                 Some(r) => r,
@@ -383,6 +438,7 @@ impl BootSequence {
                     None => return BootOutput::Waiting,
                 },
             };
+            let mut value = None;
             let cause = match result {
                 Ok(SdoDone::Read { data, .. }) => match op.action {
                     BootAction::Read { expect } if data != expect => {
@@ -396,9 +452,14 @@ impl BootSequence {
                             },
                         ));
                     }
-                    _ => None,
+                    _ => {
+                        value = Some(data);
+                        None
+                    }
                 },
                 Ok(SdoDone::Written(_)) => None,
+                // A drive without the stored calibration object: not calibrated.
+                Err(SdoError::Aborted { .. }) if op.action == BootAction::Upload => None,
                 Err(SdoError::Timeout { timeout_ms, .. }) => {
                     Some(BootCause::Timeout { timeout_ms })
                 }
@@ -413,18 +474,27 @@ impl BootSequence {
                     return BootOutput::Failed(self.error(op, cause));
                 }
             } else {
-                self.next += 1;
                 self.failures = 0;
-                if self.next == BOOT_OPS {
+                let valid = BOOT_OPS;
+                let done = match self.next {
+                    n if n == valid => value.map(|v| v & 0xFF) != Some(1),
+                    n if n == valid + 1 => {
+                        self.calibration = value.map(|v| v as i32);
+                        true
+                    }
+                    _ => false,
+                };
+                self.next += 1;
+                if done {
                     self.next = 0;
                     self.phase = Phase::Idle;
                     return BootOutput::Done(nmt_frame(NmtCommand::Start, self.node));
                 }
             }
         }
-        let op = self.ops[self.next];
+        let op = self.op(self.next);
         let req = match op.action {
-            BootAction::Read { .. } => SdoRequest::Read(op.addr),
+            BootAction::Read { .. } | BootAction::Upload => SdoRequest::Read(op.addr),
             BootAction::Write(v) => SdoRequest::Write(op.addr, v),
         };
         sdo.cancel();
@@ -551,12 +621,73 @@ mod tests {
             "603#23766000E0010000",
             "603#2B736000C4090000", // 10. 2500
             "603#2F60600008000000", // 11.
-            "000#0103",             // 12.
+            "603#4000210200000000", // 12. read 0x2100:2 (not valid: offset not read)
+            "000#0103",             // NMT start
         ];
         assert_eq!(text, expected);
         assert!(drive.nmt_started());
         assert_eq!(drive.object(0x1016, 1), Some((127 << 16) | 150));
         assert_eq!(drive.object(0x6076, 0), Some(480));
+    }
+
+    #[test]
+    fn stored_calibration_is_read_before_the_nmt_start() {
+        let mut drive = FakeDrive::new(3);
+        drive.set_object(0x2100, 1, (-7_654_321i32) as u32);
+        drive.set_object(0x2100, 2, 1);
+        let mut seq = BootSequence::new(&params());
+        let mut sdo = SdoClient::new(3, 50 * MS);
+        seq.start();
+        let mut sent = Vec::new();
+        let mut inbox: Vec<Frame> = Vec::new();
+        for k in 0..200 {
+            let mut outcome = None;
+            for f in inbox.drain(..) {
+                outcome = sdo.on_frame(&f).or(outcome);
+            }
+            match seq.poll(k * 5 * MS, &mut sdo, outcome) {
+                BootOutput::Send(f) => {
+                    sent.push(f.to_string());
+                    inbox.extend(drive.receive(&f));
+                }
+                BootOutput::Done(f) => {
+                    sent.push(f.to_string());
+                    break;
+                }
+                other => assert!(matches!(other, BootOutput::Waiting), "{other:?}"),
+            }
+        }
+        assert_eq!(
+            sent[BOOT_OPS..],
+            ["603#4000210200000000", "603#4000210100000000", "000#0103"]
+        );
+        assert_eq!(seq.calibration(), Some(-7_654_321));
+        // Valid = 0: no offset read, not calibrated.
+        let mut drive = FakeDrive::new(3);
+        drive.set_object(0x2100, 1, 99);
+        drive.set_object(0x2100, 2, 0);
+        let (sent, out) = run(&mut drive, 200);
+        assert!(matches!(out, BootOutput::Done(_)));
+        assert_eq!(sent.len(), BOOT_OPS + 2);
+        // A drive without 0x2100 aborts the read: booted, not calibrated, no retry.
+        let mut drive = FakeDrive::new(3);
+        drive.script(0x2100, 2, Fault::Abort(0x0602_0000), 1);
+        let (sent, out) = run(&mut drive, 200);
+        assert!(matches!(out, BootOutput::Done(_)), "{out:?}");
+        assert_eq!(sent.len(), BOOT_OPS + 2);
+        // A timeout is retried like any step and then fails the boot.
+        let mut drive = FakeDrive::new(3);
+        drive.script(0x2100, 2, Fault::Silent, 3);
+        let (_, out) = run(&mut drive, 300);
+        let BootOutput::Failed(err) = out else {
+            panic!("{out:?}")
+        };
+        assert_eq!((err.step, err.attempts), (12, 3));
+        assert!(
+            err.to_string()
+                .contains("0x2100:2 stored calibration valid"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -13,6 +13,10 @@
 //!
 //! Axis indices are 0-based (0..6) everywhere in this API.
 //!
+//! Calibration kept by the drives: while booting a drive the master reads its stored
+//! calibration 0x2100 (see [`super::boot`]) and reports it as [`MasterEvent::Calibration`]
+//! right after [`MasterEvent::Configured`]; [`Master::store_calibration`] writes it.
+//!
 //! ```
 //! use mcm_rt_core::canopen::master::{DriveRequest, FrameBuf, Master};
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
@@ -22,15 +26,18 @@
 //! assert_eq!(out.as_slice().last().unwrap().to_string(), "080#"); // SYNC last
 //! ```
 
-use super::boot::{BootOutput, BootParams, BootSequence};
+use super::boot::{
+    BootOutput, BootParams, BootSequence, CALIBRATION, CALIBRATION_OFFSET_SUB,
+    CALIBRATION_VALID_SUB,
+};
 use super::busload::{BusLoad, check_config};
 use super::cia402::{ControlWord, State, StatusWord, Target, next_controlword};
 use super::emcy::Emcy;
 use super::heartbeat::{HeartbeatConsumer, HeartbeatProducer};
 use super::nmt::{NmtCommand, NmtState, decode_heartbeat, nmt_frame, sync_frame};
-use super::objects::{Service, classify};
+use super::objects::{ObjectAddr, Service, classify};
 use super::pdo::{Rpdo1, Rpdo2, Tpdo1, Tpdo2};
-use super::sdo::{SdoClient, SdoDone, SdoError};
+use super::sdo::{SdoClient, SdoDone, SdoError, SdoValue};
 use super::types::EventRing;
 pub use super::types::{
     AxisFeedback, DriveRequest, EVENT_CAPACITY, FAULT_RESET_EDGES, FRAME_BUF_CAPACITY, FrameBuf,
@@ -46,6 +53,16 @@ enum Link {
     Configuring,
     Operational,
     Failed,
+}
+
+/// A write of the stored calibration in progress: 0x2100:1 = `offset`, then 0x2100:2 = 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct CalStore {
+    offset: i32,
+    /// Writes acknowledged so far (0 or 1).
+    written: u8,
+    /// The SDO of write `written` is outstanding.
+    waiting: bool,
 }
 
 /// Runtime state of one drive.
@@ -85,6 +102,9 @@ struct AxisRt {
     fault_reset_edges: u8,
     last_emcy_code: u16,
     last_target_counts: i32,
+    cal_store: Option<CalStore>,
+    /// An offset to store once the write in progress is done.
+    cal_queued: Option<i32>,
 }
 
 impl AxisRt {
@@ -178,6 +198,8 @@ impl AxisRt {
             fault_reset_edges: 0,
             last_emcy_code: 0,
             last_target_counts: 0,
+            cal_store: None,
+            cal_queued: None,
         })
     }
 
@@ -200,6 +222,8 @@ impl AxisRt {
         self.rpdo2_sent = None;
         self.rpdo2_age = 0;
         self.fault_reset_edges = 0;
+        self.cal_store = None;
+        self.cal_queued = None;
         let last_emcy = fb.last_emcy;
         *fb = AxisFeedback {
             position_rad: fb.position_rad,
@@ -322,6 +346,29 @@ impl Master {
             ax.forget(fb);
             ax.link = Link::WaitingBootUp;
             ax.reset_pending = true;
+        }
+    }
+
+    /// Store a calibration offset [encoder counts: raw position at joint angle 0] in the drive
+    /// of `axis`, so that it survives a restart of the MCM (not a power cycle of the drive):
+    /// the next cycles write 0x2100:1 = `offset_counts`, then 0x2100:2 = 1, one SDO at a time
+    /// with the usual SDO timeout. The result comes as [`MasterEvent::CalibrationStored`] or
+    /// [`MasterEvent::CalibrationStoreFailed`]. Only for an operational drive (ignored
+    /// otherwise, and for out-of-range axes); a store requested while one is in progress
+    /// follows it. Allocates nothing.
+    pub fn store_calibration(&mut self, axis: usize, offset_counts: i32) {
+        if let Some(ax) = self.axes.get_mut(axis)
+            && ax.link == Link::Operational
+        {
+            if ax.cal_store.is_some() {
+                ax.cal_queued = Some(offset_counts);
+            } else {
+                ax.cal_store = Some(CalStore {
+                    offset: offset_counts,
+                    written: 0,
+                    waiting: false,
+                });
+            }
         }
     }
 
@@ -530,6 +577,10 @@ impl Master {
                         ax.hb.arm(now_ns);
                         ax.missed = 0;
                         self.events.push(MasterEvent::Configured { axis: i });
+                        self.events.push(MasterEvent::Calibration {
+                            axis: i,
+                            offset_counts: ax.boot.calibration(),
+                        });
                         push_counted(out, f, &mut self.frames_dropped);
                     }
                     BootOutput::Failed(error) => {
@@ -546,9 +597,61 @@ impl Master {
             Link::Operational => {
                 self.supervise(i, now_ns);
                 self.setpoints(i, req, max_current_a, out);
+                self.store_step(i, now_ns, out);
             }
             Link::Failed => self.axes[i].sdo_outcome = None,
         }
+    }
+
+    /// Drive the calibration write of axis `i` (see [`Master::store_calibration`]).
+    fn store_step(&mut self, i: usize, now_ns: u64, out: &mut FrameBuf) {
+        let ax = &mut self.axes[i];
+        let outcome = ax.sdo_outcome.take();
+        if ax.cal_store.is_none() {
+            ax.cal_store = ax.cal_queued.take().map(|offset| CalStore {
+                offset,
+                written: 0,
+                waiting: false,
+            });
+        }
+        let Some(mut st) = ax.cal_store else { return };
+        if st.waiting {
+            let result = match outcome {
+                Some(r) => r,
+                None => match ax.sdo.poll(now_ns) {
+                    Some(e) => Err(e),
+                    None => return,
+                },
+            };
+            st.waiting = false;
+            match result {
+                Ok(_) if st.written == 1 => {
+                    ax.cal_store = None;
+                    self.events.push(MasterEvent::CalibrationStored { axis: i });
+                    return;
+                }
+                Ok(_) => st.written += 1,
+                Err(error) => {
+                    ax.cal_store = None;
+                    self.events
+                        .push(MasterEvent::CalibrationStoreFailed { axis: i, error });
+                    return;
+                }
+            }
+        }
+        let (sub, value) = if st.written == 0 {
+            (CALIBRATION_OFFSET_SUB, SdoValue::I32(st.offset))
+        } else {
+            (CALIBRATION_VALID_SUB, SdoValue::U8(1))
+        };
+        if let Ok(f) = ax
+            .sdo
+            .write(now_ns, ObjectAddr::new(CALIBRATION, sub), value)
+        {
+            st.waiting = true;
+            push_counted(out, f, &mut self.frames_dropped);
+        }
+        self.axes[i].cal_store = Some(st);
     }
 
     fn supervise(&mut self, i: usize, now_ns: u64) {

@@ -417,8 +417,118 @@ fn boot_up_while_operational_is_lost_and_reconfigured() {
     );
     assert!(!w.fb(0).online);
     w.run(45, [DriveRequest::Disable; 6]);
-    assert_eq!(w.take_events(), [MasterEvent::Configured { axis: 0 }]);
+    assert_eq!(
+        w.take_events(),
+        [
+            MasterEvent::Configured { axis: 0 },
+            MasterEvent::Calibration {
+                axis: 0,
+                offset_counts: None
+            }
+        ]
+    );
     assert!(w.fb(0).online);
+}
+
+#[test]
+fn store_calibration_writes_0x2100_and_a_reboot_reports_it() {
+    let mut w = World::booted();
+    let events = w.take_events();
+    for a in 0..6 {
+        let booted = events
+            .iter()
+            .position(|e| *e == MasterEvent::Booted { axis: a });
+        let configured = events
+            .iter()
+            .position(|e| *e == MasterEvent::Configured { axis: a });
+        let cal = events.iter().position(|e| {
+            *e == MasterEvent::Calibration {
+                axis: a,
+                offset_counts: None,
+            }
+        });
+        assert!(
+            booted < configured && configured.map(|c| c + 1) == cal,
+            "{events:?}"
+        );
+    }
+    w.master.store_calibration(1, -1_234_567);
+    let before = w.cyclic_allocations;
+    let cycles = w.run(4, [DriveRequest::Disable; 6]);
+    assert_eq!(
+        w.cyclic_allocations, before,
+        "store_calibration allocates nothing"
+    );
+    let sdo: Vec<Vec<String>> = cycles
+        .iter()
+        .map(|c| {
+            c.iter()
+                .filter(|f| f.id == 0x602)
+                .map(|f| f.to_string())
+                .collect()
+        })
+        .collect();
+    assert_eq!(
+        sdo,
+        [
+            vec!["602#230021017929EDFF".to_string()], // 0x2100:1 = -1234567
+            vec!["602#2F00210201000000".to_string()], // 0x2100:2 = 1
+            vec![],
+            vec![],
+        ]
+    );
+    assert_eq!(
+        w.take_events(),
+        [MasterEvent::CalibrationStored { axis: 1 }]
+    );
+    assert_eq!(w.drives[1].object(0x2100, 1), Some((-1_234_567i32) as u32));
+    // NMT reset node (as after a restart of the MCM): the drive keeps 0x2100 and the master
+    // reports it once the drive is configured again.
+    let replies = w.drives[1].receive(&Frame::new(0x000, &[0x81, 2]).unwrap());
+    w.inbox.extend(replies);
+    w.run(50, [DriveRequest::Disable; 6]);
+    let events = w.take_events();
+    let n = events.len();
+    assert!(n >= 2, "{events:?}");
+    assert_eq!(
+        events[n - 2..],
+        [
+            MasterEvent::Configured { axis: 1 },
+            MasterEvent::Calibration {
+                axis: 1,
+                offset_counts: Some(-1_234_567)
+            }
+        ]
+    );
+    // An abort is reported with the axis and the abort text; a non-operational axis is ignored.
+    w.drives[2].script(0x2100, 1, Fault::Abort(0x0800_0022), 1);
+    w.master.store_calibration(2, 5);
+    w.master.store_calibration(99, 5);
+    w.run(3, [DriveRequest::Disable; 6]);
+    let events = w.take_events();
+    let [MasterEvent::CalibrationStoreFailed { axis: 2, error }] = events[..] else {
+        panic!("{events:?}")
+    };
+    assert!(
+        error.to_string().contains("0x2100:1")
+            && error.to_string().contains("present device state"),
+        "{error}"
+    );
+    // A timeout too.
+    w.drives[3].script(0x2100, 1, Fault::Silent, 1);
+    w.master.store_calibration(3, 5);
+    w.run(20, [DriveRequest::Disable; 6]);
+    let events = w.take_events();
+    assert!(
+        matches!(
+            events[..],
+            [MasterEvent::CalibrationStoreFailed {
+                axis: 3,
+                error: crate::canopen::sdo::SdoError::Timeout { .. }
+            }]
+        ),
+        "{events:?}"
+    );
 }
 
 #[test]
@@ -449,7 +559,11 @@ fn missing_drive_is_reported_and_reset_until_it_boots() {
         [
             MasterEvent::Missing { axis: 5, node: 6 },
             MasterEvent::Booted { axis: 5 },
-            MasterEvent::Configured { axis: 5 }
+            MasterEvent::Configured { axis: 5 },
+            MasterEvent::Calibration {
+                axis: 5,
+                offset_counts: None
+            }
         ]
     );
     assert!(w.fb(5).online, "{:?}", w.fb(5));

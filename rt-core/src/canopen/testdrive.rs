@@ -76,8 +76,10 @@ impl FakeDrive {
         d
     }
 
+    /// NMT reset: every object back to its default, except the stored calibration 0x2100,
+    /// which a real drive keeps until it loses power.
     fn reset_objects(&mut self) {
-        self.objects.clear();
+        self.objects.retain(|&(index, _), _| index == 0x2100);
         self.objects.insert((0x1000, 0), 0x0002_0192);
         self.objects.insert((0x1017, 0), 0);
     }

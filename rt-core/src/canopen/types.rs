@@ -9,6 +9,7 @@ use super::busload::BusLoadError;
 use super::cia402::State;
 use super::emcy::Emcy;
 use super::nmt::NmtState;
+use super::sdo::SdoError;
 use crate::bus::Frame;
 use mcm_shared::NUM_AXES;
 
@@ -134,6 +135,22 @@ pub enum MasterEvent {
     /// Configuration done and NMT start sent.
     Configured {
         axis: usize,
+    },
+    /// The calibration offset the drive holds in 0x2100 (`None`: it holds none), read while
+    /// booting it. Once per boot, in the same cycle right after `Configured`.
+    Calibration {
+        axis: usize,
+        offset_counts: Option<i32>,
+    },
+    /// [`super::Master::store_calibration`] wrote 0x2100:1 and 0x2100:2 of the drive.
+    CalibrationStored {
+        axis: usize,
+    },
+    /// [`super::Master::store_calibration`] failed: the drive aborted a write (the error
+    /// names node, object and abort text) or did not answer within `bus.sdo_timeout_ms`.
+    CalibrationStoreFailed {
+        axis: usize,
+        error: SdoError,
     },
     ConfigFailed {
         axis: usize,

@@ -355,12 +355,24 @@ impl Controller {
                 self.trip(RejectCode::DriveDisconnected, axis, [0.0; 4]);
             }
             MasterEvent::Booted { axis } => {
-                // A drive that boots lost its encoder reference: calibration is gone.
+                // Calibration is gone unless the drive still holds it (below): a drive that
+                // boots after a power cycle lost its encoder reference.
                 self.offsets[axis] = None;
                 if self.mode != Mode::Off {
                     self.trip(RejectCode::DriveDisconnected, axis, [0.0; 4]);
                 }
             }
+            // Comes after `Booted` (and `Configured`) of the same boot: the calibration the
+            // drive kept (0x2100) while the MCM restarted.
+            MasterEvent::Calibration {
+                axis,
+                offset_counts,
+            } => {
+                self.offsets[axis] =
+                    offset_counts.map(|c| f64::from(c) / self.p.counts_per_rad[axis]);
+            }
+            // Storing failed: the calibration holds until the MCM restarts (nothing to stop).
+            MasterEvent::CalibrationStored { .. } | MasterEvent::CalibrationStoreFailed { .. } => {}
         }
     }
 
@@ -437,7 +449,7 @@ impl Controller {
         }
         if self.mode != Mode::Off {
             if self.mode != Mode::Error {
-                self.stop_motion();
+                self.quick_stop();
             }
             self.mode = Mode::Error;
         }

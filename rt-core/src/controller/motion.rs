@@ -10,6 +10,13 @@ use crate::trajectory::{AxisLimits, JointSample, MovePlan, StopPlan};
 use mcm_shared::NUM_AXES;
 use mcm_shared::mode::{Mode, RejectCode, ReplyStatus};
 
+/// Deceleration of a stop after a safety trip, as a multiple of each axis's maximum
+/// acceleration. The braking-distance check assumes only `safety.braking_efficiency` (0.8) of
+/// the maximum; a trip at speed (an external torque, a hand) must stop well inside that, and
+/// the drives have the torque for it (P-Rob2: 5 x 180 deg/s^2 on axis 1 takes about 15 Nm of
+/// its 130).
+pub const QUICK_STOP_FACTOR: f64 = 5.0;
+
 /// Velocity factor of the move back to zero after calibration.
 const RETURN_VELOCITY_FACTOR: f64 = 0.5;
 
@@ -61,18 +68,36 @@ impl Controller {
         self.p.limits
     }
 
-    /// Stop whatever moves, with a controlled stop from the commanded state (position modes)
-    /// or from the measured state (torque modes), at each axis's maximum deceleration.
+    /// Stop whatever moves, with a controlled stop at each axis's maximum deceleration, from
+    /// the commanded state (position modes) or from the measured state (torque modes).
     pub(super) fn stop_motion(&mut self) {
-        let from = match self.motion {
-            Motion::Release | Motion::Torque { .. } | Motion::Calibrate { .. } => JointSample {
+        self.stop(false);
+    }
+
+    /// Stop after a safety trip: from the measured state, whatever the mode (the command may
+    /// be what went wrong), at [`QUICK_STOP_FACTOR`] times the maximum deceleration.
+    pub(super) fn quick_stop(&mut self) {
+        self.stop(true);
+    }
+
+    fn stop(&mut self, quick: bool) {
+        let measured = quick
+            || matches!(
+                self.motion,
+                Motion::Release | Motion::Torque { .. } | Motion::Calibrate { .. }
+            );
+        let from = if measured {
+            JointSample {
                 position: self.measured(),
                 velocity: self.measured_velocity(),
                 acceleration: [0.0; NUM_AXES],
-            },
-            _ => self.cmd,
+            }
+        } else {
+            self.cmd
         };
-        let decel: [f64; NUM_AXES] = core::array::from_fn(|i| self.p.limits[i].acceleration);
+        let factor = if quick { QUICK_STOP_FACTOR } else { 1.0 };
+        let decel: [f64; NUM_AXES] =
+            core::array::from_fn(|i| factor * self.p.limits[i].acceleration);
         let plan = StopPlan::plan(from.position, from.velocity, decel);
         self.cmd = from;
         self.motion = if plan.duration() > 0.0 {
@@ -255,6 +280,11 @@ impl Controller {
                 Outcome::Running => running = true,
                 Outcome::Found { offset } => {
                     self.offsets[i] = Some(offset);
+                    // Kept by the drive until it loses power: survives a restart of the MCM.
+                    let counts = (offset * self.p.counts_per_rad[i])
+                        .round()
+                        .clamp(f64::from(i32::MIN), f64::from(i32::MAX));
+                    self.master.store_calibration(i, counts as i32);
                     self.cmd.position[i] = cal.target() - offset;
                     *slot = None;
                 }

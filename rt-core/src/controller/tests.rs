@@ -351,3 +351,71 @@ fn pvt_stream_of_a_sine_tracks_within_a_tenth_of_a_degree() {
     }
     assert!(worst < 0.1, "tracking error {worst} deg");
 }
+
+#[test]
+fn calibration_survives_a_restart_of_the_mcm_but_not_a_power_cycle() {
+    use crate::bus::{SimCommand, SimControl};
+    use mcm_shared::sample::{AXIS_CALIBRATED, STATE_ALL_CALIBRATED};
+    let cfg = RobotConfig::prob2_default();
+    let mut r = Robot::new();
+    r.calibrate_all();
+    r.run(40);
+    let stored = r.cycle.bus_mut().drive(0).unwrap().retained();
+    assert_eq!(
+        stored.calibration_valid, 1,
+        "the drives hold the calibration"
+    );
+    // Restart: the drives keep their power, the controller and master start from scratch.
+    let path = std::env::temp_dir().join(format!(
+        "mcm-controller-restart-{}.state",
+        std::process::id()
+    ));
+    r.cycle.bus_mut().save(&path).unwrap();
+    let bus = SimBus::resume(&cfg, &path).unwrap().unwrap();
+    std::fs::remove_file(&path).unwrap();
+    let mut r = Robot {
+        cycle: Cycle::new(&cfg, bus).unwrap(),
+        k: 0,
+        period: cfg.cycle_period_ns(),
+        next_request: 1,
+    };
+    r.run_until("drives online", 400, |r| {
+        r.cycle.controller().feedback().iter().all(|f| f.online)
+    });
+    r.run(1);
+    let flags = r.cycle.controller().state().flags;
+    assert_ne!(
+        flags & STATE_ALL_CALIBRATED,
+        0,
+        "calibrated after the restart"
+    );
+    r.ok(CommandKind::Hold, &[], 400);
+    r.run(40);
+    let err = max_diff(&r.measured(), &r.truth());
+    assert!(
+        err < 0.05,
+        "reported {:?} vs true {:?}",
+        r.measured(),
+        r.truth()
+    );
+    // A power cycle of the drives loses the calibration.
+    r.cycle
+        .bus_mut()
+        .apply(&SimCommand {
+            power_cycle: true,
+            ..SimCommand::default()
+        })
+        .unwrap();
+    r.run(2);
+    r.run_until("drives online again", 400, |r| {
+        r.cycle.controller().feedback().iter().all(|f| f.online)
+    });
+    r.run(2);
+    let s = r.cycle.controller().state();
+    assert_eq!(s.flags & STATE_ALL_CALIBRATED, 0);
+    assert!(
+        s.axis_flags.iter().all(|f| f & AXIS_CALIBRATED == 0),
+        "{:?}",
+        s.axis_flags
+    );
+}

@@ -15,6 +15,12 @@
 //! [`Bus::recv`]. Everything is deterministic: the same frames sent give the same frames
 //! received and the same truth, bit for bit.
 //!
+//! Restart of the MCM: the drives keep their power while `mcm-rt` restarts, so
+//! [`SimBus::save`] writes what survives that (per drive the encoder offset, the power-cycle
+//! count and the stored calibration 0x2100; the arm's true joint angles) to a small text file
+//! and [`SimBus::resume`] builds the bus again from it: the arm at rest at the saved angles, the
+//! drives booting as after an NMT reset. Both run outside the cycle (they do file I/O).
+//!
 //! ```
 //! use mcm_rt_core::bus::{Bus, Frame, SimCommand};
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
@@ -26,12 +32,17 @@
 //! assert!(sim.apply(&SimCommand { block_axis: Some(6), ..SimCommand::default() }).is_err());
 //! ```
 
-use super::drive::{DriveParams, SimDrive};
+use super::drive::{DriveParams, Retained, SimDrive};
 use super::{Discard, FrameSink};
 use crate::bus::{Bus, BusError, Frame, SimCommand, SimCommandError, SimControl, SimTruth};
 use crate::dynamics::{ArmModel, ArmSim};
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;
+use std::io;
+use std::path::Path;
+
+/// First line of a saved simulation state.
+const STATE_HEADER: &str = "mcm-sim-state 1";
 
 /// Frames the receive queue holds (several cycles' worth of traffic).
 pub const RX_CAPACITY: usize = 512;
@@ -129,6 +140,63 @@ impl SimBus {
         bus
     }
 
+    /// Write what survives a restart of the MCM (the drives keep their power) to `path`: the
+    /// arm's true joint angles and, per drive, power-cycle count, encoder offset and the
+    /// stored calibration 0x2100. Plain text; not for the cycle (file I/O).
+    pub fn save(&self, path: &Path) -> io::Result<()> {
+        use std::fmt::Write as _;
+        let mut text = String::new();
+        let _ = writeln!(text, "{STATE_HEADER}");
+        text.push_str("arm");
+        for q in self.arm.position() {
+            let _ = write!(text, " {q}");
+        }
+        text.push('\n');
+        for (i, d) in self.drives.iter().enumerate() {
+            let r = d.retained();
+            let _ = writeln!(
+                text,
+                "drive {i} {} {} {} {}",
+                r.power_cycles, r.encoder_offset_counts, r.calibration_offset, r.calibration_valid
+            );
+        }
+        std::fs::write(path, text)
+    }
+
+    /// The robot as it was when [`SimBus::save`] wrote `path`, after a restart of the MCM:
+    /// the arm at rest at the saved joint angles; every drive with its saved encoder offset,
+    /// power-cycle count and stored calibration, booting as after an NMT reset node (boot-up
+    /// frames queued, to be configured by the master). `Ok(None)` when `path` does not exist;
+    /// `InvalidData` when it is not a saved state for six axes.
+    pub fn resume(cfg: &RobotConfig, path: &Path) -> io::Result<Option<SimBus>> {
+        let text = match std::fs::read_to_string(path) {
+            Ok(t) => t,
+            Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
+            Err(e) => return Err(e),
+        };
+        let (q, kept) = parse_state(&text).map_err(|what| {
+            io::Error::new(
+                io::ErrorKind::InvalidData,
+                format!("{}: not a saved simulation state: {what}", path.display()),
+            )
+        })?;
+        let mut bus = SimBus::new(cfg);
+        bus.arm.set_state(q, [0.0; NUM_AXES]);
+        bus.rx = RxRing::new();
+        let rx = &mut bus.rx;
+        bus.drives = core::array::from_fn(|i| {
+            SimDrive::resume(
+                DriveParams::from_config(cfg, &cfg.axes[i]),
+                q[i],
+                0.0,
+                kept[i],
+                rx,
+            )
+        });
+        bus.update_brakes();
+        Ok(Some(bus))
+    }
+
     /// Simulated time [ns]: SYNCs so far x cycle period.
     pub fn now_ns(&self) -> u64 {
         self.now_ns
@@ -188,6 +256,55 @@ impl SimBus {
             _ => Ok(()),
         }
     }
+}
+
+/// Parse the text [`SimBus::save`] writes.
+fn parse_state(text: &str) -> Result<([f64; NUM_AXES], [Retained; NUM_AXES]), String> {
+    let mut lines = text.lines();
+    if lines.next() != Some(STATE_HEADER) {
+        return Err(format!("the first line is not {STATE_HEADER:?}"));
+    }
+    let mut q = [f64::NAN; NUM_AXES];
+    let mut kept: [Option<Retained>; NUM_AXES] = [None; NUM_AXES];
+    for line in lines {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let bad = || format!("bad line {line:?}");
+        match words.as_slice() {
+            [] => {}
+            ["arm", angles @ ..] if angles.len() == NUM_AXES => {
+                for (qi, w) in q.iter_mut().zip(angles) {
+                    *qi = w
+                        .parse()
+                        .ok()
+                        .filter(|v: &f64| v.is_finite())
+                        .ok_or_else(bad)?;
+                }
+            }
+            ["drive", i, pc, off, cal, valid] => {
+                let i: usize = i.parse().ok().filter(|i| *i < NUM_AXES).ok_or_else(bad)?;
+                kept[i] = Some(Retained {
+                    power_cycles: pc.parse().map_err(|_| bad())?,
+                    encoder_offset_counts: off.parse().map_err(|_| bad())?,
+                    calibration_offset: cal.parse().map_err(|_| bad())?,
+                    calibration_valid: valid.parse().ok().filter(|v| *v <= 1).ok_or_else(bad)?,
+                });
+            }
+            _ => return Err(bad()),
+        }
+    }
+    if q.iter().any(|v| v.is_nan()) {
+        return Err("no line \"arm <6 joint angles>\"".into());
+    }
+    let mut out = [Retained {
+        power_cycles: 0,
+        encoder_offset_counts: 0,
+        calibration_offset: 0,
+        calibration_valid: 0,
+    }; NUM_AXES];
+    for (i, (o, k)) in out.iter_mut().zip(kept).enumerate() {
+        *o = k.ok_or_else(|| format!("no line for drive {i}"))?;
+    }
+    Ok((q, out))
 }
 
 impl core::fmt::Debug for SimBus {

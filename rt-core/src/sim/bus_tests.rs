@@ -631,3 +631,55 @@ fn receive_queue_is_a_bounded_ring_that_counts_overruns() {
     bus.send(&Frame::new(0x080, &[]).unwrap()).unwrap();
     assert_eq!(bus.now_ns(), 5_000_000);
 }
+
+#[test]
+fn save_and_resume_keep_offsets_calibration_and_pose_and_boot_like_a_reset() {
+    let cfg = RobotConfig::prob2_default();
+    let (mut bus, mut m) = enabled(&cfg, false);
+    apply(
+        &mut bus,
+        SimCommand {
+            power_cycle: true,
+            ..SimCommand::default()
+        },
+    );
+    m.run_until_enabled(&mut bus, 100);
+    // Store a calibration in drive 3 (node 3) by SDO (between SYNCs: only the answers queue).
+    while bus.recv(0).unwrap().is_some() {}
+    for req in [
+        [0x23, 0x00, 0x21, 0x01, 0x39, 0x30, 0x00, 0x00], // 0x2100:1 = 12345
+        [0x2F, 0x00, 0x21, 0x02, 0x01, 0x00, 0x00, 0x00], // 0x2100:2 = 1
+    ] {
+        bus.send(&Frame::new(0x603, &req).unwrap()).unwrap();
+        let resp = bus.recv(0).unwrap().unwrap();
+        assert_eq!((resp.id, resp.data[0]), (0x583, 0x60), "{resp}");
+    }
+    let path = std::env::temp_dir().join(format!("mcm-sim-test-{}.state", std::process::id()));
+    assert!(SimBus::resume(&cfg, &path).unwrap().is_none(), "no file");
+    bus.save(&path).unwrap();
+    let mut resumed = SimBus::resume(&cfg, &path).unwrap().unwrap();
+    std::fs::remove_file(&path).unwrap();
+    for i in 0..NUM_AXES {
+        let (a, b) = (bus.drive(i).unwrap(), resumed.drive(i).unwrap());
+        assert_eq!(a.retained(), b.retained(), "drive {i}");
+        assert_eq!(a.retained().power_cycles, 1);
+    }
+    let r = resumed.drive(2).unwrap().retained();
+    assert_eq!((r.calibration_offset, r.calibration_valid), (12345, 1));
+    let t = resumed.truth();
+    assert_eq!(t.position, bus.truth().position, "exact joint angles");
+    assert_eq!(t.velocity, [0.0; NUM_AXES], "at rest");
+    let mut frames = Vec::new();
+    while let Some(f) = resumed.recv(0).unwrap() {
+        frames.push(f.to_string());
+    }
+    assert_eq!(
+        frames,
+        ["701#00", "702#00", "703#00", "704#00", "705#00", "706#00"]
+    );
+
+    std::fs::write(&path, "mcm-sim-state 1\narm 0 0 0\n").unwrap();
+    let err = SimBus::resume(&cfg, &path).unwrap_err();
+    std::fs::remove_file(&path).unwrap();
+    assert_eq!(err.kind(), std::io::ErrorKind::InvalidData, "{err}");
+}

@@ -1,7 +1,8 @@
 //! One simulated CiA 402 servo drive (`DRIVE_PROFILE.md`, drive side): object dictionary,
 //! expedited SDO server, NMT slave with heartbeat producer and master-heartbeat consumer, PDO
 //! engine, CiA 402 state machine, and the motor: CSP position loop, CST torque, current limit
-//! 0x6073, incremental encoder with a random offset drawn at every power-up.
+//! 0x6073, incremental encoder with a random offset drawn at every power-up, and the stored
+//! calibration 0x2100 (see [`od`]), which only a power cycle clears.
 //!
 //! Runs inside the cycle: no allocation after construction, no panics on bad frames. The
 //! drive's clock advances only through SYNC ([`SimDrive::end_period`]); the bus drives it:
@@ -118,6 +119,20 @@ pub fn encoder_offset_counts(
     ((2.0 * unit - 1.0) * max_offset_rad * counts_per_rad).round() as i64
 }
 
+/// What a drive keeps while only the MCM restarts (the drive keeps its power): saved and
+/// restored by [`super::SimBus::save`] / [`super::SimBus::resume`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Retained {
+    /// Power-ups so far after the first (draws the next encoder offset).
+    pub power_cycles: u64,
+    /// The encoder offset of this power-up [counts].
+    pub encoder_offset_counts: i64,
+    /// 0x2100:1, the stored calibration offset [counts].
+    pub calibration_offset: i32,
+    /// 0x2100:2, the stored calibration is valid (0/1).
+    pub calibration_valid: u8,
+}
+
 enum Boot {
     PowerUp,
     ResetNode,
@@ -174,7 +189,37 @@ impl SimDrive {
         d
     }
 
-    /// Power off and on again: defaults, new encoder offset, boot-up frame, NOT READY TO
+    /// A drive that kept its power while the MCM restarted: encoder offset, power-cycle count
+    /// and the stored calibration 0x2100 from `r`, everything else as after NMT reset node
+    /// (boot-up frame to `out`, PRE-OPERATIONAL, NOT READY TO SWITCH ON).
+    pub fn resume(
+        p: DriveParams,
+        q: f64,
+        v: f64,
+        r: Retained,
+        out: &mut dyn FrameSink,
+    ) -> SimDrive {
+        let mut d = SimDrive::new(p, q, v, &mut super::Discard);
+        d.power_cycles = r.power_cycles;
+        d.offset_counts = r.encoder_offset_counts;
+        d.od.set_i32(od::CALIBRATION_OFFSET, r.calibration_offset);
+        d.od.set_raw(od::CALIBRATION_VALID, u32::from(r.calibration_valid));
+        d.boot(Boot::ResetNode, out);
+        d.observe(q, v);
+        d
+    }
+
+    /// What this drive keeps while only the MCM restarts.
+    pub fn retained(&self) -> Retained {
+        Retained {
+            power_cycles: self.power_cycles,
+            encoder_offset_counts: self.offset_counts,
+            calibration_offset: self.od.i32(od::CALIBRATION_OFFSET),
+            calibration_valid: self.od.raw(od::CALIBRATION_VALID) as u8,
+        }
+    }
+
+    /// Power off and on again: defaults (the stored calibration 0x2100 too), new encoder offset, boot-up frame, NOT READY TO
     /// SWITCH ON (SWITCH ON DISABLED at the next SYNC).
     pub fn power_cycle(&mut self, out: &mut dyn FrameSink) {
         self.power_cycles += 1;

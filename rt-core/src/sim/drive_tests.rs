@@ -625,6 +625,76 @@ fn power_cycle_draws_a_new_offset_and_forgets_the_configuration() {
 }
 
 #[test]
+fn stored_calibration_survives_nmt_resets_but_not_a_power_cycle() {
+    let mut r = Rig::new();
+    assert_eq!(
+        (r.read(0x2100, 0), r.read(0x2100, 1), r.read(0x2100, 2)),
+        (Ok(2), Ok(0), Ok(0))
+    );
+    assert_eq!(r.write(0x2100, 1, (-98_765i32) as u32, 4), Ok(()));
+    assert_eq!(r.write(0x2100, 2, 1, 1), Ok(()));
+    assert_eq!(
+        r.write(0x2100, 2, 2, 1),
+        Err(0x0609_0030),
+        "valid is 0 or 1"
+    );
+    assert_eq!(r.write(0x2100, 1, 1, 2), Err(0x0607_0010), "i32");
+    assert_eq!(
+        r.write(0x1600, 1, 0x2100_0120, 4),
+        Err(0x0604_0041),
+        "not mappable"
+    );
+    for cmd in [0x81u8, 0x82] {
+        r.send(0x000, &[cmd, NODE]);
+        assert_eq!(r.take().last().unwrap().to_string(), "702#00");
+        assert_eq!(r.read(0x2100, 1), Ok((-98_765i32) as u32), "NMT {cmd:02X}");
+        assert_eq!(r.read(0x2100, 2), Ok(1));
+    }
+    let kept = r.d.retained();
+    assert_eq!(
+        (kept.calibration_offset, kept.calibration_valid),
+        (-98_765, 1)
+    );
+    r.d.power_cycle(&mut r.out);
+    assert_eq!((r.read(0x2100, 1), r.read(0x2100, 2)), (Ok(0), Ok(0)));
+}
+
+#[test]
+fn resume_keeps_offset_and_calibration_and_boots_like_a_reset() {
+    let mut r = Rig::new();
+    r.enable();
+    r.write(0x2100, 1, 4242, 4).unwrap();
+    r.write(0x2100, 2, 1, 1).unwrap();
+    r.d.power_cycle(&mut crate::sim::Discard);
+    r.write(0x2100, 1, 4242, 4).unwrap();
+    r.write(0x2100, 2, 1, 1).unwrap();
+    let kept = r.d.retained();
+    assert_eq!(kept.power_cycles, 1);
+    let cfg = RobotConfig::prob2_default();
+    let mut out = Vec::new();
+    let d = SimDrive::resume(
+        DriveParams::from_config(&cfg, &cfg.axes[usize::from(NODE) - 1]),
+        r.q,
+        0.0,
+        kept,
+        &mut out,
+    );
+    assert_eq!(
+        out.iter().map(|f| f.to_string()).collect::<Vec<_>>(),
+        ["702#00"]
+    );
+    assert_eq!(d.retained(), kept);
+    assert_eq!(d.encoder_offset_counts(), r.d.encoder_offset_counts());
+    assert_eq!(d.nmt_state(), NmtState::PreOperational);
+    assert_eq!(d.state(), State::NotReadyToSwitchOn);
+    assert_eq!(
+        d.od().raw(od::PRODUCER_HEARTBEAT),
+        0,
+        "configuration forgotten"
+    );
+}
+
+#[test]
 fn encoder_offsets_are_deterministic_bounded_and_distinct() {
     let cfg = RobotConfig::prob2_default();
     let cpr = cfg.axes[0].counts_per_rad();

@@ -3,6 +3,13 @@
 //! CiA 402 objects of `DRIVE_PROFILE.md`), with type, access and PDO-mappability, and the
 //! values in a fixed array indexed by the table position ("slot").
 //!
+//! One manufacturer-specific object: 0x2100, the stored calibration. Sub 1 is the calibration
+//! offset (i32, encoder counts: the raw position actual at joint angle 0), sub 2 says whether
+//! it is valid (u8, 0 or 1). Read-write by SDO, not PDO-mappable, volatile: 0/0 at power-up and
+//! cleared only by a power cycle (the encoder's count is lost then too), not by NMT reset node
+//! or reset communication. The master reads it while booting a drive and writes it when a
+//! calibration finds an axis's zero, so that a restart of the MCM keeps the calibration.
+//!
 //! Runs inside the cycle: lookups are a binary search over a `static` table; no allocation.
 //! Values are stored raw, as the little-endian bits of their type (an `i8` of -3 is `0xFD`).
 //!
@@ -138,7 +145,7 @@ const fn map(index: u16, sub: u8) -> ObjectDef {
 }
 
 /// Number of objects (index:sub pairs) in the dictionary.
-pub const LEN: usize = 81;
+pub const LEN: usize = 84;
 
 /// The table, sorted by (index, sub).
 pub static TABLE: [ObjectDef; LEN] = [
@@ -204,22 +211,25 @@ pub static TABLE: [ObjectDef; LEN] = [
     map(0x1A01, 6),
     map(0x1A01, 7),
     map(0x1A01, 8),
-    e(0x603F, 0, U16, Ro, Tx, Fixed(0)),    // error code
-    e(0x6040, 0, U16, Rw, Rx, Fixed(0)),    // controlword
-    e(0x6041, 0, U16, Ro, Tx, Fixed(0)),    // statusword
+    e(0x2100, 0, U8, Const, No, Fixed(2)), // stored calibration (volatile, kept until power-off)
+    e(0x2100, 1, I32, Rw, No, Fixed(0)),   // calibration offset [counts at joint angle 0]
+    e(0x2100, 2, U8, Rw, No, Fixed(0)),    // calibration valid (0/1)
+    e(0x603F, 0, U16, Ro, Tx, Fixed(0)),   // error code
+    e(0x6040, 0, U16, Rw, Rx, Fixed(0)),   // controlword
+    e(0x6041, 0, U16, Ro, Tx, Fixed(0)),   // statusword
     e(0x605A, 0, I16, Const, No, Fixed(2)), // quick stop option: ramp, then SWITCH ON DISABLED
-    e(0x6060, 0, I8, Rw, Rx, Fixed(0)),     // modes of operation
-    e(0x6061, 0, I8, Ro, Tx, Fixed(0)),     // modes of operation display
-    e(0x6064, 0, I32, Ro, Tx, Fixed(0)),    // position actual [counts]
-    e(0x606C, 0, I32, Ro, Tx, Fixed(0)),    // velocity actual [counts/s]
-    e(0x6071, 0, I16, Rw, Rx, Fixed(0)),    // target torque [per-mille of 0x6076]
+    e(0x6060, 0, I8, Rw, Rx, Fixed(0)),    // modes of operation
+    e(0x6061, 0, I8, Ro, Tx, Fixed(0)),    // modes of operation display
+    e(0x6064, 0, I32, Ro, Tx, Fixed(0)),   // position actual [counts]
+    e(0x606C, 0, I32, Ro, Tx, Fixed(0)),   // velocity actual [counts/s]
+    e(0x6071, 0, I16, Rw, Rx, Fixed(0)),   // target torque [per-mille of 0x6076]
     e(0x6073, 0, U16, Rw, Rx, InitValue::PeakCurrentPermille), // max current [per-mille of 0x6075]
     e(0x6075, 0, U32, Rw, No, InitValue::RatedCurrentMa), // motor rated current [mA]
     e(0x6076, 0, U32, Rw, No, InitValue::RatedTorqueMnm), // motor rated torque [mNm]
-    e(0x6077, 0, I16, Ro, Tx, Fixed(0)),    // torque actual [per-mille of 0x6076]
-    e(0x6078, 0, I16, Ro, Tx, Fixed(0)),    // current actual [per-mille of 0x6075]
-    e(0x607A, 0, I32, Rw, Rx, Fixed(0)),    // target position [counts]
-    e(0x60C2, 0, U8, Const, No, Fixed(2)),  // interpolation time period
+    e(0x6077, 0, I16, Ro, Tx, Fixed(0)),   // torque actual [per-mille of 0x6076]
+    e(0x6078, 0, I16, Ro, Tx, Fixed(0)),   // current actual [per-mille of 0x6075]
+    e(0x607A, 0, I32, Rw, Rx, Fixed(0)),   // target position [counts]
+    e(0x60C2, 0, U8, Const, No, Fixed(2)), // interpolation time period
     e(0x60C2, 1, U8, Rw, No, Fixed(1)),
     e(0x60C2, 2, I8, Rw, No, Fixed(0xFD)),
     e(0x6502, 0, U32, Const, No, Fixed(0x0000_0280)), // supported modes: CSP, CST
@@ -242,6 +252,12 @@ pub const ERROR_REGISTER: usize = slot(0x1001, 0);
 pub const RESTORE_DEFAULTS: usize = slot(0x1011, 1);
 pub const CONSUMER_HEARTBEAT: usize = slot(0x1016, 1);
 pub const PRODUCER_HEARTBEAT: usize = slot(0x1017, 0);
+/// 0x2100:1, the stored calibration offset [counts]; survives NMT resets, not power cycles.
+pub const CALIBRATION_OFFSET: usize = slot(0x2100, 1);
+/// 0x2100:2, the stored calibration is valid (0/1).
+pub const CALIBRATION_VALID: usize = slot(0x2100, 2);
+/// Index of the stored calibration, which no NMT reset touches.
+pub const CALIBRATION_INDEX: u16 = 0x2100;
 pub const ERROR_CODE: usize = slot(0x603F, 0);
 pub const CONTROLWORD: usize = slot(0x6040, 0);
 pub const STATUSWORD: usize = slot(0x6041, 0);
@@ -323,9 +339,10 @@ impl Od {
         self.reset_where(|i| i < 0x2000);
     }
 
-    /// Application reset: objects from 0x2000 on back to their power-up values.
+    /// Application reset: objects from 0x2000 on back to their power-up values, except the
+    /// stored calibration 0x2100 (cleared only by a power cycle, i.e. a new [`Od`]).
     pub fn reset_application(&mut self) {
-        self.reset_where(|i| i >= 0x2000);
+        self.reset_where(|i| i >= 0x2000 && i != CALIBRATION_INDEX);
     }
 
     fn reset_where(&mut self, pick: impl Fn(u16) -> bool) {
@@ -439,6 +456,25 @@ mod tests {
         assert_eq!(od.i32(TARGET_TORQUE), -1234);
         od.set_i32(POSITION_ACTUAL, i32::MIN);
         assert_eq!(od.i32(POSITION_ACTUAL), i32::MIN);
+    }
+
+    #[test]
+    fn stored_calibration_survives_both_resets() {
+        let mut od = od();
+        assert_eq!(
+            (od.i32(CALIBRATION_OFFSET), od.raw(CALIBRATION_VALID)),
+            (0, 0)
+        );
+        assert_eq!(Od::def(CALIBRATION_OFFSET).mappable, Mappable::No);
+        assert_eq!(Od::def(CALIBRATION_VALID).access, Access::Rw);
+        od.set_i32(CALIBRATION_OFFSET, -123_456);
+        od.set_raw(CALIBRATION_VALID, 1);
+        od.reset_application();
+        od.reset_communication();
+        assert_eq!(
+            (od.i32(CALIBRATION_OFFSET), od.raw(CALIBRATION_VALID)),
+            (-123_456, 1)
+        );
     }
 
     #[test]
