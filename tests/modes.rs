@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::{Client, Mcm, WAIT, assert_error};
+use common::{Client, Mcm, WAIT, assert_error, assert_ok, assert_status, max_abs, max_diff, six};
 use mcm_shared::config::RobotConfig;
 use serde_json::{Value, json};
 use std::f64::consts::PI;
@@ -26,38 +26,6 @@ const POLL_PAUSE: Duration = Duration::from_millis(5);
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
-
-fn six(v: &Value) -> [f64; 6] {
-    let a = v
-        .as_array()
-        .unwrap_or_else(|| panic!("expected an array of 6 numbers, got {v}"));
-    assert_eq!(a.len(), 6, "expected 6 numbers, got {v}");
-    std::array::from_fn(|i| a[i].as_f64().unwrap_or_else(|| panic!("not a number: {v}")))
-}
-
-fn max_diff(a: &[f64; 6], b: &[f64; 6]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-}
-
-fn max_abs(a: &[f64; 6]) -> f64 {
-    max_diff(a, &[0.0; 6])
-}
-
-fn assert_ok(v: &Value) {
-    assert_eq!(
-        v["result_type"], "generic",
-        "expected a generic result: {v}"
-    );
-    assert_eq!(v["error_status"], "OK", "expected OK: {v}");
-}
-
-fn assert_status(v: &Value, mode: &str) {
-    assert_eq!(v["result_type"], "status", "expected a status result: {v}");
-    assert_eq!(v["operating_mode"], mode, "{v}");
-}
 
 /// The robot's time of a status result [s].
 fn time_of(s: &Value) -> f64 {

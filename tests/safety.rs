@@ -18,7 +18,7 @@
 
 mod common;
 
-use common::{Mcm, WAIT};
+use common::{Mcm, WAIT, assert_ok, assert_status, max_abs, max_diff, six};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
 use serde_json::{Value, json};
@@ -263,44 +263,12 @@ impl Drop for Conn {
 // ---------------------------------------------------------------------------------------------
 // Helpers
 
-fn six(v: &Value) -> [f64; 6] {
-    let a = v
-        .as_array()
-        .unwrap_or_else(|| panic!("expected an array of 6 numbers, got {v}"));
-    assert_eq!(a.len(), 6, "expected 6 numbers, got {v}");
-    std::array::from_fn(|i| a[i].as_f64().unwrap_or_else(|| panic!("not a number: {v}")))
-}
-
 fn bools(v: &Value) -> [bool; 6] {
     let a = v
         .as_array()
         .unwrap_or_else(|| panic!("expected an array of 6 booleans, got {v}"));
     assert_eq!(a.len(), 6, "expected 6 booleans, got {v}");
     std::array::from_fn(|i| a[i].as_bool().unwrap_or_else(|| panic!("not a bool: {v}")))
-}
-
-fn max_diff(a: &[f64; 6], b: &[f64; 6]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-}
-
-fn max_abs(a: &[f64; 6]) -> f64 {
-    max_diff(a, &[0.0; 6])
-}
-
-fn assert_ok(v: &Value) {
-    assert_eq!(
-        v["result_type"], "generic",
-        "expected a generic result: {v}"
-    );
-    assert_eq!(v["error_status"], "OK", "expected OK: {v}");
-}
-
-fn assert_mode(v: &Value, mode: &str) {
-    assert_eq!(v["result_type"], "status", "expected a status result: {v}");
-    assert_eq!(v["operating_mode"], mode, "{v}");
 }
 
 /// A generic ERROR (not a spontaneous one) whose message contains every one of `words`.
@@ -424,7 +392,7 @@ fn calibrate(c: &mut Conn) {
     let r = c.request_within(r#"{"command":"calibrate"}"#, CALIBRATION_WAIT);
     assert_ok(&r);
     let s = detail(c);
-    assert_mode(&s, "HOLD");
+    assert_status(&s, "HOLD");
     assert_eq!(bools(&s["detail"]["calibrated"]), [true; 6], "{s}");
 }
 
@@ -674,9 +642,9 @@ fn emergency_stop_during_a_move_stops_the_arm_and_tells_every_client_once() {
     // Two more clients, connected and served before the incident.
     let mut watchers = [rig.conn(), rig.conn()];
     for w in &mut watchers {
-        assert_mode(&status(w), "HOLD");
+        assert_status(&status(w), "HOLD");
     }
-    assert_mode(&c.request(PVT), "PVT");
+    assert_status(&c.request(PVT), "PVT");
     let target = [60.0, 30.0, -30.0, 0.0, 0.0, 0.0];
     let r = c.request(&move_all(&target, 0.5));
     assert_eq!(r["result_type"], "move_all", "{r}");
@@ -705,7 +673,7 @@ fn emergency_stop_during_a_move_stops_the_arm_and_tells_every_client_once() {
     let (s, rest) = wait_until(&mut c, "the arm at rest", |_, t| {
         max_abs(&t.velocity) < 1e-3
     });
-    assert_mode(&s, "ERROR");
+    assert_status(&s, "ERROR");
     assert_eq!(s["detail"]["emergency_stop"], true, "{s}");
     assert!(
         s["hardware_status"]
@@ -723,7 +691,7 @@ fn emergency_stop_during_a_move_stops_the_arm_and_tells_every_client_once() {
         rest.position
     );
     observe(&mut c, 0.5, |s, t| {
-        assert_mode(s, "ERROR");
+        assert_status(s, "ERROR");
         assert!(t.emergency_stop);
         assert!(
             max_diff(&t.position, &rest.position) < 1e-3,
@@ -736,14 +704,14 @@ fn emergency_stop_during_a_move_stops_the_arm_and_tells_every_client_once() {
     // hold is refused while the switch is pressed, and nothing moves.
     let r = c.request(HOLD);
     assert_refused(&r, &["hold refused", "emergency stop is pressed"]);
-    assert_mode(&status(&mut c), "ERROR");
+    assert_status(&status(&mut c), "ERROR");
     let still = truth(&mut c);
     assert!(max_diff(&still.position, &rest.position) < 1e-3);
 
     // Released: hold is accepted again (after the drives report the switch released).
     assert!(!sim(&mut c, Some(json!({"emergency_stop": false}))).emergency_stop);
     let (s, refusals) = hold_until_accepted(&mut c);
-    assert_mode(&s, "HOLD");
+    assert_status(&s, "HOLD");
     for r in &refusals {
         assert_refused(r, &["emergency stop"]);
     }
@@ -751,7 +719,7 @@ fn emergency_stop_during_a_move_stops_the_arm_and_tells_every_client_once() {
         bools(&s["detail"]["drive_enabled"]) == [true; 6]
     })
     .0;
-    assert_mode(&s, "HOLD");
+    assert_status(&s, "HOLD");
     assert_eq!(s["detail"]["emergency_stop"], false, "{s}");
     let after = wait_at_rest(&mut c);
     assert!(
@@ -806,7 +774,7 @@ fn an_obstacle_trips_the_following_error_and_nothing_moves_afterwards() {
     wait_drives_online(&mut c);
     calibrate(&mut c);
     let band = rig.cfg.axes[0].following_error_deg;
-    assert_mode(&c.request(PVT), "PVT");
+    assert_status(&c.request(PVT), "PVT");
     let start = wait_at_rest(&mut c);
     assert_ok(&c.request(&move_axis(1, 60.0, 0.5)));
     wait_until(&mut c, "axis 1 moving", |_, t| t.velocity[0] > 10.0);
@@ -819,7 +787,7 @@ fn an_obstacle_trips_the_following_error_and_nothing_moves_afterwards() {
         msg.contains("following error: axis 1") && msg.contains(&format!("band {band:.3} deg")),
         "{msg:?}"
     );
-    assert_mode(&status(&mut c), "ERROR");
+    assert_status(&status(&mut c), "ERROR");
 
     // No further motion: moves are refused, the arm comes to rest and stays.
     for cmd in [
@@ -845,7 +813,7 @@ fn an_obstacle_trips_the_following_error_and_nothing_moves_afterwards() {
     let mut pressing = Vec::new();
     observe(&mut c, 0.5, |s, t| {
         pressing.push(six(&s["axis_states"]["current"])[0]);
-        assert_mode(s, "ERROR");
+        assert_status(s, "ERROR");
         assert!(
             max_diff(&t.position, &rest.position) < 0.01,
             "no further motion: {:?} -> {:?}",
@@ -865,7 +833,7 @@ fn an_obstacle_trips_the_following_error_and_nothing_moves_afterwards() {
 
     // Recovery: hold (nothing blocks it) holds where the arm stands; then the obstacle goes.
     let (s, refusals) = hold_until_accepted(&mut c);
-    assert_mode(&s, "HOLD");
+    assert_status(&s, "HOLD");
     assert!(refusals.is_empty(), "{refusals:?}");
     let cmd_hold = six(&detail(&mut c)["detail"]["commanded_position"]);
     assert!(
@@ -876,7 +844,7 @@ fn an_obstacle_trips_the_following_error_and_nothing_moves_afterwards() {
     sim(&mut c, Some(json!({"unblock_axis": 1})));
     let mut jump: f64 = 0.0;
     observe(&mut c, 0.5, |s, t| {
-        assert_mode(s, "HOLD");
+        assert_status(s, "HOLD");
         jump = jump.max(max_diff(&t.position, &rest.position));
         assert!(
             jump < band,
@@ -934,7 +902,7 @@ fn a_silent_drive_trips_within_the_heartbeat_timeout_and_blocks_hold_until_it_is
     let rig = Rig::start("silent");
     let mut c = rig.conn();
     wait_drives_online(&mut c);
-    assert_mode(&c.request(HOLD), "HOLD");
+    assert_status(&c.request(HOLD), "HOLD");
     let before = wait_at_rest(&mut c);
     let timeout = f64::from(rig.cfg.bus.heartbeat_timeout_ms) / 1e3;
     let bound = timeout + 4.0 * rig.cycle();
@@ -950,7 +918,7 @@ fn a_silent_drive_trips_within_the_heartbeat_timeout_and_blocks_hold_until_it_is
         assert!(Instant::now() < deadline, "still HOLD: {s}");
         std::thread::sleep(Duration::from_millis(2));
     };
-    assert_mode(&s, "ERROR");
+    assert_status(&s, "ERROR");
     let seen = time_of(&s) - t0;
     eprintln!("silent drive: ERROR seen {seen:.3} s after the disconnect");
     assert!(
@@ -974,7 +942,7 @@ fn a_silent_drive_trips_within_the_heartbeat_timeout_and_blocks_hold_until_it_is
         &c.request(HOLD),
         &["hold refused", "axis 3", "does not answer"],
     );
-    observe(&mut c, 2.0 * timeout, |s, _| assert_mode(s, "ERROR"));
+    observe(&mut c, 2.0 * timeout, |s, _| assert_status(s, "ERROR"));
     assert_refused(
         &c.request(HOLD),
         &["hold refused", "axis 3", "does not answer"],
@@ -990,7 +958,7 @@ fn a_silent_drive_trips_within_the_heartbeat_timeout_and_blocks_hold_until_it_is
     // Back on the bus: hold is accepted again and every drive is enabled.
     sim(&mut c, Some(json!({"reconnect_axis": 3})));
     let (s, refusals) = hold_until_accepted(&mut c);
-    assert_mode(&s, "HOLD");
+    assert_status(&s, "HOLD");
     for r in &refusals {
         assert_refused(r, &["axis 3"]);
     }
@@ -998,7 +966,7 @@ fn a_silent_drive_trips_within_the_heartbeat_timeout_and_blocks_hold_until_it_is
         bools(&s["detail"]["drive_enabled"]) == [true; 6]
     })
     .0;
-    assert_mode(&s, "HOLD");
+    assert_status(&s, "HOLD");
     let after = wait_at_rest(&mut c);
     assert!(
         max_diff(&after.position, &before.position) < 0.5,
@@ -1057,17 +1025,17 @@ fn push_towards_the_limit(
     push_nm: f64,
     previous: Option<&Flight>,
 ) -> Push {
-    assert_mode(&c.request(PVT), "PVT");
+    assert_status(&c.request(PVT), "PVT");
     assert_ok(&c.request(&move_axis(axis, start_deg, 1.0)));
     wait_until(c, "the start position", |s, t| {
         max_abs(&six(&s["axis_states"]["velocity"])) == 0.0
             && (t.position[axis - 1] - start_deg).abs() < 0.05
             && max_abs(&t.velocity) < 0.01
     });
-    assert_mode(&c.request(HOLD), "HOLD");
+    assert_status(&c.request(HOLD), "HOLD");
 
     let mut session = rig.conn();
-    assert_mode(&session.request(TORQUE_CONTROL), "TORQUE_CONTROL");
+    assert_status(&session.request(TORQUE_CONTROL), "TORQUE_CONTROL");
     session.send(ZERO_TORQUES);
     let events_before = c.events.len();
     let mut push = [0.0; 6];
@@ -1117,7 +1085,7 @@ fn push_towards_the_limit(
         event["error_message"].as_str().unwrap().contains(&limit),
         "{event} names {limit:?}"
     );
-    assert_mode(&status(c), "ERROR");
+    assert_status(&status(c), "ERROR");
 
     // The session hears of it too, and that torque control is over.
     let se = session.wait_event("the trip", WAIT);
@@ -1150,7 +1118,7 @@ fn push_towards_the_limit(
     // The push goes; the arm stays where it stopped, and hold recovers.
     sim(c, Some(json!({"external_torques": [0, 0, 0, 0, 0, 0]})));
     let (s, _) = hold_until_accepted(c);
-    assert_mode(&s, "HOLD");
+    assert_status(&s, "HOLD");
     assert_eq!(c.events.len(), events_before + 1, "{:?}", c.events);
     Push {
         event,
@@ -1215,7 +1183,7 @@ fn sustained_high_current_derates_the_motor_without_an_error() {
     );
     let mut c = rig.conn();
     wait_drives_online(&mut c);
-    assert_mode(&c.request(HOLD), "HOLD");
+    assert_status(&c.request(HOLD), "HOLD");
     let start = wait_at_rest(&mut c);
     let mut push = [0.0; 6];
     push[AXIS - 1] = PUSH_NM;
@@ -1229,7 +1197,7 @@ fn sustained_high_current_derates_the_motor_without_an_error() {
         if derated[AXIS - 1] {
             return true;
         }
-        assert_mode(s, "HOLD");
+        assert_status(s, "HOLD");
         assert_eq!(derated, [false; 6], "{s}");
         assert!(
             (t.position[AXIS - 1] - start.position[AXIS - 1]).abs() < band,
@@ -1343,13 +1311,13 @@ fn a_power_cycle_loses_the_calibration_until_calibrate_runs_again() {
         t.position
     );
     let (s, _) = hold_until_accepted(&mut c);
-    assert_mode(&s, "HOLD");
+    assert_status(&s, "HOLD");
     for (mode, cmd) in MOTION_MODES {
         assert_refused(
             &c.request(cmd),
             &["refused", "axis 1 is not calibrated", "calibrate"],
         );
-        assert_mode(&status(&mut c), "HOLD");
+        assert_status(&status(&mut c), "HOLD");
         eprintln!("power cycle: {mode} refused");
     }
 
@@ -1362,8 +1330,8 @@ fn a_power_cycle_loses_the_calibration_until_calibrate_runs_again() {
         t.position
     );
     for (mode, cmd) in MOTION_MODES {
-        assert_mode(&c.request(cmd), mode);
-        assert_mode(&c.request(HOLD), "HOLD");
+        assert_status(&c.request(cmd), mode);
+        assert_status(&c.request(HOLD), "HOLD");
     }
 }
 
@@ -1375,10 +1343,10 @@ fn motion_modes_are_refused_naming_the_first_uncalibrated_axis() {
     let rig = Rig::start("uncalibrated");
     let mut c = rig.conn();
     wait_drives_online(&mut c);
-    assert_mode(&c.request(HOLD), "HOLD");
+    assert_status(&c.request(HOLD), "HOLD");
     for (_, cmd) in MOTION_MODES {
         assert_refused(&c.request(cmd), &["refused", "axis 1 is not calibrated"]);
-        assert_mode(&status(&mut c), "HOLD");
+        assert_status(&status(&mut c), "HOLD");
     }
     // Axis 1 calibrated alone: now axis 2 is the first one missing.
     let r = c.request_within(
@@ -1387,7 +1355,7 @@ fn motion_modes_are_refused_naming_the_first_uncalibrated_axis() {
     );
     assert_ok(&r);
     let s = detail(&mut c);
-    assert_mode(&s, "HOLD");
+    assert_status(&s, "HOLD");
     assert_eq!(
         bools(&s["detail"]["calibrated"]),
         [true, false, false, false, false, false],
@@ -1395,7 +1363,7 @@ fn motion_modes_are_refused_naming_the_first_uncalibrated_axis() {
     );
     for (_, cmd) in MOTION_MODES {
         assert_refused(&c.request(cmd), &["refused", "axis 2 is not calibrated"]);
-        assert_mode(&status(&mut c), "HOLD");
+        assert_status(&status(&mut c), "HOLD");
     }
     assert!(c.events.is_empty(), "{:?}", c.events);
 }

@@ -265,3 +265,40 @@ pub fn assert_error(v: &Value, words: &[&str]) {
         assert!(msg.contains(w), "error message {msg:?} lacks {w:?}");
     }
 }
+
+/// Six numbers from a JSON array (panics naming the value otherwise).
+pub fn six(v: &Value) -> [f64; 6] {
+    let a = v
+        .as_array()
+        .unwrap_or_else(|| panic!("expected an array of 6 numbers, got {v}"));
+    assert_eq!(a.len(), 6, "expected 6 numbers, got {v}");
+    std::array::from_fn(|i| a[i].as_f64().unwrap_or_else(|| panic!("not a number: {v}")))
+}
+
+/// The largest absolute difference between two six-vectors.
+pub fn max_diff(a: &[f64; 6], b: &[f64; 6]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The largest absolute value of a six-vector.
+pub fn max_abs(a: &[f64; 6]) -> f64 {
+    max_diff(a, &[0.0; 6])
+}
+
+/// Assert a generic OK result.
+pub fn assert_ok(v: &Value) {
+    assert_eq!(
+        v["result_type"], "generic",
+        "expected a generic result: {v}"
+    );
+    assert_eq!(v["error_status"], "OK", "expected OK: {v}");
+}
+
+/// Assert a status result in `mode`.
+pub fn assert_status(v: &Value, mode: &str) {
+    assert_eq!(v["result_type"], "status", "expected a status result: {v}");
+    assert_eq!(v["operating_mode"], mode, "{v}");
+}
