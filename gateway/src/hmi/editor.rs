@@ -19,7 +19,7 @@
 //! ```
 //! use mcm_gateway::hmi::editor::{Action, Editor};
 //! use mcm_gateway::hmi::telnet::Input;
-//! let mut e = Editor::new(100, &["status", "sleep"]);
+//! let mut e = Editor::new(100, vec!["status", "sleep"]);
 //! let mut echo = Vec::new();
 //! for b in *b"sta\t" {
 //!     e.feed(Input::Byte(b), true, &mut echo);
@@ -75,12 +75,12 @@ pub struct Editor {
     history_bytes: usize,
     /// Position while walking the history, and the line that was being typed.
     browsing: Option<(usize, Vec<char>)>,
-    words: &'static [&'static str],
+    words: Vec<&'static str>,
 }
 
 impl Editor {
     /// An editor for lines of at most `max_bytes`; Tab completes from `words`.
-    pub fn new(max_bytes: usize, words: &'static [&'static str]) -> Self {
+    pub fn new(max_bytes: usize, words: Vec<&'static str>) -> Self {
         Self {
             line: Vec::new(),
             bytes: 0,
@@ -458,7 +458,7 @@ mod tests {
 
     #[test]
     fn typing_echo_and_backspace() {
-        let mut e = Editor::new(100, WORDS);
+        let mut e = Editor::new(100, WORDS.to_vec());
         let (a, out) = run(&mut e, b"holx\x7Fd\n", true);
         assert_eq!(a, [line("hold")]);
         assert_eq!(out, "holx\x08 \x08d\r\n");
@@ -470,7 +470,7 @@ mod tests {
 
     #[test]
     fn cursor_movement_and_editing_keys() {
-        let mut e = Editor::new(100, WORDS);
+        let mut e = Editor::new(100, WORDS.to_vec());
         // "move 1": Left twice, insert "_axis"... via Home/End and arrows.
         let (a, _) = run(&mut e, b"ove_axis\x1b[Hm\x1b[F 1 30\n", true);
         assert_eq!(a, [line("move_axis 1 30")]);
@@ -491,7 +491,7 @@ mod tests {
 
     #[test]
     fn history() {
-        let mut e = Editor::new(100, WORDS);
+        let mut e = Editor::new(100, WORDS.to_vec());
         run(&mut e, b"first\nsecond\n", true);
         let (a, _) = run(&mut e, b"\x1b[A\n", true);
         assert_eq!(a, [line("second")]);
@@ -510,7 +510,7 @@ mod tests {
 
     #[test]
     fn ctrl_c_and_ctrl_d() {
-        let mut e = Editor::new(100, WORDS);
+        let mut e = Editor::new(100, WORDS.to_vec());
         let (a, out) = run(&mut e, b"half a line\x03", true);
         assert_eq!(a, [Action::Interrupt]);
         assert!(out.ends_with("line"), "at the end already: no movement");
@@ -535,7 +535,7 @@ mod tests {
 
     #[test]
     fn completion() {
-        let mut e = Editor::new(100, WORDS);
+        let mut e = Editor::new(100, WORDS.to_vec());
         let (a, _) = run(&mut e, b"sta\t\n", true);
         assert_eq!(a, [line("status ")]);
         let (a, out) = run(&mut e, b"s\t", true);
@@ -549,7 +549,7 @@ mod tests {
 
     #[test]
     fn utf8_characters() {
-        let mut e = Editor::new(100, WORDS);
+        let mut e = Editor::new(100, WORDS.to_vec());
         let (a, out) = run(&mut e, "a\u{e4}\u{20ac}".as_bytes(), true);
         assert!(a.is_empty());
         assert_eq!(out, "a\u{e4}\u{20ac}");
@@ -561,7 +561,7 @@ mod tests {
 
     #[test]
     fn long_lines_are_dropped_with_bounded_memory() {
-        let mut e = Editor::new(10, WORDS);
+        let mut e = Editor::new(10, WORDS.to_vec());
         let (a, _) = run(&mut e, b"0123456789abcdef", true);
         assert!(a.is_empty());
         assert!(e.line.capacity() <= 16 && e.text().is_empty());
@@ -573,7 +573,7 @@ mod tests {
 
     #[test]
     fn history_is_bounded() {
-        let mut e = Editor::new(100, WORDS);
+        let mut e = Editor::new(100, WORDS.to_vec());
         for i in 0..(HISTORY_LINES + 20) {
             run(&mut e, format!("line {i}\n").as_bytes(), true);
         }

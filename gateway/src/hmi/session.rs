@@ -38,27 +38,14 @@ const GOODBYE_TIMEOUT: Duration = Duration::from_secs(1);
 /// the bridge may not have read it yet).
 const FIRST_STATE_WAIT: Duration = Duration::from_secs(1);
 
-/// Words for the session's command names (Tab completion).
-pub const COMPLETIONS: &[&str] = &[
-    "status",
-    "info",
-    "hold",
-    "calibrate",
-    "release",
-    "torque_control",
-    "set_torques",
-    "pvt",
-    "move_axis",
-    "move_all",
-    "pvt_points",
-    "sleep",
-    "sim",
-    "help",
-    "watch",
-    "clear",
-    "quit",
-    "exit",
-];
+/// Words for Tab completion: every protocol command and the session's own commands.
+pub fn completions() -> Vec<&'static str> {
+    crate::cmd::COMMAND_NAMES
+        .iter()
+        .chain(super::words::SESSION_COMMANDS)
+        .copied()
+        .collect()
+}
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Flow {
@@ -124,7 +111,7 @@ impl Session {
             rd,
             wr,
             telnet: Telnet::new(),
-            editor: Editor::new(MAX_LINE_BYTES, COMPLETIONS),
+            editor: Editor::new(MAX_LINE_BYTES, completions()),
             pending: VecDeque::new(),
             closed: false,
             errors_open: true,

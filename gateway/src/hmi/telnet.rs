@@ -376,7 +376,7 @@ mod tests {
 
     fn lines(bytes: &[u8]) -> Vec<String> {
         let mut t = Telnet::new();
-        let mut e = Editor::new(1024, &[]);
+        let mut e = Editor::new(1024, Vec::new());
         let (inputs, _) = feed(&mut t, bytes);
         let mut out = Vec::new();
         inputs

@@ -246,7 +246,7 @@ impl Controller {
                 return self.reject(c, RejectCode::Unreachable, axis as u32 + 1, &values);
             }
         }
-        let plan = match MovePlan::plan(self.cmd.position, target, &self.scaled_limits(), factor) {
+        let plan = match MovePlan::plan(self.cmd.position, target, &self.p.limits, factor) {
             Ok(p) => p,
             Err(_) => return self.reject(c, RejectCode::OutOfRange, 0, &[factor, 0.0, 1.0]),
         };

@@ -6,7 +6,7 @@ use super::{Controller, FRICTION_COMPENSATION, RELEASE_DAMPING, Waiting};
 use crate::calibration::{AxisCalibration, AxisInput, AxisSettings, Outcome};
 use crate::canopen::DriveRequest;
 use crate::pvt::StreamState;
-use crate::trajectory::{AxisLimits, JointSample, MovePlan, StopPlan};
+use crate::trajectory::{JointSample, MovePlan, StopPlan};
 use mcm_shared::NUM_AXES;
 use mcm_shared::mode::{Mode, RejectCode, ReplyStatus};
 
@@ -63,11 +63,6 @@ impl Motion {
 }
 
 impl Controller {
-    /// Limits scaled for planned moves.
-    pub(super) fn scaled_limits(&self) -> [AxisLimits; NUM_AXES] {
-        self.p.limits
-    }
-
     /// Stop whatever moves, with a controlled stop at each axis's maximum deceleration, from
     /// the commanded state (position modes) or from the measured state (torque modes).
     pub(super) fn stop_motion(&mut self) {
@@ -324,7 +319,7 @@ impl Controller {
                 start[i]
             }
         });
-        match MovePlan::plan(start, target, &self.scaled_limits(), RETURN_VELOCITY_FACTOR) {
+        match MovePlan::plan(start, target, &self.p.limits, RETURN_VELOCITY_FACTOR) {
             Ok(plan) => self.motion = Motion::Move { plan, t: 0.0 },
             Err(_) => {
                 self.motion = Motion::Hold;
