@@ -88,7 +88,7 @@ fn success(ctx: &Context, cmd: &Command, reply: &Reply, state: &StateSample) -> 
         Command::Hold | Command::Release | Command::Pvt(_) | Command::TorqueControl(_) => {
             result::status(state, false)
         }
-        Command::Info => result::initialization(&ctx.cfg, reply),
+        Command::Info => result::initialization(&ctx.cfg, reply, state),
         Command::MoveAll(_) => result::move_all(reply),
         Command::Sim(_) => result::sim(state),
         Command::SetTorques(_) => return None,

@@ -6,7 +6,7 @@ use mcm_shared::mode::{Mode, RejectCode, ReplyStatus};
 use mcm_shared::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord, Reply,
     STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, STATE_SIM_ESTOP,
-    StateSample,
+    STATE_SIMULATED, StateSample,
 };
 use serde_json::{Value, json};
 
@@ -173,8 +173,9 @@ pub fn move_all(reply: &Reply) -> Value {
     })
 }
 
-/// The initialization result (`info`).
-pub fn initialization(cfg: &RobotConfig, reply: &Reply) -> Value {
+/// The initialization result (`info`): number of axes and cycle time from the reply, whether
+/// the robot is simulated from the state sample's `STATE_SIMULATED` flag.
+pub fn initialization(cfg: &RobotConfig, reply: &Reply, state: &StateSample) -> Value {
     let axes: Vec<Value> = cfg
         .axes
         .iter()
@@ -198,7 +199,7 @@ pub fn initialization(cfg: &RobotConfig, reply: &Reply) -> Value {
         "version": mcm_shared::VERSION,
         "robot": cfg.robot.name,
         "cycle_time": reply.values[1],
-        "simulated": reply.values[2] != 0.0,
+        "simulated": state.flags & STATE_SIMULATED != 0,
         "axes": axes,
     })
 }
@@ -243,6 +244,22 @@ mod tests {
                 .contains("drives online 0/6")
         );
         assert_eq!(d["detail"]["calibrated"].as_array().unwrap().len(), 6);
+    }
+
+    #[test]
+    fn info_says_simulated_from_the_state_flag() {
+        let cfg = RobotConfig::prob2_default();
+        let r = Reply {
+            values: [6.0, 0.005, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            ..Reply::default()
+        };
+        let mut s = StateSample::default();
+        let real = initialization(&cfg, &r, &s);
+        assert_eq!(real["simulated"], false, "values[2] is not read: {real}");
+        assert_eq!(real["num_axes"], 6);
+        assert_eq!(real["cycle_time"], 0.005);
+        s.flags |= STATE_SIMULATED;
+        assert_eq!(initialization(&cfg, &r, &s)["simulated"], true);
     }
 
     #[test]

@@ -4,9 +4,10 @@
 //! cargo bench -p mcm-rt-core --bench cycle
 //! ```
 //!
-//! - `cycle/run_hold_sim`: one whole [`Cycle::run`] in HOLD against the simulated robot: the
-//!   controller, the CANopen master, six simulated CiA 402 drives and the arm physics (10
-//!   physics sub-steps of 500 µs). On a real arm the simulation is replaced by SocketCAN
+//! - `cycle/run_hold_sim`: one whole cycle in HOLD against the simulated robot as the runner
+//!   runs it ([`SimCycle::run`]: the cycle with the simulator's edge): the controller, the
+//!   CANopen master, six simulated CiA 402 drives and the arm physics (10 physics sub-steps of
+//!   500 µs). On a real arm the simulation is replaced by SocketCAN
 //!   system calls, so this is an upper bound of the controller's share.
 //! - `dynamics/gravity_torques`, `dynamics/forward_dynamics`: the arm model's per-call
 //!   functions (RNEA; mass matrix + RNEA + Cholesky solve).
@@ -17,14 +18,14 @@
 //! Results and the machine they were measured on: `docs/performance.md`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use mcm_rt_core::bus::{Bus, Frame};
+use mcm_bus::{Bus, Frame};
+use mcm_dynamics::ArmModel;
 use mcm_rt_core::canopen::{DriveRequest, FrameBuf, Master};
-use mcm_rt_core::cycle::Cycle;
-use mcm_rt_core::dynamics::ArmModel;
-use mcm_rt_core::sim::SimBus;
+use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::sample::CommandSample;
+use mcm_sim::SimBus;
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -34,9 +35,9 @@ const BOOT_CYCLES: u64 = 2_000;
 fn cycle_in_hold(c: &mut Criterion) {
     let cfg = RobotConfig::prob2_default();
     let period = cfg.cycle_period_ns();
-    let mut cycle = Cycle::new(&cfg, SimBus::new(&cfg)).unwrap();
+    let mut cycle = SimCycle::new(&cfg, SimBus::new(&cfg)).unwrap();
     let mut k = 0u64;
-    let mut step = |cycle: &mut Cycle<SimBus>, commands: &[CommandSample]| {
+    let mut step = |cycle: &mut SimCycle, commands: &[CommandSample]| {
         cycle.run(k * period, commands);
         k += 1;
         k

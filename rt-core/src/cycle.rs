@@ -1,12 +1,14 @@
-//! One cycle of the real-time core against a bus: read the frames, serve the simulation's
-//! fault injection, step the controller, send the frames.
+//! One cycle of the real-time core against a bus: read the frames, step the controller, send
+//! the frames.
 //!
 //! Runs inside the cycle; used by the real-time loop ([`crate::runner`]) and, with virtual
-//! time, by the deterministic tests (same inputs, same outputs, no wall clock).
+//! time, by the deterministic tests (same inputs, same outputs, no wall clock). It knows
+//! nothing of the simulator: with the simulated bus, the runner puts the simulator's edge
+//! ([`crate::sim_edge`]) between [`Cycle::receive`] and [`Cycle::step`].
 //!
 //! ```
 //! use mcm_rt_core::cycle::Cycle;
-//! use mcm_rt_core::sim::SimBus;
+//! use mcm_sim::SimBus;
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
 //! let mut cycle = Cycle::new(&cfg, SimBus::new(&cfg)).unwrap();
 //! for k in 0..10 {
@@ -15,13 +17,11 @@
 //! assert_eq!(cycle.controller().state().seq, 10);
 //! ```
 
-use crate::bus::{Bus, Frame};
 use crate::canopen::{FrameBuf, Master, MasterSetupError};
 use crate::controller::Controller;
-use crate::request::{self, Request};
+use mcm_bus::{Bus, Frame};
 use mcm_shared::config::RobotConfig;
-use mcm_shared::mode::{CommandKind, RejectCode, ReplyStatus};
-use mcm_shared::sample::{CommandSample, REPLY_RING, Reply, STATE_SIM_ESTOP};
+use mcm_shared::sample::{CommandSample, REPLY_RING};
 
 /// Frames read per cycle at most; more stay queued for the next cycle.
 pub const RX_PER_CYCLE: usize = 128;
@@ -34,22 +34,22 @@ pub struct Cycle<B: Bus> {
     controller: Controller,
     bus: B,
     rx: [Frame; RX_PER_CYCLE],
+    /// Frames read by the last [`Cycle::receive`], not yet given to the controller.
+    n_rx: usize,
     tx: FrameBuf,
-    pass: [CommandSample; COMMANDS_PER_CYCLE],
     bus_errors: u64,
 }
 
 impl<B: Bus> Cycle<B> {
     /// Build the CANopen master (which checks the bus load) and the controller over `bus`.
-    pub fn new(cfg: &RobotConfig, mut bus: B) -> Result<Self, MasterSetupError> {
+    pub fn new(cfg: &RobotConfig, bus: B) -> Result<Self, MasterSetupError> {
         let master = Master::new(cfg)?;
-        let simulated = bus.sim().is_some();
         Ok(Self {
-            controller: Controller::new(cfg, master, simulated),
+            controller: Controller::new(cfg, master),
             bus,
             rx: [Frame::default(); RX_PER_CYCLE],
+            n_rx: 0,
             tx: FrameBuf::new(),
-            pass: [CommandSample::default(); COMMANDS_PER_CYCLE],
             bus_errors: 0,
         })
     }
@@ -66,14 +66,27 @@ impl<B: Bus> Cycle<B> {
         &mut self.bus
     }
 
+    /// The controller and the bus at once (for an edge that works on both between
+    /// [`Cycle::receive`] and [`Cycle::step`]).
+    pub fn parts_mut(&mut self) -> (&mut Controller, &mut B) {
+        (&mut self.controller, &mut self.bus)
+    }
+
     /// Frames that could not be sent or received since start.
     pub fn bus_errors(&self) -> u64 {
         self.bus_errors
     }
 
-    /// Run one cycle at controller time `now_ns` with `commands` (at most
-    /// [`COMMANDS_PER_CYCLE`] are served; the caller keeps the rest for the next cycle).
+    /// Run one cycle at controller time `now_ns` with `commands`: [`Cycle::receive`] then
+    /// [`Cycle::step`].
     pub fn run(&mut self, now_ns: u64, commands: &[CommandSample]) {
+        self.receive();
+        self.step(now_ns, commands);
+    }
+
+    /// First half of a cycle: read the frames received since the last cycle (at most
+    /// [`RX_PER_CYCLE`]; more stay queued).
+    pub fn receive(&mut self) {
         let mut n_rx = 0;
         while n_rx < RX_PER_CYCLE {
             match self.bus.recv(0) {
@@ -88,60 +101,22 @@ impl<B: Bus> Cycle<B> {
                 }
             }
         }
-        let mut n_pass = 0;
-        for c in commands.iter().take(COMMANDS_PER_CYCLE) {
-            if c.kind == CommandKind::Sim.to_wire() && self.bus.sim().is_some() {
-                self.serve_sim(c);
-            } else {
-                self.pass[n_pass] = *c;
-                n_pass += 1;
-            }
-        }
+        self.n_rx = n_rx;
+    }
+
+    /// Second half of a cycle: step the controller at controller time `now_ns` with the frames
+    /// of the last [`Cycle::receive`] and `commands` (at most [`COMMANDS_PER_CYCLE`] are
+    /// served; the caller keeps the rest for the next cycle), then send its frames.
+    pub fn step(&mut self, now_ns: u64, commands: &[CommandSample]) {
+        let n_rx = core::mem::take(&mut self.n_rx);
+        let commands = &commands[..commands.len().min(COMMANDS_PER_CYCLE)];
         self.tx.clear();
         self.controller
-            .step(now_ns, &self.rx[..n_rx], &self.pass[..n_pass], &mut self.tx);
+            .step(now_ns, &self.rx[..n_rx], commands, &mut self.tx);
         for f in self.tx.iter() {
             if self.bus.send(f).is_err() {
                 self.bus_errors += 1;
             }
         }
-        if let Some(sim) = self.bus.sim() {
-            let truth = sim.truth();
-            let s = self.controller.state_mut();
-            s.sim_true_position = truth.position.map(f64::to_degrees);
-            s.sim_true_velocity = truth.velocity.map(f64::to_degrees);
-            if truth.emergency_stop {
-                s.flags |= STATE_SIM_ESTOP;
-            } else {
-                s.flags &= !STATE_SIM_ESTOP;
-            }
-        }
-    }
-
-    fn serve_sim(&mut self, c: &CommandSample) {
-        let mut reply = Reply {
-            client_id: c.client_id,
-            request_id: c.request_id,
-            kind: c.kind,
-            ..Reply::default()
-        };
-        let result = match request::decode(c) {
-            Ok(Request::Sim(cmd)) => match self.bus.sim().map(|s| s.apply(&cmd)) {
-                Some(Ok(())) => Ok(()),
-                Some(Err(_)) | None => Err((RejectCode::OutOfRange, 0, [0.0; 3])),
-            },
-            Ok(_) => Err((RejectCode::OutOfRange, 0, [0.0; 3])),
-            Err(e) => Err((e.code, e.axis, e.values)),
-        };
-        match result {
-            Ok(()) => reply.status = ReplyStatus::Ok.to_wire(),
-            Err((code, axis, values)) => {
-                reply.status = ReplyStatus::Rejected.to_wire();
-                reply.code = code.to_wire();
-                reply.axis = axis;
-                reply.values[..3].copy_from_slice(&values);
-            }
-        }
-        self.controller.push_reply(reply);
     }
 }

@@ -1,16 +1,17 @@
 //! # mcm-rt-core: the real-time core of the Motion Control Module
 //!
 //! A deterministic controller over plain data, with all I/O at the edges (clock, bus, IPC).
-//! Each module says at its top whether it runs inside the cycle.
+//! Each module says at its top whether it runs inside the cycle. The drive bus, the arm's
+//! dynamics and the simulated robot are the crates `mcm-bus`, `mcm-dynamics` and `mcm-sim`;
+//! the simulator reaches the cycle only through [`sim_edge`], which the runner wires in for
+//! `bus.backend = "sim"`.
 
-pub mod bus;
 pub mod calibration;
 pub mod canopen;
 pub mod cli;
 pub mod clock;
 pub mod controller;
 pub mod cycle;
-pub mod dynamics;
 pub mod flight;
 pub mod histogram;
 pub mod ipc;
@@ -20,5 +21,5 @@ pub mod realtime;
 pub mod request;
 pub mod runner;
 pub mod safety;
-pub mod sim;
+pub mod sim_edge;
 pub mod trajectory;

@@ -4,12 +4,12 @@
 //! arguments before publishing, but co-located controllers publish samples directly, so every
 //! value is checked again here; a bad value becomes a rejection naming it.
 
-use crate::bus::SimCommand;
 use mcm_shared::mode::{CommandKind, RejectCode};
 use mcm_shared::sample::{
     CALIBRATE_FLAG_FORCE_STOP, CommandSample, PVT_FLAG_LAST, PVT_POINTS_PER_COMMAND,
     SIM_FLAG_POWER_CYCLE, TORQUE_FLAG_NO_GRAVITY,
 };
+use mcm_sim::SimCommand;
 
 /// Which axes a calibration covers (0-based axis bit mask).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,24 +1,30 @@
 //! The real-time loop: the edges around [`crate::cycle::Cycle`].
 //!
 //! Set-up (bus, real-time thread, IPC) runs once; then every period, on absolute deadlines:
-//! wake, record the wake-up latency, drain commands, run the cycle, add timing, publish the
-//! state. Stops when SIGINT or SIGTERM arrives (checked once per cycle).
+//! wake, record the wake-up latency, drain commands, run the cycle ([`run_cycle`]), add timing,
+//! publish the state. Stops when SIGINT or SIGTERM arrives (checked once per cycle).
+//! [`run_cycle`] and [`fill_sim_fields`] run inside the cycle; the rest is set-up and teardown.
 //!
-//! With the simulated bus, the simulated robot outlives a restart of `mcm-rt` the way real
-//! drives that keep their power do: it is resumed from [`sim_state_path`] at start (the file is
-//! then deleted) and saved there when the loop stops.
+//! The runner builds the bus and so knows its type: with the simulated bus it wires the
+//! simulator's edge ([`crate::sim_edge`]) into the loop, and the simulated robot outlives a
+//! restart of `mcm-rt` the way real drives that keep their power do
+//! ([`mcm_sim::snapshot`]: resumed at start, saved when the loop stops).
 
-use crate::bus::Bus;
 use crate::clock;
 use crate::cycle::{COMMANDS_PER_CYCLE, Cycle};
 use crate::flight::{FlightRecorder, Record};
 use crate::histogram::Histogram;
 use crate::ipc::{IpcSetupError, RtIpc};
 use crate::realtime::{self, RtReport};
+use crate::sim_edge::{SimAccess, SimEdge};
+use mcm_bus::Bus;
+use mcm_bus::candump::{LogOptions, LoggingBus};
 use mcm_shared::config::{BusBackend, RobotConfig};
-use mcm_shared::sample::{CommandSample, STATE_NOT_REALTIME};
+use mcm_shared::sample::{
+    CommandSample, STATE_NOT_REALTIME, STATE_SIM_ESTOP, STATE_SIMULATED, StateSample,
+};
 use mcm_shared::service::ServiceNames;
-use std::path::{Path, PathBuf};
+use mcm_sim::{SimBus, SimTruth, snapshot};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -97,24 +103,24 @@ pub fn run(
         .candump
         .clone()
         .or_else(|| opts.config.bus.candump_log.clone().map(Into::into));
-    let state = sim_state_path(opts.names.instance());
+    let state = snapshot::state_path(opts.names.instance());
     let save_to = state.clone();
     match (opts.config.bus.backend, candump) {
         (BusBackend::Sim, None) => spawn(
             opts,
             on_started,
-            move |cfg| Ok(sim_bus(cfg, &state)),
-            move |bus: &mut crate::sim::SimBus| save_sim(bus, &save_to),
+            move |cfg| Ok(snapshot::resume_or_power_up(cfg, &state)),
+            Some(|bus: &mut SimBus| bus as _),
+            move |bus: &mut SimBus| snapshot::save(bus, &save_to),
         ),
         (BusBackend::Sim, Some(path)) => spawn(
             opts,
             on_started,
-            move |cfg| logging(sim_bus(cfg, &state), "sim0", &path),
-            move |bus: &mut crate::bus::candump::LoggingBus<crate::sim::SimBus>| {
-                save_sim(bus.inner(), &save_to)
-            },
+            move |cfg| logging(snapshot::resume_or_power_up(cfg, &state), "sim0", &path),
+            Some(|bus: &mut LoggingBus<SimBus>| bus.inner_mut() as _),
+            move |bus: &mut LoggingBus<SimBus>| snapshot::save(bus.inner(), &save_to),
         ),
-        (BusBackend::Socketcan, None) => spawn(opts, on_started, socketcan, |_| {}),
+        (BusBackend::Socketcan, None) => spawn(opts, on_started, socketcan, None, |_| {}),
         (BusBackend::Socketcan, Some(path)) => spawn(
             opts,
             on_started,
@@ -122,72 +128,32 @@ pub fn run(
                 let bus = socketcan(cfg)?;
                 logging(bus, &cfg.bus.interface.clone(), &path)
             },
+            None,
             |_| {},
         ),
     }
 }
 
-/// Where the simulated robot waits while `mcm-rt` of `instance` restarts: real drives keep
-/// their power (encoder counts, stored calibration) when only the MCM restarts, so the
-/// simulation is saved here when the loop stops and resumed from here at the next start.
-pub fn sim_state_path(instance: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("mcm-sim-{instance}.state"))
-}
-
-/// The simulated robot: resumed from `state` (which is then deleted) if an earlier run of the
-/// same instance saved it, powered up fresh otherwise (also when the file is unreadable).
-fn sim_bus(cfg: &RobotConfig, state: &Path) -> crate::sim::SimBus {
-    let resumed = crate::sim::SimBus::resume(cfg, state);
-    if !matches!(resumed, Ok(None)) {
-        let _ = std::fs::remove_file(state);
-    }
-    match resumed {
-        Ok(Some(bus)) => bus,
-        Ok(None) => crate::sim::SimBus::new(cfg),
-        Err(e) => {
-            eprintln!("mcm-rt: WARNING: {e}; the simulated drives power up fresh");
-            crate::sim::SimBus::new(cfg)
-        }
-    }
-}
-
-fn save_sim(bus: &crate::sim::SimBus, state: &Path) {
-    if let Err(e) = bus.save(state) {
-        eprintln!(
-            "mcm-rt: WARNING: cannot save the simulation to {}: {e}; the next start powers the drives up fresh",
-            state.display()
-        );
-    }
-}
-
-fn socketcan(cfg: &RobotConfig) -> Result<crate::bus::socketcan::SocketCanBus, RunError> {
-    crate::bus::socketcan::SocketCanBus::open(&cfg.bus.interface)
+fn socketcan(cfg: &RobotConfig) -> Result<mcm_bus::socketcan::SocketCanBus, RunError> {
+    mcm_bus::socketcan::SocketCanBus::open(&cfg.bus.interface)
         .map_err(|e| RunError::Bus(e.to_string()))
 }
 
-fn logging<B: Bus>(
-    bus: B,
-    iface: &str,
-    path: &std::path::Path,
-) -> Result<crate::bus::candump::LoggingBus<B>, RunError> {
-    crate::bus::candump::LoggingBus::new(
-        bus,
-        path,
-        iface,
-        crate::bus::candump::LogOptions::default(),
-    )
-    .map_err(|e| RunError::Candump {
+fn logging<B: Bus>(bus: B, iface: &str, path: &std::path::Path) -> Result<LoggingBus<B>, RunError> {
+    LoggingBus::new(bus, path, iface, LogOptions::default()).map_err(|e| RunError::Candump {
         path: path.display().to_string(),
         reason: e.to_string(),
     })
 }
 
-/// Run the cycle over the bus `make_bus` opens; `finish` gets the bus after the loop stopped
-/// (outside the cycle).
+/// Run the cycle over the bus `make_bus` opens, with the simulator's edge when `sim` reaches
+/// the simulator inside that bus; `finish` gets the bus after the loop stopped (outside the
+/// cycle).
 fn spawn<B: Bus + 'static>(
     opts: RunOptions,
     on_started: impl FnOnce(&RtReport) + Send + 'static,
     make_bus: impl FnOnce(&RobotConfig) -> Result<B, RunError> + Send + 'static,
+    sim: Option<SimAccess<B>>,
     finish: impl FnOnce(&mut B) + Send + 'static,
 ) -> Result<RunSummary, RunError> {
     let handle = std::thread::Builder::new()
@@ -201,6 +167,7 @@ fn spawn<B: Bus + 'static>(
                 return Err(RunError::NotRealtime { report });
             }
             let mut cycle = Cycle::new(cfg, bus)?;
+            let mut edge = sim.map(SimEdge::new);
             let mut ipc = RtIpc::create(&opts.names)?;
             let records =
                 (cfg.safety.flight_recorder_seconds * f64::from(cfg.cycle.rate_hz)).ceil() as usize;
@@ -211,7 +178,7 @@ fn spawn<B: Bus + 'static>(
             )
             .map_err(|e| RunError::FlightRecorder(e.to_string()))?;
             on_started(&report);
-            let summary = cycle_loop(cfg, &mut cycle, &mut ipc, recorder, report);
+            let summary = cycle_loop(cfg, &mut cycle, edge.as_mut(), &mut ipc, recorder, report);
             finish(cycle.bus_mut());
             writer.stop();
             Ok(summary)
@@ -220,9 +187,43 @@ fn spawn<B: Bus + 'static>(
     handle.join().map_err(|_| RunError::Panicked)?
 }
 
+/// One cycle of `cycle` at controller time `now_ns` with `commands`, as the real-time loop
+/// runs it: through the simulator's `edge` when there is one, then the state sample's
+/// simulation fields from its truth ([`fill_sim_fields`]).
+pub fn run_cycle<B: Bus>(
+    cycle: &mut Cycle<B>,
+    edge: Option<&mut SimEdge<B>>,
+    now_ns: u64,
+    commands: &[CommandSample],
+) {
+    let truth = match edge {
+        Some(edge) => Some(edge.run(cycle, now_ns, commands)),
+        None => {
+            cycle.run(now_ns, commands);
+            None
+        }
+    };
+    fill_sim_fields(cycle.controller_mut().state_mut(), truth.as_ref());
+}
+
+/// The state sample's simulation fields from the simulator's truth: true joint angles and
+/// velocities [deg, deg/s], `STATE_SIM_ESTOP`, `STATE_SIMULATED`. `None` (real drives): the
+/// fields zero and both flags clear.
+pub fn fill_sim_fields(s: &mut StateSample, truth: Option<&SimTruth>) {
+    let truth = truth.copied();
+    let t = truth.unwrap_or_default();
+    s.sim_true_position = t.position.map(f64::to_degrees);
+    s.sim_true_velocity = t.velocity.map(f64::to_degrees);
+    let flags = s.flags & !(STATE_SIM_ESTOP | STATE_SIMULATED);
+    s.flags = flags
+        | if t.emergency_stop { STATE_SIM_ESTOP } else { 0 }
+        | if truth.is_some() { STATE_SIMULATED } else { 0 };
+}
+
 fn cycle_loop<B: Bus>(
     cfg: &RobotConfig,
     cycle: &mut Cycle<B>,
+    mut edge: Option<&mut SimEdge<B>>,
     ipc: &mut RtIpc,
     mut recorder: FlightRecorder,
     report: RtReport,
@@ -245,7 +246,7 @@ fn cycle_loop<B: Bus>(
         let wake = clock::now_ns();
         latency.record(wake.saturating_sub(next));
         let n = ipc.drain(&mut commands).unwrap_or(0);
-        cycle.run(k * period, &commands[..n]);
+        run_cycle(cycle, edge.as_deref_mut(), k * period, &commands[..n]);
         let s = cycle.controller_mut().state_mut();
         s.t_ns = wake;
         s.flags |= not_rt;

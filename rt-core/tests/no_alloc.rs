@@ -1,19 +1,20 @@
 //! The whole cycle allocates nothing, and the whole robot is deterministic.
 //!
 //! A counting global allocator counts the allocations (and bytes) made on the test thread
-//! while [`Cycle::run`] runs the controller, the CANopen master, the six simulated drives and
-//! the arm physics in virtual time, with `status`, `hold`, `info` and `sim` commands mixed in.
+//! while [`SimCycle::run`] (the cycle with the simulator's edge, as the runner runs it) runs
+//! the controller, the CANopen master, the six simulated drives and the arm physics in virtual
+//! time, with `status`, `hold`, `info` and `sim` commands mixed in.
 //! Only the thread that sets the thread-local flag is counted, so the test harness's own
 //! threads cannot disturb the figure.
 //!
 //! The second half runs the same scenario twice and compares every published state sample:
 //! the same inputs must give the same outputs, bit for bit.
 
-use mcm_rt_core::cycle::Cycle;
-use mcm_rt_core::sim::SimBus;
+use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::sample::{CommandSample, StateSample};
+use mcm_sim::SimBus;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -105,7 +106,7 @@ fn external_torques(request_id: u64, torques: [f64; 6]) -> CommandSample {
 
 /// The simulated robot in virtual time, with a command counter.
 struct Robot {
-    cycle: Cycle<SimBus>,
+    cycle: SimCycle,
     period_ns: u64,
     k: u64,
     next_request: u64,
@@ -114,7 +115,7 @@ struct Robot {
 impl Robot {
     fn new() -> Robot {
         let cfg = RobotConfig::prob2_default();
-        let cycle = Cycle::new(&cfg, SimBus::new(&cfg)).expect("the P-Rob2 config is valid");
+        let cycle = SimCycle::new(&cfg, SimBus::new(&cfg)).expect("the P-Rob2 config is valid");
         Robot {
             cycle,
             period_ns: cfg.cycle_period_ns(),
@@ -136,7 +137,7 @@ impl Robot {
     }
 
     /// Run until `done` holds; panics after `max` cycles.
-    fn run_until(&mut self, what: &str, max: u64, done: impl Fn(&Cycle<SimBus>) -> bool) {
+    fn run_until(&mut self, what: &str, max: u64, done: impl Fn(&SimCycle) -> bool) {
         for _ in 0..max {
             if done(&self.cycle) {
                 return;

@@ -20,7 +20,7 @@
 use super::nmt::{NmtCommand, nmt_frame};
 use super::objects::*;
 use super::sdo::{SdoAbortCode, SdoClient, SdoDone, SdoError, SdoRequest, SdoValue};
-use crate::bus::Frame;
+use mcm_bus::Frame;
 
 /// Number of SDO operations of the sequence (steps 1..=11).
 pub const BOOT_OPS: usize = 38;

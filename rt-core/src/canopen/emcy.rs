@@ -6,7 +6,7 @@
 //!
 //! ```
 //! use mcm_rt_core::canopen::emcy::Emcy;
-//! let f = mcm_rt_core::bus::Frame::new(0x083, &[0x30, 0x81, 0x11, 0, 0, 0, 0, 0]).unwrap();
+//! let f = mcm_bus::Frame::new(0x083, &[0x30, 0x81, 0x11, 0, 0, 0, 0, 0]).unwrap();
 //! let e = Emcy::decode(&f, 2).unwrap();
 //! assert_eq!(e.code, 0x8130);
 //! assert_eq!(e.to_string(),
@@ -15,8 +15,8 @@
 //! ```
 
 use super::objects::EMCY_BASE;
-use crate::bus::Frame;
 use core::fmt;
+use mcm_bus::Frame;
 
 /// A decoded emergency message. `axis` is 0-based (0..6); texts print it 1-based.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

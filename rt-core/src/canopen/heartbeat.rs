@@ -17,7 +17,7 @@
 //! ```
 
 use super::nmt::{NmtState, heartbeat_frame};
-use crate::bus::Frame;
+use mcm_bus::Frame;
 
 /// Watches the heartbeat of one node.
 #[derive(Debug, Clone)]

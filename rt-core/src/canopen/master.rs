@@ -43,7 +43,7 @@ pub use super::types::{
     AxisFeedback, DriveRequest, EVENT_CAPACITY, FAULT_RESET_EDGES, FRAME_BUF_CAPACITY, FrameBuf,
     LostReason, MODE_CSP, MODE_CST, MODE_RESEND_CYCLES, MasterEvent, MasterSetupError,
 };
-use crate::bus::Frame;
+use mcm_bus::Frame;
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::{AxisConfig, RobotConfig};
 

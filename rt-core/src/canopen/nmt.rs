@@ -8,7 +8,7 @@
 //! ```
 
 use super::objects::{NMT_ID, SYNC_ID, heartbeat_id};
-use crate::bus::Frame;
+use mcm_bus::Frame;
 
 /// NMT command specifiers (`000#<cs><node>`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

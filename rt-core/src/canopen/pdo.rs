@@ -17,7 +17,7 @@
 //! ```
 
 use super::objects::{rpdo_id, tpdo_id};
-use crate::bus::Frame;
+use mcm_bus::Frame;
 
 /// A PDO frame had the wrong length.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]

@@ -10,12 +10,12 @@
 //! let mut sdo = SdoClient::new(5, 50_000_000);
 //! let req = sdo.write(0, ObjectAddr::new(0x6060, 0), SdoValue::I8(8)).unwrap();
 //! assert_eq!(req.to_string(), "605#2F60600008000000");
-//! let resp = mcm_rt_core::bus::Frame::new(0x585, &[0x60, 0x60, 0x60, 0, 0, 0, 0, 0]).unwrap();
+//! let resp = mcm_bus::Frame::new(0x585, &[0x60, 0x60, 0x60, 0, 0, 0, 0, 0]).unwrap();
 //! assert!(matches!(sdo.on_frame(&resp), Some(Ok(_))));
 //! ```
 
 use super::objects::{ObjectAddr, sdo_rx_id, sdo_tx_id};
-use crate::bus::Frame;
+use mcm_bus::Frame;
 
 /// A value written by an expedited download; the variant fixes the size (1, 2 or 4 bytes).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -11,7 +11,7 @@ use super::nmt::{NmtState, heartbeat_frame};
 use super::objects::{ObjectAddr, Service, classify};
 use super::pdo::{Rpdo1, Rpdo2, Tpdo1, Tpdo2};
 use super::sdo::abort_frame;
-use crate::bus::Frame;
+use mcm_bus::Frame;
 use std::collections::HashMap;
 
 /// A scripted misbehaviour for one object.

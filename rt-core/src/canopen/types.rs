@@ -10,7 +10,7 @@ use super::cia402::State;
 use super::emcy::Emcy;
 use super::nmt::NmtState;
 use super::sdo::SdoError;
-use crate::bus::Frame;
+use mcm_bus::Frame;
 use mcm_shared::NUM_AXES;
 
 /// Capacity of a [`FrameBuf`]. One cycle needs at most 1 heartbeat + 6 x 2 (NMT or SDO, or

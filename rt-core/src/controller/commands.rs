@@ -63,10 +63,7 @@ impl Controller {
         };
         match req {
             Request::Status => self.ok(c, &[]),
-            Request::Info => {
-                let sim = if self.simulated { 1.0 } else { 0.0 };
-                self.ok(c, &[NUM_AXES as f64, self.p.period, sim]);
-            }
+            Request::Info => self.ok(c, &[NUM_AXES as f64, self.p.period]),
             Request::Hold => self.on_hold(c),
             Request::Calibrate {
                 axes,
@@ -127,8 +124,8 @@ impl Controller {
             } => self.on_move(c, target_deg.map(f64::to_radians), velocity_factor, None),
             Request::PvtPoints { count, last } => self.on_pvt_points(c, count, last),
             Request::Sim(_) => {
-                // Fault injection is served at the bus edge; reaching here means there is no
-                // simulated robot.
+                // Fault injection is served by the simulator's edge (`crate::sim_edge`) before
+                // the controller steps; reaching here means there is no simulated robot.
                 self.reject(c, RejectCode::NotSimulated, 0, &[]);
             }
         }

@@ -19,18 +19,17 @@ mod motion;
 
 use crate::calibration::AxisSettings;
 use crate::canopen::{AxisFeedback, DriveRequest, FrameBuf, Master, MasterEvent};
-use crate::dynamics::ArmModel;
 use crate::params::JointParams;
 use crate::pvt::PvtStream;
 use crate::safety::{self, ActiveChecks, I2t, SafetyParams};
 use crate::trajectory::JointSample;
+use mcm_dynamics::ArmModel;
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
 use mcm_shared::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, CommandSample,
-    ErrorRecord, Reply, STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_PVT_STARVED, STATE_SIMULATED,
-    StateSample,
+    ErrorRecord, Reply, STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_PVT_STARVED, StateSample,
 };
 pub use motion::Motion;
 
@@ -84,7 +83,6 @@ pub struct Controller {
     error_latched: bool,
     /// Calibration settings per axis: `[reverse][force_mechanical_stop]`.
     cal_settings: [[[AxisSettings; 2]; 2]; NUM_AXES],
-    simulated: bool,
     mode: Mode,
     /// Joint = raw - offset; `None` until calibrated.
     offsets: [Option<f64>; NUM_AXES],
@@ -114,12 +112,9 @@ pub struct Controller {
 }
 
 impl Controller {
-    /// Build the controller; `simulated` says whether the bus is the simulated robot.
-    pub fn new(cfg: &RobotConfig, master: Master, simulated: bool) -> Controller {
+    /// Build the controller of the arm `cfg` describes, over the CANopen `master`.
+    pub fn new(cfg: &RobotConfig, master: Master) -> Controller {
         let mut state = StateSample::default();
-        if simulated {
-            state.flags |= STATE_SIMULATED;
-        }
         let p = JointParams::from_config(cfg);
         let stream = PvtStream::new();
         state.pvt_capacity = stream.capacity() as u32;
@@ -137,7 +132,6 @@ impl Controller {
                     })
                 })
             }),
-            simulated,
             mode: Mode::Off,
             offsets: [None; NUM_AXES],
             motion: Motion::Hold,
@@ -171,7 +165,7 @@ impl Controller {
         &self.state
     }
 
-    /// The state sample, for the edge to add timing and simulation truth before publishing.
+    /// The state sample, for the edges to add timing and simulation truth before publishing.
     pub fn state_mut(&mut self) -> &mut StateSample {
         &mut self.state
     }
@@ -186,7 +180,8 @@ impl Controller {
         self.offsets
     }
 
-    /// Append a reply to the state's reply ring (also used by the edge for `sim` commands).
+    /// Append a reply to the state's reply ring (also used by the simulator's edge,
+    /// [`crate::sim_edge`], for `sim` commands).
     pub fn push_reply(&mut self, reply: Reply) {
         self.state.push_reply(reply);
     }
@@ -197,7 +192,7 @@ impl Controller {
     pub fn step(
         &mut self,
         now_ns: u64,
-        rx: &[crate::bus::Frame],
+        rx: &[mcm_bus::Frame],
         commands: &[CommandSample],
         tx: &mut FrameBuf,
     ) {

@@ -1,14 +1,15 @@
 //! Scenario tests of the controller against the simulated robot, in virtual time: the whole
-//! robot (controller, CANopen master, simulated drives, physics) stepped cycle by cycle.
+//! robot (controller, CANopen master, simulated drives, physics) stepped cycle by cycle, with
+//! the simulator's edge as the runner wires it in ([`SimCycle`]).
 
-use crate::cycle::Cycle;
-use crate::sim::SimBus;
+use crate::sim_edge::SimCycle;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
 use mcm_shared::sample::{CommandSample, Reply};
+use mcm_sim::SimBus;
 
 pub(crate) struct Robot {
-    pub cycle: Cycle<SimBus>,
+    pub cycle: SimCycle,
     pub k: u64,
     pub period: u64,
     next_request: u64,
@@ -21,7 +22,7 @@ impl Robot {
 
     pub fn with_config(cfg: &RobotConfig) -> Robot {
         let mut r = Robot {
-            cycle: Cycle::new(cfg, SimBus::new(cfg)).unwrap(),
+            cycle: SimCycle::new(cfg, SimBus::new(cfg)).unwrap(),
             k: 0,
             period: cfg.cycle_period_ns(),
             next_request: 1,
@@ -354,8 +355,8 @@ fn pvt_stream_of_a_sine_tracks_within_a_tenth_of_a_degree() {
 
 #[test]
 fn calibration_survives_a_restart_of_the_mcm_but_not_a_power_cycle() {
-    use crate::bus::{SimCommand, SimControl};
     use mcm_shared::sample::{AXIS_CALIBRATED, STATE_ALL_CALIBRATED};
+    use mcm_sim::{SimCommand, SimControl};
     let cfg = RobotConfig::prob2_default();
     let mut r = Robot::new();
     r.calibrate_all();
@@ -374,7 +375,7 @@ fn calibration_survives_a_restart_of_the_mcm_but_not_a_power_cycle() {
     let bus = SimBus::resume(&cfg, &path).unwrap().unwrap();
     std::fs::remove_file(&path).unwrap();
     let mut r = Robot {
-        cycle: Cycle::new(&cfg, bus).unwrap(),
+        cycle: SimCycle::new(&cfg, bus).unwrap(),
         k: 0,
         period: cfg.cycle_period_ns(),
         next_request: 1,

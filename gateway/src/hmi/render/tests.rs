@@ -118,12 +118,14 @@ fn move_all_timing() {
 #[test]
 fn info_and_sim_tables() {
     let r = Reply {
-        values: [6.0, 0.005, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        values: [6.0, 0.005, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
         ..Reply::default()
     };
+    let mut simulated = state(Mode::Hold);
+    simulated.flags |= mcm_shared::sample::STATE_SIMULATED;
     let text = strip_ansi(&result(
         "info",
-        &crate::result::initialization(&cfg(), &r),
+        &crate::result::initialization(&cfg(), &r, &simulated),
         &cfg(),
         None,
     ));

@@ -5,12 +5,12 @@
 //! Runs inside the cycle: no allocation; every refusal is a typed [`SdoAbort`].
 
 use super::{RESTORE_SIGNATURE, SimDrive, valid_mode};
-use crate::sim::FrameSink;
-use crate::sim::abort::SdoAbort;
-use crate::sim::nmt::NmtState;
-use crate::sim::od::{self, Access, Od};
-use crate::sim::pdo;
-use crate::sim::sdo_server::ObjectAccess;
+use crate::FrameSink;
+use crate::abort::SdoAbort;
+use crate::nmt::NmtState;
+use crate::od::{self, Access, Od};
+use crate::pdo;
+use crate::sdo_server::ObjectAccess;
 
 impl SimDrive {
     fn check_range(&self, slot: usize, raw: u32) -> Result<(), SdoAbort> {

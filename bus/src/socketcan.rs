@@ -12,9 +12,9 @@
 //! `send` and `recv` run inside the cycle: no allocation, no locks; `open` does not.
 //!
 //! ```no_run
-//! use mcm_rt_core::bus::{Bus, socketcan::SocketCanBus};
+//! use mcm_bus::{Bus, socketcan::SocketCanBus};
 //! let mut bus = SocketCanBus::open("can0")?;
-//! bus.send(&mcm_rt_core::bus::Frame::new(0x080, &[]).unwrap())?;
+//! bus.send(&mcm_bus::Frame::new(0x080, &[]).unwrap())?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 

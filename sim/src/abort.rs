@@ -5,7 +5,7 @@
 //! goes on the wire (bytes 4..7 of the `0x80` abort response).
 //!
 //! ```
-//! use mcm_rt_core::sim::SdoAbort;
+//! use mcm_sim::SdoAbort;
 //! let a = SdoAbort::WriteToReadOnly { index: 0x6041, sub: 0 };
 //! assert_eq!(a.code(), 0x0601_0002);
 //! ```

@@ -19,7 +19,7 @@
 
 use super::abort::SdoAbort;
 use super::od::{self, Mappable, Od};
-use crate::bus::Frame;
+use mcm_bus::Frame;
 
 /// Number of RPDOs and TPDOs of the drive.
 pub const NUM_RPDO: usize = 2;
@@ -330,7 +330,7 @@ impl PdoEngine {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::od::{OdDefaults, slot};
+    use crate::od::{OdDefaults, slot};
 
     fn od() -> Od {
         Od::new(&OdDefaults {

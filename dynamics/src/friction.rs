@@ -8,11 +8,11 @@
 //! friction adds [`ArmModel::friction_compensation`] (= −friction_torques) to its command, e.g.
 //! in RELEASE `τ = g(q) + α·friction_compensation(q̇)` with α < 1.
 //!
-//! The simulator ([`super::ArmSim`]) does not use the smoothed sign: it models true stiction
-//! (see `stiction.rs`), so a joint at rest stays at rest below the Coulomb level.
+//! The simulator (`ArmSim` of the `mcm-sim` crate) does not use the smoothed sign: it models
+//! true stiction (see `stiction.rs`), so a joint at rest stays at rest below the Coulomb level.
 //!
 //! ```
-//! use mcm_rt_core::dynamics::ArmModel;
+//! use mcm_dynamics::ArmModel;
 //! let model = ArmModel::from_config(&mcm_shared::config::RobotConfig::prob2_default());
 //! let f = model.friction_torques(&[1.0, 0.0, -1.0, 0.0, 0.0, 0.0]);
 //! assert!(f[0] < 0.0 && f[1] == 0.0 && f[2] > 0.0);

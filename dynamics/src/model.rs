@@ -9,7 +9,7 @@
 //! dynamics see six rigid bodies. [`ArmModel::set_tool`] changes the payload at run time.
 //!
 //! ```
-//! use mcm_rt_core::dynamics::ArmModel;
+//! use mcm_dynamics::ArmModel;
 //! let model = ArmModel::from_config(&mcm_shared::config::RobotConfig::prob2_default());
 //! let flange = model.flange_pose(&[0.0; 6]);
 //! assert!((flange.translation.z - 1.035).abs() < 1e-12); // upright zero pose

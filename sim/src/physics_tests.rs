@@ -1,6 +1,7 @@
-//! Scenario tests of the simulated arm ([`super::ArmSim`]). Test-only module.
+//! Scenario tests of the simulated arm ([`crate::physics::ArmSim`]). Test-only module.
 
-use super::{ArmModel, ArmSim};
+use crate::physics::ArmSim;
+use mcm_dynamics::ArmModel;
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;
 

@@ -1,16 +1,16 @@
-//! Rigid-body model and physics of the 6-axis arm (P-Rob2).
+//! # mcm-dynamics: rigid-body model of the 6-axis arm (P-Rob2)
 //!
 //! Two users:
 //! - the **controller** uses [`ArmModel`] inside the real-time cycle for gravity and friction
 //!   compensation (RELEASE, TORQUE_CONTROL) and for predictions;
-//! - the **simulated bus** owns an [`ArmSim`], the true state of the simulated arm, and steps
-//!   it inside the cycle thread.
+//! - the **simulator** (the `mcm-sim` crate) integrates the true state of the simulated arm
+//!   with the same model ([`ArmModel::mass_matrix_and_bias`], [`inverse_spd`],
+//!   [`solve_friction`]), inside the cycle thread.
 //!
 //! Runs inside the cycle: every per-call function (`gravity_torques`, `inverse_dynamics`,
-//! `mass_matrix`, `forward_dynamics`, `friction_torques`, `flange_pose`, the energies,
-//! `ArmSim::step` and all `ArmSim` setters/getters) uses fixed-size nalgebra types only, never
-//! allocates, never locks and never panics for finite inputs. Only the constructors
-//! (`ArmModel::from_config`, `ArmSim::new`) run at start-up.
+//! `mass_matrix`, `forward_dynamics`, `friction_torques`, `flange_pose`, the energies, the
+//! solvers) uses fixed-size nalgebra types only, never allocates, never locks and never
+//! panics for finite inputs. Only the constructor (`ArmModel::from_config`) runs at start-up.
 //!
 //! Conventions: standard DH (θᵢ = qᵢ + offsetᵢ), joint i turns about z of frame i−1, link i's
 //! centre of mass and inertia are given in DH frame i, the tool is a point mass in frame 6
@@ -18,13 +18,11 @@
 //! the positive direction.
 //!
 //! ```
-//! use mcm_rt_core::dynamics::{ArmModel, ArmSim};
+//! use mcm_dynamics::ArmModel;
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
 //! let model = ArmModel::from_config(&cfg);
 //! let q = [0.0, 90f64.to_radians(), 0.0, 0.0, 0.0, 0.0];
 //! let hold = model.gravity_torques(&q);          // ≈ [0, -65.9, -27.4, 0, -7.9, 0] Nm
-//! let mut sim = ArmSim::new(model, &cfg);
-//! sim.step(&[0.0; 6], 500e-6);                   // one physics step of the simulated arm
 //! assert!(hold[1].abs() > 60.0);
 //! ```
 
@@ -32,18 +30,15 @@ mod friction;
 mod mass;
 mod model;
 mod rnea;
-mod sim;
 mod stiction;
 
-#[cfg(test)]
-mod sim_tests;
-
 pub use friction::{FRICTION_SMOOTHING_RAD_S, JointFriction};
+pub use mass::{inverse_spd, solve_spd};
 pub use model::{ArmModel, Link};
-pub use sim::{ArmSim, BRAKE_HOLD_FACTOR, MAX_JOINT_SPEED_RAD_S};
+pub use stiction::solve_friction;
 
-/// Why a configuration could not be turned into an arm model or simulator. Every message names
-/// the key, the value found and what is allowed.
+/// Why a configuration could not be turned into an arm model or a simulated arm. Every message
+/// names the key, the value found and what is allowed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DynamicsError {
     /// The configuration has the wrong number of `[[arm.link]]` or `[[axis]]` tables.

@@ -18,7 +18,7 @@
 //! Runs inside the cycle: `LoggingBus::send`/`recv`. Not in the cycle: `new`, `finish`, the
 //! writer thread, `parse_line`.
 
-use super::{Bus, BusError, Frame, SimControl};
+use super::{Bus, BusError, Frame};
 use std::cell::UnsafeCell;
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
@@ -365,10 +365,6 @@ impl<B: Bus> Bus for LoggingBus<B> {
             self.log(f, true);
         }
         r
-    }
-
-    fn sim(&mut self) -> Option<&mut dyn SimControl> {
-        self.inner.sim()
     }
 }
 

@@ -1,5 +1,5 @@
 //! The simulated CAN bus of the P-Rob2: six [`SimDrive`]s, the arm model, the emergency switch
-//! and the fault injections, behind [`crate::bus::Bus`] and [`crate::bus::SimControl`].
+//! and the fault injections, behind [`mcm_bus::Bus`] and [`crate::SimControl`].
 //!
 //! Runs inside the cycle: `send` and `recv` never block and never allocate (the receive queue
 //! is a fixed ring of [`RX_CAPACITY`] frames; when it is full, new frames are dropped and
@@ -22,11 +22,12 @@
 //! drives booting as after an NMT reset. Both run outside the cycle (they do file I/O).
 //!
 //! ```
-//! use mcm_rt_core::bus::{Bus, Frame, SimCommand};
+//! use mcm_bus::Bus;
+//! use mcm_sim::{SimCommand, SimControl};
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
-//! let mut bus = mcm_rt_core::sim::SimBus::new(&cfg);
+//! let mut bus = mcm_sim::SimBus::new(&cfg);
 //! while bus.recv(0).unwrap().is_some() {} // boot-ups
-//! let sim = bus.sim().unwrap();
+//! let sim: &mut dyn SimControl = &mut bus;
 //! sim.apply(&SimCommand { emergency_stop: Some(true), ..SimCommand::default() }).unwrap();
 //! assert!(sim.truth().emergency_stop);
 //! assert!(sim.apply(&SimCommand { block_axis: Some(6), ..SimCommand::default() }).is_err());
@@ -34,8 +35,10 @@
 
 use super::drive::{DriveParams, Retained, SimDrive};
 use super::{Discard, FrameSink};
-use crate::bus::{Bus, BusError, Frame, SimCommand, SimCommandError, SimControl, SimTruth};
-use crate::dynamics::{ArmModel, ArmSim};
+use crate::physics::ArmSim;
+use crate::{SimCommand, SimCommandError, SimControl, SimTruth};
+use mcm_bus::{Bus, BusError, Frame};
+use mcm_dynamics::ArmModel;
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;
 use std::io;
@@ -335,10 +338,6 @@ impl Bus for SimBus {
 
     fn recv(&mut self, _deadline_ns: u64) -> Result<Option<Frame>, BusError> {
         Ok(self.rx.pop())
-    }
-
-    fn sim(&mut self) -> Option<&mut dyn SimControl> {
-        Some(self)
     }
 }
 

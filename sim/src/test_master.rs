@@ -5,7 +5,7 @@
 //! the CiA 402 state machine to OPERATION ENABLED holding the actual position. Every cycle:
 //! read all frames, send requests / RPDOs / the heartbeat when due, and LAST the SYNC.
 
-use crate::bus::{Bus, Frame};
+use mcm_bus::{Bus, Frame};
 use mcm_shared::config::RobotConfig;
 
 /// One SDO transaction of the boot sequence: (index, sub, value, size in bytes); size 0 = read.

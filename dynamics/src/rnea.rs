@@ -9,7 +9,7 @@
 //! (`armature · q̈`) are added by the public wrappers.
 //!
 //! ```
-//! use mcm_rt_core::dynamics::ArmModel;
+//! use mcm_dynamics::ArmModel;
 //! let model = ArmModel::from_config(&mcm_shared::config::RobotConfig::prob2_default());
 //! let q = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0];
 //! let tau = model.inverse_dynamics(&q, &[0.0; 6], &[0.0; 6]);

@@ -7,8 +7,8 @@
 //!
 //! Physics per step: rigid-body dynamics of [`ArmModel`] (inertia incl. armature and tool,
 //! Coriolis/centrifugal, gravity), actuator and external torques, viscous friction, Coulomb
-//! friction with true stiction (`stiction.rs`), holding brakes, mechanical stops and blocking
-//! obstacles as stiff spring-dampers.
+//! friction with true stiction ([`mcm_dynamics::solve_friction`]), holding brakes,
+//! mechanical stops and blocking obstacles as stiff spring-dampers.
 //!
 //! Integrator: semi-implicit (symplectic) Euler, `q̇ₙ₊₁ = q̇ₙ + dt·q̈`, `qₙ₊₁ = qₙ + dt·q̇ₙ₊₁`,
 //! with the stiff diagonal terms (stop/obstacle springs and dampers, viscous friction)
@@ -19,7 +19,8 @@
 //! at the start of the step (spring plus damper, the damper also while leaving).
 //!
 //! ```
-//! use mcm_rt_core::dynamics::{ArmModel, ArmSim};
+//! use mcm_dynamics::ArmModel;
+//! use mcm_sim::physics::ArmSim;
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
 //! let mut sim = ArmSim::new(ArmModel::from_config(&cfg), &cfg);
 //! let q0 = sim.position();
@@ -30,11 +31,7 @@
 //! assert_eq!(sim.position(), q0);
 //! ```
 
-use super::DynamicsError;
-use super::mass::inverse_spd;
-use super::model::ArmModel;
-use super::rnea::rnea_pass;
-use super::stiction::solve_friction;
+use mcm_dynamics::{ArmModel, DynamicsError, inverse_spd, solve_friction};
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;
 use nalgebra::Vector6;
@@ -188,15 +185,14 @@ impl ArmSim {
         if !(dt.is_finite() && dt > 0.0) {
             return;
         }
-        let k = self.model.kinematics(&self.q);
         let qd = Vector6::from(self.qd);
-        let mut a = self.model.mass_matrix_kin(&k);
-        let bias = rnea_pass(&self.model, &k, &qd, &Vector6::zeros(), -self.model.gravity);
+        let (mut a, bias) = self.model.mass_matrix_and_bias(&self.q, &self.qd);
+        let friction = self.model.friction();
         let mut rhs = Vector6::zeros();
         let mut bound = Vector6::zeros();
         for i in 0..N {
             let (stiff, damp, spring) = self.spring_terms(i);
-            let f = self.model.friction[i];
+            let f = friction[i];
             let viscous = if self.friction_on { f.viscous } else { 0.0 };
             let s = damp + viscous + stiff * dt;
             let tau = finite_or_zero(actuator_torque[i]) + self.external[i];

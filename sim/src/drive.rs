@@ -8,7 +8,7 @@
 //! drive's clock advances only through SYNC ([`SimDrive::end_period`]); the bus drives it:
 //!
 //! ```
-//! use mcm_rt_core::sim::{Discard, drive::{DriveParams, SimDrive}};
+//! use mcm_sim::{Discard, drive::{DriveParams, SimDrive}};
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
 //! let mut d = SimDrive::new(DriveParams::from_config(&cfg, &cfg.axes[0]), 0.0, 0.0, &mut Discard);
 //! d.on_sync(true, &mut Discard); // at SYNC: RPDOs applied, TPDOs sent
@@ -26,7 +26,7 @@ use super::od::{self, Od, OdDefaults};
 use super::pdo::{PdoEngine, PdoWrites, RxOutcome};
 use super::sdo_server;
 use super::servo::{Servo, ServoGains};
-use crate::bus::Frame;
+use mcm_bus::Frame;
 use mcm_shared::config::{AxisConfig, RobotConfig};
 
 /// COB-ID base of EMCY frames.

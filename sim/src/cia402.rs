@@ -10,7 +10,7 @@
 //! exist with quick stop option 2.
 //!
 //! ```
-//! use mcm_rt_core::sim::cia402::{State, StateMachine, StatusInputs};
+//! use mcm_sim::cia402::{State, StateMachine, StatusInputs};
 //! let mut sm = StateMachine::new();
 //! sm.boot_complete();
 //! for cw in [0x06, 0x07, 0x0F] {

@@ -12,8 +12,8 @@
 //! - a request whose DLC is not 8 is ignored (CiA 301 requires DLC 8), as real drives do.
 //!
 //! ```
-//! use mcm_rt_core::bus::Frame;
-//! use mcm_rt_core::sim::{sdo_server, SdoAbort};
+//! use mcm_bus::Frame;
+//! use mcm_sim::{sdo_server, SdoAbort};
 //! struct One(u32);
 //! impl sdo_server::ObjectAccess for One {
 //!     fn sdo_read(&mut self, _i: u16, _s: u8) -> Result<(u32, u8), SdoAbort> { Ok((self.0, 2)) }
@@ -27,7 +27,7 @@
 //! ```
 
 use super::abort::SdoAbort;
-use crate::bus::Frame;
+use mcm_bus::Frame;
 
 /// COB-ID base of SDO requests (client -> server).
 pub const SDO_RX_BASE: u16 = 0x600;

@@ -9,7 +9,7 @@
 //! dynamics solves `M(q) q̈ = τ − b(q, q̇)` by Cholesky.
 //!
 //! ```
-//! use mcm_rt_core::dynamics::ArmModel;
+//! use mcm_dynamics::ArmModel;
 //! let model = ArmModel::from_config(&mcm_shared::config::RobotConfig::prob2_default());
 //! let q = [0.1, 0.5, -0.3, 0.0, 0.4, 0.0];
 //! let qdd = model.forward_dynamics(&q, &[0.0; 6], &model.gravity_torques(&q));
@@ -27,7 +27,7 @@ const N: usize = NUM_AXES;
 /// fails (only for non-finite or non-positive-definite input, which a valid model cannot
 /// produce from finite q, q̇), falls back to the diagonal: `xᵢ = bᵢ / aᵢᵢ` where `aᵢᵢ > 0`,
 /// else 0. Never panics.
-pub(super) fn solve_spd(a: &Matrix6<f64>, b: &Vector6<f64>) -> Vector6<f64> {
+pub fn solve_spd(a: &Matrix6<f64>, b: &Vector6<f64>) -> Vector6<f64> {
     match Cholesky::new(*a) {
         Some(c) => c.solve(b),
         None => diagonal_solve(a, b),
@@ -46,7 +46,7 @@ fn diagonal_solve(a: &Matrix6<f64>, b: &Vector6<f64>) -> Vector6<f64> {
 }
 
 /// Inverse of a symmetric positive definite matrix (same fallback as [`solve_spd`]).
-pub(super) fn inverse_spd(a: &Matrix6<f64>) -> Matrix6<f64> {
+pub fn inverse_spd(a: &Matrix6<f64>) -> Matrix6<f64> {
     match Cholesky::new(*a) {
         Some(c) => c.inverse(),
         None => {
@@ -104,6 +104,18 @@ impl ArmModel {
     /// Joint accelerations produced by joint torques `tau` at `q`, `qd` (no friction):
     /// q̈ = M⁻¹ (τ − C q̇ − g) [rad/s²]. The inverse of [`ArmModel::inverse_dynamics`].
     pub fn forward_dynamics(&self, q: &[f64; N], qd: &[f64; N], tau: &[f64; N]) -> [f64; N] {
+        let (m, bias) = self.mass_matrix_and_bias(q, qd);
+        solve_spd(&m, &(Vector6::from(*tau) - bias)).into()
+    }
+
+    /// The mass matrix M(q) (armature included, as [`ArmModel::mass_matrix`]) and the bias
+    /// torques b(q, q̇) (Coriolis, centrifugal, gravity, as [`ArmModel::bias_torques`]) from one
+    /// kinematics pass: what an integrator of `M q̈ = τ − b` needs per step.
+    pub fn mass_matrix_and_bias(
+        &self,
+        q: &[f64; N],
+        qd: &[f64; N],
+    ) -> (Matrix6<f64>, Vector6<f64>) {
         let k = self.kinematics(q);
         let m = self.mass_matrix_kin(&k);
         let bias = rnea_pass(
@@ -113,7 +125,7 @@ impl ArmModel {
             &Vector6::zeros(),
             -self.gravity,
         );
-        solve_spd(&m, &(Vector6::from(*tau) - bias)).into()
+        (m, bias)
     }
 }
 

@@ -665,7 +665,7 @@ fn resume_keeps_offset_and_calibration_and_boots_like_a_reset() {
     r.enable();
     r.write(0x2100, 1, 4242, 4).unwrap();
     r.write(0x2100, 2, 1, 1).unwrap();
-    r.d.power_cycle(&mut crate::sim::Discard);
+    r.d.power_cycle(&mut crate::Discard);
     r.write(0x2100, 1, 4242, 4).unwrap();
     r.write(0x2100, 2, 1, 1).unwrap();
     let kept = r.d.retained();

@@ -29,7 +29,7 @@ const SWEEP_TOLERANCE: f64 = 1e-12;
 /// Find the friction torques `lambda` (warm-started with its input) for `v = v_free + w·λ`,
 /// `|λᵢ| ≤ bound[i]`. Returns the velocity after the step; sticking joints get exactly 0.
 /// `w` must be symmetric positive definite; `bound[i] ≤ 0` means no friction on joint i.
-pub(super) fn solve_friction(
+pub fn solve_friction(
     w: &Matrix6<f64>,
     v_free: &Vector6<f64>,
     bound: &Vector6<f64>,

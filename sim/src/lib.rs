@@ -1,20 +1,25 @@
-//! The simulated P-Rob2: six simulated CiA 402 servo drives on a simulated CAN bus, moving the
-//! arm model of [`crate::dynamics`]. Selected by `bus.backend = "sim"`; the CANopen master
-//! drives it through the same [`crate::bus::Bus`] trait as real drives, frame for frame as
-//! `DRIVE_PROFILE.md` specifies.
+//! # mcm-sim: the simulated P-Rob2
 //!
-//! Runs inside the cycle: after construction nothing allocates, blocks or panics on bad input.
+//! Six simulated CiA 402 servo drives on a simulated CAN bus, moving the arm model of
+//! `mcm-dynamics` ([`physics`]). Selected by `bus.backend = "sim"`; the CANopen master drives it
+//! through the same [`mcm_bus::Bus`] trait as real drives, frame for frame as
+//! `DRIVE_PROFILE.md` specifies. Fault injection and ground truth go through [`SimControl`],
+//! which only the real-time core's simulator edge uses; [`snapshot`] keeps the simulated robot
+//! across a restart of `mcm-rt`.
+//!
+//! Runs inside the cycle: after construction nothing allocates, blocks or panics on bad input
+//! (except [`snapshot`] and [`SimBus::save`]/[`SimBus::resume`], which do file I/O outside it).
 //!
 //! Structure:
-//! - [`bus::SimBus`]: the bus (implements [`crate::bus::Bus`] and [`crate::bus::SimControl`]);
+//! - [`bus::SimBus`]: the bus (implements [`mcm_bus::Bus`] and [`SimControl`]);
 //!   lock-step time: time advances only on SYNC, by one cycle period; fault injection;
 //! - [`drive::SimDrive`]: one drive = object dictionary ([`od`]), expedited SDO server
 //!   ([`sdo_server`]), NMT slave with heartbeats ([`nmt`]), PDO engine ([`pdo`]), CiA 402 state
 //!   machine ([`cia402`]), position controller ([`servo`]), current limit, encoder model.
 //!
 //! ```
-//! use mcm_rt_core::bus::{Bus, Frame};
-//! use mcm_rt_core::sim::SimBus;
+//! use mcm_bus::{Bus, Frame};
+//! use mcm_sim::SimBus;
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
 //! let mut bus = SimBus::new(&cfg);
 //! // the six drives have booted: 701#00 .. 706#00
@@ -26,23 +31,30 @@
 mod abort;
 pub mod bus;
 pub mod cia402;
+mod control;
 pub mod drive;
 pub mod nmt;
 pub mod od;
 pub mod pdo;
+pub mod physics;
 pub mod sdo_server;
 pub mod servo;
+pub mod snapshot;
 
 #[cfg(test)]
 mod bus_tests;
+#[cfg(test)]
+mod physics_tests;
 #[cfg(test)]
 mod test_master;
 
 pub use abort::SdoAbort;
 pub use bus::SimBus;
+pub use control::{SimCommand, SimCommandError, SimControl, SimTruth};
 pub use drive::SimDrive;
+pub use physics::{ArmSim, BRAKE_HOLD_FACTOR, MAX_JOINT_SPEED_RAD_S};
 
-use crate::bus::Frame;
+use mcm_bus::Frame;
 
 /// Where a simulated node puts the frames it transmits.
 pub trait FrameSink {

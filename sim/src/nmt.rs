@@ -6,8 +6,8 @@
 //! clock in nanoseconds, passed in by the caller.
 //!
 //! ```
-//! use mcm_rt_core::sim::nmt::{HeartbeatProducer, NmtCommand};
-//! use mcm_rt_core::bus::Frame;
+//! use mcm_sim::nmt::{HeartbeatProducer, NmtCommand};
+//! use mcm_bus::Frame;
 //! let start_node_5 = Frame::new(0x000, &[0x01, 0x05]).unwrap();
 //! assert_eq!(NmtCommand::decode(&start_node_5, 5), Some(NmtCommand::Start));
 //! assert_eq!(NmtCommand::decode(&start_node_5, 6), None);
@@ -17,7 +17,7 @@
 //! assert!(hb.due(50_000_000));
 //! ```
 
-use crate::bus::Frame;
+use mcm_bus::Frame;
 
 /// COB-ID of NMT node control.
 pub const NMT_ID: u16 = 0x000;
