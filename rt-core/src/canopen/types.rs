@@ -273,40 +273,28 @@ pub enum MasterSetupError {
     },
 }
 
+/// Fixed-capacity FIFO of events (inline, no heap); further events are counted as dropped.
 #[derive(Debug, Clone)]
 pub(super) struct EventRing {
-    buf: [Option<MasterEvent>; EVENT_CAPACITY],
-    head: usize,
-    len: usize,
+    buf: heapless::Deque<MasterEvent, EVENT_CAPACITY>,
     pub(super) dropped: u64,
 }
 
 impl EventRing {
     pub(super) fn new() -> EventRing {
         EventRing {
-            buf: [None; EVENT_CAPACITY],
-            head: 0,
-            len: 0,
+            buf: heapless::Deque::new(),
             dropped: 0,
         }
     }
 
     pub(super) fn push(&mut self, e: MasterEvent) {
-        if self.len == EVENT_CAPACITY {
+        if self.buf.push_back(e).is_err() {
             self.dropped += 1;
-            return;
         }
-        self.buf[(self.head + self.len) % EVENT_CAPACITY] = Some(e);
-        self.len += 1;
     }
 
     pub(super) fn pop(&mut self) -> Option<MasterEvent> {
-        if self.len == 0 {
-            return None;
-        }
-        let e = self.buf[self.head].take();
-        self.head = (self.head + 1) % EVENT_CAPACITY;
-        self.len -= 1;
-        e
+        self.buf.pop_front()
     }
 }
