@@ -20,5 +20,6 @@ pub mod realtime;
 pub mod request;
 pub mod runner;
 pub mod safety;
+pub mod signals;
 pub mod sim;
 pub mod trajectory;
