@@ -65,6 +65,8 @@ impl Record {
 }
 
 /// The last cycles: a ring of `records`, the next slot to write and how many are held.
+/// Hand-written: `heapless::HistoryBuffer` does the same, but its capacity is a compile-time
+/// constant and this one comes from the configuration.
 struct History {
     records: Box<[Record]>,
     next: usize,

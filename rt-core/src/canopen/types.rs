@@ -183,53 +183,42 @@ pub enum MasterEvent {
     },
 }
 
-/// Fixed-capacity list of frames to send; never allocates.
+/// Fixed-capacity list of frames to send; never allocates (a [`heapless::Vec`] inside).
 #[derive(Clone)]
 pub struct FrameBuf {
-    frames: [Frame; FRAME_BUF_CAPACITY],
-    len: usize,
+    frames: heapless::Vec<Frame, FRAME_BUF_CAPACITY>,
 }
 
 impl FrameBuf {
     pub const fn new() -> FrameBuf {
         FrameBuf {
-            frames: [Frame {
-                id: 0,
-                len: 0,
-                data: [0; 8],
-            }; FRAME_BUF_CAPACITY],
-            len: 0,
+            frames: heapless::Vec::new(),
         }
     }
 
     /// Append; `false` (frame not stored) when full.
     pub fn push(&mut self, frame: Frame) -> bool {
-        if self.len == FRAME_BUF_CAPACITY {
-            return false;
-        }
-        self.frames[self.len] = frame;
-        self.len += 1;
-        true
+        self.frames.push(frame).is_ok()
     }
 
     pub fn clear(&mut self) {
-        self.len = 0;
+        self.frames.clear();
     }
 
     pub fn len(&self) -> usize {
-        self.len
+        self.frames.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.len == 0
+        self.frames.is_empty()
     }
 
     pub fn as_slice(&self) -> &[Frame] {
-        &self.frames[..self.len]
+        &self.frames
     }
 
     pub fn iter(&self) -> core::slice::Iter<'_, Frame> {
-        self.as_slice().iter()
+        self.frames.iter()
     }
 }
 
