@@ -3,15 +3,16 @@
 //! dies (that is never silently papered over), and stops both cleanly on Ctrl-C or SIGTERM.
 
 use clap::Parser;
+use mcm_gateway::cli::ListenArgs;
+use mcm_rt_core::cli::LogArgs;
+use mcm_rt_core::signals;
+use mcm_shared::cli::CommonArgs;
 use mcm_shared::config::{BusBackend, RobotConfig};
 use mcm_shared::service::ServiceNames;
 use std::ffi::OsString;
 use std::io::{BufRead, BufReader};
-use std::net::IpAddr;
 use std::os::unix::process::CommandExt;
-use std::path::PathBuf;
 use std::process::{Child, ChildStdout, Command, ExitCode, Stdio};
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
@@ -25,47 +26,16 @@ use std::time::{Duration, Instant};
     after_help = "Subcommands: `mcm rt --help` and `mcm gateway --help` run one process each."
 )]
 struct Cli {
-    /// Robot configuration file (TOML); the embedded P-Rob2 configuration when omitted.
-    #[arg(long)]
-    config: Option<PathBuf>,
-    /// Instance name (several MCMs can run side by side on one machine).
-    #[arg(long, default_value = ServiceNames::DEFAULT_INSTANCE)]
-    instance: String,
-    /// Address the gateway listens on.
-    #[arg(long, default_value = "0.0.0.0")]
-    bind: IpAddr,
-    /// TCP port of the JSON protocol (0: any free port, printed at start).
-    #[arg(long, default_value_t = mcm_gateway::DEFAULT_JSON_PORT)]
-    json_port: u16,
-    /// TCP port of the telnet text HMI (0: any free port, printed at start).
-    #[arg(long, default_value_t = mcm_gateway::DEFAULT_HMI_PORT)]
-    hmi_port: u16,
-    /// Log every CAN frame in candump format to this file.
-    #[arg(long)]
-    candump: Option<PathBuf>,
+    #[command(flatten)]
+    common: CommonArgs,
+    #[command(flatten)]
+    listen: ListenArgs,
+    #[command(flatten)]
+    log: LogArgs,
     /// Require real-time scheduling even in simulation (by default the simulated robot runs
     /// without it when the system does not allow it).
     #[arg(long)]
     require_realtime: bool,
-}
-
-static STOP: AtomicBool = AtomicBool::new(false);
-
-extern "C" fn on_signal(_: libc::c_int) {
-    STOP.store(true, Ordering::SeqCst);
-}
-
-fn install_signal_handlers() {
-    for sig in [libc::SIGINT, libc::SIGTERM] {
-        // SAFETY: the handler only stores to an atomic (async-signal-safe); sigaction is fully
-        // initialised.
-        unsafe {
-            let mut sa: libc::sigaction = core::mem::zeroed();
-            sa.sa_sigaction = on_signal as *const () as usize;
-            libc::sigemptyset(&mut sa.sa_mask);
-            libc::sigaction(sig, &sa, core::ptr::null_mut());
-        }
-    }
 }
 
 /// How long a child may take to say it is ready.
@@ -157,7 +127,7 @@ fn wait_ready(
 ) -> Result<String, String> {
     let deadline = Instant::now() + READY_TIMEOUT;
     loop {
-        if STOP.load(Ordering::Relaxed) {
+        if signals::stop_requested() {
             return Err("stopped before start-up finished".into());
         }
         match lines.recv_timeout(Duration::from_millis(50)) {
@@ -205,33 +175,21 @@ pub fn main(args: impl IntoIterator<Item = OsString>) -> ExitCode {
 
 fn run(cli: Cli) -> Result<(), String> {
     // Validate what the children will read, so errors show before anything starts.
-    let cfg = match &cli.config {
+    let cfg = match &cli.common.config {
         Some(p) => RobotConfig::from_file(p).map_err(|e| e.to_string())?,
         None => RobotConfig::prob2_default(),
     };
-    ServiceNames::new(&cli.instance).map_err(|e| e.to_string())?;
-    install_signal_handlers();
+    ServiceNames::new(&cli.common.instance).map_err(|e| e.to_string())?;
+    signals::install().map_err(|e| format!("cannot install the SIGINT/SIGTERM handlers: {e}"))?;
 
-    let mut common: Vec<OsString> = vec!["--instance".into(), cli.instance.clone().into()];
-    if let Some(c) = &cli.config {
-        common.extend(["--config".into(), c.clone().into_os_string()]);
-    }
+    let common = cli.common.to_args();
     let mut rt_args = common.clone();
     if !cli.require_realtime && cfg.bus.backend == BusBackend::Sim {
         rt_args.push("--allow-non-realtime".into());
     }
-    if let Some(c) = &cli.candump {
-        rt_args.extend(["--candump".into(), c.clone().into_os_string()]);
-    }
+    rt_args.extend(cli.log.to_args());
     let mut gw_args = common;
-    gw_args.extend([
-        "--bind".into(),
-        cli.bind.to_string().into(),
-        "--json-port".into(),
-        cli.json_port.to_string().into(),
-        "--hmi-port".into(),
-        cli.hmi_port.to_string().into(),
-    ]);
+    gw_args.extend(cli.listen.to_args());
 
     let (mut rt, rt_lines) = Proc::spawn("mcm-rt", &prepend("rt", &rt_args))?;
     if let Err(e) = wait_ready(&mut rt, &rt_lines, "mcm-rt ready") {
@@ -263,13 +221,13 @@ fn run(cli: Cli) -> Result<(), String> {
         let hmi = field(&ready, "hmi").unwrap_or("?");
         println!(
             "MCM ready ({robot}, instance {}): JSON on {json}, telnet HMI on {hmi}; Ctrl-C stops. [json={json} hmi={hmi} rt_pid={} gateway_pid={}]",
-            cli.instance,
+            cli.common.instance,
             rt.pid(),
             gw.pid()
         );
         // Supervise.
         let outcome = loop {
-            if STOP.load(Ordering::Relaxed) {
+            if signals::stop_requested() {
                 break Ok(false);
             }
             if let Ok(Some(status)) = rt.child.try_wait() {

@@ -1,6 +1,6 @@
 //! A candump logger for any bus: [`LoggingBus<B>`] wraps a [`Bus`] and records every frame
 //! sent and received, with a `clock_gettime` timestamp and its direction, into a preallocated
-//! lock-free single-producer single-consumer ring. A separate, non-real-time writer thread
+//! wait-free single-producer single-consumer ring ([`rtrb`]). A separate, non-real-time writer thread
 //! drains the ring and writes `candump -L` lines to a file:
 //!
 //! ```text
@@ -19,12 +19,11 @@
 //! writer thread, `parse_line`.
 
 use super::{Bus, BusError, Frame};
-use std::cell::UnsafeCell;
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
@@ -116,84 +115,62 @@ struct Record {
     received: bool,
 }
 
-/// Bounded SPSC ring of `Record`s.
-struct Ring {
-    slots: Box<[UnsafeCell<Record>]>,
-    mask: usize,
-    /// Next slot the producer writes (only the producer stores it).
-    head: AtomicUsize,
-    /// Next slot the consumer reads (only the consumer stores it).
-    tail: AtomicUsize,
+/// What the cycle side and the writer share besides the ring itself.
+struct Shared {
+    /// Ring capacity in records (`LogOptions::capacity` rounded up to a power of two, >= 2).
+    capacity: usize,
     dropped: AtomicU64,
     stop: AtomicBool,
     /// The writer may drain (tests hold it back to force a full ring).
     go: AtomicBool,
 }
 
-// SAFETY: the slots are shared by exactly one `Producer` and one `Consumer` (neither is
-// `Clone`). The producer writes slot `head` only when `head - tail < capacity` (so the consumer
-// is not reading it) and then publishes it with a Release store of `head`; the consumer reads
-// slot `tail` only when `tail != head` (Acquire load, so the write is visible) and releases it
-// with a Release store of `tail`, which the producer Acquire-loads before reusing the slot.
-unsafe impl Sync for Ring {}
-
-impl Ring {
-    fn new(capacity: usize) -> Ring {
-        let cap = capacity.max(2).next_power_of_two();
-        Ring {
-            slots: (0..cap)
-                .map(|_| UnsafeCell::new(Record::default()))
-                .collect(),
-            mask: cap - 1,
-            head: AtomicUsize::new(0),
-            tail: AtomicUsize::new(0),
-            dropped: AtomicU64::new(0),
-            stop: AtomicBool::new(false),
-            go: AtomicBool::new(true),
-        }
-    }
-
-    fn capacity(&self) -> usize {
-        self.mask + 1
-    }
+/// The cycle's end of the ring: [`rtrb`] is wait-free and allocates only when it is created.
+struct Producer {
+    ring: rtrb::Producer<Record>,
+    shared: Arc<Shared>,
 }
-
-struct Producer(Arc<Ring>);
 
 impl Producer {
     /// Store one record; `false` (and counted as dropped) when the ring is full.
     fn push(&mut self, rec: Record) -> bool {
-        let r = &*self.0;
-        let head = r.head.load(Ordering::Relaxed);
-        let tail = r.tail.load(Ordering::Acquire);
-        if head.wrapping_sub(tail) >= r.capacity() {
-            r.dropped.fetch_add(1, Ordering::Relaxed);
+        if self.ring.push(rec).is_err() {
+            self.shared.dropped.fetch_add(1, Ordering::Relaxed);
             return false;
         }
-        // SAFETY: see `impl Sync for Ring`: this slot is not visible to the consumer until the
-        // Release store below, and the consumer has released it (tail checked above).
-        unsafe { *r.slots[head & r.mask].get() = rec };
-        r.head.store(head.wrapping_add(1), Ordering::Release);
         true
     }
 }
 
-struct Consumer(Arc<Ring>);
+/// The writer's end of the ring.
+struct Consumer {
+    ring: rtrb::Consumer<Record>,
+    shared: Arc<Shared>,
+}
 
 impl Consumer {
     fn pop(&mut self) -> Option<Record> {
-        let r = &*self.0;
-        let tail = r.tail.load(Ordering::Relaxed);
-        let head = r.head.load(Ordering::Acquire);
-        if tail == head {
-            return None;
-        }
-        // SAFETY: see `impl Sync for Ring`: the producer published this slot (head Acquire
-        // above) and will not touch it until the Release store of `tail` below.
-        let rec = unsafe { *r.slots[tail & r.mask].get() };
-        r.tail.store(tail.wrapping_add(1), Ordering::Release);
-        Some(rec)
+        self.ring.pop().ok()
     }
+}
+
+/// A ring of at least `capacity` records (rounded up to a power of two, at least 2).
+fn ring(capacity: usize, go: bool) -> (Producer, Consumer) {
+    let capacity = capacity.max(2).next_power_of_two();
+    let shared = Arc::new(Shared {
+        capacity,
+        dropped: AtomicU64::new(0),
+        stop: AtomicBool::new(false),
+        go: AtomicBool::new(go),
+    });
+    let (p, c) = rtrb::RingBuffer::new(capacity);
+    (
+        Producer {
+            ring: p,
+            shared: Arc::clone(&shared),
+        },
+        Consumer { ring: c, shared },
+    )
 }
 
 fn now_ns(clock: LogClock) -> u64 {
@@ -239,7 +216,6 @@ pub fn write_line(
 pub struct LoggingBus<B: Bus> {
     inner: B,
     producer: Producer,
-    ring: Arc<Ring>,
     clock: LogClock,
     path: PathBuf,
     writer: Option<JoinHandle<io::Result<u64>>>,
@@ -268,9 +244,7 @@ impl<B: Bus> LoggingBus<B> {
             path: path.to_path_buf(),
             source,
         })?;
-        let ring = Arc::new(Ring::new(options.capacity));
-        ring.go.store(go, Ordering::Release);
-        let consumer = Consumer(Arc::clone(&ring));
+        let (producer, consumer) = ring(options.capacity, go);
         let iface = interface.to_owned();
         let clock = options.clock;
         let writer = std::thread::Builder::new()
@@ -282,8 +256,7 @@ impl<B: Bus> LoggingBus<B> {
             })?;
         Ok(LoggingBus {
             inner,
-            producer: Producer(Arc::clone(&ring)),
-            ring,
+            producer,
             clock,
             path: path.to_path_buf(),
             writer: Some(writer),
@@ -300,7 +273,7 @@ impl<B: Bus> LoggingBus<B> {
 
     /// Frames not logged so far because the ring was full.
     pub fn dropped(&self) -> u64 {
-        self.ring.dropped.load(Ordering::Relaxed)
+        self.producer.shared.dropped.load(Ordering::Relaxed)
     }
 
     fn log(&mut self, frame: &Frame, received: bool) {
@@ -319,8 +292,8 @@ impl<B: Bus> LoggingBus<B> {
                 dropped: self.dropped(),
             });
         };
-        self.ring.go.store(true, Ordering::Release);
-        self.ring.stop.store(true, Ordering::Release);
+        self.producer.shared.go.store(true, Ordering::Release);
+        self.producer.shared.stop.store(true, Ordering::Release);
         handle.thread().unpark();
         let written = handle
             .join()
@@ -377,8 +350,8 @@ fn writer_loop(
     let mut written = 0u64;
     let mut reported_dropped = 0u64;
     loop {
-        let stopping = c.0.stop.load(Ordering::Acquire);
-        if !c.0.go.load(Ordering::Acquire) {
+        let stopping = c.shared.stop.load(Ordering::Acquire);
+        if !c.shared.go.load(Ordering::Acquire) {
             std::thread::park_timeout(opt.poll_interval);
             continue;
         }
@@ -393,12 +366,12 @@ fn writer_loop(
             n += 1;
         }
         written += n;
-        let dropped = c.0.dropped.load(Ordering::Relaxed);
+        let dropped = c.shared.dropped.load(Ordering::Relaxed);
         if dropped != reported_dropped && !stopping {
             writeln!(
                 out,
                 "# mcm-candump: {dropped} frames dropped so far (log ring of {} full)",
-                c.0.capacity()
+                c.shared.capacity
             )?;
             reported_dropped = dropped;
         }
@@ -410,7 +383,7 @@ fn writer_loop(
             std::thread::park_timeout(opt.poll_interval);
         }
     }
-    let dropped = c.0.dropped.load(Ordering::Relaxed);
+    let dropped = c.shared.dropped.load(Ordering::Relaxed);
     writeln!(
         out,
         "# mcm-candump: end of log, {written} frames written, {dropped} dropped"
@@ -591,9 +564,8 @@ mod tests {
 
     #[test]
     fn ring_counts_drops_when_full_and_keeps_order() {
-        let ring = Arc::new(Ring::new(3));
-        assert_eq!(ring.capacity(), 4);
-        let (mut p, mut c) = (Producer(Arc::clone(&ring)), Consumer(Arc::clone(&ring)));
+        let (mut p, mut c) = ring(3, true);
+        assert_eq!(p.shared.capacity, 4);
         for i in 0..6 {
             let ok = p.push(Record {
                 t_ns: i,
@@ -601,7 +573,7 @@ mod tests {
             });
             assert_eq!(ok, i < 4);
         }
-        assert_eq!(ring.dropped.load(Ordering::Relaxed), 2);
+        assert_eq!(p.shared.dropped.load(Ordering::Relaxed), 2);
         assert_eq!(c.pop().unwrap().t_ns, 0);
         assert!(p.push(Record {
             t_ns: 10,
@@ -609,51 +581,6 @@ mod tests {
         }));
         let rest: Vec<u64> = std::iter::from_fn(|| c.pop()).map(|r| r.t_ns).collect();
         assert_eq!(rest, [1, 2, 3, 10]);
-    }
-
-    #[test]
-    fn ring_is_consistent_across_threads() {
-        let ring = Arc::new(Ring::new(64));
-        let mut p = Producer(Arc::clone(&ring));
-        let mut c = Consumer(Arc::clone(&ring));
-        const N: u64 = 50_000;
-        let reader = std::thread::spawn(move || {
-            let mut got = Vec::new();
-            loop {
-                match c.pop() {
-                    Some(r) => {
-                        if r.t_ns == u64::MAX {
-                            return got;
-                        }
-                        assert_eq!(r.frame.data[0], r.t_ns as u8, "torn record");
-                        got.push(r.t_ns);
-                    }
-                    None => std::thread::yield_now(),
-                }
-            }
-        });
-        let mut pushed = 0;
-        for i in 0..N {
-            let mut f = Frame::new(0x100, &[0; 8]).unwrap();
-            f.data[0] = i as u8;
-            pushed += usize::from(p.push(Record {
-                t_ns: i,
-                frame: f,
-                received: false,
-            }));
-        }
-        while !p.push(Record {
-            t_ns: u64::MAX,
-            ..Record::default()
-        }) {
-            std::thread::yield_now();
-        }
-        let got = reader.join().unwrap();
-        assert!(
-            got.windows(2).all(|w| w[0] < w[1]),
-            "order kept, no duplicates"
-        );
-        assert_eq!(got.len(), pushed);
     }
 
     #[test]

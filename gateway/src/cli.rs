@@ -2,38 +2,56 @@
 
 use crate::{DEFAULT_HMI_PORT, DEFAULT_JSON_PORT, GatewayOptions};
 use clap::Parser;
+use mcm_shared::cli::CommonArgs;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::service::ServiceNames;
+use std::ffi::OsString;
 use std::net::{IpAddr, SocketAddr};
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// Serve the MCM's JSON protocol and pass commands to the real-time core (mcm-rt).
 #[derive(Parser, Debug)]
 #[command(name = "mcm-gateway", version, about)]
 struct Cli {
-    /// Robot configuration file (TOML); the embedded P-Rob2 configuration when omitted.
-    #[arg(long)]
-    config: Option<PathBuf>,
-    /// Instance name: which mcm-rt to talk to (several can run on one machine).
-    #[arg(long, default_value = ServiceNames::DEFAULT_INSTANCE)]
-    instance: String,
-    /// Address to listen on.
+    #[command(flatten)]
+    common: CommonArgs,
+    #[command(flatten)]
+    listen: ListenArgs,
+}
+
+/// Where the gateway listens (also arguments of the `mcm` launcher, which passes them on).
+#[derive(clap::Args, Debug, Clone, PartialEq, Eq)]
+pub struct ListenArgs {
+    /// Address the gateway listens on.
     #[arg(long, default_value = "0.0.0.0")]
-    bind: IpAddr,
-    /// TCP port of the JSON protocol (0: any free port).
+    pub bind: IpAddr,
+    /// TCP port of the JSON protocol (0: any free port, printed at start).
     #[arg(long, default_value_t = DEFAULT_JSON_PORT)]
-    json_port: u16,
-    /// TCP port of the telnet text HMI (0: any free port).
+    pub json_port: u16,
+    /// TCP port of the telnet text HMI (0: any free port, printed at start).
     #[arg(long, default_value_t = DEFAULT_HMI_PORT)]
-    hmi_port: u16,
+    pub hmi_port: u16,
+}
+
+impl ListenArgs {
+    /// The same arguments as a command line.
+    pub fn to_args(&self) -> Vec<OsString> {
+        vec![
+            "--bind".into(),
+            self.bind.to_string().into(),
+            "--json-port".into(),
+            self.json_port.to_string().into(),
+            "--hmi-port".into(),
+            self.hmi_port.to_string().into(),
+        ]
+    }
 }
 
 /// Run `mcm-gateway` with these command-line arguments (the first is the program name).
 pub fn main<I, T>(args: I) -> ExitCode
 where
     I: IntoIterator<Item = T>,
-    T: Into<std::ffi::OsString> + Clone,
+    T: Into<OsString> + Clone,
 {
     let cli = Cli::parse_from(args);
     match mcm_gateway_main(cli) {
@@ -46,16 +64,16 @@ where
 }
 
 fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let config = match &cli.config {
+    let config = match &cli.common.config {
         Some(p) => RobotConfig::from_file(p)?,
         None => RobotConfig::prob2_default(),
     };
-    let names = ServiceNames::new(&cli.instance)?;
+    let names = ServiceNames::new(&cli.common.instance)?;
     let opts = GatewayOptions {
         config,
         names,
-        json_addr: SocketAddr::new(cli.bind, cli.json_port),
-        hmi_addr: SocketAddr::new(cli.bind, cli.hmi_port),
+        json_addr: SocketAddr::new(cli.listen.bind, cli.listen.json_port),
+        hmi_addr: SocketAddr::new(cli.listen.bind, cli.listen.hmi_port),
     };
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)

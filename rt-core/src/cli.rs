@@ -2,8 +2,10 @@
 
 use crate::runner::{self, RunOptions};
 use clap::Parser;
+use mcm_shared::cli::CommonArgs;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::service::ServiceNames;
+use std::ffi::OsString;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -12,39 +14,51 @@ use std::process::ExitCode;
 #[derive(Parser, Debug)]
 #[command(name = "mcm-rt", version, about)]
 struct Cli {
-    /// Robot configuration file (TOML); the embedded P-Rob2 configuration (simulated) when
-    /// omitted.
-    #[arg(long)]
-    config: Option<PathBuf>,
-    /// Instance name: prefix of the shared-memory services (several MCMs can share a machine).
-    #[arg(long, default_value = ServiceNames::DEFAULT_INSTANCE)]
-    instance: String,
+    #[command(flatten)]
+    common: CommonArgs,
     /// Run even when memory locking, SCHED_FIFO or CPU pinning is not possible (says so once).
     #[arg(long)]
     allow_non_realtime: bool,
-    /// Log every bus frame in candump format to this file.
+    #[command(flatten)]
+    log: LogArgs,
+}
+
+/// Bus logging (also an argument of the `mcm` launcher, which passes it on).
+#[derive(clap::Args, Debug, Clone, PartialEq, Eq)]
+pub struct LogArgs {
+    /// Log every CAN frame in candump format to this file.
     #[arg(long)]
-    candump: Option<PathBuf>,
+    pub candump: Option<PathBuf>,
+}
+
+impl LogArgs {
+    /// The same arguments as a command line.
+    pub fn to_args(&self) -> Vec<OsString> {
+        match &self.candump {
+            Some(c) => vec!["--candump".into(), c.clone().into_os_string()],
+            None => Vec::new(),
+        }
+    }
 }
 
 /// Run `mcm-rt` with these command-line arguments (the first is the program name).
 pub fn main<I, T>(args: I) -> ExitCode
 where
     I: IntoIterator<Item = T>,
-    T: Into<std::ffi::OsString> + Clone,
+    T: Into<OsString> + Clone,
 {
     let cli = Cli::parse_from(args);
-    let config = match &cli.config {
+    let config = match &cli.common.config {
         Some(p) => RobotConfig::from_file(p),
         None => Ok(RobotConfig::prob2_default()),
     };
     let result = config.map_err(|e| e.to_string()).and_then(|config| {
-        let names = ServiceNames::new(&cli.instance).map_err(|e| e.to_string())?;
+        let names = ServiceNames::new(&cli.common.instance).map_err(|e| e.to_string())?;
         Ok(RunOptions {
             config,
             names,
             allow_non_realtime: cli.allow_non_realtime,
-            candump: cli.candump,
+            candump: cli.log.candump,
         })
     });
     let opts = match result {
@@ -54,7 +68,10 @@ where
             return ExitCode::FAILURE;
         }
     };
-    runner::install_signal_handlers();
+    if let Err(e) = crate::signals::install() {
+        eprintln!("mcm-rt: cannot install the SIGINT/SIGTERM handlers: {e}");
+        return ExitCode::FAILURE;
+    }
     let instance = opts.names.instance().to_string();
     let backend = format!("{:?}", opts.config.bus.backend).to_lowercase();
     let started = move |report: &crate::realtime::RtReport| {

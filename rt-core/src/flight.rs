@@ -6,7 +6,7 @@
 //! block or touch a file. A separate writer thread (not real-time) writes the file.
 //!
 //! Two buffers take turns: the cycle records into one; on a trigger it hands that buffer to
-//! the writer and goes on in the other. If the writer still holds the other buffer (two errors
+//! the writer (through a wait-free [`rtrb`] ring) and goes on in the other. If the writer still holds the other buffer (two errors
 //! within the time it takes to write one file), the second dump is skipped and counted.
 //!
 //! ```no_run
@@ -20,11 +20,10 @@
 
 use mcm_shared::NUM_AXES;
 use mcm_shared::sample::{ErrorRecord, StateSample, flight_recorder_file};
-use std::cell::UnsafeCell;
 use std::io::Write;
 use std::path::Path;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU8, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Duration;
 
 /// One cycle as the recorder keeps it (user units: deg, deg/s, A).
@@ -65,38 +64,61 @@ impl Record {
     }
 }
 
-const OWNED_BY_CYCLE: u8 = 0;
-const HANDED_TO_WRITER: u8 = 1;
+/// The last cycles: a ring of `records`, the next slot to write and how many are held.
+/// Hand-written: `heapless::HistoryBuffer` does the same, but its capacity is a compile-time
+/// constant and this one comes from the configuration.
+struct History {
+    records: Box<[Record]>,
+    next: usize,
+    held: usize,
+}
 
-struct Buffer {
-    records: UnsafeCell<Box<[Record]>>,
-    /// Next slot to write, records held, and the error to write it for (valid while handed
-    /// over).
-    next: UnsafeCell<usize>,
-    held: UnsafeCell<usize>,
-    error: UnsafeCell<ErrorRecord>,
-    owner: AtomicU8,
+impl History {
+    fn new(capacity: usize) -> History {
+        History {
+            records: vec![Record::default(); capacity].into_boxed_slice(),
+            next: 0,
+            held: 0,
+        }
+    }
+
+    /// Inside the cycle: a copy into the preallocated slots.
+    fn push(&mut self, r: &Record) {
+        let n = self.records.len();
+        self.records[self.next] = *r;
+        self.next = (self.next + 1) % n;
+        self.held = (self.held + 1).min(n);
+    }
+
+    fn clear(&mut self) {
+        self.next = 0;
+        self.held = 0;
+    }
+}
+
+/// A full history handed to the writer, with the error to write it for.
+struct Dump {
+    history: History,
+    error: ErrorRecord,
 }
 
 struct Shared {
-    buffers: [Buffer; 2],
-    dir: String,
-    instance: String,
     stop: AtomicBool,
     written: AtomicU64,
     skipped: AtomicU64,
 }
 
-// SAFETY: each buffer's cells are touched only by the side that owns it according to `owner`
-// (the cycle while OWNED_BY_CYCLE, the writer while HANDED_TO_WRITER); ownership changes with a
-// Release store that the other side observes with an Acquire load before touching the cells.
-unsafe impl Sync for Shared {}
-
 /// The cycle's side of the recorder.
 pub struct FlightRecorder {
+    active: History,
+    /// The other buffer while the cycle holds it (otherwise the writer does, or it is on its
+    /// way back in `from_writer`).
+    spare: Option<History>,
+    /// Buffers move between the cycle and the writer through two [`rtrb`] rings: moving a
+    /// `Box` through them is wait-free and allocates nothing.
+    to_writer: rtrb::Producer<Dump>,
+    from_writer: rtrb::Consumer<History>,
     shared: Arc<Shared>,
-    active: usize,
-    capacity: usize,
 }
 
 /// The writer thread; stop it to flush pending files.
@@ -129,30 +151,31 @@ impl FlightRecorder {
         instance: &str,
     ) -> std::io::Result<(FlightRecorder, FlightWriter)> {
         let capacity = capacity.max(1);
-        let buffer = || Buffer {
-            records: UnsafeCell::new(vec![Record::default(); capacity].into_boxed_slice()),
-            next: UnsafeCell::new(0),
-            held: UnsafeCell::new(0),
-            error: UnsafeCell::new(ErrorRecord::default()),
-            owner: AtomicU8::new(OWNED_BY_CYCLE),
-        };
         let shared = Arc::new(Shared {
-            buffers: [buffer(), buffer()],
-            dir: dir.to_string(),
-            instance: instance.to_string(),
             stop: AtomicBool::new(false),
             written: AtomicU64::new(0),
             skipped: AtomicU64::new(0),
         });
-        let writer_shared = shared.clone();
+        // Two buffers in all, one always with the cycle: one slot each way is enough.
+        let (to_writer, from_cycle) = rtrb::RingBuffer::new(1);
+        let (to_cycle, from_writer) = rtrb::RingBuffer::new(1);
+        let writer = Writer {
+            from_cycle,
+            to_cycle,
+            shared: shared.clone(),
+            dir: dir.to_string(),
+            instance: instance.to_string(),
+        };
         let handle = std::thread::Builder::new()
             .name("mcm-flight-recorder".into())
-            .spawn(move || writer_loop(&writer_shared))?;
+            .spawn(move || writer.run())?;
         Ok((
             FlightRecorder {
+                active: History::new(capacity),
+                spare: Some(History::new(capacity)),
+                to_writer,
+                from_writer,
                 shared: shared.clone(),
-                active: 0,
-                capacity,
             },
             FlightWriter {
                 shared,
@@ -168,63 +191,51 @@ impl FlightRecorder {
 
     /// Keep one cycle. Inside the cycle: a copy into the preallocated ring.
     pub fn record(&mut self, r: &Record) {
-        let b = &self.shared.buffers[self.active];
-        // SAFETY: the active buffer is owned by the cycle (it only becomes active when its
-        // owner is OWNED_BY_CYCLE, checked in `trigger`), so no other thread touches its cells.
-        unsafe {
-            let next = &mut *b.next.get();
-            let held = &mut *b.held.get();
-            (*b.records.get())[*next] = *r;
-            *next = (*next + 1) % self.capacity;
-            *held = (*held + 1).min(self.capacity);
-        }
+        self.active.push(r);
     }
 
     /// Hand the recorded cycles to the writer, to be written for `error`; go on recording in
     /// the other buffer.
     pub fn trigger(&mut self, error: &ErrorRecord) {
-        let other = 1 - self.active;
-        if self.shared.buffers[other].owner.load(Ordering::Acquire) != OWNED_BY_CYCLE {
+        let Some(mut other) = self.spare.take().or_else(|| self.from_writer.pop().ok()) else {
             self.shared.skipped.fetch_add(1, Ordering::Relaxed);
             return;
-        }
-        let b = &self.shared.buffers[self.active];
-        // SAFETY: as in `record`, the active buffer is ours until the Release store below.
-        unsafe {
-            *b.error.get() = *error;
-        }
-        b.owner.store(HANDED_TO_WRITER, Ordering::Release);
-        self.active = other;
-        let o = &self.shared.buffers[other];
-        // SAFETY: `other` is owned by the cycle (checked above with Acquire).
-        unsafe {
-            *o.next.get() = 0;
-            *o.held.get() = 0;
+        };
+        other.clear();
+        let history = std::mem::replace(&mut self.active, other);
+        let dump = Dump {
+            history,
+            error: *error,
+        };
+        if let Err(rtrb::PushError::Full(dump)) = self.to_writer.push(dump) {
+            // Cannot happen (the writer holds at most one buffer); keep both buffers anyway.
+            self.spare = Some(std::mem::replace(&mut self.active, dump.history));
+            self.shared.skipped.fetch_add(1, Ordering::Relaxed);
         }
     }
 }
 
-fn writer_loop(shared: &Shared) {
-    loop {
-        let stopping = shared.stop.load(Ordering::Acquire);
-        for b in &shared.buffers {
-            if b.owner.load(Ordering::Acquire) == HANDED_TO_WRITER {
-                // SAFETY: the cycle handed this buffer over (Release store observed by the
-                // Acquire load above) and does not touch it until we give it back.
-                let (records, next, held, error) = unsafe {
-                    (
-                        &*b.records.get(),
-                        *b.next.get(),
-                        *b.held.get(),
-                        *b.error.get(),
-                    )
-                };
-                let path = flight_recorder_file(&shared.dir, &shared.instance, &error);
-                let result = write_csv(&path, records, next, held);
-                b.owner.store(OWNED_BY_CYCLE, Ordering::Release);
+/// The writer thread's side (not real-time).
+struct Writer {
+    from_cycle: rtrb::Consumer<Dump>,
+    to_cycle: rtrb::Producer<History>,
+    shared: Arc<Shared>,
+    dir: String,
+    instance: String,
+}
+
+impl Writer {
+    fn run(mut self) {
+        loop {
+            let stopping = self.shared.stop.load(Ordering::Acquire);
+            while let Ok(Dump { history, error }) = self.from_cycle.pop() {
+                let path = flight_recorder_file(&self.dir, &self.instance, &error);
+                let result = write_csv(&path, &history.records, history.next, history.held);
+                // Give the buffer back; the ring has room (one buffer is in flight at a time).
+                let _ = self.to_cycle.push(history);
                 match result {
                     Ok(()) => {
-                        shared.written.fetch_add(1, Ordering::Relaxed);
+                        self.shared.written.fetch_add(1, Ordering::Relaxed);
                     }
                     Err(e) => {
                         eprintln!(
@@ -234,11 +245,11 @@ fn writer_loop(shared: &Shared) {
                     }
                 }
             }
+            if stopping {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(10));
         }
-        if stopping {
-            return;
-        }
-        std::thread::sleep(Duration::from_millis(10));
     }
 }
 

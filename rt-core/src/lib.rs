@@ -21,5 +21,6 @@ pub mod realtime;
 pub mod request;
 pub mod runner;
 pub mod safety;
+pub mod signals;
 pub mod sim_edge;
 pub mod trajectory;

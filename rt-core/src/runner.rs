@@ -25,32 +25,7 @@ use mcm_shared::sample::{
 };
 use mcm_shared::service::ServiceNames;
 use mcm_sim::{SimBus, SimTruth, snapshot};
-use std::sync::atomic::{AtomicBool, Ordering};
-
-static STOP: AtomicBool = AtomicBool::new(false);
-
-extern "C" fn on_signal(_: libc::c_int) {
-    STOP.store(true, Ordering::SeqCst);
-}
-
-/// Make SIGINT and SIGTERM stop the loop after the current cycle.
-pub fn install_signal_handlers() {
-    for sig in [libc::SIGINT, libc::SIGTERM] {
-        // SAFETY: the handler only stores to an atomic, which is async-signal-safe; the
-        // sigaction struct is fully initialised before use.
-        unsafe {
-            let mut sa: libc::sigaction = core::mem::zeroed();
-            sa.sa_sigaction = on_signal as *const () as usize;
-            libc::sigemptyset(&mut sa.sa_mask);
-            libc::sigaction(sig, &sa, core::ptr::null_mut());
-        }
-    }
-}
-
-/// Ask the loop to stop (as a signal would).
-pub fn request_stop() {
-    STOP.store(true, Ordering::SeqCst);
-}
+use std::sync::atomic::Ordering;
 
 /// What the real-time process runs.
 #[derive(Debug, Clone)]
@@ -241,7 +216,8 @@ fn cycle_loop<B: Bus>(
     } else {
         STATE_NOT_REALTIME
     };
-    while !STOP.load(Ordering::Relaxed) {
+    let stop = crate::signals::stop_flag();
+    while !stop.load(Ordering::Relaxed) {
         clock::sleep_until_ns(next);
         let wake = clock::now_ns();
         latency.record(wake.saturating_sub(next));

@@ -8,6 +8,7 @@
 //!   MCMs (and parallel tests) can run side by side on one machine;
 //! - [`mode`]: the operating modes and the typed reasons a command can be refused;
 //! - [`config`]: the robot configuration file;
+//! - [`cli`]: the command-line arguments the MCM programs share;
 //! - [`units`]: the unit conventions at the boundary (degrees outside, radians inside).
 //!
 //! ```
@@ -18,6 +19,7 @@
 //! assert_eq!(s.position.len(), NUM_AXES);
 //! ```
 
+pub mod cli;
 pub mod config;
 pub mod mode;
 pub mod sample;

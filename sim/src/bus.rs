@@ -52,44 +52,31 @@ pub const RX_CAPACITY: usize = 512;
 /// COB-ID of SYNC.
 pub const SYNC_ID: u16 = 0x080;
 
-/// Fixed-capacity FIFO of frames to the master.
+/// Fixed-capacity FIFO of frames to the master (inline, no heap).
 #[derive(Debug, Clone)]
 struct RxRing {
-    frames: [Frame; RX_CAPACITY],
-    head: usize,
-    len: usize,
+    frames: heapless::Deque<Frame, RX_CAPACITY>,
     overruns: u64,
 }
 
 impl RxRing {
     fn new() -> RxRing {
         RxRing {
-            frames: [Frame::default(); RX_CAPACITY],
-            head: 0,
-            len: 0,
+            frames: heapless::Deque::new(),
             overruns: 0,
         }
     }
 
     fn pop(&mut self) -> Option<Frame> {
-        if self.len == 0 {
-            return None;
-        }
-        let f = self.frames[self.head];
-        self.head = (self.head + 1) % RX_CAPACITY;
-        self.len -= 1;
-        Some(f)
+        self.frames.pop_front()
     }
 }
 
 impl FrameSink for RxRing {
     fn emit(&mut self, frame: Frame) {
-        if self.len == RX_CAPACITY {
+        if self.frames.push_back(frame).is_err() {
             self.overruns += 1;
-            return;
         }
-        self.frames[(self.head + self.len) % RX_CAPACITY] = frame;
-        self.len += 1;
     }
 }
 
@@ -316,7 +303,7 @@ impl core::fmt::Debug for SimBus {
             .field("now_ns", &self.now_ns)
             .field("connected", &self.connected)
             .field("emergency_stop", &self.emergency_stop)
-            .field("queued", &self.rx.len)
+            .field("queued", &self.rx.frames.len())
             .field("overruns", &self.rx.overruns)
             .finish_non_exhaustive()
     }

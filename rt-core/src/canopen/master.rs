@@ -65,9 +65,9 @@ struct CalStore {
     waiting: bool,
 }
 
-/// Runtime state of one drive.
+/// What the configuration fixes for one drive (set once, in [`AxisRt::new`]).
 #[derive(Debug, Clone)]
-struct AxisRt {
+struct AxisParams {
     node: u8,
     counts_per_rad: f64,
     /// Amperes per per-mille of rated current.
@@ -79,32 +79,68 @@ struct AxisRt {
     max_current_permille: u16,
     /// Largest position step per cycle [counts].
     max_step_counts: f64,
+}
 
-    link: Link,
-    boot: BootSequence,
-    sdo: SdoClient,
+/// What the master knows of one drive since it last booted: `Default` is "just booted".
+#[derive(Debug, Clone)]
+struct Session {
     sdo_outcome: Option<Result<SdoDone, SdoError>>,
-    hb: HeartbeatConsumer,
     boot_deadline_ns: Option<u64>,
     reset_pending: bool,
     reset_sent: bool,
-    started_ns: u64,
     lost: bool,
     tpdo_this_cycle: bool,
     tpdo_seen_since_start: bool,
     missed: u16,
     last_tpdo_ns: Option<u64>,
-    last_pos_counts: i32,
     prev_cw: ControlWord,
     commanded_mode: i8,
     rpdo2_sent: Option<Rpdo2>,
     rpdo2_age: u16,
     fault_reset_edges: u8,
-    last_emcy_code: u16,
-    last_target_counts: i32,
     cal_store: Option<CalStore>,
     /// An offset to store once the write in progress is done.
     cal_queued: Option<i32>,
+}
+
+impl Default for Session {
+    fn default() -> Self {
+        Session {
+            sdo_outcome: None,
+            boot_deadline_ns: None,
+            reset_pending: false,
+            reset_sent: false,
+            lost: false,
+            tpdo_this_cycle: false,
+            tpdo_seen_since_start: false,
+            missed: 0,
+            last_tpdo_ns: None,
+            prev_cw: ControlWord(0),
+            commanded_mode: MODE_CSP,
+            rpdo2_sent: None,
+            rpdo2_age: 0,
+            fault_reset_edges: 0,
+            cal_store: None,
+            cal_queued: None,
+        }
+    }
+}
+
+/// Runtime state of one drive.
+#[derive(Debug, Clone)]
+struct AxisRt {
+    params: AxisParams,
+    /// The protocol machines, built from the configuration; [`AxisRt::forget`] resets them.
+    boot: BootSequence,
+    sdo: SdoClient,
+    hb: HeartbeatConsumer,
+    session: Session,
+    // Kept across `forget` (see there).
+    link: Link,
+    started_ns: u64,
+    last_pos_counts: i32,
+    last_emcy_code: u16,
+    last_target_counts: i32,
 }
 
 impl AxisRt {
@@ -164,76 +200,53 @@ impl AxisRt {
         let counts_per_rad = a.counts_per_rad();
         let rated_motor_torque_nm = rated_torque_mnm / 1000.0;
         Ok(AxisRt {
-            node: a.node_id,
-            counts_per_rad,
-            amps_per_permille: a.rated_current_a / 1000.0,
-            torque_per_amp: a.torque_per_amp(),
-            permille_per_joint_nm: 1000.0
-                / (rated_motor_torque_nm * a.gear_ratio * a.gear_efficiency),
-            rated_current_a: a.rated_current_a,
-            max_current_permille: max_pm as u16,
-            max_step_counts: a.max_velocity_deg_s.to_radians()
-                * cfg.safety.overspeed_factor
-                * period_s
-                * counts_per_rad,
-            link: Link::WaitingBootUp,
+            params: AxisParams {
+                node: a.node_id,
+                counts_per_rad,
+                amps_per_permille: a.rated_current_a / 1000.0,
+                torque_per_amp: a.torque_per_amp(),
+                permille_per_joint_nm: 1000.0
+                    / (rated_motor_torque_nm * a.gear_ratio * a.gear_efficiency),
+                rated_current_a: a.rated_current_a,
+                max_current_permille: max_pm as u16,
+                max_step_counts: a.max_velocity_deg_s.to_radians()
+                    * cfg.safety.overspeed_factor
+                    * period_s
+                    * counts_per_rad,
+            },
             boot: BootSequence::new(&params),
             sdo: SdoClient::new(a.node_id, u64::from(b.sdo_timeout_ms) * 1_000_000),
-            sdo_outcome: None,
             hb: HeartbeatConsumer::new(u64::from(b.heartbeat_timeout_ms) * 1_000_000),
-            boot_deadline_ns: None,
-            reset_pending: false,
-            reset_sent: false,
+            session: Session::default(),
+            link: Link::WaitingBootUp,
             started_ns: 0,
-            lost: false,
-            tpdo_this_cycle: false,
-            tpdo_seen_since_start: false,
-            missed: 0,
-            last_tpdo_ns: None,
             last_pos_counts: 0,
-            prev_cw: ControlWord(0),
-            commanded_mode: MODE_CSP,
-            rpdo2_sent: None,
-            rpdo2_age: 0,
-            fault_reset_edges: 0,
             last_emcy_code: 0,
             last_target_counts: 0,
-            cal_store: None,
-            cal_queued: None,
         })
     }
 
     /// Back to "just booted": configuration state and feedback forgotten.
+    ///
+    /// Kept: `link` (every caller sets it next), `started_ns` (read only while operational,
+    /// and set when the drive becomes so), `last_pos_counts` and `last_target_counts` (the
+    /// setpoint holds the last known position until new feedback comes, so nothing jumps),
+    /// `last_emcy_code` (a `Fault` event names the drive's last EMCY, whenever it came); in
+    /// the feedback the position and the last EMCY.
     fn forget(&mut self, fb: &mut AxisFeedback) {
         self.sdo.cancel();
-        self.sdo_outcome = None;
         self.boot.stop();
         self.hb.reset();
-        self.boot_deadline_ns = None;
-        self.reset_pending = false;
-        self.reset_sent = false;
-        self.lost = false;
-        self.tpdo_this_cycle = false;
-        self.tpdo_seen_since_start = false;
-        self.missed = 0;
-        self.last_tpdo_ns = None;
-        self.prev_cw = ControlWord(0);
-        self.commanded_mode = MODE_CSP;
-        self.rpdo2_sent = None;
-        self.rpdo2_age = 0;
-        self.fault_reset_edges = 0;
-        self.cal_store = None;
-        self.cal_queued = None;
+        self.session = Session::default();
         let last_emcy = fb.last_emcy;
         *fb = AxisFeedback {
             position_rad: fb.position_rad,
             last_emcy,
-            ..AxisFeedback::new(self.node)
+            ..AxisFeedback::new(self.params.node)
         };
     }
 }
 
-/// Fixed-capacity FIFO of events.
 /// The CANopen master (see the module documentation).
 #[derive(Debug, Clone)]
 pub struct Master {
@@ -279,7 +292,7 @@ impl Master {
         let axes: [AxisRt; NUM_AXES] = built
             .try_into()
             .map_err(|v: Vec<AxisRt>| MasterSetupError::AxisCount { got: v.len() })?;
-        let feedback = core::array::from_fn(|i| AxisFeedback::new(axes[i].node));
+        let feedback = core::array::from_fn(|i| AxisFeedback::new(axes[i].params.node));
         let b = &cfg.bus;
         Ok(Master {
             period_ns,
@@ -334,7 +347,7 @@ impl Master {
     pub fn reset_faults(&mut self) {
         for (ax, fb) in self.axes.iter_mut().zip(&self.feedback) {
             if fb.state.is_fault() {
-                ax.fault_reset_edges = FAULT_RESET_EDGES;
+                ax.session.fault_reset_edges = FAULT_RESET_EDGES;
             }
         }
     }
@@ -345,7 +358,7 @@ impl Master {
         if let (Some(ax), Some(fb)) = (self.axes.get_mut(axis), self.feedback.get_mut(axis)) {
             ax.forget(fb);
             ax.link = Link::WaitingBootUp;
-            ax.reset_pending = true;
+            ax.session.reset_pending = true;
         }
     }
 
@@ -360,10 +373,10 @@ impl Master {
         if let Some(ax) = self.axes.get_mut(axis)
             && ax.link == Link::Operational
         {
-            if ax.cal_store.is_some() {
-                ax.cal_queued = Some(offset_counts);
+            if ax.session.cal_store.is_some() {
+                ax.session.cal_queued = Some(offset_counts);
             } else {
-                ax.cal_store = Some(CalStore {
+                ax.session.cal_store = Some(CalStore {
                     offset: offset_counts,
                     written: 0,
                     waiting: false,
@@ -373,7 +386,7 @@ impl Master {
     }
 
     fn axis_of(&self, node: u8) -> Option<usize> {
-        self.axes.iter().position(|a| a.node == node)
+        self.axes.iter().position(|a| a.params.node == node)
     }
 
     /// Process one received frame.
@@ -415,7 +428,7 @@ impl Master {
             },
             Service::SdoResponse { .. } => {
                 if let Some(o) = self.axes[i].sdo.on_frame(frame) {
-                    self.axes[i].sdo_outcome = Some(o);
+                    self.axes[i].session.sdo_outcome = Some(o);
                 }
             }
             _ => {}
@@ -425,10 +438,10 @@ impl Master {
 
     fn on_boot_up(&mut self, i: usize) {
         let (ax, fb) = (&mut self.axes[i], &mut self.feedback[i]);
-        if ax.link == Link::Operational && !ax.lost {
+        if ax.link == Link::Operational && !ax.session.lost {
             self.events.push(MasterEvent::Lost {
                 axis: i,
-                node: ax.node,
+                node: ax.params.node,
                 reason: LostReason::BootUp,
             });
         }
@@ -443,15 +456,15 @@ impl Master {
         let ax = &mut self.axes[i];
         ax.hb.on_heartbeat(now_ns, state);
         match ax.link {
-            Link::WaitingBootUp if !ax.reset_sent => ax.reset_pending = true,
+            Link::WaitingBootUp if !ax.session.reset_sent => ax.session.reset_pending = true,
             Link::Operational
                 if state != NmtState::Operational
                     && now_ns.saturating_sub(ax.started_ns) >= grace =>
             {
-                let node = ax.node;
+                let node = ax.params.node;
                 ax.forget(&mut self.feedback[i]);
                 ax.link = Link::WaitingBootUp;
-                ax.reset_pending = true;
+                ax.session.reset_pending = true;
                 self.events.push(MasterEvent::Lost {
                     axis: i,
                     node,
@@ -476,28 +489,28 @@ impl Master {
                 code: ax.last_emcy_code,
             });
         }
-        fb.velocity_rad_s = match ax.last_tpdo_ns {
+        fb.velocity_rad_s = match ax.session.last_tpdo_ns {
             Some(prev) => {
                 let cycles = ((now_ns.saturating_sub(prev)) as f64 / period_ns as f64)
                     .round()
                     .max(1.0);
-                let delta =
-                    f64::from(t.position.wrapping_sub(ax.last_pos_counts)) / ax.counts_per_rad;
+                let delta = f64::from(t.position.wrapping_sub(ax.last_pos_counts))
+                    / ax.params.counts_per_rad;
                 delta / (cycles * period_ns as f64 * 1e-9)
             }
             None => 0.0,
         };
-        ax.last_tpdo_ns = Some(now_ns);
+        ax.session.last_tpdo_ns = Some(now_ns);
         ax.last_pos_counts = t.position;
-        ax.tpdo_this_cycle = true;
-        ax.tpdo_seen_since_start = true;
+        ax.session.tpdo_this_cycle = true;
+        ax.session.tpdo_seen_since_start = true;
         fb.state = state;
         fb.statusword = t.statusword;
         fb.estop = sw.emergency_stop();
         fb.light_barrier = sw.light_barrier();
-        fb.position_rad = f64::from(t.position) / ax.counts_per_rad;
-        fb.current_a = f64::from(t.current_permille) * ax.amps_per_permille;
-        fb.torque_nm = fb.current_a * ax.torque_per_amp;
+        fb.position_rad = f64::from(t.position) / ax.params.counts_per_rad;
+        fb.current_a = f64::from(t.current_permille) * ax.params.amps_per_permille;
+        fb.torque_nm = fb.current_a * ax.params.torque_per_amp;
         fb.tpdo_age_cycles = 0;
     }
 
@@ -505,12 +518,12 @@ impl Master {
     fn refresh(&mut self, i: usize, now_ns: u64) {
         let (ax, fb) = (&self.axes[i], &mut self.feedback[i]);
         let started = ax.link == Link::Operational;
-        fb.online = started && !ax.lost && ax.hb.is_fresh(now_ns);
-        fb.operational =
-            started && (ax.hb.state() == Some(NmtState::Operational) || ax.tpdo_seen_since_start);
+        fb.online = started && !ax.session.lost && ax.hb.is_fresh(now_ns);
+        fb.operational = started
+            && (ax.hb.state() == Some(NmtState::Operational) || ax.session.tpdo_seen_since_start);
         fb.enabled = started
             && fb.state == State::OperationEnabled
-            && fb.mode_display == Some(ax.commanded_mode);
+            && fb.mode_display == Some(ax.session.commanded_mode);
     }
 
     /// Run one cycle: supervision, boot configuration, CiA 402 and setpoints. Appends the
@@ -528,7 +541,7 @@ impl Master {
         }
         for i in 0..NUM_AXES {
             self.axis_cycle(i, now_ns, requests[i], max_current_a[i], out);
-            self.axes[i].tpdo_this_cycle = false;
+            self.axes[i].session.tpdo_this_cycle = false;
             self.refresh(i, now_ns);
         }
         self.push(out, sync_frame());
@@ -547,18 +560,21 @@ impl Master {
         out: &mut FrameBuf,
     ) {
         let boot_timeout = self.boot_timeout_ns;
-        let node = self.axes[i].node;
+        let node = self.axes[i].params.node;
         match self.axes[i].link {
             Link::WaitingBootUp => {
                 let ax = &mut self.axes[i];
-                let deadline = *ax.boot_deadline_ns.get_or_insert(now_ns + boot_timeout);
-                if ax.reset_pending || now_ns >= deadline {
-                    if !ax.reset_pending {
+                let deadline = *ax
+                    .session
+                    .boot_deadline_ns
+                    .get_or_insert(now_ns + boot_timeout);
+                if ax.session.reset_pending || now_ns >= deadline {
+                    if !ax.session.reset_pending {
                         self.events.push(MasterEvent::Missing { axis: i, node });
                     }
-                    ax.reset_pending = false;
-                    ax.reset_sent = true;
-                    ax.boot_deadline_ns = Some(now_ns + boot_timeout);
+                    ax.session.reset_pending = false;
+                    ax.session.reset_sent = true;
+                    ax.session.boot_deadline_ns = Some(now_ns + boot_timeout);
                     push_counted(
                         out,
                         nmt_frame(NmtCommand::ResetCommunication, node),
@@ -568,14 +584,14 @@ impl Master {
             }
             Link::Configuring => {
                 let ax = &mut self.axes[i];
-                let outcome = ax.sdo_outcome.take();
+                let outcome = ax.session.sdo_outcome.take();
                 match ax.boot.poll(now_ns, &mut ax.sdo, outcome) {
                     BootOutput::Send(f) => push_counted(out, f, &mut self.frames_dropped),
                     BootOutput::Done(f) => {
                         ax.link = Link::Operational;
                         ax.started_ns = now_ns;
                         ax.hb.arm(now_ns);
-                        ax.missed = 0;
+                        ax.session.missed = 0;
                         self.events.push(MasterEvent::Configured { axis: i });
                         self.events.push(MasterEvent::Calibration {
                             axis: i,
@@ -599,22 +615,24 @@ impl Master {
                 self.setpoints(i, req, max_current_a, out);
                 self.store_step(i, now_ns, out);
             }
-            Link::Failed => self.axes[i].sdo_outcome = None,
+            Link::Failed => self.axes[i].session.sdo_outcome = None,
         }
     }
 
     /// Drive the calibration write of axis `i` (see [`Master::store_calibration`]).
     fn store_step(&mut self, i: usize, now_ns: u64, out: &mut FrameBuf) {
         let ax = &mut self.axes[i];
-        let outcome = ax.sdo_outcome.take();
-        if ax.cal_store.is_none() {
-            ax.cal_store = ax.cal_queued.take().map(|offset| CalStore {
+        let outcome = ax.session.sdo_outcome.take();
+        if ax.session.cal_store.is_none() {
+            ax.session.cal_store = ax.session.cal_queued.take().map(|offset| CalStore {
                 offset,
                 written: 0,
                 waiting: false,
             });
         }
-        let Some(mut st) = ax.cal_store else { return };
+        let Some(mut st) = ax.session.cal_store else {
+            return;
+        };
         if st.waiting {
             let result = match outcome {
                 Some(r) => r,
@@ -626,13 +644,13 @@ impl Master {
             st.waiting = false;
             match result {
                 Ok(_) if st.written == 1 => {
-                    ax.cal_store = None;
+                    ax.session.cal_store = None;
                     self.events.push(MasterEvent::CalibrationStored { axis: i });
                     return;
                 }
                 Ok(_) => st.written += 1,
                 Err(error) => {
-                    ax.cal_store = None;
+                    ax.session.cal_store = None;
                     self.events
                         .push(MasterEvent::CalibrationStoreFailed { axis: i, error });
                     return;
@@ -651,39 +669,41 @@ impl Master {
             st.waiting = true;
             push_counted(out, f, &mut self.frames_dropped);
         }
-        self.axes[i].cal_store = Some(st);
+        self.axes[i].session.cal_store = Some(st);
     }
 
     fn supervise(&mut self, i: usize, now_ns: u64) {
         let max_missed = self.max_missed;
         let (ax, fb) = (&mut self.axes[i], &mut self.feedback[i]);
-        if ax.tpdo_this_cycle {
-            ax.missed = 0;
+        if ax.session.tpdo_this_cycle {
+            ax.session.missed = 0;
         } else {
-            ax.missed = ax.missed.saturating_add(1);
+            ax.session.missed = ax.session.missed.saturating_add(1);
             fb.tpdo_age_cycles = fb.tpdo_age_cycles.saturating_add(1);
-            if ax.missed == max_missed && !ax.lost {
-                ax.lost = true;
+            if ax.session.missed == max_missed && !ax.session.lost {
+                ax.session.lost = true;
                 self.events.push(MasterEvent::Lost {
                     axis: i,
-                    node: ax.node,
-                    reason: LostReason::MissedTpdos { missed: ax.missed },
+                    node: ax.params.node,
+                    reason: LostReason::MissedTpdos {
+                        missed: ax.session.missed,
+                    },
                 });
             }
         }
-        if ax.hb.check(now_ns) && !ax.lost {
-            ax.lost = true;
+        if ax.hb.check(now_ns) && !ax.session.lost {
+            ax.session.lost = true;
             self.events.push(MasterEvent::Lost {
                 axis: i,
-                node: ax.node,
+                node: ax.params.node,
                 reason: LostReason::HeartbeatTimeout,
             });
         }
-        if ax.lost && ax.missed == 0 && ax.hb.is_fresh(now_ns) {
-            ax.lost = false;
+        if ax.session.lost && ax.session.missed == 0 && ax.hb.is_fresh(now_ns) {
+            ax.session.lost = false;
             self.events.push(MasterEvent::Recovered {
                 axis: i,
-                node: ax.node,
+                node: ax.params.node,
             });
         }
     }
@@ -694,56 +714,63 @@ impl Master {
             DriveRequest::Disable => Target::SwitchOnDisabled,
             DriveRequest::QuickStop => Target::QuickStop,
             DriveRequest::Position { .. } => {
-                ax.commanded_mode = MODE_CSP;
+                ax.session.commanded_mode = MODE_CSP;
                 Target::OperationEnabled
             }
             DriveRequest::Torque { .. } => {
-                ax.commanded_mode = MODE_CST;
+                ax.session.commanded_mode = MODE_CST;
                 Target::OperationEnabled
             }
         };
         // RPDO2: mode and current limit, on change (and repeated while unconfirmed).
-        let pm = max_current_a / ax.rated_current_a * 1000.0;
+        let pm = max_current_a / ax.params.rated_current_a * 1000.0;
         let pm = if pm.is_nan() {
             0.0
         } else {
-            pm.round().clamp(0.0, f64::from(ax.max_current_permille))
+            pm.round()
+                .clamp(0.0, f64::from(ax.params.max_current_permille))
         };
         let rpdo2 = Rpdo2 {
-            mode: ax.commanded_mode,
+            mode: ax.session.commanded_mode,
             max_current_permille: pm as u16,
         };
-        let confirmed = fb.mode_display == Some(ax.commanded_mode);
+        let confirmed = fb.mode_display == Some(ax.session.commanded_mode);
         let mut frames = [None, None];
-        if ax.rpdo2_sent != Some(rpdo2) || (!confirmed && ax.rpdo2_age >= MODE_RESEND_CYCLES) {
-            frames[0] = Some(rpdo2.encode(ax.node));
-            ax.rpdo2_sent = Some(rpdo2);
-            ax.rpdo2_age = 0;
+        if ax.session.rpdo2_sent != Some(rpdo2)
+            || (!confirmed && ax.session.rpdo2_age >= MODE_RESEND_CYCLES)
+        {
+            frames[0] = Some(rpdo2.encode(ax.params.node));
+            ax.session.rpdo2_sent = Some(rpdo2);
+            ax.session.rpdo2_age = 0;
         } else {
-            ax.rpdo2_age = ax.rpdo2_age.saturating_add(1);
+            ax.session.rpdo2_age = ax.session.rpdo2_age.saturating_add(1);
         }
         // Controlword: one hop towards the target, fault-reset edges when asked for.
         if !fb.state.is_fault() {
-            ax.fault_reset_edges = 0;
+            ax.session.fault_reset_edges = 0;
         }
-        let reset = ax.fault_reset_edges > 0 && fb.state == State::Fault;
-        let cw = next_controlword(fb.state, target, ax.prev_cw, reset);
+        let reset = ax.session.fault_reset_edges > 0 && fb.state == State::Fault;
+        let cw = next_controlword(fb.state, target, ax.session.prev_cw, reset);
         if reset && cw.fault_reset_bit() {
-            ax.fault_reset_edges -= 1;
+            ax.session.fault_reset_edges -= 1;
         }
-        ax.prev_cw = cw;
+        ax.session.prev_cw = cw;
         // Setpoints: a position only in OPERATION ENABLED with CSP confirmed (target = actual
         // otherwise, so nothing jumps); a torque in OPERATION ENABLED (see below).
         let enabled = fb.state == State::OperationEnabled && confirmed;
         let actual = ax.last_pos_counts;
         fb.target_clamped = false;
         let (position, torque) = match req {
-            DriveRequest::Position { position_rad } if enabled && ax.commanded_mode == MODE_CSP => {
-                let wanted = position_rad * ax.counts_per_rad;
+            DriveRequest::Position { position_rad }
+                if enabled && ax.session.commanded_mode == MODE_CSP =>
+            {
+                let wanted = position_rad * ax.params.counts_per_rad;
                 let last = f64::from(ax.last_target_counts);
                 let p = if wanted.is_finite() {
-                    let clamped =
-                        wanted.clamp(last - ax.max_step_counts, last + ax.max_step_counts);
+                    let clamped = wanted.clamp(
+                        last - ax.params.max_step_counts,
+                        last + ax.params.max_step_counts,
+                    );
                     fb.target_clamped = clamped != wanted;
                     clamped
                         .round()
@@ -757,7 +784,7 @@ impl Master {
             // CST: in CSP the drive ignores 0x6071, and the moment it switches it already has
             // the right torque (a zero there would let a gravity-loaded arm sag).
             DriveRequest::Torque { torque_nm } if fb.state == State::OperationEnabled => {
-                let t = torque_nm * ax.permille_per_joint_nm;
+                let t = torque_nm * ax.params.permille_per_joint_nm;
                 let t = if t.is_finite() {
                     t.round().clamp(-32767.0, 32767.0) as i16
                 } else {
@@ -774,7 +801,7 @@ impl Master {
                 target_position: position,
                 target_torque: torque,
             }
-            .encode(ax.node),
+            .encode(ax.params.node),
         );
         for f in frames.into_iter().flatten() {
             self.push(out, f);

@@ -183,53 +183,42 @@ pub enum MasterEvent {
     },
 }
 
-/// Fixed-capacity list of frames to send; never allocates.
+/// Fixed-capacity list of frames to send; never allocates (a [`heapless::Vec`] inside).
 #[derive(Clone)]
 pub struct FrameBuf {
-    frames: [Frame; FRAME_BUF_CAPACITY],
-    len: usize,
+    frames: heapless::Vec<Frame, FRAME_BUF_CAPACITY>,
 }
 
 impl FrameBuf {
     pub const fn new() -> FrameBuf {
         FrameBuf {
-            frames: [Frame {
-                id: 0,
-                len: 0,
-                data: [0; 8],
-            }; FRAME_BUF_CAPACITY],
-            len: 0,
+            frames: heapless::Vec::new(),
         }
     }
 
     /// Append; `false` (frame not stored) when full.
     pub fn push(&mut self, frame: Frame) -> bool {
-        if self.len == FRAME_BUF_CAPACITY {
-            return false;
-        }
-        self.frames[self.len] = frame;
-        self.len += 1;
-        true
+        self.frames.push(frame).is_ok()
     }
 
     pub fn clear(&mut self) {
-        self.len = 0;
+        self.frames.clear();
     }
 
     pub fn len(&self) -> usize {
-        self.len
+        self.frames.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.len == 0
+        self.frames.is_empty()
     }
 
     pub fn as_slice(&self) -> &[Frame] {
-        &self.frames[..self.len]
+        &self.frames
     }
 
     pub fn iter(&self) -> core::slice::Iter<'_, Frame> {
-        self.as_slice().iter()
+        self.frames.iter()
     }
 }
 
@@ -273,40 +262,28 @@ pub enum MasterSetupError {
     },
 }
 
+/// Fixed-capacity FIFO of events (inline, no heap); further events are counted as dropped.
 #[derive(Debug, Clone)]
 pub(super) struct EventRing {
-    buf: [Option<MasterEvent>; EVENT_CAPACITY],
-    head: usize,
-    len: usize,
+    buf: heapless::Deque<MasterEvent, EVENT_CAPACITY>,
     pub(super) dropped: u64,
 }
 
 impl EventRing {
     pub(super) fn new() -> EventRing {
         EventRing {
-            buf: [None; EVENT_CAPACITY],
-            head: 0,
-            len: 0,
+            buf: heapless::Deque::new(),
             dropped: 0,
         }
     }
 
     pub(super) fn push(&mut self, e: MasterEvent) {
-        if self.len == EVENT_CAPACITY {
+        if self.buf.push_back(e).is_err() {
             self.dropped += 1;
-            return;
         }
-        self.buf[(self.head + self.len) % EVENT_CAPACITY] = Some(e);
-        self.len += 1;
     }
 
     pub(super) fn pop(&mut self) -> Option<MasterEvent> {
-        if self.len == 0 {
-            return None;
-        }
-        let e = self.buf[self.head].take();
-        self.head = (self.head + 1) % EVENT_CAPACITY;
-        self.len -= 1;
-        e
+        self.buf.pop_front()
     }
 }

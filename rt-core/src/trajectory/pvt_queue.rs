@@ -40,13 +40,11 @@ impl PvtPoint {
     };
 }
 
-/// FIFO ring of at most `N` PVT points (`N` > 0, checked at compile time).
+/// FIFO ring of at most `N` PVT points (`N` > 0, checked at compile time): a
+/// [`heapless::Deque`] with the all-or-nothing batch push the protocol needs.
 #[derive(Clone)]
 pub struct PvtQueue<const N: usize = DEFAULT_PVT_CAPACITY> {
-    buf: [PvtPoint; N],
-    /// Index of the oldest point.
-    head: usize,
-    len: usize,
+    buf: heapless::Deque<PvtPoint, N>,
 }
 
 impl<const N: usize> PvtQueue<N> {
@@ -54,9 +52,7 @@ impl<const N: usize> PvtQueue<N> {
     pub const fn new() -> Self {
         const { assert!(N > 0, "a PvtQueue needs a capacity > 0") };
         PvtQueue {
-            buf: [PvtPoint::ZERO; N],
-            head: 0,
-            len: 0,
+            buf: heapless::Deque::new(),
         }
     }
 
@@ -64,21 +60,21 @@ impl<const N: usize> PvtQueue<N> {
         N
     }
 
-    pub const fn len(&self) -> usize {
-        self.len
+    pub fn len(&self) -> usize {
+        self.buf.len()
     }
 
-    pub const fn is_empty(&self) -> bool {
-        self.len == 0
+    pub fn is_empty(&self) -> bool {
+        self.buf.is_empty()
     }
 
-    pub const fn is_full(&self) -> bool {
-        self.len == N
+    pub fn is_full(&self) -> bool {
+        self.buf.is_full()
     }
 
     /// Free places.
-    pub const fn free(&self) -> usize {
-        N - self.len
+    pub fn free(&self) -> usize {
+        N - self.buf.len()
     }
 
     /// Appends all `points` in order, or none of them if they do not all fit.
@@ -91,12 +87,10 @@ impl<const N: usize> PvtQueue<N> {
                 capacity: N,
             });
         }
-        let tail = (self.head + self.len) % N;
-        let first = (N - tail).min(points.len());
-        let (a, b) = points.split_at(first);
-        self.buf[tail..tail + first].copy_from_slice(a);
-        self.buf[..b.len()].copy_from_slice(b);
-        self.len += points.len();
+        for p in points {
+            // Cannot fail: the room was checked above.
+            let _ = self.buf.push_back(*p);
+        }
         Ok(())
     }
 
@@ -107,43 +101,36 @@ impl<const N: usize> PvtQueue<N> {
 
     /// Removes and returns the oldest point.
     pub fn pop(&mut self) -> Option<PvtPoint> {
-        if self.len == 0 {
-            return None;
-        }
-        let point = self.buf[self.head];
-        self.head = (self.head + 1) % N;
-        self.len -= 1;
-        Some(point)
+        self.buf.pop_front()
     }
 
     /// The oldest point, without removing it.
     pub fn peek(&self) -> Option<&PvtPoint> {
-        self.get(0)
+        self.buf.front()
     }
 
     /// The `i`-th point from the oldest (0 = oldest), if queued.
     pub fn get(&self, i: usize) -> Option<&PvtPoint> {
-        if i < self.len {
-            self.buf.get((self.head + i) % N)
-        } else {
-            None
+        let (older, newer) = self.buf.as_slices();
+        match i.checked_sub(older.len()) {
+            None => older.get(i),
+            Some(j) => newer.get(j),
         }
     }
 
     /// The newest point: where the next batch must continue from.
     pub fn last(&self) -> Option<&PvtPoint> {
-        self.len.checked_sub(1).and_then(|i| self.get(i))
+        self.buf.back()
     }
 
     /// Points from oldest to newest.
     pub fn iter(&self) -> impl Iterator<Item = &PvtPoint> + '_ {
-        (0..self.len).filter_map(move |i| self.get(i))
+        self.buf.iter()
     }
 
     /// Drops every queued point.
     pub fn clear(&mut self) {
-        self.head = 0;
-        self.len = 0;
+        self.buf.clear();
     }
 }
 
@@ -156,7 +143,7 @@ impl<const N: usize> Default for PvtQueue<N> {
 impl<const N: usize> core::fmt::Debug for PvtQueue<N> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("PvtQueue")
-            .field("len", &self.len)
+            .field("len", &self.len())
             .field("capacity", &N)
             .finish()
     }

@@ -1,0 +1,58 @@
+//! Command-line arguments that `mcm`, `mcm rt` and `mcm gateway` share: defined once, so that
+//! the launcher passes on exactly what the processes it starts accept.
+
+use crate::service::ServiceNames;
+use std::ffi::OsString;
+use std::path::PathBuf;
+
+/// Which robot and which MCM instance.
+#[derive(clap::Args, Debug, Clone, PartialEq, Eq)]
+pub struct CommonArgs {
+    /// Robot configuration file (TOML); the embedded P-Rob2 configuration (simulated) when
+    /// omitted.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Instance name: prefix of the shared-memory services, so that several MCMs can run side
+    /// by side on one machine.
+    #[arg(long, default_value = ServiceNames::DEFAULT_INSTANCE)]
+    pub instance: String,
+}
+
+impl CommonArgs {
+    /// The same arguments as a command line.
+    pub fn to_args(&self) -> Vec<OsString> {
+        let mut args: Vec<OsString> = vec!["--instance".into(), self.instance.clone().into()];
+        if let Some(c) = &self.config {
+            args.extend(["--config".into(), c.clone().into_os_string()]);
+        }
+        args
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        common: CommonArgs,
+    }
+
+    #[test]
+    fn to_args_parses_back_to_the_same_values() {
+        for argv in [
+            &["x"][..],
+            &["x", "--instance", "robot2", "--config", "/etc/mcm/arm.toml"][..],
+        ] {
+            let a = Cli::parse_from(argv).common;
+            let again = Cli::parse_from(std::iter::once("x".into()).chain(a.to_args())).common;
+            assert_eq!(again, a);
+        }
+        assert_eq!(
+            Cli::parse_from(["x"]).common.instance,
+            ServiceNames::DEFAULT_INSTANCE
+        );
+    }
+}
