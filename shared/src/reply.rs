@@ -26,7 +26,7 @@
 use crate::NUM_AXES;
 use crate::command::{Axis, DecodeError};
 use crate::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
-use crate::sample::{ErrorRecord, Reply};
+use crate::sample::{CommandSample, ErrorRecord, Reply};
 use core::fmt;
 
 /// What a calibration that failed could not do.
@@ -686,6 +686,48 @@ impl Response {
             outcome,
         })
     }
+}
+
+/// The wire reply refusing a sample that did not decode: the sample's own (possibly unknown)
+/// kind and ids, status `REJECTED`, and the fault as `OutOfRange` naming the value and the
+/// allowed bounds (an unknown kind as its number against the known range).
+pub fn refuse_undecodable(sample: &CommandSample, e: &DecodeError) -> Reply {
+    let (axis, value, (min, max)) = match *e {
+        DecodeError::Invalid {
+            field,
+            value,
+            allowed,
+            ..
+        } => (field.axis(), value, allowed.bounds()),
+        DecodeError::UnknownKind(kind) => (
+            None,
+            f64::from(kind),
+            (
+                f64::from(CommandKind::ALL[0].to_wire()),
+                f64::from(CommandKind::ALL[CommandKind::ALL.len() - 1].to_wire()),
+            ),
+        ),
+        DecodeError::Unknown { value, .. } => (None, f64::from(value), (0.0, 0.0)),
+        DecodeError::Mismatch { .. } => (None, 0.0, (0.0, 0.0)),
+    };
+    let w = Reason::OutOfRange {
+        axis,
+        value,
+        min,
+        max,
+    }
+    .to_wire();
+    let mut r = Reply {
+        client_id: sample.client_id,
+        request_id: sample.request_id,
+        kind: sample.kind,
+        status: ReplyStatus::Rejected.to_wire(),
+        code: w.code.to_wire(),
+        axis: w.axis,
+        ..Reply::default()
+    };
+    r.values[..4].copy_from_slice(&w.values);
+    r
 }
 
 /// A safety violation or drive error, as the core reports it to every client once.

@@ -196,3 +196,31 @@ fn words_name_the_values() {
         "point 5: axis 2 velocity 99.000 deg/s exceeds the limit 90.000 deg/s; nothing was queued"
     );
 }
+
+#[test]
+fn undecodable_samples_are_refused_with_their_own_kind_and_ids() {
+    let s = CommandSample {
+        client_id: 4,
+        request_id: 8,
+        kind: 99,
+        ..CommandSample::default()
+    };
+    let e = crate::command::Request::decode(&s).unwrap_err();
+    let r = refuse_undecodable(&s, &e);
+    assert_eq!((r.client_id, r.request_id, r.kind), (4, 8, 99));
+    assert_eq!(r.status, ReplyStatus::Rejected.to_wire());
+    assert_eq!(r.code, RejectCode::OutOfRange.to_wire());
+    assert_eq!(&r.values[..3], &[99.0, 1.0, 12.0]);
+
+    let mut s = crate::command::Request::Hold.encode();
+    s.kind = CommandKind::MoveAll.to_wire();
+    s.args[3] = f64::NAN;
+    s.args[6] = 0.5;
+    let e = crate::command::Request::decode(&s).unwrap_err();
+    let r = Response::decode(&refuse_undecodable(&s, &e)).unwrap();
+    let Outcome::Refused(Reason::OutOfRange { axis, value, .. }) = r.outcome else {
+        panic!("{r:?}")
+    };
+    assert_eq!(axis, Axis::new(4));
+    assert!(value.is_nan());
+}
