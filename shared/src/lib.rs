@@ -6,7 +6,9 @@
 //!   with versioned iceoryx2 type names;
 //! - [`service`]: the iceoryx2 service names, derived from an instance name so that several
 //!   MCMs (and parallel tests) can run side by side on one machine;
-//! - [`mode`]: the operating modes and the typed reasons a command can be refused;
+//! - [`command`]: the typed requests, and the one encoding of each into a command sample;
+//! - [`reply`]: the typed responses, refusal reasons and safety errors, and their encoding;
+//! - [`mode`]: the operating modes and the wire codes of command kinds and reasons;
 //! - [`config`]: the robot configuration file;
 //! - [`cli`]: the command-line arguments the MCM programs share;
 //! - [`units`]: the unit conventions at the boundary (degrees outside, radians inside).
@@ -20,8 +22,10 @@
 //! ```
 
 pub mod cli;
+pub mod command;
 pub mod config;
 pub mod mode;
+pub mod reply;
 pub mod sample;
 pub mod service;
 pub mod units;

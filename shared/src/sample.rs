@@ -3,22 +3,16 @@
 //! iceoryx2 only compares a type's name, size and alignment when a peer opens a service; it
 //! does not see field layouts. So every type name carries a version (`.v1`), every struct has
 //! explicit padding, and the tests at the bottom pin size, alignment and every field offset.
-//! **Any layout change must bump the version in the type name** (and the Python mirror).
+//! **Any layout change must bump the version in the type name.**
 //!
 //! Values are in the user's units: degrees, degrees/s, degrees/s^2, amperes, newton-metres,
 //! seconds. Times are `CLOCK_MONOTONIC` nanoseconds (Python: `time.monotonic_ns()`).
 //!
-//! ## Command arguments (`CommandSample::args`, by kind)
-//! | kind | args | flags |
-//! | --- | --- | --- |
-//! | `Calibrate` | `[0]` which: 0 ALL, 1..6 axis, 7 ELBOW, 8 WRIST; `[1]` elbow direction ±1; `[2]` wrist direction ±1 | bit 0: force mechanical stop |
-//! | `Pvt` | `[0]` dt [s] | |
-//! | `TorqueControl` | `[0]` timeout [s] (negative: none) | bit 0: no gravity compensation |
-//! | `MoveAxis` | `[0]` axis 1..6, `[1]` target [deg], `[2]` velocity factor | |
-//! | `MoveAll` | `[0..6]` targets [deg], `[6]` velocity factor | |
-//! | `SetTorques` | `[0..6]` torques [Nm] | |
-//! | `PvtPoints` | up to [`PVT_POINTS_PER_COMMAND`] points, each 6 positions [deg] then 6 velocities [deg/s] | bits 0..7: points in this sample; bit 8: last sample of the batch |
-//! | `Sim` | `[0]` emergency stop 0/1; `[1]` disconnect axis; `[2]` reconnect axis; `[3]` block axis; `[4]` unblock axis; `[5..11]` external torques [Nm] | bit *n* set: `args` field *n* is present (bit 5 covers all six torques); bit 11: power cycle |
+//! ## Command arguments
+//! What `CommandSample::args` and `flags` hold for each kind is defined in one place, by
+//! [`crate::command::Request::encode`] and [`crate::command::Request::decode`]; replies and
+//! error records likewise by [`crate::reply`]. Build samples through those types, never by
+//! position.
 
 use crate::NUM_AXES;
 use iceoryx2::prelude::ZeroCopySend;
@@ -152,7 +146,7 @@ pub struct CycleTiming {
 /// The state of the arm and of the controller, published once per cycle.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("mcm.StateSample.v2")]
+#[type_name("mcm.StateSample.v3")]
 pub struct StateSample {
     /// Cycle counter (increments by one every cycle).
     pub seq: u64,
@@ -186,6 +180,9 @@ pub struct StateSample {
     /// PVT queue: points queued and capacity.
     pub pvt_queued: u32,
     pub pvt_capacity: u32,
+    /// Times receiving from the command service failed since start (each may have lost
+    /// commands; the core goes on with the next cycle).
+    pub command_receive_errors: u64,
     pub timing: CycleTiming,
     pub last_error: ErrorRecord,
     /// `seq` of the newest reply in `replies` (0 = none yet). Reply `n` is in slot `n % REPLY_RING`.
@@ -213,6 +210,7 @@ impl Default for StateSample {
             axis_flags: [0; NUM_AXES],
             pvt_queued: 0,
             pvt_capacity: 0,
+            command_receive_errors: 0,
             timing: CycleTiming::default(),
             last_error: ErrorRecord::default(),
             reply_head: 0,
@@ -303,15 +301,16 @@ mod tests {
             (offset_of!(StateSample, axis_flags), 504),
             (offset_of!(StateSample, pvt_queued), 528),
             (offset_of!(StateSample, pvt_capacity), 532),
-            (offset_of!(StateSample, timing), 536),
-            (offset_of!(StateSample, last_error), 584),
-            (offset_of!(StateSample, reply_head), 648),
-            (offset_of!(StateSample, replies), 656),
+            (offset_of!(StateSample, command_receive_errors), 536),
+            (offset_of!(StateSample, timing), 544),
+            (offset_of!(StateSample, last_error), 592),
+            (offset_of!(StateSample, reply_head), 656),
+            (offset_of!(StateSample, replies), 664),
         ];
         for (i, (got, want)) in expected.iter().enumerate() {
             assert_eq!(got, want, "field #{i} moved");
         }
-        assert_eq!(size_of::<StateSample>(), 656 + REPLY_RING * 104);
+        assert_eq!(size_of::<StateSample>(), 664 + REPLY_RING * 104);
     }
 
     #[test]

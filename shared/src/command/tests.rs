@@ -1,0 +1,272 @@
+use super::*;
+use proptest::prelude::*;
+
+fn axis() -> impl Strategy<Value = Axis> {
+    (1u8..=6).prop_map(|n| Axis::new(n).unwrap())
+}
+
+fn finite() -> impl Strategy<Value = f64> {
+    -1e6f64..1e6
+}
+
+fn six() -> impl Strategy<Value = [f64; 6]> {
+    prop::array::uniform6(finite())
+}
+
+fn factor() -> impl Strategy<Value = f64> {
+    prop_oneof![Just(1.0), (1e-9f64..=1.0)]
+}
+
+fn direction() -> impl Strategy<Value = Direction> {
+    prop_oneof![Just(Direction::Positive), Just(Direction::Negative)]
+}
+
+fn which() -> impl Strategy<Value = Which> {
+    prop_oneof![
+        Just(Which::All),
+        Just(Which::Elbow),
+        Just(Which::Wrist),
+        axis().prop_map(Which::Axis),
+    ]
+}
+
+fn point() -> impl Strategy<Value = PvtPoint> {
+    (six(), six()).prop_map(|(position_deg, velocity_deg_s)| PvtPoint {
+        position_deg,
+        velocity_deg_s,
+    })
+}
+
+fn sim() -> impl Strategy<Value = SimCommand> {
+    (
+        prop::option::of(any::<bool>()),
+        prop::array::uniform4(prop::option::of(axis())),
+        prop::option::of(six()),
+        any::<bool>(),
+    )
+        .prop_map(
+            |(emergency_stop, axes, external_torques_nm, power_cycle)| SimCommand {
+                emergency_stop,
+                disconnect_axis: axes[0],
+                reconnect_axis: axes[1],
+                block_axis: axes[2],
+                unblock_axis: axes[3],
+                external_torques_nm,
+                power_cycle,
+            },
+        )
+}
+
+/// Every well-formed request of every kind.
+pub(crate) fn request() -> impl Strategy<Value = Request> {
+    prop_oneof![
+        Just(Request::Status),
+        Just(Request::Hold),
+        Just(Request::Info),
+        Just(Request::Release),
+        (which(), direction(), direction(), any::<bool>()).prop_map(|(which, e, w, force)| {
+            Request::Calibrate(Calibrate {
+                which,
+                elbow_direction: e,
+                wrist_direction: w,
+                force_mechanical_stop: force,
+            })
+        }),
+        (prop::option::of(1e-6f64..1e6), any::<bool>()).prop_map(|(timeout_s, g)| {
+            Request::TorqueControl(TorqueControl {
+                timeout_s,
+                gravity_compensation: g,
+            })
+        }),
+        (1e-9f64..=1.0).prop_map(|dt_s| Request::Pvt(Pvt { dt_s })),
+        (axis(), finite(), factor()).prop_map(|(axis, target_deg, velocity_factor)| {
+            Request::MoveAxis(MoveAxis {
+                axis,
+                target_deg,
+                velocity_factor,
+            })
+        }),
+        (six(), factor()).prop_map(|(targets_deg, velocity_factor)| {
+            Request::MoveAll(MoveAll {
+                targets_deg,
+                velocity_factor,
+            })
+        }),
+        (
+            prop::collection::vec(point(), 1..=PVT_POINTS_PER_COMMAND),
+            any::<bool>()
+        )
+            .prop_map(|(p, last)| Request::PvtPoints(PvtChunk::new(&p, last).unwrap())),
+        six().prop_map(|torques_nm| Request::SetTorques(SetTorques { torques_nm })),
+        sim().prop_map(Request::Sim),
+    ]
+}
+
+fn any_sample() -> impl Strategy<Value = CommandSample> {
+    let arg = prop_oneof![
+        any::<f64>(),
+        Just(0.0),
+        Just(1.0),
+        Just(-1.0),
+        (0u8..10).prop_map(f64::from),
+        Just(f64::NAN),
+        Just(f64::INFINITY),
+    ];
+    (
+        any::<u64>(),
+        any::<u64>(),
+        prop_oneof![0u32..14, any::<u32>()],
+        prop_oneof![0u32..0x1000, any::<u32>()],
+        prop::collection::vec(arg, COMMAND_ARGS),
+    )
+        .prop_map(|(client_id, request_id, kind, flags, args)| {
+            let mut s = CommandSample {
+                client_id,
+                request_id,
+                kind,
+                flags,
+                ..CommandSample::default()
+            };
+            s.args.copy_from_slice(&args);
+            s
+        })
+}
+
+proptest! {
+    #[test]
+    fn every_request_round_trips(r in request(), client in any::<u64>(), id in any::<u64>()) {
+        let mut s = r.encode();
+        prop_assert_eq!(s.kind, r.kind().to_wire());
+        s.client_id = client;
+        s.request_id = id;
+        prop_assert_eq!(Request::decode(&s), Ok(r));
+    }
+
+    /// Whatever a sample holds, decoding answers without panicking, and what it accepts
+    /// encodes back to the same request.
+    #[test]
+    fn any_sample_decodes_or_names_its_fault(s in any_sample()) {
+        match Request::decode(&s) {
+            Ok(r) => prop_assert_eq!(Request::decode(&r.encode()), Ok(r)),
+            Err(e) => prop_assert!(!e.to_string().is_empty()),
+        }
+    }
+
+    #[test]
+    fn batches_split_into_full_chunks_and_one_last(n in 1usize..40) {
+        let points: Vec<PvtPoint> = (0..n)
+            .map(|i| PvtPoint { position_deg: [i as f64; 6], velocity_deg_s: [0.0; 6] })
+            .collect();
+        let chunks: Vec<PvtChunk> = PvtChunk::batch(&points).collect();
+        prop_assert_eq!(chunks.len(), n.div_ceil(PVT_POINTS_PER_COMMAND));
+        prop_assert!(chunks.iter().rev().skip(1).all(|c| !c.last));
+        prop_assert!(chunks.last().unwrap().last);
+        let back: Vec<PvtPoint> = chunks.iter().flat_map(|c| c.points().to_vec()).collect();
+        prop_assert_eq!(back, points);
+    }
+}
+
+fn sample(kind: CommandKind, args: &[f64], flags: u32) -> CommandSample {
+    let mut s = CommandSample {
+        kind: kind.to_wire(),
+        flags,
+        ..CommandSample::default()
+    };
+    s.args[..args.len()].copy_from_slice(args);
+    s
+}
+
+#[test]
+fn bad_values_name_field_value_and_range() {
+    let e = Request::decode(&sample(CommandKind::MoveAxis, &[7.0, 30.0, 0.5], 0)).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "move_axis: axis_index = 7 is not allowed; allowed: from 1 to 6"
+    );
+    let e = Request::decode(&sample(CommandKind::MoveAxis, &[1.0, 3.0, 0.0], 0)).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "move_axis: velocity_factor = 0 is not allowed; allowed: above 0 and at most 1"
+    );
+    let e = Request::decode(&sample(CommandKind::MoveAll, &[0.0, 0.0, f64::NAN], 0)).unwrap_err();
+    let DecodeError::Invalid { field, .. } = e else {
+        panic!("{e:?}")
+    };
+    assert_eq!(field.to_string(), "target_positions[2]");
+    assert_eq!(field.axis(), Axis::new(3));
+    let e = Request::decode(&CommandSample {
+        kind: 99,
+        ..CommandSample::default()
+    })
+    .unwrap_err();
+    assert_eq!(e, DecodeError::UnknownKind(99));
+}
+
+#[test]
+fn unknown_flag_bits_are_refused() {
+    let e = Request::decode(&sample(CommandKind::Hold, &[], 1 << 9)).unwrap_err();
+    assert!(e.to_string().contains("flags"), "{e}");
+}
+
+#[test]
+fn calibrate_sets_and_sim_fields_decode_by_flag() {
+    let Request::Calibrate(c) = Request::decode(&sample(
+        CommandKind::Calibrate,
+        &[8.0, 1.0, -1.0],
+        CALIBRATE_FLAG_FORCE_STOP,
+    ))
+    .unwrap() else {
+        panic!()
+    };
+    assert_eq!(c.which, Which::Wrist);
+    assert!(!c.which.contains(Axis::new(3).unwrap()) && c.which.contains(Axis::new(6).unwrap()));
+    assert_eq!(c.wrist_direction, Direction::Negative);
+    assert!(c.force_mechanical_stop);
+
+    let mut s = sample(
+        CommandKind::Sim,
+        &[1.0, 0.0, 0.0, 3.0],
+        (1 << 0) | (1 << 3) | SIM_FLAG_POWER_CYCLE,
+    );
+    s.args[5] = f64::NAN; // not flagged: ignored
+    let Request::Sim(c) = Request::decode(&s).unwrap() else {
+        panic!()
+    };
+    assert_eq!(c.emergency_stop, Some(true));
+    assert_eq!(c.block_axis, Axis::new(3));
+    assert_eq!(c.disconnect_axis, None);
+    assert_eq!(c.external_torques_nm, None);
+    assert!(c.power_cycle);
+}
+
+#[test]
+fn torque_control_timeout_none_is_negative() {
+    let r = Request::TorqueControl(TorqueControl {
+        timeout_s: None,
+        gravity_compensation: false,
+    });
+    let s = r.encode();
+    assert!(s.args[0] < 0.0);
+    assert_eq!(s.flags, TORQUE_FLAG_NO_GRAVITY);
+    assert!(Request::decode(&sample(CommandKind::TorqueControl, &[0.0], 0)).is_err());
+}
+
+#[test]
+fn pvt_chunk_sizes() {
+    assert!(PvtChunk::new(&[], true).is_none());
+    assert!(PvtChunk::new(&[PvtPoint::default(); PVT_POINTS_PER_COMMAND + 1], true).is_none());
+    assert_eq!(PvtChunk::batch(&[]).count(), 0);
+    let e = Request::decode(&sample(CommandKind::PvtPoints, &[], PVT_FLAG_LAST)).unwrap_err();
+    assert!(e.to_string().contains("points in the sample"), "{e}");
+}
+
+#[test]
+fn axes_number_and_index() {
+    assert_eq!(Axis::new(0), None);
+    assert_eq!(Axis::new(7), None);
+    assert_eq!(Axis::from_index(5).unwrap().number(), 6);
+    assert_eq!(Axis::new(1).unwrap().index(), 0);
+    assert_eq!(Axis::ALL.len(), NUM_AXES);
+    assert_eq!(Axis::from_wire(0), Ok(None));
+    assert_eq!(Axis::from_wire(9), Err(9));
+}

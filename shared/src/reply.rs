@@ -1,0 +1,776 @@
+//! The typed answers of the real-time core: a [`Response`] to each request, the [`Reason`]
+//! of every refusal, failure or safety trip, and the [`SafetyError`] record; each with the one
+//! `encode`/`decode` pair that maps it onto the wire structs of [`crate::sample`].
+//!
+//! Nothing outside this module reads `Reply::values` or `ErrorRecord::values` by position.
+//! Decoding checks every number, so an answer from another MCM version is a [`DecodeError`]
+//! naming what was unknown, never a silent "no error". Encoding and decoding never allocate.
+//!
+//! ```
+//! use mcm_shared::command::Axis;
+//! use mcm_shared::mode::CommandKind;
+//! use mcm_shared::reply::{Outcome, Reason, Response};
+//! let r = Response {
+//!     client_id: 1,
+//!     request_id: 9,
+//!     kind: CommandKind::MoveAxis,
+//!     outcome: Outcome::Refused(Reason::Busy { remaining_s: 0.25 }),
+//! };
+//! assert_eq!(Response::decode(&r.encode()), Ok(r));
+//! assert_eq!(
+//!     Reason::NotCalibrated { axis: Axis::new(3).unwrap() }.to_string(),
+//!     "axis 3 is not calibrated; run `calibrate` first"
+//! );
+//! ```
+
+use crate::NUM_AXES;
+use crate::command::{Axis, DecodeError};
+use crate::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
+use crate::sample::{CommandSample, ErrorRecord, Reply};
+use core::fmt;
+
+/// What a calibration that failed could not do.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CalibrationFailure {
+    /// No mechanical stop within the distance searched [deg].
+    NoStop { searched_deg: f64 },
+    /// No light-barrier edge within the distance searched [deg].
+    NoEdge { searched_deg: f64 },
+    /// The axis's drive stopped answering.
+    DriveLost,
+}
+
+/// Which limit a PVT point breaks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PvtQuantity {
+    Position,
+    Velocity,
+    Acceleration,
+}
+
+impl PvtQuantity {
+    fn code(self) -> f64 {
+        match self {
+            PvtQuantity::Position => 1.0,
+            PvtQuantity::Velocity => 2.0,
+            PvtQuantity::Acceleration => 3.0,
+        }
+    }
+
+    fn unit(self) -> &'static str {
+        match self {
+            PvtQuantity::Position => "deg",
+            PvtQuantity::Velocity => "deg/s",
+            PvtQuantity::Acceleration => "deg/s^2",
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            PvtQuantity::Position => "position",
+            PvtQuantity::Velocity => "velocity",
+            PvtQuantity::Acceleration => "acceleration",
+        }
+    }
+}
+
+/// Why a command was refused or failed, or which safety check tripped, with its figures.
+/// `Display` gives the words for a person: what was wrong, the value, and what is allowed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Reason {
+    /// Not allowed in the current mode.
+    WrongMode {
+        mode: Mode,
+    },
+    NotCalibrated {
+        axis: Axis,
+    },
+    /// The emergency stop is pressed.
+    EmergencyStop,
+    /// The drive does not answer on the bus.
+    DriveDisconnected {
+        axis: Axis,
+    },
+    /// A drive is in fault (`axis` unknown when the drive could not be told apart).
+    DriveFault {
+        axis: Option<Axis>,
+        code: u16,
+    },
+    /// A value outside its allowed range (`axis`: the axis it belongs to, if any).
+    OutOfRange {
+        axis: Option<Axis>,
+        value: f64,
+        min: f64,
+        max: f64,
+    },
+    /// The command exists in the manual but this build does not implement it yet.
+    NotAvailable,
+    /// The command needs the simulated robot.
+    NotSimulated,
+    /// The PVT queue cannot take the batch; nothing was queued.
+    QueueFull {
+        offered: u32,
+        free: u32,
+    },
+    PositionLimit {
+        axis: Axis,
+        position_deg: f64,
+        limit_deg: f64,
+    },
+    VelocityLimit {
+        axis: Axis,
+        velocity_deg_s: f64,
+        limit_deg_s: f64,
+    },
+    BrakingDistance {
+        axis: Axis,
+        stop_deg: f64,
+        limit_deg: f64,
+    },
+    FollowingError {
+        axis: Axis,
+        error_deg: f64,
+        band_deg: f64,
+    },
+    CalibrationFailed {
+        axis: Axis,
+        cause: CalibrationFailure,
+    },
+    /// Superseded by another command or a mode change before it finished.
+    Aborted,
+    /// A motion is in progress.
+    Busy {
+        remaining_s: f64,
+    },
+    /// A PVT point (1-based `point`) breaks a limit; nothing was queued.
+    PvtPoint {
+        axis: Axis,
+        point: u32,
+        quantity: PvtQuantity,
+        value: f64,
+        limit: f64,
+    },
+    /// The target is outside the reachable range (the limits less the safety margin).
+    Unreachable {
+        axis: Axis,
+        target_deg: f64,
+        min_deg: f64,
+        max_deg: f64,
+    },
+}
+
+/// The wire form of a reason: its code, axis (0: none) and figures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WireReason {
+    pub code: RejectCode,
+    pub axis: u32,
+    pub values: [f64; 4],
+}
+
+impl Reason {
+    /// The code naming this reason (and the safety check, for trips).
+    pub fn code(&self) -> RejectCode {
+        self.to_wire().code
+    }
+
+    /// The axis it concerns, if any.
+    pub fn axis(&self) -> Option<Axis> {
+        match *self {
+            Reason::NotCalibrated { axis }
+            | Reason::DriveDisconnected { axis }
+            | Reason::PositionLimit { axis, .. }
+            | Reason::VelocityLimit { axis, .. }
+            | Reason::BrakingDistance { axis, .. }
+            | Reason::FollowingError { axis, .. }
+            | Reason::CalibrationFailed { axis, .. }
+            | Reason::PvtPoint { axis, .. }
+            | Reason::Unreachable { axis, .. } => Some(axis),
+            Reason::DriveFault { axis, .. } | Reason::OutOfRange { axis, .. } => axis,
+            _ => None,
+        }
+    }
+
+    /// The wire form.
+    pub fn to_wire(&self) -> WireReason {
+        let w = |code, axis: Option<Axis>, values| WireReason {
+            code,
+            axis: Axis::to_wire(axis),
+            values,
+        };
+        let a = Some;
+        match *self {
+            Reason::WrongMode { mode } => w(
+                RejectCode::WrongMode,
+                None,
+                [f64::from(mode.to_wire()), 0.0, 0.0, 0.0],
+            ),
+            Reason::NotCalibrated { axis } => w(RejectCode::NotCalibrated, a(axis), [0.0; 4]),
+            Reason::EmergencyStop => w(RejectCode::EmergencyStop, None, [0.0; 4]),
+            Reason::DriveDisconnected { axis } => {
+                w(RejectCode::DriveDisconnected, a(axis), [0.0; 4])
+            }
+            Reason::DriveFault { axis, code } => w(
+                RejectCode::DriveFault,
+                axis,
+                [f64::from(code), 0.0, 0.0, 0.0],
+            ),
+            Reason::OutOfRange {
+                axis,
+                value,
+                min,
+                max,
+            } => w(RejectCode::OutOfRange, axis, [value, min, max, 0.0]),
+            Reason::NotAvailable => w(RejectCode::NotAvailable, None, [0.0; 4]),
+            Reason::NotSimulated => w(RejectCode::NotSimulated, None, [0.0; 4]),
+            Reason::QueueFull { offered, free } => w(
+                RejectCode::QueueFull,
+                None,
+                [f64::from(offered), f64::from(free), 0.0, 0.0],
+            ),
+            Reason::PositionLimit {
+                axis,
+                position_deg,
+                limit_deg,
+            } => w(
+                RejectCode::PositionLimit,
+                a(axis),
+                [position_deg, limit_deg, 0.0, 0.0],
+            ),
+            Reason::VelocityLimit {
+                axis,
+                velocity_deg_s,
+                limit_deg_s,
+            } => w(
+                RejectCode::VelocityLimit,
+                a(axis),
+                [velocity_deg_s, limit_deg_s, 0.0, 0.0],
+            ),
+            Reason::BrakingDistance {
+                axis,
+                stop_deg,
+                limit_deg,
+            } => w(
+                RejectCode::BrakingDistance,
+                a(axis),
+                [stop_deg, limit_deg, 0.0, 0.0],
+            ),
+            Reason::FollowingError {
+                axis,
+                error_deg,
+                band_deg,
+            } => w(
+                RejectCode::FollowingError,
+                a(axis),
+                [error_deg, band_deg, 0.0, 0.0],
+            ),
+            Reason::CalibrationFailed { axis, cause } => {
+                let values = match cause {
+                    CalibrationFailure::NoStop { searched_deg } => [1.0, searched_deg, 0.0, 0.0],
+                    CalibrationFailure::NoEdge { searched_deg } => [2.0, searched_deg, 0.0, 0.0],
+                    CalibrationFailure::DriveLost => [3.0, 0.0, 0.0, 0.0],
+                };
+                w(RejectCode::CalibrationFailed, a(axis), values)
+            }
+            Reason::Aborted => w(RejectCode::Aborted, None, [0.0; 4]),
+            Reason::Busy { remaining_s } => w(RejectCode::Busy, None, [remaining_s, 0.0, 0.0, 0.0]),
+            Reason::PvtPoint {
+                axis,
+                point,
+                quantity,
+                value,
+                limit,
+            } => w(
+                RejectCode::PvtPoint,
+                a(axis),
+                [f64::from(point), quantity.code(), value, limit],
+            ),
+            Reason::Unreachable {
+                axis,
+                target_deg,
+                min_deg,
+                max_deg,
+            } => w(
+                RejectCode::Unreachable,
+                a(axis),
+                [target_deg, min_deg, max_deg, 0.0],
+            ),
+        }
+    }
+
+    /// The reason a wire code, axis and figures stand for. `RejectCode::None` is no reason.
+    pub fn from_wire(code: u32, axis: u32, values: &[f64; 4]) -> Result<Reason, DecodeError> {
+        let code = RejectCode::try_from(code).map_err(|e| DecodeError::Unknown {
+            what: e.what,
+            value: e.value,
+        })?;
+        let axis = Axis::from_wire(axis).map_err(|value| DecodeError::Unknown {
+            what: "axis",
+            value,
+        })?;
+        let need = |axis: Option<Axis>| {
+            axis.ok_or(DecodeError::Unknown {
+                what: "axis (missing) of reason",
+                value: code.to_wire(),
+            })
+        };
+        let whole = |x: f64, what: &'static str| -> Result<u32, DecodeError> {
+            if x.fract() == 0.0 && (0.0..=f64::from(u32::MAX)).contains(&x) {
+                Ok(x as u32)
+            } else {
+                Err(DecodeError::Unknown {
+                    what,
+                    value: x as u32,
+                })
+            }
+        };
+        let [v0, v1, v2, v3] = *values;
+        Ok(match code {
+            RejectCode::None => {
+                return Err(DecodeError::Unknown {
+                    what: "reason (none given) of a refusal",
+                    value: 0,
+                });
+            }
+            RejectCode::WrongMode => {
+                let m = whole(v0, "mode")?;
+                Reason::WrongMode {
+                    mode: Mode::try_from(m).map_err(|e| DecodeError::Unknown {
+                        what: e.what,
+                        value: e.value,
+                    })?,
+                }
+            }
+            RejectCode::NotCalibrated => Reason::NotCalibrated { axis: need(axis)? },
+            RejectCode::EmergencyStop => Reason::EmergencyStop,
+            RejectCode::DriveDisconnected => Reason::DriveDisconnected { axis: need(axis)? },
+            RejectCode::DriveFault => Reason::DriveFault {
+                axis,
+                code: u16::try_from(whole(v0, "drive error code")?).map_err(|_| {
+                    DecodeError::Unknown {
+                        what: "drive error code",
+                        value: v0 as u32,
+                    }
+                })?,
+            },
+            RejectCode::OutOfRange => Reason::OutOfRange {
+                axis,
+                value: v0,
+                min: v1,
+                max: v2,
+            },
+            RejectCode::NotAvailable => Reason::NotAvailable,
+            RejectCode::NotSimulated => Reason::NotSimulated,
+            RejectCode::QueueFull => Reason::QueueFull {
+                offered: whole(v0, "points offered")?,
+                free: whole(v1, "free places")?,
+            },
+            RejectCode::PositionLimit => Reason::PositionLimit {
+                axis: need(axis)?,
+                position_deg: v0,
+                limit_deg: v1,
+            },
+            RejectCode::VelocityLimit => Reason::VelocityLimit {
+                axis: need(axis)?,
+                velocity_deg_s: v0,
+                limit_deg_s: v1,
+            },
+            RejectCode::BrakingDistance => Reason::BrakingDistance {
+                axis: need(axis)?,
+                stop_deg: v0,
+                limit_deg: v1,
+            },
+            RejectCode::FollowingError => Reason::FollowingError {
+                axis: need(axis)?,
+                error_deg: v0,
+                band_deg: v1,
+            },
+            RejectCode::CalibrationFailed => Reason::CalibrationFailed {
+                axis: need(axis)?,
+                cause: match whole(v0, "calibration failure")? {
+                    1 => CalibrationFailure::NoStop { searched_deg: v1 },
+                    2 => CalibrationFailure::NoEdge { searched_deg: v1 },
+                    3 => CalibrationFailure::DriveLost,
+                    n => {
+                        return Err(DecodeError::Unknown {
+                            what: "calibration failure",
+                            value: n,
+                        });
+                    }
+                },
+            },
+            RejectCode::Aborted => Reason::Aborted,
+            RejectCode::Busy => Reason::Busy { remaining_s: v0 },
+            RejectCode::PvtPoint => Reason::PvtPoint {
+                axis: need(axis)?,
+                point: whole(v0, "PVT point number")?,
+                quantity: match whole(v1, "PVT quantity")? {
+                    1 => PvtQuantity::Position,
+                    2 => PvtQuantity::Velocity,
+                    3 => PvtQuantity::Acceleration,
+                    n => {
+                        return Err(DecodeError::Unknown {
+                            what: "PVT quantity",
+                            value: n,
+                        });
+                    }
+                },
+                value: v2,
+                limit: v3,
+            },
+            RejectCode::Unreachable => Reason::Unreachable {
+                axis: need(axis)?,
+                target_deg: v0,
+                min_deg: v1,
+                max_deg: v2,
+            },
+        })
+    }
+}
+
+impl fmt::Display for Reason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Reason::WrongMode { mode } => write!(f, "not allowed in mode {mode}"),
+            Reason::NotCalibrated { axis } => {
+                write!(f, "axis {axis} is not calibrated; run `calibrate` first")
+            }
+            Reason::EmergencyStop => {
+                f.write_str("the emergency stop is pressed; release it, then send `hold`")
+            }
+            Reason::DriveDisconnected { axis } => {
+                write!(f, "the drive of axis {axis} does not answer on the bus")
+            }
+            Reason::DriveFault { axis, code } => match axis {
+                Some(axis) => write!(
+                    f,
+                    "the drive of axis {axis} is in fault (error code 0x{code:04X})"
+                ),
+                None => write!(f, "a drive is in fault (error code 0x{code:04X})"),
+            },
+            Reason::OutOfRange {
+                axis,
+                value,
+                min,
+                max,
+            } => {
+                if let Some(axis) = axis {
+                    write!(f, "axis {axis}: ")?;
+                }
+                write!(
+                    f,
+                    "value {value} is outside the allowed range [{min}, {max}]"
+                )
+            }
+            Reason::NotAvailable => f.write_str("not available yet in this MCM version"),
+            Reason::NotSimulated => {
+                f.write_str("only available when the simulated robot is running")
+            }
+            Reason::QueueFull { offered, free } => write!(
+                f,
+                "queue full: {offered} points offered, {free} places free; nothing was queued"
+            ),
+            Reason::PositionLimit {
+                axis,
+                position_deg,
+                limit_deg,
+            } => write!(
+                f,
+                "position limit: axis {axis} at {position_deg:.3} deg, limit {limit_deg:.3} deg"
+            ),
+            Reason::VelocityLimit {
+                axis,
+                velocity_deg_s,
+                limit_deg_s,
+            } => write!(
+                f,
+                "velocity limit: axis {axis} at {velocity_deg_s:.3} deg/s, limit {limit_deg_s:.3} deg/s"
+            ),
+            Reason::BrakingDistance {
+                axis,
+                stop_deg,
+                limit_deg,
+            } => write!(
+                f,
+                "braking distance: axis {axis} would stop at {stop_deg:.3} deg, beyond the limit {limit_deg:.3} deg"
+            ),
+            Reason::FollowingError {
+                axis,
+                error_deg,
+                band_deg,
+            } => write!(
+                f,
+                "following error: axis {axis} is {error_deg:.3} deg away from its commanded position, band {band_deg:.3} deg"
+            ),
+            Reason::CalibrationFailed { axis, cause } => match cause {
+                CalibrationFailure::NoStop { searched_deg } => write!(
+                    f,
+                    "calibration of axis {axis} failed: no mechanical stop found within {searched_deg:.1} deg; the arm holds where it is"
+                ),
+                CalibrationFailure::NoEdge { searched_deg } => write!(
+                    f,
+                    "calibration of axis {axis} failed: no light-barrier edge found within {searched_deg:.1} deg; the arm holds where it is"
+                ),
+                CalibrationFailure::DriveLost => write!(
+                    f,
+                    "calibration of axis {axis} failed: its drive stopped answering"
+                ),
+            },
+            Reason::Aborted => {
+                f.write_str("aborted (superseded by another command or a mode change)")
+            }
+            Reason::Busy { remaining_s } => write!(
+                f,
+                "a motion is in progress ({remaining_s:.3} s left); wait until it ends, or send `hold` to stop it"
+            ),
+            Reason::PvtPoint {
+                axis,
+                point,
+                quantity,
+                value,
+                limit,
+            } => {
+                let (what, unit) = (quantity.name(), quantity.unit());
+                write!(
+                    f,
+                    "point {point}: axis {axis} {what} {value:.3} {unit} exceeds the limit {limit:.3} {unit}; nothing was queued"
+                )
+            }
+            Reason::Unreachable {
+                axis,
+                target_deg,
+                min_deg,
+                max_deg,
+            } => write!(
+                f,
+                "axis {axis}: target {target_deg:.3} deg is outside the reachable range [{min_deg:.3}, {max_deg:.3}] deg (the limits less the safety margin)"
+            ),
+        }
+    }
+}
+
+/// The move a `move_all` planned.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MoveAllPlan {
+    /// Peak velocity of each axis [deg/s].
+    pub velocities_deg_s: [f64; NUM_AXES],
+    /// The axis that needs the longest (it sets the pace of the others).
+    pub longest: Axis,
+    /// Time from now to arrival [s].
+    pub duration_s: f64,
+}
+
+/// What the core says about itself in answer to `info`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InfoReply {
+    pub num_axes: u32,
+    /// Cycle period [s].
+    pub period_s: f64,
+}
+
+/// What a command that succeeded answers: most say only "done" ([`Done::Ack`]); `info` and
+/// `move_all` carry figures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Done {
+    Ack,
+    Info(InfoReply),
+    MoveAll(MoveAllPlan),
+}
+
+/// How the core answered a request.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Outcome {
+    /// Done (or accepted, for commands that start a motion).
+    Done(Done),
+    /// Refused; nothing changed.
+    Refused(Reason),
+    /// Accepted, but failed while running (e.g. a calibration that found no stop).
+    Failed(Reason),
+}
+
+/// The answer to one request.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Response {
+    pub client_id: u64,
+    pub request_id: u64,
+    /// The kind of the request answered.
+    pub kind: CommandKind,
+    pub outcome: Outcome,
+}
+
+impl Response {
+    /// The wire form (`seq` 0: the reply ring numbers it).
+    pub fn encode(&self) -> Reply {
+        let mut r = Reply {
+            client_id: self.client_id,
+            request_id: self.request_id,
+            kind: self.kind.to_wire(),
+            ..Reply::default()
+        };
+        let reason = match self.outcome {
+            Outcome::Done(done) => {
+                r.status = ReplyStatus::Ok.to_wire();
+                match done {
+                    Done::Ack => {}
+                    Done::Info(i) => {
+                        r.values[0] = f64::from(i.num_axes);
+                        r.values[1] = i.period_s;
+                    }
+                    Done::MoveAll(p) => {
+                        r.values[..NUM_AXES].copy_from_slice(&p.velocities_deg_s);
+                        r.values[NUM_AXES] = f64::from(p.longest.number());
+                        r.values[NUM_AXES + 1] = p.duration_s;
+                    }
+                }
+                return r;
+            }
+            Outcome::Refused(reason) => {
+                r.status = ReplyStatus::Rejected.to_wire();
+                reason
+            }
+            Outcome::Failed(reason) => {
+                r.status = ReplyStatus::Failed.to_wire();
+                reason
+            }
+        };
+        let w = reason.to_wire();
+        r.code = w.code.to_wire();
+        r.axis = w.axis;
+        r.values[..4].copy_from_slice(&w.values);
+        r
+    }
+
+    /// The typed answer a wire reply stands for.
+    pub fn decode(r: &Reply) -> Result<Response, DecodeError> {
+        let kind = CommandKind::try_from(r.kind).map_err(|_| DecodeError::UnknownKind(r.kind))?;
+        let status = ReplyStatus::try_from(r.status).map_err(|e| DecodeError::Unknown {
+            what: e.what,
+            value: e.value,
+        })?;
+        let reason = || {
+            let v = &r.values;
+            Reason::from_wire(r.code, r.axis, &[v[0], v[1], v[2], v[3]])
+        };
+        let outcome = match status {
+            ReplyStatus::Ok => Outcome::Done(match kind {
+                CommandKind::Info => Done::Info(InfoReply {
+                    num_axes: r.values[0] as u32,
+                    period_s: r.values[1],
+                }),
+                CommandKind::MoveAll => {
+                    let v = &r.values;
+                    let longest = v[NUM_AXES];
+                    let longest = (longest.fract() == 0.0 && (1.0..=6.0).contains(&longest))
+                        .then(|| Axis::new(longest as u8))
+                        .flatten()
+                        .ok_or(DecodeError::Mismatch {
+                            kind,
+                            problem: "the longest axis is not 1 to 6",
+                        })?;
+                    let mut velocities_deg_s = [0.0; NUM_AXES];
+                    velocities_deg_s.copy_from_slice(&v[..NUM_AXES]);
+                    Done::MoveAll(MoveAllPlan {
+                        velocities_deg_s,
+                        longest,
+                        duration_s: v[NUM_AXES + 1],
+                    })
+                }
+                _ => Done::Ack,
+            }),
+            ReplyStatus::Rejected => Outcome::Refused(reason()?),
+            ReplyStatus::Failed => Outcome::Failed(reason()?),
+        };
+        Ok(Response {
+            client_id: r.client_id,
+            request_id: r.request_id,
+            kind,
+            outcome,
+        })
+    }
+}
+
+/// The wire reply refusing a sample that did not decode: the sample's own (possibly unknown)
+/// kind and ids, status `REJECTED`, and the fault as `OutOfRange` naming the value and the
+/// allowed bounds (an unknown kind as its number against the known range).
+pub fn refuse_undecodable(sample: &CommandSample, e: &DecodeError) -> Reply {
+    let (axis, value, (min, max)) = match *e {
+        DecodeError::Invalid {
+            field,
+            value,
+            allowed,
+            ..
+        } => (field.axis(), value, allowed.bounds()),
+        DecodeError::UnknownKind(kind) => (
+            None,
+            f64::from(kind),
+            (
+                f64::from(CommandKind::ALL[0].to_wire()),
+                f64::from(CommandKind::ALL[CommandKind::ALL.len() - 1].to_wire()),
+            ),
+        ),
+        DecodeError::Unknown { value, .. } => (None, f64::from(value), (0.0, 0.0)),
+        DecodeError::Mismatch { .. } => (None, 0.0, (0.0, 0.0)),
+    };
+    let w = Reason::OutOfRange {
+        axis,
+        value,
+        min,
+        max,
+    }
+    .to_wire();
+    let mut r = Reply {
+        client_id: sample.client_id,
+        request_id: sample.request_id,
+        kind: sample.kind,
+        status: ReplyStatus::Rejected.to_wire(),
+        code: w.code.to_wire(),
+        axis: w.axis,
+        ..Reply::default()
+    };
+    r.values[..4].copy_from_slice(&w.values);
+    r
+}
+
+/// A safety violation or drive error, as the core reports it to every client once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SafetyError {
+    /// Increments with every new error (1, 2, ...).
+    pub seq: u64,
+    /// Cycle in which it tripped.
+    pub cycle: u64,
+    /// `CLOCK_REALTIME` of that cycle [ns since the Unix epoch].
+    pub unix_ns: u64,
+    /// The check that tripped and its figures.
+    pub reason: Reason,
+}
+
+impl SafetyError {
+    /// The wire record.
+    pub fn encode(&self) -> ErrorRecord {
+        let w = self.reason.to_wire();
+        ErrorRecord {
+            seq: self.seq,
+            cycle: self.cycle,
+            unix_ns: self.unix_ns,
+            code: w.code.to_wire(),
+            axis: w.axis,
+            values: w.values,
+        }
+    }
+
+    /// The error a wire record stands for; `Ok(None)` for the empty record (`seq` 0: no error
+    /// since start).
+    pub fn decode(e: &ErrorRecord) -> Result<Option<SafetyError>, DecodeError> {
+        if e.seq == 0 {
+            return Ok(None);
+        }
+        Ok(Some(SafetyError {
+            seq: e.seq,
+            cycle: e.cycle,
+            unix_ns: e.unix_ns,
+            reason: Reason::from_wire(e.code, e.axis, &e.values)?,
+        }))
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,226 @@
+use super::*;
+use proptest::prelude::*;
+
+fn axis() -> impl Strategy<Value = Axis> {
+    (1u8..=6).prop_map(|n| Axis::new(n).unwrap())
+}
+
+fn x() -> impl Strategy<Value = f64> {
+    -1e6f64..1e6
+}
+
+fn mode() -> impl Strategy<Value = Mode> {
+    prop::sample::select(Mode::ALL.to_vec())
+}
+
+/// Every reason, with figures.
+pub(crate) fn reason() -> impl Strategy<Value = Reason> {
+    let cause = prop_oneof![
+        x().prop_map(|searched_deg| CalibrationFailure::NoStop { searched_deg }),
+        x().prop_map(|searched_deg| CalibrationFailure::NoEdge { searched_deg }),
+        Just(CalibrationFailure::DriveLost),
+    ];
+    let quantity = prop_oneof![
+        Just(PvtQuantity::Position),
+        Just(PvtQuantity::Velocity),
+        Just(PvtQuantity::Acceleration),
+    ];
+    prop_oneof![
+        mode().prop_map(|mode| Reason::WrongMode { mode }),
+        axis().prop_map(|axis| Reason::NotCalibrated { axis }),
+        Just(Reason::EmergencyStop),
+        axis().prop_map(|axis| Reason::DriveDisconnected { axis }),
+        (prop::option::of(axis()), any::<u16>())
+            .prop_map(|(axis, code)| Reason::DriveFault { axis, code }),
+        (prop::option::of(axis()), x(), x(), x()).prop_map(|(axis, value, min, max)| {
+            Reason::OutOfRange {
+                axis,
+                value,
+                min,
+                max,
+            }
+        }),
+        Just(Reason::NotAvailable),
+        Just(Reason::NotSimulated),
+        (any::<u32>(), any::<u32>())
+            .prop_map(|(offered, free)| Reason::QueueFull { offered, free }),
+        (axis(), x(), x()).prop_map(|(axis, a, b)| Reason::PositionLimit {
+            axis,
+            position_deg: a,
+            limit_deg: b
+        }),
+        (axis(), x(), x()).prop_map(|(axis, a, b)| Reason::VelocityLimit {
+            axis,
+            velocity_deg_s: a,
+            limit_deg_s: b
+        }),
+        (axis(), x(), x()).prop_map(|(axis, a, b)| Reason::BrakingDistance {
+            axis,
+            stop_deg: a,
+            limit_deg: b
+        }),
+        (axis(), x(), x()).prop_map(|(axis, a, b)| Reason::FollowingError {
+            axis,
+            error_deg: a,
+            band_deg: b
+        }),
+        (axis(), cause).prop_map(|(axis, cause)| Reason::CalibrationFailed { axis, cause }),
+        Just(Reason::Aborted),
+        x().prop_map(|remaining_s| Reason::Busy { remaining_s }),
+        (axis(), any::<u32>(), quantity, x(), x()).prop_map(
+            |(axis, point, quantity, value, limit)| Reason::PvtPoint {
+                axis,
+                point,
+                quantity,
+                value,
+                limit
+            }
+        ),
+        (axis(), x(), x(), x()).prop_map(|(axis, t, a, b)| Reason::Unreachable {
+            axis,
+            target_deg: t,
+            min_deg: a,
+            max_deg: b
+        }),
+    ]
+}
+
+fn response() -> impl Strategy<Value = Response> {
+    let kinds = prop::sample::select(CommandKind::ALL.to_vec());
+    let outcome = |kind: CommandKind| -> BoxedStrategy<Outcome> {
+        let done = match kind {
+            CommandKind::Info => (any::<u32>(), x())
+                .prop_map(|(num_axes, period_s)| Done::Info(InfoReply { num_axes, period_s }))
+                .boxed(),
+            CommandKind::MoveAll => (prop::array::uniform6(x()), axis(), x())
+                .prop_map(|(velocities_deg_s, longest, duration_s)| {
+                    Done::MoveAll(MoveAllPlan {
+                        velocities_deg_s,
+                        longest,
+                        duration_s,
+                    })
+                })
+                .boxed(),
+            _ => Just(Done::Ack).boxed(),
+        };
+        prop_oneof![
+            done.prop_map(Outcome::Done),
+            reason().prop_map(Outcome::Refused),
+            reason().prop_map(Outcome::Failed),
+        ]
+        .boxed()
+    };
+    (any::<u64>(), any::<u64>(), kinds).prop_flat_map(move |(client_id, request_id, kind)| {
+        outcome(kind).prop_map(move |outcome| Response {
+            client_id,
+            request_id,
+            kind,
+            outcome,
+        })
+    })
+}
+
+proptest! {
+    #[test]
+    fn every_response_round_trips(r in response()) {
+        prop_assert_eq!(Response::decode(&r.encode()), Ok(r));
+    }
+
+    #[test]
+    fn every_safety_error_round_trips(seq in 1u64.., cycle in any::<u64>(), unix_ns in any::<u64>(), reason in reason()) {
+        let e = SafetyError { seq, cycle, unix_ns, reason };
+        prop_assert_eq!(SafetyError::decode(&e.encode()), Ok(Some(e)));
+        prop_assert!(!reason.to_string().is_empty());
+    }
+
+    /// Whatever a reply holds, decoding answers without panicking.
+    #[test]
+    fn any_reply_decodes_or_names_its_fault(
+        kind in prop_oneof![0u32..14, any::<u32>()],
+        status in prop_oneof![0u32..4, any::<u32>()],
+        code in prop_oneof![0u32..20, any::<u32>()],
+        axis in prop_oneof![0u32..8, any::<u32>()],
+        values in prop::array::uniform8(prop_oneof![any::<f64>(), (0u8..8).prop_map(f64::from)]),
+    ) {
+        let r = Reply { kind, status, code, axis, values, ..Reply::default() };
+        if let Ok(resp) = Response::decode(&r) {
+            prop_assert_eq!(resp.kind.to_wire(), kind);
+        }
+    }
+}
+
+#[test]
+fn unknown_codes_are_errors_not_silence() {
+    let r = Reply {
+        kind: CommandKind::Hold.to_wire(),
+        status: ReplyStatus::Rejected.to_wire(),
+        code: 200,
+        ..Reply::default()
+    };
+    assert_eq!(
+        Response::decode(&r).unwrap_err().to_string(),
+        "reject code 200 is not known to this MCM version"
+    );
+    let none = Reply { code: 0, ..r };
+    assert!(Response::decode(&none).is_err(), "a refusal needs a reason");
+    assert_eq!(SafetyError::decode(&ErrorRecord::default()), Ok(None));
+}
+
+#[test]
+fn words_name_the_values() {
+    let s = Reason::WrongMode {
+        mode: Mode::Release,
+    }
+    .to_string();
+    assert_eq!(s, "not allowed in mode RELEASE");
+    let s = Reason::FollowingError {
+        axis: Axis::new(3).unwrap(),
+        error_deg: 2.5,
+        band_deg: 2.0,
+    }
+    .to_string();
+    assert!(
+        s.contains("axis 3") && s.contains("2.500") && s.contains("2.000"),
+        "{s}"
+    );
+    let s = Reason::PvtPoint {
+        axis: Axis::new(2).unwrap(),
+        point: 5,
+        quantity: PvtQuantity::Velocity,
+        value: 99.0,
+        limit: 90.0,
+    }
+    .to_string();
+    assert_eq!(
+        s,
+        "point 5: axis 2 velocity 99.000 deg/s exceeds the limit 90.000 deg/s; nothing was queued"
+    );
+}
+
+#[test]
+fn undecodable_samples_are_refused_with_their_own_kind_and_ids() {
+    let s = CommandSample {
+        client_id: 4,
+        request_id: 8,
+        kind: 99,
+        ..CommandSample::default()
+    };
+    let e = crate::command::Request::decode(&s).unwrap_err();
+    let r = refuse_undecodable(&s, &e);
+    assert_eq!((r.client_id, r.request_id, r.kind), (4, 8, 99));
+    assert_eq!(r.status, ReplyStatus::Rejected.to_wire());
+    assert_eq!(r.code, RejectCode::OutOfRange.to_wire());
+    assert_eq!(&r.values[..3], &[99.0, 1.0, 12.0]);
+
+    let mut s = crate::command::Request::Hold.encode();
+    s.kind = CommandKind::MoveAll.to_wire();
+    s.args[3] = f64::NAN;
+    s.args[6] = 0.5;
+    let e = crate::command::Request::decode(&s).unwrap_err();
+    let r = Response::decode(&refuse_undecodable(&s, &e)).unwrap();
+    let Outcome::Refused(Reason::OutOfRange { axis, value, .. }) = r.outcome else {
+        panic!("{r:?}")
+    };
+    assert_eq!(axis, Axis::new(4));
+    assert!(value.is_nan());
+}
