@@ -2,6 +2,7 @@
 //! argument, the value received and what is allowed.
 
 use crate::framing::json_kind;
+use mcm_shared::command::Axis;
 use serde_json::{Map, Value};
 
 /// Why a command line was refused before it reached the robot.
@@ -195,18 +196,19 @@ impl<'a> Args<'a> {
     }
 
     /// An optional axis number 1..=6.
-    pub fn axis(&self, name: &'static str) -> Result<Option<usize>, CommandError> {
+    pub fn axis(&self, name: &'static str) -> Result<Option<Axis>, CommandError> {
         let Some(v) = self.get(name) else {
             return Ok(None);
         };
-        match v.as_u64() {
-            Some(n @ 1..=6) => Ok(Some(n as usize)),
-            _ => Err(self.invalid(name, v, "an axis number from 1 to 6")),
-        }
+        v.as_u64()
+            .and_then(|n| u8::try_from(n).ok())
+            .and_then(Axis::new)
+            .map(Some)
+            .ok_or_else(|| self.invalid(name, v, "an axis number from 1 to 6"))
     }
 
     /// A required axis number 1..=6.
-    pub fn required_axis(&self, name: &'static str) -> Result<usize, CommandError> {
+    pub fn required_axis(&self, name: &'static str) -> Result<Axis, CommandError> {
         self.axis(name)?
             .ok_or_else(|| self.missing(name, "an axis number from 1 to 6"))
     }

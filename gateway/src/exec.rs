@@ -6,8 +6,8 @@ use crate::bridge::{Bridge, BridgeError};
 use crate::cmd::Command;
 use crate::result;
 use mcm_shared::config::RobotConfig;
-use mcm_shared::mode::{CommandKind, ReplyStatus};
-use mcm_shared::sample::{Reply, StateSample};
+use mcm_shared::reply::{self, Done};
+use mcm_shared::sample::{STATE_SIMULATED, StateSample};
 use serde_json::Value;
 use std::sync::Arc;
 use std::time::Duration;
@@ -56,20 +56,22 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
     } else {
         REPLY_TIMEOUT
     };
-    let answer = ctx.bridge.request(client_id, cmd.samples(), timeout).await;
-    let (reply, state) = match answer {
+    let answer = ctx.bridge.request(client_id, cmd.requests(), timeout).await;
+    let (response, state) = match answer {
         Ok(a) => a,
         Err(e) => return Outcome::only(result::error(bridge_message(cmd.name(), &e))),
     };
-    let status = ReplyStatus::try_from(reply.status).unwrap_or(ReplyStatus::Rejected);
-    if status != ReplyStatus::Ok {
-        return Outcome {
-            result: Some(result::reply_error(cmd.name(), &reply)),
-            state: Some(state),
-            torque_session: None,
-        };
-    }
-    let result = success(ctx, cmd, &reply, &state);
+    let done = match response.outcome {
+        reply::Outcome::Done(done) => done,
+        refused_or_failed => {
+            return Outcome {
+                result: Some(result::reply_error(cmd.name(), &refused_or_failed)),
+                state: Some(state),
+                torque_session: None,
+            };
+        }
+    };
+    let result = success(ctx, cmd, &done, &state);
     let torque_session = match cmd {
         Command::TorqueControl(t) => Some(t.dt_status),
         _ => None,
@@ -81,27 +83,32 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
     }
 }
 
-fn success(ctx: &Context, cmd: &Command, reply: &Reply, state: &StateSample) -> Option<Value> {
-    let kind = CommandKind::try_from(reply.kind).ok();
-    Some(match cmd {
-        Command::Status(s) => result::status(state, s.detail),
-        Command::Hold | Command::Release | Command::Pvt(_) | Command::TorqueControl(_) => {
+fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Option<Value> {
+    Some(match (cmd, done) {
+        (Command::Status(s), _) => result::status(state, s.detail),
+        (Command::Hold | Command::Release | Command::Pvt(_) | Command::TorqueControl(_), _) => {
             result::status(state, false)
         }
-        Command::Info => result::initialization(&ctx.cfg, reply, state),
-        Command::MoveAll(_) => result::move_all(reply),
-        Command::Sim(_) => result::sim(state),
-        Command::SetTorques(_) => return None,
-        Command::Calibrate(_)
-        | Command::MoveAxis(_)
-        | Command::PvtPoints(_)
-        | Command::Sleep(_) => {
-            debug_assert!(kind.is_some());
-            result::ok()
+        (Command::Info, Done::Info(info)) => {
+            result::initialization(&ctx.cfg, info, state.flags & STATE_SIMULATED != 0)
         }
+        (Command::MoveAll(_), Done::MoveAll(plan)) => result::move_all(plan),
+        (Command::Info | Command::MoveAll(_), other) => result::error(format!(
+            "{}: the real-time core's answer carries no figures ({other:?}); mcm-rt and the \
+             gateway are from different MCM versions: rebuild both from the same version",
+            cmd.name()
+        )),
+        (Command::Sim(_), _) => result::sim(state),
+        (Command::SetTorques(_), _) => return None,
+        (Command::Calibrate(_) | Command::MoveAxis(_) | Command::PvtPoints(_), _) => result::ok(),
+        (Command::Sleep(_), _) => result::ok(),
     })
 }
 
 fn bridge_message(command: &str, e: &BridgeError) -> String {
-    format!("{command} failed: {e}")
+    match e {
+        // Not "failed": the command may well have been done; its answer is what is unknown.
+        BridgeError::Undecodable(_) => format!("{command}: {e}"),
+        _ => format!("{command} failed: {e}"),
+    }
 }

@@ -1,12 +1,15 @@
-//! The result objects of the JSON protocol, built from the real-time core's replies and state.
-//! Field names follow the manual; extra fields are allowed (clients ignore unknown fields).
+//! The result objects of the JSON protocol, built from the real-time core's typed answers
+//! ([`mcm_shared::reply`]) and state. Field names follow the manual; extra fields are allowed
+//! (clients ignore unknown fields).
 
+use mcm_shared::command::DecodeError;
 use mcm_shared::config::RobotConfig;
-use mcm_shared::mode::{Mode, RejectCode, ReplyStatus};
+use mcm_shared::mode::Mode;
+use mcm_shared::reply::{InfoReply, MoveAllPlan, Outcome, SafetyError};
 use mcm_shared::sample::{
-    AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord, Reply,
+    AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord,
     STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, STATE_SIM_ESTOP,
-    STATE_SIMULATED, StateSample,
+    StateSample,
 };
 use serde_json::{Value, json};
 
@@ -20,25 +23,23 @@ pub fn error(message: impl Into<String>) -> Value {
     json!({"result_type": "generic", "error_status": "ERROR", "error_message": message.into()})
 }
 
-/// The words for a refused or failed reply, prefixed with the command name.
-pub fn reply_error(command: &str, reply: &Reply) -> Value {
-    let code = RejectCode::try_from(reply.code).unwrap_or(RejectCode::None);
-    let status = ReplyStatus::try_from(reply.status).unwrap_or(ReplyStatus::Rejected);
-    let verb = if status == ReplyStatus::Failed {
-        "failed"
-    } else {
-        "refused"
-    };
-    error(format!(
-        "{command} {verb}: {}",
-        code.describe(reply.axis, &reply.values)
-    ))
+/// The words for a refused or failed command, prefixed with the command name (a command
+/// that was done is [`ok`]).
+pub fn reply_error(command: &str, outcome: &Outcome) -> Value {
+    match outcome {
+        Outcome::Refused(reason) => error(format!("{command} refused: {reason}")),
+        Outcome::Failed(reason) => error(format!("{command} failed: {reason}")),
+        Outcome::Done(_) => ok(),
+    }
 }
 
 /// The spontaneous ERROR sent to every client when a safety check trips: the check, the axis,
 /// the values, the mode it left the robot in, and the flight-recorder file.
 pub fn safety_event(ev: &crate::bridge::SafetyEvent) -> Value {
-    let mut v = safety_error(&ev.record);
+    let mut v = match &ev.error {
+        Ok(e) => safety_error(e),
+        Err(e) => unreadable_safety_error(e),
+    };
     let mode = Mode::try_from(ev.mode)
         .map(Mode::as_str)
         .unwrap_or("UNKNOWN");
@@ -52,17 +53,29 @@ pub fn safety_event(ev: &crate::bridge::SafetyEvent) -> Value {
 }
 
 /// A safety error in words (without the mode and the flight-recorder file).
-pub fn safety_error(e: &ErrorRecord) -> Value {
-    let code = RejectCode::try_from(e.code).unwrap_or(RejectCode::None);
-    let mut v = error(format!(
-        "safety check tripped: {}",
-        code.describe(e.axis, &e.values)
-    ));
-    v["check"] = json!(code.as_str());
-    if e.axis != 0 {
-        v["axis"] = json!(e.axis);
+pub fn safety_error(e: &SafetyError) -> Value {
+    let mut v = error(format!("safety check tripped: {}", e.reason));
+    v["check"] = json!(e.reason.code().as_str());
+    if let Some(axis) = e.reason.axis() {
+        v["axis"] = json!(axis.number());
     }
     v
+}
+
+/// A safety error whose record this gateway cannot read (a core of another MCM version).
+pub fn unreadable_safety_error(e: &DecodeError) -> Value {
+    error(format!(
+        "safety check tripped, but its record cannot be read ({e}); mcm-rt and the gateway are \
+         from different MCM versions: rebuild both from the same version"
+    ))
+}
+
+/// The safety error a state reports in words; `None` when there was none since start.
+pub fn last_error(record: &ErrorRecord) -> Option<Value> {
+    match SafetyError::decode(record) {
+        Ok(e) => e.as_ref().map(safety_error),
+        Err(e) => Some(unreadable_safety_error(&e)),
+    }
 }
 
 fn mode_name(state: &StateSample) -> &'static str {
@@ -157,25 +170,27 @@ pub fn status(state: &StateSample, detail: bool) -> Value {
                 "work_max_us": tm.work_max_ns as f64 / 1e3,
                 "realtime": state.flags & STATE_NOT_REALTIME == 0,
             },
+            "ipc": {
+                "command_receive_errors": state.command_receive_errors,
+            },
         });
     }
     v
 }
 
-/// The move_all result from the reply values.
-pub fn move_all(reply: &Reply) -> Value {
-    let v = &reply.values;
+/// The move_all result from the plan of the core.
+pub fn move_all(plan: &MoveAllPlan) -> Value {
     json!({
         "result_type": "move_all",
-        "velocities": [round(v[0]), round(v[1]), round(v[2]), round(v[3]), round(v[4]), round(v[5])],
-        "longest": v[6] as u32,
-        "max_time_to_target": round(v[7]),
+        "velocities": six(&plan.velocities_deg_s),
+        "longest": plan.longest.number(),
+        "max_time_to_target": round(plan.duration_s),
     })
 }
 
-/// The initialization result (`info`): number of axes and cycle time from the reply, whether
-/// the robot is simulated from the state sample's `STATE_SIMULATED` flag.
-pub fn initialization(cfg: &RobotConfig, reply: &Reply, state: &StateSample) -> Value {
+/// The initialization result (`info`); `simulated`: the core runs the simulated robot (its
+/// state's `STATE_SIMULATED` flag).
+pub fn initialization(cfg: &RobotConfig, info: &InfoReply, simulated: bool) -> Value {
     let axes: Vec<Value> = cfg
         .axes
         .iter()
@@ -195,11 +210,11 @@ pub fn initialization(cfg: &RobotConfig, reply: &Reply, state: &StateSample) -> 
         .collect();
     json!({
         "result_type": "initialization",
-        "num_axes": reply.values[0] as u32,
+        "num_axes": info.num_axes,
         "version": mcm_shared::VERSION,
         "robot": cfg.robot.name,
-        "cycle_time": reply.values[1],
-        "simulated": state.flags & STATE_SIMULATED != 0,
+        "cycle_time": info.period_s,
+        "simulated": simulated,
         "axes": axes,
     })
 }
@@ -217,6 +232,8 @@ pub fn sim(state: &StateSample) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use mcm_shared::command::Axis;
+    use mcm_shared::reply::{CalibrationFailure, Reason};
 
     #[test]
     fn status_has_the_manual_fields() {
@@ -247,53 +264,96 @@ mod tests {
     }
 
     #[test]
-    fn info_says_simulated_from_the_state_flag() {
-        let cfg = RobotConfig::prob2_default();
-        let r = Reply {
-            values: [6.0, 0.005, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-            ..Reply::default()
+    fn status_detail_shows_the_receive_errors() {
+        let s = StateSample {
+            command_receive_errors: 3,
+            ..StateSample::default()
         };
-        let mut s = StateSample::default();
-        let real = initialization(&cfg, &r, &s);
-        assert_eq!(real["simulated"], false, "values[2] is not read: {real}");
-        assert_eq!(real["num_axes"], 6);
-        assert_eq!(real["cycle_time"], 0.005);
-        s.flags |= STATE_SIMULATED;
-        assert_eq!(initialization(&cfg, &r, &s)["simulated"], true);
+        assert_eq!(
+            status(&s, true)["detail"]["ipc"]["command_receive_errors"],
+            3
+        );
     }
 
     #[test]
     fn reply_errors_are_words() {
-        let r = Reply {
-            status: ReplyStatus::Rejected.to_wire(),
-            code: RejectCode::WrongMode.to_wire(),
-            values: [
-                Mode::Off.to_wire() as f64,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            ..Reply::default()
-        };
+        let refused = Outcome::Refused(Reason::WrongMode { mode: Mode::Off });
         assert_eq!(
-            reply_error("release", &r)["error_message"],
+            reply_error("release", &refused)["error_message"],
             "release refused: not allowed in mode OFF"
+        );
+        let failed = Outcome::Failed(Reason::CalibrationFailed {
+            axis: Axis::new(2).unwrap(),
+            cause: CalibrationFailure::DriveLost,
+        });
+        assert_eq!(
+            reply_error("calibrate", &failed)["error_message"],
+            "calibrate failed: calibration of axis 2 failed: its drive stopped answering"
+        );
+    }
+
+    #[test]
+    fn safety_errors_name_the_check_and_the_axis() {
+        let e = SafetyError {
+            seq: 1,
+            cycle: 10,
+            unix_ns: 0,
+            reason: Reason::FollowingError {
+                axis: Axis::new(3).unwrap(),
+                error_deg: 2.5,
+                band_deg: 2.0,
+            },
+        };
+        let v = safety_error(&e);
+        assert_eq!(
+            v["error_message"],
+            "safety check tripped: following error: axis 3 is 2.500 deg away from its commanded \
+             position, band 2.000 deg"
+        );
+        assert_eq!(
+            (v["check"].as_str(), v["axis"].as_u64()),
+            (Some("following_error"), Some(3))
+        );
+        assert_eq!(last_error(&e.encode()), Some(v));
+        assert_eq!(last_error(&ErrorRecord::default()), None);
+        let unknown = ErrorRecord {
+            code: 99,
+            ..e.encode()
+        };
+        let text = last_error(&unknown).unwrap()["error_message"].to_string();
+        assert!(
+            text.contains("cannot be read (reject code 99 is not known")
+                && !text.contains("no error"),
+            "{text}"
         );
     }
 
     #[test]
     fn move_all_result() {
-        let r = Reply {
-            values: [10.0, 20.0, 0.0, 0.0, 0.0, 30.0, 6.0, 1.5],
-            ..Reply::default()
+        let plan = MoveAllPlan {
+            velocities_deg_s: [10.0, 20.0, 0.0, 0.0, 0.0, 30.0],
+            longest: Axis::new(6).unwrap(),
+            duration_s: 1.5,
         };
-        let v = move_all(&r);
+        let v = move_all(&plan);
         assert_eq!(v["longest"], 6);
         assert_eq!(v["max_time_to_target"], 1.5);
-        assert_eq!(v["velocities"].as_array().unwrap().len(), 6);
+        assert_eq!(v["velocities"], json!([10.0, 20.0, 0.0, 0.0, 0.0, 30.0]));
+    }
+
+    #[test]
+    fn info_takes_simulated_from_the_state() {
+        let cfg = RobotConfig::prob2_default();
+        let info = InfoReply {
+            num_axes: 6,
+            period_s: 0.005,
+        };
+        let v = initialization(&cfg, &info, true);
+        assert_eq!(
+            (v["num_axes"].as_u64(), v["cycle_time"].as_f64()),
+            (Some(6), Some(0.005))
+        );
+        assert_eq!(v["simulated"], true);
+        assert_eq!(initialization(&cfg, &info, false)["simulated"], false);
     }
 }

@@ -111,7 +111,8 @@ wire_enum!(
 
 wire_enum!(
     /// Why a command was refused or failed, or which safety check tripped. The reply's `axis`
-    /// and `values` carry the details; [`RejectCode::describe`] turns them into words.
+    /// and `values` carry the details; [`crate::reply::Reason`] is the typed form, its
+    /// `Display` the words.
     RejectCode, "reject code" {
         None = 0 => "none",
         /// `values[0]` = the current mode as `Mode::to_wire`.
@@ -164,110 +165,6 @@ impl Default for RejectCode {
     }
 }
 
-impl RejectCode {
-    /// Words for a person: what was wrong, the value, and what is allowed.
-    pub fn describe(self, axis: u32, values: &[f64]) -> String {
-        let v = |i: usize| values.get(i).copied().unwrap_or(f64::NAN);
-        let mode_name = |x: f64| {
-            Mode::try_from(x as u32)
-                .map(Mode::as_str)
-                .unwrap_or("an unknown mode")
-        };
-        match self {
-            RejectCode::None => "no error".to_string(),
-            RejectCode::WrongMode => format!("not allowed in mode {}", mode_name(v(0))),
-            RejectCode::NotCalibrated => {
-                format!("axis {axis} is not calibrated; run `calibrate` first")
-            }
-            RejectCode::EmergencyStop => {
-                "the emergency stop is pressed; release it, then send `hold`".to_string()
-            }
-            RejectCode::DriveDisconnected => {
-                format!("the drive of axis {axis} does not answer on the bus")
-            }
-            RejectCode::DriveFault => {
-                format!(
-                    "the drive of axis {axis} is in fault (error code 0x{:04X})",
-                    v(0) as u32
-                )
-            }
-            RejectCode::OutOfRange => format!(
-                "axis {axis}: value {} is outside the allowed range [{}, {}]",
-                v(0),
-                v(1),
-                v(2)
-            ),
-            RejectCode::NotAvailable => "not available yet in this MCM version".to_string(),
-            RejectCode::NotSimulated => {
-                "only available when the simulated robot is running".to_string()
-            }
-            RejectCode::QueueFull => format!(
-                "queue full: {} points offered, {} places free; nothing was queued",
-                v(0),
-                v(1)
-            ),
-            RejectCode::PositionLimit => format!(
-                "position limit: axis {axis} at {:.3} deg, limit {:.3} deg",
-                v(0),
-                v(1)
-            ),
-            RejectCode::VelocityLimit => format!(
-                "velocity limit: axis {axis} at {:.3} deg/s, limit {:.3} deg/s",
-                v(0),
-                v(1)
-            ),
-            RejectCode::BrakingDistance => format!(
-                "braking distance: axis {axis} would stop at {:.3} deg, beyond the limit {:.3} deg",
-                v(0),
-                v(1)
-            ),
-            RejectCode::FollowingError => format!(
-                "following error: axis {axis} is {:.3} deg away from its commanded position, band {:.3} deg",
-                v(0),
-                v(1)
-            ),
-            RejectCode::CalibrationFailed => match v(0) as u32 {
-                1 => format!(
-                    "calibration of axis {axis} failed: no mechanical stop found within {:.1} deg; the arm holds where it is",
-                    v(1)
-                ),
-                2 => format!(
-                    "calibration of axis {axis} failed: no light-barrier edge found within {:.1} deg; the arm holds where it is",
-                    v(1)
-                ),
-                3 => format!("calibration of axis {axis} failed: its drive stopped answering"),
-                _ => format!("calibration of axis {axis} failed"),
-            },
-            RejectCode::Aborted => {
-                "aborted (superseded by another command or a mode change)".to_string()
-            }
-            RejectCode::Busy => format!(
-                "a motion is in progress ({:.3} s left); wait until it ends, or send `hold` to stop it",
-                v(0)
-            ),
-            RejectCode::PvtPoint => {
-                let (what, unit) = match v(1) as u32 {
-                    1 => ("position", "deg"),
-                    2 => ("velocity", "deg/s"),
-                    _ => ("acceleration", "deg/s^2"),
-                };
-                format!(
-                    "point {}: axis {axis} {what} {:.3} {unit} exceeds the limit {:.3} {unit}; nothing was queued",
-                    v(0) as u64,
-                    v(2),
-                    v(3)
-                )
-            }
-            RejectCode::Unreachable => format!(
-                "axis {axis}: target {:.3} deg is outside the reachable range [{:.3}, {:.3}] deg (the limits less the safety margin)",
-                v(0),
-                v(1),
-                v(2)
-            ),
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -293,16 +190,5 @@ mod tests {
     fn protocol_names() {
         assert_eq!(Mode::TorqueControl.as_str(), "TORQUE_CONTROL");
         assert_eq!(CommandKind::MoveAll.as_str(), "move_all");
-    }
-
-    #[test]
-    fn descriptions_name_the_values() {
-        let s = RejectCode::WrongMode.describe(0, &[Mode::Release.to_wire() as f64]);
-        assert_eq!(s, "not allowed in mode RELEASE");
-        let s = RejectCode::FollowingError.describe(3, &[2.5, 2.0]);
-        assert!(
-            s.contains("axis 3") && s.contains("2.500") && s.contains("2.000"),
-            "{s}"
-        );
     }
 }

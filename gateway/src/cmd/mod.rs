@@ -1,5 +1,7 @@
 //! The commands of the JSON protocol, one file each: parsing and validation of the arguments
-//! (`parse`), and the shared-memory sample that carries them to the real-time core (`sample`).
+//! into the typed requests of [`mcm_shared::command`], which the bridge encodes for the
+//! real-time core. The gateway keeps its own types only for what it does itself (`status`'s
+//! `detail`, `torque_control`'s `dt_status`, `sleep`, a whole `pvt_points` batch).
 //!
 //! The text HMI parses its words into the same [`Command`] type, so both channels share one
 //! execution path.
@@ -15,21 +17,17 @@ mod sim;
 mod sleep;
 mod status;
 
-pub use calibrate::{Calibrate, Which};
-pub use modes::{Pvt, TorqueControl};
-pub use move_all::MoveAll;
-pub use move_axis::MoveAxis;
-pub use pvt_points::{PvtPoint, PvtPoints};
-pub use set_torques::SetTorques;
-pub use sim::Sim;
+pub use modes::TorqueControl;
+pub use pvt_points::PvtPoints;
 pub use sleep::Sleep;
 pub use status::Status;
 
 use crate::args::CommandError;
 use crate::framing::json_kind;
+use mcm_shared::command::{
+    Calibrate, MoveAll, MoveAxis, Pvt, PvtChunk, Request, SetTorques, SimCommand,
+};
 use mcm_shared::config::RobotConfig;
-use mcm_shared::mode::CommandKind;
-use mcm_shared::sample::CommandSample;
 use serde_json::Value;
 
 /// Every command name of the protocol, in the order `help` lists them.
@@ -67,7 +65,7 @@ pub enum Command {
     MoveAll(MoveAll),
     PvtPoints(PvtPoints),
     Sleep(Sleep),
-    Sim(Sim),
+    Sim(SimCommand),
 }
 
 impl Command {
@@ -131,15 +129,15 @@ impl Command {
                 no_args(name)?;
                 Command::Release
             }
-            "calibrate" => Command::Calibrate(Calibrate::parse(arguments)?),
+            "calibrate" => Command::Calibrate(calibrate::parse(arguments)?),
             "torque_control" => Command::TorqueControl(TorqueControl::parse(arguments)?),
-            "set_torques" => Command::SetTorques(SetTorques::parse(arguments, cfg)?),
-            "pvt" => Command::Pvt(Pvt::parse(arguments, cfg)?),
-            "move_axis" => Command::MoveAxis(MoveAxis::parse(arguments, cfg)?),
-            "move_all" => Command::MoveAll(MoveAll::parse(arguments, cfg)?),
+            "set_torques" => Command::SetTorques(set_torques::parse(arguments, cfg)?),
+            "pvt" => Command::Pvt(modes::parse_pvt(arguments, cfg)?),
+            "move_axis" => Command::MoveAxis(move_axis::parse(arguments, cfg)?),
+            "move_all" => Command::MoveAll(move_all::parse(arguments, cfg)?),
             "pvt_points" => Command::PvtPoints(PvtPoints::parse(arguments, cfg)?),
             "sleep" => Command::Sleep(Sleep::parse(arguments)?),
-            "sim" => Command::Sim(Sim::parse(arguments)?),
+            "sim" => Command::Sim(sim::parse(arguments)?),
             other => return Err(unknown_command(other)),
         })
     }
@@ -163,33 +161,24 @@ impl Command {
         }
     }
 
-    /// The samples that carry this command to the real-time core (several for a long
-    /// `pvt_points` batch); empty for commands the gateway executes itself (`sleep`).
-    pub fn samples(&self) -> Vec<CommandSample> {
-        let one = |kind: CommandKind| vec![sample(kind)];
+    /// The typed requests that carry this command to the real-time core: one, or the chunks
+    /// of a `pvt_points` batch; none for commands the gateway executes itself (`sleep`).
+    pub fn requests(&self) -> Vec<Request> {
         match self {
-            Command::Status(_) => one(CommandKind::Status),
-            Command::Info => one(CommandKind::Info),
-            Command::Hold => one(CommandKind::Hold),
-            Command::Release => one(CommandKind::Release),
-            Command::Calibrate(c) => vec![c.sample()],
-            Command::TorqueControl(c) => vec![c.sample()],
-            Command::SetTorques(c) => vec![c.sample()],
-            Command::Pvt(c) => vec![c.sample()],
-            Command::MoveAxis(c) => vec![c.sample()],
-            Command::MoveAll(c) => vec![c.sample()],
-            Command::PvtPoints(c) => c.samples(),
+            Command::Status(_) => vec![Request::Status],
+            Command::Info => vec![Request::Info],
+            Command::Hold => vec![Request::Hold],
+            Command::Release => vec![Request::Release],
+            Command::Calibrate(c) => vec![Request::Calibrate(*c)],
+            Command::TorqueControl(t) => vec![Request::TorqueControl(t.request)],
+            Command::SetTorques(t) => vec![Request::SetTorques(*t)],
+            Command::Pvt(p) => vec![Request::Pvt(*p)],
+            Command::MoveAxis(m) => vec![Request::MoveAxis(*m)],
+            Command::MoveAll(m) => vec![Request::MoveAll(*m)],
+            Command::PvtPoints(p) => PvtChunk::batch(&p.points).map(Request::PvtPoints).collect(),
             Command::Sleep(_) => Vec::new(),
-            Command::Sim(c) => vec![c.sample()],
+            Command::Sim(s) => vec![Request::Sim(*s)],
         }
-    }
-}
-
-/// An empty sample of `kind` (client and request ids are filled in by the bridge).
-pub fn sample(kind: CommandKind) -> CommandSample {
-    CommandSample {
-        kind: kind.to_wire(),
-        ..CommandSample::default()
     }
 }
 

@@ -1,48 +1,29 @@
 //! `move_axis`: move one axis to a target position (PVT mode).
 
-use super::{DEFAULT_VELOCITY_FACTOR, check_position, sample};
+use super::{DEFAULT_VELOCITY_FACTOR, check_position};
 use crate::args::{Args, CommandError};
+use mcm_shared::command::MoveAxis;
 use mcm_shared::config::RobotConfig;
-use mcm_shared::mode::CommandKind;
-use mcm_shared::sample::CommandSample;
 use serde_json::Value;
 
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MoveAxis {
-    /// 1..=6.
-    pub axis: usize,
-    /// [deg]
-    pub target: f64,
-    pub velocity_factor: f64,
-}
-
-impl MoveAxis {
-    pub fn parse(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<Self, CommandError> {
-        let args = Args::new(
-            "move_axis",
-            arguments,
-            &["axis_index", "target_position", "velocity_factor"],
-        )?;
-        let axis = args.required_axis("axis_index")?;
-        let a = &cfg.axes[axis - 1];
-        let target = args.required_number("target_position", a.min_deg, a.max_deg, " deg")?;
-        let velocity_factor = velocity_factor(&args)?;
-        check_position(cfg, axis - 1, target)
-            .map_err(|e| args.invalid_value("target_position", target, e))?;
-        Ok(Self {
-            axis,
-            target,
-            velocity_factor,
-        })
-    }
-
-    pub fn sample(&self) -> CommandSample {
-        let mut s = sample(CommandKind::MoveAxis);
-        s.args[0] = self.axis as f64;
-        s.args[1] = self.target;
-        s.args[2] = self.velocity_factor;
-        s
-    }
+/// Parse the arguments of `move_axis`, the target within the axis's limits.
+pub fn parse(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<MoveAxis, CommandError> {
+    let args = Args::new(
+        "move_axis",
+        arguments,
+        &["axis_index", "target_position", "velocity_factor"],
+    )?;
+    let axis = args.required_axis("axis_index")?;
+    let a = &cfg.axes[axis.index()];
+    let target_deg = args.required_number("target_position", a.min_deg, a.max_deg, " deg")?;
+    let velocity_factor = velocity_factor(&args)?;
+    check_position(cfg, axis.index(), target_deg)
+        .map_err(|e| args.invalid_value("target_position", target_deg, e))?;
+    Ok(MoveAxis {
+        axis,
+        target_deg,
+        velocity_factor,
+    })
 }
 
 /// The optional `velocity_factor`: (0, 1], default 0.33333.

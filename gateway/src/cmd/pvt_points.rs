@@ -1,26 +1,18 @@
 //! `pvt_points`: stream position/velocity points in PVT mode, spaced by the `dt` given with
-//! `pvt`. A batch is split into samples of `PVT_POINTS_PER_COMMAND` points; the real-time core
-//! queues the batch only when its last sample arrived and every point fits, so a batch is
-//! queued whole or not at all.
+//! `pvt`. The bridge sends a batch as chunks ([`mcm_shared::command::PvtChunk::batch`]); the
+//! real-time core queues the batch only when its last chunk arrived and every point fits, so a
+//! batch is queued whole or not at all.
 
-use super::{check_position, sample};
+use super::check_position;
 use crate::args::{Args, CommandError, six_numbers};
+use mcm_shared::command::PvtPoint;
 use mcm_shared::config::RobotConfig;
-use mcm_shared::mode::CommandKind;
-use mcm_shared::sample::{CommandSample, PVT_FLAG_LAST, PVT_POINTS_PER_COMMAND};
 use serde_json::Value;
 
 /// Most points in one `pvt_points` command (the real-time queue holds at least this many).
 pub const MAX_POINTS_PER_BATCH: usize = 1000;
 
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PvtPoint {
-    /// [deg]
-    pub position: [f64; 6],
-    /// [deg/s]
-    pub velocity: [f64; 6],
-}
-
+/// A whole `pvt_points` batch, 1 to [`MAX_POINTS_PER_BATCH`] points.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PvtPoints {
     pub points: Vec<PvtPoint>,
@@ -57,14 +49,14 @@ impl PvtPoints {
                         "an object with exactly \"position\" and \"velocity\"",
                     )
                 })?;
-            let position = six_numbers(
+            let position_deg = six_numbers(
                 &args,
                 &format!("points[{k}].position"),
                 &obj["position"],
                 "positions [deg]",
                 |i, x| check_position(cfg, i, x),
             )?;
-            let velocity = six_numbers(
+            let velocity_deg_s = six_numbers(
                 &args,
                 &format!("points[{k}].velocity"),
                 &obj["velocity"],
@@ -78,26 +70,11 @@ impl PvtPoints {
                     }
                 },
             )?;
-            points.push(PvtPoint { position, velocity });
+            points.push(PvtPoint {
+                position_deg,
+                velocity_deg_s,
+            });
         }
         Ok(Self { points })
-    }
-
-    pub fn samples(&self) -> Vec<CommandSample> {
-        let chunks: Vec<_> = self.points.chunks(PVT_POINTS_PER_COMMAND).collect();
-        let last = chunks.len() - 1;
-        chunks
-            .iter()
-            .enumerate()
-            .map(|(c, chunk)| {
-                let mut s = sample(CommandKind::PvtPoints);
-                s.flags = chunk.len() as u32 | if c == last { PVT_FLAG_LAST } else { 0 };
-                for (j, p) in chunk.iter().enumerate() {
-                    s.args[j * 12..j * 12 + 6].copy_from_slice(&p.position);
-                    s.args[j * 12 + 6..j * 12 + 12].copy_from_slice(&p.velocity);
-                }
-                s
-            })
-            .collect()
     }
 }

@@ -1,5 +1,10 @@
 use super::*;
-use mcm_shared::sample::PVT_FLAG_LAST;
+use mcm_shared::command::{Axis, Direction, PvtPoint, TorqueControl as TorqueRequest, Which};
+use mcm_shared::sample::PVT_POINTS_PER_COMMAND;
+
+fn axis(n: u8) -> Axis {
+    Axis::new(n).unwrap()
+}
 
 fn cfg() -> RobotConfig {
     RobotConfig::prob2_default()
@@ -60,10 +65,18 @@ fn move_axis_validation_names_argument_value_and_range() {
     assert_eq!(
         m,
         Command::MoveAxis(MoveAxis {
-            axis: 2,
-            target: 30.0,
+            axis: axis(2),
+            target_deg: 30.0,
             velocity_factor: DEFAULT_VELOCITY_FACTOR
         })
+    );
+    assert_eq!(
+        m.requests(),
+        [Request::MoveAxis(MoveAxis {
+            axis: axis(2),
+            target_deg: 30.0,
+            velocity_factor: DEFAULT_VELOCITY_FACTOR
+        })]
     );
     let e = err(r#"{"command":"move_axis","arguments":{"axis_index":7,"target_position":30}}"#);
     assert_eq!(
@@ -97,11 +110,14 @@ fn move_all_checks_each_target() {
     );
     let e = err(r#"{"command":"move_all","arguments":{"target_positions":[0,0,0]}}"#);
     assert!(e.contains("an array of 6"), "{e}");
-    let Command::MoveAll(m) = parse(r#"{"command":"move_all","arguments":{"target_positions":[1,2,3,4,5,6],"velocity_factor":0.5}}"#).unwrap() else {
-        panic!()
-    };
-    let s = m.sample();
-    assert_eq!(&s.args[..7], &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 0.5]);
+    let m = parse(r#"{"command":"move_all","arguments":{"target_positions":[1,2,3,4,5,6],"velocity_factor":0.5}}"#).unwrap();
+    assert_eq!(
+        m.requests(),
+        [Request::MoveAll(MoveAll {
+            targets_deg: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
+            velocity_factor: 0.5
+        })]
+    );
 }
 
 #[test]
@@ -109,18 +125,26 @@ fn calibrate_arguments() {
     let Command::Calibrate(c) = parse(r#"{"command":"calibrate","arguments":{"which":"wrist","wrist_direction":-1,"force_mechanical_stop":1}}"#).unwrap() else {
         panic!()
     };
-    assert_eq!(c.which, Which::Wrist);
-    assert_eq!(c.wrist_direction, -1);
-    assert!(c.force_mechanical_stop);
     assert_eq!(
-        parse(r#"{"command":"calibrate","arguments":{"which":3}}"#).unwrap(),
-        Command::Calibrate(Calibrate {
-            which: Which::Axis(3),
-            elbow_direction: 1,
-            wrist_direction: 1,
-            force_mechanical_stop: false
-        })
+        c,
+        Calibrate {
+            which: Which::Wrist,
+            elbow_direction: Direction::Positive,
+            wrist_direction: Direction::Negative,
+            force_mechanical_stop: true
+        }
     );
+    let c = parse(r#"{"command":"calibrate","arguments":{"which":3}}"#).unwrap();
+    assert_eq!(
+        c.requests(),
+        [Request::Calibrate(Calibrate {
+            which: Which::Axis(axis(3)),
+            elbow_direction: Direction::Positive,
+            wrist_direction: Direction::Positive,
+            force_mechanical_stop: false
+        })]
+    );
+    assert!(err(r#"{"command":"calibrate","arguments":{"which":7}}"#).contains("= 7 is not"));
     assert!(
         err(r#"{"command":"calibrate","arguments":{"which":"KNEE"}}"#)
             .contains("\"ALL\", \"ELBOW\"")
@@ -140,10 +164,21 @@ fn pvt_points_batches_are_split() {
     .unwrap() else {
         panic!()
     };
-    let samples = p.samples();
-    assert_eq!(samples.len(), 3);
-    assert_eq!(samples[0].flags, 4);
-    assert_eq!(samples[2].flags, 1 | PVT_FLAG_LAST);
+    assert_eq!(p.points.len(), 9);
+    let requests = Command::PvtPoints(p).requests();
+    let chunks: Vec<_> = requests
+        .iter()
+        .map(|r| match r {
+            Request::PvtPoints(c) => (c.points().len(), c.last),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(PVT_POINTS_PER_COMMAND, 4);
+    assert_eq!(chunks, [(4, false), (4, false), (1, true)]);
+    assert_eq!(
+        requests[2],
+        Request::PvtPoints(PvtChunk::new(&[PvtPoint::default()], true).unwrap())
+    );
     let e = err(
         r#"{"command":"pvt_points","arguments":{"points":[{"position":[0,0,0,0,0,0],"velocity":[0,500,0,0,0,0]}]}}"#,
     );
@@ -157,10 +192,33 @@ fn torque_control_and_sleep() {
         parse(r#"{"command":"torque_control","arguments":{"timeout":0.1,"dt_status":0.01}}"#)
             .unwrap(),
         Command::TorqueControl(TorqueControl {
-            timeout: 0.1,
+            request: TorqueRequest {
+                timeout_s: Some(0.1),
+                gravity_compensation: true
+            },
             dt_status: 0.01,
-            gravity_compensation: true
         })
+    );
+    let t = parse(
+        r#"{"command":"torque_control","arguments":{"timeout":-1,"gravity_compensation":false}}"#,
+    )
+    .unwrap();
+    assert_eq!(
+        t.requests(),
+        [Request::TorqueControl(TorqueRequest {
+            timeout_s: None,
+            gravity_compensation: false
+        })]
+    );
+    let Command::TorqueControl(t) = parse(r#"{"command":"torque_control"}"#).unwrap() else {
+        panic!()
+    };
+    assert_eq!(t.request.timeout_s, Some(1.0));
+    assert!(
+        parse(r#"{"command":"sleep","arguments":{"duration":0.5}}"#)
+            .unwrap()
+            .requests()
+            .is_empty()
     );
     assert!(err(r#"{"command":"torque_control","arguments":{"timeout":0}}"#).contains("positive"));
     assert!(err(r#"{"command":"sleep","arguments":{"duration":-1}}"#).contains("0 to 3600"));
@@ -172,16 +230,21 @@ fn torque_control_and_sleep() {
 }
 
 #[test]
-fn sim_flags() {
-    let Command::Sim(s) = parse(r#"{"command":"sim","arguments":{"emergency_stop":true,"block_axis":2,"power_cycle":true}}"#).unwrap() else {
-        panic!()
-    };
-    let sample = s.sample();
-    assert_eq!(sample.flags & 1, 1);
-    assert_eq!(sample.args[0], 1.0);
-    assert_eq!(sample.flags & (1 << 3), 1 << 3);
-    assert_eq!(sample.args[3], 2.0);
-    assert_ne!(sample.flags & mcm_shared::sample::SIM_FLAG_POWER_CYCLE, 0);
+fn sim_fields() {
+    let s = parse(r#"{"command":"sim","arguments":{"emergency_stop":true,"block_axis":2,"power_cycle":true}}"#).unwrap();
+    assert_eq!(
+        s.requests(),
+        [Request::Sim(SimCommand {
+            emergency_stop: Some(true),
+            block_axis: Some(axis(2)),
+            power_cycle: true,
+            ..SimCommand::default()
+        })]
+    );
+    assert!(
+        err(r#"{"command":"sim","arguments":{"unblock_axis":0}}"#)
+            .contains("an axis number from 1 to 6")
+    );
 }
 
 #[test]

@@ -375,8 +375,9 @@ fn notes(s: &mut String, st: &StateSample) {
             );
         }
     }
-    if st.mode == Mode::Error.to_wire() && st.last_error.seq != 0 {
-        let e = crate::result::safety_error(&st.last_error);
+    if st.mode == Mode::Error.to_wire()
+        && let Some(e) = crate::result::last_error(&st.last_error)
+    {
         let _ = writeln!(
             s,
             "{RED}last error:{RESET} {}",

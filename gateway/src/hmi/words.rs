@@ -14,10 +14,12 @@
 //!
 //! ```
 //! use mcm_gateway::hmi::words::{Line, parse_line};
-//! use mcm_gateway::cmd::{Command, MoveAxis};
+//! use mcm_gateway::cmd::Command;
+//! use mcm_shared::command::{Axis, MoveAxis};
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
 //! let line = parse_line("move_axis 1 30 vf=0.5", &cfg).unwrap();
-//! let expected = MoveAxis { axis: 1, target: 30.0, velocity_factor: 0.5 };
+//! let axis = Axis::new(1).unwrap();
+//! let expected = MoveAxis { axis, target_deg: 30.0, velocity_factor: 0.5 };
 //! assert_eq!(line, Line::Command { cmd: Command::MoveAxis(expected), json: false });
 //! ```
 

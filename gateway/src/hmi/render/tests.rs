@@ -1,6 +1,15 @@
 use super::*;
-use mcm_shared::mode::RejectCode;
-use mcm_shared::sample::{ErrorRecord, Reply};
+use mcm_shared::command::Axis;
+use mcm_shared::reply::{InfoReply, MoveAllPlan, Reason, SafetyError};
+
+fn safety_error(reason: Reason) -> SafetyError {
+    SafetyError {
+        seq: 3,
+        cycle: 100,
+        unix_ns: 0,
+        reason,
+    }
+}
 
 fn cfg() -> RobotConfig {
     RobotConfig::prob2_default()
@@ -61,13 +70,12 @@ fn detailed_status_and_notes() {
     let mut st = state(Mode::Error);
     st.axis_flags[4] = 0;
     st.flags = STATE_ESTOP;
-    st.last_error = ErrorRecord {
-        seq: 3,
-        code: RejectCode::FollowingError.to_wire(),
-        axis: 2,
-        values: [2.5, 2.0, 0.0, 0.0],
-        ..ErrorRecord::default()
-    };
+    st.last_error = safety_error(Reason::FollowingError {
+        axis: Axis::new(2).unwrap(),
+        error_deg: 2.5,
+        band_deg: 2.0,
+    })
+    .encode();
     let text = strip_ansi(&status(
         &crate::result::status(&st, true),
         &cfg(),
@@ -94,13 +102,14 @@ fn detailed_status_and_notes() {
 
 #[test]
 fn move_all_timing() {
-    let r = Reply {
-        values: [10.0, 20.0, 0.0, 0.0, 0.0, 30.0, 6.0, 1.5],
-        ..Reply::default()
+    let plan = MoveAllPlan {
+        velocities_deg_s: [10.0, 20.0, 0.0, 0.0, 0.0, 30.0],
+        longest: Axis::new(6).unwrap(),
+        duration_s: 1.5,
     };
     let text = strip_ansi(&result(
         "move_all",
-        &crate::result::move_all(&r),
+        &crate::result::move_all(&plan),
         &cfg(),
         None,
     ));
@@ -117,15 +126,13 @@ fn move_all_timing() {
 
 #[test]
 fn info_and_sim_tables() {
-    let r = Reply {
-        values: [6.0, 0.005, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        ..Reply::default()
+    let info = InfoReply {
+        num_axes: 6,
+        period_s: 0.005,
     };
-    let mut simulated = state(Mode::Hold);
-    simulated.flags |= mcm_shared::sample::STATE_SIMULATED;
     let text = strip_ansi(&result(
         "info",
-        &crate::result::initialization(&cfg(), &r, &simulated),
+        &crate::result::initialization(&cfg(), &info, true),
         &cfg(),
         None,
     ));
@@ -195,15 +202,12 @@ fn line_errors_show_the_usage() {
 
 #[test]
 fn safety_errors_prompt_and_banner() {
-    let rec = ErrorRecord {
-        seq: 1,
-        code: RejectCode::PositionLimit.to_wire(),
-        axis: 3,
-        values: [121.0, 120.0, 0.0, 0.0],
-        ..ErrorRecord::default()
-    };
     let ev = crate::bridge::SafetyEvent {
-        record: rec,
+        error: Ok(safety_error(Reason::PositionLimit {
+            axis: Axis::new(3).unwrap(),
+            position_deg: 121.0,
+            limit_deg: 120.0,
+        })),
         mode: Mode::Error.to_wire(),
         file: "/tmp/f.csv".into(),
     };

@@ -1,5 +1,8 @@
 use super::*;
-use crate::cmd::{Calibrate, MoveAll, MoveAxis, PvtPoint, Sim, Status, Which};
+use crate::cmd::Status;
+use mcm_shared::command::{
+    Axis, Calibrate, Direction, MoveAll, MoveAxis, PvtPoint, SetTorques, SimCommand, Which,
+};
 
 fn cfg() -> RobotConfig {
     RobotConfig::prob2_default()
@@ -19,8 +22,8 @@ fn err(line: &str) -> LineError {
 #[test]
 fn positional_and_named_arguments() {
     let expected = Command::MoveAxis(MoveAxis {
-        axis: 1,
-        target: 30.0,
+        axis: Axis::new(1).unwrap(),
+        target_deg: 30.0,
         velocity_factor: 0.5,
     });
     assert_eq!(cmd("move_axis 1 30 0.5"), expected);
@@ -33,14 +36,14 @@ fn positional_and_named_arguments() {
     let Command::MoveAxis(m) = cmd("move_axis 2 -45") else {
         panic!()
     };
-    assert_eq!((m.axis, m.target), (2, -45.0));
+    assert_eq!((m.axis.number(), m.target_deg), (2, -45.0));
     assert_eq!(m.velocity_factor, crate::cmd::DEFAULT_VELOCITY_FACTOR);
 }
 
 #[test]
 fn six_values_as_words_commas_or_json() {
     let expected = Command::MoveAll(MoveAll {
-        targets: [0.0, 10.0, 20.0, 0.0, 0.0, 0.0],
+        targets_deg: [0.0, 10.0, 20.0, 0.0, 0.0, 0.0],
         velocity_factor: 0.5,
     });
     assert_eq!(cmd("move_all 0 10 20 0 0 0 vf=0.5"), expected);
@@ -53,10 +56,12 @@ fn six_values_as_words_commas_or_json() {
         expected
     );
     assert_eq!(cmd("move_all '[0,10,20,0,0,0]' 0.5"), expected);
-    let Command::SetTorques(t) = cmd("set_torques 0 0 1.5 0 0 -2") else {
-        panic!()
-    };
-    assert_eq!(t.torques, [0.0, 0.0, 1.5, 0.0, 0.0, -2.0]);
+    assert_eq!(
+        cmd("set_torques 0 0 1.5 0 0 -2"),
+        Command::SetTorques(SetTorques {
+            torques_nm: [0.0, 0.0, 1.5, 0.0, 0.0, -2.0]
+        })
+    );
 }
 
 #[test]
@@ -77,18 +82,18 @@ fn booleans_flags_and_words() {
     );
     assert_eq!(
         cmd("sim emergency_stop=true"),
-        Command::Sim(Sim {
+        Command::Sim(SimCommand {
             emergency_stop: Some(true),
-            ..Sim::default()
+            ..SimCommand::default()
         })
     );
     let Command::Sim(s) = cmd("sim estop=no block_axis=2 power_cycle torques=0,5,0,0,0,0") else {
         panic!()
     };
     assert_eq!(s.emergency_stop, Some(false));
-    assert_eq!(s.block_axis, Some(2));
+    assert_eq!(s.block_axis, Axis::new(2));
     assert!(s.power_cycle);
-    assert_eq!(s.external_torques, Some([0.0, 5.0, 0.0, 0.0, 0.0, 0.0]));
+    assert_eq!(s.external_torques_nm, Some([0.0, 5.0, 0.0, 0.0, 0.0, 0.0]));
     let Command::Calibrate(c) = cmd("calibrate which=WRIST") else {
         panic!()
     };
@@ -96,9 +101,9 @@ fn booleans_flags_and_words() {
     assert_eq!(
         cmd("calibrate 3 force elbow=-1"),
         Command::Calibrate(Calibrate {
-            which: Which::Axis(3),
-            elbow_direction: -1,
-            wrist_direction: 1,
+            which: Which::Axis(Axis::new(3).unwrap()),
+            elbow_direction: Direction::Negative,
+            wrist_direction: Direction::Positive,
             force_mechanical_stop: true
         })
     );
@@ -144,8 +149,8 @@ fn quoted_values() {
 #[test]
 fn pvt_points_as_bracketed_or_quoted_json() {
     let point = PvtPoint {
-        position: [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        velocity: [0.0; 6],
+        position_deg: [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        velocity_deg_s: [0.0; 6],
     };
     let json = r#"[{"position": [1, 0, 0, 0, 0, 0], "velocity": [0,0,0,0,0,0]}, {"position":[1,0,0,0,0,0],"velocity":[0,0,0,0,0,0]}]"#;
     for line in [
