@@ -5,7 +5,7 @@
 //! is a fixed ring of [`RX_CAPACITY`] frames; when it is full, new frames are dropped and
 //! counted, like a CAN controller's receive overrun).
 //!
-//! Lock-step time (`DRIVE_PROFILE.md`): time advances only on SYNC (`080#`), by exactly one
+//! Lock-step time (`docs/drive-profile.md`, "The simulated drive"): time advances only on SYNC (`080#`), by exactly one
 //! cycle period. On SYNC every drive applies its latched RPDOs and sends its TPDOs (sampled at
 //! the SYNC), then the physics runs the period in sub-steps of `sim.physics_step_us`; in each
 //! sub-step every drive computes its motor current from the true joint state, the joint

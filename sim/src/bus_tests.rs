@@ -1,5 +1,5 @@
 //! Whole-bus tests of the simulated P-Rob2 with the real arm model: a scripted master
-//! ([`super::test_master`]) configures the six drives exactly as `DRIVE_PROFILE.md` says,
+//! ([`super::test_master`]) configures the six drives exactly as `docs/drive-profile.md` says,
 //! enables them in CSP and streams targets; the truth of the arm is checked.
 
 use super::SimBus;

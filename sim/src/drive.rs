@@ -1,4 +1,4 @@
-//! One simulated CiA 402 servo drive (`DRIVE_PROFILE.md`, drive side): object dictionary,
+//! One simulated CiA 402 servo drive (`docs/drive-profile.md`, "The simulated drive"): object dictionary,
 //! expedited SDO server, NMT slave with heartbeat producer and master-heartbeat consumer, PDO
 //! engine, CiA 402 state machine, and the motor: CSP position loop, CST torque, current limit
 //! 0x6073, incremental encoder with a random offset drawn at every power-up, and the stored

@@ -3,7 +3,7 @@
 //! Six simulated CiA 402 servo drives on a simulated CAN bus, moving the arm model of
 //! `mcm-dynamics` ([`physics`]). Selected by `bus.backend = "sim"`; the CANopen master drives it
 //! through the same [`mcm_bus::Bus`] trait as real drives, frame for frame as
-//! `DRIVE_PROFILE.md` specifies. Fault injection and ground truth go through [`SimControl`],
+//! `docs/drive-profile.md` specifies. Fault injection and ground truth go through [`SimControl`],
 //! which only the real-time core's simulator edge uses; [`snapshot`] keeps the simulated robot
 //! across a restart of `mcm-rt`.
 //!

@@ -1,4 +1,4 @@
-//! NMT slave of the simulated drive (CiA 301 §7.2.8, `canopen-cia402.md` §1.2-1.3): the NMT
+//! NMT slave of the simulated drive (CiA 301 §7.2.8; `docs/drive-profile.md`, "Bus and nodes"): the NMT
 //! state, the decoding of NMT commands (`000#<cs><node>`), the heartbeat producer (0x1017) and
 //! the consumer of the master's heartbeat (0x1016:1).
 //!

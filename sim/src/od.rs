@@ -1,6 +1,6 @@
 //! The object dictionary of the simulated drive: a fixed table of exactly the objects the MCM
 //! drive profile uses (CiA 301 communication objects, the two RPDOs and two TPDOs, and the
-//! CiA 402 objects of `DRIVE_PROFILE.md`), with type, access and PDO-mappability, and the
+//! CiA 402 objects of `docs/drive-profile.md`), with type, access and PDO-mappability, and the
 //! values in a fixed array indexed by the table position ("slot").
 //!
 //! One manufacturer-specific object: 0x2100, the stored calibration. Sub 1 is the calibration

@@ -1,5 +1,5 @@
 //! Expedited SDO server of the simulated drive (CiA 301 §7.2.4, the subset of
-//! `canopen-cia402.md` §1.6): decodes a request frame on `0x600 + n`, asks the drive for the
+//! `docs/drive-profile.md`, "Boot and configuration"): decodes a request frame on `0x600 + n`, asks the drive for the
 //! object through [`ObjectAccess`], and builds the response on `0x580 + n`.
 //!
 //! Runs inside the cycle: pure, no allocation. The object semantics (access rights, lengths,

@@ -1,5 +1,5 @@
 //! A small scripted CANopen master for the simulator's whole-bus tests (test-only; the real
-//! master is `crate::canopen`). It follows `DRIVE_PROFILE.md` to the letter: on every boot-up
+//! master is `crate::canopen`). It follows `docs/drive-profile.md` to the letter: on every boot-up
 //! it configures the node with the 12 boot steps (one expedited SDO transaction per node at a
 //! time), starts it, sends RPDO2 (CSP, max current), then streams RPDO1 every cycle, walking
 //! the CiA 402 state machine to OPERATION ENABLED holding the actual position. Every cycle:
@@ -11,7 +11,7 @@ use mcm_shared::config::RobotConfig;
 /// One SDO transaction of the boot sequence: (index, sub, value, size in bytes); size 0 = read.
 type Step = (u16, u8, u32, u8);
 
-/// The boot steps 1-11 of `DRIVE_PROFILE.md` for one axis.
+/// The boot steps 1-11 of `docs/drive-profile.md` ("Boot and configuration") for one axis.
 pub fn boot_steps(cfg: &RobotConfig, axis: usize) -> Vec<Step> {
     let a = &cfg.axes[axis];
     let n = u32::from(a.node_id);

@@ -1,4 +1,4 @@
-//! The per-node configuration sequence of DRIVE_PROFILE.md ("Boot and configuration"), as a
+//! The per-node configuration sequence of `docs/drive-profile.md` ("Boot and configuration"), as a
 //! state machine the master drives once per cycle: one expedited SDO transaction at a time,
 //! each step retried at most [`MAX_RETRIES`] times after a timeout or an abort, then NMT start.
 //!
@@ -66,7 +66,7 @@ pub const CALIBRATION_OPS: [BootOp; 2] = [
 /// One SDO operation of the sequence.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BootOp {
-    /// Step number of DRIVE_PROFILE.md (1..=11).
+    /// Step number in `docs/drive-profile.md`, "Boot and configuration" (1..=12).
     pub step: u8,
     pub addr: ObjectAddr,
     pub action: BootAction,

@@ -3,7 +3,7 @@
 //! the simulated drives and against real drives through SocketCAN.
 //!
 //! It implements exactly the subset the MCM drive profile needs (see
-//! `/work/scratch/DRIVE_PROFILE.md` and the CANopen/CiA 402 reference notes):
+//! `docs/drive-profile.md`):
 //!
 //! - [`objects`]: object indices and COB-ID helpers;
 //! - [`nmt`]: NMT commands, SYNC, heartbeat / boot-up frames;

@@ -1,4 +1,4 @@
-//! The four PDOs of the MCM drive profile (DRIVE_PROFILE.md, "Cyclic data"), packed and
+//! The four PDOs of the MCM drive profile (`docs/drive-profile.md`, "Cyclic data"), packed and
 //! unpacked little-endian.
 //!
 //! | PDO   | COB-ID  | bytes | content |

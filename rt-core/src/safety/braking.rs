@@ -1,4 +1,4 @@
-//! The dynamic limit check (motion-and-dynamics 5.6): stop an axis that could no longer stop
+//! The dynamic limit check (`docs/safety.md`, "Braking distance"): stop an axis that could no longer stop
 //! before its limit, and the preventive velocity cap that keeps the check from firing.
 //!
 //! Runs inside the cycle (pure, allocation-free, panic-free).
@@ -306,7 +306,7 @@ mod tests {
             steps += 1;
             prop_assert!(steps < 200_000, "never tripped: q={q:?} v={v:?}");
         }
-        // Every axis stops (motion-and-dynamics 5.5): constant speed for the latency, then
+        // Every axis stops (`docs/safety.md`, "Braking distance"): constant speed for the latency, then
         // braking at a_b, integrated in small steps.
         let mut stop = q;
         for (i, stop) in stop.iter_mut().enumerate() {
