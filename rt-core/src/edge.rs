@@ -25,7 +25,7 @@ use crate::controller::Controller;
 use crate::cycle::{COMMANDS_PER_CYCLE, Cycle};
 use crate::flight::{FlightRecorder, Record};
 use crate::histogram::Histogram;
-use crate::ipc::RtIpc;
+use crate::ipc::{ReceiveError, RtIpc};
 use crate::runner::run_cycle;
 use crate::sim_edge::SimEdge;
 use mcm_bus::Bus;
@@ -108,13 +108,7 @@ impl<B: Bus> Edge<B> {
     pub fn cycle(&mut self, wake_ns: u64) {
         self.wake_ns = wake_ns;
         self.latency.record(wake_ns.saturating_sub(self.next_ns));
-        let n = match self.ipc.drain(&mut self.commands) {
-            Ok(n) => n,
-            Err(_) => {
-                self.receive_errors += 1;
-                0
-            }
-        };
+        let n = received(self.ipc.drain(&mut self.commands), &mut self.receive_errors);
         let commands = &self.commands[..n];
         run_cycle(
             &mut self.cycle,
@@ -178,6 +172,15 @@ impl<B: Bus> Edge<B> {
     }
 }
 
+/// How many commands a drain gave; a failed drain counts in `errors` and gives none (the
+/// cycle goes on without them).
+fn received(drained: Result<usize, ReceiveError>, errors: &mut u64) -> usize {
+    drained.unwrap_or_else(|_| {
+        *errors += 1;
+        0
+    })
+}
+
 /// The deadline after `next_ns` for a cycle whose work ended at `end_ns`, and how many
 /// deadlines it missed: when it ended after that deadline, the schedule starts again from
 /// `end_ns` (on the period's grid).
@@ -194,6 +197,17 @@ fn next_deadline(next_ns: u64, end_ns: u64, period_ns: u64) -> (u64, u64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_failed_drain_is_counted_and_the_cycle_goes_on_without_commands() {
+        let mut errors = 0;
+        assert_eq!(received(Ok(3), &mut errors), 3);
+        assert_eq!(errors, 0);
+        let failed = ReceiveError(iceoryx2::port::ReceiveError::ExceedsMaxBorrows);
+        assert_eq!(received(Err(failed), &mut errors), 0);
+        assert_eq!(received(Err(failed), &mut errors), 0);
+        assert_eq!(errors, 2);
+    }
 
     #[test]
     fn missed_deadlines_are_counted_and_the_schedule_restarts() {
