@@ -9,44 +9,150 @@
 //! blackboard precisely because readers joining or leaving never touch the writer.
 //!
 //! The real-time core *creates* both services with the QoS of [`mcm_shared::service`]; anything
-//! else opens them.
+//! else opens them. Set-up errors keep iceoryx2's own error as their source, one variant per
+//! step; two causes get their own words: services of the same name left by an MCM of another
+//! version ([`IpcSetupError::IncompatibleService`]) and a second live `mcm-rt` of the same
+//! instance ([`IpcSetupError::InstanceInUse`]).
 
-use iceoryx2::port::subscriber::Subscriber;
-use iceoryx2::port::writer::EntryHandleMut;
+use iceoryx2::node::NodeCreationFailure;
+use iceoryx2::port::subscriber::{Subscriber, SubscriberCreateError};
+use iceoryx2::port::writer::{EntryHandleMut, EntryHandleMutError, WriterCreateError};
 use iceoryx2::prelude::*;
-use iceoryx2::service::builder::blackboard::BlackboardCreateError;
+use iceoryx2::service::builder::blackboard::{BlackboardCreateError, BlackboardOpenError};
+use iceoryx2::service::builder::publish_subscribe::{
+    PublishSubscribeOpenError, PublishSubscribeOpenOrCreateError,
+};
+use iceoryx2::service::service_name::ServiceNameError;
 use mcm_shared::sample::{CommandSample, StateSample};
 use mcm_shared::service::{
     COMMAND_BUFFER, COMMAND_MAX_PUBLISHERS, STATE_KEY, STATE_MAX_READERS, ServiceNames,
 };
 
-/// Setting up the IPC services failed.
+/// Setting up the IPC services failed: which step, on which name, and iceoryx2's own error.
 #[derive(Debug, thiserror::Error)]
 pub enum IpcSetupError {
-    #[error("iceoryx2 {what} `{name}` failed: {reason}")]
-    Iceoryx {
-        what: &'static str,
+    #[error("iceoryx2 refuses the node name `{name}`: {source}")]
+    NodeName {
         name: String,
-        reason: String,
+        #[source]
+        source: SemanticStringError,
+    },
+    #[error("cannot create the iceoryx2 node `{name}`: {source}")]
+    Node {
+        name: String,
+        #[source]
+        source: NodeCreationFailure,
+    },
+    #[error("iceoryx2 refuses the service name `{name}`: {source}")]
+    ServiceName {
+        name: String,
+        #[source]
+        source: ServiceNameError,
+    },
+    #[error("cannot create the state blackboard `{name}`: {source}")]
+    StateCreate {
+        name: String,
+        #[source]
+        source: BlackboardCreateError,
+    },
+    #[error("cannot open the existing state blackboard `{name}`: {source}")]
+    StateOpen {
+        name: String,
+        #[source]
+        source: BlackboardOpenError,
+    },
+    #[error("cannot create the writer of the state blackboard `{name}`: {source}")]
+    Writer {
+        name: String,
+        #[source]
+        source: WriterCreateError,
+    },
+    #[error("cannot take the state entry (key {key}) of the blackboard `{name}`: {source}")]
+    Entry {
+        name: String,
+        key: u32,
+        #[source]
+        source: EntryHandleMutError,
+    },
+    #[error("cannot open or create the command service `{name}`: {source}")]
+    CommandService {
+        name: String,
+        #[source]
+        source: PublishSubscribeOpenOrCreateError,
+    },
+    #[error("cannot create the subscriber of the command service `{name}`: {source}")]
+    Subscriber {
+        name: String,
+        #[source]
+        source: SubscriberCreateError,
     },
     #[error(
-        "the services of instance `{instance}` exist already: another mcm-rt runs with this instance name ({reason})"
+        "the service `{name}` exists with another payload type, layout or QoS than this mcm-rt's \
+         `{payload}`: it was left by an MCM of another version ({source}); stop the processes \
+         of that version (gateway, controllers, mcm-rt) so that the service goes away, or use \
+         another instance name"
     )]
-    InstanceInUse { instance: String, reason: String },
+    IncompatibleService {
+        name: String,
+        /// The payload this version expects (its iceoryx2 type name).
+        payload: &'static str,
+        #[source]
+        source: Incompatibility,
+    },
+    #[error(
+        "the services of instance `{instance}` exist already: another mcm-rt runs with this \
+         instance name ({name}: {source})"
+    )]
+    InstanceInUse {
+        instance: String,
+        name: String,
+        #[source]
+        source: PortTaken,
+    },
 }
 
-fn iox(what: &'static str, name: &str, e: impl std::fmt::Debug) -> IpcSetupError {
-    IpcSetupError::Iceoryx {
-        what,
-        name: name.to_string(),
-        reason: format!("{e:?}"),
-    }
+/// How a service of the same name differs from what this version creates.
+#[derive(Debug, thiserror::Error)]
+pub enum Incompatibility {
+    /// The blackboard has another key type or QoS.
+    #[error("{0}")]
+    StateService(#[from] BlackboardOpenError),
+    /// The blackboard has no entry of key [`STATE_KEY`] with this version's `StateSample`.
+    #[error("no state entry of this type: {0}")]
+    StateEntry(#[from] EntryHandleMutError),
+    /// The command service has another payload type or QoS.
+    #[error("{0}")]
+    CommandService(#[from] PublishSubscribeOpenError),
 }
 
-/// Receiving commands failed inside the cycle.
+/// The single port only one `mcm-rt` per instance may hold is held already.
+#[derive(Debug, thiserror::Error)]
+pub enum PortTaken {
+    #[error("the state writer is taken: {0}")]
+    Writer(#[from] WriterCreateError),
+    #[error("the command subscriber is taken: {0}")]
+    Subscriber(#[from] SubscriberCreateError),
+}
+
+/// Receiving commands failed inside the cycle (the cycle goes on; the runner counts it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
-#[error("command service receive failed: {0}")]
-pub struct ReceiveError(&'static str);
+#[error("receiving from the command service failed: {0}")]
+pub struct ReceiveError(#[from] pub iceoryx2::port::ReceiveError);
+
+/// The iceoryx2 type name of `T` (what a stale service of another version differs in).
+fn payload_name<T: ZeroCopySend>() -> &'static str {
+    // SAFETY: only reads the name the type declares; nothing is sent or received here, so no
+    // layout is relied upon.
+    unsafe { <T as ZeroCopySend>::type_name() }
+}
+
+fn service_name(name: &str) -> Result<ServiceName, IpcSetupError> {
+    name.try_into()
+        .map_err(|source| IpcSetupError::ServiceName {
+            name: name.to_string(),
+            source,
+        })
+}
 
 /// The real-time core's IPC ports. Not `Send`: create it on the cycle thread.
 pub struct RtIpc {
@@ -66,73 +172,19 @@ impl RtIpc {
                 &node_name
                     .as_str()
                     .try_into()
-                    .map_err(|e| iox("node name", &node_name, e))?,
+                    .map_err(|source| IpcSetupError::NodeName {
+                        name: node_name.clone(),
+                        source,
+                    })?,
             )
             .signal_handling_mode(SignalHandlingMode::Disabled)
             .create::<ipc::Service>()
-            .map_err(|e| iox("node", &node_name, e))?;
-
-        // A restarted mcm-rt finds its services still open by the gateway or controllers:
-        // it creates them when they are missing and opens them otherwise. A second live
-        // mcm-rt of the same instance is refused when it asks for the single writer.
-        let state_name = names.state();
-        let service_name: ServiceName = state_name
-            .as_str()
-            .try_into()
-            .map_err(|e| iox("service name", &state_name, e))?;
-        let state_service = match node
-            .service_builder(&service_name)
-            .blackboard_creator::<u32>()
-            .max_readers(STATE_MAX_READERS)
-            .add::<StateSample>(STATE_KEY, StateSample::default())
-            .create()
-        {
-            Ok(s) => s,
-            Err(BlackboardCreateError::AlreadyExists) => node
-                .service_builder(&service_name)
-                .blackboard_opener::<u32>()
-                .max_readers(STATE_MAX_READERS)
-                .open()
-                .map_err(|e| iox("blackboard open", &state_name, e))?,
-            Err(e) => return Err(iox("blackboard", &state_name, e)),
-        };
-        let writer =
-            state_service
-                .writer_builder()
-                .create()
-                .map_err(|e| IpcSetupError::InstanceInUse {
-                    instance: names.instance().to_string(),
-                    reason: format!("{state_name}: writer: {e:?}"),
-                })?;
-        let state = writer
-            .entry::<StateSample>(&STATE_KEY)
-            .map_err(|e| iox("blackboard entry", &state_name, e))?;
-
-        let command_name = names.command();
-        let command_service = node
-            .service_builder(
-                &command_name
-                    .as_str()
-                    .try_into()
-                    .map_err(|e| iox("service name", &command_name, e))?,
-            )
-            .publish_subscribe::<CommandSample>()
-            .max_publishers(COMMAND_MAX_PUBLISHERS)
-            .max_subscribers(1)
-            .subscriber_max_buffer_size(COMMAND_BUFFER)
-            .history_size(0)
-            .enable_safe_overflow(true)
-            .open_or_create()
-            .map_err(|e| iox("publish-subscribe service", &command_name, e))?;
-        let commands = command_service
-            .subscriber_builder()
-            .buffer_size(COMMAND_BUFFER)
-            .create()
-            .map_err(|e| IpcSetupError::InstanceInUse {
-                instance: names.instance().to_string(),
-                reason: format!("{command_name}: subscriber: {e:?}"),
+            .map_err(|source| IpcSetupError::Node {
+                name: node_name.clone(),
+                source,
             })?;
-
+        let state = state_entry(&node, names)?;
+        let commands = command_subscriber(&node, names)?;
         Ok(Self {
             _node: node,
             state,
@@ -141,17 +193,17 @@ impl RtIpc {
     }
 
     /// Move up to `buf.len()` pending commands into `buf`; returns how many. Commands beyond
-    /// that stay queued for the next cycle.
+    /// that stay queued for the next cycle. On an error the commands received before it are
+    /// lost for the cycle (the caller counts the error).
     pub fn drain(&mut self, buf: &mut [CommandSample]) -> Result<usize, ReceiveError> {
         let mut n = 0;
         while n < buf.len() {
-            match self.commands.receive() {
-                Ok(Some(sample)) => {
+            match self.commands.receive()? {
+                Some(sample) => {
                     buf[n] = *sample;
                     n += 1;
                 }
-                Ok(None) => break,
-                Err(_) => return Err(ReceiveError("iceoryx2 subscriber error")),
+                None => break,
             }
         }
         Ok(n)
@@ -161,4 +213,132 @@ impl RtIpc {
     pub fn publish(&self, state: &StateSample) {
         self.state.update_with_copy(*state);
     }
+}
+
+/// The state blackboard's entry, the blackboard created or (after a restart) opened.
+///
+/// A restarted mcm-rt finds its services still open by the gateway or controllers: it creates
+/// them when they are missing and opens them otherwise. A second live mcm-rt of the same
+/// instance is refused when it asks for the single writer.
+fn state_entry(
+    node: &Node<ipc::Service>,
+    names: &ServiceNames,
+) -> Result<EntryHandleMut<ipc::Service, u32, StateSample>, IpcSetupError> {
+    let name = names.state();
+    let incompatible = |source: Incompatibility| IpcSetupError::IncompatibleService {
+        name: name.clone(),
+        payload: payload_name::<StateSample>(),
+        source,
+    };
+    let service_name = service_name(&name)?;
+    let service = match node
+        .service_builder(&service_name)
+        .blackboard_creator::<u32>()
+        .max_readers(STATE_MAX_READERS)
+        .add::<StateSample>(STATE_KEY, StateSample::default())
+        .create()
+    {
+        Ok(s) => s,
+        Err(BlackboardCreateError::AlreadyExists) => node
+            .service_builder(&service_name)
+            .blackboard_opener::<u32>()
+            .max_readers(STATE_MAX_READERS)
+            .open()
+            .map_err(|source| match source {
+                BlackboardOpenError::IncompatibleKeys
+                | BlackboardOpenError::IncompatibleAttributes
+                | BlackboardOpenError::IncompatibleMessagingPattern
+                | BlackboardOpenError::DoesNotSupportRequestedAmountOfReaders => {
+                    incompatible(source.into())
+                }
+                _ => IpcSetupError::StateOpen {
+                    name: name.clone(),
+                    source,
+                },
+            })?,
+        Err(source) => {
+            return Err(IpcSetupError::StateCreate {
+                name: name.clone(),
+                source,
+            });
+        }
+    };
+    let writer = service
+        .writer_builder()
+        .create()
+        .map_err(|source| match source {
+            WriterCreateError::ExceedsMaxSupportedWriters => IpcSetupError::InstanceInUse {
+                instance: names.instance().to_string(),
+                name: name.clone(),
+                source: source.into(),
+            },
+            _ => IpcSetupError::Writer {
+                name: name.clone(),
+                source,
+            },
+        })?;
+    writer
+        .entry::<StateSample>(&STATE_KEY)
+        .map_err(|source| match source {
+            // The entry exists only with this key *and* this value type.
+            EntryHandleMutError::EntryDoesNotExist => incompatible(source.into()),
+            _ => IpcSetupError::Entry {
+                name: name.clone(),
+                key: STATE_KEY,
+                source,
+            },
+        })
+}
+
+/// The command service (opened or created) and its single subscriber.
+fn command_subscriber(
+    node: &Node<ipc::Service>,
+    names: &ServiceNames,
+) -> Result<Subscriber<ipc::Service, CommandSample, ()>, IpcSetupError> {
+    let name = names.command();
+    let service = node
+        .service_builder(&service_name(&name)?)
+        .publish_subscribe::<CommandSample>()
+        .max_publishers(COMMAND_MAX_PUBLISHERS)
+        .max_subscribers(1)
+        .subscriber_max_buffer_size(COMMAND_BUFFER)
+        .history_size(0)
+        .enable_safe_overflow(true)
+        .open_or_create()
+        .map_err(|source| match source {
+            PublishSubscribeOpenOrCreateError::PublishSubscribeOpenError(
+                e @ (PublishSubscribeOpenError::IncompatibleTypes
+                | PublishSubscribeOpenError::IncompatibleAttributes
+                | PublishSubscribeOpenError::IncompatibleMessagingPattern
+                | PublishSubscribeOpenError::IncompatibleOverflowBehavior
+                | PublishSubscribeOpenError::DoesNotSupportRequestedMinBufferSize
+                | PublishSubscribeOpenError::DoesNotSupportRequestedMinHistorySize
+                | PublishSubscribeOpenError::DoesNotSupportRequestedAmountOfPublishers
+                | PublishSubscribeOpenError::DoesNotSupportRequestedAmountOfSubscribers
+                | PublishSubscribeOpenError::VersionMismatch),
+            ) => IpcSetupError::IncompatibleService {
+                name: name.clone(),
+                payload: payload_name::<CommandSample>(),
+                source: e.into(),
+            },
+            _ => IpcSetupError::CommandService {
+                name: name.clone(),
+                source,
+            },
+        })?;
+    service
+        .subscriber_builder()
+        .buffer_size(COMMAND_BUFFER)
+        .create()
+        .map_err(|source| match source {
+            SubscriberCreateError::ExceedsMaxSupportedSubscribers => IpcSetupError::InstanceInUse {
+                instance: names.instance().to_string(),
+                name: name.clone(),
+                source: source.into(),
+            },
+            _ => IpcSetupError::Subscriber {
+                name: name.clone(),
+                source,
+            },
+        })
 }

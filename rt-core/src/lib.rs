@@ -12,6 +12,7 @@ pub mod cli;
 pub mod clock;
 pub mod controller;
 pub mod cycle;
+pub mod edge;
 pub mod flight;
 pub mod histogram;
 pub mod ipc;

@@ -1,9 +1,11 @@
 //! The real-time loop: the edges around [`crate::cycle::Cycle`].
 //!
-//! Set-up (bus, real-time thread, IPC) runs once; then every period, on absolute deadlines:
-//! wake, record the wake-up latency, drain commands, run the cycle ([`run_cycle`]), add timing,
-//! publish the state. Stops when SIGINT or SIGTERM arrives (checked once per cycle).
-//! [`run_cycle`] and [`fill_sim_fields`] run inside the cycle; the rest is set-up and teardown.
+//! Set-up (bus, real-time thread, IPC, flight recorder) runs once; then every period, on
+//! absolute deadlines, the loop sleeps until the deadline and runs one cycle of the runner's
+//! edge ([`crate::edge::Edge::cycle`]: drain commands, run the cycle ([`run_cycle`]), add
+//! timing, record, publish the state). Stops when SIGINT or SIGTERM arrives (checked once per
+//! cycle). [`run_cycle`] and [`fill_sim_fields`] run inside the cycle; the rest is set-up and
+//! teardown.
 //!
 //! The runner builds the bus and so knows its type: with the simulated bus it wires the
 //! simulator's edge ([`crate::sim_edge`]) into the loop, and the simulated robot outlives a
@@ -11,18 +13,16 @@
 //! ([`mcm_sim::snapshot`]: resumed at start, saved when the loop stops).
 
 use crate::clock;
-use crate::cycle::{COMMANDS_PER_CYCLE, Cycle};
-use crate::flight::{FlightRecorder, Record};
-use crate::histogram::Histogram;
+use crate::cycle::Cycle;
+use crate::edge::{Edge, Figures};
+use crate::flight::FlightRecorder;
 use crate::ipc::{IpcSetupError, RtIpc};
 use crate::realtime::{self, RtReport};
 use crate::sim_edge::{SimAccess, SimEdge};
 use mcm_bus::Bus;
 use mcm_bus::candump::{LogOptions, LoggingBus};
 use mcm_shared::config::{BusBackend, RobotConfig};
-use mcm_shared::sample::{
-    CommandSample, STATE_NOT_REALTIME, STATE_SIM_ESTOP, STATE_SIMULATED, StateSample,
-};
+use mcm_shared::sample::{CommandSample, STATE_SIM_ESTOP, STATE_SIMULATED, StateSample};
 use mcm_shared::service::ServiceNames;
 use mcm_sim::{SimBus, SimTruth, snapshot};
 use std::sync::atomic::Ordering;
@@ -141,9 +141,8 @@ fn spawn<B: Bus + 'static>(
             if !report.is_realtime() && !opts.allow_non_realtime {
                 return Err(RunError::NotRealtime { report });
             }
-            let mut cycle = Cycle::new(cfg, bus)?;
-            let mut edge = sim.map(SimEdge::new);
-            let mut ipc = RtIpc::create(&opts.names)?;
+            let cycle = Box::new(Cycle::new(cfg, bus)?);
+            let ipc = RtIpc::create(&opts.names)?;
             let records =
                 (cfg.safety.flight_recorder_seconds * f64::from(cfg.cycle.rate_hz)).ceil() as usize;
             let (recorder, writer) = FlightRecorder::start(
@@ -152,11 +151,25 @@ fn spawn<B: Bus + 'static>(
                 opts.names.instance(),
             )
             .map_err(|e| RunError::FlightRecorder(e.to_string()))?;
+            let mut edge = Edge::new(
+                cycle,
+                sim.map(SimEdge::new),
+                ipc,
+                recorder,
+                cfg.cycle_period_ns(),
+                report.is_realtime(),
+            );
             on_started(&report);
-            let summary = cycle_loop(cfg, &mut cycle, edge.as_mut(), &mut ipc, recorder, report);
-            finish(cycle.bus_mut());
+            let figures = cycle_loop(&mut edge);
+            finish(edge.cycle_mut().bus_mut());
             writer.stop();
-            Ok(summary)
+            Ok(RunSummary {
+                realtime: report,
+                cycles: figures.cycles,
+                overruns: figures.overruns,
+                latency_p99_ns: figures.latency_p99_ns,
+                latency_max_ns: figures.latency_max_ns,
+            })
         })
         .expect("spawn the real-time thread");
     handle.join().map_err(|_| RunError::Panicked)?
@@ -195,69 +208,16 @@ pub fn fill_sim_fields(s: &mut StateSample, truth: Option<&SimTruth>) {
         | if truth.is_some() { STATE_SIMULATED } else { 0 };
 }
 
-fn cycle_loop<B: Bus>(
-    cfg: &RobotConfig,
-    cycle: &mut Cycle<B>,
-    mut edge: Option<&mut SimEdge<B>>,
-    ipc: &mut RtIpc,
-    mut recorder: FlightRecorder,
-    report: RtReport,
-) -> RunSummary {
-    let period = cfg.cycle_period_ns();
-    let mut latency = Histogram::new();
-    let mut work_max = 0u64;
-    let mut overruns = 0u64;
-    let mut commands = [CommandSample::default(); COMMANDS_PER_CYCLE];
-    let mut k: u64 = 0;
-    let mut error_seq = 0u64;
-    let mut next = clock::now_ns() + period;
-    let not_rt = if report.is_realtime() {
-        0
-    } else {
-        STATE_NOT_REALTIME
-    };
+/// Run the edge's cycles on absolute deadlines until SIGINT or SIGTERM arrives (checked once
+/// per cycle): sleep until the deadline, read the clock, run [`Edge::cycle`], read the clock,
+/// [`Edge::end`] gives the next deadline.
+fn cycle_loop<B: Bus>(edge: &mut Edge<B>) -> Figures {
     let stop = crate::signals::stop_flag();
+    let mut next = edge.start(clock::now_ns());
     while !stop.load(Ordering::Relaxed) {
         clock::sleep_until_ns(next);
-        let wake = clock::now_ns();
-        latency.record(wake.saturating_sub(next));
-        let n = ipc.drain(&mut commands).unwrap_or(0);
-        run_cycle(cycle, edge.as_deref_mut(), k * period, &commands[..n]);
-        let s = cycle.controller_mut().state_mut();
-        s.t_ns = wake;
-        s.flags |= not_rt;
-        s.timing.period_ns = period;
-        s.timing.overruns = overruns;
-        s.timing.latency_p50_ns = latency.percentile(0.5);
-        s.timing.latency_p99_ns = latency.percentile(0.99);
-        s.timing.latency_max_ns = latency.max();
-        s.timing.work_max_ns = work_max;
-        let new_error = s.last_error.seq != error_seq;
-        if new_error {
-            error_seq = s.last_error.seq;
-            s.last_error.unix_ns = clock::realtime_ns();
-        }
-        let last_command = if n > 0 { commands[n - 1].kind } else { 0 };
-        recorder.record(&Record::of(s, last_command));
-        if new_error {
-            recorder.trigger(&s.last_error);
-        }
-        ipc.publish(cycle.controller().state());
-        k += 1;
-        let end = clock::now_ns();
-        work_max = work_max.max(end - wake);
-        next += period;
-        if end > next {
-            // Missed one or more deadlines: count them and start again from now.
-            overruns += (end - next) / period + 1;
-            next = end + period - (end - next) % period;
-        }
+        edge.cycle(clock::now_ns());
+        next = edge.end(clock::now_ns());
     }
-    RunSummary {
-        realtime: report,
-        cycles: k,
-        overruns,
-        latency_p99_ns: latency.percentile(0.99),
-        latency_max_ns: latency.max(),
-    }
+    edge.figures()
 }

@@ -7,7 +7,10 @@
 //! Only the thread that sets the thread-local flag is counted, so the test harness's own
 //! threads cannot disturb the figure.
 //!
-//! The second half runs the same scenario twice and compares every published state sample:
+//! [`every_mode`] drives the runner's edge ([`mcm_rt_core::edge::Edge::cycle`], with real
+//! iceoryx2 services) through every mode and counts the same way.
+//!
+//! The last part runs the same scenario twice and compares every published state sample:
 //! the same inputs must give the same outputs, bit for bit.
 
 use mcm_rt_core::sim_edge::SimCycle;
@@ -18,6 +21,10 @@ use mcm_sim::SimBus;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, MutexGuard};
+
+#[path = "no_alloc/every_mode.rs"]
+mod every_mode;
 
 /// Counts allocations made by threads that have switched counting on.
 struct CountingAlloc;
@@ -68,19 +75,43 @@ unsafe impl GlobalAlloc for CountingAlloc {
 #[global_allocator]
 static GLOBAL: CountingAlloc = CountingAlloc;
 
+/// The test threads run in parallel and share the counters: measurements hold this lock.
+static LOCK: Mutex<()> = Mutex::new(());
+
+/// Counts the allocations (and bytes) made on this thread inside [`Meter::measure`], for as
+/// long as it lives; other measurements wait meanwhile.
+struct Meter {
+    _guard: MutexGuard<'static, ()>,
+    allocs: u64,
+    bytes: u64,
+}
+
+impl Meter {
+    fn new() -> Meter {
+        Meter {
+            _guard: LOCK.lock().unwrap_or_else(|e| e.into_inner()),
+            allocs: 0,
+            bytes: 0,
+        }
+    }
+
+    /// Run `f`, counting what it allocates on this thread.
+    fn measure<R>(&mut self, f: impl FnOnce() -> R) -> R {
+        let (a0, b0) = (ALLOCS.load(Ordering::SeqCst), BYTES.load(Ordering::SeqCst));
+        COUNTING.with(|c| c.set(true));
+        let r = f();
+        COUNTING.with(|c| c.set(false));
+        self.allocs += ALLOCS.load(Ordering::SeqCst) - a0;
+        self.bytes += BYTES.load(Ordering::SeqCst) - b0;
+        r
+    }
+}
+
 /// Allocations and bytes counted on this thread while `f` ran.
 fn count_allocations(f: impl FnOnce()) -> (u64, u64) {
-    // The test threads run in parallel and share the counters: serialise the measurements.
-    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
-    let (a0, b0) = (ALLOCS.load(Ordering::SeqCst), BYTES.load(Ordering::SeqCst));
-    COUNTING.with(|c| c.set(true));
-    f();
-    COUNTING.with(|c| c.set(false));
-    (
-        ALLOCS.load(Ordering::SeqCst) - a0,
-        BYTES.load(Ordering::SeqCst) - b0,
-    )
+    let mut meter = Meter::new();
+    meter.measure(f);
+    (meter.allocs, meter.bytes)
 }
 
 /// Longest the drives may take to boot, and `hold` to enable them (virtual time).

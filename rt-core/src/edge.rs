@@ -1,0 +1,223 @@
+//! The runner's edge: everything one cycle of the real-time loop does, in one call.
+//!
+//! [`Edge::cycle`] runs inside the cycle (no allocation, lock, blocking or logging): drain the
+//! commands, run the cycle with the simulator's edge when there is one
+//! ([`crate::runner::run_cycle`]), stamp the timing figures, keep the cycle in the flight
+//! recorder (and hand it over when a new error appears), publish the state. [`Edge::end`]
+//! (also inside the cycle) does the deadline arithmetic once the cycle's work is done. Only
+//! sleeping until the deadline and reading the clock stay in the loop around them
+//! ([`crate::runner`]); the tests drive the same two calls back to back.
+//!
+//! ```no_run
+//! # fn run<B: mcm_bus::Bus>(mut edge: mcm_rt_core::edge::Edge<B>) {
+//! use mcm_rt_core::clock;
+//! let mut next = edge.start(clock::now_ns());
+//! loop {
+//!     clock::sleep_until_ns(next);
+//!     edge.cycle(clock::now_ns());
+//!     next = edge.end(clock::now_ns());
+//! }
+//! # }
+//! ```
+
+use crate::clock;
+use crate::controller::Controller;
+use crate::cycle::{COMMANDS_PER_CYCLE, Cycle};
+use crate::flight::{FlightRecorder, Record};
+use crate::histogram::Histogram;
+use crate::ipc::{ReceiveError, RtIpc};
+use crate::runner::run_cycle;
+use crate::sim_edge::SimEdge;
+use mcm_bus::Bus;
+use mcm_shared::sample::{CommandSample, STATE_NOT_REALTIME};
+
+/// The cycle with its edges (IPC ports, simulator's edge, flight recorder) and the loop's
+/// figures (wake-up latency, work time, overruns, failed receives).
+pub struct Edge<B: Bus> {
+    /// On the heap (about 230 kB): the edge moves cheaply and fits any thread's stack.
+    cycle: Box<Cycle<B>>,
+    sim: Option<SimEdge<B>>,
+    ipc: RtIpc,
+    recorder: FlightRecorder,
+    commands: [CommandSample; COMMANDS_PER_CYCLE],
+    period_ns: u64,
+    /// `STATE_NOT_REALTIME` when the thread runs without real-time scheduling, else 0.
+    not_rt: u32,
+    /// Cycles run so far; the controller's time is `k * period`.
+    k: u64,
+    /// The deadline of the current (or next) cycle and when the current one woke up.
+    next_ns: u64,
+    wake_ns: u64,
+    latency: Histogram,
+    work_max_ns: u64,
+    overruns: u64,
+    receive_errors: u64,
+    /// `seq` of the last error handed to the flight recorder.
+    error_seq: u64,
+}
+
+/// What the loop did, once it stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Figures {
+    pub cycles: u64,
+    pub overruns: u64,
+    pub latency_p99_ns: u64,
+    pub latency_max_ns: u64,
+    pub command_receive_errors: u64,
+}
+
+impl<B: Bus> Edge<B> {
+    /// The edge of `cycle` at `period_ns`, with the simulator's edge `sim` when the bus is the
+    /// simulator; `realtime` says whether the thread got real-time scheduling.
+    pub fn new(
+        cycle: Box<Cycle<B>>,
+        sim: Option<SimEdge<B>>,
+        ipc: RtIpc,
+        recorder: FlightRecorder,
+        period_ns: u64,
+        realtime: bool,
+    ) -> Self {
+        Self {
+            cycle,
+            sim,
+            ipc,
+            recorder,
+            commands: [CommandSample::default(); COMMANDS_PER_CYCLE],
+            period_ns,
+            not_rt: if realtime { 0 } else { STATE_NOT_REALTIME },
+            k: 0,
+            next_ns: 0,
+            wake_ns: 0,
+            latency: Histogram::new(),
+            work_max_ns: 0,
+            overruns: 0,
+            receive_errors: 0,
+            error_seq: 0,
+        }
+    }
+
+    /// Start the schedule at `now_ns`; the first deadline, one period later.
+    pub fn start(&mut self, now_ns: u64) -> u64 {
+        self.next_ns = now_ns + self.period_ns;
+        self.next_ns
+    }
+
+    /// One cycle, woken at `wake_ns` for the current deadline: drain the commands (a failed
+    /// receive is counted and the cycle goes on without them), run the cycle, stamp the timing
+    /// figures, record the cycle (and hand the history over on a new error), publish the state.
+    pub fn cycle(&mut self, wake_ns: u64) {
+        self.wake_ns = wake_ns;
+        self.latency.record(wake_ns.saturating_sub(self.next_ns));
+        let n = received(self.ipc.drain(&mut self.commands), &mut self.receive_errors);
+        let commands = &self.commands[..n];
+        run_cycle(
+            &mut self.cycle,
+            self.sim.as_mut(),
+            self.k * self.period_ns,
+            commands,
+        );
+        self.k += 1;
+        let last_command = commands.last().map_or(0, |c| c.kind);
+        // The loop's figures (until the state composer sets them).
+        let s = self.cycle.controller_mut().state_mut();
+        s.t_ns = wake_ns;
+        s.flags |= self.not_rt;
+        s.command_receive_errors = self.receive_errors;
+        s.timing.period_ns = self.period_ns;
+        s.timing.overruns = self.overruns;
+        s.timing.latency_p50_ns = self.latency.percentile(0.5);
+        s.timing.latency_p99_ns = self.latency.percentile(0.99);
+        s.timing.latency_max_ns = self.latency.max();
+        s.timing.work_max_ns = self.work_max_ns;
+        let new_error = s.last_error.seq != self.error_seq;
+        if new_error {
+            self.error_seq = s.last_error.seq;
+            s.last_error.unix_ns = clock::realtime_ns();
+        }
+        self.recorder.record(&Record::of(s, last_command));
+        if new_error {
+            self.recorder.trigger(&s.last_error);
+        }
+        self.ipc.publish(self.cycle.controller().state());
+    }
+
+    /// The cycle's work ended at `end_ns`: note the work time; the next deadline. Missed
+    /// deadlines are counted as overruns and the schedule starts again from `end_ns`.
+    pub fn end(&mut self, end_ns: u64) -> u64 {
+        self.work_max_ns = self.work_max_ns.max(end_ns.saturating_sub(self.wake_ns));
+        let (next, missed) = next_deadline(self.next_ns, end_ns, self.period_ns);
+        self.next_ns = next;
+        self.overruns += missed;
+        self.next_ns
+    }
+
+    pub fn controller(&self) -> &Controller {
+        self.cycle.controller()
+    }
+
+    /// The cycle (e.g. its bus, after the loop stopped).
+    pub fn cycle_mut(&mut self) -> &mut Cycle<B> {
+        &mut self.cycle
+    }
+
+    /// The loop's figures so far.
+    pub fn figures(&self) -> Figures {
+        Figures {
+            cycles: self.k,
+            overruns: self.overruns,
+            latency_p99_ns: self.latency.percentile(0.99),
+            latency_max_ns: self.latency.max(),
+            command_receive_errors: self.receive_errors,
+        }
+    }
+}
+
+/// How many commands a drain gave; a failed drain counts in `errors` and gives none (the
+/// cycle goes on without them).
+fn received(drained: Result<usize, ReceiveError>, errors: &mut u64) -> usize {
+    drained.unwrap_or_else(|_| {
+        *errors += 1;
+        0
+    })
+}
+
+/// The deadline after `next_ns` for a cycle whose work ended at `end_ns`, and how many
+/// deadlines it missed: when it ended after that deadline, the schedule starts again from
+/// `end_ns` (on the period's grid).
+fn next_deadline(next_ns: u64, end_ns: u64, period_ns: u64) -> (u64, u64) {
+    let next = next_ns + period_ns;
+    if end_ns > next {
+        let late = end_ns - next;
+        (end_ns + period_ns - late % period_ns, late / period_ns + 1)
+    } else {
+        (next, 0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_failed_drain_is_counted_and_the_cycle_goes_on_without_commands() {
+        let mut errors = 0;
+        assert_eq!(received(Ok(3), &mut errors), 3);
+        assert_eq!(errors, 0);
+        let failed = ReceiveError(iceoryx2::port::ReceiveError::ExceedsMaxBorrows);
+        assert_eq!(received(Err(failed), &mut errors), 0);
+        assert_eq!(received(Err(failed), &mut errors), 0);
+        assert_eq!(errors, 2);
+    }
+
+    #[test]
+    fn missed_deadlines_are_counted_and_the_schedule_restarts() {
+        // Period 10: a cycle due at 10 that ends at 12 is on time; next deadline 20.
+        assert_eq!(next_deadline(10, 12, 10), (20, 0));
+        // Ending exactly on the next deadline is still on time.
+        assert_eq!(next_deadline(10, 20, 10), (20, 0));
+        // Due at 20, ended at 47: deadlines 30 and 40 missed, the schedule goes on at 50.
+        assert_eq!(next_deadline(20, 47, 10), (50, 2));
+        // Ended at 31, just after deadline 30: one missed, next at 40.
+        assert_eq!(next_deadline(20, 31, 10), (40, 1));
+    }
+}

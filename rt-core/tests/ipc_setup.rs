@@ -1,0 +1,129 @@
+//! The set-up errors of the real-time core's iceoryx2 edge, provoked for real: services of the
+//! same name left with another payload type (an MCM of another version), and a second core of
+//! the same instance. Each test uses its own instance name.
+
+use iceoryx2::port::writer::EntryHandleMutError;
+use iceoryx2::prelude::*;
+use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
+use mcm_rt_core::ipc::{Incompatibility, IpcSetupError, PortTaken, RtIpc};
+use mcm_shared::service::{STATE_KEY, STATE_MAX_READERS, ServiceNames};
+
+/// A state sample of an older MCM version: another type name, another layout.
+#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[repr(C)]
+#[type_name("mcm.StateSample.v2")]
+struct OldStateSample {
+    seq: u64,
+    position: [f64; 6],
+}
+
+/// A command sample of an older MCM version.
+#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[repr(C)]
+#[type_name("mcm.CommandSample.v0")]
+struct OldCommandSample {
+    kind: u32,
+    args: [f64; 4],
+}
+
+fn names(test: &str) -> ServiceNames {
+    ServiceNames::new(&format!("{test}-{}", std::process::id())).unwrap()
+}
+
+fn node() -> Node<ipc::Service> {
+    NodeBuilder::new()
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .unwrap()
+}
+
+#[test]
+fn a_stale_state_service_of_another_version_is_named_as_such() {
+    let names = names("stale-state");
+    let node = node();
+    let state: ServiceName = names.state().as_str().try_into().unwrap();
+    let _old = node
+        .service_builder(&state)
+        .blackboard_creator::<u32>()
+        .max_readers(STATE_MAX_READERS)
+        .add::<OldStateSample>(STATE_KEY, OldStateSample::default())
+        .create()
+        .unwrap();
+    let err = RtIpc::create(&names)
+        .err()
+        .expect("the stale service is refused");
+    match &err {
+        IpcSetupError::IncompatibleService {
+            name,
+            payload,
+            source: Incompatibility::StateEntry(EntryHandleMutError::EntryDoesNotExist),
+        } => {
+            assert_eq!(*name, names.state());
+            assert_eq!(*payload, "mcm.StateSample.v3");
+        }
+        other => panic!("not IncompatibleService: {other:?}"),
+    }
+    let text = err.to_string();
+    assert!(
+        text.contains(&names.state()) && text.contains("another version"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_stale_command_service_of_another_version_is_named_as_such() {
+    let names = names("stale-command");
+    let node = node();
+    let command: ServiceName = names.command().as_str().try_into().unwrap();
+    let _old = node
+        .service_builder(&command)
+        .publish_subscribe::<OldCommandSample>()
+        .create()
+        .unwrap();
+    let err = RtIpc::create(&names)
+        .err()
+        .expect("the stale service is refused");
+    match &err {
+        IpcSetupError::IncompatibleService {
+            name,
+            payload,
+            source: Incompatibility::CommandService(PublishSubscribeOpenError::IncompatibleTypes),
+        } => {
+            assert_eq!(*name, names.command());
+            assert_eq!(*payload, "mcm.CommandSample.v1");
+        }
+        other => panic!("not IncompatibleService: {other:?}"),
+    }
+}
+
+#[test]
+fn a_second_core_of_the_same_instance_is_refused() {
+    let names = names("in-use");
+    let _first = RtIpc::create(&names).expect("the first core sets up");
+    let err = RtIpc::create(&names).err().expect("the second is refused");
+    match &err {
+        IpcSetupError::InstanceInUse {
+            instance,
+            source: PortTaken::Writer(_),
+            ..
+        } => assert_eq!(instance, names.instance()),
+        other => panic!("not InstanceInUse: {other:?}"),
+    }
+    assert!(err.to_string().contains("another mcm-rt runs"), "{err}");
+}
+
+#[test]
+fn a_restarted_core_opens_the_services_its_peers_keep() {
+    let names = names("restart");
+    let first = RtIpc::create(&names).expect("the first core sets up");
+    // A peer keeps the command service open while the core restarts.
+    let node = node();
+    let command: ServiceName = names.command().as_str().try_into().unwrap();
+    let _peer = node
+        .service_builder(&command)
+        .publish_subscribe::<mcm_shared::sample::CommandSample>()
+        .open()
+        .unwrap();
+    drop(first);
+    RtIpc::create(&names).expect("the restarted core opens them again");
+}
