@@ -337,6 +337,9 @@ impl RobotConfig {
         if b.sdo_timeout_ms == 0 {
             return Err(invalid("bus.sdo_timeout_ms", 0, "> 0 ms"));
         }
+        if b.boot_timeout_ms == 0 {
+            return Err(invalid("bus.boot_timeout_ms", 0, "> 0 ms"));
+        }
         if b.max_missed_tpdos == 0 {
             return Err(invalid("bus.max_missed_tpdos", 0, ">= 1"));
         }
@@ -345,7 +348,7 @@ impl RobotConfig {
             return Err(invalid(
                 "safety.limit_margin_deg",
                 s.limit_margin_deg,
-                ">= 0 deg",
+                "a finite value >= 0 deg",
             ));
         }
         if !(s.braking_efficiency > 0.0 && s.braking_efficiency <= 1.0) {
@@ -359,14 +362,14 @@ impl RobotConfig {
             return Err(invalid(
                 "safety.overspeed_factor",
                 s.overspeed_factor,
-                ">= 1",
+                "a finite value >= 1",
             ));
         }
         if !(s.flight_recorder_seconds > 0.0 && s.flight_recorder_seconds <= 60.0) {
             return Err(invalid(
                 "safety.flight_recorder_seconds",
                 s.flight_recorder_seconds,
-                "0 < s <= 60",
+                "0 < x <= 60 s",
             ));
         }
         if self.axes.len() != NUM_AXES {
@@ -387,6 +390,13 @@ impl RobotConfig {
                 ));
             }
         }
+        if !self.arm.gravity.iter().all(|v| v.is_finite()) {
+            return Err(invalid(
+                "arm.gravity",
+                format!("{:?}", self.arm.gravity),
+                "three finite values (m/s^2)",
+            ));
+        }
         if self.arm.links.len() != NUM_AXES {
             return Err(invalid(
                 "arm.link",
@@ -396,6 +406,17 @@ impl RobotConfig {
         }
         for (i, l) in self.arm.links.iter().enumerate() {
             let key = format!("arm.link[{}]", i + 1);
+            let geometry = [
+                ("d", l.d),
+                ("a", l.a),
+                ("alpha_deg", l.alpha_deg),
+                ("offset_deg", l.offset_deg),
+            ];
+            for (name, v) in geometry {
+                if !v.is_finite() {
+                    return Err(invalid(format!("{key}.{name}"), v, "a finite value"));
+                }
+            }
             if !finite_gt(l.mass, 0.0) {
                 return Err(invalid(format!("{key}.mass"), l.mass, "> 0 kg"));
             }
@@ -406,9 +427,27 @@ impl RobotConfig {
                     "three values > 0 kg m^2",
                 ));
             }
+            if !l.com.iter().all(|v| v.is_finite()) {
+                return Err(invalid(
+                    format!("{key}.com"),
+                    format!("{:?}", l.com),
+                    "three finite values (m)",
+                ));
+            }
         }
         if !finite_ge(self.arm.tool.mass, 0.0) {
-            return Err(invalid("arm.tool.mass", self.arm.tool.mass, ">= 0 kg"));
+            return Err(invalid(
+                "arm.tool.mass",
+                self.arm.tool.mass,
+                "a finite value >= 0 kg",
+            ));
+        }
+        if !self.arm.tool.com.iter().all(|v| v.is_finite()) {
+            return Err(invalid(
+                "arm.tool.com",
+                format!("{:?}", self.arm.tool.com),
+                "three finite values (m)",
+            ));
         }
         let sim = &self.sim;
         if sim.physics_step_us == 0
@@ -438,14 +477,21 @@ impl RobotConfig {
             return Err(invalid(
                 "sim.max_encoder_offset_deg",
                 sim.max_encoder_offset_deg,
-                ">= 0 deg",
+                "a finite value >= 0 deg",
             ));
         }
         if !finite_gt(sim.stop_stiffness_nm_rad, 0.0) {
             return Err(invalid(
                 "sim.stop_stiffness_nm_rad",
                 sim.stop_stiffness_nm_rad,
-                "> 0",
+                "a finite value > 0 Nm/rad",
+            ));
+        }
+        if !finite_ge(sim.stop_damping_nm_s_rad, 0.0) {
+            return Err(invalid(
+                "sim.stop_damping_nm_s_rad",
+                sim.stop_damping_nm_s_rad,
+                "a finite value >= 0 Nm s/rad",
             ));
         }
         Ok(())
@@ -465,11 +511,16 @@ impl AxisConfig {
             ));
         }
         seen_ids[self.node_id as usize] = true;
-        if !(self.min_deg.is_finite() && self.max_deg.is_finite() && self.min_deg < self.max_deg) {
+        for (name, v) in [("min_deg", self.min_deg), ("max_deg", self.max_deg)] {
+            if !v.is_finite() {
+                return Err(invalid(format!("{key}.{name}"), v, "a finite value"));
+            }
+        }
+        if self.min_deg >= self.max_deg {
             return Err(invalid(
                 format!("{key}.min_deg"),
                 self.min_deg,
-                format!("finite and below {key}.max_deg ({})", self.max_deg),
+                format!("below {key}.max_deg ({})", self.max_deg),
             ));
         }
         let positive = [
@@ -530,12 +581,14 @@ impl AxisConfig {
                 format!("<= {key}.max_current_a ({})", self.max_current_a),
             ));
         }
-        if self.coulomb_friction_nm < 0.0 || self.viscous_friction_nm_s_rad < 0.0 {
-            return Err(invalid(
-                format!("{key}.coulomb_friction_nm"),
-                self.coulomb_friction_nm,
-                "friction >= 0",
-            ));
+        let friction = [
+            ("coulomb_friction_nm", self.coulomb_friction_nm),
+            ("viscous_friction_nm_s_rad", self.viscous_friction_nm_s_rad),
+        ];
+        for (name, v) in friction {
+            if !finite_ge(v, 0.0) {
+                return Err(invalid(format!("{key}.{name}"), v, "a finite value >= 0"));
+            }
         }
         let cal = &self.calibration;
         if cal.direction != 1 && cal.direction != -1 {
@@ -588,73 +641,4 @@ impl AxisConfig {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn with(edit: impl Fn(&mut String)) -> Result<RobotConfig, ConfigError> {
-        let mut text = PROB2_DEFAULT_TOML.to_string();
-        edit(&mut text);
-        RobotConfig::from_toml_str(&text)
-    }
-
-    #[test]
-    fn embedded_default_is_valid() {
-        let cfg = RobotConfig::prob2_default();
-        assert_eq!(cfg.axes.len(), NUM_AXES);
-        assert_eq!(cfg.bus.backend, BusBackend::Sim);
-        assert_eq!(cfg.cycle_period_ns(), 5_000_000);
-    }
-
-    #[test]
-    fn unknown_key_is_named() {
-        let err = with(|t| *t = t.replacen("[cycle]", "[cycle]\nrate = 3", 1)).unwrap_err();
-        let ConfigError::Parse(msg) = err else {
-            panic!("{err:?}")
-        };
-        assert!(msg.contains("rate"), "{msg}");
-    }
-
-    #[test]
-    fn bad_rate_names_key_value_and_range() {
-        let err = with(|t| *t = t.replacen("rate_hz = 200", "rate_hz = 0", 1)).unwrap_err();
-        assert_eq!(
-            err.to_string(),
-            "config key `cycle.rate_hz` = 0 is not allowed: 1..=1000 Hz"
-        );
-    }
-
-    #[test]
-    fn inverted_limits_are_refused() {
-        let err = with(|t| *t = t.replacen("min_deg = -170.0", "min_deg = 171.0", 1)).unwrap_err();
-        assert!(err.to_string().contains("axis[1].min_deg"), "{err}");
-    }
-
-    #[test]
-    fn duplicate_node_id_is_refused() {
-        let err = with(|t| *t = t.replacen("node_id = 2", "node_id = 1", 1)).unwrap_err();
-        assert!(err.to_string().contains("axis[2].node_id"), "{err}");
-    }
-
-    #[test]
-    fn heartbeat_timeout_must_exceed_period() {
-        let err =
-            with(|t| *t = t.replacen("heartbeat_timeout_ms = 150", "heartbeat_timeout_ms = 10", 1))
-                .unwrap_err();
-        assert!(
-            err.to_string().contains("bus.heartbeat_timeout_ms"),
-            "{err}"
-        );
-    }
-
-    #[test]
-    fn missing_section_is_a_parse_error() {
-        let err = with(|t| *t = t.replacen("[safety]", "[safetyx]", 1)).unwrap_err();
-        assert!(matches!(err, ConfigError::Parse(_)), "{err:?}");
-    }
-
-    #[test]
-    fn missing_file_names_the_path() {
-        let err = RobotConfig::from_file(Path::new("/nonexistent/robot.toml")).unwrap_err();
-        assert!(err.to_string().contains("/nonexistent/robot.toml"), "{err}");
-    }
-}
+mod tests;

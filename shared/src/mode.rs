@@ -187,6 +187,15 @@ mod tests {
     }
 
     #[test]
+    fn defaults_are_the_zero_wire_values() {
+        // A zeroed shared-memory sample must read as "off, nothing rejected".
+        assert_eq!(Mode::default(), Mode::Off);
+        assert_eq!(Mode::default().to_wire(), 0);
+        assert_eq!(RejectCode::default(), RejectCode::None);
+        assert_eq!(RejectCode::default().to_wire(), 0);
+    }
+
+    #[test]
     fn protocol_names() {
         assert_eq!(Mode::TorqueControl.as_str(), "TORQUE_CONTROL");
         assert_eq!(CommandKind::MoveAll.as_str(), "move_all");

@@ -93,13 +93,30 @@ mod tests {
         assert_eq!(n.state(), "mcm/test-42_a/state");
         assert_eq!(n.command(), "mcm/test-42_a/command");
         assert_eq!(n.node("mcm-rt"), "mcm-rt.test-42_a");
+        assert_eq!(n.instance(), "test-42_a");
+        assert_eq!(n.to_string(), "test-42_a");
+    }
+
+    #[test]
+    fn default_and_longest_instance_names_are_accepted() {
+        let d = ServiceNames::new(ServiceNames::DEFAULT_INSTANCE).unwrap();
+        assert_eq!(d.state(), "mcm/default/state");
+        let longest = "x".repeat(32);
+        assert_eq!(ServiceNames::new(&longest).unwrap().instance(), longest);
     }
 
     #[test]
     fn bad_instance_names_are_refused() {
         for bad in ["", "a/b", "with space", "é", &"x".repeat(33)] {
             let err = ServiceNames::new(bad).unwrap_err();
-            assert!(err.to_string().contains("not allowed"), "{bad}: {err}");
+            assert_eq!(err.name, bad);
+            assert_eq!(
+                err.to_string(),
+                format!(
+                    "instance name {bad:?} is not allowed: use 1 to 32 characters from a-z, \
+                     A-Z, 0-9, '-' and '_'"
+                ),
+            );
         }
     }
 }

@@ -270,3 +270,70 @@ fn axes_number_and_index() {
     assert_eq!(Axis::from_wire(0), Ok(None));
     assert_eq!(Axis::from_wire(9), Err(9));
 }
+
+#[test]
+fn refusals_of_enumerated_and_bounded_fields_name_them() {
+    let cases = [
+        (
+            sample(CommandKind::Calibrate, &[9.0, 1.0, 1.0], 0),
+            "calibrate: which = 9 is not allowed; \
+             allowed: 0 (ALL), 1 to 6 (one axis), 7 (ELBOW) or 8 (WRIST)",
+        ),
+        (
+            sample(CommandKind::Calibrate, &[0.0, 0.0, 1.0], 0),
+            "calibrate: elbow_direction = 0 is not allowed; allowed: 1 or -1",
+        ),
+        (
+            sample(CommandKind::Pvt, &[0.0], 0),
+            "pvt: dt = 0 is not allowed; allowed: above 0 and at most 1",
+        ),
+        (
+            sample(CommandKind::Pvt, &[1.5], 0),
+            "pvt: dt = 1.5 is not allowed; allowed: above 0 and at most 1",
+        ),
+        (
+            sample(CommandKind::TorqueControl, &[0.0], 0),
+            "torque_control: timeout = 0 is not allowed; allowed: a finite number other than 0",
+        ),
+        (
+            sample(CommandKind::Sim, &[2.0], 1),
+            "sim: emergency_stop = 2 is not allowed; allowed: 0 (released) or 1 (pressed)",
+        ),
+    ];
+    for (s, text) in cases {
+        let e = Request::decode(&s).unwrap_err();
+        assert_eq!(e.to_string(), text);
+        let DecodeError::Invalid { field, .. } = e else {
+            panic!("{e:?}")
+        };
+        assert_eq!(field.axis(), None, "{text}: not an axis field");
+    }
+    let e = Request::decode(&sample(CommandKind::Pvt, &[-1.0], 0)).unwrap_err();
+    let DecodeError::Invalid { allowed, .. } = e else {
+        panic!("{e:?}")
+    };
+    assert_eq!(allowed.bounds(), (0.0, Pvt::MAX_DT_S));
+    assert_eq!(Allowed::Finite.to_string(), "a finite number");
+    assert_eq!(Allowed::Finite.bounds(), (f64::MIN, f64::MAX));
+}
+
+#[test]
+fn which_covers_its_axes() {
+    let covered = |w: Which| -> Vec<u8> {
+        (1..=6)
+            .filter(|&n| w.contains(Axis::new(n).unwrap()))
+            .collect()
+    };
+    assert_eq!(covered(Which::All), [1, 2, 3, 4, 5, 6]);
+    assert_eq!(covered(Which::Elbow), [1, 2, 3]);
+    assert_eq!(covered(Which::Wrist), [4, 5, 6]);
+    assert_eq!(covered(Which::Axis(Axis::new(5).unwrap())), [5]);
+}
+
+#[test]
+fn axis_indices_are_zero_based_and_bounded() {
+    assert_eq!(Axis::from_index(0), Axis::new(1));
+    assert_eq!(Axis::from_index(5), Axis::new(6));
+    assert_eq!(Axis::from_index(6), None);
+    assert_eq!(Axis::new(6).unwrap().index(), 5);
+}

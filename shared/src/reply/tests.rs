@@ -224,3 +224,84 @@ fn undecodable_samples_are_refused_with_their_own_kind_and_ids() {
     assert_eq!(axis, Axis::new(4));
     assert!(value.is_nan());
 }
+
+proptest! {
+    /// `code()` and `axis()` say what the wire form carries.
+    #[test]
+    fn code_and_axis_agree_with_the_wire_form(r in reason()) {
+        let w = r.to_wire();
+        prop_assert_eq!(r.code(), w.code);
+        prop_assert_eq!(Axis::to_wire(r.axis()), w.axis);
+    }
+}
+
+#[test]
+fn unknown_figures_of_a_reason_are_named() {
+    let unknown =
+        |code: RejectCode, values: [f64; 4]| Reason::from_wire(code.to_wire(), 1, &values);
+    let cases = [
+        (
+            RejectCode::CalibrationFailed,
+            [9.0, 0.0, 0.0, 0.0],
+            "calibration failure",
+            9,
+        ),
+        (
+            RejectCode::PvtPoint,
+            [1.0, 4.0, 0.0, 0.0],
+            "PVT quantity",
+            4,
+        ),
+        (
+            RejectCode::DriveFault,
+            [70_000.0, 0.0, 0.0, 0.0],
+            "drive error code",
+            70_000,
+        ),
+        (
+            RejectCode::WrongMode,
+            [99.0, 0.0, 0.0, 0.0],
+            "operating mode",
+            99,
+        ),
+    ];
+    for (code, values, what, value) in cases {
+        assert_eq!(
+            unknown(code, values),
+            Err(DecodeError::Unknown { what, value }),
+            "{code:?}"
+        );
+    }
+}
+
+#[test]
+fn unknown_and_mismatch_faults_are_refused_as_out_of_range() {
+    let s = CommandSample {
+        client_id: 2,
+        request_id: 3,
+        kind: CommandKind::Hold.to_wire(),
+        ..CommandSample::default()
+    };
+    let unknown = DecodeError::Unknown {
+        what: "axis",
+        value: 9,
+    };
+    let mismatch = DecodeError::Mismatch {
+        kind: CommandKind::Hold,
+        problem: "test",
+    };
+    for (e, value) in [(unknown, 9.0), (mismatch, 0.0)] {
+        let r = Response::decode(&refuse_undecodable(&s, &e)).unwrap();
+        assert_eq!((r.client_id, r.request_id), (2, 3));
+        assert_eq!(
+            r.outcome,
+            Outcome::Refused(Reason::OutOfRange {
+                axis: None,
+                value,
+                min: 0.0,
+                max: 0.0
+            }),
+            "{e}"
+        );
+    }
+}
