@@ -1,9 +1,10 @@
 //! The real-time loop: the edges around [`crate::cycle::Cycle`].
 //!
 //! Set-up (bus, real-time thread, IPC) runs once; then every period, on absolute deadlines:
-//! wake, record the wake-up latency, drain commands, run the cycle ([`run_cycle`]), add timing,
-//! publish the state. Stops when SIGINT or SIGTERM arrives (checked once per cycle).
-//! [`run_cycle`] and [`fill_sim_fields`] run inside the cycle; the rest is set-up and teardown.
+//! wake, record the wake-up latency, drain commands, run the cycle with its timing
+//! ([`run_cycle`], which composes the state sample), publish the state. Stops when SIGINT or
+//! SIGTERM arrives (checked once per cycle). [`run_cycle`] runs inside the cycle; the rest is
+//! set-up and teardown.
 //!
 //! The runner builds the bus and so knows its type: with the simulated bus it wires the
 //! simulator's edge ([`crate::sim_edge`]) into the loop, and the simulated robot outlives a
@@ -15,16 +16,15 @@ use crate::cycle::{COMMANDS_PER_CYCLE, Cycle};
 use crate::flight::{FlightRecorder, Record};
 use crate::histogram::Histogram;
 use crate::ipc::{IpcSetupError, RtIpc};
+use crate::publish::{self, CycleClock};
 use crate::realtime::{self, RtReport};
 use crate::sim_edge::{SimAccess, SimEdge};
 use mcm_bus::Bus;
 use mcm_bus::candump::{LogOptions, LoggingBus};
 use mcm_shared::config::{BusBackend, RobotConfig};
-use mcm_shared::sample::{
-    CommandSample, STATE_NOT_REALTIME, STATE_SIM_ESTOP, STATE_SIMULATED, StateSample,
-};
+use mcm_shared::sample::CommandSample;
 use mcm_shared::service::ServiceNames;
-use mcm_sim::{SimBus, SimTruth, snapshot};
+use mcm_sim::{SimBus, snapshot};
 use std::sync::atomic::Ordering;
 
 /// What the real-time process runs.
@@ -163,12 +163,13 @@ fn spawn<B: Bus + 'static>(
 }
 
 /// One cycle of `cycle` at controller time `now_ns` with `commands`, as the real-time loop
-/// runs it: through the simulator's `edge` when there is one, then the state sample's
-/// simulation fields from its truth ([`fill_sim_fields`]).
+/// runs it: through the simulator's `edge` when there is one, then the state sample composed
+/// from the controller's view, the simulation's truth and `clock` ([`publish::compose`]).
 pub fn run_cycle<B: Bus>(
     cycle: &mut Cycle<B>,
     edge: Option<&mut SimEdge<B>>,
     now_ns: u64,
+    clock: &CycleClock,
     commands: &[CommandSample],
 ) {
     let truth = match edge {
@@ -178,21 +179,8 @@ pub fn run_cycle<B: Bus>(
             None
         }
     };
-    fill_sim_fields(cycle.controller_mut().state_mut(), truth.as_ref());
-}
-
-/// The state sample's simulation fields from the simulator's truth: true joint angles and
-/// velocities [deg, deg/s], `STATE_SIM_ESTOP`, `STATE_SIMULATED`. `None` (real drives): the
-/// fields zero and both flags clear.
-pub fn fill_sim_fields(s: &mut StateSample, truth: Option<&SimTruth>) {
-    let truth = truth.copied();
-    let t = truth.unwrap_or_default();
-    s.sim_true_position = t.position.map(f64::to_degrees);
-    s.sim_true_velocity = t.velocity.map(f64::to_degrees);
-    let flags = s.flags & !(STATE_SIM_ESTOP | STATE_SIMULATED);
-    s.flags = flags
-        | if t.emergency_stop { STATE_SIM_ESTOP } else { 0 }
-        | if truth.is_some() { STATE_SIMULATED } else { 0 };
+    let (view, state) = cycle.publish_parts();
+    publish::compose(state, view, truth, clock);
 }
 
 fn cycle_loop<B: Bus>(
@@ -210,39 +198,47 @@ fn cycle_loop<B: Bus>(
     let mut commands = [CommandSample::default(); COMMANDS_PER_CYCLE];
     let mut k: u64 = 0;
     let mut error_seq = 0u64;
+    let mut receive_errors = 0u64;
     let mut next = clock::now_ns() + period;
-    let not_rt = if report.is_realtime() {
-        0
-    } else {
-        STATE_NOT_REALTIME
-    };
     let stop = crate::signals::stop_flag();
     while !stop.load(Ordering::Relaxed) {
         clock::sleep_until_ns(next);
         let wake = clock::now_ns();
         latency.record(wake.saturating_sub(next));
-        let n = ipc.drain(&mut commands).unwrap_or(0);
-        run_cycle(cycle, edge.as_deref_mut(), k * period, &commands[..n]);
-        let s = cycle.controller_mut().state_mut();
-        s.t_ns = wake;
-        s.flags |= not_rt;
-        s.timing.period_ns = period;
-        s.timing.overruns = overruns;
-        s.timing.latency_p50_ns = latency.percentile(0.5);
-        s.timing.latency_p99_ns = latency.percentile(0.99);
-        s.timing.latency_max_ns = latency.max();
-        s.timing.work_max_ns = work_max;
+        let n = ipc.drain(&mut commands).unwrap_or_else(|_| {
+            receive_errors += 1;
+            0
+        });
+        let timing = CycleClock {
+            t_ns: wake,
+            unix_ns: clock::realtime_ns(),
+            period_ns: period,
+            overruns,
+            latency_p50_ns: latency.percentile(0.5),
+            latency_p99_ns: latency.percentile(0.99),
+            latency_max_ns: latency.max(),
+            work_max_ns: work_max,
+            not_realtime: !report.is_realtime(),
+            command_receive_errors: receive_errors,
+        };
+        run_cycle(
+            cycle,
+            edge.as_deref_mut(),
+            k * period,
+            &timing,
+            &commands[..n],
+        );
+        let s = cycle.state();
         let new_error = s.last_error.seq != error_seq;
         if new_error {
             error_seq = s.last_error.seq;
-            s.last_error.unix_ns = clock::realtime_ns();
         }
         let last_command = if n > 0 { commands[n - 1].kind } else { 0 };
         recorder.record(&Record::of(s, last_command));
         if new_error {
             recorder.trigger(&s.last_error);
         }
-        ipc.publish(cycle.controller().state());
+        ipc.publish(s);
         k += 1;
         let end = clock::now_ns();
         work_max = work_max.max(end - wake);

@@ -133,7 +133,7 @@ impl Robot {
     fn run(&mut self, commands: &[CommandSample]) -> &StateSample {
         self.cycle.run(self.k * self.period_ns, commands);
         self.k += 1;
-        self.cycle.controller().state()
+        self.cycle.state()
     }
 
     /// Run until `done` holds; panics after `max` cycles.
@@ -155,7 +155,7 @@ impl Robot {
         let hold = command(CommandKind::Hold, self.request_id());
         self.run(&[hold]);
         self.run_until("mode HOLD", BOOT_CYCLES, |c| {
-            c.controller().state().mode == Mode::Hold.to_wire()
+            c.state().mode == Mode::Hold.to_wire()
         });
         for _ in 0..warmup {
             self.run(&[]);
@@ -201,7 +201,7 @@ const PUSH: [f64; 6] = [0.0, 5.0, -3.0, 0.0, 1.0, 0.0];
 fn the_whole_cycle_allocates_nothing() {
     let mut robot = Robot::new();
     robot.enter_hold(300);
-    let replies_before = robot.cycle.controller().state().reply_head;
+    let replies_before = robot.cycle.state().reply_head;
     let mut commands = [CommandSample::default(); 4];
     let mut last_mode = 0;
     let (allocs, bytes) = count_allocations(|| {
@@ -210,7 +210,7 @@ fn the_whole_cycle_allocates_nothing() {
             last_mode = robot.run(&commands[..n]).mode;
         }
     });
-    let state = robot.cycle.controller().state();
+    let state = robot.cycle.state();
     // The scenario did what it says: commands were answered, the arm is still held.
     assert!(
         state.reply_head - replies_before > 800,
