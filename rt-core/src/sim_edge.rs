@@ -37,7 +37,7 @@ use crate::controller::Controller;
 use crate::cycle::{COMMANDS_PER_CYCLE, Cycle};
 use crate::publish::CycleClock;
 use mcm_bus::Bus;
-use mcm_shared::command::{Axis, Request};
+use mcm_shared::command::{Axis, DecodeError, Request};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::reply::{self, Done, Outcome, Reason, Response};
@@ -93,8 +93,15 @@ impl<B: Bus> SimEdge<B> {
 fn serve(sim: &mut dyn SimControl, controller: &mut Controller, c: &CommandSample) {
     let cmd = match Request::decode(c) {
         Ok(Request::Sim(cmd)) => cmd,
-        // Only `sim` samples come here.
-        Ok(_) => return,
+        Ok(_) => {
+            // Cannot happen: only `sim` samples come here, and they decode as `sim` requests.
+            // Answered all the same, so that no sender waits for a reply.
+            let e = DecodeError::Mismatch {
+                kind: CommandKind::Sim,
+                problem: "the sample is not a sim request",
+            };
+            return controller.answer(reply::refuse_undecodable(c, &e));
+        }
         Err(e) => return controller.answer(reply::refuse_undecodable(c, &e)),
     };
     let outcome = match sim.apply(&cmd) {

@@ -427,3 +427,31 @@ fn calibration_survives_a_restart_of_the_mcm_but_not_a_power_cycle() {
         s.axis_flags
     );
 }
+
+#[test]
+fn an_undecodable_sample_is_refused_naming_the_value_and_t_ns_is_the_virtual_time() {
+    let mut r = Robot::new();
+    // Axis 7 cannot be built as a typed request: a co-located sender's raw sample.
+    let mut bad = move_axis(1, 10.0).encode();
+    bad.args[0] = 7.0;
+    (bad.client_id, bad.request_id) = (9, 77);
+    r.step(&[bad]);
+    let s = r.cycle.state();
+    assert_eq!(
+        s.t_ns,
+        (r.k - 1) * r.period,
+        "the cycle's virtual start time"
+    );
+    let reply = Response::decode(s.reply(s.reply_head).unwrap()).unwrap();
+    assert_eq!((reply.client_id, reply.request_id), (9, 77));
+    assert_eq!(
+        reply.outcome,
+        Outcome::Refused(Reason::OutOfRange {
+            axis: None,
+            value: 7.0,
+            min: 1.0,
+            max: 6.0
+        })
+    );
+    assert_eq!(r.mode(), Mode::Off, "nothing changed");
+}
