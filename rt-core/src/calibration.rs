@@ -23,6 +23,8 @@
 //! encoder offset without finding its stop fails; the axis then holds where it is.
 
 use mcm_shared::config::{AxisConfig, RobotConfig};
+use mcm_shared::reply::CalibrationFailure;
+use mcm_shared::units::rad_to_deg;
 
 /// Back-off distance between the fast search and the slow approach [rad].
 const BACKOFF: f64 = 2.0 * core::f64::consts::PI / 180.0;
@@ -135,8 +137,7 @@ enum Phase {
         offset: f64,
     },
     Failed {
-        code: u8,
-        searched: f64,
+        cause: CalibrationFailure,
     },
 }
 
@@ -154,10 +155,9 @@ pub enum Outcome {
     Found {
         offset: f64,
     },
-    /// 1: no stop, 2: no barrier edge; `searched` [rad].
+    /// No stop or no barrier edge within the distance searched (reported in degrees).
     Failed {
-        code: u8,
-        searched: f64,
+        cause: CalibrationFailure,
     },
 }
 
@@ -228,7 +228,7 @@ impl AxisCalibration {
     pub fn outcome(&self) -> Outcome {
         match self.phase {
             Phase::Done { offset } => Outcome::Found { offset },
-            Phase::Failed { code, searched } => Outcome::Failed { code, searched },
+            Phase::Failed { cause } => Outcome::Failed { cause },
             _ => Outcome::Running,
         }
     }
@@ -366,11 +366,12 @@ impl AxisCalibration {
         let searched = (self.target - self.start).abs();
         if searched > self.s.range {
             self.target = input.position;
-            let code = match self.s.method {
-                Method::Stop { .. } => 1,
-                Method::Barrier { .. } => 2,
+            let searched_deg = rad_to_deg(searched);
+            let cause = match self.s.method {
+                Method::Stop { .. } => CalibrationFailure::NoStop { searched_deg },
+                Method::Barrier { .. } => CalibrationFailure::NoEdge { searched_deg },
             };
-            self.phase = Phase::Failed { code, searched };
+            self.phase = Phase::Failed { cause };
             return;
         }
         self.target += search.direction * speed * dt;
@@ -487,11 +488,13 @@ mod tests {
             stop: 2.0,
         });
         let (out, _) = run(s, 0.0, None, None);
-        let Outcome::Failed { code, searched } = out else {
+        let Outcome::Failed {
+            cause: CalibrationFailure::NoStop { searched_deg },
+        } = out
+        else {
             panic!("{out:?}")
         };
-        assert_eq!(code, 1);
-        assert!(searched > 4.0);
+        assert!(searched_deg > 4f64.to_degrees(), "{searched_deg}");
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! One cycle of the real-time core against a bus: read the frames, step the controller, send
-//! the frames.
+//! the frames. The cycle also owns the state sample it publishes, which
+//! [`crate::publish::compose`] writes after the step (from [`crate::runner::run_cycle`]).
 //!
 //! Runs inside the cycle; used by the real-time loop ([`crate::runner`]) and, with virtual
 //! time, by the deterministic tests (same inputs, same outputs, no wall clock). It knows
@@ -14,14 +15,14 @@
 //! for k in 0..10 {
 //!     cycle.run(k * cfg.cycle_period_ns(), &[]);
 //! }
-//! assert_eq!(cycle.controller().state().seq, 10);
+//! assert_eq!(cycle.controller().view().cycle, 10);
 //! ```
 
 use crate::canopen::{FrameBuf, Master, MasterSetupError};
-use crate::controller::Controller;
+use crate::controller::{Controller, CycleView};
 use mcm_bus::{Bus, Frame};
 use mcm_shared::config::RobotConfig;
-use mcm_shared::sample::{CommandSample, REPLY_RING};
+use mcm_shared::sample::{CommandSample, REPLY_RING, StateSample};
 
 /// Frames read per cycle at most; more stay queued for the next cycle.
 pub const RX_PER_CYCLE: usize = 128;
@@ -38,6 +39,8 @@ pub struct Cycle<B: Bus> {
     n_rx: usize,
     tx: FrameBuf,
     bus_errors: u64,
+    /// The published state, composed after each step (kept for its reply ring).
+    state: StateSample,
 }
 
 impl<B: Bus> Cycle<B> {
@@ -51,6 +54,7 @@ impl<B: Bus> Cycle<B> {
             n_rx: 0,
             tx: FrameBuf::new(),
             bus_errors: 0,
+            state: StateSample::default(),
         })
     }
 
@@ -60,6 +64,16 @@ impl<B: Bus> Cycle<B> {
 
     pub fn controller_mut(&mut self) -> &mut Controller {
         &mut self.controller
+    }
+
+    /// The state sample as last composed.
+    pub fn state(&self) -> &StateSample {
+        &self.state
+    }
+
+    /// The controller's view of the last step and the state sample to compose from it.
+    pub fn publish_parts(&mut self) -> (&CycleView, &mut StateSample) {
+        (self.controller.view(), &mut self.state)
     }
 
     pub fn bus_mut(&mut self) -> &mut B {
@@ -84,9 +98,10 @@ impl<B: Bus> Cycle<B> {
         self.step(now_ns, commands);
     }
 
-    /// First half of a cycle: read the frames received since the last cycle (at most
-    /// [`RX_PER_CYCLE`]; more stay queued).
+    /// First half of a cycle: start the controller's outbox of replies and read the frames
+    /// received since the last cycle (at most [`RX_PER_CYCLE`]; more stay queued).
     pub fn receive(&mut self) {
+        self.controller.begin_cycle();
         let mut n_rx = 0;
         while n_rx < RX_PER_CYCLE {
             match self.bus.recv(0) {

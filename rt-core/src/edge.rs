@@ -1,8 +1,8 @@
 //! The runner's edge: everything one cycle of the real-time loop does, in one call.
 //!
 //! [`Edge::cycle`] runs inside the cycle (no allocation, lock, blocking or logging): drain the
-//! commands, run the cycle with the simulator's edge when there is one
-//! ([`crate::runner::run_cycle`]), stamp the timing figures, keep the cycle in the flight
+//! commands, run the cycle with the simulator's edge when there is one and compose the state
+//! with this cycle's timing ([`crate::runner::run_cycle`], [`crate::publish::compose`]), keep the cycle in the flight
 //! recorder (and hand it over when a new error appears), publish the state. [`Edge::end`]
 //! (also inside the cycle) does the deadline arithmetic once the cycle's work is done. Only
 //! sleeping until the deadline and reading the clock stay in the loop around them
@@ -26,10 +26,11 @@ use crate::cycle::{COMMANDS_PER_CYCLE, Cycle};
 use crate::flight::{FlightRecorder, Record};
 use crate::histogram::Histogram;
 use crate::ipc::{ReceiveError, RtIpc};
+use crate::publish::CycleClock;
 use crate::runner::run_cycle;
 use crate::sim_edge::SimEdge;
 use mcm_bus::Bus;
-use mcm_shared::sample::{CommandSample, STATE_NOT_REALTIME};
+use mcm_shared::sample::{CommandSample, StateSample};
 
 /// The cycle with its edges (IPC ports, simulator's edge, flight recorder) and the loop's
 /// figures (wake-up latency, work time, overruns, failed receives).
@@ -41,8 +42,8 @@ pub struct Edge<B: Bus> {
     recorder: FlightRecorder,
     commands: [CommandSample; COMMANDS_PER_CYCLE],
     period_ns: u64,
-    /// `STATE_NOT_REALTIME` when the thread runs without real-time scheduling, else 0.
-    not_rt: u32,
+    /// The thread got real-time scheduling.
+    realtime: bool,
     /// Cycles run so far; the controller's time is `k * period`.
     k: u64,
     /// The deadline of the current (or next) cycle and when the current one woke up.
@@ -84,7 +85,7 @@ impl<B: Bus> Edge<B> {
             recorder,
             commands: [CommandSample::default(); COMMANDS_PER_CYCLE],
             period_ns,
-            not_rt: if realtime { 0 } else { STATE_NOT_REALTIME },
+            realtime,
             k: 0,
             next_ns: 0,
             wake_ns: 0,
@@ -110,35 +111,37 @@ impl<B: Bus> Edge<B> {
         self.latency.record(wake_ns.saturating_sub(self.next_ns));
         let n = received(self.ipc.drain(&mut self.commands), &mut self.receive_errors);
         let commands = &self.commands[..n];
+        let clock = CycleClock {
+            t_ns: wake_ns,
+            unix_ns: clock::realtime_ns(),
+            period_ns: self.period_ns,
+            overruns: self.overruns,
+            latency_p50_ns: self.latency.percentile(0.5),
+            latency_p99_ns: self.latency.percentile(0.99),
+            latency_max_ns: self.latency.max(),
+            work_max_ns: self.work_max_ns,
+            not_realtime: !self.realtime,
+            command_receive_errors: self.receive_errors,
+        };
         run_cycle(
             &mut self.cycle,
             self.sim.as_mut(),
             self.k * self.period_ns,
+            &clock,
             commands,
         );
         self.k += 1;
         let last_command = commands.last().map_or(0, |c| c.kind);
-        // The loop's figures (until the state composer sets them).
-        let s = self.cycle.controller_mut().state_mut();
-        s.t_ns = wake_ns;
-        s.flags |= self.not_rt;
-        s.command_receive_errors = self.receive_errors;
-        s.timing.period_ns = self.period_ns;
-        s.timing.overruns = self.overruns;
-        s.timing.latency_p50_ns = self.latency.percentile(0.5);
-        s.timing.latency_p99_ns = self.latency.percentile(0.99);
-        s.timing.latency_max_ns = self.latency.max();
-        s.timing.work_max_ns = self.work_max_ns;
+        let s = self.cycle.state();
         let new_error = s.last_error.seq != self.error_seq;
         if new_error {
             self.error_seq = s.last_error.seq;
-            s.last_error.unix_ns = clock::realtime_ns();
         }
         self.recorder.record(&Record::of(s, last_command));
         if new_error {
             self.recorder.trigger(&s.last_error);
         }
-        self.ipc.publish(self.cycle.controller().state());
+        self.ipc.publish(s);
     }
 
     /// The cycle's work ended at `end_ns`: note the work time; the next deadline. Missed
@@ -153,6 +156,11 @@ impl<B: Bus> Edge<B> {
 
     pub fn controller(&self) -> &Controller {
         self.cycle.controller()
+    }
+
+    /// The state sample of the last cycle, as published.
+    pub fn state(&self) -> &StateSample {
+        self.cycle.state()
     }
 
     /// The cycle (e.g. its bus, after the loop stopped).

@@ -15,6 +15,9 @@ use crate::trajectory::{
     DEFAULT_PVT_CAPACITY, JointSample, PvtPoint, PvtQueue, PvtSegment, SegmentError,
 };
 use mcm_shared::NUM_AXES;
+use mcm_shared::command::Axis;
+use mcm_shared::reply::{PvtQuantity, Reason};
+use mcm_shared::units::rad_to_deg;
 
 /// Most points in one batch.
 pub const MAX_BATCH: usize = 1000;
@@ -26,17 +29,50 @@ const REST_SPEED: f64 = 1e-6;
 pub enum BatchError {
     /// The batch does not fit: points offered, places free.
     QueueFull { offered: usize, free: usize },
-    /// A point breaks a limit: point index (0-based), axis, what (1 position, 2 velocity,
-    /// 3 acceleration), value and limit (SI units).
+    /// A point breaks a limit: point index (0-based), axis (0-based), which quantity, value
+    /// and limit (SI units).
     Point {
         index: usize,
         axis: usize,
-        what: u8,
+        what: PvtQuantity,
         value: f64,
         limit: f64,
     },
     /// More points than one batch may hold.
     TooLong { limit: usize },
+}
+
+impl BatchError {
+    /// The refusal it stands for (figures in the user's degrees; a batch longer than one may
+    /// be is a full queue: one point more offered than fits).
+    pub fn reason(&self) -> Reason {
+        match *self {
+            BatchError::QueueFull { offered, free } => Reason::QueueFull {
+                offered: u32::try_from(offered).unwrap_or(u32::MAX),
+                free: u32::try_from(free).unwrap_or(u32::MAX),
+            },
+            BatchError::TooLong { limit } => {
+                let limit = u32::try_from(limit).unwrap_or(u32::MAX - 1);
+                Reason::QueueFull {
+                    offered: limit + 1,
+                    free: limit,
+                }
+            }
+            BatchError::Point {
+                index,
+                axis,
+                what,
+                value,
+                limit,
+            } => Reason::PvtPoint {
+                axis: Axis::ALL[axis],
+                point: u32::try_from(index + 1).unwrap_or(u32::MAX),
+                quantity: what,
+                value: rad_to_deg(value),
+                limit: rad_to_deg(limit),
+            },
+        }
+    }
 }
 
 /// What the stream does this cycle.
@@ -174,16 +210,20 @@ impl PvtStream {
                 let (what, value, limit) = match e.error {
                     SegmentError::Position {
                         position, min, max, ..
-                    } => (1, position, if position > max { max } else { min }),
+                    } => (
+                        PvtQuantity::Position,
+                        position,
+                        if position > max { max } else { min },
+                    ),
                     SegmentError::Velocity {
                         velocity, limit, ..
-                    } => (2, velocity, limit),
+                    } => (PvtQuantity::Velocity, velocity, limit),
                     SegmentError::Acceleration {
                         acceleration,
                         limit,
                         ..
-                    } => (3, acceleration, limit),
-                    _ => (1, f64::NAN, f64::NAN),
+                    } => (PvtQuantity::Acceleration, acceleration, limit),
+                    _ => (PvtQuantity::Position, f64::NAN, f64::NAN),
                 };
                 return Err(BatchError::Point {
                     index,
@@ -261,7 +301,7 @@ fn check_point(index: usize, pt: &PvtPoint, p: &JointParams) -> Result<(), Batch
             return Err(BatchError::Point {
                 index,
                 axis,
-                what: 1,
+                what: PvtQuantity::Position,
                 value: q,
                 limit,
             });
@@ -271,7 +311,7 @@ fn check_point(index: usize, pt: &PvtPoint, p: &JointParams) -> Result<(), Batch
             return Err(BatchError::Point {
                 index,
                 axis,
-                what: 2,
+                what: PvtQuantity::Velocity,
                 value: v,
                 limit: p.limits[axis].velocity,
             });
@@ -375,7 +415,7 @@ mod tests {
                 e,
                 BatchError::Point {
                     index: 0,
-                    what: 1,
+                    what: PvtQuantity::Position,
                     ..
                 }
             ),

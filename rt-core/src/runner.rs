@@ -4,7 +4,7 @@
 //! absolute deadlines, the loop sleeps until the deadline and runs one cycle of the runner's
 //! edge ([`crate::edge::Edge::cycle`]: drain commands, run the cycle ([`run_cycle`]), add
 //! timing, record, publish the state). Stops when SIGINT or SIGTERM arrives (checked once per
-//! cycle). [`run_cycle`] and [`fill_sim_fields`] run inside the cycle; the rest is set-up and
+//! cycle). [`run_cycle`] runs inside the cycle; the rest is set-up and
 //! teardown.
 //!
 //! The runner builds the bus and so knows its type: with the simulated bus it wires the
@@ -17,14 +17,15 @@ use crate::cycle::Cycle;
 use crate::edge::{Edge, Figures};
 use crate::flight::FlightRecorder;
 use crate::ipc::{IpcSetupError, RtIpc};
+use crate::publish::{self, CycleClock};
 use crate::realtime::{self, RtReport};
 use crate::sim_edge::{SimAccess, SimEdge};
 use mcm_bus::Bus;
 use mcm_bus::candump::{LogOptions, LoggingBus};
 use mcm_shared::config::{BusBackend, RobotConfig};
-use mcm_shared::sample::{CommandSample, STATE_SIM_ESTOP, STATE_SIMULATED, StateSample};
+use mcm_shared::sample::CommandSample;
 use mcm_shared::service::ServiceNames;
-use mcm_sim::{SimBus, SimTruth, snapshot};
+use mcm_sim::{SimBus, snapshot};
 use std::sync::atomic::Ordering;
 
 /// What the real-time process runs.
@@ -176,12 +177,13 @@ fn spawn<B: Bus + 'static>(
 }
 
 /// One cycle of `cycle` at controller time `now_ns` with `commands`, as the real-time loop
-/// runs it: through the simulator's `edge` when there is one, then the state sample's
-/// simulation fields from its truth ([`fill_sim_fields`]).
+/// runs it: through the simulator's `edge` when there is one, then the state sample composed
+/// from the controller's view, the simulation's truth and `clock` ([`publish::compose`]).
 pub fn run_cycle<B: Bus>(
     cycle: &mut Cycle<B>,
     edge: Option<&mut SimEdge<B>>,
     now_ns: u64,
+    clock: &CycleClock,
     commands: &[CommandSample],
 ) {
     let truth = match edge {
@@ -191,21 +193,8 @@ pub fn run_cycle<B: Bus>(
             None
         }
     };
-    fill_sim_fields(cycle.controller_mut().state_mut(), truth.as_ref());
-}
-
-/// The state sample's simulation fields from the simulator's truth: true joint angles and
-/// velocities [deg, deg/s], `STATE_SIM_ESTOP`, `STATE_SIMULATED`. `None` (real drives): the
-/// fields zero and both flags clear.
-pub fn fill_sim_fields(s: &mut StateSample, truth: Option<&SimTruth>) {
-    let truth = truth.copied();
-    let t = truth.unwrap_or_default();
-    s.sim_true_position = t.position.map(f64::to_degrees);
-    s.sim_true_velocity = t.velocity.map(f64::to_degrees);
-    let flags = s.flags & !(STATE_SIM_ESTOP | STATE_SIMULATED);
-    s.flags = flags
-        | if t.emergency_stop { STATE_SIM_ESTOP } else { 0 }
-        | if truth.is_some() { STATE_SIMULATED } else { 0 };
+    let (view, state) = cycle.publish_parts();
+    publish::compose(state, view, truth, clock);
 }
 
 /// Run the edge's cycles on absolute deadlines until SIGINT or SIGTERM arrives (checked once

@@ -7,26 +7,27 @@
 //! Per cycle, between [`Cycle::receive`] and [`Cycle::step`] (where the frames the injection
 //! makes the drives send are read in the next cycle, as on a real bus): the `sim` command
 //! samples are taken out of the commands, applied to the simulator's control surface
-//! ([`SimControl`]), and their replies pushed into the controller's reply ring; the other
-//! commands go to the controller. After the step the edge yields the simulation's truth, from
-//! which the runner fills the state sample ([`crate::runner::fill_sim_fields`]).
+//! ([`SimControl`]), and their replies added to the controller's outbox of this cycle; the
+//! other commands go to the controller. After the step the edge yields the simulation's truth,
+//! which the composer of the state sample ([`crate::publish`]) reads.
 //!
 //! [`SimCycle`] composes `Cycle<SimBus>` with the edge exactly as the runner does, for the
 //! deterministic tests and the benchmarks (virtual time).
 //!
 //! ```
 //! use mcm_rt_core::sim_edge::SimCycle;
-//! use mcm_shared::mode::{CommandKind, ReplyStatus};
-//! use mcm_shared::sample::{CommandSample, STATE_SIM_ESTOP, STATE_SIMULATED};
+//! use mcm_shared::command::{Request, SimCommand};
+//! use mcm_shared::reply::{Done, Outcome, Response};
+//! use mcm_shared::sample::{STATE_SIM_ESTOP, STATE_SIMULATED};
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
 //! let mut robot = SimCycle::new(&cfg, mcm_sim::SimBus::new(&cfg)).unwrap();
-//! let mut press = CommandSample { client_id: 1, request_id: 7, ..CommandSample::default() };
-//! press.kind = CommandKind::Sim.to_wire();
-//! press.flags = 1; // emergency_stop given ...
-//! press.args[0] = 1.0; // ... and pressed
-//! robot.run(0, &[press]);
-//! let s = robot.controller().state();
-//! assert_eq!(s.reply(s.reply_head).unwrap().status, ReplyStatus::Ok.to_wire());
+//! let press = SimCommand { emergency_stop: Some(true), ..SimCommand::default() };
+//! let mut sample = Request::Sim(press).encode();
+//! (sample.client_id, sample.request_id) = (1, 7);
+//! robot.run(0, &[sample]);
+//! let s = robot.state();
+//! let reply = Response::decode(s.reply(s.reply_head).unwrap()).unwrap();
+//! assert_eq!((reply.request_id, reply.outcome), (7, Outcome::Done(Done::Ack)));
 //! assert_ne!(s.flags & STATE_SIMULATED, 0);
 //! assert_ne!(s.flags & STATE_SIM_ESTOP, 0);
 //! ```
@@ -34,12 +35,14 @@
 use crate::canopen::MasterSetupError;
 use crate::controller::Controller;
 use crate::cycle::{COMMANDS_PER_CYCLE, Cycle};
-use crate::request::{self, Request};
+use crate::publish::CycleClock;
 use mcm_bus::Bus;
+use mcm_shared::command::{Axis, DecodeError, Request};
 use mcm_shared::config::RobotConfig;
-use mcm_shared::mode::{CommandKind, RejectCode, ReplyStatus};
-use mcm_shared::sample::{CommandSample, Reply};
-use mcm_sim::{SimBus, SimControl, SimTruth};
+use mcm_shared::mode::CommandKind;
+use mcm_shared::reply::{self, Done, Outcome, Reason, Response};
+use mcm_shared::sample::{CommandSample, StateSample};
+use mcm_sim::{SimBus, SimCommandError, SimControl, SimTruth};
 
 /// How the edge reaches the simulator's control surface inside the bus the runner built.
 pub type SimAccess<B> = fn(&mut B) -> &mut dyn SimControl;
@@ -85,32 +88,40 @@ impl<B: Bus> SimEdge<B> {
     }
 }
 
-/// Apply one `sim` command to the simulator and push its reply: `ok`, or refused with the
-/// decoder's reason, or `out_of_range` when the simulator refuses the argument.
+/// Apply one `sim` command to the simulator and answer it: done, or refused with the
+/// decoder's reason, or `out_of_range` naming the value the simulator refused.
 fn serve(sim: &mut dyn SimControl, controller: &mut Controller, c: &CommandSample) {
-    let mut reply = Reply {
+    let cmd = match Request::decode(c) {
+        Ok(Request::Sim(cmd)) => cmd,
+        Ok(_) => {
+            // Cannot happen: only `sim` samples come here, and they decode as `sim` requests.
+            // Answered all the same, so that no sender waits for a reply.
+            let e = DecodeError::Mismatch {
+                kind: CommandKind::Sim,
+                problem: "the sample is not a sim request",
+            };
+            return controller.answer(reply::refuse_undecodable(c, &e));
+        }
+        Err(e) => return controller.answer(reply::refuse_undecodable(c, &e)),
+    };
+    let outcome = match sim.apply(&cmd) {
+        Ok(()) => Outcome::Done(Done::Ack),
+        Err(SimCommandError::TorqueNotFinite { index, value }) => {
+            Outcome::Refused(Reason::OutOfRange {
+                axis: Axis::from_index(index),
+                value,
+                min: f64::MIN,
+                max: f64::MAX,
+            })
+        }
+    };
+    let r = Response {
         client_id: c.client_id,
         request_id: c.request_id,
-        kind: c.kind,
-        ..Reply::default()
+        kind: CommandKind::Sim,
+        outcome,
     };
-    let result = match request::decode(c) {
-        Ok(Request::Sim(cmd)) => sim
-            .apply(&cmd)
-            .map_err(|_| (RejectCode::OutOfRange, 0, [0.0; 3])),
-        Ok(_) => Err((RejectCode::OutOfRange, 0, [0.0; 3])),
-        Err(e) => Err((e.code, e.axis, e.values)),
-    };
-    match result {
-        Ok(()) => reply.status = ReplyStatus::Ok.to_wire(),
-        Err((code, axis, values)) => {
-            reply.status = ReplyStatus::Rejected.to_wire();
-            reply.code = code.to_wire();
-            reply.axis = axis;
-            reply.values[..3].copy_from_slice(&values);
-        }
-    }
-    controller.push_reply(reply);
+    controller.answer(r.encode());
 }
 
 /// The simulated robot in virtual time: `Cycle<SimBus>` with the simulator's edge, stepped by
@@ -119,6 +130,7 @@ fn serve(sim: &mut dyn SimControl, controller: &mut Controller, c: &CommandSampl
 pub struct SimCycle {
     cycle: Box<Cycle<SimBus>>,
     edge: SimEdge<SimBus>,
+    period_ns: u64,
 }
 
 impl SimCycle {
@@ -127,12 +139,26 @@ impl SimCycle {
         Ok(Self {
             cycle: Box::new(Cycle::new(cfg, bus)?),
             edge: SimEdge::new(|b| b),
+            period_ns: cfg.cycle_period_ns(),
         })
     }
 
-    /// One cycle at controller time `now_ns`, as the real-time loop runs it.
+    /// One cycle at controller time `now_ns`, as the real-time loop runs it; the state's
+    /// `t_ns` is the same virtual time.
     pub fn run(&mut self, now_ns: u64, commands: &[CommandSample]) {
-        crate::runner::run_cycle(&mut self.cycle, Some(&mut self.edge), now_ns, commands);
+        let clock = CycleClock::virtual_time(now_ns, self.period_ns);
+        crate::runner::run_cycle(
+            &mut self.cycle,
+            Some(&mut self.edge),
+            now_ns,
+            &clock,
+            commands,
+        );
+    }
+
+    /// The state sample as last composed.
+    pub fn state(&self) -> &StateSample {
+        self.cycle.state()
     }
 
     pub fn controller(&self) -> &Controller {

@@ -14,6 +14,7 @@
 //! the same inputs must give the same outputs, bit for bit.
 
 use mcm_rt_core::sim_edge::SimCycle;
+use mcm_shared::command::{Request, SimCommand};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::sample::{CommandSample, StateSample};
@@ -129,9 +130,12 @@ fn command(kind: CommandKind, request_id: u64) -> CommandSample {
 
 /// A `sim` command setting the external torques (a hand pushing on the joints) [Nm].
 fn external_torques(request_id: u64, torques: [f64; 6]) -> CommandSample {
-    let mut c = command(CommandKind::Sim, request_id);
-    c.flags = 1 << 5;
-    c.args[5..11].copy_from_slice(&torques);
+    let mut c = Request::Sim(SimCommand {
+        external_torques_nm: Some(torques),
+        ..SimCommand::default()
+    })
+    .encode();
+    (c.client_id, c.request_id) = (CLIENT, request_id);
     c
 }
 
@@ -164,7 +168,7 @@ impl Robot {
     fn run(&mut self, commands: &[CommandSample]) -> &StateSample {
         self.cycle.run(self.k * self.period_ns, commands);
         self.k += 1;
-        self.cycle.controller().state()
+        self.cycle.state()
     }
 
     /// Run until `done` holds; panics after `max` cycles.
@@ -186,7 +190,7 @@ impl Robot {
         let hold = command(CommandKind::Hold, self.request_id());
         self.run(&[hold]);
         self.run_until("mode HOLD", BOOT_CYCLES, |c| {
-            c.controller().state().mode == Mode::Hold.to_wire()
+            c.state().mode == Mode::Hold.to_wire()
         });
         for _ in 0..warmup {
             self.run(&[]);
@@ -232,7 +236,7 @@ const PUSH: [f64; 6] = [0.0, 5.0, -3.0, 0.0, 1.0, 0.0];
 fn the_whole_cycle_allocates_nothing() {
     let mut robot = Robot::new();
     robot.enter_hold(300);
-    let replies_before = robot.cycle.controller().state().reply_head;
+    let replies_before = robot.cycle.state().reply_head;
     let mut commands = [CommandSample::default(); 4];
     let mut last_mode = 0;
     let (allocs, bytes) = count_allocations(|| {
@@ -241,7 +245,7 @@ fn the_whole_cycle_allocates_nothing() {
             last_mode = robot.run(&commands[..n]).mode;
         }
     });
-    let state = robot.cycle.controller().state();
+    let state = robot.cycle.state();
     // The scenario did what it says: commands were answered, the arm is still held.
     assert!(
         state.reply_head - replies_before > 800,

@@ -30,7 +30,8 @@
 //! let sim: &mut dyn SimControl = &mut bus;
 //! sim.apply(&SimCommand { emergency_stop: Some(true), ..SimCommand::default() }).unwrap();
 //! assert!(sim.truth().emergency_stop);
-//! assert!(sim.apply(&SimCommand { block_axis: Some(6), ..SimCommand::default() }).is_err());
+//! let nan = [f64::NAN; 6];
+//! assert!(sim.apply(&SimCommand { external_torques_nm: Some(nan), ..SimCommand::default() }).is_err());
 //! ```
 
 use super::drive::{DriveParams, Retained, SimDrive};
@@ -236,16 +237,6 @@ impl SimBus {
         }
         self.now_ns += self.period_ns;
     }
-
-    fn check_axis(argument: &'static str, axis: Option<usize>) -> Result<(), SimCommandError> {
-        match axis {
-            Some(a) if a >= NUM_AXES => Err(SimCommandError::NoSuchAxis {
-                argument,
-                value: a.saturating_add(1),
-            }),
-            _ => Ok(()),
-        }
-    }
 }
 
 /// Parse the text [`SimBus::save`] writes.
@@ -329,14 +320,9 @@ impl Bus for SimBus {
 }
 
 impl SimControl for SimBus {
-    /// Applies a fault injection. A refused command changes nothing. `NoSuchAxis` reports the
-    /// axis 1-based, as the user names it.
+    /// Applies a fault injection. A refused command changes nothing.
     fn apply(&mut self, cmd: &SimCommand) -> Result<(), SimCommandError> {
-        Self::check_axis("disconnect_axis", cmd.disconnect_axis)?;
-        Self::check_axis("reconnect_axis", cmd.reconnect_axis)?;
-        Self::check_axis("block_axis", cmd.block_axis)?;
-        Self::check_axis("unblock_axis", cmd.unblock_axis)?;
-        if let Some(tau) = cmd.external_torques
+        if let Some(tau) = cmd.external_torques_nm
             && let Some((index, &value)) = tau.iter().enumerate().find(|(_, t)| !t.is_finite())
         {
             return Err(SimCommandError::TorqueNotFinite { index, value });
@@ -353,18 +339,18 @@ impl SimControl for SimBus {
             }
         }
         if let Some(a) = cmd.disconnect_axis {
-            self.connected[a] = false;
+            self.connected[a.index()] = false;
         }
         if let Some(a) = cmd.reconnect_axis {
-            self.connected[a] = true;
+            self.connected[a.index()] = true;
         }
         if let Some(a) = cmd.block_axis {
-            self.arm.set_blocked(a, true);
+            self.arm.set_blocked(a.index(), true);
         }
         if let Some(a) = cmd.unblock_axis {
-            self.arm.set_blocked(a, false);
+            self.arm.set_blocked(a.index(), false);
         }
-        if let Some(tau) = cmd.external_torques {
+        if let Some(tau) = cmd.external_torques_nm {
             self.arm.set_external_torques(tau);
         }
         if cmd.power_cycle {

@@ -5,6 +5,12 @@
 use super::SimBus;
 use super::test_master::TestMaster;
 use crate::{SimCommand, SimCommandError, SimControl, SimTruth};
+use mcm_shared::command::Axis;
+
+/// The axis at a 0-based index.
+fn ax(index: usize) -> Axis {
+    Axis::from_index(index).unwrap()
+}
 use mcm_bus::{Bus, Frame};
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;
@@ -36,7 +42,7 @@ fn enabled(cfg: &RobotConfig, block: bool) -> (SimBus, TestMaster) {
         apply(
             &mut bus,
             SimCommand {
-                block_axis: Some(axis),
+                block_axis: Some(ax(axis)),
                 ..SimCommand::default()
             },
         );
@@ -47,7 +53,7 @@ fn enabled(cfg: &RobotConfig, block: bool) -> (SimBus, TestMaster) {
         apply(
             &mut bus,
             SimCommand {
-                unblock_axis: Some(axis),
+                unblock_axis: Some(ax(axis)),
                 ..SimCommand::default()
             },
         );
@@ -207,7 +213,7 @@ fn bits(t: &SimTruth) -> [u64; 12] {
 /// Fault injections of the determinism scenario, applied before the given cycle.
 fn scenario_commands() -> Vec<(u64, SimCommand)> {
     let push = SimCommand {
-        external_torques: Some([5.0, -20.0, 8.0, 1.0, -2.0, 0.5]),
+        external_torques_nm: Some([5.0, -20.0, 8.0, 1.0, -2.0, 0.5]),
         ..SimCommand::default()
     };
     vec![
@@ -215,8 +221,8 @@ fn scenario_commands() -> Vec<(u64, SimCommand)> {
         (
             90,
             SimCommand {
-                external_torques: Some([0.0; 6]),
-                block_axis: Some(2),
+                external_torques_nm: Some([0.0; 6]),
+                block_axis: Some(ax(2)),
                 ..SimCommand::default()
             },
         ),
@@ -224,7 +230,7 @@ fn scenario_commands() -> Vec<(u64, SimCommand)> {
             100,
             SimCommand {
                 emergency_stop: Some(true),
-                unblock_axis: Some(2),
+                unblock_axis: Some(ax(2)),
                 ..SimCommand::default()
             },
         ),
@@ -232,14 +238,14 @@ fn scenario_commands() -> Vec<(u64, SimCommand)> {
             110,
             SimCommand {
                 emergency_stop: Some(false),
-                disconnect_axis: Some(4),
+                disconnect_axis: Some(ax(4)),
                 ..SimCommand::default()
             },
         ),
         (
             150,
             SimCommand {
-                reconnect_axis: Some(4),
+                reconnect_axis: Some(ax(4)),
                 power_cycle: true,
                 ..SimCommand::default()
             },
@@ -385,7 +391,7 @@ fn a_disconnected_drive_goes_silent_and_faults_on_the_lost_master_heartbeat() {
     apply(
         &mut bus,
         SimCommand {
-            disconnect_axis: Some(2),
+            disconnect_axis: Some(ax(2)),
             ..SimCommand::default()
         },
     );
@@ -412,7 +418,7 @@ fn a_disconnected_drive_goes_silent_and_faults_on_the_lost_master_heartbeat() {
     apply(
         &mut bus,
         SimCommand {
-            reconnect_axis: Some(2),
+            reconnect_axis: Some(ax(2)),
             ..SimCommand::default()
         },
     );
@@ -468,59 +474,21 @@ fn power_cycle_reboots_every_drive_with_new_offsets_and_the_master_reconfigures(
 fn sim_commands_are_validated_and_a_refused_one_changes_nothing() {
     let cfg = RobotConfig::prob2_default();
     let mut bus = SimBus::new(&cfg);
-    let bad = SimCommand {
+    let nan = SimCommand {
         emergency_stop: Some(true),
-        block_axis: Some(6),
+        external_torques_nm: Some([0.0, 0.0, 0.0, f64::NAN, 0.0, 0.0]),
         ..SimCommand::default()
     };
-    let err = bus.apply(&bad).unwrap_err();
-    assert_eq!(
+    let err = bus.apply(&nan).unwrap_err();
+    assert!(matches!(
         err,
-        SimCommandError::NoSuchAxis {
-            argument: "block_axis",
-            value: 7
-        }
-    );
+        SimCommandError::TorqueNotFinite { index: 3, .. }
+    ));
     assert_eq!(
         err.to_string(),
-        "sim: block_axis = 7 is not an axis; allowed 1..=6"
+        "sim: external_torques[3] = NaN is not finite"
     );
     assert!(!bus.truth().emergency_stop, "nothing applied");
-    for (cmd, argument) in [
-        (
-            SimCommand {
-                disconnect_axis: Some(9),
-                ..SimCommand::default()
-            },
-            "disconnect_axis",
-        ),
-        (
-            SimCommand {
-                reconnect_axis: Some(6),
-                ..SimCommand::default()
-            },
-            "reconnect_axis",
-        ),
-        (
-            SimCommand {
-                unblock_axis: Some(usize::MAX),
-                ..SimCommand::default()
-            },
-            "unblock_axis",
-        ),
-    ] {
-        assert!(
-            matches!(bus.apply(&cmd), Err(SimCommandError::NoSuchAxis { argument: a, .. }) if a == argument)
-        );
-    }
-    let nan = SimCommand {
-        external_torques: Some([0.0, 0.0, 0.0, f64::NAN, 0.0, 0.0]),
-        ..SimCommand::default()
-    };
-    assert!(matches!(
-        bus.apply(&nan),
-        Err(SimCommandError::TorqueNotFinite { index: 3, .. })
-    ));
     assert!(bus.recv(0).unwrap().is_some(), "boot-ups queued");
 }
 
@@ -533,7 +501,7 @@ fn external_push_is_rejected_by_the_integral_and_a_blocked_axis_saturates_the_cu
     apply(
         &mut bus,
         SimCommand {
-            external_torques: Some([0.0, 20.0, 0.0, 0.0, 0.0, 0.0]),
+            external_torques_nm: Some([0.0, 20.0, 0.0, 0.0, 0.0, 0.0]),
             ..SimCommand::default()
         },
     );
@@ -547,8 +515,8 @@ fn external_push_is_rejected_by_the_integral_and_a_blocked_axis_saturates_the_cu
     apply(
         &mut bus,
         SimCommand {
-            external_torques: Some([0.0; 6]),
-            block_axis: Some(0),
+            external_torques_nm: Some([0.0; 6]),
+            block_axis: Some(ax(0)),
             ..SimCommand::default()
         },
     );
@@ -567,7 +535,7 @@ fn external_push_is_rejected_by_the_integral_and_a_blocked_axis_saturates_the_cu
     apply(
         &mut bus,
         SimCommand {
-            unblock_axis: Some(0),
+            unblock_axis: Some(ax(0)),
             ..SimCommand::default()
         },
     );

@@ -1,332 +1,321 @@
 //! What each command does, and in which modes it is accepted.
 //!
-//! Runs inside the cycle.
+//! Runs inside the cycle. Requests arrive typed ([`Request`], decoded once per sample) in the
+//! user's units; positions and velocities become radians here, where the controller takes them
+//! in, and refusals carry their figures in degrees.
 
-use super::{Controller, Motion, Waiting};
+use super::Controller;
+use super::state::{After, CalPhase, Caller, Moving, PvtMotion, State};
 use crate::calibration::AxisSettings;
 use crate::pvt::BatchError;
-use crate::request::{self, AxisSet, Request};
 use crate::trajectory::{MovePlan, PvtPoint};
 use mcm_shared::NUM_AXES;
-use mcm_shared::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
-use mcm_shared::sample::{CommandSample, PVT_POINTS_PER_COMMAND};
+use mcm_shared::command::{
+    Axis, Calibrate, Direction, PvtChunk, Request, SetTorques, TorqueControl,
+};
+use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Reason};
+use mcm_shared::sample::PVT_POINTS_PER_COMMAND;
+use mcm_shared::units::{deg_to_rad, deg_to_rad6, rad_to_deg, rad_to_deg6};
 
 impl Controller {
-    fn ok(&mut self, c: &CommandSample, values: &[f64]) {
-        let kind = CommandKind::try_from(c.kind).unwrap_or(CommandKind::Status);
-        self.reply(
-            Waiting::of(c, kind),
-            ReplyStatus::Ok,
-            RejectCode::None,
-            0,
-            values,
-        );
+    fn wrong_mode(&mut self, c: Caller) {
+        let mode = self.mode();
+        self.refuse(c, Reason::WrongMode { mode });
     }
 
-    fn reject(&mut self, c: &CommandSample, code: RejectCode, axis: u32, values: &[f64]) {
-        let kind = CommandKind::try_from(c.kind).unwrap_or(CommandKind::Status);
-        self.reply(
-            Waiting::of(c, kind),
-            ReplyStatus::Rejected,
-            code,
-            axis,
-            values,
-        );
+    fn busy(&mut self, c: Caller) {
+        let remaining_s = self.state.remaining().unwrap_or(0.0);
+        self.refuse(c, Reason::Busy { remaining_s });
     }
 
-    fn wrong_mode(&mut self, c: &CommandSample) {
-        self.reject(
-            c,
-            RejectCode::WrongMode,
-            0,
-            &[f64::from(self.mode.to_wire())],
-        );
-    }
-
-    /// Refuse unless in HOLD, calibrated, and with the drives able to run.
-    fn check_motion_mode_entry(&mut self, c: &CommandSample) -> bool {
-        if self.mode != Mode::Hold || self.enabling.is_some() {
+    /// Refuse unless in HOLD and calibrated.
+    fn check_motion_mode_entry(&mut self, c: Caller) -> bool {
+        if !matches!(self.state, State::Hold { .. }) {
             self.wrong_mode(c);
             return false;
         }
         if let Some(axis) = self.offsets.iter().position(Option::is_none) {
-            self.reject(c, RejectCode::NotCalibrated, axis as u32 + 1, &[]);
+            self.refuse(
+                c,
+                Reason::NotCalibrated {
+                    axis: Axis::ALL[axis],
+                },
+            );
             return false;
         }
         true
     }
 
-    pub(super) fn on_command(&mut self, c: &CommandSample) {
-        let req = match request::decode(c) {
-            Ok(r) => r,
-            Err(e) => return self.reject(c, e.code, e.axis, &e.values),
-        };
+    pub(super) fn on_request(&mut self, c: Caller, req: Request) {
         match req {
-            Request::Status => self.ok(c, &[]),
-            Request::Info => self.ok(c, &[NUM_AXES as f64, self.p.period]),
-            Request::Hold => self.on_hold(c),
-            Request::Calibrate {
-                axes,
-                elbow_direction,
-                wrist_direction,
-                force_mechanical_stop,
-            } => self.on_calibrate(
+            Request::Status => self.done(c, Done::Ack),
+            Request::Info => self.done(
                 c,
-                axes,
-                elbow_direction,
-                wrist_direction,
-                force_mechanical_stop,
+                Done::Info(InfoReply {
+                    num_axes: NUM_AXES as u32,
+                    period_s: self.p.period,
+                }),
             ),
-            Request::Pvt { dt } => {
+            Request::Hold => self.on_hold(c),
+            Request::Calibrate(cal) => self.on_calibrate(c, cal),
+            Request::Pvt(pvt) => {
                 if self.check_motion_mode_entry(c) {
-                    self.stream.reset(dt);
-                    self.starved = false;
-                    self.mode = Mode::Pvt;
-                    self.ok(c, &[]);
+                    self.stream.reset(pvt.dt_s);
+                    // A stop under way in HOLD carries on in PVT.
+                    let motion = match self.state {
+                        State::Hold { stop: Some(s) } => PvtMotion::Stop(s),
+                        _ => PvtMotion::Hold,
+                    };
+                    self.state = State::Pvt {
+                        motion,
+                        starved: false,
+                    };
+                    self.done(c, Done::Ack);
                 }
             }
             Request::Release => {
                 if self.check_motion_mode_entry(c) {
-                    self.mode = Mode::Release;
-                    self.motion = Motion::Release;
-                    self.ok(c, &[]);
+                    self.state = State::Release;
+                    self.done(c, Done::Ack);
                 }
             }
-            Request::TorqueControl {
-                timeout,
-                gravity_compensation,
-            } => {
-                if self.check_motion_mode_entry(c) {
-                    let timeout_ns = timeout.map(|t| (t * 1e9) as u64);
-                    self.mode = Mode::TorqueControl;
-                    self.motion = Motion::Torque {
-                        torques: [0.0; NUM_AXES],
-                        gravity: gravity_compensation,
-                        deadline_ns: timeout_ns.map(|t| self.now_ns + t),
-                        timeout_ns,
-                    };
-                    self.ok(c, &[]);
-                }
-            }
-            Request::SetTorques { torques } => self.on_set_torques(c, torques),
-            Request::MoveAxis {
-                axis,
-                target_deg,
-                velocity_factor,
-            } => {
+            Request::TorqueControl(t) => self.on_torque_control(c, t),
+            Request::SetTorques(t) => self.on_set_torques(c, t),
+            Request::MoveAxis(m) => {
                 let mut target = self.cmd.position;
-                target[axis] = target_deg.to_radians();
-                self.on_move(c, target, velocity_factor, Some(axis));
+                target[m.axis.index()] = deg_to_rad(m.target_deg);
+                self.on_move(c, target, m.velocity_factor, Some(m.axis));
             }
-            Request::MoveAll {
-                target_deg,
-                velocity_factor,
-            } => self.on_move(c, target_deg.map(f64::to_radians), velocity_factor, None),
-            Request::PvtPoints { count, last } => self.on_pvt_points(c, count, last),
-            Request::Sim(_) => {
-                // Fault injection is served by the simulator's edge (`crate::sim_edge`) before
-                // the controller steps; reaching here means there is no simulated robot.
-                self.reject(c, RejectCode::NotSimulated, 0, &[]);
+            Request::MoveAll(m) => {
+                self.on_move(c, deg_to_rad6(&m.targets_deg), m.velocity_factor, None)
+            }
+            Request::PvtPoints(chunk) => self.on_pvt_points(c, &chunk),
+            // Fault injection is served by the simulator's edge (`crate::sim_edge`) before the
+            // controller steps; reaching here means there is no simulated robot.
+            Request::Sim(_) => self.refuse(c, Reason::NotSimulated),
+        }
+    }
+
+    fn on_hold(&mut self, c: Caller) {
+        match self.state {
+            State::Off | State::Error { .. } | State::Enabling { .. } => {
+                if let Some(reason) = self.enable_blocker() {
+                    return self.refuse(c, reason);
+                }
+                self.begin_enabling(c, After::Hold);
+            }
+            State::Hold { .. } => self.done(c, Done::Ack),
+            State::Calibration { caller, .. } => {
+                self.fail(caller, Reason::Aborted);
+                self.state = State::Hold {
+                    stop: self.stop_motion(),
+                };
+                self.done(c, Done::Ack);
+            }
+            State::Pvt { .. } | State::Release | State::Torque { .. } => {
+                self.state = State::Hold {
+                    stop: self.stop_motion(),
+                };
+                self.done(c, Done::Ack);
             }
         }
     }
 
-    fn on_hold(&mut self, c: &CommandSample) {
-        let w = Waiting::of(c, CommandKind::Hold);
-        match self.mode {
-            Mode::Off | Mode::Error => {
-                if let Some((code, axis)) = self.enable_blocker() {
-                    return self.reject(c, code, axis, &[]);
-                }
-                self.begin_enabling(w, None);
-            }
-            Mode::Hold => self.ok(c, &[]),
-            Mode::Calibration => {
-                if let Some(waiting) = self.calibrating.take() {
-                    self.reply(waiting, ReplyStatus::Failed, RejectCode::Aborted, 0, &[]);
-                }
-                self.stop_motion();
-                self.mode = Mode::Hold;
-                self.ok(c, &[]);
-            }
-            Mode::Pvt | Mode::Release | Mode::TorqueControl => {
-                self.stop_motion();
-                self.mode = Mode::Hold;
-                self.ok(c, &[]);
-            }
-        }
-    }
-
-    fn on_calibrate(
-        &mut self,
-        c: &CommandSample,
-        axes: AxisSet,
-        elbow: f64,
-        wrist: f64,
-        force: bool,
-    ) {
-        if !matches!(self.mode, Mode::Off | Mode::Hold) || self.enabling.is_some() {
+    fn on_calibrate(&mut self, c: Caller, cal: Calibrate) {
+        if !matches!(self.state, State::Off | State::Hold { .. }) {
             return self.wrong_mode(c);
         }
-        if matches!(self.motion, Motion::Move { .. } | Motion::Stop { .. }) {
-            return self.reject(c, RejectCode::Busy, 0, &[self.motion.remaining()]);
+        if self.state.planned_motion() {
+            return self.busy(c);
         }
         let settings: [Option<AxisSettings>; NUM_AXES] = core::array::from_fn(|i| {
-            axes.contains(i).then(|| {
+            cal.which.contains(Axis::ALL[i]).then(|| {
                 let reverse = match i {
-                    2 => elbow < 0.0,
-                    3..=5 => wrist < 0.0,
+                    2 => cal.elbow_direction == Direction::Negative,
+                    3..=5 => cal.wrist_direction == Direction::Negative,
                     _ => false,
                 };
-                self.cal_settings[i][usize::from(reverse)][usize::from(force)]
+                self.cal_settings[i][usize::from(reverse)][usize::from(cal.force_mechanical_stop)]
             })
         });
-        let w = Waiting::of(c, CommandKind::Calibrate);
-        if self.mode == Mode::Off {
-            if let Some((code, axis)) = self.enable_blocker() {
-                return self.reject(c, code, axis, &[]);
+        if matches!(self.state, State::Off) {
+            if let Some(reason) = self.enable_blocker() {
+                return self.refuse(c, reason);
             }
-            self.begin_enabling(w, Some(settings));
+            self.begin_enabling(c, After::Calibrate(settings));
         } else {
-            self.start_calibration(w, settings);
+            self.start_calibration(c, settings);
         }
     }
 
-    fn on_set_torques(&mut self, c: &CommandSample, torques: [f64; NUM_AXES]) {
-        if let Motion::Torque {
-            torques: t,
-            deadline_ns,
+    fn on_torque_control(&mut self, c: Caller, t: TorqueControl) {
+        if self.check_motion_mode_entry(c) {
+            let timeout_ns = t.timeout_s.map(|t| (t * 1e9) as u64);
+            self.state = State::Torque {
+                torques: [0.0; NUM_AXES],
+                gravity: t.gravity_compensation,
+                deadline_ns: timeout_ns.map(|t| self.now_ns + t),
+                timeout_ns,
+            };
+            self.done(c, Done::Ack);
+        }
+    }
+
+    /// New torques, each within its axis's peak torque; refused whole (nothing changes) when
+    /// one is not.
+    fn on_set_torques(&mut self, c: Caller, t: SetTorques) {
+        let State::Torque {
+            gravity,
             timeout_ns,
             ..
-        } = &mut self.motion
-            && self.mode == Mode::TorqueControl
-        {
-            for (i, (dst, src)) in t.iter_mut().zip(torques).enumerate() {
-                let peak = self.p.peak_torque[i];
-                if src.abs() > peak {
-                    let values = [src, -peak, peak];
-                    return self.reject(c, RejectCode::OutOfRange, i as u32 + 1, &values);
-                }
-                *dst = src;
+        } = self.state
+        else {
+            return self.wrong_mode(c);
+        };
+        for (i, tau) in t.torques_nm.iter().copied().enumerate() {
+            let peak = self.p.peak_torque[i];
+            if tau.abs() > peak {
+                let reason = Reason::OutOfRange {
+                    axis: Some(Axis::ALL[i]),
+                    value: tau,
+                    min: -peak,
+                    max: peak,
+                };
+                return self.refuse(c, reason);
             }
-            *deadline_ns = timeout_ns.map(|to| self.now_ns + to);
-            self.ok(c, &[]);
-        } else {
-            self.wrong_mode(c);
         }
+        self.state = State::Torque {
+            torques: t.torques_nm,
+            gravity,
+            deadline_ns: timeout_ns.map(|to| self.now_ns + to),
+            timeout_ns,
+        };
+        self.done(c, Done::Ack);
     }
 
-    fn on_move(
-        &mut self,
-        c: &CommandSample,
-        target: [f64; NUM_AXES],
-        factor: f64,
-        only: Option<usize>,
-    ) {
-        if self.mode != Mode::Pvt {
+    /// A move to `target` [rad] (of axis `only`, or of all axes), planned from the commanded
+    /// state. `move_all` answers with the plan; `move_axis` with a plain acknowledgement.
+    fn on_move(&mut self, c: Caller, target: [f64; NUM_AXES], factor: f64, only: Option<Axis>) {
+        let State::Pvt { motion, .. } = self.state else {
             return self.wrong_mode(c);
+        };
+        if !matches!(motion, PvtMotion::Hold) {
+            return self.busy(c);
         }
-        if !matches!(self.motion, Motion::Hold) || self.stream.running() {
-            let left = self.motion.remaining();
-            return self.reject(c, RejectCode::Busy, 0, &[left]);
-        }
-        for (axis, q) in target.iter().copied().enumerate() {
-            if only.is_some_and(|a| a != axis) {
+        for (i, q) in target.iter().copied().enumerate() {
+            if only.is_some_and(|a| a.index() != i) {
                 continue;
             }
-            if !self.p.reachable(axis, q) {
-                let values = [
-                    q.to_degrees(),
-                    self.p.reach_min[axis].to_degrees(),
-                    self.p.reach_max[axis].to_degrees(),
-                ];
-                return self.reject(c, RejectCode::Unreachable, axis as u32 + 1, &values);
+            if !self.p.reachable(i, q) {
+                let reason = Reason::Unreachable {
+                    axis: Axis::ALL[i],
+                    target_deg: rad_to_deg(q),
+                    min_deg: rad_to_deg(self.p.reach_min[i]),
+                    max_deg: rad_to_deg(self.p.reach_max[i]),
+                };
+                return self.refuse(c, reason);
             }
         }
         let plan = match MovePlan::plan(self.cmd.position, target, &self.p.limits, factor) {
             Ok(p) => p,
-            Err(_) => return self.reject(c, RejectCode::OutOfRange, 0, &[factor, 0.0, 1.0]),
+            Err(_) => {
+                let reason = Reason::OutOfRange {
+                    axis: None,
+                    value: factor,
+                    min: 0.0,
+                    max: 1.0,
+                };
+                return self.refuse(c, reason);
+            }
         };
-        self.starved = false;
-        self.motion = Motion::Move { plan, t: 0.0 };
-        let v = plan.velocities().map(f64::to_degrees);
-        let longest = (plan.longest_axis() + 1) as f64;
-        self.ok(
-            c,
-            &[v[0], v[1], v[2], v[3], v[4], v[5], longest, plan.duration()],
-        );
+        self.state = State::Pvt {
+            motion: PvtMotion::Move(Moving { plan, t: 0.0 }),
+            starved: false,
+        };
+        if only.is_some() {
+            return self.done(c, Done::Ack);
+        }
+        let plan = MoveAllPlan {
+            velocities_deg_s: rad_to_deg6(&plan.velocities()),
+            longest: Axis::ALL[plan.longest_axis().min(NUM_AXES - 1)],
+            duration_s: plan.duration(),
+        };
+        self.done(c, Done::MoveAll(plan));
     }
 
     /// Every sample of a batch is answered (so senders can pace themselves); the answer to the
     /// last one says whether the batch was queued.
-    fn on_pvt_points(&mut self, c: &CommandSample, count: usize, last: bool) {
-        if self.mode != Mode::Pvt {
+    fn on_pvt_points(&mut self, c: Caller, chunk: &PvtChunk) {
+        let State::Pvt { motion, .. } = self.state else {
             return self.wrong_mode(c);
-        }
+        };
         let mut points = [PvtPoint::default(); PVT_POINTS_PER_COMMAND];
-        for (j, pt) in points.iter_mut().enumerate().take(count) {
-            for i in 0..NUM_AXES {
-                pt.position[i] = c.args[j * 12 + i].to_radians();
-                pt.velocity[i] = c.args[j * 12 + 6 + i].to_radians();
-            }
+        let n = chunk.points().len();
+        for (dst, src) in points.iter_mut().zip(chunk.points()) {
+            dst.position = deg_to_rad6(&src.position_deg);
+            dst.velocity = deg_to_rad6(&src.velocity_deg_s);
         }
-        let staged = self.stream.stage(c.client_id, &points[..count]);
-        if !last {
+        let staged = self.stream.stage(c.client_id, &points[..n]);
+        if !chunk.last {
             return match staged {
-                Ok(()) => self.ok(c, &[]),
-                Err(e) => self.reject_batch(c, e),
+                Ok(()) => self.done(c, Done::Ack),
+                Err(e) => self.refuse_batch(c, e),
             };
         }
         if staged.is_err() {
             // The batch was poisoned; commit reports why and clears it.
             let start = self.cmd;
             if let Err(e) = self.stream.commit(c.client_id, &start, &self.p) {
-                return self.reject_batch(c, e);
+                return self.refuse_batch(c, e);
             }
         }
-        if matches!(self.motion, Motion::Move { .. } | Motion::Stop { .. }) {
-            let left = self.motion.remaining();
-            return self.reject(c, RejectCode::Busy, 0, &[left]);
+        if matches!(motion, PvtMotion::Move(_) | PvtMotion::Stop(_)) {
+            return self.busy(c);
         }
         let start = self.cmd;
         match self.stream.commit(c.client_id, &start, &self.p) {
             Ok(()) => {
-                self.starved = false;
-                self.motion = Motion::Stream;
-                self.ok(c, &[]);
+                self.state = State::Pvt {
+                    motion: PvtMotion::Stream,
+                    starved: false,
+                };
+                self.done(c, Done::Ack);
             }
-            Err(e) => self.reject_batch(c, e),
+            Err(e) => self.refuse_batch(c, e),
         }
     }
 
-    fn reject_batch(&mut self, c: &CommandSample, e: BatchError) {
-        match e {
-            BatchError::QueueFull { offered, free } => {
-                self.reject(c, RejectCode::QueueFull, 0, &[offered as f64, free as f64])
+    fn refuse_batch(&mut self, c: Caller, e: BatchError) {
+        self.refuse(c, e.reason());
+    }
+
+    /// Start the calibration searches of the axes that have settings.
+    pub(super) fn start_calibration(
+        &mut self,
+        caller: Caller,
+        settings: [Option<AxisSettings>; NUM_AXES],
+    ) {
+        let fb = *self.master.feedback();
+        let mut axes = [None; NUM_AXES];
+        let mut selected = 0u8;
+        for (i, s) in settings.iter().enumerate() {
+            if let Some(s) = s {
+                selected |= 1 << i;
+                self.offsets[i] = None;
+                axes[i] = Some(crate::calibration::AxisCalibration::start(
+                    *s,
+                    crate::calibration::AxisInput {
+                        position: fb[i].position_rad,
+                        current: fb[i].current_a,
+                        light_barrier: fb[i].light_barrier,
+                    },
+                ));
             }
-            BatchError::TooLong { limit } => self.reject(
-                c,
-                RejectCode::QueueFull,
-                0,
-                &[limit as f64 + 1.0, limit as f64],
-            ),
-            BatchError::Point {
-                index,
-                axis,
-                what,
-                value,
-                limit,
-            } => self.reject(
-                c,
-                RejectCode::PvtPoint,
-                axis as u32 + 1,
-                &[
-                    (index + 1) as f64,
-                    f64::from(what),
-                    value.to_degrees(),
-                    limit.to_degrees(),
-                ],
-            ),
         }
+        self.hold_here();
+        self.state = State::Calibration {
+            caller,
+            phase: CalPhase::Search { axes, selected },
+        };
     }
 }

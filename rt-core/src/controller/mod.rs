@@ -3,7 +3,8 @@
 //!
 //! Runs inside the cycle. A deterministic function of its inputs: [`Controller::step`] takes
 //! the controller time, the frames received from the bus and the commands received, and
-//! produces the frames to send and the state (whose reply ring carries the replies). No
+//! produces the frames to send and a view of the cycle in SI units ([`CycleView`], with the
+//! cycle's replies), from which [`crate::publish`] composes the published state. No
 //! allocation, no locks, no I/O, no logging.
 //!
 //! Frames of reference: the drives work in raw encoder angles; the controller works in joint
@@ -11,27 +12,33 @@
 //! then). The reference sent in a cycle is the one for the end of that cycle: the drives apply
 //! it at the SYNC that closes the cycle and reach it one period later.
 //!
-//! The files of this module: `mod.rs` (the cycle and the state), `commands.rs` (what each
-//! command does), `motion.rs` (the per-cycle reference of each motion).
+//! The files of this module: `mod.rs` (the cycle, enabling the drives), `state.rs` (the
+//! operating state: one enum carrying each mode's data), `commands.rs` (what each command
+//! does), `motion.rs` (the per-cycle reference of each motion), `trips.rs` (drive events and
+//! safety trips), `view.rs` (what a cycle reports).
 
 mod commands;
 mod motion;
+mod state;
+mod trips;
+mod view;
 
 use crate::calibration::AxisSettings;
-use crate::canopen::{AxisFeedback, DriveRequest, FrameBuf, Master, MasterEvent};
+use crate::canopen::{AxisFeedback, DriveRequest, FrameBuf, Master};
 use crate::params::JointParams;
 use crate::pvt::PvtStream;
-use crate::safety::{self, ActiveChecks, I2t, SafetyParams};
+use crate::safety::{I2t, SafetyParams};
 use crate::trajectory::JointSample;
 use mcm_dynamics::ArmModel;
 use mcm_shared::NUM_AXES;
+use mcm_shared::command::{Axis, Request};
 use mcm_shared::config::RobotConfig;
-use mcm_shared::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
-use mcm_shared::sample::{
-    AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, CommandSample,
-    ErrorRecord, Reply, STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_PVT_STARVED, StateSample,
-};
-pub use motion::Motion;
+use mcm_shared::mode::Mode;
+use mcm_shared::reply::{self, Done, Outcome, Reason, Response};
+use mcm_shared::sample::{CommandSample, Reply};
+pub use motion::QUICK_STOP_FACTOR;
+use state::{After, Before, Caller, State};
+pub use view::{AxisView, CycleView, Outbox};
 
 /// How long a mode change waits at least for every drive to reach Operation Enabled.
 const ENABLE_TIMEOUT_NS: u64 = 2_000_000_000;
@@ -41,33 +48,6 @@ pub const FRICTION_COMPENSATION: f64 = 0.7;
 /// Extra damping in RELEASE, as a multiple of each joint's viscous friction: an arm pushed and
 /// let go comes to rest within a fraction of a second.
 pub const RELEASE_DAMPING: f64 = 1.0;
-
-/// A command whose reply comes later.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct Waiting {
-    client_id: u64,
-    request_id: u64,
-    kind: CommandKind,
-}
-
-impl Waiting {
-    fn of(c: &CommandSample, kind: CommandKind) -> Waiting {
-        Waiting {
-            client_id: c.client_id,
-            request_id: c.request_id,
-            kind,
-        }
-    }
-}
-
-/// Enabling the drives before HOLD or a calibration begins.
-#[derive(Debug, Clone, Copy)]
-struct Enabling {
-    waiting: Waiting,
-    deadline_ns: u64,
-    /// Calibration to start once enabled (`None`: plain `hold`).
-    then_calibrate: Option<[Option<AxisSettings>; NUM_AXES]>,
-}
 
 /// The controller of one arm.
 pub struct Controller {
@@ -79,14 +59,15 @@ pub struct Controller {
     /// The emergency stop input of the last cycle (a press is reported once, on its edge).
     estop_seen: bool,
     /// An error was reported and not yet cleared by a successful `hold`: later trips of the
-    /// same incident are not reported again.
-    error_latched: bool,
+    /// same incident are not reported again. Not part of [`State`]: an incident outlives the
+    /// mode it tripped in (a trip in OFF stays reported through a calibration until a `hold`
+    /// succeeds).
+    incident_reported: bool,
     /// Calibration settings per axis: `[reverse][force_mechanical_stop]`.
     cal_settings: [[[AxisSettings; 2]; 2]; NUM_AXES],
-    mode: Mode,
+    state: State,
     /// Joint = raw - offset; `None` until calibrated.
     offsets: [Option<f64>; NUM_AXES],
-    motion: Motion,
     /// The commanded reference of this cycle (joint frame).
     cmd: JointSample,
     /// The commanded positions of the last two cycles: `[k-1, k-2]`. The position measured in
@@ -95,10 +76,6 @@ pub struct Controller {
     /// Joint torques commanded in the torque modes.
     cmd_torque: [f64; NUM_AXES],
     stream: PvtStream,
-    starved: bool,
-    enabling: Option<Enabling>,
-    /// The calibrate command waiting for its reply.
-    calibrating: Option<Waiting>,
     /// Drives the master reported lost, missing or failed (until configured or recovered).
     lost: [bool; NUM_AXES],
     enable_timeout_ns: u64,
@@ -106,7 +83,7 @@ pub struct Controller {
     current_limit: [f64; NUM_AXES],
     prev_velocity: [f64; NUM_AXES],
     acceleration: [f64; NUM_AXES],
-    state: StateSample,
+    view: CycleView,
     cycle: u64,
     now_ns: u64,
 }
@@ -114,17 +91,19 @@ pub struct Controller {
 impl Controller {
     /// Build the controller of the arm `cfg` describes, over the CANopen `master`.
     pub fn new(cfg: &RobotConfig, master: Master) -> Controller {
-        let mut state = StateSample::default();
         let p = JointParams::from_config(cfg);
         let stream = PvtStream::new();
-        state.pvt_capacity = stream.capacity() as u32;
+        let view = CycleView {
+            pvt_capacity: u32::try_from(stream.capacity()).unwrap_or(u32::MAX),
+            ..CycleView::default()
+        };
         Controller {
             master,
             model: ArmModel::from_config(cfg),
             i2t: I2t::new(&SafetyParams::from_config(cfg)),
             safety: SafetyParams::from_config(cfg),
             estop_seen: false,
-            error_latched: false,
+            incident_reported: false,
             cal_settings: core::array::from_fn(|axis| {
                 core::array::from_fn(|rev| {
                     core::array::from_fn(|force| {
@@ -132,16 +111,12 @@ impl Controller {
                     })
                 })
             }),
-            mode: Mode::Off,
+            state: State::Off,
             offsets: [None; NUM_AXES],
-            motion: Motion::Hold,
             cmd: JointSample::default(),
             cmd_hist: [[0.0; NUM_AXES]; 2],
             cmd_torque: [0.0; NUM_AXES],
             stream,
-            starved: false,
-            enabling: None,
-            calibrating: None,
             lost: [false; NUM_AXES],
             enable_timeout_ns: ENABLE_TIMEOUT_NS
                 .max(u64::from(cfg.bus.boot_timeout_ms) * 1_000_000),
@@ -150,24 +125,19 @@ impl Controller {
             prev_velocity: [0.0; NUM_AXES],
             acceleration: [0.0; NUM_AXES],
             p,
-            state,
+            view,
             cycle: 0,
             now_ns: 0,
         }
     }
 
     pub fn mode(&self) -> Mode {
-        self.mode
+        self.state.mode()
     }
 
-    /// The state sample as of the last step (replies included).
-    pub fn state(&self) -> &StateSample {
-        &self.state
-    }
-
-    /// The state sample, for the edges to add timing and simulation truth before publishing.
-    pub fn state_mut(&mut self) -> &mut StateSample {
-        &mut self.state
+    /// The view of the last step (replies included), in SI units.
+    pub fn view(&self) -> &CycleView {
+        &self.view
     }
 
     /// The drive feedback of the last step.
@@ -180,10 +150,16 @@ impl Controller {
         self.offsets
     }
 
-    /// Append a reply to the state's reply ring (also used by the simulator's edge,
+    /// Start a new cycle's outbox: the replies of the last cycle were published. Called by
+    /// [`crate::cycle::Cycle::receive`], before the simulator's edge answers `sim` commands.
+    pub fn begin_cycle(&mut self) {
+        self.view.replies.clear();
+    }
+
+    /// Add a reply to this cycle's outbox (also used by the simulator's edge,
     /// [`crate::sim_edge`], for `sim` commands).
-    pub fn push_reply(&mut self, reply: Reply) {
-        self.state.push_reply(reply);
+    pub fn answer(&mut self, reply: Reply) {
+        self.view.replies.push(reply);
     }
 
     /// One cycle: `now_ns` is controller time (cycle index x period); `rx` the frames received
@@ -205,7 +181,17 @@ impl Controller {
             self.on_event(ev);
         }
         for c in commands {
-            self.on_command(c);
+            match Request::decode(c) {
+                Ok(req) => {
+                    let caller = Caller {
+                        client_id: c.client_id,
+                        request_id: c.request_id,
+                        kind: req.kind(),
+                    };
+                    self.on_request(caller, req);
+                }
+                Err(e) => self.answer(reply::refuse_undecodable(c, &e)),
+            }
         }
         self.update_enabling();
         self.check_safety();
@@ -214,7 +200,7 @@ impl Controller {
         self.update_i2t();
         self.master
             .cycle(now_ns, &self.requests, &self.current_limit, tx);
-        self.fill_state();
+        self.fill_view();
     }
 
     /// Measured joint positions.
@@ -228,239 +214,103 @@ impl Controller {
         core::array::from_fn(|i| fb[i].velocity_rad_s)
     }
 
-    fn reply(
-        &mut self,
-        w: Waiting,
-        status: ReplyStatus,
-        code: RejectCode,
-        axis: u32,
-        values: &[f64],
-    ) {
-        let mut r = Reply {
-            client_id: w.client_id,
-            request_id: w.request_id,
-            kind: w.kind.to_wire(),
-            status: status.to_wire(),
-            code: code.to_wire(),
-            axis,
-            ..Reply::default()
+    /// Answer `to` with `outcome`.
+    fn reply(&mut self, to: Caller, outcome: Outcome) {
+        let r = Response {
+            client_id: to.client_id,
+            request_id: to.request_id,
+            kind: to.kind,
+            outcome,
         };
-        let n = values.len().min(r.values.len());
-        r.values[..n].copy_from_slice(&values[..n]);
-        self.state.push_reply(r);
+        self.answer(r.encode());
+    }
+
+    fn done(&mut self, to: Caller, done: Done) {
+        self.reply(to, Outcome::Done(done));
+    }
+
+    fn refuse(&mut self, to: Caller, reason: Reason) {
+        self.reply(to, Outcome::Refused(reason));
+    }
+
+    fn fail(&mut self, to: Caller, reason: Reason) {
+        self.reply(to, Outcome::Failed(reason));
     }
 
     /// A reason the drives cannot be enabled now: emergency stop, or a drive the master gave
     /// up on (a drive still booting is waited for).
-    fn enable_blocker(&self) -> Option<(RejectCode, u32)> {
+    fn enable_blocker(&self) -> Option<Reason> {
         let fb = self.master.feedback();
         if fb.iter().any(|f| f.estop) {
-            return Some((RejectCode::EmergencyStop, 0));
+            return Some(Reason::EmergencyStop);
         }
         self.lost
             .iter()
             .position(|l| *l)
-            .map(|i| (RejectCode::DriveDisconnected, i as u32 + 1))
+            .map(|i| Reason::DriveDisconnected { axis: Axis::ALL[i] })
     }
 
-    /// Start enabling every drive, holding where it is.
-    fn begin_enabling(
-        &mut self,
-        waiting: Waiting,
-        then_calibrate: Option<[Option<AxisSettings>; NUM_AXES]>,
-    ) {
-        if let Some(prev) = self.enabling.take() {
-            self.reply(
-                prev.waiting,
-                ReplyStatus::Failed,
-                RejectCode::Aborted,
-                0,
-                &[],
-            );
-        }
+    /// Start enabling every drive, holding where it is; an enabling already under way is
+    /// superseded (its caller told so).
+    fn begin_enabling(&mut self, caller: Caller, then: After) {
+        let from = match self.state {
+            State::Enabling {
+                caller: prev, from, ..
+            } => {
+                self.fail(prev, Reason::Aborted);
+                from
+            }
+            State::Error { .. } => Before::Error,
+            _ => Before::Off,
+        };
         self.master.reset_faults();
         self.hold_here();
-        self.enabling = Some(Enabling {
-            waiting,
+        self.state = State::Enabling {
+            caller,
             deadline_ns: self.now_ns + self.enable_timeout_ns,
-            then_calibrate,
-        });
+            from,
+            then,
+        };
     }
 
     fn update_enabling(&mut self) {
-        let Some(e) = self.enabling else { return };
+        let State::Enabling {
+            caller,
+            deadline_ns,
+            from,
+            then,
+        } = self.state
+        else {
+            return;
+        };
         let fb = self.master.feedback();
         if fb.iter().all(|f| f.enabled) {
-            self.enabling = None;
-            match e.then_calibrate {
-                None => {
-                    self.mode = Mode::Hold;
-                    self.error_latched = false;
+            match then {
+                After::Hold => {
+                    self.state = State::Hold { stop: None };
+                    self.incident_reported = false;
                     self.hold_here();
-                    self.reply(e.waiting, ReplyStatus::Ok, RejectCode::None, 0, &[]);
+                    self.done(caller, Done::Ack);
                 }
-                Some(settings) => self.start_calibration(e.waiting, settings),
+                After::Calibrate(settings) => self.start_calibration(caller, settings),
             }
-        } else if let Some((code, axis)) = self.enable_blocker() {
-            self.enabling = None;
-            self.reply(e.waiting, ReplyStatus::Failed, code, axis, &[]);
-        } else if self.now_ns >= e.deadline_ns {
-            self.enabling = None;
-            let axis = fb
-                .iter()
-                .position(|f| !f.enabled)
-                .map_or(0, |i| i as u32 + 1);
-            self.reply(
-                e.waiting,
-                ReplyStatus::Failed,
-                RejectCode::DriveFault,
-                axis,
-                &[],
-            );
+        } else if let Some(reason) = self.enable_blocker() {
+            self.state = from.state();
+            self.fail(caller, reason);
+        } else if self.now_ns >= deadline_ns {
+            self.state = from.state();
+            let axis = fb.iter().position(|f| !f.enabled).map(|i| Axis::ALL[i]);
+            self.fail(caller, Reason::DriveFault { axis, code: 0 });
         }
     }
 
-    /// Hold every axis at its measured position, at rest.
+    /// Command every axis at its measured position, at rest (the caller sets the state).
     fn hold_here(&mut self) {
         self.cmd = JointSample {
             position: self.measured(),
             ..JointSample::default()
         };
         self.cmd_hist = [self.cmd.position; 2];
-        self.motion = Motion::Hold;
-    }
-
-    fn on_event(&mut self, ev: MasterEvent) {
-        match ev {
-            MasterEvent::Lost { axis, .. } | MasterEvent::Missing { axis, .. } => {
-                self.lost[axis] = true;
-                self.trip(RejectCode::DriveDisconnected, axis, [0.0; 4]);
-            }
-            MasterEvent::Recovered { axis, .. } | MasterEvent::Configured { axis } => {
-                self.lost[axis] = false;
-            }
-            MasterEvent::Emcy { axis, emcy } => {
-                if emcy.code != 0 {
-                    self.drive_fault(axis, emcy.code);
-                }
-            }
-            MasterEvent::Fault { axis, code } => self.drive_fault(axis, code),
-            MasterEvent::ConfigFailed { axis, .. } => {
-                self.lost[axis] = true;
-                self.trip(RejectCode::DriveDisconnected, axis, [0.0; 4]);
-            }
-            MasterEvent::Booted { axis } => {
-                // Calibration is gone unless the drive still holds it (below): a drive that
-                // boots after a power cycle lost its encoder reference.
-                self.offsets[axis] = None;
-                if self.mode != Mode::Off {
-                    self.trip(RejectCode::DriveDisconnected, axis, [0.0; 4]);
-                }
-            }
-            // Comes after `Booted` (and `Configured`) of the same boot: the calibration the
-            // drive kept (0x2100) while the MCM restarted.
-            MasterEvent::Calibration {
-                axis,
-                offset_counts,
-            } => {
-                self.offsets[axis] =
-                    offset_counts.map(|c| f64::from(c) / self.p.counts_per_rad[axis]);
-            }
-            // Storing failed: the calibration holds until the MCM restarts (nothing to stop).
-            MasterEvent::CalibrationStored { .. } | MasterEvent::CalibrationStoreFailed { .. } => {}
-        }
-    }
-
-    /// A drive reports a fault: the emergency stop (which cuts the drives' power) when its
-    /// input is active, a drive fault otherwise.
-    fn drive_fault(&mut self, axis: usize, code: u16) {
-        if self.master.feedback().iter().any(|f| f.estop) {
-            self.estop_seen = true;
-            self.trip_axis(RejectCode::EmergencyStop, 0, [1.0, 0.0, 0.0, 0.0]);
-        } else {
-            self.trip(
-                RejectCode::DriveFault,
-                axis,
-                [f64::from(code), 0.0, 0.0, 0.0],
-            );
-        }
-    }
-
-    /// The checks of the manual's "Safety checks" evaluated every cycle (drive connections
-    /// come as master events).
-    fn check_safety(&mut self) {
-        let estop = self.master.feedback().iter().any(|f| f.estop);
-        if estop && !self.estop_seen {
-            self.estop_seen = true;
-            self.trip_axis(RejectCode::EmergencyStop, 0, [1.0, 0.0, 0.0, 0.0]);
-        }
-        self.estop_seen = estop;
-        if self.enabling.is_some()
-            || !matches!(
-                self.mode,
-                Mode::Hold | Mode::Pvt | Mode::Release | Mode::TorqueControl
-            )
-        {
-            return;
-        }
-        let active = ActiveChecks::for_mode(self.mode);
-        let q = self.measured();
-        let qd = self.measured_velocity();
-        let mut result = Ok(());
-        if active.limits {
-            result = result
-                .and_then(|()| safety::check_position_limits_returning(&self.safety, &q, &qd))
-                .and_then(|()| safety::check_velocity_limits(&self.safety, &qd));
-        }
-        // A planned move or stop is validated when planned: it ends inside the reachable range
-        // at the deceleration it plans with; the braking check watches everything else.
-        if active.braking && !matches!(self.motion, Motion::Move { .. } | Motion::Stop { .. }) {
-            result = result.and_then(|()| safety::check_braking(&self.safety, &q, &qd));
-        }
-        if active.following {
-            result = result
-                .and_then(|()| safety::check_following_error(&self.safety, &self.cmd_hist[1], &q));
-        }
-        if let Err(v) = result {
-            let [value, limit] = v.user_values();
-            self.trip(v.check.reject_code(), v.axis, [value, limit, 0.0, 0.0]);
-        }
-    }
-
-    /// A safety check or drive error: mode ERROR (from any mode but OFF, where nothing moves
-    /// and the error is only reported), axes stopped, and one spontaneous error record per
-    /// incident (until a `hold` succeeds).
-    fn trip(&mut self, code: RejectCode, axis0: usize, values: [f64; 4]) {
-        self.trip_axis(code, axis0 as u32 + 1, values);
-    }
-
-    /// [`Controller::trip`] with a 1-based axis (0: no axis).
-    fn trip_axis(&mut self, code: RejectCode, axis: u32, values: [f64; 4]) {
-        if let Some(w) = self.calibrating.take() {
-            self.reply(w, ReplyStatus::Failed, code, axis, &values);
-        }
-        if let Some(e) = self.enabling.take() {
-            self.reply(e.waiting, ReplyStatus::Failed, code, axis, &values);
-        }
-        if self.mode != Mode::Off {
-            if self.mode != Mode::Error {
-                self.quick_stop();
-            }
-            self.mode = Mode::Error;
-        }
-        if self.error_latched {
-            return;
-        }
-        self.error_latched = true;
-        let e = &mut self.state.last_error;
-        *e = ErrorRecord {
-            seq: e.seq + 1,
-            cycle: self.cycle,
-            unix_ns: 0,
-            code: code.to_wire(),
-            axis,
-            values,
-        };
     }
 
     fn update_i2t(&mut self) {
@@ -473,74 +323,56 @@ impl Controller {
         }
     }
 
-    fn fill_state(&mut self) {
+    /// This cycle's view, in SI units (the replies are already in its outbox).
+    fn fill_view(&mut self) {
         let fb = *self.master.feedback();
         let measured = self.measured();
-        let s = &mut self.state;
-        s.seq = self.cycle;
-        s.t_ns = self.now_ns;
-        s.mode = self.mode.to_wire();
-        let mut flags = s.flags & !(STATE_ESTOP | STATE_ALL_CALIBRATED | STATE_PVT_STARVED);
-        if fb.iter().any(|f| f.estop) {
-            flags |= STATE_ESTOP;
-        }
-        if self.offsets.iter().all(Option::is_some) {
-            flags |= STATE_ALL_CALIBRATED;
-        }
-        if self.starved {
-            flags |= STATE_PVT_STARVED;
-        }
-        s.flags = flags;
-        s.pvt_queued = self.stream.queued() as u32;
-        let torque_mode = matches!(self.mode, Mode::Release | Mode::TorqueControl);
+        let mode = self.mode();
+        let v = &mut self.view;
+        v.cycle = self.cycle;
+        v.mode = mode;
+        v.estop = fb.iter().any(|f| f.estop);
+        v.all_calibrated = self.offsets.iter().all(Option::is_some);
+        v.pvt_starved = matches!(self.state, State::Pvt { starved: true, .. });
+        v.pvt_queued = u32::try_from(self.stream.queued()).unwrap_or(u32::MAX);
         let level = self.i2t.level();
         let derated = self.i2t.derated();
         for (i, f) in fb.iter().enumerate() {
-            let v = f.velocity_rad_s;
-            let a = (v - self.prev_velocity[i]) / self.p.period;
-            self.prev_velocity[i] = v;
+            let vel = f.velocity_rad_s;
+            let a = (vel - self.prev_velocity[i]) / self.p.period;
+            self.prev_velocity[i] = vel;
             // A light low-pass: differentiated velocity is noisy.
             self.acceleration[i] += 0.2 * (a - self.acceleration[i]);
-            let (pos, vel, acc, cur) = match self.mode {
+            let (position, velocity, acceleration, current) = match mode {
                 Mode::Pvt => (
                     self.cmd.position[i],
                     self.cmd.velocity[i],
                     self.cmd.acceleration[i],
                     f.current_a,
                 ),
-                _ if torque_mode => (
+                Mode::Release | Mode::TorqueControl => (
                     measured[i],
-                    v,
+                    vel,
                     self.acceleration[i],
                     self.cmd_torque[i] / self.p.torque_per_amp[i],
                 ),
-                _ => (measured[i], v, self.acceleration[i], f.current_a),
+                _ => (measured[i], vel, self.acceleration[i], f.current_a),
             };
-            s.position[i] = pos.to_degrees();
-            s.velocity[i] = vel.to_degrees();
-            s.acceleration[i] = acc.to_degrees();
-            s.current[i] = cur;
-            s.measured_position[i] = measured[i].to_degrees();
-            s.commanded_position[i] = self.cmd.position[i].to_degrees();
-            s.following_error[i] = (self.cmd_hist[1][i] - measured[i]).to_degrees();
-            s.i2t[i] = level[i];
-            let mut af = 0;
-            if f.online {
-                af |= AXIS_ONLINE;
-            }
-            if f.enabled {
-                af |= AXIS_ENABLED;
-            }
-            if f.state.is_fault() {
-                af |= AXIS_FAULT;
-            }
-            if self.offsets[i].is_some() {
-                af |= AXIS_CALIBRATED;
-            }
-            if derated[i] {
-                af |= AXIS_I2T_DERATED;
-            }
-            s.axis_flags[i] = af;
+            v.axes[i] = AxisView {
+                position,
+                velocity,
+                acceleration,
+                current,
+                measured_position: measured[i],
+                commanded_position: self.cmd.position[i],
+                following_error: self.cmd_hist[1][i] - measured[i],
+                i2t: level[i],
+                online: f.online,
+                enabled: f.enabled,
+                fault: f.state.is_fault(),
+                calibrated: self.offsets[i].is_some(),
+                derated: derated[i],
+            };
         }
     }
 }

@@ -2,13 +2,16 @@
 //!
 //! Runs inside the cycle.
 
-use super::{Controller, FRICTION_COMPENSATION, RELEASE_DAMPING, Waiting};
-use crate::calibration::{AxisCalibration, AxisInput, AxisSettings, Outcome};
+use super::Controller;
+use super::state::{CalPhase, Caller, Moving, PvtMotion, State, Stopping};
+use super::{FRICTION_COMPENSATION, RELEASE_DAMPING};
+use crate::calibration::{AxisCalibration, AxisInput, Outcome};
 use crate::canopen::DriveRequest;
 use crate::pvt::StreamState;
 use crate::trajectory::{JointSample, MovePlan, StopPlan};
 use mcm_shared::NUM_AXES;
-use mcm_shared::mode::{Mode, RejectCode, ReplyStatus};
+use mcm_shared::command::Axis;
+use mcm_shared::reply::{Done, Reason};
 
 /// Deceleration of a stop after a safety trip, as a multiple of each axis's maximum
 /// acceleration. The braking-distance check assumes only `safety.braking_efficiency` (0.8) of
@@ -20,66 +23,30 @@ pub const QUICK_STOP_FACTOR: f64 = 5.0;
 /// Velocity factor of the move back to zero after calibration.
 const RETURN_VELOCITY_FACTOR: f64 = 0.5;
 
-/// What the axes do.
-// The calibration variant is large; boxing it would allocate inside the cycle.
-#[allow(clippy::large_enum_variant)]
-#[derive(Debug, Clone, Copy)]
-pub enum Motion {
-    /// Keep the commanded position.
-    Hold,
-    /// A planned move (`move_axis`, `move_all`, the return after calibration); `t` since start.
-    Move { plan: MovePlan, t: f64 },
-    /// A controlled stop, then hold.
-    Stop { plan: StopPlan, t: f64 },
-    /// Follow the PVT stream.
-    Stream,
-    /// Calibration searches (raw frame, per axis; `None`: the axis holds or is done);
-    /// `selected` has bit `i` set for every axis this calibration covers.
-    Calibrate {
-        axes: [Option<AxisCalibration>; NUM_AXES],
-        selected: u8,
-    },
-    /// Gravity and friction compensation (RELEASE).
-    Release,
-    /// External torques (TORQUE_CONTROL).
-    Torque {
-        torques: [f64; NUM_AXES],
-        gravity: bool,
-        /// Controller time by which the next `set_torques` must arrive (`None`: no timeout).
-        deadline_ns: Option<u64>,
-        timeout_ns: Option<u64>,
-    },
-}
-
-impl Motion {
-    /// Seconds until a planned motion ends (0 when none runs).
-    pub fn remaining(&self) -> f64 {
-        match self {
-            Motion::Move { plan, t } => (plan.duration() - t).max(0.0),
-            Motion::Stop { plan, t } => (plan.duration() - t).max(0.0),
-            _ => 0.0,
-        }
-    }
-}
-
 impl Controller {
-    /// Stop whatever moves, with a controlled stop at each axis's maximum deceleration, from
-    /// the commanded state (position modes) or from the measured state (torque modes).
-    pub(super) fn stop_motion(&mut self) {
-        self.stop(false);
+    /// A controlled stop of whatever moves, at each axis's maximum deceleration, from the
+    /// commanded state (position modes) or from the measured state (torque modes and
+    /// calibration searches); `None` when already at rest. The caller sets the state.
+    pub(super) fn stop_motion(&mut self) -> Option<Stopping> {
+        self.stop(false)
     }
 
-    /// Stop after a safety trip: from the measured state, whatever the mode (the command may
-    /// be what went wrong), at [`QUICK_STOP_FACTOR`] times the maximum deceleration.
-    pub(super) fn quick_stop(&mut self) {
-        self.stop(true);
+    /// The stop after a safety trip: from the measured state, whatever the mode (the command
+    /// may be what went wrong), at [`QUICK_STOP_FACTOR`] times the maximum deceleration.
+    pub(super) fn quick_stop(&mut self) -> Option<Stopping> {
+        self.stop(true)
     }
 
-    fn stop(&mut self, quick: bool) {
+    fn stop(&mut self, quick: bool) -> Option<Stopping> {
         let measured = quick
             || matches!(
-                self.motion,
-                Motion::Release | Motion::Torque { .. } | Motion::Calibrate { .. }
+                self.state,
+                State::Release
+                    | State::Torque { .. }
+                    | State::Calibration {
+                        phase: CalPhase::Search { .. },
+                        ..
+                    }
             );
         let from = if measured {
             JointSample {
@@ -95,98 +62,75 @@ impl Controller {
             core::array::from_fn(|i| factor * self.p.limits[i].acceleration);
         let plan = StopPlan::plan(from.position, from.velocity, decel);
         self.cmd = from;
-        self.motion = if plan.duration() > 0.0 {
-            Motion::Stop { plan, t: 0.0 }
-        } else {
-            Motion::Hold
-        };
         self.current_limit = self.p.max_current;
+        (plan.duration() > 0.0).then_some(Stopping { plan, t: 0.0 })
     }
 
-    /// Start the calibration searches of the axes that have settings.
-    pub(super) fn start_calibration(
-        &mut self,
-        waiting: Waiting,
-        settings: [Option<AxisSettings>; NUM_AXES],
-    ) {
-        let fb = *self.master.feedback();
-        let mut axes = [None; NUM_AXES];
-        let mut selected = 0u8;
-        for (i, s) in settings.iter().enumerate() {
-            if let Some(s) = s {
-                selected |= 1 << i;
-                self.offsets[i] = None;
-                axes[i] = Some(AxisCalibration::start(
-                    *s,
-                    AxisInput {
-                        position: fb[i].position_rad,
-                        current: fb[i].current_a,
-                        light_barrier: fb[i].light_barrier,
-                    },
-                ));
-            }
+    /// Advance a stop by `dt`; `None` once it ended (the axes at rest where it ended).
+    fn advance_stop(&mut self, stop: Option<Stopping>, dt: f64) -> Option<Stopping> {
+        let Stopping { plan, t } = stop?;
+        let t = t + dt;
+        self.cmd = plan.sample(t);
+        if t >= plan.duration() {
+            self.cmd.velocity = [0.0; NUM_AXES];
+            self.cmd.acceleration = [0.0; NUM_AXES];
+            None
+        } else {
+            Some(Stopping { plan, t })
         }
-        self.hold_here();
-        self.mode = Mode::Calibration;
-        self.calibrating = Some(waiting);
-        self.motion = Motion::Calibrate { axes, selected };
+    }
+
+    /// Advance a move by `dt`; `None` once it arrived (the reference at its end).
+    fn advance_move(&mut self, m: Moving, dt: f64) -> Option<Moving> {
+        let t = m.t + dt;
+        self.cmd = m.plan.sample(t);
+        if t >= m.plan.duration() {
+            self.cmd = m.plan.sample(m.plan.duration());
+            None
+        } else {
+            Some(Moving { plan: m.plan, t })
+        }
     }
 
     /// Advance the motion by one period and set the drive requests.
     pub(super) fn advance_motion(&mut self) {
         let dt = self.p.period;
         self.current_limit = self.p.max_current;
-        match self.motion {
-            Motion::Hold => {}
-            Motion::Move { plan, t } => {
-                let t = t + dt;
-                self.cmd = plan.sample(t);
-                self.motion = if t >= plan.duration() {
-                    self.cmd = plan.sample(plan.duration());
-                    if self.mode == Mode::Calibration {
-                        self.finish_calibration();
+        match self.state {
+            State::Off | State::Enabling { .. } => {}
+            State::Hold { stop } => {
+                let stop = self.advance_stop(stop, dt);
+                self.state = State::Hold { stop };
+            }
+            State::Error { stop } => {
+                let stop = self.advance_stop(stop, dt);
+                self.state = State::Error { stop };
+            }
+            State::Pvt { motion, starved } => self.advance_pvt(motion, starved, dt),
+            State::Calibration {
+                caller,
+                phase: CalPhase::Search { axes, selected },
+            } => self.advance_calibration(caller, axes, selected, dt),
+            State::Calibration {
+                caller,
+                phase: CalPhase::Return(m),
+            } => match self.advance_move(m, dt) {
+                Some(m) => {
+                    self.state = State::Calibration {
+                        caller,
+                        phase: CalPhase::Return(m),
                     }
-                    Motion::Hold
-                } else {
-                    Motion::Move { plan, t }
-                };
-            }
-            Motion::Stop { plan, t } => {
-                let t = t + dt;
-                self.cmd = plan.sample(t);
-                self.motion = if t >= plan.duration() {
-                    self.cmd.velocity = [0.0; NUM_AXES];
-                    self.cmd.acceleration = [0.0; NUM_AXES];
-                    Motion::Hold
-                } else {
-                    Motion::Stop { plan, t }
-                };
-            }
-            Motion::Stream => match self.stream.advance(dt) {
-                (StreamState::Running, s) => self.cmd = s,
-                (StreamState::Finished(at), _) => {
-                    self.cmd = JointSample {
-                        position: at,
-                        ..JointSample::default()
-                    };
-                    self.motion = Motion::Hold;
                 }
-                (StreamState::Starved(at), _) => {
-                    self.starved = true;
-                    self.cmd = at;
-                    self.stop_motion();
-                }
-                (StreamState::Idle, _) => self.motion = Motion::Hold,
+                None => self.finish_calibration(caller),
             },
-            Motion::Calibrate { axes, selected } => self.advance_calibration(axes, selected, dt),
-            Motion::Release => {
+            State::Release => {
                 let qd = self.measured_velocity();
                 let damping: [f64; NUM_AXES] =
                     core::array::from_fn(|i| -RELEASE_DAMPING * self.p.viscous[i] * qd[i]);
                 self.compensate(true, &damping);
                 return;
             }
-            Motion::Torque {
+            State::Torque {
                 torques,
                 gravity,
                 deadline_ns,
@@ -194,8 +138,9 @@ impl Controller {
             } => {
                 if deadline_ns.is_some_and(|d| self.now_ns > d) {
                     // set_torques stopped arriving: fall back to HOLD.
-                    self.stop_motion();
-                    self.mode = Mode::Hold;
+                    self.state = State::Hold {
+                        stop: self.stop_motion(),
+                    };
                 } else {
                     self.compensate(gravity, &torques);
                     return;
@@ -205,17 +150,49 @@ impl Controller {
         self.position_requests();
     }
 
+    fn advance_pvt(&mut self, motion: PvtMotion, mut starved: bool, dt: f64) {
+        let motion = match motion {
+            PvtMotion::Hold => PvtMotion::Hold,
+            PvtMotion::Move(m) => self
+                .advance_move(m, dt)
+                .map_or(PvtMotion::Hold, PvtMotion::Move),
+            PvtMotion::Stop(s) => self
+                .advance_stop(Some(s), dt)
+                .map_or(PvtMotion::Hold, PvtMotion::Stop),
+            PvtMotion::Stream => match self.stream.advance(dt) {
+                (StreamState::Running, s) => {
+                    self.cmd = s;
+                    PvtMotion::Stream
+                }
+                (StreamState::Finished(at), _) => {
+                    self.cmd = JointSample {
+                        position: at,
+                        ..JointSample::default()
+                    };
+                    PvtMotion::Hold
+                }
+                (StreamState::Starved(at), _) => {
+                    starved = true;
+                    self.cmd = at;
+                    self.stop_motion().map_or(PvtMotion::Hold, PvtMotion::Stop)
+                }
+                (StreamState::Idle, _) => PvtMotion::Hold,
+            },
+        };
+        self.state = State::Pvt { motion, starved };
+    }
+
     fn position_requests(&mut self) {
+        let off = matches!(self.state, State::Off);
         for i in 0..NUM_AXES {
             let raw = self.cmd.position[i] + self.offsets[i].unwrap_or(0.0);
-            self.requests[i] = match self.mode {
-                _ if self.enabling.is_some() => DriveRequest::Position { position_rad: raw },
-                Mode::Off => DriveRequest::Disable,
-                Mode::Error if !self.master.feedback()[i].enabled => DriveRequest::Disable,
+            self.requests[i] = match self.state {
+                State::Off => DriveRequest::Disable,
+                State::Error { .. } if !self.master.feedback()[i].enabled => DriveRequest::Disable,
                 _ => DriveRequest::Position { position_rad: raw },
             };
         }
-        if self.mode == Mode::Off && self.enabling.is_none() {
+        if off {
             self.cmd = JointSample {
                 position: self.measured(),
                 ..JointSample::default()
@@ -252,6 +229,7 @@ impl Controller {
 
     fn advance_calibration(
         &mut self,
+        caller: Caller,
         mut axes: [Option<AxisCalibration>; NUM_AXES],
         selected: u8,
         dt: f64,
@@ -283,30 +261,26 @@ impl Controller {
                     self.cmd.position[i] = cal.target() - offset;
                     *slot = None;
                 }
-                Outcome::Failed { code, searched } => {
-                    self.motion = Motion::Hold;
-                    self.mode = Mode::Error;
-                    if let Some(w) = self.calibrating.take() {
-                        self.reply(
-                            w,
-                            ReplyStatus::Failed,
-                            RejectCode::CalibrationFailed,
-                            i as u32 + 1,
-                            &[f64::from(code), searched.to_degrees()],
-                        );
-                    }
-                    self.trip(
-                        RejectCode::CalibrationFailed,
-                        i,
-                        [f64::from(code), searched.to_degrees(), 0.0, 0.0],
-                    );
+                Outcome::Failed { cause } => {
+                    let reason = Reason::CalibrationFailed {
+                        axis: Axis::ALL[i],
+                        cause,
+                    };
+                    // ERROR without a stop (the searches are slow): the caller hears of the
+                    // failure, and the trip records it.
+                    self.state = State::Error { stop: None };
+                    self.fail(caller, reason);
+                    self.trip(reason);
                     self.hold_here();
                     return;
                 }
             }
         }
         if running {
-            self.motion = Motion::Calibrate { axes, selected };
+            self.state = State::Calibration {
+                caller,
+                phase: CalPhase::Search { axes, selected },
+            };
             return;
         }
         // Every axis found its zero: move the axes of this calibration back to zero (the
@@ -320,19 +294,19 @@ impl Controller {
             }
         });
         match MovePlan::plan(start, target, &self.p.limits, RETURN_VELOCITY_FACTOR) {
-            Ok(plan) => self.motion = Motion::Move { plan, t: 0.0 },
-            Err(_) => {
-                self.motion = Motion::Hold;
-                self.finish_calibration();
+            Ok(plan) => {
+                self.state = State::Calibration {
+                    caller,
+                    phase: CalPhase::Return(Moving { plan, t: 0.0 }),
+                }
             }
+            Err(_) => self.finish_calibration(caller),
         }
     }
 
     /// Calibration done: HOLD, and the reply.
-    fn finish_calibration(&mut self) {
-        self.mode = Mode::Hold;
-        if let Some(w) = self.calibrating.take() {
-            self.reply(w, ReplyStatus::Ok, RejectCode::None, 0, &[]);
-        }
+    fn finish_calibration(&mut self, caller: Caller) {
+        self.state = State::Hold { stop: None };
+        self.done(caller, Done::Ack);
     }
 }

@@ -3,9 +3,14 @@
 //! the simulator's edge as the runner wires it in ([`SimCycle`]).
 
 use crate::sim_edge::SimCycle;
+use mcm_shared::command::{
+    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques,
+    SimCommand, TorqueControl, Which,
+};
 use mcm_shared::config::RobotConfig;
-use mcm_shared::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
-use mcm_shared::sample::{CommandSample, Reply};
+use mcm_shared::mode::Mode;
+use mcm_shared::reply::{Done, Outcome, Reason, Response};
+use mcm_shared::sample::CommandSample;
 use mcm_sim::SimBus;
 
 pub(crate) struct Robot {
@@ -61,64 +66,92 @@ impl Robot {
         self.cycle.controller().mode()
     }
 
-    /// Send one command and run until its reply arrives (at most `max_cycles`).
-    pub fn command(
-        &mut self,
-        kind: CommandKind,
-        args: &[f64],
-        flags: u32,
-        max_cycles: u64,
-    ) -> Reply {
-        let mut s = CommandSample {
-            client_id: 42,
-            request_id: self.next_request,
-            kind: kind.to_wire(),
-            flags,
-            ..CommandSample::default()
-        };
-        s.args[..args.len()].copy_from_slice(args);
+    /// Send one request and run until its reply arrives (at most `max_cycles`).
+    pub fn command(&mut self, req: Request, max_cycles: u64) -> Response {
+        let mut s = req.encode();
+        s.client_id = 42;
+        s.request_id = self.next_request;
         self.next_request += 1;
         let id = s.request_id;
-        let head = self.cycle.controller().state().reply_head;
+        let head = self.cycle.state().reply_head;
         self.step(&[s]);
         for _ in 0..max_cycles {
-            let st = self.cycle.controller().state();
+            let st = self.cycle.state();
             for n in head + 1..=st.reply_head {
                 if let Some(r) = st.reply(n)
                     && r.request_id == id
                 {
-                    return *r;
+                    return Response::decode(r).expect("a well-formed reply");
                 }
             }
             self.step(&[]);
         }
-        panic!("no reply to {kind:?} within {max_cycles} cycles");
+        panic!("no reply to {req:?} within {max_cycles} cycles");
     }
 
-    pub fn ok(&mut self, kind: CommandKind, args: &[f64], max_cycles: u64) -> Reply {
-        let r = self.command(kind, args, 0, max_cycles);
-        assert_eq!(
-            r.status,
-            ReplyStatus::Ok.to_wire(),
-            "{kind:?} failed: {r:?}"
-        );
-        r
+    /// Send one request and expect it done; what it answered.
+    pub fn ok(&mut self, req: Request, max_cycles: u64) -> Done {
+        let r = self.command(req, max_cycles);
+        match r.outcome {
+            Outcome::Done(done) => done,
+            other => panic!("{:?} failed: {other:?}", r.kind),
+        }
+    }
+
+    /// Send one request and expect it refused; why.
+    pub fn refused(&mut self, req: Request, max_cycles: u64) -> Reason {
+        let r = self.command(req, max_cycles);
+        match r.outcome {
+            Outcome::Refused(reason) => reason,
+            other => panic!("{:?} was not refused: {other:?}", r.kind),
+        }
     }
 
     /// Measured joint positions [deg], as reported.
     pub fn measured(&self) -> [f64; 6] {
-        self.cycle.controller().state().measured_position
+        self.cycle.state().measured_position
     }
 
     /// The simulation's true joint angles [deg].
     pub fn truth(&self) -> [f64; 6] {
-        self.cycle.controller().state().sim_true_position
+        self.cycle.state().sim_true_position
     }
 
     pub fn calibrate_all(&mut self) {
-        self.ok(CommandKind::Calibrate, &[0.0, 1.0, 1.0], 20_000);
+        let all = Calibrate {
+            which: Which::All,
+            elbow_direction: Direction::Positive,
+            wrist_direction: Direction::Positive,
+            force_mechanical_stop: false,
+        };
+        self.ok(Request::Calibrate(all), 20_000);
         assert_eq!(self.mode(), Mode::Hold);
     }
+}
+
+/// `pvt` with 10 ms between points.
+const PVT: Request = Request::Pvt(Pvt { dt_s: 0.01 });
+
+fn torque_control(timeout_s: f64) -> Request {
+    Request::TorqueControl(TorqueControl {
+        timeout_s: Some(timeout_s),
+        gravity_compensation: true,
+    })
+}
+
+fn move_all(targets_deg: [f64; 6]) -> Request {
+    Request::MoveAll(MoveAll {
+        targets_deg,
+        velocity_factor: 0.5,
+    })
+}
+
+fn move_axis(axis: u8, target_deg: f64) -> Request {
+    Request::MoveAxis(MoveAxis {
+        axis: Axis::new(axis).unwrap(),
+        target_deg,
+        velocity_factor: 0.5,
+    })
 }
 
 fn max_diff(a: &[f64; 6], b: &[f64; 6]) -> f64 {
@@ -131,7 +164,7 @@ fn max_diff(a: &[f64; 6], b: &[f64; 6]) -> f64 {
 #[test]
 fn hold_keeps_the_arm_still() {
     let mut r = Robot::new();
-    r.ok(CommandKind::Hold, &[], 400);
+    r.ok(Request::Hold, 400);
     assert_eq!(r.mode(), Mode::Hold);
     let before = r.truth();
     r.run(600);
@@ -160,7 +193,7 @@ fn calibration_finds_the_true_angles_and_returns_to_zero() {
         r.truth()
     );
     assert_ne!(
-        r.cycle.controller().state().flags & mcm_shared::sample::STATE_ALL_CALIBRATED,
+        r.cycle.state().flags & mcm_shared::sample::STATE_ALL_CALIBRATED,
         0
     );
 }
@@ -168,40 +201,28 @@ fn calibration_finds_the_true_angles_and_returns_to_zero() {
 #[test]
 fn motion_modes_are_refused_until_calibrated() {
     let mut r = Robot::new();
-    r.ok(CommandKind::Hold, &[], 400);
-    for kind in [CommandKind::Pvt, CommandKind::Release] {
-        let rep = r.command(kind, &[0.01], 0, 10);
-        assert_eq!(
-            rep.code,
-            RejectCode::NotCalibrated.to_wire(),
-            "{kind:?}: {rep:?}"
-        );
-        assert_eq!(rep.axis, 1);
+    r.ok(Request::Hold, 400);
+    let axis1 = Reason::NotCalibrated { axis: Axis::ALL[0] };
+    for req in [PVT, Request::Release, torque_control(1.0)] {
+        assert_eq!(r.refused(req, 10), axis1, "{req:?}");
     }
-    let rep = r.command(CommandKind::TorqueControl, &[1.0], 0, 10);
-    assert_eq!(rep.code, RejectCode::NotCalibrated.to_wire());
 }
 
 #[test]
 fn move_all_arrives_on_time_and_on_target() {
     let mut r = Robot::new();
     r.calibrate_all();
-    r.ok(CommandKind::Pvt, &[0.01], 10);
+    r.ok(PVT, 10);
     let target = [20.0, -30.0, 45.0, 60.0, -40.0, 90.0];
-    let mut args = target.to_vec();
-    args.push(0.5);
-    let rep = r.ok(CommandKind::MoveAll, &args, 10);
-    let duration = rep.values[7];
-    assert!(duration > 0.5, "{rep:?}");
+    let Done::MoveAll(plan) = r.ok(move_all(target), 10) else {
+        panic!("move_all answers its plan")
+    };
+    let duration = plan.duration_s;
+    assert!(duration > 0.5, "{plan:?}");
     let start = r.k;
     r.run_until("move done", 4000, |r| {
         max_diff(&r.truth(), &target) < 0.05
-            && r.cycle
-                .controller()
-                .state()
-                .velocity
-                .iter()
-                .all(|v| v.abs() < 1e-9)
+            && r.cycle.state().velocity.iter().all(|v| v.abs() < 1e-9)
     });
     let took = (r.k - start) as f64 * 0.005;
     assert!(
@@ -216,12 +237,12 @@ fn move_all_arrives_on_time_and_on_target() {
 fn move_while_moving_is_busy_and_hold_stops() {
     let mut r = Robot::new();
     r.calibrate_all();
-    r.ok(CommandKind::Pvt, &[0.01], 10);
-    r.ok(CommandKind::MoveAxis, &[1.0, 60.0, 0.5], 10);
+    r.ok(PVT, 10);
+    r.ok(move_axis(1, 60.0), 10);
     r.run(100);
-    let rep = r.command(CommandKind::MoveAxis, &[2.0, 10.0, 0.5], 0, 10);
-    assert_eq!(rep.code, RejectCode::Busy.to_wire(), "{rep:?}");
-    r.ok(CommandKind::Hold, &[], 10);
+    let busy = r.refused(move_axis(2, 10.0), 10);
+    assert!(matches!(busy, Reason::Busy { .. }), "{busy:?}");
+    r.ok(Request::Hold, 10);
     assert_eq!(r.mode(), Mode::Hold);
     r.run(200);
     let a = r.truth();
@@ -235,42 +256,31 @@ fn release_floats_follows_a_push_and_stays() {
     let mut r = Robot::new();
     r.calibrate_all();
     // Move somewhere gravity matters.
-    r.ok(CommandKind::Pvt, &[0.01], 10);
-    r.ok(
-        CommandKind::MoveAll,
-        &[0.0, 45.0, 30.0, 0.0, 30.0, 0.0, 0.5],
-        10,
-    );
+    r.ok(PVT, 10);
+    r.ok(move_all([0.0, 45.0, 30.0, 0.0, 30.0, 0.0]), 10);
     r.run_until("moved", 3000, |r| {
-        r.cycle
-            .controller()
-            .state()
-            .velocity
-            .iter()
-            .all(|v| v.abs() < 1e-9)
-            && r.k > 10
+        r.cycle.state().velocity.iter().all(|v| v.abs() < 1e-9) && r.k > 10
     });
     r.run(50);
-    r.ok(CommandKind::Hold, &[], 10);
-    r.ok(CommandKind::Release, &[], 10);
+    r.ok(Request::Hold, 10);
+    r.ok(Request::Release, 10);
     let a = r.truth();
     r.run(400); // 2 s
     let drift = max_diff(&a, &r.truth()) / 2.0;
     assert!(drift < 0.5, "drift {drift} deg/s: {a:?} -> {:?}", r.truth());
     // A push on axis 1 moves it; after the push it stays.
-    let mut sim = CommandSample {
-        client_id: 1,
-        request_id: 999,
-        kind: CommandKind::Sim.to_wire(),
-        flags: 1 << 5,
-        ..CommandSample::default()
+    let push = |request_id, torques_nm| {
+        let mut s = Request::Sim(SimCommand {
+            external_torques_nm: Some(torques_nm),
+            ..SimCommand::default()
+        })
+        .encode();
+        (s.client_id, s.request_id) = (1, request_id);
+        s
     };
-    sim.args[5] = 5.0;
-    r.step(&[sim]);
+    r.step(&[push(999, [5.0, 0.0, 0.0, 0.0, 0.0, 0.0])]);
     r.run(50);
-    sim.args[5] = 0.0;
-    sim.request_id = 1000;
-    r.step(&[sim]);
+    r.step(&[push(1000, [0.0; 6])]);
     let pushed = r.truth();
     assert!(
         pushed[0] - a[0] > 1.0,
@@ -290,10 +300,15 @@ fn release_floats_follows_a_push_and_stays() {
 fn torque_control_falls_back_to_hold_on_timeout() {
     let mut r = Robot::new();
     r.calibrate_all();
-    r.ok(CommandKind::TorqueControl, &[0.1], 10);
+    r.ok(torque_control(0.1), 10);
     assert_eq!(r.mode(), Mode::TorqueControl);
     for _ in 0..10 {
-        r.ok(CommandKind::SetTorques, &[0.0; 6], 5);
+        r.ok(
+            Request::SetTorques(SetTorques {
+                torques_nm: [0.0; 6],
+            }),
+            5,
+        );
         r.run(5);
     }
     assert_eq!(r.mode(), Mode::TorqueControl);
@@ -305,7 +320,7 @@ fn torque_control_falls_back_to_hold_on_timeout() {
 fn pvt_stream_of_a_sine_tracks_within_a_tenth_of_a_degree() {
     let mut r = Robot::new();
     r.calibrate_all();
-    r.ok(CommandKind::Pvt, &[0.01], 10);
+    r.ok(PVT, 10);
     // 10 deg amplitude, 0.5 Hz on every axis, from rest: p = A (1 - cos(wt)).
     let amp = 10.0;
     let w = core::f64::consts::PI;
@@ -318,35 +333,27 @@ fn pvt_stream_of_a_sine_tracks_within_a_tenth_of_a_degree() {
     let mut cycles = 0;
     while k <= 400 {
         // Four points per sample, as the gateway sends them.
-        let mut s = CommandSample {
-            client_id: 5,
-            request_id: 5000 + k as u64,
-            kind: CommandKind::PvtPoints.to_wire(),
-            flags: 4 | if k % 20 == 17 {
-                mcm_shared::sample::PVT_FLAG_LAST
-            } else {
-                0
-            },
-            ..CommandSample::default()
-        };
-        for j in 0..4 {
+        let points: [PvtPoint; 4] = core::array::from_fn(|j| {
             let (p, v) = point(k + j);
-            for i in 0..6 {
-                s.args[j * 12 + i] = p;
-                s.args[j * 12 + 6 + i] = v;
+            PvtPoint {
+                position_deg: [p; 6],
+                velocity_deg_s: [v; 6],
             }
-        }
+        });
+        let chunk = PvtChunk::new(&points, k % 20 == 17).unwrap();
+        let mut s = Request::PvtPoints(chunk).encode();
+        (s.client_id, s.request_id) = (5, 5000 + k as u64);
         k += 4;
         r.step(&[s]);
         cycles += 1;
         if cycles > 10 {
-            let st = r.cycle.controller().state();
+            let st = r.cycle.state();
             worst = worst.max(max_diff(&st.commanded_position, &st.sim_true_position));
         }
         // Keep the queue fed without running ahead of it too far.
-        while r.cycle.controller().state().pvt_queued > 40 {
+        while r.cycle.state().pvt_queued > 40 {
             r.step(&[]);
-            let st = r.cycle.controller().state();
+            let st = r.cycle.state();
             worst = worst.max(max_diff(&st.commanded_position, &st.sim_true_position));
         }
     }
@@ -356,7 +363,7 @@ fn pvt_stream_of_a_sine_tracks_within_a_tenth_of_a_degree() {
 #[test]
 fn calibration_survives_a_restart_of_the_mcm_but_not_a_power_cycle() {
     use mcm_shared::sample::{AXIS_CALIBRATED, STATE_ALL_CALIBRATED};
-    use mcm_sim::{SimCommand, SimControl};
+    use mcm_sim::SimControl;
     let cfg = RobotConfig::prob2_default();
     let mut r = Robot::new();
     r.calibrate_all();
@@ -384,13 +391,13 @@ fn calibration_survives_a_restart_of_the_mcm_but_not_a_power_cycle() {
         r.cycle.controller().feedback().iter().all(|f| f.online)
     });
     r.run(1);
-    let flags = r.cycle.controller().state().flags;
+    let flags = r.cycle.state().flags;
     assert_ne!(
         flags & STATE_ALL_CALIBRATED,
         0,
         "calibrated after the restart"
     );
-    r.ok(CommandKind::Hold, &[], 400);
+    r.ok(Request::Hold, 400);
     r.run(40);
     let err = max_diff(&r.measured(), &r.truth());
     assert!(
@@ -412,11 +419,39 @@ fn calibration_survives_a_restart_of_the_mcm_but_not_a_power_cycle() {
         r.cycle.controller().feedback().iter().all(|f| f.online)
     });
     r.run(2);
-    let s = r.cycle.controller().state();
+    let s = r.cycle.state();
     assert_eq!(s.flags & STATE_ALL_CALIBRATED, 0);
     assert!(
         s.axis_flags.iter().all(|f| f & AXIS_CALIBRATED == 0),
         "{:?}",
         s.axis_flags
     );
+}
+
+#[test]
+fn an_undecodable_sample_is_refused_naming_the_value_and_t_ns_is_the_virtual_time() {
+    let mut r = Robot::new();
+    // Axis 7 cannot be built as a typed request: a co-located sender's raw sample.
+    let mut bad = move_axis(1, 10.0).encode();
+    bad.args[0] = 7.0;
+    (bad.client_id, bad.request_id) = (9, 77);
+    r.step(&[bad]);
+    let s = r.cycle.state();
+    assert_eq!(
+        s.t_ns,
+        (r.k - 1) * r.period,
+        "the cycle's virtual start time"
+    );
+    let reply = Response::decode(s.reply(s.reply_head).unwrap()).unwrap();
+    assert_eq!((reply.client_id, reply.request_id), (9, 77));
+    assert_eq!(
+        reply.outcome,
+        Outcome::Refused(Reason::OutOfRange {
+            axis: None,
+            value: 7.0,
+            min: 1.0,
+            max: 6.0
+        })
+    );
+    assert_eq!(r.mode(), Mode::Off, "nothing changed");
 }

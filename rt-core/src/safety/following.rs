@@ -6,13 +6,15 @@
 //!
 //! ```
 //! use mcm_rt_core::safety::{check_following_error, SafetyParams};
+//! use mcm_shared::reply::Reason;
 //! let p = SafetyParams::from_config(&mcm_shared::config::RobotConfig::prob2_default());
 //! let cmd = [0.0; 6];
 //! let mut act = [0.0; 6];
 //! act[2] = -2.5f64.to_radians(); // band is 2 deg
 //! let v = check_following_error(&p, &cmd, &act).unwrap_err();
 //! assert_eq!(v.axis, 2);
-//! assert!((v.user_values()[0] - 2.5).abs() < 1e-9);
+//! let Reason::FollowingError { error_deg, band_deg, .. } = v.reason() else { panic!() };
+//! assert!((error_deg - 2.5).abs() < 1e-9 && (band_deg - 2.0).abs() < 1e-9);
 //! ```
 
 use super::{Check, SafetyParams, Violation};

@@ -3,8 +3,8 @@
 //! The checks of the manual ("Safety checks") as pure functions over plain data, evaluated by
 //! the controller every cycle. **Runs inside the cycle**: every check is allocation-free,
 //! lock-free and panic-free; only [`SafetyParams::from_config`] runs outside (once, at start).
-//! SI units throughout (rad, rad/s, rad/s^2, s, A); [`Violation::user_values`] converts the
-//! reported values to the user's degrees for messages.
+//! SI units throughout (rad, rad/s, rad/s^2, s, A); [`Violation::reason`] gives the typed
+//! [`Reason`] the core reports, its figures in the user's degrees.
 //!
 //! | module | check |
 //! | --- | --- |
@@ -50,7 +50,10 @@ pub use limits::{check_position_limits, check_position_limits_returning, check_v
 pub use params::SafetyParams;
 
 use mcm_shared::NUM_AXES;
+use mcm_shared::command::Axis;
 use mcm_shared::mode::{Mode, RejectCode};
+use mcm_shared::reply::Reason;
+use mcm_shared::units::rad_to_deg;
 
 /// Which safety check tripped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -124,13 +127,43 @@ pub struct Violation {
 }
 
 impl Violation {
-    /// `[value, limit]` in the user's units: degrees (deg/s) for angular checks, unchanged
-    /// otherwise. This is what `RejectCode::describe` expects in `values[0..2]`.
-    pub fn user_values(&self) -> [f64; 2] {
-        if self.check.is_angular() {
-            [self.value.to_degrees(), self.limit.to_degrees()]
+    /// The reason reported for this trip: the check, its axis and its figures in the user's
+    /// units (degrees, deg/s; a drive fault's code).
+    pub fn reason(&self) -> Reason {
+        let axis = Axis::ALL[self.axis.min(NUM_AXES - 1)];
+        let (value, limit) = if self.check.is_angular() {
+            (rad_to_deg(self.value), rad_to_deg(self.limit))
         } else {
-            [self.value, self.limit]
+            (self.value, self.limit)
+        };
+        match self.check {
+            Check::PositionLimit => Reason::PositionLimit {
+                axis,
+                position_deg: value,
+                limit_deg: limit,
+            },
+            Check::VelocityLimit => Reason::VelocityLimit {
+                axis,
+                velocity_deg_s: value,
+                limit_deg_s: limit,
+            },
+            Check::BrakingDistance => Reason::BrakingDistance {
+                axis,
+                stop_deg: value,
+                limit_deg: limit,
+            },
+            Check::FollowingError => Reason::FollowingError {
+                axis,
+                error_deg: value,
+                band_deg: limit,
+            },
+            Check::EmergencyStop => Reason::EmergencyStop,
+            Check::DriveDisconnected => Reason::DriveDisconnected { axis },
+            Check::DriveFault => Reason::DriveFault {
+                axis: Some(axis),
+                code: value as u16,
+            },
+            Check::NotCalibrated => Reason::NotCalibrated { axis },
         }
     }
 }
@@ -267,16 +300,30 @@ mod tests {
             v.to_string(),
             "safety check following_error tripped on axis 3: value 0.05 rad, limit 0.03 rad"
         );
-        let [value, limit] = v.user_values();
-        assert!((value - 0.05f64.to_degrees()).abs() < 1e-12);
-        assert!((limit - 0.03f64.to_degrees()).abs() < 1e-12);
+        let Reason::FollowingError {
+            axis,
+            error_deg,
+            band_deg,
+        } = v.reason()
+        else {
+            panic!("{:?}", v.reason())
+        };
+        assert_eq!(axis.number(), 3);
+        assert!((error_deg - 0.05f64.to_degrees()).abs() < 1e-12);
+        assert!((band_deg - 0.03f64.to_degrees()).abs() < 1e-12);
         let f = Violation {
             check: Check::DriveFault,
             axis: 0,
             value: 33088.0,
             limit: 0.0,
         };
-        assert_eq!(f.user_values(), [33088.0, 0.0]);
+        assert_eq!(
+            f.reason(),
+            Reason::DriveFault {
+                axis: Axis::new(1),
+                code: 33088
+            }
+        );
     }
 
     #[test]

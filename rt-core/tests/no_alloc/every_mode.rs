@@ -158,11 +158,7 @@ impl Rig {
         });
         self.cycles += 1;
         let s = *self.client.state.get();
-        assert_eq!(
-            &s,
-            self.edge.controller().state(),
-            "the published state is this cycle's"
-        );
+        assert_eq!(&s, self.edge.state(), "the published state is this cycle's");
         self.modes[s.mode as usize] = true;
         s
     }

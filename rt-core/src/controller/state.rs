@@ -1,0 +1,184 @@
+//! The controller's operating state: one enum whose variants carry the data of their mode, so
+//! that a combination the modes forbid (a calibration reply waiting in PVT, a stream starving
+//! in HOLD, a torque deadline in RELEASE) cannot be represented. The wire mode
+//! ([`mcm_shared::mode::Mode`]) is derived from it.
+//!
+//! Runs inside the cycle: plain `Copy` data, no allocation.
+
+use crate::calibration::{AxisCalibration, AxisSettings};
+use crate::trajectory::{MovePlan, StopPlan};
+use mcm_shared::NUM_AXES;
+use mcm_shared::mode::{CommandKind, Mode};
+
+/// Who asked: the ids and kind a reply (now or later) is addressed with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Caller {
+    pub client_id: u64,
+    pub request_id: u64,
+    pub kind: CommandKind,
+}
+
+/// A planned move in progress (`move_axis`, `move_all`, the return after calibration).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Moving {
+    pub plan: MovePlan,
+    /// Time since start [s].
+    pub t: f64,
+}
+
+/// A controlled stop in progress; the axes hold where it ends.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Stopping {
+    pub plan: StopPlan,
+    /// Time since start [s].
+    pub t: f64,
+}
+
+/// What the axes do in PVT mode.
+// A stop plan is large; boxing it would allocate inside the cycle.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum PvtMotion {
+    /// Keep the commanded position.
+    Hold,
+    Move(Moving),
+    Stop(Stopping),
+    /// Follow the PVT stream.
+    Stream,
+}
+
+/// What a calibration is doing.
+// The searches are large; boxing them would allocate inside the cycle.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum CalPhase {
+    /// Searches in the raw frame, per axis (`None`: the axis holds or is done); `selected` has
+    /// bit `i` set for every axis this calibration covers.
+    Search {
+        axes: [Option<AxisCalibration>; NUM_AXES],
+        selected: u8,
+    },
+    /// Every axis found its zero: the move of the selected axes back to zero.
+    Return(Moving),
+}
+
+/// The mode an enabling that fails falls back to (the wire mode while enabling).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Before {
+    Off,
+    Error,
+}
+
+/// What follows once every drive is enabled.
+// The calibration settings are large; boxing them would allocate inside the cycle.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum After {
+    /// `hold`: HOLD, and its reply.
+    Hold,
+    /// `calibrate` from OFF: the calibration with these per-axis settings.
+    Calibrate([Option<AxisSettings>; NUM_AXES]),
+}
+
+/// The controller's mode and the data only that mode has.
+// The calibration variant is large; boxing it would allocate inside the cycle.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum State {
+    /// Drives disabled; the commanded position follows the measured one.
+    Off,
+    /// Enabling every drive (holding where it is) before HOLD or a calibration.
+    Enabling {
+        caller: Caller,
+        /// Controller time by which every drive must be enabled.
+        deadline_ns: u64,
+        from: Before,
+        then: After,
+    },
+    Hold {
+        stop: Option<Stopping>,
+    },
+    Calibration {
+        caller: Caller,
+        phase: CalPhase,
+    },
+    Pvt {
+        motion: PvtMotion,
+        /// The stream ran dry while moving (cleared by the next move, batch or PVT entry).
+        starved: bool,
+    },
+    /// Gravity and friction compensation.
+    Release,
+    /// External torques.
+    Torque {
+        torques: [f64; NUM_AXES],
+        gravity: bool,
+        /// Controller time by which the next `set_torques` must arrive (`None`: no timeout).
+        deadline_ns: Option<u64>,
+        timeout_ns: Option<u64>,
+    },
+    /// After a safety trip: the quick stop, then holding (drives that dropped out stay off).
+    Error {
+        stop: Option<Stopping>,
+    },
+}
+
+impl State {
+    /// The wire mode: an enabling reports the mode it started from.
+    pub fn mode(&self) -> Mode {
+        match self {
+            State::Off
+            | State::Enabling {
+                from: Before::Off, ..
+            } => Mode::Off,
+            State::Enabling {
+                from: Before::Error,
+                ..
+            }
+            | State::Error { .. } => Mode::Error,
+            State::Hold { .. } => Mode::Hold,
+            State::Calibration { .. } => Mode::Calibration,
+            State::Pvt { .. } => Mode::Pvt,
+            State::Release => Mode::Release,
+            State::Torque { .. } => Mode::TorqueControl,
+        }
+    }
+
+    /// A planned move or controlled stop runs (validated when planned; a new one must wait).
+    pub fn planned_motion(&self) -> bool {
+        self.remaining().is_some()
+    }
+
+    /// Seconds until the planned move or stop ends; `None` when none runs.
+    pub fn remaining(&self) -> Option<f64> {
+        let stop = |s: &Stopping| (s.plan.duration() - s.t).max(0.0);
+        let mv = |m: &Moving| (m.plan.duration() - m.t).max(0.0);
+        match self {
+            State::Hold { stop: Some(s) }
+            | State::Error { stop: Some(s) }
+            | State::Pvt {
+                motion: PvtMotion::Stop(s),
+                ..
+            } => Some(stop(s)),
+            State::Pvt {
+                motion: PvtMotion::Move(m),
+                ..
+            }
+            | State::Calibration {
+                phase: CalPhase::Return(m),
+                ..
+            } => Some(mv(m)),
+            _ => None,
+        }
+    }
+}
+
+impl Before {
+    /// The state an enabling that failed returns to.
+    pub fn state(self) -> State {
+        match self {
+            Before::Off => State::Off,
+            Before::Error => State::Error { stop: None },
+        }
+    }
+}

@@ -1,0 +1,148 @@
+//! Drive events from the CANopen master and the per-cycle safety checks, and what a trip does:
+//! ERROR, the quick stop, the failure of a calibration or enabling under way, and one error
+//! record per incident.
+//!
+//! Runs inside the cycle.
+
+use super::Controller;
+use super::state::State;
+use crate::canopen::MasterEvent;
+use crate::safety::{self, ActiveChecks};
+use mcm_shared::command::Axis;
+use mcm_shared::mode::Mode;
+use mcm_shared::reply::{Reason, SafetyError};
+
+impl Controller {
+    pub(super) fn on_event(&mut self, ev: MasterEvent) {
+        match ev {
+            MasterEvent::Lost { axis, .. }
+            | MasterEvent::Missing { axis, .. }
+            | MasterEvent::ConfigFailed { axis, .. } => {
+                self.lost[axis] = true;
+                self.trip(Reason::DriveDisconnected {
+                    axis: Axis::ALL[axis],
+                });
+            }
+            MasterEvent::Recovered { axis, .. } | MasterEvent::Configured { axis } => {
+                self.lost[axis] = false;
+            }
+            MasterEvent::Emcy { axis, emcy } => {
+                if emcy.code != 0 {
+                    self.drive_fault(axis, emcy.code);
+                }
+            }
+            MasterEvent::Fault { axis, code } => self.drive_fault(axis, code),
+            MasterEvent::Booted { axis } => {
+                // Calibration is gone unless the drive still holds it (below): a drive that
+                // boots after a power cycle lost its encoder reference.
+                self.offsets[axis] = None;
+                if self.mode() != Mode::Off {
+                    self.trip(Reason::DriveDisconnected {
+                        axis: Axis::ALL[axis],
+                    });
+                }
+            }
+            // Comes after `Booted` (and `Configured`) of the same boot: the calibration the
+            // drive kept (0x2100) while the MCM restarted.
+            MasterEvent::Calibration {
+                axis,
+                offset_counts,
+            } => {
+                self.offsets[axis] =
+                    offset_counts.map(|c| f64::from(c) / self.p.counts_per_rad[axis]);
+            }
+            // Storing failed: the calibration holds until the MCM restarts (nothing to stop).
+            MasterEvent::CalibrationStored { .. } | MasterEvent::CalibrationStoreFailed { .. } => {}
+        }
+    }
+
+    /// A drive reports a fault: the emergency stop (which cuts the drives' power) when its
+    /// input is active, a drive fault otherwise.
+    fn drive_fault(&mut self, axis: usize, code: u16) {
+        if self.master.feedback().iter().any(|f| f.estop) {
+            self.estop_seen = true;
+            self.trip(Reason::EmergencyStop);
+        } else {
+            self.trip(Reason::DriveFault {
+                axis: Some(Axis::ALL[axis]),
+                code,
+            });
+        }
+    }
+
+    /// The checks of the manual's "Safety checks" evaluated every cycle (drive connections
+    /// come as master events).
+    pub(super) fn check_safety(&mut self) {
+        let estop = self.master.feedback().iter().any(|f| f.estop);
+        if estop && !self.estop_seen {
+            self.estop_seen = true;
+            self.trip(Reason::EmergencyStop);
+        }
+        self.estop_seen = estop;
+        let mode = self.mode();
+        if matches!(self.state, State::Enabling { .. })
+            || !matches!(
+                mode,
+                Mode::Hold | Mode::Pvt | Mode::Release | Mode::TorqueControl
+            )
+        {
+            return;
+        }
+        let active = ActiveChecks::for_mode(mode);
+        let q = self.measured();
+        let qd = self.measured_velocity();
+        let mut result = Ok(());
+        if active.limits {
+            result = result
+                .and_then(|()| safety::check_position_limits_returning(&self.safety, &q, &qd))
+                .and_then(|()| safety::check_velocity_limits(&self.safety, &qd));
+        }
+        // A planned move or stop is validated when planned: it ends inside the reachable range
+        // at the deceleration it plans with; the braking check watches everything else.
+        if active.braking && !self.state.planned_motion() {
+            result = result.and_then(|()| safety::check_braking(&self.safety, &q, &qd));
+        }
+        if active.following {
+            result = result
+                .and_then(|()| safety::check_following_error(&self.safety, &self.cmd_hist[1], &q));
+        }
+        if let Err(v) = result {
+            self.trip(v.reason());
+        }
+    }
+
+    /// A safety check or drive error: mode ERROR (from any mode but OFF, where nothing moves
+    /// and the error is only reported), axes stopped, a calibration or enabling under way
+    /// failed, and one spontaneous error record per incident (until a `hold` succeeds).
+    pub(super) fn trip(&mut self, reason: Reason) {
+        self.state = match self.state {
+            State::Off => State::Off,
+            State::Enabling { caller, from, .. } => {
+                self.fail(caller, reason);
+                from.state()
+            }
+            State::Error { stop } => State::Error { stop },
+            State::Calibration { caller, .. } => {
+                self.fail(caller, reason);
+                State::Error {
+                    stop: self.quick_stop(),
+                }
+            }
+            State::Hold { .. } | State::Pvt { .. } | State::Release | State::Torque { .. } => {
+                State::Error {
+                    stop: self.quick_stop(),
+                }
+            }
+        };
+        if self.incident_reported {
+            return;
+        }
+        self.incident_reported = true;
+        self.view.last_error = Some(SafetyError {
+            seq: self.view.last_error.map_or(0, |e| e.seq) + 1,
+            cycle: self.cycle,
+            unix_ns: 0,
+            reason,
+        });
+    }
+}
