@@ -185,6 +185,12 @@ fn real_telnet_in_tmux_shows_help_status_and_hold() {
         .filter(|p| find_program(p).is_none())
         .collect();
     if !missing.is_empty() {
+        // On CI the tools are installed by .ci/run: missing there is a failure, not a skip.
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "{} not found in PATH although CI is set: .ci/run installs telnet and tmux",
+            missing.join(" and ")
+        );
         // Straight to stderr, past the test harness's output capture, so that it is seen.
         let _ = writeln!(
             std::io::stderr(),
