@@ -22,13 +22,11 @@ use crate::canopen::{FrameBuf, Master, MasterSetupError};
 use crate::controller::{Controller, CycleView};
 use mcm_bus::{Bus, Frame};
 use mcm_shared::config::RobotConfig;
-use mcm_shared::sample::{CommandSample, REPLY_RING, StateSample};
+use mcm_shared::sample::{CommandSample, StateSample};
 
 /// Frames read per cycle at most; more stay queued for the next cycle.
 pub const RX_PER_CYCLE: usize = 128;
-/// Commands served per cycle at most (each may produce a reply; the reply ring must hold a
-/// whole cycle's replies).
-pub const COMMANDS_PER_CYCLE: usize = REPLY_RING / 2;
+pub use mcm_shared::service::COMMANDS_PER_CYCLE;
 
 /// The controller and its bus.
 pub struct Cycle<B: Bus> {

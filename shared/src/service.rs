@@ -15,9 +15,13 @@ use core::fmt;
 pub const STATE_KEY: u32 = 0;
 /// Most publishers the command service accepts (gateway plus co-located controllers).
 pub const COMMAND_MAX_PUBLISHERS: usize = 8;
-/// Commands buffered for the real-time core between two cycles. The core serves at most
-/// [`crate::sample::REPLY_RING`] commands per cycle; publishers must keep fewer than this many
-/// unanswered (the gateway does).
+/// Commands the real-time core serves per cycle at most (the rest wait for the next cycle).
+/// Each produces a reply (a command may also end an earlier one, e.g. `hold` answers an aborted
+/// calibration too), and the state's reply ring keeps the last [`crate::sample::REPLY_RING`]:
+/// a reader must look at every cycle's state to be sure to see every reply.
+pub const COMMANDS_PER_CYCLE: usize = crate::sample::REPLY_RING / 2;
+/// Commands buffered for the real-time core between two cycles. Publishers must keep fewer
+/// than this many unanswered (the gateway keeps at most half of it in flight).
 pub const COMMAND_BUFFER: usize = 64;
 /// Most readers of the state blackboard.
 pub const STATE_MAX_READERS: usize = 16;
