@@ -90,15 +90,15 @@ fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Op
             result::status(state, false)
         }
         (Command::Info, Done::Info(info)) => {
-            result::initialization(&ctx.cfg, info, state.flags & STATE_SIMULATED != 0)
+            crate::cmd::info::render(&ctx.cfg, info, state.flags & STATE_SIMULATED != 0)
         }
-        (Command::MoveAll(_), Done::MoveAll(plan)) => result::move_all(plan),
+        (Command::MoveAll(_), Done::MoveAll(plan)) => crate::cmd::move_all::render(plan),
         (Command::Info | Command::MoveAll(_), other) => result::error(format!(
             "{}: the real-time core's answer carries no figures ({other:?}); mcm-rt and the \
              gateway are from different MCM versions: rebuild both from the same version",
             cmd.name()
         )),
-        (Command::Sim(_), _) => result::sim(state),
+        (Command::Sim(_), _) => crate::cmd::sim::render(state),
         (Command::SetTorques(_), _) => return None,
         (Command::Calibrate(_) | Command::MoveAxis(_) | Command::PvtPoints(_), _) => result::ok(),
         (Command::Sleep(_), _) => result::ok(),

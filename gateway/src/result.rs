@@ -1,15 +1,14 @@
-//! The result objects of the JSON protocol, built from the real-time core's typed answers
+//! The result objects of the JSON protocol shared by several commands (`generic`, `status`, the
+//! spontaneous errors), built from the real-time core's typed answers
 //! ([`mcm_shared::reply`]) and state. Field names follow the manual; extra fields are allowed
 //! (clients ignore unknown fields).
 
 use mcm_shared::command::DecodeError;
-use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::Mode;
-use mcm_shared::reply::{InfoReply, MoveAllPlan, Outcome, SafetyError};
+use mcm_shared::reply::{Outcome, SafetyError};
 use mcm_shared::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord,
-    STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, STATE_SIM_ESTOP,
-    StateSample,
+    STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, StateSample,
 };
 use serde_json::{Value, json};
 
@@ -84,11 +83,13 @@ fn mode_name(state: &StateSample) -> &'static str {
         .unwrap_or("UNKNOWN")
 }
 
-fn round(x: f64) -> f64 {
+/// A figure rounded to 6 decimals for the JSON results.
+pub(crate) fn round(x: f64) -> f64 {
     (x * 1e6).round() / 1e6
 }
 
-fn six(v: &[f64; 6]) -> Value {
+/// Six figures, rounded.
+pub(crate) fn six(v: &[f64; 6]) -> Value {
     json!(v.map(round))
 }
 
@@ -178,62 +179,12 @@ pub fn status(state: &StateSample, detail: bool) -> Value {
     v
 }
 
-/// The move_all result from the plan of the core.
-pub fn move_all(plan: &MoveAllPlan) -> Value {
-    json!({
-        "result_type": "move_all",
-        "velocities": six(&plan.velocities_deg_s),
-        "longest": plan.longest.number(),
-        "max_time_to_target": round(plan.duration_s),
-    })
-}
-
-/// The initialization result (`info`); `simulated`: the core runs the simulated robot (its
-/// state's `STATE_SIMULATED` flag).
-pub fn initialization(cfg: &RobotConfig, info: &InfoReply, simulated: bool) -> Value {
-    let axes: Vec<Value> = cfg
-        .axes
-        .iter()
-        .enumerate()
-        .map(|(i, a)| {
-            json!({
-                "axis": i + 1,
-                "name": a.name,
-                "min_position": a.min_deg,
-                "max_position": a.max_deg,
-                "max_velocity": a.max_velocity_deg_s,
-                "max_acceleration": a.max_acceleration_deg_s2,
-                "max_torque": round(a.max_current_a * a.torque_per_amp()),
-                "light_barrier": a.calibration.light_barrier_deg.is_some(),
-            })
-        })
-        .collect();
-    json!({
-        "result_type": "initialization",
-        "num_axes": info.num_axes,
-        "version": mcm_shared::VERSION,
-        "robot": cfg.robot.name,
-        "cycle_time": info.period_s,
-        "simulated": simulated,
-        "axes": axes,
-    })
-}
-
-/// The sim result: ground truth of the simulated arm.
-pub fn sim(state: &StateSample) -> Value {
-    json!({
-        "result_type": "sim",
-        "true_position": six(&state.sim_true_position),
-        "true_velocity": six(&state.sim_true_velocity),
-        "emergency_stop": state.flags & STATE_SIM_ESTOP != 0,
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use mcm_shared::command::Axis;
-    use mcm_shared::reply::{CalibrationFailure, Reason};
+    use mcm_shared::config::RobotConfig;
+    use mcm_shared::reply::{CalibrationFailure, InfoReply, MoveAllPlan, Reason};
 
     #[test]
     fn status_has_the_manual_fields() {
@@ -335,7 +286,7 @@ mod tests {
             longest: Axis::new(6).unwrap(),
             duration_s: 1.5,
         };
-        let v = move_all(&plan);
+        let v = crate::cmd::move_all::render(&plan);
         assert_eq!(v["longest"], 6);
         assert_eq!(v["max_time_to_target"], 1.5);
         assert_eq!(v["velocities"], json!([10.0, 20.0, 0.0, 0.0, 0.0, 30.0]));
@@ -348,12 +299,15 @@ mod tests {
             num_axes: 6,
             period_s: 0.005,
         };
-        let v = initialization(&cfg, &info, true);
+        let v = crate::cmd::info::render(&cfg, &info, true);
         assert_eq!(
             (v["num_axes"].as_u64(), v["cycle_time"].as_f64()),
             (Some(6), Some(0.005))
         );
         assert_eq!(v["simulated"], true);
-        assert_eq!(initialization(&cfg, &info, false)["simulated"], false);
+        assert_eq!(
+            crate::cmd::info::render(&cfg, &info, false)["simulated"],
+            false
+        );
     }
 }

@@ -7,13 +7,13 @@
 //! execution path.
 
 mod calibrate;
-mod info;
+pub mod info;
 mod modes;
-mod move_all;
+pub mod move_all;
 mod move_axis;
 mod pvt_points;
 mod set_torques;
-mod sim;
+pub mod sim;
 mod sleep;
 mod status;
 

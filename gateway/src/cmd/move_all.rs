@@ -6,7 +6,8 @@ use super::move_axis::velocity_factor;
 use crate::args::{Args, CommandError};
 use mcm_shared::command::MoveAll;
 use mcm_shared::config::RobotConfig;
-use serde_json::Value;
+use mcm_shared::reply::MoveAllPlan;
+use serde_json::{Value, json};
 
 /// Parse the arguments of `move_all`, each target within its axis's limits.
 pub fn parse(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<MoveAll, CommandError> {
@@ -21,5 +22,15 @@ pub fn parse(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<MoveAll, Co
     Ok(MoveAll {
         targets_deg,
         velocity_factor: velocity_factor(&args)?,
+    })
+}
+
+/// The move_all result from the plan of the core.
+pub fn render(plan: &MoveAllPlan) -> Value {
+    json!({
+        "result_type": "move_all",
+        "velocities": crate::result::six(&plan.velocities_deg_s),
+        "longest": plan.longest.number(),
+        "max_time_to_target": crate::result::round(plan.duration_s),
     })
 }

@@ -3,7 +3,8 @@
 
 use crate::args::{Args, CommandError};
 use mcm_shared::command::SimCommand;
-use serde_json::Value;
+use mcm_shared::sample::{STATE_SIM_ESTOP, StateSample};
+use serde_json::{Value, json};
 
 /// Parse the arguments of `sim`; those not given change nothing.
 pub fn parse(arguments: Option<&Value>) -> Result<SimCommand, CommandError> {
@@ -34,5 +35,15 @@ pub fn parse(arguments: Option<&Value>) -> Result<SimCommand, CommandError> {
             }
         })?,
         power_cycle: args.boolean("power_cycle")?.unwrap_or(false),
+    })
+}
+
+/// The sim result: ground truth of the simulated arm.
+pub fn render(state: &StateSample) -> Value {
+    json!({
+        "result_type": "sim",
+        "true_position": crate::result::six(&state.sim_true_position),
+        "true_velocity": crate::result::six(&state.sim_true_velocity),
+        "emergency_stop": state.flags & STATE_SIM_ESTOP != 0,
     })
 }

@@ -109,7 +109,7 @@ fn move_all_timing() {
     };
     let text = strip_ansi(&result(
         "move_all",
-        &crate::result::move_all(&plan),
+        &crate::cmd::move_all::render(&plan),
         &cfg(),
         None,
     ));
@@ -132,7 +132,7 @@ fn info_and_sim_tables() {
     };
     let text = strip_ansi(&result(
         "info",
-        &crate::result::initialization(&cfg(), &info, true),
+        &crate::cmd::info::render(&cfg(), &info, true),
         &cfg(),
         None,
     ));
@@ -147,7 +147,7 @@ fn info_and_sim_tables() {
     );
     let mut st = state(Mode::Hold);
     st.sim_true_position[0] = 1.25;
-    let text = strip_ansi(&result("sim", &crate::result::sim(&st), &cfg(), None));
+    let text = strip_ansi(&result("sim", &crate::cmd::sim::render(&st), &cfg(), None));
     assert!(text.contains("emergency switch released"), "{text}");
     assert!(text.contains("   1  base              1.250"), "{text}");
 }
