@@ -30,7 +30,7 @@ use crate::publish::CycleClock;
 use crate::runner::run_cycle;
 use crate::sim_edge::SimEdge;
 use mcm_bus::Bus;
-use mcm_shared::sample::{CommandSample, StateSample};
+use mcm_shared::sample::{CommandSample, CycleTiming, StateSample};
 
 /// The cycle with its edges (IPC ports, simulator's edge, flight recorder) and the loop's
 /// figures (wake-up latency, work time, overruns, failed receives).
@@ -114,12 +114,14 @@ impl<B: Bus> Edge<B> {
         let clock = CycleClock {
             t_ns: wake_ns,
             unix_ns: clock::realtime_ns(),
-            period_ns: self.period_ns,
-            overruns: self.overruns,
-            latency_p50_ns: self.latency.percentile(0.5),
-            latency_p99_ns: self.latency.percentile(0.99),
-            latency_max_ns: self.latency.max(),
-            work_max_ns: self.work_max_ns,
+            timing: CycleTiming {
+                period_ns: self.period_ns,
+                overruns: self.overruns,
+                latency_p50_ns: self.latency.percentile(0.5),
+                latency_p99_ns: self.latency.percentile(0.99),
+                latency_max_ns: self.latency.max(),
+                work_max_ns: self.work_max_ns,
+            },
             not_realtime: !self.realtime,
             command_receive_errors: self.receive_errors,
         };

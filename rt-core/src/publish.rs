@@ -40,14 +40,8 @@ pub struct CycleClock {
     /// `CLOCK_REALTIME` at the start of the cycle [ns since the Unix epoch], stamped on a
     /// safety error reported in this cycle (0 in deterministic tests).
     pub unix_ns: u64,
-    pub period_ns: u64,
-    /// Missed deadlines since start.
-    pub overruns: u64,
-    pub latency_p50_ns: u64,
-    pub latency_p99_ns: u64,
-    pub latency_max_ns: u64,
-    /// Longest time a cycle took, wake-up to publish [ns].
-    pub work_max_ns: u64,
+    /// The loop's timing figures, published as they are.
+    pub timing: CycleTiming,
     /// The loop runs without real-time scheduling.
     pub not_realtime: bool,
     /// Receiving commands failed this many times since start.
@@ -59,7 +53,10 @@ impl CycleClock {
     pub fn virtual_time(t_ns: u64, period_ns: u64) -> CycleClock {
         CycleClock {
             t_ns,
-            period_ns,
+            timing: CycleTiming {
+                period_ns,
+                ..CycleTiming::default()
+            },
             ..CycleClock::default()
         }
     }
@@ -100,14 +97,7 @@ pub fn compose(s: &mut StateSample, view: &CycleView, truth: Option<SimTruth>, c
     s.pvt_queued = view.pvt_queued;
     s.pvt_capacity = view.pvt_capacity;
     s.command_receive_errors = clock.command_receive_errors;
-    s.timing = CycleTiming {
-        period_ns: clock.period_ns,
-        overruns: clock.overruns,
-        latency_p50_ns: clock.latency_p50_ns,
-        latency_p99_ns: clock.latency_p99_ns,
-        latency_max_ns: clock.latency_max_ns,
-        work_max_ns: clock.work_max_ns,
-    };
+    s.timing = clock.timing;
     if let Some(e) = view.last_error
         && e.seq != s.last_error.seq
     {
@@ -171,10 +161,13 @@ mod tests {
         view.axes[2].derated = true;
         let clock = CycleClock {
             t_ns: 42,
-            period_ns: 5,
-            overruns: 2,
-            latency_p99_ns: 9,
-            work_max_ns: 11,
+            timing: CycleTiming {
+                period_ns: 5,
+                overruns: 2,
+                latency_p99_ns: 9,
+                work_max_ns: 11,
+                ..CycleTiming::default()
+            },
             not_realtime: true,
             command_receive_errors: 3,
             ..CycleClock::default()
