@@ -133,3 +133,7 @@ impl<B: Bus> Cycle<B> {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "cycle_tests.rs"]
+mod tests;

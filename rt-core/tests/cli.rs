@@ -1,0 +1,78 @@
+//! The `mcm-rt` binary as a user runs it: errors in its arguments are named on stderr with a
+//! failing exit status; a simulated run prints its ready line, stops on SIGTERM and sums up.
+
+use std::io::{BufRead, BufReader, Read};
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+fn mcm_rt() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_mcm-rt"))
+}
+
+/// Run `mcm-rt args`; its exit code and stderr.
+fn run(args: &[&str]) -> (Option<i32>, String) {
+    let out = mcm_rt().args(args).output().unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn a_missing_config_file_is_named() {
+    let (code, err) = run(&["--config", "/nonexistent/robot.toml"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.starts_with("mcm-rt: ") && err.contains("/nonexistent/robot.toml"),
+        "{err}"
+    );
+}
+
+#[test]
+fn an_invalid_instance_name_is_named() {
+    let (code, err) = run(&["--instance", "no spaces!"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.starts_with("mcm-rt: ") && err.contains("no spaces!"),
+        "{err}"
+    );
+}
+
+#[test]
+fn an_unknown_argument_is_a_usage_error() {
+    let (code, err) = run(&["--frobnicate"]);
+    assert_eq!(code, Some(2), "clap's usage error: {err}");
+    assert!(err.contains("--frobnicate"), "{err}");
+}
+
+#[test]
+fn a_simulated_run_says_ready_and_stops_on_sigterm() {
+    let instance = format!("cli-run-{}", std::process::id());
+    let mut child = mcm_rt()
+        .args(["--instance", &instance, "--allow-non-realtime"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    let mut ready = String::new();
+    stdout.read_line(&mut ready).unwrap();
+    assert_eq!(
+        ready.trim_end(),
+        format!("mcm-rt ready instance={instance} bus=sim")
+    );
+    std::thread::sleep(Duration::from_millis(100));
+    // SAFETY: kill only sends SIGTERM to the child started above.
+    assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGTERM) }, 0);
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert!(status.success(), "{status}: {err}");
+    assert!(err.contains("mcm-rt: stopped after "), "{err}");
+    let _ = std::fs::remove_file(mcm_sim::snapshot::state_path(&instance));
+}

@@ -1,0 +1,119 @@
+//! `runner::run` in this process: the set-up errors it names (no CAN interface, an unwritable
+//! candump log, no real-time scheduling when not allowed) and a short run of the simulated
+//! robot that stops when asked, as on SIGTERM. Only the last test touches the process-wide stop
+//! flag; each test uses its own instance name.
+
+use mcm_rt_core::runner::{self, RunError, RunOptions};
+use mcm_shared::config::{BusBackend, RobotConfig};
+use mcm_shared::service::ServiceNames;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// A CPU no machine has: pinning fails, so the set-up is not real-time on any machine.
+const NO_CPU: usize = 100_000;
+
+fn options(test: &str) -> RunOptions {
+    let mut config = RobotConfig::prob2_default();
+    config.cycle.cpu = NO_CPU;
+    config.safety.flight_recorder_dir = std::env::temp_dir().display().to_string();
+    RunOptions {
+        config,
+        names: ServiceNames::new(&format!("{test}-{}", std::process::id())).unwrap(),
+        allow_non_realtime: true,
+        candump: None,
+    }
+}
+
+fn never_started(report: &mcm_rt_core::realtime::RtReport) {
+    panic!("started despite a set-up error: {report}");
+}
+
+#[test]
+fn a_missing_can_interface_is_named() {
+    for candump in [
+        None,
+        Some(std::env::temp_dir().join("rtcov-never-written.log")),
+    ] {
+        let mut opts = options("no-can");
+        opts.config.bus.backend = BusBackend::Socketcan;
+        opts.config.bus.interface = "mcmnocan9".into();
+        opts.candump = candump;
+        let err = runner::run(opts, never_started).unwrap_err();
+        assert!(matches!(err, RunError::Bus(_)), "{err:?}");
+        let text = err.to_string();
+        assert!(
+            text.starts_with("cannot open the CAN bus") && text.contains("mcmnocan9"),
+            "{text}"
+        );
+    }
+}
+
+#[test]
+fn an_unwritable_candump_log_is_named_with_its_path() {
+    let mut opts = options("bad-candump");
+    let path = PathBuf::from("/nonexistent-mcm-dir/frames.log");
+    opts.candump = Some(path.clone());
+    let err = runner::run(opts, never_started).unwrap_err();
+    let RunError::Candump { path: named, .. } = &err else {
+        panic!("a candump error: {err:?}")
+    };
+    assert_eq!(named, &path.display().to_string());
+    assert!(
+        err.to_string().contains("/nonexistent-mcm-dir/frames.log"),
+        "{err}"
+    );
+}
+
+#[test]
+fn without_real_time_scheduling_it_refuses_unless_allowed() {
+    let mut opts = options("not-rt");
+    opts.allow_non_realtime = false;
+    let err = runner::run(opts, never_started).unwrap_err();
+    let RunError::NotRealtime { report } = &err else {
+        panic!("not real-time: {err:?}")
+    };
+    let pinned = report.pinned_cpu.as_ref().unwrap_err();
+    assert!(
+        pinned.contains(&format!("CPU {NO_CPU} is not available")),
+        "{pinned}"
+    );
+    assert!(err.to_string().contains("--allow-non-realtime"), "{err}");
+}
+
+#[test]
+fn a_simulated_run_logs_its_frames_stops_when_asked_and_saves_the_robot() {
+    let opts = options("sim-run");
+    let instance = opts.names.instance().to_string();
+    let log = std::env::temp_dir().join(format!("mcm-rtcov-{instance}.log"));
+    let state = mcm_sim::snapshot::state_path(&instance);
+    let _ = std::fs::remove_file(&state);
+    let opts = RunOptions {
+        candump: Some(log.clone()),
+        ..opts
+    };
+    let (tx, rx) = std::sync::mpsc::channel();
+    let run = std::thread::spawn(move || {
+        runner::run(opts, move |report| tx.send(report.is_realtime()).unwrap())
+    });
+    let realtime = rx
+        .recv_timeout(Duration::from_secs(20))
+        .expect("the cycle starts");
+    assert!(!realtime, "no machine has CPU {NO_CPU}");
+    std::thread::sleep(Duration::from_millis(200));
+    mcm_rt_core::signals::request_stop();
+    let summary = run.join().unwrap().expect("a clean stop");
+    assert!(!summary.realtime.is_realtime());
+    assert!(summary.cycles >= 5, "{} cycles in 200 ms", summary.cycles);
+    assert!(summary.latency_max_ns >= summary.latency_p99_ns);
+    let frames = std::fs::read_to_string(&log).unwrap();
+    assert!(
+        frames.lines().any(|l| l.contains("sim0")),
+        "candump lines name the bus: {frames:.200}"
+    );
+    assert!(
+        state.exists(),
+        "the simulated robot is saved for the next run"
+    );
+    std::fs::remove_file(&log).unwrap();
+    std::fs::remove_file(&state).unwrap();
+}
