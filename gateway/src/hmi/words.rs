@@ -452,7 +452,7 @@ fn allowed(spec: &CommandSpec) -> String {
 /// The JSON value of one token for argument `a`.
 fn value(spec: &CommandSpec, a: &'static ArgSpec, t: &Token) -> Result<Value, LineError> {
     let json = |text: &str| {
-        serde_json::from_str(text).map_err(|e| LineError::BadJson {
+        crate::json::parse(text).map_err(|e| LineError::BadJson {
             command: spec.name,
             argument: a.name,
             reason: e.to_string(),
