@@ -577,6 +577,15 @@ mod tests {
         assert_eq!(a, [Action::TooLong { limit: 10 }, line("ok")]);
         let (a, _) = run(&mut e, b"0123456789\n", true);
         assert_eq!(a, [line("0123456789")], "exactly the limit is fine");
+        let (a, _) = run(&mut e, b"0123456789a\n", true);
+        assert_eq!(
+            a,
+            [Action::TooLong { limit: 10 }],
+            "one byte more is refused"
+        );
+        // The limit counts UTF-8 bytes: 9 + a 2-byte character is one too many.
+        let (a, _) = run(&mut e, "012345678\u{e9}\n".as_bytes(), true);
+        assert_eq!(a, [Action::TooLong { limit: 10 }]);
     }
 
     #[test]
