@@ -179,7 +179,7 @@ pub fn tokenize(line: &str) -> Result<Vec<Token>, LineError> {
                         let Some((_, q)) = chars.next() else {
                             return Err(LineError::UnterminatedQuote {
                                 quote: c,
-                                column: pos + 1,
+                                column: line[..pos].chars().count() + 1,
                             });
                         };
                         match q {
@@ -204,7 +204,7 @@ pub fn tokenize(line: &str) -> Result<Vec<Token>, LineError> {
                         let Some((_, b)) = chars.next() else {
                             return Err(LineError::Unbalanced {
                                 open: c,
-                                column: pos + 1,
+                                column: line[..pos].chars().count() + 1,
                             });
                         };
                         tok.value.push(b);
