@@ -12,6 +12,8 @@ pub enum CommandError {
     Framing(String),
     #[error("invalid JSON ({0})")]
     Json(String),
+    #[error("duplicate key \"{key}\" in one JSON object; each key may appear only once")]
+    DuplicateKey { key: String },
     #[error(
         "a command needs a \"command\" field with the command name, e.g. {{\"command\":\"status\"}}"
     )]
@@ -59,10 +61,10 @@ pub enum CommandError {
 
 fn show(v: &Value) -> String {
     let s = v.to_string();
-    if s.len() > 60 {
-        format!("{}...", &s[..60])
-    } else {
-        s
+    // Cut at a character boundary: the value may hold any Unicode text.
+    match s.char_indices().nth(60) {
+        Some((cut, _)) => format!("{}...", &s[..cut]),
+        None => s,
     }
 }
 

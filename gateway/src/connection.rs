@@ -7,9 +7,10 @@
 
 use crate::cmd::Command;
 use crate::exec::{Context, execute};
-use crate::framing::{Decoder, Frame};
+use crate::framing::{Decoder, Frame, MAX_COMMAND_BYTES};
 use crate::result;
 use crate::shutdown::Shutdown;
+use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::Mode;
 use serde_json::Value;
 use std::time::Duration;
@@ -28,6 +29,31 @@ struct TorqueSession {
     next: Instant,
 }
 
+/// What one frame asks of the connection.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Step {
+    /// A valid command: execute it (its result is the reply).
+    Run(Command),
+    /// A refused line: send this ERROR result and go on.
+    Reply(Value),
+    /// Too long: send this ERROR result and close the connection.
+    Close(Value),
+}
+
+/// Decide what to do with one frame; never panics, whatever the bytes were.
+pub fn step(frame: Frame, cfg: &RobotConfig) -> Step {
+    match frame {
+        Frame::Oversize => Step::Close(result::error(format!(
+            "command longer than the limit of {MAX_COMMAND_BYTES} bytes; closing the connection"
+        ))),
+        Frame::Invalid { reason } => Step::Reply(result::error(reason)),
+        Frame::Object(text) => match Command::from_json(&text, cfg) {
+            Ok(cmd) => Step::Run(cmd),
+            Err(e) => Step::Reply(result::error(e.to_string())),
+        },
+    }
+}
+
 /// Serve one JSON connection until the peer closes it or the server shuts down.
 pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> std::io::Result<()> {
     socket.set_nodelay(true)?;
@@ -41,26 +67,16 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> s
 
     loop {
         while let Some(frame) = decoder.next_frame() {
-            let cmd = match frame {
-                Frame::Oversize => {
-                    send(&mut wr, &result::error(format!(
-                        "command longer than {} bytes without completing; closing the connection",
-                        crate::framing::MAX_COMMAND_BYTES
-                    )))
-                    .await?;
-                    return Ok(());
-                }
-                Frame::Invalid { reason } => {
-                    send(&mut wr, &result::error(reason)).await?;
+            let cmd = match step(frame, &ctx.cfg) {
+                Step::Run(cmd) => cmd,
+                Step::Reply(v) => {
+                    send(&mut wr, &v).await?;
                     continue;
                 }
-                Frame::Object(text) => match Command::from_json(&text, &ctx.cfg) {
-                    Ok(cmd) => cmd,
-                    Err(e) => {
-                        send(&mut wr, &result::error(e.to_string())).await?;
-                        continue;
-                    }
-                },
+                Step::Close(v) => {
+                    send(&mut wr, &v).await?;
+                    return Ok(());
+                }
             };
             let fut = execute(&ctx, client_id, &cmd);
             tokio::pin!(fut);
@@ -141,10 +157,13 @@ async fn forward_error(
     }
 }
 
-/// Write one result line.
+/// Write one result line (pure ASCII: non-ASCII characters as `\uXXXX`).
 pub async fn send(wr: &mut BufWriter<OwnedWriteHalf>, v: &Value) -> std::io::Result<()> {
-    let mut line = serde_json::to_vec(v).expect("a JSON value serialises");
-    line.push(b'\n');
-    wr.write_all(&line).await?;
+    let mut line = crate::json::to_ascii(v);
+    line.push('\n');
+    wr.write_all(line.as_bytes()).await?;
     wr.flush().await
 }
+
+#[cfg(test)]
+mod tests;

@@ -4,9 +4,10 @@
 //! (`\r\n` accepted). A complete object that is not yet followed by a newline is taken as soon
 //! as it is complete (the manual's own Python example sends none). Whitespace between objects
 //! is ignored. A line that does not hold a JSON object, or holds non-ASCII bytes, becomes one
-//! [`Frame::Invalid`] and decoding resumes after that line. A command that grows beyond
-//! [`MAX_COMMAND_BYTES`] without completing is [`Frame::Oversize`]; the connection is then
-//! closed, so the memory a connection holds stays bounded.
+//! [`Frame::Invalid`] and decoding resumes after that line. The limit is exact: an object (from
+//! `{` to its `}`), or a line that is not one (without its line end), of [`MAX_COMMAND_BYTES`]
+//! bytes is taken; one byte more is [`Frame::Oversize`] as soon as that byte arrives; the
+//! connection is then closed, so the memory a connection holds stays bounded.
 //!
 //! ```
 //! use mcm_gateway::framing::{Decoder, Frame};
@@ -28,7 +29,7 @@ pub enum Frame {
     Object(String),
     /// A line that is not a JSON object; `reason` says why.
     Invalid { reason: String },
-    /// A command longer than [`MAX_COMMAND_BYTES`] without completing.
+    /// A command longer than [`MAX_COMMAND_BYTES`].
     Oversize,
 }
 
@@ -110,31 +111,25 @@ impl Decoder {
             }
         }
         if self.buf[0] != b'{' {
-            // Not an object: the frame is the whole line.
-            return match self.buf.iter().position(|&b| b == b'\n') {
+            // Not an object: the frame is the whole line, at most MAX_COMMAND_BYTES before
+            // its newline.
+            let window = &self.buf[..self.buf.len().min(MAX_COMMAND_BYTES + 1)];
+            return match window.iter().position(|&b| b == b'\n') {
                 Some(nl) => {
                     let line = &self.buf[..nl];
                     let reason = describe_non_object(line);
                     self.reset_scan(nl + 1);
                     Some(Frame::Invalid { reason })
                 }
-                None if self.buf.len() > MAX_COMMAND_BYTES => {
-                    self.buf.clear();
+                None if window.len() > MAX_COMMAND_BYTES => {
+                    self.reset_scan(MAX_COMMAND_BYTES + 1);
                     self.skipping_line = true;
                     Some(Frame::Oversize)
                 }
                 None => None,
             };
         }
-        if let Some(frame) = self.scan_object() {
-            return Some(frame);
-        }
-        if self.buf.len() > MAX_COMMAND_BYTES {
-            self.reset_scan(self.buf.len());
-            self.skipping_line = true;
-            return Some(Frame::Oversize);
-        }
-        None
+        self.scan_object()
     }
 
     /// Continue scanning an object that starts at `buf[0]`.
@@ -142,6 +137,13 @@ impl Decoder {
         while self.scan < self.buf.len() {
             let i = self.scan;
             let b = self.buf[i];
+            if i == MAX_COMMAND_BYTES && b != b'\n' {
+                // The object would be longer than the limit (a newline here still ends a line
+                // of exactly the limit, reported as incomplete below).
+                self.reset_scan(i);
+                self.skipping_line = true;
+                return Some(Frame::Oversize);
+            }
             self.scan += 1;
             if b >= 0x80 && self.non_ascii.is_none() {
                 self.non_ascii = Some((i, b));
@@ -338,6 +340,51 @@ mod tests {
             assert!(d.buffered() <= MAX_COMMAND_BYTES + chunk.len());
         }
         assert_eq!(got, vec![Frame::Oversize]);
+    }
+
+    /// `{"s":"aaa..."}` of exactly `len` bytes.
+    fn object_of(len: usize) -> Vec<u8> {
+        let mut v = b"{\"s\":\"".to_vec();
+        v.resize(len - 2, b'a');
+        v.extend_from_slice(b"\"}");
+        assert_eq!(v.len(), len);
+        v
+    }
+
+    #[test]
+    fn the_limit_is_exact_for_objects() {
+        let mut at_limit = object_of(MAX_COMMAND_BYTES);
+        at_limit.extend_from_slice(b"\r\n{\"a\":1}\n");
+        let f = frames(&at_limit);
+        assert_eq!(f.len(), 2);
+        assert!(matches!(&f[0], Frame::Object(s) if s.len() == MAX_COMMAND_BYTES));
+        assert_eq!(f[1], obj("{\"a\":1}"));
+        // One byte more is refused, even when the whole object arrives in one read.
+        let mut over = object_of(MAX_COMMAND_BYTES + 1);
+        over.extend_from_slice(b"\n{\"a\":1}\n");
+        assert_eq!(frames(&over), vec![Frame::Oversize, obj("{\"a\":1}")]);
+        // Byte by byte: refused when byte MAX + 1 arrives.
+        let mut d = Decoder::new();
+        let over = object_of(MAX_COMMAND_BYTES + 1);
+        d.extend(&over[..MAX_COMMAND_BYTES]);
+        assert_eq!(d.next_frame(), None);
+        d.extend(&over[MAX_COMMAND_BYTES..]);
+        assert_eq!(d.next_frame(), Some(Frame::Oversize));
+    }
+
+    #[test]
+    fn the_limit_is_exact_for_other_lines() {
+        let mut at_limit = vec![b'x'; MAX_COMMAND_BYTES];
+        at_limit.extend_from_slice(b"\n{\"a\":1}\n");
+        let f = frames(&at_limit);
+        assert!(
+            matches!(&f[..], [Frame::Invalid { .. }, Frame::Object(_)]),
+            "{} frames",
+            f.len()
+        );
+        let mut over = vec![b'x'; MAX_COMMAND_BYTES + 1];
+        over.extend_from_slice(b"\n{\"a\":1}\n");
+        assert_eq!(frames(&over), vec![Frame::Oversize, obj("{\"a\":1}")]);
     }
 
     #[test]

@@ -18,6 +18,7 @@ pub mod connection;
 pub mod exec;
 pub mod framing;
 pub mod hmi;
+pub mod json;
 pub mod result;
 pub mod server;
 pub mod shutdown;

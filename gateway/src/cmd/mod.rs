@@ -71,8 +71,10 @@ pub enum Command {
 impl Command {
     /// Parse one JSON text (a complete object from the framing layer).
     pub fn from_json(text: &str, cfg: &RobotConfig) -> Result<Command, CommandError> {
-        let value: Value =
-            serde_json::from_str(text).map_err(|e| CommandError::Json(e.to_string()))?;
+        let value = crate::json::parse(text).map_err(|e| match e {
+            crate::json::ParseError::Syntax(s) => CommandError::Json(s),
+            crate::json::ParseError::DuplicateKey { key } => CommandError::DuplicateKey { key },
+        })?;
         Self::from_value(&value, cfg)
     }
 

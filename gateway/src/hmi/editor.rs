@@ -110,7 +110,8 @@ impl Editor {
 
     /// Redraw the prompt and the line on the current terminal row, cursor in place.
     pub fn redraw(&self, out: &mut Vec<u8>) {
-        let mut s = format!("\r{}{}\x1b[K", self.prompt, self.text());
+        let text = self.text();
+        let mut s = format!("\r{}{}\x1b[K", self.prompt, super::render::ascii(&text));
         let back = self.line.len() - self.cursor;
         if back > 0 {
             let _ = write!(s, "\x1b[{back}D");
@@ -255,8 +256,13 @@ impl Editor {
         self.cursor += 1;
         if echo {
             if self.cursor == self.line.len() {
-                let mut tmp = [0u8; 4];
-                out.extend_from_slice(c.encode_utf8(&mut tmp).as_bytes());
+                // The HMI writes only ASCII: a non-ASCII character shows as one `?`.
+                let shown = if c.is_ascii() {
+                    c
+                } else {
+                    super::render::NON_ASCII
+                };
+                out.push(shown as u8);
             } else {
                 self.redraw(out);
             }
@@ -391,11 +397,13 @@ impl Editor {
     /// `help`; list the candidates when there are several.
     fn complete(&mut self, out: &mut Vec<u8>) {
         let before: String = self.line[..self.cursor].iter().collect();
-        let (start, partial) = match before.rsplit_once(' ') {
-            None => (0, before.as_str()),
-            Some((head, word)) if head.trim() == "help" => (head.len() + 1, word),
+        let partial = match before.rsplit_once(' ') {
+            None => before.as_str(),
+            Some((head, word)) if head.trim() == "help" => word,
             Some(_) => return,
         };
+        // `line` is counted in characters, `before` in bytes: start from the character count.
+        let start = self.cursor - partial.chars().count();
         let candidates: Vec<&str> = self
             .words
             .iter()
@@ -552,7 +560,7 @@ mod tests {
         let mut e = Editor::new(100, WORDS.to_vec());
         let (a, out) = run(&mut e, "a\u{e4}\u{20ac}".as_bytes(), true);
         assert!(a.is_empty());
-        assert_eq!(out, "a\u{e4}\u{20ac}");
+        assert_eq!(out, "a??", "non-ASCII characters are echoed as ASCII");
         let (a, _) = run(&mut e, b"\x7F\n", true);
         assert_eq!(a, [line("a\u{e4}")]);
         let (a, _) = run(&mut e, b"x\xFF\xC3y\n", true);
@@ -569,6 +577,15 @@ mod tests {
         assert_eq!(a, [Action::TooLong { limit: 10 }, line("ok")]);
         let (a, _) = run(&mut e, b"0123456789\n", true);
         assert_eq!(a, [line("0123456789")], "exactly the limit is fine");
+        let (a, _) = run(&mut e, b"0123456789a\n", true);
+        assert_eq!(
+            a,
+            [Action::TooLong { limit: 10 }],
+            "one byte more is refused"
+        );
+        // The limit counts UTF-8 bytes: 9 + a 2-byte character is one too many.
+        let (a, _) = run(&mut e, "012345678\u{e9}\n".as_bytes(), true);
+        assert_eq!(a, [Action::TooLong { limit: 10 }]);
     }
 
     #[test]

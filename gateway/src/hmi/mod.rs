@@ -62,4 +62,6 @@ pub async fn run(listener: TcpListener, ctx: Context, shutdown: impl Future) {
 }
 
 #[cfg(test)]
+mod proptests;
+#[cfg(test)]
 mod tests;

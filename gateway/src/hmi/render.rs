@@ -92,9 +92,25 @@ pub fn banner(cfg: &RobotConfig, state: Option<&StateSample>, instance: &str) ->
     s
 }
 
-/// Pretty JSON (for lines typed as JSON).
+/// The replacement shown for a non-ASCII character: the HMI writes only ASCII.
+pub const NON_ASCII: char = '?';
+
+/// `s` with every non-ASCII character shown as [`NON_ASCII`] (one column each, as the line
+/// editor counts them).
+pub fn ascii(s: &str) -> std::borrow::Cow<'_, str> {
+    if s.is_ascii() {
+        s.into()
+    } else {
+        s.chars()
+            .map(|c| if c.is_ascii() { c } else { NON_ASCII })
+            .collect::<String>()
+            .into()
+    }
+}
+
+/// Pretty JSON (for lines typed as JSON), pure ASCII.
 pub fn pretty(v: &Value) -> String {
-    let mut s = serde_json::to_string_pretty(v).expect("a JSON value serialises");
+    let mut s = crate::json::to_ascii_pretty(v);
     s.push('\n');
     s
 }

@@ -47,6 +47,21 @@ pub fn completions() -> Vec<&'static str> {
         .collect()
 }
 
+/// Append `text` for the terminal: line ends as CR LF, every non-ASCII character as
+/// [`render::NON_ASCII`] (the HMI writes only ASCII).
+pub fn terminal_text(text: &str, out: &mut Vec<u8>) {
+    let text = render::ascii(text);
+    for part in text.split_inclusive('\n') {
+        match part.strip_suffix('\n') {
+            Some(l) => {
+                out.extend_from_slice(l.as_bytes());
+                out.extend_from_slice(b"\r\n");
+            }
+            None => out.extend_from_slice(part.as_bytes()),
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Flow {
     Continue,
@@ -160,17 +175,10 @@ impl Session {
         }
     }
 
-    /// Append text, with the terminal's line ends.
+    /// Append text, with the terminal's line ends; non-ASCII characters become
+    /// [`render::NON_ASCII`].
     fn say(&mut self, text: &str) {
-        for part in text.split_inclusive('\n') {
-            match part.strip_suffix('\n') {
-                Some(l) => {
-                    self.out.extend_from_slice(l.as_bytes());
-                    self.out.extend_from_slice(b"\r\n");
-                }
-                None => self.out.extend_from_slice(part.as_bytes()),
-            }
-        }
+        terminal_text(text, &mut self.out);
     }
 
     async fn flush(&mut self) -> io::Result<()> {

@@ -179,7 +179,7 @@ pub fn tokenize(line: &str) -> Result<Vec<Token>, LineError> {
                         let Some((_, q)) = chars.next() else {
                             return Err(LineError::UnterminatedQuote {
                                 quote: c,
-                                column: pos + 1,
+                                column: line[..pos].chars().count() + 1,
                             });
                         };
                         match q {
@@ -204,7 +204,7 @@ pub fn tokenize(line: &str) -> Result<Vec<Token>, LineError> {
                         let Some((_, b)) = chars.next() else {
                             return Err(LineError::Unbalanced {
                                 open: c,
-                                column: pos + 1,
+                                column: line[..pos].chars().count() + 1,
                             });
                         };
                         tok.value.push(b);
@@ -452,7 +452,7 @@ fn allowed(spec: &CommandSpec) -> String {
 /// The JSON value of one token for argument `a`.
 fn value(spec: &CommandSpec, a: &'static ArgSpec, t: &Token) -> Result<Value, LineError> {
     let json = |text: &str| {
-        serde_json::from_str(text).map_err(|e| LineError::BadJson {
+        crate::json::parse(text).map_err(|e| LineError::BadJson {
             command: spec.name,
             argument: a.name,
             reason: e.to_string(),

@@ -286,6 +286,11 @@ fn syntax_errors() {
         err("move_all [0,0,0"),
         LineError::Unbalanced { open: '[', .. }
     ));
+    // Columns count characters, not bytes.
+    assert!(matches!(
+        err("calibrate which=\u{e9}\u{e9}\"x"),
+        LineError::UnterminatedQuote { column: 19, .. }
+    ));
     assert!(matches!(err("x=1"), LineError::NoCommand { .. }));
     assert!(matches!(err("'status'"), LineError::NoCommand { .. }));
 }

@@ -1,0 +1,257 @@
+//! The JSON channel against hostile input: a real connection to [`crate::server::run_json`]
+//! with a bridge whose real-time core is not running, and property tests of the framing and
+//! parsing path ([`Decoder`] -> [`step`]) over arbitrary bytes, arbitrary JSON values and
+//! mutated valid commands.
+
+use super::*;
+use crate::bridge::Bridge;
+use crate::json::to_ascii;
+use mcm_shared::service::ServiceNames;
+use proptest::prelude::*;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU32, Ordering};
+use tokio::io::{AsyncBufReadExt, BufReader};
+use tokio::net::TcpListener;
+
+static NEXT: AtomicU32 = AtomicU32::new(0);
+const WAIT: Duration = Duration::from_secs(10);
+
+/// The line that used to panic the connection task (an excerpt cut inside `é`).
+fn panicking_line() -> String {
+    format!(
+        "{{\"command\":\"calibrate\",\"arguments\":{{\"which\":\"{}\\u00e9\"}}}}\n",
+        "a".repeat(58)
+    )
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_hostile_line_gets_an_ascii_error_and_the_connection_lives_on() {
+    let instance = format!(
+        "conn-{}-{}",
+        std::process::id(),
+        NEXT.fetch_add(1, Ordering::Relaxed)
+    );
+    let (bridge, thread) = Bridge::start(&ServiceNames::new(&instance).unwrap(), "/tmp");
+    let ctx = Context {
+        cfg: Arc::new(RobotConfig::prob2_default()),
+        bridge,
+    };
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    let server = tokio::spawn(crate::server::run_json(listener, ctx, async move {
+        let _ = stopped.await;
+    }));
+
+    let socket = TcpStream::connect(addr).await.unwrap();
+    let (rd, mut wr) = socket.into_split();
+    let mut lines = BufReader::new(rd).lines();
+    let mut next = async || {
+        tokio::time::timeout(WAIT, lines.next_line())
+            .await
+            .expect("a reply in time")
+            .unwrap()
+            .expect("the connection is still open")
+    };
+    let input = format!(
+        "{}{}{}{}",
+        panicking_line(),
+        // The same in the HMI's form: a raw `é` (refused by the framing as non-ASCII).
+        panicking_line().replace("\\u00e9", "\u{e9}"),
+        "{\"command\":\"nope\",\"command\":\"status\"}\n",
+        "{\"command\":\"status\"}\n"
+    );
+    wr.write_all(input.as_bytes()).await.unwrap();
+
+    let first = next().await;
+    assert!(first.is_ascii(), "{first}");
+    let v: Value = serde_json::from_str(&first).unwrap();
+    assert_eq!(v["error_status"], "ERROR", "{first}");
+    assert!(
+        first.contains("\\u00e9..."),
+        "escaped and cut after 60 characters: {first}"
+    );
+    let second = next().await;
+    assert!(second.contains("non-ASCII byte 0xC3"), "{second}");
+    let third = next().await;
+    assert!(third.contains(r#"duplicate key \"command\""#), "{third}");
+    let fourth: Value = serde_json::from_str(&next().await).unwrap();
+    assert_eq!(fourth["result_type"], "generic");
+    assert!(
+        fourth["error_message"]
+            .as_str()
+            .unwrap()
+            .contains("not running"),
+        "{fourth}"
+    );
+
+    let _ = stop.send(());
+    tokio::time::timeout(WAIT, server).await.unwrap().unwrap();
+    thread.stop();
+}
+
+#[test]
+fn duplicate_arguments_are_refused_by_name() {
+    let cfg = RobotConfig::prob2_default();
+    let line = r#"{"command":"move_axis","arguments":{"axis_index":9,"axis_index":6,"target_position":0}}"#;
+    let Step::Reply(v) = step(Frame::Object(line.into()), &cfg) else {
+        panic!("a duplicate argument must not run")
+    };
+    let msg = v["error_message"].as_str().unwrap();
+    assert!(msg.contains("duplicate key \"axis_index\""), "{msg}");
+}
+
+#[test]
+fn the_oversize_reply_names_the_limit() {
+    let cfg = RobotConfig::prob2_default();
+    let Step::Close(v) = step(Frame::Oversize, &cfg) else {
+        panic!("oversize closes")
+    };
+    assert!(v["error_message"].as_str().unwrap().contains("65536 bytes"));
+}
+
+/// Feed `input` in reads of `chunk` bytes; each frame must give one ASCII result (an ERROR,
+/// or a command to execute). Returns the steps.
+fn run_path(input: &[u8], chunk: usize) -> Vec<Step> {
+    let cfg = RobotConfig::prob2_default();
+    let mut d = Decoder::new();
+    let mut steps = Vec::new();
+    for part in input.chunks(chunk.max(1)) {
+        d.extend(part);
+        while let Some(f) = d.next_frame() {
+            let s = step(f, &cfg);
+            if let Step::Reply(v) | Step::Close(v) = &s {
+                let line = to_ascii(v);
+                assert!(line.is_ascii(), "{line}");
+                let back: Value = serde_json::from_str(&line).unwrap();
+                assert!(back["result_type"].is_string(), "{line}");
+                assert!(back["error_message"].is_string(), "{line}");
+            }
+            let close = matches!(s, Step::Close(_));
+            steps.push(s);
+            if close {
+                return steps;
+            }
+        }
+    }
+    steps
+}
+
+/// Every complete non-blank line gives at least one step; exactly one when it does not start
+/// with `{` or is one whole ASCII JSON object (a line such as `{"a":1}x` is an object and the
+/// rest of its line: two). The lines are checked alone and all together.
+fn one_step_per_line(lines: &[Vec<u8>]) {
+    let mut input = Vec::new();
+    let mut at_least = 0;
+    for l in lines {
+        let mut line = l.clone();
+        line.push(b'\n');
+        input.extend_from_slice(&line);
+        let text = String::from_utf8_lossy(l);
+        let t = text.trim_matches([' ', '\t', '\r']);
+        if t.is_empty() {
+            continue;
+        }
+        at_least += 1;
+        let steps = run_path(&line, 5).len();
+        let one_object =
+            t.is_ascii() && t.starts_with('{') && serde_json::from_str::<Value>(t).is_ok();
+        if !t.starts_with('{') || one_object {
+            assert_eq!(steps, 1, "{text:?}");
+        } else {
+            assert!(steps >= 1, "{text:?}");
+        }
+    }
+    let steps = run_path(&input, 7);
+    assert!(steps.len() >= at_least, "{} < {at_least}", steps.len());
+}
+
+const VALID: &[&str] = &[
+    r#"{"command":"status","arguments":{"detail":true}}"#,
+    r#"{"command":"move_axis","arguments":{"axis_index":1,"target_position":30,"velocity_factor":0.5}}"#,
+    r#"{"command":"move_all","arguments":{"target_positions":[0,10,20,0,0,0]}}"#,
+    r#"{"command":"calibrate","arguments":{"which":"WRIST"}}"#,
+    r#"{"command":"set_torques","arguments":{"torques":[0,0,0,0,0,0]}}"#,
+    r#"{"command":"pvt_points","arguments":{"points":[{"t":0.1,"p":[0,0,0,0,0,0],"v":[0,0,0,0,0,0]}]}}"#,
+    r#"{"command":"sim","arguments":{"fault":1}}"#,
+    r#"{"command":"torque_control","arguments":{"dt_status":0.1}}"#,
+];
+
+/// A valid command with a few random byte edits (replace, insert, delete).
+fn mutated() -> impl Strategy<Value = Vec<u8>> {
+    (
+        prop::sample::select(VALID),
+        prop::collection::vec((any::<prop::sample::Index>(), any::<u8>(), 0u8..3), 0..6),
+    )
+        .prop_map(|(line, edits)| {
+            let mut b = line.as_bytes().to_vec();
+            for (at, byte, kind) in edits {
+                let i = at.index(b.len() + 1);
+                match kind {
+                    0 if i < b.len() => b[i] = byte,
+                    1 => b.insert(i, byte),
+                    _ if i < b.len() => {
+                        b.remove(i);
+                    }
+                    _ => {}
+                }
+            }
+            b.retain(|&c| c != b'\n');
+            b
+        })
+}
+
+fn json_value() -> impl Strategy<Value = Value> {
+    let leaf = prop_oneof![
+        Just(Value::Null),
+        any::<bool>().prop_map(Value::from),
+        any::<i64>().prop_map(Value::from),
+        any::<f64>()
+            .prop_filter("finite", |x| x.is_finite())
+            .prop_map(Value::from),
+        ".{0,70}".prop_map(Value::from),
+    ];
+    leaf.prop_recursive(4, 32, 6, |inner| {
+        prop_oneof![
+            prop::collection::vec(inner.clone(), 0..6).prop_map(Value::from),
+            prop::collection::btree_map(
+                prop_oneof![
+                    Just("command".to_string()),
+                    Just("arguments".to_string()),
+                    ".{0,8}"
+                ],
+                inner,
+                0..6
+            )
+            .prop_map(|m| Value::Object(m.into_iter().collect())),
+        ]
+    })
+}
+
+proptest! {
+    #[test]
+    fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..2048), chunk in 1usize..64) {
+        run_path(&bytes, chunk);
+    }
+
+    #[test]
+    fn arbitrary_lines_get_a_result_each(
+        lines in prop::collection::vec(prop::collection::vec(any::<u8>().prop_filter("no newline", |b| *b != b'\n'), 0..200), 0..12)
+    ) {
+        one_step_per_line(&lines);
+    }
+
+    #[test]
+    fn mutated_commands_get_a_result_each(lines in prop::collection::vec(mutated(), 1..8)) {
+        one_step_per_line(&lines);
+    }
+
+    #[test]
+    fn arbitrary_json_values_get_one_result(v in json_value(), command in prop::sample::select(crate::cmd::COMMAND_NAMES)) {
+        for value in [v.clone(), serde_json::json!({"command": command, "arguments": v})] {
+            let line = to_ascii(&value);
+            let steps = run_path(format!("{line}\n").as_bytes(), 4096);
+            prop_assert_eq!(steps.len(), 1, "{}", line);
+        }
+    }
+}
