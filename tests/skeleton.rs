@@ -79,7 +79,7 @@ fn oversize_command_gets_one_error_then_the_connection_closes() {
     let mut big = b"{\"command\":\"".to_vec();
     big.extend(std::iter::repeat_n(b'a', 70 * 1024));
     c.send_raw(&big);
-    assert_error(&c.recv(), &["longer than 65536 bytes"]);
+    assert_error(&c.recv(), &["longer than the limit of 65536 bytes"]);
     assert!(
         c.closed(),
         "the connection must be closed after an oversize command"
