@@ -110,50 +110,46 @@ wire_enum!(
 );
 
 wire_enum!(
-    /// Why a command was refused or failed, or which safety check tripped. The reply's `axis`
-    /// and `values` carry the details; [`crate::reply::Reason`] is the typed form, its
-    /// `Display` the words.
+    /// Why a command was refused or failed, or which safety check tripped: the code on the
+    /// wire. [`crate::reply::Reason`] is the typed form with its figures; `Reason::to_wire`
+    /// and `Reason::from_wire` alone define what a reply's `axis` and `values` carry.
     RejectCode, "reject code" {
         None = 0 => "none",
-        /// `values[0]` = the current mode as `Mode::to_wire`.
+        /// Not allowed in the current mode.
         WrongMode = 1 => "wrong_mode",
-        /// `axis` = the first uncalibrated axis.
+        /// An axis is not calibrated.
         NotCalibrated = 2 => "not_calibrated",
         /// The emergency stop is pressed.
         EmergencyStop = 3 => "emergency_stop",
-        /// `axis` = the drive that does not answer.
+        /// A drive does not answer on the bus.
         DriveDisconnected = 4 => "drive_disconnected",
-        /// `axis` = the drive in fault; `values[0]` = its error code.
+        /// A drive is in fault.
         DriveFault = 5 => "drive_fault",
-        /// `axis`, `values[0]` = value, `values[1]`/`values[2]` = allowed min/max.
+        /// A value outside its allowed range.
         OutOfRange = 6 => "out_of_range",
         /// The command exists in the manual but this build does not implement it yet.
         NotAvailable = 7 => "not_available",
         /// The command needs the simulated robot.
         NotSimulated = 8 => "not_simulated",
-        /// `values[0]` = points offered, `values[1]` = free places.
+        /// The PVT queue cannot take the batch.
         QueueFull = 9 => "queue_full",
-        /// `axis`, `values[0]` = position [deg], `values[1]` = limit [deg].
+        /// Safety check: a joint beyond its position limit.
         PositionLimit = 10 => "position_limit",
-        /// `axis`, `values[0]` = velocity [deg/s], `values[1]` = limit [deg/s].
+        /// Safety check: a joint faster than its velocity limit.
         VelocityLimit = 11 => "velocity_limit",
-        /// `axis`, `values[0]` = predicted stop position [deg], `values[1]` = limit [deg].
+        /// Safety check: a joint that could no longer stop before its limit.
         BrakingDistance = 12 => "braking_distance",
-        /// `axis`, `values[0]` = following error [deg], `values[1]` = band [deg].
+        /// Safety check: a joint too far from its commanded position.
         FollowingError = 13 => "following_error",
-        /// `axis`; `values[0]` = what failed: 1 no mechanical stop found, 2 no light-barrier
-        /// edge found (`values[1]` = distance searched [deg]), 3 the drive stopped answering.
+        /// A calibration could not find its reference.
         CalibrationFailed = 14 => "calibration_failed",
         /// The command was superseded or the mode left before it finished.
         Aborted = 15 => "aborted",
-        /// A motion is in progress (`values[0]` = its remaining time [s]).
+        /// A motion is in progress.
         Busy = 16 => "busy",
-        /// A PVT point breaks a limit: `axis`; `values[0]` = point number (1-based), `[1]` =
-        /// what (1 position [deg], 2 velocity [deg/s], 3 acceleration [deg/s^2]), `[2]` = the
-        /// value, `[3]` = the limit.
+        /// A PVT point breaks a limit.
         PvtPoint = 17 => "pvt_point",
-        /// The requested position is outside the reachable range: `axis`, `values[0]` = target
-        /// [deg], `[1]`/`[2]` = reachable min/max [deg].
+        /// The requested position is outside the reachable range.
         Unreachable = 18 => "unreachable",
     }
 );

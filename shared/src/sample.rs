@@ -103,8 +103,7 @@ pub struct Reply {
     pub code: u32,
     /// Axis the reply concerns (1..6), 0 for none.
     pub axis: u32,
-    /// Kind-specific values. `MoveAll` OK: `[0..6]` velocities [deg/s], `[6]` longest axis
-    /// (1..6), `[7]` max time to target [s]. Errors: see [`crate::mode::RejectCode`].
+    /// Kind-specific figures, defined by [`crate::reply::Response::encode`] and `decode`.
     pub values: [f64; REPLY_VALUES],
 }
 
@@ -123,7 +122,7 @@ pub struct ErrorRecord {
     pub code: u32,
     /// Axis 1..6, 0 for none.
     pub axis: u32,
-    /// Measured value and limit (see [`crate::mode::RejectCode`]).
+    /// The reason's figures, defined by [`crate::reply::SafetyError::encode`] and `decode`.
     pub values: [f64; 4],
 }
 
