@@ -37,10 +37,10 @@ use crate::controller::Controller;
 use crate::cycle::{COMMANDS_PER_CYCLE, Cycle};
 use crate::publish::CycleClock;
 use mcm_bus::Bus;
-use mcm_shared::command::{Axis, DecodeError, Request};
+use mcm_shared::command::{Axis, Request, SimCommand};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
-use mcm_shared::reply::{self, Done, Outcome, Reason, Response};
+use mcm_shared::reply::{Done, Outcome, Reason, Response};
 use mcm_shared::sample::{CommandSample, StateSample};
 use mcm_sim::{SimBus, SimCommandError, SimControl, SimTruth};
 
@@ -76,11 +76,14 @@ impl<B: Bus> SimEdge<B> {
         let sim = (self.sim)(bus);
         let mut n_pass = 0;
         for c in commands.iter().take(COMMANDS_PER_CYCLE) {
-            if c.kind == CommandKind::Sim.to_wire() {
-                serve(sim, controller, c);
-            } else {
-                self.pass[n_pass] = *c;
-                n_pass += 1;
+            // A `sim` sample that does not decode goes on to the controller, which refuses
+            // every undecodable sample the same way.
+            match sim_request(c) {
+                Some(cmd) => serve(sim, controller, c, &cmd),
+                None => {
+                    self.pass[n_pass] = *c;
+                    n_pass += 1;
+                }
             }
         }
         cycle.step(now_ns, &self.pass[..n_pass]);
@@ -88,23 +91,26 @@ impl<B: Bus> SimEdge<B> {
     }
 }
 
-/// Apply one `sim` command to the simulator and answer it: done, or refused with the
-/// decoder's reason, or `out_of_range` naming the value the simulator refused.
-fn serve(sim: &mut dyn SimControl, controller: &mut Controller, c: &CommandSample) {
-    let cmd = match Request::decode(c) {
-        Ok(Request::Sim(cmd)) => cmd,
-        Ok(_) => {
-            // Cannot happen: only `sim` samples come here, and they decode as `sim` requests.
-            // Answered all the same, so that no sender waits for a reply.
-            let e = DecodeError::Mismatch {
-                kind: CommandKind::Sim,
-                problem: "the sample is not a sim request",
-            };
-            return controller.answer(reply::refuse_undecodable(c, &e));
-        }
-        Err(e) => return controller.answer(reply::refuse_undecodable(c, &e)),
-    };
-    let outcome = match sim.apply(&cmd) {
+/// The fault injection a sample carries, if it is a well-formed `sim` sample.
+fn sim_request(c: &CommandSample) -> Option<SimCommand> {
+    if c.kind != CommandKind::Sim.to_wire() {
+        return None;
+    }
+    match Request::decode(c) {
+        Ok(Request::Sim(cmd)) => Some(cmd),
+        _ => None,
+    }
+}
+
+/// Apply one `sim` command to the simulator and answer it: done, or `out_of_range` naming the
+/// value the simulator refused.
+fn serve(
+    sim: &mut dyn SimControl,
+    controller: &mut Controller,
+    c: &CommandSample,
+    cmd: &SimCommand,
+) {
+    let outcome = match sim.apply(cmd) {
         Ok(()) => Outcome::Done(Done::Ack),
         Err(SimCommandError::TorqueNotFinite { index, value }) => {
             Outcome::Refused(Reason::OutOfRange {

@@ -455,3 +455,31 @@ fn an_undecodable_sample_is_refused_naming_the_value_and_t_ns_is_the_virtual_tim
     );
     assert_eq!(r.mode(), Mode::Off, "nothing changed");
 }
+
+#[test]
+fn an_undecodable_sim_sample_is_refused_by_the_controller_like_any_other() {
+    use mcm_shared::command::{Axis, SimCommand};
+    let mut r = Robot::new();
+    // A block of axis 7 cannot be built as a typed request: a raw sample of a co-located sender.
+    let mut bad = Request::Sim(SimCommand {
+        block_axis: Axis::new(3),
+        ..SimCommand::default()
+    })
+    .encode();
+    bad.args[3] = 7.0;
+    (bad.client_id, bad.request_id) = (9, 78);
+    r.step(&[bad]);
+    let s = r.cycle.state();
+    let reply = Response::decode(s.reply(s.reply_head).unwrap()).unwrap();
+    assert_eq!((reply.client_id, reply.request_id), (9, 78));
+    assert_eq!(
+        reply.outcome,
+        Outcome::Refused(Reason::OutOfRange {
+            axis: None,
+            value: 7.0,
+            min: 1.0,
+            max: 6.0
+        })
+    );
+    assert_eq!(s.reply_head, 1, "answered once, by the controller alone");
+}
