@@ -5,7 +5,8 @@
 
 use mcm_rt_core::runner::{self, RunError, RunOptions};
 use mcm_shared::config::{BusBackend, RobotConfig};
-use mcm_shared::service::ServiceNames;
+use mcm_shared::sample::StateSample;
+use mcm_shared::service::{STATE_KEY, ServiceNames};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -80,6 +81,39 @@ fn without_real_time_scheduling_it_refuses_unless_allowed() {
     assert!(err.to_string().contains("--allow-non-realtime"), "{err}");
 }
 
+/// Wait (at most `limit`) until the state blackboard of `instance` shows cycle `cycles`; the
+/// cycle seen.
+fn wait_for_cycles(instance: &str, cycles: u64, limit: Duration) -> u64 {
+    use iceoryx2::prelude::*;
+    let names = ServiceNames::new(instance).unwrap();
+    let node = NodeBuilder::new()
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .unwrap();
+    let name: ServiceName = names.state().as_str().try_into().unwrap();
+    let reader = node
+        .service_builder(&name)
+        .blackboard_opener::<u32>()
+        .open()
+        .expect("mcm-rt created the state service before on_started")
+        .reader_builder()
+        .create()
+        .unwrap();
+    let entry = reader.entry::<StateSample>(&STATE_KEY).unwrap();
+    let deadline = std::time::Instant::now() + limit;
+    loop {
+        let seq = entry.get().seq;
+        if seq >= cycles {
+            return seq;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "only {seq} cycles published within {limit:?}"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
 #[test]
 fn a_simulated_run_logs_its_frames_stops_when_asked_and_saves_the_robot() {
     let opts = options("sim-run");
@@ -99,11 +133,15 @@ fn a_simulated_run_logs_its_frames_stops_when_asked_and_saves_the_robot() {
         .recv_timeout(Duration::from_secs(20))
         .expect("the cycle starts");
     assert!(!realtime, "no machine has CPU {NO_CPU}");
-    std::thread::sleep(Duration::from_millis(200));
+    let published = wait_for_cycles(&instance, 5, Duration::from_secs(20));
     mcm_rt_core::signals::request_stop();
     let summary = run.join().unwrap().expect("a clean stop");
     assert!(!summary.realtime.is_realtime());
-    assert!(summary.cycles >= 5, "{} cycles in 200 ms", summary.cycles);
+    assert!(
+        summary.cycles >= published,
+        "{} cycles run, {published} seen published",
+        summary.cycles
+    );
     assert!(summary.latency_max_ns >= summary.latency_p99_ns);
     let frames = std::fs::read_to_string(&log).unwrap();
     assert!(
