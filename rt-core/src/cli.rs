@@ -82,12 +82,14 @@ where
     };
     match runner::run(opts, started) {
         Ok(summary) => {
+            let f = summary.figures;
             eprintln!(
-                "mcm-rt: stopped after {} cycles, {} overruns, wake-up latency p99 {} us, max {} us",
-                summary.cycles,
-                summary.overruns,
-                summary.latency_p99_ns / 1000,
-                summary.latency_max_ns / 1000
+                "mcm-rt: stopped after {} cycles, {} overruns, wake-up latency p99 {} us, max {} us, {} failed command receives",
+                f.cycles,
+                f.overruns,
+                f.latency_p99_ns / 1000,
+                f.latency_max_ns / 1000,
+                f.command_receive_errors
             );
             ExitCode::SUCCESS
         }

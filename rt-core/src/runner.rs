@@ -64,10 +64,8 @@ pub enum RunError {
 #[derive(Debug, Clone)]
 pub struct RunSummary {
     pub realtime: RtReport,
-    pub cycles: u64,
-    pub overruns: u64,
-    pub latency_p99_ns: u64,
-    pub latency_max_ns: u64,
+    /// The loop's figures when it stopped.
+    pub figures: Figures,
 }
 
 /// Run until stopped. Blocks the calling thread; the cycle runs on its own thread.
@@ -166,10 +164,7 @@ fn spawn<B: Bus + 'static>(
             writer.stop();
             Ok(RunSummary {
                 realtime: report,
-                cycles: figures.cycles,
-                overruns: figures.overruns,
-                latency_p99_ns: figures.latency_p99_ns,
-                latency_max_ns: figures.latency_max_ns,
+                figures,
             })
         })
         .expect("spawn the real-time thread");

@@ -138,11 +138,11 @@ fn a_simulated_run_logs_its_frames_stops_when_asked_and_saves_the_robot() {
     let summary = run.join().unwrap().expect("a clean stop");
     assert!(!summary.realtime.is_realtime());
     assert!(
-        summary.cycles >= published,
+        summary.figures.cycles >= published,
         "{} cycles run, {published} seen published",
-        summary.cycles
+        summary.figures.cycles
     );
-    assert!(summary.latency_max_ns >= summary.latency_p99_ns);
+    assert!(summary.figures.latency_max_ns >= summary.figures.latency_p99_ns);
     let frames = std::fs::read_to_string(&log).unwrap();
     assert!(
         frames.lines().any(|l| l.contains("sim0")),
