@@ -60,10 +60,6 @@ impl<B: Bus> Cycle<B> {
         &self.controller
     }
 
-    pub fn controller_mut(&mut self) -> &mut Controller {
-        &mut self.controller
-    }
-
     /// The state sample as last composed.
     pub fn state(&self) -> &StateSample {
         &self.state

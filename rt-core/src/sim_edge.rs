@@ -171,10 +171,6 @@ impl SimCycle {
         self.cycle.controller()
     }
 
-    pub fn controller_mut(&mut self) -> &mut Controller {
-        self.cycle.controller_mut()
-    }
-
     /// The simulated robot (inspection, save/resume, direct fault injection).
     pub fn bus_mut(&mut self) -> &mut SimBus {
         self.cycle.bus_mut()
