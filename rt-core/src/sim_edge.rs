@@ -5,10 +5,10 @@
 //! no edge and a `sim` command reaches the controller, which refuses it as `not_simulated`.
 //!
 //! Per cycle, between [`Cycle::receive`] and [`Cycle::step`] (where the frames the injection
-//! makes the drives send are read in the next cycle, as on a real bus): the `sim` command
-//! samples are taken out of the commands, applied to the simulator's control surface
+//! makes the drives send are read in the next cycle, as on a real bus): the samples that decode
+//! as `sim` requests are taken out of the commands, applied to the simulator's control surface
 //! ([`SimControl`]), and their replies added to the controller's outbox of this cycle; the
-//! other commands go to the controller. After the step the edge yields the simulation's truth,
+//! other commands, a `sim` sample that does not decode among them, go to the controller. After the step the edge yields the simulation's truth,
 //! which the composer of the state sample ([`crate::publish`]) reads.
 //!
 //! [`SimCycle`] composes `Cycle<SimBus>` with the edge exactly as the runner does, for the
