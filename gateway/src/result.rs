@@ -165,9 +165,9 @@ pub fn status(state: &StateSample, detail: bool) -> Value {
             "timing": {
                 "period_s": tm.period_ns as f64 / 1e9,
                 "overruns": tm.overruns,
-                "latency_p50_us": tm.latency_p50_ns as f64 / 1e3,
-                "latency_p99_us": tm.latency_p99_ns as f64 / 1e3,
-                "latency_max_us": tm.latency_max_ns as f64 / 1e3,
+                "latency_p50_us": tm.since_start.p50_ns as f64 / 1e3,
+                "latency_p99_us": tm.since_start.p99_ns as f64 / 1e3,
+                "latency_max_us": tm.since_start.max_ns as f64 / 1e3,
                 "work_max_us": tm.work_max_ns as f64 / 1e3,
                 "realtime": state.flags & STATE_NOT_REALTIME == 0,
             },

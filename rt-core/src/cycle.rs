@@ -65,6 +65,12 @@ impl<B: Bus> Cycle<B> {
         &self.state
     }
 
+    /// The replies the last cycle gave, oldest first (not numbered yet: the edge numbers them
+    /// when it publishes them).
+    pub fn replies(&self) -> &[mcm_shared::sample::Reply] {
+        self.controller.view().replies.replies()
+    }
+
     /// The controller's view of the last step and the state sample to compose from it.
     pub fn publish_parts(&mut self) -> (&CycleView, &mut StateSample) {
         (self.controller.view(), &mut self.state)

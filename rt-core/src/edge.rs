@@ -117,10 +117,14 @@ impl<B: Bus> Edge<B> {
             timing: CycleTiming {
                 period_ns: self.period_ns,
                 overruns: self.overruns,
-                latency_p50_ns: self.latency.percentile(0.5),
-                latency_p99_ns: self.latency.percentile(0.99),
-                latency_max_ns: self.latency.max(),
+                since_start: mcm_shared::sample::LatencyFigures {
+                    p50_ns: self.latency.percentile(0.5),
+                    p99_ns: self.latency.percentile(0.99),
+                    max_ns: self.latency.max(),
+                    ..Default::default()
+                },
                 work_max_ns: self.work_max_ns,
+                ..CycleTiming::default()
             },
             not_realtime: !self.realtime,
             command_receive_errors: self.receive_errors,
@@ -134,6 +138,10 @@ impl<B: Bus> Edge<B> {
         );
         self.k += 1;
         let last_command = commands.last().map_or(0, |c| c.kind);
+        let (view, s) = self.cycle.publish_parts();
+        let first_reply = crate::publish::first_reply_seq(s, view);
+        self.ipc
+            .publish_replies(first_reply, s.seq, view.replies.replies());
         let s = self.cycle.state();
         let new_error = s.last_error.seq != self.error_seq;
         if new_error {

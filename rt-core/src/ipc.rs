@@ -23,7 +23,9 @@ use iceoryx2::service::builder::publish_subscribe::{
     PublishSubscribeOpenError, PublishSubscribeOpenOrCreateError,
 };
 use iceoryx2::service::service_name::ServiceNameError;
-use mcm_shared::sample::{CommandSample, StateSample};
+use mcm_shared::sample::{
+    CommandSample, REPLY_BLOCKS, Reply, ReplyBlock, StateSample, reply_location,
+};
 use mcm_shared::service::{
     COMMAND_BUFFER, COMMAND_MAX_PUBLISHERS, STATE_KEY, STATE_MAX_READERS, ServiceNames,
 };
@@ -158,6 +160,11 @@ fn service_name(name: &str) -> Result<ServiceName, IpcSetupError> {
 pub struct RtIpc {
     _node: Node<ipc::Service>,
     state: EntryHandleMut<ipc::Service, u32, StateSample>,
+    /// The reply blocks, by key - 1 (set up once; the cycle only updates them).
+    reply_blocks: Vec<EntryHandleMut<ipc::Service, u32, ReplyBlock>>,
+    /// The block being filled and its key (0: none yet).
+    block: ReplyBlock,
+    block_key: u32,
     commands: Subscriber<ipc::Service, CommandSample, ()>,
 }
 
@@ -183,11 +190,14 @@ impl RtIpc {
                 name: node_name.clone(),
                 source,
             })?;
-        let state = state_entry(&node, names)?;
+        let (state, reply_blocks) = state_entries(&node, names)?;
         let commands = command_subscriber(&node, names)?;
         Ok(Self {
             _node: node,
             state,
+            reply_blocks,
+            block: ReplyBlock::default(),
+            block_key: 0,
             commands,
         })
     }
@@ -209,21 +219,58 @@ impl RtIpc {
         Ok(n)
     }
 
+    /// Publish the replies of this cycle, numbered from `first_seq` and stamped with `cycle`,
+    /// into their blocks. Call before [`RtIpc::publish`] of the state that counts them in its
+    /// `reply_head`, so that a reader that sees the head finds every reply up to it.
+    pub fn publish_replies(&mut self, first_seq: u64, cycle: u64, replies: &[Reply]) {
+        if replies.is_empty() {
+            return;
+        }
+        for (i, r) in replies.iter().enumerate() {
+            let seq = first_seq + i as u64;
+            let (key, slot) = reply_location(seq);
+            if key != self.block_key {
+                self.flush_block();
+                self.block = ReplyBlock::default();
+                self.block_key = key;
+            }
+            self.block.replies[slot] = Reply { seq, cycle, ..*r };
+        }
+        self.flush_block();
+    }
+
+    fn flush_block(&self) {
+        if let Some(entry) = (self.block_key as usize)
+            .checked_sub(1)
+            .and_then(|i| self.reply_blocks.get(i))
+        {
+            entry.update_with_copy(self.block);
+        }
+    }
+
     /// Publish the state of this cycle.
     pub fn publish(&self, state: &StateSample) {
         self.state.update_with_copy(*state);
     }
 }
 
-/// The state blackboard's entry, the blackboard created or (after a restart) opened.
+/// The state blackboard's entries (the state, and the reply blocks under keys 1 to
+/// [`REPLY_BLOCKS`]), the blackboard created or (after a restart) opened.
 ///
 /// A restarted mcm-rt finds its services still open by the gateway or controllers: it creates
 /// them when they are missing and opens them otherwise. A second live mcm-rt of the same
 /// instance is refused when it asks for the single writer.
-fn state_entry(
+#[allow(clippy::type_complexity)]
+fn state_entries(
     node: &Node<ipc::Service>,
     names: &ServiceNames,
-) -> Result<EntryHandleMut<ipc::Service, u32, StateSample>, IpcSetupError> {
+) -> Result<
+    (
+        EntryHandleMut<ipc::Service, u32, StateSample>,
+        Vec<EntryHandleMut<ipc::Service, u32, ReplyBlock>>,
+    ),
+    IpcSetupError,
+> {
     let name = names.state();
     let incompatible = |source: Incompatibility| IpcSetupError::IncompatibleService {
         name: name.clone(),
@@ -231,13 +278,15 @@ fn state_entry(
         source,
     };
     let service_name = service_name(&name)?;
-    let service = match node
+    let mut creator = node
         .service_builder(&service_name)
         .blackboard_creator::<u32>()
         .max_readers(STATE_MAX_READERS)
-        .add::<StateSample>(STATE_KEY, StateSample::default())
-        .create()
-    {
+        .add::<StateSample>(STATE_KEY, StateSample::default());
+    for key in 1..=REPLY_BLOCKS as u32 {
+        creator = creator.add::<ReplyBlock>(key, ReplyBlock::default());
+    }
+    let service = match creator.create() {
         Ok(s) => s,
         Err(BlackboardCreateError::AlreadyExists) => node
             .service_builder(&service_name)
@@ -277,17 +326,25 @@ fn state_entry(
                 source,
             },
         })?;
-    writer
-        .entry::<StateSample>(&STATE_KEY)
-        .map_err(|source| match source {
+    let entry_error = |key: u32| {
+        let name = name.clone();
+        move |source| match source {
             // The entry exists only with this key *and* this value type.
-            EntryHandleMutError::EntryDoesNotExist => incompatible(source.into()),
-            _ => IpcSetupError::Entry {
-                name: name.clone(),
-                key: STATE_KEY,
-                source,
+            EntryHandleMutError::EntryDoesNotExist => IpcSetupError::IncompatibleService {
+                name,
+                payload: payload_name::<StateSample>(),
+                source: Incompatibility::StateEntry(source),
             },
-        })
+            _ => IpcSetupError::Entry { name, key, source },
+        }
+    };
+    let state = writer
+        .entry::<StateSample>(&STATE_KEY)
+        .map_err(entry_error(STATE_KEY))?;
+    let blocks = (1..=REPLY_BLOCKS as u32)
+        .map(|key| writer.entry::<ReplyBlock>(&key).map_err(entry_error(key)))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((state, blocks))
 }
 
 /// The command service (opened or created) and its single subscriber.

@@ -3,10 +3,10 @@
 //! the cycle's timing ([`CycleClock`]). Degrees are produced here, and only here, for the state.
 //!
 //! Runs inside the cycle: writes into a sample the caller owns, no allocation. The sample
-//! persists from cycle to cycle for its reply ring: the replies of this cycle are appended
-//! (`reply_head` counts every reply since start; `seq` numbers each), and the last error
-//! record is replaced only when the controller reports a new one, stamped with this cycle's
-//! wall clock.
+//! persists from cycle to cycle: `reply_head` counts every reply since start (the replies of
+//! this cycle are numbered up to it and published by the edge, [`crate::ipc::RtIpc::publish_replies`]),
+//! and the last error record is replaced only when the controller reports a new one, stamped
+//! with this cycle's wall clock.
 //!
 //! ```
 //! use mcm_rt_core::controller::CycleView;
@@ -104,10 +104,12 @@ pub fn compose(s: &mut StateSample, view: &CycleView, truth: Option<SimTruth>, c
         s.last_error = e.encode();
         s.last_error.unix_ns = clock.unix_ns;
     }
-    s.reply_head += view.replies.dropped();
-    for r in view.replies.replies() {
-        s.push_reply(*r);
-    }
+    s.reply_head += view.replies.dropped() + view.replies.replies().len() as u64;
+}
+
+/// The sequence number of the first of this cycle's replies, once [`compose`] counted them.
+pub fn first_reply_seq(s: &StateSample, view: &CycleView) -> u64 {
+    s.reply_head + 1 - view.replies.replies().len() as u64
 }
 
 #[cfg(test)]
@@ -116,7 +118,7 @@ mod tests {
     use mcm_shared::command::Axis;
     use mcm_shared::mode::{CommandKind, Mode};
     use mcm_shared::reply::{Done, Outcome, Reason, Response, SafetyError};
-    use mcm_shared::sample::REPLY_RING;
+    use mcm_shared::sample::REPLIES_PER_CYCLE;
 
     fn ack(request_id: u64) -> mcm_shared::sample::Reply {
         Response {
@@ -164,7 +166,10 @@ mod tests {
             timing: CycleTiming {
                 period_ns: 5,
                 overruns: 2,
-                latency_p99_ns: 9,
+                since_start: mcm_shared::sample::LatencyFigures {
+                    p99_ns: 9,
+                    ..Default::default()
+                },
                 work_max_ns: 11,
                 ..CycleTiming::default()
             },
@@ -185,7 +190,7 @@ mod tests {
         assert_eq!(
             (
                 s.timing.overruns,
-                s.timing.latency_p99_ns,
+                s.timing.since_start.p99_ns,
                 s.timing.work_max_ns
             ),
             (2, 9, 11)
@@ -193,7 +198,7 @@ mod tests {
     }
 
     #[test]
-    fn replies_append_to_the_ring_and_a_new_error_is_stamped_once() {
+    fn replies_are_counted_and_a_new_error_is_stamped_once() {
         let mut view = CycleView::default();
         let mut s = StateSample::default();
         view.replies.push(ack(1));
@@ -210,7 +215,7 @@ mod tests {
         };
         compose(&mut s, &view, None, &clock);
         assert_eq!(s.reply_head, 2);
-        assert_eq!(s.reply(2).unwrap().request_id, 2);
+        assert_eq!(first_reply_seq(&s, &view), 1);
         assert_eq!((s.last_error.seq, s.last_error.unix_ns), (1, 1000));
         // Next cycle: no replies, the same error; the stamp stays.
         view.replies.clear();
@@ -221,15 +226,14 @@ mod tests {
         compose(&mut s, &view, None, &later);
         assert_eq!(s.reply_head, 2);
         assert_eq!(s.last_error.unix_ns, 1000);
-        // More replies than the ring holds: the head counts them all.
-        for n in 0..REPLY_RING as u64 + 3 {
+        // More replies than a cycle may give: the head counts them all, the kept ones are the
+        // newest and numbered last (the dropped ones leave a gap readers see).
+        for n in 0..REPLIES_PER_CYCLE as u64 + 3 {
             view.replies.push(ack(100 + n));
         }
         compose(&mut s, &view, None, &later);
-        assert_eq!(s.reply_head, 2 + REPLY_RING as u64 + 3);
-        assert_eq!(
-            s.reply(s.reply_head).unwrap().request_id,
-            100 + REPLY_RING as u64 + 2
-        );
+        assert_eq!(s.reply_head, 2 + REPLIES_PER_CYCLE as u64 + 3);
+        assert_eq!(first_reply_seq(&s, &view), 2 + 3 + 1);
+        assert_eq!(view.replies.replies()[0].request_id, 103);
     }
 }

@@ -26,7 +26,7 @@
 //! (sample.client_id, sample.request_id) = (1, 7);
 //! robot.run(0, &[sample]);
 //! let s = robot.state();
-//! let reply = Response::decode(s.reply(s.reply_head).unwrap()).unwrap();
+//! let reply = Response::decode(robot.replies().last().unwrap()).unwrap();
 //! assert_eq!((reply.request_id, reply.outcome), (7, Outcome::Done(Done::Ack)));
 //! assert_ne!(s.flags & STATE_SIMULATED, 0);
 //! assert_ne!(s.flags & STATE_SIM_ESTOP, 0);
@@ -165,6 +165,11 @@ impl SimCycle {
     /// The state sample as last composed.
     pub fn state(&self) -> &StateSample {
         self.cycle.state()
+    }
+
+    /// The replies of the last cycle ([`Cycle::replies`]).
+    pub fn replies(&self) -> &[mcm_shared::sample::Reply] {
+        self.cycle.replies()
     }
 
     pub fn controller(&self) -> &Controller {

@@ -59,7 +59,7 @@ fn a_stale_state_service_of_another_version_is_named_as_such() {
             source: Incompatibility::StateEntry(EntryHandleMutError::EntryDoesNotExist),
         } => {
             assert_eq!(*name, names.state());
-            assert_eq!(*payload, "mcm.StateSample.v3");
+            assert_eq!(*payload, "mcm.StateSample.v4");
         }
         other => panic!("not IncompatibleService: {other:?}"),
     }

@@ -317,6 +317,13 @@ pub enum Request {
     PvtPoints(PvtChunk),
     SetTorques(SetTorques),
     Sim(SimCommand),
+    /// Take control of the arm's motion (refused while another client controls it).
+    TakeControl,
+    /// Give up control (refused when another client controls it).
+    ReleaseControl,
+    /// The sending client is gone: sent by the gateway when a connection closes, and by a
+    /// shared-memory client when it stops.
+    ClientGone,
 }
 
 /// What a value may be, in a [`DecodeError`].
@@ -506,6 +513,9 @@ impl Request {
             Request::PvtPoints(_) => CommandKind::PvtPoints,
             Request::SetTorques(_) => CommandKind::SetTorques,
             Request::Sim(_) => CommandKind::Sim,
+            Request::TakeControl => CommandKind::TakeControl,
+            Request::ReleaseControl => CommandKind::ReleaseControl,
+            Request::ClientGone => CommandKind::ClientGone,
         }
     }
 
@@ -518,7 +528,13 @@ impl Request {
         };
         let a = &mut s.args;
         match self {
-            Request::Status | Request::Hold | Request::Info | Request::Release => {}
+            Request::Status
+            | Request::Hold
+            | Request::Info
+            | Request::Release
+            | Request::TakeControl
+            | Request::ReleaseControl
+            | Request::ClientGone => {}
             Request::Calibrate(c) => {
                 a[0] = c.which.code();
                 a[1] = c.elbow_direction.sign();
@@ -589,12 +605,21 @@ impl Request {
         let d = Decoder { kind, s };
         let a = &s.args;
         Ok(match kind {
-            CommandKind::Status | CommandKind::Hold | CommandKind::Info | CommandKind::Release => {
+            CommandKind::Status
+            | CommandKind::Hold
+            | CommandKind::Info
+            | CommandKind::Release
+            | CommandKind::TakeControl
+            | CommandKind::ReleaseControl
+            | CommandKind::ClientGone => {
                 d.flags(0)?;
                 match kind {
                     CommandKind::Status => Request::Status,
                     CommandKind::Hold => Request::Hold,
                     CommandKind::Info => Request::Info,
+                    CommandKind::TakeControl => Request::TakeControl,
+                    CommandKind::ReleaseControl => Request::ReleaseControl,
+                    CommandKind::ClientGone => Request::ClientGone,
                     _ => Request::Release,
                 }
             }

@@ -94,6 +94,13 @@ wire_enum!(
         PvtPoints = 10 => "pvt_points",
         SetTorques = 11 => "set_torques",
         Sim = 12 => "sim",
+        /// Take control of the arm's motion (see [`CommandKind::needs_control`]).
+        TakeControl = 13 => "take_control",
+        /// Give up control of the arm's motion.
+        ReleaseControl = 14 => "release_control",
+        /// The client is gone (its connection closed): it loses control, and a motion or
+        /// torque session it owned ends in a controlled stop to HOLD.
+        ClientGone = 15 => "client_gone",
     }
 );
 
@@ -151,8 +158,32 @@ wire_enum!(
         PvtPoint = 17 => "pvt_point",
         /// The requested position is outside the reachable range.
         Unreachable = 18 => "unreachable",
+        /// Another client controls the arm's motion.
+        NotOwner = 19 => "not_owner",
+        /// The MCM is shutting down: the arm is being stopped and its drives disabled.
+        ShuttingDown = 20 => "shutting_down",
     }
 );
+
+impl CommandKind {
+    /// Whether the command moves the arm (or changes how it is driven), so that only the client
+    /// that controls the arm may send it. `hold`, state reads, `info`, `sim` and the control
+    /// commands themselves are open to every client: a stop is never refused for lack of
+    /// control.
+    pub const fn needs_control(self) -> bool {
+        matches!(
+            self,
+            CommandKind::Calibrate
+                | CommandKind::Release
+                | CommandKind::TorqueControl
+                | CommandKind::Pvt
+                | CommandKind::MoveAxis
+                | CommandKind::MoveAll
+                | CommandKind::PvtPoints
+                | CommandKind::SetTorques
+        )
+    }
+}
 
 #[allow(clippy::derivable_impls)] // the wire_enum! macro derives no Default
 impl Default for RejectCode {

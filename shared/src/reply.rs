@@ -157,6 +157,13 @@ pub enum Reason {
         min_deg: f64,
         max_deg: f64,
     },
+    /// Another client controls the arm's motion: `owner` is its client id. The gateway names
+    /// the owner in its words (peer address or client name).
+    NotOwner {
+        owner: u64,
+    },
+    /// The MCM is shutting down: the arm is being stopped and its drives disabled.
+    ShuttingDown,
 }
 
 /// The wire form of a reason: its code, axis (0: none) and figures.
@@ -294,6 +301,13 @@ impl Reason {
                 a(axis),
                 [target_deg, min_deg, max_deg, 0.0],
             ),
+            // A client id does not fit an f64's 53-bit mantissa: it travels as two halves.
+            Reason::NotOwner { owner } => w(
+                RejectCode::NotOwner,
+                None,
+                [(owner >> 32) as f64, (owner & 0xFFFF_FFFF) as f64, 0.0, 0.0],
+            ),
+            Reason::ShuttingDown => w(RejectCode::ShuttingDown, None, [0.0; 4]),
         }
     }
 
@@ -423,6 +437,11 @@ impl Reason {
                 min_deg: v1,
                 max_deg: v2,
             },
+            RejectCode::NotOwner => Reason::NotOwner {
+                owner: (u64::from(whole(v0, "owner (high half)")?) << 32)
+                    | u64::from(whole(v1, "owner (low half)")?),
+            },
+            RejectCode::ShuttingDown => Reason::ShuttingDown,
         })
     }
 }
@@ -543,6 +562,13 @@ impl fmt::Display for Reason {
             } => write!(
                 f,
                 "axis {axis}: target {target_deg:.3} deg is outside the reachable range [{min_deg:.3}, {max_deg:.3}] deg (the limits less the safety margin)"
+            ),
+            Reason::NotOwner { owner } => write!(
+                f,
+                "another client (id {owner:#x}) controls the arm; only `hold` and state reads are open to others until it releases control or disconnects"
+            ),
+            Reason::ShuttingDown => f.write_str(
+                "the MCM is shutting down: the arm is being stopped and its drives disabled",
             ),
         }
     }

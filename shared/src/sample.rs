@@ -21,8 +21,15 @@ use iceoryx2::prelude::ZeroCopySend;
 pub const COMMAND_ARGS: usize = 64;
 /// PVT points carried by one `PvtPoints` command sample.
 pub const PVT_POINTS_PER_COMMAND: usize = 4;
-/// Replies kept in the state sample's reply ring.
-pub const REPLY_RING: usize = 16;
+/// Replies in one [`ReplyBlock`].
+pub const REPLY_BLOCK: usize = 16;
+/// Reply blocks the state blackboard keeps (keys 1 to `REPLY_BLOCKS`): the newest
+/// `REPLY_BLOCKS * REPLY_BLOCK` replies stay readable, so a reader may fall that far behind
+/// (a stalled gateway) without losing one.
+pub const REPLY_BLOCKS: usize = 512;
+/// Replies the real-time core gives in one cycle at most (two per command served; a command
+/// may also end an earlier one, e.g. `hold` answers an aborted calibration too).
+pub const REPLIES_PER_CYCLE: usize = 2 * crate::service::COMMANDS_PER_CYCLE;
 /// Values carried by one reply or error record.
 pub const REPLY_VALUES: usize = 8;
 
@@ -47,6 +54,9 @@ pub const STATE_PVT_STARVED: u32 = 1 << 3;
 pub const STATE_NOT_REALTIME: u32 = 1 << 4;
 /// `StateSample::flags`: the simulated emergency switch is pressed (ground truth).
 pub const STATE_SIM_ESTOP: u32 = 1 << 5;
+/// `StateSample::flags`: the MCM is shutting down (stopping the arm, then disabling the drives);
+/// every command but `status` is refused with `shutting_down`.
+pub const STATE_SHUTTING_DOWN: u32 = 1 << 6;
 
 /// `StateSample::axis_flags`: the axis is calibrated.
 pub const AXIS_CALIBRATED: u32 = 1;
@@ -87,7 +97,7 @@ impl Default for CommandSample {
     }
 }
 
-/// The answer to one command, kept in the state sample's reply ring.
+/// The answer to one command, kept in a [`ReplyBlock`] of the state blackboard.
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend)]
 #[repr(C)]
 pub struct Reply {
@@ -95,6 +105,8 @@ pub struct Reply {
     pub seq: u64,
     pub client_id: u64,
     pub request_id: u64,
+    /// `StateSample::seq` of the cycle that gave the reply.
+    pub cycle: u64,
     /// [`crate::mode::CommandKind`] of the command answered.
     pub kind: u32,
     /// [`crate::mode::ReplyStatus`].
@@ -126,6 +138,20 @@ pub struct ErrorRecord {
     pub values: [f64; 4],
 }
 
+/// Percentiles of the cycle's wake-up latency (how late the cycle thread woke after its
+/// deadline) [ns], from a fixed-bucket histogram.
+#[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+pub struct LatencyFigures {
+    pub p50_ns: u64,
+    pub p99_ns: u64,
+    pub p99_9_ns: u64,
+    pub p99_99_ns: u64,
+    pub max_ns: u64,
+    /// Cycles the figures are made of.
+    pub cycles: u64,
+}
+
 /// Timing figures of the real-time cycle.
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend)]
 #[repr(C)]
@@ -134,18 +160,24 @@ pub struct CycleTiming {
     pub period_ns: u64,
     /// Cycles that started later than their whole period.
     pub overruns: u64,
-    /// Wake-up latency percentiles since start [ns] (from a fixed-bucket histogram).
-    pub latency_p50_ns: u64,
-    pub latency_p99_ns: u64,
-    pub latency_max_ns: u64,
+    /// Wake-up latency since start.
+    pub since_start: LatencyFigures,
+    /// Wake-up latency over the recent window (about the last `recent_window_ns`).
+    pub recent: LatencyFigures,
+    /// Span the recent figures cover [ns].
+    pub recent_window_ns: u64,
     /// Longest time spent in one cycle's work (read, step, write, publish) [ns].
     pub work_max_ns: u64,
+    /// Configured budget of one cycle's work [ns].
+    pub work_budget_ns: u64,
+    /// Cycles whose work took longer than `work_budget_ns`.
+    pub over_budget: u64,
 }
 
 /// The state of the arm and of the controller, published once per cycle.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("mcm.StateSample.v3")]
+#[type_name("mcm.StateSample.v4")]
 pub struct StateSample {
     /// Cycle counter (increments by one every cycle).
     pub seq: u64,
@@ -184,9 +216,11 @@ pub struct StateSample {
     pub command_receive_errors: u64,
     pub timing: CycleTiming,
     pub last_error: ErrorRecord,
-    /// `seq` of the newest reply in `replies` (0 = none yet). Reply `n` is in slot `n % REPLY_RING`.
+    /// `seq` of the newest reply given (0 = none yet); see [`reply_location`] for where reply
+    /// `n` is kept. Written after the replies, so every reply up to it is readable.
     pub reply_head: u64,
-    pub replies: [Reply; REPLY_RING],
+    /// The client that controls the arm's motion (0: none).
+    pub owner_client_id: u64,
 }
 
 impl Default for StateSample {
@@ -213,24 +247,26 @@ impl Default for StateSample {
             timing: CycleTiming::default(),
             last_error: ErrorRecord::default(),
             reply_head: 0,
-            replies: [Reply::default(); REPLY_RING],
+            owner_client_id: 0,
         }
     }
 }
 
-impl StateSample {
-    /// Append a reply to the ring.
-    pub fn push_reply(&mut self, mut reply: Reply) {
-        self.reply_head += 1;
-        reply.seq = self.reply_head;
-        self.replies[(self.reply_head % REPLY_RING as u64) as usize] = reply;
-    }
+/// One block of replies, the value of a reply key of the state blackboard.
+#[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("mcm.ReplyBlock.v1")]
+pub struct ReplyBlock {
+    pub replies: [Reply; REPLY_BLOCK],
+}
 
-    /// The reply with sequence number `seq`, if it is still in the ring.
-    pub fn reply(&self, seq: u64) -> Option<&Reply> {
-        let r = &self.replies[(seq % REPLY_RING as u64) as usize];
-        (seq != 0 && r.seq == seq).then_some(r)
-    }
+/// Where reply `seq` (1, 2, ...) is kept: its blackboard key (1 to [`REPLY_BLOCKS`]) and its
+/// slot in that block. A reader finds it there while it is among the newest
+/// `REPLY_BLOCKS * REPLY_BLOCK` replies; the slot's `seq` tells whether it was overwritten.
+pub const fn reply_location(seq: u64) -> (u32, usize) {
+    let n = seq.wrapping_sub(1);
+    let block = (n / REPLY_BLOCK as u64) % REPLY_BLOCKS as u64;
+    (block as u32 + 1, (n % REPLY_BLOCK as u64) as usize)
 }
 
 /// The flight-recorder file of an error: `<dir>/mcm-<instance>-<unix ms>-<check>.csv`. The
@@ -263,20 +299,27 @@ mod tests {
 
     #[test]
     fn reply_and_error_layouts_are_pinned() {
-        assert_eq!(size_of::<Reply>(), 104);
+        assert_eq!(size_of::<Reply>(), 112);
         assert_eq!(offset_of!(Reply, seq), 0);
         assert_eq!(offset_of!(Reply, client_id), 8);
         assert_eq!(offset_of!(Reply, request_id), 16);
-        assert_eq!(offset_of!(Reply, kind), 24);
-        assert_eq!(offset_of!(Reply, status), 28);
-        assert_eq!(offset_of!(Reply, code), 32);
-        assert_eq!(offset_of!(Reply, axis), 36);
-        assert_eq!(offset_of!(Reply, values), 40);
+        assert_eq!(offset_of!(Reply, cycle), 24);
+        assert_eq!(offset_of!(Reply, kind), 32);
+        assert_eq!(offset_of!(Reply, status), 36);
+        assert_eq!(offset_of!(Reply, code), 40);
+        assert_eq!(offset_of!(Reply, axis), 44);
+        assert_eq!(offset_of!(Reply, values), 48);
+        assert_eq!(size_of::<ReplyBlock>(), 112 * REPLY_BLOCK);
         assert_eq!(size_of::<ErrorRecord>(), 64);
         assert_eq!(offset_of!(ErrorRecord, unix_ns), 16);
         assert_eq!(offset_of!(ErrorRecord, code), 24);
         assert_eq!(offset_of!(ErrorRecord, values), 32);
-        assert_eq!(size_of::<CycleTiming>(), 48);
+        assert_eq!(size_of::<LatencyFigures>(), 48);
+        assert_eq!(size_of::<CycleTiming>(), 144);
+        assert_eq!(offset_of!(CycleTiming, since_start), 16);
+        assert_eq!(offset_of!(CycleTiming, recent), 64);
+        assert_eq!(offset_of!(CycleTiming, recent_window_ns), 112);
+        assert_eq!(offset_of!(CycleTiming, over_budget), 136);
     }
 
     #[test]
@@ -302,14 +345,14 @@ mod tests {
             (offset_of!(StateSample, pvt_capacity), 532),
             (offset_of!(StateSample, command_receive_errors), 536),
             (offset_of!(StateSample, timing), 544),
-            (offset_of!(StateSample, last_error), 592),
-            (offset_of!(StateSample, reply_head), 656),
-            (offset_of!(StateSample, replies), 664),
+            (offset_of!(StateSample, last_error), 688),
+            (offset_of!(StateSample, reply_head), 752),
+            (offset_of!(StateSample, owner_client_id), 760),
         ];
         for (i, (got, want)) in expected.iter().enumerate() {
             assert_eq!(got, want, "field #{i} moved");
         }
-        assert_eq!(size_of::<StateSample>(), 664 + REPLY_RING * 104);
+        assert_eq!(size_of::<StateSample>(), 768);
     }
 
     #[test]
@@ -328,18 +371,18 @@ mod tests {
     }
 
     #[test]
-    fn reply_ring_keeps_the_newest() {
-        let mut s = StateSample::default();
-        for i in 1..=40u64 {
-            s.push_reply(Reply {
-                request_id: i,
-                ..Reply::default()
-            });
+    fn replies_fill_blocks_in_order_and_wrap_after_the_last_block() {
+        assert_eq!(reply_location(1), (1, 0));
+        assert_eq!(reply_location(16), (1, 15));
+        assert_eq!(reply_location(17), (2, 0));
+        let last = (REPLY_BLOCKS * REPLY_BLOCK) as u64;
+        assert_eq!(reply_location(last), (REPLY_BLOCKS as u32, REPLY_BLOCK - 1));
+        assert_eq!(reply_location(last + 1), (1, 0));
+        // Never key 0 (the state), whatever the sequence number.
+        for seq in [0, 1, u64::MAX, u64::MAX / 2, last * 7 + 3] {
+            let (key, slot) = reply_location(seq);
+            assert!((1..=REPLY_BLOCKS as u32).contains(&key), "{seq}: key {key}");
+            assert!(slot < REPLY_BLOCK);
         }
-        assert_eq!(s.reply_head, 40);
-        assert_eq!(s.reply(40).unwrap().request_id, 40);
-        assert_eq!(s.reply(25).unwrap().request_id, 25);
-        assert!(s.reply(24).is_none(), "overwritten");
-        assert!(s.reply(0).is_none());
     }
 }

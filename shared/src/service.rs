@@ -7,7 +7,12 @@
 //! | service | pattern | payload | writer | readers |
 //! | --- | --- | --- | --- | --- |
 //! | `mcm/<i>/state` | blackboard, key [`STATE_KEY`] | [`StateSample`](crate::sample::StateSample) | mcm-rt, once per cycle | gateway, controllers |
+//! | `mcm/<i>/state` | same blackboard, keys 1 to [`REPLY_BLOCKS`](crate::sample::REPLY_BLOCKS) | [`ReplyBlock`](crate::sample::ReplyBlock) | mcm-rt, before the state that counts the replies | gateway, controllers |
+//! | `mcm/<i>/state-ready` | event, id [`STATE_EVENT_ID`] | - | mcm-rt, after each cycle's work | gateway, controllers (wait for the next state) |
 //! | `mcm/<i>/command` | publish-subscribe | [`CommandSample`](crate::sample::CommandSample) | gateway, controllers | mcm-rt, drained every cycle |
+//!
+//! Reply `n` is in the block [`reply_location`](crate::sample::reply_location) names; a reader
+//! keeps the last `n` it has seen and reads up to the state's `reply_head`.
 
 use core::fmt;
 
@@ -16,15 +21,19 @@ pub const STATE_KEY: u32 = 0;
 /// Most publishers the command service accepts (gateway plus co-located controllers).
 pub const COMMAND_MAX_PUBLISHERS: usize = 8;
 /// Commands the real-time core serves per cycle at most (the rest wait for the next cycle).
-/// Each produces a reply (a command may also end an earlier one, e.g. `hold` answers an aborted
-/// calibration too), and the state's reply ring keeps the last [`crate::sample::REPLY_RING`]:
-/// a reader must look at every cycle's state to be sure to see every reply.
-pub const COMMANDS_PER_CYCLE: usize = crate::sample::REPLY_RING / 2;
+pub const COMMANDS_PER_CYCLE: usize = 8;
 /// Commands buffered for the real-time core between two cycles. Publishers must keep fewer
 /// than this many unanswered (the gateway keeps at most half of it in flight).
 pub const COMMAND_BUFFER: usize = 64;
 /// Most readers of the state blackboard.
 pub const STATE_MAX_READERS: usize = 16;
+/// Most listeners of the state event (the gateway and co-located controllers).
+pub const STATE_EVENT_MAX_LISTENERS: usize = 16;
+/// The event id mcm-rt notifies after publishing a new state.
+pub const STATE_EVENT_ID: usize = 1;
+/// Commands the real-time core keeps received but not yet served: every publisher's whole
+/// buffer, so that draining the command service every cycle never overflows it.
+pub const COMMAND_BACKLOG: usize = COMMAND_MAX_PUBLISHERS * COMMAND_BUFFER;
 
 /// An instance name is refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -70,6 +79,11 @@ impl ServiceNames {
         format!("mcm/{}/state", self.instance)
     }
 
+    /// The event service mcm-rt notifies after each new state.
+    pub fn state_event(&self) -> String {
+        format!("mcm/{}/state-ready", self.instance)
+    }
+
     /// The command publish-subscribe service.
     pub fn command(&self) -> String {
         format!("mcm/{}/command", self.instance)
@@ -96,6 +110,7 @@ mod tests {
         let n = ServiceNames::new("test-42_a").unwrap();
         assert_eq!(n.state(), "mcm/test-42_a/state");
         assert_eq!(n.command(), "mcm/test-42_a/command");
+        assert_eq!(n.state_event(), "mcm/test-42_a/state-ready");
         assert_eq!(n.node("mcm-rt"), "mcm-rt.test-42_a");
         assert_eq!(n.instance(), "test-42_a");
         assert_eq!(n.to_string(), "test-42_a");

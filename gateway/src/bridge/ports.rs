@@ -10,13 +10,15 @@ use iceoryx2::prelude::*;
 use iceoryx2::service::builder::blackboard::BlackboardOpenError;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use iceoryx2::service::service_name::ServiceNameError;
-use mcm_shared::sample::{CommandSample, StateSample};
+use mcm_shared::sample::{CommandSample, REPLY_BLOCKS, ReplyBlock, StateSample};
 use mcm_shared::service::{STATE_KEY, ServiceNames};
 
 /// The open ports of the bridge thread.
 pub(super) struct Ports {
     _node: Node<ipc::Service>,
     pub(super) state: EntryHandle<ipc::Service, u32, StateSample>,
+    /// The reply blocks, by key - 1.
+    pub(super) reply_blocks: Vec<EntryHandle<ipc::Service, u32, ReplyBlock>>,
     pub(super) publisher: Publisher<ipc::Service, CommandSample, ()>,
 }
 
@@ -27,6 +29,8 @@ pub enum LayoutMismatch {
     StateKey(BlackboardOpenError),
     #[error("it has no `StateSample` entry of this gateway's type under key {STATE_KEY} ({0})")]
     StateEntry(EntryHandleError),
+    #[error("it has no `ReplyBlock` entries of this gateway's type ({0})")]
+    ReplyEntry(EntryHandleError),
     #[error("its payload type is not this gateway's `CommandSample` ({0})")]
     CommandPayload(PublishSubscribeOpenError),
 }
@@ -134,6 +138,16 @@ pub(super) fn open_ports(names: &ServiceNames) -> Result<Ports, OpenError> {
                 service: service.clone(),
                 source: LayoutMismatch::StateEntry(e),
             })?;
+    let reply_blocks = (1..=REPLY_BLOCKS as u32)
+        .map(|key| {
+            reader
+                .entry::<ReplyBlock>(&key)
+                .map_err(|e| OpenError::IncompatibleLayout {
+                    service: service.clone(),
+                    source: LayoutMismatch::ReplyEntry(e),
+                })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     let service = names.command();
     let command_service = node
         .service_builder(&service_name(&service)?)
@@ -153,6 +167,7 @@ pub(super) fn open_ports(names: &ServiceNames) -> Result<Ports, OpenError> {
     Ok(Ports {
         _node: node,
         state,
+        reply_blocks,
         publisher,
     })
 }

@@ -61,12 +61,14 @@ fn a_state_entry_of_another_layout_is_an_incompatible_layout() {
 fn a_command_service_of_another_payload_is_an_incompatible_layout() {
     let names = names("command");
     let node = node(&names);
-    let _state = node
+    let mut state = node
         .service_builder(&names.state().as_str().try_into().unwrap())
         .blackboard_creator::<u32>()
-        .add::<StateSample>(STATE_KEY, StateSample::default())
-        .create()
-        .unwrap();
+        .add::<StateSample>(STATE_KEY, StateSample::default());
+    for key in 1..=mcm_shared::sample::REPLY_BLOCKS as u32 {
+        state = state.add::<mcm_shared::sample::ReplyBlock>(key, Default::default());
+    }
+    let _state = state.create().unwrap();
     let _command = node
         .service_builder(&names.command().as_str().try_into().unwrap())
         .publish_subscribe::<[u64; 4]>()

@@ -8,7 +8,9 @@ use super::{Answer, BridgeError, Job, SafetyEvent};
 use mcm_shared::command::DecodeError;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::reply::{Response, SafetyError};
-use mcm_shared::sample::{REPLY_RING, StateSample, flight_recorder_file};
+use mcm_shared::sample::{
+    REPLY_BLOCK, REPLY_BLOCKS, ReplyBlock, StateSample, flight_recorder_file, reply_location,
+};
 use mcm_shared::service::{COMMAND_BUFFER, ServiceNames};
 use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;
@@ -188,14 +190,28 @@ impl Worker {
         None
     }
 
-    /// Hand each new reply in the ring to the request waiting for it, decoded.
+    /// Hand each new reply in the reply blocks to the request waiting for it, decoded.
     fn route_replies(&mut self, state: &StateSample) {
+        let Some(ports) = self.ports.as_ref() else {
+            return;
+        };
         let oldest = state
             .reply_head
-            .saturating_sub(REPLY_RING as u64 - 1)
+            .saturating_sub((REPLY_BLOCKS * REPLY_BLOCK) as u64 - 1)
             .max(1);
+        let mut block: Option<(u32, ReplyBlock)> = None;
         for n in (self.last_reply + 1).max(oldest)..=state.reply_head {
-            let Some(r) = state.reply(n) else { continue };
+            let (key, slot) = reply_location(n);
+            if block.is_none_or(|(k, _)| k != key) {
+                block = Some((key, *ports.reply_blocks[key as usize - 1].get()));
+            }
+            let Some((_, b)) = &block else { continue };
+            let r = &b.replies[slot];
+            if r.seq != n {
+                // Overwritten (the gateway fell more than the blocks hold behind) or dropped by
+                // the core; the request waiting for it times out with "outcome unknown".
+                continue;
+            }
             self.unacked.remove(&r.request_id);
             let ours = self
                 .pending

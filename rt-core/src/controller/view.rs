@@ -6,14 +6,14 @@
 use mcm_shared::NUM_AXES;
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::SafetyError;
-use mcm_shared::sample::{REPLY_RING, Reply};
+use mcm_shared::sample::{REPLIES_PER_CYCLE, Reply};
 
-/// The replies of one cycle, in the order they were given (wire form, `seq` 0: the reply ring
-/// numbers them). Holds a whole reply ring; were more given in one cycle, the oldest are
-/// dropped and counted, as the ring would overwrite them.
+/// The replies of one cycle, in the order they were given (wire form, `seq` 0: the edge numbers
+/// them when it publishes them). Holds [`REPLIES_PER_CYCLE`]; were more given in one cycle, the
+/// oldest are dropped and counted (their numbers are skipped, so readers see the gap).
 #[derive(Debug, Clone, Default)]
 pub struct Outbox {
-    replies: heapless::Vec<Reply, REPLY_RING>,
+    replies: heapless::Vec<Reply, REPLIES_PER_CYCLE>,
     dropped: u64,
 }
 
@@ -33,7 +33,7 @@ impl Outbox {
         &self.replies
     }
 
-    /// Replies given but dropped (older than the ring holds).
+    /// Replies given but dropped (more than one cycle may give).
     pub fn dropped(&self) -> u64 {
         self.dropped
     }

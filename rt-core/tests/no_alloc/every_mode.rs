@@ -33,8 +33,8 @@ use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{Mode, RejectCode};
 use mcm_shared::reply::{Outcome, Response};
 use mcm_shared::sample::{
-    AXIS_ONLINE, CommandSample, STATE_ALL_CALIBRATED, STATE_SIMULATED, StateSample,
-    flight_recorder_file,
+    AXIS_ONLINE, CommandSample, REPLY_BLOCKS, ReplyBlock, STATE_ALL_CALIBRATED, STATE_SIMULATED,
+    StateSample, flight_recorder_file, reply_location,
 };
 use mcm_shared::service::{STATE_KEY, ServiceNames};
 use mcm_sim::SimBus;
@@ -46,6 +46,7 @@ struct Client {
     _node: Node<ipc::Service>,
     publisher: Publisher<ipc::Service, CommandSample, ()>,
     state: EntryHandle<ipc::Service, u32, StateSample>,
+    replies: Vec<EntryHandle<ipc::Service, u32, ReplyBlock>>,
 }
 
 impl Client {
@@ -56,16 +57,18 @@ impl Client {
             .unwrap();
         let state_name: ServiceName = names.state().as_str().try_into().unwrap();
         let command_name: ServiceName = names.command().as_str().try_into().unwrap();
-        let state = node
+        let reader = node
             .service_builder(&state_name)
             .blackboard_opener::<u32>()
             .open()
             .unwrap()
             .reader_builder()
             .create()
-            .unwrap()
-            .entry::<StateSample>(&STATE_KEY)
             .unwrap();
+        let state = reader.entry::<StateSample>(&STATE_KEY).unwrap();
+        let replies = (1..=REPLY_BLOCKS as u32)
+            .map(|key| reader.entry::<ReplyBlock>(&key).unwrap())
+            .collect();
         let publisher = node
             .service_builder(&command_name)
             .publish_subscribe::<CommandSample>()
@@ -78,6 +81,7 @@ impl Client {
             _node: node,
             publisher,
             state,
+            replies,
         }
     }
 }
@@ -201,7 +205,10 @@ impl Rig {
         for _ in 0..max {
             let s = self.cycle();
             for n in self.reply_seen + 1..=s.reply_head {
-                let r = s.reply(n).expect("the reply ring holds a cycle's replies");
+                let (key, slot) = reply_location(n);
+                let r = self.client.replies[key as usize - 1].get().replies[slot];
+                assert_eq!(r.seq, n, "the reply blocks hold every reply");
+                let r = &r;
                 self.reply_seen = n;
                 if r.client_id == CLIENT && r.request_id == id {
                     return Response::decode(r).expect("a reply of this version");

@@ -99,6 +99,9 @@ pub(crate) fn request() -> impl Strategy<Value = Request> {
             .prop_map(|(p, last)| Request::PvtPoints(PvtChunk::new(&p, last).unwrap())),
         six().prop_map(|torques_nm| Request::SetTorques(SetTorques { torques_nm })),
         sim().prop_map(Request::Sim),
+        Just(Request::TakeControl),
+        Just(Request::ReleaseControl),
+        Just(Request::ClientGone),
     ]
 }
 
@@ -115,7 +118,7 @@ fn any_sample() -> impl Strategy<Value = CommandSample> {
     (
         any::<u64>(),
         any::<u64>(),
-        prop_oneof![0u32..14, any::<u32>()],
+        prop_oneof![0u32..17, any::<u32>()],
         prop_oneof![0u32..0x1000, any::<u32>()],
         prop::collection::vec(arg, COMMAND_ARGS),
     )
