@@ -69,6 +69,9 @@ pub struct RobotConfig {
     pub axes: Vec<AxisConfig>,
     pub arm: ArmConfig,
     pub sim: SimConfig,
+    /// The gateway's connections and access rules (optional section).
+    #[serde(default)]
+    pub gateway: GatewayConfig,
 }
 
 #[derive(Debug, Clone, Deserialize, PartialEq)]
@@ -294,6 +297,7 @@ impl RobotConfig {
 
     /// Check every value; the first problem found is returned, naming its key.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        self.gateway.validate()?;
         let c = &self.cycle;
         if !(1..=1000).contains(&c.rate_hz) {
             return Err(invalid("cycle.rate_hz", c.rate_hz, "1..=1000 Hz"));
@@ -639,6 +643,9 @@ impl AxisConfig {
         f64::from(self.encoder_counts_per_rev) * self.gear_ratio / core::f64::consts::TAU
     }
 }
+
+mod gateway;
+pub use gateway::{AccessConfig, ConnectionLimits, GatewayConfig};
 
 #[cfg(test)]
 mod tests;

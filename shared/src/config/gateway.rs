@@ -1,0 +1,34 @@
+//! The `[gateway]` section: how the gateway limits connections (`[gateway.connections]`) and
+//! who may move the arm (`[gateway.access]`). The whole section is optional; its defaults keep
+//! the manual's behaviour (any client on the factory network may connect and command).
+
+use super::ConfigError;
+use serde::Deserialize;
+
+/// `[gateway]`.
+#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GatewayConfig {
+    #[serde(default)]
+    pub connections: ConnectionLimits,
+    #[serde(default)]
+    pub access: AccessConfig,
+}
+
+/// `[gateway.connections]`: limits that keep idle, slow or greedy clients from locking others
+/// out.
+#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ConnectionLimits {}
+
+/// `[gateway.access]`: who may take control of the arm's motion.
+#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct AccessConfig {}
+
+impl GatewayConfig {
+    /// Check every value of the section; the first problem found names its key.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        Ok(())
+    }
+}
