@@ -72,6 +72,11 @@ where
         eprintln!("mcm-rt: cannot install the SIGINT/SIGTERM handlers: {e}");
         return ExitCode::FAILURE;
     }
+    // The main thread only waits for the cycle thread: off the cycle's CPU like every helper.
+    if let Err(e) = crate::realtime::setup_helper_thread(opts.config.cycle.cpu) {
+        eprintln!("mcm-rt: {e}");
+        return ExitCode::FAILURE;
+    }
     let instance = opts.names.instance().to_string();
     let backend = format!("{:?}", opts.config.bus.backend).to_lowercase();
     let started = move |report: &crate::realtime::RtReport| {
@@ -84,12 +89,15 @@ where
         Ok(summary) => {
             let f = summary.figures;
             eprintln!(
-                "mcm-rt: stopped after {} cycles, {} overruns, wake-up latency p99 {} us, max {} us, {} failed command receives",
+                "mcm-rt: stopped after {} cycles, {} overruns, {} over the work budget, wake-up latency p99 {} us, max {} us, {} failed command receives, {} failed state notifications, at most {} commands waiting",
                 f.cycles,
                 f.overruns,
+                f.over_budget,
                 f.latency_p99_ns / 1000,
                 f.latency_max_ns / 1000,
-                f.command_receive_errors
+                f.command_receive_errors,
+                f.notify_failures,
+                f.most_waiting
             );
             ExitCode::SUCCESS
         }

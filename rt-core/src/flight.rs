@@ -121,7 +121,7 @@ pub struct FlightRecorder {
     shared: Arc<Shared>,
 }
 
-/// The writer thread; stop it to flush pending files.
+/// The writer thread; stop it (or drop it) to flush pending files.
 pub struct FlightWriter {
     shared: Arc<Shared>,
     handle: Option<std::thread::JoinHandle<()>>,
@@ -134,7 +134,14 @@ impl FlightWriter {
     }
 
     /// Write what is pending, then stop the thread.
-    pub fn stop(mut self) {
+    pub fn stop(self) {
+        drop(self);
+    }
+}
+
+impl Drop for FlightWriter {
+    /// A set-up that fails after the recorder started still ends its thread.
+    fn drop(&mut self) {
         self.shared.stop.store(true, Ordering::Release);
         if let Some(h) = self.handle.take() {
             let _ = h.join();

@@ -1,24 +1,27 @@
-//! The iceoryx2 edge of the real-time core: the state blackboard it writes and the command
-//! service it drains.
+//! The iceoryx2 edge of the real-time core: the state blackboard it writes, the command
+//! service it drains and the state event it notifies after each cycle.
 //!
 //! Set-up ([`RtIpc::create`]) runs once before the cycle. Inside the cycle, [`RtIpc::drain`]
-//! (`Subscriber::receive`) and [`RtIpc::publish`] (blackboard `update_with_copy`) neither block
-//! nor allocate in steady state. When a peer opens or closes the command service, the next
+//! (`Subscriber::receive`), [`RtIpc::publish`] (blackboard `update_with_copy`) and
+//! [`RtIpc::notify_state`] (`Notifier::notify`: a bit in shared memory and, only when a listener
+//! is idle, one non-blocking `sendto`) neither block nor allocate in steady state. When a peer opens or closes the command service, the next
 //! `receive` sets the connection up inside that call (iceoryx2 0.10: about ten small allocations
 //! and 0.1 to 0.3 ms); peers therefore join at start-up, not per command. State goes through a
 //! blackboard precisely because readers joining or leaving never touch the writer.
 //!
-//! The real-time core *creates* both services with the QoS of [`mcm_shared::service`]; anything
+//! The real-time core *creates* the services with the QoS of [`mcm_shared::service`]; anything
 //! else opens them. Set-up errors keep iceoryx2's own error as their source, one variant per
 //! step; two causes get their own words: services of the same name left by an MCM of another
 //! version ([`IpcSetupError::IncompatibleService`]) and a second live `mcm-rt` of the same
 //! instance ([`IpcSetupError::InstanceInUse`]).
 
 use iceoryx2::node::NodeCreationFailure;
+use iceoryx2::port::notifier::{Notifier, NotifierCreateError, NotifierNotifyError};
 use iceoryx2::port::subscriber::{Subscriber, SubscriberCreateError};
 use iceoryx2::port::writer::{EntryHandleMut, EntryHandleMutError, WriterCreateError};
 use iceoryx2::prelude::*;
 use iceoryx2::service::builder::blackboard::{BlackboardCreateError, BlackboardOpenError};
+use iceoryx2::service::builder::event::{EventOpenError, EventOpenOrCreateError};
 use iceoryx2::service::builder::publish_subscribe::{
     PublishSubscribeOpenError, PublishSubscribeOpenOrCreateError,
 };
@@ -27,7 +30,8 @@ use mcm_shared::sample::{
     CommandSample, REPLY_BLOCKS, Reply, ReplyBlock, StateSample, reply_location,
 };
 use mcm_shared::service::{
-    COMMAND_BUFFER, COMMAND_MAX_PUBLISHERS, STATE_KEY, STATE_MAX_READERS, ServiceNames,
+    COMMAND_BUFFER, COMMAND_MAX_PUBLISHERS, STATE_EVENT_ID, STATE_EVENT_MAX_LISTENERS, STATE_KEY,
+    STATE_MAX_READERS, ServiceNames,
 };
 
 /// Setting up the IPC services failed: which step, on which name, and iceoryx2's own error.
@@ -88,6 +92,18 @@ pub enum IpcSetupError {
         #[source]
         source: SubscriberCreateError,
     },
+    #[error("cannot open or create the state event `{name}`: {source}")]
+    StateEvent {
+        name: String,
+        #[source]
+        source: EventOpenOrCreateError,
+    },
+    #[error("cannot create the notifier of the state event `{name}`: {source}")]
+    Notifier {
+        name: String,
+        #[source]
+        source: NotifierCreateError,
+    },
     #[error(
         "the service `{name}` exists with another payload type, layout or QoS than this mcm-rt's \
          `{payload}`: it was left by an MCM of another version ({source}); stop the processes \
@@ -125,6 +141,9 @@ pub enum Incompatibility {
     /// The command service has another payload type or QoS.
     #[error("{0}")]
     CommandService(#[from] PublishSubscribeOpenError),
+    /// The state event has another pattern, attributes or limits.
+    #[error("{0}")]
+    StateEvent(#[from] EventOpenError),
 }
 
 /// The single port only one `mcm-rt` per instance may hold is held already.
@@ -134,12 +153,26 @@ pub enum PortTaken {
     Writer(#[from] WriterCreateError),
     #[error("the command subscriber is taken: {0}")]
     Subscriber(#[from] SubscriberCreateError),
+    #[error("the state event's notifier is taken: {0}")]
+    Notifier(#[from] NotifierCreateError),
 }
 
 /// Receiving commands failed inside the cycle (the cycle goes on; the runner counts it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 #[error("receiving from the command service failed: {0}")]
 pub struct ReceiveError(#[from] pub iceoryx2::port::ReceiveError);
+
+/// What one [`RtIpc::drain`] gave: the samples received before an error stay received.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Drained {
+    pub count: usize,
+    pub error: Option<ReceiveError>,
+}
+
+/// Notifying the state event failed inside the cycle (the runner counts it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("notifying the state event failed: {0:?}")]
+pub struct NotifyError(pub NotifierNotifyError);
 
 /// The iceoryx2 type name of `T` (what a stale service of another version differs in).
 fn payload_name<T: ZeroCopySend>() -> &'static str {
@@ -166,10 +199,11 @@ pub struct RtIpc {
     block: ReplyBlock,
     block_key: u32,
     commands: Subscriber<ipc::Service, CommandSample, ()>,
+    state_event: Notifier<ipc::Service>,
 }
 
 impl RtIpc {
-    /// Create the node and both services of `names`.
+    /// Create the node and the services of `names`.
     pub fn create(names: &ServiceNames) -> Result<Self, IpcSetupError> {
         // iceoryx2 warns about its own defaults (no config file); IOX2_LOG_LEVEL overrides.
         set_log_level_from_env_or(LogLevel::Error);
@@ -192,6 +226,7 @@ impl RtIpc {
             })?;
         let (state, reply_blocks) = state_entries(&node, names)?;
         let commands = command_subscriber(&node, names)?;
+        let state_event = state_notifier(&node, names)?;
         Ok(Self {
             _node: node,
             state,
@@ -199,24 +234,37 @@ impl RtIpc {
             block: ReplyBlock::default(),
             block_key: 0,
             commands,
+            state_event,
         })
     }
 
-    /// Move up to `buf.len()` pending commands into `buf`; returns how many. Commands beyond
-    /// that stay queued for the next cycle. On an error the commands received before it are
-    /// lost for the cycle (the caller counts the error).
-    pub fn drain(&mut self, buf: &mut [CommandSample]) -> Result<usize, ReceiveError> {
-        let mut n = 0;
-        while n < buf.len() {
-            match self.commands.receive()? {
-                Some(sample) => {
-                    buf[n] = *sample;
-                    n += 1;
+    /// Move up to `buf.len()` pending commands into `buf` and say how many. Commands beyond
+    /// that stay queued for the next cycle. A receive error ends the drain; the commands
+    /// received before it are kept (the caller counts the error).
+    pub fn drain(&mut self, buf: &mut [CommandSample]) -> Drained {
+        let mut count = 0;
+        while count < buf.len() {
+            match self.commands.receive() {
+                Ok(Some(sample)) => {
+                    buf[count] = *sample;
+                    count += 1;
                 }
-                None => break,
+                Ok(None) => break,
+                Err(e) => {
+                    return Drained {
+                        count,
+                        error: Some(ReceiveError(e)),
+                    };
+                }
             }
         }
-        Ok(n)
+        Drained { count, error: None }
+    }
+
+    /// Tell the state event's listeners that a new state is published (event id
+    /// [`STATE_EVENT_ID`]). Call after [`RtIpc::publish`].
+    pub fn notify_state(&self) -> Result<(), NotifyError> {
+        self.state_event.notify().map(|_| ()).map_err(NotifyError)
     }
 
     /// Publish the replies of this cycle, numbered from `first_seq` and stamped with `cycle`,
@@ -394,6 +442,51 @@ fn command_subscriber(
                 source: source.into(),
             },
             _ => IpcSetupError::Subscriber {
+                name: name.clone(),
+                source,
+            },
+        })
+}
+
+/// The state event (opened or created) and its single notifier.
+fn state_notifier(
+    node: &Node<ipc::Service>,
+    names: &ServiceNames,
+) -> Result<Notifier<ipc::Service>, IpcSetupError> {
+    let name = names.state_event();
+    let service = node
+        .service_builder(&service_name(&name)?)
+        .event()
+        .max_listeners(STATE_EVENT_MAX_LISTENERS)
+        .max_notifiers(1)
+        .open_or_create()
+        .map_err(|source| match source {
+            EventOpenOrCreateError::EventOpenError(
+                e @ (EventOpenError::IncompatibleMessagingPattern
+                | EventOpenError::IncompatibleAttributes
+                | EventOpenError::DoesNotSupportRequestedAmountOfNotifiers
+                | EventOpenError::DoesNotSupportRequestedAmountOfListeners),
+            ) => IpcSetupError::IncompatibleService {
+                name: name.clone(),
+                payload: "event",
+                source: e.into(),
+            },
+            _ => IpcSetupError::StateEvent {
+                name: name.clone(),
+                source,
+            },
+        })?;
+    service
+        .notifier_builder()
+        .default_event_id(EventId::new(STATE_EVENT_ID))
+        .create()
+        .map_err(|source| match source {
+            NotifierCreateError::ExceedsMaxSupportedNotifiers => IpcSetupError::InstanceInUse {
+                instance: names.instance().to_string(),
+                name: name.clone(),
+                source: source.into(),
+            },
+            _ => IpcSetupError::Notifier {
                 name: name.clone(),
                 source,
             },

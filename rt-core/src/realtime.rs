@@ -1,6 +1,14 @@
-//! Real-time set-up of the cycle thread: locked memory, `SCHED_FIFO` priority, CPU pinning.
+//! Real-time set-up of the cycle thread (locked memory, `SCHED_FIFO` priority, CPU pinning),
+//! and the placement of every other thread of `mcm-rt` away from it.
 //!
 //! Runs once, before the cycle starts (not inside it).
+//!
+//! Only the cycle thread runs `SCHED_FIFO` on `cycle.cpu`. Every other thread (the flight
+//! recorder's and the candump log's writers, the main thread that only waits) runs
+//! `SCHED_OTHER` at normal priority on every CPU except the cycle's ([`helper_cpus`]): the
+//! runner calls [`setup_helper_thread`] on the thread that will become the cycle thread
+//! *before* it starts the helpers (they inherit policy and affinity from it), and only then
+//! [`setup_current_thread`] turns it real-time.
 //!
 //! Each step is tried and its outcome kept; [`RtReport::problems`] lists the steps that failed,
 //! so the caller can say so once, clearly, and refuse to run unless the user allowed it
@@ -93,9 +101,102 @@ pub fn setup_current_thread(priority: u8, cpu: usize) -> RtReport {
     }
 }
 
+/// The CPUs helper threads may use: every CPU of `available` except `cycle_cpu`, or all of
+/// `available` when no other is left.
+pub fn helper_cpus(available: &[usize], cycle_cpu: usize) -> Vec<usize> {
+    let others: Vec<usize> = available
+        .iter()
+        .copied()
+        .filter(|&c| c != cycle_cpu)
+        .collect();
+    if others.is_empty() {
+        available.to_vec()
+    } else {
+        others
+    }
+}
+
+/// Give the calling thread (and the threads it starts afterwards, which inherit it) the normal
+/// policy (`SCHED_OTHER`, nice as it was) and the CPUs of [`helper_cpus`]. The first failing
+/// step is named in the error.
+pub fn setup_helper_thread(cycle_cpu: usize) -> Result<(), String> {
+    let param = libc::sched_param { sched_priority: 0 };
+    // SAFETY: `pthread_self()` is the calling thread, alive for the call; `param` is a valid
+    // sched_param that outlives the call.
+    let rc =
+        unsafe { libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_OTHER, &param) };
+    if rc != 0 {
+        return Err(format!(
+            "cannot set SCHED_OTHER: {}",
+            std::io::Error::from_raw_os_error(rc)
+        ));
+    }
+    let available: Vec<usize> = core_affinity::get_core_ids()
+        .unwrap_or_default()
+        .iter()
+        .map(|c| c.id)
+        .collect();
+    let cpus = helper_cpus(&available, cycle_cpu);
+    if cpus.is_empty() || cpus.len() == available.len() {
+        return Ok(());
+    }
+    // SAFETY: cpu_set_t is plain data; all zero bits is the empty set CPU_ZERO gives.
+    let mut set: libc::cpu_set_t = unsafe { std::mem::zeroed() };
+    for &cpu in &cpus {
+        // SAFETY: CPU_SET only writes bit `cpu` of `set`, which it bounds-checks itself.
+        unsafe { libc::CPU_SET(cpu, &mut set) };
+    }
+    // SAFETY: pid 0 is the calling thread; `set` is a valid cpu_set_t of the size given.
+    let rc = unsafe { libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set) };
+    if rc != 0 {
+        return Err(format!(
+            "cannot keep the thread off CPU {cycle_cpu} (sched_setaffinity to {cpus:?}): {}",
+            std::io::Error::last_os_error()
+        ));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn helpers_get_every_cpu_but_the_cycles() {
+        assert_eq!(helper_cpus(&[0, 1, 2, 3], 1), [0, 2, 3]);
+        assert_eq!(helper_cpus(&[0, 1], 0), [1]);
+        // The only CPU, or a cycle CPU the process does not have: all of them.
+        assert_eq!(helper_cpus(&[0], 0), [0]);
+        assert_eq!(helper_cpus(&[0, 1], 7), [0, 1]);
+    }
+
+    #[test]
+    fn a_helper_thread_runs_normal_policy_off_the_cycle_cpu() {
+        let available: Vec<usize> = core_affinity::get_core_ids()
+            .unwrap()
+            .iter()
+            .map(|c| c.id)
+            .collect();
+        let cycle = available[0];
+        let (policy, allowed) = std::thread::spawn(move || {
+            setup_helper_thread(cycle).unwrap();
+            // SAFETY: sched_getscheduler only reads the calling thread's policy.
+            let policy = unsafe { libc::sched_getscheduler(0) };
+            let allowed: Vec<usize> = core_affinity::get_core_ids()
+                .unwrap()
+                .iter()
+                .map(|c| c.id)
+                .collect();
+            (policy, allowed)
+        })
+        .join()
+        .unwrap();
+        assert_eq!(policy, libc::SCHED_OTHER);
+        assert_eq!(allowed, helper_cpus(&available, cycle));
+        if available.len() > 1 {
+            assert!(!allowed.contains(&cycle), "{allowed:?}");
+        }
+    }
 
     #[test]
     fn report_lists_each_failed_step() {

@@ -1,9 +1,13 @@
 //! The real-time loop: the edges around [`crate::cycle::Cycle`].
 //!
-//! Set-up (bus, real-time thread, IPC, flight recorder) runs once; then every period, on
+//! Set-up runs once on the thread that becomes the cycle thread: it first keeps itself at
+//! normal policy off the cycle's CPU ([`realtime::setup_helper_thread`]), opens the bus and
+//! starts the flight recorder (their writer threads inherit that placement), and only then
+//! turns real-time ([`realtime::setup_current_thread`]) and sets up IPC. Then every period, on
 //! absolute deadlines, the loop sleeps until the deadline and runs one cycle of the runner's
-//! edge ([`crate::edge::Edge::cycle`]: drain commands, run the cycle ([`run_cycle`]), add
-//! timing, record, publish the state). Stops when SIGINT or SIGTERM arrives (checked once per
+//! edge ([`crate::edge::Edge::cycle`]: take in commands, run the cycle ([`run_cycle`]), add
+//! timing, record, publish the state), ends it ([`crate::edge::Edge::end`]) and then wakes the
+//! state event's listeners ([`crate::edge::Edge::signal_state`], outside the timed work). Stops when SIGINT or SIGTERM arrives (checked once per
 //! cycle). [`run_cycle`] runs inside the cycle; the rest is set-up and
 //! teardown.
 //!
@@ -58,6 +62,8 @@ pub enum RunError {
     Panicked,
     #[error("cannot start the flight recorder: {0}")]
     FlightRecorder(String),
+    #[error("cannot place the helper threads away from the cycle's CPU: {0}")]
+    Placement(String),
 }
 
 /// What happened during the run.
@@ -134,14 +140,10 @@ fn spawn<B: Bus + 'static>(
         .name("mcm-rt-cycle".into())
         .spawn(move || -> Result<RunSummary, RunError> {
             let cfg = &opts.config;
-            let report = realtime::setup_current_thread(cfg.cycle.priority, cfg.cycle.cpu);
+            // Helper threads start from here before it turns real-time, and inherit this.
+            realtime::setup_helper_thread(cfg.cycle.cpu).map_err(RunError::Placement)?;
             // Open the bus first: a missing CAN interface is the more useful message.
             let bus = make_bus(cfg)?;
-            if !report.is_realtime() && !opts.allow_non_realtime {
-                return Err(RunError::NotRealtime { report });
-            }
-            let cycle = Box::new(Cycle::new(cfg, bus)?);
-            let ipc = RtIpc::create(&opts.names)?;
             let records =
                 (cfg.safety.flight_recorder_seconds * f64::from(cfg.cycle.rate_hz)).ceil() as usize;
             let (recorder, writer) = FlightRecorder::start(
@@ -150,12 +152,19 @@ fn spawn<B: Bus + 'static>(
                 opts.names.instance(),
             )
             .map_err(|e| RunError::FlightRecorder(e.to_string()))?;
+            let report = realtime::setup_current_thread(cfg.cycle.priority, cfg.cycle.cpu);
+            if !report.is_realtime() && !opts.allow_non_realtime {
+                return Err(RunError::NotRealtime { report });
+            }
+            let cycle = Box::new(Cycle::new(cfg, bus)?);
+            let ipc = RtIpc::create(&opts.names)?;
             let mut edge = Edge::new(
                 cycle,
                 sim.map(SimEdge::new),
                 ipc,
                 recorder,
                 cfg.cycle_period_ns(),
+                cfg.work_budget_ns(),
                 report.is_realtime(),
             );
             on_started(&report);
@@ -194,7 +203,7 @@ pub fn run_cycle<B: Bus>(
 
 /// Run the edge's cycles on absolute deadlines until SIGINT or SIGTERM arrives (checked once
 /// per cycle): sleep until the deadline, read the clock, run [`Edge::cycle`], read the clock,
-/// [`Edge::end`] gives the next deadline.
+/// [`Edge::end`] gives the next deadline, then [`Edge::signal_state`] wakes the listeners.
 fn cycle_loop<B: Bus>(edge: &mut Edge<B>) -> Figures {
     let stop = crate::signals::stop_flag();
     let mut next = edge.start(clock::now_ns());
@@ -202,6 +211,7 @@ fn cycle_loop<B: Bus>(edge: &mut Edge<B>) -> Figures {
         clock::sleep_until_ns(next);
         edge.cycle(clock::now_ns());
         next = edge.end(clock::now_ns());
+        edge.signal_state();
     }
     edge.figures()
 }

@@ -91,6 +91,10 @@ pub struct CycleConfig {
     pub priority: u8,
     /// CPU core the cycle thread is pinned to.
     pub cpu: usize,
+    /// Budget of one cycle's work [us] (0 < budget <= the period); cycles whose work takes
+    /// longer are counted in the state's `timing.over_budget`. Default: half the period.
+    #[serde(default)]
+    pub work_budget_us: Option<u64>,
 }
 
 /// Which bus backend drives the arm.
@@ -295,6 +299,13 @@ impl RobotConfig {
         1_000_000_000 / u64::from(self.cycle.rate_hz)
     }
 
+    /// Budget of one cycle's work [ns]: `cycle.work_budget_us`, or half the period.
+    pub fn work_budget_ns(&self) -> u64 {
+        self.cycle
+            .work_budget_us
+            .map_or(self.cycle_period_ns() / 2, |us| us.saturating_mul(1000))
+    }
+
     /// Check every value; the first problem found is returned, naming its key.
     pub fn validate(&self) -> Result<(), ConfigError> {
         self.gateway.validate()?;
@@ -311,6 +322,16 @@ impl RobotConfig {
         }
         if !(1..=99).contains(&c.priority) {
             return Err(invalid("cycle.priority", c.priority, "1..=99 (SCHED_FIFO)"));
+        }
+        if let Some(budget) = c.work_budget_us {
+            let period_us = self.cycle_period_ns() / 1000;
+            if budget == 0 || budget > period_us {
+                return Err(invalid(
+                    "cycle.work_budget_us",
+                    budget,
+                    &format!("1..={period_us} us (above 0, at most the cycle period)"),
+                ));
+            }
         }
         let b = &self.bus;
         if b.bitrate == 0 {

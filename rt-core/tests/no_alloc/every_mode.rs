@@ -1,6 +1,7 @@
 //! The runner's edge allocates nothing in any mode.
 //!
-//! The edge ([`Edge::cycle`] and [`Edge::end`], what the real-time loop runs each period) over
+//! The edge ([`Edge::cycle`], [`Edge::end`] and [`Edge::signal_state`], what the real-time loop
+//! runs each period) over
 //! the simulated robot, with real iceoryx2 services of a test-own instance and the flight
 //! recorder's writer thread. A client on the test thread talks to it as the gateway does:
 //! typed requests ([`Request::encode`], stamped ids) through a publisher connected before the
@@ -16,6 +17,7 @@
 //! OK and every mode reached, so the count cannot be zero for lack of work.
 
 use super::Meter;
+use iceoryx2::port::listener::Listener;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::reader::EntryHandle;
 use iceoryx2::prelude::*;
@@ -36,7 +38,7 @@ use mcm_shared::sample::{
     AXIS_ONLINE, CommandSample, REPLY_BLOCKS, ReplyBlock, STATE_ALL_CALIBRATED, STATE_SIMULATED,
     StateSample, flight_recorder_file, reply_location,
 };
-use mcm_shared::service::{STATE_KEY, ServiceNames};
+use mcm_shared::service::{STATE_EVENT_ID, STATE_KEY, ServiceNames};
 use mcm_sim::SimBus;
 
 const CLIENT: u64 = 77;
@@ -47,6 +49,7 @@ struct Client {
     publisher: Publisher<ipc::Service, CommandSample, ()>,
     state: EntryHandle<ipc::Service, u32, StateSample>,
     replies: Vec<EntryHandle<ipc::Service, u32, ReplyBlock>>,
+    state_event: Listener<ipc::Service>,
 }
 
 impl Client {
@@ -57,6 +60,15 @@ impl Client {
             .unwrap();
         let state_name: ServiceName = names.state().as_str().try_into().unwrap();
         let command_name: ServiceName = names.command().as_str().try_into().unwrap();
+        let event_name: ServiceName = names.state_event().as_str().try_into().unwrap();
+        let state_event = node
+            .service_builder(&event_name)
+            .event()
+            .open()
+            .unwrap()
+            .listener_builder()
+            .create()
+            .unwrap();
         let reader = node
             .service_builder(&state_name)
             .blackboard_opener::<u32>()
@@ -82,6 +94,7 @@ impl Client {
             publisher,
             state,
             replies,
+            state_event,
         }
     }
 }
@@ -122,6 +135,7 @@ impl Rig {
             ipc,
             recorder,
             cfg.cycle_period_ns(),
+            cfg.work_budget_ns(),
             false,
         );
         let client = Client::open(&names);
@@ -158,9 +172,21 @@ impl Rig {
         let edge = &mut self.edge;
         self.next_deadline = self.meter.measure(|| {
             edge.cycle(wake);
-            edge.end(clock::now_ns())
+            let next = edge.end(clock::now_ns());
+            edge.signal_state();
+            next
         });
         self.cycles += 1;
+        let mut woken = 0;
+        self.client
+            .state_event
+            .try_wait(|e| {
+                assert_eq!(e.id.as_value(), STATE_EVENT_ID);
+                woken += 1;
+            })
+            .unwrap();
+        assert_eq!(woken, 1, "the listener is woken once after each cycle");
+        assert_eq!(self.edge.figures().notify_failures, 0);
         let s = *self.client.state.get();
         assert_eq!(&s, self.edge.state(), "the published state is this cycle's");
         self.modes[s.mode as usize] = true;

@@ -27,6 +27,10 @@ const REFUSALS: &[Case] = &[
         "a rate whose period is a whole number of nanoseconds (e.g. 100, 200, 250)"),
     (|c| c.cycle.priority = 0, "cycle.priority", "0", "1..=99 (SCHED_FIFO)"),
     (|c| c.cycle.priority = 100, "cycle.priority", "100", "1..=99 (SCHED_FIFO)"),
+    (|c| c.cycle.work_budget_us = Some(0), "cycle.work_budget_us", "0",
+        "1..=5000 us (above 0, at most the cycle period)"),
+    (|c| c.cycle.work_budget_us = Some(5001), "cycle.work_budget_us", "5001",
+        "1..=5000 us (above 0, at most the cycle period)"),
     // [bus]
     (|c| c.bus.bitrate = 0, "bus.bitrate", "0", "> 0 bit/s"),
     (|c| c.bus.load_budget = 0.0, "bus.load_budget", "0", "0 < budget <= 1"),
@@ -157,8 +161,10 @@ fn every_refusal_names_key_value_and_allowed_range() {
 
 #[rustfmt::skip]
 const ACCEPTED: &[fn(&mut RobotConfig)] = &[
-    |c| c.cycle.rate_hz = 1000,
+    |c| { c.cycle.rate_hz = 1000; c.cycle.work_budget_us = Some(1000); },
     |c| c.cycle.rate_hz = 1,
+    |c| c.cycle.work_budget_us = Some(5000),
+    |c| c.cycle.work_budget_us = None,
     |c| c.cycle.priority = 99,
     |c| c.bus.load_budget = 1.0,
     |c| c.safety.limit_margin_deg = 0.0,
