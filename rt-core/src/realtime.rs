@@ -15,6 +15,20 @@
 //! (`mcm-rt --allow-non-realtime`, which the simulation launcher passes).
 
 use std::fmt;
+use std::sync::OnceLock;
+
+/// The CPUs the process could use before any thread of it was placed (the first call of
+/// [`setup_helper_thread`] or [`setup_current_thread`] narrows its own thread's set).
+fn process_cpus() -> &'static [usize] {
+    static CPUS: OnceLock<Vec<usize>> = OnceLock::new();
+    CPUS.get_or_init(|| {
+        core_affinity::get_core_ids()
+            .unwrap_or_default()
+            .iter()
+            .map(|c| c.id)
+            .collect()
+    })
+}
 
 /// What the set-up achieved.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -84,14 +98,14 @@ pub fn setup_current_thread(priority: u8, cpu: usize) -> RtReport {
         })
         .map(|()| priority);
 
-    let cores = core_affinity::get_core_ids().unwrap_or_default();
-    let pinned_cpu = match cores.iter().find(|c| c.id == cpu) {
-        Some(core) if core_affinity::set_for_current(*core) => Ok(cpu),
-        Some(_) => Err(format!("sched_setaffinity to CPU {cpu} failed")),
-        None => Err(format!(
-            "CPU {cpu} is not available (available: {:?})",
-            cores.iter().map(|c| c.id).collect::<Vec<_>>()
-        )),
+    // The process's CPUs, not this thread's: it may have been placed as a helper first.
+    let cpus = process_cpus();
+    let pinned_cpu = if !cpus.contains(&cpu) {
+        Err(format!("CPU {cpu} is not available (available: {cpus:?})"))
+    } else if core_affinity::set_for_current(core_affinity::CoreId { id: cpu }) {
+        Ok(cpu)
+    } else {
+        Err(format!("sched_setaffinity to CPU {cpu} failed"))
     };
 
     RtReport {
@@ -131,12 +145,8 @@ pub fn setup_helper_thread(cycle_cpu: usize) -> Result<(), String> {
             std::io::Error::from_raw_os_error(rc)
         ));
     }
-    let available: Vec<usize> = core_affinity::get_core_ids()
-        .unwrap_or_default()
-        .iter()
-        .map(|c| c.id)
-        .collect();
-    let cpus = helper_cpus(&available, cycle_cpu);
+    let available = process_cpus();
+    let cpus = helper_cpus(available, cycle_cpu);
     if cpus.is_empty() || cpus.len() == available.len() {
         return Ok(());
     }
@@ -172,11 +182,7 @@ mod tests {
 
     #[test]
     fn a_helper_thread_runs_normal_policy_off_the_cycle_cpu() {
-        let available: Vec<usize> = core_affinity::get_core_ids()
-            .unwrap()
-            .iter()
-            .map(|c| c.id)
-            .collect();
+        let available = process_cpus().to_vec();
         let cycle = available[0];
         let (policy, allowed) = std::thread::spawn(move || {
             setup_helper_thread(cycle).unwrap();

@@ -1,12 +1,14 @@
 //! The set-up errors of the real-time core's iceoryx2 edge, provoked for real: services of the
 //! same name left with another payload type (an MCM of another version), and a second core of
-//! the same instance. Each test uses its own instance name.
+//! the same instance; and the state event waking a listener. Each test uses its own instance
+//! name.
 
 use iceoryx2::port::writer::EntryHandleMutError;
 use iceoryx2::prelude::*;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use mcm_rt_core::ipc::{Incompatibility, IpcSetupError, PortTaken, RtIpc};
-use mcm_shared::service::{STATE_KEY, STATE_MAX_READERS, ServiceNames};
+use mcm_shared::service::{STATE_EVENT_ID, STATE_KEY, STATE_MAX_READERS, ServiceNames};
+use std::time::Duration;
 
 /// A state sample of an older MCM version: another type name, another layout.
 #[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
@@ -126,4 +128,43 @@ fn a_restarted_core_opens_the_services_its_peers_keep() {
         .unwrap();
     drop(first);
     RtIpc::create(&names).expect("the restarted core opens them again");
+}
+
+#[test]
+fn a_listener_wakes_after_each_published_state_and_across_a_restart() {
+    let names = names("state-event");
+    let core = RtIpc::create(&names).expect("the core sets up");
+    let node = node();
+    let event: ServiceName = names.state_event().as_str().try_into().unwrap();
+    let listener = node
+        .service_builder(&event)
+        .event()
+        .open()
+        .unwrap()
+        .listener_builder()
+        .create()
+        .unwrap();
+    let wait = |listener: &iceoryx2::port::listener::Listener<ipc::Service>| {
+        let mut ids = Vec::new();
+        listener
+            .timed_wait(|e| ids.push(e.id.as_value()), Duration::from_secs(5))
+            .unwrap();
+        ids
+    };
+    let mut state = mcm_shared::sample::StateSample::default();
+    for seq in 1..=3 {
+        state.seq = seq;
+        core.publish(&state);
+        core.notify_state().unwrap();
+        assert_eq!(wait(&listener), [STATE_EVENT_ID], "cycle {seq}");
+    }
+    // Nothing more until the next state.
+    let mut extra = 0;
+    listener.try_wait(|_| extra += 1).unwrap();
+    assert_eq!(extra, 0);
+    // The listener keeps the event service while the core restarts: it opens it again.
+    drop(core);
+    let core = RtIpc::create(&names).expect("the restarted core opens the event");
+    core.notify_state().unwrap();
+    assert_eq!(wait(&listener), [STATE_EVENT_ID]);
 }

@@ -329,7 +329,7 @@ impl RobotConfig {
                 return Err(invalid(
                     "cycle.work_budget_us",
                     budget,
-                    &format!("1..={period_us} us (above 0, at most the cycle period)"),
+                    format!("1..={period_us} us (above 0, at most the cycle period)"),
                 ));
             }
         }

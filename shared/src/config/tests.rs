@@ -276,3 +276,17 @@ fn missing_file_names_the_path() {
         format!("cannot read config file /nonexistent/robot.toml: {reason}")
     );
 }
+
+#[test]
+fn the_work_budget_defaults_to_half_the_period() {
+    let mut c = RobotConfig::prob2_default();
+    assert_eq!(
+        c.cycle.work_budget_us,
+        Some(2500),
+        "deploy/prob2.toml sets it"
+    );
+    assert_eq!(c.work_budget_ns(), 2_500_000);
+    c.cycle.work_budget_us = None;
+    c.cycle.rate_hz = 250;
+    assert_eq!(c.work_budget_ns(), 2_000_000);
+}
