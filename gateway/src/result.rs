@@ -241,6 +241,43 @@ mod tests {
     }
 
     #[test]
+    fn status_detail_shows_the_tail_the_window_and_the_budget() {
+        use mcm_shared::sample::{CycleTiming, LatencyFigures};
+        let timing = CycleTiming {
+            since_start: LatencyFigures {
+                p99_9_ns: 300_000,
+                p99_99_ns: 640_000,
+                cycles: 12_000,
+                ..LatencyFigures::default()
+            },
+            recent: LatencyFigures {
+                p50_ns: 58_000,
+                max_ns: 700_000,
+                cycles: 2_000,
+                ..LatencyFigures::default()
+            },
+            recent_window_ns: 10_000_000_000,
+            work_budget_ns: 2_500_000,
+            over_budget: 4,
+            ..CycleTiming::default()
+        };
+        let s = StateSample {
+            timing,
+            ..StateSample::default()
+        };
+        let t = &status(&s, true)["detail"]["timing"];
+        assert_eq!(t["latency_p99_9_us"], 300.0);
+        assert_eq!(t["latency_p99_99_us"], 640.0);
+        assert_eq!(t["cycles"], 12_000);
+        assert_eq!(t["recent"]["latency_p50_us"], 58.0);
+        assert_eq!(t["recent"]["latency_max_us"], 700.0);
+        assert_eq!(t["recent"]["window_s"], 10.0);
+        assert_eq!(t["recent"]["cycles"], 2_000);
+        assert_eq!(t["work_budget_us"], 2500.0);
+        assert_eq!(t["over_budget"], 4);
+    }
+
+    #[test]
     fn reply_errors_are_words() {
         let refused = Outcome::Refused(Reason::WrongMode { mode: Mode::Off });
         assert_eq!(
