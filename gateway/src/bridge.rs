@@ -1,10 +1,21 @@
 //! The bridge between the async gateway and the real-time core's shared memory.
 //!
 //! iceoryx2 ports are not `Send`, so one plain thread owns them all: it publishes the command
-//! samples that connections hand it, polls the state blackboard every millisecond, routes each
-//! reply in the state's reply ring to the connection waiting for it, and broadcasts new state
-//! and new safety errors. It never waits on the real-time core: the core never waits on it
-//! either (the blackboard writer and the command subscriber do not block).
+//! samples that connections hand it, reads the state blackboard, routes each reply in the
+//! reply blocks to the connection waiting for it, and broadcasts new state and new safety
+//! errors. It never waits on the real-time core: the core never waits on it either (the
+//! blackboard writer and the command subscriber do not block).
+//!
+//! The thread blocks on one channel until something is to be done: the core's state event (a
+//! small second thread owns a listener on `mcm/<i>/state-ready` and forwards each notification,
+//! see `event.rs`), a job from a connection, or a bounded timeout (open retry, staleness,
+//! reply deadlines). When the event service cannot be opened while the state can (a core
+//! without it), the bridge says so once on stderr and reads the state every
+//! [`worker::FALLBACK_POLL`] instead.
+//!
+//! Samples go out one at a time, the connections taking turns, `hold` and `client_gone` ahead
+//! of everything else, with the samples in flight capped below the core's command buffer (see
+//! `scheduler.rs`).
 //!
 //! Requests travel as typed [`Request`]s, encoded here; each reply routed to a request and each
 //! new safety error is decoded here, once, into [`Response`] and [`SafetyError`].
@@ -13,8 +24,12 @@
 //! with [`BridgeError::RtNotRunning`]; the thread keeps trying to open the services, so a
 //! restarted core (or a restarted gateway) reconnects by itself. A core whose services have
 //! another sample layout (built from another version) is [`BridgeError::IncompatibleLayout`].
+//! A request that was published but never answered is [`BridgeError::OutcomeUnknown`]: it may
+//! have been executed.
 
+mod event;
 mod ports;
+mod scheduler;
 mod worker;
 
 #[cfg(test)]
@@ -27,12 +42,23 @@ use mcm_shared::command::{DecodeError, Request};
 use mcm_shared::reply::{Response, SafetyError};
 use mcm_shared::sample::StateSample;
 use mcm_shared::service::ServiceNames;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
-use tokio::sync::{broadcast, mpsc, oneshot, watch};
+use tokio::sync::{broadcast, oneshot, watch};
 
-/// A request through the bridge failed.
+/// Why a published request got no reply.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum NoReply {
+    #[error("within {seconds} s")]
+    Timeout { seconds: f64 },
+    #[error("before it stopped publishing its state")]
+    CoreStopped,
+    #[error("before it restarted")]
+    CoreRestarted,
+}
+
+/// A request through the bridge failed, or its outcome is unknown.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum BridgeError {
     #[error("the real-time core (mcm-rt, instance `{instance}`) is not running or not answering")]
@@ -43,8 +69,12 @@ pub enum BridgeError {
         /// The open error, in words.
         error: String,
     },
-    #[error("no reply from the real-time core within {seconds} s")]
-    Timeout { seconds: f64 },
+    /// The request was published, its reply never came: it may or may not have been executed.
+    #[error(
+        "no reply from the real-time core {0}: the command may or may not have been executed; \
+         check the state"
+    )]
+    OutcomeUnknown(NoReply),
     #[error("publishing the command to the real-time core failed: {0}")]
     Publish(String),
     #[error(
@@ -54,6 +84,16 @@ pub enum BridgeError {
     Undecodable(DecodeError),
     #[error("the gateway is shutting down")]
     ShuttingDown,
+}
+
+impl BridgeError {
+    /// Whether the command surely was not executed (so "failed" may be said).
+    pub fn surely_not_executed(&self) -> bool {
+        !matches!(
+            self,
+            BridgeError::OutcomeUnknown(_) | BridgeError::Undecodable(_)
+        )
+    }
 }
 
 /// The decoded reply and the state of the cycle that produced it.
@@ -76,30 +116,66 @@ struct Job {
     requests: Vec<Request>,
     timeout: Duration,
     answer: oneshot::Sender<Result<Answer, BridgeError>>,
+    /// Nobody waits for the answer (`client_gone`): sent even though `answer` is closed.
+    fire_and_forget: bool,
+}
+
+impl Job {
+    /// `hold` and `client_gone` go out ahead of everything else.
+    fn urgent(&self) -> bool {
+        matches!(
+            self.requests.as_slice(),
+            [Request::Hold | Request::ClientGone]
+        )
+    }
+}
+
+/// What wakes the bridge thread.
+enum Wake {
+    /// The core published a new state.
+    State,
+    Job(Job),
+    Stop,
 }
 
 /// The async side of the bridge; cheap to clone.
 #[derive(Clone)]
 pub struct Bridge {
-    jobs: mpsc::Sender<Job>,
+    wake: std::sync::mpsc::Sender<Wake>,
     state: watch::Receiver<Option<Box<StateSample>>>,
     errors: broadcast::Sender<SafetyEvent>,
     next_client: Arc<AtomicU64>,
     instance: String,
+    /// Why the core cannot be reached when that is more than "not running".
+    open_error: Arc<Mutex<Option<BridgeError>>>,
 }
 
-/// Handle to stop the bridge thread.
+/// Handle to stop the bridge threads.
 pub struct BridgeThread {
-    stop: Arc<AtomicBool>,
-    handle: Option<std::thread::JoinHandle<()>>,
+    wake: std::sync::mpsc::Sender<Wake>,
+    flags: Arc<event::EventFlags>,
+    handles: Vec<std::thread::JoinHandle<()>>,
 }
 
 impl BridgeThread {
-    pub fn stop(mut self) {
-        self.stop.store(true, Ordering::Relaxed);
-        if let Some(h) = self.handle.take() {
+    pub fn stop(self) {
+        self.flags.stop.store(true, Ordering::Relaxed);
+        let _ = self.wake.send(Wake::Stop);
+        for h in self.handles {
             let _ = h.join();
         }
+    }
+}
+
+/// Sends `client_gone` for its connection when dropped (however the connection ends).
+pub struct ClientGuard {
+    bridge: Bridge,
+    client_id: u64,
+}
+
+impl Drop for ClientGuard {
+    fn drop(&mut self) {
+        self.bridge.client_gone(self.client_id);
     }
 }
 
@@ -107,35 +183,43 @@ impl Bridge {
     /// Start the bridge thread for `names`; flight-recorder files are named for `flight_dir`.
     pub fn start(names: &ServiceNames, flight_dir: &str) -> (Bridge, BridgeThread) {
         set_log_level_from_env_or(LogLevel::Error);
-        let (req_tx, req_rx) = mpsc::channel(256);
+        let (wake_tx, wake_rx) = std::sync::mpsc::channel();
         let (state_tx, state_rx) = watch::channel(None);
         let (err_tx, _) = broadcast::channel(64);
-        let stop = Arc::new(AtomicBool::new(false));
-        let (names_, errors, flight_dir, stop_) = (
-            names.clone(),
-            err_tx.clone(),
-            flight_dir.to_string(),
-            stop.clone(),
-        );
-        // The worker owns iceoryx2 ports, which are not `Send`: it is made on its thread.
-        let handle = std::thread::Builder::new()
+        let flags = Arc::new(event::EventFlags::default());
+        let open_error = Arc::new(Mutex::new(None));
+        let shared = worker::Shared {
+            names: names.clone(),
+            state_tx,
+            errors: err_tx.clone(),
+            flight_dir: flight_dir.to_string(),
+            flags: flags.clone(),
+            open_error: open_error.clone(),
+        };
+        // iceoryx2 ports are not `Send`: each thread makes its own.
+        let bridge_thread = std::thread::Builder::new()
             .name("mcm-ipc-bridge".into())
-            .spawn(move || {
-                worker::Worker::new(names_, req_rx, state_tx, errors, flight_dir, stop_).run()
-            })
+            .spawn(move || worker::Worker::new(shared).run(wake_rx))
             .expect("spawn the IPC bridge thread");
+        let (names_, wake_, flags_) = (names.clone(), wake_tx.clone(), flags.clone());
+        let wake_thread = std::thread::Builder::new()
+            .name("mcm-ipc-wake".into())
+            .spawn(move || event::run(names_, wake_, flags_))
+            .expect("spawn the IPC wake-up thread");
         let bridge = Bridge {
-            jobs: req_tx,
+            wake: wake_tx.clone(),
             state: state_rx,
             errors: err_tx,
             next_client: Arc::new(AtomicU64::new(1)),
             instance: names.instance().to_string(),
+            open_error,
         };
         (
             bridge,
             BridgeThread {
-                stop,
-                handle: Some(handle),
+                wake: wake_tx,
+                flags,
+                handles: vec![bridge_thread, wake_thread],
             },
         )
     }
@@ -143,6 +227,14 @@ impl Bridge {
     /// A client id unique to this gateway process and connection.
     pub fn new_client_id(&self) -> u64 {
         (u64::from(std::process::id()) << 32) | self.next_client.fetch_add(1, Ordering::Relaxed)
+    }
+
+    /// A guard that tells the core the connection `client_id` is gone when dropped.
+    pub fn client_guard(&self, client_id: u64) -> ClientGuard {
+        ClientGuard {
+            bridge: self.clone(),
+            client_id,
+        }
     }
 
     /// Send the requests of one command for the connection `client_id` (in order; several for
@@ -154,21 +246,46 @@ impl Bridge {
         timeout: Duration,
     ) -> Result<Answer, BridgeError> {
         let (tx, rx) = oneshot::channel();
-        self.jobs
-            .send(Job {
+        self.wake
+            .send(Wake::Job(Job {
                 client_id,
                 requests,
                 timeout,
                 answer: tx,
-            })
-            .await
+                fire_and_forget: false,
+            }))
             .map_err(|_| BridgeError::ShuttingDown)?;
         rx.await.map_err(|_| BridgeError::ShuttingDown)?
+    }
+
+    /// Tell the core that the connection `client_id` ended (fire and forget, ahead of other
+    /// clients' work like `hold`). Its answer is ignored.
+    pub fn client_gone(&self, client_id: u64) {
+        let (tx, _) = oneshot::channel();
+        let _ = self.wake.send(Wake::Job(Job {
+            client_id,
+            requests: vec![Request::ClientGone],
+            timeout: crate::exec::REPLY_TIMEOUT,
+            answer: tx,
+            fire_and_forget: true,
+        }));
     }
 
     /// The newest state, if the core is running.
     pub fn latest_state(&self) -> Option<Box<StateSample>> {
         self.state.borrow().clone()
+    }
+
+    /// What a request gets while there is no state: the core is not running, or its services
+    /// are of another layout.
+    pub fn unavailable(&self) -> BridgeError {
+        self.open_error
+            .lock()
+            .ok()
+            .and_then(|e| e.clone())
+            .unwrap_or_else(|| BridgeError::RtNotRunning {
+                instance: self.instance.clone(),
+            })
     }
 
     /// A receiver of state changes.

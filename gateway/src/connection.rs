@@ -60,6 +60,7 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> s
     let (mut rd, wr) = socket.into_split();
     let mut wr = BufWriter::new(wr);
     let client_id = ctx.bridge.new_client_id();
+    let _gone = ctx.bridge.client_guard(client_id);
     let mut decoder = Decoder::new();
     let mut errors = ctx.bridge.subscribe_errors();
     let mut torque: Option<TorqueSession> = None;

@@ -1,6 +1,11 @@
 //! Executing one parsed command: through the bridge to the real-time core (or locally, for
 //! `sleep`), and turning the reply into the protocol's result. Shared by the JSON channel and
 //! the text HMI, so both behave the same.
+//!
+//! `status` reads the bridge's newest state and never waits for a cycle; a `pvt_points` batch
+//! is checked against the newest state and the configuration before any of it is sent
+//! (`crate::cmd::pvt_points`); every other command goes through the core and is answered after
+//! the cycle that executed it.
 
 use crate::bridge::{Bridge, BridgeError};
 use crate::cmd::Command;
@@ -47,9 +52,26 @@ impl Outcome {
 
 /// Execute `cmd` for the connection `client_id`.
 pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
-    if let Command::Sleep(s) = cmd {
-        tokio::time::sleep(s.duration).await;
-        return Outcome::only(result::ok());
+    match cmd {
+        Command::Sleep(s) => {
+            tokio::time::sleep(s.duration).await;
+            return Outcome::only(result::ok());
+        }
+        Command::Status(s) => return status(ctx, s.detail),
+        Command::PvtPoints(p) => {
+            let state = ctx.bridge.latest_state();
+            if let Some(state) = state
+                && let Err(reason) = p.check(&ctx.cfg, &state)
+            {
+                let refused = reply::Outcome::Refused(reason);
+                return Outcome {
+                    result: Some(result::reply_error(cmd.name(), &refused)),
+                    state: Some(state),
+                    torque_session: None,
+                };
+            }
+        }
+        _ => {}
     }
     let timeout = if matches!(cmd, Command::Calibrate(_)) {
         CALIBRATION_TIMEOUT
@@ -83,6 +105,21 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
     }
 }
 
+/// `status` from the newest state, the same result the core's cycle would give.
+fn status(ctx: &Context, detail: bool) -> Outcome {
+    match ctx.bridge.latest_state() {
+        Some(state) => Outcome {
+            result: Some(result::status(&state, detail)),
+            state: Some(state),
+            torque_session: None,
+        },
+        None => Outcome::only(result::error(bridge_message(
+            "status",
+            &ctx.bridge.unavailable(),
+        ))),
+    }
+}
+
 fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Option<Value> {
     Some(match (cmd, done) {
         (Command::Status(s), _) => result::status(state, s.detail),
@@ -105,10 +142,54 @@ fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Op
     })
 }
 
-fn bridge_message(command: &str, e: &BridgeError) -> String {
-    match e {
+/// The error text of a request the bridge could not complete: "failed" only when the command
+/// surely was not executed.
+pub fn bridge_message(command: &str, e: &BridgeError) -> String {
+    if e.surely_not_executed() {
+        format!("{command} failed: {e}")
+    } else {
         // Not "failed": the command may well have been done; its answer is what is unknown.
-        BridgeError::Undecodable(_) => format!("{command}: {e}"),
-        _ => format!("{command} failed: {e}"),
+        format!("{command}: {e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bridge::NoReply;
+
+    #[test]
+    fn a_request_without_reply_has_an_unknown_outcome_never_a_failure() {
+        let text = bridge_message(
+            "move_axis",
+            &BridgeError::OutcomeUnknown(NoReply::Timeout { seconds: 5.0 }),
+        );
+        assert_eq!(
+            text,
+            "move_axis: no reply from the real-time core within 5 s: the command may or may \
+             not have been executed; check the state"
+        );
+        for why in [NoReply::CoreStopped, NoReply::CoreRestarted] {
+            let text = bridge_message("pvt_points", &BridgeError::OutcomeUnknown(why));
+            assert!(!text.contains("failed"), "{text}");
+            assert!(text.contains("may or may not have been executed"), "{text}");
+        }
+        assert!(text_of_restart().contains("before it restarted"));
+    }
+
+    fn text_of_restart() -> String {
+        bridge_message("hold", &BridgeError::OutcomeUnknown(NoReply::CoreRestarted))
+    }
+
+    #[test]
+    fn a_request_never_published_failed() {
+        let e = BridgeError::RtNotRunning {
+            instance: "r1".into(),
+        };
+        assert_eq!(
+            bridge_message("hold", &e),
+            "hold failed: the real-time core (mcm-rt, instance `r1`) is not running or not \
+             answering"
+        );
     }
 }

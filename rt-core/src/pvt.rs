@@ -16,6 +16,7 @@ use crate::trajectory::{
 };
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::Axis;
+use mcm_shared::pvt::{PointLimits, check_point as check_point_limits};
 use mcm_shared::reply::{PvtQuantity, Reason};
 use mcm_shared::units::rad_to_deg;
 
@@ -289,35 +290,20 @@ impl PvtStream {
     }
 }
 
+/// The per-point checks shared with the gateway ([`mcm_shared::pvt::check_point`]).
 fn check_point(index: usize, pt: &PvtPoint, p: &JointParams) -> Result<(), BatchError> {
-    for axis in 0..NUM_AXES {
-        let q = pt.position[axis];
-        if !(q.is_finite() && p.reachable(axis, q)) {
-            let limit = if q > p.reach_max[axis] {
-                p.reach_max[axis]
-            } else {
-                p.reach_min[axis]
-            };
-            return Err(BatchError::Point {
-                index,
-                axis,
-                what: PvtQuantity::Position,
-                value: q,
-                limit,
-            });
-        }
-        let v = pt.velocity[axis];
-        if !(v.is_finite() && v.abs() <= p.limits[axis].velocity) {
-            return Err(BatchError::Point {
-                index,
-                axis,
-                what: PvtQuantity::Velocity,
-                value: v,
-                limit: p.limits[axis].velocity,
-            });
-        }
-    }
-    Ok(())
+    let limits = PointLimits {
+        reach_min: p.reach_min,
+        reach_max: p.reach_max,
+        velocity: core::array::from_fn(|i| p.limits[i].velocity),
+    };
+    check_point_limits(&pt.position, &pt.velocity, &limits).map_err(|e| BatchError::Point {
+        index,
+        axis: e.axis,
+        what: e.what,
+        value: e.value,
+        limit: e.limit,
+    })
 }
 
 #[cfg(test)]
@@ -461,6 +447,15 @@ mod tests {
         s.stage(1, &[point(0.0, 0.0); 3]).unwrap();
         s.commit(1, &JointSample::default(), &p).unwrap();
         assert_eq!(s.queued(), 3);
+    }
+
+    #[test]
+    fn the_gateway_computes_the_same_point_limits_as_the_core() {
+        let cfg = RobotConfig::prob2_default();
+        let p = JointParams::from_config(&cfg);
+        let l = PointLimits::from_config(&cfg);
+        assert_eq!((l.reach_min, l.reach_max), (p.reach_min, p.reach_max));
+        assert_eq!(l.velocity, core::array::from_fn(|i| p.limits[i].velocity));
     }
 
     #[test]

@@ -10,6 +10,7 @@
 //! - [`reply`]: the typed responses, refusal reasons and safety errors, and their encoding;
 //! - [`mode`]: the operating modes and the wire codes of command kinds and reasons;
 //! - [`config`]: the robot configuration file;
+//! - [`pvt`]: the per-point checks of `pvt_points` the gateway and the core share;
 //! - [`cli`]: the command-line arguments the MCM programs share;
 //! - [`units`]: the unit conventions at the boundary (degrees outside, radians inside).
 //!
@@ -25,6 +26,7 @@ pub mod cli;
 pub mod command;
 pub mod config;
 pub mod mode;
+pub mod pvt;
 pub mod reply;
 pub mod sample;
 pub mod service;

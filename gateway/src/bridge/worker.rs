@@ -1,32 +1,37 @@
-//! The bridge thread: one loop over named steps, every millisecond. It opens the core's
-//! services (retrying), reads the state, routes the replies in it to the requests waiting for
-//! them, reports new safety errors, publishes waiting requests while the core's command buffer
-//! has room, and times out what waited too long.
+//! The bridge thread: it blocks until woken (the core's state event, a job, or a bounded
+//! timeout), then runs named steps: open the core's services (retrying), read the state, route
+//! the replies in it to the requests waiting for them, report new safety errors, publish
+//! queued samples as the scheduler allows, and give up on requests whose reply is overdue.
 
+use super::event::EventFlags;
 use super::ports::{OpenError, Ports, open_ports};
-use super::{Answer, BridgeError, Job, SafetyEvent};
+use super::scheduler::Scheduler;
+use super::{Answer, BridgeError, Job, NoReply, SafetyEvent, Wake};
 use mcm_shared::command::DecodeError;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::reply::{Response, SafetyError};
 use mcm_shared::sample::{
     REPLY_BLOCK, REPLY_BLOCKS, ReplyBlock, StateSample, flight_recorder_file, reply_location,
 };
-use mcm_shared::service::{COMMAND_BUFFER, ServiceNames};
-use std::collections::{HashMap, VecDeque};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use mcm_shared::service::ServiceNames;
+use std::collections::HashMap;
+use std::sync::atomic::Ordering;
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
-use tokio::sync::{broadcast, mpsc, oneshot, watch};
+use tokio::sync::{broadcast, oneshot, watch};
 
 /// State older than this means the real-time core stopped.
 const STALE_AFTER: Duration = Duration::from_millis(500);
-/// Poll period of the blackboard.
-const POLL: Duration = Duration::from_millis(1);
+/// How often the state is read while the core's state event cannot be used.
+pub(super) const FALLBACK_POLL: Duration = Duration::from_millis(1);
+/// Longest wait for a wake-up while the event works (staleness and deadlines are checked at
+/// least this often).
+const IDLE_WAIT: Duration = Duration::from_millis(50);
 /// Time between two attempts to open the core's services.
 const OPEN_RETRY: Duration = Duration::from_millis(100);
-/// Samples published and not yet answered, at most (keeps the core's command buffer from
-/// overflowing).
-const MAX_IN_FLIGHT: usize = COMMAND_BUFFER / 2;
+/// The state opened this long without the event service: fall back to polling, and say so.
+const EVENT_GRACE: Duration = Duration::from_secs(1);
 /// A published sample not answered within this time no longer counts as in flight.
 const UNACKED_EXPIRY: Duration = Duration::from_secs(5);
 
@@ -39,21 +44,42 @@ struct Pending {
     answer: oneshot::Sender<Result<Answer, BridgeError>>,
 }
 
-pub(super) struct Worker {
-    names: ServiceNames,
-    jobs: mpsc::Receiver<Job>,
-    state_tx: watch::Sender<Option<Box<StateSample>>>,
-    errors: broadcast::Sender<SafetyEvent>,
-    flight_dir: String,
-    stop: Arc<AtomicBool>,
+/// A published sample not answered yet.
+struct Unacked {
+    client_id: u64,
+    urgent: bool,
+    sent: Instant,
+}
 
+/// A job in the scheduler, with the index of its next request to publish.
+struct Queued {
+    job: Job,
+    next: usize,
+}
+
+/// What the bridge thread shares with the async side and the wake-up thread.
+pub(super) struct Shared {
+    pub(super) names: ServiceNames,
+    pub(super) state_tx: watch::Sender<Option<Box<StateSample>>>,
+    pub(super) errors: broadcast::Sender<SafetyEvent>,
+    pub(super) flight_dir: String,
+    pub(super) flags: Arc<EventFlags>,
+    pub(super) open_error: Arc<Mutex<Option<BridgeError>>>,
+}
+
+pub(super) struct Worker {
+    sh: Shared,
     ports: Option<Ports>,
     last_open_try: Option<Instant>,
+    /// When the services were opened.
+    opened_at: Instant,
     /// Why the services could not be opened, when that is worth telling requests (an
     /// incompatible layout); `None`: the core is simply not running.
     open_error: Option<BridgeError>,
     /// The last open error logged (each is logged once, not on every retry).
     logged: Option<String>,
+    /// The fall-back to polling was logged (once until the event works again).
+    logged_fallback: bool,
     /// The core publishes state.
     alive: bool,
     last_seq: u64,
@@ -62,61 +88,121 @@ pub(super) struct Worker {
     last_reply: u64,
     last_error_seq: Option<u64>,
     next_request: u64,
-    /// Jobs waiting for room in the core's command buffer, with the index of their next
-    /// request to publish.
-    waiting: VecDeque<(Job, usize)>,
-    /// Every sample published and not answered yet, with when it was published.
-    unacked: HashMap<u64, Instant>,
+    sched: Scheduler<Queued>,
+    /// Every sample published and not answered yet, by request id.
+    unacked: HashMap<u64, Unacked>,
     /// Jobs fully published, by the request id of their last sample.
     pending: HashMap<u64, Pending>,
 }
 
 impl Worker {
-    pub(super) fn new(
-        names: ServiceNames,
-        jobs: mpsc::Receiver<Job>,
-        state_tx: watch::Sender<Option<Box<StateSample>>>,
-        errors: broadcast::Sender<SafetyEvent>,
-        flight_dir: String,
-        stop: Arc<AtomicBool>,
-    ) -> Worker {
+    pub(super) fn new(sh: Shared) -> Worker {
         Worker {
-            names,
-            jobs,
-            state_tx,
-            errors,
-            flight_dir,
-            stop,
+            sh,
             ports: None,
             last_open_try: None,
+            opened_at: Instant::now(),
             open_error: None,
             logged: None,
+            logged_fallback: false,
             alive: false,
             last_seq: 0,
             last_change: Instant::now(),
             last_reply: 0,
             last_error_seq: None,
             next_request: 1,
-            waiting: VecDeque::new(),
+            sched: Scheduler::default(),
             unacked: HashMap::new(),
             pending: HashMap::new(),
         }
     }
 
-    pub(super) fn run(mut self) {
-        while !self.stop.load(Ordering::Relaxed) {
+    pub(super) fn run(mut self, wake: Receiver<Wake>) {
+        'run: loop {
+            let first = match wake.recv_timeout(self.wait_time()) {
+                Ok(w) => Some(w),
+                Err(RecvTimeoutError::Timeout) => None,
+                Err(RecvTimeoutError::Disconnected) => break,
+            };
+            for w in first
+                .into_iter()
+                .chain(std::iter::from_fn(|| wake.try_recv().ok()))
+            {
+                match w {
+                    Wake::State => self.sh.flags.pending.store(false, Ordering::Release),
+                    Wake::Job(job) => {
+                        let urgent = job.urgent();
+                        self.sched
+                            .push(job.client_id, Queued { job, next: 0 }, urgent);
+                    }
+                    Wake::Stop => break 'run,
+                }
+            }
+            if self.sh.flags.stop.load(Ordering::Relaxed) {
+                break;
+            }
             self.open();
             if let Some(state) = self.read_state() {
                 self.route_replies(&state);
                 self.report_errors(&state);
-                self.state_tx.send_replace(Some(Box::new(state)));
+                self.sh.state_tx.send_replace(Some(Box::new(state)));
             }
-            self.publish_waiting();
+            self.publish();
             self.expire();
-            std::thread::sleep(POLL);
+            self.note_fallback();
         }
         for (_, p) in self.pending.drain() {
             let _ = p.answer.send(Err(BridgeError::ShuttingDown));
+        }
+        for q in self.sched.drain() {
+            let _ = q.job.answer.send(Err(BridgeError::ShuttingDown));
+        }
+    }
+
+    /// How long to block for the next wake-up: a bounded poll while the state event cannot be
+    /// used, else until the next deadline (at most [`IDLE_WAIT`]).
+    fn wait_time(&self) -> Duration {
+        if self.ports.is_none() {
+            let since = self.last_open_try.map_or(OPEN_RETRY, |t| t.elapsed());
+            return OPEN_RETRY.saturating_sub(since);
+        }
+        if !self.alive {
+            // The state is checked for a (re)started core; the event wakes the bridge sooner.
+            return OPEN_RETRY;
+        }
+        if !self.sh.flags.live.load(Ordering::Relaxed) {
+            return FALLBACK_POLL;
+        }
+        let now = Instant::now();
+        self.pending
+            .values()
+            .map(|p| p.deadline.saturating_duration_since(now))
+            .fold(IDLE_WAIT, Duration::min)
+    }
+
+    /// Say once that the state event is not used, and once that it is used again.
+    fn note_fallback(&mut self) {
+        let live = self.sh.flags.live.load(Ordering::Relaxed);
+        if live && self.logged_fallback {
+            eprintln!(
+                "mcm-gateway: the state event `{}` of mcm-rt works again; the bridge wakes on \
+                 each new state",
+                self.sh.names.state_event()
+            );
+            self.logged_fallback = false;
+        } else if !live
+            && !self.logged_fallback
+            && self.alive
+            && self.opened_at.elapsed() > EVENT_GRACE
+        {
+            eprintln!(
+                "mcm-gateway: cannot use the state event `{}` of mcm-rt (instance `{}`): the \
+                 bridge reads the state every {} ms instead of waking on each new state",
+                self.sh.names.state_event(),
+                self.sh.names.instance(),
+                FALLBACK_POLL.as_millis()
+            );
+            self.logged_fallback = true;
         }
     }
 
@@ -125,8 +211,15 @@ impl Worker {
         self.open_error
             .clone()
             .unwrap_or_else(|| BridgeError::RtNotRunning {
-                instance: self.names.instance().to_string(),
+                instance: self.sh.names.instance().to_string(),
             })
+    }
+
+    fn set_open_error(&mut self, e: Option<BridgeError>) {
+        if let Ok(mut shared) = self.sh.open_error.lock() {
+            shared.clone_from(&e);
+        }
+        self.open_error = e;
     }
 
     /// Open the core's services, unless open or tried less than [`OPEN_RETRY`] ago.
@@ -135,13 +228,14 @@ impl Worker {
             return;
         }
         self.last_open_try = Some(Instant::now());
-        match open_ports(&self.names) {
+        match open_ports(&self.sh.names) {
             Ok(p) => {
                 self.ports = Some(p);
-                self.open_error = None;
+                self.opened_at = Instant::now();
+                self.set_open_error(None);
                 self.logged = None;
             }
-            Err(e) if e.is_not_running() => self.open_error = None,
+            Err(e) if e.is_not_running() => self.set_open_error(None),
             Err(e) => self.open_failed(&e),
         }
     }
@@ -151,24 +245,39 @@ impl Worker {
         if self.logged.as_ref() != Some(&text) {
             eprintln!(
                 "mcm-gateway: cannot open the services of mcm-rt (instance `{}`): {text}",
-                self.names.instance()
+                self.sh.names.instance()
             );
             self.logged = Some(text.clone());
         }
-        self.open_error = matches!(e, OpenError::IncompatibleLayout { .. }).then(|| {
+        let error = matches!(e, OpenError::IncompatibleLayout { .. }).then(|| {
             BridgeError::IncompatibleLayout {
-                instance: self.names.instance().to_string(),
+                instance: self.sh.names.instance().to_string(),
                 error: text,
             }
         });
+        self.set_open_error(error);
     }
 
-    /// The state, when the core published a new one since the last poll. A core that stopped
-    /// publishing fails every pending request.
+    /// Every request published and not answered gets "outcome unknown"; nothing is in flight
+    /// any more.
+    fn give_up_in_flight(&mut self, why: NoReply) {
+        self.unacked.clear();
+        self.sched.forget_in_flight();
+        for (_, p) in self.pending.drain() {
+            let _ = p.answer.send(Err(BridgeError::OutcomeUnknown(why)));
+        }
+    }
+
+    /// The state, when the core published a new one since the last read. A core that stopped
+    /// publishing (or restarted) leaves every published request with an unknown outcome.
     fn read_state(&mut self) -> Option<StateSample> {
         let state = *self.ports.as_ref()?.state.get();
         if state.seq != self.last_seq {
-            if !self.alive || state.seq < self.last_seq {
+            let restarted = self.alive && state.seq < self.last_seq;
+            if restarted {
+                self.give_up_in_flight(NoReply::CoreRestarted);
+            }
+            if !self.alive || restarted {
                 // (Re)started core: replies and errors from before are gone.
                 self.last_reply = state.reply_head;
                 self.last_error_seq = Some(state.last_error.seq);
@@ -180,17 +289,15 @@ impl Worker {
         }
         if self.alive && self.last_change.elapsed() > STALE_AFTER {
             self.alive = false;
-            self.unacked.clear();
-            self.state_tx.send_replace(None);
-            let e = self.unavailable();
-            for (_, p) in self.pending.drain() {
-                let _ = p.answer.send(Err(e.clone()));
-            }
+            self.sh.state_tx.send_replace(None);
+            self.give_up_in_flight(NoReply::CoreStopped);
         }
         None
     }
 
-    /// Hand each new reply in the reply blocks to the request waiting for it, decoded.
+    /// Hand each new reply in the reply blocks to the request waiting for it, decoded. A reply
+    /// no longer in the blocks (overwritten) is skipped; its request gets "outcome unknown"
+    /// when its deadline passes.
     fn route_replies(&mut self, state: &StateSample) {
         let Some(ports) = self.ports.as_ref() else {
             return;
@@ -208,11 +315,13 @@ impl Worker {
             let Some((_, b)) = &block else { continue };
             let r = &b.replies[slot];
             if r.seq != n {
-                // Overwritten (the gateway fell more than the blocks hold behind) or dropped by
-                // the core; the request waiting for it times out with "outcome unknown".
+                // Overwritten while being read (the core wrote more than the blocks hold since
+                // `state`); the request waiting for it times out with "outcome unknown".
                 continue;
             }
-            self.unacked.remove(&r.request_id);
+            if let Some(u) = self.unacked.remove(&r.request_id) {
+                self.sched.answered(u.client_id, u.urgent);
+            }
             let ours = self
                 .pending
                 .get(&r.request_id)
@@ -244,71 +353,96 @@ impl Worker {
             Ok(Some(e)) => Ok(e),
             Err(e) => Err(e),
         };
-        let _ = self.errors.send(SafetyEvent {
+        let _ = self.sh.errors.send(SafetyEvent {
             error,
             mode: state.mode,
-            file: flight_recorder_file(&self.flight_dir, self.names.instance(), record),
+            file: flight_recorder_file(&self.sh.flight_dir, self.sh.names.instance(), record),
         });
     }
 
-    /// Take new jobs; publish their requests while the core's buffer has room (a long
-    /// pvt_points batch goes out over several polls, paced by the core's answers).
-    fn publish_waiting(&mut self) {
-        while let Ok(job) = self.jobs.try_recv() {
-            self.waiting.push_back((job, 0));
+    /// Publish queued samples, one at a time, as the scheduler grants them (a long
+    /// `pvt_points` batch goes out over several wake-ups, paced by the core's answers).
+    fn publish(&mut self) {
+        if self.ports.is_none() || !self.alive {
+            let e = self.unavailable();
+            for q in self.sched.drain() {
+                let _ = q.job.answer.send(Err(e.clone()));
+            }
+            return;
         }
-        while let Some((job, next)) = self.waiting.front_mut() {
-            let Some(p) = self.ports.as_ref().filter(|_| self.alive) else {
-                let (job, _) = self.waiting.pop_front().expect("front exists");
-                let _ = job.answer.send(Err(self.unavailable()));
+        while let Some(g) = self.sched.next() {
+            let Some(q) = self.sched.job(g) else {
+                self.sched.finish(g);
                 continue;
             };
-            let mut failed = None;
-            while *next < job.requests.len() && self.unacked.len() < MAX_IN_FLIGHT {
-                let mut s = job.requests[*next].encode();
-                s.client_id = job.client_id;
-                s.request_id = self.next_request;
-                self.next_request += 1;
-                if let Err(e) = p.publisher.send_copy(s) {
-                    failed = Some(BridgeError::Publish(format!("{e:?}")));
-                    break;
-                }
-                self.unacked.insert(s.request_id, Instant::now());
-                *next += 1;
+            if q.job.answer.is_closed() && !q.job.fire_and_forget {
+                // Its connection went away (or gave up) before all of it was sent: the rest
+                // is not sent (a batch is only queued with its last sample, so nothing of it
+                // is executed).
+                self.sched.finish(g);
+                continue;
             }
-            if failed.is_none() && *next < job.requests.len() {
-                break;
+            let Some(request) = q.job.requests.get(q.next) else {
+                let q = self.sched.finish(g).expect("granted job exists");
+                let _ = q.job.answer.send(Err(BridgeError::Publish(
+                    "the command carries no request for the real-time core".into(),
+                )));
+                continue;
+            };
+            let mut s = request.encode();
+            s.client_id = q.job.client_id;
+            s.request_id = self.next_request;
+            let ports = self.ports.as_ref().expect("checked above");
+            if let Err(e) = ports.publisher.send_copy(s) {
+                let q = self.sched.finish(g).expect("granted job exists");
+                let _ = q
+                    .job
+                    .answer
+                    .send(Err(BridgeError::Publish(format!("{e:?}"))));
+                continue;
             }
-            let (job, _) = self.waiting.pop_front().expect("front exists");
-            match (failed, job.requests.last()) {
-                (None, Some(last)) => {
-                    self.pending.insert(
-                        self.next_request - 1,
-                        Pending {
-                            client_id: job.client_id,
-                            kind: last.kind(),
-                            deadline: Instant::now() + job.timeout,
-                            timeout: job.timeout,
-                            answer: job.answer,
-                        },
-                    );
-                }
-                (Some(e), _) => {
-                    let _ = job.answer.send(Err(e));
-                }
-                (None, None) => {
-                    let _ = job.answer.send(Err(BridgeError::Publish(
-                        "the command carries no request for the real-time core".into(),
-                    )));
-                }
+            self.next_request += 1;
+            q.next += 1;
+            let last = q.next == q.job.requests.len();
+            self.sched.sent(g);
+            self.unacked.insert(
+                s.request_id,
+                Unacked {
+                    client_id: s.client_id,
+                    urgent: g.urgent,
+                    sent: Instant::now(),
+                },
+            );
+            if last {
+                let q = self.sched.finish(g).expect("granted job exists");
+                self.pending.insert(
+                    s.request_id,
+                    Pending {
+                        client_id: q.job.client_id,
+                        kind: request_kind(&q.job),
+                        deadline: Instant::now() + q.job.timeout,
+                        timeout: q.job.timeout,
+                        answer: q.job.answer,
+                    },
+                );
             }
         }
     }
 
-    /// Forget samples whose answer never came (a lost reply), and time out what waited too
-    /// long.
+    /// Forget samples whose answer never came (a lost reply), and give up on requests whose
+    /// reply is overdue: they were published, so their outcome is unknown.
     fn expire(&mut self) {
-        self.unacked.retain(|_, t| t.elapsed() < UNACKED_EXPIRY);
+        let mut lost = Vec::new();
+        self.unacked.retain(|_, u| {
+            let keep = u.sent.elapsed() < UNACKED_EXPIRY;
+            if !keep {
+                lost.push((u.client_id, u.urgent));
+            }
+            keep
+        });
+        for (client, urgent) in lost {
+            self.sched.answered(client, urgent);
+        }
         let now = Instant::now();
         let expired: Vec<u64> = self
             .pending
@@ -318,10 +452,19 @@ impl Worker {
             .collect();
         for id in expired {
             if let Some(p) = self.pending.remove(&id) {
-                let _ = p.answer.send(Err(BridgeError::Timeout {
-                    seconds: p.timeout.as_secs_f64(),
-                }));
+                let _ = p
+                    .answer
+                    .send(Err(BridgeError::OutcomeUnknown(NoReply::Timeout {
+                        seconds: p.timeout.as_secs_f64(),
+                    })));
             }
         }
     }
+}
+
+/// The kind of the request whose reply answers the job (its last one).
+fn request_kind(job: &Job) -> CommandKind {
+    job.requests
+        .last()
+        .map_or(CommandKind::Status, mcm_shared::command::Request::kind)
 }

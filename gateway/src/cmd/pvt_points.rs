@@ -2,11 +2,23 @@
 //! `pvt`. The bridge sends a batch as chunks ([`mcm_shared::command::PvtChunk::batch`]); the
 //! real-time core queues the batch only when its last chunk arrived and every point fits, so a
 //! batch is queued whole or not at all.
+//!
+//! Before any chunk is sent, [`PvtPoints::check`] refuses what the core would surely refuse,
+//! as the core would word it, from the configuration and the newest state: a mode other than
+//! PVT, a batch larger than the free room of the queue, and any point outside the reachable
+//! range or faster than its axis may go (the core's own check, [`mcm_shared::pvt::check_point`]).
+//! What needs the core's queue (the segments between points, a move under way) is checked by
+//! the core when the last chunk arrives.
 
 use super::check_position;
 use crate::args::{Args, CommandError, six_numbers};
-use mcm_shared::command::PvtPoint;
+use mcm_shared::command::{Axis, PvtPoint};
 use mcm_shared::config::RobotConfig;
+use mcm_shared::mode::Mode;
+use mcm_shared::pvt::{PointLimits, check_point};
+use mcm_shared::reply::Reason;
+use mcm_shared::sample::StateSample;
+use mcm_shared::units::{deg_to_rad6, rad_to_deg};
 use serde_json::Value;
 
 /// Most points in one `pvt_points` command (the real-time queue holds at least this many).
@@ -76,5 +88,38 @@ impl PvtPoints {
             });
         }
         Ok(Self { points })
+    }
+}
+
+impl PvtPoints {
+    /// What the core would refuse of this batch, known from `cfg` and the newest `state`: the
+    /// refusal the core would give, or `Ok` when the batch may be sent.
+    pub fn check(&self, cfg: &RobotConfig, state: &StateSample) -> Result<(), Reason> {
+        // (A mode unknown to this gateway is left to the core.)
+        if let Ok(mode) = Mode::try_from(state.mode)
+            && mode != Mode::Pvt
+        {
+            return Err(Reason::WrongMode { mode });
+        }
+        let offered = u32::try_from(self.points.len()).unwrap_or(u32::MAX);
+        let free = state.pvt_capacity.saturating_sub(state.pvt_queued);
+        if offered > free {
+            return Err(Reason::QueueFull { offered, free });
+        }
+        let limits = PointLimits::from_config(cfg);
+        for (index, p) in self.points.iter().enumerate() {
+            let position = deg_to_rad6(&p.position_deg);
+            let velocity = deg_to_rad6(&p.velocity_deg_s);
+            if let Err(e) = check_point(&position, &velocity, &limits) {
+                return Err(Reason::PvtPoint {
+                    axis: Axis::ALL[e.axis],
+                    point: u32::try_from(index + 1).unwrap_or(u32::MAX),
+                    quantity: e.what,
+                    value: rad_to_deg(e.value),
+                    limit: rad_to_deg(e.limit),
+                });
+            }
+        }
+        Ok(())
     }
 }

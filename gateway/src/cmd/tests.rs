@@ -253,3 +253,50 @@ fn suggestions() {
     assert_eq!(suggest("mov_all", COMMAND_NAMES), Some("move_all"));
     assert_eq!(suggest("zzzzzz", COMMAND_NAMES), None);
 }
+
+#[test]
+fn a_pvt_batch_the_core_would_refuse_is_refused_before_sending() {
+    use mcm_shared::mode::Mode;
+    use mcm_shared::reply::{PvtQuantity, Reason};
+    use mcm_shared::sample::StateSample;
+    let cfg = RobotConfig::prob2_default();
+    let batch = |n: usize, v0: f64| {
+        let p =
+            serde_json::json!({"position": [0, 0, 0, 0, 0, 0], "velocity": [v0, 0, 0, 0, 0, 0]});
+        PvtPoints::parse(Some(&serde_json::json!({"points": vec![p; n]})), &cfg).unwrap()
+    };
+    let mut state = StateSample {
+        mode: Mode::Hold.to_wire(),
+        pvt_capacity: 1024,
+        ..StateSample::default()
+    };
+    assert_eq!(
+        batch(3, 0.0).check(&cfg, &state),
+        Err(Reason::WrongMode { mode: Mode::Hold })
+    );
+    state.mode = Mode::Pvt.to_wire();
+    assert_eq!(batch(1000, 0.0).check(&cfg, &state), Ok(()));
+    state.pvt_queued = 30;
+    assert_eq!(
+        batch(1000, 0.0).check(&cfg, &state),
+        Err(Reason::QueueFull {
+            offered: 1000,
+            free: 994
+        })
+    );
+    // A point at the speed limit passes (the core's limit is the same).
+    let max = cfg.axes[0].max_velocity_deg_s;
+    assert_eq!(batch(2, max).check(&cfg, &state), Ok(()));
+    // A position inside the software limits but within the safety margin: the core refuses it.
+    let near = cfg.axes[0].max_deg - cfg.safety.limit_margin_deg / 2.0;
+    let p = serde_json::json!({"position": [near, 0, 0, 0, 0, 0], "velocity": [0, 0, 0, 0, 0, 0]});
+    let b = PvtPoints::parse(Some(&serde_json::json!({"points": [p]})), &cfg).unwrap();
+    match b.check(&cfg, &state) {
+        Err(Reason::PvtPoint {
+            point: 1,
+            quantity: PvtQuantity::Position,
+            ..
+        }) => {}
+        other => panic!("expected a refused point, got {other:?}"),
+    }
+}

@@ -112,6 +112,8 @@ struct Session {
     errors: broadcast::Receiver<crate::bridge::SafetyEvent>,
     errors_open: bool,
     client_id: u64,
+    /// Tells the core this session is gone when the session ends.
+    _gone: crate::bridge::ClientGuard,
     out: Vec<u8>,
     buf: Vec<u8>,
     shown_prompt: String,
@@ -119,9 +121,11 @@ struct Session {
 
 impl Session {
     fn new(ctx: Context, rd: OwnedReadHalf, wr: OwnedWriteHalf) -> Self {
+        let client_id = ctx.bridge.new_client_id();
         Self {
             errors: ctx.bridge.subscribe_errors(),
-            client_id: ctx.bridge.new_client_id(),
+            client_id,
+            _gone: ctx.bridge.client_guard(client_id),
             ctx,
             rd,
             wr,

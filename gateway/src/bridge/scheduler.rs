@@ -1,0 +1,294 @@
+//! Which command sample the bridge publishes next: pure bookkeeping, no I/O.
+//!
+//! Every connection (client id) has its own queue of jobs; the bridge publishes one sample at a
+//! time, taking the connections in turn (round robin), so a connection streaming long
+//! `pvt_points` batches delays another one by at most one sample per turn. Urgent jobs (`hold`
+//! and `client_gone`) have one queue of their own that is served before every other.
+//!
+//! Samples published and not yet answered ("in flight") are capped so that the core's command
+//! buffer ([`COMMAND_BUFFER`] samples per publisher) can never overflow, whatever the clients
+//! do: ordinary samples at most [`ORDINARY_IN_FLIGHT`] in total and [`PER_CLIENT_IN_FLIGHT`]
+//! per connection; urgent samples may use the room up to [`ALL_IN_FLIGHT`], so at least
+//! `ALL_IN_FLIGHT - ORDINARY_IN_FLIGHT` places are always free for them.
+
+use mcm_shared::service::{COMMAND_BUFFER, COMMANDS_PER_CYCLE};
+use std::collections::{HashMap, VecDeque};
+
+/// Samples in flight at most, urgent ones included (below the core's command buffer).
+pub(super) const ALL_IN_FLIGHT: usize = COMMAND_BUFFER - 1;
+/// Ordinary samples in flight at most, all connections together.
+pub(super) const ORDINARY_IN_FLIGHT: usize = COMMAND_BUFFER / 2;
+/// Ordinary samples in flight at most for one connection (what the core serves in one cycle).
+pub(super) const PER_CLIENT_IN_FLIGHT: usize = COMMANDS_PER_CYCLE;
+
+const _: () = assert!(ORDINARY_IN_FLIGHT < ALL_IN_FLIGHT && ALL_IN_FLIGHT < COMMAND_BUFFER);
+
+/// Permission to publish one sample of the job at the front of a queue.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Grant {
+    pub(super) client: u64,
+    pub(super) urgent: bool,
+}
+
+/// The queues and the in-flight counts.
+pub(super) struct Scheduler<T> {
+    urgent: VecDeque<(u64, T)>,
+    queues: HashMap<u64, VecDeque<T>>,
+    /// Connections with queued ordinary jobs, in the order of their next turn.
+    ring: VecDeque<u64>,
+    in_flight: HashMap<u64, usize>,
+    ordinary: usize,
+    urgent_in_flight: usize,
+}
+
+impl<T> Default for Scheduler<T> {
+    fn default() -> Self {
+        Self {
+            urgent: VecDeque::new(),
+            queues: HashMap::new(),
+            ring: VecDeque::new(),
+            in_flight: HashMap::new(),
+            ordinary: 0,
+            urgent_in_flight: 0,
+        }
+    }
+}
+
+impl<T> Scheduler<T> {
+    /// Queue a job of `client`.
+    pub(super) fn push(&mut self, client: u64, job: T, urgent: bool) {
+        if urgent {
+            self.urgent.push_back((client, job));
+            return;
+        }
+        let q = self.queues.entry(client).or_default();
+        if q.is_empty() {
+            self.ring.push_back(client);
+        }
+        q.push_back(job);
+    }
+
+    /// Whether no job is queued.
+    #[cfg(test)]
+    pub(super) fn is_empty(&self) -> bool {
+        self.urgent.is_empty() && self.ring.is_empty()
+    }
+
+    /// Samples in flight, all together.
+    pub(super) fn in_flight(&self) -> usize {
+        self.ordinary + self.urgent_in_flight
+    }
+
+    /// Whose sample goes out next, if any may: the urgent queue first (while fewer than
+    /// [`ALL_IN_FLIGHT`] are in flight), then the next connection in turn that is below its
+    /// cap (while fewer than [`ORDINARY_IN_FLIGHT`] ordinary samples are in flight). A
+    /// connection that got a grant takes its next turn after every other one.
+    pub(super) fn next(&mut self) -> Option<Grant> {
+        if let Some((client, _)) = self.urgent.front()
+            && self.in_flight() < ALL_IN_FLIGHT
+        {
+            return Some(Grant {
+                client: *client,
+                urgent: true,
+            });
+        }
+        if self.ordinary >= ORDINARY_IN_FLIGHT {
+            return None;
+        }
+        for _ in 0..self.ring.len() {
+            let client = self.ring.pop_front()?;
+            self.ring.push_back(client);
+            if self.in_flight.get(&client).copied().unwrap_or(0) < PER_CLIENT_IN_FLIGHT {
+                return Some(Grant {
+                    client,
+                    urgent: false,
+                });
+            }
+        }
+        None
+    }
+
+    /// The job a grant is for.
+    pub(super) fn job(&mut self, g: Grant) -> Option<&mut T> {
+        if g.urgent {
+            self.urgent.front_mut().map(|(_, j)| j)
+        } else {
+            self.queues.get_mut(&g.client)?.front_mut()
+        }
+    }
+
+    /// One sample of the granted job went out.
+    pub(super) fn sent(&mut self, g: Grant) {
+        if g.urgent {
+            self.urgent_in_flight += 1;
+        } else {
+            self.ordinary += 1;
+            *self.in_flight.entry(g.client).or_default() += 1;
+        }
+    }
+
+    /// A sample sent for `client` was answered (or given up on).
+    pub(super) fn answered(&mut self, client: u64, urgent: bool) {
+        if urgent {
+            self.urgent_in_flight = self.urgent_in_flight.saturating_sub(1);
+            return;
+        }
+        self.ordinary = self.ordinary.saturating_sub(1);
+        if let Some(n) = self.in_flight.get_mut(&client) {
+            *n = n.saturating_sub(1);
+            if *n == 0 {
+                self.in_flight.remove(&client);
+            }
+        }
+    }
+
+    /// Take the granted job out of its queue (all of it was sent, or it is given up).
+    pub(super) fn finish(&mut self, g: Grant) -> Option<T> {
+        if g.urgent {
+            return self.urgent.pop_front().map(|(_, j)| j);
+        }
+        let q = self.queues.get_mut(&g.client)?;
+        let job = q.pop_front();
+        if q.is_empty() {
+            self.queues.remove(&g.client);
+            self.ring.retain(|c| *c != g.client);
+        }
+        job
+    }
+
+    /// Take every queued job out (the core is gone); in-flight counts are forgotten too.
+    pub(super) fn drain(&mut self) -> Vec<T> {
+        let mut out: Vec<T> = self.urgent.drain(..).map(|(_, j)| j).collect();
+        for client in self.ring.drain(..) {
+            if let Some(q) = self.queues.remove(&client) {
+                out.extend(q);
+            }
+        }
+        self.queues.clear();
+        self.forget_in_flight();
+        out
+    }
+
+    /// Nothing is in flight any more (the core that had the samples stopped).
+    pub(super) fn forget_in_flight(&mut self) {
+        self.in_flight.clear();
+        self.ordinary = 0;
+        self.urgent_in_flight = 0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A job of `n` samples, named for the test.
+    #[derive(Debug, PartialEq)]
+    struct J {
+        name: &'static str,
+        left: usize,
+    }
+
+    fn j(name: &'static str, left: usize) -> J {
+        J { name, left }
+    }
+
+    /// Publish while allowed; the names of the jobs whose samples went out, in order.
+    fn run(s: &mut Scheduler<J>, max: usize) -> Vec<&'static str> {
+        let mut out = Vec::new();
+        while out.len() < max {
+            let Some(g) = s.next() else { break };
+            let job = s.job(g).expect("granted job exists");
+            job.left -= 1;
+            out.push(job.name);
+            let done = job.left == 0;
+            s.sent(g);
+            if done {
+                s.finish(g);
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn connections_take_turns_sample_by_sample() {
+        let mut s = Scheduler::default();
+        s.push(1, j("a", 3), false);
+        s.push(2, j("b", 2), false);
+        s.push(3, j("c", 1), false);
+        assert_eq!(run(&mut s, 100), ["a", "b", "c", "a", "b", "a"]);
+        assert!(s.is_empty());
+        assert_eq!(s.in_flight(), 6);
+    }
+
+    #[test]
+    fn a_connection_is_capped_and_the_others_go_on() {
+        let mut s = Scheduler::default();
+        s.push(1, j("flood", 250), false);
+        let out = run(&mut s, 100);
+        assert_eq!(out.len(), PER_CLIENT_IN_FLIGHT, "{out:?}");
+        s.push(2, j("other", 1), false);
+        assert_eq!(run(&mut s, 100), ["other"]);
+        // One answer to the flood lets exactly one more of its samples out.
+        s.answered(1, false);
+        assert_eq!(run(&mut s, 100), ["flood"]);
+        assert_eq!(run(&mut s, 100), Vec::<&str>::new());
+    }
+
+    #[test]
+    fn all_connections_together_are_capped_below_the_core_buffer() {
+        let mut s = Scheduler::default();
+        for c in 0..40 {
+            s.push(c, j("flood", 250), false);
+        }
+        let out = run(&mut s, 1000);
+        assert_eq!(out.len(), ORDINARY_IN_FLIGHT);
+        assert_eq!(s.in_flight(), ORDINARY_IN_FLIGHT);
+    }
+
+    #[test]
+    fn hold_jumps_the_queue_even_when_ordinary_room_is_used_up() {
+        let mut s = Scheduler::default();
+        for c in 0..40 {
+            s.push(c, j("flood", 250), false);
+        }
+        run(&mut s, 1000);
+        s.push(99, j("hold", 1), true);
+        s.push(98, j("client_gone", 1), true);
+        assert_eq!(run(&mut s, 1000), ["hold", "client_gone"]);
+        // Urgent samples fill the reserve, never beyond it.
+        for _ in 0..100 {
+            s.push(97, j("hold", 1), true);
+        }
+        let out = run(&mut s, 1000);
+        assert_eq!(out.len(), ALL_IN_FLIGHT - ORDINARY_IN_FLIGHT - 2);
+        assert_eq!(s.in_flight(), ALL_IN_FLIGHT);
+        assert!(s.in_flight() < COMMAND_BUFFER);
+        // An answer frees a place; the urgent queue still goes first.
+        s.answered(1, false);
+        assert_eq!(run(&mut s, 1), ["hold"]);
+    }
+
+    #[test]
+    fn hold_goes_before_queued_work_of_every_connection() {
+        let mut s = Scheduler::default();
+        s.push(1, j("a", 5), false);
+        s.push(2, j("b", 5), false);
+        assert_eq!(run(&mut s, 2), ["a", "b"]);
+        s.push(3, j("hold", 1), true);
+        assert_eq!(run(&mut s, 3), ["hold", "a", "b"]);
+    }
+
+    #[test]
+    fn drain_returns_everything_and_forgets_what_was_in_flight() {
+        let mut s = Scheduler::default();
+        s.push(1, j("a", 100), false);
+        s.push(1, j("a2", 1), false);
+        s.push(2, j("hold", 1), true);
+        run(&mut s, 3);
+        let left: Vec<_> = s.drain().into_iter().map(|j| j.name).collect();
+        assert_eq!(left, ["a", "a2"]);
+        assert!(s.is_empty());
+        assert_eq!(s.in_flight(), 0);
+        assert_eq!(s.next(), None);
+    }
+}

@@ -1,0 +1,105 @@
+//! The checks of a PVT point that need nothing but the configuration: position within the
+//! reachable range (the software limits less the safety margin) and speed within the axis's
+//! limit. The real-time core runs them on every point of a `pvt_points` batch before queueing
+//! it; the gateway runs the same function on the whole batch before sending any of it, so a
+//! batch the core would refuse for a point costs the core nothing.
+//!
+//! Pure, allocation-free and panic-free: usable inside the real-time cycle.
+
+use crate::NUM_AXES;
+use crate::config::RobotConfig;
+use crate::reply::PvtQuantity;
+
+/// The per-point limits of every axis (rad, rad/s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointLimits {
+    /// The range a point's position may lie in: the software limits less the safety margin.
+    pub reach_min: [f64; NUM_AXES],
+    pub reach_max: [f64; NUM_AXES],
+    /// Largest speed of a point.
+    pub velocity: [f64; NUM_AXES],
+}
+
+impl PointLimits {
+    /// The limits of `cfg`, computed exactly as the real-time core's joint parameters are.
+    pub fn from_config(cfg: &RobotConfig) -> PointLimits {
+        let margin = cfg.safety.limit_margin_deg.to_radians();
+        let a = &cfg.axes;
+        PointLimits {
+            reach_min: core::array::from_fn(|i| a[i].min_deg.to_radians() + margin),
+            reach_max: core::array::from_fn(|i| a[i].max_deg.to_radians() - margin),
+            velocity: core::array::from_fn(|i| a[i].max_velocity_deg_s.to_radians()),
+        }
+    }
+}
+
+/// A point breaks a limit: axis (0-based), which quantity, its value and the limit (rad,
+/// rad/s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointViolation {
+    pub axis: usize,
+    pub what: PvtQuantity,
+    pub value: f64,
+    pub limit: f64,
+}
+
+/// Check one point (rad, rad/s): every position finite and reachable, every speed finite and
+/// within the limit. The first axis that breaks a limit is reported, position before speed.
+pub fn check_point(
+    position: &[f64; NUM_AXES],
+    velocity: &[f64; NUM_AXES],
+    l: &PointLimits,
+) -> Result<(), PointViolation> {
+    for axis in 0..NUM_AXES {
+        let q = position[axis];
+        if !(q.is_finite() && q >= l.reach_min[axis] && q <= l.reach_max[axis]) {
+            let limit = if q > l.reach_max[axis] {
+                l.reach_max[axis]
+            } else {
+                l.reach_min[axis]
+            };
+            return Err(PointViolation {
+                axis,
+                what: PvtQuantity::Position,
+                value: q,
+                limit,
+            });
+        }
+        let v = velocity[axis];
+        if !(v.is_finite() && v.abs() <= l.velocity[axis]) {
+            return Err(PointViolation {
+                axis,
+                what: PvtQuantity::Velocity,
+                value: v,
+                limit: l.velocity[axis],
+            });
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reachable_points_pass_and_the_first_broken_limit_is_named() {
+        let l = PointLimits::from_config(&RobotConfig::prob2_default());
+        assert_eq!(check_point(&[0.0; 6], &[0.0; 6], &l), Ok(()));
+        let mut q = [0.0; 6];
+        q[2] = l.reach_max[2] + 1e-6;
+        let mut v = [0.0; 6];
+        v[0] = l.velocity[0] * 1.01;
+        // Axis 1's speed comes before axis 3's position.
+        let e = check_point(&q, &v, &l).unwrap_err();
+        assert_eq!((e.axis, e.what), (0, PvtQuantity::Velocity));
+        let e = check_point(&q, &[0.0; 6], &l).unwrap_err();
+        assert_eq!(
+            (e.axis, e.what, e.limit),
+            (2, PvtQuantity::Position, l.reach_max[2])
+        );
+        q[2] = f64::NAN;
+        let e = check_point(&q, &[0.0; 6], &l).unwrap_err();
+        assert_eq!((e.axis, e.limit), (2, l.reach_min[2]));
+    }
+}
