@@ -200,3 +200,29 @@ fn with_a_secret_take_control_needs_authenticate_first() {
     let _ = std::fs::remove_dir_all(dir);
     let _ = std::fs::remove_dir_all(cfg_dir);
 }
+
+#[test]
+fn control_of_a_killed_gateways_connection_is_released_by_its_successor() {
+    let mut mcm = Mcm::start("ghost");
+    let mut a = mcm.client();
+    a.wait_drives_online();
+    assert_ok(&a.request(r#"{"command":"calibrate"}"#));
+    assert_status(
+        &a.request(r#"{"command":"torque_control","arguments":{"timeout":-1}}"#),
+        "TORQUE_CONTROL",
+    );
+    let gw = mcm.gateway_pid;
+    // SAFETY: killing the gateway child of our launcher; its connections cannot say goodbye.
+    unsafe { libc::kill(gw, libc::SIGKILL) };
+    mcm.wait_ready();
+    assert_ne!(mcm.gateway_pid, gw);
+    let mut b = Client::connect(mcm.json);
+    // Without the new gateway's check, the session would run on with a ghost owner forever.
+    let held = b.wait_status("the ghost's torque session ended", |s| {
+        s["operating_mode"] != "TORQUE_CONTROL"
+    });
+    assert_eq!(held["operating_mode"], "HOLD", "{held}");
+    assert_eq!(held["detail"]["control"]["owner"], Value::Null, "{held}");
+    assert_ok(&b.request(r#"{"command":"take_control"}"#));
+    drop(a);
+}

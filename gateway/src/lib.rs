@@ -95,12 +95,14 @@ pub async fn run(
         }
     };
     let json_task = tokio::spawn(server::run_json(json, ctx.clone(), stopped(&stop_tx)));
+    let reaper = tokio::spawn(access::reaper::run(ctx.bridge.clone()));
     let hmi_task = tokio::spawn(hmi::run(hmi, ctx, stopped(&stop_tx)));
     ready(json_addr, hmi_addr);
     shutdown.await;
     let _ = stop_tx.send(());
     let _ = json_task.await;
     let _ = hmi_task.await;
+    reaper.abort();
     bridge_thread.stop();
     Ok(())
 }

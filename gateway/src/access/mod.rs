@@ -17,6 +17,7 @@
 //! who controls the arm (`detail.control`).
 
 mod clients;
+pub mod reaper;
 pub mod sha256;
 #[cfg(test)]
 mod tests;
