@@ -30,6 +30,30 @@ fn detail(c: &mut Client) -> Value {
     s
 }
 
+/// Type `line` into a new HMI session (as `nc` does: no telnet negotiation) and read until
+/// `until` appears; the text read.
+fn hmi_line(mcm: &Mcm, line: &str, until: &str) -> String {
+    use std::io::{Read, Write};
+    let mut s = std::net::TcpStream::connect(mcm.hmi).unwrap();
+    s.set_read_timeout(Some(std::time::Duration::from_millis(200)))
+        .unwrap();
+    s.write_all(format!("{line}\n").as_bytes()).unwrap();
+    let deadline = std::time::Instant::now() + common::WAIT;
+    let mut text = Vec::new();
+    let mut buf = [0u8; 4096];
+    while !String::from_utf8_lossy(&text).contains(until) {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the HMI did not answer {line:?} with {until:?}: {}",
+            String::from_utf8_lossy(&text)
+        );
+        if let Ok(n) = s.read(&mut buf) {
+            text.extend_from_slice(&buf[..n]);
+        }
+    }
+    String::from_utf8_lossy(&text).into_owned()
+}
+
 fn true_velocity(c: &mut Client) -> [f64; 6] {
     let r = c.request(r#"{"command":"sim"}"#);
     assert_eq!(r["result_type"], "sim", "{r}");
@@ -145,6 +169,11 @@ fn motion_from_outside_the_allowed_networks_is_refused_and_hold_still_works() {
     assert_eq!(access["motion_allowed_here"], false, "{d}");
     assert_eq!(access["refused"]["network"], 2, "{d}");
     assert_eq!(d["detail"]["control"]["owner"], Value::Null, "{d}");
+    // The HMI is held to the same rules, and its status view says who controls the arm.
+    let t = hmi_line(&mcm, "take_control", "motion_networks");
+    assert!(t.contains("not accepted from 127.0.0.1"), "{t}");
+    let t = hmi_line(&mcm, "status", "control:");
+    assert!(t.contains("nobody controls the arm"), "{t}");
     drop(mcm);
     let _ = std::fs::remove_dir_all(dir);
 }
