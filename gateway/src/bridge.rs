@@ -167,18 +167,6 @@ impl BridgeThread {
     }
 }
 
-/// Sends `client_gone` for its connection when dropped (however the connection ends).
-pub struct ClientGuard {
-    bridge: Bridge,
-    client_id: u64,
-}
-
-impl Drop for ClientGuard {
-    fn drop(&mut self) {
-        self.bridge.client_gone(self.client_id);
-    }
-}
-
 impl Bridge {
     /// Start the bridge thread for `names`; flight-recorder files are named for `flight_dir`.
     pub fn start(names: &ServiceNames, flight_dir: &str) -> (Bridge, BridgeThread) {
@@ -227,14 +215,6 @@ impl Bridge {
     /// A client id unique to this gateway process and connection.
     pub fn new_client_id(&self) -> u64 {
         (u64::from(std::process::id()) << 32) | self.next_client.fetch_add(1, Ordering::Relaxed)
-    }
-
-    /// A guard that tells the core the connection `client_id` is gone when dropped.
-    pub fn client_guard(&self, client_id: u64) -> ClientGuard {
-        ClientGuard {
-            bridge: self.clone(),
-            client_id,
-        }
     }
 
     /// Send the requests of one command for the connection `client_id` (in order; several for

@@ -31,19 +31,26 @@ pub struct ListenArgs {
     /// TCP port of the telnet text HMI (0: any free port, printed at start).
     #[arg(long, default_value_t = DEFAULT_HMI_PORT)]
     pub hmi_port: u16,
+    /// Accept `sim` fault injection from other hosts too (default: from loopback only).
+    #[arg(long)]
+    pub allow_remote_sim: bool,
 }
 
 impl ListenArgs {
     /// The same arguments as a command line.
     pub fn to_args(&self) -> Vec<OsString> {
-        vec![
+        let mut args: Vec<OsString> = vec![
             "--bind".into(),
             self.bind.to_string().into(),
             "--json-port".into(),
             self.json_port.to_string().into(),
             "--hmi-port".into(),
             self.hmi_port.to_string().into(),
-        ]
+        ];
+        if self.allow_remote_sim {
+            args.push("--allow-remote-sim".into());
+        }
+        args
     }
 }
 
@@ -74,6 +81,7 @@ fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         names,
         json_addr: SocketAddr::new(cli.listen.bind, cli.listen.json_port),
         hmi_addr: SocketAddr::new(cli.listen.bind, cli.listen.hmi_port),
+        allow_remote_sim: cli.listen.allow_remote_sim,
     };
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)

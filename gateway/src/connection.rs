@@ -5,8 +5,9 @@
 //! A connection only ever waits on its own socket and its own commands, so a slow or hostile
 //! client cannot delay another one. Its memory is bounded by the framing limit.
 
+use crate::access::{Channel, Client, run_command};
 use crate::cmd::Command;
-use crate::exec::{Context, execute};
+use crate::exec::Context;
 use crate::framing::{Decoder, Frame, MAX_COMMAND_BYTES};
 use crate::result;
 use crate::shutdown::Shutdown;
@@ -57,10 +58,11 @@ pub fn step(frame: Frame, cfg: &RobotConfig) -> Step {
 /// Serve one JSON connection until the peer closes it or the server shuts down.
 pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> std::io::Result<()> {
     socket.set_nodelay(true)?;
+    let peer = socket.peer_addr()?;
     let (mut rd, wr) = socket.into_split();
     let mut wr = BufWriter::new(wr);
-    let client_id = ctx.bridge.new_client_id();
-    let _gone = ctx.bridge.client_guard(client_id);
+    // Dropped when this function returns, however: the core then hears the client is gone.
+    let client = Client::new(&ctx.clients, &ctx.bridge, Channel::Json, peer);
     let mut decoder = Decoder::new();
     let mut errors = ctx.bridge.subscribe_errors();
     let mut torque: Option<TorqueSession> = None;
@@ -79,7 +81,7 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> s
                     return Ok(());
                 }
             };
-            let fut = execute(&ctx, client_id, &cmd);
+            let fut = run_command(&ctx, &client, &cmd);
             tokio::pin!(fut);
             let outcome = loop {
                 tokio::select! {

@@ -27,6 +27,10 @@ pub const REPLY_TIMEOUT: Duration = Duration::from_secs(5);
 pub struct Context {
     pub cfg: Arc<RobotConfig>,
     pub bridge: Bridge,
+    /// The access rules and their refusal counters.
+    pub access: Arc<crate::access::Access>,
+    /// This gateway's connections, to name a client in words.
+    pub clients: crate::access::Clients,
 }
 
 /// The outcome of one command.
@@ -73,6 +77,13 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
         }
         _ => {}
     }
+    if let Command::Authenticate(_) = cmd {
+        return Outcome::only(result::error(
+            "authenticate: answered by the connection's access rules (crate::access::run_command), \
+             not by the real-time core"
+                .to_string(),
+        ));
+    }
     let timeout = if matches!(cmd, Command::Calibrate(_)) {
         CALIBRATION_TIMEOUT
     } else {
@@ -87,7 +98,11 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
         reply::Outcome::Done(done) => done,
         refused_or_failed => {
             return Outcome {
-                result: Some(result::reply_error(cmd.name(), &refused_or_failed)),
+                result: Some(crate::access::reply_error(
+                    ctx,
+                    cmd.name(),
+                    &refused_or_failed,
+                )),
                 state: Some(state),
                 torque_session: None,
             };
@@ -139,6 +154,9 @@ fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Op
         (Command::SetTorques(_), _) => return None,
         (Command::Calibrate(_) | Command::MoveAxis(_) | Command::PvtPoints(_), _) => result::ok(),
         (Command::Sleep(_), _) => result::ok(),
+        (Command::TakeControl | Command::ReleaseControl | Command::Authenticate(_), _) => {
+            result::ok()
+        }
     })
 }
 

@@ -10,6 +10,7 @@
 //! [`bridge`] to the core and builds the [`result`], [`connection`] serves one client,
 //! [`server`] accepts clients and shuts them down.
 
+pub mod access;
 pub mod args;
 pub mod bridge;
 pub mod cli;
@@ -42,6 +43,8 @@ pub struct GatewayOptions {
     pub json_addr: SocketAddr,
     /// Address of the telnet HMI listener (port 0: any free port).
     pub hmi_addr: SocketAddr,
+    /// Accept `sim` commands from other hosts than this one (`--allow-remote-sim`).
+    pub allow_remote_sim: bool,
 }
 
 /// Starting the gateway failed.
@@ -52,6 +55,8 @@ pub enum GatewayError {
         addr: SocketAddr,
         source: std::io::Error,
     },
+    #[error(transparent)]
+    Access(#[from] access::AccessError),
 }
 
 async fn bind(addr: SocketAddr) -> Result<(tokio::net::TcpListener, SocketAddr), GatewayError> {
@@ -71,6 +76,7 @@ pub async fn run(
     ready: impl FnOnce(SocketAddr, SocketAddr),
     shutdown: impl std::future::Future,
 ) -> Result<(), GatewayError> {
+    let access = access::Access::from_config(&opts.config.gateway.access, opts.allow_remote_sim)?;
     let (json, json_addr) = bind(opts.json_addr).await?;
     let (hmi, hmi_addr) = bind(opts.hmi_addr).await?;
     let (bridge, bridge_thread) =
@@ -78,6 +84,8 @@ pub async fn run(
     let ctx = exec::Context {
         cfg: Arc::new(opts.config),
         bridge,
+        access: Arc::new(access),
+        clients: access::Clients::default(),
     };
     let (stop_tx, _) = tokio::sync::broadcast::channel::<()>(1);
     let stopped = |tx: &tokio::sync::broadcast::Sender<()>| {
@@ -87,12 +95,14 @@ pub async fn run(
         }
     };
     let json_task = tokio::spawn(server::run_json(json, ctx.clone(), stopped(&stop_tx)));
+    let reaper = tokio::spawn(access::reaper::run(ctx.bridge.clone()));
     let hmi_task = tokio::spawn(hmi::run(hmi, ctx, stopped(&stop_tx)));
     ready(json_addr, hmi_addr);
     shutdown.await;
     let _ = stop_tx.send(());
     let _ = json_task.await;
     let _ = hmi_task.await;
+    reaper.abort();
     bridge_thread.stop();
     Ok(())
 }

@@ -367,7 +367,7 @@ impl fmt::Display for Allowed {
 /// version. Says which field was wrong, its value and what is allowed.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum DecodeError {
-    #[error("command kind {0} is not known to this MCM version (known: 1 to 12)")]
+    #[error("command kind {0} is not known to this MCM version (known: 1 to 15)")]
     UnknownKind(u32),
     #[error("{kind}: {field} = {value} is not allowed; allowed: {allowed}")]
     Invalid {

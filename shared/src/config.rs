@@ -666,7 +666,7 @@ impl AxisConfig {
 }
 
 mod gateway;
-pub use gateway::{AccessConfig, ConnectionLimits, GatewayConfig};
+pub use gateway::{AccessConfig, Cidr, ConnectionLimits, GatewayConfig};
 
 #[cfg(test)]
 mod tests;

@@ -1,22 +1,27 @@
 //! The commands of the JSON protocol, one file each: parsing and validation of the arguments
 //! into the typed requests of [`mcm_shared::command`], which the bridge encodes for the
 //! real-time core. The gateway keeps its own types only for what it does itself (`status`'s
-//! `detail`, `torque_control`'s `dt_status`, `sleep`, a whole `pvt_points` batch).
+//! `detail`, `torque_control`'s `dt_status`, `sleep`, `authenticate`, a whole `pvt_points`
+//! batch).
 //!
 //! The text HMI parses its words into the same [`Command`] type, so both channels share one
 //! execution path.
 
+pub mod authenticate;
 mod calibrate;
 pub mod info;
 mod modes;
 pub mod move_all;
 mod move_axis;
 mod pvt_points;
+mod release_control;
 mod set_torques;
 pub mod sim;
 mod sleep;
 mod status;
+mod take_control;
 
+pub use authenticate::Secret;
 pub use modes::TorqueControl;
 pub use pvt_points::PvtPoints;
 pub use sleep::Sleep;
@@ -45,6 +50,9 @@ pub const COMMAND_NAMES: &[&str] = &[
     "pvt_points",
     "sleep",
     "sim",
+    "take_control",
+    "release_control",
+    "authenticate",
 ];
 
 /// The default `velocity_factor` of the manual.
@@ -66,6 +74,9 @@ pub enum Command {
     PvtPoints(PvtPoints),
     Sleep(Sleep),
     Sim(SimCommand),
+    TakeControl,
+    ReleaseControl,
+    Authenticate(Secret),
 }
 
 impl Command {
@@ -140,6 +151,15 @@ impl Command {
             "pvt_points" => Command::PvtPoints(PvtPoints::parse(arguments, cfg)?),
             "sleep" => Command::Sleep(Sleep::parse(arguments)?),
             "sim" => Command::Sim(sim::parse(arguments)?),
+            "take_control" => {
+                take_control::parse(arguments)?;
+                Command::TakeControl
+            }
+            "release_control" => {
+                release_control::parse(arguments)?;
+                Command::ReleaseControl
+            }
+            "authenticate" => Command::Authenticate(authenticate::parse(arguments)?),
             other => return Err(unknown_command(other)),
         })
     }
@@ -160,6 +180,9 @@ impl Command {
             Command::PvtPoints(_) => "pvt_points",
             Command::Sleep(_) => "sleep",
             Command::Sim(_) => "sim",
+            Command::TakeControl => "take_control",
+            Command::ReleaseControl => "release_control",
+            Command::Authenticate(_) => "authenticate",
         }
     }
 
@@ -180,6 +203,9 @@ impl Command {
             Command::PvtPoints(p) => PvtChunk::batch(&p.points).map(Request::PvtPoints).collect(),
             Command::Sleep(_) => Vec::new(),
             Command::Sim(s) => vec![Request::Sim(*s)],
+            Command::TakeControl => vec![Request::TakeControl],
+            Command::ReleaseControl => vec![Request::ReleaseControl],
+            Command::Authenticate(_) => Vec::new(),
         }
     }
 }

@@ -35,6 +35,8 @@ async fn a_hostile_line_gets_an_ascii_error_and_the_connection_lives_on() {
     let ctx = Context {
         cfg: Arc::new(RobotConfig::prob2_default()),
         bridge,
+        access: Default::default(),
+        clients: Default::default(),
     };
     let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();

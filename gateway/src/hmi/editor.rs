@@ -351,7 +351,7 @@ impl Editor {
         if text.is_empty() || self.history.back().is_some_and(|l| l == text) {
             return;
         }
-        if text.len() > HISTORY_BYTES {
+        if text.len() > HISTORY_BYTES || holds_secret(text) {
             return;
         }
         self.history.push_back(text.to_string());
@@ -441,6 +441,13 @@ impl Editor {
     }
 }
 
+/// A line that presents the shared secret (`authenticate ...`, or its JSON form): never kept
+/// in the history, so the next person at the terminal cannot call it back.
+fn holds_secret(line: &str) -> bool {
+    let first = line.split_whitespace().next().unwrap_or_default();
+    first.eq_ignore_ascii_case("authenticate") || (line.starts_with('{') && line.contains("secret"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -495,6 +502,19 @@ mod tests {
         assert_eq!(a, [line("abc")]);
         let (a, _) = run(&mut e, b"x\x1b[A\n", false);
         assert_eq!(a, [line("x")], "no history without echo");
+    }
+
+    #[test]
+    fn a_line_with_the_secret_is_not_kept_in_the_history() {
+        let mut e = Editor::new(200, WORDS.to_vec());
+        run(&mut e, b"status\nauthenticate hunter2\n", true);
+        run(
+            &mut e,
+            b"{\"command\":\"authenticate\",\"arguments\":{\"secret\":\"x\"}}\n",
+            true,
+        );
+        let (a, _) = run(&mut e, b"\x1b[A\n", true);
+        assert_eq!(a, [line("status")]);
     }
 
     #[test]

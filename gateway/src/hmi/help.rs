@@ -13,6 +13,10 @@ use std::fmt::Write as _;
 /// The commands grouped by the modes that accept them.
 const GROUPS: &[(&str, &[&str])] = &[
     ("In every mode", &["status", "info", "hold", "sleep", "sim"]),
+    (
+        "Control of the arm (one client at a time)",
+        &["take_control", "release_control", "authenticate"],
+    ),
     ("In OFF and HOLD", &["calibrate"]),
     (
         "In HOLD (all axes calibrated): change the mode",

@@ -332,6 +332,33 @@ fn detail_lines(s: &mut String, v: &Value) {
     if let Some(h) = v["hardware_status"].as_str() {
         let _ = writeln!(s, "hardware:  {h}");
     }
+    let a = &d["access"];
+    if a.is_object() {
+        let refused = a["refused"]
+            .as_object()
+            .map(|m| {
+                m.iter()
+                    .map(|(k, n)| format!("{k} {n}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            })
+            .unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "access:    motion from {}{}; secret {}; refused so far: {refused}",
+            a["motion_networks"].as_str().unwrap_or("?"),
+            if a["motion_allowed_here"] == false {
+                " (NOT from this session's address)"
+            } else {
+                ""
+            },
+            match (a["secret_required"] == true, a["authenticated"] == true) {
+                (false, _) => "not required",
+                (true, true) => "required, presented by this session",
+                (true, false) => "required, NOT presented by this session (`authenticate`)",
+            },
+        );
+    }
     let q = &d["pvt_queue"];
     let _ = writeln!(
         s,

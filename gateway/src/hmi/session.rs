@@ -12,13 +12,15 @@ use super::editor::{Action, Editor};
 use super::telnet::{Input, Telnet};
 use super::words::{Line, LineError};
 use super::{MAX_LINE_BYTES, help, render};
+use crate::access::{Channel, Client, run_command};
 use crate::cmd::Command;
-use crate::exec::{self, Context};
+use crate::exec::Context;
 use crate::result;
 use crate::shutdown::Shutdown;
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 use std::io;
+use std::net::SocketAddr;
 use std::time::Duration;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
@@ -78,8 +80,9 @@ enum Event {
 /// shuts down.
 pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> io::Result<()> {
     socket.set_nodelay(true)?;
+    let peer = socket.peer_addr()?;
     let (rd, wr) = socket.into_split();
-    let mut session = Session::new(ctx, rd, wr);
+    let mut session = Session::new(ctx, rd, wr, peer);
     let ended = tokio::select! {
         r = session.run() => Some(r),
         () = shutdown.recv() => None,
@@ -111,21 +114,18 @@ struct Session {
     closed: bool,
     errors: broadcast::Receiver<crate::bridge::SafetyEvent>,
     errors_open: bool,
-    client_id: u64,
-    /// Tells the core this session is gone when the session ends.
-    _gone: crate::bridge::ClientGuard,
+    /// This session's identity; dropped with the session (the core then hears it is gone).
+    client: Client,
     out: Vec<u8>,
     buf: Vec<u8>,
     shown_prompt: String,
 }
 
 impl Session {
-    fn new(ctx: Context, rd: OwnedReadHalf, wr: OwnedWriteHalf) -> Self {
-        let client_id = ctx.bridge.new_client_id();
+    fn new(ctx: Context, rd: OwnedReadHalf, wr: OwnedWriteHalf, peer: SocketAddr) -> Self {
         Self {
             errors: ctx.bridge.subscribe_errors(),
-            client_id,
-            _gone: ctx.bridge.client_guard(client_id),
+            client: Client::new(&ctx.clients, &ctx.bridge, Channel::Hmi, peer),
             ctx,
             rd,
             wr,
@@ -321,8 +321,8 @@ impl Session {
             self.say("calibrating; this can take a while (Ctrl-C stops waiting, not the calibration) ...\n");
         }
         self.flush().await?;
-        let ctx = self.ctx.clone();
-        let fut = exec::execute(&ctx, self.client_id, &cmd);
+        let (ctx, client) = (self.ctx.clone(), self.client.clone());
+        let fut = run_command(&ctx, &client, &cmd);
         tokio::pin!(fut);
         let outcome = loop {
             let event = tokio::select! {
@@ -364,12 +364,20 @@ impl Session {
             return Ok(());
         };
         let state = outcome.state.or_else(|| self.ctx.bridge.latest_state());
-        let text = match (&outcome.result, json) {
+        let mut text = match (&outcome.result, json) {
             (Some(v), true) => render::pretty(v),
             (None, true) => "(no result: set_torques answers nothing on success)\n".to_string(),
             (Some(v), false) => render::result(name, v, &self.ctx.cfg, state.as_deref()),
             (None, false) => render::result(name, &result::ok(), &self.ctx.cfg, state.as_deref()),
         };
+        if let (Command::Status(_), false, Some(st)) = (&cmd, json, &state) {
+            text.push_str(&crate::access::control_words(
+                &self.ctx,
+                &self.client,
+                st.owner_client_id,
+            ));
+            text.push('\n');
+        }
         self.say(&text);
         Ok(())
     }

@@ -21,6 +21,8 @@ pub enum Kind {
     Direction,
     /// A JSON array of PVT points (bracketed or quoted).
     Points,
+    /// A word taken as text, whatever it looks like (the shared secret).
+    Text,
 }
 
 impl Kind {
@@ -34,6 +36,7 @@ impl Kind {
             Kind::Which => "ALL|ELBOW|WRIST|1..6",
             Kind::Direction => "1|-1",
             Kind::Points => "[...]",
+            Kind::Text => "TEXT",
         }
     }
 }
@@ -469,6 +472,49 @@ pub const COMMANDS: &[CommandSpec] = &[
             "sim power_cycle",
         ],
         notes: "Any combination of arguments in one command. Refused on real hardware.",
+    },
+    CommandSpec {
+        name: "take_control",
+        summary: "make this session the one that controls the arm's motion",
+        args: &[],
+        modes: "every mode",
+        how: "",
+        reply: "OK, or who controls the arm when another client does",
+        examples: &["take_control"],
+        notes: "Only one client (JSON, HMI or shared memory) controls the arm at a time; the \
+                first motion command of a client takes control implicitly when nobody has it. \
+                Others may read the state and always `hold`. Control ends with \
+                `release_control` or when the session closes: what it drove stops in HOLD. \
+                Needs an allowed network and, when configured, `authenticate` first.",
+    },
+    CommandSpec {
+        name: "release_control",
+        summary: "give up control of the arm's motion (what this session drove stops in HOLD)",
+        args: &[],
+        modes: "every mode",
+        how: "",
+        reply: "OK (also when nobody controls the arm)",
+        examples: &["release_control"],
+        notes: "A move, PVT stream, RELEASE, TORQUE_CONTROL or calibration of this session \
+                ends with the controlled stop to HOLD.",
+    },
+    CommandSpec {
+        name: "authenticate",
+        summary: "present the shared secret (needed before taking control when configured)",
+        args: &[arg(
+            "secret",
+            "",
+            Kind::Text,
+            true,
+            "",
+            "the shared secret the robot's operator gave you",
+        )],
+        modes: "every mode",
+        how: "",
+        reply: "OK, or an error after a second when the secret is wrong",
+        examples: &["authenticate s3cret-words"],
+        notes: "Holds for this session only. `status detail` shows whether a secret is \
+                required and whether this session presented it.",
     },
 ];
 

@@ -43,6 +43,8 @@ async fn start() -> Gateway {
     let ctx = Context {
         cfg: Arc::new(RobotConfig::prob2_default()),
         bridge,
+        access: Default::default(),
+        clients: Default::default(),
     };
     let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();

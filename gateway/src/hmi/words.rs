@@ -474,6 +474,9 @@ fn value(spec: &CommandSpec, a: &'static ArgSpec, t: &Token) -> Result<Value, Li
 /// The JSON value of an unquoted word: a number, a boolean, six comma-separated numbers, or
 /// else a string (which the command parser then refuses with the allowed values).
 fn word(w: &str, kind: Kind) -> Value {
+    if kind == Kind::Text {
+        return Value::String(w.to_string());
+    }
     if kind == Kind::Six && w.contains(',') {
         return Value::Array(w.split(',').map(|p| word(p.trim(), Kind::Number)).collect());
     }

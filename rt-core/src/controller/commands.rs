@@ -93,9 +93,9 @@ impl Controller {
             // Fault injection is served by the simulator's edge (`crate::sim_edge`) before the
             // controller steps; reaching here means there is no simulated robot.
             Request::Sim(_) => self.refuse(c, Reason::NotSimulated),
-            // Control ownership is not built yet: refused as such, never silently accepted.
+            // The ownership gate (`ownership.rs`) answers these before the modes see them.
             Request::TakeControl | Request::ReleaseControl | Request::ClientGone => {
-                self.refuse(c, Reason::NotAvailable)
+                self.done(c, Done::Ack)
             }
         }
     }

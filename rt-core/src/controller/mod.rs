@@ -14,11 +14,13 @@
 //!
 //! The files of this module: `mod.rs` (the cycle, enabling the drives), `state.rs` (the
 //! operating state: one enum carrying each mode's data), `commands.rs` (what each command
-//! does), `motion.rs` (the per-cycle reference of each motion), `trips.rs` (drive events and
-//! safety trips), `view.rs` (what a cycle reports).
+//! does), `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client
+//! controls the arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a
+//! cycle reports).
 
 mod commands;
 mod motion;
+mod ownership;
 mod state;
 mod trips;
 mod view;
@@ -86,6 +88,8 @@ pub struct Controller {
     view: CycleView,
     cycle: u64,
     now_ns: u64,
+    /// The client that controls the arm's motion (0: nobody); see `ownership.rs`.
+    owner: u64,
 }
 
 impl Controller {
@@ -128,6 +132,7 @@ impl Controller {
             view,
             cycle: 0,
             now_ns: 0,
+            owner: 0,
         }
     }
 
@@ -188,7 +193,9 @@ impl Controller {
                         request_id: c.request_id,
                         kind: req.kind(),
                     };
-                    self.on_request(caller, req);
+                    if let ownership::Gate::Pass = self.gate(caller, &req) {
+                        self.on_request(caller, req);
+                    }
                 }
                 Err(e) => self.answer(reply::refuse_undecodable(c, &e)),
             }
@@ -335,6 +342,7 @@ impl Controller {
         v.all_calibrated = self.offsets.iter().all(Option::is_some);
         v.pvt_starved = matches!(self.state, State::Pvt { starved: true, .. });
         v.pvt_queued = u32::try_from(self.stream.queued()).unwrap_or(u32::MAX);
+        v.owner_client_id = self.owner;
         let level = self.i2t.level();
         let derated = self.i2t.derated();
         for (i, f) in fb.iter().enumerate() {
@@ -382,3 +390,6 @@ mod tests;
 
 #[cfg(test)]
 mod refusals_tests;
+
+#[cfg(test)]
+mod ownership_tests;

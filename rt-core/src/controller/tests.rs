@@ -72,8 +72,13 @@ impl Robot {
 
     /// Send one request and run until its reply arrives (at most `max_cycles`).
     pub fn command(&mut self, req: Request, max_cycles: u64) -> Response {
+        self.command_from(42, req, max_cycles)
+    }
+
+    /// Send one request as the client `client_id` and run until its reply arrives.
+    pub fn command_from(&mut self, client_id: u64, req: Request, max_cycles: u64) -> Response {
         let mut s = req.encode();
-        s.client_id = 42;
+        s.client_id = client_id;
         s.request_id = self.next_request;
         self.next_request += 1;
         let id = s.request_id;

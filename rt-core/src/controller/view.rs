@@ -79,6 +79,8 @@ pub struct CycleView {
     pub estop: bool,
     pub all_calibrated: bool,
     pub pvt_starved: bool,
+    /// The client that controls the arm's motion (0: nobody).
+    pub owner_client_id: u64,
     /// The replies given this cycle.
     pub replies: Outbox,
     /// The latest safety error reported (`None` since start); its `unix_ns` is 0: the composer

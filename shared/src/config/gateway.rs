@@ -21,14 +21,13 @@ pub struct GatewayConfig {
 #[serde(deny_unknown_fields)]
 pub struct ConnectionLimits {}
 
-/// `[gateway.access]`: who may take control of the arm's motion.
-#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct AccessConfig {}
+mod access;
+pub use access::{AccessConfig, Cidr};
 
 impl GatewayConfig {
     /// Check every value of the section; the first problem found names its key.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        self.access.validate()?;
         Ok(())
     }
 }
