@@ -24,4 +24,5 @@ pub mod runner;
 pub mod safety;
 pub mod signals;
 pub mod sim_edge;
+pub mod stop;
 pub mod trajectory;

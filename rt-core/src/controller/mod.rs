@@ -15,10 +15,12 @@
 //! The files of this module: `mod.rs` (the cycle, enabling the drives), `state.rs` (the
 //! operating state: one enum carrying each mode's data), `commands.rs` (what each command
 //! does), `motion.rs` (the per-cycle reference of each motion), `trips.rs` (drive events and
-//! safety trips), `view.rs` (what a cycle reports).
+//! safety trips), `view.rs` (what a cycle reports), `shutdown.rs` (the controlled stop and
+//! disable when `mcm-rt` is asked to stop).
 
 mod commands;
 mod motion;
+mod shutdown;
 mod state;
 mod trips;
 mod view;
@@ -37,6 +39,10 @@ use mcm_shared::mode::Mode;
 use mcm_shared::reply::{self, Done, Outcome, Reason, Response};
 use mcm_shared::sample::{CommandSample, Reply};
 pub use motion::QUICK_STOP_FACTOR;
+pub use shutdown::{
+    SHUTDOWN_HOLD_NS, SHUTDOWN_MIN_BOUND_NS, ShutdownPhase, ShutdownResult, ShutdownStatus,
+    TimedOutPhase,
+};
 use state::{After, Before, Caller, State};
 pub use view::{AxisView, CycleView, Outbox};
 
@@ -86,6 +92,8 @@ pub struct Controller {
     view: CycleView,
     cycle: u64,
     now_ns: u64,
+    /// The shutdown, once `mcm-rt` was asked to stop (`shutdown.rs`).
+    shutdown: Option<ShutdownStatus>,
 }
 
 impl Controller {
@@ -128,6 +136,7 @@ impl Controller {
             view,
             cycle: 0,
             now_ns: 0,
+            shutdown: None,
         }
     }
 
@@ -188,11 +197,14 @@ impl Controller {
                         request_id: c.request_id,
                         kind: req.kind(),
                     };
-                    self.on_request(caller, req);
+                    if !self.refused_for_shutdown(caller, &req) {
+                        self.on_request(caller, req);
+                    }
                 }
                 Err(e) => self.answer(reply::refuse_undecodable(c, &e)),
             }
         }
+        self.advance_shutdown();
         self.update_enabling();
         self.check_safety();
         self.cmd_hist = [self.cmd.position, self.cmd_hist[0]];
@@ -382,3 +394,6 @@ mod tests;
 
 #[cfg(test)]
 mod refusals_tests;
+
+#[cfg(test)]
+mod shutdown_tests;

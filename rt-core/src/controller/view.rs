@@ -79,6 +79,8 @@ pub struct CycleView {
     pub estop: bool,
     pub all_calibrated: bool,
     pub pvt_starved: bool,
+    /// `mcm-rt` was asked to stop: the controlled stop and disable run (or ran).
+    pub shutting_down: bool,
     /// The replies given this cycle.
     pub replies: Outbox,
     /// The latest safety error reported (`None` since start); its `unix_ns` is 0: the composer
