@@ -17,6 +17,7 @@ pub mod flight;
 pub mod histogram;
 pub mod ipc;
 pub mod params;
+pub mod preflight;
 pub mod publish;
 pub mod pvt;
 pub mod realtime;
