@@ -338,7 +338,11 @@ fn sigterm_while_moving_stops_the_arm_disables_the_drives_and_tells_every_client
     let s = last_status.expect("status answered during the stop");
     assert_eq!(s["detail"]["shutting_down"], true, "{s}");
     assert_eq!(s["operating_mode"], "OFF", "{s}");
-    assert_eq!(s["detail"]["drive_enabled"], json!([false, false, false, false, false, false]), "{s}");
+    assert_eq!(
+        s["detail"]["drive_enabled"],
+        json!([false, false, false, false, false, false]),
+        "{s}"
+    );
     assert!(
         saw_shutting_down_while_moving,
         "the state said so while the arm still moved"

@@ -11,6 +11,9 @@ use crate::controller::{Controller, ShutdownPhase, ShutdownResult};
 /// A further signal within this time of the first counts as the same request (a process
 /// group and its supervisor often signal together).
 pub const SECOND_SIGNAL_DEBOUNCE_NS: u64 = 250_000_000;
+/// After the shutdown finished, the loop goes on publishing this long (the drives disabled,
+/// mode OFF, `STATE_SHUTTING_DOWN`), so that readers see the final state before it stops.
+pub const FINAL_STATE_NS: u64 = 100_000_000;
 /// Wall-clock allowance over the controller's bound (the controller's time runs behind the
 /// wall clock when cycles overrun) before the drives are disabled regardless.
 const WALL_ALLOWANCE_NS: u64 = 1_000_000_000;
@@ -69,6 +72,8 @@ pub struct StopSequence {
     baseline: usize,
     /// Once a stop was asked for: the signal count absorbed and the wall time of the first.
     started: Option<(usize, u64)>,
+    /// Once the shutdown finished: how, and the wall time it was seen.
+    finished: Option<(StopOutcome, u64)>,
 }
 
 impl StopSequence {
@@ -77,6 +82,7 @@ impl StopSequence {
         Self {
             baseline: signals,
             started: None,
+            finished: None,
         }
     }
 
@@ -100,6 +106,11 @@ impl StopSequence {
             return None;
         };
         let after_ns = wall_ns.saturating_sub(since);
+        if let Some((outcome, at)) = self.finished {
+            // A further signal now only cuts the final publishing short.
+            let done = signals > seen || wall_ns.saturating_sub(at) >= FINAL_STATE_NS;
+            return done.then_some(outcome);
+        }
         if signals > seen {
             if after_ns < SECOND_SIGNAL_DEBOUNCE_NS {
                 self.started = Some((signals, since));
@@ -112,11 +123,13 @@ impl StopSequence {
         }
         let bound_ns = controller.shutdown_bound_ns();
         if let Some(result) = controller.shutdown_status().and_then(|s| s.result()) {
-            return Some(StopOutcome::Finished {
+            let outcome = StopOutcome::Finished {
                 result,
                 took_ns: after_ns,
                 bound_ns,
-            });
+            };
+            self.finished = Some((outcome, wall_ns));
+            return None;
         }
         if after_ns > bound_ns + WALL_ALLOWANCE_NS {
             // The next cycle sends the disable; the one after reports it finished.
@@ -178,9 +191,23 @@ mod tests {
             None,
             "one more cycle sends the disable"
         );
-        let Some(StopOutcome::Finished { result, .. }) = stop.poll(c, 1, late + 5 * MS) else {
+        assert_eq!(
+            stop.poll(c, 1, late + 5 * MS),
+            None,
+            "the final state is published"
+        );
+        let end = late + 5 * MS + FINAL_STATE_NS;
+        let Some(StopOutcome::Finished {
+            result, took_ns, ..
+        }) = stop.poll(c, 1, end)
+        else {
             panic!("finished after the bound");
         };
+        assert_eq!(
+            took_ns,
+            late + 5 * MS,
+            "the time it took, not the final publishing"
+        );
         assert!(
             matches!(result, ShutdownResult::TimedOut { .. }),
             "{result:?}"
