@@ -90,7 +90,8 @@ impl Proc {
                     return Err(std::io::Error::last_os_error());
                 }
                 if libc::getppid() != launcher {
-                    return Err(std::io::Error::other("the mcm launcher is gone"));
+                    // No allocation between fork and exec: a plain errno.
+                    return Err(std::io::Error::from_raw_os_error(libc::ESRCH));
                 }
                 Ok(())
             });
