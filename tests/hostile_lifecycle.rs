@@ -25,6 +25,7 @@ struct Launcher {
     log: Arc<Mutex<Vec<String>>>,
     instance: String,
     json: SocketAddr,
+    hmi: SocketAddr,
     rt_pid: i32,
     gateway_pid: i32,
 }
@@ -77,6 +78,7 @@ impl Launcher {
             log,
             instance,
             json: "127.0.0.1:0".parse().unwrap(),
+            hmi: "127.0.0.1:0".parse().unwrap(),
             rt_pid: 0,
             gateway_pid: 0,
         };
@@ -95,6 +97,7 @@ impl Launcher {
                 .unwrap_or_else(|e| panic!("no `MCM ready` within {WAIT:?}: {e}"));
             if line.starts_with("MCM ready") {
                 self.json = field(&line, "json").unwrap().parse().unwrap();
+                self.hmi = field(&line, "hmi").unwrap().parse().unwrap();
                 self.rt_pid = field(&line, "rt_pid").unwrap().parse().unwrap();
                 self.gateway_pid = field(&line, "gateway_pid").unwrap().parse().unwrap();
                 return;
@@ -287,6 +290,14 @@ fn sigterm_while_moving_stops_the_arm_disables_the_drives_and_tells_every_client
     let mut l = Launcher::start("sigterm");
     let mut c = Conn::connect(l.json);
     let mut watcher = Conn::connect(l.json);
+    // A person at the text HMI: everything it is sent until the gateway closes it.
+    let hmi = TcpStream::connect(l.hmi).expect("connect to the HMI");
+    hmi.set_read_timeout(Some(WAIT)).unwrap();
+    let hmi_text = std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        let _ = std::io::Read::read_to_end(&mut &hmi, &mut bytes);
+        String::from_utf8_lossy(&bytes).into_owned()
+    });
     wait_drives_online(&mut c);
     assert_ok(&c.request(r#"{"command":"calibrate"}"#));
     assert_eq!(c.request(r#"{"command":"pvt"}"#)["operating_mode"], "PVT");
@@ -372,6 +383,14 @@ fn sigterm_while_moving_stops_the_arm_disables_the_drives_and_tells_every_client
             conn.notices
         );
     }
+    let hmi_text = hmi_text.join().unwrap();
+    let stopping = hmi_text
+        .find("ERROR: mcm-rt is shutting down")
+        .expect(&hmi_text);
+    let bye = hmi_text
+        .rfind("ERROR: the MCM is shutting down")
+        .expect(&hmi_text);
+    assert!(stopping < bye, "{hmi_text}");
 }
 
 #[test]
