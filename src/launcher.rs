@@ -1,6 +1,12 @@
 //! The launcher: starts `mcm rt` and `mcm gateway` as two processes, says where to connect,
-//! restarts the gateway if it dies (it holds no state), stops everything if the real-time core
-//! dies (that is never silently papered over), and stops both cleanly on Ctrl-C or SIGTERM.
+//! restarts the gateway whenever it dies (it holds no state) with a capped exponential
+//! back-off, stops everything if the real-time core dies (that is never silently papered
+//! over), and on Ctrl-C or SIGTERM stops `mcm-rt` first (its controlled stop: standstill, then
+//! the drives disabled; the gateway meanwhile tells its clients) and then the gateway. A second
+//! Ctrl-C is passed on (it ends the controlled stop at once).
+//!
+//! The children die with the launcher: each gets `PR_SET_PDEATHSIG` = SIGTERM, so a launcher
+//! killed with SIGKILL still makes `mcm-rt` do its controlled stop and the gateway close.
 
 use clap::Parser;
 use mcm_gateway::cli::ListenArgs;
@@ -40,8 +46,17 @@ struct Cli {
 
 /// How long a child may take to say it is ready.
 const READY_TIMEOUT: Duration = Duration::from_secs(20);
-/// How long a child may take to stop after SIGTERM before it is killed.
+/// How long the gateway may take to stop after SIGTERM before it is killed.
 const STOP_TIMEOUT: Duration = Duration::from_secs(5);
+/// How long `mcm-rt` may take to stop after SIGTERM (its controlled stop is bounded by a few
+/// seconds, see `docs/safety.md`) before it is killed.
+const RT_STOP_TIMEOUT: Duration = Duration::from_secs(15);
+/// The first wait before restarting a gateway that died; doubled for each quick death.
+const RESTART_BACKOFF_MIN: Duration = Duration::from_millis(100);
+/// The longest wait before restarting the gateway.
+const RESTART_BACKOFF_MAX: Duration = Duration::from_secs(10);
+/// A gateway that ran this long was healthy: the back-off starts again from the minimum.
+const HEALTHY_RUN: Duration = Duration::from_secs(30);
 
 struct Proc {
     name: &'static str,
@@ -60,11 +75,24 @@ impl Proc {
             .args(args)
             .stdin(Stdio::null())
             .stdout(Stdio::piped());
-        // Children ignore Ctrl-C from the terminal: the launcher stops them in order.
-        // SAFETY: setpgid is async-signal-safe and only affects the child being spawned.
+        // Children ignore Ctrl-C from the terminal: the launcher stops them in order. They
+        // die with the launcher: SIGTERM when it goes (the parent-death signal is tied to the
+        // thread that forks; the launcher spawns from its main thread, which lives as long as
+        // it does). If the launcher died before prctl, the child's parent is already someone
+        // else: then it does not run at all.
+        let launcher = std::process::id() as libc::pid_t;
+        // SAFETY: setpgid, prctl and getppid are async-signal-safe and only affect the child
+        // being spawned; nothing is allocated between fork and exec.
         unsafe {
-            cmd.pre_exec(|| {
+            cmd.pre_exec(move || {
                 libc::setpgid(0, 0);
+                if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGTERM as libc::c_ulong) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                if libc::getppid() != launcher {
+                    // No allocation between fork and exec: a plain errno.
+                    return Err(std::io::Error::from_raw_os_error(libc::ESRCH));
+                }
                 Ok(())
             });
         }
@@ -79,26 +107,38 @@ impl Proc {
         self.child.id()
     }
 
-    /// SIGTERM, wait, then SIGKILL.
-    fn stop(&mut self) {
+    /// SIGTERM, wait at most `timeout`, then SIGKILL. Each further stop signal the launcher
+    /// receives meanwhile is passed on (for `mcm-rt`: end the controlled stop at once).
+    fn stop(&mut self, timeout: Duration) {
         if let Ok(Some(_)) = self.child.try_wait() {
             return;
         }
-        // SAFETY: kill with a valid pid of our own child.
-        unsafe { libc::kill(self.child.id() as i32, libc::SIGTERM) };
-        let deadline = Instant::now() + STOP_TIMEOUT;
+        self.signal(libc::SIGTERM);
+        let mut signals = signals::count();
+        let deadline = Instant::now() + timeout;
         while Instant::now() < deadline {
             if let Ok(Some(_)) = self.child.try_wait() {
                 return;
             }
+            let now = signals::count();
+            if now > signals {
+                signals = now;
+                eprintln!("mcm: stop signal again: passing it on to {}", self.name);
+                self.signal(libc::SIGTERM);
+            }
             std::thread::sleep(Duration::from_millis(10));
         }
         eprintln!(
-            "mcm: {} did not stop within {STOP_TIMEOUT:?}; killing it",
+            "mcm: {} did not stop within {timeout:?}; killing it",
             self.name
         );
         let _ = self.child.kill();
         let _ = self.child.wait();
+    }
+
+    fn signal(&self, sig: libc::c_int) {
+        // SAFETY: kill with the pid of our own child, not yet reaped (try_wait said so).
+        unsafe { libc::kill(self.child.id() as i32, sig) };
     }
 }
 
@@ -193,7 +233,7 @@ fn run(cli: Cli) -> Result<(), String> {
 
     let (mut rt, rt_lines) = Proc::spawn("mcm-rt", &prepend("rt", &rt_args))?;
     if let Err(e) = wait_ready(&mut rt, &rt_lines, "mcm-rt ready") {
-        rt.stop();
+        rt.stop(RT_STOP_TIMEOUT);
         return Err(e);
     }
     drop(rt_lines);
@@ -202,21 +242,37 @@ fn run(cli: Cli) -> Result<(), String> {
         BusBackend::Sim => format!("simulated {}", cfg.robot.name),
         BusBackend::Socketcan => format!("{} on {}", cfg.robot.name, cfg.bus.interface),
     };
-    let mut restarts = 0u32;
-    let mut last_start = Instant::now();
+    let mut backoff = Backoff::new();
+    let mut first = true;
     let result = loop {
-        let (mut gw, gw_lines) = match Proc::spawn("mcm-gateway", &prepend("gateway", &gw_args)) {
+        let gw = Proc::spawn("mcm-gateway", &prepend("gateway", &gw_args)).and_then(
+            |(mut gw, gw_lines)| match wait_ready(&mut gw, &gw_lines, "mcm-gateway ready") {
+                Ok(line) => Ok((gw, line)),
+                Err(e) => {
+                    gw.stop(STOP_TIMEOUT);
+                    Err(e)
+                }
+            },
+        );
+        let (mut gw, ready) = match gw {
             Ok(x) => x,
-            Err(e) => break Err(e),
-        };
-        let ready = match wait_ready(&mut gw, &gw_lines, "mcm-gateway ready") {
-            Ok(line) => line,
+            // The first start fails loudly (a port in use, a bad address): nothing runs yet
+            // that a restart would keep alive.
+            Err(e) if first || signals::stop_requested() => break Err(e),
             Err(e) => {
-                gw.stop();
-                break Err(e);
+                let wait = backoff.next(Duration::ZERO);
+                eprintln!(
+                    "mcm: mcm-gateway did not start ({e}); mcm-rt keeps running; restarting the gateway in {wait:?}"
+                );
+                match wait_watching(&mut rt, wait) {
+                    Ok(true) => continue,
+                    Ok(false) => break Ok(()),
+                    Err(e) => break Err(e),
+                }
             }
         };
-        drop(gw_lines);
+        first = false;
+        let started = Instant::now();
         let json = field(&ready, "json").unwrap_or("?");
         let hmi = field(&ready, "hmi").unwrap_or("?");
         println!(
@@ -231,47 +287,107 @@ fn run(cli: Cli) -> Result<(), String> {
                 break Ok(false);
             }
             if let Ok(Some(status)) = rt.child.try_wait() {
-                break Err(format!("mcm-rt exited unexpectedly ({status}); stopping"));
+                break Err(format!(
+                    "mcm-rt exited unexpectedly ({status}); stopping the gateway and the MCM (a dead real-time core is not restarted silently; see its message above)"
+                ));
             }
             if let Ok(Some(status)) = gw.child.try_wait() {
-                eprintln!("mcm: mcm-gateway exited unexpectedly ({status}); restarting it");
-                break Ok(true);
+                let wait = backoff.next(started.elapsed());
+                eprintln!(
+                    "mcm: mcm-gateway exited unexpectedly ({status}) after {:.1} s; mcm-rt keeps running; restarting the gateway in {wait:?} (back-off {RESTART_BACKOFF_MIN:?} doubling to {RESTART_BACKOFF_MAX:?})",
+                    started.elapsed().as_secs_f64()
+                );
+                break wait_watching(&mut rt, wait);
             }
             std::thread::sleep(Duration::from_millis(20));
         };
         match outcome {
-            Ok(true) => {
-                // Back off if it keeps dying at once.
-                restarts = if last_start.elapsed() < Duration::from_secs(10) {
-                    restarts + 1
-                } else {
-                    0
-                };
-                if restarts > 5 {
-                    break Err("mcm-gateway keeps exiting; giving up".into());
-                }
-                std::thread::sleep(Duration::from_millis(200 * u64::from(restarts)));
-                last_start = Instant::now();
-            }
+            Ok(true) => {}
             Ok(false) => {
-                gw.stop();
+                // mcm-rt first: its controlled stop shows in the state, and the gateway tells
+                // its clients; then the gateway.
+                rt.stop(RT_STOP_TIMEOUT);
+                gw.stop(STOP_TIMEOUT);
                 break Ok(());
             }
             Err(e) => {
-                gw.stop();
+                gw.stop(STOP_TIMEOUT);
                 break Err(e);
             }
         }
     };
-    rt.stop();
+    rt.stop(RT_STOP_TIMEOUT);
     if result.is_ok() {
         eprintln!("mcm: stopped");
     }
     result
 }
 
+/// Wait `wait` before a restart while watching `mcm-rt` and the stop signals: `Ok(true)` to
+/// restart, `Ok(false)` when a stop was asked for, `Err` when `mcm-rt` died.
+fn wait_watching(rt: &mut Proc, wait: Duration) -> Result<bool, String> {
+    let until = Instant::now() + wait;
+    loop {
+        if signals::stop_requested() {
+            return Ok(false);
+        }
+        if let Ok(Some(status)) = rt.child.try_wait() {
+            return Err(format!(
+                "mcm-rt exited unexpectedly ({status}); stopping (a dead real-time core is not restarted silently; see its message above)"
+            ));
+        }
+        if Instant::now() >= until {
+            return Ok(true);
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// The capped exponential back-off of gateway restarts.
+#[derive(Debug, Clone, Copy)]
+struct Backoff {
+    next: Duration,
+}
+
+impl Backoff {
+    fn new() -> Self {
+        Self {
+            next: RESTART_BACKOFF_MIN,
+        }
+    }
+
+    /// The wait before the next restart of a gateway that ran for `ran`: the minimum after a
+    /// healthy run ([`HEALTHY_RUN`]), otherwise twice the last one, at most the maximum.
+    fn next(&mut self, ran: Duration) -> Duration {
+        if ran >= HEALTHY_RUN {
+            self.next = RESTART_BACKOFF_MIN;
+        }
+        let wait = self.next;
+        self.next = (self.next * 2).min(RESTART_BACKOFF_MAX);
+        wait
+    }
+}
+
 fn prepend(sub: &str, args: &[OsString]) -> Vec<OsString> {
     std::iter::once(OsString::from(sub))
         .chain(args.iter().cloned())
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn backoff_doubles_to_the_cap_and_resets_after_a_healthy_run() {
+        let mut b = Backoff::new();
+        let quick = Duration::from_millis(50);
+        let waits: Vec<_> = (0..9).map(|_| b.next(quick)).collect();
+        assert_eq!(waits[0], RESTART_BACKOFF_MIN);
+        assert_eq!(waits[1], RESTART_BACKOFF_MIN * 2);
+        assert_eq!(waits[6], Duration::from_millis(6400));
+        assert_eq!(waits[7], RESTART_BACKOFF_MAX);
+        assert_eq!(waits[8], RESTART_BACKOFF_MAX);
+        assert_eq!(b.next(HEALTHY_RUN), RESTART_BACKOFF_MIN);
+    }
 }

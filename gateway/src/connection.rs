@@ -1,6 +1,7 @@
 //! One JSON connection: read bytes, frame them into commands, execute them one after the
 //! other, write one result line each; deliver spontaneous safety errors and TORQUE_CONTROL
-//! status results in between.
+//! status results in between, and notices about the MCM's own life (`crate::lifecycle`): the
+//! core shutting down or gone, and a last ERROR line when the gateway shuts down.
 //!
 //! A connection only ever waits on its own socket and its own commands, so a slow or hostile
 //! client cannot delay another one. Its memory is bounded by the framing limit.
@@ -9,6 +10,7 @@ use crate::access::{Channel, Client, run_command};
 use crate::cmd::Command;
 use crate::exec::Context;
 use crate::framing::{Decoder, Frame, MAX_COMMAND_BYTES};
+use crate::lifecycle::CoreWatch;
 use crate::result;
 use crate::shutdown::Shutdown;
 use mcm_shared::config::RobotConfig;
@@ -66,6 +68,7 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> s
     let mut decoder = Decoder::new();
     let mut errors = ctx.bridge.subscribe_errors();
     let mut torque: Option<TorqueSession> = None;
+    let mut core = CoreWatch::new(ctx.bridge.watch_state());
     let mut buf = vec![0u8; 4096];
 
     loop {
@@ -87,7 +90,7 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> s
                 tokio::select! {
                     out = &mut fut => break out,
                     e = errors.recv() => forward_error(&mut wr, e).await?,
-                    () = shutdown.recv() => return Ok(()),
+                    () = shutdown.recv() => return goodbye(&mut wr).await,
                 }
             };
             if let Some(r) = &outcome.result {
@@ -113,6 +116,7 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> s
                 }
             }
             e = errors.recv() => forward_error(&mut wr, e).await?,
+            n = core.next() => send(&mut wr, &n).await?,
             () = async { tokio::time::sleep_until(tick.expect("guarded")).await }, if tick.is_some() => {
                 let session = torque.as_mut().expect("guarded");
                 let state = ctx.bridge.latest_state();
@@ -136,9 +140,17 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> s
                     (None, _) => torque = None,
                 }
             }
-            () = shutdown.recv() => return Ok(()),
+            () = shutdown.recv() => return goodbye(&mut wr).await,
         }
     }
+}
+
+/// The last line before the gateway closes the connection on shutdown (bounded: a client that
+/// does not read does not hold the shutdown up).
+async fn goodbye(wr: &mut BufWriter<OwnedWriteHalf>) -> std::io::Result<()> {
+    let bye = crate::lifecycle::gateway_stopping();
+    let _ = tokio::time::timeout(Duration::from_secs(1), send(wr, &bye)).await;
+    Ok(())
 }
 
 async fn forward_error(

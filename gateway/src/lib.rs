@@ -20,6 +20,7 @@ pub mod exec;
 pub mod framing;
 pub mod hmi;
 pub mod json;
+pub mod lifecycle;
 pub mod result;
 pub mod server;
 pub mod shutdown;

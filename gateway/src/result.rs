@@ -8,7 +8,8 @@ use mcm_shared::mode::Mode;
 use mcm_shared::reply::{Outcome, SafetyError};
 use mcm_shared::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord,
-    STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, StateSample,
+    STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, STATE_SHUTTING_DOWN,
+    StateSample,
 };
 use serde_json::{Value, json};
 
@@ -157,6 +158,7 @@ pub fn status(state: &StateSample, detail: bool) -> Value {
             "drive_enabled": axis_bits(state, AXIS_ENABLED),
             "drive_fault": axis_bits(state, AXIS_FAULT),
             "emergency_stop": state.flags & STATE_ESTOP != 0,
+            "shutting_down": state.flags & STATE_SHUTTING_DOWN != 0,
             "pvt_queue": {
                 "queued": state.pvt_queued,
                 "capacity": state.pvt_capacity,

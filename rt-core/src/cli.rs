@@ -68,6 +68,10 @@ where
             return ExitCode::FAILURE;
         }
     };
+    if let Err(e) = crate::preflight::check(&opts.config, !opts.allow_non_realtime) {
+        eprintln!("mcm-rt: {e}");
+        return ExitCode::FAILURE;
+    }
     if let Err(e) = crate::signals::install() {
         eprintln!("mcm-rt: cannot install the SIGINT/SIGTERM handlers: {e}");
         return ExitCode::FAILURE;

@@ -25,8 +25,8 @@
 use crate::controller::CycleView;
 use mcm_shared::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, CycleTiming,
-    STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, STATE_SIM_ESTOP,
-    STATE_SIMULATED, StateSample,
+    STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, STATE_SHUTTING_DOWN,
+    STATE_SIM_ESTOP, STATE_SIMULATED, StateSample,
 };
 use mcm_shared::units::rad_to_deg;
 use mcm_sim::SimTruth;
@@ -74,6 +74,7 @@ pub fn compose(s: &mut StateSample, view: &CycleView, truth: Option<SimTruth>, c
     s.flags = flag(view.estop, STATE_ESTOP)
         | flag(view.all_calibrated, STATE_ALL_CALIBRATED)
         | flag(view.pvt_starved, STATE_PVT_STARVED)
+        | flag(view.shutting_down, STATE_SHUTTING_DOWN)
         | flag(clock.not_realtime, STATE_NOT_REALTIME)
         | flag(truth.is_some(), STATE_SIMULATED)
         | flag(t.emergency_stop, STATE_SIM_ESTOP);

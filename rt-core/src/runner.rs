@@ -7,9 +7,11 @@
 //! absolute deadlines, the loop sleeps until the deadline and runs one cycle of the runner's
 //! edge ([`crate::edge::Edge::cycle`]: take in commands, run the cycle ([`run_cycle`]), add
 //! timing, record, publish the state), ends it ([`crate::edge::Edge::end`]) and then wakes the
-//! state event's listeners ([`crate::edge::Edge::signal_state`], outside the timed work). Stops when SIGINT or SIGTERM arrives (checked once per
-//! cycle). [`run_cycle`] runs inside the cycle; the rest is set-up and
-//! teardown.
+//! state event's listeners ([`crate::edge::Edge::signal_state`], outside the timed work). The
+//! first SIGINT or SIGTERM (checked once per cycle) starts the controlled stop
+//! ([`crate::stop`]): the loop runs on until the arm is at standstill and the drives are
+//! disabled, or a second signal ends it at once. [`run_cycle`] runs inside the cycle; the rest
+//! is set-up and teardown.
 //!
 //! The runner builds the bus and so knows its type: with the simulated bus it wires the
 //! simulator's edge ([`crate::sim_edge`]) into the loop, and the simulated robot outlives a
@@ -24,13 +26,13 @@ use crate::ipc::{IpcSetupError, RtIpc};
 use crate::publish::{self, CycleClock};
 use crate::realtime::{self, RtReport};
 use crate::sim_edge::{SimAccess, SimEdge};
+use crate::stop::{StopOutcome, StopSequence};
 use mcm_bus::Bus;
 use mcm_bus::candump::{LogOptions, LoggingBus};
 use mcm_shared::config::{BusBackend, RobotConfig};
 use mcm_shared::sample::CommandSample;
 use mcm_shared::service::ServiceNames;
 use mcm_sim::{SimBus, snapshot};
-use std::sync::atomic::Ordering;
 
 /// What the real-time process runs.
 #[derive(Debug, Clone)]
@@ -100,7 +102,7 @@ pub fn run(
             Some(|bus: &mut LoggingBus<SimBus>| bus.inner_mut() as _),
             move |bus: &mut LoggingBus<SimBus>| snapshot::save(bus.inner(), &save_to),
         ),
-        (BusBackend::Socketcan, None) => spawn(opts, on_started, socketcan, None, |_| {}),
+        (BusBackend::Socketcan, None) => spawn(opts, on_started, socketcan, None, finish_drives),
         (BusBackend::Socketcan, Some(path)) => spawn(
             opts,
             on_started,
@@ -109,8 +111,19 @@ pub fn run(
                 logging(bus, &cfg.bus.interface.clone(), &path)
             },
             None,
-            |_| {},
+            finish_drives,
         ),
+    }
+}
+
+/// The last frames to real drives, after the loop stopped (the controlled stop left them
+/// disabled): NMT "enter pre-operational" to every node, so that no drive acts on a process
+/// data object any more; then nothing more is sent.
+fn finish_drives<B: Bus>(bus: &mut B) {
+    let frame =
+        crate::canopen::nmt::nmt_frame(crate::canopen::nmt::NmtCommand::EnterPreOperational, 0);
+    if let Err(e) = bus.send(&frame) {
+        eprintln!("mcm-rt: the final NMT frame (enter pre-operational) was not sent: {e}");
     }
 }
 
@@ -168,7 +181,8 @@ fn spawn<B: Bus + 'static>(
                 report.is_realtime(),
             );
             on_started(&report);
-            let figures = cycle_loop(&mut edge);
+            let (figures, stop) = cycle_loop(&mut edge);
+            eprintln!("mcm-rt: {stop}");
             finish(edge.cycle_mut().bus_mut());
             writer.stop();
             Ok(RunSummary {
@@ -201,17 +215,22 @@ pub fn run_cycle<B: Bus>(
     publish::compose(state, view, truth, clock);
 }
 
-/// Run the edge's cycles on absolute deadlines until SIGINT or SIGTERM arrives (checked once
-/// per cycle): sleep until the deadline, read the clock, run [`Edge::cycle`], read the clock,
+/// Run the edge's cycles on absolute deadlines until the controlled stop that the first SIGINT
+/// or SIGTERM starts has finished, or a second one ends it ([`StopSequence`], polled once per
+/// cycle): sleep until the deadline, read the clock, run [`Edge::cycle`], read the clock,
 /// [`Edge::end`] gives the next deadline, then [`Edge::signal_state`] wakes the listeners.
-fn cycle_loop<B: Bus>(edge: &mut Edge<B>) -> Figures {
-    let stop = crate::signals::stop_flag();
+fn cycle_loop<B: Bus>(edge: &mut Edge<B>) -> (Figures, StopOutcome) {
+    let mut stop = StopSequence::new(crate::signals::count());
     let mut next = edge.start(clock::now_ns());
-    while !stop.load(Ordering::Relaxed) {
+    let outcome = loop {
         clock::sleep_until_ns(next);
         edge.cycle(clock::now_ns());
         next = edge.end(clock::now_ns());
         edge.signal_state();
-    }
-    edge.figures()
+        let controller = edge.cycle_mut().parts_mut().0;
+        if let Some(outcome) = stop.poll(controller, crate::signals::count(), clock::now_ns()) {
+            break outcome;
+        }
+    };
+    (edge.figures(), outcome)
 }

@@ -176,6 +176,11 @@ impl SimCycle {
         self.cycle.controller()
     }
 
+    /// The controller, to drive what the runner drives between cycles (a shutdown).
+    pub fn controller_mut(&mut self) -> &mut Controller {
+        self.cycle.parts_mut().0
+    }
+
     /// The simulated robot (inspection, save/resume, direct fault injection).
     pub fn bus_mut(&mut self) -> &mut SimBus {
         self.cycle.bus_mut()

@@ -368,35 +368,7 @@ impl RobotConfig {
         if b.max_missed_tpdos == 0 {
             return Err(invalid("bus.max_missed_tpdos", 0, ">= 1"));
         }
-        let s = &self.safety;
-        if !finite_ge(s.limit_margin_deg, 0.0) {
-            return Err(invalid(
-                "safety.limit_margin_deg",
-                s.limit_margin_deg,
-                "a finite value >= 0 deg",
-            ));
-        }
-        if !(s.braking_efficiency > 0.0 && s.braking_efficiency <= 1.0) {
-            return Err(invalid(
-                "safety.braking_efficiency",
-                s.braking_efficiency,
-                "0 < x <= 1",
-            ));
-        }
-        if !finite_ge(s.overspeed_factor, 1.0) {
-            return Err(invalid(
-                "safety.overspeed_factor",
-                s.overspeed_factor,
-                "a finite value >= 1",
-            ));
-        }
-        if !(s.flight_recorder_seconds > 0.0 && s.flight_recorder_seconds <= 60.0) {
-            return Err(invalid(
-                "safety.flight_recorder_seconds",
-                s.flight_recorder_seconds,
-                "0 < x <= 60 s",
-            ));
-        }
+        self.validate_bounds()?;
         if self.axes.len() != NUM_AXES {
             return Err(invalid(
                 "axis",
@@ -406,7 +378,9 @@ impl RobotConfig {
         }
         let mut seen_ids = [false; 128];
         for (i, a) in self.axes.iter().enumerate() {
-            a.validate(&format!("axis[{}]", i + 1), &mut seen_ids)?;
+            let key = format!("axis[{}]", i + 1);
+            a.validate(&key, &mut seen_ids)?;
+            a.validate_bounds(&key)?;
             if a.node_id == b.master_node_id {
                 return Err(invalid(
                     format!("axis[{}].node_id", i + 1),
@@ -665,7 +639,9 @@ impl AxisConfig {
     }
 }
 
+mod bounds;
 mod gateway;
+pub use bounds::*;
 pub use gateway::{AccessConfig, Cidr, ConnectionLimits, GatewayConfig};
 
 #[cfg(test)]

@@ -73,6 +73,7 @@ enum Flow {
 enum Event {
     Read(io::Result<usize>),
     Error(Result<crate::bridge::SafetyEvent, RecvError>),
+    Core(serde_json::Value),
     Tick,
 }
 
@@ -91,7 +92,7 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> i
         Some(r) => r,
         None => {
             let bye = format!(
-                "\r\n\x1b[?25h{}the MCM gateway is shutting down; goodbye{}\r\n",
+                "\r\n\x1b[?25h{}ERROR: the MCM is shutting down (the gateway was asked to stop); goodbye{}\r\n",
                 render::YELLOW,
                 render::RESET
             );
@@ -154,6 +155,7 @@ impl Session {
         let banner = render::banner(&self.ctx.cfg, state.as_deref(), self.ctx.bridge.instance());
         self.say(&banner);
         self.prompt();
+        let mut core = crate::lifecycle::CoreWatch::new(self.ctx.bridge.watch_state());
         let mut tick = interval(PROMPT_CHECK);
         tick.set_missed_tick_behavior(MissedTickBehavior::Skip);
         loop {
@@ -169,11 +171,20 @@ impl Session {
             let event = tokio::select! {
                 n = self.rd.read(&mut self.buf) => Event::Read(n),
                 e = self.errors.recv(), if self.errors_open => Event::Error(e),
+                n = core.next() => Event::Core(n),
                 _ = tick.tick() => Event::Tick,
             };
             match event {
                 Event::Read(n) => self.received(n?),
                 Event::Error(e) => self.interject(e),
+                Event::Core(n) => {
+                    let text = n["error_message"].as_str().unwrap_or_default();
+                    self.interject_text(&format!(
+                        "{}ERROR: {text}{}\n",
+                        render::RED,
+                        render::RESET
+                    ));
+                }
                 Event::Tick => self.refresh_prompt(),
             }
         }
@@ -246,12 +257,16 @@ impl Session {
 
     /// Print a spontaneous safety error above the line being typed, then redraw it.
     fn interject(&mut self, e: Result<crate::bridge::SafetyEvent, RecvError>) {
-        let Some(text) = self.error_text(e) else {
-            return;
-        };
+        if let Some(text) = self.error_text(e) {
+            self.interject_text(&text);
+        }
+    }
+
+    /// Print `text` between the output and the line being typed.
+    fn interject_text(&mut self, text: &str) {
         if self.telnet.server_echoes() {
             self.out.extend_from_slice(b"\r\x1b[K");
-            self.say(&text);
+            self.say(text);
             let p = self.current_prompt();
             self.editor.set_prompt(&p);
             self.editor.redraw(&mut self.out);
@@ -259,7 +274,7 @@ impl Session {
         } else {
             // The client's terminal holds the typed text; leave it and start a new row.
             self.out.extend_from_slice(b"\r\n");
-            self.say(&text);
+            self.say(text);
             self.prompt();
         }
     }
@@ -347,7 +362,7 @@ impl Session {
                         break None;
                     }
                 }
-                Event::Tick => {}
+                Event::Tick | Event::Core(_) => {}
             }
             self.flush().await?;
         };
@@ -434,6 +449,7 @@ impl Session {
                         drawn = 0;
                     }
                 }
+                Event::Core(_) => {}
             }
             self.flush().await?;
         }

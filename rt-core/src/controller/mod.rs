@@ -16,11 +16,13 @@
 //! operating state: one enum carrying each mode's data), `commands.rs` (what each command
 //! does), `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client
 //! controls the arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a
-//! cycle reports).
+//! cycle reports), `shutdown.rs` (the controlled stop and disable when `mcm-rt` is asked to
+//! stop).
 
 mod commands;
 mod motion;
 mod ownership;
+mod shutdown;
 mod state;
 mod trips;
 mod view;
@@ -39,6 +41,10 @@ use mcm_shared::mode::Mode;
 use mcm_shared::reply::{self, Done, Outcome, Reason, Response};
 use mcm_shared::sample::{CommandSample, Reply};
 pub use motion::QUICK_STOP_FACTOR;
+pub use shutdown::{
+    SHUTDOWN_HOLD_NS, SHUTDOWN_MIN_BOUND_NS, ShutdownPhase, ShutdownResult, ShutdownStatus,
+    TimedOutPhase,
+};
 use state::{After, Before, Caller, State};
 pub use view::{AxisView, CycleView, Outbox};
 
@@ -90,6 +96,8 @@ pub struct Controller {
     now_ns: u64,
     /// The client that controls the arm's motion (0: nobody); see `ownership.rs`.
     owner: u64,
+    /// The shutdown, once `mcm-rt` was asked to stop (`shutdown.rs`).
+    shutdown: Option<ShutdownStatus>,
 }
 
 impl Controller {
@@ -133,6 +141,7 @@ impl Controller {
             cycle: 0,
             now_ns: 0,
             owner: 0,
+            shutdown: None,
         }
     }
 
@@ -193,13 +202,16 @@ impl Controller {
                         request_id: c.request_id,
                         kind: req.kind(),
                     };
-                    if let ownership::Gate::Pass = self.gate(caller, &req) {
+                    if !self.refused_for_shutdown(caller, &req)
+                        && let ownership::Gate::Pass = self.gate(caller, &req)
+                    {
                         self.on_request(caller, req);
                     }
                 }
                 Err(e) => self.answer(reply::refuse_undecodable(c, &e)),
             }
         }
+        self.advance_shutdown();
         self.update_enabling();
         self.check_safety();
         self.cmd_hist = [self.cmd.position, self.cmd_hist[0]];
@@ -393,3 +405,6 @@ mod refusals_tests;
 
 #[cfg(test)]
 mod ownership_tests;
+
+#[cfg(test)]
+mod shutdown_tests;

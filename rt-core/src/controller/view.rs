@@ -81,6 +81,8 @@ pub struct CycleView {
     pub pvt_starved: bool,
     /// The client that controls the arm's motion (0: nobody).
     pub owner_client_id: u64,
+    /// `mcm-rt` was asked to stop: the controlled stop and disable run (or ran).
+    pub shutting_down: bool,
     /// The replies given this cycle.
     pub replies: Outbox,
     /// The latest safety error reported (`None` since start); its `unix_ns` is 0: the composer

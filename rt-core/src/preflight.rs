@@ -1,0 +1,105 @@
+//! Checks at `mcm-rt` start that the configuration alone cannot make: the flight-recorder
+//! directory can be written, and the cycle's CPU exists for this process. Runs once before the
+//! cycle starts, not inside it.
+
+use mcm_shared::config::RobotConfig;
+use std::io::Write;
+use std::path::Path;
+
+/// Why `mcm-rt` refuses to start on this machine.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum PreflightError {
+    #[error(
+        "config key `safety.flight_recorder_dir` = {dir} is not usable: {reason}; mcm-rt must be able to create files there (set a writable directory)"
+    )]
+    FlightRecorderDir { dir: String, reason: String },
+    #[error(
+        "config key `cycle.cpu` = {cpu} is not allowed: a CPU this process may run on ({available:?}); real-time operation pins the cycle to it"
+    )]
+    Cpu { cpu: usize, available: Vec<usize> },
+}
+
+/// Create `dir` if missing and write (then remove) a probe file in it.
+pub fn check_flight_recorder_dir(dir: &str) -> Result<(), PreflightError> {
+    let fail = |reason: String| PreflightError::FlightRecorderDir {
+        dir: dir.to_string(),
+        reason,
+    };
+    let path = Path::new(dir);
+    std::fs::create_dir_all(path).map_err(|e| fail(format!("cannot create it ({e})")))?;
+    let probe = path.join(format!(".mcm-rt-probe-{}", std::process::id()));
+    let written = std::fs::File::create(&probe).and_then(|mut f| f.write_all(b"probe\n"));
+    let _ = std::fs::remove_file(&probe);
+    written.map_err(|e| fail(format!("cannot write a file in it ({e})")))
+}
+
+/// The CPUs this process may run on.
+pub fn available_cpus() -> Vec<usize> {
+    core_affinity::get_core_ids()
+        .unwrap_or_default()
+        .iter()
+        .map(|c| c.id)
+        .collect()
+}
+
+/// Every check; `realtime_required`: `cycle.cpu` must be one of [`available_cpus`] (without
+/// real-time scheduling the cycle runs unpinned, and the runner says so).
+pub fn check(cfg: &RobotConfig, realtime_required: bool) -> Result<(), PreflightError> {
+    check_flight_recorder_dir(&cfg.safety.flight_recorder_dir)?;
+    if realtime_required {
+        let available = available_cpus();
+        if !available.contains(&cfg.cycle.cpu) {
+            return Err(PreflightError::Cpu {
+                cpu: cfg.cycle.cpu,
+                available,
+            });
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_missing_directory_is_created_and_probed() {
+        let dir = std::env::temp_dir().join(format!("mcm-preflight-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let d = dir.join("nested");
+        check_flight_recorder_dir(d.to_str().unwrap()).unwrap();
+        assert!(d.is_dir());
+        assert_eq!(
+            std::fs::read_dir(&d).unwrap().count(),
+            0,
+            "the probe is removed"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_directory_that_cannot_exist_is_refused_naming_the_key() {
+        // A path below a regular file cannot be created, not even by root.
+        let err = check_flight_recorder_dir("/dev/null/flight").unwrap_err();
+        let text = err.to_string();
+        assert!(
+            text.starts_with("config key `safety.flight_recorder_dir` = /dev/null/flight"),
+            "{text}"
+        );
+        assert!(text.contains("cannot create it"), "{text}");
+    }
+
+    #[test]
+    fn a_cpu_this_process_cannot_use_is_refused_when_real_time_is_required() {
+        let mut cfg = RobotConfig::prob2_default();
+        cfg.safety.flight_recorder_dir = std::env::temp_dir().display().to_string();
+        cfg.cycle.cpu = 100_000;
+        let err = check(&cfg, true).unwrap_err();
+        assert!(
+            matches!(err, PreflightError::Cpu { cpu: 100_000, .. }),
+            "{err}"
+        );
+        assert!(err.to_string().contains("`cycle.cpu` = 100000"), "{err}");
+        assert_eq!(check(&cfg, false), Ok(()));
+    }
+}
