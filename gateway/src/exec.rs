@@ -61,7 +61,7 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
             tokio::time::sleep(s.duration).await;
             return Outcome::only(result::ok());
         }
-        Command::Status(s) => return status(ctx, s.detail),
+        Command::Status(s) => return status(ctx, s.detail).await,
         Command::PvtPoints(p) => {
             let state = ctx.bridge.latest_state();
             if let Some(state) = state
@@ -121,8 +121,22 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
 }
 
 /// `status` from the newest state, the same result the core's cycle would give.
-fn status(ctx: &Context, detail: bool) -> Outcome {
-    match ctx.bridge.latest_state() {
+/// How long `status` waits for a state when the bridge has none: the gateway just started (its
+/// bridge has not read the core's first state yet) or the core is restarting.
+pub const STATE_GRACE: Duration = Duration::from_millis(300);
+
+/// `status`: from the newest state, without waiting for a cycle. With no state yet, waits at most
+/// [`STATE_GRACE`] for one before saying the core is not running.
+async fn status(ctx: &Context, detail: bool) -> Outcome {
+    let mut newest = ctx.bridge.latest_state();
+    if newest.is_none() {
+        let mut watch = ctx.bridge.watch_state();
+        if let Ok(Ok(s)) = tokio::time::timeout(STATE_GRACE, watch.wait_for(Option::is_some)).await
+        {
+            newest = s.clone();
+        }
+    }
+    match newest {
         Some(state) => Outcome {
             result: Some(result::status(&state, detail)),
             state: Some(state),
