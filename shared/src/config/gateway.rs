@@ -15,11 +15,8 @@ pub struct GatewayConfig {
     pub access: AccessConfig,
 }
 
-/// `[gateway.connections]`: limits that keep idle, slow or greedy clients from locking others
-/// out.
-#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct ConnectionLimits {}
+mod connections;
+pub use connections::ConnectionLimits;
 
 /// `[gateway.access]`: who may take control of the arm's motion.
 #[derive(Debug, Clone, Default, Deserialize, PartialEq)]
@@ -29,6 +26,7 @@ pub struct AccessConfig {}
 impl GatewayConfig {
     /// Check every value of the section; the first problem found names its key.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        self.connections.validate()?;
         Ok(())
     }
 }
