@@ -148,7 +148,10 @@ pub async fn serve(
                     continue;
                 }
                 Step::Close(v) => {
-                    send(&mut wr, &v).await?;
+                    // The client may still be sending its long line: drain it so that the
+                    // reason is not lost to a reset.
+                    let line = format!("{}\n", crate::json::to_ascii(&v));
+                    crate::server::farewell(&mut rd, &mut wr, line.as_bytes()).await;
                     return Ok(());
                 }
             };
@@ -276,7 +279,7 @@ pub async fn send(wr: &mut BufWriter<OwnedWriteHalf>, v: &Value) -> std::io::Res
         })
 }
 
-/// End the connection with one ERROR line saying `why`.
+/// End the connection with one ERROR line saying `why` (see [`crate::server::farewell`]).
 async fn say_goodbye(
     rd: &mut OwnedReadHalf,
     wr: &mut BufWriter<OwnedWriteHalf>,
@@ -288,4 +291,4 @@ async fn say_goodbye(
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
