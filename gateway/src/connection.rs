@@ -12,7 +12,7 @@ use crate::cmd::Command;
 use crate::exec::{Context, execute};
 use crate::framing::{Decoder, Frame, MAX_COMMAND_BYTES};
 use crate::result;
-use crate::server::admission::{Slot, secs};
+use crate::server::admission::Slot;
 use crate::shutdown::Shutdown;
 use mcm_shared::config::{ConnectionLimits, RobotConfig};
 use mcm_shared::mode::Mode;
@@ -56,10 +56,7 @@ impl Expiry {
         } else {
             "within"
         };
-        format!(
-            "{what} {within} {} s (gateway.connections.{key}); closing the {who}",
-            secs(value)
-        )
+        format!("{what} {within} {value} s (gateway.connections.{key}); closing the {who}")
     }
 }
 
@@ -155,13 +152,16 @@ pub async fn serve(
                     return Ok(());
                 }
             };
-            slot.set_busy(true);
+            // Work in the core protects the connection from eviction; a `sleep` does not.
+            slot.set_busy(!matches!(cmd, Command::Sleep(_)));
             let fut = execute(&ctx, client_id, &cmd);
             tokio::pin!(fut);
             let outcome = loop {
                 tokio::select! {
                     out = &mut fut => break out,
                     e = errors.recv() => forward_error(&mut wr, e).await?,
+                    // Only during a `sleep`, which does not protect from eviction.
+                    why = slot.evicted() => return say_goodbye(&mut rd, &mut wr, &why).await,
                     () = shutdown.recv() => return Ok(()),
                 }
             };

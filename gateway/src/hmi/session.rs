@@ -376,26 +376,37 @@ impl Session {
                 self.say("bye\n");
                 return Ok(Flow::Quit);
             }
-            Ok(Line::Watch { detail }) => self.watch(detail).await?,
-            Ok(Line::Command { cmd, json }) => self.command(cmd, json).await?,
+            Ok(Line::Watch { detail }) => {
+                if self.watch(detail).await? == Flow::Quit {
+                    return Ok(Flow::Quit);
+                }
+            }
+            Ok(Line::Command { cmd, json }) => {
+                if self.command(cmd, json).await? == Flow::Quit {
+                    return Ok(Flow::Quit);
+                }
+            }
             Err(LineError::Json(e)) => self.say(&render::pretty(&result::error(e.to_string()))),
             Err(e) => self.say(&render::line_error(&e)),
         }
         Ok(Flow::Continue)
     }
 
-    async fn command(&mut self, cmd: Command, json: bool) -> io::Result<()> {
+    async fn command(&mut self, cmd: Command, json: bool) -> io::Result<Flow> {
         if matches!(cmd, Command::Calibrate(_)) && !json {
             self.say("calibrating; this can take a while (Ctrl-C stops waiting, not the calibration) ...\n");
         }
         self.flush().await?;
-        self.slot.set_busy(true);
+        // Work in the core protects the session from eviction; a `sleep` does not.
+        self.slot.set_busy(!matches!(cmd, Command::Sleep(_)));
         let result = self.execute(cmd, json).await;
         self.slot.set_busy(false);
         result
     }
 
-    async fn execute(&mut self, cmd: Command, json: bool) -> io::Result<()> {
+    /// Run `cmd`; `Quit` when the session was evicted meanwhile (only possible during a
+    /// `sleep`, which does not make a session busy).
+    async fn execute(&mut self, cmd: Command, json: bool) -> io::Result<Flow> {
         let ctx = self.ctx.clone();
         let fut = exec::execute(&ctx, self.client_id, &cmd);
         tokio::pin!(fut);
@@ -404,6 +415,7 @@ impl Session {
                 out = &mut fut => break Some(out),
                 e = self.errors.recv(), if self.errors_open => Event::Error(e),
                 n = self.rd.read(&mut self.buf), if !self.closed && self.pending.len() < MAX_PENDING => Event::Read(n),
+                why = self.slot.evicted() => Event::Evicted(why),
             };
             match event {
                 Event::Error(e) => {
@@ -422,7 +434,11 @@ impl Session {
                         break None;
                     }
                 }
-                Event::Tick | Event::Expired(_) | Event::Evicted(_) => {}
+                Event::Evicted(why) => {
+                    self.goodbye(&why).await?;
+                    return Ok(Flow::Quit);
+                }
+                Event::Tick | Event::Expired(_) => {}
             }
             self.flush().await?;
         };
@@ -436,7 +452,7 @@ impl Session {
             }
             self.say(&msg);
             self.say("\n");
-            return Ok(());
+            return Ok(Flow::Continue);
         };
         let state = outcome.state.or_else(|| self.ctx.bridge.latest_state());
         let text = match (&outcome.result, json) {
@@ -446,18 +462,13 @@ impl Session {
             (None, false) => render::result(name, &result::ok(), &self.ctx.cfg, state.as_deref()),
         };
         self.say(&text);
-        Ok(())
+        Ok(Flow::Continue)
     }
 
-    /// Refresh the status table in place until a key is pressed.
-    async fn watch(&mut self, detail: bool) -> io::Result<()> {
-        self.slot.set_busy(true);
-        let result = self.watching(detail).await;
-        self.slot.set_busy(false);
-        result
-    }
-
-    async fn watching(&mut self, detail: bool) -> io::Result<()> {
+    /// Refresh the status table in place until a key is pressed. Not timed out as idle, but
+    /// evicted like an idle session when the port needs the slot.
+    async fn watch(&mut self, detail: bool) -> io::Result<Flow> {
+        self.slot.touch();
         self.out.extend_from_slice(b"\x1b[?25l");
         let mut tick = interval(WATCH_PERIOD);
         tick.set_missed_tick_behavior(MissedTickBehavior::Skip);
@@ -467,6 +478,7 @@ impl Session {
                 _ = tick.tick() => Event::Tick,
                 n = self.rd.read(&mut self.buf), if !self.closed => Event::Read(n),
                 e = self.errors.recv(), if self.errors_open => Event::Error(e),
+                why = self.slot.evicted() => Event::Evicted(why),
             };
             match event {
                 Event::Tick => {
@@ -508,11 +520,17 @@ impl Session {
                         drawn = 0;
                     }
                 }
-                Event::Expired(_) | Event::Evicted(_) => {}
+                Event::Evicted(why) => {
+                    self.out.extend_from_slice(b"\x1b[?25h");
+                    self.goodbye(&why).await?;
+                    return Ok(Flow::Quit);
+                }
+                Event::Expired(_) => {}
             }
             self.flush().await?;
         }
+        self.slot.touch();
         self.out.extend_from_slice(b"\x1b[?25h");
-        Ok(())
+        Ok(Flow::Continue)
     }
 }

@@ -10,14 +10,40 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use tokio::sync::watch;
 use tokio::time::Instant;
 
+/// The address a per-peer cap counts: the IP address itself, except that all IPv6 addresses
+/// of one /64 network (what one host or site usually gets) count as one peer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PeerKey(IpAddr);
+
+impl PeerKey {
+    pub fn of(ip: IpAddr) -> Self {
+        match ip.to_canonical() {
+            IpAddr::V6(v6) if !v6.is_loopback() => {
+                let bits = u128::from(v6) & !((1u128 << 64) - 1);
+                Self(IpAddr::V6(bits.into()))
+            }
+            other => Self(other),
+        }
+    }
+}
+
+impl std::fmt::Display for PeerKey {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.0 {
+            IpAddr::V6(v6) if !v6.is_loopback() => write!(f, "{v6}/64"),
+            ip => write!(f, "{ip}"),
+        }
+    }
+}
+
 /// One admitted connection.
 #[derive(Debug)]
 struct Entry {
-    ip: IpAddr,
+    peer: PeerKey,
     local: bool,
     /// Since when the connection has sent no complete line (or finished its last command).
     idle_since: Instant,
-    /// Running a command, in a torque session or in `watch`: neither idle nor evictable.
+    /// A command executed by the core is running, or a torque session: never evicted.
     busy: bool,
     /// Receives the reason when the connection is evicted.
     evict: watch::Sender<Option<String>>,
@@ -80,7 +106,13 @@ impl Table {
         self.entries.is_empty()
     }
 
-    /// Connections that are busy now (running a command, torque session, `watch`).
+    /// The ids of the connections held now.
+    #[cfg(test)]
+    pub(crate) fn ids(&self) -> Vec<u64> {
+        self.entries.keys().copied().collect()
+    }
+
+    /// Connections that are busy now (a command in the core, a torque session).
     pub fn busy(&self) -> usize {
         self.entries.values().filter(|e| e.busy).count()
     }
@@ -102,14 +134,15 @@ impl Table {
     pub fn admit(&mut self, ip: IpAddr, local: bool, now: Instant) -> Result<Admitted, String> {
         let l = &self.limits;
         let (max, per_peer, reserve) = (l.max_connections, l.max_per_peer, l.loopback_reserve);
-        let same_peer = self.entries.values().filter(|e| e.ip == ip).count();
+        let peer = PeerKey::of(ip);
+        let same_peer = self.entries.values().filter(|e| e.peer == peer).count();
         let remote = self.entries.values().filter(|e| !e.local).count();
         let total = self.entries.len();
         let (victim, why) = if same_peer >= per_peer {
             (
-                self.longest_idle(|e| e.ip == ip),
+                self.longest_idle(|e| e.peer == peer),
                 format!(
-                    "{ip} already has {same_peer} connections (at most {per_peer} per address)"
+                    "{peer} already has {same_peer} connections (at most {per_peer} per address)"
                 ),
             )
         } else if local && total >= max {
@@ -152,7 +185,7 @@ impl Table {
         self.entries.insert(
             id,
             Entry {
-                ip,
+                peer,
                 local,
                 idle_since: now,
                 busy: false,
@@ -166,7 +199,8 @@ impl Table {
         })
     }
 
-    fn update(&mut self, id: u64, busy: bool, now: Instant) {
+    /// Connection `id` is busy or not, and active at `now`.
+    pub(crate) fn update(&mut self, id: u64, busy: bool, now: Instant) {
         if let Some(e) = self.entries.get_mut(&id) {
             e.busy = busy;
             e.idle_since = now;
@@ -224,7 +258,8 @@ impl Slot {
         self.set_busy(false);
     }
 
-    /// Busy (a command runs, a torque session, `watch`) or not; either way active now.
+    /// Busy (a command executed by the core runs, a torque session: never evicted) or not;
+    /// either way active now.
     pub fn set_busy(&mut self, busy: bool) {
         self.idle_since = Instant::now();
         self.table.lock().update(self.id, busy, self.idle_since);
@@ -368,6 +403,21 @@ mod tests {
         );
         drop(Slot::new(second.id, shared.clone(), second.evict));
         assert!(shared.lock().is_empty());
+    }
+
+    #[test]
+    fn one_ipv6_network_is_one_peer() {
+        let mut t = Table::new(limits(10, 1, 0));
+        admit(&mut t, "2001:db8:1:2::10", 0).unwrap();
+        let (_, ev) = admit(&mut t, "2001:db8:1:2:ffff::1", 1).unwrap();
+        assert!(ev.is_some(), "same /64: the per-peer cap applies");
+        let (_, ev) = admit(&mut t, "2001:db8:1:3::10", 2).unwrap();
+        assert!(ev.is_none(), "another /64 is another peer");
+        assert_eq!(
+            PeerKey::of(ip("2001:db8:1:2::10")).to_string(),
+            "2001:db8:1:2::/64"
+        );
+        assert_eq!(PeerKey::of(ip("::ffff:10.0.0.1")).to_string(), "10.0.0.1");
     }
 
     #[test]
