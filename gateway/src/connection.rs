@@ -4,7 +4,10 @@
 //! core shutting down or gone, and a last ERROR line when the gateway shuts down.
 //!
 //! A connection only ever waits on its own socket and its own commands, so a slow or hostile
-//! client cannot delay another one. Its memory is bounded by the framing limit.
+//! client cannot delay another one. Its memory is bounded by the framing limit, its time by
+//! the idle and line timeouts of `[gateway.connections]` and by [`WRITE_TIMEOUT`]; when its
+//! port needs the slot, it is evicted (see [`crate::server::admission`]). Each of these ends
+//! the connection with one ERROR line saying why.
 
 use crate::access::{Channel, Client, run_command};
 use crate::cmd::Command;
@@ -12,19 +15,78 @@ use crate::exec::Context;
 use crate::framing::{Decoder, Frame, MAX_COMMAND_BYTES};
 use crate::lifecycle::CoreWatch;
 use crate::result;
+use crate::server::admission::Slot;
 use crate::shutdown::Shutdown;
-use mcm_shared::config::RobotConfig;
+use mcm_shared::config::{ConnectionLimits, RobotConfig};
 use mcm_shared::mode::Mode;
 use serde_json::Value;
 use std::time::Duration;
 use tokio::io::{AsyncReadExt, AsyncWriteExt, BufWriter};
 use tokio::net::TcpStream;
-use tokio::net::tcp::OwnedWriteHalf;
+use tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
 use tokio::sync::broadcast::error::RecvError;
 use tokio::time::Instant;
 
 /// How often a connection in a torque session checks the mode when it sends no status.
 const MODE_CHECK: Duration = Duration::from_millis(20);
+/// Longest wait for a client to take a result line; a client that reads nothing is closed.
+pub const WRITE_TIMEOUT: Duration = Duration::from_secs(30);
+
+/// Which timeout of `[gateway.connections]` ends a connection.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Expiry {
+    /// `idle_timeout_s`: no complete line for that long.
+    Idle,
+    /// `line_timeout_s` (JSON) or `hmi_line_timeout_s` (HMI): a started line not completed.
+    Line,
+}
+
+impl Expiry {
+    /// The reason given to the client, naming the timeout, its value and its key.
+    pub fn message(self, limits: &ConnectionLimits, hmi: bool) -> String {
+        let (who, key, value) = match (self, hmi) {
+            (Expiry::Idle, false) => ("connection", "idle_timeout_s", limits.idle_timeout_s),
+            (Expiry::Idle, true) => ("session", "idle_timeout_s", limits.idle_timeout_s),
+            (Expiry::Line, false) => ("connection", "line_timeout_s", limits.line_timeout_s),
+            (Expiry::Line, true) => ("session", "hmi_line_timeout_s", limits.hmi_line_timeout_s),
+        };
+        let what = match self {
+            Expiry::Idle => "idle timeout: no command",
+            Expiry::Line => "line timeout: a command line was started but not completed",
+        };
+        let within = if self == Expiry::Idle {
+            "for"
+        } else {
+            "within"
+        };
+        format!("{what} {within} {value} s (gateway.connections.{key}); closing the {who}")
+    }
+}
+
+/// `s` seconds after `t`; `None` if that is not a time (a value validation would refuse).
+fn after(t: Instant, s: f64) -> Option<Instant> {
+    Duration::try_from_secs_f64(s)
+        .ok()
+        .and_then(|d| t.checked_add(d))
+}
+
+/// The idle or the line timeout, whichever ends first. `idle_since`: since when the connection
+/// has been idle; `line_start`: when its unfinished line began; `line_timeout_s`: the port's.
+pub fn deadline(
+    limits: &ConnectionLimits,
+    idle_since: Instant,
+    line_start: Option<Instant>,
+    line_timeout_s: f64,
+) -> Option<(Instant, Expiry)> {
+    let idle = after(idle_since, limits.idle_timeout_s).map(|t| (t, Expiry::Idle));
+    let line = line_start
+        .and_then(|s| after(s, line_timeout_s))
+        .map(|t| (t, Expiry::Line));
+    match (idle, line) {
+        (Some(i), Some(l)) => Some(if l.0 < i.0 { l } else { i }),
+        (i, l) => i.or(l),
+    }
+}
 
 struct TorqueSession {
     /// Interval of spontaneous status results; `None`: only the final one.
@@ -58,7 +120,12 @@ pub fn step(frame: Frame, cfg: &RobotConfig) -> Step {
 }
 
 /// Serve one JSON connection until the peer closes it or the server shuts down.
-pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> std::io::Result<()> {
+pub async fn serve(
+    socket: TcpStream,
+    ctx: Context,
+    mut shutdown: Shutdown,
+    mut slot: Slot,
+) -> std::io::Result<()> {
     socket.set_nodelay(true)?;
     let peer = socket.peer_addr()?;
     let (mut rd, wr) = socket.into_split();
@@ -70,9 +137,13 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> s
     let mut torque: Option<TorqueSession> = None;
     let mut core = CoreWatch::new(ctx.bridge.watch_state());
     let mut buf = vec![0u8; 4096];
+    let mut line_start: Option<Instant> = None;
 
     loop {
+        let mut framed = false;
         while let Some(frame) = decoder.next_frame() {
+            framed = true;
+            slot.touch();
             let cmd = match step(frame, &ctx.cfg) {
                 Step::Run(cmd) => cmd,
                 Step::Reply(v) => {
@@ -80,16 +151,23 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> s
                     continue;
                 }
                 Step::Close(v) => {
-                    send(&mut wr, &v).await?;
+                    // The client may still be sending its long line: drain it so that the
+                    // reason is not lost to a reset.
+                    let line = format!("{}\n", crate::json::to_ascii(&v));
+                    crate::server::farewell(&mut rd, &mut wr, line.as_bytes()).await;
                     return Ok(());
                 }
             };
+            // Work in the core protects the connection from eviction; a `sleep` does not.
+            slot.set_busy(!matches!(cmd, Command::Sleep(_)));
             let fut = run_command(&ctx, &client, &cmd);
             tokio::pin!(fut);
             let outcome = loop {
                 tokio::select! {
                     out = &mut fut => break out,
                     e = errors.recv() => forward_error(&mut wr, e).await?,
+                    // Only during a `sleep`, which does not protect from eviction.
+                    why = slot.evicted() => return say_goodbye(&mut rd, &mut wr, &why).await,
                     () = shutdown.recv() => return goodbye(&mut wr).await,
                 }
             };
@@ -105,7 +183,20 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> s
             } else if matches!(cmd, Command::Hold | Command::Release | Command::Pvt(_)) {
                 torque = None;
             }
+            slot.set_busy(torque.is_some());
         }
+        // A line is unfinished: it began with the read that brought its first byte.
+        line_start = match line_start {
+            _ if decoder.buffered() == 0 => None,
+            Some(t) if !framed => Some(t),
+            _ => Some(Instant::now()),
+        };
+        let limits = &ctx.cfg.gateway.connections;
+        let expiry = if torque.is_some() {
+            None
+        } else {
+            deadline(limits, slot.idle_since(), line_start, limits.line_timeout_s)
+        };
 
         let tick = torque.as_ref().map(|t| t.next);
         tokio::select! {
@@ -136,10 +227,19 @@ pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> s
                         // Left TORQUE_CONTROL (timeout fallback to HOLD, or a safety stop).
                         send(&mut wr, &result::status(s, false)).await?;
                         torque = None;
+                        slot.set_busy(false);
                     }
-                    (None, _) => torque = None,
+                    (None, _) => {
+                        torque = None;
+                        slot.set_busy(false);
+                    }
                 }
             }
+            () = async { tokio::time::sleep_until(expiry.as_ref().expect("guarded").0).await }, if expiry.is_some() => {
+                let why = expiry.map(|e| e.1.message(limits, false)).unwrap_or_default();
+                return say_goodbye(&mut rd, &mut wr, &why).await;
+            }
+            why = slot.evicted() => return say_goodbye(&mut rd, &mut wr, &why).await,
             () = shutdown.recv() => return goodbye(&mut wr).await,
         }
     }
@@ -172,13 +272,38 @@ async fn forward_error(
     }
 }
 
-/// Write one result line (pure ASCII: non-ASCII characters as `\uXXXX`).
+/// Write one result line (pure ASCII: non-ASCII characters as `\uXXXX`); a client that does
+/// not take it within [`WRITE_TIMEOUT`] gets a `TimedOut` error (the connection ends).
 pub async fn send(wr: &mut BufWriter<OwnedWriteHalf>, v: &Value) -> std::io::Result<()> {
     let mut line = crate::json::to_ascii(v);
     line.push('\n');
-    wr.write_all(line.as_bytes()).await?;
-    wr.flush().await
+    let write = async {
+        wr.write_all(line.as_bytes()).await?;
+        wr.flush().await
+    };
+    tokio::time::timeout(WRITE_TIMEOUT, write)
+        .await
+        .unwrap_or_else(|_| {
+            Err(std::io::Error::new(
+                std::io::ErrorKind::TimedOut,
+                format!(
+                    "the client took no result line for {} s; closing the connection",
+                    WRITE_TIMEOUT.as_secs()
+                ),
+            ))
+        })
+}
+
+/// End the connection with one ERROR line saying `why` (see [`crate::server::farewell`]).
+async fn say_goodbye(
+    rd: &mut OwnedReadHalf,
+    wr: &mut BufWriter<OwnedWriteHalf>,
+    why: &str,
+) -> std::io::Result<()> {
+    let line = crate::server::json_line(why);
+    crate::server::farewell(rd, wr, line.as_bytes()).await;
+    Ok(())
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -1,81 +1,156 @@
-//! The TCP listeners: accept connections, cap their number, hand each to its own task, and
-//! stop them all on shutdown.
+//! The TCP listeners: accept connections, admit them within the limits of
+//! `[gateway.connections]` ([`admission`]: per-peer cap, total cap, loopback reserve, eviction
+//! of the longest-idle connection), hand each to its own task, and stop them all on shutdown.
+
+pub mod admission;
 
 use crate::connection;
 use crate::exec::Context;
 use crate::shutdown::Shutdown;
+use admission::{Shared, Slot};
 use std::future::Future;
+use std::net::IpAddr;
 use std::sync::Arc;
-use tokio::io::AsyncWriteExt;
+use std::time::Duration;
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{Semaphore, broadcast, mpsc};
 
-/// Most simultaneous connections per listener.
-pub const MAX_CONNECTIONS: usize = 64;
+/// How long an evicted connection may take to say why and close before it is dropped.
+pub const EVICT_GRACE: Duration = Duration::from_secs(3);
+/// How long a farewell line (timeout, eviction, refusal) may take to be written, and how long
+/// the peer's remaining bytes are then drained so that the line is not lost to a reset.
+pub const FAREWELL_TIMEOUT: Duration = Duration::from_secs(1);
+/// Most refused connections being told why at once; beyond it they are closed silently.
+const MAX_REFUSING: usize = 64;
+
+/// How one port admits and answers connections.
+#[derive(Debug, Clone, Copy)]
+pub struct Port {
+    /// What a connection is called in the log, e.g. "JSON connection".
+    pub what: &'static str,
+    /// The one line (with its line end) that tells a refused peer why.
+    pub refusal: fn(&str) -> String,
+    /// Which peers may use the loopback reserve ([`admission::is_loopback`]; tests that need
+    /// "remote" peers on one machine narrow it).
+    pub is_local: fn(IpAddr) -> bool,
+}
+
+/// The JSON port: refusals as a generic ERROR result line.
+pub const JSON_PORT: Port = Port {
+    what: "JSON connection",
+    refusal: json_line,
+    is_local: admission::is_loopback,
+};
+
+/// A generic ERROR result line with `message`.
+pub fn json_line(message: &str) -> String {
+    format!(
+        "{}\n",
+        crate::json::to_ascii(&crate::result::error(message))
+    )
+}
 
 /// Accept JSON connections on `listener` until `shutdown` resolves, then tell every connection
 /// to stop and wait for them.
 pub async fn run_json(listener: TcpListener, ctx: Context, shutdown: impl Future) {
-    let refusal = format!(
-        "{}\n",
-        crate::result::error(format!(
-            "too many connections (at most {MAX_CONNECTIONS}); try again later"
-        ))
-    );
-    run(
-        listener,
-        ctx,
-        shutdown,
-        "JSON connection",
-        refusal,
-        connection::serve,
-    )
-    .await;
+    run(listener, ctx, shutdown, JSON_PORT, connection::serve).await;
 }
 
-/// Accept connections on `listener` and serve each with `serve` in its own task, at most
-/// [`MAX_CONNECTIONS`] at once (one more gets `refusal` and is closed), until `shutdown`
-/// resolves; then tell every connection to stop and wait for them. Shared by the JSON channel
-/// and the text HMI.
+/// Write `line`, close our side, then drain what the peer still sends (bounded in time), so
+/// that the line reaches a peer that is still writing instead of being lost to a reset.
+pub async fn farewell<R, W>(rd: &mut R, wr: &mut W, line: &[u8])
+where
+    R: AsyncReadExt + Unpin,
+    W: AsyncWriteExt + Unpin,
+{
+    let say = async {
+        wr.write_all(line).await?;
+        wr.shutdown().await
+    };
+    if let Ok(Ok(())) = tokio::time::timeout(FAREWELL_TIMEOUT, say).await {
+        let mut sink = [0u8; 1024];
+        let drain = async { while matches!(rd.read(&mut sink).await, Ok(n) if n > 0) {} };
+        let _ = tokio::time::timeout(FAREWELL_TIMEOUT, drain).await;
+    }
+}
+
+/// Accept connections on `listener` and serve each with `serve` in its own task, within the
+/// limits of `ctx.cfg.gateway.connections`, until `shutdown` resolves; then tell every
+/// connection to stop and wait for them. Shared by the JSON channel and the text HMI.
 pub async fn run<F, Fut>(
     listener: TcpListener,
     ctx: Context,
     shutdown: impl Future,
-    what: &'static str,
-    refusal: String,
+    port: Port,
     serve: F,
 ) where
-    F: Fn(TcpStream, Context, Shutdown) -> Fut + Copy + Send + 'static,
+    F: Fn(TcpStream, Context, Shutdown, Slot) -> Fut + Copy + Send + 'static,
     Fut: Future<Output = std::io::Result<()>> + Send + 'static,
 {
+    let table = Shared::new(ctx.cfg.gateway.connections.clone());
+    run_with(listener, ctx, shutdown, port, serve, table).await;
+}
+
+/// [`run`] with the port's connection table given (tests watch it).
+async fn run_with<F, Fut>(
+    listener: TcpListener,
+    ctx: Context,
+    shutdown: impl Future,
+    port: Port,
+    serve: F,
+    table: Shared,
+) where
+    F: Fn(TcpStream, Context, Shutdown, Slot) -> Fut + Copy + Send + 'static,
+    Fut: Future<Output = std::io::Result<()>> + Send + 'static,
+{
+    let what = port.what;
     let (notify, _) = broadcast::channel(1);
     let (done_tx, mut done_rx) = mpsc::channel::<()>(1);
-    let limit = Arc::new(Semaphore::new(MAX_CONNECTIONS));
+    let refusing = Arc::new(Semaphore::new(MAX_REFUSING));
     let accept = async {
         loop {
-            let (mut socket, _peer) = match listener.accept().await {
+            let (socket, peer) = match listener.accept().await {
                 Ok(s) => s,
                 Err(e) => {
                     eprintln!("mcm-gateway: accept of a {what} failed: {e}");
-                    tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+                    tokio::time::sleep(Duration::from_millis(50)).await;
                     continue;
                 }
             };
-            let Ok(permit) = limit.clone().try_acquire_owned() else {
-                let _ = socket.write_all(refusal.as_bytes()).await;
-                continue;
+            let ip = peer.ip().to_canonical();
+            let admitted = table
+                .lock()
+                .admit(ip, (port.is_local)(ip), tokio::time::Instant::now());
+            let admission::Admitted { id, evict, .. } = match admitted {
+                Ok(a) => a,
+                Err(reason) => {
+                    refuse(socket, (port.refusal)(&reason), &refusing);
+                    continue;
+                }
             };
+            let mut kill = evict.clone();
+            let slot = Slot::new(id, table.clone(), evict);
             let ctx = ctx.clone();
             let shutdown = Shutdown::new(notify.subscribe());
             let done = done_tx.clone();
             tokio::spawn(async move {
-                if let Err(e) = serve(socket, ctx, shutdown).await
+                let evicted_long_ago = async {
+                    if kill.wait_for(Option::is_some).await.is_err() {
+                        std::future::pending::<()>().await;
+                    }
+                    tokio::time::sleep(EVICT_GRACE).await;
+                };
+                let result = tokio::select! {
+                    r = serve(socket, ctx, shutdown, slot) => r,
+                    () = evicted_long_ago => Ok(()),
+                };
+                if let Err(e) = result
                     && e.kind() != std::io::ErrorKind::BrokenPipe
                     && e.kind() != std::io::ErrorKind::ConnectionReset
                 {
                     eprintln!("mcm-gateway: a {what} ended with an error: {e}");
                 }
-                drop(permit);
                 drop(done);
             });
         }
@@ -88,3 +163,19 @@ pub async fn run<F, Fut>(
     drop(done_tx);
     let _ = done_rx.recv().await;
 }
+
+/// Tell a refused peer why in a task of its own (the accept loop never waits on a peer), at
+/// most [`MAX_REFUSING`] at once.
+fn refuse(socket: TcpStream, line: String, refusing: &Arc<Semaphore>) {
+    let Ok(permit) = refusing.clone().try_acquire_owned() else {
+        return;
+    };
+    tokio::spawn(async move {
+        let (mut rd, mut wr) = socket.into_split();
+        farewell(&mut rd, &mut wr, line.as_bytes()).await;
+        drop(permit);
+    });
+}
+
+#[cfg(test)]
+mod tests;

@@ -203,7 +203,8 @@ fn mutated() -> impl Strategy<Value = Vec<u8>> {
         })
 }
 
-fn json_value() -> impl Strategy<Value = Value> {
+/// Arbitrary JSON values (also fed to the HMI's parser by its property tests).
+pub(crate) fn json_value() -> impl Strategy<Value = Value> {
     let leaf = prop_oneof![
         Just(Value::Null),
         any::<bool>().prop_map(Value::from),

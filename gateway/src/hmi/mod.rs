@@ -38,7 +38,8 @@ pub mod telnet;
 pub mod words;
 
 use crate::exec::Context;
-use crate::server::MAX_CONNECTIONS;
+use crate::server::Port;
+use crate::server::admission::is_loopback;
 use std::future::Future;
 use tokio::net::TcpListener;
 
@@ -48,17 +49,19 @@ pub const MAX_LINE_BYTES: usize = 64 * 1024;
 /// Accept HMI sessions on `listener` until `shutdown` resolves, then tell every session to
 /// stop (each gets a goodbye line) and wait for them.
 pub async fn run(listener: TcpListener, ctx: Context, shutdown: impl Future) {
-    let refusal =
-        format!("MCM HMI: too many sessions (at most {MAX_CONNECTIONS}); try again later\r\n");
-    crate::server::run(
-        listener,
-        ctx,
-        shutdown,
-        "HMI session",
-        refusal,
-        session::serve,
-    )
-    .await;
+    crate::server::run(listener, ctx, shutdown, HMI_PORT, session::serve).await;
+}
+
+/// The HMI port: refusals as one line of text.
+pub const HMI_PORT: Port = Port {
+    what: "HMI session",
+    refusal: hmi_line,
+    is_local: is_loopback,
+};
+
+/// One line of text for a refused or closed session.
+pub fn hmi_line(message: &str) -> String {
+    format!("MCM HMI: {}\r\n", render::ascii(message))
 }
 
 #[cfg(test)]

@@ -77,6 +77,25 @@ proptest! {
     }
 
     #[test]
+    fn arbitrary_json_values_give_one_ascii_answer(
+        v in crate::connection::tests::json_value(),
+        command in prop::sample::select(crate::cmd::COMMAND_NAMES),
+        escaped in any::<bool>(),
+    ) {
+        // As a JSON line (`{...}`) and as the arguments of a command; escaped (`\uXXXX`) or
+        // raw UTF-8, which people type.
+        for value in [v.clone(), serde_json::json!({"command": command, "arguments": v})] {
+            let text = if escaped {
+                crate::json::to_ascii(&value)
+            } else {
+                value.to_string()
+            };
+            let line = format!("{}\r\n", text.replace(['\r', '\n'], " "));
+            prop_assert_eq!(session_path(line.as_bytes(), true, MAX_LINE_BYTES), (1, 1));
+        }
+    }
+
+    #[test]
     fn mixed_words_and_bytes(
         parts in prop::collection::vec(
             prop_oneof![

@@ -4,6 +4,11 @@
 //! for people ([`super::render`]). Safety errors are printed as they happen without breaking
 //! the line being typed. Runs in the gateway's async tasks, not in the real-time cycle.
 //!
+//! Time per session is bounded by the idle and line timeouts of `[gateway.connections]` (a
+//! command that runs or `watch` is not idle) and by [`crate::connection::WRITE_TIMEOUT`]; when
+//! the port needs the slot the session is evicted (`crate::server::admission`). Each ends the
+//! session with one line saying why.
+//!
 //! Memory per session is bounded: the line ([`super::MAX_LINE_BYTES`]), the history, the
 //! type-ahead while a command runs ([`MAX_PENDING`]) and the output buffer (flushed after
 //! every batch of input, and written with back-pressure).
@@ -14,8 +19,10 @@ use super::words::{Line, LineError};
 use super::{MAX_LINE_BYTES, help, render};
 use crate::access::{Channel, Client, run_command};
 use crate::cmd::Command;
+use crate::connection::{Expiry, WRITE_TIMEOUT, deadline};
 use crate::exec::Context;
 use crate::result;
+use crate::server::admission::Slot;
 use crate::shutdown::Shutdown;
 use std::collections::VecDeque;
 use std::fmt::Write as _;
@@ -26,7 +33,7 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
 use tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
 use tokio::sync::broadcast::{self, error::RecvError};
-use tokio::time::{MissedTickBehavior, interval};
+use tokio::time::{Instant, MissedTickBehavior, interval};
 
 /// Most inputs kept as type-ahead while a command runs (reading pauses beyond it).
 pub const MAX_PENDING: usize = MAX_LINE_BYTES + 4096;
@@ -75,15 +82,24 @@ enum Event {
     Error(Result<crate::bridge::SafetyEvent, RecvError>),
     Core(serde_json::Value),
     Tick,
+    /// The idle or line timeout ended the session.
+    Expired(Expiry),
+    /// The port needed the slot; the reason.
+    Evicted(String),
 }
 
 /// Serve one HMI connection until the person leaves, the connection closes or the gateway
 /// shuts down.
-pub async fn serve(socket: TcpStream, ctx: Context, mut shutdown: Shutdown) -> io::Result<()> {
+pub async fn serve(
+    socket: TcpStream,
+    ctx: Context,
+    mut shutdown: Shutdown,
+    slot: Slot,
+) -> io::Result<()> {
     socket.set_nodelay(true)?;
     let peer = socket.peer_addr()?;
     let (rd, wr) = socket.into_split();
-    let mut session = Session::new(ctx, rd, wr, peer);
+    let mut session = Session::new(ctx, rd, wr, peer, slot);
     let ended = tokio::select! {
         r = session.run() => Some(r),
         () = shutdown.recv() => None,
@@ -120,10 +136,19 @@ struct Session {
     out: Vec<u8>,
     buf: Vec<u8>,
     shown_prompt: String,
+    slot: Slot,
+    /// When the line being typed began (its first byte was read).
+    line_start: Option<Instant>,
 }
 
 impl Session {
-    fn new(ctx: Context, rd: OwnedReadHalf, wr: OwnedWriteHalf, peer: SocketAddr) -> Self {
+    fn new(
+        ctx: Context,
+        rd: OwnedReadHalf,
+        wr: OwnedWriteHalf,
+        peer: SocketAddr,
+        slot: Slot,
+    ) -> Self {
         Self {
             errors: ctx.bridge.subscribe_errors(),
             client: Client::new(&ctx.clients, &ctx.bridge, Channel::Hmi, peer),
@@ -138,6 +163,8 @@ impl Session {
             out: Vec::new(),
             buf: vec![0; 4096],
             shown_prompt: String::new(),
+            slot,
+            line_start: None,
         }
     }
 
@@ -168,11 +195,28 @@ impl Session {
             if self.closed {
                 return Ok(());
             }
+            let in_line = !self.editor.text().is_empty() || self.telnet.in_sequence();
+            self.line_start = match self.line_start {
+                _ if !in_line => None,
+                Some(t) => Some(t),
+                None => Some(Instant::now()),
+            };
+            let limits = &self.ctx.cfg.gateway.connections;
+            let expiry = deadline(
+                limits,
+                self.slot.idle_since(),
+                self.line_start,
+                limits.hmi_line_timeout_s,
+            );
             let event = tokio::select! {
                 n = self.rd.read(&mut self.buf) => Event::Read(n),
                 e = self.errors.recv(), if self.errors_open => Event::Error(e),
                 n = core.next() => Event::Core(n),
                 _ = tick.tick() => Event::Tick,
+                () = async { tokio::time::sleep_until(expiry.expect("guarded").0).await }, if expiry.is_some() => {
+                    Event::Expired(expiry.expect("guarded").1)
+                }
+                why = self.slot.evicted() => Event::Evicted(why),
             };
             match event {
                 Event::Read(n) => self.received(n?),
@@ -186,6 +230,11 @@ impl Session {
                     ));
                 }
                 Event::Tick => self.refresh_prompt(),
+                Event::Expired(kind) => {
+                    let why = kind.message(&self.ctx.cfg.gateway.connections, true);
+                    return self.goodbye(&why).await;
+                }
+                Event::Evicted(why) => return self.goodbye(&why).await,
             }
         }
     }
@@ -196,9 +245,34 @@ impl Session {
         terminal_text(text, &mut self.out);
     }
 
+    /// End the session with one line saying `why` (after what is still to be written).
+    async fn goodbye(&mut self, why: &str) -> io::Result<()> {
+        let line = format!(
+            "\r\n\x1b[?25h{}error:{} {why}\n",
+            render::RED,
+            render::RESET
+        );
+        self.say(&line);
+        let out = std::mem::take(&mut self.out);
+        crate::server::farewell(&mut self.rd, &mut self.wr, &out).await;
+        Ok(())
+    }
+
+    /// Write what is buffered; a client that takes nothing for [`WRITE_TIMEOUT`] gets a
+    /// `TimedOut` error (the session ends).
     async fn flush(&mut self) -> io::Result<()> {
         if !self.out.is_empty() {
-            self.wr.write_all(&self.out).await?;
+            tokio::time::timeout(WRITE_TIMEOUT, self.wr.write_all(&self.out))
+                .await
+                .map_err(|_| {
+                    io::Error::new(
+                        io::ErrorKind::TimedOut,
+                        format!(
+                            "the client took no output for {} s; closing the session",
+                            WRITE_TIMEOUT.as_secs()
+                        ),
+                    )
+                })??;
             self.out.clear();
             self.out.shrink_to(64 * 1024);
         }
@@ -284,6 +358,10 @@ impl Session {
         match self.editor.feed(input, echo, &mut self.out) {
             None => return Ok(Flow::Continue),
             Some(Action::Line(text)) => {
+                self.line_start = None;
+                if !text.trim().is_empty() {
+                    self.slot.touch();
+                }
                 if self.line(&text).await? == Flow::Quit {
                     return Ok(Flow::Quit);
                 }
@@ -323,19 +401,37 @@ impl Session {
                 self.say("bye\n");
                 return Ok(Flow::Quit);
             }
-            Ok(Line::Watch { detail }) => self.watch(detail).await?,
-            Ok(Line::Command { cmd, json }) => self.command(cmd, json).await?,
+            Ok(Line::Watch { detail }) => {
+                if self.watch(detail).await? == Flow::Quit {
+                    return Ok(Flow::Quit);
+                }
+            }
+            Ok(Line::Command { cmd, json }) => {
+                if self.command(cmd, json).await? == Flow::Quit {
+                    return Ok(Flow::Quit);
+                }
+            }
             Err(LineError::Json(e)) => self.say(&render::pretty(&result::error(e.to_string()))),
             Err(e) => self.say(&render::line_error(&e)),
         }
         Ok(Flow::Continue)
     }
 
-    async fn command(&mut self, cmd: Command, json: bool) -> io::Result<()> {
+    async fn command(&mut self, cmd: Command, json: bool) -> io::Result<Flow> {
         if matches!(cmd, Command::Calibrate(_)) && !json {
             self.say("calibrating; this can take a while (Ctrl-C stops waiting, not the calibration) ...\n");
         }
         self.flush().await?;
+        // Work in the core protects the session from eviction; a `sleep` does not.
+        self.slot.set_busy(!matches!(cmd, Command::Sleep(_)));
+        let result = self.execute(cmd, json).await;
+        self.slot.set_busy(false);
+        result
+    }
+
+    /// Run `cmd`; `Quit` when the session was evicted meanwhile (only possible during a
+    /// `sleep`, which does not make a session busy).
+    async fn execute(&mut self, cmd: Command, json: bool) -> io::Result<Flow> {
         let (ctx, client) = (self.ctx.clone(), self.client.clone());
         let fut = run_command(&ctx, &client, &cmd);
         tokio::pin!(fut);
@@ -344,6 +440,7 @@ impl Session {
                 out = &mut fut => break Some(out),
                 e = self.errors.recv(), if self.errors_open => Event::Error(e),
                 n = self.rd.read(&mut self.buf), if !self.closed && self.pending.len() < MAX_PENDING => Event::Read(n),
+                why = self.slot.evicted() => Event::Evicted(why),
             };
             match event {
                 Event::Error(e) => {
@@ -362,7 +459,11 @@ impl Session {
                         break None;
                     }
                 }
-                Event::Tick | Event::Core(_) => {}
+                Event::Evicted(why) => {
+                    self.goodbye(&why).await?;
+                    return Ok(Flow::Quit);
+                }
+                Event::Tick | Event::Core(_) | Event::Expired(_) => {}
             }
             self.flush().await?;
         };
@@ -376,7 +477,7 @@ impl Session {
             }
             self.say(&msg);
             self.say("\n");
-            return Ok(());
+            return Ok(Flow::Continue);
         };
         let state = outcome.state.or_else(|| self.ctx.bridge.latest_state());
         let mut text = match (&outcome.result, json) {
@@ -394,11 +495,13 @@ impl Session {
             text.push('\n');
         }
         self.say(&text);
-        Ok(())
+        Ok(Flow::Continue)
     }
 
-    /// Refresh the status table in place until a key is pressed.
-    async fn watch(&mut self, detail: bool) -> io::Result<()> {
+    /// Refresh the status table in place until a key is pressed. Not timed out as idle, but
+    /// evicted like an idle session when the port needs the slot.
+    async fn watch(&mut self, detail: bool) -> io::Result<Flow> {
+        self.slot.touch();
         self.out.extend_from_slice(b"\x1b[?25l");
         let mut tick = interval(WATCH_PERIOD);
         tick.set_missed_tick_behavior(MissedTickBehavior::Skip);
@@ -408,6 +511,7 @@ impl Session {
                 _ = tick.tick() => Event::Tick,
                 n = self.rd.read(&mut self.buf), if !self.closed => Event::Read(n),
                 e = self.errors.recv(), if self.errors_open => Event::Error(e),
+                why = self.slot.evicted() => Event::Evicted(why),
             };
             match event {
                 Event::Tick => {
@@ -449,11 +553,17 @@ impl Session {
                         drawn = 0;
                     }
                 }
-                Event::Core(_) => {}
+                Event::Evicted(why) => {
+                    self.out.extend_from_slice(b"\x1b[?25h");
+                    self.goodbye(&why).await?;
+                    return Ok(Flow::Quit);
+                }
+                Event::Core(_) | Event::Expired(_) => {}
             }
             self.flush().await?;
         }
+        self.slot.touch();
         self.out.extend_from_slice(b"\x1b[?25h");
-        Ok(())
+        Ok(Flow::Continue)
     }
 }

@@ -131,6 +131,11 @@ impl Telnet {
         self.echo == Opt::Yes
     }
 
+    /// True inside a telnet command or subnegotiation (a started unit of input).
+    pub fn in_sequence(&self) -> bool {
+        self.state != State::Data
+    }
+
     /// True once the client sent any telnet command.
     pub fn speaks_telnet(&self) -> bool {
         self.seen_iac

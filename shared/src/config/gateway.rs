@@ -15,11 +15,8 @@ pub struct GatewayConfig {
     pub access: AccessConfig,
 }
 
-/// `[gateway.connections]`: limits that keep idle, slow or greedy clients from locking others
-/// out.
-#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct ConnectionLimits {}
+mod connections;
+pub use connections::ConnectionLimits;
 
 mod access;
 pub use access::{AccessConfig, Cidr};
@@ -27,6 +24,7 @@ pub use access::{AccessConfig, Cidr};
 impl GatewayConfig {
     /// Check every value of the section; the first problem found names its key.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        self.connections.validate()?;
         self.access.validate()?;
         Ok(())
     }

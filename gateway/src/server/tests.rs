@@ -1,0 +1,419 @@
+//! The limits of `[gateway.connections]` over real sockets on 127.0.0.1:0, with short
+//! timeouts and a bridge whose real-time core is not running (`sleep` is executed by the
+//! gateway, so it serves as a long-running command). Peers that must count as remote connect
+//! from 127.0.0.2 to a port whose `is_local` accepts only 127.0.0.1.
+
+use super::*;
+use crate::bridge::{Bridge, BridgeThread};
+use mcm_shared::config::{ConnectionLimits, RobotConfig};
+use mcm_shared::service::ServiceNames;
+use serde_json::Value;
+use std::net::SocketAddr;
+use std::sync::atomic::{AtomicU32, Ordering};
+use tokio::net::TcpSocket;
+use tokio::sync::oneshot;
+use tokio::task::JoinHandle;
+
+static NEXT: AtomicU32 = AtomicU32::new(0);
+const WAIT: Duration = Duration::from_secs(10);
+
+struct Server {
+    addr: SocketAddr,
+    table: Shared,
+    stop: oneshot::Sender<()>,
+    task: JoinHandle<()>,
+    bridge: BridgeThread,
+}
+
+fn limits() -> ConnectionLimits {
+    ConnectionLimits {
+        idle_timeout_s: 30.0,
+        line_timeout_s: 30.0,
+        hmi_line_timeout_s: 30.0,
+        ..ConnectionLimits::default()
+    }
+}
+
+/// Only 127.0.0.1 is "loopback" here, so that 127.0.0.2 plays a remote peer.
+fn only_127_0_0_1(ip: IpAddr) -> bool {
+    ip == IpAddr::from([127, 0, 0, 1])
+}
+
+async fn start(limits: ConnectionLimits, hmi: bool) -> Server {
+    let instance = format!(
+        "srv-{}-{}",
+        std::process::id(),
+        NEXT.fetch_add(1, Ordering::Relaxed)
+    );
+    let (bridge, thread) = Bridge::start(&ServiceNames::new(&instance).unwrap(), "/tmp");
+    let mut cfg = RobotConfig::prob2_default();
+    cfg.gateway.connections = limits;
+    let ctx = Context {
+        cfg: Arc::new(cfg),
+        bridge,
+        access: Default::default(),
+        clients: Default::default(),
+    };
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (stop, stopped) = oneshot::channel::<()>();
+    let shutdown = async move {
+        let _ = stopped.await;
+    };
+    let table = Shared::new(ctx.cfg.gateway.connections.clone());
+    let t = table.clone();
+    let task = if hmi {
+        let port = Port {
+            is_local: only_127_0_0_1,
+            ..crate::hmi::HMI_PORT
+        };
+        tokio::spawn(run_with(
+            listener,
+            ctx,
+            shutdown,
+            port,
+            crate::hmi::session::serve,
+            t,
+        ))
+    } else {
+        let port = Port {
+            is_local: only_127_0_0_1,
+            ..JSON_PORT
+        };
+        tokio::spawn(run_with(
+            listener,
+            ctx,
+            shutdown,
+            port,
+            connection::serve,
+            t,
+        ))
+    };
+    Server {
+        addr,
+        table,
+        stop,
+        task,
+        bridge: thread,
+    }
+}
+
+impl Server {
+    /// Mark every connection held now busy (as a command running in the core would).
+    fn make_all_busy(&self) {
+        let mut t = self.table.lock();
+        for id in t.ids() {
+            t.update(id, true, tokio::time::Instant::now());
+        }
+    }
+
+    async fn shutdown(self) {
+        let _ = self.stop.send(());
+        tokio::time::timeout(WAIT, self.task)
+            .await
+            .unwrap()
+            .unwrap();
+        self.bridge.stop();
+    }
+}
+
+/// A raw client that keeps everything it received.
+struct Client {
+    stream: TcpStream,
+    got: Vec<u8>,
+}
+
+impl Client {
+    async fn connect(s: &Server) -> Client {
+        Self::connect_from(s, "127.0.0.1").await
+    }
+
+    async fn connect_from(s: &Server, ip: &str) -> Client {
+        let sock = TcpSocket::new_v4().unwrap();
+        sock.bind(format!("{ip}:0").parse().unwrap()).unwrap();
+        Client {
+            stream: sock.connect(s.addr).await.unwrap(),
+            got: Vec::new(),
+        }
+    }
+
+    async fn send(&mut self, bytes: &[u8]) {
+        self.stream.write_all(bytes).await.unwrap();
+    }
+
+    /// Read until `done` holds for what was received (or the peer closed); returns it as
+    /// text.
+    async fn until(&mut self, done: impl Fn(&str) -> bool) -> String {
+        let read = async {
+            let mut buf = [0u8; 4096];
+            loop {
+                if done(&String::from_utf8_lossy(&self.got)) {
+                    return;
+                }
+                match self.stream.read(&mut buf).await {
+                    Ok(0) | Err(_) => return,
+                    Ok(n) => self.got.extend_from_slice(&buf[..n]),
+                }
+            }
+        };
+        if tokio::time::timeout(WAIT, read).await.is_err() {
+            panic!(
+                "no end in time; got {:?}",
+                String::from_utf8_lossy(&self.got)
+            );
+        }
+        String::from_utf8_lossy(&self.got).into_owned()
+    }
+
+    /// The next JSON line.
+    async fn line(&mut self) -> Value {
+        let text = self.until(|t| t.contains('\n')).await;
+        let (line, rest) = text.split_once('\n').expect("a whole line");
+        self.got = rest.as_bytes().to_vec();
+        serde_json::from_str(line).unwrap()
+    }
+
+    /// Everything until the server closes the connection.
+    async fn rest(&mut self) -> String {
+        self.until(|_| false).await
+    }
+
+    /// A command and its result line (the connection is admitted once this returns).
+    async fn request(&mut self, json: &str) -> Value {
+        self.send(format!("{json}\n").as_bytes()).await;
+        self.line().await
+    }
+}
+
+fn error_message(v: &Value) -> &str {
+    assert_eq!(v["error_status"], "ERROR", "{v}");
+    v["error_message"].as_str().unwrap()
+}
+
+const SLEEP_1S: &str = r#"{"command":"sleep","arguments":{"duration":1.0}}"#;
+/// Longer than any test: only the shutdown ends it.
+const SLEEP_LONG: &str = r#"{"command":"sleep","arguments":{"duration":600}}"#;
+/// Answered by the gateway itself at once (no round trip to the core's bridge).
+const NOOP: &str = r#"{"command":"sleep","arguments":{"duration":0}}"#;
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn idle_connections_are_closed_but_a_long_command_is_not_idle() {
+    let s = start(
+        ConnectionLimits {
+            idle_timeout_s: 0.4,
+            ..limits()
+        },
+        false,
+    )
+    .await;
+    let mut c = Client::connect(&s).await;
+    // The sleep (1 s) runs longer than the idle timeout and is answered.
+    assert_eq!(c.request(SLEEP_1S).await["error_status"], "OK");
+    let v = c.line().await;
+    let msg = error_message(&v);
+    assert!(
+        msg.starts_with("idle timeout: no command for 0.4 s (gateway.connections.idle_timeout_s)"),
+        "{msg}"
+    );
+    assert_eq!(c.rest().await, "", "closed after the one line");
+    s.shutdown().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn slowloris_is_cut_by_the_line_timeout() {
+    let s = start(
+        ConnectionLimits {
+            line_timeout_s: 0.5,
+            ..limits()
+        },
+        false,
+    )
+    .await;
+    let c = Client::connect(&s).await;
+    let (mut rd, mut wr) = c.stream.into_split();
+    // One byte every 50 ms of a line that would take 2 s.
+    let drip = tokio::spawn(async move {
+        for b in br#"{"command":"status","arguments":{"detail":true}}"#
+            .iter()
+            .cycle()
+            .take(40)
+        {
+            if wr.write_all(&[*b]).await.is_err() {
+                return;
+            }
+            tokio::time::sleep(Duration::from_millis(50)).await;
+        }
+    });
+    let mut got = Vec::new();
+    tokio::time::timeout(WAIT, rd.read_to_end(&mut got))
+        .await
+        .expect("closed in time")
+        .ok();
+    let text = String::from_utf8_lossy(&got);
+    let v: Value = serde_json::from_str(text.trim_end()).expect("exactly one line");
+    assert!(
+        error_message(&v).starts_with("line timeout: a command line was started but not completed within 0.5 s (gateway.connections.line_timeout_s)"),
+        "{v}"
+    );
+    drip.abort();
+    s.shutdown().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_per_peer_cap_evicts_the_longest_idle_connection_with_its_reason() {
+    let s = start(
+        ConnectionLimits {
+            max_per_peer: 2,
+            ..limits()
+        },
+        false,
+    )
+    .await;
+    let mut a = Client::connect(&s).await;
+    a.request(NOOP).await;
+    let mut b = Client::connect(&s).await;
+    b.request(NOOP).await;
+    // `a` is the longest idle of 127.0.0.1: the third connection displaces it.
+    let mut c = Client::connect(&s).await;
+    let v = a.line().await;
+    let msg = error_message(&v);
+    assert!(
+        msg.starts_with("connection closed to make room for a new one: 127.0.0.1 already has 2 connections (at most 2 per address) and this one was the longest idle"),
+        "{msg}"
+    );
+    assert_eq!(a.rest().await, "");
+    assert_eq!(c.request(NOOP).await["error_status"], "OK");
+    assert_eq!(b.request(NOOP).await["error_status"], "OK");
+    s.shutdown().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_sleeping_connection_is_not_protected_from_eviction() {
+    let s = start(
+        ConnectionLimits {
+            max_per_peer: 1,
+            ..limits()
+        },
+        false,
+    )
+    .await;
+    let mut a = Client::connect(&s).await;
+    a.send(format!("{NOOP}\n{SLEEP_LONG}\n").as_bytes()).await;
+    assert_eq!(a.line().await["error_status"], "OK");
+    let mut b = Client::connect(&s).await;
+    let v = a.line().await;
+    assert!(
+        error_message(&v).starts_with("connection closed to make room for a new one"),
+        "{v}"
+    );
+    assert_eq!(a.rest().await, "");
+    assert_eq!(b.request(NOOP).await["error_status"], "OK");
+    s.shutdown().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_busy_peer_at_its_cap_is_refused_with_a_reason() {
+    let s = start(
+        ConnectionLimits {
+            max_per_peer: 1,
+            ..limits()
+        },
+        false,
+    )
+    .await;
+    let mut a = Client::connect(&s).await;
+    a.request(NOOP).await;
+    s.make_all_busy();
+    let refused = Client::connect(&s).await.rest().await;
+    let v: Value = serde_json::from_str(refused.trim_end()).unwrap();
+    assert!(
+        error_message(&v).contains("none of them is idle; try again later"),
+        "{v}"
+    );
+    assert_eq!(
+        a.request(NOOP).await["error_status"],
+        "OK",
+        "a is not disturbed"
+    );
+    s.shutdown().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_loopback_reserve_lets_a_local_operator_in_when_remote_peers_filled_the_rest() {
+    let s = start(
+        ConnectionLimits {
+            max_connections: 3,
+            loopback_reserve: 1,
+            ..limits()
+        },
+        false,
+    )
+    .await;
+    // Two "remote" peers fill the remote share and keep busy.
+    let mut remote = Vec::new();
+    for _ in 0..2 {
+        let mut r = Client::connect_from(&s, "127.0.0.2").await;
+        r.request(NOOP).await;
+        remote.push(r);
+    }
+    s.make_all_busy();
+    // A third remote peer is refused ...
+    let refused = Client::connect_from(&s, "127.0.0.2").await.rest().await;
+    assert!(
+        refused.contains("(1 of 3 are kept for loopback)"),
+        "{refused}"
+    );
+    // ... while the local operator gets the reserved slot and its `hold` answered.
+    let mut op = Client::connect(&s).await;
+    let v = op.request(r#"{"command":"hold"}"#).await;
+    assert_eq!(v["result_type"], "generic", "{v}");
+    s.shutdown().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn hmi_idle_and_line_timeouts_and_eviction_are_said_in_text() {
+    let s = start(
+        ConnectionLimits {
+            idle_timeout_s: 1.5,
+            hmi_line_timeout_s: 0.3,
+            ..limits()
+        },
+        true,
+    )
+    .await;
+    let mut idle = Client::connect(&s).await;
+    let text = idle.rest().await;
+    assert!(
+        text.contains("idle timeout: no command for 1.5 s (gateway.connections.idle_timeout_s); closing the session"),
+        "{text}"
+    );
+    let mut slow = Client::connect(&s).await;
+    slow.until(|t| t.contains("> ")).await;
+    slow.send(b"stat").await;
+    let text = slow.rest().await;
+    assert!(
+        text.contains("line timeout: a command line was started but not completed within 0.3 s (gateway.connections.hmi_line_timeout_s)"),
+        "{text}"
+    );
+    drop((idle, slow));
+    s.shutdown().await;
+    let s = start(
+        ConnectionLimits {
+            max_per_peer: 2,
+            ..limits()
+        },
+        true,
+    )
+    .await;
+    let mut a = Client::connect(&s).await;
+    a.until(|t| t.contains("> ")).await;
+    let mut b = Client::connect(&s).await;
+    b.until(|t| t.contains("> ")).await;
+    let _c = Client::connect(&s).await;
+    let text = a.rest().await;
+    assert!(
+        text.contains("connection closed to make room for a new one: 127.0.0.1 already has 2"),
+        "{text}"
+    );
+    s.shutdown().await;
+}
