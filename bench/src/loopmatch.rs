@@ -3,9 +3,9 @@
 //!
 //! In TORQUE_CONTROL the published `current` of an axis is the *commanded* current: the torque
 //! the controller asked for in that cycle (gravity and friction compensation plus the last
-//! accepted `set_torques`) divided by the axis's torque per ampere (`rt-core` controller,
-//! `publish_view`). The loop answers every state with a `set_torques` whose axis-6 torque steps
-//! through [`LEVELS_NM`] by a counter; the axis-6 current of the state of the next cycle, times
+//! accepted `set_torques`) divided by the axis's torque per ampere (`fill_view` in
+//! rt-core/src/controller/mod.rs). The loop answers every state with a `set_torques` whose
+//! axis-6 torque steps through [`LEVELS_NM`] by a counter; the axis-6 current of the state of the next cycle, times
 //! the torque per ampere, less the compensation measured with zero torques (`baseline`), names
 //! the level that was in force in that cycle. The levels stay below axis 6's Coulomb friction
 //! (0.5 Nm), so the arm does not move and the compensation stays where it was measured. With

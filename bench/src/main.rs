@@ -46,6 +46,20 @@ pub struct Args {
     /// Busy clients during the gateway stall.
     #[arg(long, default_value_t = 8)]
     pub stall_clients: usize,
+    /// Connections flooding `pvt_points` during the stall (queued commands the core answers
+    /// while the gateway is stopped; their results are not counted).
+    #[arg(long, default_value_t = 8)]
+    pub stall_flood: usize,
+    /// Run only these phases (comma-separated: latency, status, hold, torque, stall).
+    #[arg(long, value_delimiter = ',')]
+    pub only: Vec<String>,
+}
+
+impl Args {
+    /// Whether the phase `name` runs.
+    pub fn wants(&self, name: &str) -> bool {
+        self.only.is_empty() || self.only.iter().any(|p| p == name)
+    }
 }
 
 fn main() {

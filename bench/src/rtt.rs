@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 /// Requests sent before measuring (connection and caches warm).
-const WARM_UP: usize = 20;
+pub const WARM_UP: usize = 20;
 /// Most requests a pipelined client keeps unanswered on its connection.
 const PIPELINE_WINDOW: usize = 32;
 
@@ -23,15 +23,16 @@ pub struct Sequential {
     pub rate: f64,
 }
 
-/// Send `json` `count` times one after the other (each when the previous result arrived),
-/// stopping early after `budget`; the time from writing the command to reading its result.
+/// Send `json` `warm_up` times unmeasured, then `count` times one after the other (each when
+/// the previous result arrived), stopping early after `budget`; the time from writing the command to reading its result.
 pub fn sequential(
     c: &mut Client,
     json: &str,
     count: usize,
     budget: Duration,
+    warm_up: usize,
 ) -> Result<Sequential, BenchError> {
-    for _ in 0..WARM_UP {
+    for _ in 0..warm_up {
         c.request(json)?;
     }
     let mut samples = Vec::with_capacity(count);
@@ -99,11 +100,13 @@ pub struct Flood {
     threads: Vec<std::thread::JoinHandle<Result<(), BenchError>>>,
 }
 
-/// One `pvt_points` line of `points` points at `position` (valid numbers; the mode decides).
+/// One `pvt_points` line of `points` points at `position` cut to whole degrees (towards zero) (valid
+/// numbers; the mode decides). Whole degrees keep a 1000-point batch below the gateway's
+/// 64 KiB command limit.
 pub fn pvt_batch(points: usize, position: [f64; 6]) -> String {
     let p = format!(
         "{{\"position\":[{}],\"velocity\":[0,0,0,0,0,0]}}",
-        position.map(|x| format!("{x:.3}")).join(",")
+        position.map(|x| format!("{:.0}", x.trunc())).join(",")
     );
     let list = vec![p; points].join(",");
     format!("{{\"command\":\"pvt_points\",\"arguments\":{{\"points\":[{list}]}}}}")
@@ -171,7 +174,8 @@ pub fn hold_under_flood(
         std::thread::sleep(Duration::from_millis(10));
     }
     let mut c = Client::connect(addr)?;
-    sequential(&mut c, HOLD, count, budget)
+    // No warm-up: under the flood every request may take seconds.
+    sequential(&mut c, HOLD, count, budget, 0)
 }
 
 #[cfg(test)]
@@ -186,6 +190,9 @@ mod tests {
         assert_eq!(v["command"], "pvt_points");
         let pts = v["arguments"]["points"].as_array().unwrap();
         assert_eq!(pts.len(), 3);
-        assert_eq!(pts[2]["position"][5], 6.0);
+        assert_eq!(pts[2]["position"][5], 6);
+        // The gateway closes a connection whose command exceeds 64 KiB.
+        let full = pvt_batch(1000, [-123.4, 95.6, -150.2, 17.0, -12.0, 9.9]);
+        assert!(full.len() < 64 * 1024, "{} bytes", full.len());
     }
 }

@@ -46,6 +46,7 @@ impl ShmClient {
             instance: names.instance().to_string(),
             what,
         };
+        set_log_level_from_env_or(LogLevel::Error);
         let node = NodeBuilder::new()
             .signal_handling_mode(SignalHandlingMode::Disabled)
             .create::<ipc::Service>()

@@ -4,6 +4,7 @@
 
 use crate::client::{Client, HOLD, READ_WAIT, is_error};
 use crate::error::BenchError;
+use crate::rtt::Flood;
 use std::net::SocketAddr;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -29,6 +30,8 @@ pub struct ClientCount {
 #[derive(Debug, Clone)]
 pub struct StallResult {
     pub clients: Vec<ClientCount>,
+    /// `pvt_points` batches the flooding connections got answered.
+    pub flood_batches: u64,
 }
 
 impl StallResult {
@@ -101,13 +104,21 @@ fn client_loop(
 /// Run `clients` busy clients (half `hold`, half `info`), stop the gateway `gateway_pid` for
 /// `stall` after they got going, continue it, let them go on for `after`, then stop them and
 /// wait (at most the client read timeout) for every result still due.
+///
+/// `flood` connections send `flood_batch` (`pvt_points`) over and over meanwhile: each batch
+/// is many command samples, so commands wait in the core's queue when the gateway stops and
+/// the core goes on answering them during the stall, far more replies than the busy clients
+/// alone have outstanding. Their results are not counted.
 pub fn run(
     addr: SocketAddr,
     gateway_pid: i32,
     clients: usize,
     stall: Duration,
     after: Duration,
+    flood: usize,
+    flood_batch: String,
 ) -> Result<StallResult, BenchError> {
+    let flood = Flood::start(addr, flood, flood_batch)?;
     let stop = Arc::new(AtomicBool::new(false));
     let answered = Arc::new(AtomicU64::new(0));
     let mut threads = Vec::with_capacity(clients);
@@ -138,6 +149,7 @@ pub fn run(
         std::thread::sleep(Duration::from_millis(5));
     }
     stop.store(true, Ordering::Relaxed);
+    let flood_batches = flood.stop()?;
     let clients = threads
         .into_iter()
         .map(|t| {
@@ -145,5 +157,8 @@ pub fn run(
                 .map_err(|_| BenchError::Setup("a stall client panicked".into()))
         })
         .collect::<Result<Vec<_>, _>>()?;
-    Ok(StallResult { clients })
+    Ok(StallResult {
+        clients,
+        flood_batches,
+    })
 }
