@@ -28,6 +28,10 @@ pub struct Args {
     /// The `mcm` launcher to start (default: the one beside this binary).
     #[arg(long)]
     pub mcm: Option<PathBuf>,
+    /// Robot configuration for the MCM under test (passed to `mcm --config`; default: the
+    /// embedded P-Rob2 one). E.g. to raise `[gateway.connections]` limits for the flood.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
     /// Skip cyclictest (then the wake-up latency ratio is not measured).
     #[arg(long)]
     pub no_cyclictest: bool,

@@ -50,7 +50,8 @@ pub fn locate(explicit: Option<&Path>) -> Result<PathBuf, BenchError> {
 }
 
 impl Mcm {
-    pub fn start(binary: &Path, instance: &str) -> Result<Mcm, BenchError> {
+    /// Start `binary` as instance `instance`, with the configuration file `config` if given.
+    pub fn start(binary: &Path, instance: &str, config: Option<&Path>) -> Result<Mcm, BenchError> {
         let log = std::env::temp_dir().join(format!("mcm-bench-{instance}.log"));
         let log_file = std::fs::File::create(&log)
             .map_err(|e| BenchError::Start(format!("cannot create {}: {e}", log.display())))?;
@@ -65,6 +66,11 @@ impl Mcm {
                 "--hmi-port",
                 "0",
             ])
+            .args(
+                config
+                    .iter()
+                    .flat_map(|c| [std::ffi::OsStr::new("--config"), c.as_os_str()]),
+            )
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(log_file)

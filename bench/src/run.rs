@@ -59,7 +59,11 @@ pub fn run(args: &Args) -> Result<bool, BenchError> {
             )));
         }
     }
-    let cfg = RobotConfig::prob2_default();
+    let cfg = match &args.config {
+        Some(path) => RobotConfig::from_file(path)
+            .map_err(|e| BenchError::Start(format!("config {}: {e}", path.display())))?,
+        None => RobotConfig::prob2_default(),
+    };
     let period_ns = cfg.cycle_period_ns();
     let period_us = period_ns / 1_000;
     let period_s = period_ns as f64 / 1e9;
@@ -72,7 +76,7 @@ pub fn run(args: &Args) -> Result<bool, BenchError> {
         "starting {} --instance {instance}",
         binary.display()
     ));
-    let mcm = Mcm::start(&binary, &instance)?;
+    let mcm = Mcm::start(&binary, &instance, args.config.as_deref())?;
     let mut rows = Vec::new();
     let mut notes = Vec::new();
     let started = Instant::now();
@@ -87,9 +91,14 @@ pub fn run(args: &Args) -> Result<bool, BenchError> {
             .is_some_and(|a| a.iter().all(|x| x == true))
     })?;
     step("calibrating the simulated arm");
-    c.set_read_timeout(Duration::from_secs(180))?;
-    c.ok(r#"{"command":"calibrate"}"#)?;
-    c.set_read_timeout(crate::client::READ_WAIT)?;
+    {
+        // On a connection of its own: a motion command makes its client the owner of motion,
+        // and ownership ends when the connection closes; the loops later need to own it.
+        let mut cal = Client::connect(mcm.json)?;
+        cal.set_read_timeout(Duration::from_secs(180))?;
+        cal.ok(r#"{"command":"calibrate"}"#)?;
+        cal.ok(HOLD)?;
+    }
     c.ok(HOLD)?;
     let realtime = c.ok(STATUS_DETAIL)?["detail"]["timing"]["realtime"] == true;
     if !realtime {

@@ -229,11 +229,22 @@ pub fn shm_loop(
         ..LoopOutcome::default()
     };
     c.ok(&Request::Hold)?;
-    match c.call(&Request::TakeControl)?.outcome {
-        Outcome::Done(_) => {}
-        Outcome::Refused(Reason::NotAvailable) => note
-            .push("shm loop: take_control is not available in this core (sent without it)".into()),
-        o => return Err(c.err(format!("take_control was answered {o:?}"))),
+    // The TCP loop's connection may still own motion for a moment after it closed.
+    let deadline = Instant::now() + crate::torque::OWNER_WAIT;
+    loop {
+        match c.call(&Request::TakeControl)?.outcome {
+            Outcome::Done(_) => break,
+            Outcome::Refused(Reason::NotAvailable) => {
+                note.push(
+                    "shm loop: take_control is not available in this core (sent without it)".into(),
+                );
+                break;
+            }
+            Outcome::Refused(Reason::NotOwner { .. }) if Instant::now() < deadline => {
+                std::thread::sleep(Duration::from_millis(50));
+            }
+            o => return Err(c.err(format!("take_control was answered {o:?}"))),
+        }
     }
     c.ok(&Request::TorqueControl(TorqueControl {
         timeout_s: Some(crate::torque::SESSION_TIMEOUT_S),

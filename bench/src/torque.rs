@@ -7,9 +7,12 @@ use crate::error::BenchError;
 use crate::loopmatch::{Answer, LEVELS_NM, Observation, Tally, classify, cycle_numbers, level_of};
 use serde_json::Value;
 use std::net::SocketAddr;
+use std::time::{Duration, Instant};
 
 /// Timeout of the torque session [s]: a loop that stops answering falls back to HOLD.
 pub const SESSION_TIMEOUT_S: f64 = 0.2;
+/// How long the loop tries to enter TORQUE_CONTROL (or take control) while refused.
+pub const OWNER_WAIT: Duration = Duration::from_secs(2);
 /// States read with zero torques to measure the compensation on axis 6.
 const BASELINE_STATES: usize = 10;
 /// States read after the last answer, to see where it was applied.
@@ -62,12 +65,21 @@ pub fn tcp_loop(
     let enter = format!(
         r#"{{"command":"torque_control","arguments":{{"timeout":{SESSION_TIMEOUT_S},"dt_status":{period_s},"gravity_compensation":true}}}}"#
     );
-    let r = c.request(&enter)?;
-    if !is_status(&r) || r["operating_mode"] != "TORQUE_CONTROL" {
-        return Err(BenchError::Protocol {
-            command: enter,
-            answer: r.to_string(),
-        });
+    // The client of an earlier phase may still own motion for a moment after it closed its
+    // connection: try again for a bounded time.
+    let deadline = Instant::now() + OWNER_WAIT;
+    loop {
+        let r = c.request(&enter)?;
+        if is_status(&r) && r["operating_mode"] == "TORQUE_CONTROL" {
+            break;
+        }
+        if Instant::now() > deadline {
+            return Err(BenchError::Protocol {
+                command: enter,
+                answer: r.to_string(),
+            });
+        }
+        std::thread::sleep(Duration::from_millis(50));
     }
     let mut out = LoopOutcome {
         wait_mode: "status results (dt_status)",
