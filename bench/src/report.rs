@@ -149,31 +149,30 @@ fn ratio_text(r: Option<f64>) -> String {
     r.map_or("n/a".into(), |r| format!("{r:.2}"))
 }
 
-/// The side-by-side wake-up latency table.
-pub fn latency_table(rt: &Latency, rt_source: &str, ct: Option<&Latency>) -> String {
+/// The side-by-side wake-up latency table: mcm-rt since start, over its recent window (when
+/// `status` reports one), cyclictest, and the ratio of mcm-rt's figure (the recent one when
+/// there is one: it lies inside cyclictest's run) to cyclictest's.
+pub fn latency_table(since: &Latency, recent: Option<&Latency>, ct: Option<&Latency>) -> String {
     let none = Latency::default();
     let ct = ct.unwrap_or(&none);
-    let mut s = format!(
-        "{:<8} {:>12} {:>12} {:>8}\n",
-        "latency", "mcm-rt", "cyclictest", "ratio"
+    let rt = recent.unwrap_or(since);
+    let recent = recent.unwrap_or(&none);
+    let line = |a: &str, b: &str, c: &str, d: &str, e: &str| {
+        format!("{a:<8} {b:>14} {c:>14} {d:>12} {e:>8}\n")
+    };
+    let mut s = line(
+        "latency",
+        "mcm-rt (start)",
+        "mcm-rt (rec.)",
+        "cyclictest",
+        "ratio",
     );
-    let rows = [
-        ("p50", rt.p50, ct.p50),
-        ("p99", rt.p99, ct.p99),
-        ("p99.9", rt.p99_9, ct.p99_9),
-        ("p99.99", rt.p99_99, ct.p99_99),
-        ("max", rt.max, ct.max),
-    ];
-    for (name, a, b) in rows {
-        s += &format!(
-            "{:<8} {:>12} {:>12} {:>8}\n",
-            name,
-            us(a),
-            us(b),
-            ratio_text(ratio(a, b))
-        );
+    let pick = |l: &Latency| [l.p50, l.p99, l.p99_9, l.p99_99, l.max];
+    let names = ["p50", "p99", "p99.9", "p99.99", "max"];
+    for (i, name) in names.iter().enumerate() {
+        let (a, r, b, c) = (pick(since)[i], pick(recent)[i], pick(ct)[i], pick(rt)[i]);
+        s += &line(name, &us(a), &us(r), &us(b), &ratio_text(ratio(c, b)));
     }
-    s += &format!("(mcm-rt: {rt_source})\n");
     s
 }
 
@@ -261,13 +260,30 @@ mod tests {
             max: Some(12_500.0),
             ..Latency::default()
         };
-        let t = latency_table(&rt, "since start", Some(&ct));
-        let words: Vec<Vec<&str>> = t.lines().map(|l| l.split_whitespace().collect()).collect();
+        let t = latency_table(&rt, None, Some(&ct));
+        let words = |t: &str| -> Vec<String> {
+            t.lines()
+                .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+                .collect()
+        };
         assert!(
-            words.contains(&vec!["p50", "20", "us", "10", "us", "2.00"]),
+            words(&t).contains(&"p50 20 us n/a 10 us 2.00".to_string()),
             "{t}"
         );
-        assert!(words.contains(&vec!["p99.9", "n/a", "n/a", "n/a"]), "{t}");
+        assert!(
+            words(&t).contains(&"p99.9 n/a n/a n/a n/a".to_string()),
+            "{t}"
+        );
+        // With a recent window, the ratio is the recent figure's.
+        let recent = Latency {
+            p50: Some(30.0),
+            ..Latency::default()
+        };
+        let t2 = latency_table(&rt, Some(&recent), Some(&ct));
+        assert!(
+            words(&t2).contains(&"p50 20 us 30 us 10 us 3.00".to_string()),
+            "{t2}"
+        );
         assert!(t.contains("12.5 ms"), "{t}");
         let rows = [
             Row::new("a", "1", "< 2", Verdict::Pass),

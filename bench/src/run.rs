@@ -134,11 +134,8 @@ pub fn run(args: &Args) -> Result<bool, BenchError> {
         }
         let detail = c.ok(STATUS_DETAIL)?;
         let (since, recent) = rt_latency(&detail);
-        let (rt, rt_source) = match recent {
-            Some(r) => (r, "recent window of detail.timing"),
-            None => (since, "since start (detail.timing has no recent window)"),
-        };
-        lat_text = latency_table(&rt, rt_source, ct.as_ref());
+        let rt = recent.unwrap_or(since);
+        lat_text = latency_table(&since, recent.as_ref(), ct.as_ref());
         let p999_ratio = ratio(rt.p99_9, ct.as_ref().and_then(|c| c.p99_9));
         rows.push(Row::new(
             "wake-up p99.9 mcm-rt / cyclictest",
