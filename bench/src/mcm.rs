@@ -123,9 +123,11 @@ impl Mcm {
         Ok(mcm)
     }
 
-    /// Stop with SIGTERM (bounded wait, then SIGKILL) and remove the simulation's saved state.
+    /// Stop with SIGTERM (bounded wait, then SIGKILL) and remove the simulation's saved state
+    /// and the log (kept when the run ends any other way, for a look at what went wrong).
     pub fn stop(mut self) {
         self.terminate();
+        let _ = std::fs::remove_file(&self.log);
     }
 
     fn terminate(&mut self) {
