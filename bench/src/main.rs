@@ -6,6 +6,7 @@ mod cyclictest;
 mod error;
 mod loopmatch;
 mod mcm;
+mod phases;
 mod report;
 mod rtt;
 mod run;
