@@ -1,0 +1,297 @@
+//! The figures of one run, the targets beside them, and the table printed at the end
+//! (pure: builds text, does no I/O).
+
+use crate::stats::HistFigure;
+use serde_json::Value;
+
+/// Wake-up latency figures [µs]; `None` where the source does not report one.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Latency {
+    pub p50: Option<f64>,
+    pub p99: Option<f64>,
+    pub p99_9: Option<f64>,
+    pub p99_99: Option<f64>,
+    pub max: Option<f64>,
+}
+
+impl Latency {
+    fn from_keys(t: &Value) -> Latency {
+        let k = |key: &str| t[key].as_f64();
+        Latency {
+            p50: k("latency_p50_us"),
+            p99: k("latency_p99_us"),
+            p99_9: k("latency_p99_9_us"),
+            p99_99: k("latency_p99_99_us"),
+            max: k("latency_max_us"),
+        }
+    }
+
+    /// The figures of a cyclictest histogram (a percentile beyond its range is left out).
+    pub fn from_cyclictest(r: &crate::cyclictest::CyclicResult) -> Latency {
+        let p = |q| match r.percentile(q) {
+            Some(HistFigure::Us(us)) => Some(us as f64),
+            _ => None,
+        };
+        Latency {
+            p50: p(50.0),
+            p99: p(99.0),
+            p99_9: p(99.9),
+            p99_99: p(99.99),
+            max: Some(r.max_us as f64),
+        }
+    }
+}
+
+/// mcm-rt's wake-up latency from a detailed status result: the since-start figures
+/// (`detail.timing.latency_*_us`) and, when reported, the recent window's
+/// (`detail.timing.recent.latency_*_us`). Keys that are missing stay `None`.
+pub fn rt_latency(status: &Value) -> (Latency, Option<Latency>) {
+    let t = &status["detail"]["timing"];
+    let recent = t["recent"]
+        .is_object()
+        .then(|| Latency::from_keys(&t["recent"]));
+    (Latency::from_keys(t), recent)
+}
+
+/// Verdict of one figure against its target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    Pass,
+    Fail,
+    /// The figure could not be measured (missing key, phase failed).
+    NotMeasured,
+    /// No target for this figure.
+    Info,
+}
+
+impl Verdict {
+    pub fn at_most(figure: Option<f64>, limit: f64) -> Verdict {
+        match figure {
+            Some(f) if f <= limit => Verdict::Pass,
+            Some(_) => Verdict::Fail,
+            None => Verdict::NotMeasured,
+        }
+    }
+
+    pub fn below(figure: Option<f64>, limit: f64) -> Verdict {
+        match figure {
+            Some(f) if f < limit => Verdict::Pass,
+            Some(_) => Verdict::Fail,
+            None => Verdict::NotMeasured,
+        }
+    }
+
+    pub fn at_least(figure: Option<f64>, limit: f64) -> Verdict {
+        match figure {
+            Some(f) if f >= limit => Verdict::Pass,
+            Some(_) => Verdict::Fail,
+            None => Verdict::NotMeasured,
+        }
+    }
+
+    fn word(self) -> &'static str {
+        match self {
+            Verdict::Pass => "PASS",
+            Verdict::Fail => "FAIL",
+            Verdict::NotMeasured => "n/a",
+            Verdict::Info => "",
+        }
+    }
+}
+
+/// One line of the table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    pub what: String,
+    pub figure: String,
+    pub target: String,
+    pub verdict: Verdict,
+}
+
+impl Row {
+    pub fn new(
+        what: impl Into<String>,
+        figure: impl Into<String>,
+        target: &str,
+        verdict: Verdict,
+    ) -> Row {
+        Row {
+            what: what.into(),
+            figure: figure.into(),
+            target: target.into(),
+            verdict,
+        }
+    }
+
+    pub fn info(what: impl Into<String>, figure: impl Into<String>) -> Row {
+        Row::new(what, figure, "", Verdict::Info)
+    }
+}
+
+/// A duration [µs] for the table: µs below 10 ms, else ms; "n/a" when missing.
+pub fn us(v: Option<f64>) -> String {
+    match v {
+        None => "n/a".into(),
+        Some(v) if v < 10_000.0 => format!("{v:.0} us"),
+        Some(v) => format!("{:.1} ms", v / 1000.0),
+    }
+}
+
+/// `a / b` when both are known and `b` is not zero.
+pub fn ratio(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(a), Some(b)) if b > 0.0 => Some(a / b),
+        _ => None,
+    }
+}
+
+fn ratio_text(r: Option<f64>) -> String {
+    r.map_or("n/a".into(), |r| format!("{r:.2}"))
+}
+
+/// The side-by-side wake-up latency table: mcm-rt since start, over its recent window (when
+/// `status` reports one), cyclictest, and the ratio of mcm-rt's figure (the recent one when
+/// there is one: it lies inside cyclictest's run) to cyclictest's.
+pub fn latency_table(since: &Latency, recent: Option<&Latency>, ct: Option<&Latency>) -> String {
+    let none = Latency::default();
+    let ct = ct.unwrap_or(&none);
+    let rt = recent.unwrap_or(since);
+    let recent = recent.unwrap_or(&none);
+    let line = |a: &str, b: &str, c: &str, d: &str, e: &str| {
+        format!("{a:<8} {b:>14} {c:>14} {d:>12} {e:>8}\n")
+    };
+    let mut s = line(
+        "latency",
+        "mcm-rt (start)",
+        "mcm-rt (rec.)",
+        "cyclictest",
+        "ratio",
+    );
+    let pick = |l: &Latency| [l.p50, l.p99, l.p99_9, l.p99_99, l.max];
+    let names = ["p50", "p99", "p99.9", "p99.99", "max"];
+    for (i, name) in names.iter().enumerate() {
+        let (a, r, b, c) = (pick(since)[i], pick(recent)[i], pick(ct)[i], pick(rt)[i]);
+        s += &line(name, &us(a), &us(r), &us(b), &ratio_text(ratio(c, b)));
+    }
+    s
+}
+
+/// The results table.
+pub fn table(rows: &[Row]) -> String {
+    let w0 = rows.iter().map(|r| r.what.len()).max().unwrap_or(0).max(11);
+    let w1 = rows
+        .iter()
+        .map(|r| r.figure.len())
+        .max()
+        .unwrap_or(0)
+        .max(6);
+    let w2 = rows
+        .iter()
+        .map(|r| r.target.len())
+        .max()
+        .unwrap_or(0)
+        .max(6);
+    let mut s = format!(
+        "{:<w0$} | {:<w1$} | {:<w2$} | verdict\n",
+        "measurement", "figure", "target"
+    );
+    s += &format!(
+        "{}-|-{}-|-{}-|--------\n",
+        "-".repeat(w0),
+        "-".repeat(w1),
+        "-".repeat(w2)
+    );
+    for r in rows {
+        s += &format!(
+            "{:<w0$} | {:<w1$} | {:<w2$} | {}\n",
+            r.what,
+            r.figure,
+            r.target,
+            r.verdict.word()
+        );
+    }
+    let fails = rows.iter().filter(|r| r.verdict == Verdict::Fail).count();
+    let unmeasured = rows
+        .iter()
+        .filter(|r| r.verdict == Verdict::NotMeasured)
+        .count();
+    let passes = rows.iter().filter(|r| r.verdict == Verdict::Pass).count();
+    s += &format!("targets: {passes} PASS, {fails} FAIL, {unmeasured} not measured\n");
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn missing_latency_keys_stay_unknown() {
+        let v = json!({"detail":{"timing":{"latency_p50_us":14.0,"latency_p99_us":45.0,"latency_max_us":900.0}}});
+        let (since, recent) = rt_latency(&v);
+        assert_eq!(since.p50, Some(14.0));
+        assert_eq!(since.p99_9, None);
+        assert_eq!(since.p99_99, None);
+        assert_eq!(recent, None);
+        let v = json!({"detail":{"timing":{"recent":{"latency_p99_9_us":70.0}}}});
+        assert_eq!(rt_latency(&v).1.unwrap().p99_9, Some(70.0));
+    }
+
+    #[test]
+    fn verdicts_need_a_figure() {
+        assert_eq!(Verdict::at_most(Some(1.5), 1.5), Verdict::Pass);
+        assert_eq!(Verdict::at_most(Some(1.6), 1.5), Verdict::Fail);
+        assert_eq!(Verdict::below(Some(150.0), 150.0), Verdict::Fail);
+        assert_eq!(Verdict::at_least(Some(5000.0), 5000.0), Verdict::Pass);
+        assert_eq!(Verdict::at_least(None, 1.0), Verdict::NotMeasured);
+        assert_eq!(ratio(Some(3.0), Some(2.0)), Some(1.5));
+        assert_eq!(ratio(Some(3.0), Some(0.0)), None);
+        assert_eq!(ratio(None, Some(2.0)), None);
+    }
+
+    #[test]
+    fn tables_print_na_for_unknown_figures() {
+        let rt = Latency {
+            p50: Some(20.0),
+            ..Latency::default()
+        };
+        let ct = Latency {
+            p50: Some(10.0),
+            max: Some(12_500.0),
+            ..Latency::default()
+        };
+        let t = latency_table(&rt, None, Some(&ct));
+        let words = |t: &str| -> Vec<String> {
+            t.lines()
+                .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+                .collect()
+        };
+        assert!(
+            words(&t).contains(&"p50 20 us n/a 10 us 2.00".to_string()),
+            "{t}"
+        );
+        assert!(
+            words(&t).contains(&"p99.9 n/a n/a n/a n/a".to_string()),
+            "{t}"
+        );
+        // With a recent window, the ratio is the recent figure's.
+        let recent = Latency {
+            p50: Some(30.0),
+            ..Latency::default()
+        };
+        let t2 = latency_table(&rt, Some(&recent), Some(&ct));
+        assert!(
+            words(&t2).contains(&"p50 20 us 30 us 10 us 3.00".to_string()),
+            "{t2}"
+        );
+        assert!(t.contains("12.5 ms"), "{t}");
+        let rows = [
+            Row::new("a", "1", "< 2", Verdict::Pass),
+            Row::new("b", "n/a", "< 2", Verdict::NotMeasured),
+            Row::info("c", "x"),
+        ];
+        let t = table(&rows);
+        assert!(t.contains("targets: 1 PASS, 0 FAIL, 1 not measured"), "{t}");
+        assert!(t.contains("| n/a\n"), "{t}");
+    }
+}
