@@ -65,8 +65,23 @@ pub fn run(args: &Args) -> Result<bool, BenchError> {
         "starting {} --instance {instance}",
         binary.display()
     ));
-    let mcm = Mcm::start(&binary, &instance, args.config.as_deref())?;
     let mut notes = Vec::new();
+    // Every client of the benchmark connects from 127.0.0.1: with the default configuration
+    // the per-address cap (16) is lifted to the port's whole capacity (64), so that 60
+    // flooding connections and the measuring one fit, as they would from many addresses.
+    let own_config = match &args.config {
+        Some(_) => None,
+        None => Some(bench_config(&instance)?),
+    };
+    if own_config.is_some() {
+        notes.push(
+            "default config with [gateway.connections] max_per_peer = 64 (all bench clients \
+             share 127.0.0.1)"
+                .to_string(),
+        );
+    }
+    let config_path = args.config.as_deref().or(own_config.as_deref());
+    let mcm = Mcm::start(&binary, &instance, config_path)?;
     let started = Instant::now();
 
     // Ready: drives online, calibrated (the torque loops need it), in HOLD.
@@ -157,4 +172,21 @@ pub fn run(args: &Args) -> Result<bool, BenchError> {
     Ok(!rows
         .iter()
         .any(|r| r.verdict == Verdict::Fail || r.verdict == Verdict::NotMeasured))
+}
+
+/// The embedded P-Rob2 configuration with the per-address connection cap lifted, written to a
+/// file named for `instance` in the temporary directory.
+fn bench_config(instance: &str) -> Result<std::path::PathBuf, BenchError> {
+    let path = std::env::temp_dir().join(format!("mcm-{instance}.toml"));
+    let text = format!(
+        "{}\n[gateway.connections]\nmax_per_peer = 64\n",
+        mcm_shared::config::PROB2_DEFAULT_TOML
+    );
+    std::fs::write(&path, text).map_err(|e| {
+        BenchError::Start(format!(
+            "cannot write the benchmark's config {}: {e}",
+            path.display()
+        ))
+    })?;
+    Ok(path)
 }
