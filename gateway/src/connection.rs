@@ -105,6 +105,22 @@ pub enum Step {
     Close(Value),
 }
 
+/// [`step`], a long frame parsed in the heavy lane ([`crate::heavy`]).
+pub async fn decide(frame: Frame, cfg: &std::sync::Arc<RobotConfig>) -> Step {
+    let len = match &frame {
+        Frame::Object(text) => text.len(),
+        _ => 0,
+    };
+    let cfg = cfg.clone();
+    crate::heavy::parse(len, move || step(frame, &cfg))
+        .await
+        .unwrap_or_else(|| {
+            Step::Reply(result::error(
+                "the command could not be parsed; nothing was done",
+            ))
+        })
+}
+
 /// Decide what to do with one frame; never panics, whatever the bytes were.
 pub fn step(frame: Frame, cfg: &RobotConfig) -> Step {
     match frame {
@@ -144,7 +160,7 @@ pub async fn serve(
         while let Some(frame) = decoder.next_frame() {
             framed = true;
             slot.touch();
-            let cmd = match step(frame, &ctx.cfg) {
+            let cmd = match decide(frame, &ctx.cfg).await {
                 Step::Run(cmd) => cmd,
                 Step::Reply(v) => {
                     send(&mut wr, &v).await?;

@@ -18,6 +18,7 @@ pub mod cmd;
 pub mod connection;
 pub mod exec;
 pub mod framing;
+pub mod heavy;
 pub mod hmi;
 pub mod json;
 pub mod lifecycle;

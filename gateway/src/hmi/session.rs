@@ -392,7 +392,15 @@ impl Session {
 
     async fn line(&mut self, text: &str) -> io::Result<Flow> {
         let cfg = self.ctx.cfg.clone();
-        match super::words::parse_line(text, &cfg) {
+        let (owned, parse_cfg) = (text.to_string(), cfg.clone());
+        let parsed = crate::heavy::parse(text.len(), move || {
+            super::words::parse_line(&owned, &parse_cfg)
+        });
+        let Some(parsed) = parsed.await else {
+            self.say("error: the line could not be parsed; nothing was done\n");
+            return Ok(Flow::Continue);
+        };
+        match parsed {
             Ok(Line::Empty) => {}
             Ok(Line::Help(None)) => self.say(&help::overview()),
             Ok(Line::Help(Some(t))) => self.say(&help::topic(&t, &cfg)),
