@@ -19,6 +19,7 @@ use crate::server::admission::Slot;
 use crate::shutdown::Shutdown;
 use mcm_shared::config::{ConnectionLimits, RobotConfig};
 use mcm_shared::mode::Mode;
+use mcm_shared::sample::StateSample;
 use serde_json::Value;
 use std::time::Duration;
 use tokio::io::{AsyncReadExt, AsyncWriteExt, BufWriter};
@@ -27,8 +28,6 @@ use tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
 use tokio::sync::broadcast::error::RecvError;
 use tokio::time::Instant;
 
-/// How often a connection in a torque session checks the mode when it sends no status.
-const MODE_CHECK: Duration = Duration::from_millis(20);
 /// Longest wait for a client to take a result line; a client that reads nothing is closed.
 pub const WRITE_TIMEOUT: Duration = Duration::from_secs(30);
 
@@ -88,10 +87,46 @@ pub fn deadline(
     }
 }
 
+/// A TORQUE_CONTROL session of this connection: spontaneous status results on the robot's
+/// clock, driven by the states the core publishes (not by a timer of the gateway, which would
+/// drift against the cycle and send one state twice and skip the next).
 struct TorqueSession {
-    /// Interval of spontaneous status results; `None`: only the final one.
-    interval: Option<Duration>,
-    next: Instant,
+    /// Interval of spontaneous status results [ns]; `None`: only the final one.
+    interval_ns: Option<u64>,
+    /// Robot time (`t_ns`) from which the next status is due.
+    next_t_ns: u64,
+}
+
+impl TorqueSession {
+    /// A session that the state `started` (the cycle that executed `torque_control`) began,
+    /// with a status every `dt_s` seconds (none for 0).
+    fn new(dt_s: f64, started: Option<&StateSample>) -> Self {
+        let interval_ns = (dt_s > 0.0).then(|| (dt_s * 1e9).round() as u64);
+        let t0 = started.map_or(0, |s| s.t_ns);
+        Self {
+            interval_ns,
+            next_t_ns: t0.saturating_add(interval_ns.unwrap_or(0)),
+        }
+    }
+
+    /// Whether the state of a cycle that started at `t_ns` (cycles `period_ns` apart) is due
+    /// as a status; moves the next due time on. Cycle start times jitter by the wake-up
+    /// latency, so a state within half a period of the due time counts; a session that fell
+    /// behind starts again from this state instead of sending a burst.
+    fn due(&mut self, t_ns: u64, period_ns: u64) -> bool {
+        let Some(dt) = self.interval_ns else {
+            return false;
+        };
+        let tolerance = period_ns / 2;
+        if t_ns.saturating_add(tolerance) < self.next_t_ns {
+            return false;
+        }
+        self.next_t_ns = self.next_t_ns.saturating_add(dt);
+        if self.next_t_ns.saturating_add(tolerance) <= t_ns {
+            self.next_t_ns = t_ns.saturating_add(dt);
+        }
+        true
+    }
 }
 
 /// What one frame asks of the connection.
@@ -151,6 +186,8 @@ pub async fn serve(
     let mut decoder = Decoder::new();
     let mut errors = ctx.bridge.subscribe_errors();
     let mut torque: Option<TorqueSession> = None;
+    // Every new state, for the spontaneous statuses of a torque session.
+    let mut states = ctx.bridge.watch_state();
     let mut core = CoreWatch::new(ctx.bridge.watch_state());
     let mut buf = vec![0u8; 4096];
     let mut line_start: Option<Instant> = None;
@@ -191,11 +228,8 @@ pub async fn serve(
                 send(&mut wr, r).await?;
             }
             if let Some(dt) = outcome.torque_session {
-                let interval = (dt > 0.0).then(|| Duration::from_secs_f64(dt));
-                torque = Some(TorqueSession {
-                    interval,
-                    next: Instant::now() + interval.unwrap_or(MODE_CHECK),
-                });
+                states.borrow_and_update();
+                torque = Some(TorqueSession::new(dt, outcome.state.as_deref()));
             } else if matches!(cmd, Command::Hold | Command::Release | Command::Pvt(_)) {
                 torque = None;
             }
@@ -214,7 +248,6 @@ pub async fn serve(
             deadline(limits, slot.idle_since(), line_start, limits.line_timeout_s)
         };
 
-        let tick = torque.as_ref().map(|t| t.next);
         tokio::select! {
             n = rd.read(&mut buf) => {
                 match n? {
@@ -224,28 +257,26 @@ pub async fn serve(
             }
             e = errors.recv() => forward_error(&mut wr, e).await?,
             n = core.next() => send(&mut wr, &n).await?,
-            () = async { tokio::time::sleep_until(tick.expect("guarded")).await }, if tick.is_some() => {
+            changed = states.changed(), if torque.is_some() => {
                 let session = torque.as_mut().expect("guarded");
-                let state = ctx.bridge.latest_state();
-                let in_torque = state.as_ref().is_some_and(|s| s.mode == Mode::TorqueControl.to_wire());
-                match (&state, in_torque) {
-                    (Some(s), true) => {
-                        if session.interval.is_some() {
-                            send(&mut wr, &result::status(s, false)).await?;
-                        }
-                        session.next += session.interval.unwrap_or(MODE_CHECK);
-                        let now = Instant::now();
-                        if session.next < now {
-                            session.next = now;
+                let state = match changed {
+                    Ok(()) => states.borrow_and_update().clone(),
+                    Err(_) => None,
+                };
+                match state {
+                    Some(s) if s.mode == Mode::TorqueControl.to_wire() => {
+                        if session.due(s.t_ns, s.timing.period_ns) {
+                            send(&mut wr, &result::status(&s, false)).await?;
                         }
                     }
-                    (Some(s), false) => {
-                        // Left TORQUE_CONTROL (timeout fallback to HOLD, or a safety stop).
-                        send(&mut wr, &result::status(s, false)).await?;
+                    Some(s) => {
+                        // Left TORQUE_CONTROL (timeout fallback to HOLD, or a safety stop):
+                        // told at once, with the state of the cycle that left it.
+                        send(&mut wr, &result::status(&s, false)).await?;
                         torque = None;
                         slot.set_busy(false);
                     }
-                    (None, _) => {
+                    None => {
                         torque = None;
                         slot.set_busy(false);
                     }

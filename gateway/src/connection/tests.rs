@@ -258,3 +258,39 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_torque_session_sends_one_status_per_due_cycle_on_the_robots_clock() {
+    use super::TorqueSession;
+    const P: u64 = 5_000_000;
+    let start = StateSample {
+        t_ns: 1_000_000_000,
+        ..StateSample::default()
+    };
+    // dt_status = one period: every cycle is due, whatever its wake-up jitter.
+    let mut s = TorqueSession::new(0.005, Some(&start));
+    let jitter = [30_000, 2_000, 900_000, 0, 45_000, 1_000];
+    for (k, j) in jitter.iter().enumerate() {
+        let t = start.t_ns + (k as u64 + 1) * P + j;
+        assert!(s.due(t, P), "cycle {k} is due");
+        assert!(
+            !s.due(t, P),
+            "cycle {k}: the same state is never sent twice"
+        );
+    }
+    // dt_status = two periods: every other cycle.
+    let mut s = TorqueSession::new(0.010, Some(&start));
+    let sent: Vec<bool> = (1..=6)
+        .map(|k| s.due(start.t_ns + k * P + 20_000, P))
+        .collect();
+    assert_eq!(sent, [false, true, false, true, false, true]);
+    // Far behind (the connection was slow): no burst, the next one period later.
+    let mut s = TorqueSession::new(0.005, Some(&start));
+    let late = start.t_ns + 100 * P;
+    assert!(s.due(late, P));
+    assert!(!s.due(late + P / 4, P));
+    assert!(s.due(late + P, P));
+    // No statuses asked (dt_status 0): never due, only the final one is sent.
+    let mut s = TorqueSession::new(0.0, Some(&start));
+    assert!(!s.due(start.t_ns + P, P));
+}
