@@ -678,8 +678,9 @@ fn a_person_calibrates_moves_and_reads_the_state_with_words() {
         !out.contains("ERROR") && !out.contains("refused"),
         "move_axis:\n{out}"
     );
+    // At the end of the move (the HMI shows three decimals).
     json.wait_status("axis 1 at 20 deg", |s| {
-        (s["axis_states"]["position"][0].as_f64().unwrap_or(0.0) - 20.0).abs() < 0.01
+        (s["axis_states"]["position"][0].as_f64().unwrap_or(0.0) - 20.0).abs() < 0.0005
     });
     let truth = json.request(r#"{"command":"sim"}"#);
     let true_deg = truth["true_position"][0].as_f64().unwrap();

@@ -232,7 +232,9 @@ fn calibrate_finds_the_true_angles_returns_to_zero_and_wrist_redoes_only_axes_4_
     );
 
     // WRIST (from HOLD): axes 4-6 only. Watch the truth while it runs (from a second
-    // connection; the first one waits for the reply).
+    // connection; the first one waits for the reply). The first connection took control with
+    // its calibrate: it hands it over.
+    assert_ok(&c.request(r#"{"command":"release_control"}"#));
     let mut w = mcm.client();
     w.send_raw(br#"{"command":"calibrate","arguments":{"which":"WRIST"}}"#);
     w.send_raw(b"\n");
@@ -830,15 +832,27 @@ fn every_command_is_refused_in_every_wrong_mode_naming_the_mode() {
     }
     refused_in(&mut c, "HOLD", &moving);
 
-    // CALIBRATION (seen from a second connection while the first waits for the reply).
+    // CALIBRATION (seen from a second connection while the first waits for the reply). The
+    // first one controls the arm, so the second one's motion commands are refused naming it
+    // before any mode check (docs/protocol.md, "Control of the arm and access").
     let mut other = mcm.client();
     c.send_raw(b"{\"command\":\"calibrate\"}\n");
     other.wait_status("CALIBRATION", |s| s["operating_mode"] == "CALIBRATION");
-    refused_in(
-        &mut other,
-        "CALIBRATION",
-        &[&["calibrate"][..], &entries[..], &moving[..]].concat(),
-    );
+    for (name, req) in commands() {
+        if [&["calibrate"][..], &entries[..], &moving[..]]
+            .concat()
+            .contains(&name)
+        {
+            assert_error(
+                &other.request(req),
+                &[
+                    &format!("{name} refused"),
+                    "the arm is controlled by JSON client",
+                ],
+            );
+        }
+    }
+    assert_status(&status(&mut other), "CALIBRATION");
     assert_ok(&c.recv());
 
     // HOLD, calibrated.

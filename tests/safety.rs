@@ -1034,6 +1034,8 @@ fn push_towards_the_limit(
     });
     assert_status(&c.request(HOLD), "HOLD");
 
+    // The torque session runs on its own connection: the first hands control over.
+    assert_ok(&c.request(r#"{"command":"release_control"}"#));
     let mut session = rig.conn();
     assert_status(&session.request(TORQUE_CONTROL), "TORQUE_CONTROL");
     session.send(ZERO_TORQUES);
@@ -1114,6 +1116,17 @@ fn push_towards_the_limit(
         .column(&format!("sim_true_deg_{axis}"))
         .into_iter()
         .fold(f64::MIN, f64::max);
+
+    // The session's connection ends, and control of the arm with it.
+    drop(session);
+    let deadline = Instant::now() + WAIT;
+    while detail(c)["detail"]["control"]["owner_client_id"].as_u64() != Some(0) {
+        assert!(
+            Instant::now() < deadline,
+            "control not released after the session ended"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
 
     // The push goes; the arm stays where it stopped, and hold recovers.
     sim(c, Some(json!({"external_torques": [0, 0, 0, 0, 0, 0]})));

@@ -64,12 +64,17 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
         Command::Status(s) => return status(ctx, s.detail).await,
         Command::PvtPoints(p) => {
             let state = ctx.bridge.latest_state();
-            if let Some(state) = state
-                && let Err(reason) = p.check(&ctx.cfg, &state)
-            {
+            // Checked in the core's order: control of the arm first, then the batch.
+            let owner = state.as_ref().map_or(0, |s| s.owner_client_id);
+            let checked = if owner != 0 && owner != client_id {
+                Err(reply::Reason::NotOwner { owner })
+            } else {
+                state.as_ref().map_or(Ok(()), |s| p.check(&ctx.cfg, s))
+            };
+            if let (Some(state), Err(reason)) = (state, checked) {
                 let refused = reply::Outcome::Refused(reason);
                 return Outcome {
-                    result: Some(result::reply_error(cmd.name(), &refused)),
+                    result: Some(crate::access::reply_error(ctx, cmd.name(), &refused)),
                     state: Some(state),
                     torque_session: None,
                 };
