@@ -158,14 +158,17 @@ pub fn hold(b: &mut Bench) -> Result<(), BenchError> {
     let hold_target = format!("<= {} us (1 cycle + 0.5 ms)", hold_limit_us);
     step("hold acknowledgement (idle)");
     match sequential(&mut b.c, HOLD, b.plan.holds, b.plan.budget, WARM_UP) {
-        Ok(s) => hold_rows(
-            &mut b.rows,
-            "idle",
-            &s.summary,
-            s.errors,
-            &hold_target,
-            hold_limit_us,
-        ),
+        Ok(s) => {
+            hold_rows(
+                &mut b.rows,
+                "idle",
+                &s.summary,
+                s.errors,
+                &hold_target,
+                hold_limit_us,
+            );
+            after_cycle_row(&mut b.rows, "idle", &s.after_cycle);
+        }
         Err(e) => failed(&mut b.rows, "hold ack (idle)", &e),
     }
     step(&format!(
@@ -181,6 +184,11 @@ pub fn hold(b: &mut Bench) -> Result<(), BenchError> {
                 s.errors,
                 &hold_target,
                 hold_limit_us,
+            );
+            after_cycle_row(
+                &mut b.rows,
+                &format!("{} flooding", b.args.flood_clients),
+                &s.after_cycle,
             );
             b.rows.push(Row::info(
                 "pvt_points batches answered during the flood",
@@ -281,6 +289,15 @@ pub fn failed(rows: &mut Vec<Row>, what: &str, e: &BenchError) {
         format!("not measured: {e}"),
         "",
         Verdict::NotMeasured,
+    ));
+}
+
+/// Where the time of a `hold` goes: from the start of the cycle that answered to the result
+/// read by the client (the state's `time` and the client's clock are both `CLOCK_MONOTONIC`).
+fn after_cycle_row(rows: &mut Vec<Row>, when: &str, m: &Option<Summary>) {
+    rows.push(Row::info(
+        format!("hold: cycle start to result p50 / p99 ({when})"),
+        format!("{} / {}", us(m.map(|m| m.p50_us)), us(m.map(|m| m.p99_us))),
     ));
 }
 

@@ -21,6 +21,28 @@ pub struct Sequential {
     pub errors: u64,
     /// Results per second (one at a time).
     pub rate: f64,
+    /// For results that carry the state's `time` (a status): from the start of the cycle that
+    /// answered to reading the result, on the same clock (`CLOCK_MONOTONIC`): the part of the
+    /// round trip spent after the core's answer.
+    pub after_cycle: Option<Summary>,
+}
+
+/// `CLOCK_MONOTONIC` now [s], the clock of the state's `time`.
+pub fn monotonic_s() -> f64 {
+    // SAFETY: clock_gettime writes only the timespec passed to it.
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
+    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+}
+
+/// The time from the start of the answering cycle (`time` of a status result, seconds on
+/// `CLOCK_MONOTONIC`) to `read_at_s`; `None` for a result without a time.
+pub fn after_cycle(v: &serde_json::Value, read_at_s: f64) -> Option<Duration> {
+    let t = v["axis_states"]["time"][0].as_f64()?;
+    Some(Duration::from_secs_f64((read_at_s - t).max(0.0)))
 }
 
 /// Send `json` `warm_up` times unmeasured, then `count` times one after the other (each when
@@ -36,12 +58,14 @@ pub fn sequential(
         c.request(json)?;
     }
     let mut samples = Vec::with_capacity(count);
+    let mut after = Vec::with_capacity(count);
     let mut errors = 0;
     let start = Instant::now();
     while samples.len() < count && start.elapsed() < budget {
         let t0 = Instant::now();
         let v = c.request(json)?;
         samples.push(t0.elapsed());
+        after.extend(after_cycle(&v, monotonic_s()));
         if is_error(&v) {
             errors += 1;
         }
@@ -51,6 +75,7 @@ pub fn sequential(
         summary: Summary::of(&samples),
         errors,
         rate,
+        after_cycle: Summary::of(&after),
     })
 }
 
@@ -181,6 +206,19 @@ pub fn hold_under_flood(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_time_after_the_answering_cycle_comes_from_the_status_time() {
+        let v = serde_json::json!({"axis_states": {"time": [10.0015, 10.0015]}});
+        let d = after_cycle(&v, 10.0035).unwrap();
+        assert!((d.as_secs_f64() - 0.002).abs() < 1e-9, "{d:?}");
+        assert_eq!(
+            after_cycle(&serde_json::json!({"result_type": "generic"}), 1.0),
+            None
+        );
+        // A clock read before the stamp (cannot happen on one clock) counts as zero.
+        assert_eq!(after_cycle(&v, 10.0), Some(Duration::ZERO));
+    }
 
     #[test]
     fn a_batch_is_one_json_line_of_n_points() {
