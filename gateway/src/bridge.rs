@@ -121,12 +121,10 @@ struct Job {
 }
 
 impl Job {
-    /// `hold` and `client_gone` go out ahead of everything else.
+    /// A stop (`hold`, `client_gone`: [`mcm_shared::mode::CommandKind::is_stop`]) goes out
+    /// ahead of everything else.
     fn urgent(&self) -> bool {
-        matches!(
-            self.requests.as_slice(),
-            [Request::Hold | Request::ClientGone]
-        )
+        matches!(self.requests.as_slice(), [one] if one.kind().is_stop())
     }
 }
 

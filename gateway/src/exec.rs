@@ -11,6 +11,7 @@ use crate::bridge::{Bridge, BridgeError};
 use crate::cmd::Command;
 use crate::result;
 use mcm_shared::config::RobotConfig;
+use mcm_shared::mode::CommandKind;
 use mcm_shared::reply::{self, Done};
 use mcm_shared::sample::{STATE_SIMULATED, StateSample};
 use serde_json::Value;
@@ -66,7 +67,7 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
             let state = ctx.bridge.latest_state();
             // Checked in the core's order: control of the arm first, then the batch.
             let owner = state.as_ref().map_or(0, |s| s.owner_client_id);
-            let checked = if owner != 0 && owner != client_id {
+            let checked = if !CommandKind::may_control(owner, client_id) {
                 Err(reply::Reason::NotOwner { owner })
             } else {
                 state.as_ref().map_or(Ok(()), |s| p.check(&ctx.cfg, s))

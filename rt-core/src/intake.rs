@@ -38,9 +38,10 @@ impl Waiting {
     }
 }
 
-/// `hold` and `client_gone` stop the arm: they go out ahead of other clients' commands.
+/// A stop ([`CommandKind::is_stop`]) goes out ahead of other clients' commands; an unknown
+/// kind is no stop (the controller refuses it in its turn).
 pub fn is_urgent(kind: u32) -> bool {
-    kind == CommandKind::Hold.to_wire() || kind == CommandKind::ClientGone.to_wire()
+    CommandKind::try_from(kind).is_ok_and(CommandKind::is_stop)
 }
 
 /// One client's run of samples in the sorted order.

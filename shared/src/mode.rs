@@ -166,6 +166,20 @@ wire_enum!(
 );
 
 impl CommandKind {
+    /// Whether the command stops the arm (`hold`, and `client_gone`, which stops what a gone
+    /// owner drove): stops go out ahead of other clients' commands, in the gateway and in the
+    /// real-time core alike.
+    pub const fn is_stop(self) -> bool {
+        matches!(self, CommandKind::Hold | CommandKind::ClientGone)
+    }
+
+    /// Whether `client` may send a command that [`CommandKind::needs_control`] while `owner`
+    /// controls the arm (0: nobody, who leaves it to the first such command). Client id 0 is
+    /// nobody and never controls the arm.
+    pub const fn may_control(owner: u64, client: u64) -> bool {
+        client != 0 && (owner == 0 || owner == client)
+    }
+
     /// Whether the command moves the arm (or changes how it is driven), so that only the client
     /// that controls the arm may send it. `hold`, state reads, `info`, `sim` and the control
     /// commands themselves are open to every client: a stop is never refused for lack of
@@ -220,6 +234,19 @@ mod tests {
         assert_eq!(Mode::default().to_wire(), 0);
         assert_eq!(RejectCode::default(), RejectCode::None);
         assert_eq!(RejectCode::default().to_wire(), 0);
+    }
+
+    #[test]
+    fn stops_and_control() {
+        let stops: Vec<_> = CommandKind::ALL.iter().filter(|k| k.is_stop()).collect();
+        assert_eq!(stops, [&CommandKind::Hold, &CommandKind::ClientGone]);
+        assert!(
+            CommandKind::may_control(0, 7),
+            "nobody owns: the first takes it"
+        );
+        assert!(CommandKind::may_control(7, 7));
+        assert!(!CommandKind::may_control(7, 8));
+        assert!(!CommandKind::may_control(0, 0), "client 0 is nobody");
     }
 
     #[test]

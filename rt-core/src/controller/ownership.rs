@@ -26,6 +26,7 @@
 use super::Controller;
 use super::state::{After, Caller, State};
 use mcm_shared::command::Request;
+use mcm_shared::mode::CommandKind;
 use mcm_shared::reply::{Done, Reason};
 
 /// What the ownership rules say about one request.
@@ -47,7 +48,7 @@ impl Controller {
         let me = c.client_id;
         match req {
             Request::TakeControl => {
-                if me != 0 && (self.owner == 0 || self.owner == me) {
+                if CommandKind::may_control(self.owner, me) {
                     self.owner = me;
                     self.done(c, Done::Ack);
                 } else {
@@ -74,10 +75,8 @@ impl Controller {
                 Gate::Answered
             }
             _ if c.kind.needs_control() => {
-                if self.owner == 0 && me != 0 {
+                if CommandKind::may_control(self.owner, me) {
                     self.owner = me;
-                }
-                if me != 0 && self.owner == me {
                     Gate::Pass
                 } else {
                     self.refuse(c, Reason::NotOwner { owner: self.owner });
