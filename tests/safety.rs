@@ -1119,14 +1119,9 @@ fn push_towards_the_limit(
 
     // The session's connection ends, and control of the arm with it.
     drop(session);
-    let deadline = Instant::now() + WAIT;
-    while detail(c)["detail"]["control"]["owner_client_id"].as_u64() != Some(0) {
-        assert!(
-            Instant::now() < deadline,
-            "control not released after the session ended"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    wait_until(c, "control released after the session ended", |s, _| {
+        s["detail"]["control"]["owner_client_id"].as_u64() == Some(0)
+    });
 
     // The push goes; the arm stays where it stopped, and hold recovers.
     sim(c, Some(json!({"external_torques": [0, 0, 0, 0, 0, 0]})));

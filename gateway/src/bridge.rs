@@ -254,6 +254,18 @@ impl Bridge {
         self.state.borrow().clone()
     }
 
+    /// The newest state; when there is none, the first one that comes within `wait` (the
+    /// gateway just started and its bridge has not read the core's first state yet, or the core
+    /// is restarting). `None`: still none after `wait`.
+    pub async fn state_within(&self, wait: Duration) -> Option<Box<StateSample>> {
+        let mut watch = self.state.clone();
+        let first = tokio::time::timeout(wait, watch.wait_for(Option::is_some)).await;
+        match first {
+            Ok(Ok(state)) => state.clone(),
+            _ => None,
+        }
+    }
+
     /// What a request gets while there is no state: the core is not running, or its services
     /// are of another layout.
     pub fn unavailable(&self) -> BridgeError {

@@ -134,15 +134,7 @@ pub const STATE_GRACE: Duration = Duration::from_millis(300);
 /// `status`: from the newest state, without waiting for a cycle. With no state yet, waits at most
 /// [`STATE_GRACE`] for one before saying the core is not running.
 async fn status(ctx: &Context, detail: bool) -> Outcome {
-    let mut newest = ctx.bridge.latest_state();
-    if newest.is_none() {
-        let mut watch = ctx.bridge.watch_state();
-        if let Ok(Ok(s)) = tokio::time::timeout(STATE_GRACE, watch.wait_for(Option::is_some)).await
-        {
-            newest = s.clone();
-        }
-    }
-    match newest {
+    match ctx.bridge.state_within(STATE_GRACE).await {
         Some(state) => Outcome {
             result: Some(result::status(&state, detail)),
             state: Some(state),

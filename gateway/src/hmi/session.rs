@@ -172,13 +172,9 @@ impl Session {
         self.out.extend_from_slice(&Telnet::greeting());
         // A client that does not speak telnet (nc) prints the greeting: erase it.
         self.out.extend_from_slice(b"\r\x1b[K");
-        if self.ctx.bridge.latest_state().is_none() {
-            // Do not greet with "the real-time core is not running" while the bridge is still
-            // reading the core's first state.
-            let mut first = self.ctx.bridge.watch_state();
-            let _ = tokio::time::timeout(FIRST_STATE_WAIT, first.wait_for(Option::is_some)).await;
-        }
-        let state = self.ctx.bridge.latest_state();
+        // Do not greet with "the real-time core is not running" while the bridge is still
+        // reading the core's first state.
+        let state = self.ctx.bridge.state_within(FIRST_STATE_WAIT).await;
         let banner = render::banner(&self.ctx.cfg, state.as_deref(), self.ctx.bridge.instance());
         self.say(&banner);
         self.prompt();
