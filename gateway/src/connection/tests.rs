@@ -32,12 +32,11 @@ async fn a_hostile_line_gets_an_ascii_error_and_the_connection_lives_on() {
         NEXT.fetch_add(1, Ordering::Relaxed)
     );
     let (bridge, thread) = Bridge::start(&ServiceNames::new(&instance).unwrap(), "/tmp");
-    let ctx = Context {
-        cfg: Arc::new(RobotConfig::prob2_default()),
+    let ctx = Context::new(
+        Arc::new(RobotConfig::prob2_default()),
         bridge,
-        access: Default::default(),
-        clients: Default::default(),
-    };
+        Default::default(),
+    );
     let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();
     let (stop, stopped) = tokio::sync::oneshot::channel::<()>();

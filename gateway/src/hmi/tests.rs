@@ -40,12 +40,11 @@ async fn start() -> Gateway {
         &ServiceNames::new(&instance).unwrap(),
         "/tmp/mcm-flight-recorder",
     );
-    let ctx = Context {
-        cfg: Arc::new(RobotConfig::prob2_default()),
+    let ctx = Context::new(
+        Arc::new(RobotConfig::prob2_default()),
         bridge,
-        access: Default::default(),
-        clients: Default::default(),
-    };
+        Default::default(),
+    );
     let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();
     let (stop, stopped) = oneshot::channel::<()>();

@@ -48,12 +48,7 @@ async fn start(limits: ConnectionLimits, hmi: bool) -> Server {
     let (bridge, thread) = Bridge::start(&ServiceNames::new(&instance).unwrap(), "/tmp");
     let mut cfg = RobotConfig::prob2_default();
     cfg.gateway.connections = limits;
-    let ctx = Context {
-        cfg: Arc::new(cfg),
-        bridge,
-        access: Default::default(),
-        clients: Default::default(),
-    };
+    let ctx = Context::new(Arc::new(cfg), bridge, Default::default());
     let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();
     let (stop, stopped) = oneshot::channel::<()>();
