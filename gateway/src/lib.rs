@@ -25,6 +25,8 @@ pub mod lifecycle;
 pub mod result;
 pub mod server;
 pub mod shutdown;
+#[cfg(test)]
+mod test_support;
 
 use mcm_shared::config::RobotConfig;
 use mcm_shared::service::ServiceNames;

@@ -4,17 +4,15 @@
 //! from 127.0.0.2 to a port whose `is_local` accepts only 127.0.0.1.
 
 use super::*;
-use crate::bridge::{Bridge, BridgeThread};
+use crate::bridge::BridgeThread;
+use crate::test_support::offline_context;
 use mcm_shared::config::{ConnectionLimits, RobotConfig};
-use mcm_shared::service::ServiceNames;
 use serde_json::Value;
 use std::net::SocketAddr;
-use std::sync::atomic::{AtomicU32, Ordering};
 use tokio::net::TcpSocket;
 use tokio::sync::oneshot;
 use tokio::task::JoinHandle;
 
-static NEXT: AtomicU32 = AtomicU32::new(0);
 const WAIT: Duration = Duration::from_secs(10);
 
 struct Server {
@@ -40,15 +38,9 @@ fn only_127_0_0_1(ip: IpAddr) -> bool {
 }
 
 async fn start(limits: ConnectionLimits, hmi: bool) -> Server {
-    let instance = format!(
-        "srv-{}-{}",
-        std::process::id(),
-        NEXT.fetch_add(1, Ordering::Relaxed)
-    );
-    let (bridge, thread) = Bridge::start(&ServiceNames::new(&instance).unwrap(), "/tmp");
     let mut cfg = RobotConfig::prob2_default();
     cfg.gateway.connections = limits;
-    let ctx = Context::new(Arc::new(cfg), bridge, Default::default());
+    let (ctx, thread, _) = offline_context("srv", cfg);
     let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();
     let (stop, stopped) = oneshot::channel::<()>();
