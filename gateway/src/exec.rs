@@ -34,6 +34,20 @@ pub struct Context {
     pub clients: crate::access::Clients,
 }
 
+impl Context {
+    /// The context of a gateway with the configuration `cfg`, its `bridge` to the core and
+    /// the `access` rules (built by the caller: production reads them from the configuration
+    /// before it binds anything), with no connection known yet.
+    pub fn new(cfg: Arc<RobotConfig>, bridge: Bridge, access: crate::access::Access) -> Context {
+        Context {
+            cfg,
+            bridge,
+            access: Arc::new(access),
+            clients: crate::access::Clients::default(),
+        }
+    }
+}
+
 /// The outcome of one command.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Outcome {

@@ -25,6 +25,8 @@ pub mod lifecycle;
 pub mod result;
 pub mod server;
 pub mod shutdown;
+#[cfg(test)]
+mod test_support;
 
 use mcm_shared::config::RobotConfig;
 use mcm_shared::service::ServiceNames;
@@ -83,12 +85,7 @@ pub async fn run(
     let (hmi, hmi_addr) = bind(opts.hmi_addr).await?;
     let (bridge, bridge_thread) =
         bridge::Bridge::start(&opts.names, &opts.config.safety.flight_recorder_dir);
-    let ctx = exec::Context {
-        cfg: Arc::new(opts.config),
-        bridge,
-        access: Arc::new(access),
-        clients: access::Clients::default(),
-    };
+    let ctx = exec::Context::new(Arc::new(opts.config), bridge, access);
     let (stop_tx, _) = tokio::sync::broadcast::channel::<()>(1);
     let stopped = |tx: &tokio::sync::broadcast::Sender<()>| {
         let mut rx = tx.subscribe();

@@ -2,6 +2,7 @@
 
 use super::ports::{LayoutMismatch, OpenError, open_ports};
 use iceoryx2::prelude::*;
+use iceoryx2::service::{builder, port_factory};
 use mcm_shared::sample::StateSample;
 use mcm_shared::service::{STATE_KEY, ServiceNames};
 
@@ -18,6 +19,35 @@ fn node(names: &ServiceNames) -> Node<ipc::Service> {
         .unwrap()
 }
 
+/// The creator of the state blackboard of `names` (keys `u32`), its entries still to add.
+fn state_creator(
+    node: &Node<ipc::Service>,
+    names: &ServiceNames,
+) -> builder::blackboard::Creator<u32, ipc::Service> {
+    node.service_builder(&names.state().as_str().try_into().unwrap())
+        .blackboard_creator::<u32>()
+}
+
+/// The state blackboard of a core whose state sample is another type (here a `u64`, as a
+/// `StateSample` of another version would be) under the same key.
+fn state_of_another_layout(
+    node: &Node<ipc::Service>,
+    names: &ServiceNames,
+) -> port_factory::blackboard::PortFactory<ipc::Service, u32> {
+    state_creator(node, names)
+        .add::<u64>(STATE_KEY, 0)
+        .create()
+        .unwrap()
+}
+
+/// What does not match in `e`; panics unless `e` is an incompatible layout.
+fn layout_mismatch(e: &OpenError) -> &LayoutMismatch {
+    match e {
+        OpenError::IncompatibleLayout { source, .. } => source,
+        e => panic!("{e:?}"),
+    }
+}
+
 #[test]
 fn no_services_means_not_running() {
     let e = open_ports(&names("none")).err().expect("nothing to open");
@@ -28,23 +58,10 @@ fn no_services_means_not_running() {
 fn a_state_entry_of_another_layout_is_an_incompatible_layout() {
     let names = names("state");
     let node = node(&names);
-    // A core whose state sample is another type (here a `u64`, as a `StateSample` of another
-    // version would be) under the same key.
-    let _state = node
-        .service_builder(&names.state().as_str().try_into().unwrap())
-        .blackboard_creator::<u32>()
-        .add::<u64>(STATE_KEY, 0)
-        .create()
-        .unwrap();
+    let _state = state_of_another_layout(&node, &names);
     let e = open_ports(&names).err().expect("the layouts differ");
     assert!(
-        matches!(
-            e,
-            OpenError::IncompatibleLayout {
-                source: LayoutMismatch::StateEntry(_),
-                ..
-            }
-        ),
+        matches!(layout_mismatch(&e), LayoutMismatch::StateEntry(_)),
         "{e:?}"
     );
     assert!(!e.is_not_running());
@@ -61,10 +78,8 @@ fn a_state_entry_of_another_layout_is_an_incompatible_layout() {
 fn a_command_service_of_another_payload_is_an_incompatible_layout() {
     let names = names("command");
     let node = node(&names);
-    let mut state = node
-        .service_builder(&names.state().as_str().try_into().unwrap())
-        .blackboard_creator::<u32>()
-        .add::<StateSample>(STATE_KEY, StateSample::default());
+    let mut state =
+        state_creator(&node, &names).add::<StateSample>(STATE_KEY, StateSample::default());
     for key in 1..=mcm_shared::sample::REPLY_BLOCKS as u32 {
         state = state.add::<mcm_shared::sample::ReplyBlock>(key, Default::default());
     }
@@ -76,13 +91,7 @@ fn a_command_service_of_another_payload_is_an_incompatible_layout() {
         .unwrap();
     let e = open_ports(&names).err().expect("the layouts differ");
     assert!(
-        matches!(
-            e,
-            OpenError::IncompatibleLayout {
-                source: LayoutMismatch::CommandPayload(_),
-                ..
-            }
-        ),
+        matches!(layout_mismatch(&e), LayoutMismatch::CommandPayload(_)),
         "{e:?}"
     );
     assert!(e.to_string().contains(&names.command()), "{e}");
@@ -92,12 +101,7 @@ fn a_command_service_of_another_payload_is_an_incompatible_layout() {
 async fn requests_get_the_layout_error_not_not_running() {
     let names = names("bridge");
     let node = node(&names);
-    let _state = node
-        .service_builder(&names.state().as_str().try_into().unwrap())
-        .blackboard_creator::<u32>()
-        .add::<u64>(STATE_KEY, 0)
-        .create()
-        .unwrap();
+    let _state = state_of_another_layout(&node, &names);
     let (bridge, thread) = super::Bridge::start(&names, "/tmp");
     // The thread tries to open the services before it takes any request.
     let e = bridge

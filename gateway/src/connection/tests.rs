@@ -4,16 +4,12 @@
 //! mutated valid commands.
 
 use super::*;
-use crate::bridge::Bridge;
 use crate::json::to_ascii;
-use mcm_shared::service::ServiceNames;
+use crate::test_support::offline_context;
 use proptest::prelude::*;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicU32, Ordering};
 use tokio::io::{AsyncBufReadExt, BufReader};
 use tokio::net::TcpListener;
 
-static NEXT: AtomicU32 = AtomicU32::new(0);
 const WAIT: Duration = Duration::from_secs(10);
 
 /// The line that used to panic the connection task (an excerpt cut inside `é`).
@@ -26,18 +22,7 @@ fn panicking_line() -> String {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_hostile_line_gets_an_ascii_error_and_the_connection_lives_on() {
-    let instance = format!(
-        "conn-{}-{}",
-        std::process::id(),
-        NEXT.fetch_add(1, Ordering::Relaxed)
-    );
-    let (bridge, thread) = Bridge::start(&ServiceNames::new(&instance).unwrap(), "/tmp");
-    let ctx = Context {
-        cfg: Arc::new(RobotConfig::prob2_default()),
-        bridge,
-        access: Default::default(),
-        clients: Default::default(),
-    };
+    let (ctx, thread, _) = offline_context("conn", RobotConfig::prob2_default());
     let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();
     let (stop, stopped) = tokio::sync::oneshot::channel::<()>();

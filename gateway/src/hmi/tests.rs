@@ -5,12 +5,10 @@
 use super::render::strip_ansi;
 use super::telnet::{DO, IAC, OPT_ECHO, OPT_SGA, SB, SE, WILL};
 use super::*;
-use crate::bridge::{Bridge, BridgeThread};
+use crate::bridge::BridgeThread;
+use crate::test_support::offline_context;
 use mcm_shared::config::RobotConfig;
-use mcm_shared::service::ServiceNames;
 use std::net::SocketAddr;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Duration;
 use tokio::io::AsyncReadExt;
 use tokio::net::TcpStream;
@@ -19,8 +17,6 @@ use tokio::task::JoinHandle;
 
 const PROMPT: &str = "mcm NO-CORE> ";
 const WAIT: Duration = Duration::from_secs(10);
-
-static NEXT: AtomicU32 = AtomicU32::new(0);
 
 struct Gateway {
     addr: SocketAddr,
@@ -31,21 +27,7 @@ struct Gateway {
 }
 
 async fn start() -> Gateway {
-    let instance = format!(
-        "hmi-{}-{}",
-        std::process::id(),
-        NEXT.fetch_add(1, Ordering::Relaxed)
-    );
-    let (bridge, thread) = Bridge::start(
-        &ServiceNames::new(&instance).unwrap(),
-        "/tmp/mcm-flight-recorder",
-    );
-    let ctx = Context {
-        cfg: Arc::new(RobotConfig::prob2_default()),
-        bridge,
-        access: Default::default(),
-        clients: Default::default(),
-    };
+    let (ctx, thread, instance) = offline_context("hmi", RobotConfig::prob2_default());
     let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();
     let (stop, stopped) = oneshot::channel::<()>();

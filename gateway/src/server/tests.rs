@@ -4,17 +4,15 @@
 //! from 127.0.0.2 to a port whose `is_local` accepts only 127.0.0.1.
 
 use super::*;
-use crate::bridge::{Bridge, BridgeThread};
+use crate::bridge::BridgeThread;
+use crate::test_support::offline_context;
 use mcm_shared::config::{ConnectionLimits, RobotConfig};
-use mcm_shared::service::ServiceNames;
 use serde_json::Value;
 use std::net::SocketAddr;
-use std::sync::atomic::{AtomicU32, Ordering};
 use tokio::net::TcpSocket;
 use tokio::sync::oneshot;
 use tokio::task::JoinHandle;
 
-static NEXT: AtomicU32 = AtomicU32::new(0);
 const WAIT: Duration = Duration::from_secs(10);
 
 struct Server {
@@ -40,20 +38,9 @@ fn only_127_0_0_1(ip: IpAddr) -> bool {
 }
 
 async fn start(limits: ConnectionLimits, hmi: bool) -> Server {
-    let instance = format!(
-        "srv-{}-{}",
-        std::process::id(),
-        NEXT.fetch_add(1, Ordering::Relaxed)
-    );
-    let (bridge, thread) = Bridge::start(&ServiceNames::new(&instance).unwrap(), "/tmp");
     let mut cfg = RobotConfig::prob2_default();
     cfg.gateway.connections = limits;
-    let ctx = Context {
-        cfg: Arc::new(cfg),
-        bridge,
-        access: Default::default(),
-        clients: Default::default(),
-    };
+    let (ctx, thread, _) = offline_context("srv", cfg);
     let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();
     let (stop, stopped) = oneshot::channel::<()>();
@@ -95,6 +82,24 @@ async fn start(limits: ConnectionLimits, hmi: bool) -> Server {
         stop,
         task,
         bridge: thread,
+    }
+}
+
+/// A JSON-channel server with `limits`.
+async fn start_json(limits: ConnectionLimits) -> Server {
+    start(limits, false).await
+}
+
+/// An HMI server with `limits`.
+async fn start_hmi(limits: ConnectionLimits) -> Server {
+    start(limits, true).await
+}
+
+/// The test limits with at most `n` connections per address.
+fn max_per_peer(n: usize) -> ConnectionLimits {
+    ConnectionLimits {
+        max_per_peer: n,
+        ..limits()
     }
 }
 
@@ -183,6 +188,40 @@ impl Client {
         self.send(format!("{json}\n").as_bytes()).await;
         self.line().await
     }
+
+    /// A connection from 127.0.0.1 that has been admitted (its [`NOOP`] answered).
+    async fn admitted(s: &Server) -> Client {
+        Self::admitted_from(s, "127.0.0.1").await
+    }
+
+    /// A connection from `ip` that has been admitted (its [`NOOP`] answered).
+    async fn admitted_from(s: &Server, ip: &str) -> Client {
+        let mut c = Self::connect_from(s, ip).await;
+        c.request(NOOP).await;
+        c
+    }
+
+    /// An HMI session from 127.0.0.1 that has shown its prompt.
+    async fn prompted(s: &Server) -> Client {
+        let mut c = Self::connect(s).await;
+        c.until(|t| t.contains("> ")).await;
+        c
+    }
+
+    /// Assert that what the server sends until it closes the connection contains `words`.
+    async fn assert_closed_with(&mut self, words: &str) {
+        let text = self.rest().await;
+        assert!(text.contains(words), "{text}");
+    }
+
+    /// Assert that the next line says this connection was closed for a new one, starting
+    /// with `prefix`, and that nothing follows it.
+    async fn assert_evicted(&mut self, prefix: &str) {
+        let v = self.line().await;
+        let msg = error_message(&v);
+        assert!(msg.starts_with(prefix), "{msg}");
+        assert_eq!(self.rest().await, "");
+    }
 }
 
 fn error_message(v: &Value) -> &str {
@@ -198,13 +237,10 @@ const NOOP: &str = r#"{"command":"sleep","arguments":{"duration":0}}"#;
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn idle_connections_are_closed_but_a_long_command_is_not_idle() {
-    let s = start(
-        ConnectionLimits {
-            idle_timeout_s: 0.4,
-            ..limits()
-        },
-        false,
-    )
+    let s = start_json(ConnectionLimits {
+        idle_timeout_s: 0.4,
+        ..limits()
+    })
     .await;
     let mut c = Client::connect(&s).await;
     // The sleep (1 s) runs longer than the idle timeout and is answered.
@@ -221,13 +257,10 @@ async fn idle_connections_are_closed_but_a_long_command_is_not_idle() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn slowloris_is_cut_by_the_line_timeout() {
-    let s = start(
-        ConnectionLimits {
-            line_timeout_s: 0.5,
-            ..limits()
-        },
-        false,
-    )
+    let s = start_json(ConnectionLimits {
+        line_timeout_s: 0.5,
+        ..limits()
+    })
     .await;
     let c = Client::connect(&s).await;
     let (mut rd, mut wr) = c.stream.into_split();
@@ -261,27 +294,12 @@ async fn slowloris_is_cut_by_the_line_timeout() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_per_peer_cap_evicts_the_longest_idle_connection_with_its_reason() {
-    let s = start(
-        ConnectionLimits {
-            max_per_peer: 2,
-            ..limits()
-        },
-        false,
-    )
-    .await;
-    let mut a = Client::connect(&s).await;
-    a.request(NOOP).await;
-    let mut b = Client::connect(&s).await;
-    b.request(NOOP).await;
+    let s = start_json(max_per_peer(2)).await;
+    let mut a = Client::admitted(&s).await;
+    let mut b = Client::admitted(&s).await;
     // `a` is the longest idle of 127.0.0.1: the third connection displaces it.
     let mut c = Client::connect(&s).await;
-    let v = a.line().await;
-    let msg = error_message(&v);
-    assert!(
-        msg.starts_with("connection closed to make room for a new one: 127.0.0.1 already has 2 connections (at most 2 per address) and this one was the longest idle"),
-        "{msg}"
-    );
-    assert_eq!(a.rest().await, "");
+    a.assert_evicted("connection closed to make room for a new one: 127.0.0.1 already has 2 connections (at most 2 per address) and this one was the longest idle").await;
     assert_eq!(c.request(NOOP).await["error_status"], "OK");
     assert_eq!(b.request(NOOP).await["error_status"], "OK");
     s.shutdown().await;
@@ -289,40 +307,21 @@ async fn the_per_peer_cap_evicts_the_longest_idle_connection_with_its_reason() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_sleeping_connection_is_not_protected_from_eviction() {
-    let s = start(
-        ConnectionLimits {
-            max_per_peer: 1,
-            ..limits()
-        },
-        false,
-    )
-    .await;
+    let s = start_json(max_per_peer(1)).await;
     let mut a = Client::connect(&s).await;
     a.send(format!("{NOOP}\n{SLEEP_LONG}\n").as_bytes()).await;
     assert_eq!(a.line().await["error_status"], "OK");
     let mut b = Client::connect(&s).await;
-    let v = a.line().await;
-    assert!(
-        error_message(&v).starts_with("connection closed to make room for a new one"),
-        "{v}"
-    );
-    assert_eq!(a.rest().await, "");
+    a.assert_evicted("connection closed to make room for a new one")
+        .await;
     assert_eq!(b.request(NOOP).await["error_status"], "OK");
     s.shutdown().await;
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_busy_peer_at_its_cap_is_refused_with_a_reason() {
-    let s = start(
-        ConnectionLimits {
-            max_per_peer: 1,
-            ..limits()
-        },
-        false,
-    )
-    .await;
-    let mut a = Client::connect(&s).await;
-    a.request(NOOP).await;
+    let s = start_json(max_per_peer(1)).await;
+    let mut a = Client::admitted(&s).await;
     s.make_all_busy();
     let refused = Client::connect(&s).await.rest().await;
     let v: Value = serde_json::from_str(refused.trim_end()).unwrap();
@@ -340,29 +339,23 @@ async fn a_busy_peer_at_its_cap_is_refused_with_a_reason() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_loopback_reserve_lets_a_local_operator_in_when_remote_peers_filled_the_rest() {
-    let s = start(
-        ConnectionLimits {
-            max_connections: 3,
-            loopback_reserve: 1,
-            ..limits()
-        },
-        false,
-    )
+    let s = start_json(ConnectionLimits {
+        max_connections: 3,
+        loopback_reserve: 1,
+        ..limits()
+    })
     .await;
     // Two "remote" peers fill the remote share and keep busy.
     let mut remote = Vec::new();
     for _ in 0..2 {
-        let mut r = Client::connect_from(&s, "127.0.0.2").await;
-        r.request(NOOP).await;
-        remote.push(r);
+        remote.push(Client::admitted_from(&s, "127.0.0.2").await);
     }
     s.make_all_busy();
     // A third remote peer is refused ...
-    let refused = Client::connect_from(&s, "127.0.0.2").await.rest().await;
-    assert!(
-        refused.contains("(1 of 3 are kept for loopback)"),
-        "{refused}"
-    );
+    Client::connect_from(&s, "127.0.0.2")
+        .await
+        .assert_closed_with("(1 of 3 are kept for loopback)")
+        .await;
     // ... while the local operator gets the reserved slot and its `hold` answered.
     let mut op = Client::connect(&s).await;
     let v = op.request(r#"{"command":"hold"}"#).await;
@@ -372,48 +365,24 @@ async fn the_loopback_reserve_lets_a_local_operator_in_when_remote_peers_filled_
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn hmi_idle_and_line_timeouts_and_eviction_are_said_in_text() {
-    let s = start(
-        ConnectionLimits {
-            idle_timeout_s: 1.5,
-            hmi_line_timeout_s: 0.3,
-            ..limits()
-        },
-        true,
-    )
+    let s = start_hmi(ConnectionLimits {
+        idle_timeout_s: 1.5,
+        hmi_line_timeout_s: 0.3,
+        ..limits()
+    })
     .await;
     let mut idle = Client::connect(&s).await;
-    let text = idle.rest().await;
-    assert!(
-        text.contains("idle timeout: no command for 1.5 s (gateway.connections.idle_timeout_s); closing the session"),
-        "{text}"
-    );
-    let mut slow = Client::connect(&s).await;
-    slow.until(|t| t.contains("> ")).await;
+    idle.assert_closed_with("idle timeout: no command for 1.5 s (gateway.connections.idle_timeout_s); closing the session").await;
+    let mut slow = Client::prompted(&s).await;
     slow.send(b"stat").await;
-    let text = slow.rest().await;
-    assert!(
-        text.contains("line timeout: a command line was started but not completed within 0.3 s (gateway.connections.hmi_line_timeout_s)"),
-        "{text}"
-    );
+    slow.assert_closed_with("line timeout: a command line was started but not completed within 0.3 s (gateway.connections.hmi_line_timeout_s)").await;
     drop((idle, slow));
     s.shutdown().await;
-    let s = start(
-        ConnectionLimits {
-            max_per_peer: 2,
-            ..limits()
-        },
-        true,
-    )
-    .await;
-    let mut a = Client::connect(&s).await;
-    a.until(|t| t.contains("> ")).await;
-    let mut b = Client::connect(&s).await;
-    b.until(|t| t.contains("> ")).await;
+    let s = start_hmi(max_per_peer(2)).await;
+    let mut a = Client::prompted(&s).await;
+    let _b = Client::prompted(&s).await;
     let _c = Client::connect(&s).await;
-    let text = a.rest().await;
-    assert!(
-        text.contains("connection closed to make room for a new one: 127.0.0.1 already has 2"),
-        "{text}"
-    );
+    a.assert_closed_with("connection closed to make room for a new one: 127.0.0.1 already has 2")
+        .await;
     s.shutdown().await;
 }
