@@ -32,6 +32,8 @@ pub struct Context {
     pub access: Arc<crate::access::Access>,
     /// This gateway's connections, to name a client in words.
     pub clients: crate::access::Clients,
+    /// The limits a `pvt_points` batch is checked against before it is sent (from `cfg`).
+    pub pvt_limits: mcm_shared::pvt::PointLimits,
 }
 
 impl Context {
@@ -40,6 +42,7 @@ impl Context {
     /// before it binds anything), with no connection known yet.
     pub fn new(cfg: Arc<RobotConfig>, bridge: Bridge, access: crate::access::Access) -> Context {
         Context {
+            pvt_limits: mcm_shared::pvt::PointLimits::from_config(&cfg),
             cfg,
             bridge,
             access: Arc::new(access),
@@ -84,7 +87,9 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
             let checked = if !CommandKind::may_control(owner, client_id) {
                 Err(reply::Reason::NotOwner { owner })
             } else {
-                state.as_ref().map_or(Ok(()), |s| p.check(&ctx.cfg, s))
+                state
+                    .as_ref()
+                    .map_or(Ok(()), |s| p.check(&ctx.pvt_limits, s))
             };
             if let (Some(state), Err(reason)) = (state, checked) {
                 let refused = reply::Outcome::Refused(reason);

@@ -94,7 +94,7 @@ impl PvtPoints {
 impl PvtPoints {
     /// What the core would refuse of this batch, known from `cfg` and the newest `state`: the
     /// refusal the core would give, or `Ok` when the batch may be sent.
-    pub fn check(&self, cfg: &RobotConfig, state: &StateSample) -> Result<(), Reason> {
+    pub fn check(&self, limits: &PointLimits, state: &StateSample) -> Result<(), Reason> {
         // (A mode unknown to this gateway is left to the core.)
         if let Ok(mode) = Mode::try_from(state.mode)
             && mode != Mode::Pvt
@@ -106,11 +106,10 @@ impl PvtPoints {
         if offered > free {
             return Err(Reason::QueueFull { offered, free });
         }
-        let limits = PointLimits::from_config(cfg);
         for (index, p) in self.points.iter().enumerate() {
             let position = deg_to_rad6(&p.position_deg);
             let velocity = deg_to_rad6(&p.velocity_deg_s);
-            if let Err(e) = check_point(&position, &velocity, &limits) {
+            if let Err(e) = check_point(&position, &velocity, limits) {
                 return Err(Reason::PvtPoint {
                     axis: Axis::ALL[e.axis],
                     point: u32::try_from(index + 1).unwrap_or(u32::MAX),

@@ -260,6 +260,7 @@ fn a_pvt_batch_the_core_would_refuse_is_refused_before_sending() {
     use mcm_shared::reply::{PvtQuantity, Reason};
     use mcm_shared::sample::StateSample;
     let cfg = RobotConfig::prob2_default();
+    let limits = mcm_shared::pvt::PointLimits::from_config(&cfg);
     let batch = |n: usize, v0: f64| {
         let p =
             serde_json::json!({"position": [0, 0, 0, 0, 0, 0], "velocity": [v0, 0, 0, 0, 0, 0]});
@@ -271,14 +272,14 @@ fn a_pvt_batch_the_core_would_refuse_is_refused_before_sending() {
         ..StateSample::default()
     };
     assert_eq!(
-        batch(3, 0.0).check(&cfg, &state),
+        batch(3, 0.0).check(&limits, &state),
         Err(Reason::WrongMode { mode: Mode::Hold })
     );
     state.mode = Mode::Pvt.to_wire();
-    assert_eq!(batch(1000, 0.0).check(&cfg, &state), Ok(()));
+    assert_eq!(batch(1000, 0.0).check(&limits, &state), Ok(()));
     state.pvt_queued = 30;
     assert_eq!(
-        batch(1000, 0.0).check(&cfg, &state),
+        batch(1000, 0.0).check(&limits, &state),
         Err(Reason::QueueFull {
             offered: 1000,
             free: 994
@@ -286,12 +287,12 @@ fn a_pvt_batch_the_core_would_refuse_is_refused_before_sending() {
     );
     // A point at the speed limit passes (the core's limit is the same).
     let max = cfg.axes[0].max_velocity_deg_s;
-    assert_eq!(batch(2, max).check(&cfg, &state), Ok(()));
+    assert_eq!(batch(2, max).check(&limits, &state), Ok(()));
     // A position inside the software limits but within the safety margin: the core refuses it.
     let near = cfg.axes[0].max_deg - cfg.safety.limit_margin_deg / 2.0;
     let p = serde_json::json!({"position": [near, 0, 0, 0, 0, 0], "velocity": [0, 0, 0, 0, 0, 0]});
     let b = PvtPoints::parse(Some(&serde_json::json!({"points": [p]})), &cfg).unwrap();
-    match b.check(&cfg, &state) {
+    match b.check(&limits, &state) {
         Err(Reason::PvtPoint {
             point: 1,
             quantity: PvtQuantity::Position,
