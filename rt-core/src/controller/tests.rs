@@ -446,8 +446,14 @@ fn an_undecodable_sample_is_refused_naming_the_value_and_t_ns_is_the_virtual_tim
         (r.k - 1) * r.period,
         "the cycle's virtual start time"
     );
+    assert_axis_7_refused(&r, 77);
+    assert_eq!(r.mode(), Mode::Off, "nothing changed");
+}
+
+/// The last reply answers request `id` of client 9, refusing axis 7 as out of range.
+fn assert_axis_7_refused(r: &Robot, id: u64) {
     let reply = Response::decode(r.cycle.replies().last().unwrap()).unwrap();
-    assert_eq!((reply.client_id, reply.request_id), (9, 77));
+    assert_eq!((reply.client_id, reply.request_id), (9, id));
     assert_eq!(
         reply.outcome,
         Outcome::Refused(Reason::OutOfRange {
@@ -457,7 +463,6 @@ fn an_undecodable_sample_is_refused_naming_the_value_and_t_ns_is_the_virtual_tim
             max: 6.0
         })
     );
-    assert_eq!(r.mode(), Mode::Off, "nothing changed");
 }
 
 #[test]
@@ -473,17 +478,7 @@ fn an_undecodable_sim_sample_is_refused_by_the_controller_like_any_other() {
     bad.args[3] = 7.0;
     (bad.client_id, bad.request_id) = (9, 78);
     r.step(&[bad]);
-    let reply = Response::decode(r.cycle.replies().last().unwrap()).unwrap();
-    assert_eq!((reply.client_id, reply.request_id), (9, 78));
-    assert_eq!(
-        reply.outcome,
-        Outcome::Refused(Reason::OutOfRange {
-            axis: None,
-            value: 7.0,
-            min: 1.0,
-            max: 6.0
-        })
-    );
+    assert_axis_7_refused(&r, 78);
     assert_eq!(
         r.cycle.replies().len(),
         1,
