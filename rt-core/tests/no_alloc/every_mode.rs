@@ -35,8 +35,8 @@ use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{Mode, RejectCode};
 use mcm_shared::reply::{Outcome, Response};
 use mcm_shared::sample::{
-    AXIS_ONLINE, CommandSample, REPLY_BLOCKS, ReplyBlock, STATE_ALL_CALIBRATED, STATE_SIMULATED,
-    StateSample, flight_recorder_file, reply_location,
+    AXIS_ONLINE, CommandSample, ReplyEntries, STATE_ALL_CALIBRATED, STATE_SIMULATED, StateSample,
+    flight_recorder_file, open_reply_entries, read_reply,
 };
 use mcm_shared::service::{STATE_EVENT_ID, STATE_KEY, ServiceNames};
 use mcm_sim::SimBus;
@@ -48,7 +48,7 @@ struct Client {
     _node: Node<ipc::Service>,
     publisher: Publisher<ipc::Service, CommandSample, ()>,
     state: EntryHandle<ipc::Service, u32, StateSample>,
-    replies: Vec<EntryHandle<ipc::Service, u32, ReplyBlock>>,
+    replies: ReplyEntries,
     state_event: Listener<ipc::Service>,
 }
 
@@ -78,9 +78,7 @@ impl Client {
             .create()
             .unwrap();
         let state = reader.entry::<StateSample>(&STATE_KEY).unwrap();
-        let replies = (1..=REPLY_BLOCKS as u32)
-            .map(|key| reader.entry::<ReplyBlock>(&key).unwrap())
-            .collect();
+        let replies = open_reply_entries(&reader).unwrap();
         let publisher = node
             .service_builder(&command_name)
             .publish_subscribe::<CommandSample>()
@@ -231,10 +229,8 @@ impl Rig {
         for _ in 0..max {
             let s = self.cycle();
             for n in self.reply_seen + 1..=s.reply_head {
-                let (key, slot) = reply_location(n);
-                let r = self.client.replies[key as usize - 1].get().replies[slot];
-                assert_eq!(r.seq, n, "the reply blocks hold every reply");
-                let r = &r;
+                let r = read_reply(&self.client.replies, n);
+                let r = &r.expect("the reply blocks hold every reply");
                 self.reply_seen = n;
                 if r.client_id == CLIENT && r.request_id == id {
                     return Response::decode(r).expect("a reply of this version");
