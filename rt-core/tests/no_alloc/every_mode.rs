@@ -17,6 +17,7 @@
 //! OK and every mode reached, so the count cannot be zero for lack of work.
 
 use super::Meter;
+use crate::common::{node, service_name, state_listener, state_reader};
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::reader::EntryHandle;
@@ -54,33 +55,13 @@ struct Client {
 
 impl Client {
     fn open(names: &ServiceNames) -> Client {
-        let node = NodeBuilder::new()
-            .signal_handling_mode(SignalHandlingMode::Disabled)
-            .create::<ipc::Service>()
-            .unwrap();
-        let state_name: ServiceName = names.state().as_str().try_into().unwrap();
-        let command_name: ServiceName = names.command().as_str().try_into().unwrap();
-        let event_name: ServiceName = names.state_event().as_str().try_into().unwrap();
-        let state_event = node
-            .service_builder(&event_name)
-            .event()
-            .open()
-            .unwrap()
-            .listener_builder()
-            .create()
-            .unwrap();
-        let reader = node
-            .service_builder(&state_name)
-            .blackboard_opener::<u32>()
-            .open()
-            .unwrap()
-            .reader_builder()
-            .create()
-            .unwrap();
+        let node = node();
+        let state_event = state_listener(&node, names);
+        let reader = state_reader(&node, names);
         let state = reader.entry::<StateSample>(&STATE_KEY).unwrap();
         let replies = open_reply_entries(&reader).unwrap();
         let publisher = node
-            .service_builder(&command_name)
+            .service_builder(&service_name(&names.command()))
             .publish_subscribe::<CommandSample>()
             .open()
             .unwrap()
