@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{Client, Mcm, WAIT, assert_ok, assert_status, is_error, unique_instance};
+use common::{Client, Mcm, WAIT, assert_ok, assert_status, config_file, is_error};
 use serde_json::Value;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -82,13 +82,10 @@ fn refused_batch() -> String {
 fn hold_goes_out_ahead_of_a_flood_of_pvt_points() {
     // All flooders connect from 127.0.0.1: the per-address cap is lifted to the port's
     // capacity, as if they came from many machines.
-    let config = std::env::temp_dir().join(format!("{}.toml", unique_instance("cp-flood")));
-    let text = format!(
-        "{}\n[gateway.connections]\nmax_per_peer = 64\n",
-        mcm_shared::config::PROB2_DEFAULT_TOML
-    );
-    std::fs::write(&config, text).unwrap();
-    let mcm = Mcm::start_with("cp-flood", &["--config", config.to_str().unwrap()]);
+    let config = config_file("cp-flood", |base| {
+        format!("{base}\n[gateway.connections]\nmax_per_peer = 64\n")
+    });
+    let mcm = Mcm::start_with("cp-flood", &["--config", config.path()]);
     let mut c = mcm.client();
     c.wait_drives_online();
     assert_ok(&c.request(r#"{"command":"calibrate"}"#));
@@ -136,7 +133,6 @@ fn hold_goes_out_ahead_of_a_flood_of_pvt_points() {
         cycles <= 10.0,
         "hold took {cycles} cycles of robot time behind {FLOODERS} flooding connections"
     );
-    let _ = std::fs::remove_file(&config);
 }
 
 #[test]

@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::{WAIT, alive, sim_state_path, unique_instance};
+use common::{WAIT, alive, config_file, sim_state_path, unique_instance};
 use serde_json::{Value, json};
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpStream};
@@ -437,13 +437,13 @@ fn a_gateway_that_keeps_dying_is_restarted_with_a_back_off_and_mcm_rt_keeps_runn
 
 #[test]
 fn a_config_that_switches_the_overspeed_check_off_is_refused_at_start() {
-    let text = mcm_shared::config::PROB2_DEFAULT_TOML
-        .replace("overspeed_factor = 1.1", "overspeed_factor = 100.0");
-    assert!(text.contains("overspeed_factor = 100.0"));
-    let path = std::env::temp_dir().join(format!("{}.toml", unique_instance("overspeed")));
-    std::fs::write(&path, text).unwrap();
+    let config = config_file("overspeed", |base| {
+        let text = base.replace("overspeed_factor = 1.1", "overspeed_factor = 100.0");
+        assert!(text.contains("overspeed_factor = 100.0"));
+        text
+    });
     let instance = unique_instance("overspeed");
-    let (mut child, _stdout, log) = spawn(&instance, &["--config", path.to_str().unwrap()]);
+    let (mut child, _stdout, log) = spawn(&instance, &["--config", config.path()]);
     let deadline = Instant::now() + WAIT;
     let status = loop {
         if let Some(s) = child.try_wait().unwrap() {
@@ -452,7 +452,7 @@ fn a_config_that_switches_the_overspeed_check_off_is_refused_at_start() {
         assert!(Instant::now() < deadline, "mcm did not refuse the config");
         std::thread::sleep(Duration::from_millis(10));
     };
-    let _ = std::fs::remove_file(&path);
+    drop(config);
     assert!(!status.success());
     let deadline = Instant::now() + WAIT;
     loop {

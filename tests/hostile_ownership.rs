@@ -7,21 +7,18 @@
 
 mod common;
 
-use common::{Client, Mcm, assert_error, assert_ok, assert_status, max_abs, six};
+use common::{
+    Client, Mcm, TempConfig, assert_error, assert_ok, assert_status, config_file, max_abs, six,
+};
 use serde_json::Value;
 
 const DETAIL: &str = r#"{"command":"status","arguments":{"detail":true}}"#;
 
 /// Start an MCM whose configuration is the P-Rob2's plus `extra` TOML.
-fn start_with_config(tag: &str, extra: &str) -> (Mcm, std::path::PathBuf) {
-    let base = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/deploy/prob2.toml"))
-        .expect("read deploy/prob2.toml");
-    let dir = std::env::temp_dir().join(common::unique_instance(tag));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("mcm.toml");
-    std::fs::write(&file, format!("{base}\n{extra}\n")).unwrap();
-    let mcm = Mcm::start_with(tag, &["--config", file.to_str().unwrap()]);
-    (mcm, dir)
+fn start_with_config(tag: &str, extra: &str) -> (Mcm, TempConfig) {
+    let config = config_file(tag, |base| format!("{base}\n{extra}\n"));
+    let mcm = Mcm::start_with(tag, &["--config", config.path()]);
+    (mcm, config)
 }
 
 fn detail(c: &mut Client) -> Value {
@@ -146,7 +143,7 @@ fn another_clients_motion_is_refused_naming_the_owner_and_a_gone_owners_torque_s
 
 #[test]
 fn motion_from_outside_the_allowed_networks_is_refused_and_hold_still_works() {
-    let (mcm, dir) = start_with_config(
+    let (mcm, _config) = start_with_config(
         "net",
         "[gateway.access]\nmotion_networks = [\"10.0.0.0/8\", \"fd00::/8\"]\n",
     );
@@ -175,7 +172,6 @@ fn motion_from_outside_the_allowed_networks_is_refused_and_hold_still_works() {
     let t = hmi_line(&mcm, "status", "control:");
     assert!(t.contains("nobody controls the arm"), "{t}");
     drop(mcm);
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -186,7 +182,7 @@ fn with_a_secret_take_control_needs_authenticate_first() {
     std::fs::create_dir_all(&dir).unwrap();
     let secret_file = dir.join("secret.sha256");
     std::fs::write(&secret_file, format!("{hash}  -\n")).unwrap();
-    let (mcm, cfg_dir) = start_with_config(
+    let (mcm, _config) = start_with_config(
         "secret",
         &format!(
             "[gateway.access]\nsecret_sha256_file = {:?}\n",
@@ -227,7 +223,6 @@ fn with_a_secret_take_control_needs_authenticate_first() {
     assert_status(&b.request(r#"{"command":"hold"}"#), "HOLD");
     drop(mcm);
     let _ = std::fs::remove_dir_all(dir);
-    let _ = std::fs::remove_dir_all(cfg_dir);
 }
 
 #[test]

@@ -13,7 +13,9 @@ use iceoryx2::prelude::*;
 use mcm_shared::command::{Request, SetTorques, TorqueControl};
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::reply::{Outcome, Reason, Response};
-use mcm_shared::sample::{CommandSample, REPLY_BLOCKS, ReplyBlock, StateSample, reply_location};
+use mcm_shared::sample::{
+    CommandSample, ReplyEntries, StateSample, open_reply_entries, read_reply,
+};
 use mcm_shared::service::{STATE_KEY, ServiceNames};
 use std::time::{Duration, Instant};
 
@@ -30,7 +32,7 @@ pub struct ShmClient {
     _node: Node<ipc::Service>,
     publisher: Publisher<ipc::Service, CommandSample, ()>,
     state: EntryHandle<ipc::Service, u32, StateSample>,
-    replies: Vec<EntryHandle<ipc::Service, u32, ReplyBlock>>,
+    replies: ReplyEntries,
     listener: Option<Listener<ipc::Service>>,
     client_id: u64,
     next_request: u64,
@@ -67,13 +69,8 @@ impl ShmClient {
         let state = reader
             .entry::<StateSample>(&STATE_KEY)
             .map_err(|e| err(format!("the state entry: {e:?}")))?;
-        let replies = (1..=REPLY_BLOCKS as u32)
-            .map(|key| {
-                reader
-                    .entry::<ReplyBlock>(&key)
-                    .map_err(|e| err(format!("reply block {key}: {e:?}")))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let replies = open_reply_entries(&reader)
+            .map_err(|e| err(format!("reply block {}: {:?}", e.key, e.source)))?;
         let publisher = node
             .service_builder(&name(names.command())?)
             .publish_subscribe::<CommandSample>()
@@ -163,12 +160,11 @@ impl ShmClient {
     pub fn scan_replies(&mut self, s: &StateSample, want: Option<u64>) -> Option<Response> {
         let mut found = None;
         for n in self.reply_seen + 1..=s.reply_head {
-            let (key, slot) = reply_location(n);
-            let r = self.replies[key as usize - 1].get().replies[slot];
+            let r = read_reply(&self.replies, n);
             self.reply_seen = n;
-            if r.seq != n || r.client_id != self.client_id {
+            let Some(r) = r.filter(|r| r.client_id == self.client_id) else {
                 continue;
-            }
+            };
             let Ok(resp) = Response::decode(&r) else {
                 continue;
             };

@@ -1,12 +1,9 @@
 //! The `mcm-rt` binary as a user runs it: errors in its arguments are named on stderr with a
 //! failing exit status; a simulated run prints its ready line, stops on SIGTERM and sums up.
 
-use std::io::{BufRead, BufReader, Read};
-use std::process::{Command, Stdio};
+mod common;
 
-fn mcm_rt() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_mcm-rt"))
-}
+use common::{mcm_rt, start, stop};
 
 /// Run `mcm-rt args`; its exit code and stderr.
 fn run(args: &[&str]) -> (Option<i32>, String) {
@@ -47,30 +44,13 @@ fn an_unknown_argument_is_a_usage_error() {
 #[test]
 fn a_simulated_run_says_ready_and_stops_on_sigterm() {
     let instance = format!("cli-run-{}", std::process::id());
-    let mut child = mcm_rt()
-        .args(["--instance", &instance, "--allow-non-realtime"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stdout = BufReader::new(child.stdout.take().unwrap());
-    let mut ready = String::new();
-    stdout.read_line(&mut ready).unwrap();
+    let (child, ready) = start(mcm_rt().args(["--instance", &instance, "--allow-non-realtime"]));
     assert_eq!(
         ready.trim_end(),
         format!("mcm-rt ready instance={instance} bus=sim")
     );
     // The handlers are installed before the ready line: SIGTERM now stops the loop cleanly.
-    // SAFETY: kill only sends SIGTERM to the child started above.
-    assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGTERM) }, 0);
-    let status = child.wait().unwrap();
-    let mut err = String::new();
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut err)
-        .unwrap();
+    let (status, err) = stop(child);
     assert!(status.success(), "{status}: {err}");
     assert!(err.contains("mcm-rt: stopped after "), "{err}");
     let _ = std::fs::remove_file(mcm_sim::snapshot::state_path(&instance));

@@ -3,6 +3,9 @@
 //! the same instance; and the state event waking a listener. Each test uses its own instance
 //! name.
 
+mod common;
+
+use common::{node, service_name, state_listener};
 use iceoryx2::port::writer::EntryHandleMutError;
 use iceoryx2::prelude::*;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
@@ -32,39 +35,46 @@ fn names(test: &str) -> ServiceNames {
     ServiceNames::new(&format!("{test}-{}", std::process::id())).unwrap()
 }
 
-fn node() -> Node<ipc::Service> {
-    NodeBuilder::new()
-        .signal_handling_mode(SignalHandlingMode::Disabled)
-        .create::<ipc::Service>()
-        .unwrap()
+/// Set up a core of `names` while a service of another version is left there: it must be
+/// refused as `IncompatibleService`, naming `service` and the `payload` this version expects.
+fn refused_as_incompatible(names: &ServiceNames, service: &str, payload: &str) -> IpcSetupError {
+    let err = RtIpc::create(names)
+        .err()
+        .expect("the stale service is refused");
+    match &err {
+        IpcSetupError::IncompatibleService {
+            name, payload: p, ..
+        } => {
+            assert_eq!(name, service);
+            assert_eq!(*p, payload);
+        }
+        other => panic!("not IncompatibleService: {other:?}"),
+    }
+    err
 }
 
 #[test]
 fn a_stale_state_service_of_another_version_is_named_as_such() {
     let names = names("stale-state");
     let node = node();
-    let state: ServiceName = names.state().as_str().try_into().unwrap();
     let _old = node
-        .service_builder(&state)
+        .service_builder(&service_name(&names.state()))
         .blackboard_creator::<u32>()
         .max_readers(STATE_MAX_READERS)
         .add::<OldStateSample>(STATE_KEY, OldStateSample::default())
         .create()
         .unwrap();
-    let err = RtIpc::create(&names)
-        .err()
-        .expect("the stale service is refused");
-    match &err {
-        IpcSetupError::IncompatibleService {
-            name,
-            payload,
-            source: Incompatibility::StateEntry(EntryHandleMutError::EntryDoesNotExist),
-        } => {
-            assert_eq!(*name, names.state());
-            assert_eq!(*payload, "mcm.StateSample.v4");
-        }
-        other => panic!("not IncompatibleService: {other:?}"),
-    }
+    let err = refused_as_incompatible(&names, &names.state(), "mcm.StateSample.v4");
+    assert!(
+        matches!(
+            err,
+            IpcSetupError::IncompatibleService {
+                source: Incompatibility::StateEntry(EntryHandleMutError::EntryDoesNotExist),
+                ..
+            }
+        ),
+        "{err:?}"
+    );
     let text = err.to_string();
     assert!(
         text.contains(&names.state()) && text.contains("another version"),
@@ -76,26 +86,24 @@ fn a_stale_state_service_of_another_version_is_named_as_such() {
 fn a_stale_command_service_of_another_version_is_named_as_such() {
     let names = names("stale-command");
     let node = node();
-    let command: ServiceName = names.command().as_str().try_into().unwrap();
     let _old = node
-        .service_builder(&command)
+        .service_builder(&service_name(&names.command()))
         .publish_subscribe::<OldCommandSample>()
         .create()
         .unwrap();
-    let err = RtIpc::create(&names)
-        .err()
-        .expect("the stale service is refused");
-    match &err {
-        IpcSetupError::IncompatibleService {
-            name,
-            payload,
-            source: Incompatibility::CommandService(PublishSubscribeOpenError::IncompatibleTypes),
-        } => {
-            assert_eq!(*name, names.command());
-            assert_eq!(*payload, "mcm.CommandSample.v1");
-        }
-        other => panic!("not IncompatibleService: {other:?}"),
-    }
+    let err = refused_as_incompatible(&names, &names.command(), "mcm.CommandSample.v1");
+    assert!(
+        matches!(
+            err,
+            IpcSetupError::IncompatibleService {
+                source: Incompatibility::CommandService(
+                    PublishSubscribeOpenError::IncompatibleTypes
+                ),
+                ..
+            }
+        ),
+        "{err:?}"
+    );
 }
 
 #[test]
@@ -120,9 +128,8 @@ fn a_restarted_core_opens_the_services_its_peers_keep() {
     let first = RtIpc::create(&names).expect("the first core sets up");
     // A peer keeps the command service open while the core restarts.
     let node = node();
-    let command: ServiceName = names.command().as_str().try_into().unwrap();
     let _peer = node
-        .service_builder(&command)
+        .service_builder(&service_name(&names.command()))
         .publish_subscribe::<mcm_shared::sample::CommandSample>()
         .open()
         .unwrap();
@@ -135,15 +142,7 @@ fn a_listener_wakes_after_each_published_state_and_across_a_restart() {
     let names = names("state-event");
     let core = RtIpc::create(&names).expect("the core sets up");
     let node = node();
-    let event: ServiceName = names.state_event().as_str().try_into().unwrap();
-    let listener = node
-        .service_builder(&event)
-        .event()
-        .open()
-        .unwrap()
-        .listener_builder()
-        .create()
-        .unwrap();
+    let listener = state_listener(&node, &names);
     let wait = |listener: &iceoryx2::port::listener::Listener<ipc::Service>| {
         let mut ids = Vec::new();
         listener

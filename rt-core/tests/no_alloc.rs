@@ -24,6 +24,7 @@ use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard};
 
+mod common;
 #[path = "no_alloc/every_mode.rs"]
 mod every_mode;
 

@@ -3,6 +3,8 @@
 //! robot that stops when asked, as on SIGTERM. Only the last test touches the process-wide stop
 //! flag; each test uses its own instance name.
 
+mod common;
+
 use mcm_rt_core::runner::{self, RunError, RunOptions};
 use mcm_shared::config::{BusBackend, RobotConfig};
 use mcm_shared::sample::StateSample;
@@ -84,21 +86,10 @@ fn without_real_time_scheduling_it_refuses_unless_allowed() {
 /// Wait (at most `limit`) until the state blackboard of `instance` shows cycle `cycles`; the
 /// cycle seen.
 fn wait_for_cycles(instance: &str, cycles: u64, limit: Duration) -> u64 {
-    use iceoryx2::prelude::*;
     let names = ServiceNames::new(instance).unwrap();
-    let node = NodeBuilder::new()
-        .signal_handling_mode(SignalHandlingMode::Disabled)
-        .create::<ipc::Service>()
-        .unwrap();
-    let name: ServiceName = names.state().as_str().try_into().unwrap();
-    let reader = node
-        .service_builder(&name)
-        .blackboard_opener::<u32>()
-        .open()
-        .expect("mcm-rt created the state service before on_started")
-        .reader_builder()
-        .create()
-        .unwrap();
+    let node = common::node();
+    // mcm-rt created the state service before on_started.
+    let reader = common::state_reader(&node, &names);
     let entry = reader.entry::<StateSample>(&STATE_KEY).unwrap();
     let deadline = std::time::Instant::now() + limit;
     loop {

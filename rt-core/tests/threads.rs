@@ -7,9 +7,10 @@
 //! time, `mcm-rt` says so on stderr; the test then checks that the report says why and that
 //! still no thread is real-time.
 
+mod common;
+
+use common::{mcm_rt, start, stop};
 use std::collections::BTreeSet;
-use std::io::{BufRead, BufReader, Read};
-use std::process::{Command, Stdio};
 
 const SCHED_OTHER: u32 = 0;
 const SCHED_FIFO: u32 = 1;
@@ -99,33 +100,18 @@ fn only_the_cycle_thread_is_real_time_and_the_others_keep_off_its_cpu() {
     std::fs::write(&config_path, config).unwrap();
     let candump = dir.join("frames.log");
 
-    let mut child = Command::new(env!("CARGO_BIN_EXE_mcm-rt"))
-        .arg("--instance")
-        .arg(&instance)
-        .arg("--config")
-        .arg(&config_path)
-        .arg("--candump")
-        .arg(&candump)
-        .arg("--allow-non-realtime")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut ready = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut ready)
-        .unwrap();
+    let (child, ready) = start(
+        mcm_rt()
+            .arg("--instance")
+            .arg(&instance)
+            .arg("--config")
+            .arg(&config_path)
+            .arg("--candump")
+            .arg(&candump)
+            .arg("--allow-non-realtime"),
+    );
     let seen = tasks(child.id());
-    // SAFETY: kill only sends SIGTERM to the child started above.
-    assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGTERM) }, 0);
-    let status = child.wait().unwrap();
-    let mut err = String::new();
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut err)
-        .unwrap();
+    let (status, err) = stop(child);
     let _ = std::fs::remove_file(mcm_sim::snapshot::state_path(&instance));
     let _ = std::fs::remove_dir_all(&dir);
     assert!(

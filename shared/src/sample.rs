@@ -15,7 +15,8 @@
 //! position.
 
 use crate::NUM_AXES;
-use iceoryx2::prelude::ZeroCopySend;
+use iceoryx2::port::reader::{EntryHandle, EntryHandleError, Reader};
+use iceoryx2::prelude::{ZeroCopySend, ipc};
 
 /// Arguments in one command sample.
 pub const COMMAND_ARGS: usize = 64;
@@ -269,6 +270,52 @@ pub const fn reply_location(seq: u64) -> (u32, usize) {
     (block as u32 + 1, (n % REPLY_BLOCK as u64) as usize)
 }
 
+impl ReplyBlock {
+    /// Reply `seq` if this block's slot for it still holds it (this must be the block
+    /// [`reply_location`] names for `seq`); `None` when the slot was overwritten or not
+    /// written yet.
+    pub fn reply(&self, seq: u64) -> Option<&Reply> {
+        let r = &self.replies[reply_location(seq).1];
+        (r.seq == seq).then_some(r)
+    }
+}
+
+/// A reader's handles of the reply blocks, in key order: the block of key `k` at `k - 1`.
+pub type ReplyEntries = Vec<EntryHandle<ipc::Service, u32, ReplyBlock>>;
+
+/// A reply-block entry of the state blackboard could not be opened (it is missing or of
+/// another type: a core of another version).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("reply block {key}: {source}")]
+pub struct ReplyEntryError {
+    pub key: u32,
+    #[source]
+    pub source: EntryHandleError,
+}
+
+/// Open the reply blocks (keys 1 to [`REPLY_BLOCKS`]) of the state blackboard through `reader`.
+pub fn open_reply_entries(
+    reader: &Reader<ipc::Service, u32>,
+) -> Result<ReplyEntries, ReplyEntryError> {
+    (1..=REPLY_BLOCKS as u32)
+        .map(|key| {
+            reader
+                .entry::<ReplyBlock>(&key)
+                .map_err(|source| ReplyEntryError { key, source })
+        })
+        .collect()
+}
+
+/// Reply `seq` from the reply blocks [`open_reply_entries`] opened, if its slot still holds it
+/// (`None`: overwritten since, or not written yet).
+pub fn read_reply(
+    entries: &[EntryHandle<ipc::Service, u32, ReplyBlock>],
+    seq: u64,
+) -> Option<Reply> {
+    let (key, _) = reply_location(seq);
+    entries[key as usize - 1].get().reply(seq).copied()
+}
+
 /// The flight-recorder file of an error: `<dir>/mcm-<instance>-<unix ms>-<check>.csv`. The
 /// real-time core writes it; the gateway names it in the error message.
 pub fn flight_recorder_file(dir: &str, instance: &str, e: &ErrorRecord) -> std::path::PathBuf {
@@ -384,5 +431,17 @@ mod tests {
             assert!((1..=REPLY_BLOCKS as u32).contains(&key), "{seq}: key {key}");
             assert!(slot < REPLY_BLOCK);
         }
+    }
+
+    #[test]
+    fn a_block_gives_a_reply_only_while_its_slot_holds_it() {
+        let mut block = ReplyBlock::default();
+        assert_eq!(block.reply(3), None, "not written yet");
+        block.replies[2].seq = 3;
+        block.replies[2].request_id = 9;
+        assert_eq!(block.reply(3).map(|r| r.request_id), Some(9));
+        // The reply of the same slot one round of the blackboard later is not there yet.
+        let later = 3 + (REPLY_BLOCKS * REPLY_BLOCK) as u64;
+        assert_eq!(block.reply(later), None);
     }
 }

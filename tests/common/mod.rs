@@ -166,6 +166,30 @@ pub fn sim_state_path(instance: &str) -> std::path::PathBuf {
     std::env::temp_dir().join(format!("mcm-sim-{instance}.state"))
 }
 
+/// A configuration file written for one test, in the temp directory; removed on drop.
+pub struct TempConfig(std::path::PathBuf);
+
+impl TempConfig {
+    /// The file's path, for `--config`.
+    pub fn path(&self) -> &str {
+        self.0.to_str().unwrap()
+    }
+}
+
+impl Drop for TempConfig {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.0);
+    }
+}
+
+/// Write `edit(deploy/prob2.toml)` (the P-Rob2's configuration as the binaries embed it) to a
+/// new file named after `tag`.
+pub fn config_file(tag: &str, edit: impl FnOnce(&str) -> String) -> TempConfig {
+    let path = std::env::temp_dir().join(format!("{}.toml", unique_instance(tag)));
+    std::fs::write(&path, edit(mcm_shared::config::PROB2_DEFAULT_TOML)).unwrap();
+    TempConfig(path)
+}
+
 /// Whether a process exists.
 pub fn alive(pid: i32) -> bool {
     // SAFETY: signal 0 only checks existence.

@@ -10,7 +10,7 @@ use iceoryx2::prelude::*;
 use iceoryx2::service::builder::blackboard::BlackboardOpenError;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use iceoryx2::service::service_name::ServiceNameError;
-use mcm_shared::sample::{CommandSample, REPLY_BLOCKS, ReplyBlock, StateSample};
+use mcm_shared::sample::{CommandSample, ReplyEntries, StateSample, open_reply_entries};
 use mcm_shared::service::{STATE_KEY, ServiceNames};
 
 /// The open ports of the bridge thread.
@@ -18,7 +18,7 @@ pub(super) struct Ports {
     _node: Node<ipc::Service>,
     pub(super) state: EntryHandle<ipc::Service, u32, StateSample>,
     /// The reply blocks, by key - 1.
-    pub(super) reply_blocks: Vec<EntryHandle<ipc::Service, u32, ReplyBlock>>,
+    pub(super) reply_blocks: ReplyEntries,
     pub(super) publisher: Publisher<ipc::Service, CommandSample, ()>,
 }
 
@@ -138,16 +138,10 @@ pub(super) fn open_ports(names: &ServiceNames) -> Result<Ports, OpenError> {
                 service: service.clone(),
                 source: LayoutMismatch::StateEntry(e),
             })?;
-    let reply_blocks = (1..=REPLY_BLOCKS as u32)
-        .map(|key| {
-            reader
-                .entry::<ReplyBlock>(&key)
-                .map_err(|e| OpenError::IncompatibleLayout {
-                    service: service.clone(),
-                    source: LayoutMismatch::ReplyEntry(e),
-                })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let reply_blocks = open_reply_entries(&reader).map_err(|e| OpenError::IncompatibleLayout {
+        service: service.clone(),
+        source: LayoutMismatch::ReplyEntry(e.source),
+    })?;
     let service = names.command();
     let command_service = node
         .service_builder(&service_name(&service)?)

@@ -308,17 +308,15 @@ impl Worker {
             .max(1);
         let mut block: Option<(u32, ReplyBlock)> = None;
         for n in (self.last_reply + 1).max(oldest)..=state.reply_head {
-            let (key, slot) = reply_location(n);
+            let (key, _) = reply_location(n);
             if block.is_none_or(|(k, _)| k != key) {
                 block = Some((key, *ports.reply_blocks[key as usize - 1].get()));
             }
-            let Some((_, b)) = &block else { continue };
-            let r = &b.replies[slot];
-            if r.seq != n {
+            let Some(r) = block.as_ref().and_then(|(_, b)| b.reply(n)) else {
                 // Overwritten while being read (the core wrote more than the blocks hold since
                 // `state`); the request waiting for it times out with "outcome unknown".
                 continue;
-            }
+            };
             if let Some(u) = self.unacked.remove(&r.request_id) {
                 self.sched.answered(u.client_id, u.urgent);
             }

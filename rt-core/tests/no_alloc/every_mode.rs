@@ -17,6 +17,7 @@
 //! OK and every mode reached, so the count cannot be zero for lack of work.
 
 use super::Meter;
+use crate::common::{node, service_name, state_listener, state_reader};
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::reader::EntryHandle;
@@ -35,8 +36,8 @@ use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{Mode, RejectCode};
 use mcm_shared::reply::{Outcome, Response};
 use mcm_shared::sample::{
-    AXIS_ONLINE, CommandSample, REPLY_BLOCKS, ReplyBlock, STATE_ALL_CALIBRATED, STATE_SIMULATED,
-    StateSample, flight_recorder_file, reply_location,
+    AXIS_ONLINE, CommandSample, ReplyEntries, STATE_ALL_CALIBRATED, STATE_SIMULATED, StateSample,
+    flight_recorder_file, open_reply_entries, read_reply,
 };
 use mcm_shared::service::{STATE_EVENT_ID, STATE_KEY, ServiceNames};
 use mcm_sim::SimBus;
@@ -48,41 +49,19 @@ struct Client {
     _node: Node<ipc::Service>,
     publisher: Publisher<ipc::Service, CommandSample, ()>,
     state: EntryHandle<ipc::Service, u32, StateSample>,
-    replies: Vec<EntryHandle<ipc::Service, u32, ReplyBlock>>,
+    replies: ReplyEntries,
     state_event: Listener<ipc::Service>,
 }
 
 impl Client {
     fn open(names: &ServiceNames) -> Client {
-        let node = NodeBuilder::new()
-            .signal_handling_mode(SignalHandlingMode::Disabled)
-            .create::<ipc::Service>()
-            .unwrap();
-        let state_name: ServiceName = names.state().as_str().try_into().unwrap();
-        let command_name: ServiceName = names.command().as_str().try_into().unwrap();
-        let event_name: ServiceName = names.state_event().as_str().try_into().unwrap();
-        let state_event = node
-            .service_builder(&event_name)
-            .event()
-            .open()
-            .unwrap()
-            .listener_builder()
-            .create()
-            .unwrap();
-        let reader = node
-            .service_builder(&state_name)
-            .blackboard_opener::<u32>()
-            .open()
-            .unwrap()
-            .reader_builder()
-            .create()
-            .unwrap();
+        let node = node();
+        let state_event = state_listener(&node, names);
+        let reader = state_reader(&node, names);
         let state = reader.entry::<StateSample>(&STATE_KEY).unwrap();
-        let replies = (1..=REPLY_BLOCKS as u32)
-            .map(|key| reader.entry::<ReplyBlock>(&key).unwrap())
-            .collect();
+        let replies = open_reply_entries(&reader).unwrap();
         let publisher = node
-            .service_builder(&command_name)
+            .service_builder(&service_name(&names.command()))
             .publish_subscribe::<CommandSample>()
             .open()
             .unwrap()
@@ -231,10 +210,8 @@ impl Rig {
         for _ in 0..max {
             let s = self.cycle();
             for n in self.reply_seen + 1..=s.reply_head {
-                let (key, slot) = reply_location(n);
-                let r = self.client.replies[key as usize - 1].get().replies[slot];
-                assert_eq!(r.seq, n, "the reply blocks hold every reply");
-                let r = &r;
+                let r = read_reply(&self.client.replies, n);
+                let r = &r.expect("the reply blocks hold every reply");
                 self.reply_seen = n;
                 if r.client_id == CLIENT && r.request_id == id {
                     return Response::decode(r).expect("a reply of this version");
