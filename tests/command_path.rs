@@ -63,6 +63,27 @@ fn status_is_answered_from_the_newest_state_without_waiting_for_a_cycle() {
     );
 }
 
+#[test]
+fn a_status_right_after_a_result_is_never_older_than_that_result() {
+    let mcm = Mcm::start("cp-order");
+    let mut c = mcm.client();
+    c.wait_drives_online();
+    // `hold` is answered with the state of the cycle that executed it; the status sent at once
+    // after it comes from the gateway's newest state, which must be that cycle or a later one.
+    for k in 0..200 {
+        let held = c.request(r#"{"command":"hold"}"#);
+        assert_status(&held, "HOLD");
+        let s = c.request(r#"{"command":"status"}"#);
+        assert_status(&s, "HOLD");
+        assert!(
+            time_of(&s) >= time_of(&held),
+            "round {k}: status at {} is older than the hold it follows at {}",
+            time_of(&s),
+            time_of(&held)
+        );
+    }
+}
+
 /// A 1000-point batch the gateway cannot refuse (every point is reachable and within its speed
 /// limit) but the core does (the jumps between points break the acceleration limit).
 fn refused_batch() -> String {

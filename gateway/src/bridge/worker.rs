@@ -143,9 +143,11 @@ impl Worker {
             }
             self.open();
             if let Some(state) = self.read_state() {
+                // The newest state first: a client that got a reply (or a safety error) and
+                // asks for `status` at once must see the state that answered, not an older one.
+                self.sh.state_tx.send_replace(Some(Box::new(state)));
                 self.route_replies(&state);
                 self.report_errors(&state);
-                self.sh.state_tx.send_replace(Some(Box::new(state)));
             }
             self.publish();
             self.expire();
