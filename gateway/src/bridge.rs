@@ -6,11 +6,11 @@
 //! errors. It never waits on the real-time core: the core never waits on it either (the
 //! blackboard writer and the command subscriber do not block).
 //!
-//! The thread blocks on one channel until something is to be done: the core's state event (a
-//! small second thread owns a listener on `mcm/<i>/state-ready` and forwards each notification,
-//! see `event.rs`), a job from a connection, or a bounded timeout (open retry, staleness,
-//! reply deadlines). When the event service cannot be opened while the state can (a core
-//! without it), the bridge says so once on stderr and reads the state every
+//! The thread sleeps in one `poll(2)` until something is to be done: the core's state event
+//! (its own listener on `mcm/<i>/state-ready`, see `event.rs`), the doorbell a connection rings
+//! after queueing a job (`doorbell.rs`), or a bounded timeout (open retry, staleness, reply
+//! deadlines). When the event service cannot be opened while the state can (a core without
+//! it), the bridge says so once on stderr and reads the state every
 //! [`worker::FALLBACK_POLL`] instead.
 //!
 //! Samples go out one at a time, the connections taking turns, `hold` and `client_gone` ahead
@@ -27,9 +27,11 @@
 //! A request that was published but never answered is [`BridgeError::OutcomeUnknown`]: it may
 //! have been executed.
 
+mod doorbell;
 mod event;
 mod ports;
 mod scheduler;
+mod wait;
 mod worker;
 
 #[cfg(test)]
@@ -128,18 +130,33 @@ impl Job {
     }
 }
 
-/// What wakes the bridge thread.
+/// What the async side hands the bridge thread.
 enum Wake {
-    /// The core published a new state.
-    State,
     Job(Job),
     Stop,
+}
+
+/// The sending side of the bridge thread's channel: every message rings the doorbell the
+/// thread sleeps on.
+#[derive(Clone)]
+struct Waker {
+    tx: std::sync::mpsc::Sender<Wake>,
+    bell: Arc<doorbell::Doorbell>,
+}
+
+impl Waker {
+    /// Hand `w` to the bridge thread; `Err` when it has stopped.
+    fn send(&self, w: Wake) -> Result<(), ()> {
+        self.tx.send(w).map_err(|_| ())?;
+        self.bell.ring();
+        Ok(())
+    }
 }
 
 /// The async side of the bridge; cheap to clone.
 #[derive(Clone)]
 pub struct Bridge {
-    wake: std::sync::mpsc::Sender<Wake>,
+    wake: Waker,
     state: watch::Receiver<Option<Box<StateSample>>>,
     errors: broadcast::Sender<SafetyEvent>,
     next_client: Arc<AtomicU64>,
@@ -148,20 +165,16 @@ pub struct Bridge {
     open_error: Arc<Mutex<Option<BridgeError>>>,
 }
 
-/// Handle to stop the bridge threads.
+/// Handle to stop the bridge thread.
 pub struct BridgeThread {
-    wake: std::sync::mpsc::Sender<Wake>,
-    flags: Arc<event::EventFlags>,
-    handles: Vec<std::thread::JoinHandle<()>>,
+    wake: Waker,
+    handle: std::thread::JoinHandle<()>,
 }
 
 impl BridgeThread {
     pub fn stop(self) {
-        self.flags.stop.store(true, Ordering::Relaxed);
         let _ = self.wake.send(Wake::Stop);
-        for h in self.handles {
-            let _ = h.join();
-        }
+        let _ = self.handle.join();
     }
 }
 
@@ -170,44 +183,37 @@ impl Bridge {
     pub fn start(names: &ServiceNames, flight_dir: &str) -> (Bridge, BridgeThread) {
         set_log_level_from_env_or(LogLevel::Error);
         let (wake_tx, wake_rx) = std::sync::mpsc::channel();
+        // An eventfd fails only when the process is out of descriptors at start-up.
+        let bell = Arc::new(doorbell::Doorbell::new().expect("create the bridge's doorbell"));
+        let wake = Waker {
+            tx: wake_tx,
+            bell: bell.clone(),
+        };
         let (state_tx, state_rx) = watch::channel(None);
         let (err_tx, _) = broadcast::channel(64);
-        let flags = Arc::new(event::EventFlags::default());
         let open_error = Arc::new(Mutex::new(None));
         let shared = worker::Shared {
             names: names.clone(),
             state_tx,
             errors: err_tx.clone(),
             flight_dir: flight_dir.to_string(),
-            flags: flags.clone(),
+            bell,
             open_error: open_error.clone(),
         };
-        // iceoryx2 ports are not `Send`: each thread makes its own.
-        let bridge_thread = std::thread::Builder::new()
+        // iceoryx2 ports are not `Send`: the thread makes its own.
+        let handle = std::thread::Builder::new()
             .name("mcm-ipc-bridge".into())
             .spawn(move || worker::Worker::new(shared).run(wake_rx))
             .expect("spawn the IPC bridge thread");
-        let (names_, wake_, flags_) = (names.clone(), wake_tx.clone(), flags.clone());
-        let wake_thread = std::thread::Builder::new()
-            .name("mcm-ipc-wake".into())
-            .spawn(move || event::run(names_, wake_, flags_))
-            .expect("spawn the IPC wake-up thread");
         let bridge = Bridge {
-            wake: wake_tx.clone(),
+            wake: wake.clone(),
             state: state_rx,
             errors: err_tx,
             next_client: Arc::new(AtomicU64::new(1)),
             instance: names.instance().to_string(),
             open_error,
         };
-        (
-            bridge,
-            BridgeThread {
-                wake: wake_tx,
-                flags,
-                handles: vec![bridge_thread, wake_thread],
-            },
-        )
+        (bridge, BridgeThread { wake, handle })
     }
 
     /// A client id unique to this gateway process and connection.

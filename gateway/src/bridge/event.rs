@@ -1,41 +1,26 @@
-//! The wake-up thread: it owns its own iceoryx2 node and a listener on the core's state event
-//! (`mcm/<i>/state-ready`, notified by mcm-rt after each new state) and turns every
-//! notification into a [`Wake::State`] on the channel the bridge thread blocks on. Listener
-//! ports are not `Send`, hence a thread of their own.
+//! The core's state event (`mcm/<i>/state-ready`, notified by mcm-rt after each new state), as
+//! the bridge thread listens to it: the listener is one of the thread's own ports, and its
+//! file descriptor is polled together with the doorbell (`wait.rs`), so a new state wakes the
+//! bridge thread directly.
 //!
-//! While the event service does not exist it retries every [`OPEN_RETRY`]; `live` tells the
-//! bridge whether wake-ups come (when not, the bridge falls back to a bounded poll). Quiet for
-//! longer than [`SILENT_AFTER`] (the core stopped or restarted), it drops the listener and opens
-//! the service again, so a restarted core's new service is picked up.
+//! While the event service does not exist the bridge retries every [`OPEN_RETRY`]. Quiet for
+//! longer than [`SILENT_AFTER`] (the core stopped or restarted), the listener is dropped and the
+//! service opened again, so a restarted core's new service is picked up.
 
-use super::Wake;
+use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
 use mcm_shared::service::{STATE_EVENT_ID, ServiceNames};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::Sender;
+use std::os::fd::RawFd;
 use std::time::{Duration, Instant};
 
 /// Time between two attempts to open the event service.
-const OPEN_RETRY: Duration = Duration::from_millis(100);
-/// Longest single wait on the listener (the stop flag is checked in between).
-const WAIT: Duration = Duration::from_millis(100);
+pub(super) const OPEN_RETRY: Duration = Duration::from_millis(100);
 /// No notification for this long: reopen the service.
 const SILENT_AFTER: Duration = Duration::from_millis(500);
 
-/// Flags shared between the wake-up thread and the bridge thread.
-#[derive(Default)]
-pub(super) struct EventFlags {
-    /// The listener is open and notifications arrive.
-    pub(super) live: AtomicBool,
-    /// A [`Wake::State`] is on its way and not yet taken by the bridge (wake-ups coalesce).
-    pub(super) pending: AtomicBool,
-    pub(super) stop: AtomicBool,
-}
-
 struct Open {
     _node: Node<ipc::Service>,
-    listener: iceoryx2::port::listener::Listener<ipc::Service>,
+    listener: Listener<ipc::Service>,
 }
 
 fn open(names: &ServiceNames) -> Result<Open, String> {
@@ -64,48 +49,86 @@ fn open(names: &ServiceNames) -> Result<Open, String> {
     })
 }
 
-/// Run the wake-up loop until `flags.stop` is set.
-pub(super) fn run(names: ServiceNames, wake: Sender<Wake>, flags: Arc<EventFlags>) {
-    let mut open_port: Option<Open> = None;
-    let mut last_try: Option<Instant> = None;
-    let mut last_event = Instant::now();
-    while !flags.stop.load(Ordering::Relaxed) {
-        let Some(port) = open_port.as_ref() else {
-            if let Some(t) = last_try {
-                let left = OPEN_RETRY.saturating_sub(t.elapsed());
-                if !left.is_zero() {
-                    // Not a synchronisation: the pace of the open retries (the stop flag is
-                    // seen within one retry period).
-                    std::thread::sleep(left);
-                    continue;
-                }
+/// The bridge thread's listener on the core's state event, opened (and reopened) as needed.
+pub(super) struct StateEvent {
+    names: ServiceNames,
+    port: Option<Open>,
+    last_try: Option<Instant>,
+    last_event: Instant,
+    /// Notifications arrive (the bridge need not poll the state).
+    live: bool,
+}
+
+impl StateEvent {
+    pub(super) fn new(names: ServiceNames) -> StateEvent {
+        StateEvent {
+            names,
+            port: None,
+            last_try: None,
+            last_event: Instant::now(),
+            live: false,
+        }
+    }
+
+    /// Whether notifications arrive.
+    pub(super) fn live(&self) -> bool {
+        self.live
+    }
+
+    /// Open the service when closed and the last attempt is [`OPEN_RETRY`] ago; drop it when
+    /// it has been silent for [`SILENT_AFTER`].
+    pub(super) fn maintain(&mut self) {
+        if self.port.is_some() {
+            if self.last_event.elapsed() > SILENT_AFTER {
+                self.port = None;
+                self.live = false;
+                self.last_try = Some(Instant::now());
             }
-            last_try = Some(Instant::now());
-            if let Ok(p) = open(&names) {
-                open_port = Some(p);
-                last_event = Instant::now();
-            }
-            continue;
+            return;
+        }
+        if self.last_try.is_some_and(|t| t.elapsed() < OPEN_RETRY) {
+            return;
+        }
+        self.last_try = Some(Instant::now());
+        if let Ok(p) = open(&self.names) {
+            self.port = Some(p);
+            self.last_event = Instant::now();
+        }
+    }
+
+    /// The listener's descriptor to poll, when open. Valid until the next
+    /// [`StateEvent::maintain`] or [`StateEvent::drain`] (either may close the port): the
+    /// bridge polls it right away and never keeps it.
+    pub(super) fn fd(&self) -> Option<RawFd> {
+        self.port.as_ref().map(|p| {
+            // SAFETY: the value is only passed to the `poll(2)` that follows at once, while the
+            // listener (which owns and alone closes the descriptor) is alive and unchanged.
+            unsafe { p.listener.file_descriptor().native_handle() }
+        })
+    }
+
+    /// Take every pending notification (without blocking); whether one said a new state is
+    /// published.
+    pub(super) fn drain(&mut self) -> bool {
+        let Some(port) = self.port.as_ref() else {
+            return false;
         };
         let mut ours = false;
-        let waited = port
+        match port
             .listener
-            .timed_wait(|e| ours |= e.id.as_value() == STATE_EVENT_ID, WAIT);
-        match waited {
+            .try_wait(|e| ours |= e.id.as_value() == STATE_EVENT_ID)
+        {
             Ok(_) if ours => {
-                last_event = Instant::now();
-                flags.live.store(true, Ordering::Relaxed);
-                if !flags.pending.swap(true, Ordering::AcqRel) && wake.send(Wake::State).is_err() {
-                    return;
-                }
+                self.last_event = Instant::now();
+                self.live = true;
             }
-            Ok(_) if last_event.elapsed() < SILENT_AFTER => {}
-            // Silent (the core stopped) or broken: open the service again.
-            _ => {
-                flags.live.store(false, Ordering::Relaxed);
-                open_port = None;
-                last_try = Some(Instant::now());
+            Ok(_) => {}
+            Err(_) => {
+                self.port = None;
+                self.live = false;
+                self.last_try = Some(Instant::now());
             }
         }
+        ours
     }
 }

@@ -1,11 +1,13 @@
-//! The bridge thread: it blocks until woken (the core's state event, a job, or a bounded
-//! timeout), then runs named steps: open the core's services (retrying), read the state, route
+//! The bridge thread: it blocks until woken (the core's state event, the doorbell of a job, or
+//! a bounded timeout), then runs named steps: open the core's services (retrying), read the state, route
 //! the replies in it to the requests waiting for them, report new safety errors, publish
 //! queued samples as the scheduler allows, and give up on requests whose reply is overdue.
 
-use super::event::EventFlags;
+use super::doorbell::Doorbell;
+use super::event::StateEvent;
 use super::ports::{OpenError, Ports, open_ports};
 use super::scheduler::Scheduler;
+use super::wait::wait_readable;
 use super::{Answer, BridgeError, Job, NoReply, SafetyEvent, Wake};
 use mcm_shared::command::DecodeError;
 use mcm_shared::mode::CommandKind;
@@ -15,8 +17,7 @@ use mcm_shared::sample::{
 };
 use mcm_shared::service::ServiceNames;
 use std::collections::HashMap;
-use std::sync::atomic::Ordering;
-use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::sync::mpsc::{Receiver, TryRecvError};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use tokio::sync::{broadcast, oneshot, watch};
@@ -57,19 +58,23 @@ struct Queued {
     next: usize,
 }
 
-/// What the bridge thread shares with the async side and the wake-up thread.
+/// What the bridge thread shares with the async side.
 pub(super) struct Shared {
     pub(super) names: ServiceNames,
     pub(super) state_tx: watch::Sender<Option<Box<StateSample>>>,
     pub(super) errors: broadcast::Sender<SafetyEvent>,
     pub(super) flight_dir: String,
-    pub(super) flags: Arc<EventFlags>,
+    /// Rung by the async side after each message on the channel.
+    pub(super) bell: Arc<Doorbell>,
     pub(super) open_error: Arc<Mutex<Option<BridgeError>>>,
 }
 
 pub(super) struct Worker {
     sh: Shared,
     ports: Option<Ports>,
+    event: StateEvent,
+    /// A failed wait was logged (once).
+    logged_wait: bool,
     last_open_try: Option<Instant>,
     /// When the services were opened.
     opened_at: Instant,
@@ -98,6 +103,8 @@ pub(super) struct Worker {
 impl Worker {
     pub(super) fn new(sh: Shared) -> Worker {
         Worker {
+            event: StateEvent::new(sh.names.clone()),
+            logged_wait: false,
             sh,
             ports: None,
             last_open_try: None,
@@ -119,27 +126,19 @@ impl Worker {
 
     pub(super) fn run(mut self, wake: Receiver<Wake>) {
         'run: loop {
-            let first = match wake.recv_timeout(self.wait_time()) {
-                Ok(w) => Some(w),
-                Err(RecvTimeoutError::Timeout) => None,
-                Err(RecvTimeoutError::Disconnected) => break,
-            };
-            for w in first
-                .into_iter()
-                .chain(std::iter::from_fn(|| wake.try_recv().ok()))
-            {
-                match w {
-                    Wake::State => self.sh.flags.pending.store(false, Ordering::Release),
-                    Wake::Job(job) => {
+            self.wait();
+            // Cleared before the channel is drained: a job queued after the drain rings again.
+            self.sh.bell.clear();
+            loop {
+                match wake.try_recv() {
+                    Ok(Wake::Job(job)) => {
                         let urgent = job.urgent();
                         self.sched
                             .push(job.client_id, Queued { job, next: 0 }, urgent);
                     }
-                    Wake::Stop => break 'run,
+                    Ok(Wake::Stop) | Err(TryRecvError::Disconnected) => break 'run,
+                    Err(TryRecvError::Empty) => break,
                 }
-            }
-            if self.sh.flags.stop.load(Ordering::Relaxed) {
-                break;
             }
             self.open();
             if let Some(state) = self.read_state() {
@@ -161,6 +160,38 @@ impl Worker {
         }
     }
 
+    /// Sleep until the doorbell rings, the core's state event fires or [`Worker::wait_time`]
+    /// has passed; then take the event's notifications.
+    fn wait(&mut self) {
+        self.event.maintain();
+        let bell = self.sh.bell.fd();
+        let event = self.event.fd();
+        let fds = match event {
+            Some(fd) => [bell, fd],
+            None => [bell, bell],
+        };
+        let n = if event.is_some() { 2 } else { 1 };
+        match wait_readable(&fds[..n], self.wait_time()) {
+            Ok(ready) if ready.ready[1] => {
+                self.event.drain();
+            }
+            Ok(_) => {}
+            Err(e) => {
+                if !self.logged_wait {
+                    eprintln!(
+                        "mcm-gateway: the bridge cannot wait for the state event and jobs \
+                         ({e}); it checks every {} ms instead",
+                        FALLBACK_POLL.as_millis()
+                    );
+                    self.logged_wait = true;
+                }
+                // Not a synchronisation: the pace of the fall-back when poll(2) itself fails.
+                std::thread::sleep(FALLBACK_POLL);
+                self.event.drain();
+            }
+        }
+    }
+
     /// How long to block for the next wake-up: a bounded poll while the state event cannot be
     /// used, else until the next deadline (at most [`IDLE_WAIT`]).
     fn wait_time(&self) -> Duration {
@@ -172,7 +203,7 @@ impl Worker {
             // The state is checked for a (re)started core; the event wakes the bridge sooner.
             return OPEN_RETRY;
         }
-        if !self.sh.flags.live.load(Ordering::Relaxed) {
+        if !self.event.live() {
             return FALLBACK_POLL;
         }
         let now = Instant::now();
@@ -184,7 +215,7 @@ impl Worker {
 
     /// Say once that the state event is not used, and once that it is used again.
     fn note_fallback(&mut self) {
-        let live = self.sh.flags.live.load(Ordering::Relaxed);
+        let live = self.event.live();
         if live && self.logged_fallback {
             eprintln!(
                 "mcm-gateway: the state event `{}` of mcm-rt works again; the bridge wakes on \
