@@ -21,6 +21,7 @@ pub mod framing;
 pub mod heavy;
 pub mod hmi;
 pub mod json;
+pub mod latency;
 pub mod lifecycle;
 pub mod result;
 pub mod server;

@@ -125,6 +125,7 @@ impl Worker {
     }
 
     pub(super) fn run(mut self, wake: Receiver<Wake>) {
+        crate::latency::on_thread_start();
         'run: loop {
             self.wait();
             // Cleared before the channel is drained: a job queued after the drain rings again.
