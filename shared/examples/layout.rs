@@ -54,13 +54,11 @@ fn layouts() -> Vec<Layout> {
         layout!(
             Reply,
             None,
-            [seq, client_id, request_id, cycle, kind, status, code, axis, values]
+            [
+                seq, client_id, request_id, cycle, kind, status, code, axis, values
+            ]
         ),
-        layout!(
-            ErrorRecord,
-            None,
-            [seq, cycle, unix_ns, code, axis, values]
-        ),
+        layout!(ErrorRecord, None, [seq, cycle, unix_ns, code, axis, values]),
         layout!(
             LatencyFigures,
             None,
@@ -148,8 +146,14 @@ pub fn layout_json() -> String {
         ("STATE_EVENT_ID", v::STATE_EVENT_ID as u64),
         ("COMMAND_BUFFER", v::COMMAND_BUFFER as u64),
         ("PVT_FLAG_LAST", u64::from(s::PVT_FLAG_LAST)),
-        ("TORQUE_FLAG_NO_GRAVITY", u64::from(s::TORQUE_FLAG_NO_GRAVITY)),
-        ("CALIBRATE_FLAG_FORCE_STOP", u64::from(s::CALIBRATE_FLAG_FORCE_STOP)),
+        (
+            "TORQUE_FLAG_NO_GRAVITY",
+            u64::from(s::TORQUE_FLAG_NO_GRAVITY),
+        ),
+        (
+            "CALIBRATE_FLAG_FORCE_STOP",
+            u64::from(s::CALIBRATE_FLAG_FORCE_STOP),
+        ),
         ("SIM_FLAG_POWER_CYCLE", u64::from(s::SIM_FLAG_POWER_CYCLE)),
         ("STATE_ESTOP", u64::from(s::STATE_ESTOP)),
         ("STATE_SIMULATED", u64::from(s::STATE_SIMULATED)),
@@ -175,11 +179,123 @@ pub fn layout_json() -> String {
         })
         .collect();
     format!(
-        "{{\"structs\": {{{}}}, \"constants\": {{{}}}, \"reply_locations\": [{}]}}",
+        "{{\"structs\": {{{}}}, \"constants\": {{{}}}, \"reply_locations\": [{}], \"reasons\": [{}]}}",
         structs.join(", "),
         constants.join(", "),
-        locations.join(", ")
+        locations.join(", "),
+        reasons().join(", ")
     )
+}
+
+/// Reasons as they travel (code, axis, values) and the words the core gives for them, so that
+/// a client's port of `Reason`'s `Display` can be checked: `[code, axis, [v0..v3], "text"]`.
+fn reasons() -> Vec<String> {
+    use mcm_shared::command::Axis;
+    use mcm_shared::mode::Mode;
+    use mcm_shared::reply::{CalibrationFailure, PvtQuantity, Reason};
+    let a = |n| Axis::new(n).expect("axis 1..6");
+    [
+        Reason::WrongMode { mode: Mode::Hold },
+        Reason::NotCalibrated { axis: a(3) },
+        Reason::EmergencyStop,
+        Reason::DriveDisconnected { axis: a(2) },
+        Reason::DriveFault {
+            axis: Some(a(4)),
+            code: 0x2310,
+        },
+        Reason::DriveFault {
+            axis: None,
+            code: 0x10,
+        },
+        Reason::OutOfRange {
+            axis: Some(a(1)),
+            value: 200.5,
+            min: -170.0,
+            max: 170.0,
+        },
+        Reason::OutOfRange {
+            axis: None,
+            value: 2.0,
+            min: 0.0,
+            max: 1.0,
+        },
+        Reason::NotAvailable,
+        Reason::NotSimulated,
+        Reason::QueueFull {
+            offered: 12,
+            free: 3,
+        },
+        Reason::PositionLimit {
+            axis: a(2),
+            position_deg: 120.25,
+            limit_deg: 120.0,
+        },
+        Reason::VelocityLimit {
+            axis: a(1),
+            velocity_deg_s: 99.0,
+            limit_deg_s: 90.0,
+        },
+        Reason::BrakingDistance {
+            axis: a(5),
+            stop_deg: 121.0,
+            limit_deg: 120.0,
+        },
+        Reason::FollowingError {
+            axis: a(2),
+            error_deg: 2.0561,
+            band_deg: 2.0,
+        },
+        Reason::CalibrationFailed {
+            axis: a(3),
+            cause: CalibrationFailure::NoStop {
+                searched_deg: 310.0,
+            },
+        },
+        Reason::CalibrationFailed {
+            axis: a(1),
+            cause: CalibrationFailure::NoEdge {
+                searched_deg: 350.0,
+            },
+        },
+        Reason::CalibrationFailed {
+            axis: a(6),
+            cause: CalibrationFailure::DriveLost,
+        },
+        Reason::Aborted,
+        Reason::Busy { remaining_s: 0.845 },
+        Reason::PvtPoint {
+            axis: a(1),
+            point: 2,
+            quantity: PvtQuantity::Velocity,
+            value: 96.512,
+            limit: 90.0,
+        },
+        Reason::Unreachable {
+            axis: a(4),
+            target_deg: 300.0,
+            min_deg: -269.0,
+            max_deg: 269.0,
+        },
+        Reason::NotOwner {
+            owner: 0x1a2b_0000_0003,
+        },
+        Reason::ShuttingDown,
+    ]
+    .iter()
+    .map(|r| {
+        let w = r.to_wire();
+        let text = r.to_string().replace('\\', "\\\\").replace('"', "\\\"");
+        format!(
+            "[{}, {}, [{:?}, {:?}, {:?}, {:?}], \"{text}\"]",
+            w.code.to_wire(),
+            w.axis,
+            w.values[0],
+            w.values[1],
+            w.values[2],
+            w.values[3]
+        )
+    })
+    .collect()
 }
 
 #[allow(dead_code)] // unused where `tests/python_layout.rs` includes this file as a module

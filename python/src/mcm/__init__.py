@@ -10,6 +10,7 @@
 'HOLD'
 """
 
+from . import codes, layout, wire
 from .errors import (
     CommandError,
     ConnectionLost,

@@ -1,0 +1,67 @@
+"""The shared-memory client against a running MCM (simulated), named by the environment
+variable ``MCM_INSTANCE`` (``tests/examples_python.rs`` starts one and sets it). Skipped,
+saying so, without it."""
+
+import os
+import time
+import unittest
+
+import mcm
+
+INSTANCE = os.environ.get("MCM_INSTANCE")
+
+
+@unittest.skipUnless(INSTANCE, "MCM_INSTANCE is not set: run `cargo test --test examples_python`")
+class ShmLive(unittest.TestCase):
+    def setUp(self) -> None:
+        self.a = mcm.ShmClient(str(INSTANCE))
+        self.addCleanup(self.a.close)
+
+    def test_wait_state_returns_each_new_cycle_once(self) -> None:
+        first = self.a.wait_state()
+        seqs = [self.a.wait_state().seq for _ in range(50)]
+        self.assertTrue(all(b > a for a, b in zip([first.seq] + seqs, seqs)), seqs)
+        # Blocking on the event, not spinning: 50 states take about 50 cycles (5 ms each).
+        gaps = sum(b - a - 1 for a, b in zip([first.seq] + seqs, seqs))
+        self.assertLess(gaps, 25, "states missed while nothing else ran: %s" % seqs)
+
+    def test_ids_and_replies_belong_to_each_client(self) -> None:
+        b = mcm.ShmClient(str(INSTANCE))
+        self.addCleanup(b.close)
+        self.assertEqual(self.a.client_id >> 32, os.getpid())
+        self.assertNotEqual(self.a.client_id, b.client_id)
+        ra, rb = self.a.send(mcm.wire.sample("info")), b.send(mcm.wire.sample("status"))
+        self.assertEqual(ra, rb, "both clients number their requests from 1")
+        self.assertEqual(self.a.wait_reply(ra).command, "info")
+        self.assertEqual(b.wait_reply(rb).command, "status")
+        info = self.a.info()
+        self.assertEqual((info.num_axes, info.period_s), (6, 0.005))
+
+    def test_refusals_carry_the_cores_code_and_words(self) -> None:
+        self.a.hold()
+        with self.assertRaises(mcm.CommandError) as e:
+            self.a.move_axis(1, 10.0)
+        self.assertEqual((e.exception.command, e.exception.code), ("move_axis", "wrong_mode"))
+        self.assertIn("move_axis refused: not allowed in mode HOLD", e.exception.message)
+
+    def test_control_loop_counts_cycles_and_sends_client_gone(self) -> None:
+        self.a.take_control()
+        self.assertEqual(self.a.state().owner_client_id, self.a.client_id)
+        n = [0]
+
+        def cb(s):
+            n[0] += 1
+            return None if n[0] > 20 else [0.0] * 6
+
+        # Not in TORQUE_CONTROL: each set_torques is refused, which ends the loop with the
+        # core's words; client_gone is sent all the same.
+        with self.assertRaises(mcm.CommandError) as e:
+            self.a.control(cb)
+        self.assertEqual(e.exception.code, "wrong_mode")
+        deadline = time.monotonic() + 2
+        while self.a.wait_state().owner_client_id != 0:
+            self.assertLess(time.monotonic(), deadline, "client_gone did not end the ownership")
+
+
+if __name__ == "__main__":
+    unittest.main()
