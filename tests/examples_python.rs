@@ -247,7 +247,7 @@ fn shared_memory_client_and_examples_run_at_the_cycle_rate() {
     let log = String::from_utf8_lossy(&out.stderr);
     eprintln!("{log}");
     assert!(
-        log.contains("Ran 4 tests") && !log.contains("skipped"),
+        log.contains("Ran 5 tests") && !log.contains("skipped"),
         "{log}"
     );
 

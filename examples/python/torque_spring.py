@@ -24,7 +24,7 @@ i = args.axis - 1
 with mcm.Client(args.host, args.port) as c, mcm.Client(args.host, args.port) as pusher:
     ready(c)
     info = c.info()
-    s = c.torque_control(timeout=0.1, dt_status=info.cycle_time, gravity_compensation=True)
+    s = c.torque_control(timeout=0.25, dt_status=info.cycle_time, gravity_compensation=True)
     t0, rest = s.axis_states.time[0], s.axis_states.position[i]
     pushed = {"on": False, "off": False}
     seen = {"pushed": 0.0, "end": 0.0}

@@ -28,7 +28,7 @@ with mcm.Client(args.host, args.port) as tcp:
     ready(tcp)  # calibrated, in HOLD; the TCP connection does not keep control
 
 with mcm.ShmClient(args.instance) as shm:
-    shm.torque_control(timeout=0.1, gravity_compensation=True)
+    shm.torque_control(timeout=0.25, gravity_compensation=True)
     first = shm.wait_state()
     t0, rest = first.t_ns, first.position[i]
     pushed = {"on": False, "off": False}

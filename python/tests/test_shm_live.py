@@ -62,6 +62,22 @@ class ShmLive(unittest.TestCase):
         while self.a.wait_state().owner_client_id != 0:
             self.assertLess(time.monotonic(), deadline, "client_gone did not end the ownership")
 
+    def test_safety_errors_are_reported_once(self) -> None:
+        self.a.hold()
+        self.assertEqual(self.a.events(), [])
+        self.a.sim(emergency_stop=True)
+        deadline = time.monotonic() + 2
+        events = []
+        while not events:
+            self.assertLess(time.monotonic(), deadline, "no safety error after the emergency stop")
+            self.a.wait_state()
+            events = self.a.events()
+        self.assertEqual(events[0].check, "emergency_stop", events)
+        self.assertIn("safety check tripped: the emergency stop is pressed", events[0].message)
+        self.a.sim(emergency_stop=False)
+        self.a.hold()
+        self.assertEqual([e for e in self.a.events() if e.check != "emergency_stop"], [])
+
 
 if __name__ == "__main__":
     unittest.main()

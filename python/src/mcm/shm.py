@@ -37,7 +37,7 @@ from .layout import (
     StateSample,
     reply_location,
 )
-from .types import MoveAllResult, PvtPoint
+from .types import MoveAllResult, PvtPoint, SafetyErrorEvent
 
 #: The iceoryx2 version the MCM is built with; the Python package must be the same.
 ICEORYX2_VERSION = "0.10.0"
@@ -149,10 +149,34 @@ class ShmClient:
                         "running as this user?): %r" % (instance, instance, e)
                     ) from e
                 time.sleep(0.05)
-        state = self._read_state()
-        self._last_seq = state.seq
+        self._start_from(self._read_state())
+
+    def _start_from(self, state: StateSample) -> None:
+        # Replies and errors from before this client opened the services are not its own.
         self._seen_seq = 0
         self._last_reply = state.reply_head
+        self._last_error = state.last_error.seq
+        self._events: List[SafetyErrorEvent] = []
+
+    def reconnect(self, open_timeout: float = 5.0) -> None:
+        """Open the services again, e.g. after mcm-rt restarted (a restarted core creates new
+        services; the old ones publish nothing more, so :meth:`wait_state` times out). The
+        client keeps its id; requests in flight are forgotten."""
+        iox = _require_iceoryx2()
+        self._replies.clear()
+        self._sent_at.clear()
+        deadline = time.monotonic() + open_timeout
+        while True:
+            try:
+                self._open(iox)
+                break
+            except ShmUnavailable:
+                raise
+            except Exception as e:  # noqa: BLE001 - iceoryx2 raises its own classes
+                if time.monotonic() > deadline:
+                    raise ShmUnavailable("cannot open the services of MCM instance %r again: %r" % (self.instance, e)) from e
+                time.sleep(0.05)
+        self._start_from(self._read_state())
 
     def _open(self, iox: Any) -> None:
         name = "mcm/%s/state" % self.instance
@@ -225,8 +249,27 @@ class ShmClient:
             self._reply_entries[key] = e
         return e.get().decode_as(ReplyBlock)
 
+    def events(self) -> List[SafetyErrorEvent]:
+        """The safety errors reported since the last call (the state's error record, seen as
+        new states are read), oldest first."""
+        out, self._events = self._events, []
+        return out
+
     def _route(self, s: StateSample) -> None:
-        """Take this client's replies up to the state's ``reply_head``."""
+        """Take this client's replies up to the state's ``reply_head``, and note a new error."""
+        e = s.last_error
+        if e.seq != self._last_error:
+            self._last_error = e.seq
+            if e.seq != 0:
+                check = codes.REJECT_CODES.get(e.code, str(e.code))
+                text = codes.reason_text(e.code, e.axis, list(e.values))
+                self._events.append(
+                    SafetyErrorEvent(
+                        message="safety check tripped: %s; mode is now %s" % (text, codes.MODES.get(s.mode, "?")),
+                        check=check,
+                        axis=e.axis or None,
+                    )
+                )
         head = s.reply_head
         if head < self._last_reply:  # the core restarted: its replies start again
             self._last_reply = 0

@@ -8,6 +8,12 @@ ERROR of a ``set_torques``) are kept apart and read with :meth:`Client.events` o
 :meth:`Client.wait_status`.
 
 Not thread-safe: use one client per thread.
+
+Adding a command: a method that calls :meth:`Client.command` with the protocol's name and
+arguments and wraps the result (``_status`` for a status result, ``_generic`` for OK/ERROR,
+``expect_result=False`` for a command without a result on success, like ``set_torques``); a
+command whose result is a status joins ``_STATUS_RESULT``. VELOCITY_CONTROL
+(``velocity_control``, ``set_velocities``) is added this way once the MCM has it.
 """
 
 import collections
