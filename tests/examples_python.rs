@@ -188,7 +188,9 @@ fn tcp_examples_move_the_simulated_arm() {
     );
 
     // Trip a check: block axis 2 while it moves; the flight recorder writes its file.
-    assert_eq!(c.request(r#"{"command":"hold"}"#)["operating_mode"], "HOLD");
+    // Nothing tripped before (a spontaneous error would arrive here first).
+    let held = c.request(r#"{"command":"hold"}"#);
+    assert_eq!(held["operating_mode"], "HOLD", "{held}");
     c.request(r#"{"command":"pvt"}"#);
     assert_ok(&c.request(
         r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":30,"velocity_factor":0.5}}"#,

@@ -127,6 +127,22 @@ class TcpClient(unittest.TestCase):
         self.assertEqual(n, 5)
         self.assertEqual(len([m for m in self.fake.received if m["command"] == "set_torques"]), 5)
 
+    def test_control_answers_the_newest_tick_and_skips_the_queued_ones(self) -> None:
+        def h(cmd):
+            if cmd["command"] == "torque_control":
+                # The result, then three ticks at once (a slow client).
+                return [status("TORQUE_CONTROL", 1.0)] + [status("TORQUE_CONTROL", 1.0 + k * 0.005) for k in (1, 2, 3)]
+            return []
+
+        c = self.connect(h)
+        c.torque_control(dt_status=0.005)
+        while len(c._buf.split(b"\n")) < 4:  # all three ticks received
+            c._buf += c._sock.recv(65536)
+        seen = []
+        c.control(lambda s: seen.append(s.axis_states.time[0]))
+        self.assertEqual(seen, [1.015])
+        self.assertEqual(c.skipped_ticks, 2)
+
     def test_a_timeout_closes_the_connection_and_the_next_command_reconnects(self) -> None:
         c = self.connect(lambda cmd: [] if cmd["command"] == "info" else [status()], timeout=0.2)
         with self.assertRaises(mcm.McmTimeout):

@@ -38,7 +38,7 @@ from .types import (
 __version__ = "0.1.0"
 
 
-def __getattr__(name: str):  # noqa: ANN202 - module attribute hook
+def __getattr__(name: str) -> object:
     # The shared-memory client imports iceoryx2 only when asked for, so the TCP client works
     # without it.
     if name in ("ShmClient", "ControlStats"):

@@ -205,5 +205,5 @@ def layout_of(cls: Type[ctypes.Structure]) -> Dict[str, object]:
     return {
         "size": ctypes.sizeof(cls),
         "align": ctypes.alignment(cls),
-        "fields": {name: getattr(cls, name).offset for name, _ in cls._fields_},
+        "fields": {f[0]: getattr(cls, f[0]).offset for f in cls._fields_},
     }

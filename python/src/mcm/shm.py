@@ -216,7 +216,8 @@ class ShmClient:
     # -- state ------------------------------------------------------------------------------
 
     def _read_state(self) -> StateSample:
-        return self._state_entry.get().decode_as(StateSample)
+        state: StateSample = self._state_entry.get().decode_as(StateSample)
+        return state
 
     def state(self) -> StateSample:
         """The newest state (a copy), without waiting."""
@@ -247,7 +248,8 @@ class ShmClient:
         if e is None:
             e = self._reader.entry(ctypes.c_uint32(key), ReplyBlock)
             self._reply_entries[key] = e
-        return e.get().decode_as(ReplyBlock)
+        block: ReplyBlock = e.get().decode_as(ReplyBlock)
+        return block
 
     def events(self) -> List[SafetyErrorEvent]:
         """The safety errors reported since the last call (the state's error record, seen as
@@ -274,7 +276,7 @@ class ShmClient:
         if head < self._last_reply:  # the core restarted: its replies start again
             self._last_reply = 0
         oldest = max(1, head - (REPLY_BLOCKS * REPLY_BLOCK - 1))
-        block_key, block = -1, None
+        block_key, block = -1, ReplyBlock()
         for n in range(max(self._last_reply + 1, oldest), head + 1):
             key, slot = reply_location(n)
             if key != block_key:
@@ -296,7 +298,7 @@ class ShmClient:
             self._sent_control = True
         self._publisher.send_copy(s)
         self._sent_at[s.request_id] = self._seen_seq
-        return s.request_id
+        return int(s.request_id)
 
     def wait_reply(self, request_id: int, timeout: Optional[float] = None) -> wire.Answer:
         """The answer to a request this client sent; raises :class:`CommandError` for a

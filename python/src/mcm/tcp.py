@@ -99,6 +99,8 @@ class Client:
         self._torque_session = False
         #: How many times this client connected.
         self.connections = 0
+        #: Status ticks :meth:`control` skipped because a newer one had arrived.
+        self.skipped_ticks = 0
         if connect:
             self.connect()
 
@@ -193,6 +195,13 @@ class Client:
         if not isinstance(v, dict):
             raise ProtocolError("the MCM sent a JSON value that is not an object: %r" % v)
         return v
+
+    def _parse_buffered(self) -> None:
+        """File the complete lines already received (no waiting) as events."""
+        while b"\n" in self._buf:
+            v = self._read_line(None)
+            if v is not None and not self._spontaneous(v, None):
+                raise ProtocolError("a result came without a command: %r" % v)
 
     def _spontaneous(self, v: Dict[str, Any], expecting: Optional[str]) -> bool:
         """File `v` as an event when it is not the result of the command `expecting`."""
@@ -453,10 +462,20 @@ class Client:
     ) -> int:
         """Run a torque loop on the status ticks: ``callback(status)`` returns six torques to
         send, or None to end. Enter TORQUE_CONTROL with ``dt_status`` first. Returns the number
-        of ticks answered. A safety error ends the loop with :class:`CommandError`."""
+        of ticks answered; ticks that queued up while the callback ran are skipped (counted
+        in ``skipped_ticks``). A safety error ends the loop with :class:`CommandError`."""
         n = 0
         while True:
             s = self.wait_status(timeout)
+            # Answer the newest state: ticks that queued up meanwhile are skipped, not answered.
+            self._parse_buffered()
+            for i in reversed(range(len(self._events))):
+                e = self._events[i]
+                if isinstance(e, StatusEvent):
+                    s = e.status
+                    self.skipped_ticks += sum(isinstance(x, StatusEvent) for x in self._events)
+                    self._events = collections.deque(x for x in self._events if not isinstance(x, StatusEvent))
+                    break
             for e in self._events:
                 if isinstance(e, SafetyErrorEvent) and e.check:
                     raise CommandError("set_torques", e.message, e.check, "failed")
