@@ -2,6 +2,7 @@
 variable ``MCM_INSTANCE`` (``tests/examples_python.rs`` starts one and sets it). Skipped,
 saying so, without it."""
 
+import math
 import os
 import time
 import unittest
@@ -61,6 +62,34 @@ class ShmLive(unittest.TestCase):
         deadline = time.monotonic() + 2
         while self.a.wait_state().owner_client_id != 0:
             self.assertLess(time.monotonic(), deadline, "client_gone did not end the ownership")
+
+    def test_pvt_points_stream_through_the_control_loop(self) -> None:
+        self.a.hold()
+        if not self.a.state().flags & mcm.layout.STATE_ALL_CALIBRATED:
+            self.a.calibrate()
+        self.a.pvt(0.005)  # one point per cycle
+        start = list(self.a.state().commanded_position)
+        k = [0]
+
+        def ramp(s):
+            # Axis 6 to +1 deg in 0.3 s (half a cosine, at rest at both ends), a point per state.
+            k[0] += 1
+            if k[0] > 60:
+                return None
+            w = math.pi / 0.3
+            t = 0.005 * k[0]
+            pos, vel = list(start), [0.0] * 6
+            pos[5] += 0.5 * (1 - math.cos(w * t))
+            vel[5] = 0.5 * w * math.sin(w * t)
+            return mcm.PvtPoint(pos, vel)
+
+        stats = self.a.control(ramp)
+        self.assertEqual(stats.cycles, 60)
+        # The first three points went out as one batch: 58 answers, all applied.
+        self.assertEqual(stats.next_cycle + stats.late, 58, stats)
+        deadline = time.monotonic() + 2
+        while abs(self.a.wait_state().commanded_position[5] - (start[5] + 1.0)) > 1e-6:
+            self.assertLess(time.monotonic(), deadline, "axis 6 did not reach +1 deg")
 
     def test_safety_errors_are_reported_once(self) -> None:
         self.a.hold()

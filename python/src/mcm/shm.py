@@ -404,7 +404,8 @@ class ShmClient:
         """Run a control loop at the cycle rate: ``callback(state)`` gets each new state and
         returns six torques [Nm] (sent as ``set_torques``: enter TORQUE_CONTROL first), a
         :class:`~mcm.types.PvtPoint` (queued as a one-point ``pvt_points``: enter PVT first),
-        or None to finish. Missed states are counted, not replayed.
+        or None to finish (the PVT points already sent are run to their end first). Missed
+        states are counted, not replayed.
 
         PVT points stream best with ``pvt(dt)`` equal to the cycle period: the first
         ``pvt_lookahead`` points go out together as one batch, then one point per cycle, so
@@ -422,6 +423,7 @@ class ShmClient:
         if not 1 <= pvt_lookahead <= PVT_POINTS_PER_COMMAND:
             raise ValueError("pvt_lookahead = %r is not allowed; expected 1 to 4" % pvt_lookahead)
         lookahead = pvt_lookahead
+        streamed = False
         try:
             while max_cycles is None or stats.cycles < max_cycles:
                 s = self.wait_state(state_timeout)
@@ -440,6 +442,7 @@ class ShmClient:
                         continue
                     lookahead = 1
                     rid = self.send(wire.pvt_chunks(held)[0])
+                    streamed = True
                     held = []
                     expected[rid] = s.seq
                     continue
@@ -447,6 +450,9 @@ class ShmClient:
                     rid = self.send(wire.set_torques(out))
                 expected[rid] = s.seq
                 stats.cycles += 1
+            if held:  # the loop ended before the lookahead batch was full
+                expected[self.send(wire.pvt_chunks(held)[0])] = last_seq or 0
+                streamed = True
             # The answers to the last states: their replies come within a cycle or two.
             deadline = time.monotonic() + 0.5
             while expected and time.monotonic() < deadline:
@@ -456,6 +462,8 @@ class ShmClient:
                     pass
                 self._collect(expected, stats)
             stats.unanswered += len(expected)
+            if streamed:
+                self._drain_pvt_queue()
         finally:
             try:
                 self.client_gone()
@@ -463,6 +471,14 @@ class ShmClient:
             except Exception:  # noqa: BLE001 - the loop's own error matters more
                 pass
         return stats
+
+    def _drain_pvt_queue(self, timeout: float = 10.0) -> None:
+        """Wait until the core's PVT queue is empty (the streamed points have run)."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            s = self.wait_state(1.0)
+            if s.pvt_queued == 0 or codes.MODES.get(s.mode) != "PVT":
+                return
 
     def _collect(self, expected: Dict[int, int], stats: ControlStats) -> None:
         for rid in [r for r in expected if r in self._replies]:
