@@ -1,0 +1,75 @@
+"""Python client of the MCM, the motion controller of the P-Rob2 arm.
+
+- :class:`Client`: the JSON/TCP protocol (port 18010), standard library only.
+- :class:`ShmClient` (``pip install mcm[shm]``): shared memory through iceoryx2 0.10.0, for
+  controllers on the robot computer that run at the cycle rate.
+
+>>> import mcm
+>>> c = mcm.Client("localhost")            # doctest: +SKIP
+>>> c.hold().operating_mode                # doctest: +SKIP
+'HOLD'
+"""
+
+from . import codes, layout, wire
+from .errors import (
+    CommandError,
+    ConnectionLost,
+    McmError,
+    McmTimeout,
+    OutcomeUnknown,
+    ProtocolError,
+    ShmUnavailable,
+)
+from .tcp import DEFAULT_HOST, DEFAULT_PORT, Client
+from .types import (
+    AxisInfo,
+    AxisStates,
+    CommandErrorEvent,
+    Info,
+    MoveAllResult,
+    PvtPoint,
+    SafetyErrorEvent,
+    SimResult,
+    Status,
+    StatusDetail,
+    StatusEvent,
+)
+
+__version__ = "0.1.0"
+
+
+def __getattr__(name: str) -> object:
+    # The shared-memory client imports iceoryx2 only when asked for, so the TCP client works
+    # without it.
+    if name in ("ShmClient", "ControlStats"):
+        from . import shm
+
+        return getattr(shm, name)
+    raise AttributeError("module 'mcm' has no attribute %r" % name)
+
+
+__all__ = [
+    "Client",
+    "ShmClient",
+    "ControlStats",
+    "DEFAULT_HOST",
+    "DEFAULT_PORT",
+    "AxisInfo",
+    "AxisStates",
+    "CommandErrorEvent",
+    "Info",
+    "MoveAllResult",
+    "PvtPoint",
+    "SafetyErrorEvent",
+    "SimResult",
+    "Status",
+    "StatusDetail",
+    "StatusEvent",
+    "CommandError",
+    "ConnectionLost",
+    "McmError",
+    "McmTimeout",
+    "OutcomeUnknown",
+    "ProtocolError",
+    "ShmUnavailable",
+]

@@ -1,0 +1,217 @@
+"""Wire codes shared with the Rust core (``shared/src/mode.rs``): operating modes, command
+kinds, reply statuses and reject codes, and the words the core's refusals use
+(``shared/src/reply.rs``, ``Reason``'s ``Display``)."""
+
+from typing import Dict, Optional, Sequence, Tuple
+
+#: Operating modes by wire value.
+MODES: Dict[int, str] = {
+    0: "OFF",
+    1: "ERROR",
+    2: "HOLD",
+    3: "RELEASE",
+    4: "TORQUE_CONTROL",
+    5: "PVT",
+    6: "CALIBRATION",
+}
+
+#: Command kinds by protocol name (``CommandSample.kind``).
+KINDS: Dict[str, int] = {
+    "status": 1,
+    "hold": 2,
+    "info": 3,
+    "calibrate": 4,
+    "release": 5,
+    "torque_control": 6,
+    "pvt": 7,
+    "move_axis": 8,
+    "move_all": 9,
+    "pvt_points": 10,
+    "set_torques": 11,
+    "sim": 12,
+    "take_control": 13,
+    "release_control": 14,
+    "client_gone": 15,
+}
+KIND_NAMES: Dict[int, str] = {v: k for k, v in KINDS.items()}
+
+#: Commands only the client that controls the arm may send (``CommandKind::needs_control``).
+NEEDS_CONTROL = frozenset(
+    [
+        "calibrate",
+        "release",
+        "torque_control",
+        "pvt",
+        "move_axis",
+        "move_all",
+        "pvt_points",
+        "set_torques",
+    ]
+)
+
+#: ``Reply.status`` values.
+REPLY_OK = 0
+REPLY_REJECTED = 1
+REPLY_FAILED = 2
+
+#: Reject codes by wire value (``RejectCode``); also the ``check`` of a safety error.
+REJECT_CODES: Dict[int, str] = {
+    0: "none",
+    1: "wrong_mode",
+    2: "not_calibrated",
+    3: "emergency_stop",
+    4: "drive_disconnected",
+    5: "drive_fault",
+    6: "out_of_range",
+    7: "not_available",
+    8: "not_simulated",
+    9: "queue_full",
+    10: "position_limit",
+    11: "velocity_limit",
+    12: "braking_distance",
+    13: "following_error",
+    14: "calibration_failed",
+    15: "aborted",
+    16: "busy",
+    17: "pvt_point",
+    18: "unreachable",
+    19: "not_owner",
+    20: "shutting_down",
+}
+
+_PVT_QUANTITY = {1: ("position", "deg"), 2: ("velocity", "deg/s"), 3: ("acceleration", "deg/s^2")}
+
+
+def _g(x: float) -> str:
+    """A number as Rust's ``{}`` prints an f64 (``1`` for 1.0, ``0.5``)."""
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e16 else repr(float(x))
+
+
+def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
+    """The words for a refusal, failure or safety trip, as the core's ``Reason`` gives them."""
+    name = REJECT_CODES.get(code)
+    if name == "wrong_mode":
+        return "not allowed in mode %s" % MODES.get(int(v[0]), "?")
+    if name == "not_calibrated":
+        return "axis %d is not calibrated; run `calibrate` first" % axis
+    if name == "emergency_stop":
+        return "the emergency stop is pressed; release it, then send `hold`"
+    if name == "drive_disconnected":
+        return "the drive of axis %d does not answer on the bus" % axis
+    if name == "drive_fault":
+        if axis:
+            return "the drive of axis %d is in fault (error code 0x%04X)" % (axis, int(v[0]))
+        return "a drive is in fault (error code 0x%04X)" % int(v[0])
+    if name == "out_of_range":
+        prefix = "axis %d: " % axis if axis else ""
+        return "%svalue %s is outside the allowed range [%s, %s]" % (
+            prefix,
+            _g(v[0]),
+            _g(v[1]),
+            _g(v[2]),
+        )
+    if name == "not_available":
+        return "not available yet in this MCM version"
+    if name == "not_simulated":
+        return "only available when the simulated robot is running"
+    if name == "queue_full":
+        return "queue full: %d points offered, %d places free; nothing was queued" % (
+            int(v[0]),
+            int(v[1]),
+        )
+    if name == "position_limit":
+        return "position limit: axis %d at %.3f deg, limit %.3f deg" % (axis, v[0], v[1])
+    if name == "velocity_limit":
+        return "velocity limit: axis %d at %.3f deg/s, limit %.3f deg/s" % (axis, v[0], v[1])
+    if name == "braking_distance":
+        return "braking distance: axis %d would stop at %.3f deg, beyond the limit %.3f deg" % (
+            axis,
+            v[0],
+            v[1],
+        )
+    if name == "following_error":
+        return (
+            "following error: axis %d is %.3f deg away from its commanded position, "
+            "band %.3f deg" % (axis, v[0], v[1])
+        )
+    if name == "calibration_failed":
+        cause = int(v[0])
+        if cause == 1:
+            what = "no mechanical stop found within %.1f deg; the arm holds where it is" % v[1]
+        elif cause == 2:
+            what = "no light-barrier edge found within %.1f deg; the arm holds where it is" % v[1]
+        else:
+            what = "its drive stopped answering"
+        return "calibration of axis %d failed: %s" % (axis, what)
+    if name == "aborted":
+        return "aborted (superseded by another command or a mode change)"
+    if name == "busy":
+        return (
+            "a motion is in progress (%.3f s left); wait until it ends, or send `hold` to stop it"
+            % v[0]
+        )
+    if name == "pvt_point":
+        what, unit = _PVT_QUANTITY.get(int(v[1]), ("value", ""))
+        return "point %d: axis %d %s %.3f %s exceeds the limit %.3f %s; nothing was queued" % (
+            int(v[0]),
+            axis,
+            what,
+            v[2],
+            unit,
+            v[3],
+            unit,
+        )
+    if name == "unreachable":
+        return (
+            "axis %d: target %.3f deg is outside the reachable range [%.3f, %.3f] deg "
+            "(the limits less the safety margin)" % (axis, v[0], v[1], v[2])
+        )
+    if name == "not_owner":
+        owner = (int(v[0]) << 32) | int(v[1])
+        return (
+            "another client (id %#x) controls the arm; only `hold` and state reads are open to "
+            "others until it releases control or disconnects" % owner
+        )
+    if name == "shutting_down":
+        return "the MCM is shutting down: the arm is being stopped and its drives disabled"
+    return "reason code %d is not known to this client version" % code
+
+
+# Fragments of the gateway's refusal words, in the order they are tried, and the reject code
+# each stands for. The JSON protocol's ERROR results carry words only (and `check` for safety
+# errors); the TCP client gives the code it recognises here, or None.
+_CODE_FRAGMENTS: Tuple[Tuple[str, str], ...] = (
+    ("no reply from the real-time core", "outcome_unknown"),
+    ("safety check tripped", "safety"),
+    ("is controlled by", "not_owner"),
+    ("another client (id", "not_owner"),
+    ("not allowed in mode", "wrong_mode"),
+    ("is not calibrated", "not_calibrated"),
+    ("emergency stop is pressed", "emergency_stop"),
+    ("does not answer on the bus", "drive_disconnected"),
+    ("is in fault", "drive_fault"),
+    ("queue full", "queue_full"),
+    ("exceeds the limit", "pvt_point"),
+    ("outside the reachable range", "unreachable"),
+    ("a motion is in progress", "busy"),
+    ("calibration of axis", "calibration_failed"),
+    ("aborted", "aborted"),
+    ("only available when the simulated robot", "not_simulated"),
+    ("not available yet", "not_available"),
+    ("shutting down", "shutting_down"),
+    ("outside the allowed range", "out_of_range"),
+    ("is not allowed", "invalid_argument"),
+    ("unknown command", "invalid_argument"),
+    ("invalid JSON", "invalid_argument"),
+    ("requires the shared secret", "not_authenticated"),
+    ("the secret is wrong", "wrong_secret"),
+    ("are not accepted from", "network"),
+)
+
+
+def code_from_message(message: str) -> Optional[str]:
+    """The reject code an ERROR result's words stand for, or None when not recognised."""
+    for fragment, code in _CODE_FRAGMENTS:
+        if fragment in message:
+            return code
+    return None

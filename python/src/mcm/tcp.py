@@ -1,0 +1,486 @@
+"""The JSON/TCP client (port 18010), standard library only.
+
+One :class:`Client` is one connection; its methods are the protocol's commands under their
+own names (``client.move_axis(1, 30)``) and return typed results (:mod:`mcm.types`). A
+refusal raises :class:`~mcm.errors.CommandError` carrying the MCM's words. Results that come
+without a command (safety errors, shutdown notices, the status ticks of a torque session, the
+ERROR of a ``set_torques``) are kept apart and read with :meth:`Client.events` or
+:meth:`Client.wait_status`.
+
+Not thread-safe: use one client per thread.
+
+Adding a command: a method that calls :meth:`Client.command` with the protocol's name and
+arguments and wraps the result (``_status`` for a status result, ``_generic`` for OK/ERROR,
+``expect_result=False`` for a command without a result on success, like ``set_torques``); a
+command whose result is a status joins ``_STATUS_RESULT``. VELOCITY_CONTROL
+(``velocity_control``, ``set_velocities``) is added this way once the MCM has it.
+"""
+
+import collections
+import json
+import socket
+import time
+from typing import Any, Callable, Deque, Dict, List, Optional, Sequence, Union
+
+from . import codes
+from .errors import CommandError, ConnectionLost, McmTimeout, OutcomeUnknown, ProtocolError
+from .types import (
+    CommandErrorEvent,
+    Info,
+    MoveAllResult,
+    PvtPoint,
+    SafetyErrorEvent,
+    SimResult,
+    Status,
+    StatusEvent,
+)
+
+#: The real robot's address (manual, "Getting started") and port.
+DEFAULT_HOST = "192.168.80.203"
+DEFAULT_PORT = 18010
+
+Event = Union[SafetyErrorEvent, StatusEvent, CommandErrorEvent]
+
+# Spontaneous ERROR results without a `check` field: the MCM stopping, or the gateway
+# closing this connection.
+_NOTICE_PREFIXES = (
+    "mcm-rt is shutting down",
+    "mcm-rt stopped",
+    "the MCM is shutting down",
+    "idle timeout",
+    "line timeout",
+    "connection closed to make room",
+)
+
+# Commands whose result is a status result.
+_STATUS_RESULT = frozenset(["status", "hold", "release", "pvt", "torque_control"])
+
+# The longest a command may take on top of the client's timeout (`calibrate` takes about 12 s
+# on the simulated arm; the gateway itself waits up to 600 s for it).
+_EXTRA_TIME = {"calibrate": 600.0}
+
+
+def _is_error(v: Dict[str, Any]) -> bool:
+    return v.get("result_type") == "generic" and v.get("error_status") == "ERROR"
+
+
+class Client:
+    """A connection to the MCM's JSON protocol.
+
+    Args:
+        host, port: where the MCM listens (the real robot's defaults).
+        timeout: longest wait for a command's result [s] (``calibrate`` and ``sleep`` get
+            their own duration on top).
+        reconnect: when the connection is lost, connect again at the next command (the
+            command whose result was lost raises; control of the arm and a torque session
+            end with the old connection, see ``docs/protocol.md``).
+        secret: sent with ``authenticate`` after every (re)connect, for an MCM configured
+            with a shared secret.
+        connect: connect now (else at the first command).
+    """
+
+    def __init__(
+        self,
+        host: str = DEFAULT_HOST,
+        port: int = DEFAULT_PORT,
+        timeout: float = 10.0,
+        reconnect: bool = True,
+        secret: Optional[str] = None,
+        connect: bool = True,
+    ) -> None:
+        self.host = host
+        self.port = port
+        self.timeout = timeout
+        self.auto_reconnect = reconnect
+        self.secret = secret
+        self._sock: Optional[socket.socket] = None
+        self._buf = b""
+        self._events: Deque[Event] = collections.deque()
+        self._torque_session = False
+        #: How many times this client connected.
+        self.connections = 0
+        #: Status ticks :meth:`control` skipped because a newer one had arrived.
+        self.skipped_ticks = 0
+        if connect:
+            self.connect()
+
+    # -- connection -------------------------------------------------------------------------
+
+    def connect(self) -> None:
+        """Open the connection (closing an open one first)."""
+        self.close()
+        try:
+            sock = socket.create_connection((self.host, self.port), timeout=self.timeout)
+        except OSError as e:
+            raise ConnectionLost(
+                "cannot connect to the MCM at %s:%d: %s" % (self.host, self.port, e)
+            ) from e
+        sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self._sock = sock
+        self._buf = b""
+        self._torque_session = False
+        self.connections += 1
+        if self.secret is not None:
+            self.authenticate(self.secret)
+
+    def reconnect(self) -> None:
+        """Close the connection and open a new one."""
+        self.connect()
+
+    def close(self) -> None:
+        """Close the connection (the MCM then ends this connection's control of the arm)."""
+        if self._sock is not None:
+            try:
+                self._sock.close()
+            finally:
+                self._sock = None
+
+    @property
+    def connected(self) -> bool:
+        """Whether the connection is open (as far as this client knows)."""
+        return self._sock is not None
+
+    def __enter__(self) -> "Client":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+    def _ensure(self) -> socket.socket:
+        if self._sock is None:
+            if not self.auto_reconnect and self.connections > 0:
+                raise ConnectionLost("the connection to the MCM is closed (reconnect=False)")
+            self.connect()
+        assert self._sock is not None
+        return self._sock
+
+    def _lost(self, why: str) -> ConnectionLost:
+        self.close()
+        return ConnectionLost(
+            "connection to the MCM at %s:%d lost: %s" % (self.host, self.port, why)
+        )
+
+    # -- lines ------------------------------------------------------------------------------
+
+    def send_raw(self, data: bytes) -> None:
+        """Send bytes as they are (one command is one JSON object and a newline)."""
+        sock = self._ensure()
+        try:
+            sock.sendall(data)
+        except OSError as e:
+            raise self._lost(str(e)) from e
+
+    def _read_line(self, deadline: Optional[float]) -> Optional[Dict[str, Any]]:
+        """The next result line, or None when the deadline passed (None: wait forever)."""
+        sock = self._ensure()
+        while b"\n" not in self._buf:
+            left = None if deadline is None else deadline - time.monotonic()
+            if left is not None and left <= 0:
+                return None
+            sock.settimeout(left)
+            try:
+                chunk = sock.recv(65536)
+            except socket.timeout:
+                return None
+            except OSError as e:
+                raise self._lost(str(e)) from e
+            if not chunk:
+                raise self._lost("closed by the MCM")
+            self._buf += chunk
+        line, self._buf = self._buf.split(b"\n", 1)
+        try:
+            v = json.loads(line.decode("ascii"))
+        except (UnicodeDecodeError, ValueError) as e:
+            raise ProtocolError("the MCM sent a line that is not JSON: %r" % line[:200]) from e
+        if not isinstance(v, dict):
+            raise ProtocolError("the MCM sent a JSON value that is not an object: %r" % v)
+        return v
+
+    def _parse_buffered(self) -> None:
+        """File the complete lines already received (no waiting) as events."""
+        while b"\n" in self._buf:
+            v = self._read_line(None)
+            if v is not None and not self._spontaneous(v, None):
+                raise ProtocolError("a result came without a command: %r" % v)
+
+    def _spontaneous(self, v: Dict[str, Any], expecting: Optional[str]) -> bool:
+        """File `v` as an event when it is not the result of the command `expecting`."""
+        if _is_error(v):
+            msg = str(v.get("error_message", ""))
+            if "check" in v or msg.startswith(_NOTICE_PREFIXES):
+                self._events.append(SafetyErrorEvent.from_json(v))
+                if "check" in v:
+                    self._torque_session = False
+                return True
+            if msg.startswith("set_torques") and expecting != "set_torques":
+                self._events.append(CommandErrorEvent("set_torques", msg))
+                return True
+            return False
+        if v.get("result_type") == "status" and self._torque_session:
+            mode = v.get("operating_mode")
+            if mode != "TORQUE_CONTROL":
+                self._torque_session = False
+            if expecting == "status":
+                return False
+            if expecting in _STATUS_RESULT and mode != "TORQUE_CONTROL":
+                # `hold`/`release`/`pvt` end the session: their result is not in the mode.
+                return False
+            self._events.append(StatusEvent(Status.from_json(v)))
+            return True
+        return False
+
+    # -- commands ---------------------------------------------------------------------------
+
+    def command(
+        self,
+        command: str,
+        arguments: Optional[Dict[str, Any]] = None,
+        timeout: Optional[float] = None,
+        expect_result: bool = True,
+    ) -> Dict[str, Any]:
+        """Send one command and return its result object; raise :class:`CommandError` for an
+        ERROR result. Use this for commands this client has no method for yet.
+
+        ``expect_result=False`` sends without waiting (a command that has no result on
+        success, like ``set_torques``) and returns ``{}``.
+        """
+        msg: Dict[str, Any] = {"command": command}
+        if arguments:
+            msg["arguments"] = arguments
+        self.send_raw((json.dumps(msg, separators=(",", ":")) + "\n").encode("ascii"))
+        if not expect_result:
+            return {}
+        wait = self.timeout if timeout is None else timeout
+        deadline = time.monotonic() + wait + _EXTRA_TIME.get(command, 0.0)
+        while True:
+            v = self._read_line(deadline)
+            if v is None:
+                self.close()
+                raise McmTimeout(
+                    "no result for `%s` within %.1f s; the connection was closed (the result "
+                    "would arrive out of order); the next command connects again" % (command, wait)
+                )
+            if self._spontaneous(v, command):
+                continue
+            if _is_error(v):
+                message = str(v.get("error_message", ""))
+                code = codes.code_from_message(message)
+                if code == "outcome_unknown":
+                    raise OutcomeUnknown(command, message, code, "unknown")
+                if " failed: " in message and message.startswith(command):
+                    outcome = "failed"
+                elif code == "invalid_argument":
+                    outcome = "invalid"
+                else:
+                    outcome = "refused"
+                raise CommandError(command, message, code, outcome)
+            if command == "torque_control" and v.get("operating_mode") == "TORQUE_CONTROL":
+                self._torque_session = True
+            return v
+
+    def _generic(self, command: str, arguments: Optional[Dict[str, Any]] = None, **kw: Any) -> None:
+        v = self.command(command, arguments, **kw)
+        if v.get("result_type") != "generic":
+            raise ProtocolError("`%s` answered %r, expected a generic result" % (command, v))
+
+    def _status(self, command: str, arguments: Optional[Dict[str, Any]] = None) -> Status:
+        v = self.command(command, arguments)
+        if v.get("result_type") != "status":
+            raise ProtocolError("`%s` answered %r, expected a status result" % (command, v))
+        return Status.from_json(v)
+
+    def status(self, detail: bool = False) -> Status:
+        """The mode and the axis states (with ``detail``: hardware, calibration, timing...)."""
+        return self._status("status", {"detail": True} if detail else None)
+
+    def info(self) -> Info:
+        """The robot, version, cycle time and each axis's limits."""
+        v = self.command("info")
+        return Info.from_json(v)
+
+    def hold(self) -> Status:
+        """Enter HOLD (clears errors, powers the drives; stops any motion)."""
+        return self._status("hold")
+
+    def calibrate(
+        self,
+        which: Union[str, int] = "ALL",
+        elbow_direction: int = 1,
+        wrist_direction: int = 1,
+        force_mechanical_stop: bool = False,
+    ) -> None:
+        """Home the axes; returns when the calibration has finished (about 12 s simulated)."""
+        self._generic(
+            "calibrate",
+            {
+                "which": which,
+                "elbow_direction": elbow_direction,
+                "wrist_direction": wrist_direction,
+                "force_mechanical_stop": force_mechanical_stop,
+            },
+        )
+
+    def release(self) -> Status:
+        """Enter RELEASE: the arm can be moved by hand."""
+        return self._status("release")
+
+    def torque_control(
+        self,
+        timeout: Optional[float] = None,
+        dt_status: Optional[float] = None,
+        gravity_compensation: Optional[bool] = None,
+    ) -> Status:
+        """Enter TORQUE_CONTROL. ``timeout``: longest interval between ``set_torques`` [s]
+        (negative: none); ``dt_status``: interval of the status ticks [s], read them with
+        :meth:`wait_status`; ``gravity_compensation``: add the model's compensation."""
+        args = {
+            k: v
+            for k, v in (
+                ("timeout", timeout),
+                ("dt_status", dt_status),
+                ("gravity_compensation", gravity_compensation),
+            )
+            if v is not None
+        }
+        return self._status("torque_control", args or None)
+
+    def set_torques(self, torques: Sequence[float]) -> None:
+        """Send six joint torques [Nm]. There is no result on success, so this does not wait;
+        a refusal arrives later as a :class:`CommandErrorEvent`, and is raised by the next
+        ``set_torques`` (or read with :meth:`events`)."""
+        for i, e in enumerate(self._events):
+            if isinstance(e, CommandErrorEvent) and e.command == "set_torques":
+                del self._events[i]
+                raise CommandError("set_torques", e.message, codes.code_from_message(e.message))
+        self.command("set_torques", {"torques": [float(t) for t in torques]}, expect_result=False)
+
+    def pvt(self, dt: Optional[float] = None) -> Status:
+        """Enter PVT mode; ``dt`` is the spacing of the ``pvt_points`` points [s]."""
+        return self._status("pvt", {"dt": dt} if dt is not None else None)
+
+    def move_axis(
+        self, axis_index: int, target_position: float, velocity_factor: Optional[float] = None
+    ) -> None:
+        """Move one axis (1..6) to a target [deg]; returns as the motion starts."""
+        args: Dict[str, Any] = {"axis_index": axis_index, "target_position": target_position}
+        if velocity_factor is not None:
+            args["velocity_factor"] = velocity_factor
+        self._generic("move_axis", args)
+
+    def move_all(
+        self, target_positions: Sequence[float], velocity_factor: Optional[float] = None
+    ) -> MoveAllResult:
+        """Move all axes to their targets [deg], starting and arriving together."""
+        args: Dict[str, Any] = {"target_positions": [float(x) for x in target_positions]}
+        if velocity_factor is not None:
+            args["velocity_factor"] = velocity_factor
+        return MoveAllResult.from_json(self.command("move_all", args))
+
+    def pvt_points(self, points: Sequence[Union[PvtPoint, Dict[str, Any]]]) -> None:
+        """Queue 1 to 1000 points (all or none)."""
+        pts = [p.to_json() if isinstance(p, PvtPoint) else p for p in points]
+        self._generic("pvt_points", {"points": pts})
+
+    def sleep(self, duration: float) -> None:
+        """Delay this connection's next command by ``duration`` seconds (on the MCM)."""
+        self._generic("sleep", {"duration": duration}, timeout=self.timeout + duration)
+
+    def sim(
+        self,
+        emergency_stop: Optional[bool] = None,
+        disconnect_axis: Optional[int] = None,
+        reconnect_axis: Optional[int] = None,
+        block_axis: Optional[int] = None,
+        unblock_axis: Optional[int] = None,
+        external_torques: Optional[Sequence[float]] = None,
+        power_cycle: Optional[bool] = None,
+    ) -> SimResult:
+        """Fault injection into the simulated robot; returns the ground truth."""
+        args = {
+            k: v
+            for k, v in (
+                ("emergency_stop", emergency_stop),
+                ("disconnect_axis", disconnect_axis),
+                ("reconnect_axis", reconnect_axis),
+                ("block_axis", block_axis),
+                ("unblock_axis", unblock_axis),
+                ("external_torques", list(external_torques) if external_torques else None),
+                ("power_cycle", power_cycle),
+            )
+            if v is not None
+        }
+        return SimResult.from_json(self.command("sim", args or None))
+
+    def take_control(self) -> None:
+        """Become the client that controls the arm's motion."""
+        self._generic("take_control")
+
+    def release_control(self) -> None:
+        """Give up control of the arm (its motion ends in HOLD)."""
+        self._generic("release_control")
+
+    def authenticate(self, secret: str) -> None:
+        """Present the shared secret of an MCM that requires one."""
+        self._generic("authenticate", {"secret": secret})
+
+    # -- spontaneous results ----------------------------------------------------------------
+
+    def events(self, timeout: float = 0.0) -> List[Event]:
+        """The spontaneous results received so far, oldest first; waits up to ``timeout``
+        seconds for the first one when there is none yet."""
+        if not self._events and self._sock is not None:
+            deadline = time.monotonic() + timeout
+            while not self._events:
+                v = self._read_line(deadline)
+                if v is None:
+                    break
+                if not self._spontaneous(v, None):
+                    raise ProtocolError("a result came without a command: %r" % v)
+        out = list(self._events)
+        self._events.clear()
+        return out
+
+    def wait_status(self, timeout: Optional[float] = None) -> Status:
+        """The next status tick of the torque session this connection started (other events
+        stay queued for :meth:`events`)."""
+        deadline = time.monotonic() + (self.timeout if timeout is None else timeout)
+        while True:
+            for i, e in enumerate(self._events):
+                if isinstance(e, StatusEvent):
+                    del self._events[i]
+                    return e.status
+            v = self._read_line(deadline)
+            if v is None:
+                raise McmTimeout("no status tick within the timeout")
+            if not self._spontaneous(v, None):
+                raise ProtocolError("a result came without a command: %r" % v)
+
+    def control(
+        self,
+        callback: Callable[[Status], Optional[Sequence[float]]],
+        timeout: Optional[float] = None,
+    ) -> int:
+        """Run a torque loop on the status ticks: ``callback(status)`` returns six torques to
+        send, or None to end. Enter TORQUE_CONTROL with ``dt_status`` first. Returns the number
+        of ticks answered; ticks that queued up while the callback ran are skipped (counted
+        in ``skipped_ticks``). A safety error ends the loop with :class:`CommandError`."""
+        n = 0
+        while True:
+            s = self.wait_status(timeout)
+            # Answer the newest state: ticks that queued up meanwhile are skipped, not answered.
+            self._parse_buffered()
+            for i in reversed(range(len(self._events))):
+                e = self._events[i]
+                if isinstance(e, StatusEvent):
+                    s = e.status
+                    self.skipped_ticks += sum(isinstance(x, StatusEvent) for x in self._events)
+                    self._events = collections.deque(x for x in self._events if not isinstance(x, StatusEvent))
+                    break
+            for e in self._events:
+                if isinstance(e, SafetyErrorEvent) and e.check:
+                    raise CommandError("set_torques", e.message, e.check, "failed")
+            torques = callback(s)
+            if torques is None or s.operating_mode != "TORQUE_CONTROL":
+                return n
+            self.set_torques(torques)
+            n += 1

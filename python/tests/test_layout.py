@@ -1,0 +1,67 @@
+"""The ctypes structures against the Rust layouts.
+
+The truth comes from the Rust compiler: ``cargo run -p mcm-shared --example layout`` prints it
+as JSON, and ``tests/python_layout.rs`` (run by ``cargo test --workspace``) writes it to a
+file named by the environment variable ``MCM_LAYOUT_JSON`` before running this test. Without
+that variable the test is skipped, saying so.
+"""
+
+import json
+import os
+import re
+import unittest
+
+from mcm import codes, layout
+
+_PATH = os.environ.get("MCM_LAYOUT_JSON")
+
+
+@unittest.skipUnless(_PATH, "MCM_LAYOUT_JSON is not set: run `cargo test --test python_layout`")
+class LayoutMatchesRust(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls) -> None:
+        with open(str(_PATH)) as f:
+            cls.rust = json.load(f)
+
+    def test_every_rust_struct_is_mirrored(self) -> None:
+        self.assertEqual(sorted(self.rust["structs"]), sorted(layout.STRUCTS))
+
+    def test_sizes_alignments_and_field_offsets(self) -> None:
+        for name, want in self.rust["structs"].items():
+            got = layout.layout_of(layout.STRUCTS[name])
+            with self.subTest(struct=name):
+                self.assertEqual(got["size"], want["size"], "%s size" % name)
+                self.assertEqual(got["align"], want["align"], "%s alignment" % name)
+                # Same fields, same order, same offsets.
+                self.assertEqual(list(got["fields"].items()), list(want["fields"].items()))
+
+    def test_type_names_and_layout_versions(self) -> None:
+        for name, want in self.rust["structs"].items():
+            cls = layout.STRUCTS[name]
+            with self.subTest(struct=name):
+                if want["type_name"] is None:
+                    self.assertFalse(hasattr(cls, "type_name"), "%s is never a payload of its own" % name)
+                    continue
+                got = cls.type_name()
+                self.assertEqual(got, want["type_name"])
+                self.assertRegex(got, r"^mcm\.%s\.v\d+$" % name)
+        version = re.search(r"\.v(\d+)$", layout.StateSample.type_name())
+        self.assertIsNotNone(version)
+
+    def test_constants(self) -> None:
+        for name, value in self.rust["constants"].items():
+            with self.subTest(constant=name):
+                self.assertEqual(getattr(layout, name), value)
+
+    def test_reply_locations(self) -> None:
+        for seq, key, slot in self.rust["reply_locations"]:
+            self.assertEqual(layout.reply_location(seq), (key, slot), "reply %d" % seq)
+
+    def test_reason_words(self) -> None:
+        for code, axis, values, text in self.rust["reasons"]:
+            with self.subTest(code=code):
+                self.assertEqual(codes.reason_text(code, axis, values), text)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,112 @@
+"""The shared-memory client against a running MCM (simulated), named by the environment
+variable ``MCM_INSTANCE`` (``tests/examples_python.rs`` starts one and sets it). Skipped,
+saying so, without it."""
+
+import math
+import os
+import time
+import unittest
+
+import mcm
+
+INSTANCE = os.environ.get("MCM_INSTANCE")
+
+
+@unittest.skipUnless(INSTANCE, "MCM_INSTANCE is not set: run `cargo test --test examples_python`")
+class ShmLive(unittest.TestCase):
+    def setUp(self) -> None:
+        self.a = mcm.ShmClient(str(INSTANCE))
+        self.addCleanup(self.a.close)
+
+    def test_wait_state_returns_each_new_cycle_once(self) -> None:
+        first = self.a.wait_state()
+        seqs = [self.a.wait_state().seq for _ in range(50)]
+        self.assertTrue(all(b > a for a, b in zip([first.seq] + seqs, seqs)), seqs)
+        # Blocking on the event, not spinning: 50 states take about 50 cycles (5 ms each).
+        gaps = sum(b - a - 1 for a, b in zip([first.seq] + seqs, seqs))
+        self.assertLess(gaps, 25, "states missed while nothing else ran: %s" % seqs)
+
+    def test_ids_and_replies_belong_to_each_client(self) -> None:
+        b = mcm.ShmClient(str(INSTANCE))
+        self.addCleanup(b.close)
+        self.assertEqual(self.a.client_id >> 32, os.getpid())
+        self.assertNotEqual(self.a.client_id, b.client_id)
+        ra, rb = self.a.send(mcm.wire.sample("info")), b.send(mcm.wire.sample("status"))
+        self.assertEqual(ra, rb, "both clients number their requests from 1")
+        self.assertEqual(self.a.wait_reply(ra).command, "info")
+        self.assertEqual(b.wait_reply(rb).command, "status")
+        info = self.a.info()
+        self.assertEqual((info.num_axes, info.period_s), (6, 0.005))
+
+    def test_refusals_carry_the_cores_code_and_words(self) -> None:
+        self.a.hold()
+        with self.assertRaises(mcm.CommandError) as e:
+            self.a.move_axis(1, 10.0)
+        self.assertEqual((e.exception.command, e.exception.code), ("move_axis", "wrong_mode"))
+        self.assertIn("move_axis refused: not allowed in mode HOLD", e.exception.message)
+
+    def test_control_loop_counts_cycles_and_sends_client_gone(self) -> None:
+        self.a.take_control()
+        self.assertEqual(self.a.state().owner_client_id, self.a.client_id)
+        n = [0]
+
+        def cb(s):
+            n[0] += 1
+            return None if n[0] > 20 else [0.0] * 6
+
+        # Not in TORQUE_CONTROL: each set_torques is refused, which ends the loop with the
+        # core's words; client_gone is sent all the same.
+        with self.assertRaises(mcm.CommandError) as e:
+            self.a.control(cb)
+        self.assertEqual(e.exception.code, "wrong_mode")
+        deadline = time.monotonic() + 2
+        while self.a.wait_state().owner_client_id != 0:
+            self.assertLess(time.monotonic(), deadline, "client_gone did not end the ownership")
+
+    def test_pvt_points_stream_through_the_control_loop(self) -> None:
+        self.a.hold()
+        if not self.a.state().flags & mcm.layout.STATE_ALL_CALIBRATED:
+            self.a.calibrate()
+        self.a.pvt(0.005)  # one point per cycle
+        start = list(self.a.state().commanded_position)
+        k = [0]
+
+        def ramp(s):
+            # Axis 6 to +1 deg in 0.3 s (half a cosine, at rest at both ends), a point per state.
+            k[0] += 1
+            if k[0] > 60:
+                return None
+            w = math.pi / 0.3
+            t = 0.005 * k[0]
+            pos, vel = list(start), [0.0] * 6
+            pos[5] += 0.5 * (1 - math.cos(w * t))
+            vel[5] = 0.5 * w * math.sin(w * t)
+            return mcm.PvtPoint(pos, vel)
+
+        stats = self.a.control(ramp)
+        self.assertEqual(stats.cycles, 60)
+        # The first three points went out as one batch: 58 answers, all applied.
+        self.assertEqual(stats.next_cycle + stats.late, 58, stats)
+        deadline = time.monotonic() + 2
+        while abs(self.a.wait_state().commanded_position[5] - (start[5] + 1.0)) > 1e-6:
+            self.assertLess(time.monotonic(), deadline, "axis 6 did not reach +1 deg")
+
+    def test_safety_errors_are_reported_once(self) -> None:
+        self.a.hold()
+        self.assertEqual(self.a.events(), [])
+        self.a.sim(emergency_stop=True)
+        deadline = time.monotonic() + 2
+        events = []
+        while not events:
+            self.assertLess(time.monotonic(), deadline, "no safety error after the emergency stop")
+            self.a.wait_state()
+            events = self.a.events()
+        self.assertEqual(events[0].check, "emergency_stop", events)
+        self.assertIn("safety check tripped: the emergency stop is pressed", events[0].message)
+        self.a.sim(emergency_stop=False)
+        self.a.hold()
+        self.assertEqual([e for e in self.a.events() if e.check != "emergency_stop"], [])
+
+
+if __name__ == "__main__":
+    unittest.main()

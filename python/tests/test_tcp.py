@@ -1,0 +1,199 @@
+"""The TCP client against a scripted fake MCM (standard library only)."""
+
+import socket
+import unittest
+
+import mcm
+from mcm import codes
+
+from .fake_mcm import OK, FakeMcm, error, status
+
+SAFETY = error(
+    "safety check tripped: following error: axis 2 is 2.056 deg away from its commanded position, "
+    "band 2.000 deg; mode is now ERROR; flight recorder: /tmp/x.csv",
+    check="following_error",
+    axis=2,
+    flight_recorder="/tmp/x.csv",
+)
+
+
+class TcpClient(unittest.TestCase):
+    def connect(self, handler, **kw) -> mcm.Client:
+        self.fake = FakeMcm(handler)
+        self.addCleanup(self.fake.close)
+        c = mcm.Client("127.0.0.1", self.fake.port, timeout=kw.pop("timeout", 2.0), **kw)
+        self.addCleanup(c.close)
+        return c
+
+    def test_commands_are_sent_as_one_json_line_with_their_arguments(self) -> None:
+        def h(cmd):
+            if cmd["command"] == "move_all":
+                return [{"result_type": "move_all", "velocities": [1, 2, 3, 0, 0, 0], "longest": 3,
+                         "max_time_to_target": 1.25}]
+            return [OK]
+
+        c = self.connect(h)
+        r = c.move_all([0, 10, 20, 0, 0, 0], 0.5)
+        self.assertEqual(r.velocities, [1.0, 2.0, 3.0, 0.0, 0.0, 0.0])
+        self.assertEqual((r.longest, r.max_time_to_target), (3, 1.25))
+        c.move_axis(1, 30)
+        self.assertEqual(self.fake.received[0], {"command": "move_all", "arguments": {
+            "target_positions": [0.0, 10.0, 20.0, 0.0, 0.0, 0.0], "velocity_factor": 0.5}})
+        # An argument left out is left to the MCM's default.
+        self.assertEqual(self.fake.received[1]["arguments"], {"axis_index": 1, "target_position": 30})
+
+    def test_status_result_is_typed(self) -> None:
+        c = self.connect(lambda cmd: [dict(status("PVT", 3.5), hardware_status="ok", detail={
+            "cycle": 7, "all_calibrated": True, "pvt_queue": {"queued": 2}})])
+        s = c.status(detail=True)
+        self.assertEqual(s.operating_mode, "PVT")
+        self.assertEqual(s.axis_states.time, [3.5] * 6)
+        self.assertEqual(s.hardware_status, "ok")
+        assert s.detail is not None
+        self.assertEqual((s.detail.cycle, s.detail.all_calibrated, s.detail.pvt_queue["queued"]), (7, True, 2))
+        self.assertEqual(self.fake.received[0]["arguments"], {"detail": True})
+
+    def test_an_error_result_raises_with_command_message_and_code(self) -> None:
+        msg = "move_all refused: a motion is in progress (0.845 s left); wait until it ends, or send `hold` to stop it"
+        c = self.connect(lambda cmd: [error(msg)])
+        with self.assertRaises(mcm.CommandError) as e:
+            c.move_all([0] * 6)
+        self.assertEqual((e.exception.command, e.exception.code, e.exception.outcome), ("move_all", "busy", "refused"))
+        self.assertEqual(e.exception.message, msg)
+
+    def test_failed_and_unknown_outcomes_are_told_apart(self) -> None:
+        replies = iter([
+            error("calibrate failed: calibration of axis 3 failed: no mechanical stop found within 310.0 deg; the arm holds where it is"),
+            error("move_axis: no reply from the real-time core within 5 s: the command may or may not have been executed; check the state"),
+        ])
+        c = self.connect(lambda cmd: [next(replies)])
+        with self.assertRaises(mcm.CommandError) as e:
+            c.calibrate()
+        self.assertEqual((e.exception.outcome, e.exception.code), ("failed", "calibration_failed"))
+        with self.assertRaises(mcm.OutcomeUnknown) as u:
+            c.move_axis(1, 2)
+        self.assertEqual(u.exception.outcome, "unknown")
+
+    def test_spontaneous_safety_errors_are_kept_apart_from_results(self) -> None:
+        c = self.connect(lambda cmd: [SAFETY, status("ERROR")])
+        s = c.status()
+        self.assertEqual(s.operating_mode, "ERROR")
+        ev = c.events()
+        self.assertEqual(len(ev), 1)
+        self.assertIsInstance(ev[0], mcm.SafetyErrorEvent)
+        self.assertEqual((ev[0].check, ev[0].axis, ev[0].flight_recorder), ("following_error", 2, "/tmp/x.csv"))
+        self.assertEqual(c.events(), [])
+
+    def test_torque_ticks_are_events_and_set_torques_errors_come_later(self) -> None:
+        def h(cmd):
+            if cmd["command"] == "torque_control":
+                return [status("TORQUE_CONTROL", 1.0), status("TORQUE_CONTROL", 1.005)]
+            if cmd["command"] == "set_torques":
+                if cmd["arguments"]["torques"][0] > 100:
+                    return [error("set_torques refused: axis 1: value 200 is outside the allowed range [-129.6, 129.6]")]
+                return [status("TORQUE_CONTROL", 1.01)]
+            if cmd["command"] == "hold":
+                return [status("TORQUE_CONTROL", 1.015), status("HOLD", 1.02)]
+            return [status("TORQUE_CONTROL", 1.0)]
+
+        c = self.connect(h)
+        self.assertEqual(c.torque_control(timeout=0.1, dt_status=0.005).operating_mode, "TORQUE_CONTROL")
+        self.assertEqual(c.wait_status().axis_states.time[0], 1.005)
+        c.set_torques([1, 0, 0, 0, 0, 0])
+        self.assertEqual(c.wait_status().axis_states.time[0], 1.01)
+        c.set_torques([200, 0, 0, 0, 0, 0])
+        # The refusal arrives after the call returned: an event, then raised by the next call.
+        self.assertEqual(c.status().axis_states.time[0], 1.0)
+        with self.assertRaises(mcm.CommandError) as e:
+            c.set_torques([0] * 6)
+        self.assertEqual((e.exception.command, e.exception.code), ("set_torques", "out_of_range"))
+        # `hold` ends the session: its result is the status not in TORQUE_CONTROL.
+        self.assertEqual(c.hold().operating_mode, "HOLD")
+
+    def test_control_loop_answers_each_tick_until_the_callback_ends_it(self) -> None:
+        ticks = iter(range(100))
+
+        def h(cmd):
+            if cmd["command"] == "torque_control":
+                return [status("TORQUE_CONTROL", 1.0), status("TORQUE_CONTROL", 1.0 + next(ticks) * 0.005)]
+            if cmd["command"] == "set_torques":
+                return [status("TORQUE_CONTROL", 1.0 + next(ticks) * 0.005)]
+            return [OK]
+
+        c = self.connect(h)
+        c.torque_control(dt_status=0.005)
+        seen = []
+        n = c.control(lambda s: None if len(seen) >= 5 else seen.append(s.axis_states.time[0]) or [0.5] * 6)
+        self.assertEqual(n, 5)
+        self.assertEqual(len([m for m in self.fake.received if m["command"] == "set_torques"]), 5)
+
+    def test_control_answers_the_newest_tick_and_skips_the_queued_ones(self) -> None:
+        def h(cmd):
+            if cmd["command"] == "torque_control":
+                # The result, then three ticks at once (a slow client).
+                return [status("TORQUE_CONTROL", 1.0)] + [status("TORQUE_CONTROL", 1.0 + k * 0.005) for k in (1, 2, 3)]
+            return []
+
+        c = self.connect(h)
+        c.torque_control(dt_status=0.005)
+        while len(c._buf.split(b"\n")) < 4:  # all three ticks received
+            c._buf += c._sock.recv(65536)
+        seen = []
+        c.control(lambda s: seen.append(s.axis_states.time[0]))
+        self.assertEqual(seen, [1.015])
+        self.assertEqual(c.skipped_ticks, 2)
+
+    def test_a_timeout_closes_the_connection_and_the_next_command_reconnects(self) -> None:
+        c = self.connect(lambda cmd: [] if cmd["command"] == "info" else [status()], timeout=0.2)
+        with self.assertRaises(mcm.McmTimeout):
+            c.info()
+        self.assertFalse(c.connected)
+        self.assertEqual(c.status().operating_mode, "HOLD")
+        self.assertEqual(c.connections, 2)
+
+    def test_a_lost_connection_raises_and_reconnects_unless_told_not_to(self) -> None:
+        c = self.connect(lambda cmd: ["CLOSE"] if cmd["command"] == "hold" else [status()])
+        with self.assertRaises(mcm.ConnectionLost):
+            c.hold()
+        self.assertEqual(c.status().operating_mode, "HOLD")
+        c2 = mcm.Client("127.0.0.1", self.fake.port, reconnect=False)
+        self.addCleanup(c2.close)
+        with self.assertRaises(mcm.ConnectionLost):
+            c2.hold()
+        with self.assertRaises(mcm.ConnectionLost):
+            c2.status()
+
+    def test_the_secret_is_presented_after_every_connect(self) -> None:
+        c = self.connect(lambda cmd: [OK] if cmd["command"] == "authenticate" else ["CLOSE"], secret="s3")
+        with self.assertRaises(mcm.ConnectionLost):
+            c.take_control()
+        c.connect()
+        auths = [m for m in self.fake.received if m["command"] == "authenticate"]
+        self.assertEqual(auths, [{"command": "authenticate", "arguments": {"secret": "s3"}}] * 2)
+
+    def test_unreachable_mcm_says_where_it_tried(self) -> None:
+        closed = socket.socket()  # bound, not listening: connections are refused
+        self.addCleanup(closed.close)
+        closed.bind(("127.0.0.1", 0))
+        port = closed.getsockname()[1]
+        with self.assertRaises(mcm.ConnectionLost) as e:
+            mcm.Client("127.0.0.1", port)
+        self.assertIn("127.0.0.1:%d" % port, str(e.exception))
+
+
+class Codes(unittest.TestCase):
+    def test_words_of_the_protocol_examples_map_to_codes(self) -> None:
+        cases = {
+            "move_axis refused: the arm is controlled by JSON client 10.1.2.3:51234 (client id 0x1a2b00000003); only ...": "not_owner",
+            "hold refused: the emergency stop is pressed; release it, then send `hold`": "emergency_stop",
+            "pvt_points refused: point 2: axis 1 velocity 96.512 deg/s exceeds the limit 90.000 deg/s; nothing was queued": "pvt_point",
+            "move_axis: argument \"axis_index\" = 9 is not allowed; expected an axis number from 1 to 6": "invalid_argument",
+            "release refused: not allowed in mode OFF": "wrong_mode",
+            "something new": None,
+        }
+        for message, code in cases.items():
+            self.assertEqual(codes.code_from_message(message), code, message)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,93 @@
+"""The shared-memory encoding (``mcm.wire``) against the Rust contract's rules
+(``shared/src/command.rs``, ``shared/src/reply.rs``). Standard library only: no iceoryx2."""
+
+import unittest
+
+import mcm
+from mcm import codes, layout, wire
+
+
+class Encode(unittest.TestCase):
+    def test_move_axis_and_move_all_put_their_arguments_in_order(self) -> None:
+        s = wire.move_axis(2, 30.0, 0.5)
+        self.assertEqual((s.kind, s.flags, list(s.args[:3])), (8, 0, [2.0, 30.0, 0.5]))
+        s = wire.move_all([1, 2, 3, 4, 5, 6], 0.25)
+        self.assertEqual((s.kind, list(s.args[:7])), (9, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 0.25]))
+
+    def test_a_pvt_batch_is_split_into_samples_of_four_the_last_marked(self) -> None:
+        pts = [mcm.PvtPoint([k] * 6, [-k] * 6) for k in range(1, 10)]
+        chunks = wire.pvt_chunks(pts)
+        self.assertEqual([c.flags & 0xFF for c in chunks], [4, 4, 1])
+        self.assertEqual([bool(c.flags & layout.PVT_FLAG_LAST) for c in chunks], [False, False, True])
+        # Point j of a sample: six positions, then six velocities, at 12 * j.
+        self.assertEqual(list(chunks[1].args[12:24]), [6.0] * 6 + [-6.0] * 6)
+        self.assertEqual(list(chunks[2].args[:12]), [9.0] * 6 + [-9.0] * 6)
+
+    def test_calibrate_torque_control_and_sim_flags(self) -> None:
+        s = wire.calibrate("WRIST", 1, -1, force_mechanical_stop=True)
+        self.assertEqual((list(s.args[:3]), s.flags), ([8.0, 1.0, -1.0], layout.CALIBRATE_FLAG_FORCE_STOP))
+        self.assertEqual(wire.calibrate(3).args[0], 3.0)
+        s = wire.torque_control(None, gravity_compensation=False)
+        self.assertEqual((s.args[0], s.flags), (-1.0, layout.TORQUE_FLAG_NO_GRAVITY))
+        s = wire.sim(emergency_stop=True, block_axis=2, external_torques=[0, 5, 0, 0, 0, 0], power_cycle=True)
+        self.assertEqual(s.flags, 1 | (1 << 3) | (1 << 5) | layout.SIM_FLAG_POWER_CYCLE)
+        self.assertEqual((s.args[0], s.args[3], s.args[6]), (1.0, 2.0, 5.0))
+
+    def test_bad_values_are_refused_before_sending(self) -> None:
+        with self.assertRaises(ValueError):
+            wire.move_axis(7, 0)
+        with self.assertRaises(ValueError):
+            wire.set_torques([0] * 5)
+        with self.assertRaises(ValueError):
+            wire.torque_control(0)
+        with self.assertRaises(ValueError):
+            wire.pvt_chunks([])
+
+
+class Decode(unittest.TestCase):
+    def reply(self, kind: str, status: int, code: int = 0, axis: int = 0, values=()) -> layout.Reply:
+        r = layout.Reply(seq=5, client_id=7, request_id=3, cycle=99, kind=codes.KINDS[kind], status=status,
+                         code=code, axis=axis)
+        for i, v in enumerate(values):
+            r.values[i] = v
+        return r
+
+    def test_move_all_figures(self) -> None:
+        a = wire.decode_reply(self.reply("move_all", codes.REPLY_OK, values=[1, 2, 3, 0, 0, 0, 3, 1.25]))
+        assert a.move_all is not None
+        self.assertEqual((a.command, a.cycle, a.move_all.longest, a.move_all.max_time_to_target), ("move_all", 99, 3, 1.25))
+
+    def test_refusals_raise_in_the_gateways_words(self) -> None:
+        with self.assertRaises(mcm.CommandError) as e:
+            wire.decode_reply(self.reply("move_axis", codes.REPLY_REJECTED, code=16, values=[0.25]))
+        self.assertEqual(e.exception.message, "move_axis refused: a motion is in progress (0.250 s left); wait until "
+                                              "it ends, or send `hold` to stop it")
+        self.assertEqual((e.exception.code, e.exception.outcome), ("busy", "refused"))
+        with self.assertRaises(mcm.CommandError) as e:
+            wire.decode_reply(self.reply("calibrate", codes.REPLY_FAILED, code=15))
+        self.assertEqual((e.exception.code, e.exception.outcome), ("aborted", "failed"))
+
+    def test_reply_location_matches_the_ring(self) -> None:
+        ring = layout.REPLY_BLOCKS * layout.REPLY_BLOCK
+        self.assertEqual(layout.reply_location(1), (1, 0))
+        self.assertEqual(layout.reply_location(17), (2, 0))
+        self.assertEqual(layout.reply_location(ring + 1), (1, 0))
+
+
+class ShmWithoutIceoryx(unittest.TestCase):
+    def test_missing_or_wrong_iceoryx2_is_a_clear_error(self) -> None:
+        from mcm import shm
+
+        saved = shm.iox2
+        try:
+            shm.iox2 = None
+            with self.assertRaises(mcm.ShmUnavailable) as e:
+                shm.ShmClient("nope")
+            self.assertIn("pip install", str(e.exception))
+            self.assertIn("0.10.0", str(e.exception))
+        finally:
+            shm.iox2 = saved
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,304 @@
+//! Prints the layouts of the shared-memory samples as JSON: for each struct its iceoryx2 type
+//! name, size, alignment and the offset of every field, as the Rust compiler laid them out.
+//! Clients in other languages check their mirrors against it (the Python package's ctypes
+//! structures: `tests/python_layout.rs` includes this file and runs the Python check).
+//!
+//! ```sh
+//! cargo run -p mcm-shared --example layout
+//! ```
+
+use core::mem::{align_of, offset_of, size_of};
+use iceoryx2::prelude::ZeroCopySend;
+use mcm_shared::sample::{
+    CommandSample, CycleTiming, ErrorRecord, LatencyFigures, Reply, ReplyBlock, StateSample,
+};
+
+/// One struct's layout: its name, the iceoryx2 type name (`None` for a struct that is only
+/// ever a field of another), size, alignment and `(field, offset)` in declaration order.
+struct Layout {
+    name: &'static str,
+    type_name: Option<&'static str>,
+    size: usize,
+    align: usize,
+    fields: Vec<(&'static str, usize)>,
+}
+
+/// The iceoryx2 type name of `T` (what a peer opening a service must present).
+fn type_name<T: ZeroCopySend>() -> &'static str {
+    // SAFETY: `type_name` only returns the name given with `#[type_name]` (or Rust's own type
+    // name); the caller merely prints it, so the layout guarantee the trait demands from
+    // implementors is not relied upon here.
+    unsafe { <T as ZeroCopySend>::type_name() }
+}
+
+macro_rules! layout {
+    ($t:ty, $type_name:expr, [$($f:ident),* $(,)?]) => {
+        Layout {
+            name: stringify!($t),
+            type_name: $type_name,
+            size: size_of::<$t>(),
+            align: align_of::<$t>(),
+            fields: vec![$((stringify!($f), offset_of!($t, $f))),*],
+        }
+    };
+}
+
+/// Every shared-memory struct's layout.
+fn layouts() -> Vec<Layout> {
+    vec![
+        layout!(
+            CommandSample,
+            Some(type_name::<CommandSample>()),
+            [client_id, request_id, kind, flags, args]
+        ),
+        layout!(
+            Reply,
+            None,
+            [
+                seq, client_id, request_id, cycle, kind, status, code, axis, values
+            ]
+        ),
+        layout!(ErrorRecord, None, [seq, cycle, unix_ns, code, axis, values]),
+        layout!(
+            LatencyFigures,
+            None,
+            [p50_ns, p99_ns, p99_9_ns, p99_99_ns, max_ns, cycles]
+        ),
+        layout!(
+            CycleTiming,
+            None,
+            [
+                period_ns,
+                overruns,
+                since_start,
+                recent,
+                recent_window_ns,
+                work_max_ns,
+                work_budget_ns,
+                over_budget
+            ]
+        ),
+        layout!(
+            StateSample,
+            Some(type_name::<StateSample>()),
+            [
+                seq,
+                t_ns,
+                mode,
+                flags,
+                position,
+                velocity,
+                acceleration,
+                current,
+                measured_position,
+                commanded_position,
+                following_error,
+                i2t,
+                sim_true_position,
+                sim_true_velocity,
+                axis_flags,
+                pvt_queued,
+                pvt_capacity,
+                command_receive_errors,
+                timing,
+                last_error,
+                reply_head,
+                owner_client_id
+            ]
+        ),
+        layout!(ReplyBlock, Some(type_name::<ReplyBlock>()), [replies]),
+    ]
+}
+
+/// The layouts as one JSON object: `{"structs": {NAME: {"type_name", "size", "align",
+/// "fields": {FIELD: OFFSET}}}, "constants": {...}}`. Field order is declaration order.
+pub fn layout_json() -> String {
+    use mcm_shared::sample as s;
+    use mcm_shared::service as v;
+    let structs: Vec<String> = layouts()
+        .iter()
+        .map(|l| {
+            let fields: Vec<String> = l
+                .fields
+                .iter()
+                .map(|(f, o)| format!("\"{f}\": {o}"))
+                .collect();
+            let type_name = l
+                .type_name
+                .map_or("null".to_string(), |t| format!("\"{t}\""));
+            format!(
+                "\"{}\": {{\"type_name\": {type_name}, \"size\": {}, \"align\": {}, \"fields\": {{{}}}}}",
+                l.name,
+                l.size,
+                l.align,
+                fields.join(", ")
+            )
+        })
+        .collect();
+    let constants = [
+        ("NUM_AXES", mcm_shared::NUM_AXES as u64),
+        ("COMMAND_ARGS", s::COMMAND_ARGS as u64),
+        ("PVT_POINTS_PER_COMMAND", s::PVT_POINTS_PER_COMMAND as u64),
+        ("REPLY_BLOCK", s::REPLY_BLOCK as u64),
+        ("REPLY_BLOCKS", s::REPLY_BLOCKS as u64),
+        ("REPLY_VALUES", s::REPLY_VALUES as u64),
+        ("STATE_KEY", u64::from(v::STATE_KEY)),
+        ("STATE_EVENT_ID", v::STATE_EVENT_ID as u64),
+        ("COMMAND_BUFFER", v::COMMAND_BUFFER as u64),
+        ("PVT_FLAG_LAST", u64::from(s::PVT_FLAG_LAST)),
+        (
+            "TORQUE_FLAG_NO_GRAVITY",
+            u64::from(s::TORQUE_FLAG_NO_GRAVITY),
+        ),
+        (
+            "CALIBRATE_FLAG_FORCE_STOP",
+            u64::from(s::CALIBRATE_FLAG_FORCE_STOP),
+        ),
+        ("SIM_FLAG_POWER_CYCLE", u64::from(s::SIM_FLAG_POWER_CYCLE)),
+        ("STATE_ESTOP", u64::from(s::STATE_ESTOP)),
+        ("STATE_SIMULATED", u64::from(s::STATE_SIMULATED)),
+        ("STATE_ALL_CALIBRATED", u64::from(s::STATE_ALL_CALIBRATED)),
+        ("STATE_PVT_STARVED", u64::from(s::STATE_PVT_STARVED)),
+        ("STATE_NOT_REALTIME", u64::from(s::STATE_NOT_REALTIME)),
+        ("STATE_SIM_ESTOP", u64::from(s::STATE_SIM_ESTOP)),
+        ("STATE_SHUTTING_DOWN", u64::from(s::STATE_SHUTTING_DOWN)),
+        ("AXIS_CALIBRATED", u64::from(s::AXIS_CALIBRATED)),
+        ("AXIS_ONLINE", u64::from(s::AXIS_ONLINE)),
+        ("AXIS_ENABLED", u64::from(s::AXIS_ENABLED)),
+        ("AXIS_FAULT", u64::from(s::AXIS_FAULT)),
+        ("AXIS_I2T_DERATED", u64::from(s::AXIS_I2T_DERATED)),
+    ]
+    .map(|(k, v)| format!("\"{k}\": {v}"));
+    // Reply locations at the edges of the ring, for the Python port of `reply_location`.
+    let ring = (s::REPLY_BLOCKS * s::REPLY_BLOCK) as u64;
+    let locations: Vec<String> = [1, 2, 16, 17, ring, ring + 1, 7 * ring + 3]
+        .iter()
+        .map(|&seq| {
+            let (key, slot) = s::reply_location(seq);
+            format!("[{seq}, {key}, {slot}]")
+        })
+        .collect();
+    format!(
+        "{{\"structs\": {{{}}}, \"constants\": {{{}}}, \"reply_locations\": [{}], \"reasons\": [{}]}}",
+        structs.join(", "),
+        constants.join(", "),
+        locations.join(", "),
+        reasons().join(", ")
+    )
+}
+
+/// Reasons as they travel (code, axis, values) and the words the core gives for them, so that
+/// a client's port of `Reason`'s `Display` can be checked: `[code, axis, [v0..v3], "text"]`.
+fn reasons() -> Vec<String> {
+    use mcm_shared::command::Axis;
+    use mcm_shared::mode::Mode;
+    use mcm_shared::reply::{CalibrationFailure, PvtQuantity, Reason};
+    let a = |n| Axis::new(n).expect("axis 1..6");
+    [
+        Reason::WrongMode { mode: Mode::Hold },
+        Reason::NotCalibrated { axis: a(3) },
+        Reason::EmergencyStop,
+        Reason::DriveDisconnected { axis: a(2) },
+        Reason::DriveFault {
+            axis: Some(a(4)),
+            code: 0x2310,
+        },
+        Reason::DriveFault {
+            axis: None,
+            code: 0x10,
+        },
+        Reason::OutOfRange {
+            axis: Some(a(1)),
+            value: 200.5,
+            min: -170.0,
+            max: 170.0,
+        },
+        Reason::OutOfRange {
+            axis: None,
+            value: 2.0,
+            min: 0.0,
+            max: 1.0,
+        },
+        Reason::NotAvailable,
+        Reason::NotSimulated,
+        Reason::QueueFull {
+            offered: 12,
+            free: 3,
+        },
+        Reason::PositionLimit {
+            axis: a(2),
+            position_deg: 120.25,
+            limit_deg: 120.0,
+        },
+        Reason::VelocityLimit {
+            axis: a(1),
+            velocity_deg_s: 99.0,
+            limit_deg_s: 90.0,
+        },
+        Reason::BrakingDistance {
+            axis: a(5),
+            stop_deg: 121.0,
+            limit_deg: 120.0,
+        },
+        Reason::FollowingError {
+            axis: a(2),
+            error_deg: 2.0561,
+            band_deg: 2.0,
+        },
+        Reason::CalibrationFailed {
+            axis: a(3),
+            cause: CalibrationFailure::NoStop {
+                searched_deg: 310.0,
+            },
+        },
+        Reason::CalibrationFailed {
+            axis: a(1),
+            cause: CalibrationFailure::NoEdge {
+                searched_deg: 350.0,
+            },
+        },
+        Reason::CalibrationFailed {
+            axis: a(6),
+            cause: CalibrationFailure::DriveLost,
+        },
+        Reason::Aborted,
+        Reason::Busy { remaining_s: 0.845 },
+        Reason::PvtPoint {
+            axis: a(1),
+            point: 2,
+            quantity: PvtQuantity::Velocity,
+            value: 96.512,
+            limit: 90.0,
+        },
+        Reason::Unreachable {
+            axis: a(4),
+            target_deg: 300.0,
+            min_deg: -269.0,
+            max_deg: 269.0,
+        },
+        Reason::NotOwner {
+            owner: 0x1a2b_0000_0003,
+        },
+        Reason::ShuttingDown,
+    ]
+    .iter()
+    .map(|r| {
+        let w = r.to_wire();
+        let text = r.to_string().replace('\\', "\\\\").replace('"', "\\\"");
+        format!(
+            "[{}, {}, [{:?}, {:?}, {:?}, {:?}], \"{text}\"]",
+            w.code.to_wire(),
+            w.axis,
+            w.values[0],
+            w.values[1],
+            w.values[2],
+            w.values[3]
+        )
+    })
+    .collect()
+}
+
+#[allow(dead_code)] // unused where `tests/python_layout.rs` includes this file as a module
+fn main() {
+    println!("{}", layout_json());
+}

@@ -1,0 +1,170 @@
+//! Python for the tests of the Python client (`python/`) and its examples (`examples/python/`).
+//!
+//! [`venv`] makes one virtual environment under the target directory (`python-venv` in
+//! `CARGO_TARGET_TMPDIR`) and installs `./python[shm]` and matplotlib into it, once: test
+//! binaries run in parallel, so the work is done under an exclusive file lock, and a stamp file
+//! records what was installed (the package is installed again when its sources change).
+//! Without `python3`, its `venv` module or the network (first run only), the test is skipped
+//! with a message saying why, or fails when the environment variable `CI` is set.
+
+use std::collections::hash_map::DefaultHasher;
+use std::hash::{Hash, Hasher};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Packages installed next to the `mcm` package (the flight-recorder plot needs matplotlib).
+const EXTRA_PACKAGES: &[&str] = &["matplotlib"];
+
+/// The repository's root.
+pub fn repo_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// What a test needs from Python is missing: fail under CI, else say it is skipped.
+/// Returns `None` to the test, which then returns early.
+pub fn missing<T>(test: &str, why: &str) -> Option<T> {
+    if std::env::var_os("CI").is_some() {
+        panic!(
+            "{test}: {why}; CI must run it: install python3 with its venv module (Debian: \
+             apt-get install python3-venv) and allow pip to reach PyPI"
+        );
+    }
+    eprintln!("{test}: SKIPPED: {why} (set CI=1 to make this a failure)");
+    None
+}
+
+/// `python3` on the PATH, if it is 3.9 or newer.
+pub fn system_python() -> Result<PathBuf, String> {
+    let out = Command::new("python3")
+        .args([
+            "-c",
+            "import sys; print('%d.%d' % sys.version_info[:2]); sys.exit(sys.version_info < (3, 9))",
+        ])
+        .output()
+        .map_err(|e| format!("python3 cannot be run: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "python3 {} is too old: the mcm package needs 3.9 or newer",
+            String::from_utf8_lossy(&out.stdout).trim()
+        ));
+    }
+    Ok(PathBuf::from("python3"))
+}
+
+/// Run a command, returning its output, or an error naming it and its stderr.
+pub fn run(cmd: &mut Command) -> Result<Output, String> {
+    let what = format!("{cmd:?}");
+    let out = cmd
+        .output()
+        .map_err(|e| format!("{what} cannot be run: {e}"))?;
+    if out.status.success() {
+        Ok(out)
+    } else {
+        Err(format!(
+            "{what} failed ({}):\n{}{}",
+            out.status,
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        ))
+    }
+}
+
+/// A hash of the package's sources, so a changed package is installed again.
+fn sources_hash(dir: &Path, h: &mut DefaultHasher) {
+    let mut entries: Vec<_> = std::fs::read_dir(dir)
+        .map(|r| r.filter_map(Result::ok).map(|e| e.path()).collect())
+        .unwrap_or_default();
+    entries.sort();
+    for p in entries {
+        let name = p
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string();
+        if name == "build" || name.ends_with(".egg-info") || name == "__pycache__" {
+            continue;
+        }
+        if p.is_dir() {
+            sources_hash(&p, h);
+        } else if let Ok(bytes) = std::fs::read(&p) {
+            p.hash(h);
+            bytes.hash(h);
+        }
+    }
+}
+
+/// An exclusive lock on a file, released on drop.
+struct FileLock(std::fs::File);
+
+impl FileLock {
+    fn take(path: &Path) -> Result<FileLock, String> {
+        let f = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(path)
+            .map_err(|e| format!("cannot open the lock file {}: {e}", path.display()))?;
+        use std::os::fd::AsRawFd;
+        // SAFETY: flock on a descriptor this struct owns; it blocks until the lock is ours.
+        let r = unsafe { libc::flock(f.as_raw_fd(), libc::LOCK_EX) };
+        if r != 0 {
+            return Err(format!(
+                "cannot lock {}: {}",
+                path.display(),
+                std::io::Error::last_os_error()
+            ));
+        }
+        Ok(FileLock(f))
+    }
+}
+
+impl Drop for FileLock {
+    fn drop(&mut self) {
+        use std::os::fd::AsRawFd;
+        // SAFETY: unlocking the descriptor this struct owns.
+        unsafe { libc::flock(self.0.as_raw_fd(), libc::LOCK_UN) };
+    }
+}
+
+/// The virtual environment's Python, with `./python[shm]` and the extra packages installed.
+pub fn venv() -> Result<PathBuf, String> {
+    let python = system_python()?;
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("python-venv");
+    std::fs::create_dir_all(dir.parent().expect("the venv has a parent"))
+        .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let _lock = FileLock::take(&dir.with_extension("lock"))?;
+    let venv_python = dir.join("bin").join("python");
+    if !venv_python.exists() {
+        run(Command::new(&python).args(["-m", "venv"]).arg(&dir)).map_err(|e| {
+            format!("cannot create a Python virtual environment (python3-venv missing?): {e}")
+        })?;
+    }
+    let root = repo_root();
+    let mut h = DefaultHasher::new();
+    EXTRA_PACKAGES.hash(&mut h);
+    sources_hash(&root.join("python"), &mut h);
+    let stamp = dir.join("mcm-installed.stamp");
+    let want = format!("{:x}", h.finish());
+    if std::fs::read_to_string(&stamp).ok().as_deref() == Some(want.as_str()) {
+        return Ok(venv_python);
+    }
+    let pip = |args: &[&str]| {
+        run(Command::new(&venv_python)
+            .args([
+                "-m",
+                "pip",
+                "install",
+                "--quiet",
+                "--disable-pip-version-check",
+            ])
+            .args(args)
+            .current_dir(&root))
+    };
+    pip(&["./python[shm]"])
+        .and_then(|_| pip(EXTRA_PACKAGES))
+        // The same version again: pip keeps an installed package whose version did not change.
+        .and_then(|_| pip(&["--force-reinstall", "--no-deps", "./python"]))
+        .map_err(|e| format!("pip could not install the mcm package (no network?): {e}"))?;
+    std::fs::write(&stamp, want).map_err(|e| format!("cannot write {}: {e}", stamp.display()))?;
+    Ok(venv_python)
+}

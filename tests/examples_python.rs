@@ -1,0 +1,290 @@
+//! The Python client package (`python/`) and every Python example (`examples/python/`) against
+//! the simulated arm: the package's unit tests (standard library `unittest`), its live
+//! shared-memory tests, each example run as a user would run it, and the effect checked on the
+//! simulation's ground truth (the arm moved, the spring gave way, CSV rows, a PNG of a real
+//! flight-recorder file). Python comes from a virtual environment under the target directory
+//! (`tests/common/python.rs`); without Python or the network the tests are skipped, saying so,
+//! or fail when `CI` is set.
+
+mod common;
+
+use common::{Client, Mcm, WAIT, assert_ok, python, six};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+fn venv_or_skip(test: &str) -> Option<PathBuf> {
+    python::venv().map_or_else(|e| python::missing(test, &e), Some)
+}
+
+/// Run `examples/python/<name>.py` against `mcm` with `args`; its stdout (it must succeed).
+fn example(py: &Path, mcm: &Mcm, name: &str, args: &[&str]) -> String {
+    let script = python::repo_root()
+        .join("examples/python")
+        .join(format!("{name}.py"));
+    let port = mcm.json.port().to_string();
+    let out = python::run(
+        Command::new(py)
+            .arg(&script)
+            .args(["--host", "127.0.0.1", "--port", &port])
+            .args(["--instance", &mcm.instance])
+            .args(args)
+            .env("PYTHONDONTWRITEBYTECODE", "1"),
+    )
+    .unwrap_or_else(|e| panic!("example {name}: {e}"));
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    eprintln!("[{name}] {stdout}");
+    stdout
+}
+
+/// The number right after `marker` in `text`.
+fn number_after(text: &str, marker: &str) -> f64 {
+    let at = text
+        .find(marker)
+        .unwrap_or_else(|| panic!("{marker:?} not in the output: {text}"))
+        + marker.len();
+    let num: String = text[at..]
+        .trim_start()
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || matches!(c, '.' | '-' | 'e'))
+        .collect();
+    num.parse()
+        .unwrap_or_else(|e| panic!("no number after {marker:?} ({e}): {text}"))
+}
+
+/// The simulation's true joint angles.
+fn true_position(c: &mut Client) -> [f64; 6] {
+    let r = c.request(r#"{"command":"sim"}"#);
+    six(&r["true_position"])
+}
+
+/// Check the spring examples' report: under the push the axis gave way by about push /
+/// stiffness (friction and the still-settling arm take a share), and came back after it.
+fn assert_spring(out: &str) {
+    let deflection = number_after(out, "deflection under 10.0 Nm");
+    let expected = number_after(out, "(push / stiffness =");
+    let after = number_after(out, "deg);");
+    assert!(
+        deflection > 0.5 * expected && deflection < 1.2 * expected,
+        "the spring should give way by about {expected} deg, gave {deflection}: {out}"
+    );
+    assert!(
+        after.abs() < 0.5 * deflection,
+        "the spring should pull the axis back: {after} deg left of {deflection}: {out}"
+    );
+}
+
+#[test]
+fn python_package_unit_tests_pass() {
+    let Some(py) = venv_or_skip("python_package_unit_tests_pass") else {
+        return;
+    };
+    let out = python::run(
+        Command::new(py)
+            .args(["-m", "unittest", "discover", "-v", "-s", "tests", "-t", "."])
+            .current_dir(python::repo_root().join("python"))
+            .env("PYTHONDONTWRITEBYTECODE", "1"),
+    )
+    .unwrap_or_else(|e| panic!("the Python package's unit tests failed: {e}"));
+    let log = String::from_utf8_lossy(&out.stderr);
+    eprintln!("{log}");
+    let ran = number_after(&log, "\nRan ");
+    assert!(
+        ran >= 20.0,
+        "expected the package's unit tests to run: {log}"
+    );
+}
+
+#[test]
+fn tcp_examples_move_the_simulated_arm() {
+    let Some(py) = venv_or_skip("tcp_examples_move_the_simulated_arm") else {
+        return;
+    };
+    let mcm = Mcm::start("py-tcp");
+    let mut c = mcm.client();
+    c.wait_drives_online();
+
+    // The manual's example, from OFF: `release` is refused with a generic ERROR.
+    assert_eq!(example(&py, &mcm, "basic", &[]).trim(), "generic");
+
+    let out = example(
+        &py,
+        &mcm,
+        "calibrate_and_move",
+        &["--axis", "1", "--target", "20"],
+    );
+    assert!(out.contains("axis 1 at 20.000 deg"), "{out}");
+    let q = true_position(&mut c);
+    assert!((q[0] - 20.0).abs() < 0.1, "axis 1 truly at 20 deg: {q:?}");
+
+    let targets = [10.0, -20.0, 30.0, 0.0, 15.0, 0.0];
+    let out = example(
+        &py,
+        &mcm,
+        "move_all",
+        &["--targets", "10", "-20", "30", "0", "15", "0"],
+    );
+    assert!(out.contains("longest axis 3"), "{out}");
+    let q = true_position(&mut c);
+    for (i, (got, want)) in q.iter().zip(targets).enumerate() {
+        assert!(
+            (got - want).abs() < 0.1,
+            "axis {} at {got}, not {want}",
+            i + 1
+        );
+    }
+
+    let out = example(
+        &py,
+        &mcm,
+        "pvt_sine",
+        &[
+            "--axis",
+            "2",
+            "--amplitude",
+            "5",
+            "--period",
+            "1.5",
+            "--cycles",
+            "1",
+        ],
+    );
+    let peak = number_after(&out, "peak excursion");
+    assert!((peak - 10.0).abs() < 0.5, "peak excursion {peak}: {out}");
+    assert!(out.contains("starved: False"), "{out}");
+
+    let out = example(&py, &mcm, "torque_spring", &["--axis", "1", "--push", "10"]);
+    assert!(number_after(&out, "torque loop:") > 100.0, "{out}");
+    assert_spring(&out);
+
+    let csv = std::env::temp_dir().join(format!("{}-state.csv", mcm.instance));
+    let out = example(
+        &py,
+        &mcm,
+        "state_logger",
+        &[
+            "--duration",
+            "1",
+            "--interval",
+            "0.02",
+            "--out",
+            csv.to_str().unwrap(),
+        ],
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let _ = std::fs::remove_file(&csv);
+    let rows: Vec<&str> = text.lines().collect();
+    assert_eq!(rows[0].split(',').count(), 20, "header: {}", rows[0]);
+    assert!(rows.len() > 20, "expected a row per read over 1 s: {out}");
+    let times: Vec<f64> = rows[1..]
+        .iter()
+        .map(|r| r.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert!(times.windows(2).all(|w| w[1] > w[0]), "rows in time order");
+    assert!(
+        times[times.len() - 1] - times[0] >= 1.0,
+        "1 s on the robot's clock"
+    );
+
+    // Trip a check: block axis 2 while it moves; the flight recorder writes its file.
+    // Nothing tripped before (a spontaneous error would arrive here first).
+    let held = c.request(r#"{"command":"hold"}"#);
+    assert_eq!(held["operating_mode"], "HOLD", "{held}");
+    c.request(r#"{"command":"pvt"}"#);
+    assert_ok(&c.request(
+        r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":30,"velocity_factor":0.5}}"#,
+    ));
+    c.request(r#"{"command":"sim","arguments":{"block_axis":2}}"#);
+    let err = c.recv_matching(|v: &Value| v.get("check").is_some());
+    assert_eq!(err["axis"], 2, "{err}");
+    let file = PathBuf::from(err["flight_recorder"].as_str().unwrap());
+    let deadline = Instant::now() + WAIT;
+    while !file.exists() {
+        assert!(
+            Instant::now() < deadline,
+            "no flight-recorder file {file:?}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let png = std::env::temp_dir().join(format!("{}-trip.png", mcm.instance));
+    let out = example(
+        &py,
+        &mcm,
+        "plot_flight_recorder",
+        &[
+            file.to_str().unwrap(),
+            "--out",
+            png.to_str().unwrap(),
+            "--axis",
+            "2",
+        ],
+    );
+    let check = err["check"].as_str().unwrap();
+    assert!(out.contains(&format!("{check} trip")), "{out}");
+    let bytes = std::fs::read(&png).unwrap();
+    let _ = std::fs::remove_file(&png);
+    let _ = std::fs::remove_file(&file);
+    assert!(
+        bytes.starts_with(b"\x89PNG") && bytes.len() > 10_000,
+        "a PNG plot"
+    );
+}
+
+#[test]
+fn shared_memory_client_and_examples_run_at_the_cycle_rate() {
+    let Some(py) = venv_or_skip("shared_memory_client_and_examples_run_at_the_cycle_rate") else {
+        return;
+    };
+    let mcm = Mcm::start("py-shm");
+    mcm.client().wait_drives_online();
+    let out = example(
+        &py,
+        &mcm,
+        "torque_spring_shm",
+        &["--axis", "1", "--push", "10"],
+    );
+    // 4 s on the robot's clock at 200 Hz: every cycle answered or counted as missed.
+    let cycles = number_after(&out, "torque loop:");
+    let missed = number_after(&out, "cycles,");
+    assert!(cycles + missed >= 790.0, "{out}");
+    assert_spring(&out);
+
+    let out = python::run(
+        Command::new(&py)
+            .args(["-m", "unittest", "-v", "tests.test_shm_live"])
+            .current_dir(python::repo_root().join("python"))
+            .env("MCM_INSTANCE", &mcm.instance)
+            .env("PYTHONDONTWRITEBYTECODE", "1"),
+    )
+    .unwrap_or_else(|e| panic!("the live shared-memory tests failed: {e}"));
+    let log = String::from_utf8_lossy(&out.stderr);
+    eprintln!("{log}");
+    assert!(
+        log.contains("Ran 6 tests") && !log.contains("skipped"),
+        "{log}"
+    );
+
+    // The benchmark runs (its verdict depends on the machine's load: not asserted here).
+    let port = mcm.json.port().to_string();
+    let out = python::run(
+        Command::new(&py)
+            .arg(python::repo_root().join("python/bench/control_loop.py"))
+            .args(["--host", "127.0.0.1", "--port", &port])
+            .args([
+                "--instance",
+                &mcm.instance,
+                "--cycles",
+                "400",
+                "--target",
+                "0",
+            ]),
+    )
+    .unwrap_or_else(|e| panic!("the control-loop benchmark failed: {e}"));
+    let text = String::from_utf8_lossy(&out.stdout);
+    eprintln!("[bench] {text}");
+    assert!(
+        text.contains("cycles 400") && text.contains("PASS: "),
+        "{text}"
+    );
+}

@@ -1,0 +1,45 @@
+//! The Python package's ctypes structures (`python/src/mcm/layout.py`) against the Rust
+//! layouts of the shared-memory samples: sizes, alignments, field offsets, iceoryx2 type names
+//! (with their layout versions), constants, reply locations and the words of every refusal
+//! reason. The truth is what `cargo run -p mcm-shared --example layout` prints; this test
+//! includes that example, writes its JSON to a file and runs `python/tests/test_layout.py`
+//! with the system's `python3` (standard library only, no virtual environment needed).
+
+mod common;
+
+#[path = "../shared/examples/layout.rs"]
+mod layout;
+
+use common::python;
+use std::process::Command;
+
+#[test]
+fn python_ctypes_structures_match_the_rust_layouts() {
+    let Some(py) =
+        python::system_python().map_or_else(|e| python::missing("python_layout", &e), Some)
+    else {
+        return;
+    };
+    let json = std::env::temp_dir().join(format!("mcm-layout-{}.json", std::process::id()));
+    std::fs::write(&json, layout::layout_json()).unwrap();
+    let root = python::repo_root().join("python");
+    let out = Command::new(py)
+        .args(["-m", "unittest", "-v", "tests.test_layout"])
+        .current_dir(&root)
+        .env("PYTHONPATH", root.join("src"))
+        .env("PYTHONDONTWRITEBYTECODE", "1")
+        .env("MCM_LAYOUT_JSON", &json)
+        .output()
+        .expect("run python3");
+    let _ = std::fs::remove_file(&json);
+    let log = String::from_utf8_lossy(&out.stderr);
+    eprintln!("{log}");
+    assert!(
+        out.status.success(),
+        "the Python layout check failed:\n{log}"
+    );
+    assert!(
+        log.contains("Ran 6 tests") && !log.contains("skipped"),
+        "the layout check must run all its 6 tests, none skipped:\n{log}"
+    );
+}
