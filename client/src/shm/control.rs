@@ -203,7 +203,9 @@ impl ShmClient {
         self.tracker.reset();
         let mut sum = ControlSummary::default();
         let end = |end: ControlEnd, sum: ControlSummary| ControlError { end, summary: sum };
-        let mut s = self.wait_state().map_err(|e| end(ControlEnd::Shm(e), sum))?;
+        let mut s = self
+            .wait_state()
+            .map_err(|e| end(ControlEnd::Shm(e), sum))?;
         let mode = Mode::try_from(s.mode).unwrap_or(Mode::Error);
         if !matches!(mode, Mode::TorqueControl | Mode::Pvt) {
             return Err(end(ControlEnd::NotControlling(mode), sum));
@@ -231,7 +233,9 @@ impl ShmClient {
             sum.cycles += 1;
             let req = match callback(&s) {
                 ControlOutput::Finish => break Ok(()),
-                ControlOutput::Torques(torques_nm) => Request::SetTorques(SetTorques { torques_nm }),
+                ControlOutput::Torques(torques_nm) => {
+                    Request::SetTorques(SetTorques { torques_nm })
+                }
                 ControlOutput::Pvt(p) => Request::PvtPoints(
                     PvtChunk::new(&[p], true).expect("one point is a valid chunk"),
                 ),

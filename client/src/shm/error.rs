@@ -35,10 +35,16 @@ pub enum ShmError {
     Timeout { waited: Duration, last_seq: u64 },
     /// The core refused the command (nothing changed); `reason` gives the MCM's words.
     #[error("{command} refused: {reason}")]
-    Refused { command: CommandKind, reason: Reason },
+    Refused {
+        command: CommandKind,
+        reason: Reason,
+    },
     /// The core accepted the command, then it failed while running.
     #[error("{command} failed: {reason}")]
-    Failed { command: CommandKind, reason: Reason },
+    Failed {
+        command: CommandKind,
+        reason: Reason,
+    },
     /// No reply came: the command may or may not have been executed; read the state. Never
     /// "failed".
     #[error(
@@ -51,7 +57,9 @@ pub enum ShmError {
         overwritten: bool,
     },
     /// The reply does not decode: the core is of another MCM version.
-    #[error("{command}: the reply of the real-time core does not read ({error}); build the client from the same MCM version as the core")]
+    #[error(
+        "{command}: the reply of the real-time core does not read ({error}); build the client from the same MCM version as the core"
+    )]
     Undecodable {
         command: CommandKind,
         error: DecodeError,

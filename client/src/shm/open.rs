@@ -160,13 +160,21 @@ pub(super) fn open(names: &ServiceNames) -> Result<Ports, ShmError> {
 /// The payload type the running core's command service carries, in words.
 fn found_payload(service: &str) -> String {
     let details = ServiceName::new(service).ok().and_then(|name| {
-        ipc::Service::details(&name, Config::global_config(), MessagingPattern::PublishSubscribe)
-            .ok()
-            .flatten()
+        ipc::Service::details(
+            &name,
+            Config::global_config(),
+            MessagingPattern::PublishSubscribe,
+        )
+        .ok()
+        .flatten()
     });
     match details {
         Some(d) => {
-            let p = &d.static_details.publish_subscribe().message_type_details().payload;
+            let p = &d
+                .static_details
+                .publish_subscribe()
+                .message_type_details()
+                .payload;
             format!(
                 "its payload is `{}`, {} bytes, alignment {}",
                 p.type_name(),

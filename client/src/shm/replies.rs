@@ -79,13 +79,7 @@ mod tests {
         let mut got = 0;
         // Fell 100 + 10 replies behind the ring: the first 100 are gone by number, and 10 more
         // were overwritten while being read.
-        let (seen, s) = scan(
-            0,
-            head,
-            7,
-            |n| (n > 110).then(|| reply(n, 7)),
-            |_| got += 1,
-        );
+        let (seen, s) = scan(0, head, 7, |n| (n > 110).then(|| reply(n, 7)), |_| got += 1);
         assert_eq!(seen, head);
         assert_eq!(s.overwritten, 110);
         assert_eq!(got, KEPT - 10);

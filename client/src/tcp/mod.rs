@@ -379,8 +379,8 @@ impl TcpClient {
         };
         let args = json!({
             "which": which,
-            "elbow_direction": o.elbow_direction.sign(),
-            "wrist_direction": o.wrist_direction.sign(),
+            "elbow_direction": o.elbow_direction.sign() as i8,
+            "wrist_direction": o.wrist_direction.sign() as i8,
             "force_mechanical_stop": o.force_mechanical_stop,
         });
         let t = self.opts.calibrate_timeout;
