@@ -89,7 +89,7 @@ impl fmt::Display for ControlEnd {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("the control loop ended after {} cycles: {end} ({summary})", summary.cycles)]
 pub struct ControlError {
-    pub end: ControlEnd,
+    pub end: Box<ControlEnd>,
     pub summary: ControlSummary,
 }
 
@@ -202,7 +202,10 @@ impl ShmClient {
     {
         self.tracker.reset();
         let mut sum = ControlSummary::default();
-        let end = |end: ControlEnd, sum: ControlSummary| ControlError { end, summary: sum };
+        let end = |end: ControlEnd, sum: ControlSummary| ControlError {
+            end: Box::new(end),
+            summary: sum,
+        };
         let mut s = self
             .wait_state()
             .map_err(|e| end(ControlEnd::Shm(e), sum))?;
@@ -270,7 +273,7 @@ impl ShmClient {
 
     /// The first event that ends a control loop (refusals and safety trips), if any.
     fn loop_event(&mut self) -> Option<ControlEnd> {
-        while let Some(e) = self.next_event() {
+        if let Some(e) = self.next_event() {
             match e {
                 ShmEvent::SafetyError(e) => return Some(ControlEnd::SafetyTrip(e)),
                 ShmEvent::Refused(r) => return Some(ControlEnd::Refused(r)),

@@ -88,7 +88,7 @@ enum Expect {
 
 enum Answer {
     Ok,
-    Status(Status),
+    Status(Box<Status>),
     Other(Value),
 }
 
@@ -322,7 +322,7 @@ impl TcpClient {
     ) -> Result<Status, Error> {
         let t = self.opts.reply_timeout;
         match self.call(command, args, Expect::Status(mode), t)? {
-            Answer::Status(s) => Ok(s),
+            Answer::Status(s) => Ok(*s),
             _ => unreachable!("call returns what Expect::Status asks for"),
         }
     }
@@ -529,7 +529,7 @@ impl TcpClient {
         }
         self.ensure()?;
         let deadline = Instant::now() + timeout;
-        while let Some(line) = self.read_line("(events)", deadline)? {
+        if let Some(line) = self.read_line("(events)", deadline)? {
             let event = match wire::parse(&line) {
                 Ok(Line::Event(e)) => e,
                 Ok(Line::Status(s)) => Event::Status(s),

@@ -154,7 +154,7 @@ impl Default for TorqueOptions {
 pub enum Event {
     /// A status of this connection's TORQUE_CONTROL session: one every `dt_status`, and one
     /// when the mode leaves TORQUE_CONTROL (timeout, safety stop).
-    Status(Status),
+    Status(Box<Status>),
     /// A safety check tripped (sent to every client): the check, the axis, the words.
     SafetyError {
         check: Option<RejectCode>,

@@ -26,7 +26,7 @@ pub(crate) enum Line {
     Ok,
     /// `generic` ERROR that may answer a command: its words.
     Error(String),
-    Status(Status),
+    Status(Box<Status>),
     /// Another result type (`initialization`, `move_all`, `sim`, ...): the object.
     Other(String, Value),
     /// Spontaneous: never the answer to a command.
@@ -113,7 +113,7 @@ pub(crate) fn parse(line: &str) -> Result<Line, String> {
             }
             other => Err(format!("error_status {other:?} is neither OK nor ERROR")),
         },
-        "status" => Ok(Line::Status(status(&v)?)),
+        "status" => Ok(Line::Status(Box::new(status(&v)?))),
         _ => Ok(Line::Other(kind, v)),
     }
 }
