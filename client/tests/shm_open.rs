@@ -51,7 +51,11 @@ fn an_instance_that_is_not_running_says_so() {
     let name = instance("none");
     let e = err(&name);
     assert!(matches!(e, ShmError::NotRunning { .. }), "{e:?}");
-    assert!(e.to_string().contains(&format!("instance {name:?} is not running")), "{e}");
+    assert!(
+        e.to_string()
+            .contains(&format!("instance {name:?} is not running")),
+        "{e}"
+    );
     assert!(matches!(err("bad/name"), ShmError::InstanceName(_)));
 }
 
@@ -78,9 +82,16 @@ fn a_state_entry_of_another_version_is_named_with_what_the_client_expects() {
         panic!("{e:?}")
     };
     assert_eq!(service, &names.state());
-    assert!(problem.contains("state entry (key 0) is of another type"), "{problem}");
+    assert!(
+        problem.contains("state entry (key 0) is of another type"),
+        "{problem}"
+    );
     assert_eq!(expected, "`mcm.StateSample.v4`, 768 bytes, alignment 8");
-    assert!(e.to_string().contains("build the client from the same MCM version"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("build the client from the same MCM version"),
+        "{e}"
+    );
 }
 
 #[test]
