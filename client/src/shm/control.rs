@@ -41,6 +41,8 @@ pub enum ControlOutput {
     Pvt(PvtPoint),
     /// End the loop.
     Finish,
+    // VELOCITY_CONTROL (added after the merge): a `Velocities([f64; 6])` output sending
+    // `set_velocities`, and `Mode::VelocityControl` among the modes `control` accepts.
 }
 
 /// Why a control loop ended without `Finish`.

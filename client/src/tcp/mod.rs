@@ -424,6 +424,11 @@ impl TcpClient {
         self.write("set_torques", &line.to_string())
     }
 
+    // VELOCITY_CONTROL (added after the merge) follows the two methods above:
+    // `velocity_control` as `torque_control` (a status in its mode via `call_status`, the
+    // ticks flag if it has `dt_status`), `set_velocities` as `set_torques` (written only; add
+    // it to `wire::NO_RESULT_ON_SUCCESS` so its refusals become events).
+
     /// Move one axis (1..6) to `target_deg` at `velocity_factor` (0, 1] of its limits; OK as
     /// the motion starts (PVT mode).
     pub fn move_axis(

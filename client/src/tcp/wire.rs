@@ -19,6 +19,10 @@ const NOTICES: &[&str] = &[
     "the client took no result line",
 ];
 
+/// Commands with no result on success (their refusals come later, as events). VELOCITY_CONTROL's
+/// `set_velocities` belongs here when it is added.
+pub(crate) const NO_RESULT_ON_SUCCESS: &[&str] = &["set_torques"];
+
 /// One line the MCM sent, read.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum Line {
@@ -102,11 +106,13 @@ pub(crate) fn parse(line: &str) -> Result<Line, String> {
                 if NOTICES.iter().any(|n| message.starts_with(n)) {
                     return Ok(Line::Event(Event::Notice(message)));
                 }
-                if message.starts_with("set_torques") {
-                    // `set_torques` has no result on success: its refusal is an event.
+                if let Some(cmd) = NO_RESULT_ON_SUCCESS
+                    .iter()
+                    .find(|c| message.starts_with(&format!("{c} ")))
+                {
+                    // No result on success: a refusal is an event.
                     return Ok(Line::Event(Event::CommandError(McmError::from_message(
-                        "set_torques",
-                        &message,
+                        cmd, &message,
                     ))));
                 }
                 Ok(Line::Error(message))
