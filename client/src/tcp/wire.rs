@@ -106,10 +106,11 @@ pub(crate) fn parse(line: &str) -> Result<Line, String> {
                 if NOTICES.iter().any(|n| message.starts_with(n)) {
                     return Ok(Line::Event(Event::Notice(message)));
                 }
-                if let Some(cmd) = NO_RESULT_ON_SUCCESS
-                    .iter()
-                    .find(|c| message.starts_with(&format!("{c} ")))
-                {
+                if let Some(cmd) = NO_RESULT_ON_SUCCESS.iter().find(|c| {
+                    message
+                        .strip_prefix(**c)
+                        .is_some_and(|rest| rest.starts_with([' ', ':']))
+                }) {
                     // No result on success: a refusal is an event.
                     return Ok(Line::Event(Event::CommandError(McmError::from_message(
                         cmd, &message,
@@ -177,6 +178,11 @@ mod tests {
         assert_eq!(
             (e.command.as_str(), e.code),
             ("set_torques", Some(RejectCode::WrongMode))
+        );
+        let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"set_torques: argument \"torques[0]\" = 10000.0 is not allowed"}"#).unwrap();
+        assert!(
+            matches!(&l, Line::Event(Event::CommandError(e)) if e.kind == crate::tcp::ErrorKind::Invalid),
+            "{l:?}"
         );
         let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"move_axis refused: not allowed in mode HOLD"}"#).unwrap();
         assert!(matches!(l, Line::Error(_)), "{l:?}");
