@@ -44,14 +44,17 @@ struct Args {
     rt_priority: Option<i32>,
 }
 
-/// A simulated MCM started for the benchmark, stopped (SIGTERM) on drop.
-struct Started(Child);
+/// A simulated MCM started for the benchmark (and its instance), stopped (SIGTERM) on drop.
+struct Started(Child, String);
 
 impl Drop for Started {
     fn drop(&mut self) {
         // SAFETY: kill(2) with the pid of our own child; no memory is involved.
         unsafe { libc::kill(self.0.id() as i32, libc::SIGTERM) };
         let _ = self.0.wait();
+        // The simulation mcm-rt saved for a restart of this one-off instance.
+        let _ =
+            std::fs::remove_file(std::env::temp_dir().join(format!("mcm-sim-{}.state", self.1)));
     }
 }
 
@@ -86,7 +89,7 @@ fn start_mcm(binary: Option<PathBuf>) -> Result<(Started, String), String> {
         .spawn()
         .map_err(|e| format!("cannot start {}: {e}", binary.display()))?;
     let stdout = child.stdout.take().expect("piped");
-    let started = Started(child);
+    let started = Started(child, instance.clone());
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
         for line in BufReader::new(stdout).lines().map_while(Result::ok) {
