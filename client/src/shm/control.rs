@@ -1,0 +1,345 @@
+//! The control loop, in the manner of libfranka: a callback gets each cycle's state and returns
+//! what the arm should do next; the loop sends it at once, so that it reaches the core before
+//! the next cycle starts and is applied in that cycle.
+//!
+//! ```no_run
+//! use mcm_client::shm::{ControlOutput, ShmClient};
+//! use mcm_shared::command::TorqueControl;
+//! let mut mcm = ShmClient::connect("default")?;
+//! mcm.torque_control(TorqueControl { timeout_s: Some(0.1), gravity_compensation: true })?;
+//! let mut n = 0;
+//! let summary = mcm.control(|_state| {
+//!     n += 1;
+//!     if n == 1000 { ControlOutput::Finish } else { ControlOutput::Torques([0.0; 6]) }
+//! })?;
+//! println!("{summary}");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! The loop ends cleanly: on `Finish` (the mode is left as it is: send `hold` or let the
+//! torque timeout bring the arm to HOLD), and with a [`ControlError`] when the mode leaves the
+//! one the loop started in (timeout, `hold` from anyone), a safety check trips, another client
+//! takes control, a command is refused, or no state comes. Every end carries the
+//! [`ControlSummary`]: cycles run, cycles missed (states the callback never saw), and how many
+//! answers to state `k` were applied in cycle `k + 1`.
+
+use super::{ShmClient, ShmError, ShmEvent};
+use mcm_shared::command::{PvtChunk, PvtPoint, Request, SetTorques};
+use mcm_shared::mode::Mode;
+use mcm_shared::reply::{Outcome, Response, SafetyError};
+use mcm_shared::sample::{Reply, StateSample};
+use std::fmt;
+use std::time::Duration;
+
+/// What the callback asks for after a state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ControlOutput {
+    /// `set_torques` (TORQUE_CONTROL).
+    Torques([f64; mcm_shared::NUM_AXES]),
+    /// One more point of the PVT stream (PVT mode; `pvt`'s `dt` should be the cycle period,
+    /// and the stream should be a few points ahead, queued with `pvt_points` first).
+    Pvt(PvtPoint),
+    /// End the loop.
+    Finish,
+    // VELOCITY_CONTROL (added after the merge): a `Velocities([f64; 6])` output sending
+    // `set_velocities`, and `Mode::VelocityControl` among the modes `control` accepts.
+}
+
+/// Why a control loop ended without `Finish`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ControlEnd {
+    /// The mode is no longer the one the loop ran in (timeout fallback, `hold`, a stop).
+    ModeLeft { from: Mode, to: Mode },
+    /// A safety check tripped.
+    SafetyTrip(SafetyError),
+    /// Another client controls the arm now (0: nobody).
+    OwnershipLost { owner: u64 },
+    /// The core refused one of the loop's commands.
+    Refused(Response),
+    /// The loop can only run in TORQUE_CONTROL or PVT.
+    NotControlling(Mode),
+    /// The shared memory failed, or no state came in time.
+    Shm(ShmError),
+}
+
+impl fmt::Display for ControlEnd {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ControlEnd::ModeLeft { from, to } => write!(f, "the mode changed from {from} to {to}"),
+            ControlEnd::SafetyTrip(e) => write!(f, "safety check tripped: {}", e.reason),
+            ControlEnd::OwnershipLost { owner: 0 } => {
+                f.write_str("this client no longer controls the arm (nobody does)")
+            }
+            ControlEnd::OwnershipLost { owner } => {
+                write!(f, "another client (id {owner:#x}) controls the arm now")
+            }
+            ControlEnd::Refused(r) => match r.outcome {
+                Outcome::Refused(reason) => write!(f, "{} refused: {reason}", r.kind),
+                Outcome::Failed(reason) => write!(f, "{} failed: {reason}", r.kind),
+                Outcome::Done(_) => write!(f, "{} answered", r.kind),
+            },
+            ControlEnd::NotControlling(m) => write!(
+                f,
+                "the control loop runs in TORQUE_CONTROL or PVT, the mode is {m}; enter one first"
+            ),
+            ControlEnd::Shm(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+/// A control loop that ended without `Finish`: why, and what it did until then.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("the control loop ended after {} cycles: {end} ({summary})", summary.cycles)]
+pub struct ControlError {
+    pub end: Box<ControlEnd>,
+    pub summary: ControlSummary,
+}
+
+/// What a control loop did.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ControlSummary {
+    /// States the callback was called with.
+    pub cycles: u64,
+    /// Cycles in between whose state the callback never saw (the loop was late).
+    pub missed: u64,
+    /// Commands sent.
+    pub sent: u64,
+    /// Answers to state `k` the core applied in cycle `k + 1` (on time), and later.
+    pub on_time: u64,
+    pub late: u64,
+    /// Commands whose reply was not read before the loop ended.
+    pub unanswered: u64,
+}
+
+impl ControlSummary {
+    /// Share of the answered commands applied in the next cycle [%].
+    pub fn on_time_percent(&self) -> f64 {
+        let answered = self.on_time + self.late;
+        if answered == 0 {
+            0.0
+        } else {
+            100.0 * self.on_time as f64 / answered as f64
+        }
+    }
+}
+
+impl fmt::Display for ControlSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} cycles, {} missed, {} commands sent, applied in the next cycle {}/{} ({:.2} %), {} unanswered",
+            self.cycles,
+            self.missed,
+            self.sent,
+            self.on_time,
+            self.on_time + self.late,
+            self.on_time_percent(),
+            self.unanswered
+        )
+    }
+}
+
+/// Slots of the ring that remembers, per request id, the cycle it answered.
+const RING: usize = 256;
+
+/// The replies to commands no call waits for: which cycle applied them, and the refusals.
+#[derive(Debug)]
+pub(crate) struct Tracker {
+    /// `(request id, state seq k it answered)`, by request id modulo [`RING`].
+    ring: [(u64, u64); RING],
+    pub(crate) on_time: u64,
+    pub(crate) late: u64,
+    pub(crate) answered: u64,
+}
+
+impl Default for Tracker {
+    fn default() -> Self {
+        Tracker {
+            ring: [(0, 0); RING],
+            on_time: 0,
+            late: 0,
+            answered: 0,
+        }
+    }
+}
+
+impl Tracker {
+    /// A command `id` was sent in answer to state `k` (0: to no state).
+    pub(crate) fn sent(&mut self, id: u64, k: u64) {
+        self.ring[(id % RING as u64) as usize] = (id, k);
+    }
+
+    /// A reply to a command no call waits for: counted; the response if it was not done.
+    pub(crate) fn answered(&mut self, r: &Reply) -> Option<Response> {
+        let slot = &mut self.ring[(r.request_id % RING as u64) as usize];
+        if slot.0 == r.request_id && slot.1 != 0 {
+            self.answered += 1;
+            if r.cycle == slot.1 + 1 {
+                self.on_time += 1;
+            } else {
+                self.late += 1;
+            }
+            *slot = (0, 0);
+        }
+        match Response::decode(r) {
+            Ok(resp) if matches!(resp.outcome, Outcome::Done(_)) => None,
+            Ok(resp) => Some(resp),
+            // Not ours to judge here: an undecodable reply to a fire-and-forget command.
+            Err(_) => None,
+        }
+    }
+
+    fn reset(&mut self) {
+        *self = Tracker::default();
+    }
+}
+
+impl ShmClient {
+    /// Run `callback` on every cycle's state until it returns `Finish` or the loop must end.
+    /// The arm must be in TORQUE_CONTROL (the callback returns `Torques`) or PVT (`Pvt`), with
+    /// this client controlling it. See the module docs.
+    pub fn control<F>(&mut self, mut callback: F) -> Result<ControlSummary, ControlError>
+    where
+        F: FnMut(&StateSample) -> ControlOutput,
+    {
+        self.tracker.reset();
+        let mut sum = ControlSummary::default();
+        let end = |end: ControlEnd, sum: ControlSummary| ControlError {
+            end: Box::new(end),
+            summary: sum,
+        };
+        let mut s = self
+            .wait_state()
+            .map_err(|e| end(ControlEnd::Shm(e), sum))?;
+        let mode = Mode::try_from(s.mode).unwrap_or(Mode::Error);
+        if !matches!(mode, Mode::TorqueControl | Mode::Pvt) {
+            return Err(end(ControlEnd::NotControlling(mode), sum));
+        }
+        let period = Duration::from_nanos(s.timing.period_ns.max(1_000_000));
+        let state_wait = (period * 20).max(Duration::from_millis(100));
+        let missed_at_start = self.missed;
+        let result = loop {
+            // Events of the previous cycles end the loop first.
+            if let Some(why) = self.loop_event() {
+                break Err(why);
+            }
+            let now = Mode::try_from(s.mode).unwrap_or(Mode::Error);
+            if now != mode {
+                break Err(ControlEnd::ModeLeft {
+                    from: mode,
+                    to: now,
+                });
+            }
+            if s.owner_client_id != self.client_id {
+                break Err(ControlEnd::OwnershipLost {
+                    owner: s.owner_client_id,
+                });
+            }
+            sum.cycles += 1;
+            let req = match callback(&s) {
+                ControlOutput::Finish => break Ok(()),
+                ControlOutput::Torques(torques_nm) => {
+                    Request::SetTorques(SetTorques { torques_nm })
+                }
+                ControlOutput::Pvt(p) => Request::PvtPoints(
+                    PvtChunk::new(&[p], true).expect("one point is a valid chunk"),
+                ),
+            };
+            match self.send(&req) {
+                Ok(id) => {
+                    self.tracker.sent(id, s.seq);
+                    sum.sent += 1;
+                }
+                Err(e) => break Err(ControlEnd::Shm(e)),
+            }
+            s = match self.wait_state_timeout(state_wait) {
+                Ok(s) => s,
+                Err(e) => break Err(ControlEnd::Shm(e)),
+            };
+        };
+        // The replies to the last commands come with the next cycle or two.
+        for _ in 0..3 {
+            if self.tracker.answered >= sum.sent || self.wait_state_timeout(state_wait).is_err() {
+                break;
+            }
+        }
+        sum.missed = self.missed - missed_at_start;
+        sum.on_time = self.tracker.on_time;
+        sum.late = self.tracker.late;
+        sum.unanswered = sum.sent.saturating_sub(self.tracker.answered);
+        match result {
+            Ok(()) => Ok(sum),
+            Err(e) => Err(end(e, sum)),
+        }
+    }
+
+    /// The first event that ends a control loop (refusals and safety trips), if any.
+    fn loop_event(&mut self) -> Option<ControlEnd> {
+        if let Some(e) = self.next_event() {
+            match e {
+                ShmEvent::SafetyError(e) => return Some(ControlEnd::SafetyTrip(e)),
+                ShmEvent::Refused(r) => return Some(ControlEnd::Refused(r)),
+                ShmEvent::UnreadableSafetyError(e) => {
+                    return Some(ControlEnd::Shm(ShmError::Undecodable {
+                        command: mcm_shared::mode::CommandKind::Status,
+                        error: e,
+                    }));
+                }
+            }
+        }
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mcm_shared::mode::CommandKind;
+    use mcm_shared::reply::{Done, Reason};
+
+    fn reply(request_id: u64, cycle: u64, outcome: Outcome) -> Reply {
+        let mut r = Response {
+            client_id: 7,
+            request_id,
+            kind: CommandKind::SetTorques,
+            outcome,
+        }
+        .encode();
+        r.cycle = cycle;
+        r
+    }
+
+    #[test]
+    fn answers_applied_in_the_next_cycle_count_as_on_time() {
+        let mut t = Tracker::default();
+        t.sent(1, 100);
+        t.sent(2, 101);
+        t.sent(3, 102);
+        assert_eq!(t.answered(&reply(1, 101, Outcome::Done(Done::Ack))), None);
+        assert_eq!(t.answered(&reply(2, 103, Outcome::Done(Done::Ack))), None);
+        let refused = Outcome::Refused(Reason::WrongMode { mode: Mode::Hold });
+        let r = t.answered(&reply(3, 103, refused)).expect("a refusal");
+        assert_eq!(r.outcome, refused);
+        assert_eq!((t.answered, t.on_time, t.late), (3, 2, 1));
+        // A reply twice (or to a command the ring forgot) is not counted again.
+        t.answered(&reply(1, 101, Outcome::Done(Done::Ack)));
+        assert_eq!(t.answered, 3);
+    }
+
+    #[test]
+    fn the_summary_says_the_share_on_time() {
+        let s = ControlSummary {
+            cycles: 10_000,
+            missed: 2,
+            sent: 10_000,
+            on_time: 9_995,
+            late: 5,
+            unanswered: 0,
+        };
+        assert!((s.on_time_percent() - 99.95).abs() < 1e-9);
+        assert_eq!(
+            s.to_string(),
+            "10000 cycles, 2 missed, 10000 commands sent, applied in the next cycle 9995/10000 (99.95 %), 0 unanswered"
+        );
+    }
+}

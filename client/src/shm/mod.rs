@@ -1,0 +1,452 @@
+//! The shared-memory client: the real-time core's own services, on the robot's computer.
+//!
+//! ```no_run
+//! use mcm_client::shm::ShmClient;
+//! let mut mcm = ShmClient::connect("default")?;
+//! let s = mcm.wait_state()?; // the next cycle's state, woken by the core's event
+//! println!("cycle {} mode {}", s.seq, s.mode);
+//! mcm.hold()?;
+//! # Ok::<(), mcm_client::shm::ShmError>(())
+//! ```
+//!
+//! - [`ShmClient::connect`] opens `mcm/<instance>/state` (blackboard), `mcm/<instance>/command`
+//!   (publish-subscribe) and `mcm/<instance>/state-ready` (event), and checks that the running
+//!   core's sample types are the ones this client was built with.
+//! - Each client object has its own client id, `(pid << 32) | n`, stamped on every command
+//!   with an increasing request id; the core's replies to it are found in the reply blocks by
+//!   those two ids. The ownership rules bind it exactly as a TCP connection: the first motion
+//!   command (or `take_control`) takes control, others are refused `not_owner`.
+//! - Dropping the client sends `client_gone`: the core releases its control, and what it drove
+//!   ends in HOLD. A process that dies without dropping it (killed) is released by the gateway
+//!   within 200 ms (it checks that the owner's pid lives).
+//! - The client is not `Send` (iceoryx2's ports are bound to their thread): create it on the
+//!   thread that uses it.
+
+mod control;
+mod error;
+mod open;
+pub mod replies;
+
+pub use control::{ControlEnd, ControlError, ControlOutput, ControlSummary};
+pub use error::ShmError;
+pub use open::describe;
+
+use mcm_shared::command::{
+    Calibrate, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques, SimCommand,
+    TorqueControl,
+};
+use mcm_shared::mode::CommandKind;
+use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Outcome, Response, SafetyError};
+use mcm_shared::sample::{StateSample, read_reply};
+use mcm_shared::service::{COMMAND_BUFFER, ServiceNames};
+use std::collections::{HashMap, HashSet, VecDeque};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::time::{Duration, Instant};
+
+/// Longest wait for a reply (the gateway's bound too).
+pub const REPLY_TIMEOUT: Duration = Duration::from_secs(5);
+/// Longest wait for the reply to `calibrate`.
+pub const CALIBRATE_TIMEOUT: Duration = Duration::from_secs(600);
+/// Default longest wait for the next state.
+pub const STATE_TIMEOUT: Duration = Duration::from_millis(500);
+/// Most commands of one client unanswered at a time (the core buffers 64 per publisher).
+pub const MAX_IN_FLIGHT: usize = COMMAND_BUFFER / 4;
+/// Spontaneous events kept for [`ShmClient::next_event`] (the oldest go first).
+const EVENTS_KEPT: usize = 64;
+
+/// The lower half of client ids: unique per client object in this process.
+static NEXT_CLIENT: AtomicU32 = AtomicU32::new(1);
+
+/// Something the core reported that answers no call of this client.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ShmEvent {
+    /// A safety check tripped (every client sees it once).
+    SafetyError(SafetyError),
+    /// The core's error record does not decode (a core of another version).
+    UnreadableSafetyError(mcm_shared::command::DecodeError),
+    /// A command sent without waiting (`set_torques`, a control loop's commands) was refused.
+    Refused(Response),
+}
+
+/// A client of the MCM's shared-memory services. See the module docs.
+pub struct ShmClient {
+    ports: open::Ports,
+    names: ServiceNames,
+    client_id: u64,
+    next_request: u64,
+    /// Newest state returned by `wait_state`, and the reply already read.
+    last_seq: u64,
+    reply_seen: u64,
+    last_error_seq: u64,
+    /// States (cycles) published but never returned by `wait_state`, since connect.
+    missed: u64,
+    /// Requests whose reply a call waits for, and their replies once read.
+    waiting: HashSet<u64>,
+    answers: HashMap<u64, mcm_shared::sample::Reply>,
+    /// Replies were overwritten while a request waited.
+    lost_while_waiting: bool,
+    events: VecDeque<ShmEvent>,
+    /// The control loop's bookkeeping of replies to commands it did not wait for.
+    pub(crate) tracker: control::Tracker,
+}
+
+impl ShmClient {
+    /// Open the services of the MCM `instance` (`"default"` unless it was started with
+    /// `--instance`).
+    pub fn connect(instance: &str) -> Result<ShmClient, ShmError> {
+        let names = ServiceNames::new(instance)?;
+        let ports = open::open(&names)?;
+        let s = *ports.state.get();
+        let n = NEXT_CLIENT.fetch_add(1, Ordering::Relaxed);
+        Ok(ShmClient {
+            ports,
+            names,
+            client_id: (u64::from(std::process::id()) << 32) | u64::from(n),
+            next_request: 1,
+            last_seq: s.seq,
+            reply_seen: s.reply_head,
+            last_error_seq: s.last_error.seq,
+            missed: 0,
+            waiting: HashSet::new(),
+            answers: HashMap::new(),
+            lost_while_waiting: false,
+            events: VecDeque::new(),
+            tracker: control::Tracker::default(),
+        })
+    }
+
+    /// This client's id, `(pid << 32) | n` (the core's `owner_client_id` when it controls the
+    /// arm).
+    pub fn client_id(&self) -> u64 {
+        self.client_id
+    }
+
+    /// The instance this client is connected to.
+    pub fn instance(&self) -> &str {
+        self.names.instance()
+    }
+
+    /// The newest state, without waiting (it may be the one `wait_state` returned last).
+    pub fn latest(&self) -> StateSample {
+        *self.ports.state.get()
+    }
+
+    /// Cycles whose state `wait_state` never returned since connect (the caller was slower
+    /// than the cycle).
+    pub fn missed_states(&self) -> u64 {
+        self.missed
+    }
+
+    /// The next cycle's state: the first state newer than the last one returned, waiting for
+    /// the core's state event (no spinning) at most [`STATE_TIMEOUT`].
+    pub fn wait_state(&mut self) -> Result<StateSample, ShmError> {
+        self.wait_state_timeout(STATE_TIMEOUT)
+    }
+
+    /// [`ShmClient::wait_state`] with its own bound; [`ShmError::Timeout`] when no new state
+    /// came within `timeout`.
+    pub fn wait_state_timeout(&mut self, timeout: Duration) -> Result<StateSample, ShmError> {
+        let deadline = Instant::now() + timeout;
+        loop {
+            let s = *self.ports.state.get();
+            if s.seq != self.last_seq {
+                if s.seq > self.last_seq + 1 && self.last_seq != 0 {
+                    self.missed += s.seq - self.last_seq - 1;
+                }
+                self.last_seq = s.seq;
+                self.absorb(&s);
+                return Ok(s);
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(ShmError::Timeout {
+                    waited: timeout,
+                    last_seq: self.last_seq,
+                });
+            }
+            // Wakes on the core's notification after its next publish (or a pending one: the
+            // loop then reads the state again and waits once more).
+            self.ports
+                .listener
+                .timed_wait(|_| {}, left)
+                .map_err(|e| ShmError::Ipc {
+                    step: format!("waiting on `{}`", self.names.state_event()),
+                    problem: format!("{e:?}"),
+                })?;
+        }
+    }
+
+    /// Read the replies and the safety error a new state announces.
+    fn absorb(&mut self, s: &StateSample) {
+        let (client, entries) = (self.client_id, &self.ports.replies);
+        let (waiting, answers, tracker) = (&self.waiting, &mut self.answers, &mut self.tracker);
+        let mut refused = Vec::new();
+        let (seen, scan) = replies::scan(
+            self.reply_seen,
+            s.reply_head,
+            client,
+            |n| read_reply(entries, n),
+            |r| {
+                if waiting.contains(&r.request_id) {
+                    answers.insert(r.request_id, r);
+                } else if let Some(resp) = tracker.answered(&r) {
+                    refused.push(resp);
+                }
+            },
+        );
+        self.reply_seen = seen;
+        if scan.overwritten > 0 && !self.waiting.is_empty() {
+            self.lost_while_waiting = true;
+        }
+        for r in refused {
+            self.push_event(ShmEvent::Refused(r));
+        }
+        if s.last_error.seq != self.last_error_seq {
+            self.last_error_seq = s.last_error.seq;
+            match SafetyError::decode(&s.last_error) {
+                Ok(Some(e)) => self.push_event(ShmEvent::SafetyError(e)),
+                Ok(None) => {}
+                Err(e) => self.push_event(ShmEvent::UnreadableSafetyError(e)),
+            }
+        }
+    }
+
+    fn push_event(&mut self, e: ShmEvent) {
+        if self.events.len() == EVENTS_KEPT {
+            self.events.pop_front();
+        }
+        self.events.push_back(e);
+    }
+
+    /// The oldest event not taken yet (events are collected while states are read).
+    pub fn next_event(&mut self) -> Option<ShmEvent> {
+        self.events.pop_front()
+    }
+
+    /// Publish `req` with this client's id and a new request id; the request id.
+    pub fn send(&mut self, req: &Request) -> Result<u64, ShmError> {
+        let mut sample = req.encode();
+        sample.client_id = self.client_id;
+        sample.request_id = self.next_request;
+        self.next_request += 1;
+        self.ports
+            .publisher
+            .send_copy(sample)
+            .map_err(|e| ShmError::Ipc {
+                step: format!("publishing {} on `{}`", req.kind(), self.names.command()),
+                problem: format!("{e:?}"),
+            })?;
+        Ok(sample.request_id)
+    }
+
+    /// Wait for the replies to `ids` (sent by this client); the first that is not `Done`
+    /// ends the wait with its error, else the last one's `Done`.
+    fn wait_replies(
+        &mut self,
+        kind: CommandKind,
+        ids: &[u64],
+        timeout: Duration,
+    ) -> Result<Done, ShmError> {
+        let start = Instant::now();
+        let deadline = start + timeout;
+        let mut last = Done::Ack;
+        for id in ids {
+            loop {
+                if let Some(r) = self.answers.remove(id) {
+                    self.waiting.remove(id);
+                    match outcome(kind, &r) {
+                        Ok(d) => last = d,
+                        Err(e) => {
+                            // A refused chunk ends the batch; the others' replies are dropped.
+                            for id in ids {
+                                self.waiting.remove(id);
+                                self.answers.remove(id);
+                            }
+                            return Err(e);
+                        }
+                    }
+                    break;
+                }
+                let left = deadline.saturating_duration_since(Instant::now());
+                // No reply in time, or the core stopped publishing: the outcome is unknown.
+                let gave_up = left.is_zero()
+                    || match self.wait_state_timeout(left.min(STATE_TIMEOUT)) {
+                        Ok(_) => false,
+                        Err(ShmError::Timeout { .. }) => true,
+                        Err(e) => return Err(e),
+                    };
+                if gave_up {
+                    for id in ids {
+                        self.waiting.remove(id);
+                        self.answers.remove(id);
+                    }
+                    let overwritten = std::mem::take(&mut self.lost_while_waiting);
+                    return Err(ShmError::OutcomeUnknown {
+                        command: kind,
+                        waited: start.elapsed(),
+                        overwritten,
+                    });
+                }
+            }
+        }
+        if self.waiting.is_empty() {
+            self.lost_while_waiting = false;
+        }
+        Ok(last)
+    }
+
+    /// Send `req` and wait for its reply ([`REPLY_TIMEOUT`], `calibrate`
+    /// [`CALIBRATE_TIMEOUT`]).
+    pub fn request(&mut self, req: &Request) -> Result<Done, ShmError> {
+        let timeout = if req.kind() == CommandKind::Calibrate {
+            CALIBRATE_TIMEOUT
+        } else {
+            REPLY_TIMEOUT
+        };
+        let id = self.next_request;
+        self.waiting.insert(id);
+        if let Err(e) = self.send(req) {
+            self.waiting.remove(&id);
+            return Err(e);
+        }
+        self.wait_replies(req.kind(), &[id], timeout)
+    }
+
+    fn ack(&mut self, req: Request) -> Result<(), ShmError> {
+        self.request(&req).map(|_| ())
+    }
+
+    /// Enter HOLD (open to every client).
+    pub fn hold(&mut self) -> Result<(), ShmError> {
+        self.ack(Request::Hold)
+    }
+
+    /// The core's number of axes and cycle period.
+    pub fn info(&mut self) -> Result<InfoReply, ShmError> {
+        match self.request(&Request::Info)? {
+            Done::Info(i) => Ok(i),
+            other => Err(mismatch(CommandKind::Info, other)),
+        }
+    }
+
+    /// Home the axes; returns when the calibration has finished.
+    pub fn calibrate(&mut self, c: Calibrate) -> Result<(), ShmError> {
+        self.ack(Request::Calibrate(c))
+    }
+
+    /// Enter RELEASE.
+    pub fn release(&mut self) -> Result<(), ShmError> {
+        self.ack(Request::Release)
+    }
+
+    /// Enter PVT with points spaced `dt_s`.
+    pub fn pvt(&mut self, dt_s: f64) -> Result<(), ShmError> {
+        self.ack(Request::Pvt(Pvt { dt_s }))
+    }
+
+    /// Enter TORQUE_CONTROL.
+    pub fn torque_control(&mut self, t: TorqueControl) -> Result<(), ShmError> {
+        self.ack(Request::TorqueControl(t))
+    }
+
+    /// Set the torques [Nm] without waiting: a refusal comes as [`ShmEvent::Refused`].
+    pub fn set_torques(&mut self, torques_nm: [f64; mcm_shared::NUM_AXES]) -> Result<(), ShmError> {
+        let id = self.send(&Request::SetTorques(SetTorques { torques_nm }))?;
+        self.tracker.sent(id, 0);
+        Ok(())
+    }
+
+    /// Move one axis (OK as the motion starts).
+    pub fn move_axis(&mut self, m: MoveAxis) -> Result<(), ShmError> {
+        self.ack(Request::MoveAxis(m))
+    }
+
+    /// Move all axes together; the plan.
+    pub fn move_all(&mut self, m: MoveAll) -> Result<MoveAllPlan, ShmError> {
+        match self.request(&Request::MoveAll(m))? {
+            Done::MoveAll(p) => Ok(p),
+            other => Err(mismatch(CommandKind::MoveAll, other)),
+        }
+    }
+
+    /// Queue a batch of PVT points (whole or not at all; at most 1000 points a batch).
+    pub fn pvt_points(&mut self, points: &[PvtPoint]) -> Result<(), ShmError> {
+        if points.is_empty() || points.len() > 1000 {
+            return Err(ShmError::Argument {
+                command: CommandKind::PvtPoints,
+                problem: format!("{} points given; a batch has 1 to 1000", points.len()),
+            });
+        }
+        let chunks: Vec<PvtChunk> = PvtChunk::batch(points).collect();
+        let mut result = Ok(Done::Ack);
+        for window in chunks.chunks(MAX_IN_FLIGHT) {
+            let mut ids = Vec::with_capacity(window.len());
+            for c in window {
+                let id = self.next_request;
+                self.waiting.insert(id);
+                self.send(&Request::PvtPoints(*c))?;
+                ids.push(id);
+            }
+            result = self.wait_replies(CommandKind::PvtPoints, &ids, REPLY_TIMEOUT);
+            if result.is_err() {
+                break;
+            }
+        }
+        result.map(|_| ())
+    }
+
+    /// Take control of the arm's motion.
+    pub fn take_control(&mut self) -> Result<(), ShmError> {
+        self.ack(Request::TakeControl)
+    }
+
+    /// Give up control; what this client drove ends in HOLD.
+    pub fn release_control(&mut self) -> Result<(), ShmError> {
+        self.ack(Request::ReleaseControl)
+    }
+
+    /// Fault injection into the simulated robot (the ground truth is in the state's `sim_*`).
+    pub fn sim(&mut self, c: SimCommand) -> Result<(), ShmError> {
+        self.ack(Request::Sim(c))
+    }
+}
+
+impl Drop for ShmClient {
+    /// Tell the core this client is gone: it releases the client's control.
+    fn drop(&mut self) {
+        let _ = self.send(&Request::ClientGone);
+    }
+}
+
+/// A reply's outcome as this client's result.
+fn outcome(kind: CommandKind, r: &mcm_shared::sample::Reply) -> Result<Done, ShmError> {
+    let resp = Response::decode(r).map_err(|error| ShmError::Undecodable {
+        command: kind,
+        error,
+    })?;
+    match resp.outcome {
+        Outcome::Done(d) => Ok(d),
+        Outcome::Refused(reason) => Err(ShmError::Refused {
+            command: resp.kind,
+            reason,
+        }),
+        Outcome::Failed(reason) => Err(ShmError::Failed {
+            command: resp.kind,
+            reason,
+        }),
+    }
+}
+
+fn mismatch(kind: CommandKind, got: Done) -> ShmError {
+    ShmError::Undecodable {
+        command: kind,
+        error: mcm_shared::command::DecodeError::Mismatch {
+            kind,
+            problem: match got {
+                Done::Ack => "a plain OK where figures were expected",
+                Done::Info(_) => "an `info` answer",
+                Done::MoveAll(_) => "a `move_all` answer",
+            },
+        },
+    }
+}

@@ -1,0 +1,259 @@
+//! Errors of the TCP client: the MCM's own refusals ([`McmError`]) and what can go wrong on the
+//! way ([`Error`]).
+
+use mcm_shared::mode::RejectCode;
+use std::time::Duration;
+
+/// How the MCM answered a command it did not do.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// Refused: nothing changed (`<command> refused: ...`).
+    Refused,
+    /// Accepted, then failed while running (`<command> failed: ...`, e.g. a calibration).
+    Failed,
+    /// Sent to the real-time core, but no answer came: it may or may not have been executed;
+    /// read the state (`<command>: no reply ...`). Never "failed".
+    OutcomeUnknown,
+    /// The gateway refused the line itself (arguments, access rules, unknown command).
+    Invalid,
+}
+
+/// The MCM's answer to a command it did not do: the command, the MCM's words, how it ended and,
+/// where the words name one, the reject code (`RejectCode::as_str` names it; `Reason`'s
+/// `Display` in `mcm_shared::reply` gives the same words the MCM uses).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{message}")]
+pub struct McmError {
+    /// The command it answers (`move_axis`, ...).
+    pub command: String,
+    pub kind: ErrorKind,
+    /// The reject code, read from the words (the JSON protocol carries words only); `None`
+    /// when they name no code of [`RejectCode`].
+    pub code: Option<RejectCode>,
+    /// The MCM's `error_message`, unchanged.
+    pub message: String,
+}
+
+/// Phrases of the MCM's words (`Reason`'s `Display`) that name each reject code.
+const CODE_WORDS: &[(&str, RejectCode)] = &[
+    ("not allowed in mode", RejectCode::WrongMode),
+    ("is not calibrated", RejectCode::NotCalibrated),
+    ("the emergency stop is pressed", RejectCode::EmergencyStop),
+    ("does not answer on the bus", RejectCode::DriveDisconnected),
+    ("is in fault", RejectCode::DriveFault),
+    ("outside the reachable range", RejectCode::Unreachable),
+    ("outside the allowed range", RejectCode::OutOfRange),
+    ("not available yet", RejectCode::NotAvailable),
+    (
+        "only available when the simulated robot",
+        RejectCode::NotSimulated,
+    ),
+    ("queue full", RejectCode::QueueFull),
+    ("position limit:", RejectCode::PositionLimit),
+    ("velocity limit:", RejectCode::VelocityLimit),
+    ("braking distance:", RejectCode::BrakingDistance),
+    ("following error:", RejectCode::FollowingError),
+    ("calibration of axis", RejectCode::CalibrationFailed),
+    ("aborted", RejectCode::Aborted),
+    ("a motion is in progress", RejectCode::Busy),
+    ("exceeds the limit", RejectCode::PvtPoint),
+    ("controls the arm", RejectCode::NotOwner),
+    ("the arm is controlled by", RejectCode::NotOwner),
+    ("is shutting down", RejectCode::ShuttingDown),
+];
+
+impl McmError {
+    /// Read a `generic` ERROR result that answers `command`.
+    pub fn from_message(command: &str, message: &str) -> McmError {
+        let rest = message.strip_prefix(command).unwrap_or(message);
+        let kind = if rest.starts_with(" refused:") {
+            ErrorKind::Refused
+        } else if rest.starts_with(" failed:") {
+            ErrorKind::Failed
+        } else if rest.contains("may or may not have been executed") {
+            ErrorKind::OutcomeUnknown
+        } else {
+            ErrorKind::Invalid
+        };
+        let code = match kind {
+            ErrorKind::Refused | ErrorKind::Failed => CODE_WORDS
+                .iter()
+                .find(|(words, _)| rest.contains(words))
+                .map(|(_, code)| *code),
+            ErrorKind::OutcomeUnknown | ErrorKind::Invalid => None,
+        };
+        McmError {
+            command: command.to_string(),
+            kind,
+            code,
+            message: message.to_string(),
+        }
+    }
+}
+
+/// What a call of the TCP client can end with, other than its result.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The MCM answered the command with an error.
+    #[error(transparent)]
+    Mcm(#[from] McmError),
+    #[error("cannot connect to the MCM at {addr}: {source}")]
+    Connect {
+        addr: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("the connection to the MCM broke during `{command}`: {source}")]
+    Io {
+        command: String,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The MCM closed the connection; `reason` is its last line, if it gave one.
+    #[error("the MCM closed the connection{}", reason.as_ref().map(|r| format!(": {r}")).unwrap_or_default())]
+    Closed { reason: Option<String> },
+    /// An earlier call found the connection broken; call `reconnect()` (or set
+    /// `TcpOptions::reconnect_on_next_call`).
+    #[error("not connected (the connection broke earlier); call reconnect()")]
+    NotConnected,
+    #[error(
+        "no result to `{command}` within {waited:?}: it may or may not have been executed; read the state"
+    )]
+    Timeout { command: String, waited: Duration },
+    /// A line that is not the protocol this client knows (another MCM version?).
+    #[error("unexpected line from the MCM while waiting for `{command}` ({problem}): {line}")]
+    Protocol {
+        command: String,
+        problem: String,
+        line: String,
+    },
+    /// An argument this client refuses before sending anything.
+    #[error("{command}: {problem}")]
+    Argument { command: String, problem: String },
+}
+
+impl Error {
+    /// The MCM's error, if this is one.
+    pub fn mcm(&self) -> Option<&McmError> {
+        match self {
+            Error::Mcm(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refusals_failures_and_unknown_outcomes_are_told_apart_with_their_code() {
+        let e = McmError::from_message(
+            "move_all",
+            "move_all refused: a motion is in progress (0.845 s left); wait until it ends, or send `hold` to stop it",
+        );
+        assert_eq!(
+            (e.kind, e.code),
+            (ErrorKind::Refused, Some(RejectCode::Busy))
+        );
+        let e = McmError::from_message(
+            "calibrate",
+            "calibrate failed: calibration of axis 3 failed: no mechanical stop found within 310.0 deg; the arm holds where it is",
+        );
+        assert_eq!(
+            (e.kind, e.code),
+            (ErrorKind::Failed, Some(RejectCode::CalibrationFailed))
+        );
+        let e = McmError::from_message(
+            "move_axis",
+            "move_axis: no reply from the real-time core within 5 s: the command may or may not have been executed; check the state",
+        );
+        assert_eq!((e.kind, e.code), (ErrorKind::OutcomeUnknown, None));
+        let e = McmError::from_message(
+            "move_axis",
+            "move_axis: argument \"axis_index\" = 9 is not allowed; expected an axis number from 1 to 6",
+        );
+        assert_eq!((e.kind, e.code), (ErrorKind::Invalid, None));
+        let e = McmError::from_message(
+            "move_axis",
+            "move_axis refused: the arm is controlled by JSON client 10.1.2.3:51234 (client id 0x1a2b00000003); only `hold`, `status` and `info` are open to others",
+        );
+        assert_eq!(e.code, Some(RejectCode::NotOwner));
+        assert_eq!(e.to_string(), e.message, "the MCM's words, unchanged");
+    }
+
+    #[test]
+    fn every_reason_of_the_core_is_read_back_to_its_code() {
+        use mcm_shared::command::Axis;
+        use mcm_shared::mode::Mode;
+        use mcm_shared::reply::{CalibrationFailure, PvtQuantity, Reason};
+        let a = Axis::new(2).unwrap();
+        let reasons = [
+            Reason::WrongMode { mode: Mode::Hold },
+            Reason::NotCalibrated { axis: a },
+            Reason::EmergencyStop,
+            Reason::DriveDisconnected { axis: a },
+            Reason::DriveFault {
+                axis: Some(a),
+                code: 0x2310,
+            },
+            Reason::OutOfRange {
+                axis: None,
+                value: 2.0,
+                min: 0.0,
+                max: 1.0,
+            },
+            Reason::NotAvailable,
+            Reason::NotSimulated,
+            Reason::QueueFull {
+                offered: 3,
+                free: 1,
+            },
+            Reason::PositionLimit {
+                axis: a,
+                position_deg: 1.0,
+                limit_deg: 0.5,
+            },
+            Reason::VelocityLimit {
+                axis: a,
+                velocity_deg_s: 1.0,
+                limit_deg_s: 0.5,
+            },
+            Reason::BrakingDistance {
+                axis: a,
+                stop_deg: 1.0,
+                limit_deg: 0.5,
+            },
+            Reason::FollowingError {
+                axis: a,
+                error_deg: 1.0,
+                band_deg: 0.5,
+            },
+            Reason::CalibrationFailed {
+                axis: a,
+                cause: CalibrationFailure::DriveLost,
+            },
+            Reason::Aborted,
+            Reason::Busy { remaining_s: 1.0 },
+            Reason::PvtPoint {
+                axis: a,
+                point: 2,
+                quantity: PvtQuantity::Velocity,
+                value: 1.0,
+                limit: 0.5,
+            },
+            Reason::Unreachable {
+                axis: a,
+                target_deg: 1.0,
+                min_deg: 0.0,
+                max_deg: 0.5,
+            },
+            Reason::NotOwner { owner: 7 },
+            Reason::ShuttingDown,
+        ];
+        for r in reasons {
+            let e = McmError::from_message("move_axis", &format!("move_axis refused: {r}"));
+            assert_eq!(e.code, Some(r.code()), "{r}");
+        }
+    }
+}

@@ -1,0 +1,553 @@
+//! The JSON protocol over TCP (`docs/protocol.md`), blocking.
+//!
+//! ```no_run
+//! use mcm_client::tcp::TcpClient;
+//! let mut mcm = TcpClient::connect("127.0.0.1:18010")?;
+//! mcm.hold()?;
+//! mcm.calibrate(Default::default())?;
+//! mcm.pvt(0.01)?;
+//! let plan = mcm.move_all([0.0, 10.0, 20.0, 0.0, 0.0, 0.0], 0.5)?;
+//! println!("arrives in {:.2} s", plan.max_time_to_target);
+//! # Ok::<(), mcm_client::tcp::Error>(())
+//! ```
+//!
+//! Each call writes one command line and reads lines until that command's result; lines that
+//! answer no command (safety errors, the status ticks of a TORQUE_CONTROL session, notices)
+//! are queued for [`TcpClient::next_event`]. `set_torques` has no result on success: it
+//! returns once written, and a refusal arrives later as [`Event::CommandError`].
+//!
+//! **Reconnecting.** When the connection breaks, the call that saw it fails and the client is
+//! disconnected. [`TcpClient::reconnect`] opens a new connection (and repeats `authenticate`
+//! if it was given). Control of the arm does *not* survive: the old connection closing makes
+//! the gateway release its control, and what it drove (a move, a PVT stream, RELEASE,
+//! TORQUE_CONTROL) ends in HOLD. Take control again (`take_control`) after a reconnect. With
+//! [`TcpOptions::reconnect_on_next_call`] the next call reconnects by itself first.
+
+mod error;
+mod types;
+mod wire;
+
+pub use error::{Error, ErrorKind, McmError};
+pub use types::{
+    AxisInfo, AxisStates, CalibrateOptions, Detail, Event, Info, MoveAllResult, PvtQueue,
+    SimResult, Six, Status, TorqueOptions,
+};
+
+use mcm_shared::command::{PvtPoint, SimCommand, Which};
+use mcm_shared::mode::Mode;
+use serde_json::{Value, json};
+use std::collections::VecDeque;
+use std::io::{ErrorKind as IoKind, Read, Write};
+use std::net::{TcpStream, ToSocketAddrs};
+use std::time::{Duration, Instant};
+use wire::Line;
+
+/// The MCM's JSON port.
+pub const DEFAULT_PORT: u16 = 18010;
+/// Most points the MCM takes in one `pvt_points` command.
+pub const MAX_POINTS_PER_COMMAND: usize = 1000;
+/// Longest command line this client writes (the MCM's limit is 65536 bytes).
+const MAX_LINE: usize = 60_000;
+
+/// How the client connects and waits.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TcpOptions {
+    pub connect_timeout: Duration,
+    /// Longest wait for a command's result (the MCM itself answers within 5 s or says the
+    /// outcome is unknown).
+    pub reply_timeout: Duration,
+    /// Longest wait for `calibrate` (about 12 s on the simulated P-Rob2; the MCM's own bound
+    /// is 600 s).
+    pub calibrate_timeout: Duration,
+    /// A call on a broken connection reconnects first (see the module docs on control).
+    pub reconnect_on_next_call: bool,
+}
+
+impl Default for TcpOptions {
+    fn default() -> Self {
+        TcpOptions {
+            connect_timeout: Duration::from_secs(5),
+            reply_timeout: Duration::from_secs(10),
+            calibrate_timeout: Duration::from_secs(610),
+            reconnect_on_next_call: false,
+        }
+    }
+}
+
+/// Which result a command waits for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Expect {
+    /// `generic` OK.
+    Ok,
+    /// A `status` result; in a TORQUE_CONTROL session, one in this mode (the session's ticks
+    /// are in TORQUE_CONTROL, and a tick is what a `status` call may get there).
+    Status(Option<Mode>),
+    /// Another `result_type`.
+    Kind(&'static str),
+}
+
+enum Answer {
+    Ok,
+    Status(Box<Status>),
+    Other(Value),
+}
+
+struct Conn {
+    stream: TcpStream,
+    buf: Vec<u8>,
+}
+
+/// A connection to the MCM's JSON port. See the module docs.
+pub struct TcpClient {
+    addr: String,
+    opts: TcpOptions,
+    conn: Option<Conn>,
+    events: VecDeque<Event>,
+    /// This connection's TORQUE_CONTROL session sends status ticks.
+    torque_ticks: bool,
+    secret: Option<String>,
+}
+
+impl TcpClient {
+    /// Connect to `addr` (`host:port`) with the default options.
+    pub fn connect(addr: &str) -> Result<TcpClient, Error> {
+        TcpClient::connect_with(addr, TcpOptions::default())
+    }
+
+    pub fn connect_with(addr: &str, opts: TcpOptions) -> Result<TcpClient, Error> {
+        let mut c = TcpClient {
+            addr: addr.to_string(),
+            opts,
+            conn: None,
+            events: VecDeque::new(),
+            torque_ticks: false,
+            secret: None,
+        };
+        c.open()?;
+        Ok(c)
+    }
+
+    fn open(&mut self) -> Result<(), Error> {
+        let err = |source| Error::Connect {
+            addr: self.addr.clone(),
+            source,
+        };
+        let mut last = None;
+        let addrs = self.addr.to_socket_addrs().map_err(err)?;
+        for a in addrs {
+            match TcpStream::connect_timeout(&a, self.opts.connect_timeout) {
+                Ok(stream) => {
+                    stream.set_nodelay(true).map_err(err)?;
+                    self.conn = Some(Conn {
+                        stream,
+                        buf: Vec::new(),
+                    });
+                    self.torque_ticks = false;
+                    return Ok(());
+                }
+                Err(e) => last = Some(e),
+            }
+        }
+        Err(err(last.unwrap_or_else(|| {
+            std::io::Error::new(IoKind::NotFound, "the address resolves to nothing")
+        })))
+    }
+
+    /// Close this connection and open a new one; `authenticate` is repeated if it was given.
+    /// Control of the arm is lost with the old connection (what it drove ends in HOLD).
+    pub fn reconnect(&mut self) -> Result<(), Error> {
+        self.conn = None;
+        self.open()?;
+        if let Some(secret) = self.secret.clone() {
+            self.authenticate(&secret)?;
+        }
+        Ok(())
+    }
+
+    /// The connection is open (as far as this client knows).
+    pub fn is_connected(&self) -> bool {
+        self.conn.is_some()
+    }
+
+    /// The address this client connects to.
+    pub fn addr(&self) -> &str {
+        &self.addr
+    }
+
+    fn ensure(&mut self) -> Result<(), Error> {
+        if self.conn.is_none() {
+            if self.opts.reconnect_on_next_call {
+                self.reconnect()?;
+            } else {
+                return Err(Error::NotConnected);
+            }
+        }
+        Ok(())
+    }
+
+    fn write(&mut self, command: &str, line: &str) -> Result<(), Error> {
+        self.ensure()?;
+        let conn = self.conn.as_mut().ok_or(Error::NotConnected)?;
+        let r = conn
+            .stream
+            .write_all(line.as_bytes())
+            .and_then(|()| conn.stream.write_all(b"\n"));
+        r.map_err(|source| {
+            self.conn = None;
+            Error::Io {
+                command: command.to_string(),
+                source,
+            }
+        })
+    }
+
+    /// The next line, or `None` when `deadline` passed first.
+    fn read_line(&mut self, command: &str, deadline: Instant) -> Result<Option<String>, Error> {
+        let conn = self.conn.as_mut().ok_or(Error::NotConnected)?;
+        loop {
+            if let Some(i) = conn.buf.iter().position(|&b| b == b'\n') {
+                let line: Vec<u8> = conn.buf.drain(..=i).collect();
+                let text = String::from_utf8_lossy(&line).trim().to_string();
+                if text.is_empty() {
+                    continue;
+                }
+                return Ok(Some(text));
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Ok(None);
+            }
+            let io = |source| Error::Io {
+                command: command.to_string(),
+                source,
+            };
+            conn.stream
+                .set_read_timeout(Some(left.max(Duration::from_millis(1))))
+                .map_err(io)?;
+            let mut chunk = [0u8; 8192];
+            match conn.stream.read(&mut chunk) {
+                Ok(0) => {
+                    self.conn = None;
+                    let reason = self.events.iter().rev().find_map(|e| match e {
+                        Event::Notice(n) => Some(n.clone()),
+                        _ => None,
+                    });
+                    return Err(Error::Closed { reason });
+                }
+                Ok(n) => conn.buf.extend_from_slice(&chunk[..n]),
+                Err(e) if matches!(e.kind(), IoKind::WouldBlock | IoKind::TimedOut) => {}
+                Err(e) if e.kind() == IoKind::Interrupted => {}
+                Err(e) => {
+                    self.conn = None;
+                    return Err(io(e));
+                }
+            }
+        }
+    }
+
+    fn queue(&mut self, e: Event) {
+        if let Event::Status(s) = &e
+            && s.mode != Mode::TorqueControl
+        {
+            self.torque_ticks = false;
+        }
+        self.events.push_back(e);
+    }
+
+    /// Send `{"command": command, "arguments": args}` and read lines until its result.
+    fn call(
+        &mut self,
+        command: &'static str,
+        args: Option<Value>,
+        expect: Expect,
+        timeout: Duration,
+    ) -> Result<Answer, Error> {
+        let mut cmd = json!({ "command": command });
+        if let Some(a) = args {
+            cmd["arguments"] = a;
+        }
+        self.write(command, &cmd.to_string())?;
+        let deadline = Instant::now() + timeout;
+        loop {
+            let Some(line) = self.read_line(command, deadline)? else {
+                return Err(Error::Timeout {
+                    command: command.to_string(),
+                    waited: timeout,
+                });
+            };
+            let parsed = wire::parse(&line).map_err(|problem| Error::Protocol {
+                command: command.to_string(),
+                problem,
+                line: line.clone(),
+            })?;
+            let unexpected = |what: &str| Error::Protocol {
+                command: command.to_string(),
+                problem: format!("a {what} result where {expect:?} was expected"),
+                line: line.clone(),
+            };
+            match (parsed, expect) {
+                (Line::Event(e), _) => self.queue(e),
+                (Line::Error(message), _) => {
+                    return Err(McmError::from_message(command, &message).into());
+                }
+                (Line::Ok, Expect::Ok) => return Ok(Answer::Ok),
+                (Line::Status(s), Expect::Status(mode)) => {
+                    let tick = self.torque_ticks && mode.is_some_and(|m| m != s.mode);
+                    if !tick {
+                        return Ok(Answer::Status(s));
+                    }
+                    self.queue(Event::Status(s));
+                }
+                (Line::Status(s), _) if self.torque_ticks => self.queue(Event::Status(s)),
+                (Line::Other(kind, v), Expect::Kind(k)) if kind == k => {
+                    return Ok(Answer::Other(v));
+                }
+                (Line::Ok, _) => return Err(unexpected("generic OK")),
+                (Line::Status(_), _) => return Err(unexpected("status")),
+                (Line::Other(kind, _), _) => return Err(unexpected(&kind)),
+            }
+        }
+    }
+
+    fn call_ok(&mut self, command: &'static str, args: Option<Value>) -> Result<(), Error> {
+        let t = self.opts.reply_timeout;
+        self.call(command, args, Expect::Ok, t).map(|_| ())
+    }
+
+    fn call_status(
+        &mut self,
+        command: &'static str,
+        args: Option<Value>,
+        mode: Option<Mode>,
+    ) -> Result<Status, Error> {
+        let t = self.opts.reply_timeout;
+        match self.call(command, args, Expect::Status(mode), t)? {
+            Answer::Status(s) => Ok(*s),
+            _ => unreachable!("call returns what Expect::Status asks for"),
+        }
+    }
+
+    fn call_kind<T: serde::de::DeserializeOwned>(
+        &mut self,
+        command: &'static str,
+        args: Option<Value>,
+        kind: &'static str,
+    ) -> Result<T, Error> {
+        let t = self.opts.reply_timeout;
+        let Answer::Other(v) = self.call(command, args, Expect::Kind(kind), t)? else {
+            unreachable!("call returns what Expect::Kind asks for")
+        };
+        serde_json::from_value(v.clone()).map_err(|e| Error::Protocol {
+            command: command.to_string(),
+            problem: format!("its `{kind}` result does not read: {e}"),
+            line: v.to_string(),
+        })
+    }
+
+    /// The newest state (`status`). In a TORQUE_CONTROL session with `dt_status` this may be
+    /// one of the session's ticks (a state as fresh); the ticks are better read as events.
+    pub fn status(&mut self) -> Result<Status, Error> {
+        self.call_status("status", None, None)
+    }
+
+    /// `status` with `detail`: `hardware_status` and `detail` are set.
+    pub fn status_detail(&mut self) -> Result<Status, Error> {
+        self.call_status("status", Some(json!({"detail": true})), None)
+    }
+
+    /// Robot, version, cycle time and the limits of every axis (`info`).
+    pub fn info(&mut self) -> Result<Info, Error> {
+        self.call_kind("info", None, "initialization")
+    }
+
+    /// Enter HOLD (clears errors and powers the drives from OFF/ERROR; stops a motion). Open
+    /// to every client.
+    pub fn hold(&mut self) -> Result<Status, Error> {
+        let s = self.call_status("hold", None, Some(Mode::Hold))?;
+        self.torque_ticks = false;
+        Ok(s)
+    }
+
+    /// Home the axes; returns when the calibration has finished (about 12 s on the simulated
+    /// P-Rob2), with the arm back at zero in HOLD.
+    pub fn calibrate(&mut self, o: CalibrateOptions) -> Result<(), Error> {
+        let which = match o.which.unwrap_or(Which::All) {
+            Which::All => json!("ALL"),
+            Which::Elbow => json!("ELBOW"),
+            Which::Wrist => json!("WRIST"),
+            Which::Axis(a) => json!(a.number()),
+        };
+        let args = json!({
+            "which": which,
+            "elbow_direction": o.elbow_direction.sign() as i8,
+            "wrist_direction": o.wrist_direction.sign() as i8,
+            "force_mechanical_stop": o.force_mechanical_stop,
+        });
+        let t = self.opts.calibrate_timeout;
+        self.call("calibrate", Some(args), Expect::Ok, t)
+            .map(|_| ())
+    }
+
+    /// Enter RELEASE (the arm can be moved by hand).
+    pub fn release(&mut self) -> Result<Status, Error> {
+        let s = self.call_status("release", None, Some(Mode::Release))?;
+        self.torque_ticks = false;
+        Ok(s)
+    }
+
+    /// Enter PVT with points spaced `dt_s` seconds (one cycle to 1 s).
+    pub fn pvt(&mut self, dt_s: f64) -> Result<Status, Error> {
+        let s = self.call_status("pvt", Some(json!({"dt": dt_s})), Some(Mode::Pvt))?;
+        self.torque_ticks = false;
+        Ok(s)
+    }
+
+    /// Enter TORQUE_CONTROL. With `dt_status_s` the MCM sends a status every `dt_status_s`
+    /// ([`Event::Status`]); with `dt_status_s` equal to the cycle period every cycle's state
+    /// comes exactly once, and a `set_torques` sent in answer is applied in the next cycle.
+    pub fn torque_control(&mut self, o: TorqueOptions) -> Result<Status, Error> {
+        let args = json!({
+            "timeout": o.timeout_s.unwrap_or(-1.0),
+            "dt_status": o.dt_status_s.unwrap_or(0.0),
+            "gravity_compensation": o.gravity_compensation,
+        });
+        let s = self.call_status("torque_control", Some(args), Some(Mode::TorqueControl))?;
+        self.torque_ticks = o.dt_status_s.is_some_and(|d| d > 0.0);
+        Ok(s)
+    }
+
+    /// Set the joint torques [Nm] in TORQUE_CONTROL (added to the gravity compensation unless
+    /// it was switched off). Returns once written: there is no result on success, and a
+    /// refusal comes later as [`Event::CommandError`].
+    pub fn set_torques(&mut self, torques_nm: Six) -> Result<(), Error> {
+        let line = json!({"command": "set_torques", "arguments": {"torques": torques_nm}});
+        self.write("set_torques", &line.to_string())
+    }
+
+    // VELOCITY_CONTROL (added after the merge) follows the two methods above:
+    // `velocity_control` as `torque_control` (a status in its mode via `call_status`, the
+    // ticks flag if it has `dt_status`), `set_velocities` as `set_torques` (written only; add
+    // it to `wire::NO_RESULT_ON_SUCCESS` so its refusals become events).
+
+    /// Move one axis (1..6) to `target_deg` at `velocity_factor` (0, 1] of its limits; OK as
+    /// the motion starts (PVT mode).
+    pub fn move_axis(
+        &mut self,
+        axis: u8,
+        target_deg: f64,
+        velocity_factor: f64,
+    ) -> Result<(), Error> {
+        let args = json!({"axis_index": axis, "target_position": target_deg,
+                          "velocity_factor": velocity_factor});
+        self.call_ok("move_axis", Some(args))
+    }
+
+    /// Move all axes together to `targets_deg` (PVT mode); the move the MCM planned.
+    pub fn move_all(
+        &mut self,
+        targets_deg: Six,
+        velocity_factor: f64,
+    ) -> Result<MoveAllResult, Error> {
+        let args = json!({"target_positions": targets_deg, "velocity_factor": velocity_factor});
+        self.call_kind("move_all", Some(args), "move_all")
+    }
+
+    /// Queue PVT points (spaced by `pvt`'s `dt`). Up to [`MAX_POINTS_PER_COMMAND`] points that
+    /// fit one line go in one command, queued whole or not at all; longer lists go as several
+    /// commands in order, and the first refused one ends the call (the commands before it
+    /// stay queued; the MCM's words count its points from 1 within that command).
+    pub fn pvt_points(&mut self, points: &[PvtPoint]) -> Result<(), Error> {
+        if points.is_empty() {
+            return Err(Error::Argument {
+                command: "pvt_points".into(),
+                problem: "no points given; send 1 or more".into(),
+            });
+        }
+        let point =
+            |p: &PvtPoint| json!({"position": p.position_deg, "velocity": p.velocity_deg_s});
+        let mut batch: Vec<Value> = Vec::new();
+        let mut len = 0;
+        for p in points {
+            let v = point(p);
+            let n = v.to_string().len() + 1;
+            if !batch.is_empty() && (len + n > MAX_LINE || batch.len() == MAX_POINTS_PER_COMMAND) {
+                self.call_ok(
+                    "pvt_points",
+                    Some(json!({"points": std::mem::take(&mut batch)})),
+                )?;
+                len = 0;
+            }
+            len += n;
+            batch.push(v);
+        }
+        self.call_ok("pvt_points", Some(json!({"points": batch})))
+    }
+
+    /// Take control of the arm's motion (refused while another client controls it).
+    pub fn take_control(&mut self) -> Result<(), Error> {
+        self.call_ok("take_control", None)
+    }
+
+    /// Give up control; what this connection drove ends in HOLD.
+    pub fn release_control(&mut self) -> Result<(), Error> {
+        self.call_ok("release_control", None)
+    }
+
+    /// Present the shared secret (needed before taking control when the MCM has one). It is
+    /// kept to authenticate again after a reconnect.
+    pub fn authenticate(&mut self, secret: &str) -> Result<(), Error> {
+        self.call_ok("authenticate", Some(json!({"secret": secret})))?;
+        self.secret = Some(secret.to_string());
+        Ok(())
+    }
+
+    /// Fault injection into the simulated robot (from loopback); the simulation's ground truth.
+    pub fn sim(&mut self, c: SimCommand) -> Result<SimResult, Error> {
+        let mut args = json!({});
+        if let Some(e) = c.emergency_stop {
+            args["emergency_stop"] = json!(e);
+        }
+        for (key, axis) in [
+            ("disconnect_axis", c.disconnect_axis),
+            ("reconnect_axis", c.reconnect_axis),
+            ("block_axis", c.block_axis),
+            ("unblock_axis", c.unblock_axis),
+        ] {
+            if let Some(a) = axis {
+                args[key] = json!(a.number());
+            }
+        }
+        if let Some(t) = c.external_torques_nm {
+            args["external_torques"] = json!(t);
+        }
+        if c.power_cycle {
+            args["power_cycle"] = json!(true);
+        }
+        self.call_kind("sim", Some(args), "sim")
+    }
+
+    /// The next spontaneous message: a queued one at once, else the first to arrive within
+    /// `timeout` (`None`: none came).
+    pub fn next_event(&mut self, timeout: Duration) -> Result<Option<Event>, Error> {
+        if let Some(e) = self.events.pop_front() {
+            return Ok(Some(e));
+        }
+        self.ensure()?;
+        let deadline = Instant::now() + timeout;
+        if let Some(line) = self.read_line("(events)", deadline)? {
+            let event = match wire::parse(&line) {
+                Ok(Line::Event(e)) => e,
+                Ok(Line::Status(s)) => Event::Status(s),
+                Ok(Line::Error(m)) => Event::Notice(m),
+                // A result no call waits for (a call that timed out earlier): its words.
+                Ok(Line::Ok | Line::Other(..)) | Err(_) => Event::Notice(line),
+            };
+            self.queue(event);
+            return Ok(self.events.pop_front());
+        }
+        Ok(None)
+    }
+}
+
+#[cfg(test)]
+mod tests;

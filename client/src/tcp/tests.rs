@@ -1,0 +1,157 @@
+//! The client against a scripted server on a loopback socket: results, events in between,
+//! a closed connection and reconnecting.
+
+use super::*;
+use std::io::{BufRead, BufReader};
+use std::net::TcpListener;
+use std::sync::mpsc;
+
+fn status(mode: &str, t: f64) -> String {
+    format!(
+        r#"{{"result_type":"status","operating_mode":"{mode}","axis_states":{{"time":[{t},{t},{t},{t},{t},{t}],"position":[0,0,0,0,0,0],"velocity":[0,0,0,0,0,0],"acceleration":[0,0,0,0,0,0],"current":[0,0,0,0,0,0]}}}}"#
+    )
+}
+
+/// A server that answers the n-th line it reads with `script[n]` (several lines, or none),
+/// and reports every line read on the channel. Connections are served one after the other.
+fn server(script: Vec<Vec<String>>) -> (String, mpsc::Receiver<String>) {
+    let l = TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = l.local_addr().unwrap().to_string();
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        let mut script = script.into_iter();
+        for conn in l.incoming() {
+            let conn = conn.unwrap();
+            let mut w = conn.try_clone().unwrap();
+            for line in BufReader::new(conn).lines() {
+                let Ok(line) = line else { break };
+                let _ = tx.send(line);
+                match script.next() {
+                    Some(answer) if answer == ["CLOSE"] => break,
+                    Some(answer) => {
+                        for a in answer {
+                            w.write_all(format!("{a}\n").as_bytes()).unwrap();
+                        }
+                    }
+                    None => return,
+                }
+            }
+        }
+    });
+    (addr, rx)
+}
+
+#[test]
+fn ticks_and_errors_between_results_become_events() {
+    let ok = r#"{"result_type":"generic","error_status":"OK"}"#.to_string();
+    let (addr, seen) = server(vec![
+        vec![status("TORQUE_CONTROL", 1.0)],
+        // set_torques: a refusal, later.
+        vec![r#"{"result_type":"generic","error_status":"ERROR","error_message":"set_torques refused: axis 1: value 900 is outside the allowed range [-129.6, 129.6]"}"#.into()],
+        // hold: two ticks of the session, a safety error, then hold's own status.
+        vec![
+            status("TORQUE_CONTROL", 1.1),
+            status("TORQUE_CONTROL", 1.2),
+            r#"{"result_type":"generic","error_status":"ERROR","error_message":"safety check tripped: x","check":"velocity_limit","axis":3}"#.into(),
+            status("HOLD", 1.3),
+        ],
+        vec![ok.clone()],
+    ]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    let o = TorqueOptions {
+        dt_status_s: Some(0.1),
+        ..TorqueOptions::default()
+    };
+    assert_eq!(c.torque_control(o).unwrap().mode, Mode::TorqueControl);
+    c.set_torques([900.0, 0.0, 0.0, 0.0, 0.0, 0.0]).unwrap();
+    let held = c.hold().unwrap();
+    assert_eq!((held.mode, held.time()), (Mode::Hold, 1.3));
+    c.take_control().unwrap();
+    let mut events = Vec::new();
+    while let Some(e) = c.next_event(Duration::from_millis(50)).unwrap() {
+        events.push(e);
+    }
+    assert_eq!(events.len(), 4, "{events:#?}");
+    assert!(
+        matches!(&events[0], Event::CommandError(e) if e.code == Some(mcm_shared::mode::RejectCode::OutOfRange))
+    );
+    assert!(matches!(&events[1], Event::Status(s) if s.time() == 1.1));
+    assert!(matches!(&events[2], Event::Status(s) if s.time() == 1.2));
+    assert!(matches!(
+        &events[3],
+        Event::SafetyError { axis: Some(3), .. }
+    ));
+    let sent: Vec<String> = seen.try_iter().collect();
+    assert_eq!(sent.len(), 4);
+    assert!(sent[0].contains(r#""dt_status":0.1"#), "{}", sent[0]);
+    assert!(sent[1].contains(r#""torques":[900.0,0.0"#), "{}", sent[1]);
+}
+
+#[test]
+fn refusals_carry_command_words_and_code() {
+    let (addr, _seen) = server(vec![vec![
+        r#"{"result_type":"generic","error_status":"ERROR","error_message":"move_all refused: not allowed in mode HOLD"}"#.into(),
+    ]]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    let e = c.move_all([0.0; 6], 0.5).unwrap_err();
+    let m = e.mcm().expect("the MCM's error");
+    assert_eq!(m.command, "move_all");
+    assert_eq!(m.kind, ErrorKind::Refused);
+    assert_eq!(m.code, Some(mcm_shared::mode::RejectCode::WrongMode));
+    assert_eq!(e.to_string(), "move_all refused: not allowed in mode HOLD");
+}
+
+#[test]
+fn a_closed_connection_fails_the_call_and_reconnect_opens_a_new_one() {
+    let ok = r#"{"result_type":"generic","error_status":"OK"}"#.to_string();
+    let (addr, seen) = server(vec![
+        vec!["CLOSE".into()],
+        vec![ok.clone()], // authenticate on the new connection
+        vec![ok.clone()], // take_control
+        vec!["CLOSE".into()],
+        vec![ok.clone()], // authenticate, by reconnect_on_next_call
+        vec![ok.clone()],
+    ]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    c.secret = Some("s3cret".into());
+    assert!(matches!(c.take_control(), Err(Error::Closed { .. })));
+    assert!(!c.is_connected());
+    assert!(matches!(c.take_control(), Err(Error::NotConnected)));
+    c.reconnect().unwrap();
+    c.take_control().unwrap();
+    assert!(matches!(c.release_control(), Err(Error::Closed { .. })));
+    c.opts.reconnect_on_next_call = true;
+    c.release_control().unwrap();
+    let sent: Vec<String> = seen.try_iter().collect();
+    let names: Vec<&str> = sent
+        .iter()
+        .map(|l| {
+            let v: Value = serde_json::from_str(l).unwrap();
+            match v["command"].as_str().unwrap() {
+                "take_control" => "take",
+                "release_control" => "release",
+                "authenticate" => "auth",
+                _ => "?",
+            }
+        })
+        .collect();
+    assert_eq!(
+        names,
+        ["take", "auth", "take", "release", "auth", "release"]
+    );
+}
+
+#[test]
+fn a_result_that_does_not_come_is_a_timeout_naming_the_command() {
+    let (addr, _seen) = server(vec![vec![]]);
+    let opts = TcpOptions {
+        reply_timeout: Duration::from_millis(100),
+        ..TcpOptions::default()
+    };
+    let mut c = TcpClient::connect_with(&addr, opts).unwrap();
+    let e = c.info().unwrap_err();
+    assert!(
+        matches!(&e, Error::Timeout { command, .. } if command == "info"),
+        "{e}"
+    );
+}

@@ -1,0 +1,305 @@
+//! Both transports against the real simulated MCM (the `mcm` launcher of this workspace, built
+//! here if missing, started with a unique instance on free ports): ownership between
+//! shared-memory clients and its release on drop, events kept apart from results, safety
+//! errors on both transports, the control loop's clean ends.
+
+use mcm_client::Mode;
+use mcm_client::shm::{ControlEnd, ControlOutput, ShmClient, ShmError, ShmEvent};
+use mcm_client::tcp::{Error, ErrorKind, Event, TcpClient, TorqueOptions};
+use mcm_shared::command::{Axis, Calibrate, SimCommand, TorqueControl, Which};
+use mcm_shared::mode::RejectCode;
+use mcm_shared::reply::Reason;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+const WAIT: Duration = Duration::from_secs(20);
+
+struct Mcm {
+    child: Child,
+    instance: String,
+    json: String,
+}
+
+impl Drop for Mcm {
+    fn drop(&mut self) {
+        // SAFETY: signalling our own child.
+        unsafe { libc::kill(self.child.id() as i32, libc::SIGTERM) };
+        let deadline = Instant::now() + WAIT;
+        while self.child.try_wait().ok().flatten().is_none() && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let _ = self.child.kill();
+        let _ = std::fs::remove_file(
+            std::env::temp_dir().join(format!("mcm-sim-{}.state", self.instance)),
+        );
+    }
+}
+
+/// The workspace's `mcm` binary in this test's profile, built if missing.
+fn mcm_binary() -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    let dir = exe.parent().and_then(Path::parent).unwrap().to_path_buf();
+    let bin = dir.join("mcm");
+    if !bin.is_file() {
+        let mut cargo = Command::new(env!("CARGO"));
+        cargo.args(["build", "-p", "mcm"]);
+        if dir.file_name().is_some_and(|n| n == "release") {
+            cargo.arg("--release");
+        }
+        let status = cargo
+            .env("CARGO_TARGET_DIR", dir.parent().unwrap())
+            .status()
+            .unwrap();
+        assert!(status.success(), "cargo build -p mcm: {status}");
+    }
+    bin
+}
+
+fn start(tag: &str) -> Mcm {
+    let instance = format!("cl{}-{tag}", std::process::id());
+    let mut child = Command::new(mcm_binary())
+        .args([
+            "--instance",
+            &instance,
+            "--bind",
+            "127.0.0.1",
+            "--json-port",
+            "0",
+            "--hmi-port",
+            "0",
+        ])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stdout = child.stdout.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let mut mcm = Mcm {
+        child,
+        instance,
+        json: String::new(),
+    };
+    let deadline = Instant::now() + WAIT;
+    loop {
+        let line = rx
+            .recv_timeout(deadline.saturating_duration_since(Instant::now()))
+            .expect("the MCM's ready line");
+        if let Some(rest) = line.split("json=").nth(1) {
+            mcm.json = rest.split_whitespace().next().unwrap().to_string();
+            return mcm;
+        }
+    }
+}
+
+/// Read states until `pred` holds (bounded).
+fn wait_until(
+    c: &mut ShmClient,
+    what: &str,
+    pred: impl Fn(&mcm_shared::sample::StateSample) -> bool,
+) {
+    let deadline = Instant::now() + WAIT;
+    while Instant::now() < deadline {
+        if pred(&c.wait_state().unwrap()) {
+            return;
+        }
+    }
+    panic!("{what}: not within {WAIT:?}");
+}
+
+fn calibrate(c: &mut ShmClient) {
+    c.hold().unwrap();
+    c.calibrate(Calibrate {
+        which: Which::All,
+        elbow_direction: Default::default(),
+        wrist_direction: Default::default(),
+        force_mechanical_stop: false,
+    })
+    .unwrap();
+}
+
+#[test]
+fn shared_memory_clients_obey_ownership_and_release_it_on_drop() {
+    let mcm = start("own");
+    let mut a = ShmClient::connect(&mcm.instance).unwrap();
+    let mut b = ShmClient::connect(&mcm.instance).unwrap();
+    assert_ne!(a.client_id(), b.client_id());
+    assert_eq!(a.client_id() >> 32, u64::from(std::process::id()));
+
+    // States come once each, in order.
+    let s1 = a.wait_state().unwrap();
+    let s2 = a.wait_state().unwrap();
+    assert!(s2.seq > s1.seq);
+    assert_eq!(a.info().unwrap().num_axes, 6);
+
+    a.take_control().unwrap();
+    assert_eq!(a.latest().owner_client_id, a.client_id());
+    let e = b.take_control().unwrap_err();
+    assert_eq!(
+        e.reason(),
+        Some(&Reason::NotOwner {
+            owner: a.client_id()
+        }),
+        "{e}"
+    );
+    assert!(
+        e.to_string()
+            .starts_with("take_control refused: another client"),
+        "{e}"
+    );
+    b.hold().expect("hold is open to every client");
+    // A motion command of B is refused too, with the MCM's words.
+    let e = b.release().unwrap_err();
+    assert!(matches!(e, ShmError::Refused { .. }), "{e}");
+
+    // A goes away: its drop says `client_gone`, and B may take control.
+    let a_id = a.client_id();
+    drop(a);
+    wait_until(&mut b, "control released", |s| s.owner_client_id != a_id);
+    b.take_control().unwrap();
+    b.release_control().unwrap();
+    assert_eq!(b.latest().owner_client_id, 0);
+
+    // A state that does not come is a typed timeout.
+    drop(mcm);
+    let deadline = Instant::now() + WAIT;
+    let e = loop {
+        match b.wait_state_timeout(Duration::from_millis(300)) {
+            Err(e) => break e,
+            Ok(_) => assert!(Instant::now() < deadline, "the core kept publishing"),
+        }
+    };
+    assert!(matches!(e, ShmError::Timeout { .. }), "{e}");
+}
+
+#[test]
+fn events_results_and_the_control_loops_ends_on_both_transports() {
+    let mcm = start("ev");
+    let mut shm = ShmClient::connect(&mcm.instance).unwrap();
+    let mut tcp = TcpClient::connect(&mcm.json).unwrap();
+
+    // Refusals carry the command, the words and the code.
+    tcp.hold().unwrap();
+    let e = tcp.move_axis(1, 10.0, 0.5).unwrap_err();
+    let m = e.mcm().unwrap_or_else(|| panic!("{e}"));
+    assert_eq!(
+        (m.command.as_str(), m.kind),
+        ("move_axis", ErrorKind::Refused)
+    );
+    assert!(m.code.is_some(), "{m:?}");
+    let e = tcp.move_axis(9, 10.0, 0.5).unwrap_err();
+    assert!(
+        matches!(&e, Error::Mcm(m) if m.kind == ErrorKind::Invalid),
+        "{e}"
+    );
+    // The refused move_axis took control (the first motion command does): give it up.
+    tcp.release_control().unwrap();
+
+    // The control loop runs only in TORQUE_CONTROL or PVT.
+    let e = shm.control(|_| ControlOutput::Finish).unwrap_err();
+    assert!(
+        matches!(*e.end, ControlEnd::NotControlling(Mode::Hold)),
+        "{e}"
+    );
+
+    calibrate(&mut shm);
+    shm.release_control().unwrap();
+
+    // TCP torque session: every cycle's state as an event; a refused set_torques as an event;
+    // the timeout's fall back to HOLD as a last status.
+    let info = tcp.info().unwrap();
+    tcp.torque_control(TorqueOptions {
+        timeout_s: Some(0.2),
+        dt_status_s: Some(info.cycle_time),
+        gravity_compensation: true,
+    })
+    .unwrap();
+    let mut ticks = 0;
+    let mut refused = None;
+    let mut left = None;
+    let deadline = Instant::now() + WAIT;
+    while left.is_none() && Instant::now() < deadline {
+        match tcp.next_event(Duration::from_secs(2)).unwrap() {
+            Some(Event::Status(s)) if s.mode == Mode::TorqueControl => {
+                ticks += 1;
+                if ticks <= 20 {
+                    let big = if ticks == 10 { 1e4 } else { 0.0 };
+                    tcp.set_torques([big, 0.0, 0.0, 0.0, 0.0, 0.0]).unwrap();
+                }
+            }
+            Some(Event::Status(s)) => left = Some(s.mode),
+            Some(Event::CommandError(e)) => refused = Some(e),
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+    assert!(ticks >= 20, "{ticks} ticks");
+    let refused = refused.expect("the refused set_torques");
+    assert_eq!(refused.command, "set_torques");
+    assert_eq!(left, Some(Mode::Hold), "the timeout's fall back");
+    tcp.release_control().unwrap();
+
+    // The shared-memory loop ends cleanly when someone else sends `hold`.
+    shm.torque_control(TorqueControl {
+        timeout_s: None,
+        gravity_compensation: true,
+    })
+    .unwrap();
+    let mut n = 0;
+    let e = shm
+        .control(|_| {
+            n += 1;
+            if n == 20 {
+                tcp.hold().unwrap();
+            }
+            ControlOutput::Torques([0.0; 6])
+        })
+        .unwrap_err();
+    assert!(
+        matches!(
+            *e.end,
+            ControlEnd::ModeLeft {
+                from: Mode::TorqueControl,
+                to: Mode::Hold
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.summary.cycles >= 20 && e.summary.sent >= 20, "{e}");
+
+    // A safety error reaches both.
+    tcp.sim(SimCommand {
+        disconnect_axis: Axis::new(2),
+        ..Default::default()
+    })
+    .unwrap();
+    wait_until(&mut shm, "the trip", |s| s.mode == Mode::Error.to_wire());
+    let ev = std::iter::from_fn(|| shm.next_event()).find_map(|e| match e {
+        ShmEvent::SafetyError(e) => Some(e),
+        _ => None,
+    });
+    assert_eq!(
+        ev.map(|e| e.reason.code()),
+        Some(RejectCode::DriveDisconnected)
+    );
+    let deadline = Instant::now() + WAIT;
+    loop {
+        match tcp.next_event(Duration::from_secs(2)).unwrap() {
+            Some(Event::SafetyError { check, axis, .. }) => {
+                assert_eq!(
+                    (check, axis),
+                    (Some(RejectCode::DriveDisconnected), Some(2))
+                );
+                break;
+            }
+            Some(_) => {}
+            None => panic!("no safety error over TCP"),
+        }
+        assert!(Instant::now() < deadline);
+    }
+}

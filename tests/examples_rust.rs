@@ -1,0 +1,185 @@
+//! The Rust examples of `examples/rust/` (binaries of the `mcm-client` crate) run against the
+//! simulated arm, one after the other on one MCM, each checked by its output and by its effect
+//! on the arm (the simulation's ground truth, the state, the CSV it writes).
+
+mod common;
+
+use common::{Mcm, six};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+
+/// Longest run of one example (the first one calibrates: about 12 s).
+const EXAMPLE_TIMEOUT: Duration = Duration::from_secs(90);
+
+/// The directory of this test's build profile (`target/debug`), where cargo puts binaries.
+fn profile_dir() -> PathBuf {
+    let exe = std::env::current_exe().expect("the test's path");
+    // target/<profile>/deps/examples_rust-<hash>
+    exe.parent()
+        .and_then(Path::parent)
+        .expect("target/<profile>")
+        .to_path_buf()
+}
+
+/// The examples' binaries, built once per test run with this test's profile: cargo builds a
+/// package's binaries for its own integration tests only, and these belong to `mcm-client`.
+fn example(name: &str) -> PathBuf {
+    static BUILT: OnceLock<()> = OnceLock::new();
+    let dir = profile_dir();
+    BUILT.get_or_init(|| {
+        let mut cargo = Command::new(env!("CARGO"));
+        cargo.args(["build", "-p", "mcm-client", "--bins"]);
+        if dir.file_name().is_some_and(|n| n == "release") {
+            cargo.arg("--release");
+        }
+        let target = dir.parent().expect("the target directory");
+        let status = cargo
+            .env("CARGO_TARGET_DIR", target)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .status()
+            .expect("run cargo build -p mcm-client --bins");
+        assert!(status.success(), "building the examples failed: {status}");
+    });
+    dir.join(name)
+}
+
+/// Run an example to its end (bounded); its stdout, after checking it succeeded.
+fn run(name: &str, args: &[&str]) -> String {
+    let out_path = std::env::temp_dir().join(format!("mcm-ex-{}-{name}.out", std::process::id()));
+    let out = std::fs::File::create(&out_path).unwrap();
+    let mut child = Command::new(example(name))
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(out)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("start example {name}: {e}"));
+    let deadline = Instant::now() + EXAMPLE_TIMEOUT;
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("example {name} did not finish within {EXAMPLE_TIMEOUT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let stdout = std::fs::read_to_string(&out_path).unwrap();
+    let _ = std::fs::remove_file(&out_path);
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
+    eprintln!("[{name}] {stdout}{stderr}");
+    assert!(
+        status.success(),
+        "example {name} failed ({status}): {stdout}{stderr}"
+    );
+    stdout
+}
+
+/// The number after `before` in `text`.
+fn number_after(text: &str, before: &str) -> f64 {
+    let rest = &text[text
+        .find(before)
+        .unwrap_or_else(|| panic!("{before:?} in {text}"))
+        + before.len()..];
+    let end = rest
+        .find(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+        .unwrap_or(rest.len());
+    rest[..end]
+        .parse()
+        .unwrap_or_else(|e| panic!("{before:?}: {e} in {text}"))
+}
+
+/// The simulation's true joint angles [deg].
+fn truth(mcm: &Mcm) -> [f64; 6] {
+    let v = mcm
+        .client()
+        .request(r#"{"command":"sim","arguments":{"external_torques":[0,0,0,0,0,0]}}"#);
+    six(&v["true_position"])
+}
+
+#[test]
+fn every_rust_example_runs_against_the_simulated_arm() {
+    let mcm = Mcm::start("exrs");
+    let addr = mcm.json.to_string();
+    let inst = mcm.instance.clone();
+    let tcp = ["--addr", addr.as_str()];
+    let shm = ["--instance", inst.as_str()];
+
+    let out = run("calibrate_and_move", &tcp);
+    assert!(out.contains("calibrated in"), "{out}");
+    assert!(out.contains("axis 1 at 20.000 deg (mode PVT)"), "{out}");
+    let q = truth(&mcm);
+    assert!((q[0] - 20.0).abs() < 0.2, "axis 1 truly at {q:?}");
+
+    let out = run("move_all", &tcp);
+    assert!(out.contains("move_all planned: longest axis 1"), "{out}");
+    assert!(out.contains("largest distance to the target 0.00"), "{out}");
+    let q = truth(&mcm);
+    for (i, want) in [0.0, 10.0, 20.0, 0.0, 0.0, 0.0].iter().enumerate() {
+        assert!((q[i] - want).abs() < 0.2, "axis {} truly at {q:?}", i + 1);
+    }
+
+    let out = run("pvt_sine", &tcp);
+    assert!(out.contains("streamed 400 points on axis 1"), "{out}");
+    assert!(
+        (number_after(&out, "peak excursion ") - 20.0).abs() < 0.5,
+        "{out}"
+    );
+    assert!((truth(&mcm)[0] - 0.0).abs() < 0.2);
+
+    // The spring pulls axis 1 by 5 degrees (friction leaves it a little short).
+    let mut shm_out = String::new();
+    for (name, args) in [("torque_spring_tcp", &tcp), ("torque_spring_shm", &shm)] {
+        let before = truth(&mcm)[0];
+        let out = run(name, args);
+        let short = number_after(&out, "deg (");
+        assert!(
+            short.abs() < 1.5,
+            "{name}: {short} deg from the set-point: {out}"
+        );
+        assert!(out.contains("now HOLD"), "{out}");
+        let moved = truth(&mcm)[0] - before;
+        assert!(
+            (3.5..6.5).contains(&moved),
+            "{name}: axis 1 truly moved {moved} deg"
+        );
+        shm_out = out;
+    }
+    // The control loop's summary: it ran its cycles and read the answers to its commands.
+    assert!(number_after(&shm_out, "missed, ") > 300.0, "{shm_out}");
+    assert!(
+        number_after(&shm_out, "%), ") < 3.0,
+        "unanswered: {shm_out}"
+    );
+
+    // The logger: one row per state, consecutive cycles but those it says it missed.
+    let csv = std::env::temp_dir().join(format!("mcm-ex-{}-state.csv", std::process::id()));
+    let csv_arg = csv.to_str().unwrap();
+    let out = run(
+        "state_logger",
+        &[shm[0], shm[1], "--cycles", "200", "--out", csv_arg],
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let _ = std::fs::remove_file(&csv);
+    let rows: Vec<&str> = text.lines().collect();
+    assert_eq!(rows.len(), 201, "a header and 200 rows");
+    assert!(
+        rows[0].starts_with("seq,t_s,mode,position_deg_1"),
+        "{}",
+        rows[0]
+    );
+    let seqs: Vec<u64> = rows[1..]
+        .iter()
+        .map(|r| r.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert!(seqs.windows(2).all(|w| w[1] > w[0]), "cycles increase");
+    let gaps = seqs.last().unwrap() - seqs[0] + 1 - 200;
+    assert_eq!(number_after(&out, "missed ") as u64, gaps, "{out}");
+    assert!(rows[1].split(',').nth(2) == Some("HOLD"), "{}", rows[1]);
+    // Dropped, not `stop`ped: the simulation's saved state is removed with it.
+    drop(mcm);
+}
