@@ -20,6 +20,10 @@ const ROOTS: &[&str] = &[
     "dynamics/",
     "src/",
     "tests/",
+    "bench/",
+    "client/",
+    "examples/",
+    "python/",
     ".ci/",
 ];
 const EXTENSIONS: &[&str] = &[".md", ".rs", ".toml", ".sh", ".service", ".py"];
