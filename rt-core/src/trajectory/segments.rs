@@ -237,7 +237,7 @@ impl Builder {
 
     /// Run for `duration` at jerk `j` from the current state.
     pub fn push(&mut self, duration: f64, j: f64) {
-        if !(duration > 0.0) {
+        if duration.is_nan() || duration <= 0.0 {
             return;
         }
         if self.plan.n == MAX_SEGMENTS {
