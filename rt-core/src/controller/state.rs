@@ -143,7 +143,8 @@ impl State {
         }
     }
 
-    /// A planned move or controlled stop runs (validated when planned; a new one must wait).
+    /// A planned move or controlled stop runs (validated when planned: its whole path lies in
+    /// the reachable range).
     pub fn planned_motion(&self) -> bool {
         self.remaining().is_some()
     }
