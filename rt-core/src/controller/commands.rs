@@ -5,25 +5,25 @@
 //! in, and refusals carry their figures in degrees.
 
 use super::Controller;
-use super::state::{After, CalPhase, Caller, Moving, PvtMotion, State};
+use super::state::{After, CalPhase, Caller, PvtMotion, State};
 use crate::calibration::AxisSettings;
 use crate::pvt::BatchError;
-use crate::trajectory::{MovePlan, PvtPoint};
+use crate::trajectory::PvtPoint;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
     Axis, Calibrate, Direction, PvtChunk, Request, SetTorques, TorqueControl,
 };
-use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Reason};
+use mcm_shared::reply::{Done, InfoReply, Reason};
 use mcm_shared::sample::PVT_POINTS_PER_COMMAND;
-use mcm_shared::units::{deg_to_rad, deg_to_rad6, rad_to_deg, rad_to_deg6};
+use mcm_shared::units::{deg_to_rad, deg_to_rad6};
 
 impl Controller {
-    fn wrong_mode(&mut self, c: Caller) {
+    pub(super) fn wrong_mode(&mut self, c: Caller) {
         let mode = self.mode();
         self.refuse(c, Reason::WrongMode { mode });
     }
 
-    fn busy(&mut self, c: Caller) {
+    pub(super) fn busy(&mut self, c: Caller) {
         let remaining_s = self.state.remaining().unwrap_or(0.0);
         self.refuse(c, Reason::Busy { remaining_s });
     }
@@ -195,56 +195,6 @@ impl Controller {
             timeout_ns,
         };
         self.done(c, Done::Ack);
-    }
-
-    /// A move to `target` [rad] (of axis `only`, or of all axes), planned from the commanded
-    /// state. `move_all` answers with the plan; `move_axis` with a plain acknowledgement.
-    fn on_move(&mut self, c: Caller, target: [f64; NUM_AXES], factor: f64, only: Option<Axis>) {
-        let State::Pvt { motion, .. } = self.state else {
-            return self.wrong_mode(c);
-        };
-        if !matches!(motion, PvtMotion::Hold) {
-            return self.busy(c);
-        }
-        for (i, q) in target.iter().copied().enumerate() {
-            if only.is_some_and(|a| a.index() != i) {
-                continue;
-            }
-            if !self.p.reachable(i, q) {
-                let reason = Reason::Unreachable {
-                    axis: Axis::ALL[i],
-                    target_deg: rad_to_deg(q),
-                    min_deg: rad_to_deg(self.p.reach_min[i]),
-                    max_deg: rad_to_deg(self.p.reach_max[i]),
-                };
-                return self.refuse(c, reason);
-            }
-        }
-        let plan = match MovePlan::plan(self.cmd.position, target, &self.p.limits, factor) {
-            Ok(p) => p,
-            Err(_) => {
-                let reason = Reason::OutOfRange {
-                    axis: None,
-                    value: factor,
-                    min: 0.0,
-                    max: 1.0,
-                };
-                return self.refuse(c, reason);
-            }
-        };
-        self.state = State::Pvt {
-            motion: PvtMotion::Move(Moving { plan, t: 0.0 }),
-            starved: false,
-        };
-        if only.is_some() {
-            return self.done(c, Done::Ack);
-        }
-        let plan = MoveAllPlan {
-            velocities_deg_s: rad_to_deg6(&plan.velocities()),
-            longest: Axis::ALL[plan.longest_axis().min(NUM_AXES - 1)],
-            duration_s: plan.duration(),
-        };
-        self.done(c, Done::MoveAll(plan));
     }
 
     /// Every sample of a batch is answered (so senders can pace themselves); the answer to the

@@ -14,13 +14,15 @@
 //!
 //! The files of this module: `mod.rs` (the cycle, enabling the drives), `state.rs` (the
 //! operating state: one enum carrying each mode's data), `commands.rs` (what each command
-//! does), `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client
+//! does), `moves.rs` (`move_axis`/`move_all`, re-planned during motion), `motion.rs` (the
+//! per-cycle reference of each motion), `ownership.rs` (which client
 //! controls the arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a
 //! cycle reports), `shutdown.rs` (the controlled stop and disable when `mcm-rt` is asked to
 //! stop).
 
 mod commands;
 mod motion;
+mod moves;
 mod ownership;
 mod shutdown;
 mod state;
@@ -402,6 +404,9 @@ mod tests;
 
 #[cfg(test)]
 mod refusals_tests;
+
+#[cfg(test)]
+mod moves_tests;
 
 #[cfg(test)]
 mod ownership_tests;

@@ -8,7 +8,7 @@ use super::{FRICTION_COMPENSATION, RELEASE_DAMPING};
 use crate::calibration::{AxisCalibration, AxisInput, Outcome};
 use crate::canopen::DriveRequest;
 use crate::pvt::StreamState;
-use crate::trajectory::{JointSample, MovePlan, StopPlan};
+use crate::trajectory::{JointPlan, JointSample, MovePlan, StopPlan};
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::Axis;
 use mcm_shared::reply::{Done, Reason};
@@ -80,16 +80,10 @@ impl Controller {
         }
     }
 
-    /// Advance a move by `dt`; `None` once it arrived (the reference at its end).
-    fn advance_move(&mut self, m: Moving, dt: f64) -> Option<Moving> {
-        let t = m.t + dt;
-        self.cmd = m.plan.sample(t);
-        if t >= m.plan.duration() {
-            self.cmd = m.plan.sample(m.plan.duration());
-            None
-        } else {
-            Some(Moving { plan: m.plan, t })
-        }
+    /// Advance a move by `dt`; `None` once every axis arrived (the reference at its end).
+    fn advance_move(&mut self, mut m: Moving, dt: f64) -> Option<Moving> {
+        self.cmd = m.plan.advance(dt);
+        (!m.plan.finished()).then_some(m)
     }
 
     /// Advance the motion by one period and set the drive requests.
@@ -293,11 +287,13 @@ impl Controller {
                 start[i]
             }
         });
-        match MovePlan::plan(start, target, &self.p.limits, RETURN_VELOCITY_FACTOR) {
+        let plan = MovePlan::plan(start, target, &self.p.limits, RETURN_VELOCITY_FACTOR)
+            .and_then(|plan| JointPlan::from_move(&plan));
+        match plan {
             Ok(plan) => {
                 self.state = State::Calibration {
                     caller,
-                    phase: CalPhase::Return(Moving { plan, t: 0.0 }),
+                    phase: CalPhase::Return(Moving { plan }),
                 }
             }
             Err(_) => self.finish_calibration(caller),

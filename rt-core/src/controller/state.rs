@@ -6,7 +6,7 @@
 //! Runs inside the cycle: plain `Copy` data, no allocation.
 
 use crate::calibration::{AxisCalibration, AxisSettings};
-use crate::trajectory::{MovePlan, StopPlan};
+use crate::trajectory::{JointPlan, StopPlan};
 use mcm_shared::NUM_AXES;
 use mcm_shared::mode::{CommandKind, Mode};
 
@@ -18,12 +18,11 @@ pub(crate) struct Caller {
     pub kind: CommandKind,
 }
 
-/// A planned move in progress (`move_axis`, `move_all`, the return after calibration).
+/// A planned move in progress (`move_axis`, `move_all`, the return after calibration): one
+/// plan per axis, each with its own clock (an axis not moving holds its position).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Moving {
-    pub plan: MovePlan,
-    /// Time since start [s].
-    pub t: f64,
+    pub plan: JointPlan,
 }
 
 /// A controlled stop in progress; the axes hold where it ends.
@@ -144,7 +143,8 @@ impl State {
         }
     }
 
-    /// A planned move or controlled stop runs (validated when planned; a new one must wait).
+    /// A planned move or controlled stop runs (validated when planned: its whole path lies in
+    /// the reachable range).
     pub fn planned_motion(&self) -> bool {
         self.remaining().is_some()
     }
@@ -152,7 +152,7 @@ impl State {
     /// Seconds until the planned move or stop ends; `None` when none runs.
     pub fn remaining(&self) -> Option<f64> {
         let stop = |s: &Stopping| (s.plan.duration() - s.t).max(0.0);
-        let mv = |m: &Moving| (m.plan.duration() - m.t).max(0.0);
+        let mv = |m: &Moving| m.plan.remaining();
         match self {
             State::Hold { stop: Some(s) }
             | State::Error { stop: Some(s) }

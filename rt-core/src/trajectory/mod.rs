@@ -10,7 +10,9 @@
 //! | module | what |
 //! |---|---|
 //! | [`profile`] | 1-D rest-to-rest profile: trapezoid (no jerk limit) or double-S (7 phases) |
-//! | [`sync`] | `move_all` / `move_axis`: phase-synchronised straight line in joint space |
+//! | [`sync`] | `move_all` from rest: phase-synchronised straight line in joint space |
+//! | [`online`] | re-planning one axis from any (p, v, a); six independent axis plans |
+//! | [`segments`] | an axis plan as constant-jerk segments; its closed-form range and peaks |
 //! | [`hermite`] | cubic Hermite PVT segments and their closed-form limit checks |
 //! | [`pvt_queue`] | fixed-capacity ring of PVT points with atomic batch push |
 //! | [`stop`] | controlled stop from a moving state; stopping distances d₂, d₃ |
@@ -27,15 +29,19 @@
 
 pub mod error;
 pub mod hermite;
+pub mod online;
 pub mod profile;
 pub mod pvt_queue;
+pub mod segments;
 pub mod stop;
 pub mod sync;
 
 pub use error::{PlanError, PvtSegmentError, QueueFull, SegmentError, StopError};
 pub use hermite::{Hermite, PvtSegment};
+pub use online::{JointPlan, plan_from_state};
 pub use profile::Profile1D;
 pub use pvt_queue::{DEFAULT_PVT_CAPACITY, PvtPoint, PvtQueue};
+pub use segments::AxisPlan;
 pub use stop::{StopPlan, stopping_distance, stopping_distance_from};
 pub use sync::MovePlan;
 

@@ -154,6 +154,11 @@ impl Profile1D {
         self.a_peak
     }
 
+    /// Jerk of the ramps (`None` for a trapezoid).
+    pub fn jerk(&self) -> Option<f64> {
+        (self.jerk > 0.0).then_some(self.jerk)
+    }
+
     /// True for a double-S (jerk-limited) profile, false for a trapezoid.
     pub fn is_jerk_limited(&self) -> bool {
         self.jerk > 0.0

@@ -55,6 +55,23 @@ pub fn stopping_distance_from(v: f64, a: f64, decel: f64, jerk: Option<f64>) -> 
     }
 }
 
+/// The constant-jerk phases of a stop from (v, a) as `(duration, acceleration at its start,
+/// jerk)`: what [`super::segments`] needs to chain a brake into a longer plan. Validated
+/// like [`StopPlan::try_plan_from_state`] (axis index 0 in errors).
+pub(crate) fn brake_phases(
+    v: f64,
+    a: f64,
+    decel: f64,
+    jerk: Option<f64>,
+) -> Result<[(f64, f64, f64); 3], StopError> {
+    let s = AxisStop::try_plan(0.0, v, a, decel, jerk)?;
+    Ok([
+        (s.t1, s.a, s.j1),
+        (s.t2, s.a_peak, 0.0),
+        (s.t3, s.a_peak, s.j3),
+    ])
+}
+
 /// One axis's stop: up to three constant-jerk phases (jerk j1, 0, j3), then rest.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct AxisStop {
