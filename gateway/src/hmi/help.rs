@@ -20,10 +20,11 @@ const GROUPS: &[(&str, &[&str])] = &[
     ("In OFF and HOLD", &["calibrate"]),
     (
         "In HOLD (all axes calibrated): change the mode",
-        &["release", "pvt", "torque_control"],
+        &["release", "pvt", "torque_control", "velocity_control"],
     ),
     ("In PVT", &["move_axis", "move_all", "pvt_points"]),
     ("In TORQUE_CONTROL", &["set_torques"]),
+    ("In VELOCITY_CONTROL", &["set_velocities"]),
 ];
 
 const SESSION: &[(&str, &str, &str)] = &[
@@ -36,6 +37,11 @@ const SESSION: &[(&str, &str, &str)] = &[
         "watch",
         "watch [detail]",
         "the status table, refreshed in place until a key is pressed",
+    ),
+    (
+        "jog",
+        "jog AXIS [SPEED]",
+        "move one axis while `+`/`-` (or an arrow key) is held; `q` leaves (VELOCITY_CONTROL)",
     ),
     ("clear", "clear", "clear the screen"),
     (
