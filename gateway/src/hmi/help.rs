@@ -69,12 +69,12 @@ pub fn overview() -> String {
         let _ = writeln!(s, "{title}:");
         for name in *names {
             let spec = spec::find(name).expect("grouped commands exist");
-            let _ = writeln!(s, "  {:<16}{}", spec.name, spec.summary);
+            let _ = writeln!(s, "  {:<15} {}", spec.name, spec.summary);
         }
     }
     let _ = writeln!(s, "{BOLD}Session commands{RESET}:");
     for (_, usage, what) in SESSION {
-        let _ = writeln!(s, "  {usage:<16}{what}");
+        let _ = writeln!(s, "  {usage:<15} {what}");
     }
     s.push_str(
         "A line starting with { is a JSON command of the M2M protocol (port 18010); its result \
