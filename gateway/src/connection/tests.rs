@@ -295,7 +295,7 @@ fn a_mode_session_reports_leaving_its_mode_at_once() {
         };
         let mut s = ModeSession::new(1.0, Some(&start));
         let at = |k: u64, m: Mode| {
-            let mut st = start.clone();
+            let mut st = start;
             st.t_ns = start.t_ns + k * P;
             st.timing.period_ns = P;
             st.mode = m.to_wire();

@@ -10,7 +10,7 @@
 //! ([`JOG_TIMEOUT_S`]) stops the axis.
 //!
 //! This file holds the pure parts (keys, the held-key timing, the line shown); the screen's
-//! loop is in `session/jog.rs`. Not used inside the real-time cycle.
+//! loop is part of the HMI session ([`super::session`]). Not used inside the real-time cycle.
 
 use super::telnet::Input;
 use mcm_shared::command::Axis;
