@@ -1,6 +1,6 @@
 //! One JSON connection: read bytes, frame them into commands, execute them one after the
-//! other, write one result line each; deliver spontaneous safety errors and TORQUE_CONTROL
-//! status results in between, and notices about the MCM's own life (`crate::lifecycle`): the
+//! other, write one result line each; deliver spontaneous safety errors and the status results
+//! of a TORQUE_CONTROL or VELOCITY_CONTROL session in between, and notices about the MCM's own life (`crate::lifecycle`): the
 //! core shutting down or gone, and a last ERROR line when the gateway shuts down.
 //!
 //! A connection only ever waits on its own socket and its own commands, so a slow or hostile
@@ -87,25 +87,53 @@ pub fn deadline(
     }
 }
 
-/// A TORQUE_CONTROL session of this connection: spontaneous status results on the robot's
-/// clock, driven by the states the core publishes (not by a timer of the gateway, which would
-/// drift against the cycle and send one state twice and skip the next).
-struct TorqueSession {
+/// A TORQUE_CONTROL or VELOCITY_CONTROL session of this connection: spontaneous status results
+/// on the robot's clock, driven by the states the core publishes (not by a timer of the
+/// gateway, which would drift against the cycle and send one state twice and skip the next),
+/// and the state of the cycle that left the mode, sent as soon as it is published.
+pub(crate) struct ModeSession {
+    /// The wire mode the session runs in.
+    mode: u32,
     /// Interval of spontaneous status results [ns]; `None`: only the final one.
     interval_ns: Option<u64>,
     /// Robot time (`t_ns`) from which the next status is due.
     next_t_ns: u64,
 }
 
-impl TorqueSession {
-    /// A session that the state `started` (the cycle that executed `torque_control`) began,
-    /// with a status every `dt_s` seconds (none for 0).
-    fn new(dt_s: f64, started: Option<&StateSample>) -> Self {
+/// What a published state means for a [`ModeSession`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum SessionStep {
+    /// Nothing to send.
+    Quiet,
+    /// A status result is due.
+    Status,
+    /// The mode was left (timeout, safety trip, `hold` from anyone): send this state's status
+    /// at once; the session ends.
+    Left,
+}
+
+impl ModeSession {
+    /// A session that the state `started` (the cycle that executed `torque_control` or
+    /// `velocity_control`) began, with a status every `dt_s` seconds (none for 0). Its mode is
+    /// the mode of `started` (TORQUE_CONTROL when unknown).
+    pub(crate) fn new(dt_s: f64, started: Option<&StateSample>) -> Self {
         let interval_ns = (dt_s > 0.0).then(|| (dt_s * 1e9).round() as u64);
         let t0 = started.map_or(0, |s| s.t_ns);
         Self {
+            mode: started.map_or(Mode::TorqueControl.to_wire(), |s| s.mode),
             interval_ns,
             next_t_ns: t0.saturating_add(interval_ns.unwrap_or(0)),
+        }
+    }
+
+    /// What the newly published state `s` asks of the session.
+    pub(crate) fn on_state(&mut self, s: &StateSample) -> SessionStep {
+        if s.mode != self.mode {
+            SessionStep::Left
+        } else if self.due(s.t_ns, s.timing.period_ns) {
+            SessionStep::Status
+        } else {
+            SessionStep::Quiet
         }
     }
 
@@ -185,8 +213,8 @@ pub async fn serve(
     let client = Client::new(&ctx.clients, &ctx.bridge, Channel::Json, peer);
     let mut decoder = Decoder::new();
     let mut errors = ctx.bridge.subscribe_errors();
-    let mut torque: Option<TorqueSession> = None;
-    // Every new state, for the spontaneous statuses of a torque session.
+    let mut session: Option<ModeSession> = None;
+    // Every new state, for the spontaneous statuses of a torque or velocity session.
     let mut states = ctx.bridge.watch_state();
     let mut core = CoreWatch::new(ctx.bridge.watch_state());
     let mut buf = vec![0u8; 4096];
@@ -227,13 +255,14 @@ pub async fn serve(
             if let Some(r) = &outcome.result {
                 send(&mut wr, r).await?;
             }
-            if let Some(dt) = outcome.torque_session {
+            if let Some(dt) = outcome.mode_session {
                 states.borrow_and_update();
-                torque = Some(TorqueSession::new(dt, outcome.state.as_deref()));
+                session = Some(ModeSession::new(dt, outcome.state.as_deref()));
             } else if matches!(cmd, Command::Hold | Command::Release | Command::Pvt(_)) {
-                torque = None;
+                // Its own result is the status of the mode change.
+                session = None;
             }
-            slot.set_busy(torque.is_some());
+            slot.set_busy(session.is_some());
         }
         // A line is unfinished: it began with the read that brought its first byte.
         line_start = match line_start {
@@ -242,7 +271,7 @@ pub async fn serve(
             _ => Some(Instant::now()),
         };
         let limits = &ctx.cfg.gateway.connections;
-        let expiry = if torque.is_some() {
+        let expiry = if session.is_some() {
             None
         } else {
             deadline(limits, slot.idle_since(), line_start, limits.line_timeout_s)
@@ -257,27 +286,25 @@ pub async fn serve(
             }
             e = errors.recv() => forward_error(&mut wr, e).await?,
             n = core.next() => send(&mut wr, &n).await?,
-            changed = states.changed(), if torque.is_some() => {
-                let session = torque.as_mut().expect("guarded");
+            changed = states.changed(), if session.is_some() => {
+                let running = session.as_mut().expect("guarded");
                 let state = match changed {
                     Ok(()) => states.borrow_and_update().clone(),
                     Err(_) => None,
                 };
-                match state {
-                    Some(s) if s.mode == Mode::TorqueControl.to_wire() => {
-                        if session.due(s.t_ns, s.timing.period_ns) {
-                            send(&mut wr, &result::status(&s, false)).await?;
-                        }
-                    }
-                    Some(s) => {
-                        // Left TORQUE_CONTROL (timeout fallback to HOLD, or a safety stop):
+                let step = state.as_deref().map(|s| (running.on_state(s), s));
+                match step {
+                    Some((SessionStep::Quiet, _)) => {}
+                    Some((SessionStep::Status, s)) => send(&mut wr, &result::status(s, false)).await?,
+                    Some((SessionStep::Left, s)) => {
+                        // Left the mode (timeout fallback to HOLD, `hold`, a safety stop):
                         // told at once, with the state of the cycle that left it.
-                        send(&mut wr, &result::status(&s, false)).await?;
-                        torque = None;
+                        send(&mut wr, &result::status(s, false)).await?;
+                        session = None;
                         slot.set_busy(false);
                     }
                     None => {
-                        torque = None;
+                        session = None;
                         slot.set_busy(false);
                     }
                 }

@@ -54,12 +54,14 @@ impl Context {
 /// The outcome of one command.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Outcome {
-    /// The result to send; `None` for a successful `set_torques` (the protocol sends nothing).
+    /// The result to send; `None` for a successful `set_torques` or `set_velocities` (the
+    /// protocol sends nothing).
     pub result: Option<Value>,
     /// The reply's state, when the command went to the core.
     pub state: Option<Box<StateSample>>,
-    /// Set when this command put the robot into TORQUE_CONTROL: the status interval [s] (0: none).
-    pub torque_session: Option<f64>,
+    /// Set when this command put the robot into TORQUE_CONTROL or VELOCITY_CONTROL: the
+    /// status interval [s] (0: none) of the connection's mode session.
+    pub mode_session: Option<f64>,
 }
 
 impl Outcome {
@@ -67,7 +69,7 @@ impl Outcome {
         Self {
             result: Some(result),
             state: None,
-            torque_session: None,
+            mode_session: None,
         }
     }
 }
@@ -96,7 +98,7 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
                 return Outcome {
                     result: Some(crate::access::reply_error(ctx, cmd.name(), &refused)),
                     state: Some(state),
-                    torque_session: None,
+                    mode_session: None,
                 };
             }
         }
@@ -129,19 +131,20 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
                     &refused_or_failed,
                 )),
                 state: Some(state),
-                torque_session: None,
+                mode_session: None,
             };
         }
     };
     let result = success(ctx, cmd, &done, &state);
-    let torque_session = match cmd {
+    let mode_session = match cmd {
         Command::TorqueControl(t) => Some(t.dt_status),
+        Command::VelocityControl(v) => Some(v.dt_status),
         _ => None,
     };
     Outcome {
         result,
         state: Some(state),
-        torque_session,
+        mode_session,
     }
 }
 
@@ -157,7 +160,7 @@ async fn status(ctx: &Context, detail: bool) -> Outcome {
         Some(state) => Outcome {
             result: Some(result::status(&state, detail)),
             state: Some(state),
-            torque_session: None,
+            mode_session: None,
         },
         None => Outcome::only(result::error(bridge_message(
             "status",
@@ -169,9 +172,14 @@ async fn status(ctx: &Context, detail: bool) -> Outcome {
 fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Option<Value> {
     Some(match (cmd, done) {
         (Command::Status(s), _) => result::status(state, s.detail),
-        (Command::Hold | Command::Release | Command::Pvt(_) | Command::TorqueControl(_), _) => {
-            result::status(state, false)
-        }
+        (
+            Command::Hold
+            | Command::Release
+            | Command::Pvt(_)
+            | Command::TorqueControl(_)
+            | Command::VelocityControl(_),
+            _,
+        ) => result::status(state, false),
         (Command::Info, Done::Info(info)) => {
             crate::cmd::info::render(&ctx.cfg, info, state.flags & STATE_SIMULATED != 0)
         }
@@ -182,7 +190,7 @@ fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Op
             cmd.name()
         )),
         (Command::Sim(_), _) => crate::cmd::sim::render(state),
-        (Command::SetTorques(_), _) => return None,
+        (Command::SetTorques(_) | Command::SetVelocities(_), _) => return None,
         (Command::Calibrate(_) | Command::MoveAxis(_) | Command::PvtPoints(_), _) => result::ok(),
         (Command::Sleep(_), _) => result::ok(),
         (Command::TakeControl | Command::ReleaseControl | Command::Authenticate(_), _) => {

@@ -195,6 +195,22 @@ pub struct TorqueControl {
     pub gravity_compensation: bool,
 }
 
+/// `velocity_control`: enter VELOCITY_CONTROL.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VelocityControl {
+    /// Stop (controlled, to HOLD) when no `set_velocities` came for this long [s]; `None`:
+    /// never.
+    pub timeout_s: Option<f64>,
+}
+
+/// `set_velocities`: the joint velocities in VELOCITY_CONTROL, each within its axis's maximum
+/// velocity (checked by the core, which knows the configuration).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SetVelocities {
+    /// [deg/s]
+    pub velocities_deg_s: [f64; NUM_AXES],
+}
+
 /// `pvt`: enter PVT mode with this spacing of streamed points.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pvt {
@@ -324,6 +340,8 @@ pub enum Request {
     /// The sending client is gone: sent by the gateway when a connection closes, and by a
     /// shared-memory client when it stops.
     ClientGone,
+    VelocityControl(VelocityControl),
+    SetVelocities(SetVelocities),
 }
 
 /// What a value may be, in a [`DecodeError`].
@@ -367,7 +385,7 @@ impl fmt::Display for Allowed {
 /// version. Says which field was wrong, its value and what is allowed.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum DecodeError {
-    #[error("command kind {0} is not known to this MCM version (known: 1 to 15)")]
+    #[error("command kind {0} is not known to this MCM version (known: 1 to 17)")]
     UnknownKind(u32),
     #[error("{kind}: {field} = {value} is not allowed; allowed: {allowed}")]
     Invalid {
@@ -408,7 +426,7 @@ impl Field {
     /// The axis this field concerns, for array fields indexed by axis.
     pub fn axis(self) -> Option<Axis> {
         match self.name {
-            "target_positions" | "torques" | "external_torques" => {
+            "target_positions" | "torques" | "external_torques" | "velocities" => {
                 self.index.and_then(|i| Axis::from_index(usize::from(i)))
             }
             _ => None,
@@ -516,6 +534,8 @@ impl Request {
             Request::TakeControl => CommandKind::TakeControl,
             Request::ReleaseControl => CommandKind::ReleaseControl,
             Request::ClientGone => CommandKind::ClientGone,
+            Request::VelocityControl(_) => CommandKind::VelocityControl,
+            Request::SetVelocities(_) => CommandKind::SetVelocities,
         }
     }
 
@@ -568,6 +588,8 @@ impl Request {
                 s.flags = u32::from(c.len) | if c.last { PVT_FLAG_LAST } else { 0 };
             }
             Request::SetTorques(t) => a[..NUM_AXES].copy_from_slice(&t.torques_nm),
+            Request::VelocityControl(v) => a[0] = v.timeout_s.unwrap_or(-1.0),
+            Request::SetVelocities(v) => a[..NUM_AXES].copy_from_slice(&v.velocities_deg_s),
             Request::Sim(c) => {
                 let mut set = |bit: usize, value: f64| {
                     a[bit] = value;
@@ -652,6 +674,22 @@ impl Request {
                 Request::TorqueControl(TorqueControl {
                     timeout_s: (t > 0.0).then_some(t),
                     gravity_compensation: s.flags & TORQUE_FLAG_NO_GRAVITY == 0,
+                })
+            }
+            CommandKind::VelocityControl => {
+                d.flags(0)?;
+                let t = a[0];
+                if !t.is_finite() || t == 0.0 {
+                    return Err(d.invalid(Field::named("timeout"), t, Allowed::FiniteNonZero));
+                }
+                Request::VelocityControl(VelocityControl {
+                    timeout_s: (t > 0.0).then_some(t),
+                })
+            }
+            CommandKind::SetVelocities => {
+                d.flags(0)?;
+                Request::SetVelocities(SetVelocities {
+                    velocities_deg_s: d.finite6("velocities", 0)?,
                 })
             }
             CommandKind::Pvt => {

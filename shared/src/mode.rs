@@ -69,6 +69,9 @@ wire_enum!(
         Pvt = 5 => "PVT",
         /// Calibration running.
         Calibration = 6 => "CALIBRATION",
+        /// Joint velocities given by an external controller (`set_velocities`), ramped within
+        /// the acceleration and jerk limits and braked before the joint limits.
+        VelocityControl = 7 => "VELOCITY_CONTROL",
     }
 );
 
@@ -101,6 +104,10 @@ wire_enum!(
         /// The client is gone (its connection closed): it loses control, and a motion or
         /// torque session it owned ends in a controlled stop to HOLD.
         ClientGone = 15 => "client_gone",
+        /// Enter VELOCITY_CONTROL (from HOLD).
+        VelocityControl = 16 => "velocity_control",
+        /// The joint velocities in VELOCITY_CONTROL.
+        SetVelocities = 17 => "set_velocities",
     }
 );
 
@@ -195,6 +202,8 @@ impl CommandKind {
                 | CommandKind::MoveAll
                 | CommandKind::PvtPoints
                 | CommandKind::SetTorques
+                | CommandKind::VelocityControl
+                | CommandKind::SetVelocities
         )
     }
 }
@@ -253,5 +262,16 @@ mod tests {
     fn protocol_names() {
         assert_eq!(Mode::TorqueControl.as_str(), "TORQUE_CONTROL");
         assert_eq!(CommandKind::MoveAll.as_str(), "move_all");
+        assert_eq!(Mode::VelocityControl.as_str(), "VELOCITY_CONTROL");
+        assert_eq!(Mode::VelocityControl.to_wire(), 7);
+        assert_eq!(CommandKind::VelocityControl.to_wire(), 16);
+        assert_eq!(CommandKind::SetVelocities.as_str(), "set_velocities");
+    }
+
+    #[test]
+    fn velocity_commands_need_control() {
+        assert!(CommandKind::VelocityControl.needs_control());
+        assert!(CommandKind::SetVelocities.needs_control());
+        assert!(!CommandKind::Hold.needs_control());
     }
 }

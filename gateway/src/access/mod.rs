@@ -280,7 +280,7 @@ fn only(result: Value) -> Outcome {
     Outcome {
         result: Some(result),
         state: None,
-        torque_session: None,
+        mode_session: None,
     }
 }
 

@@ -1,7 +1,7 @@
 //! The commands of the JSON protocol, one file each: parsing and validation of the arguments
 //! into the typed requests of [`mcm_shared::command`], which the bridge encodes for the
 //! real-time core. The gateway keeps its own types only for what it does itself (`status`'s
-//! `detail`, `torque_control`'s `dt_status`, `sleep`, `authenticate`, a whole `pvt_points`
+//! `detail`, `torque_control`'s and `velocity_control`'s `dt_status`, `sleep`, `authenticate`, a whole `pvt_points`
 //! batch).
 //!
 //! The text HMI parses its words into the same [`Command`] type, so both channels share one
@@ -16,21 +16,24 @@ mod move_axis;
 mod pvt_points;
 mod release_control;
 mod set_torques;
+mod set_velocities;
 pub mod sim;
 mod sleep;
 mod status;
 mod take_control;
+mod velocity_control;
 
 pub use authenticate::Secret;
 pub use modes::TorqueControl;
 pub use pvt_points::PvtPoints;
 pub use sleep::Sleep;
 pub use status::Status;
+pub use velocity_control::VelocityControl;
 
 use crate::args::CommandError;
 use crate::framing::json_kind;
 use mcm_shared::command::{
-    Calibrate, MoveAll, MoveAxis, Pvt, PvtChunk, Request, SetTorques, SimCommand,
+    Calibrate, MoveAll, MoveAxis, Pvt, PvtChunk, Request, SetTorques, SetVelocities, SimCommand,
 };
 use mcm_shared::config::RobotConfig;
 use serde_json::Value;
@@ -44,6 +47,8 @@ pub const COMMAND_NAMES: &[&str] = &[
     "release",
     "torque_control",
     "set_torques",
+    "velocity_control",
+    "set_velocities",
     "pvt",
     "move_axis",
     "move_all",
@@ -68,6 +73,8 @@ pub enum Command {
     Release,
     TorqueControl(TorqueControl),
     SetTorques(SetTorques),
+    VelocityControl(VelocityControl),
+    SetVelocities(SetVelocities),
     Pvt(Pvt),
     MoveAxis(MoveAxis),
     MoveAll(MoveAll),
@@ -145,6 +152,8 @@ impl Command {
             "calibrate" => Command::Calibrate(calibrate::parse(arguments)?),
             "torque_control" => Command::TorqueControl(TorqueControl::parse(arguments)?),
             "set_torques" => Command::SetTorques(set_torques::parse(arguments, cfg)?),
+            "velocity_control" => Command::VelocityControl(VelocityControl::parse(arguments)?),
+            "set_velocities" => Command::SetVelocities(set_velocities::parse(arguments, cfg)?),
             "pvt" => Command::Pvt(modes::parse_pvt(arguments, cfg)?),
             "move_axis" => Command::MoveAxis(move_axis::parse(arguments, cfg)?),
             "move_all" => Command::MoveAll(move_all::parse(arguments, cfg)?),
@@ -174,6 +183,8 @@ impl Command {
             Command::Release => "release",
             Command::TorqueControl(_) => "torque_control",
             Command::SetTorques(_) => "set_torques",
+            Command::VelocityControl(_) => "velocity_control",
+            Command::SetVelocities(_) => "set_velocities",
             Command::Pvt(_) => "pvt",
             Command::MoveAxis(_) => "move_axis",
             Command::MoveAll(_) => "move_all",
@@ -197,6 +208,8 @@ impl Command {
             Command::Calibrate(c) => vec![Request::Calibrate(*c)],
             Command::TorqueControl(t) => vec![Request::TorqueControl(t.request)],
             Command::SetTorques(t) => vec![Request::SetTorques(*t)],
+            Command::VelocityControl(v) => vec![Request::VelocityControl(v.request)],
+            Command::SetVelocities(v) => vec![Request::SetVelocities(*v)],
             Command::Pvt(p) => vec![Request::Pvt(*p)],
             Command::MoveAxis(m) => vec![Request::MoveAxis(*m)],
             Command::MoveAll(m) => vec![Request::MoveAll(*m)],

@@ -301,3 +301,56 @@ fn a_pvt_batch_the_core_would_refuse_is_refused_before_sending() {
         other => panic!("expected a refused point, got {other:?}"),
     }
 }
+
+#[test]
+fn velocity_control_and_set_velocities() {
+    use mcm_shared::command::{SetVelocities, VelocityControl as VelocityRequest};
+    assert_eq!(
+        parse(r#"{"command":"velocity_control","arguments":{"timeout":0.5,"dt_status":0.01}}"#)
+            .unwrap(),
+        Command::VelocityControl(VelocityControl {
+            request: VelocityRequest {
+                timeout_s: Some(0.5)
+            },
+            dt_status: 0.01,
+        })
+    );
+    let v = parse(r#"{"command":"velocity_control","arguments":{"timeout":-1}}"#).unwrap();
+    assert_eq!(
+        v.requests(),
+        [Request::VelocityControl(VelocityRequest {
+            timeout_s: None
+        })]
+    );
+    let Command::VelocityControl(v) = parse(r#"{"command":"velocity_control"}"#).unwrap() else {
+        panic!()
+    };
+    assert_eq!((v.request.timeout_s, v.dt_status), (Some(1.0), 0.0));
+    assert!(err(r#"{"command":"velocity_control","arguments":{"timeout":0}}"#).contains("timeout"));
+    assert!(
+        err(r#"{"command":"velocity_control","arguments":{"gravity_compensation":true}}"#)
+            .contains("gravity_compensation")
+    );
+
+    let s = parse(r#"{"command":"set_velocities","arguments":{"velocities":[0,0,0,0,0,10.0]}}"#)
+        .unwrap();
+    assert_eq!(
+        s.requests(),
+        [Request::SetVelocities(SetVelocities {
+            velocities_deg_s: [0.0, 0.0, 0.0, 0.0, 0.0, 10.0]
+        })]
+    );
+    // Each within its axis's maximum velocity: axis 2 90 deg/s, axis 4 150 deg/s.
+    let e = err(r#"{"command":"set_velocities","arguments":{"velocities":[0,90.5,0,0,0,0]}}"#);
+    assert!(
+        e.contains("velocities") && e.contains("90.5") && e.contains("axis 2 from -90 to 90"),
+        "{e}"
+    );
+    assert!(
+        parse(
+            r#"{"command":"set_velocities","arguments":{"velocities":[-90,90,90,150,-150,150]}}"#
+        )
+        .is_ok()
+    );
+    assert!(err(r#"{"command":"set_velocities","arguments":{"velocities":[1,2]}}"#).contains("6"));
+}

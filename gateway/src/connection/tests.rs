@@ -246,10 +246,11 @@ proptest! {
 
 #[test]
 fn a_torque_session_sends_one_status_per_due_cycle_on_the_robots_clock() {
-    use super::TorqueSession;
+    use super::ModeSession as TorqueSession;
     const P: u64 = 5_000_000;
     let start = StateSample {
         t_ns: 1_000_000_000,
+        mode: Mode::TorqueControl.to_wire(),
         ..StateSample::default()
     };
     // dt_status = one period: every cycle is due, whatever its wake-up jitter.
@@ -278,4 +279,44 @@ fn a_torque_session_sends_one_status_per_due_cycle_on_the_robots_clock() {
     // No statuses asked (dt_status 0): never due, only the final one is sent.
     let mut s = TorqueSession::new(0.0, Some(&start));
     assert!(!s.due(start.t_ns + P, P));
+}
+
+/// Item of issue 14: the state that leaves the session's mode is reported in the cycle it is
+/// published, not at the next `dt_status` tick; states of the mode wait for their tick.
+#[test]
+fn a_mode_session_reports_leaving_its_mode_at_once() {
+    use super::{ModeSession, SessionStep};
+    const P: u64 = 5_000_000;
+    for mode in [Mode::TorqueControl, Mode::VelocityControl] {
+        let start = StateSample {
+            t_ns: 1_000_000_000,
+            mode: mode.to_wire(),
+            ..StateSample::default()
+        };
+        let mut s = ModeSession::new(1.0, Some(&start));
+        let at = |k: u64, m: Mode| {
+            let mut st = start;
+            st.t_ns = start.t_ns + k * P;
+            st.timing.period_ns = P;
+            st.mode = m.to_wire();
+            st
+        };
+        for k in 1..101 {
+            assert_eq!(
+                s.on_state(&at(k, mode)),
+                SessionStep::Quiet,
+                "{mode}: cycle {k}"
+            );
+        }
+        // The timeout's fallback in cycle 101 (0.505 s), long before the 1 s tick.
+        assert_eq!(
+            s.on_state(&at(101, Mode::Hold)),
+            SessionStep::Left,
+            "{mode}"
+        );
+        // A due tick in the mode is a status.
+        let mut s = ModeSession::new(1.0, Some(&start));
+        assert_eq!(s.on_state(&at(200, mode)), SessionStep::Status);
+        assert_eq!(s.on_state(&at(201, Mode::Error)), SessionStep::Left);
+    }
 }

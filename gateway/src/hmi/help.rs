@@ -20,10 +20,11 @@ const GROUPS: &[(&str, &[&str])] = &[
     ("In OFF and HOLD", &["calibrate"]),
     (
         "In HOLD (all axes calibrated): change the mode",
-        &["release", "pvt", "torque_control"],
+        &["release", "pvt", "torque_control", "velocity_control"],
     ),
     ("In PVT", &["move_axis", "move_all", "pvt_points"]),
     ("In TORQUE_CONTROL", &["set_torques"]),
+    ("In VELOCITY_CONTROL", &["set_velocities"]),
 ];
 
 const SESSION: &[(&str, &str, &str)] = &[
@@ -36,6 +37,11 @@ const SESSION: &[(&str, &str, &str)] = &[
         "watch",
         "watch [detail]",
         "the status table, refreshed in place until a key is pressed",
+    ),
+    (
+        "jog",
+        "jog AXIS [SPEED]",
+        "move one axis while `+`/`-` (or an arrow key) is held; `q` leaves (VELOCITY_CONTROL)",
     ),
     ("clear", "clear", "clear the screen"),
     (
@@ -63,12 +69,12 @@ pub fn overview() -> String {
         let _ = writeln!(s, "{title}:");
         for name in *names {
             let spec = spec::find(name).expect("grouped commands exist");
-            let _ = writeln!(s, "  {:<16}{}", spec.name, spec.summary);
+            let _ = writeln!(s, "  {:<15} {}", spec.name, spec.summary);
         }
     }
     let _ = writeln!(s, "{BOLD}Session commands{RESET}:");
     for (_, usage, what) in SESSION {
-        let _ = writeln!(s, "  {usage:<16}{what}");
+        let _ = writeln!(s, "  {usage:<15} {what}");
     }
     s.push_str(
         "A line starting with { is a JSON command of the M2M protocol (port 18010); its result \

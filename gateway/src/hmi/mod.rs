@@ -31,6 +31,7 @@
 
 pub mod editor;
 pub mod help;
+pub mod jog;
 pub mod render;
 pub mod session;
 pub mod spec;

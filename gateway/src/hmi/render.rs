@@ -44,6 +44,7 @@ pub fn mode_words(mode: &str) -> &'static str {
         "HOLD" => "axes hold their positions",
         "RELEASE" => "the arm can be moved by hand",
         "TORQUE_CONTROL" => "joint torques come from `set_torques`",
+        "VELOCITY_CONTROL" => "joint velocities come from `set_velocities` (or `jog`)",
         "PVT" => "position control: `move_axis`, `move_all`, `pvt_points`",
         "CALIBRATION" => "calibration is running",
         _ => "unknown mode",
@@ -138,6 +139,7 @@ fn ok_words(command: &str) -> &'static str {
         "move_axis" => " - the axis is moving (`watch` follows it)",
         "pvt_points" => " - points queued",
         "set_torques" => " - torques set",
+        "set_velocities" => " - velocities set",
         _ => "",
     }
 }

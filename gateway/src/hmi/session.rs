@@ -35,6 +35,8 @@ use tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
 use tokio::sync::broadcast::{self, error::RecvError};
 use tokio::time::{Instant, MissedTickBehavior, interval};
 
+mod jog;
+
 /// Most inputs kept as type-ahead while a command runs (reading pauses beyond it).
 pub const MAX_PENDING: usize = MAX_LINE_BYTES + 4096;
 /// Refresh period of `watch`.
@@ -401,6 +403,14 @@ impl Session {
             Ok(Line::Help(None)) => self.say(&help::overview()),
             Ok(Line::Help(Some(t))) => self.say(&help::topic(&t, &cfg)),
             Ok(Line::Clear) => self.out.extend_from_slice(b"\x1b[H\x1b[2J"),
+            Ok(Line::Jog { axis, speed }) => {
+                self.slot.set_busy(true);
+                let flow = self.jog(axis, speed).await;
+                self.slot.set_busy(false);
+                if flow? == Flow::Quit {
+                    return Ok(Flow::Quit);
+                }
+            }
             Ok(Line::Quit) => {
                 self.say("bye\n");
                 return Ok(Flow::Quit);
@@ -486,7 +496,7 @@ impl Session {
         let state = outcome.state.or_else(|| self.ctx.bridge.latest_state());
         let mut text = match (&outcome.result, json) {
             (Some(v), true) => render::pretty(v),
-            (None, true) => "(no result: set_torques answers nothing on success)\n".to_string(),
+            (None, true) => format!("(no result: {name} answers nothing on success)\n"),
             (Some(v), false) => render::result(name, v, &self.ctx.cfg, state.as_deref()),
             (None, false) => render::result(name, &result::ok(), &self.ctx.cfg, state.as_deref()),
         };

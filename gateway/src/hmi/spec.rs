@@ -297,6 +297,54 @@ pub const COMMANDS: &[CommandSpec] = &[
         notes: "Zero torques hold the arm still while gravity compensation is on.",
     },
     CommandSpec {
+        name: "velocity_control",
+        summary: "enter VELOCITY_CONTROL: joint velocities come from `set_velocities`",
+        args: &[
+            arg(
+                "timeout",
+                "",
+                Kind::Number,
+                true,
+                "1",
+                "longest time between two `set_velocities` [s]; negative: no timeout; not 0. \
+                 When it passes, the axes stop (controlled) and the mode falls back to HOLD",
+            ),
+            arg(
+                "dt_status",
+                "",
+                Kind::Number,
+                true,
+                "0",
+                "interval of spontaneous status results [s], 0 to 60 (JSON channel only)",
+            ),
+        ],
+        modes: IN_HOLD,
+        how: TO_HOLD,
+        reply: "the status table after the mode change",
+        examples: &["velocity_control", "velocity_control timeout=-1"],
+        notes: "Velocities are ramped within each axis's acceleration and jerk limits, and a \
+                joint driven towards its limit brakes and stops before it. `jog AXIS` drives one \
+                axis from the keyboard. `hold` stops and leaves the mode.",
+    },
+    CommandSpec {
+        name: "set_velocities",
+        summary: "the joint velocities of all six axes in VELOCITY_CONTROL",
+        args: &[arg(
+            "velocities",
+            "",
+            Kind::Six,
+            true,
+            "",
+            "six velocities [deg/s], one per axis, each within the axis's maximum velocity \
+             (see `info`)",
+        )],
+        modes: "VELOCITY_CONTROL",
+        how: "enter VELOCITY_CONTROL first: `hold`, then `velocity_control`",
+        reply: "OK (the JSON channel answers nothing on success)",
+        examples: &["set_velocities 0 10 0 0 0 0", "set_velocities 0,0,-5,0,0,0"],
+        notes: "Send them again before the timeout passes, or the axes stop.",
+    },
+    CommandSpec {
         name: "pvt",
         summary: "enter PVT: smooth position control (move_axis, move_all, pvt_points)",
         args: &[arg(

@@ -321,3 +321,29 @@ fn completions_are_the_command_names() {
     got.sort_unstable();
     assert_eq!(got, expected);
 }
+
+/// `jog` without a running core: the mode change is refused with the core's reason, the
+/// session stays at its prompt; a bad axis never reaches the core.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn jog_without_a_core_says_why_and_keeps_the_session() {
+    let gw = start().await;
+    let mut c = Client::connect(&gw).await;
+    c.until(PROMPT).await;
+    c.send(TELNET_HELLO).await;
+    let text = c.command("jog 2").await;
+    assert!(
+        text.contains("error: velocity_control failed: the real-time core"),
+        "{text}"
+    );
+    assert!(!text.contains("jogging axis"), "{text}");
+    let text = c.command("jog 9").await;
+    assert!(text.contains("axis = 9 is not allowed"), "{text}");
+    let text = c.command("help").await;
+    assert!(text.contains("jog AXIS [SPEED]"), "{text}");
+    assert!(text.contains("velocity_control"), "{text}");
+    let text = c.command("help set_velocities").await;
+    assert!(text.contains("accepted in: VELOCITY_CONTROL"), "{text}");
+    c.send(b"quit\r\n").await;
+    c.until_closed().await;
+    gw.shutdown().await;
+}

@@ -30,7 +30,7 @@ use mcm_shared::config::RobotConfig;
 use serde_json::{Map, Value};
 
 /// The session's own commands (not sent to the robot).
-pub const SESSION_COMMANDS: &[&str] = &["help", "watch", "clear", "quit", "exit"];
+pub const SESSION_COMMANDS: &[&str] = &["help", "watch", "jog", "clear", "quit", "exit"];
 
 /// One parsed line.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,6 +44,12 @@ pub enum Line {
     },
     /// `clear`: clear the screen.
     Clear,
+    /// `jog AXIS [SPEED]`: drive one axis from the keyboard ([`super::jog`]).
+    Jog {
+        axis: mcm_shared::command::Axis,
+        /// [deg/s], above 0 and at most the axis's maximum velocity.
+        speed: f64,
+    },
     /// `quit` or `exit`.
     Quit,
     /// A protocol command; `json` when it was typed as a JSON object.
@@ -256,6 +262,40 @@ fn is_name(s: &str) -> bool {
         && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
+/// `jog AXIS [SPEED]`: an axis number and an optional speed [deg/s] (plain words).
+fn parse_jog(rest: &[Token], cfg: &RobotConfig) -> Result<Line, LineError> {
+    let usage = "usage: `jog AXIS [SPEED]`, e.g. `jog 2` or `jog 2 20` (speed in deg/s)";
+    let words: Option<Vec<&str>> = rest
+        .iter()
+        .map(|t| (t.form == Form::Plain && t.name.is_none()).then_some(t.value.as_str()))
+        .collect();
+    let (axis, speed) = match words.as_deref() {
+        Some([a]) => (*a, None),
+        Some([a, s]) => (*a, Some(*s)),
+        _ => return Err(session_error("jog", usage)),
+    };
+    let axis = axis
+        .parse::<u8>()
+        .ok()
+        .and_then(mcm_shared::command::Axis::new)
+        .ok_or_else(|| {
+            session_error(
+                "jog",
+                &format!("jog: axis = {axis} is not allowed; expected an axis number from 1 to 6; {usage}"),
+            )
+        })?;
+    let speed = match speed {
+        None => super::jog::DEFAULT_JOG_SPEED.min(cfg.axes[axis.index()].max_velocity_deg_s),
+        Some(s) => {
+            let v = s.parse::<f64>().map_err(|_| {
+                session_error("jog", &format!("jog: speed = {s} is not a number; {usage}"))
+            })?;
+            super::jog::check_speed(cfg, axis, v).map_err(|e| session_error("jog", &e))?
+        }
+    };
+    Ok(Line::Jog { axis, speed })
+}
+
 /// Parse one line typed by a person.
 pub fn parse_line(text: &str, cfg: &RobotConfig) -> Result<Line, LineError> {
     let text = text.trim();
@@ -302,6 +342,7 @@ pub fn parse_line(text: &str, cfg: &RobotConfig) -> Result<Line, LineError> {
                 )),
             };
         }
+        "jog" => return parse_jog(rest, cfg),
         "quit" | "exit" => return Ok(Line::Quit),
         "clear" => return Ok(Line::Clear),
         _ => {}

@@ -80,6 +80,12 @@ impl Controller {
                 }
             }
             Request::TorqueControl(t) => self.on_torque_control(c, t),
+            Request::VelocityControl(v) => {
+                if self.check_motion_mode_entry(c) {
+                    self.enter_velocity_control(c, v);
+                }
+            }
+            Request::SetVelocities(v) => self.on_set_velocities(c, v),
             Request::SetTorques(t) => self.on_set_torques(c, t),
             Request::MoveAxis(m) => {
                 let mut target = self.cmd.position;
@@ -116,7 +122,7 @@ impl Controller {
                 };
                 self.done(c, Done::Ack);
             }
-            State::Pvt { .. } | State::Release | State::Torque { .. } => {
+            State::Pvt { .. } | State::Release | State::Torque { .. } | State::Velocity { .. } => {
                 self.state = State::Hold {
                     stop: self.stop_motion(),
                 };

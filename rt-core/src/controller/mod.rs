@@ -18,7 +18,7 @@
 //! per-cycle reference of each motion), `ownership.rs` (which client
 //! controls the arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a
 //! cycle reports), `shutdown.rs` (the controlled stop and disable when `mcm-rt` is asked to
-//! stop).
+//! stop), `velocity.rs` (VELOCITY_CONTROL and its ramp).
 
 mod commands;
 mod motion;
@@ -27,6 +27,7 @@ mod ownership;
 mod shutdown;
 mod state;
 mod trips;
+mod velocity;
 mod view;
 
 use crate::calibration::AxisSettings;

@@ -124,6 +124,11 @@ impl Controller {
                 self.compensate(true, &damping);
                 return;
             }
+            State::Velocity {
+                target,
+                deadline_ns,
+                ..
+            } => self.advance_velocity(target, deadline_ns),
             State::Torque {
                 torques,
                 gravity,

@@ -216,7 +216,7 @@ impl Controller {
                     stop: self.stop_motion(),
                 };
             }
-            State::Pvt { .. } | State::Release | State::Torque { .. } => {
+            State::Pvt { .. } | State::Release | State::Torque { .. } | State::Velocity { .. } => {
                 self.state = State::Hold {
                     stop: self.stop_motion(),
                 };

@@ -116,6 +116,14 @@ pub(crate) enum State {
         deadline_ns: Option<u64>,
         timeout_ns: Option<u64>,
     },
+    /// Joint velocities from `set_velocities`, ramped (`velocity.rs`).
+    Velocity {
+        /// Target velocity of each axis [rad/s].
+        target: [f64; NUM_AXES],
+        /// Controller time by which the next `set_velocities` must arrive (`None`: no timeout).
+        deadline_ns: Option<u64>,
+        timeout_ns: Option<u64>,
+    },
     /// After a safety trip: the quick stop, then holding (drives that dropped out stay off).
     Error {
         stop: Option<Stopping>,
@@ -140,6 +148,7 @@ impl State {
             State::Pvt { .. } => Mode::Pvt,
             State::Release => Mode::Release,
             State::Torque { .. } => Mode::TorqueControl,
+            State::Velocity { .. } => Mode::VelocityControl,
         }
     }
 

@@ -83,7 +83,11 @@ impl Controller {
         if matches!(self.state, State::Enabling { .. })
             || !matches!(
                 mode,
-                Mode::Hold | Mode::Pvt | Mode::Release | Mode::TorqueControl
+                Mode::Hold
+                    | Mode::Pvt
+                    | Mode::Release
+                    | Mode::TorqueControl
+                    | Mode::VelocityControl
             )
         {
             return;
@@ -128,11 +132,13 @@ impl Controller {
                     stop: self.quick_stop(),
                 }
             }
-            State::Hold { .. } | State::Pvt { .. } | State::Release | State::Torque { .. } => {
-                State::Error {
-                    stop: self.quick_stop(),
-                }
-            }
+            State::Hold { .. }
+            | State::Pvt { .. }
+            | State::Release
+            | State::Torque { .. }
+            | State::Velocity { .. } => State::Error {
+                stop: self.quick_stop(),
+            },
         };
         if self.incident_reported {
             return;

@@ -186,12 +186,15 @@ impl ActiveChecks {
     /// The checks the manual prescribes for `mode`. OFF, ERROR and CALIBRATION monitor the
     /// drives only (positions are raw encoder values during calibration).
     pub fn for_mode(mode: Mode) -> ActiveChecks {
-        let motion = matches!(mode, Mode::Release | Mode::TorqueControl | Mode::Pvt);
+        let motion = matches!(
+            mode,
+            Mode::Release | Mode::TorqueControl | Mode::Pvt | Mode::VelocityControl
+        );
         ActiveChecks {
             drives: true,
             limits: motion,
             braking: motion,
-            following: matches!(mode, Mode::Hold | Mode::Pvt),
+            following: matches!(mode, Mode::Hold | Mode::Pvt | Mode::VelocityControl),
         }
     }
 }
@@ -199,7 +202,10 @@ impl ActiveChecks {
 /// Whether entering `mode` requires every axis to be calibrated (RELEASE, TORQUE_CONTROL, PVT);
 /// use [`check_calibrated`] then.
 pub fn requires_calibration(mode: Mode) -> bool {
-    matches!(mode, Mode::Release | Mode::TorqueControl | Mode::Pvt)
+    matches!(
+        mode,
+        Mode::Release | Mode::TorqueControl | Mode::Pvt | Mode::VelocityControl
+    )
 }
 
 /// `Err` naming the first axis that is not calibrated.

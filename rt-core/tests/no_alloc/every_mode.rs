@@ -30,7 +30,7 @@ use mcm_rt_core::ipc::RtIpc;
 use mcm_rt_core::sim_edge::SimEdge;
 use mcm_shared::command::{
     Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques,
-    SimCommand, TorqueControl, Which,
+    SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{Mode, RejectCode};
@@ -367,6 +367,28 @@ fn the_edge_allocates_nothing_in_any_mode() {
     }
     assert_eq!(rig.cycle().mode, Mode::TorqueControl.to_wire());
     rig.ok(Request::Hold, 5);
+    rig.run(50);
+
+    // VELOCITY_CONTROL with set_velocities: the ramp, then the timeout's controlled stop.
+    rig.ok(
+        Request::VelocityControl(VelocityControl {
+            timeout_s: Some(0.2),
+        }),
+        5,
+    );
+    for _ in 0..20 {
+        rig.ok(
+            Request::SetVelocities(SetVelocities {
+                velocities_deg_s: [5.0, -5.0, 0.0, 0.0, 0.0, 10.0],
+            }),
+            5,
+        );
+        rig.run(3);
+    }
+    assert_eq!(rig.cycle().mode, Mode::VelocityControl.to_wire());
+    rig.run_until("the timeout's HOLD", 200, |s| {
+        s.mode == Mode::Hold.to_wire()
+    });
     rig.run(50);
 
     // A move blocked through the simulator's edge: following-error trip, quick stop, the

@@ -102,6 +102,11 @@ pub(crate) fn request() -> impl Strategy<Value = Request> {
         Just(Request::TakeControl),
         Just(Request::ReleaseControl),
         Just(Request::ClientGone),
+        prop::option::of(1e-6f64..1e6)
+            .prop_map(|timeout_s| Request::VelocityControl(VelocityControl { timeout_s })),
+        six().prop_map(|velocities_deg_s| Request::SetVelocities(SetVelocities {
+            velocities_deg_s
+        })),
     ]
 }
 
@@ -118,7 +123,7 @@ fn any_sample() -> impl Strategy<Value = CommandSample> {
     (
         any::<u64>(),
         any::<u64>(),
-        prop_oneof![0u32..17, any::<u32>()],
+        prop_oneof![0u32..19, any::<u32>()],
         prop_oneof![0u32..0x1000, any::<u32>()],
         prop::collection::vec(arg, COMMAND_ARGS),
     )
@@ -252,6 +257,31 @@ fn torque_control_timeout_none_is_negative() {
     assert!(s.args[0] < 0.0);
     assert_eq!(s.flags, TORQUE_FLAG_NO_GRAVITY);
     assert!(Request::decode(&sample(CommandKind::TorqueControl, &[0.0], 0)).is_err());
+}
+
+#[test]
+fn velocity_control_timeout_and_velocities() {
+    let r = Request::VelocityControl(VelocityControl { timeout_s: None });
+    assert!(r.encode().args[0] < 0.0);
+    assert_eq!(Request::decode(&r.encode()), Ok(r));
+    let e = Request::decode(&sample(CommandKind::VelocityControl, &[0.0], 0)).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "velocity_control: timeout = 0 is not allowed; allowed: a finite number other than 0"
+    );
+    let e = Request::decode(&sample(CommandKind::VelocityControl, &[1.0], 1)).unwrap_err();
+    assert!(e.to_string().contains("flags"), "{e}");
+    let e = Request::decode(&sample(
+        CommandKind::SetVelocities,
+        &[0.0, 0.0, 0.0, f64::INFINITY],
+        0,
+    ))
+    .unwrap_err();
+    let DecodeError::Invalid { field, .. } = e else {
+        panic!("{e:?}")
+    };
+    assert_eq!(field.to_string(), "velocities[3]");
+    assert_eq!(field.axis(), Axis::new(4));
 }
 
 #[test]

@@ -294,3 +294,32 @@ fn syntax_errors() {
     assert!(matches!(err("x=1"), LineError::NoCommand { .. }));
     assert!(matches!(err("'status'"), LineError::NoCommand { .. }));
 }
+
+#[test]
+fn jog_takes_an_axis_and_a_speed() {
+    let axis = Axis::new(2).unwrap();
+    assert_eq!(
+        parse_line("jog 2", &cfg()),
+        Ok(Line::Jog { axis, speed: 10.0 })
+    );
+    assert_eq!(
+        parse_line("jog 2 45.5", &cfg()),
+        Ok(Line::Jog { axis, speed: 45.5 })
+    );
+    for (line, words) in [
+        ("jog", "usage: `jog AXIS [SPEED]`"),
+        ("jog 7", "axis = 7"),
+        ("jog 2 95", "at most 90 deg/s"),
+        ("jog 2 0", "above 0"),
+        ("jog 2 fast", "speed = fast is not a number"),
+        ("jog 2 10 3", "usage"),
+    ] {
+        let e = err(line).to_string();
+        assert!(e.contains(words), "{line}: {e}");
+    }
+    assert!(cmd("set_velocities 0 10 0 0 0 0") == cmd("set_velocities 0,10,0,0,0,0"));
+    assert!(matches!(
+        cmd("velocity_control -1"),
+        Command::VelocityControl(_)
+    ));
+}

@@ -1,0 +1,247 @@
+//! `jog AXIS [SPEED]`: drive one axis from the keyboard in VELOCITY_CONTROL. The session
+//! enters VELOCITY_CONTROL, shows the axis's position live and sends `set_velocities` every
+//! [`JOG_PERIOD`]: the chosen speed while `+` (or Up/Right) or `-` (or Down/Left) is held down,
+//! 0 otherwise; `q` (or Ctrl-C, Ctrl-D) stops the axis with `hold` and leaves the screen.
+//!
+//! A terminal sends nothing while a key is held but its auto-repeat: the first repeat comes
+//! after a delay (typically 250 to 660 ms), then about 30 per second. So a key counts as held
+//! for [`FIRST_GAP`] after it was pressed and, once it repeats, for [`REPEAT_GAP`] after each
+//! repeat; any other key stops at once. If the gateway stops sending, the core's own timeout
+//! ([`JOG_TIMEOUT_S`]) stops the axis.
+//!
+//! This file holds the pure parts (keys, the held-key timing, the line shown); the screen's
+//! loop is part of the HMI session ([`super::session`]). Not used inside the real-time cycle.
+
+use super::telnet::Input;
+use mcm_shared::command::Axis;
+use mcm_shared::config::RobotConfig;
+use std::time::{Duration, Instant};
+
+/// Interval of `set_velocities` and of the position shown.
+pub const JOG_PERIOD: Duration = Duration::from_millis(50);
+/// How long a key press counts as held before its auto-repeat starts.
+pub const FIRST_GAP: Duration = Duration::from_millis(700);
+/// How long a repeating key counts as held after each repeat.
+pub const REPEAT_GAP: Duration = Duration::from_millis(200);
+/// The `velocity_control` timeout of a jog [s]: the core stops the axis by itself when the
+/// gateway stops sending.
+pub const JOG_TIMEOUT_S: f64 = 0.5;
+/// The speed of `jog AXIS` without a speed [deg/s] (at most the axis's maximum).
+pub const DEFAULT_JOG_SPEED: f64 = 10.0;
+
+/// What a key means on the jog screen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JogKey {
+    /// `+`, `=`, Up, Right: towards positive angles.
+    Plus,
+    /// `-`, `_`, Down, Left: towards negative angles.
+    Minus,
+    /// `q`, `Q`, Ctrl-C, Ctrl-D: stop and leave.
+    Quit,
+    /// Any other key: stop.
+    Stop,
+}
+
+/// Turns the session's inputs into [`JogKey`]s; escape sequences (arrow keys: `ESC [ A` or
+/// `ESC O A`) span several inputs.
+#[derive(Debug, Default)]
+pub struct KeyDecoder {
+    /// Bytes of an escape sequence seen so far (0: none).
+    esc: u8,
+}
+
+impl KeyDecoder {
+    /// The key that `input` completes, if any.
+    pub fn feed(&mut self, input: Input) -> Option<JogKey> {
+        let b = match input {
+            Input::Byte(b) => b,
+            Input::Interrupt | Input::EndOfFile => return Some(JogKey::Quit),
+            Input::Enter | Input::EraseChar | Input::EraseLine => {
+                self.esc = 0;
+                return Some(JogKey::Stop);
+            }
+        };
+        match (self.esc, b) {
+            (0, 0x1b) => {
+                self.esc = 1;
+                None
+            }
+            (1, b'[' | b'O') => {
+                self.esc = 2;
+                None
+            }
+            (2, b'A' | b'C') => {
+                self.esc = 0;
+                Some(JogKey::Plus)
+            }
+            (2, b'B' | b'D') => {
+                self.esc = 0;
+                Some(JogKey::Minus)
+            }
+            // Parameters of a longer sequence (e.g. `ESC [ 1 ; 5 C`): wait for its end.
+            (2, b'0'..=b'9' | b';') => None,
+            (1 | 2, _) => {
+                self.esc = 0;
+                Some(JogKey::Stop)
+            }
+            (_, b'+' | b'=') => Some(JogKey::Plus),
+            (_, b'-' | b'_') => Some(JogKey::Minus),
+            (_, b'q' | b'Q' | 0x03 | 0x04) => Some(JogKey::Quit),
+            _ => Some(JogKey::Stop),
+        }
+    }
+}
+
+/// Which direction is held, from the key presses and their timing.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Held {
+    direction: i8,
+    last: Option<Instant>,
+    repeating: bool,
+}
+
+impl Held {
+    /// A direction key (`+1` or `-1`) was pressed at `now`.
+    pub fn press(&mut self, direction: i8, now: Instant) {
+        self.repeating = self.direction == direction && self.last.is_some();
+        self.direction = direction;
+        self.last = Some(now);
+    }
+
+    /// Stop at once (another key).
+    pub fn stop(&mut self) {
+        *self = Held::default();
+    }
+
+    /// The direction held at `now`: `+1`, `-1` or `0` once the key was let go.
+    pub fn direction(&mut self, now: Instant) -> i8 {
+        let gap = if self.repeating {
+            REPEAT_GAP
+        } else {
+            FIRST_GAP
+        };
+        match self.last {
+            Some(t) if now.saturating_duration_since(t) <= gap => self.direction,
+            _ => {
+                self.stop();
+                0
+            }
+        }
+    }
+}
+
+/// The six velocities [deg/s] of a jog of `axis` at `speed` in `direction`.
+pub fn velocities(axis: Axis, speed: f64, direction: i8) -> [f64; 6] {
+    let mut v = [0.0; 6];
+    v[axis.index()] = speed * f64::from(direction);
+    v
+}
+
+/// Check the speed of a jog: above 0, at most the axis's maximum velocity.
+pub fn check_speed(cfg: &RobotConfig, axis: Axis, speed: f64) -> Result<f64, String> {
+    let max = cfg.axes[axis.index()].max_velocity_deg_s;
+    if speed > 0.0 && speed <= max {
+        Ok(speed)
+    } else {
+        Err(format!(
+            "jog: speed = {speed} is not allowed; expected a speed above 0 and at most {max} \
+             deg/s (the maximum velocity of axis {axis})"
+        ))
+    }
+}
+
+/// The status line of the jog screen (one row, redrawn in place).
+pub fn status_line(
+    axis: Axis,
+    name: &str,
+    position_deg: f64,
+    velocity_deg_s: f64,
+    speed: f64,
+    direction: i8,
+) -> String {
+    let arrow = match direction {
+        1 => "  >>> +",
+        -1 => "  - <<<",
+        _ => "  stop ",
+    };
+    format!(
+        "jog axis {axis} {name:<9} position {position_deg:>9.3} deg  velocity {velocity_deg_s:>8.3} \
+         deg/s  {arrow} ({speed} deg/s)"
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn keys(bytes: &[u8]) -> Vec<JogKey> {
+        let mut d = KeyDecoder::default();
+        bytes
+            .iter()
+            .filter_map(|b| d.feed(Input::Byte(*b)))
+            .collect()
+    }
+
+    #[test]
+    fn keys_and_arrows() {
+        use JogKey::*;
+        assert_eq!(keys(b"+-=_"), [Plus, Minus, Plus, Minus]);
+        assert_eq!(
+            keys(b"\x1b[A\x1b[B\x1b[C\x1b[D"),
+            [Plus, Minus, Plus, Minus]
+        );
+        assert_eq!(keys(b"\x1bOA\x1b[1;5C"), [Plus, Plus]);
+        assert_eq!(keys(b"qQ\x03\x04"), [Quit, Quit, Quit, Quit]);
+        assert_eq!(keys(b" x\x1b[H"), [Stop, Stop, Stop]);
+        let mut d = KeyDecoder::default();
+        assert_eq!(d.feed(Input::Interrupt), Some(Quit));
+        assert_eq!(d.feed(Input::Enter), Some(Stop));
+    }
+
+    #[test]
+    fn a_held_key_moves_until_its_repeats_stop() {
+        let t0 = Instant::now();
+        let ms = |n| t0 + Duration::from_millis(n);
+        let mut h = Held::default();
+        assert_eq!(h.direction(t0), 0);
+        h.press(1, t0);
+        // Before the terminal's auto-repeat starts, the key counts as held.
+        assert_eq!(h.direction(ms(500)), 1);
+        // Repeats every 33 ms.
+        let mut t = 600;
+        while t < 1500 {
+            h.press(1, ms(t));
+            assert_eq!(h.direction(ms(t + 20)), 1);
+            t += 33;
+        }
+        // Let go: stopped within the repeat gap.
+        assert_eq!(h.direction(ms(t + 150)), 1);
+        assert_eq!(h.direction(ms(t + 250)), 0);
+        // A single press without repeats stops after the first gap.
+        h.press(-1, ms(5000));
+        assert_eq!(h.direction(ms(5600)), -1);
+        assert_eq!(h.direction(ms(5800)), 0);
+        // The other direction, or another key, takes over at once.
+        h.press(1, ms(6000));
+        h.press(-1, ms(6010));
+        assert_eq!(h.direction(ms(6020)), -1);
+        h.stop();
+        assert_eq!(h.direction(ms(6030)), 0);
+    }
+
+    #[test]
+    fn speeds_and_velocities() {
+        let cfg = RobotConfig::prob2_default();
+        let axis = Axis::new(2).unwrap();
+        assert_eq!(check_speed(&cfg, axis, 90.0), Ok(90.0));
+        let e = check_speed(&cfg, axis, 91.0).unwrap_err();
+        assert!(e.contains("speed = 91") && e.contains("at most 90"), "{e}");
+        assert!(check_speed(&cfg, axis, 0.0).is_err());
+        assert_eq!(velocities(axis, 5.0, -1), [0.0, -5.0, 0.0, 0.0, 0.0, 0.0]);
+        let line = status_line(axis, "shoulder", 12.3456, -5.0, 5.0, -1);
+        assert!(
+            line.contains("12.346 deg") && line.contains("<<<"),
+            "{line}"
+        );
+    }
+}

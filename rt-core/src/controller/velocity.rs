@@ -1,0 +1,127 @@
+//! VELOCITY_CONTROL: joint velocities from `set_velocities`, ramped within each axis's
+//! velocity, acceleration and jerk limits ([`ramp`]) and braked before the joint limits, under
+//! position control (the drives follow the integrated reference, as in PVT), with every safety
+//! check of a motion mode active. No `set_velocities` within the timeout: the controlled stop
+//! to HOLD, as `hold` does.
+//!
+//! Runs inside the cycle: no allocation, plain `Copy` data.
+
+pub mod ramp;
+
+use super::Controller;
+use super::state::{Caller, State};
+use crate::params::JointParams;
+use crate::safety::SafetyParams;
+use mcm_shared::NUM_AXES;
+use mcm_shared::command::{Axis, SetVelocities, VelocityControl};
+use mcm_shared::reply::{Done, Reason};
+use mcm_shared::units::{deg_to_rad, rad_to_deg};
+use ramp::{AxisRamp, RampLimits};
+
+/// Share of the braking-distance check's deceleration (`safety.braking_efficiency` x the
+/// maximum acceleration) that velocity control plans to brake with before a limit: the
+/// measured state, which lags the command, then stays well inside the check.
+pub const BRAKE_SHARE: f64 = 0.5;
+/// Distance kept between where a joint driven into a limit comes to rest and the limit less
+/// the safety margin [rad] (0.25 deg), for the following error.
+pub const STOP_CLEARANCE_RAD: f64 = 0.25 * core::f64::consts::PI / 180.0;
+
+/// The ramp limits of axis `i` (0-based) from the joint and safety parameters.
+pub fn ramp_limits(p: &JointParams, s: &SafetyParams, i: usize) -> RampLimits {
+    let l = p.limits[i];
+    let brake = (BRAKE_SHARE * s.brake_decel[i]).min(l.acceleration);
+    let jerk = l.jerk.unwrap_or(f64::INFINITY);
+    // The jerk ramp from full acceleration to the braking deceleration, one cycle of the ramp
+    // itself, and the reaction latency the braking check counts.
+    let lookahead_s = (l.acceleration + brake) / jerk + p.period + s.cycle_s + s.reaction_s;
+    RampLimits {
+        velocity: l.velocity,
+        acceleration: l.acceleration,
+        jerk,
+        brake,
+        lookahead_s,
+        stop_min: s.q_min[i] + s.margin + STOP_CLEARANCE_RAD,
+        stop_max: s.q_max[i] - s.margin - STOP_CLEARANCE_RAD,
+    }
+}
+
+/// A value in degrees as reported in a refusal (the conversion's rounding removed).
+fn report_deg(rad: f64) -> f64 {
+    (rad_to_deg(rad) * 1e9).round() / 1e9
+}
+
+impl Controller {
+    /// Enter VELOCITY_CONTROL (the caller checked HOLD and calibration): every axis's target is
+    /// 0, the ramp starts from the commanded state (a stop under way in HOLD carries on
+    /// smoothly).
+    pub(super) fn enter_velocity_control(&mut self, c: Caller, v: VelocityControl) {
+        let timeout_ns = v.timeout_s.map(|t| (t * 1e9) as u64);
+        self.state = State::Velocity {
+            target: [0.0; NUM_AXES],
+            deadline_ns: timeout_ns.map(|t| self.now_ns.saturating_add(t)),
+            timeout_ns,
+        };
+        self.done(c, Done::Ack);
+    }
+
+    /// New target velocities, each within its axis's maximum velocity; refused whole (the last
+    /// targets stay) when one is not.
+    pub(super) fn on_set_velocities(&mut self, c: Caller, v: SetVelocities) {
+        let State::Velocity { timeout_ns, .. } = self.state else {
+            let mode = self.mode();
+            return self.refuse(c, Reason::WrongMode { mode });
+        };
+        let mut target = [0.0; NUM_AXES];
+        for (i, deg_s) in v.velocities_deg_s.iter().copied().enumerate() {
+            let max = self.p.limits[i].velocity;
+            let rad_s = deg_to_rad(deg_s);
+            if rad_s.abs() > max * (1.0 + 1e-12) {
+                let reason = Reason::OutOfRange {
+                    axis: Some(Axis::ALL[i]),
+                    value: deg_s,
+                    min: -report_deg(max),
+                    max: report_deg(max),
+                };
+                return self.refuse(c, reason);
+            }
+            target[i] = rad_s.clamp(-max, max);
+        }
+        self.state = State::Velocity {
+            target,
+            deadline_ns: timeout_ns.map(|t| self.now_ns.saturating_add(t)),
+            timeout_ns,
+        };
+        self.done(c, Done::Ack);
+    }
+
+    /// One cycle of VELOCITY_CONTROL: the ramp towards the targets, or, once the timeout
+    /// passed without `set_velocities`, the controlled stop to HOLD.
+    pub(super) fn advance_velocity(&mut self, target: [f64; NUM_AXES], deadline_ns: Option<u64>) {
+        if deadline_ns.is_some_and(|d| self.now_ns > d) {
+            self.state = State::Hold {
+                stop: self.stop_motion(),
+            };
+            return;
+        }
+        let dt = self.p.period;
+        for (i, t) in target.iter().copied().enumerate() {
+            let l = ramp_limits(&self.p, &self.safety, i);
+            let s = ramp::step(
+                AxisRamp {
+                    position: self.cmd.position[i],
+                    velocity: self.cmd.velocity[i],
+                    acceleration: self.cmd.acceleration[i],
+                },
+                t,
+                &l,
+                dt,
+            );
+            self.cmd.position[i] = s.position;
+            self.cmd.velocity[i] = s.velocity;
+            self.cmd.acceleration[i] = s.acceleration;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
