@@ -108,6 +108,7 @@ impl Controller {
             }
             State::Enabling { .. } => {}
             State::Calibration { caller, .. } => {
+                self.restore_previous_calibration();
                 self.fail(caller, Reason::Aborted);
                 self.state = State::Hold {
                     stop: self.stop_motion(),
