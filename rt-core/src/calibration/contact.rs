@@ -17,9 +17,10 @@
 //! The contact position is where the run began (the first cycle of the current's departure):
 //! the least compressed stop. A late cycle, a current spike or another axis's impact makes the
 //! current depart for a cycle or two while the axis keeps following its target; it never
-//! satisfies all three for long enough. The baseline is frozen while a run is under way (and,
-//! in the slow approach, from the moment it settled), so a slow rise against a soft stop does
-//! not hide in it.
+//! satisfies all three for long enough. The baseline learns only while the axis follows its
+//! target, never while a run is under way (and, in the slow approach, not once it settled), so
+//! a slow rise against a soft stop does not hide in it, and an axis that starts against its
+//! stop or an obstacle still sees its contact.
 
 /// Time the baseline must have been tracked before a contact is trusted [s].
 pub const SETTLE: f64 = 0.25;
@@ -129,8 +130,13 @@ impl ContactDetector {
         }
         self.misses = 0;
         if !(watching && push) {
-            if watching && !p.track_armed {
+            // The baseline is the current of free motion: it learns only while the axis
+            // follows its target (an axis that starts against its stop or an obstacle must not
+            // teach it the pushing current).
+            let following = direction * (target - position) < p.min_lag;
+            if (watching && !p.track_armed) || !following {
                 self.run = 0;
+                self.age += dt;
             } else {
                 self.track(current, dt);
             }

@@ -312,3 +312,20 @@ fn a_slow_contact_away_from_the_fast_one_is_approached_again_then_fails() {
     }
     panic!("did not finish at {position}");
 }
+
+#[test]
+fn an_axis_that_starts_against_its_stop_finds_it_there() {
+    // The current pushes from the first cycle of the ramp: the baseline must not learn it.
+    let s = settings(Method::Stop {
+        direction: 1.0,
+        stop: 2.0,
+    });
+    let (out, _) = run(s, 1.3, Some(1.3), None);
+    let Outcome::Found { offset } = out else {
+        panic!("{out:?}")
+    };
+    assert!(
+        (offset + 0.7).abs() < 0.05f64.to_radians(),
+        "offset {offset}"
+    );
+}

@@ -58,7 +58,7 @@ impl Controller {
     }
 
     /// A calibration's searches end without completing: every selected axis gets back the
-    /// offset it had (the commanded position follows into the joint frame). Called before the
+    /// offset it had (the commanded positions follow into the joint frame). Called before the
     /// state changes; nothing happens outside the searches.
     pub(super) fn restore_previous_calibration(&mut self) {
         let State::Calibration {
@@ -75,7 +75,12 @@ impl Controller {
                 let now = self.offsets[i].unwrap_or(0.0);
                 let then = prev.unwrap_or(0.0);
                 self.offsets[i] = *prev;
+                // The commanded positions (this cycle's and the two the following error is
+                // judged against) move into the joint frame with the offset.
                 self.cmd.position[i] += now - then;
+                for h in &mut self.cmd_hist {
+                    h[i] += now - then;
+                }
             }
         }
     }
