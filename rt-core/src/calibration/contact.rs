@@ -48,6 +48,15 @@ pub struct ContactParams {
     pub track_armed: bool,
 }
 
+/// One cycle's measurement: the measured raw `position` [rad] and motor `current` [A], and
+/// `target`, the position target the measurement answers (sent two cycles ago) [rad].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    pub position: f64,
+    pub current: f64,
+    pub target: f64,
+}
+
 /// The detector of one search.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactDetector {
@@ -108,20 +117,22 @@ impl ContactDetector {
         self.age += dt;
     }
 
-    /// One cycle of a search in `direction` (+1/-1) with this cycle's measured `position`
-    /// and `current`, and `target`, the position target the measurement answers (sent two
-    /// cycles ago). `armed`: the search runs at its speed (contact is looked for only then, and
-    /// only once the baseline settled). The contact position once confirmed.
+    /// One cycle of a search in `direction` (+1/-1) with this cycle's [`Sample`]. `armed`:
+    /// the search runs at its speed (contact is looked for only then, and only once the
+    /// baseline settled). The contact position once confirmed.
     pub fn step(
         &mut self,
         p: &ContactParams,
         direction: f64,
-        position: f64,
-        current: f64,
-        target: f64,
+        sample: Sample,
         armed: bool,
         dt: f64,
     ) -> Option<f64> {
+        let Sample {
+            position,
+            current,
+            target,
+        } = sample;
         let push = direction * (current - self.baseline) > p.threshold;
         let watching = armed && self.settled();
         if watching && !push && self.run > 0 && self.misses < MISSES_ALLOWED {
@@ -197,7 +208,17 @@ mod tests {
             // The axis stops at 0.05 while its target moves on; the current rises.
             let position = target.min(0.05);
             let current = 1.0 + 100.0 * (target - position);
-            if let Some(at) = d.step(&P, 1.0, position, current, target, true, 0.005) {
+            if let Some(at) = d.step(
+                &P,
+                1.0,
+                Sample {
+                    position,
+                    current,
+                    target,
+                },
+                true,
+                0.005,
+            ) {
                 found = Some((k, at));
                 break;
             }
@@ -215,7 +236,17 @@ mod tests {
             let position = target.min(0.05);
             let current = 1.0 - 100.0 * (target - position);
             assert_eq!(
-                d.step(&P, 1.0, position, current, target, true, 0.005),
+                d.step(
+                    &P,
+                    1.0,
+                    Sample {
+                        position,
+                        current,
+                        target
+                    },
+                    true,
+                    0.005
+                ),
                 None
             );
         }
@@ -227,7 +258,20 @@ mod tests {
         for k in 0..200 {
             let target = 0.01 * f64::from(k);
             let position = target - 0.02;
-            assert_eq!(d.step(&P, 1.0, position, 5.0, target, true, 0.005), None);
+            assert_eq!(
+                d.step(
+                    &P,
+                    1.0,
+                    Sample {
+                        position,
+                        current: 5.0,
+                        target
+                    },
+                    true,
+                    0.005
+                ),
+                None
+            );
         }
     }
 
@@ -238,7 +282,20 @@ mod tests {
         for armed in [false, true] {
             d.restart();
             for _ in 0..(SETTLE / 0.005) as u32 - 1 {
-                assert_eq!(d.step(&P, 1.0, 0.0, 9.0, 1.0, armed, 0.005), None);
+                assert_eq!(
+                    d.step(
+                        &P,
+                        1.0,
+                        Sample {
+                            position: 0.0,
+                            current: 9.0,
+                            target: 1.0
+                        },
+                        armed,
+                        0.005
+                    ),
+                    None
+                );
             }
         }
     }

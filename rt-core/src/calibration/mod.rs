@@ -33,7 +33,7 @@
 
 pub mod contact;
 
-use contact::{ContactDetector, ContactParams};
+use contact::{ContactDetector, ContactParams, Sample};
 use mcm_shared::config::{AxisConfig, RobotConfig};
 use mcm_shared::reply::CalibrationFailure;
 use mcm_shared::units::rad_to_deg;
@@ -348,15 +348,15 @@ impl AxisCalibration {
             Method::Stop { .. } => {
                 let params = self.s.contact_params(search.slow);
                 let lagged = self.sent[1];
-                if let Some(at) = self.detector.step(
-                    &params,
-                    search.direction,
-                    input.position,
-                    input.current,
-                    lagged,
-                    at_speed,
-                    dt,
-                ) {
+                let sample = Sample {
+                    position: input.position,
+                    current: input.current,
+                    target: lagged,
+                };
+                if let Some(at) =
+                    self.detector
+                        .step(&params, search.direction, sample, at_speed, dt)
+                {
                     // Hold where the axis is (pressed against the stop).
                     self.target = input.position;
                     self.found(search, at);
