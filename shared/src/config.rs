@@ -169,6 +169,17 @@ pub struct CalibrationConfig {
     pub search_velocity_deg_s: f64,
     /// Current limit while searching [A].
     pub search_current_a: f64,
+    /// How far two approaches to the stop or edge (and the reference and where the axis's
+    /// previous calibration puts it) may disagree before the calibration fails [deg].
+    #[serde(default = "default_calibration_tolerance")]
+    pub tolerance_deg: f64,
+}
+
+/// `axis.calibration.tolerance_deg` when left out [deg].
+pub const DEFAULT_CALIBRATION_TOLERANCE_DEG: f64 = 0.5;
+
+fn default_calibration_tolerance() -> f64 {
+    DEFAULT_CALIBRATION_TOLERANCE_DEG
 }
 
 /// One axis: limits, drive, motor and gear.

@@ -38,6 +38,22 @@ pub enum CalibrationFailure {
     NoEdge { searched_deg: f64 },
     /// The axis's drive stopped answering.
     DriveLost,
+    /// Two approaches to the same stop or edge disagree by more than the tolerance: the first
+    /// found it at `first_deg` (taken as the configured position), the last at `second_deg`
+    /// in the same frame (a contact in free air, or a stop that gives way).
+    Inconsistent {
+        first_deg: f64,
+        second_deg: f64,
+        tolerance_deg: f64,
+    },
+    /// The stop or edge was found at `found_deg` in the frame of the axis's previous, valid
+    /// calibration, more than the tolerance away from where the configuration puts it
+    /// (`configured_deg`): an obstacle in the way, or a stop not where the configuration says.
+    Implausible {
+        found_deg: f64,
+        configured_deg: f64,
+        tolerance_deg: f64,
+    },
 }
 
 /// Which limit a PVT point breaks.
@@ -275,6 +291,16 @@ impl Reason {
                     CalibrationFailure::NoStop { searched_deg } => [1.0, searched_deg, 0.0, 0.0],
                     CalibrationFailure::NoEdge { searched_deg } => [2.0, searched_deg, 0.0, 0.0],
                     CalibrationFailure::DriveLost => [3.0, 0.0, 0.0, 0.0],
+                    CalibrationFailure::Inconsistent {
+                        first_deg,
+                        second_deg,
+                        tolerance_deg,
+                    } => [4.0, first_deg, second_deg, tolerance_deg],
+                    CalibrationFailure::Implausible {
+                        found_deg,
+                        configured_deg,
+                        tolerance_deg,
+                    } => [5.0, found_deg, configured_deg, tolerance_deg],
                 };
                 w(RejectCode::CalibrationFailed, a(axis), values)
             }
@@ -404,6 +430,16 @@ impl Reason {
                     1 => CalibrationFailure::NoStop { searched_deg: v1 },
                     2 => CalibrationFailure::NoEdge { searched_deg: v1 },
                     3 => CalibrationFailure::DriveLost,
+                    4 => CalibrationFailure::Inconsistent {
+                        first_deg: v1,
+                        second_deg: v2,
+                        tolerance_deg: v3,
+                    },
+                    5 => CalibrationFailure::Implausible {
+                        found_deg: v1,
+                        configured_deg: v2,
+                        tolerance_deg: v3,
+                    },
                     n => {
                         return Err(DecodeError::Unknown {
                             what: "calibration failure",
@@ -532,6 +568,22 @@ impl fmt::Display for Reason {
                 CalibrationFailure::DriveLost => write!(
                     f,
                     "calibration of axis {axis} failed: its drive stopped answering"
+                ),
+                CalibrationFailure::Inconsistent {
+                    first_deg,
+                    second_deg,
+                    tolerance_deg,
+                } => write!(
+                    f,
+                    "calibration of axis {axis} failed: its reference was found at {first_deg:.3} deg (the configured position), then at {second_deg:.3} deg by the next approach, more than the tolerance {tolerance_deg:.3} deg apart (a contact in free air, or a stop that gives way); the arm holds where it is, its previous calibration is kept"
+                ),
+                CalibrationFailure::Implausible {
+                    found_deg,
+                    configured_deg,
+                    tolerance_deg,
+                } => write!(
+                    f,
+                    "calibration of axis {axis} failed: its reference was found at {found_deg:.3} deg by its previous calibration, configured at {configured_deg:.3} deg, more than the tolerance {tolerance_deg:.3} deg apart (an obstacle in the way, or the stop is not where the configuration says); the arm holds where it is, its previous calibration is kept"
                 ),
             },
             Reason::Aborted => {

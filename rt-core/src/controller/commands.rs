@@ -5,7 +5,7 @@
 //! in, and refusals carry their figures in degrees.
 
 use super::Controller;
-use super::state::{After, CalPhase, Caller, PvtMotion, State};
+use super::state::{After, Caller, PvtMotion, State};
 use crate::calibration::AxisSettings;
 use crate::pvt::BatchError;
 use crate::trajectory::PvtPoint;
@@ -116,6 +116,7 @@ impl Controller {
             }
             State::Hold { .. } => self.done(c, Done::Ack),
             State::Calibration { caller, .. } => {
+                self.restore_previous_calibration();
                 self.fail(caller, Reason::Aborted);
                 self.state = State::Hold {
                     stop: self.stop_motion(),
@@ -247,35 +248,5 @@ impl Controller {
 
     fn refuse_batch(&mut self, c: Caller, e: BatchError) {
         self.refuse(c, e.reason());
-    }
-
-    /// Start the calibration searches of the axes that have settings.
-    pub(super) fn start_calibration(
-        &mut self,
-        caller: Caller,
-        settings: [Option<AxisSettings>; NUM_AXES],
-    ) {
-        let fb = *self.master.feedback();
-        let mut axes = [None; NUM_AXES];
-        let mut selected = 0u8;
-        for (i, s) in settings.iter().enumerate() {
-            if let Some(s) = s {
-                selected |= 1 << i;
-                self.offsets[i] = None;
-                axes[i] = Some(crate::calibration::AxisCalibration::start(
-                    *s,
-                    crate::calibration::AxisInput {
-                        position: fb[i].position_rad,
-                        current: fb[i].current_a,
-                        light_barrier: fb[i].light_barrier,
-                    },
-                ));
-            }
-        }
-        self.hold_here();
-        self.state = State::Calibration {
-            caller,
-            phase: CalPhase::Search { axes, selected },
-        };
     }
 }

@@ -14,12 +14,14 @@
 //!
 //! The files of this module: `mod.rs` (the cycle, enabling the drives), `state.rs` (the
 //! operating state: one enum carrying each mode's data), `commands.rs` (what each command
-//! does), `moves.rs` (`move_axis`/`move_all`, re-planned during motion), `motion.rs` (the
-//! per-cycle reference of each motion), `ownership.rs` (which client
+//! does), `moves.rs` (`move_axis`/`move_all`, re-planned during motion), `calibrate.rs` (a
+//! calibration's searches, and keeping the previous calibration when one does not complete),
+//! `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client
 //! controls the arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a
 //! cycle reports), `shutdown.rs` (the controlled stop and disable when `mcm-rt` is asked to
 //! stop), `velocity.rs` (VELOCITY_CONTROL and its ramp).
 
+mod calibrate;
 mod commands;
 mod motion;
 mod moves;
@@ -414,3 +416,6 @@ mod ownership_tests;
 
 #[cfg(test)]
 mod shutdown_tests;
+
+#[cfg(test)]
+mod calibration_tests;

@@ -3,15 +3,12 @@
 //! Runs inside the cycle.
 
 use super::Controller;
-use super::state::{CalPhase, Caller, Moving, PvtMotion, State, Stopping};
+use super::state::{CalPhase, Moving, PvtMotion, State, Stopping};
 use super::{FRICTION_COMPENSATION, RELEASE_DAMPING};
-use crate::calibration::{AxisCalibration, AxisInput, Outcome};
 use crate::canopen::DriveRequest;
 use crate::pvt::StreamState;
-use crate::trajectory::{JointPlan, JointSample, MovePlan, StopPlan};
+use crate::trajectory::{JointSample, StopPlan};
 use mcm_shared::NUM_AXES;
-use mcm_shared::command::Axis;
-use mcm_shared::reply::{Done, Reason};
 
 /// Deceleration of a stop after a safety trip, as a multiple of each axis's maximum
 /// acceleration. The braking-distance check assumes only `safety.braking_efficiency` (0.8) of
@@ -19,9 +16,6 @@ use mcm_shared::reply::{Done, Reason};
 /// the drives have the torque for it (P-Rob2: 5 x 180 deg/s^2 on axis 1 takes about 15 Nm of
 /// its 130).
 pub const QUICK_STOP_FACTOR: f64 = 5.0;
-
-/// Velocity factor of the move back to zero after calibration.
-const RETURN_VELOCITY_FACTOR: f64 = 0.5;
 
 impl Controller {
     /// A controlled stop of whatever moves, at each axis's maximum deceleration, from the
@@ -103,8 +97,8 @@ impl Controller {
             State::Pvt { motion, starved } => self.advance_pvt(motion, starved, dt),
             State::Calibration {
                 caller,
-                phase: CalPhase::Search { axes, selected },
-            } => self.advance_calibration(caller, axes, selected, dt),
+                phase: CalPhase::Search { .. },
+            } => self.advance_calibration(caller, dt),
             State::Calibration {
                 caller,
                 phase: CalPhase::Return(m),
@@ -224,90 +218,5 @@ impl Controller {
             velocity: qd,
             acceleration: [0.0; NUM_AXES],
         };
-    }
-
-    fn advance_calibration(
-        &mut self,
-        caller: Caller,
-        mut axes: [Option<AxisCalibration>; NUM_AXES],
-        selected: u8,
-        dt: f64,
-    ) {
-        let fb = *self.master.feedback();
-        let mut running = false;
-        for (i, slot) in axes.iter_mut().enumerate() {
-            let Some(cal) = slot else { continue };
-            let out = cal.step(
-                AxisInput {
-                    position: fb[i].position_rad,
-                    current: fb[i].current_a,
-                    light_barrier: fb[i].light_barrier,
-                },
-                dt,
-            );
-            // The raw target, in the joint frame of an uncalibrated axis (offset 0).
-            self.cmd.position[i] = cal.target();
-            self.current_limit[i] = cal.current_limit();
-            match out {
-                Outcome::Running => running = true,
-                Outcome::Found { offset } => {
-                    self.offsets[i] = Some(offset);
-                    // Kept by the drive until it loses power: survives a restart of the MCM.
-                    let counts = (offset * self.p.counts_per_rad[i])
-                        .round()
-                        .clamp(f64::from(i32::MIN), f64::from(i32::MAX));
-                    self.master.store_calibration(i, counts as i32);
-                    self.cmd.position[i] = cal.target() - offset;
-                    *slot = None;
-                }
-                Outcome::Failed { cause } => {
-                    let reason = Reason::CalibrationFailed {
-                        axis: Axis::ALL[i],
-                        cause,
-                    };
-                    // ERROR without a stop (the searches are slow): the caller hears of the
-                    // failure, and the trip records it.
-                    self.state = State::Error { stop: None };
-                    self.fail(caller, reason);
-                    self.trip(reason);
-                    self.hold_here();
-                    return;
-                }
-            }
-        }
-        if running {
-            self.state = State::Calibration {
-                caller,
-                phase: CalPhase::Search { axes, selected },
-            };
-            return;
-        }
-        // Every axis found its zero: move the axes of this calibration back to zero (the
-        // others stay where they are).
-        let start = self.cmd.position;
-        let target: [f64; NUM_AXES] = core::array::from_fn(|i| {
-            if selected & (1 << i) != 0 {
-                0.0
-            } else {
-                start[i]
-            }
-        });
-        let plan = MovePlan::plan(start, target, &self.p.limits, RETURN_VELOCITY_FACTOR)
-            .and_then(|plan| JointPlan::from_move(&plan));
-        match plan {
-            Ok(plan) => {
-                self.state = State::Calibration {
-                    caller,
-                    phase: CalPhase::Return(Moving { plan }),
-                }
-            }
-            Err(_) => self.finish_calibration(caller),
-        }
-    }
-
-    /// Calibration done: HOLD, and the reply.
-    fn finish_calibration(&mut self, caller: Caller) {
-        self.state = State::Hold { stop: None };
-        self.done(caller, Done::Ack);
     }
 }

@@ -15,8 +15,8 @@
 //! - `release_control` from the owner, or `client_gone` from the owner, ends the ownership and
 //!   brings whatever the owner drove to HOLD within that cycle: a PVT move or stream, RELEASE
 //!   and TORQUE_CONTROL end in the controlled stop `hold` uses; a calibration is aborted like
-//!   `hold` aborts it (the axes it was searching stay uncalibrated: a homing search nobody
-//!   watches is a motion like any other); an enabling that was to start a calibration ends in
+//!   `hold` aborts it (the axes it was searching keep the calibration they had before: a
+//!   homing search nobody watches is a motion like any other); an enabling that was to start a calibration ends in
 //!   HOLD instead. OFF, ERROR and HOLD stay as they are. `release_control` while nobody owns
 //!   the arm is OK; from another client it is refused `NotOwner`. `client_gone` from a client
 //!   that does not own the arm changes nothing.
@@ -108,6 +108,7 @@ impl Controller {
             }
             State::Enabling { .. } => {}
             State::Calibration { caller, .. } => {
+                self.restore_previous_calibration();
                 self.fail(caller, Reason::Aborted);
                 self.state = State::Hold {
                     stop: self.stop_motion(),

@@ -297,7 +297,7 @@ fn hold_during_a_calibration_aborts_it_and_holds() {
     let hold = reply_to(&r, 9002).expect("hold is answered at once");
     assert_eq!(hold.outcome, Outcome::Done(Done::Ack));
     assert_eq!(r.mode(), Mode::Hold);
-    // The aborted calibration left the axes uncalibrated.
+    // The aborted calibration left the axes as they were: uncalibrated.
     assert_eq!(
         r.refused(PVT, 5),
         Reason::NotCalibrated { axis: Axis::ALL[0] }

@@ -211,6 +211,7 @@ impl Controller {
                 self.state = from.state();
             }
             State::Calibration { caller, .. } => {
+                self.restore_previous_calibration();
                 self.fail(caller, Reason::ShuttingDown);
                 self.state = State::Hold {
                     stop: self.stop_motion(),

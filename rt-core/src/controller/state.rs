@@ -52,10 +52,14 @@ pub(crate) enum PvtMotion {
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum CalPhase {
     /// Searches in the raw frame, per axis (`None`: the axis holds or is done); `selected` has
-    /// bit `i` set for every axis this calibration covers.
+    /// bit `i` set for every axis this calibration covers. `previous`: the offsets the selected
+    /// axes had when it started (restored if it does not complete); `found`: the offsets
+    /// found so far (in force only once every selected axis found its own).
     Search {
         axes: [Option<AxisCalibration>; NUM_AXES],
         selected: u8,
+        previous: [Option<f64>; NUM_AXES],
+        found: [Option<f64>; NUM_AXES],
     },
     /// Every axis found its zero: the move of the selected axes back to zero.
     Return(Moving),

@@ -34,7 +34,9 @@ impl Controller {
             MasterEvent::Fault { axis, code } => self.drive_fault(axis, code),
             MasterEvent::Booted { axis } => {
                 // Calibration is gone unless the drive still holds it (below): a drive that
-                // boots after a power cycle lost its encoder reference.
+                // boots after a power cycle lost its encoder reference; a calibration under way
+                // no longer keeps its previous offset either.
+                self.forget_previous_calibration(axis);
                 self.offsets[axis] = None;
                 if self.mode() != Mode::Off {
                     self.trip(Reason::DriveDisconnected {
@@ -119,6 +121,8 @@ impl Controller {
     /// and the error is only reported), axes stopped, a calibration or enabling under way
     /// failed, and one spontaneous error record per incident (until a `hold` succeeds).
     pub(super) fn trip(&mut self, reason: Reason) {
+        // A calibration under way ends: its axes keep their previous calibration.
+        self.restore_previous_calibration();
         self.state = match self.state {
             State::Off => State::Off,
             State::Enabling { caller, from, .. } => {

@@ -28,6 +28,11 @@ pub const ACCELERATION_MAX_DEG_S2: f64 = 5000.0;
 pub const JERK_MAX_DEG_S3: f64 = 100_000.0;
 /// `axis.max_current_a`: at most this multiple of `rated_current_a`.
 pub const PEAK_TO_RATED_MAX: f64 = 4.0;
+/// `axis.calibration.tolerance_deg`: this to [`CALIBRATION_TOLERANCE_MAX_DEG`] [deg]. Below,
+/// the stops' own compliance fails good calibrations; above, a contact in free air after the
+/// 2-degree back-off could pass.
+pub const CALIBRATION_TOLERANCE_MIN_DEG: f64 = 0.1;
+pub const CALIBRATION_TOLERANCE_MAX_DEG: f64 = 1.0;
 /// `axis.i2t_time_constant_s`: this to [`I2T_TIME_CONSTANT_MAX_S`] [s].
 pub const I2T_TIME_CONSTANT_MIN_S: f64 = 1.0;
 pub const I2T_TIME_CONSTANT_MAX_S: f64 = 600.0;
@@ -171,6 +176,13 @@ impl AxisConfig {
             self.calibration.search_current_a,
             self.max_current_a,
             &format!(" A ({key}.max_current_a)"),
+        )?;
+        within(
+            format!("{key}.calibration.tolerance_deg"),
+            self.calibration.tolerance_deg,
+            CALIBRATION_TOLERANCE_MIN_DEG,
+            CALIBRATION_TOLERANCE_MAX_DEG,
+            " deg",
         )?;
         Ok(())
     }

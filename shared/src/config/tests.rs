@@ -89,6 +89,12 @@ const REFUSALS: &[Case] = &[
         "0 < x <= 90 deg/s (axis[3].max_velocity_deg_s)"),
     (|c| c.axes[2].calibration.search_current_a = 10.5, "axis[3].calibration.search_current_a",
         "10.5", "0 < x <= 10 A (axis[3].max_current_a)"),
+    (|c| c.axes[1].calibration.tolerance_deg = 0.05, "axis[2].calibration.tolerance_deg",
+        "0.05", "0.1..=1 deg"),
+    (|c| c.axes[1].calibration.tolerance_deg = 1.5, "axis[2].calibration.tolerance_deg",
+        "1.5", "0.1..=1 deg"),
+    (|c| c.axes[1].calibration.tolerance_deg = f64::NAN, "axis[2].calibration.tolerance_deg",
+        "NaN", "0.1..=1 deg"),
     // [[axis]]
     (|c| { c.axes.pop(); }, "axis", "5", "exactly 6 [[axis]] tables"),
     (|c| c.axes[3].node_id = 0, "axis[4].node_id", "0", "1..=127"),

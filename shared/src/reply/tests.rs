@@ -19,6 +19,20 @@ pub(crate) fn reason() -> impl Strategy<Value = Reason> {
         x().prop_map(|searched_deg| CalibrationFailure::NoStop { searched_deg }),
         x().prop_map(|searched_deg| CalibrationFailure::NoEdge { searched_deg }),
         Just(CalibrationFailure::DriveLost),
+        (x(), x(), x()).prop_map(|(first_deg, second_deg, tolerance_deg)| {
+            CalibrationFailure::Inconsistent {
+                first_deg,
+                second_deg,
+                tolerance_deg,
+            }
+        }),
+        (x(), x(), x()).prop_map(|(found_deg, configured_deg, tolerance_deg)| {
+            CalibrationFailure::Implausible {
+                found_deg,
+                configured_deg,
+                tolerance_deg,
+            }
+        }),
     ];
     let quantity = prop_oneof![
         Just(PvtQuantity::Position),

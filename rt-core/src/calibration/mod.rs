@@ -3,25 +3,37 @@
 //!
 //! Runs inside the cycle: one small state machine per axis, stepped once per cycle with the
 //! axis's feedback; it produces a raw (encoder-frame) position target for the drive (CSP) and
-//! a current limit. All axes being calibrated search at the same time.
+//! a current limit. Plain `Copy` data, no allocation. All axes being calibrated search at the
+//! same time.
 //!
 //! **Mechanical stop**, in the configured direction (reversed by `elbow_direction` /
-//! `wrist_direction`): a fast search at the configured search velocity until the motor current
-//! departs from its free-motion baseline (contact), a 2-degree back-off, then a slow approach at
-//! 1/30 of the search velocity, at a reduced current limit (baseline + search current), until
-//! contact again. The stop is where
-//! the slow approach touched: joint angle = raw position -
-//! (raw at contact - stop angle). The slow approach keeps the contact force, and so the error
-//! from the stop's compliance, small.
+//! `wrist_direction`): a fast search at the configured search velocity until contact, a
+//! 2-degree back-off, then a slow approach at 1/30 of the search velocity, at a reduced current
+//! limit (baseline + search current), until contact again. Contact is decided by
+//! [`contact::ContactDetector`] from currents and positions over many cycles (current beyond
+//! the baseline in the search direction, a following error, the axis no longer advancing),
+//! never from one sample: another axis hitting its stop, a late cycle or a current spike does
+//! not make a contact. The stop is where the slow approach touched: joint angle = raw
+//! position - (raw at contact - stop angle).
 //!
 //! **Light barrier**: a fast search towards the barrier's edge (the barrier input tells which
 //! side the axis is on), a back-off to 2 degrees below the edge, then a slow approach in the
 //! positive direction until the input switches; the edge is the midpoint of the two samples
 //! around the switch.
 //!
+//! **Plausibility** ([`AxisSettings::tolerance`]): the slow approach must find the stop or edge
+//! where the approach before it did (within the tolerance); when they disagree the axis backs
+//! off and approaches again, up to [`MAX_APPROACHES`] slow approaches, and then fails with
+//! [`CalibrationFailure::Inconsistent`]. An axis that had a valid calibration must find its
+//! stop or edge, in that calibration's frame, within the tolerance of the configured position,
+//! else [`CalibrationFailure::Implausible`].
+//!
 //! A search that travels further than the whole axis range plus twice the largest possible
 //! encoder offset without finding its stop fails; the axis then holds where it is.
 
+pub mod contact;
+
+use contact::{ContactDetector, ContactParams, Sample};
 use mcm_shared::config::{AxisConfig, RobotConfig};
 use mcm_shared::reply::CalibrationFailure;
 use mcm_shared::units::rad_to_deg;
@@ -32,18 +44,19 @@ const BACKOFF: f64 = 2.0 * core::f64::consts::PI / 180.0;
 const SLOW_FRACTION: f64 = 1.0 / 30.0;
 /// Acceleration used to ramp the search velocity [rad/s^2].
 const RAMP_ACCEL: f64 = 1.0;
-/// Time to let the current settle before a baseline is trusted [s].
-const SETTLE: f64 = 0.25;
-/// Smoothing factor of the current baseline per cycle; slower during the slow approach, so
-/// that the slow rise of a soft contact still stands out.
-const BASELINE_ALPHA: f64 = 0.05;
-const BASELINE_ALPHA_SLOW: f64 = 0.02;
-/// Contact when the current departs from the baseline by this fraction of the search current
-/// (fast search / slow approach).
-const FAST_THRESHOLD: f64 = 0.5;
-const SLOW_THRESHOLD: f64 = 0.2;
-/// Cycles in a row the current must stay beyond the threshold to count as contact.
-const CONTACT_CYCLES: u32 = 2;
+/// Time to hold still before a search starts [s].
+const SETTLE: f64 = contact::SETTLE;
+/// Slow approaches at most, each compared with the contact before it.
+pub const MAX_APPROACHES: u32 = 3;
+/// Contact in the fast search: current beyond half the search current for 4 cycles, at least
+/// 0.2 deg behind the target, the axis advancing less than half as fast as its target.
+const FAST_CONTACT: (f64, u32, f64) = (0.5, 4, 0.2);
+/// Contact in the slow approach: 0.2 of the search current for 30 cycles (0.15 s at 200 Hz:
+/// a jolt from another axis is over by then), at least 0.05 deg behind the target.
+const SLOW_CONTACT: (f64, u32, f64) = (0.2, 30, 0.05);
+/// Largest share of its target's advance an axis in contact may still make (a compliant
+/// stop gives a little; free motion follows the target).
+const STALL_FRACTION: f64 = 0.5;
 
 /// How an axis finds its zero.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -52,6 +65,16 @@ pub enum Method {
     Stop { direction: f64, stop: f64 },
     /// The light barrier whose edge is at `edge` [rad] (active on the positive side).
     Barrier { edge: f64 },
+}
+
+impl Method {
+    /// The configured joint angle of the reference [rad].
+    pub fn reference(&self) -> f64 {
+        match *self {
+            Method::Stop { stop, .. } => stop,
+            Method::Barrier { edge } => edge,
+        }
+    }
 }
 
 /// Static per-axis calibration settings.
@@ -65,6 +88,9 @@ pub struct AxisSettings {
     pub max_current: f64,
     /// Longest distance searched before giving up [rad].
     pub range: f64,
+    /// How far two approaches (or the reference and the previous calibration) may disagree
+    /// [rad].
+    pub tolerance: f64,
 }
 
 impl AxisSettings {
@@ -103,6 +129,18 @@ impl AxisSettings {
             search_current: c.search_current_a,
             max_current: a.max_current_a,
             range,
+            tolerance: c.tolerance_deg.to_radians(),
+        }
+    }
+
+    fn contact_params(&self, slow: bool) -> ContactParams {
+        let (share, confirm_cycles, lag_deg) = if slow { SLOW_CONTACT } else { FAST_CONTACT };
+        ContactParams {
+            threshold: share * self.search_current,
+            confirm_cycles,
+            min_lag: lag_deg.to_radians(),
+            stall_fraction: STALL_FRACTION,
+            track_armed: !slow,
         }
     }
 }
@@ -155,7 +193,7 @@ pub enum Outcome {
     Found {
         offset: f64,
     },
-    /// No stop or no barrier edge within the distance searched (reported in degrees).
+    /// No stop or edge found, or the one found is not plausible (figures in degrees).
     Failed {
         cause: CalibrationFailure,
     },
@@ -168,18 +206,27 @@ pub struct AxisCalibration {
     phase: Phase,
     target: f64,
     start: f64,
-    baseline: f64,
-    baseline_age: f64,
-    /// Cycles in a row the current has been beyond the contact threshold.
-    over: u32,
+    detector: ContactDetector,
+    /// The targets of the last two cycles, `[k-1, k-2]`: the position measured in cycle k
+    /// answers the target of cycle k-2.
+    sent: [f64; 2],
+    /// Time since the current search began [s].
+    searching: f64,
     /// Where the current slow approach began (raw).
     approach_start: f64,
+    /// The raw position of the last contact or edge (fast search or earlier slow approach).
+    last_contact: Option<f64>,
+    /// Slow approaches so far.
+    approaches: u32,
+    /// The offset of the axis's previous, valid calibration, if it had one.
+    previous: Option<f64>,
     prev: AxisInput,
 }
 
 impl AxisCalibration {
-    /// Start from the axis's current state.
-    pub fn start(s: AxisSettings, now: AxisInput) -> AxisCalibration {
+    /// Start from the axis's current state; `previous` is the offset of the axis's valid
+    /// calibration, if it has one (the reference found is checked against it).
+    pub fn start(s: AxisSettings, now: AxisInput, previous: Option<f64>) -> AxisCalibration {
         let direction = match s.method {
             Method::Stop { direction, .. } => direction,
             // Towards the edge: the barrier is active on its positive side.
@@ -202,10 +249,13 @@ impl AxisCalibration {
             },
             target: now.position,
             start: now.position,
-            baseline: now.current,
-            baseline_age: 0.0,
-            over: 0,
+            detector: ContactDetector::new(now.current),
+            sent: [now.position; 2],
+            searching: 0.0,
             approach_start: now.position,
+            last_contact: None,
+            approaches: 0,
+            previous,
             prev: now,
         }
     }
@@ -218,8 +268,8 @@ impl AxisCalibration {
     /// The current limit for the drive [A].
     pub fn current_limit(&self) -> f64 {
         match self.phase {
-            Phase::Search { search, .. } if search.slow && self.baseline_age >= SETTLE => {
-                (self.baseline.abs() + self.s.search_current).min(self.s.max_current)
+            Phase::Search { search, .. } if search.slow && self.detector.settled() => {
+                (self.detector.baseline().abs() + self.s.search_current).min(self.s.max_current)
             }
             _ => self.s.max_current,
         }
@@ -239,11 +289,14 @@ impl AxisCalibration {
         self.prev = input;
         match self.phase {
             Phase::Settle { left, next } => {
-                self.track_baseline(input.current, dt);
+                self.detector.track(input.current, dt);
                 self.phase = if left <= dt {
-                    self.baseline_age = 0.0;
-                    self.over = 0;
+                    self.detector.restart();
+                    self.searching = 0.0;
                     self.approach_start = self.target;
+                    if next.slow {
+                        self.approaches += 1;
+                    }
                     Phase::Search {
                         search: next,
                         speed: 0.0,
@@ -260,8 +313,7 @@ impl AxisCalibration {
                 let step = self.s.velocity * dt;
                 if (goal - self.target) * direction <= step {
                     self.target = goal;
-                    self.baseline = input.current;
-                    self.baseline_age = 0.0;
+                    self.detector.rebase(input.current);
                     let approach = match self.s.method {
                         Method::Stop { direction, .. } => direction,
                         Method::Barrier { .. } => 1.0,
@@ -279,16 +331,8 @@ impl AxisCalibration {
             }
             Phase::Done { .. } | Phase::Failed { .. } => {}
         }
+        self.sent = [self.target, self.sent[0]];
         self.outcome()
-    }
-
-    fn track_baseline(&mut self, current: f64, dt: f64) {
-        let alpha = match self.phase {
-            Phase::Search { search, .. } if search.slow => BASELINE_ALPHA_SLOW,
-            _ => BASELINE_ALPHA,
-        };
-        self.baseline += alpha * (current - self.baseline);
-        self.baseline_age += dt;
     }
 
     fn search(&mut self, search: Search, speed: f64, input: AxisInput, prev: AxisInput, dt: f64) {
@@ -299,40 +343,29 @@ impl AxisCalibration {
         };
         let speed = (speed + RAMP_ACCEL * dt).min(top);
         let at_speed = speed >= top;
+        self.searching += dt;
         match self.s.method {
-            Method::Stop { stop, .. } => {
-                let threshold = if search.slow {
-                    SLOW_THRESHOLD
-                } else {
-                    FAST_THRESHOLD
-                } * self.s.search_current;
-                let settled = at_speed && self.baseline_age >= SETTLE;
-                // A stop holds the axis still; a jolt from another axis does not.
-                let speed_now = (input.position - prev.position).abs() / dt;
-                let still = search.slow || speed_now < 0.5 * top;
-                if settled && still && (input.current - self.baseline).abs() > threshold {
-                    self.over += 1;
-                } else {
-                    self.over = 0;
-                }
-                if self.over >= CONTACT_CYCLES {
-                    if search.slow {
-                        self.target = input.position;
-                        self.phase = Phase::Done {
-                            offset: input.position - stop,
-                        };
-                    } else {
-                        self.target = input.position;
-                        self.phase = Phase::Backoff {
-                            goal: input.position - search.direction * BACKOFF,
-                            direction: -search.direction,
-                        };
-                    }
+            Method::Stop { .. } => {
+                let params = self.s.contact_params(search.slow);
+                let lagged = self.sent[1];
+                let sample = Sample {
+                    position: input.position,
+                    current: input.current,
+                    target: lagged,
+                };
+                if let Some(at) =
+                    self.detector
+                        .step(&params, search.direction, sample, at_speed, dt)
+                {
+                    // Hold where the axis is (pressed against the stop).
+                    self.target = input.position;
+                    self.found(search, at);
                     return;
                 }
-                self.track_baseline(input.current, dt);
                 if search.slow && (self.target - self.approach_start).abs() > 3.0 * BACKOFF {
-                    // The fast search's contact was not the stop: search fast again.
+                    // The contact before was not the stop: search fast again.
+                    self.last_contact = None;
+                    self.detector.restart();
                     self.phase = Phase::Search {
                         search: Search {
                             slow: false,
@@ -340,27 +373,16 @@ impl AxisCalibration {
                         },
                         speed,
                     };
-                    self.baseline_age = 0.0;
                     return;
                 }
             }
-            Method::Barrier { edge } => {
-                if input.light_barrier != prev.light_barrier && self.baseline_age > 0.0 {
+            Method::Barrier { .. } => {
+                if input.light_barrier != prev.light_barrier && self.searching > dt {
                     let at = 0.5 * (input.position + prev.position);
-                    if search.slow {
-                        self.target = input.position;
-                        self.phase = Phase::Done { offset: at - edge };
-                    } else {
-                        self.target = at;
-                        let goal = at - BACKOFF;
-                        self.phase = Phase::Backoff {
-                            goal,
-                            direction: if goal < at { -1.0 } else { 1.0 },
-                        };
-                    }
+                    self.target = if search.slow { input.position } else { at };
+                    self.found(search, at);
                     return;
                 }
-                self.baseline_age += dt;
             }
         }
         let searched = (self.target - self.start).abs();
@@ -377,138 +399,56 @@ impl AxisCalibration {
         self.target += search.direction * speed * dt;
         self.phase = Phase::Search { search, speed };
     }
+
+    /// The search found its stop or edge at the raw position `at`: back off and approach
+    /// slowly, or (slow approach) accept it if it agrees with the contact before it and with
+    /// the previous calibration.
+    fn found(&mut self, search: Search, at: f64) {
+        let reference = self.s.method.reference();
+        let tolerance = self.s.tolerance;
+        let before = self.last_contact;
+        self.last_contact = Some(at);
+        if search.slow
+            && let Some(first) = before
+        {
+            let apart = at - first;
+            if apart.abs() <= tolerance {
+                self.phase = match self.previous {
+                    Some(old) if (at - old - reference).abs() > tolerance => Phase::Failed {
+                        cause: CalibrationFailure::Implausible {
+                            found_deg: rad_to_deg(at - old),
+                            configured_deg: rad_to_deg(reference),
+                            tolerance_deg: rad_to_deg(tolerance),
+                        },
+                    },
+                    _ => Phase::Done {
+                        offset: at - reference,
+                    },
+                };
+                return;
+            }
+            if self.approaches >= MAX_APPROACHES {
+                self.phase = Phase::Failed {
+                    cause: CalibrationFailure::Inconsistent {
+                        first_deg: rad_to_deg(reference),
+                        second_deg: rad_to_deg(reference + apart),
+                        tolerance_deg: rad_to_deg(tolerance),
+                    },
+                };
+                return;
+            }
+        }
+        // Back off against the search direction of the method (barrier: below the edge).
+        let back = match self.s.method {
+            Method::Stop { .. } => -search.direction,
+            Method::Barrier { .. } => -1.0,
+        };
+        self.phase = Phase::Backoff {
+            goal: at + back * BACKOFF,
+            direction: back,
+        };
+    }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A crude axis: follows the target exactly until it meets a wall at `wall`, where the
-    /// current rises with the target's push.
-    fn run(
-        settings: AxisSettings,
-        start: f64,
-        wall: Option<f64>,
-        barrier: Option<f64>,
-    ) -> (Outcome, u32) {
-        let dt = 0.005;
-        let read = |target: f64| {
-            let (pos, current) = match wall {
-                Some(w) if (target - w) * settings_dir(&settings) > 0.0 => {
-                    (w, 0.3 + 1000.0 * (target - w).abs())
-                }
-                _ => (target, 0.3),
-            };
-            AxisInput {
-                position: pos,
-                current,
-                light_barrier: barrier.is_some_and(|e| pos >= e),
-            }
-        };
-        let mut c = AxisCalibration::start(settings, read(start));
-        for k in 0..100_000 {
-            let out = c.step(read(c.target()), dt);
-            if out != Outcome::Running {
-                return (out, k);
-            }
-        }
-        panic!("did not finish");
-    }
-
-    fn settings_dir(s: &AxisSettings) -> f64 {
-        match s.method {
-            Method::Stop { direction, .. } => direction,
-            Method::Barrier { .. } => 1.0,
-        }
-    }
-
-    fn settings(method: Method) -> AxisSettings {
-        AxisSettings {
-            method,
-            velocity: 30f64.to_radians(),
-            search_current: 3.0,
-            max_current: 10.0,
-            range: 4.0,
-        }
-    }
-
-    #[test]
-    fn finds_a_mechanical_stop_and_the_offset() {
-        // Raw frame: the wall at raw 1.3 rad is the stop at joint 2.0 rad, so offset = -0.7.
-        let s = settings(Method::Stop {
-            direction: 1.0,
-            stop: 2.0,
-        });
-        let (out, _) = run(s, 0.2, Some(1.3), None);
-        let Outcome::Found { offset } = out else {
-            panic!("{out:?}")
-        };
-        assert!(
-            (offset + 0.7).abs() < 0.05f64.to_radians(),
-            "offset {offset}"
-        );
-    }
-
-    #[test]
-    fn finds_a_stop_in_the_negative_direction() {
-        let s = settings(Method::Stop {
-            direction: -1.0,
-            stop: -2.0,
-        });
-        let (out, _) = run(s, 0.0, Some(-1.5), None);
-        let Outcome::Found { offset } = out else {
-            panic!("{out:?}")
-        };
-        assert!(
-            (offset - 0.5).abs() < 0.05f64.to_radians(),
-            "offset {offset}"
-        );
-    }
-
-    #[test]
-    fn finds_a_light_barrier_edge_from_either_side() {
-        for start in [-0.3, 0.4] {
-            let s = settings(Method::Barrier { edge: 0.0 });
-            // Raw edge at 0.1 => offset 0.1.
-            let (out, _) = run(s, start, None, Some(0.1));
-            let Outcome::Found { offset } = out else {
-                panic!("{out:?}")
-            };
-            assert!(
-                (offset - 0.1).abs() < 0.01f64.to_radians(),
-                "start {start}: offset {offset}"
-            );
-        }
-    }
-
-    #[test]
-    fn no_stop_fails_after_the_search_range() {
-        let s = settings(Method::Stop {
-            direction: 1.0,
-            stop: 2.0,
-        });
-        let (out, _) = run(s, 0.0, None, None);
-        let Outcome::Failed {
-            cause: CalibrationFailure::NoStop { searched_deg },
-        } = out
-        else {
-            panic!("{out:?}")
-        };
-        assert!(searched_deg > 4f64.to_degrees(), "{searched_deg}");
-    }
-
-    #[test]
-    fn reverse_mirrors_the_stop() {
-        let cfg = RobotConfig::prob2_default();
-        let s = AxisSettings::from_config(&cfg, 2, true, false);
-        let Method::Stop { direction, stop } = s.method else {
-            panic!()
-        };
-        assert_eq!(direction, -1.0);
-        assert!((stop + 140f64.to_radians()).abs() < 1e-12);
-        let b = AxisSettings::from_config(&cfg, 0, false, false);
-        assert!(matches!(b.method, Method::Barrier { .. }));
-        let f = AxisSettings::from_config(&cfg, 0, false, true);
-        assert!(matches!(f.method, Method::Stop { .. }));
-    }
-}
+mod tests;

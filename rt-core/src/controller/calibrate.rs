@@ -1,0 +1,206 @@
+//! The controller's side of a calibration: starting the axes' searches, stepping them, putting
+//! the offsets found in force once every selected axis found its own, the move back to zero,
+//! and keeping the previous calibration when a calibration does not complete.
+//!
+//! Runs inside the cycle. While an axis searches it works in its raw (encoder) frame (its offset
+//! is `None`); the offsets it had are kept in [`CalPhase::Search`] and restored by
+//! [`Controller::restore_previous_calibration`] when the calibration is aborted (`hold`, a mode
+//! change by a lost owner, a shutdown, a safety trip) or fails. Offsets found are written to the
+//! drives (0x2100) only when they come into force.
+
+use super::Controller;
+use super::state::{CalPhase, Caller, Moving, State};
+use crate::calibration::{AxisCalibration, AxisInput, AxisSettings, Outcome};
+use crate::trajectory::{JointPlan, MovePlan};
+use mcm_shared::NUM_AXES;
+use mcm_shared::command::Axis;
+use mcm_shared::reply::{Done, Reason};
+
+/// Velocity factor of the move back to zero after calibration.
+const RETURN_VELOCITY_FACTOR: f64 = 0.5;
+
+impl Controller {
+    /// Start the calibration searches of the axes that have settings.
+    pub(super) fn start_calibration(
+        &mut self,
+        caller: Caller,
+        settings: [Option<AxisSettings>; NUM_AXES],
+    ) {
+        let fb = *self.master.feedback();
+        let previous = self.offsets;
+        let mut axes = [None; NUM_AXES];
+        let mut selected = 0u8;
+        for (i, s) in settings.iter().enumerate() {
+            if let Some(s) = s {
+                selected |= 1 << i;
+                self.offsets[i] = None;
+                axes[i] = Some(AxisCalibration::start(
+                    *s,
+                    AxisInput {
+                        position: fb[i].position_rad,
+                        current: fb[i].current_a,
+                        light_barrier: fb[i].light_barrier,
+                    },
+                    previous[i],
+                ));
+            }
+        }
+        self.hold_here();
+        self.state = State::Calibration {
+            caller,
+            phase: CalPhase::Search {
+                axes,
+                selected,
+                previous,
+                found: [None; NUM_AXES],
+            },
+        };
+    }
+
+    /// A calibration's searches end without completing: every selected axis gets back the
+    /// offset it had (the commanded positions follow into the joint frame). Called before the
+    /// state changes; nothing happens outside the searches.
+    pub(super) fn restore_previous_calibration(&mut self) {
+        let State::Calibration {
+            phase: CalPhase::Search {
+                selected, previous, ..
+            },
+            ..
+        } = self.state
+        else {
+            return;
+        };
+        for (i, prev) in previous.iter().enumerate() {
+            if selected & (1 << i) != 0 {
+                let now = self.offsets[i].unwrap_or(0.0);
+                let then = prev.unwrap_or(0.0);
+                self.offsets[i] = *prev;
+                // The commanded positions (this cycle's and the two the following error is
+                // judged against) move into the joint frame with the offset.
+                self.cmd.position[i] += now - then;
+                for h in &mut self.cmd_hist {
+                    h[i] += now - then;
+                }
+            }
+        }
+    }
+
+    /// A drive rebooted (its encoder reference may be gone): the offset it had before the
+    /// calibration is no longer kept.
+    pub(super) fn forget_previous_calibration(&mut self, axis: usize) {
+        if let State::Calibration {
+            phase: CalPhase::Search {
+                ref mut previous, ..
+            },
+            ..
+        } = self.state
+            && let Some(p) = previous.get_mut(axis)
+        {
+            *p = None;
+        }
+    }
+
+    pub(super) fn advance_calibration(&mut self, caller: Caller, dt: f64) {
+        let State::Calibration {
+            phase:
+                CalPhase::Search {
+                    mut axes,
+                    selected,
+                    previous,
+                    mut found,
+                },
+            ..
+        } = self.state
+        else {
+            return;
+        };
+        let fb = *self.master.feedback();
+        let mut running = false;
+        for (i, slot) in axes.iter_mut().enumerate() {
+            let Some(cal) = slot else { continue };
+            let out = cal.step(
+                AxisInput {
+                    position: fb[i].position_rad,
+                    current: fb[i].current_a,
+                    light_barrier: fb[i].light_barrier,
+                },
+                dt,
+            );
+            // The raw target, in the joint frame of an uncalibrated axis (offset 0).
+            self.cmd.position[i] = cal.target();
+            self.current_limit[i] = cal.current_limit();
+            match out {
+                Outcome::Running => running = true,
+                Outcome::Found { offset } => {
+                    found[i] = Some(offset);
+                    *slot = None;
+                }
+                Outcome::Failed { cause } => {
+                    let reason = Reason::CalibrationFailed {
+                        axis: Axis::ALL[i],
+                        cause,
+                    };
+                    // ERROR without a stop (the searches are slow): the caller hears of the
+                    // failure, and the trip records it; every axis keeps its previous
+                    // calibration.
+                    self.restore_previous_calibration();
+                    self.state = State::Error { stop: None };
+                    self.fail(caller, reason);
+                    self.trip(reason);
+                    self.hold_here();
+                    return;
+                }
+            }
+        }
+        if running {
+            self.state = State::Calibration {
+                caller,
+                phase: CalPhase::Search {
+                    axes,
+                    selected,
+                    previous,
+                    found,
+                },
+            };
+            return;
+        }
+        // Every axis found its zero: the offsets come into force (and into the drives, which
+        // keep them until they lose power), then the axes of this calibration move back to
+        // zero (the others stay where they are).
+        for (i, f) in found.iter().enumerate() {
+            if let Some(offset) = *f {
+                self.offsets[i] = Some(offset);
+                let counts = (offset * self.p.counts_per_rad[i])
+                    .round()
+                    .clamp(f64::from(i32::MIN), f64::from(i32::MAX));
+                self.master.store_calibration(i, counts as i32);
+                self.cmd.position[i] -= offset;
+            }
+        }
+        let start = self.cmd.position;
+        let target: [f64; NUM_AXES] = core::array::from_fn(|i| {
+            if selected & (1 << i) != 0 {
+                0.0
+            } else {
+                start[i]
+            }
+        });
+        let plan = MovePlan::plan(start, target, &self.p.limits, RETURN_VELOCITY_FACTOR)
+            .and_then(|plan| JointPlan::from_move(&plan));
+        match plan {
+            Ok(plan) => {
+                self.state = State::Calibration {
+                    caller,
+                    phase: CalPhase::Return(Moving { plan }),
+                }
+            }
+            Err(_) => self.finish_calibration(caller),
+        }
+    }
+
+    /// Calibration done: HOLD, and the reply.
+    pub(super) fn finish_calibration(&mut self, caller: Caller) {
+        self.state = State::Hold { stop: None };
+        self.done(caller, Done::Ack);
+    }
+}

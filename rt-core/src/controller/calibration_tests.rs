@@ -1,0 +1,256 @@
+//! Scenario tests of calibration in virtual time: every group and direction finds the true
+//! angles again and again (another axis hitting its stop is no contact), an aborted or failed
+//! re-calibration keeps the previous calibration, and a reference that disagrees with the
+//! previous calibration fails with its figures.
+
+use super::tests::Robot;
+use mcm_shared::command::{Axis, Calibrate, Direction, Request, Which};
+use mcm_shared::mode::Mode;
+use mcm_shared::reply::{CalibrationFailure, Outcome, Reason};
+
+fn calibrate(which: Which, elbow: Direction, wrist: Direction) -> Request {
+    Request::Calibrate(Calibrate {
+        which,
+        elbow_direction: elbow,
+        wrist_direction: wrist,
+        force_mechanical_stop: false,
+    })
+}
+
+/// Reported minus true position per axis [deg], once the arm has settled.
+fn errors(r: &mut Robot) -> [f64; 6] {
+    r.run(40);
+    let (m, t) = (r.measured(), r.truth());
+    core::array::from_fn(|i| m[i] - t[i])
+}
+
+fn assert_true(r: &mut Robot, what: &str) {
+    let e = errors(r);
+    assert!(
+        e.iter().all(|x| x.abs() < 0.05),
+        "{what}: reported minus true {e:?}"
+    );
+}
+
+#[test]
+fn every_group_and_direction_finds_the_true_angles_again_and_again() {
+    use Direction::{Negative as N, Positive as P};
+    let mut r = Robot::new();
+    r.calibrate_all();
+    assert_true(&mut r, "ALL");
+    let runs = [
+        (Which::Elbow, P, P),
+        (Which::Elbow, P, P),
+        (Which::Elbow, P, P),
+        (Which::All, P, N),
+        (Which::All, N, P),
+        (Which::Wrist, P, N),
+        (Which::Elbow, N, P),
+        (Which::Axis(Axis::new(2).unwrap()), P, P),
+        (Which::Axis(Axis::new(5).unwrap()), P, N),
+        (Which::All, P, P),
+    ];
+    for (n, (which, elbow, wrist)) in runs.into_iter().enumerate() {
+        // Start each from a slightly different pose and phase.
+        r.run(n as u64 * 7);
+        let resp = r.command(calibrate(which, elbow, wrist), 20_000);
+        assert!(
+            matches!(resp.outcome, Outcome::Done(_)),
+            "run {n} {which:?}: {resp:?}"
+        );
+        assert_true(
+            &mut r,
+            &format!("run {n} {which:?} elbow {elbow:?} wrist {wrist:?}"),
+        );
+    }
+}
+
+/// Send `req` as client 42 with `id` and run one cycle.
+fn send(r: &mut Robot, req: Request, id: u64) {
+    let mut s = req.encode();
+    (s.client_id, s.request_id) = (42, id);
+    r.step(&[s]);
+}
+
+fn reply_to(r: &Robot, id: u64) -> Option<mcm_shared::reply::Response> {
+    r.replies
+        .iter()
+        .rev()
+        .find(|x| x.request_id == id)
+        .map(|x| mcm_shared::reply::Response::decode(x).expect("a well-formed reply"))
+}
+
+fn offsets(r: &Robot) -> [Option<f64>; 6] {
+    r.cycle.controller().offsets()
+}
+
+/// Calibrated, then a re-calibration of `which` is ended `cycles` into its search by `end`;
+/// every axis has its previous offset back and reports the true angles.
+fn aborted_keeps_the_previous(which: Which, cycles: u64, end: impl FnOnce(&mut Robot)) {
+    let mut r = Robot::new();
+    r.calibrate_all();
+    let before = offsets(&r);
+    send(
+        &mut r,
+        calibrate(which, Direction::Positive, Direction::Positive),
+        7001,
+    );
+    r.run(cycles);
+    assert_eq!(r.mode(), Mode::Calibration, "{which:?} still searching");
+    end(&mut r);
+    let answer = reply_to(&r, 7001).expect("the calibration was answered");
+    assert!(
+        matches!(answer.outcome, Outcome::Failed(_)),
+        "{which:?}: {answer:?}"
+    );
+    assert_eq!(
+        offsets(&r),
+        before,
+        "{which:?}: the previous calibration is kept"
+    );
+    r.run(200);
+    assert_true(&mut r, &format!("after the aborted {which:?}"));
+}
+
+#[test]
+fn an_aborted_recalibration_keeps_the_previous_calibration() {
+    // `hold` while axis 3 searches, and while the elbow group's axis 1 has already found its
+    // edge (its new offset is not in force until the whole group found its own).
+    aborted_keeps_the_previous(Which::Axis(Axis::new(3).unwrap()), 300, |r| {
+        send(r, Request::Hold, 7002);
+        assert_eq!(r.mode(), Mode::Hold);
+    });
+    aborted_keeps_the_previous(Which::Elbow, 1500, |r| {
+        send(r, Request::Hold, 7002);
+    });
+    // The owner gone (a mode change to HOLD), and a safety trip (emergency stop).
+    aborted_keeps_the_previous(Which::Wrist, 400, |r| {
+        send(r, Request::ClientGone, 7003);
+        assert_eq!(r.mode(), Mode::Hold);
+    });
+}
+
+#[test]
+fn a_trip_during_a_recalibration_keeps_the_previous_calibration() {
+    use mcm_shared::command::SimCommand;
+    let press = |pressed| {
+        Request::Sim(SimCommand {
+            emergency_stop: Some(pressed),
+            ..SimCommand::default()
+        })
+    };
+    let mut r = Robot::new();
+    r.calibrate_all();
+    let before = offsets(&r);
+    send(
+        &mut r,
+        calibrate(Which::All, Direction::Positive, Direction::Positive),
+        7101,
+    );
+    r.run(600);
+    send(&mut r, press(true), 7102);
+    r.run_until("tripped", 50, |r| r.mode() == Mode::Error);
+    assert!(reply_to(&r, 7101).is_some(), "the calibration was told");
+    assert_eq!(offsets(&r), before);
+    send(&mut r, press(false), 7103);
+    r.run(20);
+    r.ok(Request::Hold, 800);
+    r.run(200);
+    assert_true(&mut r, "after the trip");
+}
+
+#[test]
+fn a_reference_away_from_the_previous_calibration_fails_with_both_positions() {
+    let mut r = Robot::new();
+    r.calibrate_all();
+    let before = offsets(&r);
+    // The configuration now puts axis 3's stop 3 degrees before the one the arm has (and the
+    // previous calibration found).
+    for rev in 0..2 {
+        for force in 0..2 {
+            let s = &mut r.cycle.controller_mut().cal_settings[2][rev][force];
+            if rev == 0 {
+                s.method = crate::calibration::Method::Stop {
+                    direction: 1.0,
+                    stop: 137f64.to_radians(),
+                };
+            }
+        }
+    }
+    let resp = r.command(
+        calibrate(
+            Which::Axis(Axis::new(3).unwrap()),
+            Direction::Positive,
+            Direction::Positive,
+        ),
+        20_000,
+    );
+    let Outcome::Failed(Reason::CalibrationFailed {
+        axis,
+        cause:
+            CalibrationFailure::Implausible {
+                found_deg,
+                configured_deg,
+                tolerance_deg,
+            },
+    }) = resp.outcome
+    else {
+        panic!("{resp:?}")
+    };
+    assert_eq!(axis, Axis::new(3).unwrap());
+    assert!((found_deg - 140.0).abs() < 0.1, "found {found_deg}");
+    assert!((configured_deg - 137.0).abs() < 1e-9);
+    assert!((tolerance_deg - 0.5).abs() < 1e-9);
+    assert_eq!(r.mode(), Mode::Error);
+    assert_eq!(offsets(&r), before, "the previous calibration is kept");
+    r.ok(Request::Hold, 800);
+    assert_true(&mut r, "after the implausible reference");
+}
+
+#[test]
+fn an_obstacle_in_the_way_of_a_recalibration_is_implausible() {
+    use mcm_shared::command::{MoveAxis, Pvt, SimCommand};
+    let mut r = Robot::new();
+    r.calibrate_all();
+    let before = offsets(&r);
+    r.ok(Request::Pvt(Pvt { dt_s: 0.01 }), 10);
+    r.ok(
+        Request::MoveAxis(MoveAxis {
+            axis: Axis::new(3).unwrap(),
+            target_deg: 100.0,
+            velocity_factor: 0.5,
+        }),
+        10,
+    );
+    r.run_until("moved", 3000, |r| (r.truth()[2] - 100.0).abs() < 0.01);
+    r.ok(Request::Hold, 10);
+    let block = Request::Sim(SimCommand {
+        block_axis: Axis::new(3),
+        ..SimCommand::default()
+    });
+    let reply = r.command(block, 10);
+    assert!(matches!(reply.outcome, Outcome::Done(_)), "{reply:?}");
+    let resp = r.command(
+        calibrate(
+            Which::Axis(Axis::new(3).unwrap()),
+            Direction::Positive,
+            Direction::Positive,
+        ),
+        20_000,
+    );
+    let Outcome::Failed(Reason::CalibrationFailed {
+        cause:
+            CalibrationFailure::Implausible {
+                found_deg,
+                configured_deg,
+                ..
+            },
+        ..
+    }) = resp.outcome
+    else {
+        panic!("{resp:?}")
+    };
+    assert!((found_deg - 100.0).abs() < 1.0, "found {found_deg}");
+    assert_eq!(configured_deg, 140.0);
+    assert_eq!(offsets(&r), before, "the previous calibration is kept");
+}
