@@ -11,8 +11,9 @@ use crate::pvt::BatchError;
 use crate::trajectory::{MovePlan, PvtPoint};
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, PvtChunk, Request, SetTorques, TorqueControl,
+    Axis, Calibrate, Direction, Pvt, PvtChunk, Request, SetTorques, TorqueControl,
 };
+use mcm_shared::ranges::{Arg, ArgRefusal};
 use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Reason};
 use mcm_shared::sample::PVT_POINTS_PER_COMMAND;
 use mcm_shared::units::{deg_to_rad, deg_to_rad6, rad_to_deg, rad_to_deg6};
@@ -59,6 +60,11 @@ impl Controller {
             Request::Hold => self.on_hold(c),
             Request::Calibrate(cal) => self.on_calibrate(c, cal),
             Request::Pvt(pvt) => {
+                // `dt` from one cycle period on: the range the gateway checks too.
+                let dt = Arg::Dt;
+                if let Err(e) = dt.check(pvt.dt_s, (self.p.period, Pvt::MAX_DT_S), None) {
+                    return self.refuse(c, Reason::InvalidArgument(e));
+                }
                 if self.check_motion_mode_entry(c) {
                     self.stream.reset(pvt.dt_s);
                     // A stop under way in HOLD carries on in PVT.
@@ -178,14 +184,8 @@ impl Controller {
         };
         for (i, tau) in t.torques_nm.iter().copied().enumerate() {
             let peak = self.p.peak_torque[i];
-            if tau.abs() > peak {
-                let reason = Reason::OutOfRange {
-                    axis: Some(Axis::ALL[i]),
-                    value: tau,
-                    min: -peak,
-                    max: peak,
-                };
-                return self.refuse(c, reason);
+            if let Err(e) = Arg::Torques.check(tau, (-peak, peak), Some(Axis::ALL[i])) {
+                return self.refuse(c, Reason::InvalidArgument(e));
             }
         }
         self.state = State::Torque {
@@ -223,12 +223,15 @@ impl Controller {
         let plan = match MovePlan::plan(self.cmd.position, target, &self.p.limits, factor) {
             Ok(p) => p,
             Err(_) => {
-                let reason = Reason::OutOfRange {
+                // Decoding checked the factor's range; a plan that still fails names it.
+                let (min, max) = Arg::VelocityFactor.fixed_bounds();
+                let reason = Reason::InvalidArgument(ArgRefusal {
+                    arg: Arg::VelocityFactor,
                     axis: None,
                     value: factor,
-                    min: 0.0,
-                    max: 1.0,
-                };
+                    min,
+                    max,
+                });
                 return self.refuse(c, reason);
             }
         };
