@@ -18,6 +18,10 @@ use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Reason};
 use mcm_shared::sample::PVT_POINTS_PER_COMMAND;
 use mcm_shared::units::{deg_to_rad, deg_to_rad6, rad_to_deg, rad_to_deg6};
 
+/// Targets closer than this to the commanded position are taken as the commanded position
+/// [rad] (a nanoradian: far below one encoder count).
+pub const TARGET_RESOLUTION_RAD: f64 = 1e-9;
+
 impl Controller {
     fn wrong_mode(&mut self, c: Caller) {
         let mode = self.mode();
@@ -199,7 +203,7 @@ impl Controller {
 
     /// A move to `target` [rad] (of axis `only`, or of all axes), planned from the commanded
     /// state. `move_all` answers with the plan; `move_axis` with a plain acknowledgement.
-    fn on_move(&mut self, c: Caller, target: [f64; NUM_AXES], factor: f64, only: Option<Axis>) {
+    fn on_move(&mut self, c: Caller, mut target: [f64; NUM_AXES], factor: f64, only: Option<Axis>) {
         let State::Pvt { motion, .. } = self.state else {
             return self.wrong_mode(c);
         };
@@ -218,6 +222,13 @@ impl Controller {
                     max_deg: rad_to_deg(self.p.reach_max[i]),
                 };
                 return self.refuse(c, reason);
+            }
+        }
+        // A target within [`TARGET_RESOLUTION_RAD`] of the commanded position is that position:
+        // a move of a tiny (even subnormal) distance is no move, not an unplannable one.
+        for (q, at) in target.iter_mut().zip(self.cmd.position) {
+            if (*q - at).abs() < TARGET_RESOLUTION_RAD {
+                *q = at;
             }
         }
         let plan = match MovePlan::plan(self.cmd.position, target, &self.p.limits, factor) {
