@@ -326,6 +326,9 @@ fn values((min, max): (f64, f64)) -> Vec<f64> {
     v
 }
 
+/// A JSON command holding a value.
+type JsonOf = fn(f64) -> String;
+
 fn gateway_text(cfg: &RobotConfig, json: &str) -> Option<String> {
     Command::from_json(json, cfg).err().map(|e| e.to_string())
 }
@@ -389,7 +392,7 @@ fn gateway_and_core_accept_and_refuse_the_same_values_in_the_same_words() {
 #[test]
 fn arguments_only_the_gateway_reads_are_refused_in_the_table_s_words() {
     let cfg = RobotConfig::prob2_default();
-    let gateway_only: [(Arg, fn(f64) -> String); 2] = [
+    let gateway_only: [(Arg, JsonOf); 2] = [
         (Arg::DtStatus, |x| {
             format!(r#"{{"command":"torque_control","arguments":{{"dt_status":{x:?}}}}}"#)
         }),
