@@ -3,6 +3,7 @@
 
 use crate::framing::json_kind;
 use mcm_shared::command::Axis;
+use mcm_shared::ranges::{Arg, Num};
 use serde_json::{Map, Value};
 
 /// Why a command line was refused before it reached the robot.
@@ -172,6 +173,61 @@ impl<'a> Args<'a> {
         Ok(Some(x))
     }
 
+    /// An optional number of the protocol argument `arg` within `bounds`, refused in the words
+    /// of [`mcm_shared::ranges`] (the real-time core's words for the same value).
+    pub fn ranged(&self, arg: Arg, bounds: (f64, f64)) -> Result<Option<f64>, CommandError> {
+        let name = arg.name();
+        let Some(v) = self.get(name) else {
+            return Ok(None);
+        };
+        ranged_value(self, arg, name, v, bounds).map(Some)
+    }
+
+    /// A required number of the protocol argument `arg` within `bounds`.
+    pub fn required_ranged(&self, arg: Arg, bounds: (f64, f64)) -> Result<f64, CommandError> {
+        self.ranged(arg, bounds)?
+            .ok_or_else(|| self.missing(arg.name(), &arg.expected(bounds.0, bounds.1).to_string()))
+    }
+
+    /// An optional array of six numbers of the per-axis argument `arg`, element `i` within
+    /// `bounds(i)`.
+    pub fn ranged_six(
+        &self,
+        arg: Arg,
+        bounds: impl Fn(usize) -> (f64, f64),
+    ) -> Result<Option<[f64; 6]>, CommandError> {
+        let name = arg.name();
+        let Some(v) = self.get(name) else {
+            return Ok(None);
+        };
+        let (lo, hi) = bounds(0);
+        let expected = || format!("an array of 6 numbers, each {}", arg.expected(lo, hi));
+        let arr = v
+            .as_array()
+            .filter(|a| a.len() == 6)
+            .ok_or_else(|| self.invalid(name, v, expected()))?;
+        let mut out = [0.0; 6];
+        for (i, x) in arr.iter().enumerate() {
+            out[i] = ranged_value(self, arg, &format!("{name}[{i}]"), x, bounds(i))?;
+        }
+        Ok(Some(out))
+    }
+
+    /// A required array of six numbers of the per-axis argument `arg`.
+    pub fn required_ranged_six(
+        &self,
+        arg: Arg,
+        bounds: impl Fn(usize) -> (f64, f64),
+    ) -> Result<[f64; 6], CommandError> {
+        let (lo, hi) = bounds(0);
+        self.ranged_six(arg, bounds)?.ok_or_else(|| {
+            self.missing(
+                arg.name(),
+                &format!("an array of 6 numbers, each {}", arg.expected(lo, hi)),
+            )
+        })
+    }
+
     /// A required finite number within `[min, max]`.
     pub fn required_number(
         &self,
@@ -197,16 +253,14 @@ impl<'a> Args<'a> {
         }
     }
 
-    /// An optional axis number 1..=6.
+    /// An optional axis number 1..=6 (`name` an axis argument of [`mcm_shared::ranges`]).
     pub fn axis(&self, name: &'static str) -> Result<Option<Axis>, CommandError> {
         let Some(v) = self.get(name) else {
             return Ok(None);
         };
-        v.as_u64()
-            .and_then(|n| u8::try_from(n).ok())
-            .and_then(Axis::new)
-            .map(Some)
-            .ok_or_else(|| self.invalid(name, v, "an axis number from 1 to 6"))
+        let arg = Arg::by_name(name).unwrap_or(Arg::AxisIndex);
+        let n = ranged_value(self, arg, name, v, arg.fixed_bounds())?;
+        Ok(Axis::new(n as u8))
     }
 
     /// A required axis number 1..=6.
@@ -241,6 +295,26 @@ impl<'a> Args<'a> {
     ) -> Result<[f64; 6], CommandError> {
         self.six(name, what, check)?
             .ok_or_else(|| self.missing(name, &format!("an array of 6 {what}")))
+    }
+}
+
+/// The number `v` of the argument `arg` (shown as `name`: an array's element is `name[i]`)
+/// within `bounds`. A number is shown as [`Num`] writes it, as the core shows it.
+fn ranged_value(
+    args: &Args<'_>,
+    arg: Arg,
+    name: &str,
+    v: &Value,
+    bounds: (f64, f64),
+) -> Result<f64, CommandError> {
+    let expected = || arg.expected(bounds.0, bounds.1).to_string();
+    let Some(x) = v.as_f64() else {
+        return Err(args.invalid(name, v, expected()));
+    };
+    if arg.accepts(x, bounds) {
+        Ok(x)
+    } else {
+        Err(args.invalid_value(name, Num(x), expected()))
     }
 }
 

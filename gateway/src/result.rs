@@ -4,7 +4,7 @@
 //! (clients ignore unknown fields).
 
 use mcm_shared::command::DecodeError;
-use mcm_shared::mode::Mode;
+use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::reply::{Outcome, SafetyError};
 use mcm_shared::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord,
@@ -24,10 +24,16 @@ pub fn error(message: impl Into<String>) -> Value {
 }
 
 /// The words for a refused or failed command, prefixed with the command name (a command
-/// that was done is [`ok`]).
+/// that was done is [`ok`]). A value of an argument outside its range reads exactly as the
+/// gateway's own refusal of it (`move_axis: argument "target_position" = 175 is not allowed;
+/// expected ...`), whichever side refused.
 pub fn reply_error(command: &str, outcome: &Outcome) -> Value {
+    let kind = CommandKind::ALL.iter().find(|k| k.as_str() == command);
     match outcome {
-        Outcome::Refused(reason) => error(format!("{command} refused: {reason}")),
+        Outcome::Refused(reason) => match kind.and_then(|k| reason.argument(*k)) {
+            Some(arg) => error(format!("{command}: {arg}")),
+            None => error(format!("{command} refused: {reason}")),
+        },
         Outcome::Failed(reason) => error(format!("{command} failed: {reason}")),
         Outcome::Done(_) => ok(),
     }

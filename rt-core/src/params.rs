@@ -32,20 +32,21 @@ pub struct JointParams {
 
 impl JointParams {
     pub fn from_config(cfg: &RobotConfig) -> JointParams {
-        let margin = cfg.safety.limit_margin_deg.to_radians();
         let a = &cfg.axes;
+        // The ranges the gateway checks arguments against, from the same functions.
+        let reach = |i| mcm_shared::ranges::reachable_deg(cfg, i);
         let per = |f: &dyn Fn(usize) -> f64| core::array::from_fn(f);
         JointParams {
             min: per(&|i| a[i].min_deg.to_radians()),
             max: per(&|i| a[i].max_deg.to_radians()),
-            reach_min: per(&|i| a[i].min_deg.to_radians() + margin),
-            reach_max: per(&|i| a[i].max_deg.to_radians() - margin),
+            reach_min: per(&|i| reach(i).0.to_radians()),
+            reach_max: per(&|i| reach(i).1.to_radians()),
             limits: core::array::from_fn(|i| AxisLimits {
                 velocity: a[i].max_velocity_deg_s.to_radians(),
                 acceleration: a[i].max_acceleration_deg_s2.to_radians(),
                 jerk: a[i].max_jerk_deg_s3.map(f64::to_radians),
             }),
-            peak_torque: per(&|i| a[i].max_current_a * a[i].torque_per_amp()),
+            peak_torque: per(&|i| mcm_shared::ranges::peak_torque_nm(cfg, i)),
             torque_per_amp: per(&|i| a[i].torque_per_amp()),
             max_current: per(&|i| a[i].max_current_a),
             viscous: per(&|i| a[i].viscous_friction_nm_s_rad),

@@ -31,6 +31,7 @@
 
 use crate::NUM_AXES;
 use crate::mode::CommandKind;
+use crate::ranges::{Arg, Num};
 use crate::sample::{
     CALIBRATE_FLAG_FORCE_STOP, COMMAND_ARGS, CommandSample, PVT_FLAG_LAST, PVT_POINTS_PER_COMMAND,
     SIM_FLAG_POWER_CYCLE, TORQUE_FLAG_NO_GRAVITY,
@@ -214,7 +215,8 @@ pub struct SetVelocities {
 /// `pvt`: enter PVT mode with this spacing of streamed points.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pvt {
-    /// Time between two `pvt_points` points [s], above 0 and at most [`Pvt::MAX_DT_S`].
+    /// Time between two `pvt_points` points [s], from one cycle period to [`Pvt::MAX_DT_S`]
+    /// (the real-time core checks it: the range is [`crate::ranges::Arg::Dt`]'s).
     pub dt_s: f64,
 }
 
@@ -229,7 +231,8 @@ pub struct MoveAxis {
     pub axis: Axis,
     /// [deg]
     pub target_deg: f64,
-    /// Share of the axis's maximum velocity and acceleration, above 0 and at most 1.
+    /// Share of the axis's maximum velocity and acceleration, from 0.001 to 1
+    /// ([`crate::ranges::Arg::VelocityFactor`]).
     pub velocity_factor: f64,
 }
 
@@ -238,7 +241,7 @@ pub struct MoveAxis {
 pub struct MoveAll {
     /// [deg]
     pub targets_deg: [f64; NUM_AXES],
-    /// Share of the maximum velocities and accelerations, above 0 and at most 1.
+    /// Share of the maximum velocities and accelerations, from 0.001 to 1.
     pub velocity_factor: f64,
 }
 
@@ -351,6 +354,8 @@ pub enum Allowed {
     Range { min: f64, max: f64 },
     /// Above `min`, at most `max`.
     AboveUpTo { min: f64, max: f64 },
+    /// A number other than 0 from `min` to `max` (negative: none).
+    NonZeroUpTo { min: f64, max: f64 },
     /// Any finite number.
     Finite,
     /// A finite number other than 0 (negative: none).
@@ -363,7 +368,9 @@ impl Allowed {
     /// The bounds to report in a refusal (`OutOfRange` carries a min and a max).
     pub fn bounds(self) -> (f64, f64) {
         match self {
-            Allowed::Range { min, max } | Allowed::AboveUpTo { min, max } => (min, max),
+            Allowed::Range { min, max }
+            | Allowed::AboveUpTo { min, max }
+            | Allowed::NonZeroUpTo { min, max } => (min, max),
             Allowed::Finite | Allowed::FiniteNonZero | Allowed::OneOf(_) => (f64::MIN, f64::MAX),
         }
     }
@@ -372,8 +379,11 @@ impl Allowed {
 impl fmt::Display for Allowed {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Allowed::Range { min, max } => write!(f, "from {min} to {max}"),
-            Allowed::AboveUpTo { min, max } => write!(f, "above {min} and at most {max}"),
+            Allowed::Range { min, max } => write!(f, "from {} to {}", Num(*min), Num(*max)),
+            Allowed::AboveUpTo { min, max } => {
+                write!(f, "above {} and at most {}", Num(*min), Num(*max))
+            }
+            Allowed::NonZeroUpTo { max, .. } => write!(f, "other than 0, at most {}", Num(*max)),
             Allowed::Finite => f.write_str("a finite number"),
             Allowed::FiniteNonZero => f.write_str("a finite number other than 0"),
             Allowed::OneOf(words) => f.write_str(words),
@@ -387,7 +397,7 @@ impl fmt::Display for Allowed {
 pub enum DecodeError {
     #[error("command kind {0} is not known to this MCM version (known: 1 to 17)")]
     UnknownKind(u32),
-    #[error("{kind}: {field} = {value} is not allowed; allowed: {allowed}")]
+    #[error("{kind}: {field} = {} is not allowed; allowed: {allowed}", Num(*value))]
     Invalid {
         kind: CommandKind,
         field: Field,
@@ -502,16 +512,22 @@ impl Decoder<'_> {
         }
     }
 
-    fn velocity_factor(&self, x: f64) -> Result<f64, DecodeError> {
-        if x > 0.0 && x <= 1.0 {
-            Ok(x)
-        } else {
-            Err(self.invalid(
-                Field::named("velocity_factor"),
-                x,
-                Allowed::AboveUpTo { min: 0.0, max: 1.0 },
-            ))
+    /// A value of an argument with a fixed range in [`crate::ranges`] (`field` names the
+    /// element of an array argument).
+    fn ranged(&self, arg: Arg, field: Field, x: f64) -> Result<f64, DecodeError> {
+        let (min, max) = arg.fixed_bounds();
+        if arg.accepts(x, (min, max)) {
+            return Ok(x);
         }
+        let allowed = match arg.spec().shape {
+            crate::ranges::Shape::NonZeroUpTo => Allowed::NonZeroUpTo { min, max },
+            _ => Allowed::Range { min, max },
+        };
+        Err(self.invalid(field, x, allowed))
+    }
+
+    fn velocity_factor(&self, x: f64) -> Result<f64, DecodeError> {
+        self.ranged(Arg::VelocityFactor, Field::named("velocity_factor"), x)
     }
 }
 
@@ -667,10 +683,7 @@ impl Request {
             }
             CommandKind::TorqueControl => {
                 d.flags(TORQUE_FLAG_NO_GRAVITY)?;
-                let t = a[0];
-                if !t.is_finite() || t == 0.0 {
-                    return Err(d.invalid(Field::named("timeout"), t, Allowed::FiniteNonZero));
-                }
+                let t = d.ranged(Arg::Timeout, Field::named("timeout"), a[0])?;
                 Request::TorqueControl(TorqueControl {
                     timeout_s: (t > 0.0).then_some(t),
                     gravity_compensation: s.flags & TORQUE_FLAG_NO_GRAVITY == 0,
@@ -694,17 +707,10 @@ impl Request {
             }
             CommandKind::Pvt => {
                 d.flags(0)?;
-                if !(a[0] > 0.0 && a[0] <= Pvt::MAX_DT_S) {
-                    return Err(d.invalid(
-                        Field::named("dt"),
-                        a[0],
-                        Allowed::AboveUpTo {
-                            min: 0.0,
-                            max: Pvt::MAX_DT_S,
-                        },
-                    ));
-                }
-                Request::Pvt(Pvt { dt_s: a[0] })
+                // Its range starts at one cycle period: the core checks it (`crate::ranges`).
+                Request::Pvt(Pvt {
+                    dt_s: d.finite(Field::named("dt"), a[0])?,
+                })
             }
             CommandKind::MoveAxis => {
                 d.flags(0)?;
@@ -787,7 +793,12 @@ impl Request {
                     block_axis: axis(3, "block_axis")?,
                     unblock_axis: axis(4, "unblock_axis")?,
                     external_torques_nm: if has(5) {
-                        Some(d.finite6("external_torques", 5)?)
+                        let mut t = [0.0; NUM_AXES];
+                        for (i, x) in t.iter_mut().enumerate() {
+                            let field = Field::at("external_torques", i);
+                            *x = d.ranged(Arg::ExternalTorques, field, a[5 + i])?;
+                        }
+                        Some(t)
                     } else {
                         None
                     },

@@ -11,6 +11,8 @@
 //! - [`mode`]: the operating modes and the wire codes of command kinds and reasons;
 //! - [`config`]: the robot configuration file;
 //! - [`pvt`]: the per-point checks of `pvt_points` the gateway and the core share;
+//! - [`ranges`]: the allowed range of every numeric argument and the words of a refusal,
+//!   read by the gateway's parsing and the core's checks alike;
 //! - [`cli`]: the command-line arguments the MCM programs share;
 //! - [`units`]: the unit conventions at the boundary (degrees outside, radians inside).
 //!
@@ -27,6 +29,7 @@ pub mod command;
 pub mod config;
 pub mod mode;
 pub mod pvt;
+pub mod ranges;
 pub mod reply;
 pub mod sample;
 pub mod service;

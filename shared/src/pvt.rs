@@ -21,13 +21,14 @@ pub struct PointLimits {
 }
 
 impl PointLimits {
-    /// The limits of `cfg`, computed exactly as the real-time core's joint parameters are.
+    /// The limits of `cfg`, computed exactly as the real-time core's joint parameters are
+    /// (the reachable range of [`crate::ranges::reachable_deg`]).
     pub fn from_config(cfg: &RobotConfig) -> PointLimits {
-        let margin = cfg.safety.limit_margin_deg.to_radians();
         let a = &cfg.axes;
+        let reach = |i| crate::ranges::reachable_deg(cfg, i);
         PointLimits {
-            reach_min: core::array::from_fn(|i| a[i].min_deg.to_radians() + margin),
-            reach_max: core::array::from_fn(|i| a[i].max_deg.to_radians() - margin),
+            reach_min: core::array::from_fn(|i| reach(i).0.to_radians()),
+            reach_max: core::array::from_fn(|i| reach(i).1.to_radians()),
             velocity: core::array::from_fn(|i| a[i].max_velocity_deg_s.to_radians()),
         }
     }

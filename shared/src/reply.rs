@@ -26,6 +26,7 @@
 use crate::NUM_AXES;
 use crate::command::{Axis, DecodeError};
 use crate::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
+use crate::ranges::{Arg, ArgRefusal, Num};
 use crate::sample::{CommandSample, ErrorRecord, Reply};
 use core::fmt;
 
@@ -119,6 +120,10 @@ pub enum Reason {
         min: f64,
         max: f64,
     },
+    /// An argument of the protocol ([`crate::ranges`]) outside its range: on the wire an
+    /// `out_of_range` that carries the argument's code, worded exactly as the gateway words
+    /// the same value.
+    InvalidArgument(ArgRefusal),
     /// The command exists in the manual but this build does not implement it yet.
     NotAvailable,
     /// The command needs the simulated robot.
@@ -209,6 +214,37 @@ impl Reason {
             | Reason::PvtPoint { axis, .. }
             | Reason::Unreachable { axis, .. } => Some(axis),
             Reason::DriveFault { axis, .. } | Reason::OutOfRange { axis, .. } => axis,
+            Reason::InvalidArgument(r) => r.axis,
+            _ => None,
+        }
+    }
+
+    /// The argument refused, when this reason is a value of an argument of `kind` outside its
+    /// range: an [`Reason::InvalidArgument`], or an [`Reason::Unreachable`] target of
+    /// `move_axis` (`target_position`) or `move_all` (`target_positions[i]`). The gateway words
+    /// these as it words its own refusal of the same value (`move_axis: argument ...`).
+    pub fn argument(&self, kind: CommandKind) -> Option<ArgRefusal> {
+        match *self {
+            Reason::InvalidArgument(r) => Some(r),
+            Reason::Unreachable {
+                axis,
+                target_deg,
+                min_deg,
+                max_deg,
+            } => {
+                let arg = match kind {
+                    CommandKind::MoveAxis => Arg::TargetPosition,
+                    CommandKind::MoveAll => Arg::TargetPositions,
+                    _ => return None,
+                };
+                Some(ArgRefusal {
+                    arg,
+                    axis: Some(axis),
+                    value: target_deg,
+                    min: min_deg,
+                    max: max_deg,
+                })
+            }
             _ => None,
         }
     }
@@ -243,6 +279,11 @@ impl Reason {
                 min,
                 max,
             } => w(RejectCode::OutOfRange, axis, [value, min, max, 0.0]),
+            Reason::InvalidArgument(r) => w(
+                RejectCode::OutOfRange,
+                r.axis,
+                [r.value, r.min, r.max, f64::from(r.arg as u8)],
+            ),
             Reason::NotAvailable => w(RejectCode::NotAvailable, None, [0.0; 4]),
             Reason::NotSimulated => w(RejectCode::NotSimulated, None, [0.0; 4]),
             Reason::QueueFull { offered, free } => w(
@@ -392,12 +433,25 @@ impl Reason {
                     }
                 })?,
             },
-            RejectCode::OutOfRange => Reason::OutOfRange {
+            RejectCode::OutOfRange if v3 == 0.0 => Reason::OutOfRange {
                 axis,
                 value: v0,
                 min: v1,
                 max: v2,
             },
+            RejectCode::OutOfRange => {
+                let code = whole(v3, "argument code")?;
+                Reason::InvalidArgument(ArgRefusal {
+                    arg: Arg::from_code(code).ok_or(DecodeError::Unknown {
+                        what: "argument code",
+                        value: code,
+                    })?,
+                    axis,
+                    value: v0,
+                    min: v1,
+                    max: v2,
+                })
+            }
             RejectCode::NotAvailable => Reason::NotAvailable,
             RejectCode::NotSimulated => Reason::NotSimulated,
             RejectCode::QueueFull => Reason::QueueFull {
@@ -511,11 +565,22 @@ impl fmt::Display for Reason {
                 if let Some(axis) = axis {
                     write!(f, "axis {axis}: ")?;
                 }
+                if min == f64::MIN && max == f64::MAX {
+                    return write!(
+                        f,
+                        "value {} is not allowed; expected a finite number",
+                        Num(value)
+                    );
+                }
                 write!(
                     f,
-                    "value {value} is outside the allowed range [{min}, {max}]"
+                    "value {} is outside the allowed range [{}, {}]",
+                    Num(value),
+                    Num(min),
+                    Num(max)
                 )
             }
+            Reason::InvalidArgument(r) => write!(f, "{r}"),
             Reason::NotAvailable => f.write_str("not available yet in this MCM version"),
             Reason::NotSimulated => {
                 f.write_str("only available when the simulated robot is running")
@@ -603,7 +668,9 @@ impl fmt::Display for Reason {
                 let (what, unit) = (quantity.name(), quantity.unit());
                 write!(
                     f,
-                    "point {point}: axis {axis} {what} {value:.3} {unit} exceeds the limit {limit:.3} {unit}; nothing was queued"
+                    "point {point}: axis {axis} {what} {} {unit} exceeds the limit {} {unit}; nothing was queued",
+                    Num(value),
+                    Num(limit)
                 )
             }
             Reason::Unreachable {
@@ -613,7 +680,9 @@ impl fmt::Display for Reason {
                 max_deg,
             } => write!(
                 f,
-                "axis {axis}: target {target_deg:.3} deg is outside the reachable range [{min_deg:.3}, {max_deg:.3}] deg (the limits less the safety margin)"
+                "axis {axis}: target {} deg is not allowed; expected {}",
+                Num(target_deg),
+                Arg::TargetPosition.expected(min_deg, max_deg)
             ),
             Reason::NotOwner { owner } => write!(
                 f,
@@ -768,8 +837,31 @@ impl Response {
 
 /// The wire reply refusing a sample that did not decode: the sample's own (possibly unknown)
 /// kind and ids, status `REJECTED`, and the fault as `OutOfRange` naming the value and the
-/// allowed bounds (an unknown kind as its number against the known range).
+/// allowed bounds (an unknown kind as its number against the known range); a value of a
+/// protocol argument out of its range ([`crate::ranges`]) as [`Reason::InvalidArgument`].
 pub fn refuse_undecodable(sample: &CommandSample, e: &DecodeError) -> Reply {
+    if let DecodeError::Invalid {
+        field,
+        value,
+        allowed,
+        ..
+    } = *e
+        && let Some(arg) = Arg::by_name(field.name)
+        && !matches!(allowed, crate::command::Allowed::Finite)
+    {
+        let (min, max) = allowed.bounds();
+        let axis = field.axis();
+        return refusal_reply(
+            sample,
+            Reason::InvalidArgument(ArgRefusal {
+                arg,
+                axis,
+                value,
+                min,
+                max,
+            }),
+        );
+    }
     let (axis, value, (min, max)) = match *e {
         DecodeError::Invalid {
             field,
@@ -788,13 +880,19 @@ pub fn refuse_undecodable(sample: &CommandSample, e: &DecodeError) -> Reply {
         DecodeError::Unknown { value, .. } => (None, f64::from(value), (0.0, 0.0)),
         DecodeError::Mismatch { .. } => (None, 0.0, (0.0, 0.0)),
     };
-    let w = Reason::OutOfRange {
-        axis,
-        value,
-        min,
-        max,
-    }
-    .to_wire();
+    refusal_reply(
+        sample,
+        Reason::OutOfRange {
+            axis,
+            value,
+            min,
+            max,
+        },
+    )
+}
+
+fn refusal_reply(sample: &CommandSample, reason: Reason) -> Reply {
+    let w = reason.to_wire();
     let mut r = Reply {
         client_id: sample.client_id,
         request_id: sample.request_id,

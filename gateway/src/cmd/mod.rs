@@ -263,20 +263,5 @@ fn edit_distance(a: &str, b: &str) -> usize {
     prev[b.len()]
 }
 
-/// Check a joint position against the axis limits of the config.
-pub fn check_position(cfg: &RobotConfig, axis0: usize, deg: f64) -> Result<(), String> {
-    let a = &cfg.axes[axis0];
-    if deg < a.min_deg || deg > a.max_deg {
-        Err(format!(
-            "a position of axis {} within its limits [{}, {}] deg",
-            axis0 + 1,
-            a.min_deg,
-            a.max_deg
-        ))
-    } else {
-        Ok(())
-    }
-}
-
 #[cfg(test)]
 mod tests;

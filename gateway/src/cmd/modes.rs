@@ -4,6 +4,7 @@
 use crate::args::{Args, CommandError};
 use mcm_shared::command::{self, Pvt};
 use mcm_shared::config::RobotConfig;
+use mcm_shared::ranges::{Arg, Limits};
 use serde_json::Value;
 
 /// Default spacing of PVT points [s].
@@ -11,14 +12,12 @@ pub const DEFAULT_PVT_DT: f64 = 0.01;
 /// Default `torque_control` timeout [s] when none is given.
 pub const DEFAULT_TORQUE_TIMEOUT: f64 = 1.0;
 
-/// Parse the arguments of `pvt`: `dt` from one cycle to [`Pvt::MAX_DT_S`].
+/// Parse the arguments of `pvt`: `dt` from one cycle to [`Pvt::MAX_DT_S`] ([`Arg::Dt`]).
 pub fn parse_pvt(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<Pvt, CommandError> {
     let args = Args::new("pvt", arguments, &["dt"])?;
-    let min = cfg.cycle_period_s();
+    let bounds = Arg::Dt.bounds(&Limits::from_config(cfg), None);
     Ok(Pvt {
-        dt_s: args
-            .number("dt", min, Pvt::MAX_DT_S, " s (at least one cycle)")?
-            .unwrap_or(DEFAULT_PVT_DT),
+        dt_s: args.ranged(Arg::Dt, bounds)?.unwrap_or(DEFAULT_PVT_DT),
     })
 }
 
@@ -37,22 +36,16 @@ impl TorqueControl {
             arguments,
             &["timeout", "dt_status", "gravity_compensation"],
         )?;
-        let timeout = args.number("timeout", f64::MIN, 3600.0, " s (negative: no timeout)")?;
-        if timeout == Some(0.0) {
-            return Err(args.invalid_value(
-                "timeout",
-                0,
-                "a positive number of seconds, or a negative one for no timeout",
-            ));
-        }
-        let timeout = timeout.unwrap_or(DEFAULT_TORQUE_TIMEOUT);
+        let timeout = args
+            .ranged(Arg::Timeout, Arg::Timeout.fixed_bounds())?
+            .unwrap_or(DEFAULT_TORQUE_TIMEOUT);
         Ok(Self {
             request: command::TorqueControl {
                 timeout_s: (timeout > 0.0).then_some(timeout),
                 gravity_compensation: args.boolean("gravity_compensation")?.unwrap_or(true),
             },
             dt_status: args
-                .number("dt_status", 0.0, 60.0, " s (0: no status results)")?
+                .ranged(Arg::DtStatus, Arg::DtStatus.fixed_bounds())?
                 .unwrap_or(0.0),
         })
     }

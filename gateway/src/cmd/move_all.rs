@@ -1,24 +1,22 @@
 //! `move_all`: move all axes to target positions, time-synchronised (all start and arrive
 //! together). Replies with the `move_all` result.
 
-use super::check_position;
 use super::move_axis::velocity_factor;
 use crate::args::{Args, CommandError};
 use mcm_shared::command::MoveAll;
 use mcm_shared::config::RobotConfig;
+use mcm_shared::ranges::{Arg, reachable_deg};
 use mcm_shared::reply::MoveAllPlan;
 use serde_json::{Value, json};
 
-/// Parse the arguments of `move_all`, each target within its axis's limits.
+/// Parse the arguments of `move_all`, each target within its axis's reachable range.
 pub fn parse(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<MoveAll, CommandError> {
     let args = Args::new(
         "move_all",
         arguments,
         &["target_positions", "velocity_factor"],
     )?;
-    let targets_deg = args.required_six("target_positions", "positions [deg]", |i, x| {
-        check_position(cfg, i, x)
-    })?;
+    let targets_deg = args.required_ranged_six(Arg::TargetPositions, |i| reachable_deg(cfg, i))?;
     Ok(MoveAll {
         targets_deg,
         velocity_factor: velocity_factor(&args)?,

@@ -1,12 +1,13 @@
 //! `move_axis`: move one axis to a target position (PVT mode).
 
-use super::{DEFAULT_VELOCITY_FACTOR, check_position};
+use super::DEFAULT_VELOCITY_FACTOR;
 use crate::args::{Args, CommandError};
 use mcm_shared::command::MoveAxis;
 use mcm_shared::config::RobotConfig;
+use mcm_shared::ranges::{Arg, reachable_deg};
 use serde_json::Value;
 
-/// Parse the arguments of `move_axis`, the target within the axis's limits.
+/// Parse the arguments of `move_axis`, the target within the axis's reachable range.
 pub fn parse(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<MoveAxis, CommandError> {
     let args = Args::new(
         "move_axis",
@@ -14,30 +15,18 @@ pub fn parse(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<MoveAxis, C
         &["axis_index", "target_position", "velocity_factor"],
     )?;
     let axis = args.required_axis("axis_index")?;
-    let a = &cfg.axes[axis.index()];
-    let target_deg = args.required_number("target_position", a.min_deg, a.max_deg, " deg")?;
-    let velocity_factor = velocity_factor(&args)?;
-    check_position(cfg, axis.index(), target_deg)
-        .map_err(|e| args.invalid_value("target_position", target_deg, e))?;
+    let target_deg = args.required_ranged(Arg::TargetPosition, reachable_deg(cfg, axis.index()))?;
     Ok(MoveAxis {
         axis,
         target_deg,
-        velocity_factor,
+        velocity_factor: velocity_factor(&args)?,
     })
 }
 
-/// The optional `velocity_factor`: (0, 1], default 0.33333.
+/// The optional `velocity_factor` ([`Arg::VelocityFactor`]), default 0.33333.
 pub fn velocity_factor(args: &Args<'_>) -> Result<f64, CommandError> {
-    let f = args
-        .number(
-            "velocity_factor",
-            0.0,
-            1.0,
-            " (a fraction of the maximum velocity)",
-        )?
-        .unwrap_or(DEFAULT_VELOCITY_FACTOR);
-    if f <= 0.0 {
-        return Err(args.invalid_value("velocity_factor", f, "a number above 0 and at most 1"));
-    }
-    Ok(f)
+    let vf = Arg::VelocityFactor;
+    Ok(args
+        .ranged(vf, vf.fixed_bounds())?
+        .unwrap_or(DEFAULT_VELOCITY_FACTOR))
 }

@@ -3,22 +3,15 @@
 use crate::args::{Args, CommandError};
 use mcm_shared::command::SetTorques;
 use mcm_shared::config::RobotConfig;
+use mcm_shared::ranges::{Arg, peak_torque_nm};
 use serde_json::Value;
 
 /// Parse the arguments of `set_torques`, each torque within its axis's peak joint torque.
 pub fn parse(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<SetTorques, CommandError> {
     let args = Args::new("set_torques", arguments, &["torques"])?;
-    let torques_nm = args.required_six("torques", "torques [Nm]", |i, t| {
-        let a = &cfg.axes[i];
-        let peak = a.max_current_a * a.torque_per_amp();
-        if t.abs() > peak {
-            Err(format!(
-                "a torque of axis {} within +-{peak:.1} Nm (its peak joint torque)",
-                i + 1
-            ))
-        } else {
-            Ok(())
-        }
+    let torques_nm = args.required_ranged_six(Arg::Torques, |i| {
+        let peak = peak_torque_nm(cfg, i);
+        (-peak, peak)
     })?;
     Ok(SetTorques { torques_nm })
 }

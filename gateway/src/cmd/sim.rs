@@ -3,6 +3,7 @@
 
 use crate::args::{Args, CommandError};
 use mcm_shared::command::SimCommand;
+use mcm_shared::ranges::Arg;
 use mcm_shared::sample::{STATE_SIM_ESTOP, StateSample};
 use serde_json::{Value, json};
 
@@ -27,12 +28,8 @@ pub fn parse(arguments: Option<&Value>) -> Result<SimCommand, CommandError> {
         reconnect_axis: args.axis("reconnect_axis")?,
         block_axis: args.axis("block_axis")?,
         unblock_axis: args.axis("unblock_axis")?,
-        external_torques_nm: args.six("external_torques", "torques [Nm]", |_, t| {
-            if t.abs() <= 1000.0 {
-                Ok(())
-            } else {
-                Err("a torque within +-1000 Nm".into())
-            }
+        external_torques_nm: args.ranged_six(Arg::ExternalTorques, |_| {
+            Arg::ExternalTorques.fixed_bounds()
         })?,
         power_cycle: args.boolean("power_cycle")?.unwrap_or(false),
     })

@@ -2,11 +2,9 @@
 //! Executed by the gateway itself.
 
 use crate::args::{Args, CommandError};
+use mcm_shared::ranges::Arg;
 use serde_json::Value;
 use std::time::Duration;
-
-/// Longest sleep accepted [s].
-pub const MAX_SLEEP_S: f64 = 3600.0;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sleep {
@@ -16,7 +14,7 @@ pub struct Sleep {
 impl Sleep {
     pub fn parse(arguments: Option<&Value>) -> Result<Self, CommandError> {
         let args = Args::new("sleep", arguments, &["duration"])?;
-        let s = args.required_number("duration", 0.0, MAX_SLEEP_S, " s")?;
+        let s = args.required_ranged(Arg::Duration, Arg::Duration.fixed_bounds())?;
         Ok(Self {
             duration: Duration::from_secs_f64(s),
         })

@@ -139,7 +139,7 @@ const VELOCITY_FACTOR: ArgSpec = arg(
     Kind::Number,
     true,
     "0.33333",
-    "fraction of each axis's maximum velocity, above 0 and at most 1",
+    "fraction of each axis's maximum velocity, from 0.001 to 1",
 );
 
 const IN_HOLD: &str = "HOLD, with every axis calibrated";
@@ -372,7 +372,7 @@ pub const COMMANDS: &[CommandSpec] = &[
                 Kind::Number,
                 true,
                 "",
-                "target angle [deg], within the axis's limits (see below)",
+                "target angle [deg], within the axis's limits less the safety margin",
             ),
             VELOCITY_FACTOR,
         ],
@@ -396,7 +396,7 @@ pub const COMMANDS: &[CommandSpec] = &[
                 Kind::Six,
                 true,
                 "",
-                "six target angles [deg], one per axis, each within its limits (see below)",
+                "six target angles [deg], one per axis, each within its limits less the safety margin",
             ),
             VELOCITY_FACTOR,
         ],

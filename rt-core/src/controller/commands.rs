@@ -11,8 +11,9 @@ use crate::pvt::BatchError;
 use crate::trajectory::PvtPoint;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, PvtChunk, Request, SetTorques, TorqueControl,
+    Axis, Calibrate, Direction, Pvt, PvtChunk, Request, SetTorques, TorqueControl,
 };
+use mcm_shared::ranges::Arg;
 use mcm_shared::reply::{Done, InfoReply, Reason};
 use mcm_shared::sample::PVT_POINTS_PER_COMMAND;
 use mcm_shared::units::{deg_to_rad, deg_to_rad6};
@@ -59,6 +60,11 @@ impl Controller {
             Request::Hold => self.on_hold(c),
             Request::Calibrate(cal) => self.on_calibrate(c, cal),
             Request::Pvt(pvt) => {
+                // `dt` from one cycle period on: the range the gateway checks too.
+                let dt = Arg::Dt;
+                if let Err(e) = dt.check(pvt.dt_s, (self.p.period, Pvt::MAX_DT_S), None) {
+                    return self.refuse(c, Reason::InvalidArgument(e));
+                }
                 if self.check_motion_mode_entry(c) {
                     self.stream.reset(pvt.dt_s);
                     // A stop under way in HOLD carries on in PVT.
@@ -185,14 +191,8 @@ impl Controller {
         };
         for (i, tau) in t.torques_nm.iter().copied().enumerate() {
             let peak = self.p.peak_torque[i];
-            if tau.abs() > peak {
-                let reason = Reason::OutOfRange {
-                    axis: Some(Axis::ALL[i]),
-                    value: tau,
-                    min: -peak,
-                    max: peak,
-                };
-                return self.refuse(c, reason);
+            if let Err(e) = Arg::Torques.check(tau, (-peak, peak), Some(Axis::ALL[i])) {
+                return self.refuse(c, Reason::InvalidArgument(e));
             }
         }
         self.state = State::Torque {

@@ -20,11 +20,29 @@ use super::state::{Caller, Moving, PvtMotion, State};
 use crate::trajectory::{AxisPlan, JointPlan, MovePlan, plan_from_state};
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::Axis;
+use mcm_shared::ranges::{Arg, ArgRefusal};
 use mcm_shared::reply::{Done, MoveAllPlan, Reason};
 use mcm_shared::units::{rad_to_deg, rad_to_deg6};
 
 /// How far (rad) a plan may pass the reachable range through rounding.
 const RANGE_TOLERANCE: f64 = 1e-9;
+
+/// Targets closer than this to the commanded position are taken as the commanded position
+/// [rad] (a nanoradian: far below one encoder count).
+pub const TARGET_RESOLUTION_RAD: f64 = 1e-9;
+
+/// The refusal of a velocity factor the planner cannot use (decoding checked its range; a plan
+/// that still fails names it).
+fn factor_refused(factor: f64) -> Reason {
+    let (min, max) = Arg::VelocityFactor.fixed_bounds();
+    Reason::InvalidArgument(ArgRefusal {
+        arg: Arg::VelocityFactor,
+        axis: None,
+        value: factor,
+        min,
+        max,
+    })
+}
 
 impl Controller {
     /// A move to `target` [rad] (of axis `only`, or of all axes). `move_all` answers with the
@@ -32,7 +50,7 @@ impl Controller {
     pub(super) fn on_move(
         &mut self,
         c: Caller,
-        target: [f64; NUM_AXES],
+        mut target: [f64; NUM_AXES],
         factor: f64,
         only: Option<Axis>,
     ) {
@@ -52,12 +70,13 @@ impl Controller {
                 return self.refuse(c, self.unreachable(i, q));
             }
         }
-        let out_of_range = Reason::OutOfRange {
-            axis: None,
-            value: factor,
-            min: 0.0,
-            max: 1.0,
-        };
+        // A target within [`TARGET_RESOLUTION_RAD`] of the commanded position is that position:
+        // a move of a tiny (even subnormal) distance is no move, not an unplannable one.
+        for (q, at) in target.iter_mut().zip(self.cmd.position) {
+            if (*q - at).abs() < TARGET_RESOLUTION_RAD {
+                *q = at;
+            }
+        }
         if let Some(axis) = only {
             let i = axis.index();
             let plan = match self.plan_axis(i, target[i], factor) {
@@ -74,7 +93,7 @@ impl Controller {
             let planned = MovePlan::plan(self.cmd.position, target, &self.p.limits, factor)
                 .and_then(|plan| JointPlan::from_move(&plan).map(|joint| (plan, joint)));
             let Ok((plan, joint)) = planned else {
-                return self.refuse(c, out_of_range);
+                return self.refuse(c, factor_refused(factor));
             };
             let result = MoveAllPlan {
                 velocities_deg_s: rad_to_deg6(&plan.velocities()),
@@ -123,14 +142,8 @@ impl Controller {
             self.cmd.velocity[i],
             self.cmd.acceleration[i],
         );
-        let plan = plan_from_state(i, p, v, a, target, self.p.limits[i], factor).map_err(|_| {
-            Reason::OutOfRange {
-                axis: None,
-                value: factor,
-                min: 0.0,
-                max: 1.0,
-            }
-        })?;
+        let plan = plan_from_state(i, p, v, a, target, self.p.limits[i], factor)
+            .map_err(|_| factor_refused(factor))?;
         let (lo, hi) = plan.position_range();
         let max = self.p.reach_max[i].max(p) + RANGE_TOLERANCE;
         let min = self.p.reach_min[i].min(p) - RANGE_TOLERANCE;

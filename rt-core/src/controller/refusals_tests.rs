@@ -157,12 +157,13 @@ fn a_torque_beyond_the_peak_is_refused_whole_naming_axis_and_limit() {
     t[2] = peak + 1.0;
     assert_eq!(
         r.refused(set_torques(t), 5),
-        Reason::OutOfRange {
+        Reason::InvalidArgument(mcm_shared::ranges::ArgRefusal {
+            arg: mcm_shared::ranges::Arg::Torques,
             axis: Some(Axis::ALL[2]),
             value: peak + 1.0,
             min: -peak,
             max: peak,
-        }
+        })
     );
     let super::state::State::Torque { torques, .. } = r.cycle.controller().state else {
         panic!("still in torque control: {:?}", r.mode())
@@ -340,4 +341,18 @@ fn hold_and_calibrate_are_refused_while_the_emergency_stop_is_pressed() {
     r.ok(press(false), 5);
     r.run(5);
     assert_eq!(r.ok(Request::Hold, 400), Done::Ack);
+}
+
+#[test]
+fn a_pvt_spacing_below_one_cycle_is_refused_naming_the_range() {
+    let mut r = calibrated();
+    let reason = r.refused(Request::Pvt(Pvt { dt_s: 0.001 }), 5);
+    assert_eq!(
+        reason.to_string(),
+        "argument \"dt\" = 0.001 is not allowed; expected a number from 0.005 to 1 s (at least \
+         one cycle)"
+    );
+    assert_eq!(r.mode(), Mode::Hold, "the refusal changed nothing");
+    r.ok(Request::Pvt(Pvt { dt_s: 0.005 }), 5);
+    assert_eq!(r.mode(), Mode::Pvt, "one cycle is allowed");
 }

@@ -432,6 +432,8 @@ fn calibration_survives_a_restart_of_the_mcm_but_not_a_power_cycle() {
     );
 }
 
+use mcm_shared::ranges::{Arg, ArgRefusal};
+
 #[test]
 fn an_undecodable_sample_is_refused_naming_the_value_and_t_ns_is_the_virtual_time() {
     let mut r = Robot::new();
@@ -446,22 +448,24 @@ fn an_undecodable_sample_is_refused_naming_the_value_and_t_ns_is_the_virtual_tim
         (r.k - 1) * r.period,
         "the cycle's virtual start time"
     );
-    assert_axis_7_refused(&r, 77);
+    assert_axis_7_refused(&r, 77, Arg::AxisIndex);
     assert_eq!(r.mode(), Mode::Off, "nothing changed");
 }
 
-/// The last reply answers request `id` of client 9, refusing axis 7 as out of range.
-fn assert_axis_7_refused(r: &Robot, id: u64) {
+/// The last reply answers request `id` of client 9, refusing axis 7 as out of the range of
+/// the argument `arg`.
+fn assert_axis_7_refused(r: &Robot, id: u64, arg: Arg) {
     let reply = Response::decode(r.cycle.replies().last().unwrap()).unwrap();
     assert_eq!((reply.client_id, reply.request_id), (9, id));
     assert_eq!(
         reply.outcome,
-        Outcome::Refused(Reason::OutOfRange {
+        Outcome::Refused(Reason::InvalidArgument(ArgRefusal {
+            arg,
             axis: None,
             value: 7.0,
             min: 1.0,
             max: 6.0
-        })
+        }))
     );
 }
 
@@ -478,7 +482,7 @@ fn an_undecodable_sim_sample_is_refused_by_the_controller_like_any_other() {
     bad.args[3] = 7.0;
     (bad.client_id, bad.request_id) = (9, 78);
     r.step(&[bad]);
-    assert_axis_7_refused(&r, 78);
+    assert_axis_7_refused(&r, 78, Arg::BlockAxis);
     assert_eq!(
         r.cycle.replies().len(),
         1,

@@ -54,6 +54,22 @@ pub(crate) fn reason() -> impl Strategy<Value = Reason> {
                 max,
             }
         }),
+        (
+            prop::sample::select(crate::ranges::ARGS.to_vec()),
+            prop::option::of(axis()),
+            x(),
+            x(),
+            x()
+        )
+            .prop_map(|(spec, axis, value, min, max)| {
+                Reason::InvalidArgument(crate::ranges::ArgRefusal {
+                    arg: spec.arg,
+                    axis,
+                    value,
+                    min,
+                    max,
+                })
+            }),
         Just(Reason::NotAvailable),
         Just(Reason::NotSimulated),
         (any::<u32>(), any::<u32>())
@@ -209,7 +225,7 @@ fn words_name_the_values() {
     .to_string();
     assert_eq!(
         s,
-        "point 5: axis 2 velocity 99.000 deg/s exceeds the limit 90.000 deg/s; nothing was queued"
+        "point 5: axis 2 velocity 99 deg/s exceeds the limit 90 deg/s; nothing was queued"
     );
 }
 
@@ -320,4 +336,35 @@ fn unknown_and_mismatch_faults_are_refused_as_out_of_range() {
             "{e}"
         );
     }
+}
+
+#[test]
+fn an_undecodable_argument_is_refused_as_the_gateway_words_it() {
+    let mut s = crate::command::Request::Hold.encode();
+    s.kind = CommandKind::MoveAxis.to_wire();
+    s.args[..3].copy_from_slice(&[1.0, 0.0, 1e-320]);
+    let e = crate::command::Request::decode(&s).unwrap_err();
+    let r = Response::decode(&refuse_undecodable(&s, &e)).unwrap();
+    let Outcome::Refused(reason) = r.outcome else {
+        panic!("{r:?}")
+    };
+    assert_eq!(reason.code(), RejectCode::OutOfRange);
+    assert_eq!(
+        reason
+            .argument(CommandKind::MoveAxis)
+            .map(|a| a.to_string()),
+        Some(
+            "argument \"velocity_factor\" = 1e-320 is not allowed; expected a number from \
+             0.001 to 1 (a fraction of each axis's maximum velocity)"
+                .to_string()
+        )
+    );
+    // An unknown argument code is named, not read as a plain out_of_range.
+    assert_eq!(
+        Reason::from_wire(RejectCode::OutOfRange.to_wire(), 0, &[1.0, 0.0, 0.0, 99.0]),
+        Err(DecodeError::Unknown {
+            what: "argument code",
+            value: 99
+        })
+    );
 }

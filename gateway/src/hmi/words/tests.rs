@@ -271,7 +271,7 @@ fn values_out_of_range_name_value_and_range() {
         "move_axis: argument \"axis_index\" = 9 is not allowed; expected an axis number from 1 to 6"
     );
     let e = err("move_axis 1 500").to_string();
-    assert!(e.contains("= 500") && e.contains("-170 to 170"), "{e}");
+    assert!(e.contains("= 500") && e.contains("-169 to 169"), "{e}");
     let e = err("sim estop=maybe").to_string();
     assert!(e.contains("\"maybe\"") && e.contains("true, false"), "{e}");
 }

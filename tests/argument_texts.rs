@@ -1,0 +1,429 @@
+//! The gateway and the real-time core word a value out of range the same way: every numeric
+//! argument of every command (the table of `shared/src/ranges.rs`) is tried below, at and above
+//! each bound, once through the gateway's parser (`Command::from_json`) and once as a raw
+//! request sample straight into the core (decoding and the controller's checks, the simulated
+//! robot in virtual time, no processes), worded by the gateway's `reply_error`. Both must
+//! accept the same values and refuse the others with the same text. Arguments only the
+//! gateway reads (`dt_status`, `duration`) are checked against the table's own words.
+
+use mcm_gateway::cmd::Command;
+use mcm_gateway::result::reply_error;
+use mcm_rt_core::sim_edge::SimCycle;
+use mcm_shared::command::{
+    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, Request, SetTorques, SimCommand,
+    TorqueControl, Which,
+};
+use mcm_shared::config::RobotConfig;
+use mcm_shared::mode::Mode;
+use mcm_shared::ranges::{ARGS, Arg, Limits};
+use mcm_shared::reply::{Outcome, Response};
+use mcm_shared::sample::CommandSample;
+use mcm_sim::SimBus;
+
+/// The simulated robot in virtual time, one client.
+struct Robot {
+    cycle: SimCycle,
+    k: u64,
+    period: u64,
+    next_id: u64,
+}
+
+impl Robot {
+    fn new(cfg: &RobotConfig) -> Robot {
+        let mut r = Robot {
+            cycle: SimCycle::new(cfg, SimBus::new(cfg)).expect("the simulated robot starts"),
+            k: 0,
+            period: cfg.cycle_period_ns(),
+            next_id: 1,
+        };
+        r.run(400);
+        r
+    }
+
+    fn step(&mut self, commands: &[CommandSample]) -> Vec<mcm_shared::sample::Reply> {
+        self.cycle.run(self.k * self.period, commands);
+        self.k += 1;
+        self.cycle.replies().to_vec()
+    }
+
+    fn run(&mut self, cycles: u64) {
+        for _ in 0..cycles {
+            self.step(&[]);
+        }
+    }
+
+    fn mode(&self) -> Mode {
+        Mode::try_from(self.cycle.state().mode).expect("a known mode")
+    }
+
+    /// Send a raw sample and wait (bounded, in cycles) for its answer.
+    fn send(&mut self, mut s: CommandSample, max_cycles: u64) -> Outcome {
+        s.client_id = 7 << 32 | 1;
+        s.request_id = self.next_id;
+        self.next_id += 1;
+        let mut replies = self.step(&[s]);
+        for _ in 0..max_cycles {
+            if let Some(r) = replies.iter().find(|r| r.request_id == s.request_id) {
+                return Response::decode(r).expect("a well-formed reply").outcome;
+            }
+            replies = self.step(&[]);
+        }
+        panic!("no reply to {s:?} within {max_cycles} cycles");
+    }
+
+    fn ok(&mut self, req: Request, max_cycles: u64) {
+        let outcome = self.send(req.encode(), max_cycles);
+        assert!(matches!(outcome, Outcome::Done(_)), "{req:?}: {outcome:?}");
+    }
+
+    /// Bring the robot to `mode` (HOLD, PVT or TORQUE_CONTROL), at rest.
+    fn enter(&mut self, mode: Mode) {
+        if self.mode() != Mode::Hold {
+            self.ok(Request::Hold, 400);
+            // A controlled stop ends within 2 s of robot time.
+            self.run(400);
+        }
+        match mode {
+            Mode::Pvt => self.ok(Request::Pvt(Pvt { dt_s: 0.01 }), 5),
+            Mode::TorqueControl => self.ok(
+                Request::TorqueControl(TorqueControl {
+                    timeout_s: None,
+                    gravity_compensation: true,
+                }),
+                5,
+            ),
+            _ => {}
+        }
+    }
+}
+
+/// One argument of one command: the JSON command holding `x`, the raw sample holding `x`,
+/// the mode the core must be in to check it, and the element index of a per-axis array.
+struct Case {
+    command: &'static str,
+    arg: Arg,
+    axis0: Option<usize>,
+    mode: Mode,
+    json: fn(f64) -> String,
+    sample: fn(f64) -> CommandSample,
+}
+
+fn six_with(i: usize, x: f64) -> [f64; 6] {
+    let mut v = [0.0; 6];
+    v[i] = x;
+    v
+}
+
+fn json6(i: usize, x: f64) -> String {
+    let v: Vec<String> = six_with(i, x).iter().map(|v| format!("{v:?}")).collect();
+    format!("[{}]", v.join(","))
+}
+
+fn move_axis(axis: u8, target_deg: f64, velocity_factor: f64) -> CommandSample {
+    Request::MoveAxis(MoveAxis {
+        axis: Axis::new(axis).unwrap(),
+        target_deg,
+        velocity_factor,
+    })
+    .encode()
+}
+
+fn cases() -> Vec<Case> {
+    vec![
+        Case {
+            command: "move_axis",
+            arg: Arg::AxisIndex,
+            axis0: None,
+            mode: Mode::Pvt,
+            json: |x| {
+                format!(
+                    r#"{{"command":"move_axis","arguments":{{"axis_index":{x:?},"target_position":0.5}}}}"#
+                )
+            },
+            sample: |x| {
+                let mut s = move_axis(1, 0.5, 0.33333);
+                s.args[0] = x;
+                s
+            },
+        },
+        Case {
+            command: "move_axis",
+            arg: Arg::TargetPosition,
+            axis0: Some(1),
+            mode: Mode::Pvt,
+            json: |x| {
+                format!(
+                    r#"{{"command":"move_axis","arguments":{{"axis_index":2,"target_position":{x:?}}}}}"#
+                )
+            },
+            sample: |x| move_axis(2, x, 0.33333),
+        },
+        Case {
+            command: "move_axis",
+            arg: Arg::VelocityFactor,
+            axis0: None,
+            mode: Mode::Pvt,
+            json: |x| {
+                format!(
+                    r#"{{"command":"move_axis","arguments":{{"axis_index":1,"target_position":0.5,"velocity_factor":{x:?}}}}}"#
+                )
+            },
+            sample: |x| move_axis(1, 0.5, x),
+        },
+        Case {
+            command: "move_all",
+            arg: Arg::TargetPositions,
+            axis0: Some(0),
+            mode: Mode::Pvt,
+            json: |x| {
+                format!(
+                    r#"{{"command":"move_all","arguments":{{"target_positions":{}}}}}"#,
+                    json6(0, x)
+                )
+            },
+            sample: |x| {
+                Request::MoveAll(MoveAll {
+                    targets_deg: six_with(0, x),
+                    velocity_factor: 0.33333,
+                })
+                .encode()
+            },
+        },
+        Case {
+            command: "move_all",
+            arg: Arg::TargetPositions,
+            axis0: Some(4),
+            mode: Mode::Pvt,
+            json: |x| {
+                format!(
+                    r#"{{"command":"move_all","arguments":{{"target_positions":{}}}}}"#,
+                    json6(4, x)
+                )
+            },
+            sample: |x| {
+                Request::MoveAll(MoveAll {
+                    targets_deg: six_with(4, x),
+                    velocity_factor: 0.33333,
+                })
+                .encode()
+            },
+        },
+        Case {
+            command: "move_all",
+            arg: Arg::VelocityFactor,
+            axis0: None,
+            mode: Mode::Pvt,
+            json: |x| {
+                format!(
+                    r#"{{"command":"move_all","arguments":{{"target_positions":[0.5,0,0,0,0,0],"velocity_factor":{x:?}}}}}"#
+                )
+            },
+            sample: |x| {
+                Request::MoveAll(MoveAll {
+                    targets_deg: six_with(0, 0.5),
+                    velocity_factor: x,
+                })
+                .encode()
+            },
+        },
+        Case {
+            command: "pvt",
+            arg: Arg::Dt,
+            axis0: None,
+            mode: Mode::Hold,
+            json: |x| format!(r#"{{"command":"pvt","arguments":{{"dt":{x:?}}}}}"#),
+            sample: |x| Request::Pvt(Pvt { dt_s: x }).encode(),
+        },
+        Case {
+            command: "torque_control",
+            arg: Arg::Timeout,
+            axis0: None,
+            mode: Mode::Hold,
+            json: |x| format!(r#"{{"command":"torque_control","arguments":{{"timeout":{x:?}}}}}"#),
+            sample: |x| {
+                let mut s = Request::TorqueControl(TorqueControl {
+                    timeout_s: Some(1.0),
+                    gravity_compensation: true,
+                })
+                .encode();
+                s.args[0] = x;
+                s
+            },
+        },
+        Case {
+            command: "set_torques",
+            arg: Arg::Torques,
+            axis0: Some(2),
+            mode: Mode::TorqueControl,
+            json: |x| {
+                format!(
+                    r#"{{"command":"set_torques","arguments":{{"torques":{}}}}}"#,
+                    json6(2, x)
+                )
+            },
+            sample: |x| {
+                Request::SetTorques(SetTorques {
+                    torques_nm: six_with(2, x),
+                })
+                .encode()
+            },
+        },
+        Case {
+            command: "sim",
+            arg: Arg::ExternalTorques,
+            axis0: Some(1),
+            mode: Mode::Hold,
+            json: |x| {
+                format!(
+                    r#"{{"command":"sim","arguments":{{"external_torques":{}}}}}"#,
+                    json6(1, x)
+                )
+            },
+            sample: |x| {
+                Request::Sim(SimCommand {
+                    external_torques_nm: Some(six_with(1, x)),
+                    ..SimCommand::default()
+                })
+                .encode()
+            },
+        },
+        Case {
+            command: "sim",
+            arg: Arg::BlockAxis,
+            axis0: None,
+            mode: Mode::Hold,
+            json: |x| format!(r#"{{"command":"sim","arguments":{{"block_axis":{x:?}}}}}"#),
+            sample: |x| {
+                let mut s = Request::Sim(SimCommand {
+                    block_axis: Axis::new(1),
+                    ..SimCommand::default()
+                })
+                .encode();
+                s.args[3] = x;
+                s
+            },
+        },
+    ]
+}
+
+/// Values below, at and above each bound (and 0 and a subnormal number).
+fn values((min, max): (f64, f64)) -> Vec<f64> {
+    let step = |b: f64| (b.abs() * 0.01).max(0.001);
+    let mut v = vec![
+        0.0,
+        1e-320,
+        -1e-320,
+        min,
+        max,
+        max + step(max),
+        max - step(max),
+    ];
+    if min > -1e300 {
+        v.extend([min - step(min), min + step(min)]);
+    } else {
+        v.push(-1e6);
+    }
+    v
+}
+
+/// A JSON command holding a value.
+type JsonOf = fn(f64) -> String;
+
+fn gateway_text(cfg: &RobotConfig, json: &str) -> Option<String> {
+    Command::from_json(json, cfg).err().map(|e| e.to_string())
+}
+
+#[test]
+fn gateway_and_core_accept_and_refuse_the_same_values_in_the_same_words() {
+    let cfg = RobotConfig::prob2_default();
+    let limits = Limits::from_config(&cfg);
+    let mut robot = Robot::new(&cfg);
+    robot.ok(
+        Request::Calibrate(Calibrate {
+            which: Which::All,
+            elbow_direction: Direction::Positive,
+            wrist_direction: Direction::Positive,
+            force_mechanical_stop: false,
+        }),
+        20_000,
+    );
+    let mut checked = 0;
+    for case in cases() {
+        let bounds = case.arg.bounds(&limits, case.axis0);
+        for x in values(bounds) {
+            let json = (case.json)(x);
+            let gateway = gateway_text(&cfg, &json);
+            robot.enter(case.mode);
+            let outcome = robot.send((case.sample)(x), 400);
+            let core = match &outcome {
+                Outcome::Done(_) => None,
+                other => Some(
+                    reply_error(case.command, other)["error_message"]
+                        .as_str()
+                        .unwrap()
+                        .to_string(),
+                ),
+            };
+            assert_eq!(
+                gateway, core,
+                "{json}: the gateway's and the core's answers differ"
+            );
+            assert_eq!(
+                gateway.is_none(),
+                case.arg.accepts(x, bounds),
+                "{json}: accepted against the table"
+            );
+            if let Some(text) = gateway {
+                assert!(
+                    text.starts_with(&format!("{}: argument \"{}", case.command, case.arg.name())),
+                    "{text}"
+                );
+                assert!(
+                    !text.contains("00000000"),
+                    "a number that is not readable: {text}"
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked > 80, "{checked} values checked");
+}
+
+#[test]
+fn arguments_only_the_gateway_reads_are_refused_in_the_table_s_words() {
+    let cfg = RobotConfig::prob2_default();
+    let gateway_only: [(Arg, JsonOf); 2] = [
+        (Arg::DtStatus, |x| {
+            format!(r#"{{"command":"torque_control","arguments":{{"dt_status":{x:?}}}}}"#)
+        }),
+        (Arg::Duration, |x| {
+            format!(r#"{{"command":"sleep","arguments":{{"duration":{x:?}}}}}"#)
+        }),
+    ];
+    for (arg, json) in gateway_only {
+        let bounds = arg.fixed_bounds();
+        for x in values(bounds) {
+            let text = gateway_text(&cfg, &json(x));
+            let expected = arg.check(x, bounds, None).err().map(|e| {
+                let command = if arg == Arg::Duration {
+                    "sleep"
+                } else {
+                    "torque_control"
+                };
+                format!("{command}: {e}")
+            });
+            assert_eq!(text, expected, "{}", json(x));
+        }
+    }
+}
+
+#[test]
+fn every_numeric_argument_of_the_table_is_walked() {
+    let mut walked: Vec<Arg> = cases().iter().map(|c| c.arg).collect();
+    walked.extend([Arg::DtStatus, Arg::Duration]);
+    // The sim axes share block_axis's check (one decode function, one table shape).
+    walked.extend([Arg::DisconnectAxis, Arg::ReconnectAxis, Arg::UnblockAxis]);
+    for spec in ARGS {
+        assert!(walked.contains(&spec.arg), "{} is not walked", spec.name);
+    }
+}
