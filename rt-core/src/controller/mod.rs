@@ -17,11 +17,12 @@
 //! does), `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client
 //! controls the arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a
 //! cycle reports), `shutdown.rs` (the controlled stop and disable when `mcm-rt` is asked to
-//! stop).
+//! stop), `release.rs` (RELEASE's soft speed limit).
 
 mod commands;
 mod motion;
 mod ownership;
+pub mod release;
 mod shutdown;
 mod state;
 mod trips;
@@ -64,6 +65,8 @@ pub struct Controller {
     model: ArmModel,
     i2t: I2t,
     safety: SafetyParams,
+    /// RELEASE's soft speed limit (`release.rs`).
+    release: release::ReleaseParams,
     /// The emergency stop input of the last cycle (a press is reported once, on its edge).
     estop_seen: bool,
     /// An error was reported and not yet cleared by a successful `hold`: later trips of the
@@ -114,6 +117,7 @@ impl Controller {
             model: ArmModel::from_config(cfg),
             i2t: I2t::new(&SafetyParams::from_config(cfg)),
             safety: SafetyParams::from_config(cfg),
+            release: release::ReleaseParams::from_config(cfg),
             estop_seen: false,
             incident_reported: false,
             cal_settings: core::array::from_fn(|axis| {

@@ -124,9 +124,14 @@ impl Controller {
                 None => self.finish_calibration(caller),
             },
             State::Release => {
+                let q = self.measured();
                 let qd = self.measured_velocity();
-                let damping: [f64; NUM_AXES] =
-                    core::array::from_fn(|i| -RELEASE_DAMPING * self.p.viscous[i] * qd[i]);
+                let soft =
+                    self.release
+                        .torques(&self.model, &q, &qd, self.p.period, &self.p.peak_torque);
+                let damping: [f64; NUM_AXES] = core::array::from_fn(|i| {
+                    -RELEASE_DAMPING * self.p.viscous[i] * qd[i] + soft[i]
+                });
                 self.compensate(true, &damping);
                 return;
             }

@@ -1,0 +1,76 @@
+//! Scenario tests of RELEASE's soft speed limit in virtual time (the whole simulated robot,
+//! see `tests.rs`): pushes of increasing torque against the simulation's truth.
+
+use super::super::tests::Robot;
+use mcm_shared::command::{Request, SimCommand};
+use mcm_shared::mode::Mode;
+use mcm_shared::reply::Reason;
+
+fn push(r: &mut Robot, request_id: u64, torques_nm: [f64; 6]) {
+    let mut s = Request::Sim(SimCommand {
+        external_torques_nm: Some(torques_nm),
+        ..SimCommand::default()
+    })
+    .encode();
+    (s.client_id, s.request_id) = (1, request_id);
+    r.step(&[s]);
+}
+
+/// Pushes on axis 1 in RELEASE for 0.7 s each (alternating direction): up to 10 Nm the true
+/// speed stays below the 90 deg/s limit and nothing trips; 30 Nm accelerates the light arm
+/// beyond what the damping can catch with its measurement delay, and the hard
+/// `velocity_limit` check stops it.
+#[test]
+fn a_push_in_release_is_slowed_below_the_velocity_limit() {
+    let mut r = Robot::new();
+    r.calibrate_all();
+    r.ok(Request::Release, 10);
+    let limit = 90.0;
+    let mut id = 100;
+    let mut sign = 1.0;
+    for nm in [4.0, 6.0, 8.0, 10.0] {
+        let mut t = [0.0; 6];
+        t[0] = sign * nm;
+        id += 1;
+        push(&mut r, id, t);
+        let mut peak: f64 = 0.0;
+        for _ in 0..140 {
+            r.step(&[]);
+            peak = peak.max(r.cycle.state().sim_true_velocity[0].abs());
+        }
+        id += 1;
+        push(&mut r, id, [0.0; 6]);
+        for _ in 0..400 {
+            r.step(&[]);
+            peak = peak.max(r.cycle.state().sim_true_velocity[0].abs());
+        }
+        let rest = r.cycle.state().sim_true_velocity[0].abs();
+        eprintln!(
+            "RELEASE, axis 1 pushed with {nm} Nm for 0.7 s: true speed peaked at {peak:.1} deg/s (limit {limit}), {rest:.2} deg/s 2 s after, at {:.1} deg",
+            r.truth()[0]
+        );
+        assert_eq!(r.mode(), Mode::Release, "{nm} Nm: no trip");
+        assert!(peak < limit, "{nm} Nm: {peak} deg/s");
+        assert!(
+            peak > 0.4 * limit,
+            "{nm} Nm moves the arm fast: {peak} deg/s"
+        );
+        assert!(
+            rest < 1.0,
+            "{nm} Nm: at rest after letting go, {rest} deg/s"
+        );
+        sign = -sign;
+    }
+    // Beyond what the damping can catch: the hard check is the last resort.
+    let errors_before = r.cycle.controller().view().last_error.map_or(0, |e| e.seq);
+    id += 1;
+    push(&mut r, id, [sign * 30.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    r.run_until("the velocity check trips", 140, |r| r.mode() == Mode::Error);
+    let e = r.cycle.controller().view().last_error.expect("an error");
+    assert_eq!(e.seq, errors_before + 1);
+    assert!(
+        matches!(e.reason, Reason::VelocityLimit { axis, .. } if axis.index() == 0),
+        "{:?}",
+        e.reason
+    );
+}
