@@ -270,7 +270,10 @@ impl Controller {
         self.lost
             .iter()
             .position(|l| *l)
-            .map(|i| Reason::DriveDisconnected { axis: Axis::ALL[i] })
+            .map(|i| Reason::DriveDisconnected {
+                axis: Axis::ALL[i],
+                also: 0,
+            })
     }
 
     /// Start enabling every drive, holding where it is; an enabling already under way is

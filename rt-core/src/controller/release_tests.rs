@@ -74,3 +74,30 @@ fn a_push_in_release_is_slowed_below_the_velocity_limit() {
         e.reason
     );
 }
+
+/// A simulated power cycle reboots every drive at once: the one error of the incident names
+/// all six axes, not only the first.
+#[test]
+fn a_power_cycle_names_every_axis_it_affected() {
+    let mut r = Robot::new();
+    r.ok(Request::Hold, 400);
+    let mut s = Request::Sim(SimCommand {
+        power_cycle: true,
+        ..SimCommand::default()
+    })
+    .encode();
+    (s.client_id, s.request_id) = (1, 7);
+    r.step(&[s]);
+    r.run_until("the trip", 20, |r| r.mode() == Mode::Error);
+    r.run(10);
+    let e = r.cycle.controller().view().last_error.expect("an error");
+    assert_eq!(e.seq, 1, "one error for the incident");
+    let Reason::DriveDisconnected { axis, also } = e.reason else {
+        panic!("{:?}", e.reason)
+    };
+    assert_eq!((axis.number(), also | 1), (1, 0b11_1111), "{:?}", e.reason);
+    assert_eq!(
+        e.reason.to_string(),
+        "the drives of axes 1, 2, 3, 4, 5 and 6 do not answer on the bus"
+    );
+}

@@ -21,6 +21,7 @@ impl Controller {
                 self.lost[axis] = true;
                 self.trip(Reason::DriveDisconnected {
                     axis: Axis::ALL[axis],
+                    also: 0,
                 });
             }
             MasterEvent::Recovered { axis, .. } | MasterEvent::Configured { axis } => {
@@ -39,6 +40,7 @@ impl Controller {
                 if self.mode() != Mode::Off {
                     self.trip(Reason::DriveDisconnected {
                         axis: Axis::ALL[axis],
+                        also: 0,
                     });
                 }
             }
@@ -135,6 +137,7 @@ impl Controller {
             }
         };
         if self.incident_reported {
+            self.merge_lost_drive(reason);
             return;
         }
         self.incident_reported = true;
@@ -144,5 +147,25 @@ impl Controller {
             unix_ns: 0,
             reason,
         });
+    }
+
+    /// Drives lost in the cycle the incident was reported in belong to it: the error names
+    /// every one (a power cycle reboots all six at once), not only the first.
+    fn merge_lost_drive(&mut self, reason: Reason) {
+        let Some(e) = self.view.last_error.as_mut() else {
+            return;
+        };
+        if let (
+            Reason::DriveDisconnected { axis, also },
+            Reason::DriveDisconnected {
+                axis: lost,
+                also: more,
+            },
+        ) = (&mut e.reason, reason)
+            && e.cycle == self.cycle
+            && lost != *axis
+        {
+            *also |= more | 1 << lost.index();
+        }
     }
 }
