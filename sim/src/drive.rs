@@ -581,6 +581,7 @@ impl SimDrive {
     /// that a target in the same PDO as the enabling controlword is replaced by the actual
     /// position).
     fn apply_pdo(&mut self, w: PdoWrites, out: &mut dyn FrameSink) {
+        let prev_cw = self.od.raw(od::CONTROLWORD) as u16;
         let mut controlword = None;
         let mut mode = false;
         for (slot, raw) in w.iter() {
@@ -605,7 +606,15 @@ impl SimDrive {
             self.mode_written();
         }
         if let Some(cw) = controlword {
+            let was = self.sm.state();
             let t = self.sm.write_controlword(cw, !self.safe_torque_off);
+            // A fault-reset edge while OPERATION ENABLED (ignored by the state machine)
+            // restarts the CSP loop where the joint stands: a new hold target, the integral
+            // cleared (the MCM drive profile; see `docs/drive-profile.md`).
+            let edge = cw & 0x80 != 0 && prev_cw & 0x80 == 0;
+            if edge && t.is_none() && was == State::OperationEnabled && self.mode() == MODE_CSP {
+                self.start_mode();
+            }
             self.on_transition(t, out);
         }
     }

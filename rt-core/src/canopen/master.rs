@@ -98,6 +98,8 @@ struct Session {
     rpdo2_sent: Option<Rpdo2>,
     rpdo2_age: u16,
     fault_reset_edges: u8,
+    /// Send one fault-reset edge while OPERATION ENABLED (see [`Master::restart_position_loop`]).
+    loop_restart: bool,
     cal_store: Option<CalStore>,
     /// An offset to store once the write in progress is done.
     cal_queued: Option<i32>,
@@ -120,6 +122,7 @@ impl Default for Session {
             rpdo2_sent: None,
             rpdo2_age: 0,
             fault_reset_edges: 0,
+            loop_restart: false,
             cal_store: None,
             cal_queued: None,
         }
@@ -349,6 +352,18 @@ impl Master {
             if fb.state.is_fault() {
                 ax.session.fault_reset_edges = FAULT_RESET_EDGES;
             }
+        }
+    }
+
+    /// Restart the position loop of drive `axis` where the joint stands: the next cycle's
+    /// controlword carries a fault-reset edge (`0x008F`) while the drive is OPERATION ENABLED,
+    /// which the MCM drive profile makes a restart of the CSP loop at the actual position with
+    /// its integral cleared (the state machine ignores the bit outside FAULT). Used after a
+    /// following-error trip, so that a loop wound up against an obstacle stops pressing.
+    /// Out-of-range axes are ignored.
+    pub fn restart_position_loop(&mut self, axis: usize) {
+        if let Some(ax) = self.axes.get_mut(axis) {
+            ax.session.loop_restart = true;
         }
     }
 
@@ -750,7 +765,18 @@ impl Master {
             ax.session.fault_reset_edges = 0;
         }
         let reset = ax.session.fault_reset_edges > 0 && fb.state == State::Fault;
-        let cw = next_controlword(fb.state, target, ax.session.prev_cw, reset);
+        let mut cw = next_controlword(fb.state, target, ax.session.prev_cw, reset);
+        if ax.session.loop_restart && fb.state == State::OperationEnabled {
+            if cw == ControlWord::ENABLE_OPERATION && !ax.session.prev_cw.fault_reset_bit() {
+                cw = ControlWord(cw.0 | ControlWord::FAULT_RESET_BIT);
+                // The drive's target becomes the actual position: so does the reference the
+                // next setpoint's step is limited from.
+                ax.last_target_counts = ax.last_pos_counts;
+            }
+            ax.session.loop_restart = false;
+        } else if fb.state != State::OperationEnabled {
+            ax.session.loop_restart = false;
+        }
         if reset && cw.fault_reset_bit() {
             ax.session.fault_reset_edges -= 1;
         }

@@ -67,6 +67,10 @@ pub struct Controller {
     safety: SafetyParams,
     /// RELEASE's soft speed limit (`release.rs`).
     release: release::ReleaseParams,
+    /// Cycles left in which an axis that tripped its following error follows its measured
+    /// position in ERROR (its drive's loop restarted at the start and the end), so that it
+    /// does not press into what held it (`trips.rs`).
+    relax: [u8; NUM_AXES],
     /// The emergency stop input of the last cycle (a press is reported once, on its edge).
     estop_seen: bool,
     /// An error was reported and not yet cleared by a successful `hold`: later trips of the
@@ -118,6 +122,7 @@ impl Controller {
             i2t: I2t::new(&SafetyParams::from_config(cfg)),
             safety: SafetyParams::from_config(cfg),
             release: release::ReleaseParams::from_config(cfg),
+            relax: [0; NUM_AXES],
             estop_seen: false,
             incident_reported: false,
             cal_settings: core::array::from_fn(|axis| {

@@ -105,6 +105,7 @@ impl Controller {
             State::Error { stop } => {
                 let stop = self.advance_stop(stop, dt);
                 self.state = State::Error { stop };
+                self.relax_tripped_axes();
             }
             State::Pvt { motion, starved } => self.advance_pvt(motion, starved, dt),
             State::Calibration {

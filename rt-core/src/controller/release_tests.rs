@@ -2,18 +2,22 @@
 //! see `tests.rs`): pushes of increasing torque against the simulation's truth.
 
 use super::super::tests::Robot;
-use mcm_shared::command::{Request, SimCommand};
+use mcm_shared::command::{Axis, MoveAxis, Pvt, Request, SimCommand};
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::Reason;
 
-fn push(r: &mut Robot, request_id: u64, torques_nm: [f64; 6]) {
-    let mut s = Request::Sim(SimCommand {
-        external_torques_nm: Some(torques_nm),
-        ..SimCommand::default()
-    })
-    .encode();
+fn sim(r: &mut Robot, request_id: u64, c: SimCommand) {
+    let mut s = Request::Sim(c).encode();
     (s.client_id, s.request_id) = (1, request_id);
     r.step(&[s]);
+}
+
+fn push(r: &mut Robot, request_id: u64, torques_nm: [f64; 6]) {
+    let c = SimCommand {
+        external_torques_nm: Some(torques_nm),
+        ..SimCommand::default()
+    };
+    sim(r, request_id, c);
 }
 
 /// Pushes on axis 1 in RELEASE for 0.7 s each (alternating direction): up to 10 Nm the true
@@ -100,4 +104,59 @@ fn a_power_cycle_names_every_axis_it_affected() {
         e.reason.to_string(),
         "the drives of axes 1, 2, 3, 4, 5 and 6 do not answer on the bus"
     );
+}
+
+/// After a following-error trip against an obstacle the drive's loop is restarted where the
+/// axis stands: no current into the obstacle in ERROR, and after `hold` and the obstacle's
+/// removal the axis stays where it stood.
+#[test]
+fn no_wound_up_current_after_a_following_error_trip_against_an_obstacle() {
+    let mut r = Robot::new();
+    r.calibrate_all();
+    r.ok(Request::Pvt(Pvt { dt_s: 0.01 }), 10);
+    let axis1 = Axis::new(1).unwrap();
+    r.ok(
+        Request::MoveAxis(MoveAxis {
+            axis: axis1,
+            target_deg: 60.0,
+            velocity_factor: 0.5,
+        }),
+        10,
+    );
+    r.run_until("axis 1 moving", 400, |r| {
+        r.cycle.state().sim_true_velocity[0] > 10.0
+    });
+    let block = SimCommand {
+        block_axis: Some(axis1),
+        ..SimCommand::default()
+    };
+    sim(&mut r, 1, block);
+    r.run_until("the trip", 200, |r| r.mode() == Mode::Error);
+    let e = r.cycle.controller().view().last_error.expect("an error");
+    assert!(
+        matches!(e.reason, Reason::FollowingError { .. }),
+        "{:?}",
+        e.reason
+    );
+    r.run(40); // 0.2 s
+    let current = r.cycle.controller().feedback()[0].current_a;
+    let stands = r.truth();
+    eprintln!("obstacle: 0.2 s after the trip the drive of axis 1 draws {current:.2} A");
+    assert!(
+        current.abs() < 1.0,
+        "not pressing into the obstacle: {current} A"
+    );
+    r.ok(Request::Hold, 400);
+    let unblock = SimCommand {
+        unblock_axis: Some(axis1),
+        ..SimCommand::default()
+    };
+    sim(&mut r, 2, unblock);
+    let mut jump: f64 = 0.0;
+    for _ in 0..200 {
+        r.step(&[]);
+        jump = jump.max((r.truth()[0] - stands[0]).abs());
+    }
+    eprintln!("obstacle: after hold and unblock axis 1 moved up to {jump:.4} deg");
+    assert!(jump < 0.05, "no spring when the obstacle goes: {jump} deg");
 }
