@@ -160,3 +160,52 @@ fn no_wound_up_current_after_a_following_error_trip_against_an_obstacle() {
     eprintln!("obstacle: after hold and unblock axis 1 moved up to {jump:.4} deg");
     assert!(jump < 0.05, "no spring when the obstacle goes: {jump} deg");
 }
+
+/// A configuration whose elbow range (5..135 deg) leaves out the zero that calibration
+/// returns to: in RELEASE the elbow at rest beyond its limit is allowed, a push further out
+/// trips `position_limit` with its figures, and the arm stops.
+#[test]
+fn a_push_beyond_a_joint_limit_trips_position_limit_and_the_arm_stops() {
+    let mut cfg = mcm_shared::config::RobotConfig::prob2_default();
+    cfg.axes[2].min_deg = 5.0;
+    cfg.sim.initial_position_deg[2] = 10.0;
+    cfg.validate().expect("a valid configuration");
+    let mut r = Robot::with_config(&cfg);
+    r.calibrate_all();
+    r.run(100);
+    assert!(
+        r.truth()[2].abs() < 0.1,
+        "the elbow at zero: {:?}",
+        r.truth()
+    );
+    r.ok(Request::Release, 10);
+    r.run(100);
+    assert_eq!(
+        r.mode(),
+        Mode::Release,
+        "at rest beyond the limit is allowed"
+    );
+    push(&mut r, 1, [0.0, 0.0, -20.0, 0.0, 0.0, 0.0]);
+    r.run_until("the trip", 100, |r| r.mode() == Mode::Error);
+    let e = r.cycle.controller().view().last_error.expect("an error");
+    let Reason::PositionLimit {
+        axis,
+        position_deg,
+        limit_deg,
+    } = e.reason
+    else {
+        panic!("{:?}", e.reason)
+    };
+    eprintln!("position limit: {}", e.reason);
+    assert_eq!((axis.number(), limit_deg), (3, 5.0));
+    assert!(position_deg < 5.0, "{position_deg}");
+    push(&mut r, 2, [0.0; 6]);
+    r.run(200);
+    let v = r.cycle.state().sim_true_velocity[2];
+    assert!(v.abs() < 0.01, "the elbow stopped: {v} deg/s");
+    assert!(
+        r.truth()[2] > -2.0,
+        "stopped near where it tripped: {:?}",
+        r.truth()
+    );
+}
