@@ -438,7 +438,15 @@ impl SimDrive {
                 MODE_CSP => {
                     let (pr, vr) = self.servo.setpoint(fraction);
                     self.last_setpoint = (pr, vr);
-                    self.servo.torque(pr, vr, p, v, dt, tau_max)
+                    // 0x60B2 torque offset: feed-forward added to the loop's output.
+                    let offset = f64::from(self.od.i32(od::TORQUE_OFFSET))
+                        * f64::from(self.od.raw(od::RATED_TORQUE))
+                        * 1e-6
+                        / self.p.torque_constant
+                        * self.p.torque_per_amp;
+                    let ff = offset.clamp(-tau_max, tau_max);
+                    let pid = self.servo.torque(pr, vr, p, v, dt, tau_max - ff.abs());
+                    (pid + ff).clamp(-tau_max, tau_max)
                 }
                 MODE_CST => {
                     let motor_nm = f64::from(self.od.i32(od::TARGET_TORQUE))

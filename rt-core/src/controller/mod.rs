@@ -71,6 +71,8 @@ pub struct Controller {
     /// position in ERROR (its drive's loop restarted at the start and the end), so that it
     /// does not press into what held it (`trips.rs`).
     relax: [u8; NUM_AXES],
+    /// The torque feed-forward sent to each drive's position loop [Nm] (`motion.rs`).
+    feed_forward: [f64; NUM_AXES],
     /// The emergency stop input of the last cycle (a press is reported once, on its edge).
     estop_seen: bool,
     /// An error was reported and not yet cleared by a successful `hold`: later trips of the
@@ -123,6 +125,7 @@ impl Controller {
             safety: SafetyParams::from_config(cfg),
             release: release::ReleaseParams::from_config(cfg),
             relax: [0; NUM_AXES],
+            feed_forward: [0.0; NUM_AXES],
             estop_seen: false,
             incident_reported: false,
             cal_settings: core::array::from_fn(|axis| {

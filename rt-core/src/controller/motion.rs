@@ -20,6 +20,11 @@ use mcm_shared::reply::{Done, Reason};
 /// its 130).
 pub const QUICK_STOP_FACTOR: f64 = 5.0;
 
+/// How fast the torque feed-forward of a drive already in CSP may change [Nm/s]: the
+/// gravity load changes at most about this fast in a move, and the loop's integral follows
+/// such a ramp with a negligible error.
+const FEED_FORWARD_RATE_NM_S: f64 = 200.0;
+
 /// Velocity factor of the move back to zero after calibration.
 const RETURN_VELOCITY_FACTOR: f64 = 0.5;
 
@@ -190,13 +195,31 @@ impl Controller {
 
     fn position_requests(&mut self) {
         let off = matches!(self.state, State::Off);
+        // The gravity load at the commanded pose as the drives' torque feed-forward (once the
+        // pose is known: every axis calibrated).
+        let gravity = if self.offsets.iter().all(Option::is_some) {
+            self.model.gravity_torques(&self.cmd.position)
+        } else {
+            [0.0; NUM_AXES]
+        };
         for i in 0..NUM_AXES {
             let raw = self.cmd.position[i] + self.offsets[i].unwrap_or(0.0);
+            let was_position = matches!(self.requests[i], DriveRequest::Position { .. });
             self.requests[i] = match self.state {
                 State::Off => DriveRequest::Disable,
                 State::Error { .. } if !self.master.feedback()[i].enabled => DriveRequest::Disable,
                 _ => DriveRequest::Position { position_rad: raw },
             };
+            // Entering CSP (from RELEASE, TORQUE_CONTROL, or enabling): the loop starts with
+            // no integral, so the feed-forward is there at once. In CSP it follows the load
+            // at a bounded rate, which the loop's integral tracks without a bump.
+            let step = FEED_FORWARD_RATE_NM_S * self.p.period;
+            self.feed_forward[i] = if was_position && self.master.feedback()[i].enabled {
+                self.feed_forward[i] + (gravity[i] - self.feed_forward[i]).clamp(-step, step)
+            } else {
+                gravity[i]
+            };
+            self.master.set_torque_offset(i, self.feed_forward[i]);
         }
         if off {
             self.cmd = JointSample {

@@ -209,3 +209,59 @@ fn a_push_beyond_a_joint_limit_trips_position_limit_and_the_arm_stops() {
         r.truth()
     );
 }
+
+fn max_diff(a: &[f64; 6], b: &[f64; 6]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Entering HOLD under gravity (from RELEASE, and after a move) with the gravity load as the
+/// drives' torque feed-forward: the true arm sags less than 0.02 deg.
+#[test]
+fn entering_hold_under_gravity_sags_less_than_0_02_deg() {
+    let mut r = Robot::new();
+    r.calibrate_all();
+    r.ok(Request::Pvt(Pvt { dt_s: 0.01 }), 10);
+    r.ok(
+        Request::MoveAll(mcm_shared::command::MoveAll {
+            targets_deg: [0.0, 60.0, 30.0, 0.0, 30.0, 0.0],
+            velocity_factor: 0.5,
+        }),
+        10,
+    );
+    r.run_until("moved", 3000, |r| {
+        r.cycle.state().velocity.iter().all(|v| v.abs() < 1e-9) && r.k > 10
+    });
+    r.run(100); // settled
+    let b0 = r.truth();
+    let mut drift: f64 = 0.0;
+    for _ in 0..200 {
+        r.step(&[]);
+        drift = drift.max(max_diff(&b0, &r.truth()));
+    }
+    eprintln!("PVT at rest after the move: the true arm moved up to {drift:.4} deg in 1 s");
+    // After the move: hold.
+    let before = r.truth();
+    r.ok(Request::Hold, 10);
+    let mut sag: f64 = 0.0;
+    for _ in 0..200 {
+        r.step(&[]);
+        sag = sag.max(max_diff(&before, &r.truth()));
+    }
+    eprintln!("HOLD after a move: the true arm moved up to {sag:.4} deg");
+    assert!(sag < 0.02, "after a move: {sag} deg");
+    // From RELEASE, at rest.
+    r.ok(Request::Release, 10);
+    r.run(200);
+    let before = r.truth();
+    r.ok(Request::Hold, 10);
+    let mut sag: f64 = 0.0;
+    for _ in 0..200 {
+        r.step(&[]);
+        sag = sag.max(max_diff(&before, &r.truth()));
+    }
+    eprintln!("HOLD from RELEASE: the true arm moved up to {sag:.4} deg");
+    assert!(sag < 0.02, "from RELEASE: {sag} deg");
+}
