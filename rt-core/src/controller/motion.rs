@@ -202,7 +202,7 @@ impl Controller {
         } else {
             [0.0; NUM_AXES]
         };
-        for i in 0..NUM_AXES {
+        for (i, &load) in gravity.iter().enumerate() {
             let raw = self.cmd.position[i] + self.offsets[i].unwrap_or(0.0);
             let was_position = matches!(self.requests[i], DriveRequest::Position { .. });
             self.requests[i] = match self.state {
@@ -215,9 +215,9 @@ impl Controller {
             // at a bounded rate, which the loop's integral tracks without a bump.
             let step = FEED_FORWARD_RATE_NM_S * self.p.period;
             self.feed_forward[i] = if was_position && self.master.feedback()[i].enabled {
-                self.feed_forward[i] + (gravity[i] - self.feed_forward[i]).clamp(-step, step)
+                self.feed_forward[i] + (load - self.feed_forward[i]).clamp(-step, step)
             } else {
-                gravity[i]
+                load
             };
             self.master.set_torque_offset(i, self.feed_forward[i]);
         }

@@ -44,7 +44,8 @@ impl SoftSpeedLimit {
     /// that is not finite gets no damping (the velocity check trips on it).
     pub fn torque(&self, v: f64, slope: f64, tau_max: f64) -> f64 {
         let x = v.abs() - self.onset;
-        if !v.is_finite() || !(x > 0.0) || !slope.is_finite() || slope <= 0.0 || !(tau_max > 0.0) {
+        let usable = v.is_finite() && x > 0.0 && slope.is_finite() && slope > 0.0 && tau_max > 0.0;
+        if !usable {
             return 0.0;
         }
         let w = 0.5 * (self.limit - self.onset).max(f64::MIN_POSITIVE);

@@ -189,12 +189,12 @@ impl Controller {
             return;
         }
         let measured = self.measured();
-        for i in 0..mcm_shared::NUM_AXES {
+        for (i, &at) in measured.iter().enumerate() {
             let left = self.relax[i];
             if left == 0 {
                 continue;
             }
-            self.cmd.position[i] = measured[i];
+            self.cmd.position[i] = at;
             self.cmd.velocity[i] = 0.0;
             self.cmd.acceleration[i] = 0.0;
             if left == RELAX_CYCLES || left == 1 {
