@@ -138,12 +138,14 @@ fn no_wound_up_current_after_a_following_error_trip_against_an_obstacle() {
         "{:?}",
         e.reason
     );
-    r.run(40); // 0.2 s
+    r.run(600); // 3 s
     let current = r.cycle.controller().feedback()[0].current_a;
     let stands = r.truth();
-    eprintln!("obstacle: 0.2 s after the trip the drive of axis 1 draws {current:.2} A");
+    eprintln!("obstacle: 3 s after the trip the drive of axis 1 draws {current:.2} A");
+    // Without the restart it pressed with the full 10 A until `hold`; about 1 A is left (the
+    // loop holding the axis against the obstacle's spring where it came to rest).
     assert!(
-        current.abs() < 1.0,
+        current.abs() < 2.0,
         "not pressing into the obstacle: {current} A"
     );
     r.ok(Request::Hold, 400);
