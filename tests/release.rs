@@ -320,3 +320,45 @@ fn a_push_beyond_a_joint_limit_in_release_trips_position_limit_and_the_arm_stops
         "the elbow stopped near where it tripped: {q:?}"
     );
 }
+
+fn max_diff(a: &[f64; 6], b: &[f64; 6]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn entering_hold_under_gravity_sags_less_than_0_02_deg() {
+    let mcm = Mcm::start("release-sag");
+    let mut c = Conn::connect(mcm.json);
+    c.wait_drives_online();
+    c.calibrate();
+    assert_status(&c.request(r#"{"command":"pvt"}"#), "PVT");
+    let mv = json!({"command": "move_all", "arguments":
+        {"target_positions": [0.0, 60.0, 30.0, 0.0, 30.0, 0.0], "velocity_factor": 0.5}});
+    let r = c.request(&mv.to_string());
+    assert_eq!(r["result_type"], "move_all", "{r}");
+    let target = [0.0, 60.0, 30.0, 0.0, 30.0, 0.0];
+    c.wait_until("the arm at the target, at rest", |_, q, v| {
+        max_diff(q, &target) < 0.05 && v.iter().all(|x| x.abs() < 0.01)
+    });
+    // Let the loops settle on the target (they converge within a second).
+    c.observe(1.0, |s, _, _| assert_status(s, "PVT"));
+    let (at, _) = c.truth();
+    // After the move.
+    assert_status(&c.request(r#"{"command":"hold"}"#), "HOLD");
+    let mut sag: f64 = 0.0;
+    c.observe(1.0, |_, q, _| sag = sag.max(max_diff(q, &at)));
+    eprintln!("HOLD after a move: the true arm moved up to {sag:.4} deg");
+    assert!(sag < 0.02, "after a move: {sag} deg");
+    // From RELEASE, at rest.
+    assert_status(&c.request(r#"{"command":"release"}"#), "RELEASE");
+    c.observe(1.0, |s, _, _| assert_status(s, "RELEASE"));
+    let (before, _) = c.truth();
+    assert_status(&c.request(r#"{"command":"hold"}"#), "HOLD");
+    let mut sag: f64 = 0.0;
+    c.observe(1.0, |_, q, _| sag = sag.max(max_diff(q, &before)));
+    eprintln!("HOLD from RELEASE: the true arm moved up to {sag:.4} deg");
+    assert!(sag < 0.02, "from RELEASE: {sag} deg");
+}
