@@ -152,6 +152,27 @@ pub struct SafetyConfig {
     pub flight_recorder_seconds: f64,
     /// Directory where flight-recorder files are written.
     pub flight_recorder_dir: String,
+    /// RELEASE's soft speed limit: the share of each axis's `max_velocity_deg_s` at which its
+    /// damping starts (none below).
+    #[serde(default = "default_release_speed_onset")]
+    pub release_speed_onset: f64,
+    /// RELEASE's soft speed limit: the full damping, as a share of the strongest damping one
+    /// control cycle can carry on the axis's inertia (`J / cycle period`).
+    #[serde(default = "default_release_speed_damping")]
+    pub release_speed_damping: f64,
+}
+
+/// P-Rob2 value of `safety.release_speed_onset` (also the default when the key is absent).
+pub const DEFAULT_RELEASE_SPEED_ONSET: f64 = 0.4;
+/// P-Rob2 value of `safety.release_speed_damping` (also the default when the key is absent).
+pub const DEFAULT_RELEASE_SPEED_DAMPING: f64 = 0.3;
+
+fn default_release_speed_onset() -> f64 {
+    DEFAULT_RELEASE_SPEED_ONSET
+}
+
+fn default_release_speed_damping() -> f64 {
+    DEFAULT_RELEASE_SPEED_DAMPING
 }
 
 /// How an axis finds its zero during calibration.

@@ -104,9 +104,12 @@ pub enum Reason {
     },
     /// The emergency stop is pressed.
     EmergencyStop,
-    /// The drive does not answer on the bus.
+    /// The drive does not answer on the bus. `also`: bit `i` set for every further axis
+    /// (index `i`) whose drive was lost in the same cycle, e.g. by a power cycle (0: only
+    /// `axis`).
     DriveDisconnected {
         axis: Axis,
+        also: u8,
     },
     /// A drive is in fault (`axis` unknown when the drive could not be told apart).
     DriveFault {
@@ -205,7 +208,7 @@ impl Reason {
     pub fn axis(&self) -> Option<Axis> {
         match *self {
             Reason::NotCalibrated { axis }
-            | Reason::DriveDisconnected { axis }
+            | Reason::DriveDisconnected { axis, .. }
             | Reason::PositionLimit { axis, .. }
             | Reason::VelocityLimit { axis, .. }
             | Reason::BrakingDistance { axis, .. }
@@ -265,9 +268,11 @@ impl Reason {
             ),
             Reason::NotCalibrated { axis } => w(RejectCode::NotCalibrated, a(axis), [0.0; 4]),
             Reason::EmergencyStop => w(RejectCode::EmergencyStop, None, [0.0; 4]),
-            Reason::DriveDisconnected { axis } => {
-                w(RejectCode::DriveDisconnected, a(axis), [0.0; 4])
-            }
+            Reason::DriveDisconnected { axis, also } => w(
+                RejectCode::DriveDisconnected,
+                a(axis),
+                [f64::from(also), 0.0, 0.0, 0.0],
+            ),
             Reason::DriveFault { axis, code } => w(
                 RejectCode::DriveFault,
                 axis,
@@ -423,7 +428,16 @@ impl Reason {
             }
             RejectCode::NotCalibrated => Reason::NotCalibrated { axis: need(axis)? },
             RejectCode::EmergencyStop => Reason::EmergencyStop,
-            RejectCode::DriveDisconnected => Reason::DriveDisconnected { axis: need(axis)? },
+            RejectCode::DriveDisconnected => Reason::DriveDisconnected {
+                axis: need(axis)?,
+                also: u8::try_from(whole(v0, "axes also lost")?)
+                    .ok()
+                    .filter(|m| *m < 1 << NUM_AXES)
+                    .ok_or(DecodeError::Unknown {
+                        what: "axes also lost",
+                        value: v0 as u32,
+                    })?,
+            },
             RejectCode::DriveFault => Reason::DriveFault {
                 axis,
                 code: u16::try_from(whole(v0, "drive error code")?).map_err(|_| {
@@ -546,8 +560,27 @@ impl fmt::Display for Reason {
             Reason::EmergencyStop => {
                 f.write_str("the emergency stop is pressed; release it, then send `hold`")
             }
-            Reason::DriveDisconnected { axis } => {
-                write!(f, "the drive of axis {axis} does not answer on the bus")
+            Reason::DriveDisconnected { axis, also } => {
+                let more = also & !(1 << axis.index());
+                if more == 0 {
+                    return write!(f, "the drive of axis {axis} does not answer on the bus");
+                }
+                let all = more | 1 << axis.index();
+                let n = all.count_ones();
+                f.write_str("the drives of axes ")?;
+                for (k, a) in Axis::ALL
+                    .iter()
+                    .filter(|a| all & 1 << a.index() != 0)
+                    .enumerate()
+                {
+                    let sep = match k {
+                        0 => "",
+                        _ if k + 1 == n as usize => " and ",
+                        _ => ", ",
+                    };
+                    write!(f, "{sep}{a}")?;
+                }
+                f.write_str(" do not answer on the bus")
             }
             Reason::DriveFault { axis, code } => match axis {
                 Some(axis) => write!(

@@ -438,7 +438,15 @@ impl SimDrive {
                 MODE_CSP => {
                     let (pr, vr) = self.servo.setpoint(fraction);
                     self.last_setpoint = (pr, vr);
-                    self.servo.torque(pr, vr, p, v, dt, tau_max)
+                    // 0x60B2 torque offset: feed-forward added to the loop's output.
+                    let offset = f64::from(self.od.i32(od::TORQUE_OFFSET))
+                        * f64::from(self.od.raw(od::RATED_TORQUE))
+                        * 1e-6
+                        / self.p.torque_constant
+                        * self.p.torque_per_amp;
+                    let ff = offset.clamp(-tau_max, tau_max);
+                    let pid = self.servo.torque(pr, vr, p, v, dt, tau_max - ff.abs());
+                    (pid + ff).clamp(-tau_max, tau_max)
                 }
                 MODE_CST => {
                     let motor_nm = f64::from(self.od.i32(od::TARGET_TORQUE))
@@ -581,6 +589,7 @@ impl SimDrive {
     /// that a target in the same PDO as the enabling controlword is replaced by the actual
     /// position).
     fn apply_pdo(&mut self, w: PdoWrites, out: &mut dyn FrameSink) {
+        let prev_cw = self.od.raw(od::CONTROLWORD) as u16;
         let mut controlword = None;
         let mut mode = false;
         for (slot, raw) in w.iter() {
@@ -605,7 +614,15 @@ impl SimDrive {
             self.mode_written();
         }
         if let Some(cw) = controlword {
+            let was = self.sm.state();
             let t = self.sm.write_controlword(cw, !self.safe_torque_off);
+            // A fault-reset edge while OPERATION ENABLED (ignored by the state machine)
+            // restarts the CSP loop where the joint stands: a new hold target, the integral
+            // cleared (the MCM drive profile; see `docs/drive-profile.md`).
+            let edge = cw & 0x80 != 0 && prev_cw & 0x80 == 0;
+            if edge && t.is_none() && was == State::OperationEnabled && self.mode() == MODE_CSP {
+                self.start_mode();
+            }
             self.on_transition(t, out);
         }
     }

@@ -761,3 +761,66 @@ mod fuzz {
         }
     }
 }
+
+/// A fault-reset edge while OPERATION ENABLED in CSP is a new hold target where the joint
+/// stands, with the position loop's integral cleared: a loop wound up against an obstacle
+/// stops pressing. Without the edge the integral keeps pressing.
+/// [`Rig::sync`] with an obstacle at 0.1 rad: a stiff spring-damper on the joint.
+fn sync_blocked(r: &mut Rig) {
+    if r.cycle.is_multiple_of(10) {
+        r.master_heartbeat();
+    }
+    r.cycle += 1;
+    r.d.on_sync(true, &mut r.out);
+    for k in 0..10 {
+        let tau = r.d.control(r.q, r.v, f64::from(k) / 10.0, 0.0005);
+        let obstacle = -1.0e6 * (r.q - 0.1) - 1.0e3 * r.v;
+        // semi-implicit in the stiff terms
+        r.v = (r.v + (tau + obstacle) / 0.5 * 0.0005) / (1.0 + 1.0e3 / 0.5 * 0.0005);
+        r.q += r.v * 0.0005;
+    }
+    r.d.end_period();
+    r.take();
+}
+
+#[test]
+fn fault_reset_edge_while_enabled_restarts_the_wound_up_loop() {
+    let wound_up = |r: &mut Rig| {
+        r.enable();
+        let actual = r.position();
+        // An obstacle holds the joint while the target runs away.
+        for k in 1..=100 {
+            r.rpdo1(0x0F, actual + 200 * k, 0);
+            sync_blocked(r);
+        }
+        let pressing = r.d.current_a();
+        assert!(pressing > 5.0, "wound up: {pressing} A");
+        actual
+    };
+    // Without the edge: the target back at the joint, the integral still presses.
+    let mut r = Rig::new();
+    let actual = wound_up(&mut r);
+    for _ in 0..40 {
+        r.rpdo1(0x0F, actual, 0);
+        sync_blocked(&mut r);
+    }
+    let still = r.d.current_a();
+    assert!(still > 5.0, "a wound-up integral keeps pressing: {still} A");
+
+    // With the edge (0x008F, then 0x000F): no current into the obstacle.
+    let mut r = Rig::new();
+    let actual = wound_up(&mut r);
+    r.rpdo1(0x8F, actual, 0);
+    sync_blocked(&mut r);
+    assert_eq!(
+        r.d.state(),
+        State::OperationEnabled,
+        "the state machine ignores it"
+    );
+    for _ in 0..40 {
+        r.rpdo1(0x0F, actual, 0);
+        sync_blocked(&mut r);
+    }
+    let after = r.d.current_a();
+    assert!(after.abs() < 0.5, "restarted where it stands: {after} A");
+}

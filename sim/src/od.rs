@@ -145,7 +145,7 @@ const fn map(index: u16, sub: u8) -> ObjectDef {
 }
 
 /// Number of objects (index:sub pairs) in the dictionary.
-pub const LEN: usize = 84;
+pub const LEN: usize = 85;
 
 /// The table, sorted by (index, sub).
 pub static TABLE: [ObjectDef; LEN] = [
@@ -229,6 +229,7 @@ pub static TABLE: [ObjectDef; LEN] = [
     e(0x6077, 0, I16, Ro, Tx, Fixed(0)),   // torque actual [per-mille of 0x6076]
     e(0x6078, 0, I16, Ro, Tx, Fixed(0)),   // current actual [per-mille of 0x6075]
     e(0x607A, 0, I32, Rw, Rx, Fixed(0)),   // target position [counts]
+    e(0x60B2, 0, I16, Rw, Rx, Fixed(0)),   // torque offset [per-mille of 0x6076], CSP feed-forward
     e(0x60C2, 0, U8, Const, No, Fixed(2)), // interpolation time period
     e(0x60C2, 1, U8, Rw, No, Fixed(1)),
     e(0x60C2, 2, I8, Rw, No, Fixed(0xFD)),
@@ -272,6 +273,7 @@ pub const RATED_TORQUE: usize = slot(0x6076, 0);
 pub const TORQUE_ACTUAL: usize = slot(0x6077, 0);
 pub const CURRENT_ACTUAL: usize = slot(0x6078, 0);
 pub const TARGET_POSITION: usize = slot(0x607A, 0);
+pub const TORQUE_OFFSET: usize = slot(0x60B2, 0);
 pub const INTERPOLATION_UNITS: usize = slot(0x60C2, 1);
 pub const INTERPOLATION_INDEX: usize = slot(0x60C2, 2);
 

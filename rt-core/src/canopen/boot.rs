@@ -23,7 +23,7 @@ use super::sdo::{SdoAbortCode, SdoClient, SdoDone, SdoError, SdoRequest, SdoValu
 use mcm_bus::Frame;
 
 /// Number of SDO operations of the sequence (steps 1..=11).
-pub const BOOT_OPS: usize = 38;
+pub const BOOT_OPS: usize = 39;
 /// Retries of one operation after a timeout or abort (so at most 3 attempts).
 pub const MAX_RETRIES: u8 = 2;
 
@@ -46,7 +46,7 @@ pub const CALIBRATION_OFFSET_SUB: u8 = 1;
 /// 0x2100:2, the calibration is valid (u8, 0/1).
 pub const CALIBRATION_VALID_SUB: u8 = 2;
 
-/// Step 12, after the 38 operations of [`boot_ops`] and before the NMT start: read whether
+/// Step 12, after the 39 operations of [`boot_ops`] and before the NMT start: read whether
 /// the drive holds a calibration, then (only if it does) the offset.
 pub const CALIBRATION_OPS: [BootOp; 2] = [
     BootOp {
@@ -93,7 +93,7 @@ pub struct BootParams {
     pub max_current_permille: u16,
 }
 
-/// The 38 operations of steps 1..=11, in order.
+/// The 39 operations of steps 1..=11, in order.
 pub fn boot_ops(p: &BootParams) -> [BootOp; BOOT_OPS] {
     let n = u32::from(p.node);
     let a = ObjectAddr::new;
@@ -160,7 +160,7 @@ pub fn boot_ops(p: &BootParams) -> [BootOp; BOOT_OPS] {
             "RPDO1 transmission type (synchronous)",
         ),
         w(4, a(RPDO_COMM, 1), U32(0x200 + n), "RPDO1 COB-ID (enable)"),
-        // 5. RPDO2, event-driven mode and current limit.
+        // 5. RPDO2, event-driven mode, current limit and torque feed-forward.
         w(
             5,
             a(RPDO_COMM + 1, 1),
@@ -180,7 +180,13 @@ pub fn boot_ops(p: &BootParams) -> [BootOp; BOOT_OPS] {
             U32(mapping_entry(MAX_CURRENT, 0, 16)),
             "RPDO2 mapping 2: max current",
         ),
-        w(5, a(RPDO_MAP + 1, 0), U8(2), "RPDO2 mapping count = 2"),
+        w(
+            5,
+            a(RPDO_MAP + 1, 3),
+            U32(mapping_entry(TORQUE_OFFSET, 0, 16)),
+            "RPDO2 mapping 3: torque offset",
+        ),
+        w(5, a(RPDO_MAP + 1, 0), U8(3), "RPDO2 mapping count = 3"),
         w(
             5,
             a(RPDO_COMM + 1, 2),
@@ -598,7 +604,8 @@ mod tests {
             "603#2F01160000000000",
             "603#2301160108006060",
             "603#2301160210007360",
-            "603#2F01160002000000",
+            "603#230116031000B260",
+            "603#2F01160003000000",
             "603#2F011402FF000000",
             "603#2301140103030000",
             "603#2300180183010080", // 6.

@@ -98,6 +98,8 @@ struct Session {
     rpdo2_sent: Option<Rpdo2>,
     rpdo2_age: u16,
     fault_reset_edges: u8,
+    /// Send one fault-reset edge while OPERATION ENABLED (see [`Master::restart_position_loop`]).
+    loop_restart: bool,
     cal_store: Option<CalStore>,
     /// An offset to store once the write in progress is done.
     cal_queued: Option<i32>,
@@ -120,6 +122,7 @@ impl Default for Session {
             rpdo2_sent: None,
             rpdo2_age: 0,
             fault_reset_edges: 0,
+            loop_restart: false,
             cal_store: None,
             cal_queued: None,
         }
@@ -141,6 +144,8 @@ struct AxisRt {
     last_pos_counts: i32,
     last_emcy_code: u16,
     last_target_counts: i32,
+    /// The torque feed-forward asked for in CSP [joint Nm] (see [`Master::set_torque_offset`]).
+    torque_offset_nm: f64,
 }
 
 impl AxisRt {
@@ -223,6 +228,7 @@ impl AxisRt {
             last_pos_counts: 0,
             last_emcy_code: 0,
             last_target_counts: 0,
+            torque_offset_nm: 0.0,
         })
     }
 
@@ -349,6 +355,31 @@ impl Master {
             if fb.state.is_fault() {
                 ax.session.fault_reset_edges = FAULT_RESET_EDGES;
             }
+        }
+    }
+
+    /// Restart the position loop of drive `axis` where the joint stands: the next cycle's
+    /// controlword carries a fault-reset edge (`0x008F`) while the drive is OPERATION ENABLED,
+    /// which the MCM drive profile makes a restart of the CSP loop at the actual position with
+    /// its integral cleared (the state machine ignores the bit outside FAULT). Used after a
+    /// following-error trip, so that a loop wound up against an obstacle stops pressing.
+    /// Out-of-range axes are ignored.
+    pub fn restart_position_loop(&mut self, axis: usize) {
+        if let Some(ax) = self.axes.get_mut(axis) {
+            ax.session.loop_restart = true;
+        }
+    }
+
+    /// The torque feed-forward of drive `axis`'s position loop in CSP [joint Nm] (0x60B2, in
+    /// RPDO2; e.g. the gravity load, so that the loop's integral does not have to carry it).
+    /// It goes out with the next RPDO2 the mode or current limit needs, or on the axis's turn:
+    /// one drive a cycle, so that the feed-forward adds at most one RPDO2 per cycle to the bus.
+    /// 0 is sent in CST. Out-of-range axes and non-finite values are ignored.
+    pub fn set_torque_offset(&mut self, axis: usize, torque_nm: f64) {
+        if let Some(ax) = self.axes.get_mut(axis)
+            && torque_nm.is_finite()
+        {
+            ax.torque_offset_nm = torque_nm;
         }
     }
 
@@ -612,7 +643,7 @@ impl Master {
             }
             Link::Operational => {
                 self.supervise(i, now_ns);
-                self.setpoints(i, req, max_current_a, out);
+                self.setpoints(i, now_ns, req, max_current_a, out);
                 self.store_step(i, now_ns, out);
             }
             Link::Failed => self.axes[i].session.sdo_outcome = None,
@@ -708,7 +739,15 @@ impl Master {
         }
     }
 
-    fn setpoints(&mut self, i: usize, req: DriveRequest, max_current_a: f64, out: &mut FrameBuf) {
+    fn setpoints(
+        &mut self,
+        i: usize,
+        now_ns: u64,
+        req: DriveRequest,
+        max_current_a: f64,
+        out: &mut FrameBuf,
+    ) {
+        let period_ns = self.period_ns;
         let (ax, fb) = (&mut self.axes[i], &mut self.feedback[i]);
         let target = match req {
             DriveRequest::Disable => Target::SwitchOnDisabled,
@@ -730,13 +769,28 @@ impl Master {
             pm.round()
                 .clamp(0.0, f64::from(ax.params.max_current_permille))
         };
+        let offset = if ax.session.commanded_mode == MODE_CSP {
+            let t = ax.torque_offset_nm * ax.params.permille_per_joint_nm;
+            t.round().clamp(-32767.0, 32767.0) as i16
+        } else {
+            0
+        };
         let rpdo2 = Rpdo2 {
             mode: ax.session.commanded_mode,
             max_current_permille: pm as u16,
+            torque_offset: offset,
         };
         let confirmed = fb.mode_display == Some(ax.session.commanded_mode);
         let mut frames = [None, None];
-        if ax.session.rpdo2_sent != Some(rpdo2)
+        // A new feed-forward alone waits for the axis's turn (one axis a cycle).
+        let turn = (now_ns / period_ns.max(1)) % NUM_AXES as u64 == i as u64;
+        let urgent = ax.session.rpdo2_sent.is_none_or(|p| {
+            p.mode != rpdo2.mode
+                || p.max_current_permille != rpdo2.max_current_permille
+                || (p.torque_offset != rpdo2.torque_offset && rpdo2.mode != MODE_CSP)
+        });
+        if urgent
+            || (turn && ax.session.rpdo2_sent != Some(rpdo2))
             || (!confirmed && ax.session.rpdo2_age >= MODE_RESEND_CYCLES)
         {
             frames[0] = Some(rpdo2.encode(ax.params.node));
@@ -750,7 +804,18 @@ impl Master {
             ax.session.fault_reset_edges = 0;
         }
         let reset = ax.session.fault_reset_edges > 0 && fb.state == State::Fault;
-        let cw = next_controlword(fb.state, target, ax.session.prev_cw, reset);
+        let mut cw = next_controlword(fb.state, target, ax.session.prev_cw, reset);
+        if ax.session.loop_restart && fb.state == State::OperationEnabled {
+            if cw == ControlWord::ENABLE_OPERATION && !ax.session.prev_cw.fault_reset_bit() {
+                cw = ControlWord(cw.0 | ControlWord::FAULT_RESET_BIT);
+                // The drive's target becomes the actual position: so does the reference the
+                // next setpoint's step is limited from.
+                ax.last_target_counts = ax.last_pos_counts;
+            }
+            ax.session.loop_restart = false;
+        } else if fb.state != State::OperationEnabled {
+            ax.session.loop_restart = false;
+        }
         if reset && cw.fault_reset_bit() {
             ax.session.fault_reset_edges -= 1;
         }

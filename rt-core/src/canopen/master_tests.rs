@@ -266,7 +266,8 @@ fn mode_switch_sends_the_torque_at_once_and_keeps_the_position_at_actual() {
         rpdo2_of(&c0, 2),
         Some(Rpdo2 {
             mode: MODE_CST,
-            max_current_permille: 1000
+            max_current_permille: 1000,
+            torque_offset: 0,
         })
     );
     // The torque goes out at once (a CSP drive ignores it; a drive that switches has it
@@ -301,7 +302,8 @@ fn current_limit_changes_send_rpdo2() {
         rpdo2_of(&frames, 1),
         Some(Rpdo2 {
             mode: MODE_CSP,
-            max_current_permille: 500
+            max_current_permille: 500,
+            torque_offset: 0,
         })
     );
     assert_eq!(rpdo2_of(&frames, 2), None);
@@ -743,4 +745,33 @@ fn frame_buf_is_bounded() {
     assert_eq!(b.len(), FRAME_BUF_CAPACITY);
     b.clear();
     assert!(b.is_empty());
+}
+
+#[test]
+fn the_torque_offset_goes_out_in_rpdo2_on_the_axis_turn_and_zero_in_cst() {
+    let mut w = World::booted();
+    let hold = w.hold_all();
+    w.run(12, hold);
+    w.master.set_torque_offset(1, 10.0);
+    // One axis a cycle: axis 2's new feed-forward goes out within six cycles, once.
+    let mut sent = Vec::new();
+    for _ in 0..12 {
+        if let Some(r) = rpdo2_of(&w.step(hold), 2) {
+            sent.push(r);
+        }
+    }
+    assert_eq!(
+        sent,
+        [Rpdo2 {
+            mode: MODE_CSP,
+            max_current_permille: 1000,
+            // 10 Nm joint / (120 * 0.9) = 0.0926 Nm motor of 0.48 Nm rated
+            torque_offset: 193,
+        }]
+    );
+    // In CST the offset is 0 (the torque is all in 0x6071), sent with the mode change.
+    let mut reqs = hold;
+    reqs[1] = DriveRequest::Torque { torque_nm: 1.0 };
+    let r = rpdo2_of(&w.step(reqs), 2).unwrap();
+    assert_eq!((r.mode, r.torque_offset), (MODE_CST, 0));
 }

@@ -54,6 +54,8 @@ pub const MODES_OF_OPERATION_DISPLAY: u16 = 0x6061;
 pub const POSITION_ACTUAL: u16 = 0x6064;
 pub const TARGET_TORQUE: u16 = 0x6071;
 pub const MAX_CURRENT: u16 = 0x6073;
+/// Torque offset: the position loop's torque feed-forward [‰ of 0x6076].
+pub const TORQUE_OFFSET: u16 = 0x60B2;
 pub const MOTOR_RATED_CURRENT: u16 = 0x6075;
 pub const MOTOR_RATED_TORQUE: u16 = 0x6076;
 pub const CURRENT_ACTUAL: u16 = 0x6078;

@@ -4,7 +4,7 @@
 //! | PDO   | COB-ID  | bytes | content |
 //! |-------|---------|-------|---------|
 //! | RPDO1 | 0x200+n | 8 | controlword u16, target position i32 (counts), target torque i16 (‰ of 0x6076) |
-//! | RPDO2 | 0x300+n | 3 | modes of operation i8, max current u16 (‰ of 0x6075) |
+//! | RPDO2 | 0x300+n | 5 | modes of operation i8, max current u16 (‰ of 0x6075), torque offset i16 (‰ of 0x6076) |
 //! | TPDO1 | 0x180+n | 8 | statusword u16, position actual i32 (counts), current actual i16 (‰ of 0x6075) |
 //! | TPDO2 | 0x280+n | 1 | modes of operation display i8 |
 //!
@@ -78,22 +78,25 @@ impl Rpdo1 {
     }
 }
 
-/// RPDO2: mode and current limit (event-driven, applied on reception).
+/// RPDO2: mode, current limit and the torque feed-forward of the position loop (0x60B2
+/// torque offset: the gravity load in CSP, 0 in CST) (event-driven, applied on reception).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Rpdo2 {
     pub mode: i8,
     pub max_current_permille: u16,
+    pub torque_offset: i16,
 }
 
 impl Rpdo2 {
-    pub const LEN: u8 = 3;
+    pub const LEN: u8 = 5;
 
     pub fn encode(&self, node: u8) -> Frame {
         let [c0, c1] = self.max_current_permille.to_le_bytes();
+        let [t0, t1] = self.torque_offset.to_le_bytes();
         Frame {
             id: rpdo_id(2, node),
             len: Self::LEN,
-            data: [self.mode as u8, c0, c1, 0, 0, 0, 0, 0],
+            data: [self.mode as u8, c0, c1, t0, t1, 0, 0, 0],
         }
     }
 
@@ -103,6 +106,7 @@ impl Rpdo2 {
         Ok(Rpdo2 {
             mode: d[0] as i8,
             max_current_permille: u16::from_le_bytes([d[1], d[2]]),
+            torque_offset: i16::from_le_bytes([d[3], d[4]]),
         })
     }
 }
@@ -193,8 +197,9 @@ mod tests {
         let r2 = Rpdo2 {
             mode: 10,
             max_current_permille: 2500,
+            torque_offset: -2,
         };
-        assert_eq!(r2.encode(3).to_string(), "303#0AC409");
+        assert_eq!(r2.encode(3).to_string(), "303#0AC409FEFF");
         assert_eq!(Rpdo2::decode(&r2.encode(3)), Ok(r2));
         let t2 = Tpdo2 { mode_display: 8 };
         assert_eq!(t2.encode(6).to_string(), "286#08");

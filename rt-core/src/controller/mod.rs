@@ -19,13 +19,15 @@
 //! `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client
 //! controls the arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a
 //! cycle reports), `shutdown.rs` (the controlled stop and disable when `mcm-rt` is asked to
-//! stop), `velocity.rs` (VELOCITY_CONTROL and its ramp).
+//! stop), `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft speed
+//! limit).
 
 mod calibrate;
 mod commands;
 mod motion;
 mod moves;
 mod ownership;
+pub mod release;
 mod shutdown;
 mod state;
 mod trips;
@@ -69,6 +71,14 @@ pub struct Controller {
     model: ArmModel,
     i2t: I2t,
     safety: SafetyParams,
+    /// RELEASE's soft speed limit (`release.rs`).
+    release: release::ReleaseParams,
+    /// Cycles left in which an axis that tripped its following error follows its measured
+    /// position in ERROR (its drive's loop restarted at the start and the end), so that it
+    /// does not press into what held it (`trips.rs`).
+    relax: [u8; NUM_AXES],
+    /// The torque feed-forward sent to each drive's position loop [Nm] (`motion.rs`).
+    feed_forward: [f64; NUM_AXES],
     /// The emergency stop input of the last cycle (a press is reported once, on its edge).
     estop_seen: bool,
     /// An error was reported and not yet cleared by a successful `hold`: later trips of the
@@ -119,6 +129,9 @@ impl Controller {
             model: ArmModel::from_config(cfg),
             i2t: I2t::new(&SafetyParams::from_config(cfg)),
             safety: SafetyParams::from_config(cfg),
+            release: release::ReleaseParams::from_config(cfg),
+            relax: [0; NUM_AXES],
+            feed_forward: [0.0; NUM_AXES],
             estop_seen: false,
             incident_reported: false,
             cal_settings: core::array::from_fn(|axis| {
@@ -271,7 +284,10 @@ impl Controller {
         self.lost
             .iter()
             .position(|l| *l)
-            .map(|i| Reason::DriveDisconnected { axis: Axis::ALL[i] })
+            .map(|i| Reason::DriveDisconnected {
+                axis: Axis::ALL[i],
+                also: 0,
+            })
     }
 
     /// Start enabling every drive, holding where it is; an enabling already under way is

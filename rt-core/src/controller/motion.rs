@@ -17,6 +17,11 @@ use mcm_shared::NUM_AXES;
 /// its 130).
 pub const QUICK_STOP_FACTOR: f64 = 5.0;
 
+/// How fast the torque feed-forward of a drive already in CSP may change [Nm/s]: the
+/// gravity load changes at most about this fast in a move, and the loop's integral follows
+/// such a ramp with a negligible error.
+const FEED_FORWARD_RATE_NM_S: f64 = 200.0;
+
 impl Controller {
     /// A controlled stop of whatever moves, at each axis's maximum deceleration, from the
     /// commanded state (position modes) or from the measured state (torque modes and
@@ -93,6 +98,7 @@ impl Controller {
             State::Error { stop } => {
                 let stop = self.advance_stop(stop, dt);
                 self.state = State::Error { stop };
+                self.relax_tripped_axes();
             }
             State::Pvt { motion, starved } => self.advance_pvt(motion, starved, dt),
             State::Calibration {
@@ -112,9 +118,14 @@ impl Controller {
                 None => self.finish_calibration(caller),
             },
             State::Release => {
+                let q = self.measured();
                 let qd = self.measured_velocity();
-                let damping: [f64; NUM_AXES] =
-                    core::array::from_fn(|i| -RELEASE_DAMPING * self.p.viscous[i] * qd[i]);
+                let soft =
+                    self.release
+                        .torques(&self.model, &q, &qd, self.p.period, &self.p.peak_torque);
+                let damping: [f64; NUM_AXES] = core::array::from_fn(|i| {
+                    -RELEASE_DAMPING * self.p.viscous[i] * qd[i] + soft[i]
+                });
                 self.compensate(true, &damping);
                 return;
             }
@@ -177,13 +188,31 @@ impl Controller {
 
     fn position_requests(&mut self) {
         let off = matches!(self.state, State::Off);
-        for i in 0..NUM_AXES {
+        // The gravity load at the commanded pose as the drives' torque feed-forward (once the
+        // pose is known: every axis calibrated).
+        let gravity = if self.offsets.iter().all(Option::is_some) {
+            self.model.gravity_torques(&self.cmd.position)
+        } else {
+            [0.0; NUM_AXES]
+        };
+        for (i, &load) in gravity.iter().enumerate() {
             let raw = self.cmd.position[i] + self.offsets[i].unwrap_or(0.0);
+            let was_position = matches!(self.requests[i], DriveRequest::Position { .. });
             self.requests[i] = match self.state {
                 State::Off => DriveRequest::Disable,
                 State::Error { .. } if !self.master.feedback()[i].enabled => DriveRequest::Disable,
                 _ => DriveRequest::Position { position_rad: raw },
             };
+            // Entering CSP (from RELEASE, TORQUE_CONTROL, or enabling): the loop starts with
+            // no integral, so the feed-forward is there at once. In CSP it follows the load
+            // at a bounded rate, which the loop's integral tracks without a bump.
+            let step = FEED_FORWARD_RATE_NM_S * self.p.period;
+            self.feed_forward[i] = if was_position && self.master.feedback()[i].enabled {
+                self.feed_forward[i] + (load - self.feed_forward[i]).clamp(-step, step)
+            } else {
+                load
+            };
+            self.master.set_torque_offset(i, self.feed_forward[i]);
         }
         if off {
             self.cmd = JointSample {

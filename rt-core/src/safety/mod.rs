@@ -158,7 +158,7 @@ impl Violation {
                 band_deg: limit,
             },
             Check::EmergencyStop => Reason::EmergencyStop,
-            Check::DriveDisconnected => Reason::DriveDisconnected { axis },
+            Check::DriveDisconnected => Reason::DriveDisconnected { axis, also: 0 },
             Check::DriveFault => Reason::DriveFault {
                 axis: Some(axis),
                 code: value as u16,

@@ -15,6 +15,15 @@ pub const BRAKING_EFFICIENCY_MIN: f64 = 0.3;
 pub const REACTION_MAX_S: f64 = 0.5;
 /// `safety.overspeed_factor`: 1 (trip at the limit) to this (50 % over the limit).
 pub const OVERSPEED_FACTOR_MAX: f64 = 1.5;
+/// `safety.release_speed_onset`: this to [`RELEASE_SPEED_ONSET_MAX`] (damping that starts
+/// lower slows ordinary hand guiding; higher leaves no room to slow a push before the limit).
+pub const RELEASE_SPEED_ONSET_MIN: f64 = 0.2;
+pub const RELEASE_SPEED_ONSET_MAX: f64 = 0.8;
+/// `safety.release_speed_damping`: this to [`RELEASE_SPEED_DAMPING_MAX`] (less does not slow
+/// a push in effect; more than 0.4 of what a cycle can carry makes the damping ring
+/// with the two to three cycles of delay between the measured velocity and the torque).
+pub const RELEASE_SPEED_DAMPING_MIN: f64 = 0.05;
+pub const RELEASE_SPEED_DAMPING_MAX: f64 = 0.4;
 /// `safety.flight_recorder_seconds`: this to [`FLIGHT_RECORDER_MAX_S`] [s].
 pub const FLIGHT_RECORDER_MIN_S: f64 = 1.0;
 pub const FLIGHT_RECORDER_MAX_S: f64 = 60.0;
@@ -88,6 +97,20 @@ impl RobotConfig {
             s.overspeed_factor,
             1.0,
             OVERSPEED_FACTOR_MAX,
+            "",
+        )?;
+        within(
+            "safety.release_speed_onset",
+            s.release_speed_onset,
+            RELEASE_SPEED_ONSET_MIN,
+            RELEASE_SPEED_ONSET_MAX,
+            "",
+        )?;
+        within(
+            "safety.release_speed_damping",
+            s.release_speed_damping,
+            RELEASE_SPEED_DAMPING_MIN,
+            RELEASE_SPEED_DAMPING_MAX,
             "",
         )?;
         within(

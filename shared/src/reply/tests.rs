@@ -43,7 +43,7 @@ pub(crate) fn reason() -> impl Strategy<Value = Reason> {
         mode().prop_map(|mode| Reason::WrongMode { mode }),
         axis().prop_map(|axis| Reason::NotCalibrated { axis }),
         Just(Reason::EmergencyStop),
-        axis().prop_map(|axis| Reason::DriveDisconnected { axis }),
+        (axis(), 0u8..64).prop_map(|(axis, also)| Reason::DriveDisconnected { axis, also }),
         (prop::option::of(axis()), any::<u16>())
             .prop_map(|(axis, code)| Reason::DriveFault { axis, code }),
         (prop::option::of(axis()), x(), x(), x()).prop_map(|(axis, value, min, max)| {

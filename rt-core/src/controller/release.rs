@@ -1,0 +1,213 @@
+//! RELEASE's soft speed limit: a damping torque that is zero at ordinary hand-guiding speeds
+//! and rises near each joint's velocity limit, so that a firm push is slowed instead of
+//! tripping the hard `velocity_limit` check (which stays as the last resort).
+//!
+//! Runs inside the cycle: pure `f64` arithmetic on fixed-size arrays, no allocation.
+//!
+//! # The damping
+//! For an axis with velocity limit `v_max` (`axis.max_velocity_deg_s`), the damping starts at
+//! `v_on = safety.release_speed_onset x v_max`. Over the first half of the band from `v_on`
+//! to `v_max` it blends in quadratically, then it is linear with slope `b` (so the torque is
+//! continuous and so is its slope):
+//!
+//! ```text
+//! x = |v| - v_on,  w = (v_max - v_on) / 2
+//! tau = 0                      x <= 0
+//!       b x^2 / (2 w)          0 < x < w
+//!       b (x - w / 2)          x >= w
+//! ```
+//!
+//! opposing the velocity and capped at the drive's peak torque. At `v_max` it resists with
+//! `1.5 b w`. The slope `b` is `safety.release_speed_damping x J / Ts`, where `J` is the
+//! inertia the axis shows to its own torque at the current pose (`1 / (M^-1)_ii`, armature
+//! included) and `Ts` the cycle period: the share of the velocity a cycle removes. It must
+//! stay well below 1 because the velocity is measured two to three cycles before the torque
+//! acts (the bound is 0.4).
+
+use mcm_dynamics::ArmModel;
+use mcm_dynamics::inverse_spd;
+use mcm_shared::NUM_AXES;
+use mcm_shared::config::RobotConfig;
+
+/// The soft speed limit of one axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SoftSpeedLimit {
+    /// Velocity at which the damping starts [rad/s].
+    pub onset: f64,
+    /// The axis's velocity limit [rad/s].
+    pub limit: f64,
+}
+
+impl SoftSpeedLimit {
+    /// The damping torque [Nm] at velocity `v` [rad/s] with full slope `slope` [Nm s/rad],
+    /// capped at `tau_max` [Nm]: opposes `v`, zero up to the onset, continuous. A velocity
+    /// that is not finite gets no damping (the velocity check trips on it).
+    pub fn torque(&self, v: f64, slope: f64, tau_max: f64) -> f64 {
+        let x = v.abs() - self.onset;
+        let usable = v.is_finite() && x > 0.0 && slope.is_finite() && slope > 0.0 && tau_max > 0.0;
+        if !usable {
+            return 0.0;
+        }
+        let w = 0.5 * (self.limit - self.onset).max(f64::MIN_POSITIVE);
+        let m = if x < w {
+            slope * x * x / (2.0 * w)
+        } else {
+            slope * (x - 0.5 * w)
+        };
+        -m.min(tau_max).copysign(v)
+    }
+
+    /// The torque the damping resists with at the velocity limit, for slope `slope`.
+    pub fn resisting_at_limit(&self, slope: f64) -> f64 {
+        0.75 * slope * (self.limit - self.onset)
+    }
+}
+
+/// The soft speed limits of an arm, from its configuration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReleaseParams {
+    pub axes: [SoftSpeedLimit; NUM_AXES],
+    /// `safety.release_speed_damping`.
+    pub share: f64,
+}
+
+impl ReleaseParams {
+    pub fn from_config(cfg: &RobotConfig) -> ReleaseParams {
+        let s = &cfg.safety;
+        ReleaseParams {
+            axes: core::array::from_fn(|i| {
+                let limit = cfg.axes[i].max_velocity_deg_s.to_radians();
+                SoftSpeedLimit {
+                    onset: s.release_speed_onset * limit,
+                    limit,
+                }
+            }),
+            share: s.release_speed_damping,
+        }
+    }
+
+    /// The damping torques at pose `q`, velocities `qd`, each capped at `tau_max`.
+    pub fn torques(
+        &self,
+        model: &ArmModel,
+        q: &[f64; NUM_AXES],
+        qd: &[f64; NUM_AXES],
+        period: f64,
+        tau_max: &[f64; NUM_AXES],
+    ) -> [f64; NUM_AXES] {
+        // The pose's inertia is needed only when an axis is beyond its onset.
+        if (0..NUM_AXES).all(|i| qd[i].abs() <= self.axes[i].onset) {
+            return [0.0; NUM_AXES];
+        }
+        let slopes = damping_slopes(model, q, self.share, period);
+        core::array::from_fn(|i| self.axes[i].torque(qd[i], slopes[i], tau_max[i]))
+    }
+}
+
+/// The damping slope of every axis at pose `q`: `share x J_i / period` [Nm s/rad], with
+/// `J_i = 1 / (M(q)^-1)_ii`.
+pub fn damping_slopes(
+    model: &ArmModel,
+    q: &[f64; NUM_AXES],
+    share: f64,
+    period: f64,
+) -> [f64; NUM_AXES] {
+    let inv = inverse_spd(&model.mass_matrix(q));
+    core::array::from_fn(|i| {
+        let j = 1.0 / inv[(i, i)];
+        if j.is_finite() && j > 0.0 {
+            share * j / period
+        } else {
+            0.0
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    const LIM: SoftSpeedLimit = SoftSpeedLimit {
+        onset: 0.8,
+        limit: 1.6,
+    };
+
+    #[test]
+    fn zero_up_to_the_onset_and_strong_at_the_limit() {
+        for v in [0.0, 0.1, -0.5, 0.8, -0.8] {
+            assert_eq!(LIM.torque(v, 100.0, 130.0), 0.0, "{v}");
+        }
+        // at the limit: 1.5 b w = 0.75 b (v_max - v_on)
+        let t = LIM.torque(1.6, 100.0, 130.0);
+        assert!((t + 60.0).abs() < 1e-9, "{t}");
+        assert!((LIM.resisting_at_limit(100.0) - 60.0).abs() < 1e-9);
+        assert!((LIM.torque(-1.6, 100.0, 130.0) - 60.0).abs() < 1e-9);
+        // capped at the drive's torque
+        assert_eq!(LIM.torque(10.0, 100.0, 130.0), -130.0);
+        // no damping for a velocity that is not finite, or without a slope
+        assert_eq!(LIM.torque(f64::NAN, 100.0, 130.0), 0.0);
+        assert_eq!(LIM.torque(f64::INFINITY, 100.0, 130.0), 0.0);
+        assert_eq!(LIM.torque(1.5, 0.0, 130.0), 0.0);
+    }
+
+    #[test]
+    fn the_p_rob2_slopes_come_from_the_inertia_at_the_pose() {
+        let cfg = RobotConfig::prob2_default();
+        let model = ArmModel::from_config(&cfg);
+        let folded = damping_slopes(&model, &[0.0; NUM_AXES], 0.3, 0.005);
+        let stretched = damping_slopes(&model, &[0.0, 1.5, -1.5, 0.0, 0.0, 0.0], 0.3, 0.005);
+        for i in 0..NUM_AXES {
+            // at least the armature's share, finite
+            assert!(
+                folded[i] >= 0.3 * cfg.axes[i].armature_kg_m2 / 0.005 * 0.999,
+                "{folded:?}"
+            );
+            assert!(folded[i].is_finite() && stretched[i].is_finite());
+        }
+        assert_ne!(
+            folded[0], stretched[0],
+            "axis 1's inertia depends on the pose"
+        );
+    }
+
+    proptest! {
+        #[test]
+        fn opposes_the_velocity_and_is_bounded(
+            v in -20.0f64..20.0,
+            onset in 0.1f64..3.0,
+            band in 0.01f64..3.0,
+            slope in 0.0f64..1000.0,
+            tau_max in 0.1f64..200.0,
+        ) {
+            let l = SoftSpeedLimit { onset, limit: onset + band };
+            let t = l.torque(v, slope, tau_max);
+            prop_assert!(t * v <= 0.0, "{t} opposes {v}");
+            prop_assert!(t.abs() <= tau_max);
+            if v.abs() <= onset {
+                prop_assert_eq!(t, 0.0);
+            }
+        }
+
+        #[test]
+        fn continuous_and_monotonic(
+            v in -5.0f64..5.0,
+            dv in 1e-9f64..1e-4,
+            slope in 0.0f64..1000.0,
+        ) {
+            let tau_max = 130.0;
+            let a = LIM.torque(v, slope, tau_max);
+            let b = LIM.torque(v + dv, slope, tau_max);
+            // the slope never exceeds `slope`: continuous (Lipschitz)
+            prop_assert!((b - a).abs() <= slope * dv * (1.0 + 1e-9) + 1e-12, "{a} {b}");
+            // more speed, at least as much damping
+            if v >= 0.0 {
+                prop_assert!(b <= a + 1e-12);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+#[path = "release_tests.rs"]
+mod scenario;
