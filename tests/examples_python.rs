@@ -75,6 +75,25 @@ fn assert_spring(out: &str) {
     );
 }
 
+/// Check a velocity sweep's report (`velocity_sweep.py`, `jog_velocity.rs`): out by about
+/// speed x 1 s (the ramps take a share), back near the start, at rest in HOLD where the
+/// simulation's ground truth (`truth`, the axis's true angle) says.
+fn assert_velocity_sweep(out: &str, truth: f64) {
+    let ticks = number_after(out, "velocity sweep:");
+    let start = number_after(out, "start ");
+    let far = number_after(out, "farthest ");
+    let end = number_after(out, "end ");
+    assert!(ticks > 300.0, "2 s at 200 Hz answered: {out}");
+    assert!(
+        (8.0..10.5).contains(&(far - start)),
+        "out by {} deg, expected about 10: {out}",
+        far - start
+    );
+    assert!((end - start).abs() < 3.0, "back near the start: {out}");
+    assert!(out.contains("(mode HOLD)"), "{out}");
+    assert!((truth - end).abs() < 0.1, "truly at {truth} deg: {out}");
+}
+
 #[test]
 fn python_package_unit_tests_pass() {
     let Some(py) = venv_or_skip("python_package_unit_tests_pass") else {
@@ -157,6 +176,16 @@ fn tcp_examples_move_the_simulated_arm() {
     let out = example(&py, &mcm, "torque_spring", &["--axis", "1", "--push", "10"]);
     assert!(number_after(&out, "torque loop:") > 100.0, "{out}");
     assert_spring(&out);
+
+    // VELOCITY_CONTROL: axis 2 out at +10 deg/s for 1 s and back at -10 deg/s (ramped within
+    // its acceleration and jerk limits), then HOLD: out by about 10 deg, back near its start.
+    let out = example(
+        &py,
+        &mcm,
+        "velocity_sweep",
+        &["--axis", "2", "--speed", "10"],
+    );
+    assert_velocity_sweep(&out, true_position(&mut c)[1]);
 
     let csv = std::env::temp_dir().join(format!("{}-state.csv", mcm.instance));
     let out = example(
@@ -261,7 +290,7 @@ fn shared_memory_client_and_examples_run_at_the_cycle_rate() {
     let log = String::from_utf8_lossy(&out.stderr);
     eprintln!("{log}");
     assert!(
-        log.contains("Ran 6 tests") && !log.contains("skipped"),
+        log.contains("Ran 7 tests") && !log.contains("skipped"),
         "{log}"
     );
 

@@ -131,6 +131,21 @@ fn every_rust_example_runs_against_the_simulated_arm() {
     );
     assert!((truth(&mcm)[0] - 0.0).abs() < 0.2);
 
+    // VELOCITY_CONTROL: axis 1 out at +10 deg/s for 1 s and back at -10 deg/s (ramped within
+    // its acceleration and jerk limits), then HOLD: out by about 10 deg, back near its start.
+    let out = run("jog_velocity", &tcp);
+    let (start, far, end) = (
+        number_after(&out, "start "),
+        number_after(&out, "farthest "),
+        number_after(&out, "end "),
+    );
+    assert!(number_after(&out, "velocity jog: ") > 300.0, "{out}");
+    assert!((8.0..10.5).contains(&(far - start)), "{out}");
+    assert!((end - start).abs() < 3.0, "back near the start: {out}");
+    assert!(out.contains("(mode HOLD)"), "{out}");
+    let q = truth(&mcm)[0];
+    assert!((q - end).abs() < 0.1, "axis 1 truly at {q}: {out}");
+
     // The spring pulls axis 1 by 5 degrees (friction leaves it a little short).
     let mut shm_out = String::new();
     for (name, args) in [("torque_spring_tcp", &tcp), ("torque_spring_shm", &shm)] {

@@ -39,7 +39,7 @@ fn python_ctypes_structures_match_the_rust_layouts() {
         "the Python layout check failed:\n{log}"
     );
     assert!(
-        log.contains("Ran 6 tests") && !log.contains("skipped"),
-        "the layout check must run all its 6 tests, none skipped:\n{log}"
+        log.contains("Ran 7 tests") && !log.contains("skipped"),
+        "the layout check must run all its 7 tests, none skipped:\n{log}"
     );
 }

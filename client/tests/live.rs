@@ -1,12 +1,12 @@
 //! Both transports against the real simulated MCM (the `mcm` launcher of this workspace, built
 //! here if missing, started with a unique instance on free ports): ownership between
 //! shared-memory clients and its release on drop, events kept apart from results, safety
-//! errors on both transports, the control loop's clean ends.
+//! errors on both transports, the control loop's clean ends, VELOCITY_CONTROL on both.
 
 use mcm_client::Mode;
 use mcm_client::shm::{ControlEnd, ControlOutput, ShmClient, ShmError, ShmEvent};
-use mcm_client::tcp::{Error, ErrorKind, Event, TcpClient, TorqueOptions};
-use mcm_shared::command::{Axis, Calibrate, SimCommand, TorqueControl, Which};
+use mcm_client::tcp::{Error, ErrorKind, Event, TcpClient, TorqueOptions, VelocityOptions};
+use mcm_shared::command::{Axis, Calibrate, SimCommand, TorqueControl, VelocityControl, Which};
 use mcm_shared::mode::RejectCode;
 use mcm_shared::reply::Reason;
 use std::io::{BufRead, BufReader};
@@ -302,4 +302,76 @@ fn events_results_and_the_control_loops_ends_on_both_transports() {
         }
         assert!(Instant::now() < deadline);
     }
+}
+
+#[test]
+fn velocity_control_moves_an_axis_towards_its_velocity_on_both_transports() {
+    let mcm = start("vel");
+    let mut shm = ShmClient::connect(&mcm.instance).unwrap();
+    let mut tcp = TcpClient::connect(&mcm.json).unwrap();
+    calibrate(&mut shm);
+    shm.release_control().unwrap();
+
+    // TCP: a tick every cycle; axis 1 asked for 10 deg/s on every tick until its measured
+    // velocity is past 8 deg/s; one set beyond the maximum is refused as an event; `hold`.
+    let info = tcp.info().unwrap();
+    let s = tcp
+        .velocity_control(VelocityOptions {
+            timeout_s: Some(0.5),
+            dt_status_s: Some(info.cycle_time),
+        })
+        .unwrap();
+    assert_eq!(s.mode, Mode::VelocityControl);
+    let start_pos = s.axis_states.position[0];
+    tcp.set_velocities([0.0, 0.0, 0.0, 0.0, 0.0, 1e4]).unwrap();
+    let (mut fast, mut refused) = (None, None);
+    let deadline = Instant::now() + WAIT;
+    while (fast.is_none() || refused.is_none()) && Instant::now() < deadline {
+        match tcp.next_event(Duration::from_secs(2)).unwrap() {
+            Some(Event::Status(s)) if s.mode == Mode::VelocityControl => {
+                if s.axis_states.velocity[0] > 8.0 {
+                    fast.get_or_insert(s);
+                }
+                tcp.set_velocities([10.0, 0.0, 0.0, 0.0, 0.0, 0.0]).unwrap();
+            }
+            Some(Event::CommandError(e)) => refused = Some(e),
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+    let fast = fast.expect("axis 1 faster than 8 deg/s");
+    assert!(fast.axis_states.velocity[0] < 10.5, "{fast:?}");
+    assert!(fast.axis_states.position[0] > start_pos, "{fast:?}");
+    let refused = refused.expect("the refused set_velocities");
+    assert_eq!(
+        (refused.command.as_str(), refused.kind),
+        ("set_velocities", ErrorKind::Invalid),
+        "{refused:?}"
+    );
+    assert_eq!(tcp.hold().unwrap().mode, Mode::Hold);
+    tcp.release_control().unwrap();
+
+    // Shared memory: the control loop answers every state with -10 deg/s on axis 2 until its
+    // velocity is below -8 deg/s, then finishes; the mode is left as it was, `hold` ends it.
+    shm.velocity_control(VelocityControl {
+        timeout_s: Some(0.5),
+    })
+    .unwrap();
+    let mut reached = None;
+    let summary = shm
+        .control(|s| {
+            if s.velocity[1] < -8.0 {
+                reached = Some(s.velocity[1]);
+                return ControlOutput::Finish;
+            }
+            ControlOutput::Velocities([0.0, -10.0, 0.0, 0.0, 0.0, 0.0])
+        })
+        .unwrap();
+    let v = reached.expect("axis 2 reached -8 deg/s");
+    assert!(v > -10.5, "{v}");
+    assert!(summary.sent > 10, "{summary}");
+    assert_eq!(shm.latest().mode, Mode::VelocityControl.to_wire());
+    shm.hold().unwrap();
+    wait_until(&mut shm, "HOLD and at rest", |s| {
+        s.mode == Mode::Hold.to_wire() && s.velocity[1].abs() < 0.01
+    });
 }

@@ -91,6 +91,41 @@ class ShmLive(unittest.TestCase):
         while abs(self.a.wait_state().commanded_position[5] - (start[5] + 1.0)) > 1e-6:
             self.assertLess(time.monotonic(), deadline, "axis 6 did not reach +1 deg")
 
+    def test_velocity_control_moves_an_axis_through_the_control_loop(self) -> None:
+        self.a.hold()
+        if not self.a.state().flags & mcm.layout.STATE_ALL_CALIBRATED:
+            self.a.calibrate()
+        self.a.velocity_control(timeout=0.5)
+        self.assertEqual(mcm.codes.MODES[self.a.state().mode], "VELOCITY_CONTROL")
+        start = self.a.state().position[2]
+        seen = []
+
+        def towards(s):
+            # Axis 3 at +8 deg/s until its measured velocity is past 6 deg/s.
+            if s.velocity[2] > 6.0:
+                seen.append(s.velocity[2])
+                return None
+            return mcm.Velocities([0, 0, 8.0, 0, 0, 0])
+
+        stats = self.a.control(towards, max_cycles=2000)
+        self.assertEqual(len(seen), 1, "axis 3 never passed 6 deg/s in %d cycles" % stats.cycles)
+        self.assertLess(seen[0], 8.5)
+        self.assertGreater(self.a.state().position[2], start)
+        self.assertGreater(stats.next_cycle + stats.late, 10, stats)
+        # The loop's client_gone ended the mode with the controlled stop.
+        deadline = time.monotonic() + 3
+        while True:
+            s = self.a.wait_state()
+            if mcm.codes.MODES[s.mode] == "HOLD" and abs(s.velocity[2]) < 0.01:
+                break
+            self.assertLess(time.monotonic(), deadline, "no stop in HOLD after the loop")
+        # A velocity beyond the axis's maximum is refused with the core's code.
+        self.a.velocity_control(timeout=0.5)
+        with self.assertRaises(mcm.CommandError) as e:
+            self.a.wait_reply(self.a.set_velocities([0, 0, 1e4, 0, 0, 0]))
+        self.assertEqual((e.exception.command, e.exception.code), ("set_velocities", "out_of_range"), e.exception)
+        self.a.hold()
+
     def test_safety_errors_are_reported_once(self) -> None:
         self.a.hold()
         self.assertEqual(self.a.events(), [])

@@ -110,6 +110,64 @@ class TcpClient(unittest.TestCase):
         # `hold` ends the session: its result is the status not in TORQUE_CONTROL.
         self.assertEqual(c.hold().operating_mode, "HOLD")
 
+    def test_velocity_ticks_are_events_and_set_velocities_errors_come_later(self) -> None:
+        refusal = ('set_velocities: argument "velocities" = [0,0,0,900,0,0] is not allowed; expected a '
+                   "velocity of axis 4 from -150 to 150 deg/s (its maximum velocity)")
+
+        def h(cmd):
+            if cmd["command"] == "velocity_control":
+                return [status("VELOCITY_CONTROL", 2.0), status("VELOCITY_CONTROL", 2.005)]
+            if cmd["command"] == "set_velocities":
+                if cmd["arguments"]["velocities"][3] > 150:
+                    return [error(refusal)]
+                return [status("VELOCITY_CONTROL", 2.01)]
+            if cmd["command"] == "hold":
+                return [status("VELOCITY_CONTROL", 2.015), status("HOLD", 2.02)]
+            return [status("VELOCITY_CONTROL", 2.0)]
+
+        c = self.connect(h)
+        self.assertEqual(c.velocity_control(timeout=0.5, dt_status=0.005).operating_mode, "VELOCITY_CONTROL")
+        self.assertEqual(self.fake.received[0], {"command": "velocity_control",
+                                                 "arguments": {"timeout": 0.5, "dt_status": 0.005}})
+        self.assertEqual(c.wait_status().axis_states.time[0], 2.005)
+        c.set_velocities([10, 0, 0, 0, 0, 0])
+        self.assertEqual(c.wait_status().axis_states.time[0], 2.01)  # the fake has read it
+        self.assertEqual(self.fake.received[1], {"command": "set_velocities",
+                                                 "arguments": {"velocities": [10.0, 0.0, 0.0, 0.0, 0.0, 0.0]}})
+        c.set_velocities([0, 0, 0, 900, 0, 0])
+        # The refusal arrives after the call returned: an event, then raised by the next call.
+        self.assertEqual(c.status().axis_states.time[0], 2.0)
+        with self.assertRaises(mcm.CommandError) as e:
+            c.set_velocities([0] * 6)
+        self.assertEqual((e.exception.command, e.exception.code, e.exception.outcome),
+                         ("set_velocities", "invalid_argument", "invalid"))
+        self.assertEqual(e.exception.message, refusal)
+        with self.assertRaises(ValueError):
+            c.set_velocities([0] * 5)
+        # `hold` ends the session: the tick before it is an event, its result the HOLD status.
+        self.assertEqual(c.hold().operating_mode, "HOLD")
+        self.assertEqual([type(x).__name__ for x in c.events()], ["StatusEvent"])
+
+    def test_control_loop_sends_velocities_in_velocity_control(self) -> None:
+        ticks = iter(range(100))
+
+        def h(cmd):
+            if cmd["command"] == "velocity_control":
+                return [status("VELOCITY_CONTROL", 1.0), status("VELOCITY_CONTROL", 1.0 + next(ticks) * 0.005)]
+            if cmd["command"] == "set_velocities":
+                # The third answer is the last tick in the mode (a timeout): the loop ends.
+                k = next(ticks)
+                return [status("VELOCITY_CONTROL" if k < 3 else "HOLD", 1.0 + k * 0.005)]
+            return [OK]
+
+        c = self.connect(h)
+        c.velocity_control(dt_status=0.005)
+        n = c.control(lambda s: mcm.Velocities([5.0, 0, 0, 0, 0, 0]))
+        self.assertEqual(n, 3)
+        sent = [m for m in self.fake.received if m["command"] == "set_velocities"]
+        self.assertEqual([m["arguments"]["velocities"][0] for m in sent], [5.0] * 3)
+        self.assertEqual([m for m in self.fake.received if m["command"] == "set_torques"], [])
+
     def test_control_loop_answers_each_tick_until_the_callback_ends_it(self) -> None:
         ticks = iter(range(100))
 

@@ -33,6 +33,23 @@ class Encode(unittest.TestCase):
         self.assertEqual(s.flags, 1 | (1 << 3) | (1 << 5) | layout.SIM_FLAG_POWER_CYCLE)
         self.assertEqual((s.args[0], s.args[3], s.args[6]), (1.0, 2.0, 5.0))
 
+    def test_velocity_control_and_set_velocities_as_the_contract_lays_them_out(self) -> None:
+        # Request::encode: velocity_control's timeout in args[0] (-1: none), no flags;
+        # set_velocities' six velocities in args[0..6].
+        s = wire.velocity_control(0.5)
+        self.assertEqual((s.kind, s.flags, s.args[0]), (codes.KINDS["velocity_control"], 0, 0.5))
+        self.assertEqual(s.kind, 16)
+        self.assertEqual(wire.velocity_control(None).args[0], -1.0)
+        self.assertEqual(wire.velocity_control(-3).args[0], -1.0)
+        s = wire.set_velocities([10, 0, 0, 0, 0, -5.5])
+        self.assertEqual((s.kind, s.flags, list(s.args[:7])), (17, 0, [10.0, 0, 0, 0, 0, -5.5, 0.0]))
+        with self.assertRaises(ValueError):
+            wire.velocity_control(0)
+        with self.assertRaises(ValueError):
+            wire.set_velocities([0] * 5)
+        with self.assertRaises(ValueError):
+            wire.set_velocities([float("nan")] + [0] * 5)
+
     def test_bad_values_are_refused_before_sending(self) -> None:
         with self.assertRaises(ValueError):
             wire.move_axis(7, 0)

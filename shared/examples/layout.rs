@@ -110,8 +110,35 @@ fn layouts() -> Vec<Layout> {
     ]
 }
 
+/// The wire codes as JSON members: `"modes"` and `"kinds"` (protocol name: wire value),
+/// `"needs_control"` (the kinds only the controlling client may send) and `"reject_codes"`,
+/// so that a client's copy of them (the Python package's `codes.py`) cannot drift.
+fn codes_json() -> String {
+    use mcm_shared::mode::{CommandKind, Mode, RejectCode};
+    fn table<T: Copy>(all: &[T], name: fn(T) -> &'static str, wire: fn(T) -> u32) -> String {
+        let rows: Vec<String> = all
+            .iter()
+            .map(|&x| format!("\"{}\": {}", name(x), wire(x)))
+            .collect();
+        format!("{{{}}}", rows.join(", "))
+    }
+    let needs: Vec<String> = CommandKind::ALL
+        .iter()
+        .filter(|k| k.needs_control())
+        .map(|k| format!("\"{}\"", k.as_str()))
+        .collect();
+    format!(
+        "\"modes\": {}, \"kinds\": {}, \"needs_control\": [{}], \"reject_codes\": {}",
+        table(Mode::ALL, Mode::as_str, Mode::to_wire),
+        table(CommandKind::ALL, CommandKind::as_str, CommandKind::to_wire),
+        needs.join(", "),
+        table(RejectCode::ALL, RejectCode::as_str, RejectCode::to_wire)
+    )
+}
+
 /// The layouts as one JSON object: `{"structs": {NAME: {"type_name", "size", "align",
-/// "fields": {FIELD: OFFSET}}}, "constants": {...}}`. Field order is declaration order.
+/// "fields": {FIELD: OFFSET}}}, "constants": {...}, "reply_locations": [...], "reasons":
+/// [...]}` and the wire codes of [`codes_json`]. Field order is declaration order.
 pub fn layout_json() -> String {
     use mcm_shared::sample as s;
     use mcm_shared::service as v;
@@ -179,11 +206,12 @@ pub fn layout_json() -> String {
         })
         .collect();
     format!(
-        "{{\"structs\": {{{}}}, \"constants\": {{{}}}, \"reply_locations\": [{}], \"reasons\": [{}]}}",
+        "{{\"structs\": {{{}}}, \"constants\": {{{}}}, \"reply_locations\": [{}], \"reasons\": [{}], {}}}",
         structs.join(", "),
         constants.join(", "),
         locations.join(", "),
-        reasons().join(", ")
+        reasons().join(", "),
+        codes_json()
     )
 }
 

@@ -17,14 +17,14 @@
 //! ```
 //!
 //! The loop ends cleanly: on `Finish` (the mode is left as it is: send `hold` or let the
-//! torque timeout bring the arm to HOLD), and with a [`ControlError`] when the mode leaves the
+//! torque or velocity timeout bring the arm to HOLD), and with a [`ControlError`] when the mode leaves the
 //! one the loop started in (timeout, `hold` from anyone), a safety check trips, another client
 //! takes control, a command is refused, or no state comes. Every end carries the
 //! [`ControlSummary`]: cycles run, cycles missed (states the callback never saw), and how many
 //! answers to state `k` were applied in cycle `k + 1`.
 
 use super::{ShmClient, ShmError, ShmEvent};
-use mcm_shared::command::{PvtChunk, PvtPoint, Request, SetTorques};
+use mcm_shared::command::{PvtChunk, PvtPoint, Request, SetTorques, SetVelocities};
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::{Outcome, Response, SafetyError};
 use mcm_shared::sample::{Reply, StateSample};
@@ -39,10 +39,10 @@ pub enum ControlOutput {
     /// One more point of the PVT stream (PVT mode; `pvt`'s `dt` should be the cycle period,
     /// and the stream should be a few points ahead, queued with `pvt_points` first).
     Pvt(PvtPoint),
+    /// `set_velocities` [deg/s] (VELOCITY_CONTROL).
+    Velocities([f64; mcm_shared::NUM_AXES]),
     /// End the loop.
     Finish,
-    // VELOCITY_CONTROL (added after the merge): a `Velocities([f64; 6])` output sending
-    // `set_velocities`, and `Mode::VelocityControl` among the modes `control` accepts.
 }
 
 /// Why a control loop ended without `Finish`.
@@ -56,7 +56,7 @@ pub enum ControlEnd {
     OwnershipLost { owner: u64 },
     /// The core refused one of the loop's commands.
     Refused(Response),
-    /// The loop can only run in TORQUE_CONTROL or PVT.
+    /// The loop can only run in TORQUE_CONTROL, VELOCITY_CONTROL or PVT.
     NotControlling(Mode),
     /// The shared memory failed, or no state came in time.
     Shm(ShmError),
@@ -80,7 +80,7 @@ impl fmt::Display for ControlEnd {
             },
             ControlEnd::NotControlling(m) => write!(
                 f,
-                "the control loop runs in TORQUE_CONTROL or PVT, the mode is {m}; enter one first"
+                "the control loop runs in TORQUE_CONTROL, VELOCITY_CONTROL or PVT, the mode is {m}; enter one first"
             ),
             ControlEnd::Shm(e) => write!(f, "{e}"),
         }
@@ -196,8 +196,8 @@ impl Tracker {
 
 impl ShmClient {
     /// Run `callback` on every cycle's state until it returns `Finish` or the loop must end.
-    /// The arm must be in TORQUE_CONTROL (the callback returns `Torques`) or PVT (`Pvt`), with
-    /// this client controlling it. See the module docs.
+    /// The arm must be in TORQUE_CONTROL (the callback returns `Torques`), VELOCITY_CONTROL
+    /// (`Velocities`) or PVT (`Pvt`), with this client controlling it. See the module docs.
     pub fn control<F>(&mut self, mut callback: F) -> Result<ControlSummary, ControlError>
     where
         F: FnMut(&StateSample) -> ControlOutput,
@@ -212,7 +212,10 @@ impl ShmClient {
             .wait_state()
             .map_err(|e| end(ControlEnd::Shm(e), sum))?;
         let mode = Mode::try_from(s.mode).unwrap_or(Mode::Error);
-        if !matches!(mode, Mode::TorqueControl | Mode::Pvt) {
+        if !matches!(
+            mode,
+            Mode::TorqueControl | Mode::VelocityControl | Mode::Pvt
+        ) {
             return Err(end(ControlEnd::NotControlling(mode), sum));
         }
         let period = Duration::from_nanos(s.timing.period_ns.max(1_000_000));
@@ -240,6 +243,9 @@ impl ShmClient {
                 ControlOutput::Finish => break Ok(()),
                 ControlOutput::Torques(torques_nm) => {
                     Request::SetTorques(SetTorques { torques_nm })
+                }
+                ControlOutput::Velocities(velocities_deg_s) => {
+                    Request::SetVelocities(SetVelocities { velocities_deg_s })
                 }
                 ControlOutput::Pvt(p) => Request::PvtPoints(
                     PvtChunk::new(&[p], true).expect("one point is a valid chunk"),

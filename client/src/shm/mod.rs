@@ -32,8 +32,8 @@ pub use error::ShmError;
 pub use open::describe;
 
 use mcm_shared::command::{
-    Calibrate, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques, SimCommand,
-    TorqueControl,
+    Calibrate, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques, SetVelocities,
+    SimCommand, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
 use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Outcome, Response, SafetyError};
@@ -64,7 +64,7 @@ pub enum ShmEvent {
     SafetyError(SafetyError),
     /// The core's error record does not decode (a core of another version).
     UnreadableSafetyError(mcm_shared::command::DecodeError),
-    /// A command sent without waiting (`set_torques`, a control loop's commands) was refused.
+    /// A command sent without waiting (`set_torques`, `set_velocities`, a control loop's commands) was refused.
     Refused(Response),
 }
 
@@ -352,6 +352,22 @@ impl ShmClient {
     /// Set the torques [Nm] without waiting: a refusal comes as [`ShmEvent::Refused`].
     pub fn set_torques(&mut self, torques_nm: [f64; mcm_shared::NUM_AXES]) -> Result<(), ShmError> {
         let id = self.send(&Request::SetTorques(SetTorques { torques_nm }))?;
+        self.tracker.sent(id, 0);
+        Ok(())
+    }
+
+    /// Enter VELOCITY_CONTROL (every axis starts at target velocity 0).
+    pub fn velocity_control(&mut self, v: VelocityControl) -> Result<(), ShmError> {
+        self.ack(Request::VelocityControl(v))
+    }
+
+    /// Set the joint velocities [deg/s] without waiting: a refusal comes as
+    /// [`ShmEvent::Refused`].
+    pub fn set_velocities(
+        &mut self,
+        velocities_deg_s: [f64; mcm_shared::NUM_AXES],
+    ) -> Result<(), ShmError> {
+        let id = self.send(&Request::SetVelocities(SetVelocities { velocities_deg_s }))?;
         self.tracker.sent(id, 0);
         Ok(())
     }

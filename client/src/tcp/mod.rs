@@ -12,15 +12,16 @@
 //! ```
 //!
 //! Each call writes one command line and reads lines until that command's result; lines that
-//! answer no command (safety errors, the status ticks of a TORQUE_CONTROL session, notices)
-//! are queued for [`TcpClient::next_event`]. `set_torques` has no result on success: it
-//! returns once written, and a refusal arrives later as [`Event::CommandError`].
+//! answer no command (safety errors, the status ticks of a TORQUE_CONTROL or VELOCITY_CONTROL
+//! session, notices) are queued for [`TcpClient::next_event`]. `set_torques` and
+//! `set_velocities` have no result on success: they return once written, and a refusal
+//! arrives later as [`Event::CommandError`].
 //!
 //! **Reconnecting.** When the connection breaks, the call that saw it fails and the client is
 //! disconnected. [`TcpClient::reconnect`] opens a new connection (and repeats `authenticate`
 //! if it was given). Control of the arm does *not* survive: the old connection closing makes
 //! the gateway release its control, and what it drove (a move, a PVT stream, RELEASE,
-//! TORQUE_CONTROL) ends in HOLD. Take control again (`take_control`) after a reconnect. With
+//! TORQUE_CONTROL, VELOCITY_CONTROL) ends in HOLD. Take control again (`take_control`) after a reconnect. With
 //! [`TcpOptions::reconnect_on_next_call`] the next call reconnects by itself first.
 
 mod error;
@@ -30,7 +31,7 @@ mod wire;
 pub use error::{Error, ErrorKind, McmError};
 pub use types::{
     AxisInfo, AxisStates, CalibrateOptions, Detail, Event, Info, MoveAllResult, PvtQueue,
-    SimResult, Six, Status, TorqueOptions,
+    SimResult, Six, Status, TorqueOptions, VelocityOptions,
 };
 
 use mcm_shared::command::{PvtPoint, SimCommand, Which};
@@ -74,13 +75,19 @@ impl Default for TcpOptions {
     }
 }
 
+/// A session with this `dt_status` sends status ticks.
+fn ticking(dt_status_s: Option<f64>) -> bool {
+    dt_status_s.is_some_and(|d| d > 0.0)
+}
+
 /// Which result a command waits for.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Expect {
     /// `generic` OK.
     Ok,
-    /// A `status` result; in a TORQUE_CONTROL session, one in this mode (the session's ticks
-    /// are in TORQUE_CONTROL, and a tick is what a `status` call may get there).
+    /// A `status` result; in a session with ticks (TORQUE_CONTROL, VELOCITY_CONTROL), one in
+    /// this mode (the session's ticks are in the session's mode, and a tick is what a `status`
+    /// call may get there).
     Status(Option<Mode>),
     /// Another `result_type`.
     Kind(&'static str),
@@ -103,8 +110,9 @@ pub struct TcpClient {
     opts: TcpOptions,
     conn: Option<Conn>,
     events: VecDeque<Event>,
-    /// This connection's TORQUE_CONTROL session sends status ticks.
-    torque_ticks: bool,
+    /// The mode whose session (TORQUE_CONTROL or VELOCITY_CONTROL) sends this connection
+    /// status ticks; `None`: no ticks.
+    ticks: Option<Mode>,
     secret: Option<String>,
 }
 
@@ -120,7 +128,7 @@ impl TcpClient {
             opts,
             conn: None,
             events: VecDeque::new(),
-            torque_ticks: false,
+            ticks: None,
             secret: None,
         };
         c.open()?;
@@ -142,7 +150,7 @@ impl TcpClient {
                         stream,
                         buf: Vec::new(),
                     });
-                    self.torque_ticks = false;
+                    self.ticks = None;
                     return Ok(());
                 }
                 Err(e) => last = Some(e),
@@ -247,9 +255,9 @@ impl TcpClient {
 
     fn queue(&mut self, e: Event) {
         if let Event::Status(s) = &e
-            && s.mode != Mode::TorqueControl
+            && self.ticks.is_some_and(|m| m != s.mode)
         {
-            self.torque_ticks = false;
+            self.ticks = None;
         }
         self.events.push_back(e);
     }
@@ -292,13 +300,13 @@ impl TcpClient {
                 }
                 (Line::Ok, Expect::Ok) => return Ok(Answer::Ok),
                 (Line::Status(s), Expect::Status(mode)) => {
-                    let tick = self.torque_ticks && mode.is_some_and(|m| m != s.mode);
+                    let tick = self.ticks.is_some() && mode.is_some_and(|m| m != s.mode);
                     if !tick {
                         return Ok(Answer::Status(s));
                     }
                     self.queue(Event::Status(s));
                 }
-                (Line::Status(s), _) if self.torque_ticks => self.queue(Event::Status(s)),
+                (Line::Status(s), _) if self.ticks.is_some() => self.queue(Event::Status(s)),
                 (Line::Other(kind, v), Expect::Kind(k)) if kind == k => {
                     return Ok(Answer::Other(v));
                 }
@@ -344,7 +352,8 @@ impl TcpClient {
         })
     }
 
-    /// The newest state (`status`). In a TORQUE_CONTROL session with `dt_status` this may be
+    /// The newest state (`status`). In a TORQUE_CONTROL or VELOCITY_CONTROL session with
+    /// `dt_status` this may be
     /// one of the session's ticks (a state as fresh); the ticks are better read as events.
     pub fn status(&mut self) -> Result<Status, Error> {
         self.call_status("status", None, None)
@@ -364,7 +373,7 @@ impl TcpClient {
     /// to every client.
     pub fn hold(&mut self) -> Result<Status, Error> {
         let s = self.call_status("hold", None, Some(Mode::Hold))?;
-        self.torque_ticks = false;
+        self.ticks = None;
         Ok(s)
     }
 
@@ -391,14 +400,14 @@ impl TcpClient {
     /// Enter RELEASE (the arm can be moved by hand).
     pub fn release(&mut self) -> Result<Status, Error> {
         let s = self.call_status("release", None, Some(Mode::Release))?;
-        self.torque_ticks = false;
+        self.ticks = None;
         Ok(s)
     }
 
     /// Enter PVT with points spaced `dt_s` seconds (one cycle to 1 s).
     pub fn pvt(&mut self, dt_s: f64) -> Result<Status, Error> {
         let s = self.call_status("pvt", Some(json!({"dt": dt_s})), Some(Mode::Pvt))?;
-        self.torque_ticks = false;
+        self.ticks = None;
         Ok(s)
     }
 
@@ -412,7 +421,7 @@ impl TcpClient {
             "gravity_compensation": o.gravity_compensation,
         });
         let s = self.call_status("torque_control", Some(args), Some(Mode::TorqueControl))?;
-        self.torque_ticks = o.dt_status_s.is_some_and(|d| d > 0.0);
+        self.ticks = ticking(o.dt_status_s).then_some(Mode::TorqueControl);
         Ok(s)
     }
 
@@ -424,10 +433,28 @@ impl TcpClient {
         self.write("set_torques", &line.to_string())
     }
 
-    // VELOCITY_CONTROL (added after the merge) follows the two methods above:
-    // `velocity_control` as `torque_control` (a status in its mode via `call_status`, the
-    // ticks flag if it has `dt_status`), `set_velocities` as `set_torques` (written only; add
-    // it to `wire::NO_RESULT_ON_SUCCESS` so its refusals become events).
+    /// Enter VELOCITY_CONTROL: every axis starts at target velocity 0. `timeout_s` and
+    /// `dt_status_s` are those of `torque_control`: with `dt_status_s` the MCM sends a status
+    /// every `dt_status_s` ([`Event::Status`]), and one when the mode is left (timeout, `hold`).
+    pub fn velocity_control(&mut self, o: VelocityOptions) -> Result<Status, Error> {
+        let args = json!({
+            "timeout": o.timeout_s.unwrap_or(-1.0),
+            "dt_status": o.dt_status_s.unwrap_or(0.0),
+        });
+        let s = self.call_status("velocity_control", Some(args), Some(Mode::VelocityControl))?;
+        self.ticks = ticking(o.dt_status_s).then_some(Mode::VelocityControl);
+        Ok(s)
+    }
+
+    /// Set the joint velocities [deg/s] in VELOCITY_CONTROL (each within its axis's
+    /// `max_velocity`; the arm ramps to them within the acceleration and jerk limits).
+    /// Returns once written: there is no result on success, and a refusal comes later as
+    /// [`Event::CommandError`].
+    pub fn set_velocities(&mut self, velocities_deg_s: Six) -> Result<(), Error> {
+        let line =
+            json!({"command": "set_velocities", "arguments": {"velocities": velocities_deg_s}});
+        self.write("set_velocities", &line.to_string())
+    }
 
     /// Move one axis (1..6) to `target_deg` at `velocity_factor` (0, 1] of its limits; OK as
     /// the motion starts (PVT mode).

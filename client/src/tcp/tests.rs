@@ -155,3 +155,73 @@ fn a_result_that_does_not_come_is_a_timeout_naming_the_command() {
         "{e}"
     );
 }
+
+#[test]
+fn a_velocity_session_sends_its_arguments_and_its_ticks_become_events() {
+    let (addr, seen) = server(vec![
+        // velocity_control: a tick of an earlier session could not come first; its status.
+        vec![status("VELOCITY_CONTROL", 2.0)],
+        // set_velocities: refused later, between two ticks.
+        vec![
+            status("VELOCITY_CONTROL", 2.1),
+            r#"{"result_type":"generic","error_status":"ERROR","error_message":"set_velocities: argument \"velocities\" = [0,0,0,900,0,0] is not allowed; expected a velocity of axis 4 from -150 to 150 deg/s (its maximum velocity)"}"#.into(),
+        ],
+        // status: answered by a tick (a state as fresh).
+        vec![status("VELOCITY_CONTROL", 2.2)],
+        // hold: one more tick, then hold's own status.
+        vec![status("VELOCITY_CONTROL", 2.3), status("HOLD", 2.4)],
+    ]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    let o = VelocityOptions {
+        timeout_s: Some(0.5),
+        dt_status_s: Some(0.01),
+    };
+    assert_eq!(c.velocity_control(o).unwrap().mode, Mode::VelocityControl);
+    c.set_velocities([0.0, 0.0, 0.0, 900.0, 0.0, 0.0]).unwrap();
+    assert_eq!(c.status().unwrap().time(), 2.1);
+    let held = c.hold().unwrap();
+    assert_eq!((held.mode, held.time()), (Mode::Hold, 2.4));
+    let mut events = Vec::new();
+    while let Some(e) = c.next_event(Duration::from_millis(50)).unwrap() {
+        events.push(e);
+    }
+    assert_eq!(events.len(), 3, "{events:#?}");
+    let Event::CommandError(e) = &events[0] else {
+        panic!("{events:#?}")
+    };
+    assert_eq!(
+        (e.command.as_str(), e.kind),
+        ("set_velocities", ErrorKind::Invalid)
+    );
+    assert!(matches!(&events[1], Event::Status(s) if s.time() == 2.2));
+    assert!(matches!(&events[2], Event::Status(s) if s.time() == 2.3));
+    let sent: Vec<Value> = seen
+        .try_iter()
+        .map(|l| serde_json::from_str(&l).unwrap())
+        .collect();
+    assert_eq!(sent.len(), 4);
+    assert_eq!(sent[0]["command"], "velocity_control");
+    assert_eq!(
+        sent[0]["arguments"],
+        json!({"timeout": 0.5, "dt_status": 0.01})
+    );
+    assert_eq!(
+        sent[1],
+        json!({"command": "set_velocities", "arguments": {"velocities": [0.0, 0.0, 0.0, 900.0, 0.0, 0.0]}})
+    );
+}
+
+#[test]
+fn velocity_control_without_timeout_or_ticks_sends_the_protocol_words_for_none() {
+    let (addr, seen) = server(vec![vec![status("VELOCITY_CONTROL", 1.0)]]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    let o = VelocityOptions {
+        timeout_s: None,
+        dt_status_s: None,
+    };
+    c.velocity_control(o).unwrap();
+    assert_eq!(c.ticks, None);
+    let v: Value = serde_json::from_str(&seen.recv().unwrap()).unwrap();
+    assert_eq!(v["arguments"], json!({"timeout": -1.0, "dt_status": 0.0}));
+    assert_eq!(VelocityOptions::default().timeout_s, Some(1.0));
+}

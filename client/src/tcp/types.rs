@@ -149,11 +149,31 @@ impl Default for TorqueOptions {
     }
 }
 
+/// Options of `velocity_control`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VelocityOptions {
+    /// Stop (controlled, to HOLD) when no `set_velocities` came for this long [s]; `None`:
+    /// never.
+    pub timeout_s: Option<f64>,
+    /// Interval of spontaneous status results [s] (read them with `next_event`); `None`: none.
+    pub dt_status_s: Option<f64>,
+}
+
+impl Default for VelocityOptions {
+    /// The protocol's defaults: 1 s timeout, no status ticks.
+    fn default() -> Self {
+        VelocityOptions {
+            timeout_s: Some(1.0),
+            dt_status_s: None,
+        }
+    }
+}
+
 /// Something the MCM sent that answers no command of this client.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Event {
-    /// A status of this connection's TORQUE_CONTROL session: one every `dt_status`, and one
-    /// when the mode leaves TORQUE_CONTROL (timeout, safety stop).
+    /// A status of this connection's TORQUE_CONTROL or VELOCITY_CONTROL session: one every
+    /// `dt_status`, and one when the mode is left (timeout, `hold`, safety stop).
     Status(Box<Status>),
     /// A safety check tripped (sent to every client): the check, the axis, the words.
     SafetyError {
@@ -162,7 +182,8 @@ pub enum Event {
         message: String,
         flight_recorder: Option<String>,
     },
-    /// A refusal of a command that has no result on success (`set_torques`).
+    /// A refusal of a command that has no result on success (`set_torques`,
+    /// `set_velocities`).
     CommandError(crate::tcp::McmError),
     /// A notice about the MCM's own life (shutting down, the core stopped) or about this
     /// connection (closed for idleness, to make room): its words.

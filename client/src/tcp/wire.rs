@@ -19,9 +19,8 @@ const NOTICES: &[&str] = &[
     "the client took no result line",
 ];
 
-/// Commands with no result on success (their refusals come later, as events). VELOCITY_CONTROL's
-/// `set_velocities` belongs here when it is added.
-pub(crate) const NO_RESULT_ON_SUCCESS: &[&str] = &["set_torques"];
+/// Commands with no result on success (their refusals come later, as events).
+pub(crate) const NO_RESULT_ON_SUCCESS: &[&str] = &["set_torques", "set_velocities"];
 
 /// One line the MCM sent, read.
 #[derive(Debug, Clone, PartialEq)]

@@ -33,6 +33,7 @@ from .types import (
     Status,
     StatusDetail,
     StatusEvent,
+    Velocities,
 )
 
 __version__ = "0.1.0"
@@ -72,4 +73,5 @@ __all__ = [
     "OutcomeUnknown",
     "ProtocolError",
     "ShmUnavailable",
+    "Velocities",
 ]

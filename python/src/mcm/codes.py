@@ -13,6 +13,7 @@ MODES: Dict[int, str] = {
     4: "TORQUE_CONTROL",
     5: "PVT",
     6: "CALIBRATION",
+    7: "VELOCITY_CONTROL",
 }
 
 #: Command kinds by protocol name (``CommandSample.kind``).
@@ -32,6 +33,8 @@ KINDS: Dict[str, int] = {
     "take_control": 13,
     "release_control": 14,
     "client_gone": 15,
+    "velocity_control": 16,
+    "set_velocities": 17,
 }
 KIND_NAMES: Dict[int, str] = {v: k for k, v in KINDS.items()}
 
@@ -46,6 +49,8 @@ NEEDS_CONTROL = frozenset(
         "move_all",
         "pvt_points",
         "set_torques",
+        "velocity_control",
+        "set_velocities",
     ]
 )
 

@@ -37,7 +37,7 @@ from .layout import (
     StateSample,
     reply_location,
 )
-from .types import MoveAllResult, PvtPoint, SafetyErrorEvent
+from .types import MoveAllResult, PvtPoint, SafetyErrorEvent, Velocities
 
 #: The iceoryx2 version the MCM is built with; the Python package must be the same.
 ICEORYX2_VERSION = "0.10.0"
@@ -52,8 +52,9 @@ except ImportError as e:  # pragma: no cover
 
 _numbers = itertools.count(1)
 
-#: What a control callback may return: six torques [Nm], one PVT point, or None to end.
-ControlOutput = Union[Sequence[float], PvtPoint, None]
+#: What a control callback may return: six torques [Nm], six velocities [deg/s] as
+#: :class:`~mcm.types.Velocities`, one PVT point, or None to end.
+ControlOutput = Union[Sequence[float], Velocities, PvtPoint, None]
 
 
 def _require_iceoryx2() -> Any:
@@ -347,6 +348,16 @@ class ShmClient:
         """Send six torques [Nm] without waiting; returns the request id."""
         return self.send(wire.set_torques(torques))
 
+    def velocity_control(self, timeout: Optional[float] = 1.0) -> None:
+        """Enter VELOCITY_CONTROL (``timeout`` None: no timeout; every axis starts at target
+        velocity 0). Without a ``set_velocities`` for ``timeout`` seconds the arm stops in HOLD."""
+        self.request(wire.velocity_control(timeout))
+
+    def set_velocities(self, velocities: Sequence[float]) -> int:
+        """Send six joint velocities [deg/s] without waiting; returns the request id (a refusal
+        is read with :meth:`wait_reply`)."""
+        return self.send(wire.set_velocities(velocities))
+
     def pvt(self, dt: float = 0.01) -> None:
         """Enter PVT mode with point spacing ``dt`` [s]."""
         self.request(wire.pvt(dt))
@@ -402,8 +413,9 @@ class ShmClient:
         pvt_lookahead: int = 3,
     ) -> ControlStats:
         """Run a control loop at the cycle rate: ``callback(state)`` gets each new state and
-        returns six torques [Nm] (sent as ``set_torques``: enter TORQUE_CONTROL first), a
-        :class:`~mcm.types.PvtPoint` (queued as a one-point ``pvt_points``: enter PVT first),
+        returns six torques [Nm] (sent as ``set_torques``: enter TORQUE_CONTROL first),
+        :class:`~mcm.types.Velocities` (sent as ``set_velocities``: enter VELOCITY_CONTROL
+        first), a :class:`~mcm.types.PvtPoint` (queued as a one-point ``pvt_points``: enter PVT first),
         or None to finish (the PVT points already sent are run to their end first). Missed
         states are counted, not replayed.
 
@@ -415,7 +427,7 @@ class ShmClient:
         by an exception) it sends ``client_gone``, so what it drove stops in HOLD.
 
         Raises :class:`CommandError` when the core refuses an answer (e.g. the mode left
-        TORQUE_CONTROL after a safety trip)."""
+        TORQUE_CONTROL or VELOCITY_CONTROL after a safety trip)."""
         stats = ControlStats()
         expected: Dict[int, int] = {}
         last_seq: Optional[int] = None
@@ -446,6 +458,8 @@ class ShmClient:
                     held = []
                     expected[rid] = s.seq
                     continue
+                elif isinstance(out, Velocities):
+                    rid = self.send(wire.set_velocities(out.velocities))
                 else:
                     rid = self.send(wire.set_torques(out))
                 expected[rid] = s.seq

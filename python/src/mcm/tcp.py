@@ -3,8 +3,8 @@
 One :class:`Client` is one connection; its methods are the protocol's commands under their
 own names (``client.move_axis(1, 30)``) and return typed results (:mod:`mcm.types`). A
 refusal raises :class:`~mcm.errors.CommandError` carrying the MCM's words. Results that come
-without a command (safety errors, shutdown notices, the status ticks of a torque session, the
-ERROR of a ``set_torques``) are kept apart and read with :meth:`Client.events` or
+without a command (safety errors, shutdown notices, the status ticks of a torque or velocity
+session, the ERROR of a ``set_torques`` or ``set_velocities``) are kept apart and read with :meth:`Client.events` or
 :meth:`Client.wait_status`.
 
 Not thread-safe: use one client per thread.
@@ -12,8 +12,8 @@ Not thread-safe: use one client per thread.
 Adding a command: a method that calls :meth:`Client.command` with the protocol's name and
 arguments and wraps the result (``_status`` for a status result, ``_generic`` for OK/ERROR,
 ``expect_result=False`` for a command without a result on success, like ``set_torques``); a
-command whose result is a status joins ``_STATUS_RESULT``. VELOCITY_CONTROL
-(``velocity_control``, ``set_velocities``) is added this way once the MCM has it.
+command whose result is a status joins ``_STATUS_RESULT``, a command that starts a session
+with status ticks ``_SESSIONS``, and one without a result ``_NO_RESULT``.
 """
 
 import collections
@@ -33,6 +33,7 @@ from .types import (
     SimResult,
     Status,
     StatusEvent,
+    Velocities,
 )
 
 #: The real robot's address (manual, "Getting started") and port.
@@ -53,7 +54,13 @@ _NOTICE_PREFIXES = (
 )
 
 # Commands whose result is a status result.
-_STATUS_RESULT = frozenset(["status", "hold", "release", "pvt", "torque_control"])
+_STATUS_RESULT = frozenset(["status", "hold", "release", "pvt", "torque_control", "velocity_control"])
+
+# Commands that start a session sending status ticks to this connection, and its mode.
+_SESSIONS = {"torque_control": "TORQUE_CONTROL", "velocity_control": "VELOCITY_CONTROL"}
+
+# Commands without a result on success: their refusals are events.
+_NO_RESULT = ("set_torques", "set_velocities")
 
 # The longest a command may take on top of the client's timeout (`calibrate` takes about 12 s
 # on the simulated arm; the gateway itself waits up to 600 s for it).
@@ -96,7 +103,8 @@ class Client:
         self._sock: Optional[socket.socket] = None
         self._buf = b""
         self._events: Deque[Event] = collections.deque()
-        self._torque_session = False
+        # The mode of this connection's session with status ticks (None: no session).
+        self._session: Optional[str] = None
         #: How many times this client connected.
         self.connections = 0
         #: Status ticks :meth:`control` skipped because a newer one had arrived.
@@ -118,7 +126,7 @@ class Client:
         sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self._sock = sock
         self._buf = b""
-        self._torque_session = False
+        self._session = None
         self.connections += 1
         if self.secret is not None:
             self.authenticate(self.secret)
@@ -210,19 +218,21 @@ class Client:
             if "check" in v or msg.startswith(_NOTICE_PREFIXES):
                 self._events.append(SafetyErrorEvent.from_json(v))
                 if "check" in v:
-                    self._torque_session = False
+                    self._session = None
                 return True
-            if msg.startswith("set_torques") and expecting != "set_torques":
-                self._events.append(CommandErrorEvent("set_torques", msg))
-                return True
+            for name in _NO_RESULT:
+                if msg.startswith(name) and msg[len(name) : len(name) + 1] in (" ", ":") and expecting != name:
+                    self._events.append(CommandErrorEvent(name, msg))
+                    return True
             return False
-        if v.get("result_type") == "status" and self._torque_session:
+        if v.get("result_type") == "status" and self._session is not None:
             mode = v.get("operating_mode")
-            if mode != "TORQUE_CONTROL":
-                self._torque_session = False
+            session = self._session
+            if mode != session:
+                self._session = None
             if expecting == "status":
                 return False
-            if expecting in _STATUS_RESULT and mode != "TORQUE_CONTROL":
+            if expecting in _STATUS_RESULT and mode != session:
                 # `hold`/`release`/`pvt` end the session: their result is not in the mode.
                 return False
             self._events.append(StatusEvent(Status.from_json(v)))
@@ -242,7 +252,7 @@ class Client:
         ERROR result. Use this for commands this client has no method for yet.
 
         ``expect_result=False`` sends without waiting (a command that has no result on
-        success, like ``set_torques``) and returns ``{}``.
+        success, like ``set_torques`` and ``set_velocities``) and returns ``{}``.
         """
         msg: Dict[str, Any] = {"command": command}
         if arguments:
@@ -274,8 +284,8 @@ class Client:
                 else:
                     outcome = "refused"
                 raise CommandError(command, message, code, outcome)
-            if command == "torque_control" and v.get("operating_mode") == "TORQUE_CONTROL":
-                self._torque_session = True
+            if command in _SESSIONS and v.get("operating_mode") == _SESSIONS[command]:
+                self._session = _SESSIONS[command]
             return v
 
     def _generic(self, command: str, arguments: Optional[Dict[str, Any]] = None, **kw: Any) -> None:
@@ -353,6 +363,34 @@ class Client:
                 del self._events[i]
                 raise CommandError("set_torques", e.message, codes.code_from_message(e.message))
         self.command("set_torques", {"torques": [float(t) for t in torques]}, expect_result=False)
+
+    def velocity_control(self, timeout: Optional[float] = None, dt_status: Optional[float] = None) -> Status:
+        """Enter VELOCITY_CONTROL: every axis starts at target velocity 0. ``timeout``: longest
+        interval between ``set_velocities`` [s] (negative: none; the MCM's default 1 s); without
+        one the arm stops in HOLD. ``dt_status``: interval of the status ticks [s], read them
+        with :meth:`wait_status`."""
+        args = {k: v for k, v in (("timeout", timeout), ("dt_status", dt_status)) if v is not None}
+        return self._status("velocity_control", args or None)
+
+    def set_velocities(self, velocities: Sequence[float]) -> None:
+        """Send six joint velocities [deg/s], each within its axis's ``max_velocity``; the arm
+        ramps to them within its acceleration and jerk limits. There is no result on success,
+        so this does not wait; a refusal arrives later as a :class:`CommandErrorEvent`, and is
+        raised by the next ``set_velocities`` (or read with :meth:`events`)."""
+        self._raise_refusal("set_velocities")
+        values = [float(v) for v in velocities]
+        if len(values) != 6:
+            raise ValueError("set_velocities: expected six velocities, got %d" % len(values))
+        self.command("set_velocities", {"velocities": values}, expect_result=False)
+
+    def _raise_refusal(self, command: str) -> None:
+        """Raise the first queued refusal of `command` (one without a result on success)."""
+        for i, e in enumerate(self._events):
+            if isinstance(e, CommandErrorEvent) and e.command == command:
+                del self._events[i]
+                code = codes.code_from_message(e.message)
+                outcome = "invalid" if code == "invalid_argument" else "refused"
+                raise CommandError(command, e.message, code, outcome)
 
     def pvt(self, dt: Optional[float] = None) -> Status:
         """Enter PVT mode; ``dt`` is the spacing of the ``pvt_points`` points [s]."""
@@ -441,8 +479,8 @@ class Client:
         return out
 
     def wait_status(self, timeout: Optional[float] = None) -> Status:
-        """The next status tick of the torque session this connection started (other events
-        stay queued for :meth:`events`)."""
+        """The next status tick of the torque or velocity session this connection started
+        (other events stay queued for :meth:`events`)."""
         deadline = time.monotonic() + (self.timeout if timeout is None else timeout)
         while True:
             for i, e in enumerate(self._events):
@@ -457,13 +495,15 @@ class Client:
 
     def control(
         self,
-        callback: Callable[[Status], Optional[Sequence[float]]],
+        callback: Callable[[Status], Union[Sequence[float], Velocities, None]],
         timeout: Optional[float] = None,
     ) -> int:
-        """Run a torque loop on the status ticks: ``callback(status)`` returns six torques to
-        send, or None to end. Enter TORQUE_CONTROL with ``dt_status`` first. Returns the number
-        of ticks answered; ticks that queued up while the callback ran are skipped (counted
-        in ``skipped_ticks``). A safety error ends the loop with :class:`CommandError`."""
+        """Run a control loop on the status ticks: ``callback(status)`` returns six torques to
+        send (TORQUE_CONTROL), :class:`~mcm.types.Velocities` (sent as ``set_velocities``,
+        VELOCITY_CONTROL), or None to end. Enter the mode with ``dt_status`` first; the loop
+        ends (returns) too when a tick is no longer in a session's mode. Returns the number of
+        ticks answered; ticks that queued up while the callback ran are skipped (counted in
+        ``skipped_ticks``). A safety error ends the loop with :class:`CommandError`."""
         n = 0
         while True:
             s = self.wait_status(timeout)
@@ -476,11 +516,15 @@ class Client:
                     self.skipped_ticks += sum(isinstance(x, StatusEvent) for x in self._events)
                     self._events = collections.deque(x for x in self._events if not isinstance(x, StatusEvent))
                     break
+            sends = "set_velocities" if s.operating_mode == "VELOCITY_CONTROL" else "set_torques"
             for e in self._events:
                 if isinstance(e, SafetyErrorEvent) and e.check:
-                    raise CommandError("set_torques", e.message, e.check, "failed")
-            torques = callback(s)
-            if torques is None or s.operating_mode != "TORQUE_CONTROL":
+                    raise CommandError(sends, e.message, e.check, "failed")
+            out = callback(s)
+            if out is None or s.operating_mode not in _SESSIONS.values():
                 return n
-            self.set_torques(torques)
+            if isinstance(out, Velocities):
+                self.set_velocities(out.velocities)
+            else:
+                self.set_torques(out)
             n += 1

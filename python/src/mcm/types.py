@@ -188,6 +188,14 @@ class PvtPoint:
 
 
 @dataclass
+class Velocities:
+    """Six joint velocities [deg/s]: what a control callback returns in VELOCITY_CONTROL
+    (sent as ``set_velocities``; a plain sequence of six numbers is sent as torques)."""
+
+    velocities: Sequence[float]
+
+
+@dataclass
 class SafetyErrorEvent:
     """A spontaneous ERROR: a safety check tripped (``check``, ``axis``, the flight-recorder
     file), the MCM shutting down, or a connection notice (``check`` None)."""
@@ -211,16 +219,16 @@ class SafetyErrorEvent:
 
 @dataclass
 class StatusEvent:
-    """A spontaneous status of a torque session (every ``dt_status``, and once when the mode
-    falls back to HOLD)."""
+    """A spontaneous status of a torque or velocity session (every ``dt_status``, and once
+    when the mode falls back to HOLD)."""
 
     status: Status
 
 
 @dataclass
 class CommandErrorEvent:
-    """An ERROR of a command that has no result on success (``set_torques``), delivered when
-    it arrives."""
+    """An ERROR of a command that has no result on success (``set_torques``,
+    ``set_velocities``), delivered when it arrives."""
 
     command: str
     message: str

@@ -72,6 +72,19 @@ def torque_control(timeout: Optional[float] = 1.0, gravity_compensation: bool = 
     return sample("torque_control", 0 if gravity_compensation else TORQUE_FLAG_NO_GRAVITY, [t])
 
 
+def velocity_control(timeout: Optional[float] = 1.0) -> CommandSample:
+    """``velocity_control``; ``timeout`` None or negative: no timeout."""
+    t = -1.0 if timeout is None or timeout < 0 else float(timeout)
+    if t == 0.0 or not math.isfinite(t):
+        raise ValueError("timeout = %r is not allowed; expected a finite number other than 0" % timeout)
+    return sample("velocity_control", 0, [t])
+
+
+def set_velocities(velocities: Sequence[float]) -> CommandSample:
+    """``set_velocities`` [deg/s] (the core checks each against its axis's maximum)."""
+    return sample("set_velocities", 0, _six(velocities, "velocities"))
+
+
 def pvt(dt: float = 0.01) -> CommandSample:
     """``pvt`` with point spacing ``dt`` [s]."""
     return sample("pvt", 0, [float(dt)])
