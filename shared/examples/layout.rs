@@ -226,7 +226,14 @@ fn reasons() -> Vec<String> {
         Reason::WrongMode { mode: Mode::Hold },
         Reason::NotCalibrated { axis: a(3) },
         Reason::EmergencyStop,
-        Reason::DriveDisconnected { axis: a(2) },
+        Reason::DriveDisconnected {
+            axis: a(2),
+            also: 0,
+        },
+        Reason::DriveDisconnected {
+            axis: a(1),
+            also: 0b11_1110,
+        },
         Reason::DriveFault {
             axis: Some(a(4)),
             code: 0x2310,
@@ -288,6 +295,22 @@ fn reasons() -> Vec<String> {
         Reason::CalibrationFailed {
             axis: a(6),
             cause: CalibrationFailure::DriveLost,
+        },
+        Reason::CalibrationFailed {
+            axis: a(2),
+            cause: CalibrationFailure::Inconsistent {
+                first_deg: -125.02,
+                second_deg: -123.51,
+                tolerance_deg: 0.5,
+            },
+        },
+        Reason::CalibrationFailed {
+            axis: a(3),
+            cause: CalibrationFailure::Implausible {
+                found_deg: 99.742,
+                configured_deg: 140.0,
+                tolerance_deg: 0.5,
+            },
         },
         Reason::Aborted,
         Reason::Busy { remaining_s: 0.845 },

@@ -40,8 +40,14 @@ const CODE_WORDS: &[(&str, RejectCode)] = &[
     ("is not calibrated", RejectCode::NotCalibrated),
     ("the emergency stop is pressed", RejectCode::EmergencyStop),
     ("does not answer on the bus", RejectCode::DriveDisconnected),
+    ("do not answer on the bus", RejectCode::DriveDisconnected),
     ("is in fault", RejectCode::DriveFault),
     ("outside the reachable range", RejectCode::Unreachable),
+    (
+        " deg is not allowed; expected a number from",
+        RejectCode::Unreachable,
+    ),
+    ("is not allowed; expected", RejectCode::OutOfRange),
     ("outside the allowed range", RejectCode::OutOfRange),
     ("not available yet", RejectCode::NotAvailable),
     (
@@ -192,7 +198,18 @@ mod tests {
             Reason::WrongMode { mode: Mode::Hold },
             Reason::NotCalibrated { axis: a },
             Reason::EmergencyStop,
-            Reason::DriveDisconnected { axis: a },
+            Reason::DriveDisconnected { axis: a, also: 0 },
+            Reason::DriveDisconnected {
+                axis: a,
+                also: 0b1_0001,
+            },
+            Reason::InvalidArgument(mcm_shared::ranges::ArgRefusal {
+                arg: mcm_shared::ranges::Arg::VelocityFactor,
+                axis: None,
+                value: 2.0,
+                min: 0.001,
+                max: 1.0,
+            }),
             Reason::DriveFault {
                 axis: Some(a),
                 code: 0x2310,

@@ -2,6 +2,7 @@
 kinds, reply statuses and reject codes, and the words the core's refusals use
 (``shared/src/reply.rs``, ``Reason``'s ``Display``)."""
 
+from decimal import Decimal
 from typing import Dict, Optional, Sequence, Tuple
 
 #: Operating modes by wire value.
@@ -87,6 +88,30 @@ REJECT_CODES: Dict[int, str] = {
 _PVT_QUANTITY = {1: ("position", "deg"), 2: ("velocity", "deg/s"), 3: ("acceleration", "deg/s^2")}
 
 
+def num(x: float) -> str:
+    """A number as the MCM writes it in messages (``mcm_shared::ranges::Num``): at most 12
+    significant digits, an exponent below 1e-5 and from 1e15 on (``1e-320``), ``0`` for zero."""
+    x = float(x)
+    if x == 0.0:
+        return "0"
+    if x != x:
+        return "NaN"
+    if x in (float("inf"), float("-inf")):
+        return "inf" if x > 0 else "-inf"
+    y = float("%.11e" % x)
+    d = Decimal(repr(y))
+    if 1e-5 <= abs(y) < 1e15:
+        out = format(d, "f")
+        if "." in out:
+            out = out.rstrip("0").rstrip(".")
+        return out
+    sign, digits, exponent = d.as_tuple()
+    text = "".join(str(k) for k in digits).rstrip("0") or "0"
+    exp = int(exponent) + len(digits) - 1
+    mantissa = text[0] + ("." + text[1:] if len(text) > 1 else "")
+    return "%s%se%d" % ("-" if sign else "", mantissa, exp)
+
+
 def _g(x: float) -> str:
     """A number as Rust's ``{}`` prints an f64 (``1`` for 1.0, ``0.5``)."""
     return str(int(x)) if float(x).is_integer() and abs(x) < 1e16 else repr(float(x))
@@ -102,7 +127,14 @@ def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
     if name == "emergency_stop":
         return "the emergency stop is pressed; release it, then send `hold`"
     if name == "drive_disconnected":
-        return "the drive of axis %d does not answer on the bus" % axis
+        lost = (int(v[0]) & ~(1 << (axis - 1))) | (1 << (axis - 1)) if axis else 0
+        axes = [str(i + 1) for i in range(6) if lost & (1 << i)]
+        if len(axes) <= 1:
+            return "the drive of axis %d does not answer on the bus" % axis
+        return "the drives of axes %s and %s do not answer on the bus" % (
+            ", ".join(axes[:-1]),
+            axes[-1],
+        )
     if name == "drive_fault":
         if axis:
             return "the drive of axis %d is in fault (error code 0x%04X)" % (axis, int(v[0]))
@@ -145,6 +177,22 @@ def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
             what = "no mechanical stop found within %.1f deg; the arm holds where it is" % v[1]
         elif cause == 2:
             what = "no light-barrier edge found within %.1f deg; the arm holds where it is" % v[1]
+        elif cause == 4:
+            what = (
+                "its reference was found at %.3f deg (the configured position), then at %.3f "
+                "deg by the next approach, more than the tolerance %.3f deg apart (a contact in "
+                "free air, or a stop that gives way); the arm holds where it is, its previous "
+                "calibration is kept" % (v[1], v[2], v[3])
+            )
+            return "calibration of axis %d failed: %s" % (axis, what)
+        elif cause == 5:
+            what = (
+                "its reference was found at %.3f deg by its previous calibration, configured "
+                "at %.3f deg, more than the tolerance %.3f deg apart (an obstacle in the way, or "
+                "the stop is not where the configuration says); the arm holds where it is, its "
+                "previous calibration is kept" % (v[1], v[2], v[3])
+            )
+            return "calibration of axis %d failed: %s" % (axis, what)
         else:
             what = "its drive stopped answering"
         return "calibration of axis %d failed: %s" % (axis, what)
@@ -157,19 +205,20 @@ def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
         )
     if name == "pvt_point":
         what, unit = _PVT_QUANTITY.get(int(v[1]), ("value", ""))
-        return "point %d: axis %d %s %.3f %s exceeds the limit %.3f %s; nothing was queued" % (
+        return "point %d: axis %d %s %s %s exceeds the limit %s %s; nothing was queued" % (
             int(v[0]),
             axis,
             what,
-            v[2],
+            num(v[2]),
             unit,
-            v[3],
+            num(v[3]),
             unit,
         )
     if name == "unreachable":
         return (
-            "axis %d: target %.3f deg is outside the reachable range [%.3f, %.3f] deg "
-            "(the limits less the safety margin)" % (axis, v[0], v[1], v[2])
+            "axis %d: target %s deg is not allowed; expected a number from %s to %s deg "
+            "(the axis's reachable range: its limits less the safety margin)"
+            % (axis, num(v[0]), num(v[1]), num(v[2]))
         )
     if name == "not_owner":
         owner = (int(v[0]) << 32) | int(v[1])
@@ -194,10 +243,12 @@ _CODE_FRAGMENTS: Tuple[Tuple[str, str], ...] = (
     ("is not calibrated", "not_calibrated"),
     ("emergency stop is pressed", "emergency_stop"),
     ("does not answer on the bus", "drive_disconnected"),
+    ("do not answer on the bus", "drive_disconnected"),
     ("is in fault", "drive_fault"),
     ("queue full", "queue_full"),
     ("exceeds the limit", "pvt_point"),
     ("outside the reachable range", "unreachable"),
+    (" deg is not allowed; expected a number from", "unreachable"),
     ("a motion is in progress", "busy"),
     ("calibration of axis", "calibration_failed"),
     ("aborted", "aborted"),
