@@ -198,7 +198,10 @@ fn reasons() -> Vec<String> {
         Reason::WrongMode { mode: Mode::Hold },
         Reason::NotCalibrated { axis: a(3) },
         Reason::EmergencyStop,
-        Reason::DriveDisconnected { axis: a(2) },
+        Reason::DriveDisconnected {
+            axis: a(2),
+            also: 0,
+        },
         Reason::DriveFault {
             axis: Some(a(4)),
             code: 0x2310,
