@@ -180,7 +180,7 @@ fn limits(s: &mut String, command: &str, cfg: &RobotConfig) {
         );
         range(
             s,
-            "velocity [deg/s] (velocity_factor 1: the maximum)",
+            "max velocity [deg/s] (velocity_factor 1)",
             Arg::Velocities,
         );
     }
@@ -188,7 +188,7 @@ fn limits(s: &mut String, command: &str, cfg: &RobotConfig) {
         range(s, "peak torque [Nm]", Arg::Torques);
     }
     if command == "set_velocities" {
-        range(s, "velocity [deg/s] (the maximum)", Arg::Velocities);
+        range(s, "max velocity [deg/s]", Arg::Velocities);
     }
 }
 
@@ -251,7 +251,7 @@ mod tests {
         );
         let text = strip_ansi(&topic("set_velocities", &cfg()));
         assert!(
-            text.contains("velocity [deg/s] (the maximum): 1 base -90..90, 2 shoulder -90..90"),
+            text.contains("max velocity [deg/s]: 1 base -90..90, 2 shoulder -90..90"),
             "{text}"
         );
         let text = strip_ansi(&topic("status", &cfg()));
