@@ -10,8 +10,8 @@ use mcm_gateway::cmd::Command;
 use mcm_gateway::result::reply_error;
 use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, Request, SetTorques, SimCommand,
-    TorqueControl, Which,
+    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, Request, SetTorques, SetVelocities,
+    SimCommand, TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::Mode;
@@ -76,7 +76,7 @@ impl Robot {
         assert!(matches!(outcome, Outcome::Done(_)), "{req:?}: {outcome:?}");
     }
 
-    /// Bring the robot to `mode` (HOLD, PVT or TORQUE_CONTROL), at rest.
+    /// Bring the robot to `mode` (HOLD, PVT, TORQUE_CONTROL or VELOCITY_CONTROL), at rest.
     fn enter(&mut self, mode: Mode) {
         if self.mode() != Mode::Hold {
             self.ok(Request::Hold, 400);
@@ -90,6 +90,10 @@ impl Robot {
                     timeout_s: None,
                     gravity_compensation: true,
                 }),
+                5,
+            ),
+            Mode::VelocityControl => self.ok(
+                Request::VelocityControl(VelocityControl { timeout_s: None }),
                 5,
             ),
             _ => {}
@@ -269,6 +273,59 @@ fn cases() -> Vec<Case> {
             },
         },
         Case {
+            command: "velocity_control",
+            arg: Arg::Timeout,
+            axis0: None,
+            mode: Mode::Hold,
+            json: |x| {
+                format!(r#"{{"command":"velocity_control","arguments":{{"timeout":{x:?}}}}}"#)
+            },
+            sample: |x| {
+                let mut s = Request::VelocityControl(VelocityControl {
+                    timeout_s: Some(1.0),
+                })
+                .encode();
+                s.args[0] = x;
+                s
+            },
+        },
+        Case {
+            command: "set_velocities",
+            arg: Arg::Velocities,
+            axis0: Some(1),
+            mode: Mode::VelocityControl,
+            json: |x| {
+                format!(
+                    r#"{{"command":"set_velocities","arguments":{{"velocities":{}}}}}"#,
+                    json6(1, x)
+                )
+            },
+            sample: |x| {
+                Request::SetVelocities(SetVelocities {
+                    velocities_deg_s: six_with(1, x),
+                })
+                .encode()
+            },
+        },
+        Case {
+            command: "set_velocities",
+            arg: Arg::Velocities,
+            axis0: Some(5),
+            mode: Mode::VelocityControl,
+            json: |x| {
+                format!(
+                    r#"{{"command":"set_velocities","arguments":{{"velocities":{}}}}}"#,
+                    json6(5, x)
+                )
+            },
+            sample: |x| {
+                Request::SetVelocities(SetVelocities {
+                    velocities_deg_s: six_with(5, x),
+                })
+                .encode()
+            },
+        },
+        Case {
             command: "sim",
             arg: Arg::ExternalTorques,
             axis0: Some(1),
@@ -392,26 +449,26 @@ fn gateway_and_core_accept_and_refuse_the_same_values_in_the_same_words() {
 #[test]
 fn arguments_only_the_gateway_reads_are_refused_in_the_table_s_words() {
     let cfg = RobotConfig::prob2_default();
-    let gateway_only: [(Arg, JsonOf); 2] = [
-        (Arg::DtStatus, |x| {
+    // (argument, command, the JSON command holding a value)
+    let gateway_only: [(Arg, &str, JsonOf); 3] = [
+        (Arg::DtStatus, "torque_control", |x| {
             format!(r#"{{"command":"torque_control","arguments":{{"dt_status":{x:?}}}}}"#)
         }),
-        (Arg::Duration, |x| {
+        (Arg::DtStatus, "velocity_control", |x| {
+            format!(r#"{{"command":"velocity_control","arguments":{{"dt_status":{x:?}}}}}"#)
+        }),
+        (Arg::Duration, "sleep", |x| {
             format!(r#"{{"command":"sleep","arguments":{{"duration":{x:?}}}}}"#)
         }),
     ];
-    for (arg, json) in gateway_only {
+    for (arg, command, json) in gateway_only {
         let bounds = arg.fixed_bounds();
         for x in values(bounds) {
             let text = gateway_text(&cfg, &json(x));
-            let expected = arg.check(x, bounds, None).err().map(|e| {
-                let command = if arg == Arg::Duration {
-                    "sleep"
-                } else {
-                    "torque_control"
-                };
-                format!("{command}: {e}")
-            });
+            let expected = arg
+                .check(x, bounds, None)
+                .err()
+                .map(|e| format!("{command}: {e}"));
             assert_eq!(text, expected, "{}", json(x));
         }
     }

@@ -470,7 +470,9 @@ fn a_telnet_session_negotiates_helps_shows_tables_and_refuses_helpfully() {
         "default 0.33333",
         "accepted in: PVT",
         "examples:",
-        "axis limits [deg]: 1 base -170..170",
+        // The reachable range (the table of ranges), not the joint limits -170..170.
+        "reachable positions [deg] (the axis limits less the 1 deg safety margin): \
+         1 base -169..169",
         "max velocity [deg/s]",
     ] {
         assert!(h.contains(w), "`help move_axis` lacks {w:?}:\n{h}");

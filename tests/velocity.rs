@@ -188,7 +188,10 @@ fn refused_outside_hold_for_others_and_out_of_range() {
     );
     assert_error(
         &c.request(r#"{"command":"set_velocities","arguments":{"velocities":[0,0,0,151,0,0]}}"#),
-        &["velocities", "151", "axis 4 from -150 to 150"],
+        &[
+            "argument \"velocities[3]\" = 151",
+            "from -150 to 150 deg/s (the axis's maximum velocity)",
+        ],
     );
     assert_error(
         &other.request(r#"{"command":"set_velocities","arguments":{"velocities":[0,0,0,1,0,0]}}"#),

@@ -19,6 +19,9 @@ pub struct JointParams {
     pub limits: [AxisLimits; NUM_AXES],
     /// Peak joint torque of each axis (max current x torque per amp).
     pub peak_torque: [f64; NUM_AXES],
+    /// Maximum velocity of each axis in the unit of `set_velocities` [deg/s]: the bound the
+    /// gateway checks too (`mcm_shared::ranges::max_velocity_deg_s`).
+    pub max_velocity_deg_s: [f64; NUM_AXES],
     /// Joint torque per motor ampere.
     pub torque_per_amp: [f64; NUM_AXES],
     pub max_current: [f64; NUM_AXES],
@@ -47,6 +50,7 @@ impl JointParams {
                 jerk: a[i].max_jerk_deg_s3.map(f64::to_radians),
             }),
             peak_torque: per(&|i| mcm_shared::ranges::peak_torque_nm(cfg, i)),
+            max_velocity_deg_s: per(&|i| mcm_shared::ranges::max_velocity_deg_s(cfg, i)),
             torque_per_amp: per(&|i| a[i].torque_per_amp()),
             max_current: per(&|i| a[i].max_current_a),
             viscous: per(&|i| a[i].viscous_friction_nm_s_rad),

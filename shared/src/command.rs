@@ -358,8 +358,6 @@ pub enum Allowed {
     NonZeroUpTo { min: f64, max: f64 },
     /// Any finite number.
     Finite,
-    /// A finite number other than 0 (negative: none).
-    FiniteNonZero,
     /// One of the listed values (as words).
     OneOf(&'static str),
 }
@@ -371,7 +369,7 @@ impl Allowed {
             Allowed::Range { min, max }
             | Allowed::AboveUpTo { min, max }
             | Allowed::NonZeroUpTo { min, max } => (min, max),
-            Allowed::Finite | Allowed::FiniteNonZero | Allowed::OneOf(_) => (f64::MIN, f64::MAX),
+            Allowed::Finite | Allowed::OneOf(_) => (f64::MIN, f64::MAX),
         }
     }
 }
@@ -385,7 +383,6 @@ impl fmt::Display for Allowed {
             }
             Allowed::NonZeroUpTo { max, .. } => write!(f, "other than 0, at most {}", Num(*max)),
             Allowed::Finite => f.write_str("a finite number"),
-            Allowed::FiniteNonZero => f.write_str("a finite number other than 0"),
             Allowed::OneOf(words) => f.write_str(words),
         }
     }
@@ -691,10 +688,8 @@ impl Request {
             }
             CommandKind::VelocityControl => {
                 d.flags(0)?;
-                let t = a[0];
-                if !t.is_finite() || t == 0.0 {
-                    return Err(d.invalid(Field::named("timeout"), t, Allowed::FiniteNonZero));
-                }
+                // The same `timeout` as `torque_control`'s ([`Arg::Timeout`]).
+                let t = d.ranged(Arg::Timeout, Field::named("timeout"), a[0])?;
                 Request::VelocityControl(VelocityControl {
                     timeout_s: (t > 0.0).then_some(t),
                 })

@@ -4,9 +4,9 @@
 //!
 //! A range is fixed ([`Bound::Fixed`]) or follows from the robot's configuration: the
 //! reachable range of an axis ([`reachable_deg`]: its software limits less the safety
-//! margin), its peak joint torque ([`peak_torque_nm`]), one cycle period. The real-time
-//! core's parameters are computed with the same functions, so both sides compare with the same
-//! numbers.
+//! margin), its peak joint torque ([`peak_torque_nm`]), its maximum velocity
+//! ([`max_velocity_deg_s`]), one cycle period. The real-time core's parameters are computed
+//! with the same functions, so both sides compare with the same numbers.
 //!
 //! Numbers in messages are written by [`Num`]: at most 12 significant digits, with an exponent
 //! outside 1e-5 to 1e15 (`1e-320`, never 320 digits).
@@ -40,6 +40,8 @@ pub enum Bound {
     Reach,
     /// Plus or minus the axis's peak joint torque [Nm] ([`peak_torque_nm`]).
     PeakTorque,
+    /// Plus or minus the axis's maximum velocity [deg/s] ([`max_velocity_deg_s`]).
+    MaxVelocity,
     /// From one cycle period to this [s].
     CycleTo(f64),
 }
@@ -96,6 +98,7 @@ arguments! {
     ReconnectAxis = 12, "reconnect_axis", Axis, Bound::Fixed(1.0, 6.0), "", "";
     BlockAxis = 13, "block_axis", Axis, Bound::Fixed(1.0, 6.0), "", "";
     UnblockAxis = 14, "unblock_axis", Axis, Bound::Fixed(1.0, 6.0), "", "";
+    Velocities = 15, "velocities", Range, Bound::MaxVelocity, "deg/s", "the axis's maximum velocity";
 }
 
 /// The range a target of `axis0` (0-based) may lie in [deg]: the software limits less the
@@ -112,6 +115,11 @@ pub fn peak_torque_nm(cfg: &RobotConfig, axis0: usize) -> f64 {
     a.max_current_a * a.torque_per_amp()
 }
 
+/// The maximum velocity of `axis0` (0-based) [deg/s] (`max_velocity_deg_s` of its axis).
+pub fn max_velocity_deg_s(cfg: &RobotConfig, axis0: usize) -> f64 {
+    cfg.axes[axis0].max_velocity_deg_s
+}
+
 /// The configuration's figures the ranges depend on.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Limits {
@@ -119,6 +127,8 @@ pub struct Limits {
     pub reach_deg: [(f64, f64); NUM_AXES],
     /// [`peak_torque_nm`] of each axis.
     pub peak_torque_nm: [f64; NUM_AXES],
+    /// [`max_velocity_deg_s`] of each axis.
+    pub max_velocity_deg_s: [f64; NUM_AXES],
     /// Cycle period [s].
     pub period_s: f64,
 }
@@ -128,6 +138,7 @@ impl Limits {
         Limits {
             reach_deg: core::array::from_fn(|i| reachable_deg(cfg, i)),
             peak_torque_nm: core::array::from_fn(|i| peak_torque_nm(cfg, i)),
+            max_velocity_deg_s: core::array::from_fn(|i| max_velocity_deg_s(cfg, i)),
             period_s: cfg.cycle_period_s(),
         }
     }
@@ -162,6 +173,7 @@ impl Arg {
             Bound::Fixed(min, max) => (min, max),
             Bound::Reach => limits.reach_deg[i],
             Bound::PeakTorque => (-limits.peak_torque_nm[i], limits.peak_torque_nm[i]),
+            Bound::MaxVelocity => (-limits.max_velocity_deg_s[i], limits.max_velocity_deg_s[i]),
             Bound::CycleTo(max) => (limits.period_s, max),
         }
     }
@@ -205,7 +217,7 @@ impl Arg {
     pub fn per_axis_array(self) -> bool {
         matches!(
             self,
-            Arg::TargetPositions | Arg::Torques | Arg::ExternalTorques
+            Arg::TargetPositions | Arg::Torques | Arg::ExternalTorques | Arg::Velocities
         )
     }
 

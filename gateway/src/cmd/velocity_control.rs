@@ -1,9 +1,10 @@
 //! `velocity_control`: enter VELOCITY_CONTROL (from HOLD), with `timeout` and `dt_status` as
-//! `torque_control` has them.
+//! `torque_control` has them (the same rows of [`mcm_shared::ranges`]).
 
 use super::modes::DEFAULT_TORQUE_TIMEOUT;
 use crate::args::{Args, CommandError};
 use mcm_shared::command;
+use mcm_shared::ranges::Arg;
 use serde_json::Value;
 
 /// Default `velocity_control` timeout [s] when none is given (the same as `torque_control`'s).
@@ -20,21 +21,15 @@ pub struct VelocityControl {
 impl VelocityControl {
     pub fn parse(arguments: Option<&Value>) -> Result<Self, CommandError> {
         let args = Args::new("velocity_control", arguments, &["timeout", "dt_status"])?;
-        let timeout = args.number("timeout", f64::MIN, 3600.0, " s (negative: no timeout)")?;
-        if timeout == Some(0.0) {
-            return Err(args.invalid_value(
-                "timeout",
-                0,
-                "a positive number of seconds, or a negative one for no timeout",
-            ));
-        }
+        // The same `timeout` and `dt_status` as `torque_control`'s (one row each).
+        let timeout = args.ranged(Arg::Timeout, Arg::Timeout.fixed_bounds())?;
         let timeout = timeout.unwrap_or(DEFAULT_VELOCITY_TIMEOUT);
         Ok(Self {
             request: command::VelocityControl {
                 timeout_s: (timeout > 0.0).then_some(timeout),
             },
             dt_status: args
-                .number("dt_status", 0.0, 60.0, " s (0: no status results)")?
+                .ranged(Arg::DtStatus, Arg::DtStatus.fixed_bounds())?
                 .unwrap_or(0.0),
         })
     }

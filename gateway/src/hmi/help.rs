@@ -1,13 +1,14 @@
 //! The HMI's help texts: `help` lists every command with one line each (grouped by the modes
 //! that accept them, as in the manual); `help CMD` explains one command: usage, arguments
-//! with units and defaults, the modes that accept it, its reply, examples and the axis limits
-//! of the configured robot. Built from [`super::spec`]. Not used inside the real-time cycle.
+//! with units and defaults, the modes that accept it, its reply, examples and the allowed
+//! ranges per axis of the configured robot (from [`mcm_shared::ranges`]). Built from [`super::spec`]. Not used inside the real-time cycle.
 
 use super::render::{BOLD, RESET};
 use super::spec::{self, CommandSpec};
 use super::words::SESSION_COMMANDS;
 use crate::cmd::{COMMAND_NAMES, suggest};
 use mcm_shared::config::RobotConfig;
+use mcm_shared::ranges::{Arg, Limits, Num};
 use std::fmt::Write as _;
 
 /// The commands grouped by the modes that accept them.
@@ -152,34 +153,42 @@ pub fn command(spec: &CommandSpec, cfg: &RobotConfig) -> String {
     s
 }
 
-/// The configured robot's limits that matter for the command.
+/// The configured robot's ranges that matter for the command, per axis, from the table of
+/// ranges the gateway and the core check arguments against ([`mcm_shared::ranges`]).
 fn limits(s: &mut String, command: &str, cfg: &RobotConfig) {
-    let per_axis = |f: &dyn Fn(&mcm_shared::config::AxisConfig) -> String| {
+    let table = Limits::from_config(cfg);
+    let per_axis = |arg: Arg| {
         cfg.axes
             .iter()
             .enumerate()
-            .map(|(i, a)| format!("{} {} {}", i + 1, a.name, f(a)))
+            .map(|(i, a)| {
+                let (min, max) = arg.bounds(&table, Some(i));
+                format!("{} {} {}..{}", i + 1, a.name, Num(min), Num(max))
+            })
             .collect::<Vec<_>>()
             .join(", ")
+    };
+    let range = |s: &mut String, title: &str, arg: Arg| {
+        let _ = writeln!(s, "{title}: {}", per_axis(arg));
     };
     if matches!(command, "move_axis" | "move_all" | "pvt_points") {
         let _ = writeln!(
             s,
-            "axis limits [deg]: {}",
-            per_axis(&|a| format!("{}..{}", a.min_deg, a.max_deg))
+            "reachable positions [deg] (the axis limits less the {} deg safety margin): {}",
+            Num(cfg.safety.limit_margin_deg),
+            per_axis(Arg::TargetPosition)
         );
-        let _ = writeln!(
+        range(
             s,
-            "max velocity [deg/s] (velocity_factor 1): {}",
-            per_axis(&|a| format!("{}", a.max_velocity_deg_s))
+            "max velocity [deg/s] (velocity_factor 1)",
+            Arg::Velocities,
         );
     }
     if command == "set_torques" {
-        let _ = writeln!(
-            s,
-            "peak torque [Nm]: {}",
-            per_axis(&|a| format!("{:.1}", a.max_current_a * a.torque_per_amp()))
-        );
+        range(s, "peak torque [Nm]", Arg::Torques);
+    }
+    if command == "set_velocities" {
+        range(s, "max velocity [deg/s]", Arg::Velocities);
     }
 }
 
@@ -224,7 +233,8 @@ mod tests {
             "accepted in: PVT (enter PVT mode first: `hold`, then `pvt`)",
             "reply:       OK as soon as the motion starts",
             "  move_axis 1 30 0.5",
-            "axis limits [deg]: 1 base -170..170, 2 shoulder -120..120",
+            "reachable positions [deg] (the axis limits less the 1 deg safety margin): \
+             1 base -169..169, 2 shoulder -119..119",
         ] {
             assert!(text.contains(w), "{w}:\n{text}");
         }
@@ -235,7 +245,15 @@ mod tests {
             "{text}"
         );
         let text = strip_ansi(&topic("set_torques", &cfg()));
-        assert!(text.contains("peak torque [Nm]: 1 base "), "{text}");
+        assert!(
+            text.contains("peak torque [Nm]: 1 base -129.6..129.6, "),
+            "{text}"
+        );
+        let text = strip_ansi(&topic("set_velocities", &cfg()));
+        assert!(
+            text.contains("max velocity [deg/s]: 1 base -90..90, 2 shoulder -90..90"),
+            "{text}"
+        );
         let text = strip_ansi(&topic("status", &cfg()));
         assert!(text.contains("accepted in: every mode\n"), "{text}");
     }

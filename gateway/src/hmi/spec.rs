@@ -288,7 +288,7 @@ pub const COMMANDS: &[CommandSpec] = &[
             Kind::Six,
             true,
             "",
-            "six torques [Nm], one per axis, each within the axis's peak torque (see `info`)",
+            "six torques [Nm], one per axis, each within the axis's peak torque (see below)",
         )],
         modes: "TORQUE_CONTROL",
         how: "enter TORQUE_CONTROL first: `hold`, then `torque_control`",
@@ -336,7 +336,7 @@ pub const COMMANDS: &[CommandSpec] = &[
             true,
             "",
             "six velocities [deg/s], one per axis, each within the axis's maximum velocity \
-             (see `info`)",
+             (see below)",
         )],
         modes: "VELOCITY_CONTROL",
         how: "enter VELOCITY_CONTROL first: `hold`, then `velocity_control`",
@@ -372,7 +372,8 @@ pub const COMMANDS: &[CommandSpec] = &[
                 Kind::Number,
                 true,
                 "",
-                "target angle [deg], within the axis's limits less the safety margin",
+                "target angle [deg], within the axis's reachable range: its limits less the safety \
+                 margin (see below)",
             ),
             VELOCITY_FACTOR,
         ],
@@ -396,7 +397,8 @@ pub const COMMANDS: &[CommandSpec] = &[
                 Kind::Six,
                 true,
                 "",
-                "six target angles [deg], one per axis, each within its limits less the safety margin",
+                "six target angles [deg], one per axis, each within its reachable range: its limits \
+                 less the safety margin (see below)",
             ),
             VELOCITY_FACTOR,
         ],

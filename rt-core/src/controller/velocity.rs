@@ -14,8 +14,9 @@ use crate::params::JointParams;
 use crate::safety::SafetyParams;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{Axis, SetVelocities, VelocityControl};
+use mcm_shared::ranges::Arg;
 use mcm_shared::reply::{Done, Reason};
-use mcm_shared::units::{deg_to_rad, rad_to_deg};
+use mcm_shared::units::deg_to_rad;
 use ramp::{AxisRamp, RampLimits};
 
 /// Share of the braking-distance check's deceleration (`safety.braking_efficiency` x the
@@ -45,11 +46,6 @@ pub fn ramp_limits(p: &JointParams, s: &SafetyParams, i: usize) -> RampLimits {
     }
 }
 
-/// A value in degrees as reported in a refusal (the conversion's rounding removed).
-fn report_deg(rad: f64) -> f64 {
-    (rad_to_deg(rad) * 1e9).round() / 1e9
-}
-
 impl Controller {
     /// Enter VELOCITY_CONTROL (the caller checked HOLD and calibration): every axis's target is
     /// 0, the ramp starts from the commanded state (a stop under way in HOLD carries on
@@ -64,8 +60,9 @@ impl Controller {
         self.done(c, Done::Ack);
     }
 
-    /// New target velocities, each within its axis's maximum velocity; refused whole (the last
-    /// targets stay) when one is not.
+    /// New target velocities, each within its axis's maximum velocity ([`Arg::Velocities`],
+    /// the range and words the gateway uses); refused whole (the last targets stay) when one
+    /// is not.
     pub(super) fn on_set_velocities(&mut self, c: Caller, v: SetVelocities) {
         let State::Velocity { timeout_ns, .. } = self.state else {
             let mode = self.mode();
@@ -73,18 +70,13 @@ impl Controller {
         };
         let mut target = [0.0; NUM_AXES];
         for (i, deg_s) in v.velocities_deg_s.iter().copied().enumerate() {
-            let max = self.p.limits[i].velocity;
-            let rad_s = deg_to_rad(deg_s);
-            if rad_s.abs() > max * (1.0 + 1e-12) {
-                let reason = Reason::OutOfRange {
-                    axis: Some(Axis::ALL[i]),
-                    value: deg_s,
-                    min: -report_deg(max),
-                    max: report_deg(max),
-                };
-                return self.refuse(c, reason);
+            let max_deg_s = self.p.max_velocity_deg_s[i];
+            let bounds = (-max_deg_s, max_deg_s);
+            if let Err(e) = Arg::Velocities.check(deg_s, bounds, Some(Axis::ALL[i])) {
+                return self.refuse(c, Reason::InvalidArgument(e));
             }
-            target[i] = rad_s.clamp(-max, max);
+            let max = self.p.limits[i].velocity;
+            target[i] = deg_to_rad(deg_s).clamp(-max, max);
         }
         self.state = State::Velocity {
             target,

@@ -102,7 +102,7 @@ pub(crate) fn request() -> impl Strategy<Value = Request> {
         Just(Request::TakeControl),
         Just(Request::ReleaseControl),
         Just(Request::ClientGone),
-        prop::option::of(1e-6f64..1e6)
+        prop::option::of(1e-6f64..=3600.0)
             .prop_map(|timeout_s| Request::VelocityControl(VelocityControl { timeout_s })),
         six().prop_map(|velocities_deg_s| Request::SetVelocities(SetVelocities {
             velocities_deg_s
@@ -267,7 +267,13 @@ fn velocity_control_timeout_and_velocities() {
     let e = Request::decode(&sample(CommandKind::VelocityControl, &[0.0], 0)).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "velocity_control: timeout = 0 is not allowed; allowed: a finite number other than 0"
+        "velocity_control: timeout = 0 is not allowed; allowed: other than 0, at most 3600"
+    );
+    // The same range as `torque_control`'s timeout.
+    let e = Request::decode(&sample(CommandKind::VelocityControl, &[3600.5], 0)).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "velocity_control: timeout = 3600.5 is not allowed; allowed: other than 0, at most 3600"
     );
     let e = Request::decode(&sample(CommandKind::VelocityControl, &[1.0], 1)).unwrap_err();
     assert!(e.to_string().contains("flags"), "{e}");

@@ -51,6 +51,16 @@ fn the_reachable_range_is_the_limits_less_the_margin() {
     assert_eq!(Arg::Dt.bounds(&l, None), (0.005, 1.0));
     let peak = peak_torque_nm(&cfg, 0);
     assert_eq!(Arg::Torques.bounds(&l, Some(0)), (-peak, peak));
+    assert_eq!(Arg::Velocities.bounds(&l, Some(1)), (-90.0, 90.0));
+    assert_eq!(Arg::Velocities.bounds(&l, Some(3)), (-150.0, 150.0));
+    let r = Arg::Velocities
+        .check(151.0, Arg::Velocities.bounds(&l, Some(3)), Axis::new(4))
+        .unwrap_err();
+    assert_eq!(
+        r.to_string(),
+        "argument \"velocities[3]\" = 151 is not allowed; expected a number from -150 to 150 \
+         deg/s (the axis's maximum velocity)"
+    );
 }
 
 #[test]

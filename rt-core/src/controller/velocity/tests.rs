@@ -6,6 +6,7 @@ use super::super::tests::Robot;
 use super::ramp_limits;
 use mcm_shared::command::{Axis, Request, SetVelocities, VelocityControl};
 use mcm_shared::mode::Mode;
+use mcm_shared::ranges::{Arg, ArgRefusal};
 use mcm_shared::reply::{Done, Reason};
 
 fn velocity_control(timeout_s: Option<f64>) -> Request {
@@ -147,16 +148,19 @@ fn refusals_name_mode_axis_value_and_range() {
     let reason = r.refused(set_velocities([0.0, 0.0, 0.0, 151.0, 0.0, 0.0]), 5);
     assert_eq!(
         reason,
-        Reason::OutOfRange {
+        Reason::InvalidArgument(ArgRefusal {
+            arg: Arg::Velocities,
             axis: Axis::new(4),
             value: 151.0,
             min: -150.0,
             max: 150.0
-        }
+        })
     );
+    // The words of the gateway's refusal of the same value (one table of ranges).
     assert_eq!(
         reason.to_string(),
-        "axis 4: value 151 is outside the allowed range [-150, 150]"
+        "argument \"velocities[3]\" = 151 is not allowed; expected a number from -150 to 150 \
+         deg/s (the axis's maximum velocity)"
     );
     // The full limit itself is allowed.
     r.ok(set_velocities([-90.0, 0.0, 0.0, 150.0, 0.0, 0.0]), 5);
