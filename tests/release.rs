@@ -300,8 +300,15 @@ fn a_push_beyond_a_joint_limit_in_release_trips_position_limit_and_the_arm_stops
         q[2].abs() < 0.1,
         "the elbow at zero, beyond its limit: {q:?}"
     );
-    assert_status(&c.request(r#"{"command":"release"}"#), "RELEASE");
+    // The push starts in HOLD (the drives hold against it), so the arm moves outward from the
+    // first cycle of RELEASE: an arm at rest beyond its limit trips as soon as its measured
+    // velocity points further out, which noise alone can do, so the push decides, not noise.
     c.sim(torques(2, -20.0));
+    let r = c.request(r#"{"command":"release"}"#);
+    assert!(
+        r["operating_mode"] == "RELEASE" || r["operating_mode"] == "ERROR",
+        "{r}"
+    );
     let e = c.event();
     assert_event(
         &e,
