@@ -440,7 +440,10 @@ fn pvt_points_stream_a_sine_that_the_true_arm_tracks() {
     bad[9].0[2] = 200.0; // beyond the axis limits
     assert_error(
         &c.request(&pvt_points(&bad)),
-        &["pvt_points", "point 10: axis 3 position 200 deg exceeds the limit"],
+        &[
+            "pvt_points",
+            "point 10: axis 3 position 200 deg exceeds the limit",
+        ],
     );
     let mut bad: Vec<_> = (1..=10).map(sine_point).collect();
     bad[5].0[3] += 5.0; // within the limits, but a jump no axis can follow
@@ -582,7 +585,9 @@ fn pvt_points_underrun_stops_the_axes_and_says_starved_without_error() {
     assert_eq!(s["detail"]["pvt_queue"]["queued"], 0, "{s}");
     // The drives' loops pull the last hundredths of a degree in (the gravity feed-forward
     // changes with the pose at a bounded rate): settled, the arm then holds.
-    let (_, t) = wait_until(&mut c, "the arm settled", |_, t| max_abs(&t.velocity) < 0.02);
+    let (_, t) = wait_until(&mut c, "the arm settled", |_, t| {
+        max_abs(&t.velocity) < 0.02
+    });
     observe(&mut c, 0.3, |c, s| {
         assert_status(s, "PVT");
         let now = truth(c).position;
