@@ -30,9 +30,13 @@ use std::time::{Duration, Instant};
 
 #[derive(Parser)]
 struct Args {
-    /// States (and control cycles) measured.
+    /// States measured by `wait_state()` (and control cycles, unless `--control-cycles`).
     #[arg(long, default_value_t = 10_000)]
     cycles: u64,
+    /// Cycles of the control loop (default: `--cycles`); e.g. `--cycles 120000
+    /// --control-cycles 10000` for ten minutes of `wait_state()` at 200 Hz.
+    #[arg(long)]
+    control_cycles: Option<u64>,
     /// Use the running MCM of this instance instead of starting one.
     #[arg(long)]
     instance: Option<String>,
@@ -160,8 +164,9 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
     let first = mcm.wait_state()?;
     let period_us = first.timing.period_ns as f64 / 1e3;
     println!(
-        "MCM instance {instance}: cycle {period_us:.0} us; {} cycles per figure",
-        args.cycles
+        "MCM instance {instance}: cycle {period_us:.0} us; {} states, {} control cycles",
+        args.cycles,
+        args.control_cycles.unwrap_or(args.cycles)
     );
 
     // 1. wait_state: missed cycles and the sample's age on wake-up.
@@ -202,7 +207,7 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
         gravity_compensation: true,
     })?;
     let mut n = 0;
-    let cycles = args.cycles;
+    let cycles = args.control_cycles.unwrap_or(args.cycles);
     let summary = mcm.control(|_| {
         n += 1;
         if n > cycles {
