@@ -810,6 +810,23 @@ fn an_obstacle_trips_the_following_error_and_nothing_moves_afterwards() {
             a + 1
         );
     }
+    // After the trip the axis relaxes off the obstacle (its drive's loop is restarted, so it
+    // stops pressing): the last hundredths of a degree settle before nothing may move.
+    let mut since: Option<(f64, [f64; 6])> = None;
+    let (_, rest) = wait_until(&mut c, "the arm settled", |s, t| {
+        let now = s["axis_states"]["time"][0].as_f64().unwrap_or(0.0);
+        match since {
+            Some((t0, p0)) if now - t0 >= 0.2 => {
+                since = Some((now, t.position));
+                max_diff(&t.position, &p0) < 0.002
+            }
+            Some(_) => false,
+            None => {
+                since = Some((now, t.position));
+                false
+            }
+        }
+    });
     let mut pressing = Vec::new();
     observe(&mut c, 0.5, |s, t| {
         pressing.push(six(&s["axis_states"]["current"])[0]);

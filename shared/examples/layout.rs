@@ -332,6 +332,9 @@ fn reasons() -> Vec<String> {
         },
         Reason::ShuttingDown,
     ]
+    .into_iter()
+    .chain(argument_refusals())
+    .collect::<Vec<_>>()
     .iter()
     .map(|r| {
         let w = r.to_wire();
@@ -347,6 +350,27 @@ fn reasons() -> Vec<String> {
         )
     })
     .collect()
+}
+
+/// One refusal of every numeric argument of the protocol (`ranges::ARGS`), per-axis arrays
+/// with an axis, with awkward numbers (1e-320, 169.00000000000003).
+fn argument_refusals() -> Vec<mcm_shared::reply::Reason> {
+    use mcm_shared::command::Axis;
+    use mcm_shared::ranges::{ARGS, ArgRefusal};
+    ARGS.iter()
+        .enumerate()
+        .map(|(k, spec)| {
+            let axis = (spec.arg.per_axis_array() || k % 3 == 0)
+                .then(|| Axis::new((k % 6) as u8 + 1).expect("axis 1..6"));
+            mcm_shared::reply::Reason::InvalidArgument(ArgRefusal {
+                arg: spec.arg,
+                axis,
+                value: if k % 2 == 0 { 1e-320 } else { 200.5 },
+                min: -169.00000000000003,
+                max: 0.125 * k as f64 + 1.0,
+            })
+        })
+        .collect()
 }
 
 #[allow(dead_code)] // unused where `tests/python_layout.rs` includes this file as a module

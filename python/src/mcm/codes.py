@@ -117,6 +117,45 @@ def _g(x: float) -> str:
     return str(int(x)) if float(x).is_integer() and abs(x) < 1e16 else repr(float(x))
 
 
+# The numeric arguments of the protocol (``mcm_shared::ranges::ARGS``): wire code -> (name,
+# shape, unit, note, one element per axis). An argument refusal carries the code in its fourth
+# value; the layout check compares the words with the Rust ones for every row.
+ARGS: Dict[int, Tuple[str, str, str, str, bool]] = {
+    1: ("axis_index", "axis", "", "", False),
+    2: ("target_position", "range", "deg", "the axis's reachable range: its limits less the safety margin", False),
+    3: ("target_positions", "range", "deg", "the axis's reachable range: its limits less the safety margin", True),
+    4: ("velocity_factor", "range", "", "a fraction of each axis's maximum velocity", False),
+    5: ("dt", "range", "s", "at least one cycle", False),
+    6: ("timeout", "nonzero_up_to", "s", "negative: no timeout", False),
+    7: ("dt_status", "range", "s", "0: no status results", False),
+    8: ("torques", "range", "Nm", "the axis's peak joint torque", True),
+    9: ("duration", "range", "s", "", False),
+    10: ("external_torques", "range", "Nm", "", True),
+    11: ("disconnect_axis", "axis", "", "", False),
+    12: ("reconnect_axis", "axis", "", "", False),
+    13: ("block_axis", "axis", "", "", False),
+    14: ("unblock_axis", "axis", "", "", False),
+    15: ("velocities", "range", "deg/s", "the axis's maximum velocity", True),
+}
+
+
+def argument_text(arg: int, axis: int, value: float, lo: float, hi: float) -> str:
+    """The words of an argument refusal (``ArgRefusal``'s), as gateway and core give them."""
+    name, shape, unit, note, per_axis = ARGS.get(arg, ("argument %d" % arg, "range", "", "", False))
+    label = '"%s[%d]"' % (name, axis - 1) if per_axis and axis else '"%s"' % name
+    if shape == "axis":
+        expected = "an axis number from %s to %s" % (num(lo), num(hi))
+    elif shape == "nonzero_up_to":
+        expected = "a number other than 0, at most %s" % num(hi)
+    else:
+        expected = "a number from %s to %s" % (num(lo), num(hi))
+    if unit:
+        expected += " " + unit
+    if note:
+        expected += " (%s)" % note
+    return "argument %s = %s is not allowed; expected %s" % (label, num(value), expected)
+
+
 def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
     """The words for a refusal, failure or safety trip, as the core's ``Reason`` gives them."""
     name = REJECT_CODES.get(code)
@@ -139,6 +178,8 @@ def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
         if axis:
             return "the drive of axis %d is in fault (error code 0x%04X)" % (axis, int(v[0]))
         return "a drive is in fault (error code 0x%04X)" % int(v[0])
+    if name == "out_of_range" and int(v[3]) != 0:
+        return argument_text(int(v[3]), axis, v[0], v[1], v[2])
     if name == "out_of_range":
         prefix = "axis %d: " % axis if axis else ""
         return "%svalue %s is outside the allowed range [%s, %s]" % (
