@@ -1,9 +1,10 @@
 //! The Python package's ctypes structures (`python/src/mcm/layout.py`) against the Rust
 //! layouts of the shared-memory samples: sizes, alignments, field offsets, iceoryx2 type names
-//! (with their layout versions), constants, reply locations and the words of every refusal
-//! reason. The truth is what `cargo run -p mcm-shared --example layout` prints; this test
-//! includes that example, writes its JSON to a file and runs `python/tests/test_layout.py`
-//! with the system's `python3` (standard library only, no virtual environment needed).
+//! (with their layout versions), constants, reply locations, the words of every refusal reason
+//! and those words read back to their codes (as the TCP client reads them). The truth is what
+//! `cargo run -p mcm-shared --example layout` prints; this test includes that example, writes
+//! its JSON to a file and runs `python/tests/test_layout.py` with the system's `python3`
+//! (standard library only, no virtual environment needed).
 
 mod common;
 
@@ -39,7 +40,7 @@ fn python_ctypes_structures_match_the_rust_layouts() {
         "the Python layout check failed:\n{log}"
     );
     assert!(
-        log.contains("Ran 7 tests") && !log.contains("skipped"),
-        "the layout check must run all its 7 tests, none skipped:\n{log}"
+        log.contains("Ran 8 tests") && !log.contains("skipped"),
+        "the layout check must run all its 8 tests, none skipped:\n{log}"
     );
 }
