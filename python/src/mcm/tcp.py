@@ -358,10 +358,7 @@ class Client:
         """Send six joint torques [Nm]. There is no result on success, so this does not wait;
         a refusal arrives later as a :class:`CommandErrorEvent`, and is raised by the next
         ``set_torques`` (or read with :meth:`events`)."""
-        for i, e in enumerate(self._events):
-            if isinstance(e, CommandErrorEvent) and e.command == "set_torques":
-                del self._events[i]
-                raise CommandError("set_torques", e.message, codes.code_from_message(e.message))
+        self._raise_refusal("set_torques")
         self.command("set_torques", {"torques": [float(t) for t in torques]}, expect_result=False)
 
     def velocity_control(self, timeout: Optional[float] = None, dt_status: Optional[float] = None) -> Status:
