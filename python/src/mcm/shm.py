@@ -304,7 +304,8 @@ class ShmClient:
     def wait_reply(self, request_id: int, timeout: Optional[float] = None) -> wire.Answer:
         """The answer to a request this client sent; raises :class:`CommandError` for a
         refusal, :class:`OutcomeUnknown` when none came in time."""
-        deadline = time.monotonic() + (self.reply_timeout if timeout is None else timeout)
+        wait = self.reply_timeout if timeout is None else timeout
+        deadline = time.monotonic() + wait
         while request_id not in self._replies:
             left = deadline - time.monotonic()
             if left <= 0:
@@ -312,7 +313,7 @@ class ShmClient:
                 raise OutcomeUnknown(
                     "request %d" % request_id,
                     "no reply from the real-time core within %.1f s: the command may or may not "
-                    "have been executed; check the state" % (deadline - time.monotonic() + left),
+                    "have been executed; check the state" % wait,
                     "outcome_unknown",
                     "unknown",
                 )
