@@ -70,13 +70,14 @@ pub fn run(cmd: &mut Command) -> Result<Output, String> {
     }
 }
 
-/// Run `python -m unittest -v <args>` in `python/` with `env` set (and no bytecode written);
+/// Run `python -m unittest <args> -v` in `python/` with `env` set (and no bytecode written);
 /// its log (unittest writes it to stderr, echoed here), or an error naming the command and
 /// its output.
 pub fn unittest(py: &Path, args: &[&str], env: &[(&str, &OsStr)]) -> Result<String, String> {
     let out = run(Command::new(py)
-        .args(["-m", "unittest", "-v"])
+        .args(["-m", "unittest"])
         .args(args)
+        .arg("-v") // last: before `discover` it would name a test
         .current_dir(repo_root().join("python"))
         .env("PYTHONDONTWRITEBYTECODE", "1")
         .envs(env.iter().copied()))?;
