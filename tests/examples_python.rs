@@ -99,15 +99,8 @@ fn python_package_unit_tests_pass() {
     let Some(py) = venv_or_skip("python_package_unit_tests_pass") else {
         return;
     };
-    let out = python::run(
-        Command::new(py)
-            .args(["-m", "unittest", "discover", "-v", "-s", "tests", "-t", "."])
-            .current_dir(python::repo_root().join("python"))
-            .env("PYTHONDONTWRITEBYTECODE", "1"),
-    )
-    .unwrap_or_else(|e| panic!("the Python package's unit tests failed: {e}"));
-    let log = String::from_utf8_lossy(&out.stderr);
-    eprintln!("{log}");
+    let log = python::unittest(&py, &["discover", "-s", "tests", "-t", "."], &[])
+        .unwrap_or_else(|e| panic!("the Python package's unit tests failed: {e}"));
     let ran = number_after(&log, "\nRan ");
     assert!(
         ran >= 20.0,
@@ -279,16 +272,12 @@ fn shared_memory_client_and_examples_run_at_the_cycle_rate() {
     assert!(cycles + missed >= 790.0, "{out}");
     assert_spring(&out);
 
-    let out = python::run(
-        Command::new(&py)
-            .args(["-m", "unittest", "-v", "tests.test_shm_live"])
-            .current_dir(python::repo_root().join("python"))
-            .env("MCM_INSTANCE", &mcm.instance)
-            .env("PYTHONDONTWRITEBYTECODE", "1"),
+    let log = python::unittest(
+        &py,
+        &["tests.test_shm_live"],
+        &[("MCM_INSTANCE", mcm.instance.as_ref())],
     )
     .unwrap_or_else(|e| panic!("the live shared-memory tests failed: {e}"));
-    let log = String::from_utf8_lossy(&out.stderr);
-    eprintln!("{log}");
     assert!(
         log.contains("Ran 7 tests") && !log.contains("skipped"),
         "{log}"

@@ -1,9 +1,10 @@
 //! The Python package's ctypes structures (`python/src/mcm/layout.py`) against the Rust
 //! layouts of the shared-memory samples: sizes, alignments, field offsets, iceoryx2 type names
-//! (with their layout versions), constants, reply locations and the words of every refusal
-//! reason. The truth is what `cargo run -p mcm-shared --example layout` prints; this test
-//! includes that example, writes its JSON to a file and runs `python/tests/test_layout.py`
-//! with the system's `python3` (standard library only, no virtual environment needed).
+//! (with their layout versions), constants, reply locations, the words of every refusal reason
+//! and those words read back to their codes (as the TCP client reads them). The truth is what
+//! `cargo run -p mcm-shared --example layout` prints; this test includes that example, writes
+//! its JSON to a file and runs `python/tests/test_layout.py` with the system's `python3`
+//! (standard library only, no virtual environment needed).
 
 mod common;
 
@@ -11,7 +12,6 @@ mod common;
 mod layout;
 
 use common::python;
-use std::process::Command;
 
 #[test]
 fn python_ctypes_structures_match_the_rust_layouts() {
@@ -22,24 +22,19 @@ fn python_ctypes_structures_match_the_rust_layouts() {
     };
     let json = std::env::temp_dir().join(format!("mcm-layout-{}.json", std::process::id()));
     std::fs::write(&json, layout::layout_json()).unwrap();
-    let root = python::repo_root().join("python");
-    let out = Command::new(py)
-        .args(["-m", "unittest", "-v", "tests.test_layout"])
-        .current_dir(&root)
-        .env("PYTHONPATH", root.join("src"))
-        .env("PYTHONDONTWRITEBYTECODE", "1")
-        .env("MCM_LAYOUT_JSON", &json)
-        .output()
-        .expect("run python3");
-    let _ = std::fs::remove_file(&json);
-    let log = String::from_utf8_lossy(&out.stderr);
-    eprintln!("{log}");
-    assert!(
-        out.status.success(),
-        "the Python layout check failed:\n{log}"
+    let src = python::repo_root().join("python/src");
+    let log = python::unittest(
+        &py,
+        &["tests.test_layout"],
+        &[
+            ("PYTHONPATH", src.as_os_str()),
+            ("MCM_LAYOUT_JSON", json.as_os_str()),
+        ],
     );
+    let _ = std::fs::remove_file(&json);
+    let log = log.unwrap_or_else(|e| panic!("the Python layout check failed:\n{e}"));
     assert!(
-        log.contains("Ran 7 tests") && !log.contains("skipped"),
-        "the layout check must run all its 7 tests, none skipped:\n{log}"
+        log.contains("Ran 8 tests") && !log.contains("skipped"),
+        "the layout check must run all its 8 tests, none skipped:\n{log}"
     );
 }

@@ -21,8 +21,15 @@ with mcm.Client(args.host, args.port) as c:
     r = c.move_all(args.targets, args.velocity_factor)
     print("move_all result: velocities %s deg/s, longest axis %d, max_time_to_target %.3f s"
           % ([round(v, 3) for v in r.velocities], r.longest, r.max_time_to_target))
-    c.sleep(r.max_time_to_target + 0.1)
+    # Wait until the planned time has passed on the robot's clock (not the wall clock) and
+    # every axis is at rest.
     s = c.status()
+    for _ in range(1000):
+        at_rest = all(abs(v) < 1e-6 for v in s.axis_states.velocity)
+        if s.axis_states.time[0] - start >= r.max_time_to_target and at_rest:
+            break
+        c.sleep(0.02)
+        s = c.status()
     err = max(abs(a - b) for a, b in zip(s.axis_states.position, args.targets))
     print("arrived after %.3f s (robot clock): positions %s, largest error %.6f deg"
           % (s.axis_states.time[0] - start, [round(x, 3) for x in s.axis_states.position], err))

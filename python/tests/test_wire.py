@@ -1,6 +1,7 @@
 """The shared-memory encoding (``mcm.wire``) against the Rust contract's rules
 (``shared/src/command.rs``, ``shared/src/reply.rs``). Standard library only: no iceoryx2."""
 
+import time
 import unittest
 
 import mcm
@@ -104,6 +105,23 @@ class ShmWithoutIceoryx(unittest.TestCase):
             self.assertIn("0.10.0", str(e.exception))
         finally:
             shm.iox2 = saved
+
+    def test_a_missing_reply_is_an_unknown_outcome_naming_the_wait(self) -> None:
+        from mcm.shm import ShmClient
+
+        c = ShmClient.__new__(ShmClient)  # no services: no state ever comes
+        c.reply_timeout, c._replies, c._sent_at = 5.0, {}, {7: 0}
+
+        def no_state(timeout: float) -> None:
+            time.sleep(timeout)  # stands in for the blocking wait on the state-ready event
+            raise mcm.McmTimeout("no new state")
+
+        c.wait_state = no_state  # type: ignore[method-assign]
+        with self.assertRaises(mcm.OutcomeUnknown) as e:
+            c.wait_reply(7, timeout=0.2)
+        self.assertEqual((e.exception.code, e.exception.outcome), ("outcome_unknown", "unknown"))
+        self.assertIn("no reply from the real-time core within 0.2 s", e.exception.message)
+        self.assertEqual(c._sent_at, {}, "the request is forgotten")
 
 
 if __name__ == "__main__":

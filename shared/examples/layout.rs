@@ -321,6 +321,20 @@ fn reasons() -> Vec<String> {
             value: 96.512,
             limit: 90.0,
         },
+        Reason::PvtPoint {
+            axis: a(3),
+            point: 1,
+            quantity: PvtQuantity::Position,
+            value: 171.5,
+            limit: 170.0,
+        },
+        Reason::PvtPoint {
+            axis: a(6),
+            point: 1000,
+            quantity: PvtQuantity::Acceleration,
+            value: -2500.25,
+            limit: 2000.0,
+        },
         Reason::Unreachable {
             axis: a(4),
             target_deg: 300.0,

@@ -8,6 +8,7 @@
 //! with a message saying why, or fails when the environment variable `CI` is set.
 
 use std::collections::hash_map::DefaultHasher;
+use std::ffi::OsStr;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -67,6 +68,22 @@ pub fn run(cmd: &mut Command) -> Result<Output, String> {
             String::from_utf8_lossy(&out.stderr)
         ))
     }
+}
+
+/// Run `python -m unittest <args> -v` in `python/` with `env` set (and no bytecode written);
+/// its log (unittest writes it to stderr, echoed here), or an error naming the command and
+/// its output.
+pub fn unittest(py: &Path, args: &[&str], env: &[(&str, &OsStr)]) -> Result<String, String> {
+    let out = run(Command::new(py)
+        .args(["-m", "unittest"])
+        .args(args)
+        .arg("-v") // last: before `discover` it would name a test
+        .current_dir(repo_root().join("python"))
+        .env("PYTHONDONTWRITEBYTECODE", "1")
+        .envs(env.iter().copied()))?;
+    let log = String::from_utf8_lossy(&out.stderr).to_string();
+    eprintln!("{log}");
+    Ok(log)
 }
 
 /// A hash of the package's sources, so a changed package is installed again.

@@ -274,7 +274,8 @@ def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
 
 # Fragments of the gateway's refusal words, in the order they are tried, and the reject code
 # each stands for. The JSON protocol's ERROR results carry words only (and `check` for safety
-# errors); the TCP client gives the code it recognises here, or None.
+# errors); the TCP client gives the code it recognises here, or None. The layout check
+# (`tests/python_layout.rs`) reads every reason's words from the core back through this table.
 _CODE_FRAGMENTS: Tuple[Tuple[str, str], ...] = (
     ("no reply from the real-time core", "outcome_unknown"),
     ("safety check tripped", "safety"),
@@ -286,6 +287,10 @@ _CODE_FRAGMENTS: Tuple[Tuple[str, str], ...] = (
     ("does not answer on the bus", "drive_disconnected"),
     ("do not answer on the bus", "drive_disconnected"),
     ("is in fault", "drive_fault"),
+    ("position limit:", "position_limit"),
+    ("velocity limit:", "velocity_limit"),
+    ("braking distance:", "braking_distance"),
+    ("following error:", "following_error"),
     ("queue full", "queue_full"),
     ("exceeds the limit", "pvt_point"),
     ("outside the reachable range", "unreachable"),

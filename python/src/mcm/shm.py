@@ -136,6 +136,12 @@ class ShmClient:
             .signal_handling_mode(iox.SignalHandlingMode.Disabled)
             .create(iox.ServiceType.Ipc)
         )
+        self._open_within(iox, open_timeout, any_error=False)
+
+    def _open_within(self, iox: Any, open_timeout: float, any_error: bool) -> None:
+        """Open the services, retrying every 50 ms for up to ``open_timeout`` seconds while they
+        do not exist yet (``any_error``: while opening fails in any way, as while a restarted
+        core creates them again), and read from its newest state on."""
         deadline = time.monotonic() + open_timeout
         while True:
             try:
@@ -144,10 +150,10 @@ class ShmClient:
             except ShmUnavailable:
                 raise
             except Exception as e:  # noqa: BLE001 - iceoryx2 raises its own classes
-                if "DoesNotExist" not in repr(e) or time.monotonic() > deadline:
+                if not (any_error or "DoesNotExist" in repr(e)) or time.monotonic() > deadline:
                     raise ShmUnavailable(
                         "cannot open the services of MCM instance %r (is `mcm --instance %s` "
-                        "running as this user?): %r" % (instance, instance, e)
+                        "running as this user?): %r" % (self.instance, self.instance, e)
                     ) from e
                 time.sleep(0.05)
         self._start_from(self._read_state())
@@ -166,18 +172,7 @@ class ShmClient:
         iox = _require_iceoryx2()
         self._replies.clear()
         self._sent_at.clear()
-        deadline = time.monotonic() + open_timeout
-        while True:
-            try:
-                self._open(iox)
-                break
-            except ShmUnavailable:
-                raise
-            except Exception as e:  # noqa: BLE001 - iceoryx2 raises its own classes
-                if time.monotonic() > deadline:
-                    raise ShmUnavailable("cannot open the services of MCM instance %r again: %r" % (self.instance, e)) from e
-                time.sleep(0.05)
-        self._start_from(self._read_state())
+        self._open_within(iox, open_timeout, any_error=True)
 
     def _open(self, iox: Any) -> None:
         name = "mcm/%s/state" % self.instance
@@ -304,7 +299,8 @@ class ShmClient:
     def wait_reply(self, request_id: int, timeout: Optional[float] = None) -> wire.Answer:
         """The answer to a request this client sent; raises :class:`CommandError` for a
         refusal, :class:`OutcomeUnknown` when none came in time."""
-        deadline = time.monotonic() + (self.reply_timeout if timeout is None else timeout)
+        wait = self.reply_timeout if timeout is None else timeout
+        deadline = time.monotonic() + wait
         while request_id not in self._replies:
             left = deadline - time.monotonic()
             if left <= 0:
@@ -312,7 +308,7 @@ class ShmClient:
                 raise OutcomeUnknown(
                     "request %d" % request_id,
                     "no reply from the real-time core within %.1f s: the command may or may not "
-                    "have been executed; check the state" % (deadline - time.monotonic() + left),
+                    "have been executed; check the state" % wait,
                     "outcome_unknown",
                     "unknown",
                 )

@@ -67,6 +67,13 @@ _NO_RESULT = ("set_torques", "set_velocities")
 _EXTRA_TIME = {"calibrate": 600.0}
 
 
+def _given(**arguments: Any) -> Optional[Dict[str, Any]]:
+    """The arguments given (not None), in order, or None when there is none: the MCM applies
+    its defaults to those left out."""
+    given = {k: v for k, v in arguments.items() if v is not None}
+    return given or None
+
+
 def _is_error(v: Dict[str, Any]) -> bool:
     return v.get("result_type") == "generic" and v.get("error_status") == "ERROR"
 
@@ -343,25 +350,16 @@ class Client:
         """Enter TORQUE_CONTROL. ``timeout``: longest interval between ``set_torques`` [s]
         (negative: none); ``dt_status``: interval of the status ticks [s], read them with
         :meth:`wait_status`; ``gravity_compensation``: add the model's compensation."""
-        args = {
-            k: v
-            for k, v in (
-                ("timeout", timeout),
-                ("dt_status", dt_status),
-                ("gravity_compensation", gravity_compensation),
-            )
-            if v is not None
-        }
-        return self._status("torque_control", args or None)
+        return self._status(
+            "torque_control",
+            _given(timeout=timeout, dt_status=dt_status, gravity_compensation=gravity_compensation),
+        )
 
     def set_torques(self, torques: Sequence[float]) -> None:
         """Send six joint torques [Nm]. There is no result on success, so this does not wait;
         a refusal arrives later as a :class:`CommandErrorEvent`, and is raised by the next
         ``set_torques`` (or read with :meth:`events`)."""
-        for i, e in enumerate(self._events):
-            if isinstance(e, CommandErrorEvent) and e.command == "set_torques":
-                del self._events[i]
-                raise CommandError("set_torques", e.message, codes.code_from_message(e.message))
+        self._raise_refusal("set_torques")
         self.command("set_torques", {"torques": [float(t) for t in torques]}, expect_result=False)
 
     def velocity_control(self, timeout: Optional[float] = None, dt_status: Optional[float] = None) -> Status:
@@ -369,8 +367,7 @@ class Client:
         interval between ``set_velocities`` [s] (negative: none; the MCM's default 1 s); without
         one the arm stops in HOLD. ``dt_status``: interval of the status ticks [s], read them
         with :meth:`wait_status`."""
-        args = {k: v for k, v in (("timeout", timeout), ("dt_status", dt_status)) if v is not None}
-        return self._status("velocity_control", args or None)
+        return self._status("velocity_control", _given(timeout=timeout, dt_status=dt_status))
 
     def set_velocities(self, velocities: Sequence[float]) -> None:
         """Send six joint velocities [deg/s], each within its axis's ``max_velocity``; the arm
@@ -394,24 +391,23 @@ class Client:
 
     def pvt(self, dt: Optional[float] = None) -> Status:
         """Enter PVT mode; ``dt`` is the spacing of the ``pvt_points`` points [s]."""
-        return self._status("pvt", {"dt": dt} if dt is not None else None)
+        return self._status("pvt", _given(dt=dt))
 
     def move_axis(
         self, axis_index: int, target_position: float, velocity_factor: Optional[float] = None
     ) -> None:
         """Move one axis (1..6) to a target [deg]; returns as the motion starts."""
-        args: Dict[str, Any] = {"axis_index": axis_index, "target_position": target_position}
-        if velocity_factor is not None:
-            args["velocity_factor"] = velocity_factor
-        self._generic("move_axis", args)
+        self._generic(
+            "move_axis",
+            _given(axis_index=axis_index, target_position=target_position, velocity_factor=velocity_factor),
+        )
 
     def move_all(
         self, target_positions: Sequence[float], velocity_factor: Optional[float] = None
     ) -> MoveAllResult:
         """Move all axes to their targets [deg], starting and arriving together."""
-        args: Dict[str, Any] = {"target_positions": [float(x) for x in target_positions]}
-        if velocity_factor is not None:
-            args["velocity_factor"] = velocity_factor
+        targets = [float(x) for x in target_positions]
+        args = _given(target_positions=targets, velocity_factor=velocity_factor)
         return MoveAllResult.from_json(self.command("move_all", args))
 
     def pvt_points(self, points: Sequence[Union[PvtPoint, Dict[str, Any]]]) -> None:
@@ -434,20 +430,16 @@ class Client:
         power_cycle: Optional[bool] = None,
     ) -> SimResult:
         """Fault injection into the simulated robot; returns the ground truth."""
-        args = {
-            k: v
-            for k, v in (
-                ("emergency_stop", emergency_stop),
-                ("disconnect_axis", disconnect_axis),
-                ("reconnect_axis", reconnect_axis),
-                ("block_axis", block_axis),
-                ("unblock_axis", unblock_axis),
-                ("external_torques", list(external_torques) if external_torques else None),
-                ("power_cycle", power_cycle),
-            )
-            if v is not None
-        }
-        return SimResult.from_json(self.command("sim", args or None))
+        args = _given(
+            emergency_stop=emergency_stop,
+            disconnect_axis=disconnect_axis,
+            reconnect_axis=reconnect_axis,
+            block_axis=block_axis,
+            unblock_axis=unblock_axis,
+            external_torques=list(external_torques) if external_torques else None,
+            power_cycle=power_cycle,
+        )
+        return SimResult.from_json(self.command("sim", args))
 
     def take_control(self) -> None:
         """Become the client that controls the arm's motion."""
