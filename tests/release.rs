@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{Mcm, WAIT, assert_ok, assert_status, config_file, six};
+use common::{Mcm, WAIT, assert_ok, assert_status, config_file, max_diff, six, time_of};
 use serde_json::{Value, json};
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpStream};
@@ -157,12 +157,6 @@ impl Conn {
         assert_ok(&r);
         assert_status(&self.detail(), "HOLD");
     }
-}
-
-fn time_of(s: &Value) -> f64 {
-    s["axis_states"]["time"][0]
-        .as_f64()
-        .unwrap_or_else(|| panic!("no time in {s}"))
 }
 
 /// The spontaneous error of a tripped check: its check, axis and words.
@@ -326,13 +320,6 @@ fn a_push_beyond_a_joint_limit_in_release_trips_position_limit_and_the_arm_stops
         q[2] > -2.0,
         "the elbow stopped near where it tripped: {q:?}"
     );
-}
-
-fn max_diff(a: &[f64; 6], b: &[f64; 6]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
 }
 
 #[test]

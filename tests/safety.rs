@@ -18,7 +18,9 @@
 
 mod common;
 
-use common::{Mcm, WAIT, assert_ok, assert_status, max_abs, max_diff, six};
+use common::{
+    Mcm, WAIT, assert_ok, assert_status, max_abs, max_diff, move_all, move_axis, six, time_of,
+};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
 use serde_json::{Value, json};
@@ -283,13 +285,6 @@ fn assert_refused(v: &Value, words: &[&str]) {
     }
 }
 
-/// The robot's time of a status result [s].
-fn time_of(s: &Value) -> f64 {
-    s["axis_states"]["time"][0]
-        .as_f64()
-        .unwrap_or_else(|| panic!("no time in {s}"))
-}
-
 /// The ground truth of the simulated arm.
 #[derive(Debug, Clone, Copy)]
 struct Truth {
@@ -414,19 +409,6 @@ fn hold_until_accepted(c: &mut Conn) -> (Value, Vec<Value>) {
         );
         std::thread::sleep(Duration::from_millis(20));
     }
-}
-
-fn move_all(target: &[f64; 6], velocity_factor: f64) -> String {
-    json!({"command": "move_all",
-           "arguments": {"target_positions": target, "velocity_factor": velocity_factor}})
-    .to_string()
-}
-
-fn move_axis(axis: usize, target: f64, velocity_factor: f64) -> String {
-    json!({"command": "move_axis",
-           "arguments": {"axis_index": axis, "target_position": target,
-                         "velocity_factor": velocity_factor}})
-    .to_string()
 }
 
 /// The spontaneous error of a tripped check: its fields and words.
@@ -814,7 +796,7 @@ fn an_obstacle_trips_the_following_error_and_nothing_moves_afterwards() {
     // stops pressing): the last hundredths of a degree settle before nothing may move.
     let mut since: Option<(f64, [f64; 6])> = None;
     let (_, rest) = wait_until(&mut c, "the arm settled", |s, t| {
-        let now = s["axis_states"]["time"][0].as_f64().unwrap_or(0.0);
+        let now = time_of(s);
         match since {
             Some((t0, p0)) if now - t0 >= 0.2 => {
                 since = Some((now, t.position));

@@ -276,6 +276,65 @@ impl Client {
                 .is_some_and(|a| a.iter().all(|x| x == true))
         })
     }
+
+    /// The simulation's ground truth (`sim`): true joint angles and velocities [deg, deg/s].
+    pub fn truth(&mut self) -> ([f64; 6], [f64; 6]) {
+        let r = self.request(r#"{"command":"sim"}"#);
+        assert_eq!(r["result_type"], "sim", "{r}");
+        (six(&r["true_position"]), six(&r["true_velocity"]))
+    }
+
+    /// Poll the truth until `done(position, velocity)`; returns it; panics after [`WAIT`].
+    pub fn wait_truth(
+        &mut self,
+        what: &str,
+        done: impl Fn(&[f64; 6], &[f64; 6]) -> bool,
+    ) -> ([f64; 6], [f64; 6]) {
+        let deadline = Instant::now() + WAIT;
+        loop {
+            let (p, v) = self.truth();
+            if done(&p, &v) {
+                return (p, v);
+            }
+            assert!(
+                Instant::now() < deadline,
+                "timed out waiting for {what}; true position {p:?}, velocity {v:?}"
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+}
+
+/// Start an MCM, wait for its drives and calibrate every axis (straight from OFF): the arm
+/// ends in HOLD at zero, controlled by the client returned.
+pub fn calibrated(tag: &str) -> (Mcm, Client) {
+    let mcm = Mcm::start(tag);
+    let mut c = mcm.client();
+    c.wait_drives_online();
+    assert_ok(&c.request(r#"{"command":"calibrate"}"#));
+    (mcm, c)
+}
+
+/// The robot's time of a status result [s] (`axis_states.time`, the cycle's clock).
+pub fn time_of(s: &Value) -> f64 {
+    s["axis_states"]["time"][0]
+        .as_f64()
+        .unwrap_or_else(|| panic!("no time in {s}"))
+}
+
+/// The `move_axis` command line (`axis` 1-based).
+pub fn move_axis(axis: usize, target: f64, velocity_factor: f64) -> String {
+    serde_json::json!({"command": "move_axis",
+           "arguments": {"axis_index": axis, "target_position": target,
+                         "velocity_factor": velocity_factor}})
+    .to_string()
+}
+
+/// The `move_all` command line.
+pub fn move_all(target: &[f64; 6], velocity_factor: f64) -> String {
+    serde_json::json!({"command": "move_all",
+           "arguments": {"target_positions": target, "velocity_factor": velocity_factor}})
+    .to_string()
 }
 
 /// The `error_status` of a generic result.
