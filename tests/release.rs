@@ -7,11 +7,10 @@
 
 mod common;
 
-use common::{Mcm, WAIT, assert_ok, assert_status, config_file, max_diff, six, time_of};
+use common::{
+    EventClient, Mcm, WAIT, assert_ok, assert_status, config_file, is_event, max_diff, six, time_of,
+};
 use serde_json::{Value, json};
-use std::io::{BufRead, BufReader, Write};
-use std::net::{SocketAddr, TcpStream};
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 const STATUS_DETAIL: &str = r#"{"command":"status","arguments":{"detail":true}}"#;
@@ -19,75 +18,23 @@ const STATUS_DETAIL: &str = r#"{"command":"status","arguments":{"detail":true}}"
 const CALIBRATION_WAIT: Duration = Duration::from_secs(90);
 const POLL_PAUSE: Duration = Duration::from_millis(5);
 
-/// A JSON client that keeps spontaneous safety errors apart from replies.
-struct Conn {
-    stream: TcpStream,
-    lines: mpsc::Receiver<Value>,
-    events: Vec<Value>,
+/// What these tests ask of the simulated arm, over a connection that keeps spontaneous safety
+/// errors apart from replies.
+trait Arm {
+    fn detail(&mut self) -> Value;
+    fn sim(&mut self, args: Value) -> ([f64; 6], [f64; 6]);
+    fn truth(&mut self) -> ([f64; 6], [f64; 6]);
+    fn wait_until(
+        &mut self,
+        what: &str,
+        done: impl FnMut(&Value, &[f64; 6], &[f64; 6]) -> bool,
+    ) -> (Value, [f64; 6], [f64; 6]);
+    fn observe(&mut self, seconds: f64, each: impl FnMut(&Value, &[f64; 6], &[f64; 6]));
+    fn wait_drives_online(&mut self);
+    fn calibrate(&mut self);
 }
 
-fn is_event(v: &Value) -> bool {
-    v["result_type"] == "generic" && v["error_status"] == "ERROR" && v.get("check").is_some()
-}
-
-impl Conn {
-    fn connect(addr: SocketAddr) -> Conn {
-        let stream = TcpStream::connect(addr).expect("connect");
-        stream.set_nodelay(true).unwrap();
-        let reader = BufReader::new(stream.try_clone().unwrap());
-        let (tx, rx) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in reader.lines() {
-                let Ok(line) = line else { break };
-                let v = serde_json::from_str(&line)
-                    .unwrap_or_else(|e| panic!("result is not JSON ({e}): {line:?}"));
-                if tx.send(v).is_err() {
-                    break;
-                }
-            }
-        });
-        Conn {
-            stream,
-            lines: rx,
-            events: Vec::new(),
-        }
-    }
-
-    fn request_within(&mut self, json: &str, wait: Duration) -> Value {
-        self.stream
-            .write_all(format!("{json}\n").as_bytes())
-            .expect("send");
-        loop {
-            let v = self
-                .lines
-                .recv_timeout(wait)
-                .unwrap_or_else(|_| panic!("no result for {json} within {wait:?}"));
-            if is_event(&v) {
-                self.events.push(v);
-            } else {
-                return v;
-            }
-        }
-    }
-
-    fn request(&mut self, json: &str) -> Value {
-        self.request_within(json, WAIT)
-    }
-
-    /// The first spontaneous safety error (waiting up to [`WAIT`]).
-    fn event(&mut self) -> Value {
-        let deadline = Instant::now() + WAIT;
-        while self.events.is_empty() {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.lines.recv_timeout(left) {
-                Ok(v) if is_event(&v) => self.events.push(v),
-                Ok(_) => {}
-                Err(_) => panic!("no spontaneous error within {WAIT:?}"),
-            }
-        }
-        self.events[0].clone()
-    }
-
+impl Arm for EventClient {
     fn detail(&mut self) -> Value {
         let s = self.request(STATUS_DETAIL);
         assert_eq!(s["result_type"], "status", "{s}");
@@ -179,7 +126,7 @@ fn torques(axis: usize, nm: f64) -> Value {
 #[test]
 fn a_push_in_release_is_slowed_below_the_velocity_limit_until_the_hard_check_is_needed() {
     let mcm = Mcm::start("release-push");
-    let mut c = Conn::connect(mcm.json);
+    let mut c = EventClient::connect(mcm.json);
     c.wait_drives_online();
     c.calibrate();
     assert_status(&c.request(r#"{"command":"release"}"#), "RELEASE");
@@ -208,7 +155,7 @@ fn a_push_in_release_is_slowed_below_the_velocity_limit_until_the_hard_check_is_
     }
     // Beyond what the damping can catch: the hard check is the last resort.
     c.sim(torques(0, sign * 40.0));
-    let e = c.event();
+    let e = c.wait_event("a trip", WAIT);
     assert_event(&e, "velocity_limit", Some(1), &["velocity limit: axis 1"]);
     c.sim(torques(0, 0.0));
     let (s, _, _) = c.wait_until("the arm at rest", |_, _, v| v.iter().all(|x| x.abs() < 0.5));
@@ -219,7 +166,7 @@ fn a_push_in_release_is_slowed_below_the_velocity_limit_until_the_hard_check_is_
 #[test]
 fn after_a_following_error_trip_against_an_obstacle_the_drive_stops_pressing() {
     let mcm = Mcm::start("release-obstacle");
-    let mut c = Conn::connect(mcm.json);
+    let mut c = EventClient::connect(mcm.json);
     c.wait_drives_online();
     c.calibrate();
     assert_status(&c.request(r#"{"command":"pvt"}"#), "PVT");
@@ -228,7 +175,7 @@ fn after_a_following_error_trip_against_an_obstacle_the_drive_stops_pressing() {
     assert_ok(&c.request(&mv.to_string()));
     c.wait_until("axis 1 moving", |_, _, v| v[0] > 10.0);
     c.sim(json!({"block_axis": 1}));
-    let e = c.event();
+    let e = c.wait_event("a trip", WAIT);
     assert_event(&e, "following_error", Some(1), &["following error: axis 1"]);
     let mut current = Vec::new();
     c.observe(0.5, |s, _, _| {
@@ -258,11 +205,11 @@ fn after_a_following_error_trip_against_an_obstacle_the_drive_stops_pressing() {
 #[test]
 fn a_power_cycle_names_every_axis_it_affected() {
     let mcm = Mcm::start("release-power");
-    let mut c = Conn::connect(mcm.json);
+    let mut c = EventClient::connect(mcm.json);
     c.wait_drives_online();
     assert_status(&c.request(r#"{"command":"hold"}"#), "HOLD");
     c.sim(json!({"power_cycle": true}));
-    let e = c.event();
+    let e = c.wait_event("a trip", WAIT);
     eprintln!("power cycle: {}", e["error_message"]);
     assert_event(
         &e,
@@ -284,7 +231,7 @@ fn a_push_beyond_a_joint_limit_in_release_trips_position_limit_and_the_arm_stops
         )
     });
     let mcm = Mcm::start_with("release-limit", &["--config", cfg.path()]);
-    let mut c = Conn::connect(mcm.json);
+    let mut c = EventClient::connect(mcm.json);
     c.wait_drives_online();
     c.calibrate();
     let (_, q, _) = c.wait_until("the arm at rest", |_, _, v| {
@@ -303,7 +250,7 @@ fn a_push_beyond_a_joint_limit_in_release_trips_position_limit_and_the_arm_stops
         r["operating_mode"] == "RELEASE" || r["operating_mode"] == "ERROR",
         "{r}"
     );
-    let e = c.event();
+    let e = c.wait_event("a trip", WAIT);
     assert_event(
         &e,
         "position_limit",
@@ -325,7 +272,7 @@ fn a_push_beyond_a_joint_limit_in_release_trips_position_limit_and_the_arm_stops
 #[test]
 fn entering_hold_under_gravity_sags_less_than_0_02_deg() {
     let mcm = Mcm::start("release-sag");
-    let mut c = Conn::connect(mcm.json);
+    let mut c = EventClient::connect(mcm.json);
     c.wait_drives_online();
     c.calibrate();
     assert_status(&c.request(r#"{"command":"pvt"}"#), "PVT");
