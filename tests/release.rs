@@ -245,10 +245,14 @@ fn a_push_beyond_a_joint_limit_in_release_trips_position_limit_and_the_arm_stops
     // first cycle of RELEASE: an arm at rest beyond its limit trips as soon as its measured
     // velocity points further out, which noise alone can do, so the push decides, not noise.
     c.sim(torques(2, -20.0));
+    // `release` is accepted (a refusal is a generic result with no mode); its state is RELEASE,
+    // or already the trip's ERROR when the push crossed the limit within the cycle that
+    // executed it (the trip itself is checked on the spontaneous error below).
     let r = c.request(r#"{"command":"release"}"#);
+    assert_eq!(r["result_type"], "status", "release accepted: {r}");
     assert!(
-        r["operating_mode"] == "RELEASE" || r["operating_mode"] == "ERROR",
-        "{r}"
+        matches!(r["operating_mode"].as_str(), Some("RELEASE" | "ERROR")),
+        "release entered (or the trip already reported): {r}"
     );
     let e = c.wait_event("a trip", WAIT);
     assert_event(
