@@ -127,15 +127,9 @@ impl Rig {
 
 impl Drop for Rig {
     fn drop(&mut self) {
-        if let Some(mcm) = self.mcm.take() {
-            let instance = mcm.instance.clone();
-            drop(mcm); // stops it
-            // mcm-rt may save the simulated robot for a restart of the same instance; these
-            // instances never restart.
-            let _ = std::fs::remove_file(
-                std::env::temp_dir().join(format!("mcm-sim-{instance}.state")),
-            );
-        }
+        // Stop the MCM (its drop also removes the simulation it saved for a restart) before
+        // the directory its flight recorder writes to goes.
+        drop(self.mcm.take());
         if std::thread::panicking() {
             eprintln!("keeping {} for inspection", self.dir.display());
         } else {
