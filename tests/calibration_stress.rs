@@ -11,7 +11,6 @@ mod common;
 use common::{Client, Mcm, assert_error, assert_ok, max_diff, six};
 use serde_json::Value;
 use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
 
 /// Busy-loop child processes, one per CPU; killed (each by its own pid) on drop.
 struct Load(Vec<Child>);
@@ -42,27 +41,14 @@ impl Drop for Load {
     }
 }
 
-/// The simulation's true joint angles and velocities [deg, deg/s].
-fn truth(c: &mut Client) -> ([f64; 6], [f64; 6]) {
-    let r = c.request(r#"{"command":"sim"}"#);
-    assert_eq!(r["result_type"], "sim", "{r}");
-    (six(&r["true_position"]), six(&r["true_velocity"]))
-}
-
 /// Wait (bounded) until the true arm is at rest; then the reported positions must be the true
 /// angles within 0.05 deg, and every axis calibrated.
 fn assert_positions_true(c: &mut Client, what: &str) {
-    let deadline = Instant::now() + common::WAIT;
-    loop {
-        let (_, v) = truth(c);
-        if v.iter().all(|x| x.abs() < 0.01) {
-            break;
-        }
-        assert!(Instant::now() < deadline, "{what}: arm not at rest: {v:?}");
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    c.wait_truth(&format!("{what}: the arm at rest"), |_, v| {
+        v.iter().all(|x| x.abs() < 0.01)
+    });
     let s = c.request(r#"{"command":"status","arguments":{"detail":true}}"#);
-    let (t, _) = truth(c);
+    let (t, _) = c.truth();
     let p = six(&s["axis_states"]["position"]);
     let err = max_diff(&p, &t);
     assert!(
@@ -149,11 +135,7 @@ fn an_obstacle_in_the_way_of_a_recalibration_fails_it_with_both_positions() {
     assert_ok(&c.request(
         r#"{"command":"move_axis","arguments":{"axis_index":3,"target_position":100,"velocity_factor":0.5}}"#,
     ));
-    let deadline = Instant::now() + common::WAIT;
-    while (truth(&mut c).0[2] - 100.0).abs() > 0.01 {
-        assert!(Instant::now() < deadline, "axis 3 did not reach 100 deg");
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    c.wait_truth("axis 3 at 100 deg", |p, _| (p[2] - 100.0).abs() <= 0.01);
     assert_eq!(c.request(r#"{"command":"hold"}"#)["operating_mode"], "HOLD");
     let r = c.request(r#"{"command":"sim","arguments":{"block_axis":3}}"#);
     assert_eq!(r["result_type"], "sim", "{r}");

@@ -7,21 +7,13 @@
 
 mod common;
 
-use common::{Client, Mcm, WAIT, assert_ok, assert_status, config_file, is_error};
-use serde_json::Value;
+use common::{Client, Mcm, WAIT, assert_ok, assert_status, config_file, is_error, time_of};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 /// One control cycle of the P-Rob2 [s].
 const CYCLE: f64 = 0.005;
-
-/// The robot's time of a status result [s].
-fn time_of(s: &Value) -> f64 {
-    s["axis_states"]["time"][0]
-        .as_f64()
-        .unwrap_or_else(|| panic!("no time in {s}"))
-}
 
 /// Wait (bounded) until `cond` holds, polling at a gentle pace.
 fn wait_until(what: &str, cond: impl Fn() -> bool) {

@@ -10,7 +10,10 @@
 
 mod common;
 
-use common::{Client, Mcm, WAIT, assert_error, assert_ok, assert_status, max_abs, max_diff, six};
+use common::{
+    Client, Mcm, WAIT, assert_error, assert_ok, assert_status, calibrated, max_abs, max_diff,
+    move_all, move_axis, six, time_of,
+};
 use mcm_shared::config::RobotConfig;
 use serde_json::{Value, json};
 use std::f64::consts::PI;
@@ -26,13 +29,6 @@ const POLL_PAUSE: Duration = Duration::from_millis(5);
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
-
-/// The robot's time of a status result [s].
-fn time_of(s: &Value) -> f64 {
-    s["axis_states"]["time"][0]
-        .as_f64()
-        .unwrap_or_else(|| panic!("no time in {s}"))
-}
 
 fn position(s: &Value) -> [f64; 6] {
     six(&s["axis_states"]["position"])
@@ -85,15 +81,6 @@ fn detail(c: &mut Client) -> Value {
     s
 }
 
-/// Start an MCM, wait for its drives, calibrate every axis (straight from OFF).
-fn calibrated(tag: &str) -> (Mcm, Client) {
-    let mcm = Mcm::start(tag);
-    let mut c = mcm.client();
-    c.wait_drives_online();
-    assert_ok(&c.request(r#"{"command":"calibrate"}"#));
-    (mcm, c)
-}
-
 /// Poll for `seconds` of robot time, calling `each` between polls with the latest status.
 fn observe(c: &mut Client, seconds: f64, mut each: impl FnMut(&mut Client, &Value)) {
     let t0 = time_of(&status(c));
@@ -142,19 +129,6 @@ fn wait_arrived(c: &mut Client, target: &[f64; 6]) -> (Value, Truth) {
     wait_until(c, "arrival at the target", |s, t| {
         max_abs(&velocity(s)) == 0.0 && max_diff(&t.position, target) < 0.05
     })
-}
-
-fn move_all(target: &[f64; 6], velocity_factor: f64) -> String {
-    json!({"command": "move_all",
-           "arguments": {"target_positions": target, "velocity_factor": velocity_factor}})
-    .to_string()
-}
-
-fn move_axis(axis: usize, target: f64, velocity_factor: f64) -> String {
-    json!({"command": "move_axis",
-           "arguments": {"axis_index": axis, "target_position": target,
-                         "velocity_factor": velocity_factor}})
-    .to_string()
 }
 
 fn pvt_points(points: &[([f64; 6], [f64; 6])]) -> String {

@@ -9,9 +9,12 @@
 
 mod common;
 
-use common::{Client, Mcm, WAIT, assert_ok, assert_status, max_abs, six};
+use common::{
+    Client, Mcm, WAIT, assert_ok, assert_status, calibrated, max_abs, move_all, move_axis, six,
+    time_of,
+};
 use mcm_shared::config::RobotConfig;
-use serde_json::{Value, json};
+use serde_json::Value;
 use std::time::{Duration, Instant};
 
 /// Pause between polls (pacing only; every loop ends on an observed condition).
@@ -19,31 +22,9 @@ const POLL_PAUSE: Duration = Duration::from_millis(5);
 /// The true arm within this of the target [deg] counts as arrived.
 const ARRIVED: f64 = 0.05;
 
-fn move_axis(axis: usize, target: f64, velocity_factor: f64) -> String {
-    json!({"command": "move_axis",
-           "arguments": {"axis_index": axis, "target_position": target,
-                         "velocity_factor": velocity_factor}})
-    .to_string()
-}
-
-fn move_all(target: &[f64; 6], velocity_factor: f64) -> String {
-    json!({"command": "move_all",
-           "arguments": {"target_positions": target, "velocity_factor": velocity_factor}})
-    .to_string()
-}
-
-fn true_position(c: &mut Client) -> [f64; 6] {
-    let r = c.request(r#"{"command":"sim"}"#);
-    assert_eq!(r["result_type"], "sim", "{r}");
-    six(&r["true_position"])
-}
-
 /// Start, calibrate, enter PVT at rest.
 fn in_pvt(tag: &str) -> (Mcm, Client) {
-    let mcm = Mcm::start(tag);
-    let mut c = mcm.client();
-    c.wait_drives_online();
-    assert_ok(&c.request(r#"{"command":"calibrate"}"#));
+    let (mcm, mut c) = calibrated(tag);
     assert_status(&c.request(r#"{"command":"pvt"}"#), "PVT");
     (mcm, c)
 }
@@ -70,7 +51,7 @@ impl Watch {
     fn poll(&mut self, c: &mut Client) -> Value {
         let s = c.request(r#"{"command":"status"}"#);
         assert_status(&s, "PVT");
-        let t = s["axis_states"]["time"][0].as_f64().expect("time");
+        let t = time_of(&s);
         let v = six(&s["axis_states"]["velocity"]);
         if let Some((t0, v0)) = self.last {
             let dt = t - t0;
@@ -100,10 +81,10 @@ impl Watch {
         let deadline = Instant::now() + WAIT;
         loop {
             let s = self.poll(c);
-            let truth = true_position(c);
+            let truth = c.truth().0;
             let there = (0..6).all(|i| target[i].is_none_or(|q| (truth[i] - q).abs() < ARRIVED));
             if there && max_abs(&six(&s["axis_states"]["velocity"])) == 0.0 {
-                return s["axis_states"]["time"][0].as_f64().unwrap();
+                return time_of(&s);
             }
             assert!(
                 Instant::now() < deadline,
@@ -116,7 +97,7 @@ impl Watch {
     /// Poll until the true position of axis `i` (0-based) passes `q` upward.
     fn until_past(&mut self, c: &mut Client, i: usize, q: f64) {
         let deadline = Instant::now() + WAIT;
-        while true_position(c)[i] <= q {
+        while c.truth().0[i] <= q {
             self.poll(c);
             assert!(Instant::now() < deadline, "axis {} never passed {q}", i + 1);
             std::thread::sleep(POLL_PAUSE);
@@ -142,7 +123,7 @@ fn a_move_retargeted_mid_way_arrives_and_one_sent_as_the_last_arrives_is_accepte
     loop {
         let s = w.poll(&mut c);
         let moving = max_abs(&six(&s["axis_states"]["velocity"])) > 0.0;
-        if moving && (true_position(&mut c)[0]).abs() < ARRIVED {
+        if moving && (c.truth().0[0]).abs() < ARRIVED {
             break;
         }
         assert!(Instant::now() < deadline, "never caught the arrival: {s}");
@@ -171,7 +152,7 @@ fn axes_run_independently_and_move_all_during_motion_answers_the_new_plan() {
     let v3 = six(&before["axis_states"]["velocity"])[2];
     let r = c.request(&move_all(&target, 0.5));
     assert_eq!(r["result_type"], "move_all", "{r}");
-    let t0 = w.poll(&mut c)["axis_states"]["time"][0].as_f64().unwrap();
+    let t0 = time_of(&w.poll(&mut c));
     let duration = r["max_time_to_target"]
         .as_f64()
         .expect("max_time_to_target");

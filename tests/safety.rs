@@ -18,14 +18,14 @@
 
 mod common;
 
-use common::{Mcm, WAIT, assert_ok, assert_status, max_abs, max_diff, six};
+use common::{
+    EventClient, Mcm, WAIT, assert_ok, assert_status, is_event, max_abs, max_diff, move_all,
+    move_axis, six, time_of,
+};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
 use serde_json::{Value, json};
-use std::io::{BufRead, BufReader, Write};
-use std::net::{Shutdown, SocketAddr, TcpStream};
 use std::path::{Path, PathBuf};
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 const STATUS: &str = r#"{"command":"status"}"#;
@@ -109,8 +109,8 @@ impl Rig {
         self.mcm.as_ref().expect("the MCM runs")
     }
 
-    fn conn(&self) -> Conn {
-        Conn::connect(self.mcm().json)
+    fn conn(&self) -> EventClient {
+        EventClient::connect(self.mcm().json)
     }
 
     /// Cycle period [s].
@@ -127,136 +127,14 @@ impl Rig {
 
 impl Drop for Rig {
     fn drop(&mut self) {
-        if let Some(mcm) = self.mcm.take() {
-            let instance = mcm.instance.clone();
-            drop(mcm); // stops it
-            // mcm-rt may save the simulated robot for a restart of the same instance; these
-            // instances never restart.
-            let _ = std::fs::remove_file(
-                std::env::temp_dir().join(format!("mcm-sim-{instance}.state")),
-            );
-        }
+        // Stop the MCM (its drop also removes the simulation it saved for a restart) before
+        // the directory its flight recorder writes to goes.
+        drop(self.mcm.take());
         if std::thread::panicking() {
             eprintln!("keeping {} for inspection", self.dir.display());
         } else {
             let _ = std::fs::remove_dir_all(&self.dir);
         }
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// A JSON connection that sorts spontaneous results from replies
-
-/// A JSON client. A reader thread parses every line; spontaneous safety errors that arrive while
-/// a reply is awaited are kept in `events` (in order), other results nobody asked for (the
-/// status results of a TORQUE_CONTROL session, replies to `set_torques` sent without waiting)
-/// in `unasked`.
-struct Conn {
-    stream: TcpStream,
-    lines: mpsc::Receiver<Value>,
-    events: Vec<Value>,
-    /// Events already returned by [`Conn::wait_event`].
-    taken: usize,
-    unasked: Vec<Value>,
-}
-
-/// A spontaneous safety error: a generic ERROR that names a check.
-fn is_event(v: &Value) -> bool {
-    v["result_type"] == "generic" && v["error_status"] == "ERROR" && v.get("check").is_some()
-}
-
-impl Conn {
-    fn connect(addr: SocketAddr) -> Conn {
-        let stream = TcpStream::connect(addr).expect("connect");
-        stream.set_nodelay(true).unwrap();
-        let reader = BufReader::new(stream.try_clone().unwrap());
-        let (tx, rx) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in reader.lines() {
-                let Ok(line) = line else { break };
-                let v = serde_json::from_str(&line)
-                    .unwrap_or_else(|e| panic!("result is not JSON ({e}): {line:?}"));
-                if tx.send(v).is_err() {
-                    break;
-                }
-            }
-        });
-        Conn {
-            stream,
-            lines: rx,
-            events: Vec::new(),
-            taken: 0,
-            unasked: Vec::new(),
-        }
-    }
-
-    fn send(&mut self, json: &str) {
-        self.stream
-            .write_all(format!("{json}\n").as_bytes())
-            .expect("send a command");
-    }
-
-    fn next(&mut self, timeout: Duration) -> Option<Value> {
-        match self.lines.recv_timeout(timeout) {
-            Ok(v) => Some(v),
-            Err(mpsc::RecvTimeoutError::Timeout) => None,
-            Err(mpsc::RecvTimeoutError::Disconnected) => panic!("the connection was closed"),
-        }
-    }
-
-    /// Send a command and return its result (spontaneous errors go to `events`).
-    fn request_within(&mut self, json: &str, wait: Duration) -> Value {
-        self.send(json);
-        loop {
-            let v = self
-                .next(wait)
-                .unwrap_or_else(|| panic!("no result for {json} within {wait:?}"));
-            if is_event(&v) {
-                self.events.push(v);
-            } else {
-                return v;
-            }
-        }
-    }
-
-    fn request(&mut self, json: &str) -> Value {
-        self.request_within(json, WAIT)
-    }
-
-    /// The next spontaneous safety error not yet taken; panics after `wait`.
-    fn wait_event(&mut self, what: &str, wait: Duration) -> Value {
-        let deadline = Instant::now() + wait;
-        while self.taken == self.events.len() {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.next(left) {
-                Some(v) if is_event(&v) => self.events.push(v),
-                Some(v) => self.unasked.push(v),
-                None => panic!("no spontaneous error ({what}) within {wait:?}"),
-            }
-        }
-        self.taken += 1;
-        self.events[self.taken - 1].clone()
-    }
-
-    /// Every line that arrives within `window` (nothing is asked meanwhile).
-    fn gather(&mut self, window: Duration) -> Vec<Value> {
-        let deadline = Instant::now() + window;
-        let mut got = Vec::new();
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            if left.is_zero() {
-                return got;
-            }
-            if let Some(v) = self.next(left) {
-                got.push(v);
-            }
-        }
-    }
-}
-
-impl Drop for Conn {
-    fn drop(&mut self) {
-        let _ = self.stream.shutdown(Shutdown::Both);
     }
 }
 
@@ -283,13 +161,6 @@ fn assert_refused(v: &Value, words: &[&str]) {
     }
 }
 
-/// The robot's time of a status result [s].
-fn time_of(s: &Value) -> f64 {
-    s["axis_states"]["time"][0]
-        .as_f64()
-        .unwrap_or_else(|| panic!("no time in {s}"))
-}
-
 /// The ground truth of the simulated arm.
 #[derive(Debug, Clone, Copy)]
 struct Truth {
@@ -298,7 +169,7 @@ struct Truth {
     emergency_stop: bool,
 }
 
-fn sim(c: &mut Conn, args: Option<Value>) -> Truth {
+fn sim(c: &mut EventClient, args: Option<Value>) -> Truth {
     let cmd = match args {
         Some(a) => json!({"command": "sim", "arguments": a}).to_string(),
         None => r#"{"command":"sim"}"#.to_string(),
@@ -314,17 +185,17 @@ fn sim(c: &mut Conn, args: Option<Value>) -> Truth {
     }
 }
 
-fn truth(c: &mut Conn) -> Truth {
+fn truth(c: &mut EventClient) -> Truth {
     sim(c, None)
 }
 
-fn status(c: &mut Conn) -> Value {
+fn status(c: &mut EventClient) -> Value {
     let s = c.request(STATUS);
     assert_eq!(s["result_type"], "status", "{s}");
     s
 }
 
-fn detail(c: &mut Conn) -> Value {
+fn detail(c: &mut EventClient) -> Value {
     let s = c.request(STATUS_DETAIL);
     assert_eq!(s["result_type"], "status", "{s}");
     s
@@ -332,7 +203,7 @@ fn detail(c: &mut Conn) -> Value {
 
 /// Poll the detailed status and the truth until `done`; panics after `wait`.
 fn wait_until_within(
-    c: &mut Conn,
+    c: &mut EventClient,
     what: &str,
     wait: Duration,
     mut done: impl FnMut(&Value, &Truth) -> bool,
@@ -353,7 +224,7 @@ fn wait_until_within(
 }
 
 fn wait_until(
-    c: &mut Conn,
+    c: &mut EventClient,
     what: &str,
     done: impl FnMut(&Value, &Truth) -> bool,
 ) -> (Value, Truth) {
@@ -361,12 +232,12 @@ fn wait_until(
 }
 
 /// Wait until the true arm is at rest (every true velocity below 0.01 deg/s).
-fn wait_at_rest(c: &mut Conn) -> Truth {
+fn wait_at_rest(c: &mut EventClient) -> Truth {
     wait_until(c, "the arm at rest", |_, t| max_abs(&t.velocity) < 0.01).1
 }
 
 /// Poll for `seconds` of robot time, calling `each` with the latest status and truth.
-fn observe(c: &mut Conn, seconds: f64, mut each: impl FnMut(&Value, &Truth)) {
+fn observe(c: &mut EventClient, seconds: f64, mut each: impl FnMut(&Value, &Truth)) {
     let t0 = time_of(&status(c));
     let deadline = Instant::now() + WAIT;
     loop {
@@ -381,14 +252,14 @@ fn observe(c: &mut Conn, seconds: f64, mut each: impl FnMut(&Value, &Truth)) {
     }
 }
 
-fn wait_drives_online(c: &mut Conn) {
+fn wait_drives_online(c: &mut EventClient) {
     wait_until(c, "every drive online", |s, _| {
         bools(&s["detail"]["drive_online"]).iter().all(|x| *x)
     });
 }
 
 /// Calibrate every axis (from OFF or HOLD); the arm ends in HOLD at zero.
-fn calibrate(c: &mut Conn) {
+fn calibrate(c: &mut EventClient) {
     let r = c.request_within(r#"{"command":"calibrate"}"#, CALIBRATION_WAIT);
     assert_ok(&r);
     let s = detail(c);
@@ -398,7 +269,7 @@ fn calibrate(c: &mut Conn) {
 
 /// Send `hold` until it is accepted (it is refused while the cause of an error persists and
 /// until the drives report that it is gone); returns the status result and the refusals.
-fn hold_until_accepted(c: &mut Conn) -> (Value, Vec<Value>) {
+fn hold_until_accepted(c: &mut EventClient) -> (Value, Vec<Value>) {
     let deadline = Instant::now() + WAIT;
     let mut refusals = Vec::new();
     loop {
@@ -414,19 +285,6 @@ fn hold_until_accepted(c: &mut Conn) -> (Value, Vec<Value>) {
         );
         std::thread::sleep(Duration::from_millis(20));
     }
-}
-
-fn move_all(target: &[f64; 6], velocity_factor: f64) -> String {
-    json!({"command": "move_all",
-           "arguments": {"target_positions": target, "velocity_factor": velocity_factor}})
-    .to_string()
-}
-
-fn move_axis(axis: usize, target: f64, velocity_factor: f64) -> String {
-    json!({"command": "move_axis",
-           "arguments": {"axis_index": axis, "target_position": target,
-                         "velocity_factor": velocity_factor}})
-    .to_string()
 }
 
 /// The spontaneous error of a tripped check: its fields and words.
@@ -814,7 +672,7 @@ fn an_obstacle_trips_the_following_error_and_nothing_moves_afterwards() {
     // stops pressing): the last hundredths of a degree settle before nothing may move.
     let mut since: Option<(f64, [f64; 6])> = None;
     let (_, rest) = wait_until(&mut c, "the arm settled", |s, t| {
-        let now = s["axis_states"]["time"][0].as_f64().unwrap_or(0.0);
+        let now = time_of(s);
         match since {
             Some((t0, p0)) if now - t0 >= 0.2 => {
                 since = Some((now, t.position));
@@ -1036,7 +894,7 @@ struct Push {
 /// with `hold`.
 fn push_towards_the_limit(
     rig: &Rig,
-    c: &mut Conn,
+    c: &mut EventClient,
     axis: usize,
     start_deg: f64,
     push_nm: f64,

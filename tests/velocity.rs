@@ -8,53 +8,14 @@
 
 mod common;
 
-use common::{Client, Mcm, WAIT, assert_error, assert_ok, assert_status, six};
-use serde_json::Value;
+use common::{Client, WAIT, assert_error, assert_ok, assert_status, calibrated, six, time_of};
 use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 const CYCLE: f64 = 0.005;
-const SIM: &str = r#"{"command":"sim"}"#;
 const STATUS: &str = r#"{"command":"status"}"#;
-
-fn time_of(s: &Value) -> f64 {
-    s["axis_states"]["time"][0].as_f64().unwrap()
-}
-
-fn true_velocity(c: &mut Client) -> [f64; 6] {
-    six(&c.request(SIM)["true_velocity"])
-}
-
-fn true_position(c: &mut Client) -> [f64; 6] {
-    six(&c.request(SIM)["true_position"])
-}
-
-fn calibrated(tag: &str) -> (Mcm, Client) {
-    let mcm = Mcm::start(tag);
-    let mut c = mcm.client();
-    c.wait_drives_online();
-    assert_ok(&c.request(r#"{"command":"calibrate"}"#));
-    (mcm, c)
-}
-
-/// Poll the truth until `done`; panics after [`WAIT`].
-fn wait_truth(c: &mut Client, what: &str, done: impl Fn(&[f64; 6], &[f64; 6]) -> bool) {
-    let deadline = Instant::now() + WAIT;
-    loop {
-        let sim = c.request(SIM);
-        let (p, v) = (six(&sim["true_position"]), six(&sim["true_velocity"]));
-        if done(&p, &v) {
-            return;
-        }
-        assert!(
-            Instant::now() < deadline,
-            "{what}: not reached; truth {sim}"
-        );
-        std::thread::sleep(Duration::from_millis(10));
-    }
-}
 
 #[test]
 fn two_axes_ramp_within_the_acceleration_limit_and_reach_their_targets() {
@@ -82,7 +43,7 @@ fn two_axes_ramp_within_the_acceleration_limit_and_reach_their_targets() {
             }
             last = (t, v);
         }
-        let truth = true_velocity(&mut c);
+        let truth = c.truth().1;
         if (truth[0] - 20.0).abs() < 0.3 && (truth[2] + 30.0).abs() < 0.3 {
             break;
         }
@@ -94,12 +55,12 @@ fn two_axes_ramp_within_the_acceleration_limit_and_reach_their_targets() {
         "true acceleration up to {worst:.1} deg/s^2"
     );
     assert!(worst > 20.0, "it did accelerate: {worst}");
-    let v = true_velocity(&mut c);
+    let v = c.truth().1;
     // The others are held in place (the arm's coupling makes them tremble a little).
     assert!(v[1].abs() < 1.0 && v[3].abs() < 1.0, "others still: {v:?}");
     // `hold` ends it with a controlled stop.
     assert_status(&c.request(r#"{"command":"hold"}"#), "HOLD");
-    wait_truth(&mut c, "at rest after hold", |_, v| {
+    c.wait_truth("at rest after hold", |_, v| {
         v.iter().all(|x| x.abs() < 0.05)
     });
 }
@@ -125,7 +86,7 @@ fn the_timeout_falls_back_to_hold_and_is_reported_at_once() {
             (0.5..=0.5 + 10.0 * CYCLE).contains(&after),
             "{enter}: HOLD reported {after:.3} s after the mode change's state"
         );
-        wait_truth(&mut c, "at rest", |_, v| v.iter().all(|x| x.abs() < 0.05));
+        c.wait_truth("at rest", |_, v| v.iter().all(|x| x.abs() < 0.05));
     }
 
     // Moving: the timeout's stop is controlled (no trip), and reported at once.
@@ -140,7 +101,7 @@ fn the_timeout_falls_back_to_hold_and_is_reported_at_once() {
         six(&hold["axis_states"]["velocity"])[5] > 5.0,
         "still moving when the mode fell back: {hold}"
     );
-    wait_truth(&mut c, "stopped", |_, v| v[5].abs() < 0.05);
+    c.wait_truth("stopped", |_, v| v[5].abs() < 0.05);
     assert_status(&c.request(STATUS), "HOLD");
 }
 
@@ -155,10 +116,9 @@ fn a_velocity_towards_a_joint_limit_stops_before_the_limit_without_a_trip() {
     c.send_raw(
         b"{\"command\":\"set_velocities\",\"arguments\":{\"velocities\":[0,0,0,0,150,0]}}\n",
     );
-    wait_truth(&mut c, "at rest near the limit", |p, v| {
+    let (p, _) = c.wait_truth("at rest near the limit", |p, v| {
         p[4] > 100.0 && v[4].abs() < 0.02
     });
-    let p = true_position(&mut c);
     assert!(p[4] < 119.0 && p[4] > 118.0, "stopped at {} deg", p[4]);
     assert_status(&c.request(STATUS), "VELOCITY_CONTROL");
     assert_status(&c.request(r#"{"command":"hold"}"#), "HOLD");
@@ -235,20 +195,20 @@ fn jog_moves_an_axis_while_a_key_is_held_and_q_leaves_to_hold() {
     wait_text("jog axis 2");
     assert_status(&c.request(STATUS), "VELOCITY_CONTROL");
     // `+` held down: a repeat every 30 ms for 1.5 s.
-    let start = true_position(&mut c)[1];
+    let start = c.truth().0[1];
     let mut peak: f64 = 0.0;
     for _ in 0..50 {
         w.write_all(b"+").unwrap();
         std::thread::sleep(Duration::from_millis(30));
-        peak = peak.max(true_velocity(&mut c)[1]);
+        peak = peak.max(c.truth().1[1]);
     }
     assert!(
         (19.0..=20.5).contains(&peak),
         "jog speed 20 deg/s: peak {peak}"
     );
     // Let go: the axis stops, the mode stays.
-    wait_truth(&mut c, "stopped after the key", |_, v| v[1].abs() < 0.05);
-    let moved = true_position(&mut c)[1] - start;
+    c.wait_truth("stopped after the key", |_, v| v[1].abs() < 0.05);
+    let moved = c.truth().0[1] - start;
     assert!(moved > 15.0, "moved {moved} deg");
     assert_status(&c.request(STATUS), "VELOCITY_CONTROL");
     // The arrow key the other way.
@@ -256,11 +216,11 @@ fn jog_moves_an_axis_while_a_key_is_held_and_q_leaves_to_hold() {
         w.write_all(b"\x1b[D").unwrap();
         std::thread::sleep(Duration::from_millis(30));
     }
-    assert!(true_velocity(&mut c)[1] < -5.0);
+    assert!(c.truth().1[1] < -5.0);
     w.write_all(b"q").unwrap();
     wait_text("jog ended; mode HOLD");
     assert_status(&c.request(STATUS), "HOLD");
-    wait_truth(&mut c, "at rest", |_, v| v[1].abs() < 0.05);
+    c.wait_truth("at rest", |_, v| v[1].abs() < 0.05);
     let shown = text(&screen);
     assert!(
         shown.contains("position") && shown.contains("deg/s"),

@@ -7,7 +7,7 @@ pub mod python;
 
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Read, Write};
-use std::net::{SocketAddr, TcpStream};
+use std::net::{Shutdown, SocketAddr, TcpStream};
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc;
@@ -276,6 +276,181 @@ impl Client {
                 .is_some_and(|a| a.iter().all(|x| x == true))
         })
     }
+
+    /// The simulation's ground truth (`sim`): true joint angles and velocities [deg, deg/s].
+    pub fn truth(&mut self) -> ([f64; 6], [f64; 6]) {
+        let r = self.request(r#"{"command":"sim"}"#);
+        assert_eq!(r["result_type"], "sim", "{r}");
+        (six(&r["true_position"]), six(&r["true_velocity"]))
+    }
+
+    /// Poll the truth until `done(position, velocity)`; returns it; panics after [`WAIT`].
+    pub fn wait_truth(
+        &mut self,
+        what: &str,
+        done: impl Fn(&[f64; 6], &[f64; 6]) -> bool,
+    ) -> ([f64; 6], [f64; 6]) {
+        let deadline = Instant::now() + WAIT;
+        loop {
+            let (p, v) = self.truth();
+            if done(&p, &v) {
+                return (p, v);
+            }
+            assert!(
+                Instant::now() < deadline,
+                "timed out waiting for {what}; true position {p:?}, velocity {v:?}"
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+}
+
+/// Start an MCM, wait for its drives and calibrate every axis (straight from OFF): the arm
+/// ends in HOLD at zero, controlled by the client returned.
+pub fn calibrated(tag: &str) -> (Mcm, Client) {
+    let mcm = Mcm::start(tag);
+    let mut c = mcm.client();
+    c.wait_drives_online();
+    assert_ok(&c.request(r#"{"command":"calibrate"}"#));
+    (mcm, c)
+}
+
+/// A spontaneous safety error: a generic ERROR that names a check.
+pub fn is_event(v: &Value) -> bool {
+    v["result_type"] == "generic" && v["error_status"] == "ERROR" && v.get("check").is_some()
+}
+
+/// A JSON client that keeps spontaneous results apart from replies. A reader thread parses
+/// every line; spontaneous safety errors that arrive while a reply is awaited are kept in
+/// `events` (in order), other results nobody asked for (the status results of a
+/// TORQUE_CONTROL session, replies to commands sent without waiting) in `unasked`.
+pub struct EventClient {
+    stream: TcpStream,
+    lines: mpsc::Receiver<Value>,
+    pub events: Vec<Value>,
+    /// Events already returned by [`EventClient::wait_event`].
+    taken: usize,
+    pub unasked: Vec<Value>,
+}
+
+impl EventClient {
+    pub fn connect(addr: SocketAddr) -> EventClient {
+        let stream = TcpStream::connect(addr).expect("connect");
+        stream.set_nodelay(true).unwrap();
+        let reader = BufReader::new(stream.try_clone().unwrap());
+        let (tx, rx) = mpsc::channel();
+        std::thread::spawn(move || {
+            for line in reader.lines() {
+                let Ok(line) = line else { break };
+                let v = serde_json::from_str(&line)
+                    .unwrap_or_else(|e| panic!("result is not JSON ({e}): {line:?}"));
+                if tx.send(v).is_err() {
+                    break;
+                }
+            }
+        });
+        EventClient {
+            stream,
+            lines: rx,
+            events: Vec::new(),
+            taken: 0,
+            unasked: Vec::new(),
+        }
+    }
+
+    /// Send one command line without waiting for its result.
+    pub fn send(&mut self, json: &str) {
+        self.stream
+            .write_all(format!("{json}\n").as_bytes())
+            .expect("send a command");
+    }
+
+    /// The next line within `timeout` (`None` when none came).
+    pub fn next(&mut self, timeout: Duration) -> Option<Value> {
+        match self.lines.recv_timeout(timeout) {
+            Ok(v) => Some(v),
+            Err(mpsc::RecvTimeoutError::Timeout) => None,
+            Err(mpsc::RecvTimeoutError::Disconnected) => panic!("the connection was closed"),
+        }
+    }
+
+    /// Send a command and return its result (spontaneous errors go to `events`).
+    pub fn request_within(&mut self, json: &str, wait: Duration) -> Value {
+        self.send(json);
+        loop {
+            let v = self
+                .next(wait)
+                .unwrap_or_else(|| panic!("no result for {json} within {wait:?}"));
+            if is_event(&v) {
+                self.events.push(v);
+            } else {
+                return v;
+            }
+        }
+    }
+
+    /// [`EventClient::request_within`] [`WAIT`].
+    pub fn request(&mut self, json: &str) -> Value {
+        self.request_within(json, WAIT)
+    }
+
+    /// The next spontaneous safety error not yet taken; panics after `wait`.
+    pub fn wait_event(&mut self, what: &str, wait: Duration) -> Value {
+        let deadline = Instant::now() + wait;
+        while self.taken == self.events.len() {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.next(left) {
+                Some(v) if is_event(&v) => self.events.push(v),
+                Some(v) => self.unasked.push(v),
+                None => panic!("no spontaneous error ({what}) within {wait:?}"),
+            }
+        }
+        self.taken += 1;
+        self.events[self.taken - 1].clone()
+    }
+
+    /// Every line that arrives within `window` (nothing is asked meanwhile).
+    pub fn gather(&mut self, window: Duration) -> Vec<Value> {
+        let deadline = Instant::now() + window;
+        let mut got = Vec::new();
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return got;
+            }
+            if let Some(v) = self.next(left) {
+                got.push(v);
+            }
+        }
+    }
+}
+
+impl Drop for EventClient {
+    fn drop(&mut self) {
+        let _ = self.stream.shutdown(Shutdown::Both);
+    }
+}
+
+/// The robot's time of a status result [s] (`axis_states.time`, the cycle's clock).
+pub fn time_of(s: &Value) -> f64 {
+    s["axis_states"]["time"][0]
+        .as_f64()
+        .unwrap_or_else(|| panic!("no time in {s}"))
+}
+
+/// The `move_axis` command line (`axis` 1-based).
+pub fn move_axis(axis: usize, target: f64, velocity_factor: f64) -> String {
+    serde_json::json!({"command": "move_axis",
+           "arguments": {"axis_index": axis, "target_position": target,
+                         "velocity_factor": velocity_factor}})
+    .to_string()
+}
+
+/// The `move_all` command line.
+pub fn move_all(target: &[f64; 6], velocity_factor: f64) -> String {
+    serde_json::json!({"command": "move_all",
+           "arguments": {"target_positions": target, "velocity_factor": velocity_factor}})
+    .to_string()
 }
 
 /// The `error_status` of a generic result.
