@@ -26,6 +26,7 @@ mod control;
 mod error;
 mod open;
 pub mod replies;
+mod steps;
 
 pub use control::{ControlEnd, ControlError, ControlOutput, ControlSummary};
 pub use error::ShmError;
