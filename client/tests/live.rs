@@ -98,21 +98,6 @@ fn start(tag: &str) -> Mcm {
     }
 }
 
-/// Read states until `pred` holds (bounded).
-fn wait_until(
-    c: &mut ShmClient,
-    what: &str,
-    pred: impl Fn(&mcm_shared::sample::StateSample) -> bool,
-) {
-    let deadline = Instant::now() + WAIT;
-    while Instant::now() < deadline {
-        if pred(&c.wait_state().unwrap()) {
-            return;
-        }
-    }
-    panic!("{what}: not within {WAIT:?}");
-}
-
 fn calibrate(c: &mut ShmClient) {
     c.hold().unwrap();
     c.calibrate(Calibrate {
@@ -161,7 +146,8 @@ fn shared_memory_clients_obey_ownership_and_release_it_on_drop() {
     // A goes away: its drop says `client_gone`, and B may take control.
     let a_id = a.client_id();
     drop(a);
-    wait_until(&mut b, "control released", |s| s.owner_client_id != a_id);
+    b.wait_until("control released", WAIT, |s| s.owner_client_id != a_id)
+        .unwrap();
     b.take_control().unwrap();
     b.release_control().unwrap();
     assert_eq!(b.latest().owner_client_id, 0);
@@ -278,7 +264,8 @@ fn events_results_and_the_control_loops_ends_on_both_transports() {
         ..Default::default()
     })
     .unwrap();
-    wait_until(&mut shm, "the trip", |s| s.mode == Mode::Error.to_wire());
+    shm.wait_until("the trip", WAIT, |s| s.mode == Mode::Error.to_wire())
+        .unwrap();
     let ev = std::iter::from_fn(|| shm.next_event()).find_map(|e| match e {
         ShmEvent::SafetyError(e) => Some(e),
         _ => None,
@@ -371,7 +358,8 @@ fn velocity_control_moves_an_axis_towards_its_velocity_on_both_transports() {
     assert!(summary.sent > 10, "{summary}");
     assert_eq!(shm.latest().mode, Mode::VelocityControl.to_wire());
     shm.hold().unwrap();
-    wait_until(&mut shm, "HOLD and at rest", |s| {
+    shm.wait_until("HOLD and at rest", WAIT, |s| {
         s.mode == Mode::Hold.to_wire() && s.velocity[1].abs() < 0.01
-    });
+    })
+    .unwrap();
 }

@@ -21,8 +21,7 @@
 use clap::Parser;
 use mcm_client::shm::{ControlOutput, ShmClient};
 use mcm_client::{mcm_shared, monotonic_ns};
-use mcm_shared::command::{Calibrate, TorqueControl, Which};
-use mcm_shared::sample::STATE_ALL_CALIBRATED;
+use mcm_shared::command::TorqueControl;
 use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
@@ -192,15 +191,8 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
     );
 
     // 2. The control loop in TORQUE_CONTROL.
-    mcm.hold()?;
-    if mcm.latest().flags & STATE_ALL_CALIBRATED == 0 {
-        println!("calibrating the simulated arm first (about 12 s)");
-        mcm.calibrate(Calibrate {
-            which: Which::All,
-            elbow_direction: Default::default(),
-            wrist_direction: Default::default(),
-            force_mechanical_stop: false,
-        })?;
+    if mcm.calibrate_if_needed()? {
+        println!("calibrated the simulated arm first");
     }
     mcm.torque_control(TorqueControl {
         timeout_s: Some(0.1),
