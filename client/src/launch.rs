@@ -45,6 +45,8 @@ pub struct SimulatedMcm {
     pub instance: String,
     /// The JSON port.
     pub json: SocketAddr,
+    /// The telnet HMI port.
+    pub hmi: SocketAddr,
     pub rt_pid: i32,
     pub gateway_pid: i32,
 }
@@ -90,6 +92,7 @@ impl SimulatedMcm {
             child,
             instance: instance.to_string(),
             json: SocketAddr::from(([127, 0, 0, 1], 0)),
+            hmi: SocketAddr::from(([127, 0, 0, 1], 0)),
             rt_pid: 0,
             gateway_pid: 0,
         };
@@ -113,6 +116,9 @@ impl SimulatedMcm {
         mcm.json = ready_field(&line, "json")
             .and_then(|v| v.parse().ok())
             .ok_or_else(|| bad("json"))?;
+        mcm.hmi = ready_field(&line, "hmi")
+            .and_then(|v| v.parse().ok())
+            .ok_or_else(|| bad("hmi"))?;
         mcm.rt_pid = ready_field(&line, "rt_pid")
             .and_then(|v| v.parse().ok())
             .ok_or_else(|| bad("rt_pid"))?;
