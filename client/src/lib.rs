@@ -22,6 +22,7 @@
 //! its calls are easy to bound with timeouts. A program that already runs tokio can call it
 //! from `spawn_blocking`.
 
+pub mod launch;
 pub mod shm;
 pub mod tcp;
 

@@ -4,38 +4,17 @@
 //! errors on both transports, the control loop's clean ends, VELOCITY_CONTROL on both.
 
 use mcm_client::Mode;
+use mcm_client::launch::SimulatedMcm;
 use mcm_client::shm::{ControlEnd, ControlOutput, ShmClient, ShmError, ShmEvent};
 use mcm_client::tcp::{Error, ErrorKind, Event, TcpClient, TorqueOptions, VelocityOptions};
 use mcm_shared::command::{Axis, Calibrate, SimCommand, TorqueControl, VelocityControl, Which};
 use mcm_shared::mode::RejectCode;
 use mcm_shared::reply::Reason;
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 const WAIT: Duration = Duration::from_secs(20);
-
-struct Mcm {
-    child: Child,
-    instance: String,
-    json: String,
-}
-
-impl Drop for Mcm {
-    fn drop(&mut self) {
-        // SAFETY: signalling our own child.
-        unsafe { libc::kill(self.child.id() as i32, libc::SIGTERM) };
-        let deadline = Instant::now() + WAIT;
-        while self.child.try_wait().ok().flatten().is_none() && Instant::now() < deadline {
-            std::thread::sleep(Duration::from_millis(10));
-        }
-        let _ = self.child.kill();
-        let _ = std::fs::remove_file(
-            std::env::temp_dir().join(format!("mcm-sim-{}.state", self.instance)),
-        );
-    }
-}
 
 /// The workspace's `mcm` binary in this test's profile, built if missing.
 fn mcm_binary() -> PathBuf {
@@ -57,60 +36,9 @@ fn mcm_binary() -> PathBuf {
     bin
 }
 
-fn start(tag: &str) -> Mcm {
+fn start(tag: &str) -> SimulatedMcm {
     let instance = format!("cl{}-{tag}", std::process::id());
-    let mut child = Command::new(mcm_binary())
-        .args([
-            "--instance",
-            &instance,
-            "--bind",
-            "127.0.0.1",
-            "--json-port",
-            "0",
-            "--hmi-port",
-            "0",
-        ])
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let stdout = child.stdout.take().unwrap();
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stdout).lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
-    let mut mcm = Mcm {
-        child,
-        instance,
-        json: String::new(),
-    };
-    let deadline = Instant::now() + WAIT;
-    loop {
-        let line = rx
-            .recv_timeout(deadline.saturating_duration_since(Instant::now()))
-            .expect("the MCM's ready line");
-        if let Some(rest) = line.split("json=").nth(1) {
-            mcm.json = rest.split_whitespace().next().unwrap().to_string();
-            return mcm;
-        }
-    }
-}
-
-/// Read states until `pred` holds (bounded).
-fn wait_until(
-    c: &mut ShmClient,
-    what: &str,
-    pred: impl Fn(&mcm_shared::sample::StateSample) -> bool,
-) {
-    let deadline = Instant::now() + WAIT;
-    while Instant::now() < deadline {
-        if pred(&c.wait_state().unwrap()) {
-            return;
-        }
-    }
-    panic!("{what}: not within {WAIT:?}");
+    SimulatedMcm::start(&mcm_binary(), &instance, &[], Stdio::inherit(), WAIT).unwrap()
 }
 
 fn calibrate(c: &mut ShmClient) {
@@ -161,7 +89,8 @@ fn shared_memory_clients_obey_ownership_and_release_it_on_drop() {
     // A goes away: its drop says `client_gone`, and B may take control.
     let a_id = a.client_id();
     drop(a);
-    wait_until(&mut b, "control released", |s| s.owner_client_id != a_id);
+    b.wait_until("control released", WAIT, |s| s.owner_client_id != a_id)
+        .unwrap();
     b.take_control().unwrap();
     b.release_control().unwrap();
     assert_eq!(b.latest().owner_client_id, 0);
@@ -182,7 +111,7 @@ fn shared_memory_clients_obey_ownership_and_release_it_on_drop() {
 fn events_results_and_the_control_loops_ends_on_both_transports() {
     let mcm = start("ev");
     let mut shm = ShmClient::connect(&mcm.instance).unwrap();
-    let mut tcp = TcpClient::connect(&mcm.json).unwrap();
+    let mut tcp = TcpClient::connect(&mcm.json.to_string()).unwrap();
 
     // Refusals carry the command, the words and the code.
     tcp.hold().unwrap();
@@ -278,7 +207,8 @@ fn events_results_and_the_control_loops_ends_on_both_transports() {
         ..Default::default()
     })
     .unwrap();
-    wait_until(&mut shm, "the trip", |s| s.mode == Mode::Error.to_wire());
+    shm.wait_until("the trip", WAIT, |s| s.mode == Mode::Error.to_wire())
+        .unwrap();
     let ev = std::iter::from_fn(|| shm.next_event()).find_map(|e| match e {
         ShmEvent::SafetyError(e) => Some(e),
         _ => None,
@@ -308,7 +238,7 @@ fn events_results_and_the_control_loops_ends_on_both_transports() {
 fn velocity_control_moves_an_axis_towards_its_velocity_on_both_transports() {
     let mcm = start("vel");
     let mut shm = ShmClient::connect(&mcm.instance).unwrap();
-    let mut tcp = TcpClient::connect(&mcm.json).unwrap();
+    let mut tcp = TcpClient::connect(&mcm.json.to_string()).unwrap();
     calibrate(&mut shm);
     shm.release_control().unwrap();
 
@@ -371,7 +301,8 @@ fn velocity_control_moves_an_axis_towards_its_velocity_on_both_transports() {
     assert!(summary.sent > 10, "{summary}");
     assert_eq!(shm.latest().mode, Mode::VelocityControl.to_wire());
     shm.hold().unwrap();
-    wait_until(&mut shm, "HOLD and at rest", |s| {
+    shm.wait_until("HOLD and at rest", WAIT, |s| {
         s.mode == Mode::Hold.to_wire() && s.velocity[1].abs() < 0.01
-    });
+    })
+    .unwrap();
 }

@@ -42,37 +42,23 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         "connected to {} (MCM {}, cycle {} s)",
         info.robot, info.version, info.cycle_time
     );
-    mcm.hold()?;
-    let calibrated = mcm
-        .status_detail()?
-        .detail
-        .is_some_and(|d| d.all_calibrated);
-    if calibrated {
-        println!("already calibrated");
-    } else {
-        let t = Instant::now();
-        mcm.calibrate(Default::default())?;
+    let t = Instant::now();
+    if mcm.calibrate_if_needed()? {
         println!("calibrated in {:.1} s", t.elapsed().as_secs_f64());
+    } else {
+        println!("already calibrated");
     }
     mcm.pvt(0.01)?;
     mcm.move_axis(args.axis, args.target, 0.5)?;
     println!("moving axis {} to {:.3} deg", args.axis, args.target);
     let i = usize::from(args.axis - 1);
-    let deadline = Instant::now() + Duration::from_secs(20);
-    loop {
-        let s = mcm.status()?;
+    let s = mcm.wait_until("arrived", Duration::from_secs(20), |s| {
         let (q, v) = (s.axis_states.position[i], s.axis_states.velocity[i]);
-        if (q - args.target).abs() < 0.01 && v.abs() < 1e-6 {
-            println!("axis {} at {q:.3} deg (mode {})", args.axis, s.mode);
-            return Ok(());
-        }
-        if Instant::now() > deadline {
-            return Err(format!(
-                "axis {} did not arrive within 20 s: at {q:.3} deg",
-                args.axis
-            )
-            .into());
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
+        (q - args.target).abs() < 0.01 && v.abs() < 1e-6
+    })?;
+    println!(
+        "axis {} at {:.3} deg (mode {})",
+        args.axis, s.axis_states.position[i], s.mode
+    );
+    Ok(())
 }

@@ -16,7 +16,7 @@
 use clap::Parser;
 use mcm_client::Mode;
 use mcm_client::tcp::{Event, TcpClient, VelocityOptions};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 #[derive(Parser)]
 struct Args {
@@ -49,14 +49,8 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let i = usize::from(args.axis - 1);
     let mut mcm = TcpClient::connect(&args.addr)?;
     let info = mcm.info()?;
-    mcm.hold()?;
-    if !mcm
-        .status_detail()?
-        .detail
-        .is_some_and(|d| d.all_calibrated)
-    {
-        println!("calibrating (about 12 s on the simulated arm) ...");
-        mcm.calibrate(Default::default())?;
+    if mcm.calibrate_if_needed()? {
+        println!("calibrated first");
     }
     let s = mcm.velocity_control(VelocityOptions {
         timeout_s: Some(0.5),
@@ -95,14 +89,9 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     }
     mcm.hold()?;
     // `hold` brings the axis to rest with the controlled stop: wait for it (bounded).
-    let deadline = Instant::now() + Duration::from_secs(5);
-    let s = loop {
-        let s = mcm.status()?;
-        if s.axis_states.velocity[i].abs() < 1e-3 || Instant::now() > deadline {
-            break s;
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
+    let s = mcm.wait_until("at rest", Duration::from_secs(5), |s| {
+        s.axis_states.velocity[i].abs() < 1e-3
+    })?;
     println!(
         "velocity jog: {ticks} status ticks answered, axis {} at +{:.1} then -{:.1} deg/s for {:.1} s each",
         args.axis, args.speed, args.speed, args.phase

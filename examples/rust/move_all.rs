@@ -40,14 +40,8 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let targets: [f64; 6] = args.targets.as_slice().try_into()?;
     let mut mcm = TcpClient::connect(&args.addr)?;
-    mcm.hold()?;
-    if !mcm
-        .status_detail()?
-        .detail
-        .is_some_and(|d| d.all_calibrated)
-    {
-        println!("calibrating first");
-        mcm.calibrate(Default::default())?;
+    if mcm.calibrate_if_needed()? {
+        println!("calibrated first");
     }
     mcm.pvt(0.01)?;
     let plan = mcm.move_all(targets, args.vf)?;
@@ -55,18 +49,21 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         "move_all planned: longest axis {}, {:.3} s to the target, peak velocities {:?} deg/s",
         plan.longest, plan.max_time_to_target, plan.velocities
     );
-    // The plan says when the arm arrives; give it a little more.
-    std::thread::sleep(Duration::from_secs_f64(plan.max_time_to_target + 0.2));
-    let s = mcm.status()?;
-    let err = (0..6)
-        .map(|i| (s.axis_states.position[i] - targets[i]).abs())
-        .fold(0.0, f64::max);
+    // The plan says when the arm arrives; wait for that, with a margin, until it is within
+    // 0.01 deg of every target and at rest (below 0.001 deg/s).
+    let distance = |s: &mcm_client::tcp::Status| {
+        (0..6)
+            .map(|i| (s.axis_states.position[i] - targets[i]).abs())
+            .fold(0.0, f64::max)
+    };
+    let wait = Duration::from_secs_f64(plan.max_time_to_target + 5.0);
+    let s = mcm.wait_until("at the targets", wait, |s| {
+        distance(s) < 0.01 && s.axis_states.velocity.iter().all(|v| v.abs() < 1e-3)
+    })?;
     println!(
-        "arrived: positions {:?} deg (largest distance to the target {err:.4} deg)",
-        s.axis_states.position
+        "arrived: positions {:?} deg (largest distance to the target {:.4} deg)",
+        s.axis_states.position,
+        distance(&s)
     );
-    if err > 0.01 {
-        return Err(format!("the arm is {err:.4} deg from the target").into());
-    }
     Ok(())
 }

@@ -46,14 +46,8 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let i = usize::from(args.axis.clamp(1, 6) - 1);
     let mut mcm = TcpClient::connect(&args.addr)?;
-    mcm.hold()?;
-    if !mcm
-        .status_detail()?
-        .detail
-        .is_some_and(|d| d.all_calibrated)
-    {
-        println!("calibrating first");
-        mcm.calibrate(Default::default())?;
+    if mcm.calibrate_if_needed()? {
+        println!("calibrated first");
     }
     let start = mcm.pvt(DT)?.axis_states.position;
     let n = (args.cycles as f64 * args.period / DT).round() as usize;

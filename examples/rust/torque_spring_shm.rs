@@ -14,8 +14,7 @@
 use clap::Parser;
 use mcm_client::shm::{ControlOutput, ShmClient};
 use mcm_client::{Mode, mcm_shared};
-use mcm_shared::command::{Calibrate, TorqueControl, Which};
-use mcm_shared::sample::STATE_ALL_CALIBRATED;
+use mcm_shared::command::TorqueControl;
 
 #[derive(Parser)]
 struct Args {
@@ -45,15 +44,8 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let i = usize::from(args.axis.clamp(1, 6) - 1);
     let mut mcm = ShmClient::connect(&args.instance)?;
-    mcm.hold()?;
-    if mcm.latest().flags & STATE_ALL_CALIBRATED == 0 {
-        println!("calibrating first");
-        mcm.calibrate(Calibrate {
-            which: Which::All,
-            elbow_direction: Default::default(),
-            wrist_direction: Default::default(),
-            force_mechanical_stop: false,
-        })?;
+    if mcm.calibrate_if_needed()? {
+        println!("calibrated first");
     }
     mcm.torque_control(TorqueControl {
         timeout_s: Some(0.1),

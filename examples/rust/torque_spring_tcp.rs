@@ -46,14 +46,8 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let i = usize::from(args.axis.clamp(1, 6) - 1);
     let mut mcm = TcpClient::connect(&args.addr)?;
     let info = mcm.info()?;
-    mcm.hold()?;
-    if !mcm
-        .status_detail()?
-        .detail
-        .is_some_and(|d| d.all_calibrated)
-    {
-        println!("calibrating first");
-        mcm.calibrate(Default::default())?;
+    if mcm.calibrate_if_needed()? {
+        println!("calibrated first");
     }
     let s = mcm.torque_control(TorqueOptions {
         timeout_s: Some(0.1),

@@ -19,14 +19,13 @@
 //! fails. `--rt-priority N` runs the client as SCHED_FIFO N (needs the privilege).
 
 use clap::Parser;
+use mcm_client::launch::SimulatedMcm;
 use mcm_client::shm::{ControlOutput, ShmClient};
 use mcm_client::{mcm_shared, monotonic_ns};
-use mcm_shared::command::{Calibrate, TorqueControl, Which};
-use mcm_shared::sample::STATE_ALL_CALIBRATED;
-use std::io::{BufRead, BufReader};
+use mcm_shared::command::TorqueControl;
 use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Stdio;
+use std::time::Duration;
 
 #[derive(Parser)]
 struct Args {
@@ -48,22 +47,9 @@ struct Args {
     rt_priority: Option<i32>,
 }
 
-/// A simulated MCM started for the benchmark (and its instance), stopped (SIGTERM) on drop.
-struct Started(Child, String);
-
-impl Drop for Started {
-    fn drop(&mut self) {
-        // SAFETY: kill(2) with the pid of our own child; no memory is involved.
-        unsafe { libc::kill(self.0.id() as i32, libc::SIGTERM) };
-        let _ = self.0.wait();
-        // The simulation mcm-rt saved for a restart of this one-off instance.
-        let _ =
-            std::fs::remove_file(std::env::temp_dir().join(format!("mcm-sim-{}.state", self.1)));
-    }
-}
-
-fn start_mcm(binary: Option<PathBuf>) -> Result<(Started, String), String> {
-    let binary = match binary {
+/// The `mcm` binary beside this executable, or `explicit`; started as a unique instance.
+fn start_mcm(explicit: Option<PathBuf>) -> Result<SimulatedMcm, String> {
+    let binary = match explicit {
         Some(b) => b,
         None => std::env::current_exe()
             .map_err(|e| format!("cannot find this executable: {e}"))?
@@ -76,41 +62,14 @@ fn start_mcm(binary: Option<PathBuf>) -> Result<(Started, String), String> {
         ));
     }
     let instance = format!("clbench{}", std::process::id());
-    let mut child = Command::new(&binary)
-        .args([
-            "--instance",
-            &instance,
-            "--bind",
-            "127.0.0.1",
-            "--json-port",
-            "0",
-            "--hmi-port",
-            "0",
-        ])
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .map_err(|e| format!("cannot start {}: {e}", binary.display()))?;
-    let stdout = child.stdout.take().expect("piped");
-    let started = Started(child, instance.clone());
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stdout).lines().map_while(Result::ok) {
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    let deadline = Instant::now() + Duration::from_secs(60);
-    loop {
-        let left = deadline.saturating_duration_since(Instant::now());
-        match rx.recv_timeout(left) {
-            Ok(l) if l.starts_with("MCM ready") => return Ok((started, instance)),
-            Ok(_) => {}
-            Err(_) => return Err("the MCM did not say it was ready within 60 s".into()),
-        }
-    }
+    SimulatedMcm::start(
+        &binary,
+        &instance,
+        &[],
+        Stdio::null(),
+        Duration::from_secs(60),
+    )
+    .map_err(|e| e.to_string())
 }
 
 /// The `q`-quantile of sorted values.
@@ -153,10 +112,12 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
         }
         println!("client runs as SCHED_FIFO {prio}");
     }
+    // Stopped when dropped, at the end of `run`.
     let (_started, instance) = match args.instance {
         Some(i) => (None, i),
         None => {
-            let (s, i) = start_mcm(args.mcm)?;
+            let s = start_mcm(args.mcm)?;
+            let i = s.instance.clone();
             (Some(s), i)
         }
     };
@@ -192,15 +153,8 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
     );
 
     // 2. The control loop in TORQUE_CONTROL.
-    mcm.hold()?;
-    if mcm.latest().flags & STATE_ALL_CALIBRATED == 0 {
-        println!("calibrating the simulated arm first (about 12 s)");
-        mcm.calibrate(Calibrate {
-            which: Which::All,
-            elbow_direction: Default::default(),
-            wrist_direction: Default::default(),
-            force_mechanical_stop: false,
-        })?;
+    if mcm.calibrate_if_needed()? {
+        println!("calibrated the simulated arm first");
     }
     mcm.torque_control(TorqueControl {
         timeout_s: Some(0.1),

@@ -70,6 +70,14 @@ pub enum ShmError {
         command: CommandKind,
         problem: String,
     },
+    /// [`ShmClient::wait_until`](super::ShmClient::wait_until): the condition `what` held for
+    /// no state within `waited`.
+    #[error("{what}: not reached within {waited:?} (last cycle read: {last_seq})")]
+    NotReached {
+        what: String,
+        waited: Duration,
+        last_seq: u64,
+    },
 }
 
 impl ShmError {

@@ -26,6 +26,7 @@ mod control;
 mod error;
 mod open;
 pub mod replies;
+mod steps;
 
 pub use control::{ControlEnd, ControlError, ControlOutput, ControlSummary};
 pub use error::ShmError;
@@ -385,12 +386,14 @@ impl ShmClient {
         }
     }
 
-    /// Queue a batch of PVT points (whole or not at all; at most 1000 points a batch).
+    /// Queue a batch of PVT points (whole or not at all; at most
+    /// [`MAX_POINTS_PER_COMMAND`](crate::tcp::MAX_POINTS_PER_COMMAND) points a batch, as over TCP).
     pub fn pvt_points(&mut self, points: &[PvtPoint]) -> Result<(), ShmError> {
-        if points.is_empty() || points.len() > 1000 {
+        use crate::tcp::MAX_POINTS_PER_COMMAND as MAX;
+        if points.is_empty() || points.len() > MAX {
             return Err(ShmError::Argument {
                 command: CommandKind::PvtPoints,
-                problem: format!("{} points given; a batch has 1 to 1000", points.len()),
+                problem: format!("{} points given; a batch has 1 to {MAX}", points.len()),
             });
         }
         let chunks: Vec<PvtChunk> = PvtChunk::batch(points).collect();

@@ -136,6 +136,17 @@ pub enum Error {
     /// An argument this client refuses before sending anything.
     #[error("{command}: {problem}")]
     Argument { command: String, problem: String },
+    /// [`TcpClient::wait_until`](super::TcpClient::wait_until): the condition `what` did not
+    /// hold within `waited`; `last` is the last state read.
+    #[error(
+        "{what}: not reached within {waited:?} (last state: mode {}, positions {:?} deg, velocities {:?} deg/s)",
+        last.mode, last.axis_states.position, last.axis_states.velocity
+    )]
+    NotReached {
+        what: String,
+        waited: Duration,
+        last: Box<super::Status>,
+    },
 }
 
 impl Error {

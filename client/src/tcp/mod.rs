@@ -25,6 +25,7 @@
 //! [`TcpOptions::reconnect_on_next_call`] the next call reconnects by itself first.
 
 mod error;
+mod steps;
 mod types;
 mod wire;
 

@@ -225,3 +225,30 @@ fn velocity_control_without_timeout_or_ticks_sends_the_protocol_words_for_none()
     assert_eq!(v["arguments"], json!({"timeout": -1.0, "dt_status": 0.0}));
     assert_eq!(VelocityOptions::default().timeout_s, Some(1.0));
 }
+
+#[test]
+fn wait_until_returns_the_first_state_that_holds_or_names_what_did_not() {
+    let (addr, _seen) = server(vec![
+        vec![status("PVT", 1.0)],
+        vec![status("PVT", 2.0)],
+        vec![status("HOLD", 3.0)],
+        vec![status("PVT", 4.0)],
+    ]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    let s = c
+        .wait_until("HOLD", Duration::from_secs(5), |s| s.mode == Mode::Hold)
+        .unwrap();
+    assert_eq!(s.time(), 3.0, "the first state in HOLD");
+    let e = c
+        .wait_until("at t = 9 s", Duration::ZERO, |s| s.time() == 9.0)
+        .unwrap_err();
+    assert!(
+        matches!(&e, Error::NotReached { last, .. } if last.time() == 4.0),
+        "{e}"
+    );
+    assert!(
+        e.to_string()
+            .starts_with("at t = 9 s: not reached within 0ns (last state: mode PVT"),
+        "{e}"
+    );
+}
