@@ -51,15 +51,12 @@ pub(crate) enum PvtMotion {
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum CalPhase {
-    /// Searches in the raw frame, per axis (`None`: the axis holds or is done); `selected` has
-    /// bit `i` set for every axis this calibration covers. `previous`: the offsets the selected
-    /// axes had when it started (restored if it does not complete); `found`: the offsets
-    /// found so far (in force only once every selected axis found its own).
+    /// Searches in the raw frame: `Some` for every axis this calibration covers, from its
+    /// start to its end. Each keeps the offset its axis had (restored if the calibration does
+    /// not complete) and, once found, the new one (in force only once every covered axis
+    /// found its own).
     Search {
         axes: [Option<AxisCalibration>; NUM_AXES],
-        selected: u8,
-        previous: [Option<f64>; NUM_AXES],
-        found: [Option<f64>; NUM_AXES],
     },
     /// Every axis found its zero: the move of the selected axes back to zero.
     Return(Moving),
