@@ -116,7 +116,7 @@ impl Controller {
                     // failure, and the trip records it; every axis keeps its previous
                     // calibration.
                     self.restore_previous_calibration();
-                    self.state = State::Error { stop: None };
+                    self.state = State::error(None);
                     self.fail(caller, reason);
                     self.trip(reason);
                     self.hold_here();

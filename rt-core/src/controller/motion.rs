@@ -95,10 +95,10 @@ impl Controller {
                 let stop = self.advance_stop(stop, dt);
                 self.state = State::Hold { stop };
             }
-            State::Error { stop } => {
+            State::Error { stop, mut relax } => {
                 let stop = self.advance_stop(stop, dt);
-                self.state = State::Error { stop };
-                self.relax_tripped_axes();
+                self.relax_tripped_axes(&mut relax);
+                self.state = State::Error { stop, relax };
             }
             State::Pvt { motion, starved } => self.advance_pvt(motion, starved, dt),
             State::Calibration {

@@ -128,10 +128,22 @@ pub(crate) enum State {
     /// After a safety trip: the quick stop, then holding (drives that dropped out stay off).
     Error {
         stop: Option<Stopping>,
+        /// Cycles left in which an axis that tripped its following error follows its measured
+        /// position, its drive's loop restarted at the start and the end (`trips.rs`), so
+        /// that it does not press into what held it. They end with the mode.
+        relax: [u8; NUM_AXES],
     },
 }
 
 impl State {
+    /// ERROR with the stop `stop` and no axis relaxing.
+    pub fn error(stop: Option<Stopping>) -> State {
+        State::Error {
+            stop,
+            relax: [0; NUM_AXES],
+        }
+    }
+
     /// The wire mode: an enabling reports the mode it started from.
     pub fn mode(&self) -> Mode {
         match self {
@@ -165,7 +177,7 @@ impl State {
         let mv = |m: &Moving| m.plan.remaining();
         match self {
             State::Hold { stop: Some(s) }
-            | State::Error { stop: Some(s) }
+            | State::Error { stop: Some(s), .. }
             | State::Pvt {
                 motion: PvtMotion::Stop(s),
                 ..
@@ -188,7 +200,7 @@ impl Before {
     pub fn state(self) -> State {
         match self {
             Before::Off => State::Off,
-            Before::Error => State::Error { stop: None },
+            Before::Error => State::error(None),
         }
     }
 }
