@@ -10,6 +10,41 @@ use crate::trajectory::{JointPlan, StopPlan};
 use mcm_shared::NUM_AXES;
 use mcm_shared::mode::{CommandKind, Mode};
 
+/// The timeout of TORQUE_CONTROL and VELOCITY_CONTROL: the mode ends (the controlled stop to
+/// HOLD) when its set command does not come within `timeout_ns` of the last one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Watchdog {
+    timeout_ns: u64,
+    /// Controller time by which the next set command must arrive.
+    deadline_ns: u64,
+}
+
+impl Watchdog {
+    /// The mode's `timeout_s` (`None`: no timeout), running from `now_ns`.
+    pub fn start(timeout_s: Option<f64>, now_ns: u64) -> Option<Watchdog> {
+        timeout_s.map(|t| {
+            let timeout_ns = (t * 1e9) as u64;
+            Watchdog {
+                timeout_ns,
+                deadline_ns: now_ns.saturating_add(timeout_ns),
+            }
+        })
+    }
+
+    /// A set command arrived at `now_ns`.
+    pub fn fed(self, now_ns: u64) -> Watchdog {
+        Watchdog {
+            deadline_ns: now_ns.saturating_add(self.timeout_ns),
+            ..self
+        }
+    }
+
+    /// The deadline passed.
+    pub fn expired(&self, now_ns: u64) -> bool {
+        now_ns > self.deadline_ns
+    }
+}
+
 /// Who asked: the ids and kind a reply (now or later) is addressed with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Caller {
@@ -113,17 +148,15 @@ pub(crate) enum State {
     Torque {
         torques: [f64; NUM_AXES],
         gravity: bool,
-        /// Controller time by which the next `set_torques` must arrive (`None`: no timeout).
-        deadline_ns: Option<u64>,
-        timeout_ns: Option<u64>,
+        /// Fed by `set_torques` (`None`: no timeout).
+        watchdog: Option<Watchdog>,
     },
     /// Joint velocities from `set_velocities`, ramped (`velocity.rs`).
     Velocity {
         /// Target velocity of each axis [rad/s].
         target: [f64; NUM_AXES],
-        /// Controller time by which the next `set_velocities` must arrive (`None`: no timeout).
-        deadline_ns: Option<u64>,
-        timeout_ns: Option<u64>,
+        /// Fed by `set_velocities` (`None`: no timeout).
+        watchdog: Option<Watchdog>,
     },
     /// After a safety trip: the quick stop, then holding (drives that dropped out stay off).
     Error {
