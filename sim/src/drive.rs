@@ -439,25 +439,25 @@ impl SimDrive {
                     let (pr, vr) = self.servo.setpoint(fraction);
                     self.last_setpoint = (pr, vr);
                     // 0x60B2 torque offset: feed-forward added to the loop's output.
-                    let offset = f64::from(self.od.i32(od::TORQUE_OFFSET))
-                        * f64::from(self.od.raw(od::RATED_TORQUE))
-                        * 1e-6
-                        / self.p.torque_constant
+                    let offset = self.motor_torque_nm(od::TORQUE_OFFSET) / self.p.torque_constant
                         * self.p.torque_per_amp;
                     let ff = offset.clamp(-tau_max, tau_max);
                     let pid = self.servo.torque(pr, vr, p, v, dt, tau_max - ff.abs());
                     (pid + ff).clamp(-tau_max, tau_max)
                 }
                 MODE_CST => {
-                    let motor_nm = f64::from(self.od.i32(od::TARGET_TORQUE))
-                        * f64::from(self.od.raw(od::RATED_TORQUE))
-                        * 1e-6;
+                    let motor_nm = self.motor_torque_nm(od::TARGET_TORQUE);
                     return (motor_nm / self.p.torque_constant).clamp(-i_max, i_max);
                 }
                 _ => 0.0,
             }
         };
         tau / self.p.torque_per_amp
+    }
+
+    /// The torque object in `slot` (per-mille of the rated torque 0x6076) [motor Nm].
+    fn motor_torque_nm(&self, slot: usize) -> f64 {
+        f64::from(self.od.i32(slot)) * f64::from(self.od.raw(od::RATED_TORQUE)) * 1e-6
     }
 
     fn sample(&mut self) {

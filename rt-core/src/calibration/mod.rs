@@ -275,6 +275,18 @@ impl AxisCalibration {
         }
     }
 
+    /// The offset of the axis's previous, valid calibration, if it had one: the reference
+    /// found is checked against it, and it comes back if the calibration does not complete.
+    pub fn previous(&self) -> Option<f64> {
+        self.previous
+    }
+
+    /// The axis's drive rebooted (its encoder reference may be gone): its previous calibration
+    /// is no longer valid.
+    pub fn forget_previous(&mut self) {
+        self.previous = None;
+    }
+
     pub fn outcome(&self) -> Outcome {
         match self.phase {
             Phase::Done { offset } => Outcome::Found { offset },

@@ -3,7 +3,7 @@
 //! and keeping the previous calibration when a calibration does not complete.
 //!
 //! Runs inside the cycle. While an axis searches it works in its raw (encoder) frame (its offset
-//! is `None`); the offsets it had are kept in [`CalPhase::Search`] and restored by
+//! is `None`); the offset it had is kept by its [`AxisCalibration`] and restored by
 //! [`Controller::restore_previous_calibration`] when the calibration is aborted (`hold`, a mode
 //! change by a lost owner, a shutdown, a safety trip) or fails. Offsets found are written to the
 //! drives (0x2100) only when they come into force.
@@ -11,6 +11,7 @@
 use super::Controller;
 use super::state::{CalPhase, Caller, Moving, State};
 use crate::calibration::{AxisCalibration, AxisInput, AxisSettings, Outcome};
+use crate::canopen::AxisFeedback;
 use crate::trajectory::{JointPlan, MovePlan};
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::Axis;
@@ -27,60 +28,46 @@ impl Controller {
         settings: [Option<AxisSettings>; NUM_AXES],
     ) {
         let fb = *self.master.feedback();
-        let previous = self.offsets;
         let mut axes = [None; NUM_AXES];
-        let mut selected = 0u8;
         for (i, s) in settings.iter().enumerate() {
             if let Some(s) = s {
-                selected |= 1 << i;
-                self.offsets[i] = None;
                 axes[i] = Some(AxisCalibration::start(
                     *s,
-                    AxisInput {
-                        position: fb[i].position_rad,
-                        current: fb[i].current_a,
-                        light_barrier: fb[i].light_barrier,
-                    },
-                    previous[i],
+                    axis_input(&fb[i]),
+                    self.offsets[i],
                 ));
+                self.offsets[i] = None;
             }
         }
         self.hold_here();
         self.state = State::Calibration {
             caller,
-            phase: CalPhase::Search {
-                axes,
-                selected,
-                previous,
-                found: [None; NUM_AXES],
-            },
+            phase: CalPhase::Search { axes },
         };
     }
 
-    /// A calibration's searches end without completing: every selected axis gets back the
-    /// offset it had (the commanded positions follow into the joint frame). Called before the
-    /// state changes; nothing happens outside the searches.
+    /// A calibration's searches end without completing: every axis of it gets back the offset
+    /// it had (the commanded positions follow into the joint frame). Called before the state
+    /// changes; nothing happens outside the searches.
     pub(super) fn restore_previous_calibration(&mut self) {
         let State::Calibration {
-            phase: CalPhase::Search {
-                selected, previous, ..
-            },
+            phase: CalPhase::Search { axes },
             ..
         } = self.state
         else {
             return;
         };
-        for (i, prev) in previous.iter().enumerate() {
-            if selected & (1 << i) != 0 {
-                let now = self.offsets[i].unwrap_or(0.0);
-                let then = prev.unwrap_or(0.0);
-                self.offsets[i] = *prev;
-                // The commanded positions (this cycle's and the two the following error is
-                // judged against) move into the joint frame with the offset.
-                self.cmd.position[i] += now - then;
-                for h in &mut self.cmd_hist {
-                    h[i] += now - then;
-                }
+        for (i, cal) in axes.iter().enumerate() {
+            let Some(cal) = cal else { continue };
+            let now = self.offsets[i].unwrap_or(0.0);
+            let prev = cal.previous();
+            let shift = now - prev.unwrap_or(0.0);
+            self.offsets[i] = prev;
+            // The commanded positions (this cycle's and the two the following error is judged
+            // against) move into the joint frame with the offset.
+            self.cmd.position[i] += shift;
+            for h in &mut self.cmd_hist {
+                h[i] += shift;
             }
         }
     }
@@ -89,26 +76,18 @@ impl Controller {
     /// calibration is no longer kept.
     pub(super) fn forget_previous_calibration(&mut self, axis: usize) {
         if let State::Calibration {
-            phase: CalPhase::Search {
-                ref mut previous, ..
-            },
+            phase: CalPhase::Search { ref mut axes },
             ..
         } = self.state
-            && let Some(p) = previous.get_mut(axis)
+            && let Some(Some(cal)) = axes.get_mut(axis)
         {
-            *p = None;
+            cal.forget_previous();
         }
     }
 
     pub(super) fn advance_calibration(&mut self, caller: Caller, dt: f64) {
         let State::Calibration {
-            phase:
-                CalPhase::Search {
-                    mut axes,
-                    selected,
-                    previous,
-                    mut found,
-                },
+            phase: CalPhase::Search { mut axes },
             ..
         } = self.state
         else {
@@ -117,24 +96,17 @@ impl Controller {
         let fb = *self.master.feedback();
         let mut running = false;
         for (i, slot) in axes.iter_mut().enumerate() {
-            let Some(cal) = slot else { continue };
-            let out = cal.step(
-                AxisInput {
-                    position: fb[i].position_rad,
-                    current: fb[i].current_a,
-                    light_barrier: fb[i].light_barrier,
-                },
-                dt,
-            );
+            // An axis that found its zero holds where it found it.
+            let Some(cal) = slot.as_mut().filter(|c| c.outcome() == Outcome::Running) else {
+                continue;
+            };
+            let out = cal.step(axis_input(&fb[i]), dt);
             // The raw target, in the joint frame of an uncalibrated axis (offset 0).
             self.cmd.position[i] = cal.target();
             self.current_limit[i] = cal.current_limit();
             match out {
                 Outcome::Running => running = true,
-                Outcome::Found { offset } => {
-                    found[i] = Some(offset);
-                    *slot = None;
-                }
+                Outcome::Found { .. } => {}
                 Outcome::Failed { cause } => {
                     let reason = Reason::CalibrationFailed {
                         axis: Axis::ALL[i],
@@ -144,7 +116,7 @@ impl Controller {
                     // failure, and the trip records it; every axis keeps its previous
                     // calibration.
                     self.restore_previous_calibration();
-                    self.state = State::Error { stop: None };
+                    self.state = State::error(None);
                     self.fail(caller, reason);
                     self.trip(reason);
                     self.hold_here();
@@ -155,20 +127,15 @@ impl Controller {
         if running {
             self.state = State::Calibration {
                 caller,
-                phase: CalPhase::Search {
-                    axes,
-                    selected,
-                    previous,
-                    found,
-                },
+                phase: CalPhase::Search { axes },
             };
             return;
         }
         // Every axis found its zero: the offsets come into force (and into the drives, which
         // keep them until they lose power), then the axes of this calibration move back to
         // zero (the others stay where they are).
-        for (i, f) in found.iter().enumerate() {
-            if let Some(offset) = *f {
+        for (i, cal) in axes.iter().enumerate() {
+            if let Some(Outcome::Found { offset }) = cal.map(|c| c.outcome()) {
                 self.offsets[i] = Some(offset);
                 let counts = (offset * self.p.counts_per_rad[i])
                     .round()
@@ -178,13 +145,8 @@ impl Controller {
             }
         }
         let start = self.cmd.position;
-        let target: [f64; NUM_AXES] = core::array::from_fn(|i| {
-            if selected & (1 << i) != 0 {
-                0.0
-            } else {
-                start[i]
-            }
-        });
+        let target: [f64; NUM_AXES] =
+            core::array::from_fn(|i| if axes[i].is_some() { 0.0 } else { start[i] });
         let plan = MovePlan::plan(start, target, &self.p.limits, RETURN_VELOCITY_FACTOR)
             .and_then(|plan| JointPlan::from_move(&plan));
         match plan {
@@ -202,5 +164,14 @@ impl Controller {
     pub(super) fn finish_calibration(&mut self, caller: Caller) {
         self.state = State::Hold { stop: None };
         self.done(caller, Done::Ack);
+    }
+}
+
+/// An axis's feedback as its calibration needs it.
+fn axis_input(fb: &AxisFeedback) -> AxisInput {
+    AxisInput {
+        position: fb.position_rad,
+        current: fb.current_a,
+        light_barrier: fb.light_barrier,
     }
 }

@@ -5,7 +5,7 @@
 //! in, and refusals carry their figures in degrees.
 
 use super::Controller;
-use super::state::{After, Caller, PvtMotion, State};
+use super::state::{After, Caller, PvtMotion, State, Watchdog};
 use crate::calibration::AxisSettings;
 use crate::pvt::BatchError;
 use crate::trajectory::PvtPoint;
@@ -167,12 +167,10 @@ impl Controller {
 
     fn on_torque_control(&mut self, c: Caller, t: TorqueControl) {
         if self.check_motion_mode_entry(c) {
-            let timeout_ns = t.timeout_s.map(|t| (t * 1e9) as u64);
             self.state = State::Torque {
                 torques: [0.0; NUM_AXES],
                 gravity: t.gravity_compensation,
-                deadline_ns: timeout_ns.map(|t| self.now_ns + t),
-                timeout_ns,
+                watchdog: Watchdog::start(t.timeout_s, self.now_ns),
             };
             self.done(c, Done::Ack);
         }
@@ -182,9 +180,7 @@ impl Controller {
     /// one is not.
     fn on_set_torques(&mut self, c: Caller, t: SetTorques) {
         let State::Torque {
-            gravity,
-            timeout_ns,
-            ..
+            gravity, watchdog, ..
         } = self.state
         else {
             return self.wrong_mode(c);
@@ -198,8 +194,7 @@ impl Controller {
         self.state = State::Torque {
             torques: t.torques_nm,
             gravity,
-            deadline_ns: timeout_ns.map(|to| self.now_ns + to),
-            timeout_ns,
+            watchdog: watchdog.map(|w| w.fed(self.now_ns)),
         };
         self.done(c, Done::Ack);
     }

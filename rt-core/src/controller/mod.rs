@@ -73,10 +73,6 @@ pub struct Controller {
     safety: SafetyParams,
     /// RELEASE's soft speed limit (`release.rs`).
     release: release::ReleaseParams,
-    /// Cycles left in which an axis that tripped its following error follows its measured
-    /// position in ERROR (its drive's loop restarted at the start and the end), so that it
-    /// does not press into what held it (`trips.rs`).
-    relax: [u8; NUM_AXES],
     /// The torque feed-forward sent to each drive's position loop [Nm] (`motion.rs`).
     feed_forward: [f64; NUM_AXES],
     /// The emergency stop input of the last cycle (a press is reported once, on its edge).
@@ -130,7 +126,6 @@ impl Controller {
             i2t: I2t::new(&SafetyParams::from_config(cfg)),
             safety: SafetyParams::from_config(cfg),
             release: release::ReleaseParams::from_config(cfg),
-            relax: [0; NUM_AXES],
             feed_forward: [0.0; NUM_AXES],
             estop_seen: false,
             incident_reported: false,

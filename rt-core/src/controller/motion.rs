@@ -95,10 +95,10 @@ impl Controller {
                 let stop = self.advance_stop(stop, dt);
                 self.state = State::Hold { stop };
             }
-            State::Error { stop } => {
+            State::Error { stop, mut relax } => {
                 let stop = self.advance_stop(stop, dt);
-                self.state = State::Error { stop };
-                self.relax_tripped_axes();
+                self.relax_tripped_axes(&mut relax);
+                self.state = State::Error { stop, relax };
             }
             State::Pvt { motion, starved } => self.advance_pvt(motion, starved, dt),
             State::Calibration {
@@ -129,18 +129,13 @@ impl Controller {
                 self.compensate(true, &damping);
                 return;
             }
-            State::Velocity {
-                target,
-                deadline_ns,
-                ..
-            } => self.advance_velocity(target, deadline_ns),
+            State::Velocity { target, watchdog } => self.advance_velocity(target, watchdog),
             State::Torque {
                 torques,
                 gravity,
-                deadline_ns,
-                ..
+                watchdog,
             } => {
-                if deadline_ns.is_some_and(|d| self.now_ns > d) {
+                if watchdog.is_some_and(|w| w.expired(self.now_ns)) {
                     // set_torques stopped arriving: fall back to HOLD.
                     self.state = State::Hold {
                         stop: self.stop_motion(),

@@ -24,12 +24,10 @@ use mcm_shared::ranges::{Arg, ArgRefusal};
 use mcm_shared::reply::{Done, MoveAllPlan, Reason};
 use mcm_shared::units::{rad_to_deg, rad_to_deg6};
 
-/// How far (rad) a plan may pass the reachable range through rounding.
-const RANGE_TOLERANCE: f64 = 1e-9;
-
-/// Targets closer than this to the commanded position are taken as the commanded position
-/// [rad] (a nanoradian: far below one encoder count).
-pub const TARGET_RESOLUTION_RAD: f64 = 1e-9;
+/// Positions closer than this are the same position [rad] (a nanoradian: far below one
+/// encoder count, above the planners' rounding): a target this close to the commanded
+/// position is that position, and a plan may pass the reachable range by this much.
+const POSITION_RESOLUTION_RAD: f64 = 1e-9;
 
 /// The refusal of a velocity factor the planner cannot use (decoding checked its range; a plan
 /// that still fails names it).
@@ -70,10 +68,10 @@ impl Controller {
                 return self.refuse(c, self.unreachable(i, q));
             }
         }
-        // A target within [`TARGET_RESOLUTION_RAD`] of the commanded position is that position:
+        // A target within [`POSITION_RESOLUTION_RAD`] of the commanded position is that position:
         // a move of a tiny (even subnormal) distance is no move, not an unplannable one.
         for (q, at) in target.iter_mut().zip(self.cmd.position) {
-            if (*q - at).abs() < TARGET_RESOLUTION_RAD {
+            if (*q - at).abs() < POSITION_RESOLUTION_RAD {
                 *q = at;
             }
         }
@@ -145,8 +143,8 @@ impl Controller {
         let plan = plan_from_state(i, p, v, a, target, self.p.limits[i], factor)
             .map_err(|_| factor_refused(factor))?;
         let (lo, hi) = plan.position_range();
-        let max = self.p.reach_max[i].max(p) + RANGE_TOLERANCE;
-        let min = self.p.reach_min[i].min(p) - RANGE_TOLERANCE;
+        let max = self.p.reach_max[i].max(p) + POSITION_RESOLUTION_RAD;
+        let min = self.p.reach_min[i].min(p) - POSITION_RESOLUTION_RAD;
         if hi > max {
             return Err(self.unreachable(i, hi));
         }

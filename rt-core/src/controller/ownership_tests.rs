@@ -2,24 +2,14 @@
 //! stop is open to all, and that what a gone owner drove ends in HOLD (virtual time, the whole
 //! simulated robot, as in `tests.rs`).
 
-use super::tests::Robot;
-use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAxis, Pvt, Request, SetTorques, TorqueControl, Which,
-};
+use super::tests::{Robot, move_axis};
+use mcm_shared::command::{Calibrate, Direction, Pvt, Request, SetTorques, TorqueControl, Which};
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::{Done, Outcome, Reason};
 
 /// The client every `Robot::ok`/`refused` call speaks as.
 const A: u64 = 42;
 const B: u64 = 7;
-
-fn move_axis(axis: u8, target_deg: f64) -> Request {
-    Request::MoveAxis(MoveAxis {
-        axis: Axis::new(axis).unwrap(),
-        target_deg,
-        velocity_factor: 0.5,
-    })
-}
 
 fn torque_forever() -> Request {
     Request::TorqueControl(TorqueControl {
@@ -47,14 +37,6 @@ fn calibrated() -> Robot {
     r.calibrate_all();
     assert_eq!(owner(&r), A, "the first calibrate took control");
     r
-}
-
-fn largest_true_speed(r: &Robot) -> f64 {
-    r.cycle
-        .state()
-        .sim_true_velocity
-        .iter()
-        .fold(0.0f64, |m, v| m.max(v.abs()))
 }
 
 #[test]
@@ -154,12 +136,12 @@ fn a_torque_session_without_timeout_whose_owner_is_gone_stops_in_hold() {
     r.ok(set_torques([0.0, 0.0, 0.0, 0.0, 0.0, 1.0]), 5);
     r.run(10);
     assert_eq!(r.mode(), Mode::TorqueControl);
-    let before = largest_true_speed(&r);
+    let before = r.fastest_true_speed();
     assert!(before > 5.0, "the arm turns: {before} deg/s");
     r.ok(Request::ClientGone, 1);
     assert_eq!(r.mode(), Mode::Hold, "HOLD within the cycle that saw it");
     assert_eq!(owner(&r), 0);
-    r.run_until("the arm at rest", 400, |r| largest_true_speed(r) < 0.5);
+    r.run_until("the arm at rest", 400, |r| r.fastest_true_speed() < 0.5);
     let at_rest = r.truth();
     r.run(100);
     let drift = r
@@ -179,7 +161,7 @@ fn releasing_control_ends_a_move_a_stream_and_release_mode_in_hold() {
     r.run(80);
     r.ok(Request::ReleaseControl, 1);
     assert_eq!(r.mode(), Mode::Hold);
-    r.run_until("the arm at rest", 400, |r| largest_true_speed(r) < 0.5);
+    r.run_until("the arm at rest", 400, |r| r.fastest_true_speed() < 0.5);
     let q1 = r.truth()[0];
     assert!(q1 > 1.0 && q1 < 39.0, "stopped on the way: {q1} deg");
 

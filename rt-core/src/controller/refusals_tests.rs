@@ -3,23 +3,15 @@
 //! not fit, a calibration superseded by `hold`. Each checks the refusal's reason and figures and
 //! the mode after it (virtual time, the whole simulated robot, as in `tests.rs`).
 
-use super::tests::Robot;
+use super::tests::{Robot, move_axis};
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques,
-    SimCommand, TorqueControl, Which,
+    Axis, Calibrate, Direction, MoveAll, Pvt, PvtChunk, PvtPoint, Request, SetTorques, SimCommand,
+    TorqueControl, Which,
 };
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::{Done, Outcome, PvtQuantity, Reason, Response};
 
 const PVT: Request = Request::Pvt(Pvt { dt_s: 0.01 });
-
-fn move_axis(axis: u8, target_deg: f64) -> Request {
-    Request::MoveAxis(MoveAxis {
-        axis: Axis::new(axis).unwrap(),
-        target_deg,
-        velocity_factor: 0.5,
-    })
-}
 
 fn calibrate(which: Which) -> Request {
     Request::Calibrate(Calibrate {
@@ -64,13 +56,6 @@ fn reply_to(r: &Robot, id: u64) -> Option<Response> {
         .rev()
         .find(|rep| rep.request_id == id)
         .map(|rep| Response::decode(rep).expect("a well-formed reply"))
-}
-
-/// A calibrated robot in HOLD.
-fn calibrated() -> Robot {
-    let mut r = Robot::new();
-    r.calibrate_all();
-    r
 }
 
 #[test]
@@ -120,7 +105,7 @@ fn a_sim_command_without_the_simulators_edge_is_not_simulated() {
 
 #[test]
 fn calibrate_and_set_torques_are_refused_in_the_modes_that_do_not_take_them() {
-    let mut r = calibrated();
+    let mut r = Robot::calibrated();
     assert_eq!(r.ok(Request::Hold, 5), Done::Ack, "hold in HOLD is a no-op");
     assert_eq!(
         r.refused(set_torques([0.0; 6]), 5),
@@ -150,7 +135,7 @@ fn calibrate_and_set_torques_are_refused_in_the_modes_that_do_not_take_them() {
 
 #[test]
 fn a_torque_beyond_the_peak_is_refused_whole_naming_axis_and_limit() {
-    let mut r = calibrated();
+    let mut r = Robot::calibrated();
     r.ok(torque_control(), 5);
     let peak = r.cycle.controller().p.peak_torque[2];
     let mut t = [1.0; 6];
@@ -176,7 +161,7 @@ fn a_torque_beyond_the_peak_is_refused_whole_naming_axis_and_limit() {
 
 #[test]
 fn an_unreachable_target_is_refused_with_the_reachable_range_in_degrees() {
-    let mut r = calibrated();
+    let mut r = Robot::calibrated();
     r.ok(PVT, 5);
     let (min, max) = {
         let p = &r.cycle.controller().p;
@@ -217,7 +202,7 @@ fn an_unreachable_target_is_refused_with_the_reachable_range_in_degrees() {
 
 #[test]
 fn points_and_moves_while_a_move_runs_are_busy_with_the_time_left() {
-    let mut r = calibrated();
+    let mut r = Robot::calibrated();
     r.ok(PVT, 5);
     r.ok(move_axis(1, 30.0), 5);
     r.run(20);
@@ -241,7 +226,7 @@ fn points_and_moves_while_a_move_runs_are_busy_with_the_time_left() {
 
 #[test]
 fn a_pvt_point_beyond_the_velocity_limit_refuses_the_whole_batch() {
-    let mut r = calibrated();
+    let mut r = Robot::calibrated();
     r.ok(PVT, 5);
     let reason = r.refused(chunk(4, 0.0, 1.0e4, true), 5);
     let Reason::PvtPoint {
@@ -267,7 +252,7 @@ fn a_pvt_point_beyond_the_velocity_limit_refuses_the_whole_batch() {
 
 #[test]
 fn a_batch_longer_than_a_batch_may_be_is_refused_as_a_full_queue() {
-    let mut r = calibrated();
+    let mut r = Robot::calibrated();
     r.ok(PVT, 5);
     let max = crate::pvt::MAX_BATCH;
     for _ in 0..max / 4 {
@@ -345,7 +330,7 @@ fn hold_and_calibrate_are_refused_while_the_emergency_stop_is_pressed() {
 
 #[test]
 fn a_pvt_spacing_below_one_cycle_is_refused_naming_the_range() {
-    let mut r = calibrated();
+    let mut r = Robot::calibrated();
     let reason = r.refused(Request::Pvt(Pvt { dt_s: 0.001 }), 5);
     assert_eq!(
         reason.to_string(),

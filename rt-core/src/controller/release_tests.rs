@@ -212,13 +212,6 @@ fn a_push_beyond_a_joint_limit_trips_position_limit_and_the_arm_stops() {
     );
 }
 
-fn max_diff(a: &[f64; 6], b: &[f64; 6]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-}
-
 /// Entering HOLD under gravity (from RELEASE, and after a move) with the gravity load as the
 /// drives' torque feed-forward: the true arm sags less than 0.02 deg.
 #[test]
@@ -237,21 +230,12 @@ fn entering_hold_under_gravity_sags_less_than_0_02_deg() {
         r.cycle.state().velocity.iter().all(|v| v.abs() < 1e-9) && r.k > 10
     });
     r.run(100); // settled
-    let b0 = r.truth();
-    let mut drift: f64 = 0.0;
-    for _ in 0..200 {
-        r.step(&[]);
-        drift = drift.max(max_diff(&b0, &r.truth()));
-    }
+    let drift = r.largest_drift(r.truth(), 200);
     eprintln!("PVT at rest after the move: the true arm moved up to {drift:.4} deg in 1 s");
     // After the move: hold.
     let before = r.truth();
     r.ok(Request::Hold, 10);
-    let mut sag: f64 = 0.0;
-    for _ in 0..200 {
-        r.step(&[]);
-        sag = sag.max(max_diff(&before, &r.truth()));
-    }
+    let sag = r.largest_drift(before, 200);
     eprintln!("HOLD after a move: the true arm moved up to {sag:.4} deg");
     assert!(sag < 0.02, "after a move: {sag} deg");
     // From RELEASE, at rest.
@@ -259,11 +243,7 @@ fn entering_hold_under_gravity_sags_less_than_0_02_deg() {
     r.run(200);
     let before = r.truth();
     r.ok(Request::Hold, 10);
-    let mut sag: f64 = 0.0;
-    for _ in 0..200 {
-        r.step(&[]);
-        sag = sag.max(max_diff(&before, &r.truth()));
-    }
+    let sag = r.largest_drift(before, 200);
     eprintln!("HOLD from RELEASE: the true arm moved up to {sag:.4} deg");
     assert!(sag < 0.02, "from RELEASE: {sag} deg");
 }

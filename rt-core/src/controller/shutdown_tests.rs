@@ -9,14 +9,6 @@ use mcm_shared::sample::{AXIS_ENABLED, STATE_SHUTTING_DOWN};
 
 const PERIOD_S: f64 = 0.005;
 
-fn fastest_true_velocity(r: &Robot) -> f64 {
-    r.cycle
-        .state()
-        .sim_true_velocity
-        .iter()
-        .fold(0.0, |m: f64, v| m.max(v.abs()))
-}
-
 /// Axis 1 moving at 45 deg/s (half its 90 deg/s) towards a far target.
 fn moving_at_45() -> Robot {
     let mut r = Robot::new();
@@ -48,7 +40,7 @@ fn shutdown_while_moving_stops_within_the_braking_bound_then_disables() {
     // cycles of lag and the physics settling.
     let braking_s = 45.0 / 180.0;
     let bound = ((braking_s + 0.1) / PERIOD_S) as u64;
-    r.run_until("standstill", bound, |r| fastest_true_velocity(r) < 0.05);
+    r.run_until("standstill", bound, |r| r.fastest_true_speed() < 0.05);
     let stopped_after = (r.k - start) as f64 * PERIOD_S;
     assert!(
         stopped_after >= braking_s - 0.02,
@@ -86,7 +78,7 @@ fn shutdown_while_moving_stops_within_the_braking_bound_then_disables() {
         s.axis_flags
     );
     assert_ne!(s.flags & STATE_SHUTTING_DOWN, 0, "stays flagged to the end");
-    assert!(fastest_true_velocity(&r) < 0.05);
+    assert!(r.fastest_true_speed() < 0.05);
 }
 
 #[test]

@@ -10,6 +10,41 @@ use crate::trajectory::{JointPlan, StopPlan};
 use mcm_shared::NUM_AXES;
 use mcm_shared::mode::{CommandKind, Mode};
 
+/// The timeout of TORQUE_CONTROL and VELOCITY_CONTROL: the mode ends (the controlled stop to
+/// HOLD) when its set command does not come within `timeout_ns` of the last one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Watchdog {
+    timeout_ns: u64,
+    /// Controller time by which the next set command must arrive.
+    deadline_ns: u64,
+}
+
+impl Watchdog {
+    /// The mode's `timeout_s` (`None`: no timeout), running from `now_ns`.
+    pub fn start(timeout_s: Option<f64>, now_ns: u64) -> Option<Watchdog> {
+        timeout_s.map(|t| {
+            let timeout_ns = (t * 1e9) as u64;
+            Watchdog {
+                timeout_ns,
+                deadline_ns: now_ns.saturating_add(timeout_ns),
+            }
+        })
+    }
+
+    /// A set command arrived at `now_ns`.
+    pub fn fed(self, now_ns: u64) -> Watchdog {
+        Watchdog {
+            deadline_ns: now_ns.saturating_add(self.timeout_ns),
+            ..self
+        }
+    }
+
+    /// The deadline passed.
+    pub fn expired(&self, now_ns: u64) -> bool {
+        now_ns > self.deadline_ns
+    }
+}
+
 /// Who asked: the ids and kind a reply (now or later) is addressed with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Caller {
@@ -51,15 +86,12 @@ pub(crate) enum PvtMotion {
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum CalPhase {
-    /// Searches in the raw frame, per axis (`None`: the axis holds or is done); `selected` has
-    /// bit `i` set for every axis this calibration covers. `previous`: the offsets the selected
-    /// axes had when it started (restored if it does not complete); `found`: the offsets
-    /// found so far (in force only once every selected axis found its own).
+    /// Searches in the raw frame: `Some` for every axis this calibration covers, from its
+    /// start to its end. Each keeps the offset its axis had (restored if the calibration does
+    /// not complete) and, once found, the new one (in force only once every covered axis
+    /// found its own).
     Search {
         axes: [Option<AxisCalibration>; NUM_AXES],
-        selected: u8,
-        previous: [Option<f64>; NUM_AXES],
-        found: [Option<f64>; NUM_AXES],
     },
     /// Every axis found its zero: the move of the selected axes back to zero.
     Return(Moving),
@@ -116,25 +148,35 @@ pub(crate) enum State {
     Torque {
         torques: [f64; NUM_AXES],
         gravity: bool,
-        /// Controller time by which the next `set_torques` must arrive (`None`: no timeout).
-        deadline_ns: Option<u64>,
-        timeout_ns: Option<u64>,
+        /// Fed by `set_torques` (`None`: no timeout).
+        watchdog: Option<Watchdog>,
     },
     /// Joint velocities from `set_velocities`, ramped (`velocity.rs`).
     Velocity {
         /// Target velocity of each axis [rad/s].
         target: [f64; NUM_AXES],
-        /// Controller time by which the next `set_velocities` must arrive (`None`: no timeout).
-        deadline_ns: Option<u64>,
-        timeout_ns: Option<u64>,
+        /// Fed by `set_velocities` (`None`: no timeout).
+        watchdog: Option<Watchdog>,
     },
     /// After a safety trip: the quick stop, then holding (drives that dropped out stay off).
     Error {
         stop: Option<Stopping>,
+        /// Cycles left in which an axis that tripped its following error follows its measured
+        /// position, its drive's loop restarted at the start and the end (`trips.rs`), so
+        /// that it does not press into what held it. They end with the mode.
+        relax: [u8; NUM_AXES],
     },
 }
 
 impl State {
+    /// ERROR with the stop `stop` and no axis relaxing.
+    pub fn error(stop: Option<Stopping>) -> State {
+        State::Error {
+            stop,
+            relax: [0; NUM_AXES],
+        }
+    }
+
     /// The wire mode: an enabling reports the mode it started from.
     pub fn mode(&self) -> Mode {
         match self {
@@ -168,7 +210,7 @@ impl State {
         let mv = |m: &Moving| m.plan.remaining();
         match self {
             State::Hold { stop: Some(s) }
-            | State::Error { stop: Some(s) }
+            | State::Error { stop: Some(s), .. }
             | State::Pvt {
                 motion: PvtMotion::Stop(s),
                 ..
@@ -191,7 +233,7 @@ impl Before {
     pub fn state(self) -> State {
         match self {
             Before::Off => State::Off,
-            Before::Error => State::Error { stop: None },
+            Before::Error => State::error(None),
         }
     }
 }

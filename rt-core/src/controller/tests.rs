@@ -120,6 +120,42 @@ impl Robot {
         self.cycle.state().sim_true_position
     }
 
+    /// A calibrated robot in HOLD.
+    pub fn calibrated() -> Robot {
+        let mut r = Robot::new();
+        r.calibrate_all();
+        r
+    }
+
+    /// The fastest true joint speed [deg/s].
+    pub fn fastest_true_speed(&self) -> f64 {
+        self.cycle
+            .state()
+            .sim_true_velocity
+            .iter()
+            .fold(0.0, |m: f64, v| m.max(v.abs()))
+    }
+
+    /// Every true joint slower than 0.05 deg/s.
+    pub fn at_rest(&self) -> bool {
+        self.cycle
+            .state()
+            .sim_true_velocity
+            .iter()
+            .all(|v| v.abs() < 0.05)
+    }
+
+    /// The largest distance [deg] a true joint is from `from` (true angles) over the next
+    /// `cycles` cycles.
+    pub fn largest_drift(&mut self, from: [f64; 6], cycles: u64) -> f64 {
+        let mut drift: f64 = 0.0;
+        for _ in 0..cycles {
+            self.step(&[]);
+            drift = drift.max(max_diff(&from, &self.truth()));
+        }
+        drift
+    }
+
     pub fn calibrate_all(&mut self) {
         let all = Calibrate {
             which: Which::All,
@@ -149,7 +185,7 @@ fn move_all(targets_deg: [f64; 6]) -> Request {
     })
 }
 
-fn move_axis(axis: u8, target_deg: f64) -> Request {
+pub(crate) fn move_axis(axis: u8, target_deg: f64) -> Request {
     Request::MoveAxis(MoveAxis {
         axis: Axis::new(axis).unwrap(),
         target_deg,
@@ -157,7 +193,7 @@ fn move_axis(axis: u8, target_deg: f64) -> Request {
     })
 }
 
-fn max_diff(a: &[f64; 6], b: &[f64; 6]) -> f64 {
+pub(crate) fn max_diff(a: &[f64; 6], b: &[f64; 6]) -> f64 {
     a.iter()
         .zip(b)
         .map(|(x, y)| (x - y).abs())

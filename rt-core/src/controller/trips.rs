@@ -8,6 +8,7 @@ use super::Controller;
 use super::state::State;
 use crate::canopen::MasterEvent;
 use crate::safety::{self, ActiveChecks};
+use mcm_shared::NUM_AXES;
 use mcm_shared::command::Axis;
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::{Reason, SafetyError};
@@ -129,12 +130,11 @@ impl Controller {
     pub(super) fn trip(&mut self, reason: Reason) {
         // A calibration under way ends: its axes keep their previous calibration.
         self.restore_previous_calibration();
-        if let Reason::FollowingError { axis, .. } = reason
-            && !matches!(self.state, State::Off | State::Error { .. })
-        {
+        let mut relax = [0; NUM_AXES];
+        if let Reason::FollowingError { axis, .. } = reason {
             // The drive's loop wound up against whatever held the axis: let the axis relax
             // and hold it where it comes to rest, so that it stops pressing.
-            self.relax[axis.index()] = RELAX_CYCLES;
+            relax[axis.index()] = RELAX_CYCLES;
         }
         self.state = match self.state {
             State::Off => State::Off,
@@ -142,11 +142,12 @@ impl Controller {
                 self.fail(caller, reason);
                 from.state()
             }
-            State::Error { stop } => State::Error { stop },
+            s @ State::Error { .. } => s,
             State::Calibration { caller, .. } => {
                 self.fail(caller, reason);
                 State::Error {
                     stop: self.quick_stop(),
+                    relax,
                 }
             }
             State::Hold { .. }
@@ -155,6 +156,7 @@ impl Controller {
             | State::Torque { .. }
             | State::Velocity { .. } => State::Error {
                 stop: self.quick_stop(),
+                relax,
             },
         };
         if self.incident_reported {
@@ -193,14 +195,10 @@ impl Controller {
     /// In ERROR, an axis that tripped its following error follows its measured position for
     /// [`RELAX_CYCLES`], its drive's loop restarted at the start and at the end: a loop wound
     /// up against an obstacle stops pressing, and the axis holds where it came to rest.
-    pub(super) fn relax_tripped_axes(&mut self) {
-        if !matches!(self.state, State::Error { .. }) {
-            self.relax = [0; mcm_shared::NUM_AXES];
-            return;
-        }
+    pub(super) fn relax_tripped_axes(&mut self, relax: &mut [u8; NUM_AXES]) {
         let measured = self.measured();
         for (i, &at) in measured.iter().enumerate() {
-            let left = self.relax[i];
+            let left = relax[i];
             if left == 0 {
                 continue;
             }
@@ -210,7 +208,7 @@ impl Controller {
             if left == RELAX_CYCLES || left == 1 {
                 self.master.restart_position_loop(i);
             }
-            self.relax[i] = left - 1;
+            relax[i] = left - 1;
         }
     }
 }

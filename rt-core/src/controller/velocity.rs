@@ -9,7 +9,7 @@
 pub mod ramp;
 
 use super::Controller;
-use super::state::{Caller, State};
+use super::state::{Caller, State, Watchdog};
 use crate::params::JointParams;
 use crate::safety::SafetyParams;
 use mcm_shared::NUM_AXES;
@@ -51,11 +51,9 @@ impl Controller {
     /// 0, the ramp starts from the commanded state (a stop under way in HOLD carries on
     /// smoothly).
     pub(super) fn enter_velocity_control(&mut self, c: Caller, v: VelocityControl) {
-        let timeout_ns = v.timeout_s.map(|t| (t * 1e9) as u64);
         self.state = State::Velocity {
             target: [0.0; NUM_AXES],
-            deadline_ns: timeout_ns.map(|t| self.now_ns.saturating_add(t)),
-            timeout_ns,
+            watchdog: Watchdog::start(v.timeout_s, self.now_ns),
         };
         self.done(c, Done::Ack);
     }
@@ -64,9 +62,8 @@ impl Controller {
     /// the range and words the gateway uses); refused whole (the last targets stay) when one
     /// is not.
     pub(super) fn on_set_velocities(&mut self, c: Caller, v: SetVelocities) {
-        let State::Velocity { timeout_ns, .. } = self.state else {
-            let mode = self.mode();
-            return self.refuse(c, Reason::WrongMode { mode });
+        let State::Velocity { watchdog, .. } = self.state else {
+            return self.wrong_mode(c);
         };
         let mut target = [0.0; NUM_AXES];
         for (i, deg_s) in v.velocities_deg_s.iter().copied().enumerate() {
@@ -80,16 +77,15 @@ impl Controller {
         }
         self.state = State::Velocity {
             target,
-            deadline_ns: timeout_ns.map(|t| self.now_ns.saturating_add(t)),
-            timeout_ns,
+            watchdog: watchdog.map(|w| w.fed(self.now_ns)),
         };
         self.done(c, Done::Ack);
     }
 
     /// One cycle of VELOCITY_CONTROL: the ramp towards the targets, or, once the timeout
     /// passed without `set_velocities`, the controlled stop to HOLD.
-    pub(super) fn advance_velocity(&mut self, target: [f64; NUM_AXES], deadline_ns: Option<u64>) {
-        if deadline_ns.is_some_and(|d| self.now_ns > d) {
+    pub(super) fn advance_velocity(&mut self, target: [f64; NUM_AXES], watchdog: Option<Watchdog>) {
+        if watchdog.is_some_and(|w| w.expired(self.now_ns)) {
             self.state = State::Hold {
                 stop: self.stop_motion(),
             };

@@ -10,9 +10,10 @@
 //! cycle's). Cycles run back to back on the real clock without sleeping; the controller's time
 //! is k x period.
 //!
-//! The scenario: boot, hold, calibration of all axes, PVT with `move_all` and a `pvt_points`
-//! batch of many chunks streamed to its end, release, torque control with `set_torques`, a
-//! move blocked through the simulator's edge (following-error trip, quick stop, flight-recorder
+//! The scenario: boot, hold, calibration of all axes, PVT with `move_all` (re-planned by a
+//! second `move_all` while the arm moves) and a `pvt_points` batch of many chunks streamed to
+//! its end, release, torque control with `set_torques`, velocity control with
+//! `set_velocities` and its timeout, a move blocked through the simulator's edge (following-error trip, quick stop, flight-recorder
 //! hand-off), more fault injection, and the way back to HOLD. Every command must be answered
 //! OK and every mode reached, so the count cannot be zero for lack of work.
 
@@ -275,18 +276,22 @@ fn calibrate(rig: &mut Rig) {
     assert_eq!(s.mode, Mode::Hold.to_wire());
 }
 
-/// PVT: a `move_all`, then a batch of many `pvt_points` chunks (a full sine period around the
+/// PVT: a `move_all`, re-planned from the moving state by a second one, then a batch of many `pvt_points` chunks (a full sine period around the
 /// target, ending at rest) streamed to its end.
 fn pvt(rig: &mut Rig) {
     rig.ok(Request::Pvt(Pvt { dt_s: 0.01 }), 5);
     let target = [20.0, -30.0, 45.0, 60.0, -40.0, 90.0];
-    rig.ok(
-        Request::MoveAll(MoveAll {
-            targets_deg: target,
-            velocity_factor: 0.8,
-        }),
-        5,
-    );
+    for velocity_factor in [0.8, 0.5] {
+        rig.ok(
+            Request::MoveAll(MoveAll {
+                targets_deg: target,
+                velocity_factor,
+            }),
+            5,
+        );
+        // The second one re-plans each axis from its commanded state (online planner).
+        rig.run_until("moving", 200, |s| s.velocity.iter().any(|v| v.abs() > 1.0));
+    }
     let s = rig.run_until("move_all arrived", 4_000, |s| {
         max_diff(&s.sim_true_position, &target) < 0.05 && s.velocity.iter().all(|v| *v == 0.0)
     });

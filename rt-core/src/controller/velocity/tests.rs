@@ -17,15 +17,9 @@ fn set_velocities(velocities_deg_s: [f64; 6]) -> Request {
     Request::SetVelocities(SetVelocities { velocities_deg_s })
 }
 
-fn calibrated() -> Robot {
-    let mut r = Robot::new();
-    r.calibrate_all();
-    r
-}
-
 #[test]
 fn two_axes_ramp_within_the_acceleration_limit_to_their_targets() {
-    let mut r = calibrated();
+    let mut r = Robot::calibrated();
     assert_eq!(r.ok(velocity_control(None), 5), Done::Ack);
     assert_eq!(r.mode(), Mode::VelocityControl);
     r.ok(set_velocities([20.0, 0.0, -30.0, 0.0, 0.0, 0.0]), 5);
@@ -58,7 +52,7 @@ fn two_axes_ramp_within_the_acceleration_limit_to_their_targets() {
 
 #[test]
 fn the_timeout_stops_to_hold_and_hold_ends_the_mode() {
-    let mut r = calibrated();
+    let mut r = Robot::calibrated();
     r.ok(velocity_control(Some(0.2)), 5);
     r.ok(set_velocities([0.0, 0.0, 0.0, 0.0, 30.0, 0.0]), 5);
     let entered = r.k;
@@ -68,13 +62,7 @@ fn the_timeout_stops_to_hold_and_hold_ends_the_mode() {
         (40..=43).contains(&cycles),
         "HOLD {cycles} cycles after the last set_velocities"
     );
-    r.run_until("at rest", 400, |r| {
-        r.cycle
-            .state()
-            .sim_true_velocity
-            .iter()
-            .all(|v| v.abs() < 0.05)
-    });
+    r.run_until("at rest", 400, Robot::at_rest);
     assert_eq!(
         r.cycle.state().last_error.seq,
         0,
@@ -86,18 +74,12 @@ fn the_timeout_stops_to_hold_and_hold_ends_the_mode() {
     r.run(50);
     r.ok(Request::Hold, 5);
     assert_eq!(r.mode(), Mode::Hold);
-    r.run_until("at rest after hold", 400, |r| {
-        r.cycle
-            .state()
-            .sim_true_velocity
-            .iter()
-            .all(|v| v.abs() < 0.05)
-    });
+    r.run_until("at rest after hold", 400, Robot::at_rest);
 }
 
 #[test]
 fn a_joint_driven_into_its_limit_stops_before_it_without_a_trip() {
-    let mut r = calibrated();
+    let mut r = Robot::calibrated();
     r.ok(velocity_control(None), 5);
     // Axis 2 (limit 120 deg) at full speed, refreshed like a client would.
     for _ in 0..1200 {
@@ -133,7 +115,7 @@ fn a_joint_driven_into_its_limit_stops_before_it_without_a_trip() {
 
 #[test]
 fn refusals_name_mode_axis_value_and_range() {
-    let mut r = calibrated();
+    let mut r = Robot::calibrated();
     assert_eq!(
         r.refused(set_velocities([0.0; 6]), 5),
         Reason::WrongMode { mode: Mode::Hold }
@@ -169,7 +151,7 @@ fn refusals_name_mode_axis_value_and_range() {
 
 #[test]
 fn a_gone_owner_ends_velocity_control_with_a_controlled_stop() {
-    let mut r = calibrated();
+    let mut r = Robot::calibrated();
     // The calibration made client 42 the owner.
     r.command_from(42, velocity_control(None), 5);
     assert_eq!(r.mode(), Mode::VelocityControl);
@@ -185,11 +167,5 @@ fn a_gone_owner_ends_velocity_control_with_a_controlled_stop() {
     r.run(100);
     r.command_from(42, Request::ClientGone, 5);
     assert_eq!(r.mode(), Mode::Hold);
-    r.run_until("at rest", 400, |r| {
-        r.cycle
-            .state()
-            .sim_true_velocity
-            .iter()
-            .all(|v| v.abs() < 0.05)
-    });
+    r.run_until("at rest", 400, Robot::at_rest);
 }
