@@ -3,6 +3,7 @@
 
 use crate::framing::json_kind;
 use mcm_shared::command::Axis;
+use mcm_shared::config::RobotConfig;
 use mcm_shared::ranges::{Arg, Num};
 use serde_json::{Map, Value};
 
@@ -190,25 +191,24 @@ impl<'a> Args<'a> {
     }
 
     /// An optional array of six numbers of the per-axis argument `arg`, element `i` within
-    /// `bounds(i)`.
+    /// axis `i + 1`'s range of the table ([`Arg::bounds`] with `cfg`).
     pub fn ranged_six(
         &self,
         arg: Arg,
-        bounds: impl Fn(usize) -> (f64, f64),
+        cfg: &RobotConfig,
     ) -> Result<Option<[f64; 6]>, CommandError> {
         let name = arg.name();
         let Some(v) = self.get(name) else {
             return Ok(None);
         };
-        let (lo, hi) = bounds(0);
-        let expected = || format!("an array of 6 numbers, each {}", arg.expected(lo, hi));
         let arr = v
             .as_array()
             .filter(|a| a.len() == 6)
-            .ok_or_else(|| self.invalid(name, v, expected()))?;
+            .ok_or_else(|| self.invalid(name, v, six_expected(arg, cfg)))?;
         let mut out = [0.0; 6];
         for (i, x) in arr.iter().enumerate() {
-            out[i] = ranged_value(self, arg, &format!("{name}[{i}]"), x, bounds(i))?;
+            let bounds = arg.bounds(cfg, Some(i));
+            out[i] = ranged_value(self, arg, &format!("{name}[{i}]"), x, bounds)?;
         }
         Ok(Some(out))
     }
@@ -217,15 +217,10 @@ impl<'a> Args<'a> {
     pub fn required_ranged_six(
         &self,
         arg: Arg,
-        bounds: impl Fn(usize) -> (f64, f64),
+        cfg: &RobotConfig,
     ) -> Result<[f64; 6], CommandError> {
-        let (lo, hi) = bounds(0);
-        self.ranged_six(arg, bounds)?.ok_or_else(|| {
-            self.missing(
-                arg.name(),
-                &format!("an array of 6 numbers, each {}", arg.expected(lo, hi)),
-            )
-        })
+        self.ranged_six(arg, cfg)?
+            .ok_or_else(|| self.missing(arg.name(), &six_expected(arg, cfg)))
     }
 
     /// A required finite number within `[min, max]`.
@@ -296,6 +291,12 @@ impl<'a> Args<'a> {
         self.six(name, what, check)?
             .ok_or_else(|| self.missing(name, &format!("an array of 6 {what}")))
     }
+}
+
+/// What an array of the per-axis argument `arg` must hold (the range of axis 1 shown).
+fn six_expected(arg: Arg, cfg: &RobotConfig) -> String {
+    let (lo, hi) = arg.bounds(cfg, Some(0));
+    format!("an array of 6 numbers, each {}", arg.expected(lo, hi))
 }
 
 /// The number `v` of the argument `arg` (shown as `name`: an array's element is `name[i]`)

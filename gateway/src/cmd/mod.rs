@@ -159,7 +159,7 @@ impl Command {
             "move_all" => Command::MoveAll(move_all::parse(arguments, cfg)?),
             "pvt_points" => Command::PvtPoints(PvtPoints::parse(arguments, cfg)?),
             "sleep" => Command::Sleep(Sleep::parse(arguments)?),
-            "sim" => Command::Sim(sim::parse(arguments)?),
+            "sim" => Command::Sim(sim::parse(arguments, cfg)?),
             "take_control" => {
                 take_control::parse(arguments)?;
                 Command::TakeControl

@@ -4,7 +4,7 @@
 use crate::args::{Args, CommandError};
 use mcm_shared::command::{self, Pvt};
 use mcm_shared::config::RobotConfig;
-use mcm_shared::ranges::{Arg, Limits};
+use mcm_shared::ranges::Arg;
 use serde_json::Value;
 
 /// Default spacing of PVT points [s].
@@ -15,9 +15,10 @@ pub const DEFAULT_TORQUE_TIMEOUT: f64 = 1.0;
 /// Parse the arguments of `pvt`: `dt` from one cycle to [`Pvt::MAX_DT_S`] ([`Arg::Dt`]).
 pub fn parse_pvt(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<Pvt, CommandError> {
     let args = Args::new("pvt", arguments, &["dt"])?;
-    let bounds = Arg::Dt.bounds(&Limits::from_config(cfg), None);
     Ok(Pvt {
-        dt_s: args.ranged(Arg::Dt, bounds)?.unwrap_or(DEFAULT_PVT_DT),
+        dt_s: args
+            .ranged(Arg::Dt, Arg::Dt.bounds(cfg, None))?
+            .unwrap_or(DEFAULT_PVT_DT),
     })
 }
 
