@@ -285,7 +285,7 @@ fn parse_jog(rest: &[Token], cfg: &RobotConfig) -> Result<Line, LineError> {
             )
         })?;
     let speed = match speed {
-        None => super::jog::DEFAULT_JOG_SPEED.min(cfg.axes[axis.index()].max_velocity_deg_s),
+        None => super::jog::default_speed(cfg, axis),
         Some(s) => {
             let v = s.parse::<f64>().map_err(|_| {
                 session_error("jog", &format!("jog: speed = {s} is not a number; {usage}"))
