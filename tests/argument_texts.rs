@@ -15,7 +15,7 @@ use mcm_shared::command::{
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::Mode;
-use mcm_shared::ranges::{ARGS, Arg, Limits};
+use mcm_shared::ranges::{ARGS, Arg};
 use mcm_shared::reply::{Outcome, Response};
 use mcm_shared::sample::CommandSample;
 use mcm_sim::SimBus;
@@ -393,7 +393,6 @@ fn gateway_text(cfg: &RobotConfig, json: &str) -> Option<String> {
 #[test]
 fn gateway_and_core_accept_and_refuse_the_same_values_in_the_same_words() {
     let cfg = RobotConfig::prob2_default();
-    let limits = Limits::from_config(&cfg);
     let mut robot = Robot::new(&cfg);
     robot.ok(
         Request::Calibrate(Calibrate {
@@ -406,7 +405,7 @@ fn gateway_and_core_accept_and_refuse_the_same_values_in_the_same_words() {
     );
     let mut checked = 0;
     for case in cases() {
-        let bounds = case.arg.bounds(&limits, case.axis0);
+        let bounds = case.arg.bounds(&cfg, case.axis0);
         for x in values(bounds) {
             let json = (case.json)(x);
             let gateway = gateway_text(&cfg, &json);

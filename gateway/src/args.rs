@@ -3,6 +3,7 @@
 
 use crate::framing::json_kind;
 use mcm_shared::command::Axis;
+use mcm_shared::config::RobotConfig;
 use mcm_shared::ranges::{Arg, Num};
 use serde_json::{Map, Value};
 
@@ -151,28 +152,6 @@ impl<'a> Args<'a> {
         }
     }
 
-    /// An optional finite number within `[min, max]`.
-    pub fn number(
-        &self,
-        name: &'static str,
-        min: f64,
-        max: f64,
-        unit: &str,
-    ) -> Result<Option<f64>, CommandError> {
-        let Some(v) = self.get(name) else {
-            return Ok(None);
-        };
-        let expected = || format!("a number from {min} to {max}{unit}");
-        let x = v
-            .as_f64()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| self.invalid(name, v, expected()))?;
-        if x < min || x > max {
-            return Err(self.invalid(name, v, expected()));
-        }
-        Ok(Some(x))
-    }
-
     /// An optional number of the protocol argument `arg` within `bounds`, refused in the words
     /// of [`mcm_shared::ranges`] (the real-time core's words for the same value).
     pub fn ranged(&self, arg: Arg, bounds: (f64, f64)) -> Result<Option<f64>, CommandError> {
@@ -190,25 +169,24 @@ impl<'a> Args<'a> {
     }
 
     /// An optional array of six numbers of the per-axis argument `arg`, element `i` within
-    /// `bounds(i)`.
+    /// axis `i + 1`'s range of the table ([`Arg::bounds`] with `cfg`).
     pub fn ranged_six(
         &self,
         arg: Arg,
-        bounds: impl Fn(usize) -> (f64, f64),
+        cfg: &RobotConfig,
     ) -> Result<Option<[f64; 6]>, CommandError> {
         let name = arg.name();
         let Some(v) = self.get(name) else {
             return Ok(None);
         };
-        let (lo, hi) = bounds(0);
-        let expected = || format!("an array of 6 numbers, each {}", arg.expected(lo, hi));
         let arr = v
             .as_array()
             .filter(|a| a.len() == 6)
-            .ok_or_else(|| self.invalid(name, v, expected()))?;
+            .ok_or_else(|| self.invalid(name, v, six_expected(arg, cfg)))?;
         let mut out = [0.0; 6];
         for (i, x) in arr.iter().enumerate() {
-            out[i] = ranged_value(self, arg, &format!("{name}[{i}]"), x, bounds(i))?;
+            let bounds = arg.bounds(cfg, Some(i));
+            out[i] = ranged_value(self, arg, &format!("{name}[{i}]"), x, bounds)?;
         }
         Ok(Some(out))
     }
@@ -217,27 +195,10 @@ impl<'a> Args<'a> {
     pub fn required_ranged_six(
         &self,
         arg: Arg,
-        bounds: impl Fn(usize) -> (f64, f64),
+        cfg: &RobotConfig,
     ) -> Result<[f64; 6], CommandError> {
-        let (lo, hi) = bounds(0);
-        self.ranged_six(arg, bounds)?.ok_or_else(|| {
-            self.missing(
-                arg.name(),
-                &format!("an array of 6 numbers, each {}", arg.expected(lo, hi)),
-            )
-        })
-    }
-
-    /// A required finite number within `[min, max]`.
-    pub fn required_number(
-        &self,
-        name: &'static str,
-        min: f64,
-        max: f64,
-        unit: &str,
-    ) -> Result<f64, CommandError> {
-        self.number(name, min, max, unit)?
-            .ok_or_else(|| self.missing(name, &format!("a number from {min} to {max}{unit}")))
+        self.ranged_six(arg, cfg)?
+            .ok_or_else(|| self.missing(arg.name(), &six_expected(arg, cfg)))
     }
 
     /// An optional boolean; `0` and `1` are accepted too (the manual writes `<bool>` as 1).
@@ -265,37 +226,22 @@ impl<'a> Args<'a> {
 
     /// A required axis number 1..=6.
     pub fn required_axis(&self, name: &'static str) -> Result<Axis, CommandError> {
+        let arg = Arg::by_name(name).unwrap_or(Arg::AxisIndex);
+        let (lo, hi) = arg.fixed_bounds();
         self.axis(name)?
-            .ok_or_else(|| self.missing(name, "an axis number from 1 to 6"))
+            .ok_or_else(|| self.missing(name, &arg.expected(lo, hi).to_string()))
     }
 
     /// The raw value of an argument.
     pub fn raw(&self, name: &'static str) -> Option<&'a Value> {
         self.get(name)
     }
+}
 
-    /// A required array of exactly six finite numbers, each checked by `check(axis0, x)`.
-    pub fn six(
-        &self,
-        name: &'static str,
-        what: &str,
-        check: impl Fn(usize, f64) -> Result<(), String>,
-    ) -> Result<Option<[f64; 6]>, CommandError> {
-        let Some(v) = self.get(name) else {
-            return Ok(None);
-        };
-        Ok(Some(six_numbers(self, name, v, what, check)?))
-    }
-
-    pub fn required_six(
-        &self,
-        name: &'static str,
-        what: &str,
-        check: impl Fn(usize, f64) -> Result<(), String>,
-    ) -> Result<[f64; 6], CommandError> {
-        self.six(name, what, check)?
-            .ok_or_else(|| self.missing(name, &format!("an array of 6 {what}")))
-    }
+/// What an array of the per-axis argument `arg` must hold (the range of axis 1 shown).
+fn six_expected(arg: Arg, cfg: &RobotConfig) -> String {
+    let (lo, hi) = arg.bounds(cfg, Some(0));
+    format!("an array of 6 numbers, each {}", arg.expected(lo, hi))
 }
 
 /// The number `v` of the argument `arg` (shown as `name`: an array's element is `name[i]`)
@@ -318,13 +264,13 @@ fn ranged_value(
     }
 }
 
-/// Six finite numbers from `v`, each checked by `check`.
+/// Six finite numbers from `v` (`what` says what they are, for the refusal); their ranges are
+/// the caller's to check.
 pub fn six_numbers(
     args: &Args<'_>,
     name: &str,
     v: &Value,
     what: &str,
-    check: impl Fn(usize, f64) -> Result<(), String>,
 ) -> Result<[f64; 6], CommandError> {
     let arr = v
         .as_array()
@@ -332,13 +278,9 @@ pub fn six_numbers(
         .ok_or_else(|| args.invalid(name, v, format!("an array of 6 {what}")))?;
     let mut out = [0.0; 6];
     for (i, x) in arr.iter().enumerate() {
-        let item = format!("{name}[{i}]");
-        let n = x
-            .as_f64()
-            .filter(|n| n.is_finite())
-            .ok_or_else(|| args.invalid(&item, x, format!("a number ({what})")))?;
-        check(i, n).map_err(|allowed| args.invalid(&item, x, allowed))?;
-        out[i] = n;
+        out[i] = x.as_f64().filter(|n| n.is_finite()).ok_or_else(|| {
+            args.invalid(&format!("{name}[{i}]"), x, format!("a number ({what})"))
+        })?;
     }
     Ok(out)
 }

@@ -352,8 +352,6 @@ pub enum Request {
 pub enum Allowed {
     /// From `min` to `max`, both included.
     Range { min: f64, max: f64 },
-    /// Above `min`, at most `max`.
-    AboveUpTo { min: f64, max: f64 },
     /// A number other than 0 from `min` to `max` (negative: none).
     NonZeroUpTo { min: f64, max: f64 },
     /// Any finite number.
@@ -366,9 +364,7 @@ impl Allowed {
     /// The bounds to report in a refusal (`OutOfRange` carries a min and a max).
     pub fn bounds(self) -> (f64, f64) {
         match self {
-            Allowed::Range { min, max }
-            | Allowed::AboveUpTo { min, max }
-            | Allowed::NonZeroUpTo { min, max } => (min, max),
+            Allowed::Range { min, max } | Allowed::NonZeroUpTo { min, max } => (min, max),
             Allowed::Finite | Allowed::OneOf(_) => (f64::MIN, f64::MAX),
         }
     }
@@ -378,9 +374,6 @@ impl fmt::Display for Allowed {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Allowed::Range { min, max } => write!(f, "from {} to {}", Num(*min), Num(*max)),
-            Allowed::AboveUpTo { min, max } => {
-                write!(f, "above {} and at most {}", Num(*min), Num(*max))
-            }
             Allowed::NonZeroUpTo { max, .. } => write!(f, "other than 0, at most {}", Num(*max)),
             Allowed::Finite => f.write_str("a finite number"),
             Allowed::OneOf(words) => f.write_str(words),

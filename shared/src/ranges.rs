@@ -120,30 +120,6 @@ pub fn max_velocity_deg_s(cfg: &RobotConfig, axis0: usize) -> f64 {
     cfg.axes[axis0].max_velocity_deg_s
 }
 
-/// The configuration's figures the ranges depend on.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Limits {
-    /// [`reachable_deg`] of each axis.
-    pub reach_deg: [(f64, f64); NUM_AXES],
-    /// [`peak_torque_nm`] of each axis.
-    pub peak_torque_nm: [f64; NUM_AXES],
-    /// [`max_velocity_deg_s`] of each axis.
-    pub max_velocity_deg_s: [f64; NUM_AXES],
-    /// Cycle period [s].
-    pub period_s: f64,
-}
-
-impl Limits {
-    pub fn from_config(cfg: &RobotConfig) -> Limits {
-        Limits {
-            reach_deg: core::array::from_fn(|i| reachable_deg(cfg, i)),
-            peak_torque_nm: core::array::from_fn(|i| peak_torque_nm(cfg, i)),
-            max_velocity_deg_s: core::array::from_fn(|i| max_velocity_deg_s(cfg, i)),
-            period_s: cfg.cycle_period_s(),
-        }
-    }
-}
-
 impl Arg {
     /// The table row of this argument.
     pub fn spec(self) -> &'static ArgSpec {
@@ -166,15 +142,22 @@ impl Arg {
     }
 
     /// The bounds for `axis0` (the axis the value belongs to, for per-axis ranges; axis 1
-    /// when none is given).
-    pub fn bounds(self, limits: &Limits, axis0: Option<usize>) -> (f64, f64) {
+    /// when none is given) with the configuration `cfg`: a handful of arithmetic, so callers
+    /// compute it when they check a value and keep no table of their own.
+    pub fn bounds(self, cfg: &RobotConfig, axis0: Option<usize>) -> (f64, f64) {
         let i = axis0.unwrap_or(0).min(NUM_AXES - 1);
         match self.spec().bound {
             Bound::Fixed(min, max) => (min, max),
-            Bound::Reach => limits.reach_deg[i],
-            Bound::PeakTorque => (-limits.peak_torque_nm[i], limits.peak_torque_nm[i]),
-            Bound::MaxVelocity => (-limits.max_velocity_deg_s[i], limits.max_velocity_deg_s[i]),
-            Bound::CycleTo(max) => (limits.period_s, max),
+            Bound::Reach => reachable_deg(cfg, i),
+            Bound::PeakTorque => {
+                let peak = peak_torque_nm(cfg, i);
+                (-peak, peak)
+            }
+            Bound::MaxVelocity => {
+                let max = max_velocity_deg_s(cfg, i);
+                (-max, max)
+            }
+            Bound::CycleTo(max) => (cfg.cycle_period_s(), max),
         }
     }
 

@@ -80,9 +80,7 @@ impl StateEvent {
     pub(super) fn maintain(&mut self) {
         if self.port.is_some() {
             if self.last_event.elapsed() > SILENT_AFTER {
-                self.port = None;
-                self.live = false;
-                self.last_try = Some(Instant::now());
+                self.close();
             }
             return;
         }
@@ -96,6 +94,13 @@ impl StateEvent {
         }
     }
 
+    /// Drop the listener; the next [`StateEvent::maintain`] after [`OPEN_RETRY`] opens it again.
+    fn close(&mut self) {
+        self.port = None;
+        self.live = false;
+        self.last_try = Some(Instant::now());
+    }
+
     /// The listener's descriptor to poll, when open. Valid until the next
     /// [`StateEvent::maintain`] or [`StateEvent::drain`] (either may close the port): the
     /// bridge polls it right away and never keeps it.
@@ -107,11 +112,11 @@ impl StateEvent {
         })
     }
 
-    /// Take every pending notification (without blocking); whether one said a new state is
-    /// published.
-    pub(super) fn drain(&mut self) -> bool {
+    /// Take every pending notification (without blocking); one that says a new state is
+    /// published marks the event live.
+    pub(super) fn drain(&mut self) {
         let Some(port) = self.port.as_ref() else {
-            return false;
+            return;
         };
         let mut ours = false;
         match port
@@ -124,11 +129,8 @@ impl StateEvent {
             }
             Ok(_) => {}
             Err(_) => {
-                self.port = None;
-                self.live = false;
-                self.last_try = Some(Instant::now());
+                self.close();
             }
         }
-        ours
     }
 }

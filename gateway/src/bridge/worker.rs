@@ -167,11 +167,8 @@ impl Worker {
         self.event.maintain();
         let bell = self.sh.bell.fd();
         let event = self.event.fd();
-        let fds = match event {
-            Some(fd) => [bell, fd],
-            None => [bell, bell],
-        };
-        let n = if event.is_some() { 2 } else { 1 };
+        let fds = [bell, event.unwrap_or(bell)];
+        let n = 1 + usize::from(event.is_some());
         match wait_readable(&fds[..n], self.wait_time()) {
             Ok(ready) if ready.ready[1] => {
                 self.event.drain();

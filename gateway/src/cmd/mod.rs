@@ -157,9 +157,9 @@ impl Command {
             "pvt" => Command::Pvt(modes::parse_pvt(arguments, cfg)?),
             "move_axis" => Command::MoveAxis(move_axis::parse(arguments, cfg)?),
             "move_all" => Command::MoveAll(move_all::parse(arguments, cfg)?),
-            "pvt_points" => Command::PvtPoints(PvtPoints::parse(arguments, cfg)?),
+            "pvt_points" => Command::PvtPoints(PvtPoints::parse(arguments)?),
             "sleep" => Command::Sleep(Sleep::parse(arguments)?),
-            "sim" => Command::Sim(sim::parse(arguments)?),
+            "sim" => Command::Sim(sim::parse(arguments, cfg)?),
             "take_control" => {
                 take_control::parse(arguments)?;
                 Command::TakeControl

@@ -5,7 +5,7 @@ use super::move_axis::velocity_factor;
 use crate::args::{Args, CommandError};
 use mcm_shared::command::MoveAll;
 use mcm_shared::config::RobotConfig;
-use mcm_shared::ranges::{Arg, reachable_deg};
+use mcm_shared::ranges::Arg;
 use mcm_shared::reply::MoveAllPlan;
 use serde_json::{Value, json};
 
@@ -16,7 +16,7 @@ pub fn parse(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<MoveAll, Co
         arguments,
         &["target_positions", "velocity_factor"],
     )?;
-    let targets_deg = args.required_ranged_six(Arg::TargetPositions, |i| reachable_deg(cfg, i))?;
+    let targets_deg = args.required_ranged_six(Arg::TargetPositions, cfg)?;
     Ok(MoveAll {
         targets_deg,
         velocity_factor: velocity_factor(&args)?,

@@ -4,7 +4,7 @@ use super::DEFAULT_VELOCITY_FACTOR;
 use crate::args::{Args, CommandError};
 use mcm_shared::command::MoveAxis;
 use mcm_shared::config::RobotConfig;
-use mcm_shared::ranges::{Arg, reachable_deg};
+use mcm_shared::ranges::Arg;
 use serde_json::Value;
 
 /// Parse the arguments of `move_axis`, the target within the axis's reachable range.
@@ -15,7 +15,10 @@ pub fn parse(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<MoveAxis, C
         &["axis_index", "target_position", "velocity_factor"],
     )?;
     let axis = args.required_axis("axis_index")?;
-    let target_deg = args.required_ranged(Arg::TargetPosition, reachable_deg(cfg, axis.index()))?;
+    let target_deg = args.required_ranged(
+        Arg::TargetPosition,
+        Arg::TargetPosition.bounds(cfg, Some(axis.index())),
+    )?;
     Ok(MoveAxis {
         axis,
         target_deg,

@@ -12,7 +12,6 @@
 
 use crate::args::{Args, CommandError, six_numbers};
 use mcm_shared::command::{Axis, PvtPoint};
-use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::Mode;
 use mcm_shared::pvt::{PointLimits, check_point};
 use mcm_shared::reply::Reason;
@@ -30,7 +29,7 @@ pub struct PvtPoints {
 }
 
 impl PvtPoints {
-    pub fn parse(arguments: Option<&Value>, _cfg: &RobotConfig) -> Result<Self, CommandError> {
+    pub fn parse(arguments: Option<&Value>) -> Result<Self, CommandError> {
         let args = Args::new("pvt_points", arguments, &["points"])?;
         let expected = format!(
             "an array of 1 to {MAX_POINTS_PER_BATCH} points {{\"position\":[6 deg],\"velocity\":[6 deg/s]}}"
@@ -67,14 +66,12 @@ impl PvtPoints {
                 &format!("points[{k}].position"),
                 &obj["position"],
                 "positions [deg]",
-                |_, _| Ok(()),
             )?;
             let velocity_deg_s = six_numbers(
                 &args,
                 &format!("points[{k}].velocity"),
                 &obj["velocity"],
                 "velocities [deg/s]",
-                |_, _| Ok(()),
             )?;
             points.push(PvtPoint {
                 position_deg,
@@ -86,8 +83,9 @@ impl PvtPoints {
 }
 
 impl PvtPoints {
-    /// What the core would refuse of this batch, known from `cfg` and the newest `state`: the
-    /// refusal the core would give, or `Ok` when the batch may be sent.
+    /// What the core would refuse of this batch, known from the configuration's `limits` (built
+    /// once per gateway) and the newest `state`: the refusal the core would give, or `Ok` when
+    /// the batch may be sent.
     pub fn check(&self, limits: &PointLimits, state: &StateSample) -> Result<(), Reason> {
         // (A mode unknown to this gateway is left to the core.)
         if let Ok(mode) = Mode::try_from(state.mode)

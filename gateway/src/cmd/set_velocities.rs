@@ -3,16 +3,13 @@
 use crate::args::{Args, CommandError};
 use mcm_shared::command::SetVelocities;
 use mcm_shared::config::RobotConfig;
-use mcm_shared::ranges::{Arg, max_velocity_deg_s};
+use mcm_shared::ranges::Arg;
 use serde_json::Value;
 
 /// Parse the arguments of `set_velocities`, each velocity within its axis's maximum velocity
 /// ([`Arg::Velocities`]: the range the real-time core checks too).
 pub fn parse(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<SetVelocities, CommandError> {
     let args = Args::new("set_velocities", arguments, &["velocities"])?;
-    let velocities_deg_s = args.required_ranged_six(Arg::Velocities, |i| {
-        let max = max_velocity_deg_s(cfg, i);
-        (-max, max)
-    })?;
+    let velocities_deg_s = args.required_ranged_six(Arg::Velocities, cfg)?;
     Ok(SetVelocities { velocities_deg_s })
 }

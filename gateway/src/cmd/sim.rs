@@ -3,12 +3,13 @@
 
 use crate::args::{Args, CommandError};
 use mcm_shared::command::SimCommand;
+use mcm_shared::config::RobotConfig;
 use mcm_shared::ranges::Arg;
 use mcm_shared::sample::{STATE_SIM_ESTOP, StateSample};
 use serde_json::{Value, json};
 
 /// Parse the arguments of `sim`; those not given change nothing.
-pub fn parse(arguments: Option<&Value>) -> Result<SimCommand, CommandError> {
+pub fn parse(arguments: Option<&Value>, cfg: &RobotConfig) -> Result<SimCommand, CommandError> {
     let args = Args::new(
         "sim",
         arguments,
@@ -28,9 +29,7 @@ pub fn parse(arguments: Option<&Value>) -> Result<SimCommand, CommandError> {
         reconnect_axis: args.axis("reconnect_axis")?,
         block_axis: args.axis("block_axis")?,
         unblock_axis: args.axis("unblock_axis")?,
-        external_torques_nm: args.ranged_six(Arg::ExternalTorques, |_| {
-            Arg::ExternalTorques.fixed_bounds()
-        })?,
+        external_torques_nm: args.ranged_six(Arg::ExternalTorques, cfg)?,
         power_cycle: args.boolean("power_cycle")?.unwrap_or(false),
     })
 }

@@ -267,7 +267,7 @@ fn a_pvt_batch_the_core_would_refuse_is_refused_before_sending() {
     let batch = |n: usize, v0: f64| {
         let p =
             serde_json::json!({"position": [0, 0, 0, 0, 0, 0], "velocity": [v0, 0, 0, 0, 0, 0]});
-        PvtPoints::parse(Some(&serde_json::json!({"points": vec![p; n]})), &cfg).unwrap()
+        PvtPoints::parse(Some(&serde_json::json!({"points": vec![p; n]}))).unwrap()
     };
     let mut state = StateSample {
         mode: Mode::Hold.to_wire(),
@@ -294,7 +294,7 @@ fn a_pvt_batch_the_core_would_refuse_is_refused_before_sending() {
     // A position inside the software limits but within the safety margin: the core refuses it.
     let near = cfg.axes[0].max_deg - cfg.safety.limit_margin_deg / 2.0;
     let p = serde_json::json!({"position": [near, 0, 0, 0, 0, 0], "velocity": [0, 0, 0, 0, 0, 0]});
-    let b = PvtPoints::parse(Some(&serde_json::json!({"points": [p]})), &cfg).unwrap();
+    let b = PvtPoints::parse(Some(&serde_json::json!({"points": [p]}))).unwrap();
     match b.check(&limits, &state) {
         Err(Reason::PvtPoint {
             point: 1,

@@ -8,7 +8,7 @@ use super::spec::{self, CommandSpec};
 use super::words::SESSION_COMMANDS;
 use crate::cmd::{COMMAND_NAMES, suggest};
 use mcm_shared::config::RobotConfig;
-use mcm_shared::ranges::{Arg, Limits, Num};
+use mcm_shared::ranges::{Arg, Num};
 use std::fmt::Write as _;
 
 /// The commands grouped by the modes that accept them.
@@ -156,13 +156,12 @@ pub fn command(spec: &CommandSpec, cfg: &RobotConfig) -> String {
 /// The configured robot's ranges that matter for the command, per axis, from the table of
 /// ranges the gateway and the core check arguments against ([`mcm_shared::ranges`]).
 fn limits(s: &mut String, command: &str, cfg: &RobotConfig) {
-    let table = Limits::from_config(cfg);
     let per_axis = |arg: Arg| {
         cfg.axes
             .iter()
             .enumerate()
             .map(|(i, a)| {
-                let (min, max) = arg.bounds(&table, Some(i));
+                let (min, max) = arg.bounds(cfg, Some(i));
                 format!("{} {} {}..{}", i + 1, a.name, Num(min), Num(max))
             })
             .collect::<Vec<_>>()

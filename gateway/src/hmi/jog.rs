@@ -15,6 +15,7 @@
 use super::telnet::Input;
 use mcm_shared::command::Axis;
 use mcm_shared::config::RobotConfig;
+use mcm_shared::ranges::{Num, max_velocity_deg_s};
 use std::time::{Duration, Instant};
 
 /// Interval of `set_velocities` and of the position shown.
@@ -137,15 +138,24 @@ pub fn velocities(axis: Axis, speed: f64, direction: i8) -> [f64; 6] {
     v
 }
 
-/// Check the speed of a jog: above 0, at most the axis's maximum velocity.
+/// The speed of `jog AXIS` without one: [`DEFAULT_JOG_SPEED`], at most the axis's maximum.
+pub fn default_speed(cfg: &RobotConfig, axis: Axis) -> f64 {
+    DEFAULT_JOG_SPEED.min(max_velocity_deg_s(cfg, axis.index()))
+}
+
+/// Check the speed of a jog: above 0, at most the axis's maximum velocity (the figure of
+/// [`mcm_shared::ranges`] that bounds `set_velocities`; a jog speed is not a protocol argument,
+/// so it has no row of its own, and its numbers are written as the table's are).
 pub fn check_speed(cfg: &RobotConfig, axis: Axis, speed: f64) -> Result<f64, String> {
-    let max = cfg.axes[axis.index()].max_velocity_deg_s;
+    let max = max_velocity_deg_s(cfg, axis.index());
     if speed > 0.0 && speed <= max {
         Ok(speed)
     } else {
         Err(format!(
-            "jog: speed = {speed} is not allowed; expected a speed above 0 and at most {max} \
-             deg/s (the maximum velocity of axis {axis})"
+            "jog: speed = {} is not allowed; expected a speed above 0 and at most {} deg/s \
+             (the maximum velocity of axis {axis})",
+            Num(speed),
+            Num(max)
         ))
     }
 }

@@ -142,6 +142,16 @@ const VELOCITY_FACTOR: ArgSpec = arg(
     "fraction of each axis's maximum velocity, from 0.001 to 1",
 );
 
+/// `dt_status` of `torque_control` and `velocity_control`.
+const DT_STATUS: ArgSpec = arg(
+    "dt_status",
+    "",
+    Kind::Number,
+    true,
+    "0",
+    "interval of spontaneous status results [s], 0 to 60 (JSON channel only)",
+);
+
 const IN_HOLD: &str = "HOLD, with every axis calibrated";
 const TO_HOLD: &str = "`hold` first (and `calibrate` if an axis is not calibrated)";
 const TO_PVT: &str = "enter PVT mode first: `hold`, then `pvt`";
@@ -253,14 +263,7 @@ pub const COMMANDS: &[CommandSpec] = &[
                 "longest time between two `set_torques` [s]; negative: no timeout; not 0. \
                  When it passes, the mode falls back to HOLD",
             ),
-            arg(
-                "dt_status",
-                "",
-                Kind::Number,
-                true,
-                "0",
-                "interval of spontaneous status results [s], 0 to 60 (JSON channel only)",
-            ),
+            DT_STATUS,
             arg(
                 "gravity_compensation",
                 "gravity",
@@ -309,14 +312,7 @@ pub const COMMANDS: &[CommandSpec] = &[
                 "longest time between two `set_velocities` [s]; negative: no timeout; not 0. \
                  When it passes, the axes stop (controlled) and the mode falls back to HOLD",
             ),
-            arg(
-                "dt_status",
-                "",
-                Kind::Number,
-                true,
-                "0",
-                "interval of spontaneous status results [s], 0 to 60 (JSON channel only)",
-            ),
+            DT_STATUS,
         ],
         modes: IN_HOLD,
         how: TO_HOLD,

@@ -27,6 +27,7 @@ use super::spec::{self, ArgSpec, CommandSpec, Kind};
 use crate::args::CommandError;
 use crate::cmd::{COMMAND_NAMES, Command, suggest};
 use mcm_shared::config::RobotConfig;
+use mcm_shared::ranges::Arg;
 use serde_json::{Map, Value};
 
 /// The session's own commands (not sent to the robot).
@@ -279,13 +280,15 @@ fn parse_jog(rest: &[Token], cfg: &RobotConfig) -> Result<Line, LineError> {
         .ok()
         .and_then(mcm_shared::command::Axis::new)
         .ok_or_else(|| {
+            let (lo, hi) = Arg::AxisIndex.fixed_bounds();
+            let expected = Arg::AxisIndex.expected(lo, hi);
             session_error(
                 "jog",
-                &format!("jog: axis = {axis} is not allowed; expected an axis number from 1 to 6; {usage}"),
+                &format!("jog: axis = {axis} is not allowed; expected {expected}; {usage}"),
             )
         })?;
     let speed = match speed {
-        None => super::jog::DEFAULT_JOG_SPEED.min(cfg.axes[axis.index()].max_velocity_deg_s),
+        None => super::jog::default_speed(cfg, axis),
         Some(s) => {
             let v = s.parse::<f64>().map_err(|_| {
                 session_error("jog", &format!("jog: speed = {s} is not a number; {usage}"))

@@ -46,15 +46,14 @@ fn numbers_are_readable() {
 fn the_reachable_range_is_the_limits_less_the_margin() {
     let cfg = RobotConfig::prob2_default();
     assert_eq!(reachable_deg(&cfg, 0), (-169.0, 169.0));
-    let l = Limits::from_config(&cfg);
-    assert_eq!(Arg::TargetPosition.bounds(&l, Some(0)), (-169.0, 169.0));
-    assert_eq!(Arg::Dt.bounds(&l, None), (0.005, 1.0));
+    assert_eq!(Arg::TargetPosition.bounds(&cfg, Some(0)), (-169.0, 169.0));
+    assert_eq!(Arg::Dt.bounds(&cfg, None), (0.005, 1.0));
     let peak = peak_torque_nm(&cfg, 0);
-    assert_eq!(Arg::Torques.bounds(&l, Some(0)), (-peak, peak));
-    assert_eq!(Arg::Velocities.bounds(&l, Some(1)), (-90.0, 90.0));
-    assert_eq!(Arg::Velocities.bounds(&l, Some(3)), (-150.0, 150.0));
+    assert_eq!(Arg::Torques.bounds(&cfg, Some(0)), (-peak, peak));
+    assert_eq!(Arg::Velocities.bounds(&cfg, Some(1)), (-90.0, 90.0));
+    assert_eq!(Arg::Velocities.bounds(&cfg, Some(3)), (-150.0, 150.0));
     let r = Arg::Velocities
-        .check(151.0, Arg::Velocities.bounds(&l, Some(3)), Axis::new(4))
+        .check(151.0, Arg::Velocities.bounds(&cfg, Some(3)), Axis::new(4))
         .unwrap_err();
     assert_eq!(
         r.to_string(),
@@ -66,10 +65,9 @@ fn the_reachable_range_is_the_limits_less_the_margin() {
 #[test]
 fn refusals_name_the_argument_the_value_and_the_range() {
     let cfg = RobotConfig::prob2_default();
-    let l = Limits::from_config(&cfg);
     let axis1 = Axis::new(1);
     let e = Arg::TargetPosition
-        .check(175.0, Arg::TargetPosition.bounds(&l, Some(0)), axis1)
+        .check(175.0, Arg::TargetPosition.bounds(&cfg, Some(0)), axis1)
         .unwrap_err();
     assert_eq!(
         e.to_string(),
