@@ -20,8 +20,9 @@ pub const OVERSPEED_FACTOR_MAX: f64 = 1.5;
 pub const RELEASE_SPEED_ONSET_MIN: f64 = 0.2;
 pub const RELEASE_SPEED_ONSET_MAX: f64 = 0.8;
 /// `safety.release_speed_damping`: this to [`RELEASE_SPEED_DAMPING_MAX`] (less does not slow
-/// a push in effect; more than 0.4 of what a cycle can carry makes the damping ring
-/// with the two to three cycles of delay between the measured velocity and the torque).
+/// a push in effect; more than 0.4 of what a cycle can carry is expected, not measured, to make
+/// the damping ring with the two to three cycles of delay between the measured velocity and
+/// the torque).
 pub const RELEASE_SPEED_DAMPING_MIN: f64 = 0.05;
 pub const RELEASE_SPEED_DAMPING_MAX: f64 = 0.4;
 /// `safety.flight_recorder_seconds`: this to [`FLIGHT_RECORDER_MAX_S`] [s].
