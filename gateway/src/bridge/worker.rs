@@ -4,7 +4,7 @@
 //! queued samples as the scheduler allows, and give up on requests whose reply is overdue.
 
 use super::doorbell::Doorbell;
-use super::event::StateEvent;
+use super::event::{OPEN_RETRY, StateEvent};
 use super::ports::{OpenError, Ports, open_ports};
 use super::scheduler::Scheduler;
 use super::wait::wait_readable;
@@ -29,8 +29,6 @@ pub(super) const FALLBACK_POLL: Duration = Duration::from_millis(1);
 /// Longest wait for a wake-up while the event works (staleness and deadlines are checked at
 /// least this often).
 const IDLE_WAIT: Duration = Duration::from_millis(50);
-/// Time between two attempts to open the core's services.
-const OPEN_RETRY: Duration = Duration::from_millis(100);
 /// The state opened this long without the event service: fall back to polling, and say so.
 const EVENT_GRACE: Duration = Duration::from_secs(1);
 /// A published sample not answered within this time no longer counts as in flight.
@@ -253,7 +251,8 @@ impl Worker {
         self.open_error = e;
     }
 
-    /// Open the core's services, unless open or tried less than [`OPEN_RETRY`] ago.
+    /// Open the core's services, unless open or tried less than [`OPEN_RETRY`] ago (the same
+    /// pace as the state event's own retries).
     fn open(&mut self) {
         if self.ports.is_some() || self.last_open_try.is_some_and(|t| t.elapsed() < OPEN_RETRY) {
             return;

@@ -438,7 +438,7 @@ fn notes(s: &mut String, st: &StateSample) {
 pub fn move_all(v: &Value, cfg: &RobotConfig) -> String {
     let longest = v["longest"].as_u64().unwrap_or(0) as usize;
     let mut s = format!(
-        "{GREEN}OK{RESET} - all axes arrive together in {} s; axis {longest} ({}) takes longest\n",
+        "{GREEN}OK{RESET} - every axis arrives within {} s; axis {longest} ({}) takes longest\n",
         num(v["max_time_to_target"].as_f64().unwrap_or(f64::NAN), 0, 3),
         name(cfg, longest.wrapping_sub(1))
     );

@@ -385,7 +385,7 @@ pub const COMMANDS: &[CommandSpec] = &[
     },
     CommandSpec {
         name: "move_all",
-        summary: "move all axes to target positions; they start and arrive together",
+        summary: "move all axes to target positions; from rest they start and arrive together",
         args: &[
             arg(
                 "target_positions",

@@ -114,7 +114,7 @@ fn move_all_timing() {
         None,
     ));
     assert!(
-        text.starts_with("OK - all axes arrive together in 1.500 s; axis 6 (flange) takes longest"),
+        text.starts_with("OK - every axis arrives within 1.500 s; axis 6 (flange) takes longest"),
         "{text}"
     );
     assert!(text.contains("   2  shoulder       20.000\n"), "{text}");
