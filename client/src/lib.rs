@@ -23,6 +23,7 @@
 //! from `spawn_blocking`.
 
 pub mod launch;
+pub mod placement;
 pub mod shm;
 pub mod tcp;
 

@@ -12,6 +12,7 @@ compensation and answers every state with zero extra torques (the arm floats whe
 """
 
 import argparse
+import os
 import sys
 import time
 
@@ -23,7 +24,11 @@ p.add_argument("--port", type=int, default=mcm.DEFAULT_PORT, help="JSON port (de
 p.add_argument("--instance", default="default", help="MCM instance (default %(default)s)")
 p.add_argument("--cycles", type=int, default=10_000, help="cycles to measure (default %(default)s)")
 p.add_argument("--target", type=float, default=99.9, help="required share [%%] (default %(default)s)")
+p.add_argument("--cpu", type=int, help="run on this CPU only, e.g. the core's cycle.cpu (docs/clients.md)")
 args = p.parse_args()
+if args.cpu is not None:
+    os.sched_setaffinity(0, {args.cpu})
+    print("running on CPU %d" % args.cpu)
 
 with mcm.Client(args.host, args.port) as c:
     c.hold()

@@ -16,7 +16,9 @@
 //!    the core applied in cycle k + 1 (target at least 99.9 %).
 //!
 //! Each figure is printed with PASS or FAIL against its target; the exit code is 1 when one
-//! fails. `--rt-priority N` runs the client as SCHED_FIFO N (needs the privilege).
+//! fails. `--rt-priority N` runs the client as SCHED_FIFO N (needs the privilege); `--cpu N`
+//! pins the measuring thread to CPU N (e.g. the core's `cycle.cpu`, see
+//! [`mcm_client::placement`]). The MCM it starts keeps its own placement either way.
 
 use clap::Parser;
 use mcm_client::launch::SimulatedMcm;
@@ -45,6 +47,9 @@ struct Args {
     /// Run as SCHED_FIFO with this priority (1 to 99).
     #[arg(long)]
     rt_priority: Option<i32>,
+    /// Pin the measuring thread to this CPU (after starting the MCM, which keeps its own).
+    #[arg(long)]
+    cpu: Option<usize>,
 }
 
 /// The `mcm` binary beside this executable, or `explicit`; started as a unique instance.
@@ -121,6 +126,10 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
             (Some(s), i)
         }
     };
+    if let Some(cpu) = args.cpu {
+        mcm_client::placement::pin_current_thread(cpu)?;
+        println!("client thread pinned to CPU {cpu}");
+    }
     let mut mcm = ShmClient::connect(&instance)?;
     let first = mcm.wait_state()?;
     let period_us = first.timing.period_ns as f64 / 1e3;
