@@ -332,9 +332,15 @@ pub unsafe extern "C" fn mcm_tcp_move_axis(
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let a = args::axis(axis, F)?;
-            Ok(h.client
-                .move_axis(a.number(), target_deg, velocity_factor)?)
+            // The MCM words a wrong axis itself (MCM_ERR_INVALID); only what does not fit the
+            // protocol's number is refused here.
+            let a = u8::try_from(axis).map_err(|_| {
+                Fail::new(
+                    mcm_error_t::MCM_ERR_ARGUMENT,
+                    format!("{F}: argument `axis` = {axis} is not allowed; expected an axis number from 1 to 6"),
+                )
+            })?;
+            Ok(h.client.move_axis(a, target_deg, velocity_factor)?)
         })
     }
 }
