@@ -3,7 +3,7 @@
 //! One implementation for every language: these `extern "C"` functions wrap `mcm-client`
 //! (its TCP client and its shared-memory client with the control loop). The C header
 //! `include/mcm/mcm.h` is generated from this crate by cbindgen (`cbindgen.toml`; the test
-//! `tests/header.rs` fails when the checked-in header differs from what cbindgen generates
+//! `capi/tests/header.rs` fails when the checked-in header differs from what cbindgen generates
 //! now), and `include/mcm/mcm.hpp` is a C++17 header-only RAII layer over it.
 //! `docs/clients.md` ("C and C++") says how to build, install and use both.
 //!
