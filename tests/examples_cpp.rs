@@ -223,6 +223,24 @@ fn cpp_examples_build_with_cmake_and_run_against_the_simulated_arm() {
             .arg(&header),
     );
 
+    // The C++ layer without exceptions: an example that uses none compiles under
+    // -fno-exceptions (Result::value() then aborts with the message instead of throwing).
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    step(
+        "compile calibrate_and_move.cpp with -fno-exceptions",
+        Command::new("c++")
+            .args([
+                "-std=c++17",
+                "-fno-exceptions",
+                "-Wall",
+                "-Wextra",
+                "-Werror",
+                "-fsyntax-only",
+            ])
+            .arg(format!("-I{}", root.join("capi/include").display()))
+            .arg(root.join("examples/cpp/calibrate_and_move.cpp")),
+    );
+
     let bin = build_examples(&lib_dir);
     let mcm = Mcm::start("excpp");
     let addr = mcm.json.to_string();

@@ -25,6 +25,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -150,6 +151,7 @@ inline Error thread_error(mcm_error_t code) {
 
 template <class F, class S>
 struct Predicate {
+    explicit Predicate(F* fn) : f(fn) {}
     F* f;
 #if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
     std::exception_ptr thrown;
@@ -259,7 +261,7 @@ public:
     /// Ask for the state every 10 ms until pred(status) holds, at most timeout_s.
     template <class F>
     Result<Status> wait_until(const std::string& what, double timeout_s, F pred) {
-        detail::Predicate<F, Status> p{&pred};
+        detail::Predicate<F, Status> p(&pred);
         Status s{};
         const mcm_error_t c = mcm_tcp_wait_until(h_, what.c_str(), timeout_s,
                                                  &detail::Predicate<F, Status>::call, &p, &s);
@@ -389,7 +391,7 @@ public:
     /// Read every state until pred(state) holds, at most timeout_s.
     template <class F>
     Result<State> wait_until(const std::string& what, double timeout_s, F pred) {
-        detail::Predicate<F, State> p{&pred};
+        detail::Predicate<F, State> p(&pred);
         State s{};
         const mcm_error_t c = mcm_shm_wait_until(h_, what.c_str(), timeout_s,
                                                  &detail::Predicate<F, State>::call, &p, &s);
@@ -406,11 +408,12 @@ public:
     template <class F>
     ControlResult control(F&& f) {
         struct Ctx {
-            F* f;
+            explicit Ctx(std::remove_reference_t<F>* fn) : f(fn) {}
+            std::remove_reference_t<F>* f;
 #if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
             std::exception_ptr thrown;
 #endif
-        } ctx{&f};
+        } ctx(&f);
         auto trampoline = [](const mcm_state_t* s, mcm_control_output_t* out,
                              void* user) noexcept -> int32_t {
             auto* c = static_cast<Ctx*>(user);
