@@ -22,6 +22,7 @@ const ROOTS: &[&str] = &[
     "tests/",
     "bench/",
     "client/",
+    "capi/",
     "examples/",
     "python/",
     ".ci/",

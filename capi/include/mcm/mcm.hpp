@@ -1,0 +1,459 @@
+// The C++17 API of the MCM client library: a header-only RAII layer over the C API (mcm.h).
+//
+// Errors: every call returns an mcm::Result<T> (primary; no exception is needed, it works
+// with -fno-exceptions): test it (`if (!r)`, `r.ok()`), read `r.error()` (code, reject code,
+// the MCM's message), or call `r.value()`, which throws mcm::Exception when it holds an error
+// (and aborts with the message when exceptions are off). No exception crosses the C ABI: a
+// callback's exception is caught in this header, the loop is ended and the exception rethrown
+// after the C call returned.
+//
+// Threads: a TcpClient is used by one thread at a time; a ShmClient only on the thread that
+// created it. Real-time safe after connect (no allocation on success): ShmClient::wait_state,
+// latest, set_torques, set_velocities, client_id, missed_states and the running loop of
+// control() (its Result<void> allocates only when the loop ends with an error).
+//
+// docs/clients.md ("C and C++") has the build with CMake, the install and the examples.
+#ifndef MCM_MCM_HPP
+#define MCM_MCM_HPP
+
+#include "mcm/mcm.h"
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace mcm {
+
+using State = mcm_state_t;
+using Status = mcm_status_t;
+using Info = mcm_info_t;
+using ShmInfo = mcm_shm_info_t;
+using MoveAllResult = mcm_move_all_result_t;
+using CalibrateOptions = mcm_calibrate_t;
+using ControlOptions = mcm_control_options_t;
+using PvtPoint = mcm_pvt_point_t;
+using ControlSummary = mcm_control_summary_t;
+using Output = mcm_control_output_t;
+using Six = std::array<double, MCM_NUM_AXES>;
+
+/// Why a call did not succeed: the C API's code, the MCM's reject code (0: none) and the
+/// message (the MCM's own words where it answered).
+class Error {
+public:
+    Error(mcm_error_t code, uint32_t reject, std::string message)
+        : code_(code), reject_(reject), message_(std::move(message)) {}
+    mcm_error_t code() const noexcept { return code_; }
+    /// The reject code (`mcm_reject_name` names it; e.g. 16 "busy"), 0 for none.
+    uint32_t reject() const noexcept { return reject_; }
+    const std::string& message() const noexcept { return message_; }
+    /// "MCM_ERR_REFUSED", ...
+    const char* name() const noexcept { return mcm_error_name(code_); }
+    const char* reject_name() const noexcept { return mcm_reject_name(reject_); }
+
+private:
+    mcm_error_t code_;
+    uint32_t reject_;
+    std::string message_;
+};
+
+/// Thrown by Result::value() when the result holds an error.
+class Exception : public std::runtime_error {
+public:
+    explicit Exception(Error e) : std::runtime_error(e.message()), error_(std::move(e)) {}
+    const Error& error() const noexcept { return error_; }
+
+private:
+    Error error_;
+};
+
+namespace detail {
+[[noreturn]] inline void fail(const Error& e) {
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+    throw Exception(e);
+#else
+    std::fprintf(stderr, "mcm: %s: %s\n", e.name(), e.message().c_str());
+    std::abort();
+#endif
+}
+}  // namespace detail
+
+/// A value or the Error of the call (in the manner of C++23's std::expected).
+template <class T>
+class [[nodiscard]] Result {
+public:
+    Result(T value) : value_(std::move(value)) {}
+    Result(Error error) : error_(std::move(error)) {}
+    bool ok() const noexcept { return value_.has_value(); }
+    explicit operator bool() const noexcept { return ok(); }
+    /// The value; throws mcm::Exception (or aborts without exceptions) when it is an error.
+    T& value() & {
+        if (!ok()) detail::fail(*error_);
+        return *value_;
+    }
+    T value() && {
+        if (!ok()) detail::fail(*error_);
+        return std::move(*value_);
+    }
+    const T& operator*() const { return *value_; }
+    const T* operator->() const { return &*value_; }
+    /// The error; only when !ok().
+    const Error& error() const { return *error_; }
+
+private:
+    std::optional<T> value_;
+    std::optional<Error> error_;
+};
+
+template <>
+class [[nodiscard]] Result<void> {
+public:
+    Result() = default;
+    Result(Error error) : error_(std::move(error)) {}
+    bool ok() const noexcept { return !error_.has_value(); }
+    explicit operator bool() const noexcept { return ok(); }
+    /// Throws mcm::Exception (or aborts without exceptions) when it is an error.
+    void value() const {
+        if (!ok()) detail::fail(*error_);
+    }
+    const Error& error() const { return *error_; }
+
+private:
+    std::optional<Error> error_;
+};
+
+/// What the control loop's callable answers a state with.
+enum class Control { Continue = MCM_CONTROL_CONTINUE, Finish = MCM_CONTROL_FINISH };
+
+/// The end of a control loop: its summary always, and why it ended (ok: the callable returned
+/// Control::Finish).
+struct ControlResult {
+    ControlSummary summary;
+    Result<void> end;
+    explicit operator bool() const noexcept { return end.ok(); }
+    /// Share of the answered commands applied in the next cycle [%].
+    double on_time_percent() const noexcept {
+        const double answered = double(summary.on_time + summary.late);
+        return answered == 0 ? 0.0 : 100.0 * double(summary.on_time) / answered;
+    }
+};
+
+namespace detail {
+inline Error thread_error(mcm_error_t code) {
+    return Error(code, mcm_last_reject(), mcm_last_error());
+}
+
+template <class F, class S>
+struct Predicate {
+    explicit Predicate(F* fn) : f(fn) {}
+    F* f;
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+    std::exception_ptr thrown;
+#endif
+    static int32_t call(const S* s, void* user) noexcept {
+        auto* self = static_cast<Predicate*>(user);
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+        try {
+            return (*self->f)(*s) ? 1 : 0;
+        } catch (...) {
+            self->thrown = std::current_exception();
+            return 1;
+        }
+#else
+        return (*self->f)(*s) ? 1 : 0;
+#endif
+    }
+    void rethrow() {
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+        if (thrown) std::rethrow_exception(thrown);
+#endif
+    }
+};
+}  // namespace detail
+
+/// A connection to the MCM's JSON port (TCP): every command of docs/protocol.md, blocking,
+/// bounded. Move-only; the destructor closes the connection (what it controlled ends in HOLD).
+class TcpClient {
+public:
+    /// Connect to "host:port" (e.g. "127.0.0.1:18010").
+    static Result<TcpClient> connect(const std::string& addr) {
+        mcm_tcp_client_t* h = nullptr;
+        const mcm_error_t c = mcm_tcp_connect(addr.c_str(), &h);
+        if (c != MCM_OK) return detail::thread_error(c);
+        return TcpClient(h);
+    }
+    TcpClient(TcpClient&& o) noexcept : h_(std::exchange(o.h_, nullptr)) {}
+    TcpClient& operator=(TcpClient&& o) noexcept {
+        if (this != &o) {
+            mcm_tcp_close(h_);
+            h_ = std::exchange(o.h_, nullptr);
+        }
+        return *this;
+    }
+    TcpClient(const TcpClient&) = delete;
+    TcpClient& operator=(const TcpClient&) = delete;
+    ~TcpClient() { mcm_tcp_close(h_); }
+
+    /// The C handle, for functions this layer does not wrap.
+    mcm_tcp_client_t* handle() noexcept { return h_; }
+
+    Result<Status> status() { return get<Status>(mcm_tcp_status); }
+    Result<Status> status_detail() { return get<Status>(mcm_tcp_status_detail); }
+    Result<Info> info() { return get<Info>(mcm_tcp_info); }
+    Result<Status> hold() { return get<Status>(mcm_tcp_hold); }
+    Result<Status> release() { return get<Status>(mcm_tcp_release); }
+    Result<Status> pvt(double dt_s) {
+        Status s{};
+        return with(mcm_tcp_pvt(h_, dt_s, &s), s);
+    }
+    /// Home the axes (default options: all axes, default directions); returns when done.
+    Result<void> calibrate(const CalibrateOptions& o = CalibrateOptions{}) {
+        return done(mcm_tcp_calibrate(h_, &o));
+    }
+    /// hold, then calibrate only when needed; true when it calibrated.
+    Result<bool> calibrate_if_needed() {
+        bool b = false;
+        return with(mcm_tcp_calibrate_if_needed(h_, &b), b);
+    }
+    Result<Status> torque_control(const ControlOptions& o = mcm_control_options_default()) {
+        Status s{};
+        return with(mcm_tcp_torque_control(h_, &o, &s), s);
+    }
+    Result<void> set_torques(const Six& t) { return done(mcm_tcp_set_torques(h_, t.data())); }
+    Result<Status> velocity_control(const ControlOptions& o = mcm_control_options_default()) {
+        Status s{};
+        return with(mcm_tcp_velocity_control(h_, &o, &s), s);
+    }
+    Result<void> set_velocities(const Six& v) {
+        return done(mcm_tcp_set_velocities(h_, v.data()));
+    }
+    Result<void> move_axis(uint32_t axis, double target_deg, double velocity_factor) {
+        return done(mcm_tcp_move_axis(h_, axis, target_deg, velocity_factor));
+    }
+    Result<MoveAllResult> move_all(const Six& targets_deg, double velocity_factor) {
+        MoveAllResult r{};
+        return with(mcm_tcp_move_all(h_, targets_deg.data(), velocity_factor, &r), r);
+    }
+    Result<void> pvt_points(const std::vector<PvtPoint>& points) {
+        return done(mcm_tcp_pvt_points(h_, points.data(), points.size()));
+    }
+    Result<void> take_control() { return done(mcm_tcp_take_control(h_)); }
+    Result<void> release_control() { return done(mcm_tcp_release_control(h_)); }
+    Result<void> authenticate(const std::string& secret) {
+        return done(mcm_tcp_authenticate(h_, secret.c_str()));
+    }
+    Result<void> reconnect() { return done(mcm_tcp_reconnect(h_)); }
+    /// The next spontaneous message within timeout_s, or std::nullopt. Its `message` lives
+    /// until the next call on this client.
+    Result<std::optional<mcm_event_t>> next_event(double timeout_s) {
+        mcm_event_t e{};
+        bool got = false;
+        const mcm_error_t c = mcm_tcp_next_event(h_, timeout_s, &e, &got);
+        if (c != MCM_OK) return error(c);
+        return got ? std::optional<mcm_event_t>(e) : std::nullopt;
+    }
+    /// Ask for the state every 10 ms until pred(status) holds, at most timeout_s.
+    template <class F>
+    Result<Status> wait_until(const std::string& what, double timeout_s, F pred) {
+        detail::Predicate<F, Status> p(&pred);
+        Status s{};
+        const mcm_error_t c = mcm_tcp_wait_until(h_, what.c_str(), timeout_s,
+                                                 &detail::Predicate<F, Status>::call, &p, &s);
+        p.rethrow();
+        return with(c, s);
+    }
+
+private:
+    explicit TcpClient(mcm_tcp_client_t* h) : h_(h) {}
+    Error error(mcm_error_t c) const {
+        return Error(c, mcm_tcp_last_reject(h_), mcm_tcp_last_error(h_));
+    }
+    Result<void> done(mcm_error_t c) const {
+        if (c != MCM_OK) return error(c);
+        return {};
+    }
+    template <class T>
+    Result<T> with(mcm_error_t c, const T& v) const {
+        if (c != MCM_OK) return error(c);
+        return v;
+    }
+    template <class T, class Fn>
+    Result<T> get(Fn fn) {
+        T v{};
+        return with(fn(h_, &v), v);
+    }
+    mcm_tcp_client_t* h_;
+};
+
+/// A client of the real-time core's shared-memory services (same computer): each cycle's
+/// state, commands into the next cycle, and the control loop. Move-only; not to be used from
+/// another thread than the one that connected. The destructor tells the core the client is
+/// gone (what it drove ends in HOLD).
+class ShmClient {
+public:
+    /// Open the services of the MCM instance ("default" unless started with --instance).
+    static Result<ShmClient> connect(const std::string& instance = "default") {
+        mcm_shm_client_t* h = nullptr;
+        const mcm_error_t c = mcm_shm_connect(instance.c_str(), &h);
+        if (c != MCM_OK) return detail::thread_error(c);
+        return ShmClient(h);
+    }
+    ShmClient(ShmClient&& o) noexcept : h_(std::exchange(o.h_, nullptr)) {}
+    ShmClient& operator=(ShmClient&& o) noexcept {
+        if (this != &o) {
+            mcm_shm_close(h_);
+            h_ = std::exchange(o.h_, nullptr);
+        }
+        return *this;
+    }
+    ShmClient(const ShmClient&) = delete;
+    ShmClient& operator=(const ShmClient&) = delete;
+    ~ShmClient() { mcm_shm_close(h_); }
+
+    mcm_shm_client_t* handle() noexcept { return h_; }
+
+    /// The next cycle's state (at most 0.5 s). Real-time safe.
+    Result<State> wait_state() {
+        State s{};
+        return with(mcm_shm_wait_state(h_, &s), s);
+    }
+    Result<State> wait_state(double timeout_s) {
+        State s{};
+        return with(mcm_shm_wait_state_timeout(h_, timeout_s, &s), s);
+    }
+    /// The newest state without waiting. Real-time safe.
+    Result<State> latest() {
+        State s{};
+        return with(mcm_shm_latest(h_, &s), s);
+    }
+    uint64_t client_id() {
+        uint64_t id = 0;
+        (void)mcm_shm_client_id(h_, &id);
+        return id;
+    }
+    uint64_t missed_states() {
+        uint64_t n = 0;
+        (void)mcm_shm_missed_states(h_, &n);
+        return n;
+    }
+    Result<void> hold() { return done(mcm_shm_hold(h_)); }
+    Result<ShmInfo> info() {
+        ShmInfo i{};
+        return with(mcm_shm_info(h_, &i), i);
+    }
+    Result<void> calibrate(const CalibrateOptions& o = CalibrateOptions{}) {
+        return done(mcm_shm_calibrate(h_, &o));
+    }
+    Result<bool> calibrate_if_needed() {
+        bool b = false;
+        return with(mcm_shm_calibrate_if_needed(h_, &b), b);
+    }
+    Result<void> release() { return done(mcm_shm_release(h_)); }
+    Result<void> pvt(double dt_s) { return done(mcm_shm_pvt(h_, dt_s)); }
+    Result<void> torque_control(const ControlOptions& o = mcm_control_options_default()) {
+        return done(mcm_shm_torque_control(h_, &o));
+    }
+    /// Without waiting; a refusal comes as an event. Real-time safe.
+    Result<void> set_torques(const Six& t) { return done(mcm_shm_set_torques(h_, t.data())); }
+    Result<void> velocity_control(const ControlOptions& o = mcm_control_options_default()) {
+        return done(mcm_shm_velocity_control(h_, &o));
+    }
+    /// Without waiting. Real-time safe.
+    Result<void> set_velocities(const Six& v) {
+        return done(mcm_shm_set_velocities(h_, v.data()));
+    }
+    Result<void> move_axis(uint32_t axis, double target_deg, double velocity_factor) {
+        return done(mcm_shm_move_axis(h_, axis, target_deg, velocity_factor));
+    }
+    Result<MoveAllResult> move_all(const Six& targets_deg, double velocity_factor) {
+        MoveAllResult r{};
+        return with(mcm_shm_move_all(h_, targets_deg.data(), velocity_factor, &r), r);
+    }
+    Result<void> pvt_points(const std::vector<PvtPoint>& points) {
+        return done(mcm_shm_pvt_points(h_, points.data(), points.size()));
+    }
+    Result<void> take_control() { return done(mcm_shm_take_control(h_)); }
+    Result<void> release_control() { return done(mcm_shm_release_control(h_)); }
+    /// The oldest event not taken yet, or std::nullopt.
+    Result<std::optional<mcm_event_t>> next_event() {
+        mcm_event_t e{};
+        bool got = false;
+        const mcm_error_t c = mcm_shm_next_event(h_, &e, &got);
+        if (c != MCM_OK) return error(c);
+        return got ? std::optional<mcm_event_t>(e) : std::nullopt;
+    }
+    /// Read every state until pred(state) holds, at most timeout_s.
+    template <class F>
+    Result<State> wait_until(const std::string& what, double timeout_s, F pred) {
+        detail::Predicate<F, State> p(&pred);
+        State s{};
+        const mcm_error_t c = mcm_shm_wait_until(h_, what.c_str(), timeout_s,
+                                                 &detail::Predicate<F, State>::call, &p, &s);
+        p.rethrow();
+        return with(c, s);
+    }
+
+    /// The control loop: `f(const mcm::State&, mcm::Output&) -> mcm::Control` is called with
+    /// every cycle's state and fills the output (its `kind` preset from the mode: torques in
+    /// TORQUE_CONTROL, velocities in VELOCITY_CONTROL, the next point in PVT); the answer is
+    /// sent at once, to be applied in the next cycle. It runs until f returns Control::Finish
+    /// (end ok) or the loop must end (end holds why: MCM_ERR_MODE_LEFT, MCM_ERR_SAFETY_TRIP,
+    /// ...). An exception thrown by f ends the loop and is rethrown here.
+    template <class F>
+    ControlResult control(F&& f) {
+        struct Ctx {
+            explicit Ctx(std::remove_reference_t<F>* fn) : f(fn) {}
+            std::remove_reference_t<F>* f;
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+            std::exception_ptr thrown;
+#endif
+        } ctx(&f);
+        auto trampoline = [](const mcm_state_t* s, mcm_control_output_t* out,
+                             void* user) noexcept -> int32_t {
+            auto* c = static_cast<Ctx*>(user);
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+            try {
+                return static_cast<int32_t>((*c->f)(*s, *out));
+            } catch (...) {
+                c->thrown = std::current_exception();
+                return MCM_CONTROL_FINISH;
+            }
+#else
+            return static_cast<int32_t>((*c->f)(*s, *out));
+#endif
+        };
+        ControlResult r{ControlSummary{}, Result<void>()};
+        const mcm_error_t c = mcm_shm_control(h_, trampoline, &ctx, &r.summary);
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+        if (ctx.thrown) std::rethrow_exception(ctx.thrown);
+#endif
+        if (c != MCM_OK) r.end = error(c);
+        return r;
+    }
+
+private:
+    explicit ShmClient(mcm_shm_client_t* h) : h_(h) {}
+    Error error(mcm_error_t c) const {
+        return Error(c, mcm_shm_last_reject(h_), mcm_shm_last_error(h_));
+    }
+    Result<void> done(mcm_error_t c) const {
+        if (c != MCM_OK) return error(c);
+        return {};
+    }
+    template <class T>
+    Result<T> with(mcm_error_t c, const T& v) const {
+        if (c != MCM_OK) return error(c);
+        return v;
+    }
+    mcm_shm_client_t* h_;
+};
+
+}  // namespace mcm
+
+#endif  // MCM_MCM_HPP

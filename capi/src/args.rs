@@ -1,0 +1,187 @@
+//! Reading the arguments of a C call: pointers checked for NULL, strings for UTF-8, the
+//! protocol's numbers into the client's types. Each refusal names the function, the argument,
+//! the value and what is allowed.
+
+use crate::error::{Fail, mcm_error_t::MCM_ERR_ARGUMENT};
+use crate::types::{MCM_NUM_AXES, mcm_calibrate_t, mcm_control_options_t};
+use mcm_client::{Axis, Direction, Which};
+use std::ffi::{CStr, c_char};
+
+/// `p` as a reference, or the NULL refusal.
+///
+/// # Safety
+/// `p` is NULL or points to a valid, writable `T` not aliased during the call.
+pub(crate) unsafe fn out<'a, T>(p: *mut T, function: &str, name: &str) -> Result<&'a mut T, Fail> {
+    // SAFETY: the caller's promise (the header documents the argument).
+    unsafe { p.as_mut() }.ok_or_else(|| Fail::null(function, name))
+}
+
+/// Write `value` to an optional output.
+///
+/// # Safety
+/// `p` is NULL or points to a valid, writable `T`.
+pub(crate) unsafe fn put<T>(p: *mut T, value: T) {
+    // SAFETY: the caller's promise.
+    if let Some(o) = unsafe { p.as_mut() } {
+        *o = value;
+    }
+}
+
+/// A NUL-terminated UTF-8 string argument.
+///
+/// # Safety
+/// `p` is NULL or points to a NUL-terminated string valid during the call.
+pub(crate) unsafe fn text<'a>(
+    p: *const c_char,
+    function: &str,
+    name: &str,
+) -> Result<&'a str, Fail> {
+    if p.is_null() {
+        return Err(Fail::null(function, name));
+    }
+    // SAFETY: not NULL; NUL-terminated by the caller's promise.
+    unsafe { CStr::from_ptr(p) }.to_str().map_err(|e| {
+        Fail::new(
+            MCM_ERR_ARGUMENT,
+            format!("{function}: argument `{name}` is not UTF-8 ({e}); pass UTF-8 text"),
+        )
+    })
+}
+
+/// Six values from a pointer to at least six doubles.
+///
+/// # Safety
+/// `p` is NULL or points to six readable doubles.
+pub(crate) unsafe fn six(
+    p: *const f64,
+    function: &str,
+    name: &str,
+) -> Result<[f64; MCM_NUM_AXES], Fail> {
+    if p.is_null() {
+        return Err(Fail::null(function, name));
+    }
+    let mut v = [0.0; MCM_NUM_AXES];
+    // SAFETY: six readable doubles by the caller's promise; `v` holds six.
+    unsafe { std::ptr::copy_nonoverlapping(p, v.as_mut_ptr(), MCM_NUM_AXES) };
+    Ok(v)
+}
+
+/// An axis number 1 to 6.
+pub(crate) fn axis(number: u32, function: &str) -> Result<Axis, Fail> {
+    u8::try_from(number).ok().and_then(Axis::new).ok_or_else(|| {
+        Fail::new(
+            MCM_ERR_ARGUMENT,
+            format!("{function}: argument `axis` = {number} is not allowed; expected an axis number from 1 to 6"),
+        )
+    })
+}
+
+fn direction(value: i32, function: &str, name: &str) -> Result<Direction, Fail> {
+    match value {
+        0 | 1 => Ok(Direction::Positive),
+        -1 => Ok(Direction::Negative),
+        v => Err(Fail::new(
+            MCM_ERR_ARGUMENT,
+            format!(
+                "{function}: argument `{name}` = {v} is not allowed; expected 1 (or 0: the default) or -1"
+            ),
+        )),
+    }
+}
+
+/// The calibration options (NULL: the defaults).
+///
+/// # Safety
+/// `p` is NULL or points to a valid `mcm_calibrate_t`.
+pub(crate) unsafe fn calibrate(
+    p: *const mcm_calibrate_t,
+    function: &str,
+) -> Result<mcm_client::mcm_shared::command::Calibrate, Fail> {
+    // SAFETY: the caller's promise.
+    let c = unsafe { p.as_ref() }.copied().unwrap_or_default();
+    let which = match c.which {
+        0 => Which::All,
+        7 => Which::Elbow,
+        8 => Which::Wrist,
+        n => Which::Axis(axis(n, function).map_err(|_| {
+            Fail::new(
+                MCM_ERR_ARGUMENT,
+                format!("{function}: argument `which` = {n} is not allowed; expected 0 (all), 1 to 6 (an axis), 7 (elbow) or 8 (wrist)"),
+            )
+        })?),
+    };
+    Ok(mcm_client::mcm_shared::command::Calibrate {
+        which,
+        elbow_direction: direction(c.elbow_direction, function, "elbow_direction")?,
+        wrist_direction: direction(c.wrist_direction, function, "wrist_direction")?,
+        force_mechanical_stop: c.force_mechanical_stop,
+    })
+}
+
+/// The torque/velocity options (NULL: the protocol's defaults).
+///
+/// # Safety
+/// `p` is NULL or points to a valid `mcm_control_options_t`.
+pub(crate) unsafe fn control_options(p: *const mcm_control_options_t) -> mcm_control_options_t {
+    // SAFETY: the caller's promise.
+    unsafe { p.as_ref() }
+        .copied()
+        .unwrap_or_else(|| crate::types::mcm_control_options_default())
+}
+
+/// A timeout [s] of the options: negative is none.
+pub(crate) fn timeout(t: f64) -> Option<f64> {
+    (t >= 0.0).then_some(t)
+}
+
+/// A wait [s] as a duration (negative or not a number: refused).
+pub(crate) fn seconds(s: f64, function: &str, name: &str) -> Result<std::time::Duration, Fail> {
+    std::time::Duration::try_from_secs_f64(s).map_err(|_| {
+        Fail::new(
+            MCM_ERR_ARGUMENT,
+            format!(
+                "{function}: argument `{name}` = {s} is not allowed; expected seconds, 0 or more"
+            ),
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn arguments_are_checked_with_words_that_name_them() {
+        let e = axis(7, "mcm_tcp_move_axis").unwrap_err();
+        assert_eq!(e.code, MCM_ERR_ARGUMENT);
+        assert!(
+            e.message.contains("`axis` = 7") && e.message.contains("1 to 6"),
+            "{}",
+            e.message
+        );
+        let bad = mcm_calibrate_t {
+            which: 9,
+            ..Default::default()
+        };
+        // SAFETY: a valid struct.
+        let e = unsafe { calibrate(&bad, "f") }.unwrap_err();
+        assert!(e.message.contains("`which` = 9"), "{}", e.message);
+        let bad = mcm_calibrate_t {
+            elbow_direction: 2,
+            ..Default::default()
+        };
+        // SAFETY: a valid struct.
+        assert!(unsafe { calibrate(&bad, "f") }.is_err());
+        // SAFETY: NULL is allowed.
+        let c = unsafe { calibrate(std::ptr::null(), "f") }.unwrap();
+        assert_eq!(c.which, Which::All);
+        assert!(seconds(-1.0, "f", "timeout_s").is_err());
+        assert_eq!(timeout(-1.0), None);
+        // SAFETY: NULL is refused before any read.
+        let e = unsafe { six(std::ptr::null(), "mcm_shm_set_torques", "torques") }.unwrap_err();
+        assert_eq!(
+            e.message,
+            "mcm_shm_set_torques: argument `torques` is NULL; pass a valid pointer"
+        );
+    }
+}

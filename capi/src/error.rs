@@ -1,0 +1,289 @@
+//! Result codes, the failure of one call ([`Fail`]), where its message is kept, and the guard
+//! that keeps panics from crossing the ABI. Not real-time code except the success path of
+//! [`guard`] (no allocation there).
+
+use mcm_client::shm::{ControlEnd, ShmError};
+use mcm_client::tcp::{Error as TcpError, ErrorKind};
+use std::cell::RefCell;
+use std::ffi::{CString, c_char};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+
+/// What a call of the C API ended with. `MCM_OK` (0) is success; every other value says why
+/// not, and the message of the failure is in `mcm_last_error()` (and the handle's
+/// `mcm_*_last_error`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum mcm_error_t {
+    /// Success.
+    MCM_OK = 0,
+    /// A required pointer argument was NULL.
+    MCM_ERR_NULL_POINTER = 1,
+    /// An argument this library refuses before sending anything (not UTF-8, an axis outside
+    /// 1 to 6, a point count outside 1 to 1000, an unknown output kind).
+    MCM_ERR_ARGUMENT = 2,
+    /// TCP: the MCM cannot be reached at that address.
+    MCM_ERR_CONNECT = 3,
+    /// Shared memory: the MCM instance is not running on this computer.
+    MCM_ERR_NOT_RUNNING = 4,
+    /// Shared memory: the running MCM is of another version than this library.
+    MCM_ERR_INCOMPATIBLE = 5,
+    /// The connection broke (TCP) or an iceoryx2 step failed (shared memory).
+    MCM_ERR_IO = 6,
+    /// TCP: the MCM closed the connection (its last notice is the message).
+    MCM_ERR_CLOSED = 7,
+    /// TCP: an earlier call found the connection broken; call `mcm_tcp_reconnect`.
+    MCM_ERR_NOT_CONNECTED = 8,
+    /// Shared memory: no new state within the wait (the real-time core is not publishing).
+    MCM_ERR_TIMEOUT = 9,
+    /// The MCM refused the command: nothing changed (reject code in `mcm_*_last_reject`).
+    MCM_ERR_REFUSED = 10,
+    /// The MCM accepted the command, then it failed while running (e.g. a calibration).
+    MCM_ERR_FAILED = 11,
+    /// No answer in time: the command may or may not have been executed; read the state.
+    MCM_ERR_OUTCOME_UNKNOWN = 12,
+    /// TCP: the gateway refused the command's arguments or the access rules refused it.
+    MCM_ERR_INVALID = 13,
+    /// An answer this library cannot read (an MCM of another version).
+    MCM_ERR_PROTOCOL = 14,
+    /// `wait_until`: the condition did not hold within the time.
+    MCM_ERR_NOT_REACHED = 15,
+    /// Control loop: the mode changed (timeout fallback, `hold` from anyone).
+    MCM_ERR_MODE_LEFT = 16,
+    /// Control loop: a safety check tripped (the message names it).
+    MCM_ERR_SAFETY_TRIP = 17,
+    /// Control loop: another client controls the arm now, or nobody does.
+    MCM_ERR_OWNERSHIP_LOST = 18,
+    /// Control loop: the arm is not in TORQUE_CONTROL, VELOCITY_CONTROL or PVT.
+    MCM_ERR_NOT_CONTROLLING = 19,
+    /// A bug of this library was caught (a Rust panic); close the handle.
+    MCM_ERR_PANIC = 20,
+}
+
+use mcm_error_t::*;
+
+/// The failure of one call: its code, the MCM's reject code (0: none) and its message.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Fail {
+    pub code: mcm_error_t,
+    pub reject: u32,
+    pub message: String,
+}
+
+impl Fail {
+    pub(crate) fn new(code: mcm_error_t, message: impl Into<String>) -> Fail {
+        Fail {
+            code,
+            reject: 0,
+            message: message.into(),
+        }
+    }
+
+    pub(crate) fn null(function: &str, argument: &str) -> Fail {
+        Fail::new(
+            MCM_ERR_NULL_POINTER,
+            format!("{function}: argument `{argument}` is NULL; pass a valid pointer"),
+        )
+    }
+}
+
+impl From<TcpError> for Fail {
+    fn from(e: TcpError) -> Fail {
+        let message = e.to_string();
+        let (code, reject) = match &e {
+            TcpError::Mcm(m) => (
+                match m.kind {
+                    ErrorKind::Refused => MCM_ERR_REFUSED,
+                    ErrorKind::Failed => MCM_ERR_FAILED,
+                    ErrorKind::OutcomeUnknown => MCM_ERR_OUTCOME_UNKNOWN,
+                    ErrorKind::Invalid => MCM_ERR_INVALID,
+                },
+                m.code.map_or(0, |c| c.to_wire()),
+            ),
+            TcpError::Connect { .. } => (MCM_ERR_CONNECT, 0),
+            TcpError::Io { .. } => (MCM_ERR_IO, 0),
+            TcpError::Closed { .. } => (MCM_ERR_CLOSED, 0),
+            TcpError::NotConnected => (MCM_ERR_NOT_CONNECTED, 0),
+            TcpError::Timeout { .. } => (MCM_ERR_OUTCOME_UNKNOWN, 0),
+            TcpError::Protocol { .. } => (MCM_ERR_PROTOCOL, 0),
+            TcpError::Argument { .. } => (MCM_ERR_ARGUMENT, 0),
+            TcpError::NotReached { .. } => (MCM_ERR_NOT_REACHED, 0),
+        };
+        Fail {
+            code,
+            reject,
+            message,
+        }
+    }
+}
+
+impl From<ShmError> for Fail {
+    fn from(e: ShmError) -> Fail {
+        let message = e.to_string();
+        let reject = e.reason().map_or(0, |r| r.code().to_wire());
+        let code = match &e {
+            ShmError::InstanceName(_) | ShmError::Argument { .. } => MCM_ERR_ARGUMENT,
+            ShmError::NotRunning { .. } => MCM_ERR_NOT_RUNNING,
+            ShmError::Incompatible { .. } => MCM_ERR_INCOMPATIBLE,
+            ShmError::Ipc { .. } => MCM_ERR_IO,
+            ShmError::Timeout { .. } => MCM_ERR_TIMEOUT,
+            ShmError::Refused { .. } => MCM_ERR_REFUSED,
+            ShmError::Failed { .. } => MCM_ERR_FAILED,
+            ShmError::OutcomeUnknown { .. } => MCM_ERR_OUTCOME_UNKNOWN,
+            ShmError::Undecodable { .. } => MCM_ERR_PROTOCOL,
+            ShmError::NotReached { .. } => MCM_ERR_NOT_REACHED,
+        };
+        Fail {
+            code,
+            reject,
+            message,
+        }
+    }
+}
+
+/// The code and reject code of a control loop's end (its message is the loop's error).
+pub(crate) fn control_end(end: &ControlEnd) -> (mcm_error_t, u32) {
+    match end {
+        ControlEnd::ModeLeft { .. } => (MCM_ERR_MODE_LEFT, 0),
+        ControlEnd::SafetyTrip(e) => (MCM_ERR_SAFETY_TRIP, e.reason.code().to_wire()),
+        ControlEnd::OwnershipLost { .. } => (MCM_ERR_OWNERSHIP_LOST, 0),
+        ControlEnd::Refused(r) => match r.outcome {
+            mcm_client::mcm_shared::reply::Outcome::Refused(reason) => {
+                (MCM_ERR_REFUSED, reason.code().to_wire())
+            }
+            mcm_client::mcm_shared::reply::Outcome::Failed(reason) => {
+                (MCM_ERR_FAILED, reason.code().to_wire())
+            }
+            mcm_client::mcm_shared::reply::Outcome::Done(_) => (MCM_ERR_PROTOCOL, 0),
+        },
+        ControlEnd::NotControlling(_) => (MCM_ERR_NOT_CONTROLLING, 0),
+        ControlEnd::Shm(e) => {
+            let f = Fail::from(e.clone());
+            (f.code, f.reject)
+        }
+    }
+}
+
+/// A message as a C string (a NUL inside would end it early: replaced by a space).
+pub(crate) fn c_string(message: &str) -> CString {
+    CString::new(message.replace('\0', " ")).unwrap_or_default()
+}
+
+/// Where one handle keeps the failure of its last failed call.
+#[derive(Debug, Default)]
+pub(crate) struct LastError {
+    pub message: CString,
+    pub reject: u32,
+}
+
+impl LastError {
+    pub(crate) fn set(&mut self, f: &Fail) {
+        self.message = c_string(&f.message);
+        self.reject = f.reject;
+    }
+}
+
+thread_local! {
+    static THREAD_ERROR: RefCell<(CString, u32)> = RefCell::new((CString::default(), 0));
+}
+
+fn set_thread_error(f: &Fail) {
+    THREAD_ERROR.with(|e| *e.borrow_mut() = (c_string(&f.message), f.reject));
+}
+
+/// Run one entry point: a panic becomes `MCM_ERR_PANIC`, a failure is recorded in the
+/// calling thread (and by `record` in the handle) and returned as its code. On success nothing
+/// is allocated.
+pub(crate) fn guard(
+    function: &str,
+    record: impl FnOnce(&Fail),
+    body: impl FnOnce() -> Result<(), Fail>,
+) -> mcm_error_t {
+    let fail = match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(Ok(())) => return MCM_OK,
+        Ok(Err(f)) => f,
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic without a message".into());
+            Fail::new(
+                MCM_ERR_PANIC,
+                format!(
+                    "{function}: internal error of the MCM C library ({what}); close this handle and report it"
+                ),
+            )
+        }
+    };
+    // Recording must not unwind into C either.
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        set_thread_error(&fail);
+        record(&fail);
+    }));
+    fail.code
+}
+
+/// The message of the last failed call on the calling thread (any function, also the connect
+/// functions), or "" when none failed yet. The pointer stays valid until the next failing call
+/// on this thread. Real-time safe.
+#[unsafe(no_mangle)]
+pub extern "C" fn mcm_last_error() -> *const c_char {
+    THREAD_ERROR
+        .try_with(|e| e.borrow().0.as_ptr())
+        .unwrap_or(c"".as_ptr())
+}
+
+/// The MCM's reject code of the last failed call on the calling thread (0: none, else a
+/// `mcm_reject_t` value, e.g. 16 busy). Real-time safe.
+#[unsafe(no_mangle)]
+pub extern "C" fn mcm_last_reject() -> u32 {
+    THREAD_ERROR.try_with(|e| e.borrow().1).unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::ffi::CStr;
+
+    #[test]
+    fn a_panic_becomes_a_code_and_a_message() {
+        let code = guard(
+            "mcm_test",
+            |_| {},
+            || -> Result<(), Fail> { panic!("boom {}", 7) },
+        );
+        assert_eq!(code, MCM_ERR_PANIC);
+        // SAFETY: mcm_last_error returns a valid NUL-terminated string of this thread.
+        let m = unsafe { CStr::from_ptr(mcm_last_error()) }
+            .to_str()
+            .unwrap();
+        assert!(
+            m.contains("mcm_test: internal error") && m.contains("boom 7"),
+            "{m}"
+        );
+    }
+
+    #[test]
+    fn a_failure_is_recorded_with_its_reject_code_and_success_changes_nothing() {
+        let mut handle = LastError::default();
+        let code = guard(
+            "mcm_test",
+            |f| handle.set(f),
+            || {
+                Err(Fail {
+                    code: MCM_ERR_REFUSED,
+                    reject: 16,
+                    message: "move_axis refused: a\0motion".into(),
+                })
+            },
+        );
+        assert_eq!(code, MCM_ERR_REFUSED);
+        assert_eq!(
+            handle.message.to_str().unwrap(),
+            "move_axis refused: a motion"
+        );
+        assert_eq!((handle.reject, mcm_last_reject()), (16, 16));
+        assert_eq!(guard("mcm_test", |_| unreachable!(), || Ok(())), MCM_OK);
+        assert_eq!(mcm_last_reject(), 16, "success leaves the last failure");
+    }
+}
