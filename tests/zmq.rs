@@ -71,7 +71,10 @@ fn a_pyzmq_client_subscribes_commands_and_sees_errors() {
         counted.starts_with("state: 600 samples") && counted.ends_with(", 0 missed"),
         "a healthy subscriber misses no cycle: {counted}"
     );
-    assert!(out.contains("calibrate: {\"error_status\": \"OK\""), "{out}");
+    assert!(
+        out.contains("calibrate: {\"error_status\": \"OK\""),
+        "{out}"
+    );
     assert!(out.contains("axis 2 at 12.500 deg"), "{out}");
     // The simulation's ground truth agrees with what the example saw on the state topic.
     let mut c = mcm.client();
