@@ -91,23 +91,34 @@ pub fn start(cfg: &ZmqConfig, ctx: Context, rt: tokio::runtime::Handle) -> Resul
     let monitor = setup("monitor socket", zctx.socket(zmq::PAIR))?;
     setup("monitor connect", monitor.connect(&monitor_endpoint))?;
 
-    let publisher = setup("PUB socket", zctx.socket(zmq::PUB))?;
-    setup("PUB linger", publisher.set_linger(100))?;
-    setup(
-        "PUB high-water mark",
-        publisher.set_sndhwm(publish::SEND_HWM),
-    )?;
-    publisher
-        .bind(&cfg.publish)
-        .map_err(|source| ZmqError::Bind {
-            key: "publish",
-            what: "PUB",
-            endpoint: cfg.publish.clone(),
-            source,
-        })?;
-    let (router_at, publish_at) = (bound(&router, &cfg.router), bound(&publisher, &cfg.publish));
-
-    let publisher = publish::Publisher::spawn(publisher, ctx.bridge.clone())?;
+    #[cfg(not(feature = "bench-zeromq-rs"))]
+    let (publisher, publish_at) = {
+        let publisher = setup("PUB socket", zctx.socket(zmq::PUB))?;
+        setup("PUB linger", publisher.set_linger(100))?;
+        setup(
+            "PUB high-water mark",
+            publisher.set_sndhwm(publish::SEND_HWM),
+        )?;
+        publisher
+            .bind(&cfg.publish)
+            .map_err(|source| ZmqError::Bind {
+                key: "publish",
+                what: "PUB",
+                endpoint: cfg.publish.clone(),
+                source,
+            })?;
+        let at = bound(&publisher, &cfg.publish);
+        (
+            publish::Publisher::spawn(publisher, ctx.bridge.clone())?,
+            at,
+        )
+    };
+    #[cfg(feature = "bench-zeromq-rs")]
+    let (publisher, publish_at) = {
+        eprintln!("mcm-gateway: comparison build: the PUB socket is the pure-Rust zeromq crate's");
+        publish::Publisher::spawn_zeromq_rs(cfg.publish.clone(), ctx.bridge.clone())?
+    };
+    let router_at = bound(&router, &cfg.router);
     let bell = Arc::new(crate::bridge::doorbell::Doorbell::new().map_err(std::io::Error::other)?);
     let (tx, replies) = std::sync::mpsc::channel();
     let stop = Arc::new(AtomicBool::new(false));
