@@ -29,6 +29,28 @@ struct Seen {
 /// subscriber misses the same cycle) from messages the PUB dropped for one subscriber.
 const MISSED_KEPT: usize = 100_000;
 
+/// CPU time the process `pid` used so far (user + system) [s], from `/proc/PID/stat`.
+fn cpu_seconds(pid: i32) -> Option<f64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // After the command name in parentheses: state is field 3, utime 14, stime 15.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    // SAFETY: sysconf only reads a system constant.
+    let hz = unsafe { libc::sysconf(libc::_SC_CLK_TCK) } as f64;
+    Some(ticks / hz)
+}
+
+/// Seconds of the gateway's CPU measurement without TCP traffic.
+const IDLE_SECS: u64 = 5;
+
+/// The gateway's CPU use over [`IDLE_SECS`] with no TCP request [% of one core].
+fn idle_cpu(pid: i32) -> Option<f64> {
+    let (a, t) = (cpu_seconds(pid)?, Instant::now());
+    std::thread::sleep(Duration::from_secs(IDLE_SECS));
+    Some(100.0 * (cpu_seconds(pid)? - a) / t.elapsed().as_secs_f64())
+}
+
 fn free_port() -> Result<u16, BenchError> {
     let l = std::net::TcpListener::bind("127.0.0.1:0")
         .map_err(|e| BenchError::Setup(format!("no free port on 127.0.0.1: {e}")))?;
@@ -117,6 +139,7 @@ pub fn run(args: &Args) -> Result<bool, BenchError> {
 
     eprintln!("mcm-bench: TCP status round trips, no ZeroMQ subscriber ({rtt_secs} s)");
     let alone = round_trips(&mut c, rtt_secs)?;
+    let cpu_alone = idle_cpu(mcm.gateway_pid);
     eprintln!(
         "mcm-bench: {SUBSCRIBERS} ZeroMQ subscribers for {secs} s, TCP round trips meanwhile"
     );
@@ -125,7 +148,8 @@ pub fn run(args: &Args) -> Result<bool, BenchError> {
         .collect();
     // Round trips all the while every subscriber receives.
     std::thread::sleep(Duration::from_millis(500));
-    let with = round_trips(&mut c, secs.saturating_sub(1).max(1))?;
+    let with = round_trips(&mut c, secs.saturating_sub(1 + IDLE_SECS).max(1))?;
+    let cpu_with = idle_cpu(mcm.gateway_pid);
     let seen: Vec<Seen> = subs
         .into_iter()
         .map(|h| {
@@ -176,6 +200,12 @@ pub fn run(args: &Args) -> Result<bool, BenchError> {
     println!(
         "| TCP status RTT p50 / p99 / max, {SUBSCRIBERS} subscribers [us] | {:.0} / {:.0} / {:.0} | not delayed |",
         with.p50_us, with.p99_us, with.max_us
+    );
+    let pct = |c: Option<f64>| c.map_or("?".to_string(), |c| format!("{c:.1}"));
+    println!(
+        "| gateway CPU, no TCP request (one core = 100 %), without / with {SUBSCRIBERS} subscribers | {} / {} | |",
+        pct(cpu_alone),
+        pct(cpu_with)
     );
     // "Not delayed": p99 within 1.5 times (and 200 us) of the run without subscribers.
     let not_delayed = with.p99_us <= (1.5 * alone.p99_us).max(alone.p99_us + 200.0);
