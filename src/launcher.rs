@@ -219,6 +219,8 @@ fn run(cli: Cli) -> Result<(), String> {
         Some(p) => RobotConfig::from_file(p).map_err(|e| e.to_string())?,
         None => RobotConfig::prob2_default(),
     };
+    let mut zmq = cfg.gateway.zmq.clone();
+    cli.listen.apply_zmq(&mut zmq).map_err(|e| e.to_string())?;
     ServiceNames::new(&cli.common.instance).map_err(|e| e.to_string())?;
     signals::install().map_err(|e| format!("cannot install the SIGINT/SIGTERM handlers: {e}"))?;
 
@@ -275,8 +277,16 @@ fn run(cli: Cli) -> Result<(), String> {
         let started = Instant::now();
         let json = field(&ready, "json").unwrap_or("?");
         let hmi = field(&ready, "hmi").unwrap_or("?");
+        let (zmq_words, zmq_fields) =
+            match (field(&ready, "zmq_router"), field(&ready, "zmq_publish")) {
+                (Some(r), Some(p)) => (
+                    format!(", ZeroMQ commands on {r} and state on {p}"),
+                    format!(" zmq_router={r} zmq_publish={p}"),
+                ),
+                _ => (String::new(), String::new()),
+            };
         println!(
-            "MCM ready ({robot}, instance {}): JSON on {json}, telnet HMI on {hmi}; Ctrl-C stops. [json={json} hmi={hmi} rt_pid={} gateway_pid={}]",
+            "MCM ready ({robot}, instance {}): JSON on {json}, telnet HMI on {hmi}{zmq_words}; Ctrl-C stops. [json={json} hmi={hmi}{zmq_fields} rt_pid={} gateway_pid={}]",
             cli.common.instance,
             rt.pid(),
             gw.pid()

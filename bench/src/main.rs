@@ -14,6 +14,7 @@ mod shm;
 mod stall;
 mod stats;
 mod torque;
+mod zmq;
 
 use clap::Parser;
 use std::path::PathBuf;
@@ -55,7 +56,11 @@ pub struct Args {
     /// while the gateway is stopped; their results are not counted).
     #[arg(long, default_value_t = 8)]
     pub stall_flood: usize,
-    /// Run only these phases (comma-separated: latency, status, hold, torque, stall).
+    /// Seconds the ZeroMQ subscribers count missed cycles (`--only zmq`; the target is 600).
+    #[arg(long, default_value_t = 60)]
+    pub zmq_secs: u64,
+    /// Run only these phases (comma-separated: latency, status, hold, torque, stall; or zmq
+    /// alone: ZeroMQ publication and the TCP round trip with and without 5 subscribers).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }
@@ -69,7 +74,12 @@ impl Args {
 
 fn main() {
     let args = Args::parse();
-    match run::run(&args) {
+    let result = if args.only.iter().any(|p| p == "zmq") {
+        zmq::run(&args)
+    } else {
+        run::run(&args)
+    };
+    match result {
         Ok(all_pass) => std::process::exit(if all_pass { 0 } else { 1 }),
         Err(e) => {
             eprintln!("mcm-bench: {e}");

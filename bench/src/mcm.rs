@@ -42,12 +42,23 @@ pub fn locate(explicit: Option<&Path>) -> Result<PathBuf, BenchError> {
 impl Mcm {
     /// Start `binary` as instance `instance`, with the configuration file `config` if given.
     pub fn start(binary: &Path, instance: &str, config: Option<&Path>) -> Result<Mcm, BenchError> {
+        Self::start_with(binary, instance, config, &[])
+    }
+
+    /// [`Mcm::start`] with more launcher arguments (`more`, e.g. the ZeroMQ endpoints).
+    pub fn start_with(
+        binary: &Path,
+        instance: &str,
+        config: Option<&Path>,
+        more: &[&str],
+    ) -> Result<Mcm, BenchError> {
         let log = std::env::temp_dir().join(format!("mcm-bench-{instance}.log"));
         let log_file = std::fs::File::create(&log)
             .map_err(|e| BenchError::Start(format!("cannot create {}: {e}", log.display())))?;
         let extra: Vec<&std::ffi::OsStr> = config
             .iter()
             .flat_map(|c| [std::ffi::OsStr::new("--config"), c.as_os_str()])
+            .chain(more.iter().map(std::ffi::OsStr::new))
             .collect();
         let sim = SimulatedMcm::start(binary, instance, &extra, log_file.into(), START_WAIT)
             .map_err(|e| BenchError::Start(format!("{e}; see {}", log.display())))?;

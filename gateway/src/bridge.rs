@@ -27,7 +27,7 @@
 //! A request that was published but never answered is [`BridgeError::OutcomeUnknown`]: it may
 //! have been executed.
 
-mod doorbell;
+pub(crate) mod doorbell;
 mod event;
 mod ports;
 mod scheduler;
@@ -48,6 +48,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 use tokio::sync::{broadcast, oneshot, watch};
+
+/// States a receiver of [`Bridge::subscribe_every_state`] may fall behind (0.32 s at 200 Hz).
+pub const EVERY_STATE_BUFFER: usize = 64;
 
 /// Why a published request got no reply.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
@@ -159,6 +162,7 @@ pub struct Bridge {
     wake: Waker,
     state: watch::Receiver<Option<Box<StateSample>>>,
     errors: broadcast::Sender<SafetyEvent>,
+    every_state: broadcast::Sender<Arc<StateSample>>,
     next_client: Arc<AtomicU64>,
     instance: String,
     /// Why the core cannot be reached when that is more than "not running".
@@ -191,11 +195,13 @@ impl Bridge {
         };
         let (state_tx, state_rx) = watch::channel(None);
         let (err_tx, _) = broadcast::channel(64);
+        let (every_tx, _) = broadcast::channel(EVERY_STATE_BUFFER);
         let open_error = Arc::new(Mutex::new(None));
         let shared = worker::Shared {
             names: names.clone(),
             state_tx,
             errors: err_tx.clone(),
+            every_state: every_tx.clone(),
             flight_dir: flight_dir.to_string(),
             bell,
             open_error: open_error.clone(),
@@ -209,6 +215,7 @@ impl Bridge {
             wake: wake.clone(),
             state: state_rx,
             errors: err_tx,
+            every_state: every_tx,
             next_client: Arc::new(AtomicU64::new(1)),
             instance: names.instance().to_string(),
             open_error,
@@ -287,6 +294,12 @@ impl Bridge {
     /// A receiver of state changes.
     pub fn watch_state(&self) -> watch::Receiver<Option<Box<StateSample>>> {
         self.state.clone()
+    }
+
+    /// A receiver of every new state, in order (at most [`EVERY_STATE_BUFFER`] behind; a
+    /// slower receiver is told how many it lagged).
+    pub fn subscribe_every_state(&self) -> broadcast::Receiver<Arc<StateSample>> {
+        self.every_state.subscribe()
     }
 
     /// A receiver of new safety errors.

@@ -34,6 +34,17 @@ pub struct ListenArgs {
     /// Accept `sim` fault injection from other hosts too (default: from loopback only).
     #[arg(long)]
     pub allow_remote_sim: bool,
+    /// Serve the ZeroMQ interface (`[gateway.zmq]`: commands on a ROUTER socket, default
+    /// tcp://127.0.0.1:18012; state and errors on a PUB socket, default tcp://127.0.0.1:18013).
+    #[arg(long)]
+    pub zmq: bool,
+    /// Endpoint of the ZeroMQ ROUTER socket (e.g. tcp://0.0.0.0:18012; port * for any free
+    /// port); switches the ZeroMQ interface on.
+    #[arg(long, value_name = "ENDPOINT")]
+    pub zmq_router: Option<String>,
+    /// Endpoint of the ZeroMQ PUB socket; switches the ZeroMQ interface on.
+    #[arg(long, value_name = "ENDPOINT")]
+    pub zmq_publish: Option<String>,
 }
 
 impl ListenArgs {
@@ -50,7 +61,36 @@ impl ListenArgs {
         if self.allow_remote_sim {
             args.push("--allow-remote-sim".into());
         }
+        if self.zmq {
+            args.push("--zmq".into());
+        }
+        for (flag, v) in [
+            ("--zmq-router", &self.zmq_router),
+            ("--zmq-publish", &self.zmq_publish),
+        ] {
+            if let Some(v) = v {
+                args.extend([flag.into(), v.into()]);
+            }
+        }
         args
+    }
+
+    /// Apply the ZeroMQ options to `cfg` (they override `[gateway.zmq]`), checked as the
+    /// configuration file's keys are.
+    pub fn apply_zmq(
+        &self,
+        cfg: &mut mcm_shared::config::ZmqConfig,
+    ) -> Result<(), mcm_shared::config::ConfigError> {
+        if self.zmq || self.zmq_router.is_some() || self.zmq_publish.is_some() {
+            cfg.enabled = true;
+        }
+        if let Some(r) = &self.zmq_router {
+            cfg.router = r.clone();
+        }
+        if let Some(p) = &self.zmq_publish {
+            cfg.publish = p.clone();
+        }
+        cfg.validate()
     }
 }
 
@@ -71,10 +111,11 @@ where
 }
 
 fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let config = match &cli.common.config {
+    let mut config = match &cli.common.config {
         Some(p) => RobotConfig::from_file(p)?,
         None => RobotConfig::prob2_default(),
     };
+    cli.listen.apply_zmq(&mut config.gateway.zmq)?;
     let names = ServiceNames::new(&cli.common.instance)?;
     let opts = GatewayOptions {
         config,
@@ -89,9 +130,13 @@ fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         .enable_all()
         .build()?;
     rt.block_on(async move {
-        let ready = |json: SocketAddr, hmi: SocketAddr| {
+        let ready = |r: crate::Ready| {
             // Machine-readable line for the launcher; keep its shape.
-            println!("mcm-gateway ready json={json} hmi={hmi}");
+            let zmq = r
+                .zmq
+                .map(|(router, publish)| format!(" zmq_router={router} zmq_publish={publish}"))
+                .unwrap_or_default();
+            println!("mcm-gateway ready json={} hmi={}{zmq}", r.json, r.hmi);
         };
         crate::run(opts, ready, shutdown_signal()).await
     })?;
@@ -104,5 +149,45 @@ async fn shutdown_signal() {
     tokio::select! {
         _ = tokio::signal::ctrl_c() => {}
         _ = term.recv() => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn listen(args: &[&str]) -> ListenArgs {
+        let mut all = vec!["mcm-gateway"];
+        all.extend_from_slice(args);
+        Cli::try_parse_from(all).expect("valid arguments").listen
+    }
+
+    #[test]
+    fn zmq_options_switch_the_interface_on_and_survive_the_launcher() {
+        let mut cfg = mcm_shared::config::ZmqConfig::default();
+        listen(&[]).apply_zmq(&mut cfg).unwrap();
+        assert!(!cfg.enabled, "off unless asked for");
+
+        let l = listen(&["--zmq-publish", "tcp://0.0.0.0:7000"]);
+        l.apply_zmq(&mut cfg).unwrap();
+        assert!(cfg.enabled, "an endpoint switches it on");
+        assert_eq!(cfg.publish, "tcp://0.0.0.0:7000");
+        assert_eq!(cfg.router, "tcp://127.0.0.1:18012");
+
+        let l = listen(&["--zmq", "--zmq-router", "tcp://127.0.0.1:*"]);
+        let passed: Vec<String> = l
+            .to_args()
+            .iter()
+            .map(|a| a.to_string_lossy().into_owned())
+            .collect();
+        let passed: Vec<&str> = passed.iter().map(String::as_str).collect();
+        assert_eq!(listen(&passed), l, "the launcher passes them on unchanged");
+
+        let bad = listen(&["--zmq-router", "localhost:1"]).apply_zmq(&mut cfg);
+        let msg = bad.unwrap_err().to_string();
+        assert!(
+            msg.contains("`gateway.zmq.router` = \"localhost:1\""),
+            "{msg}"
+        );
     }
 }

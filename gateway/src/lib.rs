@@ -8,7 +8,8 @@
 //! Layout (as in tokio's mini-redis): [`framing`] splits bytes into commands, [`cmd`] parses
 //! and validates each command (one file per command), [`exec`] runs it through the
 //! [`bridge`] to the core and builds the [`result`], [`connection`] serves one client,
-//! [`server`] accepts clients and shuts them down.
+//! [`server`] accepts clients and shuts them down. [`zmq`] is the optional ZeroMQ interface
+//! (commands over a ROUTER socket, state and errors over a PUB socket).
 
 pub mod access;
 pub mod args;
@@ -28,6 +29,7 @@ pub mod server;
 pub mod shutdown;
 #[cfg(test)]
 mod test_support;
+pub mod zmq;
 
 use mcm_shared::config::RobotConfig;
 use mcm_shared::service::ServiceNames;
@@ -62,6 +64,17 @@ pub enum GatewayError {
     },
     #[error(transparent)]
     Access(#[from] access::AccessError),
+    #[error(transparent)]
+    Zmq(#[from] zmq::ZmqError),
+}
+
+/// Where the gateway serves, once it does.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Ready {
+    pub json: SocketAddr,
+    pub hmi: SocketAddr,
+    /// The ZeroMQ ROUTER and PUB endpoints as bound, when `[gateway.zmq]` is enabled.
+    pub zmq: Option<(String, String)>,
 }
 
 async fn bind(addr: SocketAddr) -> Result<(tokio::net::TcpListener, SocketAddr), GatewayError> {
@@ -75,10 +88,10 @@ async fn bind(addr: SocketAddr) -> Result<(tokio::net::TcpListener, SocketAddr),
 }
 
 /// Run the gateway until `shutdown` resolves. `ready` is called once with the bound addresses
-/// of the JSON and the HMI listeners.
+/// of the JSON and the HMI listeners and the ZeroMQ endpoints.
 pub async fn run(
     opts: GatewayOptions,
-    ready: impl FnOnce(SocketAddr, SocketAddr),
+    ready: impl FnOnce(Ready),
     shutdown: impl std::future::Future,
 ) -> Result<(), GatewayError> {
     let access = access::Access::from_config(&opts.config.gateway.access, opts.allow_remote_sim)?;
@@ -86,7 +99,20 @@ pub async fn run(
     let (hmi, hmi_addr) = bind(opts.hmi_addr).await?;
     let (bridge, bridge_thread) =
         bridge::Bridge::start(&opts.names, &opts.config.safety.flight_recorder_dir);
+    let zmq_cfg = opts.config.gateway.zmq.clone();
     let ctx = exec::Context::new(Arc::new(opts.config), bridge, access);
+    let zmq = if zmq_cfg.enabled {
+        let started = zmq::start(&zmq_cfg, ctx.clone(), tokio::runtime::Handle::current());
+        match started {
+            Ok(z) => Some(z),
+            Err(e) => {
+                bridge_thread.stop();
+                return Err(e.into());
+            }
+        }
+    } else {
+        None
+    };
     let (stop_tx, _) = tokio::sync::broadcast::channel::<()>(1);
     let stopped = |tx: &tokio::sync::broadcast::Sender<()>| {
         let mut rx = tx.subscribe();
@@ -97,8 +123,16 @@ pub async fn run(
     let json_task = tokio::spawn(server::run_json(json, ctx.clone(), stopped(&stop_tx)));
     let reaper = tokio::spawn(access::reaper::run(ctx.bridge.clone()));
     let hmi_task = tokio::spawn(hmi::run(hmi, ctx, stopped(&stop_tx)));
-    ready(json_addr, hmi_addr);
+    ready(Ready {
+        json: json_addr,
+        hmi: hmi_addr,
+        zmq: zmq.as_ref().map(|z| (z.router.clone(), z.publish.clone())),
+    });
     shutdown.await;
+    if let Some(z) = zmq {
+        // Blocking joins (bounded: the threads wake within 200 ms), off the async workers.
+        let _ = tokio::task::spawn_blocking(move || z.stop()).await;
+    }
     let _ = stop_tx.send(());
     let _ = json_task.await;
     let _ = hmi_task.await;

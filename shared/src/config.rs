@@ -674,7 +674,7 @@ impl AxisConfig {
 mod bounds;
 mod gateway;
 pub use bounds::*;
-pub use gateway::{AccessConfig, Cidr, ConnectionLimits, GatewayConfig};
+pub use gateway::{AccessConfig, Cidr, ConnectionLimits, GatewayConfig, ZmqConfig};
 
 #[cfg(test)]
 mod tests;

@@ -13,8 +13,9 @@ use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// Packages installed next to the `mcm` package (the flight-recorder plot needs matplotlib).
-const EXTRA_PACKAGES: &[&str] = &["matplotlib"];
+/// Packages installed next to the `mcm` package (the flight-recorder plot needs matplotlib;
+/// the ZeroMQ tests and example, `tests/zmq.rs`, need pyzmq).
+const EXTRA_PACKAGES: &[&str] = &["matplotlib", "pyzmq"];
 
 /// The repository's root.
 pub fn repo_root() -> PathBuf {

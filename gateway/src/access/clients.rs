@@ -10,11 +10,13 @@ use std::net::SocketAddr;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 
-/// The two network channels of the gateway.
+/// The network channels of the gateway.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Channel {
     Json,
     Hmi,
+    /// A peer (routing id) of the ZeroMQ ROUTER socket.
+    Zmq,
 }
 
 impl Channel {
@@ -22,6 +24,7 @@ impl Channel {
         match self {
             Channel::Json => "JSON client",
             Channel::Hmi => "HMI client",
+            Channel::Zmq => "ZeroMQ client",
         }
     }
 }

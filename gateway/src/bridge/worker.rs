@@ -61,6 +61,9 @@ pub(super) struct Shared {
     pub(super) names: ServiceNames,
     pub(super) state_tx: watch::Sender<Option<Box<StateSample>>>,
     pub(super) errors: broadcast::Sender<SafetyEvent>,
+    /// Every new state, in order (the ZeroMQ publication must not skip one; the watch above
+    /// keeps only the newest). Sending with no receiver costs nothing but the state's copy.
+    pub(super) every_state: broadcast::Sender<Arc<StateSample>>,
     pub(super) flight_dir: String,
     /// Rung by the async side after each message on the channel.
     pub(super) bell: Arc<Doorbell>,
@@ -144,6 +147,9 @@ impl Worker {
                 // The newest state first: a client that got a reply (or a safety error) and
                 // asks for `status` at once must see the state that answered, not an older one.
                 self.sh.state_tx.send_replace(Some(Box::new(state)));
+                if self.sh.every_state.receiver_count() > 0 {
+                    let _ = self.sh.every_state.send(Arc::new(state));
+                }
                 self.route_replies(&state);
                 self.report_errors(&state);
             }

@@ -1,6 +1,7 @@
-//! The `[gateway]` section: how the gateway limits connections (`[gateway.connections]`) and
-//! who may move the arm (`[gateway.access]`). The whole section is optional; its defaults keep
-//! the manual's behaviour (any client on the factory network may connect and command).
+//! The `[gateway]` section: how the gateway limits connections (`[gateway.connections]`),
+//! who may move the arm (`[gateway.access]`) and its ZeroMQ interface (`[gateway.zmq]`, off by
+//! default). The whole section is optional; its defaults keep the manual's behaviour (any
+//! client on the factory network may connect and command).
 
 use super::ConfigError;
 use serde::Deserialize;
@@ -13,6 +14,8 @@ pub struct GatewayConfig {
     pub connections: ConnectionLimits,
     #[serde(default)]
     pub access: AccessConfig,
+    #[serde(default)]
+    pub zmq: ZmqConfig,
 }
 
 mod connections;
@@ -21,11 +24,15 @@ pub use connections::ConnectionLimits;
 mod access;
 pub use access::{AccessConfig, Cidr};
 
+pub mod zmq;
+pub use zmq::ZmqConfig;
+
 impl GatewayConfig {
     /// Check every value of the section; the first problem found names its key.
     pub fn validate(&self) -> Result<(), ConfigError> {
         self.connections.validate()?;
         self.access.validate()?;
+        self.zmq.validate()?;
         Ok(())
     }
 }

@@ -1,0 +1,140 @@
+//! `[gateway.zmq]`: the gateway's ZeroMQ interface (off by default). A ROUTER socket takes the
+//! same JSON commands as the JSON/TCP port, each ZeroMQ peer (routing id) being a client of its
+//! own; a PUB socket publishes the state every cycle (topic `state`) and every spontaneous
+//! error (topic `error`). Every key is optional; the defaults are the documented ones below.
+
+use super::super::{ConfigError, invalid};
+use serde::Deserialize;
+
+/// Default endpoint of the command (ROUTER) socket.
+pub const DEFAULT_ROUTER: &str = "tcp://127.0.0.1:18012";
+/// Default endpoint of the publication (PUB) socket.
+pub const DEFAULT_PUBLISH: &str = "tcp://127.0.0.1:18013";
+/// Most ZeroMQ peers the gateway may be configured to serve at once.
+pub const MAX_PEERS_LIMIT: usize = 4096;
+
+/// `[gateway.zmq]`.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct ZmqConfig {
+    /// Serve the ZeroMQ interface (default false; the launcher's `--zmq` switches it on).
+    pub enabled: bool,
+    /// Endpoint the ROUTER socket binds (default `tcp://127.0.0.1:18012`).
+    pub router: String,
+    /// Endpoint the PUB socket binds (default `tcp://127.0.0.1:18013`).
+    pub publish: String,
+    /// Most ZeroMQ peers (routing ids) served at once (default 64); a request from one more
+    /// gets an ERROR result.
+    pub max_peers: usize,
+}
+
+impl Default for ZmqConfig {
+    fn default() -> Self {
+        Self {
+            enabled: false,
+            router: DEFAULT_ROUTER.to_string(),
+            publish: DEFAULT_PUBLISH.to_string(),
+            max_peers: 64,
+        }
+    }
+}
+
+/// Whether `e` looks like a ZeroMQ endpoint this interface can bind: `tcp://HOST:PORT` (PORT
+/// may be `*`: any free port) or `ipc://PATH`.
+fn endpoint_ok(e: &str) -> bool {
+    if let Some(rest) = e.strip_prefix("tcp://") {
+        match rest.rsplit_once(':') {
+            Some((host, port)) => !host.is_empty() && (port == "*" || port.parse::<u16>().is_ok()),
+            None => false,
+        }
+    } else if let Some(path) = e.strip_prefix("ipc://") {
+        !path.is_empty()
+    } else {
+        false
+    }
+}
+
+impl ZmqConfig {
+    /// Check every key; the first problem found names its key, value and what is allowed.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        const P: &str = "gateway.zmq";
+        for (key, e) in [("router", &self.router), ("publish", &self.publish)] {
+            if !endpoint_ok(e) {
+                return Err(invalid(
+                    format!("{P}.{key}"),
+                    format!("{e:?}"),
+                    "an endpoint tcp://HOST:PORT (PORT * for any free port) or ipc://PATH",
+                ));
+            }
+        }
+        if self.router == self.publish {
+            return Err(invalid(
+                format!("{P}.publish"),
+                format!("{:?}", self.publish),
+                "an endpoint other than gateway.zmq.router",
+            ));
+        }
+        if !(1..=MAX_PEERS_LIMIT).contains(&self.max_peers) {
+            return Err(invalid(
+                format!("{P}.max_peers"),
+                self.max_peers,
+                format!("1 to {MAX_PEERS_LIMIT}"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::RobotConfig;
+
+    fn with(section: &str) -> Result<RobotConfig, ConfigError> {
+        let text = format!(
+            "{}\n[gateway.zmq]\n{section}\n",
+            crate::config::PROB2_DEFAULT_TOML
+        );
+        RobotConfig::from_toml_str(&text)
+    }
+
+    #[test]
+    fn off_by_default_with_the_documented_endpoints() {
+        let z = RobotConfig::prob2_default().gateway.zmq;
+        assert_eq!(z, ZmqConfig::default());
+        assert!(!z.enabled);
+        assert_eq!(z.router, "tcp://127.0.0.1:18012");
+        assert_eq!(z.publish, "tcp://127.0.0.1:18013");
+        let on = with("enabled = true\nrouter = \"tcp://*:5555\"").unwrap();
+        assert!(on.gateway.zmq.enabled);
+        assert_eq!(on.gateway.zmq.router, "tcp://*:5555");
+        assert_eq!(on.gateway.zmq.publish, DEFAULT_PUBLISH);
+    }
+
+    #[test]
+    fn bad_values_name_key_value_and_what_is_allowed() {
+        for (line, key, value) in [
+            ("router = \"localhost:5\"", "router", "\"localhost:5\""),
+            (
+                "publish = \"tcp://h:99999\"",
+                "publish",
+                "\"tcp://h:99999\"",
+            ),
+            (
+                "publish = \"tcp://127.0.0.1:18012\"",
+                "publish",
+                "\"tcp://127.0.0.1:18012\"",
+            ),
+            ("max_peers = 0", "max_peers", "0"),
+        ] {
+            let msg = with(line).unwrap_err().to_string();
+            assert!(
+                msg.contains(&format!("`gateway.zmq.{key}` = {value} ")),
+                "{line}: {msg}"
+            );
+        }
+        assert!(endpoint_ok("ipc:///tmp/mcm-cmd"));
+        assert!(endpoint_ok("tcp://127.0.0.1:*"));
+        assert!(!endpoint_ok("tcp://:5"));
+    }
+}
