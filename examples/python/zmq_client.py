@@ -58,6 +58,8 @@ first = next_state(5.0)
 last, missed, samples = first["cycle"], 0, 1
 while samples < args.cycles:
     s = next_state()
+    if s["cycle"] <= last:
+        raise SystemExit("cycle %d came after cycle %d: repeated or out of order" % (s["cycle"], last))
     missed += s["cycle"] - last - 1
     last, samples = s["cycle"], samples + 1
 print("state: %d samples, cycles %d..%d, %d missed" % (samples, first["cycle"], last, missed), flush=True)
