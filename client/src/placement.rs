@@ -2,13 +2,15 @@
 //!
 //! A thread blocked in [`crate::shm::ShmClient::wait_state`] is woken by the core's state
 //! event. When its CPU is idle, that wake-up costs what the CPU (on a virtual machine: the
-//! hypervisor) needs to leave its idle state: about 80 µs on the 2-vCPU test machine, more
-//! than the core needs for its whole cycle. On the core's own CPU (`cycle.cpu` of the robot
-//! configuration, 1 by default) the waiting thread is woken on a CPU that is awake: it runs
-//! as soon as the core's cycle thread goes back to sleep. The core runs SCHED_FIFO, so a
+//! hypervisor) needs to leave its idle state: on the 2-vCPU development VM from nothing to
+//! about 35 µs of the sample's age, depending on the host's load. On the core's own CPU
+//! (`cycle.cpu` of the robot configuration, 1 by default) the waiting thread is woken on a CPU
+//! that is awake: it runs as soon as the core's cycle thread goes back to sleep. The core runs SCHED_FIFO, so a
 //! controller there at normal priority (or SCHED_FIFO below `cycle.priority`) can never delay
-//! a cycle; it only has to finish its answer before the next one. `docs/clients.md` ("Where
-//! to run a shared-memory controller") and `docs/performance.md` give the measured figures.
+//! a cycle; it only has to finish its answer before the next one. Give it a `SCHED_FIFO`
+//! priority below the core's there, or other work on that CPU can delay it by a period.
+//! `docs/clients.md` ("Where to run a shared-memory controller") and `docs/performance.md`
+//! give the measured figures.
 //!
 //! ```no_run
 //! // The core's CPU, from the robot configuration (`[cycle] cpu`).

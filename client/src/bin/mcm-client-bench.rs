@@ -44,7 +44,8 @@ struct Args {
     /// The `mcm` binary to start (default: beside this executable).
     #[arg(long)]
     mcm: Option<PathBuf>,
-    /// Run as SCHED_FIFO with this priority (1 to 99).
+    /// Run the measuring thread as SCHED_FIFO with this priority (1 to 99; below the core's
+    /// `cycle.priority`), after starting the MCM.
     #[arg(long)]
     rt_priority: Option<i32>,
     /// Pin the measuring thread to this CPU (after starting the MCM, which keeps its own).
@@ -102,11 +103,21 @@ fn main() {
 
 fn run() -> Result<bool, Box<dyn std::error::Error>> {
     let args = Args::parse();
+    // Stopped when dropped, at the end of `run`.
+    let (_started, instance) = match args.instance {
+        Some(i) => (None, i),
+        None => {
+            let s = start_mcm(args.mcm)?;
+            let i = s.instance.clone();
+            (Some(s), i)
+        }
+    };
+    // After starting the MCM: it must not inherit the client's policy or placement.
     if let Some(prio) = args.rt_priority {
         let p = libc::sched_param {
             sched_priority: prio,
         };
-        // SAFETY: sched_setscheduler on this process with a valid sched_param.
+        // SAFETY: sched_setscheduler on the calling thread (pid 0) with a valid sched_param.
         let r = unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &p) };
         if r != 0 {
             return Err(format!(
@@ -117,15 +128,6 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
         }
         println!("client runs as SCHED_FIFO {prio}");
     }
-    // Stopped when dropped, at the end of `run`.
-    let (_started, instance) = match args.instance {
-        Some(i) => (None, i),
-        None => {
-            let s = start_mcm(args.mcm)?;
-            let i = s.instance.clone();
-            (Some(s), i)
-        }
-    };
     if let Some(cpu) = args.cpu {
         mcm_client::placement::pin_current_thread(cpu)?;
         println!("client thread pinned to CPU {cpu}");
