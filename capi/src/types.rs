@@ -580,6 +580,43 @@ mod tests {
     }
 
     #[test]
+    fn flags_and_modes_are_the_contracts() {
+        use mcm_client::mcm_shared::mode::Mode;
+        use mcm_client::mcm_shared::sample as c;
+        let state = [
+            (MCM_STATE_ESTOP, c::STATE_ESTOP),
+            (MCM_STATE_SIMULATED, c::STATE_SIMULATED),
+            (MCM_STATE_ALL_CALIBRATED, c::STATE_ALL_CALIBRATED),
+            (MCM_STATE_PVT_STARVED, c::STATE_PVT_STARVED),
+            (MCM_STATE_NOT_REALTIME, c::STATE_NOT_REALTIME),
+            (MCM_STATE_SIM_ESTOP, c::STATE_SIM_ESTOP),
+            (MCM_STATE_SHUTTING_DOWN, c::STATE_SHUTTING_DOWN),
+            (MCM_AXIS_CALIBRATED, c::AXIS_CALIBRATED),
+            (MCM_AXIS_ONLINE, c::AXIS_ONLINE),
+            (MCM_AXIS_ENABLED, c::AXIS_ENABLED),
+            (MCM_AXIS_FAULT, c::AXIS_FAULT),
+            (MCM_AXIS_I2T_DERATED, c::AXIS_I2T_DERATED),
+        ];
+        for (i, (ours, contract)) in state.iter().enumerate() {
+            assert_eq!(ours, contract, "flag {i}");
+        }
+        let modes = [
+            (MCM_MODE_OFF, Mode::Off),
+            (MCM_MODE_ERROR, Mode::Error),
+            (MCM_MODE_HOLD, Mode::Hold),
+            (MCM_MODE_RELEASE, Mode::Release),
+            (MCM_MODE_TORQUE_CONTROL, Mode::TorqueControl),
+            (MCM_MODE_PVT, Mode::Pvt),
+            (MCM_MODE_CALIBRATION, Mode::Calibration),
+            (MCM_MODE_VELOCITY_CONTROL, Mode::VelocityControl),
+        ];
+        for (ours, mode) in modes {
+            assert_eq!(ours, mode.to_wire(), "{mode:?}");
+        }
+        assert_eq!(MCM_NUM_AXES, mcm_client::NUM_AXES);
+    }
+
+    #[test]
     fn strings_are_cut_to_fit_and_terminated() {
         let mut buf = [1 as c_char; 4];
         fill(&mut buf, "P-Rob2");
