@@ -67,7 +67,8 @@ impl ZmqConfig {
                 ));
             }
         }
-        if self.router == self.publish {
+        // The same endpoint twice cannot be bound; two `*` ports are two free ports.
+        if self.router == self.publish && !self.router.ends_with(":*") {
             return Err(invalid(
                 format!("{P}.publish"),
                 format!("{:?}", self.publish),
@@ -133,6 +134,11 @@ mod tests {
                 "{line}: {msg}"
             );
         }
+        let both_any = with("router = \"tcp://127.0.0.1:*\"\npublish = \"tcp://127.0.0.1:*\"");
+        assert!(
+            both_any.is_ok(),
+            "two `*` ports are two free ports: {both_any:?}"
+        );
         assert!(endpoint_ok("ipc:///tmp/mcm-cmd"));
         assert!(endpoint_ok("tcp://127.0.0.1:*"));
         assert!(!endpoint_ok("tcp://:5"));
