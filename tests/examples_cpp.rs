@@ -10,21 +10,13 @@
 
 mod common;
 
-use common::{Mcm, six};
+use common::{Mcm, find_program, number_after};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// Longest run of one example (the first one calibrates: about 12 s).
 const EXAMPLE_TIMEOUT: Duration = Duration::from_secs(90);
-
-fn find_program(name: &str) -> Option<PathBuf> {
-    std::env::var_os("PATH").and_then(|paths| {
-        std::env::split_paths(&paths)
-            .map(|d| d.join(name))
-            .find(|p| p.is_file())
-    })
-}
 
 /// Run a build step to its end; its stdout, after checking it succeeded.
 fn step(what: &str, cmd: &mut Command) -> String {
@@ -77,28 +69,6 @@ fn run_ok(exe: &Path, args: &[&str]) -> String {
     let (ok, out, err) = run(exe, args);
     assert!(ok, "{} failed: {out}{err}", exe.display());
     out
-}
-
-/// The number after `before` in `text`.
-fn number_after(text: &str, before: &str) -> f64 {
-    let rest = &text[text
-        .find(before)
-        .unwrap_or_else(|| panic!("{before:?} in {text}"))
-        + before.len()..];
-    let end = rest
-        .find(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
-        .unwrap_or(rest.len());
-    rest[..end]
-        .parse()
-        .unwrap_or_else(|e| panic!("{before:?}: {e} in {text}"))
-}
-
-/// The simulation's true joint angles [deg].
-fn truth(mcm: &Mcm) -> [f64; 6] {
-    let v = mcm
-        .client()
-        .request(r#"{"command":"sim","arguments":{"external_torques":[0,0,0,0,0,0]}}"#);
-    six(&v["true_position"])
 }
 
 /// Build the examples as docs/clients.md says: install the library, then find_package; and
@@ -264,17 +234,17 @@ fn cpp_examples_build_with_cmake_and_run_against_the_simulated_arm() {
     let out = run_ok(&bin.join("calibrate_and_move"), &["--addr", &addr]);
     assert!(out.contains("calibrated in"), "{out}");
     assert!(out.contains("axis 1 at 20.000 deg (mode PVT)"), "{out}");
-    let q = truth(&mcm);
+    let q = mcm.client().truth().0;
     assert!((q[0] - 20.0).abs() < 0.2, "axis 1 truly at {q:?}");
 
     // The torque loop over shared memory: the spring pulls axis 1 by about 5 degrees
     // (friction leaves it a little short), every cycle answered through the C++ callback.
-    let before = truth(&mcm)[0];
+    let before = mcm.client().truth().0[0];
     let out = run_ok(&bin.join("torque_spring_shm"), &["--instance", &inst]);
     let short = number_after(&out, "deg (");
     assert!(short.abs() < 1.5, "{short} deg from the set-point: {out}");
     assert!(out.contains("now HOLD"), "{out}");
-    let moved = truth(&mcm)[0] - before;
+    let moved = mcm.client().truth().0[0] - before;
     assert!(
         (3.5..6.5).contains(&moved),
         "axis 1 truly moved {moved} deg"

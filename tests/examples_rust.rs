@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{Mcm, six};
+use common::{Mcm, number_after};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::OnceLock;
@@ -79,28 +79,6 @@ fn run(name: &str, args: &[&str]) -> String {
     stdout
 }
 
-/// The number after `before` in `text`.
-fn number_after(text: &str, before: &str) -> f64 {
-    let rest = &text[text
-        .find(before)
-        .unwrap_or_else(|| panic!("{before:?} in {text}"))
-        + before.len()..];
-    let end = rest
-        .find(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
-        .unwrap_or(rest.len());
-    rest[..end]
-        .parse()
-        .unwrap_or_else(|e| panic!("{before:?}: {e} in {text}"))
-}
-
-/// The simulation's true joint angles [deg].
-fn truth(mcm: &Mcm) -> [f64; 6] {
-    let v = mcm
-        .client()
-        .request(r#"{"command":"sim","arguments":{"external_torques":[0,0,0,0,0,0]}}"#);
-    six(&v["true_position"])
-}
-
 #[test]
 fn every_rust_example_runs_against_the_simulated_arm() {
     let mcm = Mcm::start("exrs");
@@ -112,13 +90,13 @@ fn every_rust_example_runs_against_the_simulated_arm() {
     let out = run("calibrate_and_move", &tcp);
     assert!(out.contains("calibrated in"), "{out}");
     assert!(out.contains("axis 1 at 20.000 deg (mode PVT)"), "{out}");
-    let q = truth(&mcm);
+    let q = mcm.client().truth().0;
     assert!((q[0] - 20.0).abs() < 0.2, "axis 1 truly at {q:?}");
 
     let out = run("move_all", &tcp);
     assert!(out.contains("move_all planned: longest axis 1"), "{out}");
     assert!(out.contains("largest distance to the target 0.00"), "{out}");
-    let q = truth(&mcm);
+    let q = mcm.client().truth().0;
     for (i, want) in [0.0, 10.0, 20.0, 0.0, 0.0, 0.0].iter().enumerate() {
         assert!((q[i] - want).abs() < 0.2, "axis {} truly at {q:?}", i + 1);
     }
@@ -129,7 +107,7 @@ fn every_rust_example_runs_against_the_simulated_arm() {
         (number_after(&out, "peak excursion ") - 20.0).abs() < 0.5,
         "{out}"
     );
-    assert!((truth(&mcm)[0] - 0.0).abs() < 0.2);
+    assert!((mcm.client().truth().0[0] - 0.0).abs() < 0.2);
 
     // VELOCITY_CONTROL: axis 1 out at +10 deg/s for 1 s and back at -10 deg/s (ramped within
     // its acceleration and jerk limits), then HOLD: out by about 10 deg, back near its start.
@@ -143,13 +121,13 @@ fn every_rust_example_runs_against_the_simulated_arm() {
     assert!((8.0..10.5).contains(&(far - start)), "{out}");
     assert!((end - start).abs() < 3.0, "back near the start: {out}");
     assert!(out.contains("(mode HOLD)"), "{out}");
-    let q = truth(&mcm)[0];
+    let q = mcm.client().truth().0[0];
     assert!((q - end).abs() < 0.1, "axis 1 truly at {q}: {out}");
 
     // The spring pulls axis 1 by 5 degrees (friction leaves it a little short).
     let mut shm_out = String::new();
     for (name, args) in [("torque_spring_tcp", &tcp), ("torque_spring_shm", &shm)] {
-        let before = truth(&mcm)[0];
+        let before = mcm.client().truth().0[0];
         let out = run(name, args);
         let short = number_after(&out, "deg (");
         assert!(
@@ -157,7 +135,7 @@ fn every_rust_example_runs_against_the_simulated_arm() {
             "{name}: {short} deg from the set-point: {out}"
         );
         assert!(out.contains("now HOLD"), "{out}");
-        let moved = truth(&mcm)[0] - before;
+        let moved = mcm.client().truth().0[0] - before;
         assert!(
             (3.5..6.5).contains(&moved),
             "{name}: axis 1 truly moved {moved} deg"

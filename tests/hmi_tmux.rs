@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{Mcm, WAIT, unique_instance};
+use common::{Mcm, WAIT, find_program, unique_instance};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Output};
@@ -15,13 +15,6 @@ use std::time::{Duration, Instant};
 
 /// Pause between two looks at the screen while polling.
 const POLL: Duration = Duration::from_millis(50);
-
-fn find_program(name: &str) -> Option<PathBuf> {
-    let path = std::env::var_os("PATH")?;
-    std::env::split_paths(&path)
-        .map(|d| d.join(name))
-        .find(|p| p.is_file())
-}
 
 /// A private tmux server (its own socket) running one session; killed on drop.
 struct Tmux {

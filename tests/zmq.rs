@@ -18,12 +18,6 @@ use common::{Mcm, python};
 use std::path::PathBuf;
 use std::process::Command;
 
-/// A port free right now on loopback (the MCM binds it a moment later).
-fn free_port() -> u16 {
-    let l = std::net::TcpListener::bind("127.0.0.1:0").expect("bind a free port");
-    l.local_addr().unwrap().port()
-}
-
 fn run_python(py: &PathBuf, script: &str, args: &[&str]) -> String {
     let out = python::run(
         Command::new(py)
@@ -43,9 +37,21 @@ fn a_pyzmq_client_subscribes_commands_and_sees_errors() {
     let Some(py) = python::venv().map_or_else(|e| python::missing(test, &e), Some) else {
         return;
     };
-    let router = format!("tcp://127.0.0.1:{}", free_port());
-    let publish = format!("tcp://127.0.0.1:{}", free_port());
-    let mcm = Mcm::start_with("zmq", &["--zmq-router", &router, "--zmq-publish", &publish]);
+    // Port `*`: the gateway binds free ports and the ready line names them (no probe-then-bind
+    // race between parallel tests).
+    let mcm = Mcm::start_with(
+        "zmq",
+        &[
+            "--zmq-router",
+            "tcp://127.0.0.1:*",
+            "--zmq-publish",
+            "tcp://127.0.0.1:*",
+        ],
+    );
+    let (router, publish) = mcm
+        .zmq
+        .clone()
+        .expect("zmq_router= and zmq_publish= in the ready line");
 
     // 1. The example: 600 cycles (3 s) counted, none missed; calibrate and move over ZeroMQ.
     let out = run_python(

@@ -18,6 +18,29 @@ static COUNTER: AtomicU32 = AtomicU32::new(0);
 /// How long any single wait may take before the test fails.
 pub const WAIT: Duration = Duration::from_secs(20);
 
+/// The program `name` on `PATH`, if any.
+pub fn find_program(name: &str) -> Option<std::path::PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|d| d.join(name))
+        .find(|p| p.is_file())
+}
+
+/// The number printed right after `before` in `text` (an example's output); panics naming both
+/// when it is not there.
+pub fn number_after(text: &str, before: &str) -> f64 {
+    let rest = &text[text
+        .find(before)
+        .unwrap_or_else(|| panic!("{before:?} in {text}"))
+        + before.len()..];
+    let end = rest
+        .find(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+        .unwrap_or(rest.len());
+    rest[..end]
+        .parse()
+        .unwrap_or_else(|e| panic!("{before:?}: {e} in {text}"))
+}
+
 /// A unique instance name for this test process.
 pub fn unique_instance(tag: &str) -> String {
     format!(
@@ -37,6 +60,8 @@ pub struct Mcm {
     pub hmi: SocketAddr,
     pub rt_pid: i32,
     pub gateway_pid: i32,
+    /// The ZeroMQ endpoints as bound (`--zmq...` given), e.g. `tcp://127.0.0.1:40123`.
+    pub zmq: Option<(String, String)>,
 }
 
 fn field(line: &str, key: &str) -> Option<String> {
@@ -96,6 +121,7 @@ impl Mcm {
             hmi: "0.0.0.0:0".parse().unwrap(),
             rt_pid: 0,
             gateway_pid: 0,
+            zmq: None,
         };
         mcm.wait_ready();
         mcm
@@ -111,6 +137,7 @@ impl Mcm {
             .expect("gateway_pid=")
             .parse()
             .unwrap();
+        self.zmq = field(&line, "zmq_router").zip(field(&line, "zmq_publish"));
     }
 
     /// The next stdout line starting with `prefix` (other lines are skipped).
