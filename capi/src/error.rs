@@ -223,6 +223,46 @@ pub(crate) fn guard(
     fail.code
 }
 
+/// A client handle of the C API: where a failed call on it keeps its message.
+pub(crate) trait Handle {
+    fn last_error(&mut self) -> &mut LastError;
+}
+
+/// Run `body` on the handle `h` (NULL refused), recording a failure in it as [`guard`] does.
+/// Allocates nothing when `body` succeeds.
+///
+/// # Safety
+/// `h` is NULL or a live handle of its connect function, used by its thread only.
+pub(crate) unsafe fn call<H: Handle>(
+    function: &str,
+    h: *mut H,
+    body: impl FnOnce(&mut H) -> Result<(), Fail>,
+) -> mcm_error_t {
+    // SAFETY: the caller's promise.
+    let Some(h) = (unsafe { h.as_mut() }) else {
+        return guard(function, |_| {}, || Err(Fail::null(function, "client")));
+    };
+    let mut failed = None;
+    let code = guard(function, |f| failed = Some(f.clone()), || body(h));
+    if let Some(f) = failed {
+        h.last_error().set(&f);
+    }
+    code
+}
+
+/// Drop the handle `h` (NULL: nothing); a panic while dropping stays on this side.
+///
+/// # Safety
+/// `h` is NULL or a handle from `Box::into_raw` of its connect function, closed once.
+pub(crate) unsafe fn close<H>(h: *mut H) {
+    if !h.is_null() {
+        let _ = catch_unwind(AssertUnwindSafe(|| {
+            // SAFETY: the caller's promise.
+            drop(unsafe { Box::from_raw(h) })
+        }));
+    }
+}
+
 /// The message of the last failed call on the calling thread (any function, also the connect
 /// functions), or "" when none failed yet. The pointer stays valid until the next failing call
 /// on this thread. Real-time safe.

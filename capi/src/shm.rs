@@ -4,7 +4,9 @@
 //! real-time code (no allocation on success); the commands that wait for a reply are not.
 
 use crate::args::{self, put, six, text};
-use crate::error::{Fail, LastError, c_string, control_end, guard, mcm_error_t};
+use crate::error::{
+    Fail, Handle, LastError, c_string, call, close, control_end, guard, mcm_error_t,
+};
 use crate::types::*;
 use mcm_client::Mode;
 use mcm_client::mcm_shared::command::{
@@ -22,26 +24,10 @@ pub struct mcm_shm_client_t {
     event_message: CString,
 }
 
-/// Run `body` on the handle `h` (NULL refused), recording a failure in it. Allocates nothing
-/// when `body` succeeds.
-///
-/// # Safety
-/// `h` is NULL or a handle from `mcm_shm_connect` not closed yet, used by its thread only.
-unsafe fn call(
-    function: &str,
-    h: *mut mcm_shm_client_t,
-    body: impl FnOnce(&mut mcm_shm_client_t) -> Result<(), Fail>,
-) -> mcm_error_t {
-    // SAFETY: the caller's promise.
-    let Some(h) = (unsafe { h.as_mut() }) else {
-        return guard(function, |_| {}, || Err(Fail::null(function, "client")));
-    };
-    let mut failed = None;
-    let code = guard(function, |f| failed = Some(f.clone()), || body(h));
-    if let Some(f) = failed {
-        h.last.set(&f);
+impl Handle for mcm_shm_client_t {
+    fn last_error(&mut self) -> &mut LastError {
+        &mut self.last
     }
-    code
 }
 
 /// Open the services of the MCM instance `instance` ("default" unless the MCM was started with
@@ -77,12 +63,8 @@ pub unsafe extern "C" fn mcm_shm_connect(
 /// drove ends in HOLD.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_shm_close(client: *mut mcm_shm_client_t) {
-    if !client.is_null() {
-        // SAFETY: a handle from mcm_shm_connect, closed once (the header's contract).
-        let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            drop(unsafe { Box::from_raw(client) })
-        }));
-    }
+    // SAFETY: NULL or a handle from mcm_shm_connect, closed once (the header's contract).
+    unsafe { close(client) }
 }
 
 /// The message of the last failed call on this handle ("" when none failed). Real-time safe.

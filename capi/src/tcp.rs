@@ -2,7 +2,7 @@
 //! call bounded by a timeout. Not real-time code: calls allocate and wait on the network.
 
 use crate::args::{self, put, six, text};
-use crate::error::{Fail, LastError, c_string, guard, mcm_error_t};
+use crate::error::{Fail, Handle, LastError, c_string, call, close, guard, mcm_error_t};
 use crate::types::*;
 use mcm_client::mcm_shared::command::{PvtPoint, Which};
 use mcm_client::tcp::{CalibrateOptions, Event, TcpClient, TorqueOptions, VelocityOptions};
@@ -16,25 +16,10 @@ pub struct mcm_tcp_client_t {
     event_message: CString,
 }
 
-/// Run `body` on the handle `h` (NULL refused), recording a failure in it.
-///
-/// # Safety
-/// `h` is NULL or a handle from `mcm_tcp_connect` not closed yet, used by this thread only.
-unsafe fn call(
-    function: &str,
-    h: *mut mcm_tcp_client_t,
-    body: impl FnOnce(&mut mcm_tcp_client_t) -> Result<(), Fail>,
-) -> mcm_error_t {
-    // SAFETY: the caller's promise.
-    let Some(h) = (unsafe { h.as_mut() }) else {
-        return guard(function, |_| {}, || Err(Fail::null(function, "client")));
-    };
-    let mut failed = None;
-    let code = guard(function, |f| failed = Some(f.clone()), || body(h));
-    if let Some(f) = failed {
-        h.last.set(&f);
+impl Handle for mcm_tcp_client_t {
+    fn last_error(&mut self) -> &mut LastError {
+        &mut self.last
     }
-    code
 }
 
 /// Connect to the MCM's JSON port at `addr` ("host:port", e.g. "127.0.0.1:18010"); on success
@@ -70,12 +55,8 @@ pub unsafe extern "C" fn mcm_tcp_connect(
 /// controlled ends in HOLD (the gateway releases its control).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_tcp_close(client: *mut mcm_tcp_client_t) {
-    if !client.is_null() {
-        // SAFETY: a handle from mcm_tcp_connect, closed once (the header's contract).
-        let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            drop(unsafe { Box::from_raw(client) })
-        }));
-    }
+    // SAFETY: NULL or a handle from mcm_tcp_connect, closed once (the header's contract).
+    unsafe { close(client) }
 }
 
 /// The message of the last failed call on this handle ("" when none failed); valid until
