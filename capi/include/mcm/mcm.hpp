@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -177,6 +178,14 @@ struct Predicate {
 };
 }  // namespace detail
 
+namespace detail {
+/// Closes a C handle (the destructor of the RAII classes).
+struct Close {
+    void operator()(mcm_tcp_client_t* h) const noexcept { mcm_tcp_close(h); }
+    void operator()(mcm_shm_client_t* h) const noexcept { mcm_shm_close(h); }
+};
+}  // namespace detail
+
 /// A connection to the MCM's JSON port (TCP): every command of docs/protocol.md, blocking,
 /// bounded. Move-only; the destructor closes the connection (what it controlled ends in HOLD).
 class TcpClient {
@@ -188,20 +197,12 @@ public:
         if (c != MCM_OK) return detail::thread_error(c);
         return TcpClient(h);
     }
-    TcpClient(TcpClient&& o) noexcept : h_(std::exchange(o.h_, nullptr)) {}
-    TcpClient& operator=(TcpClient&& o) noexcept {
-        if (this != &o) {
-            mcm_tcp_close(h_);
-            h_ = std::exchange(o.h_, nullptr);
-        }
-        return *this;
-    }
-    TcpClient(const TcpClient&) = delete;
-    TcpClient& operator=(const TcpClient&) = delete;
-    ~TcpClient() { mcm_tcp_close(h_); }
+    // Move-only: the handle is a unique_ptr whose deleter closes it.
+    TcpClient(TcpClient&&) noexcept = default;
+    TcpClient& operator=(TcpClient&&) noexcept = default;
 
     /// The C handle, for functions this layer does not wrap.
-    mcm_tcp_client_t* handle() noexcept { return h_; }
+    mcm_tcp_client_t* handle() noexcept { return h_.get(); }
 
     Result<Status> status() { return get<Status>(mcm_tcp_status); }
     Result<Status> status_detail() { return get<Status>(mcm_tcp_status_detail); }
@@ -210,51 +211,51 @@ public:
     Result<Status> release() { return get<Status>(mcm_tcp_release); }
     Result<Status> pvt(double dt_s) {
         Status s{};
-        return with(mcm_tcp_pvt(h_, dt_s, &s), s);
+        return with(mcm_tcp_pvt(h_.get(), dt_s, &s), s);
     }
     /// Home the axes (default options: all axes, default directions); returns when done.
     Result<void> calibrate(const CalibrateOptions& o = CalibrateOptions{}) {
-        return done(mcm_tcp_calibrate(h_, &o));
+        return done(mcm_tcp_calibrate(h_.get(), &o));
     }
     /// hold, then calibrate only when needed; true when it calibrated.
     Result<bool> calibrate_if_needed() {
         bool b = false;
-        return with(mcm_tcp_calibrate_if_needed(h_, &b), b);
+        return with(mcm_tcp_calibrate_if_needed(h_.get(), &b), b);
     }
     Result<Status> torque_control(const ControlOptions& o = mcm_control_options_default()) {
         Status s{};
-        return with(mcm_tcp_torque_control(h_, &o, &s), s);
+        return with(mcm_tcp_torque_control(h_.get(), &o, &s), s);
     }
-    Result<void> set_torques(const Six& t) { return done(mcm_tcp_set_torques(h_, t.data())); }
+    Result<void> set_torques(const Six& t) { return done(mcm_tcp_set_torques(h_.get(), t.data())); }
     Result<Status> velocity_control(const ControlOptions& o = mcm_control_options_default()) {
         Status s{};
-        return with(mcm_tcp_velocity_control(h_, &o, &s), s);
+        return with(mcm_tcp_velocity_control(h_.get(), &o, &s), s);
     }
     Result<void> set_velocities(const Six& v) {
-        return done(mcm_tcp_set_velocities(h_, v.data()));
+        return done(mcm_tcp_set_velocities(h_.get(), v.data()));
     }
     Result<void> move_axis(uint32_t axis, double target_deg, double velocity_factor) {
-        return done(mcm_tcp_move_axis(h_, axis, target_deg, velocity_factor));
+        return done(mcm_tcp_move_axis(h_.get(), axis, target_deg, velocity_factor));
     }
     Result<MoveAllResult> move_all(const Six& targets_deg, double velocity_factor) {
         MoveAllResult r{};
-        return with(mcm_tcp_move_all(h_, targets_deg.data(), velocity_factor, &r), r);
+        return with(mcm_tcp_move_all(h_.get(), targets_deg.data(), velocity_factor, &r), r);
     }
     Result<void> pvt_points(const std::vector<PvtPoint>& points) {
-        return done(mcm_tcp_pvt_points(h_, points.data(), points.size()));
+        return done(mcm_tcp_pvt_points(h_.get(), points.data(), points.size()));
     }
-    Result<void> take_control() { return done(mcm_tcp_take_control(h_)); }
-    Result<void> release_control() { return done(mcm_tcp_release_control(h_)); }
+    Result<void> take_control() { return done(mcm_tcp_take_control(h_.get())); }
+    Result<void> release_control() { return done(mcm_tcp_release_control(h_.get())); }
     Result<void> authenticate(const std::string& secret) {
-        return done(mcm_tcp_authenticate(h_, secret.c_str()));
+        return done(mcm_tcp_authenticate(h_.get(), secret.c_str()));
     }
-    Result<void> reconnect() { return done(mcm_tcp_reconnect(h_)); }
+    Result<void> reconnect() { return done(mcm_tcp_reconnect(h_.get())); }
     /// The next spontaneous message within timeout_s, or std::nullopt. Its `message` lives
     /// until the next call on this client.
     Result<std::optional<mcm_event_t>> next_event(double timeout_s) {
         mcm_event_t e{};
         bool got = false;
-        const mcm_error_t c = mcm_tcp_next_event(h_, timeout_s, &e, &got);
+        const mcm_error_t c = mcm_tcp_next_event(h_.get(), timeout_s, &e, &got);
         if (c != MCM_OK) return error(c);
         return got ? std::optional<mcm_event_t>(e) : std::nullopt;
     }
@@ -263,7 +264,7 @@ public:
     Result<Status> wait_until(const std::string& what, double timeout_s, F pred) {
         detail::Predicate<F, Status> p(&pred);
         Status s{};
-        const mcm_error_t c = mcm_tcp_wait_until(h_, what.c_str(), timeout_s,
+        const mcm_error_t c = mcm_tcp_wait_until(h_.get(), what.c_str(), timeout_s,
                                                  &detail::Predicate<F, Status>::call, &p, &s);
         p.rethrow();
         return with(c, s);
@@ -272,7 +273,7 @@ public:
 private:
     explicit TcpClient(mcm_tcp_client_t* h) : h_(h) {}
     Error error(mcm_error_t c) const {
-        return Error(c, mcm_tcp_last_reject(h_), mcm_tcp_last_error(h_));
+        return Error(c, mcm_tcp_last_reject(h_.get()), mcm_tcp_last_error(h_.get()));
     }
     Result<void> done(mcm_error_t c) const {
         if (c != MCM_OK) return error(c);
@@ -286,9 +287,9 @@ private:
     template <class T, class Fn>
     Result<T> get(Fn fn) {
         T v{};
-        return with(fn(h_, &v), v);
+        return with(fn(h_.get(), &v), v);
     }
-    mcm_tcp_client_t* h_;
+    std::unique_ptr<mcm_tcp_client_t, detail::Close> h_;
 };
 
 /// A client of the real-time core's shared-memory services (same computer): each cycle's
@@ -304,87 +305,79 @@ public:
         if (c != MCM_OK) return detail::thread_error(c);
         return ShmClient(h);
     }
-    ShmClient(ShmClient&& o) noexcept : h_(std::exchange(o.h_, nullptr)) {}
-    ShmClient& operator=(ShmClient&& o) noexcept {
-        if (this != &o) {
-            mcm_shm_close(h_);
-            h_ = std::exchange(o.h_, nullptr);
-        }
-        return *this;
-    }
-    ShmClient(const ShmClient&) = delete;
-    ShmClient& operator=(const ShmClient&) = delete;
-    ~ShmClient() { mcm_shm_close(h_); }
+    // Move-only: the handle is a unique_ptr whose deleter closes it.
+    ShmClient(ShmClient&&) noexcept = default;
+    ShmClient& operator=(ShmClient&&) noexcept = default;
 
-    mcm_shm_client_t* handle() noexcept { return h_; }
+    mcm_shm_client_t* handle() noexcept { return h_.get(); }
 
     /// The next cycle's state (at most 0.5 s). Real-time safe.
     Result<State> wait_state() {
         State s{};
-        return with(mcm_shm_wait_state(h_, &s), s);
+        return with(mcm_shm_wait_state(h_.get(), &s), s);
     }
     Result<State> wait_state(double timeout_s) {
         State s{};
-        return with(mcm_shm_wait_state_timeout(h_, timeout_s, &s), s);
+        return with(mcm_shm_wait_state_timeout(h_.get(), timeout_s, &s), s);
     }
     /// The newest state without waiting. Real-time safe.
     Result<State> latest() {
         State s{};
-        return with(mcm_shm_latest(h_, &s), s);
+        return with(mcm_shm_latest(h_.get(), &s), s);
     }
     uint64_t client_id() {
         uint64_t id = 0;
-        (void)mcm_shm_client_id(h_, &id);
+        (void)mcm_shm_client_id(h_.get(), &id);
         return id;
     }
     uint64_t missed_states() {
         uint64_t n = 0;
-        (void)mcm_shm_missed_states(h_, &n);
+        (void)mcm_shm_missed_states(h_.get(), &n);
         return n;
     }
-    Result<void> hold() { return done(mcm_shm_hold(h_)); }
+    Result<void> hold() { return done(mcm_shm_hold(h_.get())); }
     Result<ShmInfo> info() {
         ShmInfo i{};
-        return with(mcm_shm_info(h_, &i), i);
+        return with(mcm_shm_info(h_.get(), &i), i);
     }
     Result<void> calibrate(const CalibrateOptions& o = CalibrateOptions{}) {
-        return done(mcm_shm_calibrate(h_, &o));
+        return done(mcm_shm_calibrate(h_.get(), &o));
     }
     Result<bool> calibrate_if_needed() {
         bool b = false;
-        return with(mcm_shm_calibrate_if_needed(h_, &b), b);
+        return with(mcm_shm_calibrate_if_needed(h_.get(), &b), b);
     }
-    Result<void> release() { return done(mcm_shm_release(h_)); }
-    Result<void> pvt(double dt_s) { return done(mcm_shm_pvt(h_, dt_s)); }
+    Result<void> release() { return done(mcm_shm_release(h_.get())); }
+    Result<void> pvt(double dt_s) { return done(mcm_shm_pvt(h_.get(), dt_s)); }
     Result<void> torque_control(const ControlOptions& o = mcm_control_options_default()) {
-        return done(mcm_shm_torque_control(h_, &o));
+        return done(mcm_shm_torque_control(h_.get(), &o));
     }
     /// Without waiting; a refusal comes as an event. Real-time safe.
-    Result<void> set_torques(const Six& t) { return done(mcm_shm_set_torques(h_, t.data())); }
+    Result<void> set_torques(const Six& t) { return done(mcm_shm_set_torques(h_.get(), t.data())); }
     Result<void> velocity_control(const ControlOptions& o = mcm_control_options_default()) {
-        return done(mcm_shm_velocity_control(h_, &o));
+        return done(mcm_shm_velocity_control(h_.get(), &o));
     }
     /// Without waiting. Real-time safe.
     Result<void> set_velocities(const Six& v) {
-        return done(mcm_shm_set_velocities(h_, v.data()));
+        return done(mcm_shm_set_velocities(h_.get(), v.data()));
     }
     Result<void> move_axis(uint32_t axis, double target_deg, double velocity_factor) {
-        return done(mcm_shm_move_axis(h_, axis, target_deg, velocity_factor));
+        return done(mcm_shm_move_axis(h_.get(), axis, target_deg, velocity_factor));
     }
     Result<MoveAllResult> move_all(const Six& targets_deg, double velocity_factor) {
         MoveAllResult r{};
-        return with(mcm_shm_move_all(h_, targets_deg.data(), velocity_factor, &r), r);
+        return with(mcm_shm_move_all(h_.get(), targets_deg.data(), velocity_factor, &r), r);
     }
     Result<void> pvt_points(const std::vector<PvtPoint>& points) {
-        return done(mcm_shm_pvt_points(h_, points.data(), points.size()));
+        return done(mcm_shm_pvt_points(h_.get(), points.data(), points.size()));
     }
-    Result<void> take_control() { return done(mcm_shm_take_control(h_)); }
-    Result<void> release_control() { return done(mcm_shm_release_control(h_)); }
+    Result<void> take_control() { return done(mcm_shm_take_control(h_.get())); }
+    Result<void> release_control() { return done(mcm_shm_release_control(h_.get())); }
     /// The oldest event not taken yet, or std::nullopt.
     Result<std::optional<mcm_event_t>> next_event() {
         mcm_event_t e{};
         bool got = false;
-        const mcm_error_t c = mcm_shm_next_event(h_, &e, &got);
+        const mcm_error_t c = mcm_shm_next_event(h_.get(), &e, &got);
         if (c != MCM_OK) return error(c);
         return got ? std::optional<mcm_event_t>(e) : std::nullopt;
     }
@@ -393,7 +386,7 @@ public:
     Result<State> wait_until(const std::string& what, double timeout_s, F pred) {
         detail::Predicate<F, State> p(&pred);
         State s{};
-        const mcm_error_t c = mcm_shm_wait_until(h_, what.c_str(), timeout_s,
+        const mcm_error_t c = mcm_shm_wait_until(h_.get(), what.c_str(), timeout_s,
                                                  &detail::Predicate<F, State>::call, &p, &s);
         p.rethrow();
         return with(c, s);
@@ -429,7 +422,7 @@ public:
 #endif
         };
         ControlResult r{ControlSummary{}, Result<void>()};
-        const mcm_error_t c = mcm_shm_control(h_, trampoline, &ctx, &r.summary);
+        const mcm_error_t c = mcm_shm_control(h_.get(), trampoline, &ctx, &r.summary);
 #if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
         if (ctx.thrown) std::rethrow_exception(ctx.thrown);
 #endif
@@ -440,7 +433,7 @@ public:
 private:
     explicit ShmClient(mcm_shm_client_t* h) : h_(h) {}
     Error error(mcm_error_t c) const {
-        return Error(c, mcm_shm_last_reject(h_), mcm_shm_last_error(h_));
+        return Error(c, mcm_shm_last_reject(h_.get()), mcm_shm_last_error(h_.get()));
     }
     Result<void> done(mcm_error_t c) const {
         if (c != MCM_OK) return error(c);
@@ -451,7 +444,7 @@ private:
         if (c != MCM_OK) return error(c);
         return v;
     }
-    mcm_shm_client_t* h_;
+    std::unique_ptr<mcm_shm_client_t, detail::Close> h_;
 };
 
 }  // namespace mcm
