@@ -24,7 +24,10 @@
 //!
 //! Functions marked "real-time safe" in the header (`mcm_shm_wait_state`, `mcm_shm_latest`,
 //! `mcm_shm_set_torques`, `mcm_shm_set_velocities`, `mcm_shm_control` itself once running, the
-//! accessors) neither allocate nor lock on success; everything else may allocate and block.
+//! accessors) neither lock nor block on success, and the reads allocate nothing; sending a
+//! command (`set_torques`, `set_velocities`, each answer of the loop) makes one small
+//! allocation inside iceoryx2 0.10's publisher (its loan), none of this library's own
+//! (`tests/capi_realtime.rs` counts them). Everything else may allocate and block.
 
 #![allow(non_camel_case_types)]
 // The C functions check their pointers; the caller's promise is the header's documentation.

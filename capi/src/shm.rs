@@ -1,7 +1,8 @@
 //! `mcm_shm_*`: the real-time core's shared-memory services (mcm-client's `shm::ShmClient`),
 //! with the control loop. `mcm_shm_wait_state`, `mcm_shm_latest`, `mcm_shm_set_torques`,
 //! `mcm_shm_set_velocities`, the accessors and the running loop of `mcm_shm_control` are
-//! real-time code (no allocation on success); the commands that wait for a reply are not.
+//! real-time code (no lock, no blocking; a command sent makes one allocation inside iceoryx2's
+//! publisher, see the crate's documentation); the commands that wait for a reply are not.
 
 use crate::args::{self, put, six, text};
 use crate::error::{
@@ -261,7 +262,8 @@ pub unsafe extern "C" fn mcm_shm_torque_control(
     }
 }
 
-/// Set the six torques [Nm] without waiting (a refusal comes as an event). Real-time safe.
+/// Set the six torques [Nm] without waiting (a refusal comes as an event). Real-time safe
+/// (one small allocation inside iceoryx2's publisher).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_shm_set_torques(
     client: *mut mcm_shm_client_t,
@@ -293,7 +295,8 @@ pub unsafe extern "C" fn mcm_shm_velocity_control(
     }
 }
 
-/// Set the six velocities [deg/s] without waiting. Real-time safe.
+/// Set the six velocities [deg/s] without waiting. Real-time safe (one small allocation
+/// inside iceoryx2's publisher).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_shm_set_velocities(
     client: *mut mcm_shm_client_t,
@@ -506,7 +509,8 @@ pub unsafe extern "C" fn mcm_shm_wait_until(
 /// (`MCM_ERR_MODE_LEFT`, `MCM_ERR_SAFETY_TRIP`, `MCM_ERR_OWNERSHIP_LOST`, `MCM_ERR_REFUSED`,
 /// `MCM_ERR_NOT_CONTROLLING`, `MCM_ERR_TIMEOUT`, `MCM_ERR_ARGUMENT` for an unknown
 /// `out->kind`). `summary` (may be NULL) is filled either way: cycles, missed, answers applied
-/// in the next cycle. The running loop allocates nothing.
+/// in the next cycle. The running loop allocates only inside iceoryx2's publisher, once per
+/// answer sent.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_shm_control(
     client: *mut mcm_shm_client_t,

@@ -15,7 +15,9 @@
  * Real-time loops may call, after connect: mcm_shm_wait_state, mcm_shm_wait_state_timeout,
  * mcm_shm_latest, mcm_shm_set_torques, mcm_shm_set_velocities, mcm_shm_client_id,
  * mcm_shm_missed_states, mcm_last_error, mcm_*_last_reject, mcm_*_name, and mcm_shm_control
- * (whose running loop allocates nothing). They do not allocate or lock on success. Every
+ * (once running). They do not lock or block on success; the reads allocate nothing, and each
+ * command sent (set_torques, set_velocities, each answer of the loop) makes one small
+ * allocation inside iceoryx2 0.10's publisher (its loan), none of this library's own. Every
  * other function may allocate and block (they wait for the MCM's reply, bounded).
  *
  * docs/clients.md ("C and C++") has the build, the install and examples. */
@@ -492,13 +494,15 @@ enum mcm_error_t mcm_shm_pvt(struct mcm_shm_client_t *client, double dt_s);
 // Enter TORQUE_CONTROL (`options` NULL: the defaults; `dt_status_s` is not used here).
 enum mcm_error_t mcm_shm_torque_control(struct mcm_shm_client_t *client, const struct mcm_control_options_t *options);
 
-// Set the six torques [Nm] without waiting (a refusal comes as an event). Real-time safe.
+// Set the six torques [Nm] without waiting (a refusal comes as an event). Real-time safe
+// (one small allocation inside iceoryx2's publisher).
 enum mcm_error_t mcm_shm_set_torques(struct mcm_shm_client_t *client, const double *torques);
 
 // Enter VELOCITY_CONTROL (`options` NULL: the defaults; only `timeout_s` is used).
 enum mcm_error_t mcm_shm_velocity_control(struct mcm_shm_client_t *client, const struct mcm_control_options_t *options);
 
-// Set the six velocities [deg/s] without waiting. Real-time safe.
+// Set the six velocities [deg/s] without waiting. Real-time safe (one small allocation
+// inside iceoryx2's publisher).
 enum mcm_error_t mcm_shm_set_velocities(struct mcm_shm_client_t *client, const double *velocities);
 
 // Move axis `axis` (1 to 6) to `target_deg` at `velocity_factor`; OK as the motion starts.
@@ -533,7 +537,8 @@ enum mcm_error_t mcm_shm_wait_until(struct mcm_shm_client_t *client, const char 
 // (`MCM_ERR_MODE_LEFT`, `MCM_ERR_SAFETY_TRIP`, `MCM_ERR_OWNERSHIP_LOST`, `MCM_ERR_REFUSED`,
 // `MCM_ERR_NOT_CONTROLLING`, `MCM_ERR_TIMEOUT`, `MCM_ERR_ARGUMENT` for an unknown
 // `out->kind`). `summary` (may be NULL) is filled either way: cycles, missed, answers applied
-// in the next cycle. The running loop allocates nothing.
+// in the next cycle. The running loop allocates only inside iceoryx2's publisher, once per
+// answer sent.
 enum mcm_error_t mcm_shm_control(struct mcm_shm_client_t *client, mcm_control_fn callback, void *user, struct mcm_control_summary_t *summary);
 
 // Connect to the MCM's JSON port at `addr` ("host:port", e.g. "127.0.0.1:18010"); on success
