@@ -54,11 +54,13 @@ pub struct Zmq {
     publisher: publish::Publisher,
 }
 
-fn bound(socket: &zmq::Socket, fallback: &str) -> String {
-    match socket.get_last_endpoint() {
-        Ok(Ok(e)) => e,
-        _ => fallback.to_string(),
-    }
+/// The endpoint `socket` is bound to, a `*` port resolved (what the ready line names); an
+/// endpoint libzmq cannot report (or not as UTF-8) is a setup error, not the configured text.
+fn bound(socket: &zmq::Socket, what: &'static str) -> Result<String, ZmqError> {
+    setup(what, socket.get_last_endpoint())?.map_err(|_| ZmqError::Setup {
+        what,
+        source: zmq::Error::EINVAL,
+    })
 }
 
 /// Bind the sockets of `cfg` and start their threads; peers' requests run as tasks on `rt`.
@@ -107,7 +109,7 @@ pub fn start(cfg: &ZmqConfig, ctx: Context, rt: tokio::runtime::Handle) -> Resul
                 endpoint: cfg.publish.clone(),
                 source,
             })?;
-        let at = bound(&publisher, &cfg.publish);
+        let at = bound(&publisher, "PUB endpoint")?;
         (
             publish::Publisher::spawn(publisher, ctx.bridge.clone())?,
             at,
@@ -118,7 +120,7 @@ pub fn start(cfg: &ZmqConfig, ctx: Context, rt: tokio::runtime::Handle) -> Resul
         eprintln!("mcm-gateway: comparison build: the PUB socket is the pure-Rust zeromq crate's");
         publish::Publisher::spawn_zeromq_rs(cfg.publish.clone(), ctx.bridge.clone())?
     };
-    let router_at = bound(&router, &cfg.router);
+    let router_at = bound(&router, "ROUTER endpoint")?;
     let bell = Arc::new(crate::bridge::doorbell::Doorbell::new().map_err(std::io::Error::other)?);
     let (tx, replies) = std::sync::mpsc::channel();
     let stop = Arc::new(AtomicBool::new(false));
