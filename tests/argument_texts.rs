@@ -2,12 +2,12 @@
 //! argument of every command (the table of `shared/src/ranges.rs`) is tried below, at and above
 //! each bound, once through the gateway's parser (`Command::from_json`) and once as a raw
 //! request sample straight into the core (decoding and the controller's checks, the simulated
-//! robot in virtual time, no processes), worded by the gateway's `reply_error`. Both must
+//! robot in virtual time, no processes), worded by `Generic::reply_error` (the gateway's words). Both must
 //! accept the same values and refuse the others with the same text. Arguments only the
 //! gateway reads (`dt_status`, `duration`) are checked against the table's own words.
 
-use mcm_gateway::cmd::Command;
-use mcm_gateway::result::reply_error;
+use mcm_shared::protocol::Command;
+use mcm_shared::protocol::results::Generic;
 use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::command::{
     Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, Request, SetTorques, SetVelocities,
@@ -413,12 +413,7 @@ fn gateway_and_core_accept_and_refuse_the_same_values_in_the_same_words() {
             let outcome = robot.send((case.sample)(x), 400);
             let core = match &outcome {
                 Outcome::Done(_) => None,
-                other => Some(
-                    reply_error(case.command, other)["error_message"]
-                        .as_str()
-                        .unwrap()
-                        .to_string(),
-                ),
+                other => Generic::reply_error(case.command, other).error_message,
             };
             assert_eq!(
                 gateway, core,

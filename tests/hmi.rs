@@ -447,8 +447,9 @@ fn a_telnet_session_negotiates_helps_shows_tables_and_refuses_helpfully() {
     };
     for name in MANUAL_COMMANDS
         .iter()
-        .chain(mcm_gateway::cmd::COMMAND_NAMES)
-        .chain(&["help", "watch", "clear", "quit,"])
+        .copied()
+        .chain(mcm_shared::protocol::command_names())
+        .chain(["help", "watch", "clear", "quit,"])
     {
         assert!(listed(name), "`help` does not list {name}:\n{help}");
     }

@@ -214,10 +214,10 @@ fn real_telnet_in_tmux_shows_help_status_and_hold() {
     }
 
     let help = tmux.run("OFF", "help", "OFF");
-    for name in mcm_gateway::cmd::COMMAND_NAMES {
+    for name in mcm_shared::protocol::command_names() {
         assert!(
             help.lines()
-                .any(|l| l.split_whitespace().next() == Some(*name)),
+                .any(|l| l.split_whitespace().next() == Some(name)),
             "`help` lists {name}:\n{help}"
         );
     }

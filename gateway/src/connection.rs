@@ -10,7 +10,7 @@
 //! the connection with one ERROR line saying why.
 
 use crate::access::{Channel, Client, run_command};
-use crate::cmd::Command;
+use mcm_shared::protocol::Command;
 use crate::exec::Context;
 use crate::framing::{Decoder, Frame, MAX_COMMAND_BYTES};
 use crate::lifecycle::CoreWatch;
@@ -234,7 +234,7 @@ pub async fn serve(
                 Step::Close(v) => {
                     // The client may still be sending its long line: drain it so that the
                     // reason is not lost to a reset.
-                    let line = format!("{}\n", crate::json::to_ascii(&v));
+                    let line = format!("{}\n", mcm_shared::protocol::json::to_ascii(&v));
                     crate::server::farewell(&mut rd, &mut wr, line.as_bytes()).await;
                     return Ok(());
                 }
@@ -253,12 +253,12 @@ pub async fn serve(
                 }
             };
             if let Some(r) = &outcome.result {
-                send(&mut wr, r).await?;
+                send(&mut wr, &r.to_value()).await?;
             }
             if let Some(dt) = outcome.mode_session {
                 states.borrow_and_update();
                 session = Some(ModeSession::new(dt, outcome.state.as_deref()));
-            } else if matches!(cmd, Command::Hold | Command::Release | Command::Pvt(_)) {
+            } else if matches!(cmd, Command::Hold(_) | Command::Release(_) | Command::Pvt(_)) {
                 // Its own result is the status of the mode change.
                 session = None;
             }
@@ -349,7 +349,7 @@ async fn forward_error(
 /// Write one result line (pure ASCII: non-ASCII characters as `\uXXXX`); a client that does
 /// not take it within [`WRITE_TIMEOUT`] gets a `TimedOut` error (the connection ends).
 pub async fn send(wr: &mut BufWriter<OwnedWriteHalf>, v: &Value) -> std::io::Result<()> {
-    let mut line = crate::json::to_ascii(v);
+    let mut line = mcm_shared::protocol::json::to_ascii(v);
     line.push('\n');
     let write = async {
         wr.write_all(line.as_bytes()).await?;

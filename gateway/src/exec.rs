@@ -4,17 +4,16 @@
 //!
 //! `status` reads the bridge's newest state and never waits for a cycle; a `pvt_points` batch
 //! is checked against the newest state and the configuration before any of it is sent
-//! (`crate::cmd::pvt_points`); every other command goes through the core and is answered after
+//! ([`mcm_shared::protocol::PvtPoints::check`]); every other command goes through the core and is answered after
 //! the cycle that executed it.
 
 use crate::bridge::{Bridge, BridgeError};
-use crate::cmd::Command;
-use crate::result;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
+use mcm_shared::protocol::results::{Answer, Info, MoveAllResult, SimResult};
+use mcm_shared::protocol::{Command, Success};
 use mcm_shared::reply::{self, Done};
 use mcm_shared::sample::{STATE_SIMULATED, StateSample};
-use serde_json::Value;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -54,9 +53,9 @@ impl Context {
 /// The outcome of one command.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Outcome {
-    /// The result to send; `None` for a successful `set_torques` or `set_velocities` (the
-    /// protocol sends nothing).
-    pub result: Option<Value>,
+    /// The result to send; `None` for a command that answers nothing on success
+    /// ([`Success::Nothing`]: `set_torques`, `set_velocities`).
+    pub result: Option<Answer>,
     /// The reply's state, when the command went to the core.
     pub state: Option<Box<StateSample>>,
     /// Set when this command put the robot into TORQUE_CONTROL or VELOCITY_CONTROL: the
@@ -65,7 +64,7 @@ pub struct Outcome {
 }
 
 impl Outcome {
-    fn only(result: Value) -> Self {
+    fn only(result: Answer) -> Self {
         Self {
             result: Some(result),
             state: None,
@@ -79,7 +78,7 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
     match cmd {
         Command::Sleep(s) => {
             tokio::time::sleep(s.duration).await;
-            return Outcome::only(result::ok());
+            return Outcome::only(Answer::ok());
         }
         Command::Status(s) => return status(ctx, s.detail).await,
         Command::PvtPoints(p) => {
@@ -96,7 +95,11 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
             if let (Some(state), Err(reason)) = (state, checked) {
                 let refused = reply::Outcome::Refused(reason);
                 return Outcome {
-                    result: Some(crate::access::reply_error(ctx, cmd.name(), &refused)),
+                    result: Some(Answer::Generic(crate::access::reply_error(
+                        ctx,
+                        cmd.name(),
+                        &refused,
+                    ))),
                     state: Some(state),
                     mode_session: None,
                 };
@@ -105,7 +108,7 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
         _ => {}
     }
     if let Command::Authenticate(_) = cmd {
-        return Outcome::only(result::error(
+        return Outcome::only(Answer::error(
             "authenticate: answered by the connection's access rules (crate::access::run_command), \
              not by the real-time core"
                 .to_string(),
@@ -119,17 +122,17 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
     let answer = ctx.bridge.request(client_id, cmd.requests(), timeout).await;
     let (response, state) = match answer {
         Ok(a) => a,
-        Err(e) => return Outcome::only(result::error(bridge_message(cmd.name(), &e))),
+        Err(e) => return Outcome::only(Answer::error(bridge_message(cmd.name(), &e))),
     };
     let done = match response.outcome {
         reply::Outcome::Done(done) => done,
         refused_or_failed => {
             return Outcome {
-                result: Some(crate::access::reply_error(
+                result: Some(Answer::Generic(crate::access::reply_error(
                     ctx,
                     cmd.name(),
                     &refused_or_failed,
-                )),
+                ))),
                 state: Some(state),
                 mode_session: None,
             };
@@ -158,44 +161,47 @@ pub const STATE_GRACE: Duration = Duration::from_millis(300);
 async fn status(ctx: &Context, detail: bool) -> Outcome {
     match ctx.bridge.state_within(STATE_GRACE).await {
         Some(state) => Outcome {
-            result: Some(result::status(&state, detail)),
+            result: Some(crate::result::status_answer(&state, detail)),
             state: Some(state),
             mode_session: None,
         },
-        None => Outcome::only(result::error(bridge_message(
+        None => Outcome::only(Answer::error(bridge_message(
             "status",
             &ctx.bridge.unavailable(),
         ))),
     }
 }
 
-fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Option<Value> {
-    Some(match (cmd, done) {
-        (Command::Status(s), _) => result::status(state, s.detail),
-        (
-            Command::Hold
-            | Command::Release
-            | Command::Pvt(_)
-            | Command::TorqueControl(_)
-            | Command::VelocityControl(_),
-            _,
-        ) => result::status(state, false),
-        (Command::Info, Done::Info(info)) => {
-            crate::cmd::info::render(&ctx.cfg, info, state.flags & STATE_SIMULATED != 0)
-        }
-        (Command::MoveAll(_), Done::MoveAll(plan)) => crate::cmd::move_all::render(plan),
-        (Command::Info | Command::MoveAll(_), other) => result::error(format!(
+/// The result of `cmd` done by the core, as its definition says it answers
+/// ([`mcm_shared::protocol::CommandDef::success`]).
+fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Option<Answer> {
+    let mismatch = |other: &Done| {
+        Answer::error(format!(
             "{}: the real-time core's answer carries no figures ({other:?}); mcm-rt and the \
              gateway are from different MCM versions: rebuild both from the same version",
             cmd.name()
-        )),
-        (Command::Sim(_), _) => crate::cmd::sim::render(state),
-        (Command::SetTorques(_) | Command::SetVelocities(_), _) => return None,
-        (Command::Calibrate(_) | Command::MoveAxis(_) | Command::PvtPoints(_), _) => result::ok(),
-        (Command::Sleep(_), _) => result::ok(),
-        (Command::TakeControl | Command::ReleaseControl | Command::Authenticate(_), _) => {
-            result::ok()
+        ))
+    };
+    Some(match cmd.def().success {
+        Success::Nothing => return None,
+        Success::Ok => Answer::ok(),
+        Success::Status => {
+            let detail = matches!(cmd, Command::Status(s) if s.detail);
+            crate::result::status_answer(state, detail)
         }
+        Success::Initialization => match done {
+            Done::Info(info) => Answer::Initialization(Info::new(
+                &ctx.cfg,
+                info,
+                state.flags & STATE_SIMULATED != 0,
+            )),
+            other => mismatch(other),
+        },
+        Success::MoveAll => match done {
+            Done::MoveAll(plan) => Answer::MoveAll(MoveAllResult::from(plan)),
+            other => mismatch(other),
+        },
+        Success::Sim => Answer::Sim(SimResult::from_state(state)),
     })
 }
 

@@ -19,6 +19,8 @@
 //! assert_eq!(d.next_frame(), Some(Frame::Object("{\"command\":\"hold\"}".into())));
 //! ```
 
+use mcm_shared::protocol::json::json_kind;
+
 /// Longest command accepted (64 KiB).
 pub const MAX_COMMAND_BYTES: usize = 64 * 1024;
 
@@ -209,18 +211,6 @@ fn describe_non_object(line: &[u8]) -> String {
             excerpt(line)
         ),
         Err(e) => format!("invalid JSON ({e}): `{}`", excerpt(line)),
-    }
-}
-
-/// The JSON type name of a value, for messages.
-pub fn json_kind(v: &serde_json::Value) -> &'static str {
-    match v {
-        serde_json::Value::Null => "null",
-        serde_json::Value::Bool(_) => "boolean",
-        serde_json::Value::Number(_) => "number",
-        serde_json::Value::String(_) => "string",
-        serde_json::Value::Array(_) => "array",
-        serde_json::Value::Object(_) => "object",
     }
 }
 

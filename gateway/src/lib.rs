@@ -5,23 +5,21 @@
 //! real-time core (`mcm-rt`). It never blocks the real-time side: it only reads the state
 //! blackboard and publishes command samples.
 //!
-//! Layout (as in tokio's mini-redis): [`framing`] splits bytes into commands, [`cmd`] parses
-//! and validates each command (one file per command), [`exec`] runs it through the
-//! [`bridge`] to the core and builds the [`result`], [`connection`] serves one client,
+//! Layout (as in tokio's mini-redis): [`framing`] splits bytes into commands,
+//! [`mcm_shared::protocol`] parses and validates each command (one file per command, shared
+//! with the clients), [`exec`] runs it through the [`bridge`] to the core and builds its typed
+//! result, [`connection`] serves one client,
 //! [`server`] accepts clients and shuts them down. [`zmq`] is the optional ZeroMQ interface
 //! (commands over a ROUTER socket, state and errors over a PUB socket).
 
 pub mod access;
-pub mod args;
 pub mod bridge;
 pub mod cli;
-pub mod cmd;
 pub mod connection;
 pub mod exec;
 pub mod framing;
 pub mod heavy;
 pub mod hmi;
-pub mod json;
 pub mod latency;
 pub mod lifecycle;
 pub mod result;

@@ -47,7 +47,7 @@ pub const JSON_PORT: Port = Port {
 pub fn json_line(message: &str) -> String {
     format!(
         "{}\n",
-        crate::json::to_ascii(&crate::result::error(message))
+        mcm_shared::protocol::json::to_ascii(&crate::result::error(message))
     )
 }
 

@@ -7,6 +7,8 @@
 //! - [`service`]: the iceoryx2 service names, derived from an instance name so that several
 //!   MCMs (and parallel tests) can run side by side on one machine;
 //! - [`command`]: the typed requests, and the one encoding of each into a command sample;
+//! - [`protocol`]: the JSON contract: every command of the JSON protocol defined once (parsing,
+//!   writing, help, what it answers) and the typed results;
 //! - [`reply`]: the typed responses, refusal reasons and safety errors, and their encoding;
 //! - [`mode`]: the operating modes and the wire codes of command kinds and reasons;
 //! - [`config`]: the robot configuration file;
@@ -28,6 +30,7 @@ pub mod cli;
 pub mod command;
 pub mod config;
 pub mod mode;
+pub mod protocol;
 pub mod pvt;
 pub mod ranges;
 pub mod reply;

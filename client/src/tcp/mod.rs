@@ -35,9 +35,10 @@ pub use types::{
     SimResult, Six, Status, TorqueOptions, VelocityOptions,
 };
 
-use mcm_shared::command::{PvtPoint, SimCommand, Which};
+use mcm_shared::command::{MoveAll, MoveAxis, Pvt, PvtPoint, SetTorques, SetVelocities, SimCommand};
 use mcm_shared::mode::Mode;
-use serde_json::{Value, json};
+use mcm_shared::protocol::results::Answer;
+use mcm_shared::protocol::{self, Command};
 use std::collections::VecDeque;
 use std::io::{ErrorKind as IoKind, Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
@@ -47,7 +48,7 @@ use wire::Line;
 /// The MCM's JSON port.
 pub const DEFAULT_PORT: u16 = 18010;
 /// Most points the MCM takes in one `pvt_points` command.
-pub const MAX_POINTS_PER_COMMAND: usize = 1000;
+pub const MAX_POINTS_PER_COMMAND: usize = protocol::MAX_POINTS_PER_BATCH;
 /// Longest command line this client writes (the MCM's limit is 65536 bytes).
 const MAX_LINE: usize = 60_000;
 
@@ -81,23 +82,21 @@ fn ticking(dt_status_s: Option<f64>) -> bool {
     dt_status_s.is_some_and(|d| d > 0.0)
 }
 
-/// Which result a command waits for.
+/// Which result a command waits for: what its definition says it answers on success
+/// ([`protocol::CommandDef::success`]); a `status` result in this mode, when given (in a
+/// session with ticks, TORQUE_CONTROL or VELOCITY_CONTROL, the session's ticks are in the
+/// session's mode, and a tick is what a `status` call may get there).
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Expect {
-    /// `generic` OK.
-    Ok,
-    /// A `status` result; in a session with ticks (TORQUE_CONTROL, VELOCITY_CONTROL), one in
-    /// this mode (the session's ticks are in the session's mode, and a tick is what a `status`
-    /// call may get there).
-    Status(Option<Mode>),
-    /// Another `result_type`.
-    Kind(&'static str),
+struct Expect {
+    success: protocol::Success,
+    mode: Option<Mode>,
 }
 
-enum Answer {
+/// What [`TcpClient::call`] read: the result the command answers.
+enum Got {
     Ok,
     Status(Box<Status>),
-    Other(Value),
+    Other(Answer),
 }
 
 struct Conn {
@@ -263,19 +262,19 @@ impl TcpClient {
         self.events.push_back(e);
     }
 
-    /// Send `{"command": command, "arguments": args}` and read lines until its result.
+    /// Send `cmd` and read lines until its result (`mode`: see [`Expect`]).
     fn call(
         &mut self,
-        command: &'static str,
-        args: Option<Value>,
-        expect: Expect,
+        cmd: &Command,
+        mode: Option<Mode>,
         timeout: Duration,
-    ) -> Result<Answer, Error> {
-        let mut cmd = json!({ "command": command });
-        if let Some(a) = args {
-            cmd["arguments"] = a;
-        }
-        self.write(command, &cmd.to_string())?;
+    ) -> Result<Got, Error> {
+        let command = cmd.name();
+        let expect = Expect {
+            success: cmd.def().success,
+            mode,
+        };
+        self.write(command, &cmd.to_json().to_string())?;
         let deadline = Instant::now() + timeout;
         loop {
             let Some(line) = self.read_line(command, deadline)? else {
@@ -291,89 +290,89 @@ impl TcpClient {
             })?;
             let unexpected = |what: &str| Error::Protocol {
                 command: command.to_string(),
-                problem: format!("a {what} result where {expect:?} was expected"),
+                problem: format!(
+                    "a {what} result where {} was expected",
+                    expect.success.result_type().unwrap_or("none")
+                ),
                 line: line.clone(),
             };
-            match (parsed, expect) {
+            use protocol::Success as S;
+            match (parsed, expect.success) {
                 (Line::Event(e), _) => self.queue(e),
                 (Line::Error(message), _) => {
                     return Err(McmError::from_message(command, &message).into());
                 }
-                (Line::Ok, Expect::Ok) => return Ok(Answer::Ok),
-                (Line::Status(s), Expect::Status(mode)) => {
+                (Line::Ok, S::Ok) => return Ok(Got::Ok),
+                (Line::Status(s), S::Status) => {
                     let tick = self.ticks.is_some() && mode.is_some_and(|m| m != s.mode);
                     if !tick {
-                        return Ok(Answer::Status(s));
+                        return Ok(Got::Status(s));
                     }
                     self.queue(Event::Status(s));
                 }
                 (Line::Status(s), _) if self.ticks.is_some() => self.queue(Event::Status(s)),
-                (Line::Other(kind, v), Expect::Kind(k)) if kind == k => {
-                    return Ok(Answer::Other(v));
+                (Line::Other(a), S::Initialization | S::MoveAll | S::Sim) => {
+                    return Ok(Got::Other(a));
                 }
                 (Line::Ok, _) => return Err(unexpected("generic OK")),
                 (Line::Status(_), _) => return Err(unexpected("status")),
-                (Line::Other(kind, _), _) => return Err(unexpected(&kind)),
+                (Line::Other(a), _) => {
+                    let kind = a.to_value()["result_type"].as_str().unwrap_or("?").to_string();
+                    return Err(unexpected(&kind));
+                }
             }
         }
     }
 
-    fn call_ok(&mut self, command: &'static str, args: Option<Value>) -> Result<(), Error> {
+    fn call_ok(&mut self, cmd: impl Into<Command>) -> Result<(), Error> {
         let t = self.opts.reply_timeout;
-        self.call(command, args, Expect::Ok, t).map(|_| ())
+        self.call(&cmd.into(), None, t).map(|_| ())
     }
 
     fn call_status(
         &mut self,
-        command: &'static str,
-        args: Option<Value>,
+        cmd: impl Into<Command>,
         mode: Option<Mode>,
     ) -> Result<Status, Error> {
         let t = self.opts.reply_timeout;
-        match self.call(command, args, Expect::Status(mode), t)? {
-            Answer::Status(s) => Ok(*s),
-            _ => unreachable!("call returns what Expect::Status asks for"),
+        match self.call(&cmd.into(), mode, t)? {
+            Got::Status(s) => Ok(*s),
+            _ => unreachable!("call returns what the command answers: a status"),
         }
     }
 
-    fn call_kind<T: serde::de::DeserializeOwned>(
-        &mut self,
-        command: &'static str,
-        args: Option<Value>,
-        kind: &'static str,
-    ) -> Result<T, Error> {
+    fn call_other(&mut self, cmd: impl Into<Command>) -> Result<Answer, Error> {
         let t = self.opts.reply_timeout;
-        let Answer::Other(v) = self.call(command, args, Expect::Kind(kind), t)? else {
-            unreachable!("call returns what Expect::Kind asks for")
-        };
-        serde_json::from_value(v.clone()).map_err(|e| Error::Protocol {
-            command: command.to_string(),
-            problem: format!("its `{kind}` result does not read: {e}"),
-            line: v.to_string(),
-        })
+        match self.call(&cmd.into(), None, t)? {
+            Got::Other(a) => Ok(a),
+            _ => unreachable!("call returns what the command answers: another result"),
+        }
     }
 
     /// The newest state (`status`). In a TORQUE_CONTROL or VELOCITY_CONTROL session with
     /// `dt_status` this may be
     /// one of the session's ticks (a state as fresh); the ticks are better read as events.
     pub fn status(&mut self) -> Result<Status, Error> {
-        self.call_status("status", None, None)
+        self.call_status(protocol::Status { detail: false }, None)
     }
 
     /// `status` with `detail`: `hardware_status` and `detail` are set.
     pub fn status_detail(&mut self) -> Result<Status, Error> {
-        self.call_status("status", Some(json!({"detail": true})), None)
+        self.call_status(protocol::Status { detail: true }, None)
     }
 
     /// Robot, version, cycle time and the limits of every axis (`info`).
     pub fn info(&mut self) -> Result<Info, Error> {
-        self.call_kind("info", None, "initialization")
+        match self.call_other(protocol::Info)? {
+            Answer::Initialization(i) => Ok(i),
+            _ => unreachable!("`info` answers `initialization`"),
+        }
     }
 
     /// Enter HOLD (clears errors and powers the drives from OFF/ERROR; stops a motion). Open
     /// to every client.
     pub fn hold(&mut self) -> Result<Status, Error> {
-        let s = self.call_status("hold", None, Some(Mode::Hold))?;
+        let s = self.call_status(protocol::Hold, Some(Mode::Hold))?;
         self.ticks = None;
         Ok(s)
     }
@@ -381,33 +380,21 @@ impl TcpClient {
     /// Home the axes; returns when the calibration has finished (about 12 s on the simulated
     /// P-Rob2), with the arm back at zero in HOLD.
     pub fn calibrate(&mut self, o: CalibrateOptions) -> Result<(), Error> {
-        let which = match o.which.unwrap_or(Which::All) {
-            Which::All => json!("ALL"),
-            Which::Elbow => json!("ELBOW"),
-            Which::Wrist => json!("WRIST"),
-            Which::Axis(a) => json!(a.number()),
-        };
-        let args = json!({
-            "which": which,
-            "elbow_direction": o.elbow_direction.sign() as i8,
-            "wrist_direction": o.wrist_direction.sign() as i8,
-            "force_mechanical_stop": o.force_mechanical_stop,
-        });
         let t = self.opts.calibrate_timeout;
-        self.call("calibrate", Some(args), Expect::Ok, t)
-            .map(|_| ())
+        let cmd = Command::Calibrate(o.into());
+        self.call(&cmd, None, t).map(|_| ())
     }
 
     /// Enter RELEASE (the arm can be moved by hand).
     pub fn release(&mut self) -> Result<Status, Error> {
-        let s = self.call_status("release", None, Some(Mode::Release))?;
+        let s = self.call_status(protocol::Release, Some(Mode::Release))?;
         self.ticks = None;
         Ok(s)
     }
 
     /// Enter PVT with points spaced `dt_s` seconds (one cycle to 1 s).
     pub fn pvt(&mut self, dt_s: f64) -> Result<Status, Error> {
-        let s = self.call_status("pvt", Some(json!({"dt": dt_s})), Some(Mode::Pvt))?;
+        let s = self.call_status(Pvt { dt_s }, Some(Mode::Pvt))?;
         self.ticks = None;
         Ok(s)
     }
@@ -416,12 +403,8 @@ impl TcpClient {
     /// ([`Event::Status`]); with `dt_status_s` equal to the cycle period every cycle's state
     /// comes exactly once, and a `set_torques` sent in answer is applied in the next cycle.
     pub fn torque_control(&mut self, o: TorqueOptions) -> Result<Status, Error> {
-        let args = json!({
-            "timeout": o.timeout_s.unwrap_or(-1.0),
-            "dt_status": o.dt_status_s.unwrap_or(0.0),
-            "gravity_compensation": o.gravity_compensation,
-        });
-        let s = self.call_status("torque_control", Some(args), Some(Mode::TorqueControl))?;
+        let cmd = protocol::TorqueControl::from(o);
+        let s = self.call_status(cmd, Some(Mode::TorqueControl))?;
         self.ticks = ticking(o.dt_status_s).then_some(Mode::TorqueControl);
         Ok(s)
     }
@@ -430,19 +413,16 @@ impl TcpClient {
     /// it was switched off). Returns once written: there is no result on success, and a
     /// refusal comes later as [`Event::CommandError`].
     pub fn set_torques(&mut self, torques_nm: Six) -> Result<(), Error> {
-        let line = json!({"command": "set_torques", "arguments": {"torques": torques_nm}});
-        self.write("set_torques", &line.to_string())
+        let cmd = Command::SetTorques(SetTorques { torques_nm });
+        self.write(cmd.name(), &cmd.to_json().to_string())
     }
 
     /// Enter VELOCITY_CONTROL: every axis starts at target velocity 0. `timeout_s` and
     /// `dt_status_s` are those of `torque_control`: with `dt_status_s` the MCM sends a status
     /// every `dt_status_s` ([`Event::Status`]), and one when the mode is left (timeout, `hold`).
     pub fn velocity_control(&mut self, o: VelocityOptions) -> Result<Status, Error> {
-        let args = json!({
-            "timeout": o.timeout_s.unwrap_or(-1.0),
-            "dt_status": o.dt_status_s.unwrap_or(0.0),
-        });
-        let s = self.call_status("velocity_control", Some(args), Some(Mode::VelocityControl))?;
+        let cmd = protocol::VelocityControl::from(o);
+        let s = self.call_status(cmd, Some(Mode::VelocityControl))?;
         self.ticks = ticking(o.dt_status_s).then_some(Mode::VelocityControl);
         Ok(s)
     }
@@ -452,9 +432,8 @@ impl TcpClient {
     /// Returns once written: there is no result on success, and a refusal comes later as
     /// [`Event::CommandError`].
     pub fn set_velocities(&mut self, velocities_deg_s: Six) -> Result<(), Error> {
-        let line =
-            json!({"command": "set_velocities", "arguments": {"velocities": velocities_deg_s}});
-        self.write("set_velocities", &line.to_string())
+        let cmd = Command::SetVelocities(SetVelocities { velocities_deg_s });
+        self.write(cmd.name(), &cmd.to_json().to_string())
     }
 
     /// Move one axis (1..6) to `target_deg` at `velocity_factor` (0, 1] of its limits; OK as
@@ -465,9 +444,15 @@ impl TcpClient {
         target_deg: f64,
         velocity_factor: f64,
     ) -> Result<(), Error> {
-        let args = json!({"axis_index": axis, "target_position": target_deg,
-                          "velocity_factor": velocity_factor});
-        self.call_ok("move_axis", Some(args))
+        let axis = mcm_shared::command::Axis::new(axis).ok_or_else(|| Error::Argument {
+            command: "move_axis".into(),
+            problem: format!("axis {axis} does not exist; the axes are 1 to 6"),
+        })?;
+        self.call_ok(MoveAxis {
+            axis,
+            target_deg,
+            velocity_factor,
+        })
     }
 
     /// Move all axes together to `targets_deg` (PVT mode); the move the MCM planned.
@@ -476,8 +461,14 @@ impl TcpClient {
         targets_deg: Six,
         velocity_factor: f64,
     ) -> Result<MoveAllResult, Error> {
-        let args = json!({"target_positions": targets_deg, "velocity_factor": velocity_factor});
-        self.call_kind("move_all", Some(args), "move_all")
+        let cmd = MoveAll {
+            targets_deg,
+            velocity_factor,
+        };
+        match self.call_other(cmd)? {
+            Answer::MoveAll(m) => Ok(m),
+            _ => unreachable!("`move_all` answers `move_all`"),
+        }
     }
 
     /// Queue PVT points (spaced by `pvt`'s `dt`). Up to [`MAX_POINTS_PER_COMMAND`] points that
@@ -491,67 +482,54 @@ impl TcpClient {
                 problem: "no points given; send 1 or more".into(),
             });
         }
-        let point =
-            |p: &PvtPoint| json!({"position": p.position_deg, "velocity": p.velocity_deg_s});
-        let mut batch: Vec<Value> = Vec::new();
-        let mut len = 0;
+        // The length of one point in the line: the command of that point alone, less the
+        // command around it.
+        let bare = Command::PvtPoints(protocol::PvtPoints { points: Vec::new() })
+            .to_json()
+            .to_string()
+            .len();
+        let mut batch: Vec<PvtPoint> = Vec::new();
+        let mut len = bare;
         for p in points {
-            let v = point(p);
-            let n = v.to_string().len() + 1;
+            let one = Command::PvtPoints(protocol::PvtPoints { points: vec![*p] });
+            let n = one.to_json().to_string().len() - bare + 1;
             if !batch.is_empty() && (len + n > MAX_LINE || batch.len() == MAX_POINTS_PER_COMMAND) {
-                self.call_ok(
-                    "pvt_points",
-                    Some(json!({"points": std::mem::take(&mut batch)})),
-                )?;
-                len = 0;
+                let points = std::mem::take(&mut batch);
+                self.call_ok(protocol::PvtPoints { points })?;
+                len = bare;
             }
             len += n;
-            batch.push(v);
+            batch.push(*p);
         }
-        self.call_ok("pvt_points", Some(json!({"points": batch})))
+        self.call_ok(protocol::PvtPoints { points: batch })
     }
 
     /// Take control of the arm's motion (refused while another client controls it).
     pub fn take_control(&mut self) -> Result<(), Error> {
-        self.call_ok("take_control", None)
+        self.call_ok(protocol::TakeControl)
     }
 
     /// Give up control; what this connection drove ends in HOLD.
     pub fn release_control(&mut self) -> Result<(), Error> {
-        self.call_ok("release_control", None)
+        self.call_ok(protocol::ReleaseControl)
     }
 
     /// Present the shared secret (needed before taking control when the MCM has one). It is
     /// kept to authenticate again after a reconnect.
     pub fn authenticate(&mut self, secret: &str) -> Result<(), Error> {
-        self.call_ok("authenticate", Some(json!({"secret": secret})))?;
+        self.call_ok(protocol::Authenticate {
+            secret: protocol::Secret(secret.to_string()),
+        })?;
         self.secret = Some(secret.to_string());
         Ok(())
     }
 
     /// Fault injection into the simulated robot (from loopback); the simulation's ground truth.
     pub fn sim(&mut self, c: SimCommand) -> Result<SimResult, Error> {
-        let mut args = json!({});
-        if let Some(e) = c.emergency_stop {
-            args["emergency_stop"] = json!(e);
+        match self.call_other(c)? {
+            Answer::Sim(r) => Ok(r),
+            _ => unreachable!("`sim` answers `sim`"),
         }
-        for (key, axis) in [
-            ("disconnect_axis", c.disconnect_axis),
-            ("reconnect_axis", c.reconnect_axis),
-            ("block_axis", c.block_axis),
-            ("unblock_axis", c.unblock_axis),
-        ] {
-            if let Some(a) = axis {
-                args[key] = json!(a.number());
-            }
-        }
-        if let Some(t) = c.external_torques_nm {
-            args["external_torques"] = json!(t);
-        }
-        if c.power_cycle {
-            args["power_cycle"] = json!(true);
-        }
-        self.call_kind("sim", Some(args), "sim")
     }
 
     /// The next spontaneous message: a queued one at once, else the first to arrive within

@@ -2,6 +2,7 @@
 //! a closed connection and reconnecting.
 
 use super::*;
+use serde_json::{Value, json};
 use std::io::{BufRead, BufReader};
 use std::net::TcpListener;
 use std::sync::mpsc;

@@ -1,122 +1,11 @@
-//! The typed results of the JSON protocol (`docs/protocol.md`, "Results"), parsed by
-//! `result_type`. Fields the manual names are required; the others are optional, so a newer
-//! MCM that adds fields is still read.
+//! The typed results of the JSON protocol (`docs/protocol.md`, "Results"): those of the
+//! contract ([`mcm_shared::protocol::results`]), the options of the calls, and the events.
 
-use crate::NUM_AXES;
-use mcm_shared::mode::{Mode, RejectCode};
-use serde::Deserialize;
+use mcm_shared::mode::RejectCode;
 
-/// Six values, one per axis.
-pub type Six = [f64; NUM_AXES];
-
-/// `axis_states` of a `status` result.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-pub struct AxisStates {
-    /// `CLOCK_MONOTONIC` of the cycle that measured the values [s], per axis.
-    pub time: Six,
-    /// [deg]
-    pub position: Six,
-    /// [deg/s]
-    pub velocity: Six,
-    /// [deg/s^2]
-    pub acceleration: Six,
-    /// Motor currents [A].
-    pub current: Six,
-}
-
-/// A `status` result: the answer to `status`, `hold`, `release`, `pvt`, `torque_control`, and
-/// the spontaneous status of a TORQUE_CONTROL session.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Status {
-    pub mode: Mode,
-    pub axis_states: AxisStates,
-    /// With `detail`: the drives, the emergency stop and the calibration in words.
-    pub hardware_status: Option<String>,
-    /// With `detail`: the detail object (`docs/protocol.md`, "status"), typed in parts.
-    pub detail: Option<Detail>,
-}
-
-impl Status {
-    /// The cycle's time [s] (`CLOCK_MONOTONIC` of the robot's computer).
-    pub fn time(&self) -> f64 {
-        self.axis_states.time[0]
-    }
-}
-
-/// The PVT queue of a detailed status.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-pub struct PvtQueue {
-    pub queued: u32,
-    pub capacity: u32,
-    pub starved: bool,
-}
-
-/// The `detail` object of a detailed status: the fields a program needs typed, and the whole
-/// object as JSON in `raw`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-pub struct Detail {
-    /// Cycle counter.
-    pub cycle: u64,
-    pub calibrated: [bool; NUM_AXES],
-    pub all_calibrated: bool,
-    pub measured_position: Six,
-    pub commanded_position: Six,
-    pub following_error: Six,
-    pub emergency_stop: bool,
-    pub pvt_queue: PvtQueue,
-    #[serde(skip)]
-    pub raw: serde_json::Value,
-}
-
-/// Limits of one axis, from `info`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-pub struct AxisInfo {
-    pub axis: u8,
-    pub name: String,
-    /// [deg]
-    pub min_position: f64,
-    pub max_position: f64,
-    /// [deg/s]
-    pub max_velocity: f64,
-    /// [deg/s^2]
-    pub max_acceleration: f64,
-    /// Peak joint torque [Nm].
-    pub max_torque: f64,
-    pub light_barrier: bool,
-}
-
-/// The `initialization` result of `info`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-pub struct Info {
-    pub num_axes: u32,
-    pub version: String,
-    pub robot: String,
-    /// Cycle period [s].
-    pub cycle_time: f64,
-    pub simulated: bool,
-    pub axes: Vec<AxisInfo>,
-}
-
-/// The `move_all` result: the move the MCM planned.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-pub struct MoveAllResult {
-    /// Peak velocity of each axis [deg/s].
-    pub velocities: Six,
-    /// The axis (1..6) that would take longest on its own.
-    pub longest: u8,
-    /// Time from now to the target [s].
-    pub max_time_to_target: f64,
-}
-
-/// The `sim` result: the simulation's ground truth.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-pub struct SimResult {
-    /// Joint angles [deg].
-    pub true_position: Six,
-    /// [deg/s]
-    pub true_velocity: Six,
-    pub emergency_stop: bool,
-}
+pub use mcm_shared::protocol::results::{
+    AxisInfo, AxisStates, Detail, Info, MoveAllResult, PvtQueue, SimResult, Six, Status,
+};
 
 /// Options of `calibrate`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -188,4 +77,38 @@ pub enum Event {
     /// A notice about the MCM's own life (shutting down, the core stopped) or about this
     /// connection (closed for idleness, to make room): its words.
     Notice(String),
+}
+
+impl From<CalibrateOptions> for mcm_shared::command::Calibrate {
+    fn from(o: CalibrateOptions) -> Self {
+        mcm_shared::command::Calibrate {
+            which: o.which.unwrap_or(mcm_shared::protocol::DEFAULT_WHICH),
+            elbow_direction: o.elbow_direction,
+            wrist_direction: o.wrist_direction,
+            force_mechanical_stop: o.force_mechanical_stop,
+        }
+    }
+}
+
+impl From<TorqueOptions> for mcm_shared::protocol::TorqueControl {
+    fn from(o: TorqueOptions) -> Self {
+        mcm_shared::protocol::TorqueControl {
+            request: mcm_shared::command::TorqueControl {
+                timeout_s: o.timeout_s,
+                gravity_compensation: o.gravity_compensation,
+            },
+            dt_status: o.dt_status_s.unwrap_or(0.0),
+        }
+    }
+}
+
+impl From<VelocityOptions> for mcm_shared::protocol::VelocityControl {
+    fn from(o: VelocityOptions) -> Self {
+        mcm_shared::protocol::VelocityControl {
+            request: mcm_shared::command::VelocityControl {
+                timeout_s: o.timeout_s,
+            },
+            dt_status: o.dt_status_s.unwrap_or(0.0),
+        }
+    }
 }

@@ -2,8 +2,9 @@
 //! result of a command from spontaneous messages.
 
 use super::error::McmError;
-use super::types::{AxisStates, Detail, Event, Status};
-use mcm_shared::mode::{Mode, RejectCode};
+use super::types::{Event, Status};
+use mcm_shared::protocol::results::Answer;
+use mcm_shared::protocol::{self, Success};
 use serde_json::Value;
 
 /// Beginnings of the spontaneous notices about the MCM's life and this connection
@@ -19,8 +20,10 @@ const NOTICES: &[&str] = &[
     "the client took no result line",
 ];
 
-/// Commands with no result on success (their refusals come later, as events).
-pub(crate) const NO_RESULT_ON_SUCCESS: &[&str] = &["set_torques", "set_velocities"];
+/// Whether `command` answers nothing on success (its refusals come later, as events).
+pub(crate) fn answers_nothing(command: &str) -> bool {
+    protocol::find(command).is_some_and(|d| d.success == Success::Nothing)
+}
 
 /// One line the MCM sent, read.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,103 +33,59 @@ pub(crate) enum Line {
     /// `generic` ERROR that may answer a command: its words.
     Error(String),
     Status(Box<Status>),
-    /// Another result type (`initialization`, `move_all`, `sim`, ...): the object.
-    Other(String, Value),
+    /// Another result (`initialization`, `move_all`, `sim`).
+    Other(Answer),
     /// Spontaneous: never the answer to a command.
     Event(Event),
-}
-
-fn mode_of(s: &str) -> Option<Mode> {
-    Mode::ALL.iter().copied().find(|m| m.as_str() == s)
-}
-
-/// A `status` result.
-pub(crate) fn status(v: &Value) -> Result<Status, String> {
-    let mode = v["operating_mode"]
-        .as_str()
-        .and_then(mode_of)
-        .ok_or_else(|| format!("operating_mode {} is not a known mode", v["operating_mode"]))?;
-    let axis_states: AxisStates = serde_json::from_value(v["axis_states"].clone())
-        .map_err(|e| format!("axis_states: {e}"))?;
-    let detail = match v.get("detail") {
-        Some(d) => {
-            let mut typed: Detail =
-                serde_json::from_value(d.clone()).map_err(|e| format!("detail: {e}"))?;
-            typed.raw = d.clone();
-            Some(typed)
-        }
-        None => None,
-    };
-    Ok(Status {
-        mode,
-        axis_states,
-        hardware_status: v["hardware_status"].as_str().map(str::to_string),
-        detail,
-    })
-}
-
-fn code_of(check: &str) -> Option<RejectCode> {
-    RejectCode::ALL
-        .iter()
-        .copied()
-        .find(|c| c.as_str() == check)
 }
 
 /// Read one line. `Err` names what is wrong with it.
 pub(crate) fn parse(line: &str) -> Result<Line, String> {
     let v: Value = serde_json::from_str(line).map_err(|e| format!("not JSON: {e}"))?;
-    let kind = v["result_type"]
-        .as_str()
-        .ok_or("no result_type")?
-        .to_string();
-    match kind.as_str() {
-        "generic" => match v["error_status"].as_str() {
-            Some("OK") => Ok(Line::Ok),
-            Some("ERROR") => {
-                let message = v["error_message"].as_str().unwrap_or_default().to_string();
-                if let Some(check) = v.get("check") {
-                    return Ok(Line::Event(Event::SafetyError {
-                        check: check.as_str().and_then(code_of),
-                        axis: v["axis"].as_u64().and_then(|a| u8::try_from(a).ok()),
-                        message,
-                        flight_recorder: v["flight_recorder"].as_str().map(str::to_string),
-                    }));
-                }
-                if message.starts_with("safety check tripped")
-                    || message.contains("safety errors were not delivered")
-                {
-                    return Ok(Line::Event(Event::SafetyError {
-                        check: None,
-                        axis: None,
-                        message,
-                        flight_recorder: None,
-                    }));
-                }
-                if NOTICES.iter().any(|n| message.starts_with(n)) {
-                    return Ok(Line::Event(Event::Notice(message)));
-                }
-                if let Some(cmd) = NO_RESULT_ON_SUCCESS.iter().find(|c| {
-                    message
-                        .strip_prefix(**c)
-                        .is_some_and(|rest| rest.starts_with([' ', ':']))
-                }) {
-                    // No result on success: a refusal is an event.
-                    return Ok(Line::Event(Event::CommandError(McmError::from_message(
-                        cmd, &message,
-                    ))));
-                }
-                Ok(Line::Error(message))
-            }
-            other => Err(format!("error_status {other:?} is neither OK nor ERROR")),
-        },
-        "status" => Ok(Line::Status(Box::new(status(&v)?))),
-        _ => Ok(Line::Other(kind, v)),
+    let g = match Answer::from_value(&v)? {
+        Answer::Generic(g) => g,
+        Answer::Status(s) => return Ok(Line::Status(s)),
+        other => return Ok(Line::Other(other)),
+    };
+    if g.is_ok() {
+        return Ok(Line::Ok);
     }
+    let message = g.message().to_string();
+    if g.check.is_some() {
+        return Ok(Line::Event(Event::SafetyError {
+            check: g.check_code(),
+            axis: g.axis,
+            message,
+            flight_recorder: g.flight_recorder,
+        }));
+    }
+    if message.starts_with("safety check tripped")
+        || message.contains("safety errors were not delivered")
+    {
+        return Ok(Line::Event(Event::SafetyError {
+            check: None,
+            axis: None,
+            message,
+            flight_recorder: None,
+        }));
+    }
+    if NOTICES.iter().any(|n| message.starts_with(n)) {
+        return Ok(Line::Event(Event::Notice(message)));
+    }
+    let command = message.split([' ', ':']).next().unwrap_or_default();
+    if answers_nothing(command) {
+        // No result on success: a refusal is an event.
+        return Ok(Line::Event(Event::CommandError(McmError::from_message(
+            command, &message,
+        ))));
+    }
+    Ok(Line::Error(message))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use mcm_shared::mode::{Mode, RejectCode};
 
     const STATUS: &str = r#"{"result_type":"status","operating_mode":"HOLD","axis_states":{"time":[1,1,1,1,1,1],"position":[0,1,2,3,4,5],"velocity":[0,0,0,0,0,0],"acceleration":[0,0,0,0,0,0],"current":[0,0,0,0,0,0]}}"#;
 
@@ -142,15 +101,12 @@ mod tests {
         assert_eq!(s.mode, Mode::Hold);
         assert_eq!(s.axis_states.position[5], 5.0);
         assert_eq!(s.detail, None);
-        let Ok(Line::Other(kind, v)) = parse(
+        let Ok(Line::Other(Answer::MoveAll(m))) = parse(
             r#"{"result_type":"move_all","velocities":[1,2,3,4,5,6],"longest":3,"max_time_to_target":1.5}"#,
         ) else {
             panic!("move_all")
         };
-        assert_eq!(
-            (kind.as_str(), v["longest"].as_u64()),
-            ("move_all", Some(3))
-        );
+        assert_eq!(m.longest, 3);
     }
 
     #[test]

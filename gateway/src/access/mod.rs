@@ -24,12 +24,11 @@ mod tests;
 
 pub use clients::{Channel, Client, Clients};
 
-use crate::cmd::{Command, Secret};
+use mcm_shared::protocol::results::{AccessDetail, Answer, ControlDetail, Generic};
+use mcm_shared::protocol::{Command, Secret};
 use crate::exec::{self, Context, Outcome};
-use crate::result;
 use mcm_shared::config::{AccessConfig, Cidr, ConfigError};
 use mcm_shared::reply::{self, Reason};
-use serde_json::{Value, json};
 use std::net::IpAddr;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
@@ -65,8 +64,8 @@ pub enum Need {
 pub fn need(cmd: &Command) -> Need {
     match cmd {
         Command::Sim(_) => Need::Sim,
-        Command::TakeControl => Need::Motion,
-        c if c.requests().iter().any(|r| r.kind().needs_control()) => Need::Motion,
+        Command::TakeControl(_) => Need::Motion,
+        c if c.def().needs_control() => Need::Motion,
         _ => Need::Open,
     }
 }
@@ -217,20 +216,19 @@ impl Access {
     }
 
     /// `detail.access` for the connection `client`.
-    pub fn detail(&self, client: &Client) -> Value {
-        let refused: serde_json::Map<String, Value> = Refusal::ALL
-            .iter()
-            .map(|r| (r.key().to_string(), json!(self.refused(*r))))
-            .collect();
-        json!({
-            "peer": client.peer.to_string(),
-            "motion_networks": self.networks_words(),
-            "motion_allowed_here": self.motion_allowed_from(client.peer.ip()),
-            "secret_required": self.secret.is_some(),
-            "authenticated": client.authenticated(),
-            "remote_sim": self.allow_remote_sim,
-            "refused": refused,
-        })
+    pub fn detail(&self, client: &Client) -> AccessDetail {
+        AccessDetail {
+            peer: client.peer.to_string(),
+            motion_networks: self.networks_words(),
+            motion_allowed_here: self.motion_allowed_from(client.peer.ip()),
+            secret_required: self.secret.is_some(),
+            authenticated: client.authenticated(),
+            remote_sim: self.allow_remote_sim,
+            refused: Refusal::ALL
+                .iter()
+                .map(|r| (r.key().to_string(), self.refused(*r)))
+                .collect(),
+        }
     }
 }
 
@@ -251,32 +249,32 @@ fn read_secret_hash(path: &str) -> Result<[u8; 32], AccessError> {
 }
 
 /// `detail.control`: who controls the arm, and whether it is this connection.
-pub fn control_detail(ctx: &Context, client: &Client, owner: u64) -> Value {
-    json!({
-        "owner": (owner != 0).then(|| ctx.clients.who(owner)),
-        "owner_client_id": owner,
-        "this_connection": owner != 0 && owner == client.id,
-    })
+pub fn control_detail(ctx: &Context, client: &Client, owner: u64) -> ControlDetail {
+    ControlDetail {
+        owner: (owner != 0).then(|| ctx.clients.who(owner)),
+        owner_client_id: owner,
+        this_connection: owner != 0 && owner == client.id,
+    }
 }
 
 /// The ERROR result of a refused or failed reply; a `not_owner` refusal names the owner in
 /// words and is counted.
-pub fn reply_error(ctx: &Context, command: &str, outcome: &reply::Outcome) -> Value {
+pub fn reply_error(ctx: &Context, command: &str, outcome: &reply::Outcome) -> Generic {
     match outcome {
         reply::Outcome::Refused(Reason::NotOwner { owner }) => {
             ctx.access.count(Refusal::NotOwner);
-            result::error(format!(
+            Generic::error(format!(
                 "{command} refused: the arm is controlled by {} (client id {owner:#x}); only \
                  `hold`, `status` and `info` are open to others until it sends \
                  `release_control` or disconnects",
                 ctx.clients.who(*owner)
             ))
         }
-        other => result::reply_error(command, other),
+        other => Generic::reply_error(command, other),
     }
 }
 
-fn only(result: Value) -> Outcome {
+fn only(result: Answer) -> Outcome {
     Outcome {
         result: Some(result),
         state: None,
@@ -288,7 +286,8 @@ fn only(result: Value) -> Outcome {
 /// refusals here, everything else through [`exec::execute`]; `status` detail gains
 /// `detail.control` and `detail.access`.
 pub async fn run_command(ctx: &Context, client: &Client, cmd: &Command) -> Outcome {
-    if let Command::Authenticate(secret) = cmd {
+    if let Command::Authenticate(a) = cmd {
+        let secret = &a.secret;
         return authenticate(ctx, client, secret).await;
     }
     let needs = need(cmd);
@@ -297,7 +296,7 @@ pub async fn run_command(ctx: &Context, client: &Client, cmd: &Command) -> Outco
         .decide(needs, client.peer.ip(), client.authenticated())
     {
         ctx.access.count(r);
-        return only(result::error(ctx.access.refusal_text(
+        return only(Answer::error(ctx.access.refusal_text(
             cmd.name(),
             r,
             client.peer.ip(),
@@ -307,15 +306,12 @@ pub async fn run_command(ctx: &Context, client: &Client, cmd: &Command) -> Outco
         client.may_own();
     }
     let mut out = exec::execute(ctx, client.id, cmd).await;
-    if let (Command::Status(s), Some(v), Some(state)) = (cmd, &mut out.result, &out.state)
-        && s.detail
-        && let Some(detail) = v.get_mut("detail").and_then(Value::as_object_mut)
+    if let (Command::Status(_), Some(Answer::Status(s)), Some(state)) =
+        (cmd, &mut out.result, &out.state)
+        && let Some(detail) = s.detail.as_mut()
     {
-        detail.insert(
-            "control".into(),
-            control_detail(ctx, client, state.owner_client_id),
-        );
-        detail.insert("access".into(), ctx.access.detail(client));
+        detail.control = Some(control_detail(ctx, client, state.owner_client_id));
+        detail.access = Some(ctx.access.detail(client));
     }
     out
 }
@@ -323,11 +319,11 @@ pub async fn run_command(ctx: &Context, client: &Client, cmd: &Command) -> Outco
 async fn authenticate(ctx: &Context, client: &Client, secret: &Secret) -> Outcome {
     if ctx.access.secret_matches(&secret.0) {
         client.set_authenticated();
-        return only(result::ok());
+        return only(Answer::ok());
     }
     ctx.access.count(Refusal::WrongSecret);
     tokio::time::sleep(WRONG_SECRET_DELAY).await;
-    only(result::error(ctx.access.refusal_text(
+    only(Answer::error(ctx.access.refusal_text(
         "authenticate",
         Refusal::WrongSecret,
         client.peer.ip(),

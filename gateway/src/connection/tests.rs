@@ -4,7 +4,7 @@
 //! mutated valid commands.
 
 use super::*;
-use crate::json::to_ascii;
+use mcm_shared::protocol::json::to_ascii;
 use crate::test_support::offline_context;
 use proptest::prelude::*;
 use tokio::io::{AsyncBufReadExt, BufReader};
@@ -235,7 +235,7 @@ proptest! {
     }
 
     #[test]
-    fn arbitrary_json_values_get_one_result(v in json_value(), command in prop::sample::select(crate::cmd::COMMAND_NAMES)) {
+    fn arbitrary_json_values_get_one_result(v in json_value(), command in prop::sample::select(mcm_shared::protocol::command_names().collect::<Vec<_>>())) {
         for value in [v.clone(), serde_json::json!({"command": command, "arguments": v})] {
             let line = to_ascii(&value);
             let steps = run_path(format!("{line}\n").as_bytes(), 4096);

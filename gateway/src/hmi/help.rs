@@ -1,32 +1,14 @@
 //! The HMI's help texts: `help` lists every command with one line each (grouped by the modes
 //! that accept them, as in the manual); `help CMD` explains one command: usage, arguments
 //! with units and defaults, the modes that accept it, its reply, examples and the allowed
-//! ranges per axis of the configured robot (from [`mcm_shared::ranges`]). Built from [`super::spec`]. Not used inside the real-time cycle.
+//! ranges per axis of the configured robot (from [`mcm_shared::ranges`]). Built from the commands' definitions ([`mcm_shared::protocol::CommandDef`]). Not used inside the real-time cycle.
 
 use super::render::{BOLD, RESET};
-use super::spec::{self, CommandSpec};
 use super::words::SESSION_COMMANDS;
-use crate::cmd::{COMMAND_NAMES, suggest};
+use mcm_shared::protocol::{self, ArgDef, COMMANDS, CommandDef, Group, command_names, suggest};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::ranges::{Arg, Num};
 use std::fmt::Write as _;
-
-/// The commands grouped by the modes that accept them.
-const GROUPS: &[(&str, &[&str])] = &[
-    ("In every mode", &["status", "info", "hold", "sleep", "sim"]),
-    (
-        "Control of the arm (one client at a time)",
-        &["take_control", "release_control", "authenticate"],
-    ),
-    ("In OFF and HOLD", &["calibrate"]),
-    (
-        "In HOLD (all axes calibrated): change the mode",
-        &["release", "pvt", "torque_control", "velocity_control"],
-    ),
-    ("In PVT", &["move_axis", "move_all", "pvt_points"]),
-    ("In TORQUE_CONTROL", &["set_torques"]),
-    ("In VELOCITY_CONTROL", &["set_velocities"]),
-];
 
 const SESSION: &[(&str, &str, &str)] = &[
     (
@@ -66,11 +48,10 @@ pub fn overview() -> String {
     let mut s = format!(
         "{BOLD}Robot commands{RESET} - arguments by position or as name=value; `help CMD` explains one\n"
     );
-    for (title, names) in GROUPS {
-        let _ = writeln!(s, "{title}:");
-        for name in *names {
-            let spec = spec::find(name).expect("grouped commands exist");
-            let _ = writeln!(s, "  {:<15} {}", spec.name, spec.summary);
+    for group in Group::ALL {
+        let _ = writeln!(s, "{}:", group.title());
+        for def in COMMANDS.iter().filter(|d| d.group == group) {
+            let _ = writeln!(s, "  {:<15} {}", def.name, def.summary);
         }
     }
     let _ = writeln!(s, "{BOLD}Session commands{RESET}:");
@@ -90,7 +71,7 @@ pub fn topic(topic: &str, cfg: &RobotConfig) -> String {
     if t == "keys" {
         return KEYS.to_string();
     }
-    if let Some(spec) = spec::find(&t) {
+    if let Some(spec) = protocol::find(&t) {
         return command(spec, cfg);
     }
     if let Some((name, usage, what)) = SESSION
@@ -99,30 +80,27 @@ pub fn topic(topic: &str, cfg: &RobotConfig) -> String {
     {
         return format!("{BOLD}{name}{RESET} - {what}\nusage:  {usage}\n");
     }
-    let words: Vec<&'static str> = COMMAND_NAMES
-        .iter()
-        .chain(SESSION_COMMANDS)
-        .chain(&["keys"])
-        .copied()
-        .collect();
+    let words = command_names()
+        .chain(SESSION_COMMANDS.iter().copied())
+        .chain(["keys"]);
     format!(
         "no help for \"{}\"{}; `help` lists the commands\n",
         topic.chars().take(40).collect::<String>(),
-        suggest(&t, &words)
+        suggest(&t, words)
             .map(|s| format!(" (did you mean \"{s}\"?)"))
             .unwrap_or_default()
     )
 }
 
 /// The full help of one command.
-pub fn command(spec: &CommandSpec, cfg: &RobotConfig) -> String {
+pub fn command(spec: &CommandDef, cfg: &RobotConfig) -> String {
     let mut s = format!("{BOLD}{}{RESET} - {}\n\n", spec.name, spec.summary);
     let _ = writeln!(s, "usage:       {}", spec.usage());
     if !spec.args.is_empty() {
         s.push_str(
             "             arguments by position, or as name=value in any order\n\narguments:\n",
         );
-        let label = |a: &spec::ArgSpec| match a.alias {
+        let label = |a: &ArgDef| match a.alias {
             "" => a.name.to_string(),
             alias => format!("{} ({alias})", a.name),
         };
@@ -203,10 +181,10 @@ mod tests {
     #[test]
     fn overview_lists_every_command_once() {
         let text = strip_ansi(&overview());
-        for name in COMMAND_NAMES {
+        for name in command_names() {
             let n = text
                 .lines()
-                .filter(|l| l.trim_start().split(' ').next() == Some(*name))
+                .filter(|l| l.trim_start().split(' ').next() == Some(name))
                 .count();
             assert_eq!(n, 1, "{name}:\n{text}");
         }
@@ -270,10 +248,7 @@ mod tests {
 
     #[test]
     fn every_command_has_help() {
-        let grouped: Vec<&str> = GROUPS.iter().flat_map(|(_, n)| n.iter().copied()).collect();
-        assert_eq!(grouped.len(), COMMAND_NAMES.len());
-        for name in COMMAND_NAMES {
-            assert!(grouped.contains(name), "{name}");
+        for name in command_names() {
             let text = topic(name, &cfg());
             assert!(
                 text.contains("accepted in:") && text.contains("examples:"),

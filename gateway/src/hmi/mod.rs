@@ -10,7 +10,7 @@
 //!
 //! It runs in the gateway's async tasks, never inside the real-time cycle. It shares the
 //! JSON channel's command path: the words become a JSON `arguments` object parsed by
-//! [`crate::cmd::Command::parse`] and executed by [`crate::exec::execute`], so both channels
+//! [`mcm_shared::protocol::Command::parse`] and executed by [`crate::exec::execute`], so both channels
 //! accept and refuse exactly the same things.
 //!
 //! Layout: [`telnet`] (option negotiation, NVT line ends) -> [`editor`] (line editing, echo,
@@ -34,7 +34,6 @@ pub mod help;
 pub mod jog;
 pub mod render;
 pub mod session;
-pub mod spec;
 pub mod telnet;
 pub mod words;
 

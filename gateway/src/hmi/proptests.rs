@@ -79,14 +79,14 @@ proptest! {
     #[test]
     fn arbitrary_json_values_give_one_ascii_answer(
         v in crate::connection::tests::json_value(),
-        command in prop::sample::select(crate::cmd::COMMAND_NAMES),
+        command in prop::sample::select(mcm_shared::protocol::command_names().collect::<Vec<_>>()),
         escaped in any::<bool>(),
     ) {
         // As a JSON line (`{...}`) and as the arguments of a command; escaped (`\uXXXX`) or
         // raw UTF-8, which people type.
         for value in [v.clone(), serde_json::json!({"command": command, "arguments": v})] {
             let text = if escaped {
-                crate::json::to_ascii(&value)
+                mcm_shared::protocol::json::to_ascii(&value)
             } else {
                 value.to_string()
             };

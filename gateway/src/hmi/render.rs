@@ -1,17 +1,22 @@
-//! Results for people: the protocol's result objects (built by `crate::result`, the same as on
-//! the JSON channel) turned into aligned tables with units, modes and errors in words, and
+//! Results for people: the protocol's typed results ([`mcm_shared::protocol::results`], the same
+//! as on the JSON channel) turned into aligned tables with units, modes and errors in words, and
 //! hints that say how to fix what went wrong. Output uses `\n`; the session turns it into the
 //! terminal's `\r\n`. Not used inside the real-time cycle.
 //!
 //! ```
 //! use mcm_gateway::hmi::render;
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
-//! let text = render::result("hold", &mcm_gateway::result::ok(), &cfg, None);
+//! let ok = mcm_shared::protocol::results::Answer::ok();
+//! let text = render::answer("calibrate", &ok, &cfg, None);
+//! assert!(text.contains("calibration finished"));
 //! assert!(text.contains("OK"));
 //! ```
 
-use super::spec;
 use super::words::LineError;
+use mcm_shared::protocol;
+use mcm_shared::protocol::results::{
+    Answer, Detail, Generic, Info, MoveAllResult, SimResult, Status,
+};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::Mode;
 use mcm_shared::sample::{
@@ -111,43 +116,36 @@ pub fn ascii(s: &str) -> std::borrow::Cow<'_, str> {
 
 /// Pretty JSON (for lines typed as JSON), pure ASCII.
 pub fn pretty(v: &Value) -> String {
-    let mut s = crate::json::to_ascii_pretty(v);
+    let mut s = mcm_shared::protocol::json::to_ascii_pretty(v);
     s.push('\n');
     s
 }
 
 /// A result of `command` for people. `state` (the reply's, or the newest) adds notes such as
 /// uncalibrated axes or the last safety error.
-pub fn result(command: &str, v: &Value, cfg: &RobotConfig, state: Option<&StateSample>) -> String {
-    match v["result_type"].as_str() {
-        Some("status") => status(v, cfg, state),
-        Some("move_all") => move_all(v, cfg),
-        Some("initialization") => info(v),
-        Some("sim") => sim(v, cfg),
-        _ if v["error_status"] == "OK" => format!("{GREEN}OK{RESET}{}\n", ok_words(command)),
-        _ => error(
-            command,
-            v["error_message"].as_str().unwrap_or("unknown error"),
-            state,
-        ),
-    }
-}
-
-fn ok_words(command: &str) -> &'static str {
-    match command {
-        "calibrate" => " - calibration finished",
-        "move_axis" => " - the axis is moving (`watch` follows it)",
-        "pvt_points" => " - points queued",
-        "set_torques" => " - torques set",
-        "set_velocities" => " - velocities set",
-        _ => "",
+pub fn answer(
+    command: &str,
+    v: &Answer,
+    cfg: &RobotConfig,
+    state: Option<&StateSample>,
+) -> String {
+    match v {
+        Answer::Status(st) => status(st, cfg, state),
+        Answer::MoveAll(m) => move_all(m, cfg),
+        Answer::Initialization(i) => info(i),
+        Answer::Sim(r) => sim(r, cfg),
+        Answer::Generic(g) if g.is_ok() => {
+            let words = protocol::find(command).map_or("", |d| d.ok_words);
+            format!("{GREEN}OK{RESET}{words}\n")
+        }
+        Answer::Generic(g) => error(command, g.message(), state),
     }
 }
 
 /// An error of `command` with a hint on how to fix it.
 pub fn error(command: &str, message: &str, state: Option<&StateSample>) -> String {
     let mut s = format!("{RED}error:{RESET} {message}\n");
-    let spec = spec::find(command);
+    let spec = protocol::find(command);
     let hint = if message.contains("is not running") {
         Some(
             "the real-time core (mcm-rt) is not running: start it (the `mcm` launcher starts both \
@@ -201,34 +199,13 @@ pub fn line_error(e: &LineError) -> String {
     s
 }
 
-/// A spontaneous safety error (`crate::result::safety_error`).
-pub fn safety(v: &Value) -> String {
-    format!(
-        "{RED}*** {}{RESET}\n  hint: once the cause is gone, `hold` clears the error\n",
-        v["error_message"]
-            .as_str()
-            .unwrap_or("safety check tripped")
-    )
-}
-
-fn six(v: &Value) -> [f64; 6] {
-    let mut out = [f64::NAN; 6];
-    if let Some(a) = v.as_array() {
-        for (o, x) in out.iter_mut().zip(a) {
-            *o = x.as_f64().unwrap_or(f64::NAN);
-        }
-    }
-    out
-}
-
-fn bools(v: &Value) -> [Option<bool>; 6] {
-    let mut out = [None; 6];
-    if let Some(a) = v.as_array() {
-        for (o, x) in out.iter_mut().zip(a) {
-            *o = x.as_bool();
-        }
-    }
-    out
+/// A spontaneous safety error ([`Generic::safety_event`]).
+pub fn safety(e: &Generic) -> String {
+    let words = match e.message() {
+        "" => "safety check tripped",
+        m => m,
+    };
+    format!("{RED}*** {words}{RESET}\n  hint: once the cause is gone, `hold` clears the error\n")
 }
 
 fn name(cfg: &RobotConfig, i: usize) -> &str {
@@ -244,23 +221,16 @@ fn num(x: f64, width: usize, decimals: usize) -> String {
 }
 
 /// The status result as a table.
-pub fn status(v: &Value, cfg: &RobotConfig, state: Option<&StateSample>) -> String {
-    let mode = v["operating_mode"].as_str().unwrap_or("UNKNOWN");
-    let axes = &v["axis_states"];
-    let t = six(&axes["time"])[0];
+pub fn status(v: &Status, cfg: &RobotConfig, state: Option<&StateSample>) -> String {
+    let mode = v.mode.as_str();
+    let axes = &v.axis_states;
     let mut s = format!(
         "mode {}{mode}{RESET} - {}   (t = {} s)\n",
         mode_color(mode),
         mode_words(mode),
-        num(t, 0, 3)
+        num(v.time(), 0, 3)
     );
-    let (pos, vel, cur) = (
-        six(&axes["position"]),
-        six(&axes["velocity"]),
-        six(&axes["current"]),
-    );
-    let d = &v["detail"];
-    let detail = d.is_object();
+    let d = v.detail.as_ref();
     for (i, row) in [
         ["axis", "name", "position", "velocity", "current"],
         ["", "", "deg", "deg/s", "A"],
@@ -272,7 +242,7 @@ pub fn status(v: &Value, cfg: &RobotConfig, state: Option<&StateSample>) -> Stri
             "{:>4}  {:<9} {:>11} {:>11} {:>11}",
             row[0], row[1], row[2], row[3], row[4]
         );
-        if detail {
+        if d.is_some() {
             let extra = [
                 ["commanded", "measured", "foll. err", "i2t", "calibrated"],
                 ["deg", "deg", "deg", "%", ""],
@@ -286,42 +256,31 @@ pub fn status(v: &Value, cfg: &RobotConfig, state: Option<&StateSample>) -> Stri
         s.push_str(line.trim_end());
         s.push('\n');
     }
-    let (cmd, meas, fe, i2t, cal) = (
-        six(&d["commanded_position"]),
-        six(&d["measured_position"]),
-        six(&d["following_error"]),
-        six(&d["i2t"]),
-        bools(&d["calibrated"]),
-    );
     for i in 0..6 {
         let _ = write!(
             s,
             "{:>4}  {:<9} {} {} {}",
             i + 1,
             name(cfg, i),
-            num(pos[i], 11, 3),
-            num(vel[i], 11, 3),
-            num(cur[i], 11, 3)
+            num(axes.position[i], 11, 3),
+            num(axes.velocity[i], 11, 3),
+            num(axes.current[i], 11, 3)
         );
-        if detail {
-            let c = match cal[i] {
-                Some(true) => "yes",
-                Some(false) => "NO",
-                None => "-",
-            };
+        if let Some(d) = d {
+            let c = if d.calibrated[i] { "yes" } else { "NO" };
             let _ = write!(
                 s,
                 " {} {} {} {}  {c:>10}",
-                num(cmd[i], 11, 3),
-                num(meas[i], 11, 3),
-                num(fe[i], 10, 3),
-                num(i2t[i] * 100.0, 7, 1)
+                num(d.commanded_position[i], 11, 3),
+                num(d.measured_position[i], 11, 3),
+                num(d.following_error[i], 10, 3),
+                num(d.i2t[i] * 100.0, 7, 1)
             );
         }
         s.push('\n');
     }
-    if detail {
-        detail_lines(&mut s, v);
+    if let Some(d) = d {
+        detail_lines(&mut s, v.hardware_status.as_deref(), d);
     }
     if let Some(st) = state {
         notes(&mut s, st);
@@ -329,71 +288,68 @@ pub fn status(v: &Value, cfg: &RobotConfig, state: Option<&StateSample>) -> Stri
     s
 }
 
-fn detail_lines(s: &mut String, v: &Value) {
-    let d = &v["detail"];
-    if let Some(h) = v["hardware_status"].as_str() {
+fn detail_lines(s: &mut String, hardware: Option<&str>, d: &Detail) {
+    if let Some(h) = hardware {
         let _ = writeln!(s, "hardware:  {h}");
     }
-    let a = &d["access"];
-    if a.is_object() {
-        let refused = a["refused"]
-            .as_object()
-            .map(|m| {
-                m.iter()
-                    .map(|(k, n)| format!("{k} {n}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            })
-            .unwrap_or_default();
+    if let Some(a) = &d.access {
+        let refused = a
+            .refused
+            .iter()
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect::<Vec<_>>()
+            .join(", ");
         let _ = writeln!(
             s,
             "access:    motion from {}{}; secret {}; refused so far: {refused}",
-            a["motion_networks"].as_str().unwrap_or("?"),
-            if a["motion_allowed_here"] == false {
-                " (NOT from this session's address)"
-            } else {
+            a.motion_networks,
+            if a.motion_allowed_here {
                 ""
+            } else {
+                " (NOT from this session's address)"
             },
-            match (a["secret_required"] == true, a["authenticated"] == true) {
+            match (a.secret_required, a.authenticated) {
                 (false, _) => "not required",
                 (true, true) => "required, presented by this session",
                 (true, false) => "required, NOT presented by this session (`authenticate`)",
             },
         );
     }
-    let q = &d["pvt_queue"];
+    let q = &d.pvt_queue;
     let _ = writeln!(
         s,
         "PVT queue: {} of {} points{}",
-        q["queued"],
-        q["capacity"],
-        if q["starved"] == true {
+        q.queued,
+        q.capacity,
+        if q.starved {
             " (ran dry: the axes stopped and hold)"
         } else {
             ""
         }
     );
-    let tm = &d["timing"];
-    let period = tm["period_s"].as_f64().unwrap_or(f64::NAN);
-    let us = |k: &str| {
-        tm[k]
-            .as_f64()
-            .map_or("-".to_string(), |x| format!("{x:.0}"))
+    let tm = &d.timing;
+    let period = tm.period_s;
+    let us = |x: f64| {
+        if x.is_finite() {
+            format!("{x:.0}")
+        } else {
+            "-".to_string()
+        }
     };
     let _ = writeln!(
         s,
         "cycle:     {} ms ({} Hz), wake-up latency p50 {} us, p99 {} us, max {} us; longest work {} us; overruns {}{}",
         num(period * 1e3, 0, 3),
         num(1.0 / period, 0, 0),
-        us("latency_p50_us"),
-        us("latency_p99_us"),
-        us("latency_max_us"),
-        us("work_max_us"),
-        tm["overruns"],
-        if tm["realtime"] == false {
-            format!(" {YELLOW}(NOT real-time){RESET}")
-        } else {
+        us(tm.latency_p50_us),
+        us(tm.latency_p99_us),
+        us(tm.latency_max_us),
+        us(tm.work_max_us),
+        tm.overruns,
+        if tm.realtime {
             String::new()
+        } else {
+            format!(" {YELLOW}(NOT real-time){RESET}")
         }
     );
 }
@@ -421,13 +377,9 @@ fn notes(s: &mut String, st: &StateSample) {
         }
     }
     if st.mode == Mode::Error.to_wire()
-        && let Some(e) = crate::result::last_error(&st.last_error)
+        && let Some(e) = Generic::last_error(&st.last_error)
     {
-        let _ = writeln!(
-            s,
-            "{RED}last error:{RESET} {}",
-            e["error_message"].as_str().unwrap_or("")
-        );
+        let _ = writeln!(s, "{RED}last error:{RESET} {}", e.message());
     }
     if st.mode == Mode::Pvt.to_wire() && st.flags & STATE_PVT_STARVED != 0 {
         let _ = writeln!(s, "PVT queue ran dry: the axes stopped and hold");
@@ -435,16 +387,16 @@ fn notes(s: &mut String, st: &StateSample) {
 }
 
 /// The move_all result: timing and velocity of each axis.
-pub fn move_all(v: &Value, cfg: &RobotConfig) -> String {
-    let longest = v["longest"].as_u64().unwrap_or(0) as usize;
+pub fn move_all(v: &MoveAllResult, cfg: &RobotConfig) -> String {
+    let longest = usize::from(v.longest);
     let mut s = format!(
         "{GREEN}OK{RESET} - every axis arrives within {} s; axis {longest} ({}) takes longest\n",
-        num(v["max_time_to_target"].as_f64().unwrap_or(f64::NAN), 0, 3),
+        num(v.max_time_to_target, 0, 3),
         name(cfg, longest.wrapping_sub(1))
     );
     let _ = writeln!(s, "{:>4}  {:<9} {:>11}", "axis", "name", "velocity");
     let _ = writeln!(s, "{:>4}  {:<9} {:>11}", "", "", "deg/s");
-    for (i, vel) in six(&v["velocities"]).iter().enumerate() {
+    for (i, vel) in v.velocities.iter().enumerate() {
         let mark = if i + 1 == longest { "  <- longest" } else { "" };
         let _ = writeln!(
             s,
@@ -458,16 +410,16 @@ pub fn move_all(v: &Value, cfg: &RobotConfig) -> String {
 }
 
 /// The initialization result (`info`).
-pub fn info(v: &Value) -> String {
-    let cycle = v["cycle_time"].as_f64().unwrap_or(f64::NAN);
+pub fn info(v: &Info) -> String {
+    let cycle = v.cycle_time;
     let mut s = format!(
         "{}, MCM {}, {} axes, cycle {} ms ({} Hz), {}\n",
-        v["robot"].as_str().unwrap_or("robot"),
-        v["version"].as_str().unwrap_or("?"),
-        v["num_axes"],
+        v.robot,
+        v.version,
+        v.num_axes,
         num(cycle * 1e3, 0, 3),
         num(1.0 / cycle, 0, 0),
-        if v["simulated"] == true {
+        if v.simulated {
             "simulated robot"
         } else {
             "real hardware"
@@ -492,33 +444,28 @@ pub fn info(v: &Value) -> String {
             row[0], row[1], row[2], row[3], row[4], row[5], row[6], row[7]
         );
     }
-    for a in v["axes"].as_array().into_iter().flatten() {
-        let f = |k: &str, w: usize, d: usize| num(a[k].as_f64().unwrap_or(f64::NAN), w, d);
+    for a in &v.axes {
         let _ = writeln!(
             s,
             "{:>4}  {:<9} {} {} {} {} {}  {}",
-            a["axis"].as_u64().unwrap_or(0),
-            a["name"].as_str().unwrap_or(""),
-            f("min_position", 8, 1),
-            f("max_position", 9, 1),
-            f("max_velocity", 10, 1),
-            f("max_acceleration", 10, 1),
-            f("max_torque", 11, 1),
-            if a["light_barrier"] == true {
-                "yes"
-            } else {
-                "no"
-            }
+            a.axis,
+            a.name,
+            num(a.min_position, 8, 1),
+            num(a.max_position, 9, 1),
+            num(a.max_velocity, 10, 1),
+            num(a.max_acceleration, 10, 1),
+            num(a.max_torque, 11, 1),
+            if a.light_barrier { "yes" } else { "no" }
         );
     }
     s
 }
 
 /// The sim result: the simulation's ground truth.
-pub fn sim(v: &Value, cfg: &RobotConfig) -> String {
+pub fn sim(v: &SimResult, cfg: &RobotConfig) -> String {
     let mut s = format!(
         "{GREEN}OK{RESET} - simulation ground truth; emergency switch {}\n",
-        if v["emergency_stop"] == true {
+        if v.emergency_stop {
             "PRESSED"
         } else {
             "released"
@@ -534,15 +481,14 @@ pub fn sim(v: &Value, cfg: &RobotConfig) -> String {
             row[0], row[1], row[2], row[3]
         );
     }
-    let (p, vel) = (six(&v["true_position"]), six(&v["true_velocity"]));
     for i in 0..6 {
         let _ = writeln!(
             s,
             "{:>4}  {:<9} {} {}",
             i + 1,
             name(cfg, i),
-            num(p[i], 13, 3),
-            num(vel[i], 14, 3)
+            num(v.true_position[i], 13, 3),
+            num(v.true_velocity[i], 14, 3)
         );
     }
     s
@@ -559,7 +505,12 @@ pub fn watch_frame(
     match state {
         Some(st) => format!(
             "{head}{}",
-            status(&crate::result::status(st, detail), cfg, Some(st))
+            answer(
+                "status",
+                &crate::result::status_answer(st, detail),
+                cfg,
+                Some(st)
+            )
         ),
         None => format!(
             "{head}{YELLOW}the real-time core (instance `{instance}`) is not running{RESET}; waiting for it ...\n"

@@ -18,7 +18,8 @@ use super::telnet::{Input, Telnet};
 use super::words::{Line, LineError};
 use super::{MAX_LINE_BYTES, help, render};
 use crate::access::{Channel, Client, run_command};
-use crate::cmd::Command;
+use mcm_shared::protocol::Command;
+use mcm_shared::protocol::results::Answer;
 use crate::connection::{Expiry, WRITE_TIMEOUT, deadline};
 use crate::exec::Context;
 use crate::result;
@@ -51,10 +52,8 @@ const FIRST_STATE_WAIT: Duration = Duration::from_secs(1);
 
 /// Words for Tab completion: every protocol command and the session's own commands.
 pub fn completions() -> Vec<&'static str> {
-    crate::cmd::COMMAND_NAMES
-        .iter()
-        .chain(super::words::SESSION_COMMANDS)
-        .copied()
+    mcm_shared::protocol::command_names()
+        .chain(super::words::SESSION_COMMANDS.iter().copied())
         .collect()
 }
 
@@ -314,7 +313,7 @@ impl Session {
 
     fn error_text(&mut self, e: Result<crate::bridge::SafetyEvent, RecvError>) -> Option<String> {
         match e {
-            Ok(ev) => Some(render::safety(&result::safety_event(&ev))),
+            Ok(ev) => Some(render::safety(&result::safety_generic(&ev))),
             Err(RecvError::Lagged(n)) => Some(format!(
                 "{}*** {n} safety errors were not shown (this session was too slow){}\n",
                 render::RED,
@@ -495,10 +494,12 @@ impl Session {
         };
         let state = outcome.state.or_else(|| self.ctx.bridge.latest_state());
         let mut text = match (&outcome.result, json) {
-            (Some(v), true) => render::pretty(v),
+            (Some(v), true) => render::pretty(&v.to_value()),
             (None, true) => format!("(no result: {name} answers nothing on success)\n"),
-            (Some(v), false) => render::result(name, v, &self.ctx.cfg, state.as_deref()),
-            (None, false) => render::result(name, &result::ok(), &self.ctx.cfg, state.as_deref()),
+            (Some(v), false) => render::answer(name, v, &self.ctx.cfg, state.as_deref()),
+            (None, false) => {
+                render::answer(name, &Answer::ok(), &self.ctx.cfg, state.as_deref())
+            }
         };
         if let (Command::Status(_), false, Some(st)) = (&cmd, json, &state) {
             text.push_str(&crate::access::control_words(

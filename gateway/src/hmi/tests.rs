@@ -314,7 +314,7 @@ async fn nc_session_ctrl_d_and_shutdown() {
 
 #[test]
 fn completions_are_the_command_names() {
-    let mut expected: Vec<&str> = crate::cmd::COMMAND_NAMES.to_vec();
+    let mut expected: Vec<&str> = mcm_shared::protocol::command_names().collect();
     expected.extend(words::SESSION_COMMANDS);
     let mut got: Vec<&str> = session::completions();
     expected.sort_unstable();

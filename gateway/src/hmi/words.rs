@@ -3,7 +3,7 @@
 //! the real-time cycle.
 //!
 //! A command line is the command name followed by arguments, by position (in the order of
-//! [`super::spec`]) or as `name=value` (short names such as `vf` for `velocity_factor` too).
+//! [`mcm_shared::protocol::CommandDef`]) or as `name=value` (short names such as `vf` for `velocity_factor` too).
 //! Values: numbers, `true`/`false`, words; `"..."` or `'...'` quote a value (a quoted value is
 //! always a string, except a quoted JSON array for `pvt_points` and six-value arguments);
 //! `[...]` and `{...}` are JSON and may contain spaces. Six values (`move_all`,
@@ -14,7 +14,7 @@
 //!
 //! ```
 //! use mcm_gateway::hmi::words::{Line, parse_line};
-//! use mcm_gateway::cmd::Command;
+//! use mcm_shared::protocol::Command;
 //! use mcm_shared::command::{Axis, MoveAxis};
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
 //! let line = parse_line("move_axis 1 30 vf=0.5", &cfg).unwrap();
@@ -23,9 +23,10 @@
 //! assert_eq!(line, Line::Command { cmd: Command::MoveAxis(expected), json: false });
 //! ```
 
-use super::spec::{self, ArgSpec, CommandSpec, Kind};
-use crate::args::CommandError;
-use crate::cmd::{COMMAND_NAMES, Command, suggest};
+use mcm_shared::protocol::CommandError;
+use mcm_shared::protocol::{
+    self, ArgDef, Command, CommandDef, Kind, command_names, suggest,
+};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::ranges::Arg;
 use serde_json::{Map, Value};
@@ -127,14 +128,14 @@ fn did_you_mean(s: Option<&'static str>) -> String {
 
 impl LineError {
     /// The protocol command the error is about, when it is one (for a usage hint).
-    pub fn command(&self) -> Option<&'static CommandSpec> {
+    pub fn command(&self) -> Option<&'static CommandDef> {
         match self {
             LineError::UnknownArgument { command, .. }
             | LineError::Duplicate { command, .. }
             | LineError::TooMany { command, .. }
             | LineError::NotSix { command, .. }
             | LineError::BadJson { command, .. }
-            | LineError::Rejected { command, .. } => spec::find(command),
+            | LineError::Rejected { command, .. } => protocol::find(command),
             _ => None,
         }
     }
@@ -350,15 +351,11 @@ pub fn parse_line(text: &str, cfg: &RobotConfig) -> Result<Line, LineError> {
         "clear" => return Ok(Line::Clear),
         _ => {}
     }
-    let Some(spec) = spec::find(&word) else {
-        let words: Vec<&'static str> = COMMAND_NAMES
-            .iter()
-            .chain(SESSION_COMMANDS)
-            .copied()
-            .collect();
+    let Some(spec) = protocol::find(&word) else {
+        let words = command_names().chain(SESSION_COMMANDS.iter().copied());
         return Err(LineError::UnknownCommand {
             name: first.value.chars().take(40).collect(),
-            suggestion: suggest(&word, &words),
+            suggestion: suggest(&word, words),
         });
     };
     if let [t] = rest
@@ -367,7 +364,7 @@ pub fn parse_line(text: &str, cfg: &RobotConfig) -> Result<Line, LineError> {
         return Ok(Line::Help(Some(spec.name.to_string())));
     }
     let arguments = arguments(spec, rest)?;
-    Command::parse(spec.name, Some(&arguments), cfg)
+    Command::parse(spec, Some(&arguments), cfg)
         .map(|cmd| Line::Command { cmd, json: false })
         .map_err(|error| LineError::Rejected {
             command: spec.name,
@@ -383,9 +380,9 @@ fn session_error(command: &'static str, what: &str) -> LineError {
 }
 
 /// The JSON `arguments` object of the tokens after the command name.
-pub fn arguments(spec: &'static CommandSpec, tokens: &[Token]) -> Result<Value, LineError> {
+pub fn arguments(spec: &'static CommandDef, tokens: &[Token]) -> Result<Value, LineError> {
     let mut map = Map::new();
-    let insert = |map: &mut Map<String, Value>, a: &'static ArgSpec, v: Value| {
+    let insert = |map: &mut Map<String, Value>, a: &'static ArgDef, v: Value| {
         if map.insert(a.name.to_string(), v).is_some() {
             Err(LineError::Duplicate {
                 command: spec.name,
@@ -405,7 +402,7 @@ pub fn arguments(spec: &'static CommandSpec, tokens: &[Token]) -> Result<Value, 
             let a = spec.arg(name).ok_or_else(|| LineError::UnknownArgument {
                 command: spec.name,
                 argument: name.chars().take(40).collect(),
-                suggestion: suggest(name, &spec.arg_names()),
+                suggestion: suggest(name, spec.arg_names()),
                 allowed: allowed(spec),
             })?;
             insert(&mut map, a, value(spec, a, t)?)?;
@@ -479,7 +476,7 @@ pub fn arguments(spec: &'static CommandSpec, tokens: &[Token]) -> Result<Value, 
     Ok(Value::Object(map))
 }
 
-fn allowed(spec: &CommandSpec) -> String {
+fn allowed(spec: &CommandDef) -> String {
     if spec.args.is_empty() {
         return "none (this command takes no arguments)".into();
     }
@@ -494,9 +491,9 @@ fn allowed(spec: &CommandSpec) -> String {
 }
 
 /// The JSON value of one token for argument `a`.
-fn value(spec: &CommandSpec, a: &'static ArgSpec, t: &Token) -> Result<Value, LineError> {
+fn value(spec: &CommandDef, a: &'static ArgDef, t: &Token) -> Result<Value, LineError> {
     let json = |text: &str| {
-        crate::json::parse(text).map_err(|e| LineError::BadJson {
+        mcm_shared::protocol::json::parse(text).map_err(|e| LineError::BadJson {
             command: spec.name,
             argument: a.name,
             reason: e.to_string(),

@@ -12,7 +12,7 @@ use crate::access::{Client, run_command};
 use crate::bridge::doorbell::Doorbell;
 use crate::connection::{Step, decide};
 use crate::exec::Context;
-use crate::result;
+use mcm_shared::protocol::results::Answer;
 use serde_json::Value;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -42,7 +42,8 @@ pub async fn answer(ctx: &Context, client: &Client, body: &[u8]) -> Value {
         Step::Run(cmd) => run_command(ctx, client, &cmd)
             .await
             .result
-            .unwrap_or_else(result::ok),
+            .unwrap_or_else(Answer::ok)
+            .to_value(),
         Step::Reply(v) | Step::Close(v) => v,
     }
 }
@@ -60,7 +61,7 @@ pub(super) async fn serve(
         busy.store(true, Ordering::Relaxed);
         let reply = answer(&ctx, &client, &req.body).await;
         busy.store(false, Ordering::Relaxed);
-        out.send(req.reply(crate::json::to_ascii(&reply)));
+        out.send(req.reply(mcm_shared::protocol::json::to_ascii(&reply)));
     }
     // `client` is dropped here: the core hears that this client is gone.
 }

@@ -119,7 +119,7 @@ impl Sink {
 
     /// Send `[topic, json]` without waiting (a full subscriber queue drops it).
     async fn publish(&mut self, topic: &str, v: &Value) {
-        let json = crate::json::to_ascii(v);
+        let json = mcm_shared::protocol::json::to_ascii(v);
         match self {
             Sink::Libzmq(socket) => {
                 let frames: [&[u8]; 2] = [topic.as_bytes(), json.as_bytes()];

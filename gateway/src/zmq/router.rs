@@ -175,7 +175,7 @@ impl Router {
                      try again when one has gone",
                     self.max_peers
                 );
-                self.send(req.reply(crate::json::to_ascii(&result::error(why))));
+                self.send(req.reply(mcm_shared::protocol::json::to_ascii(&result::error(why))));
                 return;
             }
             peers.insert(id.clone(), self.new_peer(addr));
@@ -191,7 +191,7 @@ impl Router {
                 "{QUEUE_PER_PEER} requests of this ZeroMQ peer already wait for their replies; \
                  send the next one after a reply; nothing was done"
             );
-            self.send(req.reply(crate::json::to_ascii(&result::error(why))));
+            self.send(req.reply(mcm_shared::protocol::json::to_ascii(&result::error(why))));
         }
     }
 

@@ -1,5 +1,6 @@
 use super::*;
 use mcm_shared::command::Axis;
+use mcm_shared::protocol::results::{Info, MoveAllResult, SimResult};
 use mcm_shared::reply::{InfoReply, MoveAllPlan, Reason, SafetyError};
 
 fn safety_error(reason: Reason) -> SafetyError {
@@ -9,6 +10,10 @@ fn safety_error(reason: Reason) -> SafetyError {
         unix_ns: 0,
         reason,
     }
+}
+
+fn status_of(st: &StateSample, detail: bool) -> Status {
+    Status::from_state(st, detail).unwrap()
 }
 
 fn cfg() -> RobotConfig {
@@ -35,7 +40,7 @@ fn state(mode: Mode) -> StateSample {
 fn status_table_is_aligned_with_units() {
     let st = state(Mode::Hold);
     let text = strip_ansi(&status(
-        &crate::result::status(&st, false),
+        &status_of(&st, false),
         &cfg(),
         Some(&st),
     ));
@@ -77,7 +82,7 @@ fn detailed_status_and_notes() {
     })
     .encode();
     let text = strip_ansi(&status(
-        &crate::result::status(&st, true),
+        &status_of(&st, true),
         &cfg(),
         Some(&st),
     ));
@@ -107,9 +112,9 @@ fn move_all_timing() {
         longest: Axis::new(6).unwrap(),
         duration_s: 1.5,
     };
-    let text = strip_ansi(&result(
+    let text = strip_ansi(&answer(
         "move_all",
-        &crate::cmd::move_all::render(&plan),
+        &Answer::MoveAll(MoveAllResult::from(&plan)),
         &cfg(),
         None,
     ));
@@ -130,9 +135,9 @@ fn info_and_sim_tables() {
         num_axes: 6,
         period_s: 0.005,
     };
-    let text = strip_ansi(&result(
+    let text = strip_ansi(&answer(
         "info",
-        &crate::cmd::info::render(&cfg(), &info, true),
+        &Answer::Initialization(Info::new(&cfg(), &info, true)),
         &cfg(),
         None,
     ));
@@ -147,7 +152,12 @@ fn info_and_sim_tables() {
     );
     let mut st = state(Mode::Hold);
     st.sim_true_position[0] = 1.25;
-    let text = strip_ansi(&result("sim", &crate::cmd::sim::render(&st), &cfg(), None));
+    let text = strip_ansi(&answer(
+        "sim",
+        &Answer::Sim(SimResult::from_state(&st)),
+        &cfg(),
+        None,
+    ));
     assert!(text.contains("emergency switch released"), "{text}");
     assert!(text.contains("   1  base              1.250"), "{text}");
 }
@@ -167,9 +177,9 @@ fn errors_say_how_to_fix_them() {
         text.ends_with("the mode is RELEASE. Enter PVT mode first: `hold`, then `pvt`.\n"),
         "{text}"
     );
-    let text = strip_ansi(&result(
+    let text = strip_ansi(&answer(
         "status",
-        &crate::result::error(
+        &Answer::error(
             "status failed: the real-time core (mcm-rt, instance `x`) is not running or not answering",
         ),
         &cfg(),
@@ -179,7 +189,7 @@ fn errors_say_how_to_fix_them() {
         text.contains("hint: the real-time core (mcm-rt) is not running: start it"),
         "{text}"
     );
-    let text = strip_ansi(&result("hold", &crate::result::ok(), &cfg(), None));
+    let text = strip_ansi(&answer("hold", &Answer::ok(), &cfg(), None));
     assert_eq!(text, "OK\n");
 }
 
@@ -211,7 +221,7 @@ fn safety_errors_prompt_and_banner() {
         mode: Mode::Error.to_wire(),
         file: "/tmp/f.csv".into(),
     };
-    let text = strip_ansi(&safety(&crate::result::safety_event(&ev)));
+    let text = strip_ansi(&safety(&crate::result::safety_generic(&ev)));
     assert!(
         text.starts_with("*** safety check tripped: position limit: axis 3"),
         "{text}"

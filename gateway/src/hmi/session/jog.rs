@@ -3,7 +3,8 @@
 //! leave with `hold`.
 
 use super::{Flow, Session};
-use crate::cmd::{Command, VelocityControl};
+use mcm_shared::protocol::results::Answer;
+use mcm_shared::protocol::{Command, Hold, VelocityControl};
 use crate::hmi::jog::{
     Held, JOG_PERIOD, JOG_TIMEOUT_S, JogKey, KeyDecoder, status_line, velocities,
 };
@@ -59,7 +60,7 @@ impl Session {
                 render::RESET
             ));
         }
-        let hold = self.jog_command(&Command::Hold).await;
+        let hold = self.jog_command(&Command::Hold(Hold)).await;
         let state = self.ctx.bridge.latest_state();
         let mode = state
             .as_deref()
@@ -76,9 +77,10 @@ impl Session {
     async fn jog_command(&mut self, cmd: &Command) -> Option<String> {
         let (ctx, client) = (self.ctx.clone(), self.client.clone());
         let out = crate::access::run_command(&ctx, &client, cmd).await;
-        let result = out.result?;
-        (result["error_status"] == "ERROR")
-            .then(|| result["error_message"].as_str().unwrap_or("").to_string())
+        match out.result? {
+            Answer::Generic(g) if !g.is_ok() => Some(g.message().to_string()),
+            _ => None,
+        }
     }
 
     async fn jog_loop(&mut self, axis: Axis, speed: f64, name: &str) -> io::Result<End> {

@@ -1,5 +1,5 @@
 use super::*;
-use crate::cmd::Status;
+use mcm_shared::protocol::Status;
 use mcm_shared::command::{
     Axis, Calibrate, Direction, MoveAll, MoveAxis, PvtPoint, SetTorques, SimCommand, Which,
 };
@@ -37,7 +37,7 @@ fn positional_and_named_arguments() {
         panic!()
     };
     assert_eq!((m.axis.number(), m.target_deg), (2, -45.0));
-    assert_eq!(m.velocity_factor, crate::cmd::DEFAULT_VELOCITY_FACTOR);
+    assert_eq!(m.velocity_factor, mcm_shared::protocol::DEFAULT_VELOCITY_FACTOR);
 }
 
 #[test]
@@ -107,8 +107,8 @@ fn booleans_flags_and_words() {
             force_mechanical_stop: true
         })
     );
-    assert_eq!(cmd("hold"), Command::Hold);
-    assert_eq!(cmd("info"), Command::Info);
+    assert_eq!(cmd("hold"), Command::Hold(mcm_shared::protocol::Hold));
+    assert_eq!(cmd("info"), Command::Info(mcm_shared::protocol::Info));
 }
 
 #[test]

@@ -1,5 +1,5 @@
-//! The gateway's one JSON reader and writer, used by the JSON channel and by the HMI's JSON
-//! lines and JSON arguments. Runs in the gateway's async tasks, not in the real-time cycle.
+//! The protocol's one JSON reader and writer, used by the JSON channel, the HMI's JSON lines
+//! and JSON arguments, and the clients. Not used inside the real-time cycle.
 //!
 //! Reading ([`parse`]): like `serde_json::from_str` into a [`Value`], except that a key repeated
 //! in any object of the tree is refused with an error naming the key (serde_json alone would
@@ -11,7 +11,7 @@
 //! U+FFFF); the JSON value is unchanged.
 //!
 //! ```
-//! use mcm_gateway::json::{ParseError, parse, to_ascii};
+//! use mcm_shared::protocol::json::{ParseError, parse, to_ascii};
 //! let v = parse(r#"{"a":"\u00e9\ud83d\ude00"}"#).unwrap();
 //! assert_eq!(to_ascii(&v), r#"{"a":"\u00e9\ud83d\ude00"}"#);
 //! let e = parse(r#"{"b":{"k":1,"k":2}}"#).unwrap_err();
@@ -24,6 +24,18 @@ use serde_json::{Map, Value};
 use std::cell::RefCell;
 use std::fmt;
 use std::io;
+
+/// The JSON type name of a value, for messages.
+pub fn json_kind(v: &Value) -> &'static str {
+    match v {
+        Value::Null => "null",
+        Value::Bool(_) => "boolean",
+        Value::Number(_) => "number",
+        Value::String(_) => "string",
+        Value::Array(_) => "array",
+        Value::Object(_) => "object",
+    }
+}
 
 /// Longest part of a key quoted in an error (in characters).
 const KEY_EXCERPT_CHARS: usize = 40;

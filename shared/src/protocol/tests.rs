@@ -1,6 +1,6 @@
 use super::*;
-use mcm_shared::command::{Axis, Direction, PvtPoint, TorqueControl as TorqueRequest, Which};
-use mcm_shared::sample::PVT_POINTS_PER_COMMAND;
+use crate::command::{Axis, PvtChunk, Direction, PvtPoint, TorqueControl as TorqueRequest, Which};
+use crate::sample::PVT_POINTS_PER_COMMAND;
 
 fn axis(n: u8) -> Axis {
     Axis::new(n).unwrap()
@@ -14,13 +14,18 @@ fn parse(text: &str) -> Result<Command, CommandError> {
     Command::from_json(text, &cfg())
 }
 
+fn points_of(arguments: &serde_json::Value) -> PvtPoints {
+    let args = Args::new(&PvtPoints::DEF, Some(arguments)).unwrap();
+    PvtPoints::parse(&args, &cfg()).unwrap()
+}
+
 fn err(text: &str) -> String {
     parse(text).unwrap_err().to_string()
 }
 
 #[test]
 fn simple_commands() {
-    assert_eq!(parse(r#"{"command":"hold"}"#).unwrap(), Command::Hold);
+    assert_eq!(parse(r#"{"command":"hold"}"#).unwrap(), Command::Hold(Hold));
     assert_eq!(
         parse(r#"{"command":"status"}"#).unwrap(),
         Command::Status(Status { detail: false })
@@ -31,7 +36,7 @@ fn simple_commands() {
     );
     assert_eq!(
         parse(r#"{"command":"info","arguments":{}}"#).unwrap(),
-        Command::Info
+        Command::Info(Info)
     );
 }
 
@@ -252,22 +257,22 @@ fn sim_fields() {
 
 #[test]
 fn suggestions() {
-    assert_eq!(suggest("stat", COMMAND_NAMES), Some("status"));
-    assert_eq!(suggest("mov_all", COMMAND_NAMES), Some("move_all"));
-    assert_eq!(suggest("zzzzzz", COMMAND_NAMES), None);
+    assert_eq!(suggest("stat", command_names()), Some("status"));
+    assert_eq!(suggest("mov_all", command_names()), Some("move_all"));
+    assert_eq!(suggest("zzzzzz", command_names()), None);
 }
 
 #[test]
 fn a_pvt_batch_the_core_would_refuse_is_refused_before_sending() {
-    use mcm_shared::mode::Mode;
-    use mcm_shared::reply::{PvtQuantity, Reason};
-    use mcm_shared::sample::StateSample;
+    use crate::mode::Mode;
+    use crate::reply::{PvtQuantity, Reason};
+    use crate::sample::StateSample;
     let cfg = RobotConfig::prob2_default();
-    let limits = mcm_shared::pvt::PointLimits::from_config(&cfg);
+    let limits = crate::pvt::PointLimits::from_config(&cfg);
     let batch = |n: usize, v0: f64| {
         let p =
             serde_json::json!({"position": [0, 0, 0, 0, 0, 0], "velocity": [v0, 0, 0, 0, 0, 0]});
-        PvtPoints::parse(Some(&serde_json::json!({"points": vec![p; n]}))).unwrap()
+        points_of(&serde_json::json!({"points": vec![p; n]}))
     };
     let mut state = StateSample {
         mode: Mode::Hold.to_wire(),
@@ -294,7 +299,7 @@ fn a_pvt_batch_the_core_would_refuse_is_refused_before_sending() {
     // A position inside the software limits but within the safety margin: the core refuses it.
     let near = cfg.axes[0].max_deg - cfg.safety.limit_margin_deg / 2.0;
     let p = serde_json::json!({"position": [near, 0, 0, 0, 0, 0], "velocity": [0, 0, 0, 0, 0, 0]});
-    let b = PvtPoints::parse(Some(&serde_json::json!({"points": [p]}))).unwrap();
+    let b = points_of(&serde_json::json!({"points": [p]}));
     match b.check(&limits, &state) {
         Err(Reason::PvtPoint {
             point: 1,
@@ -307,7 +312,7 @@ fn a_pvt_batch_the_core_would_refuse_is_refused_before_sending() {
 
 #[test]
 fn velocity_control_and_set_velocities() {
-    use mcm_shared::command::{SetVelocities, VelocityControl as VelocityRequest};
+    use crate::command::{SetVelocities, VelocityControl as VelocityRequest};
     assert_eq!(
         parse(r#"{"command":"velocity_control","arguments":{"timeout":0.5,"dt_status":0.01}}"#)
             .unwrap(),
@@ -357,4 +362,148 @@ fn velocity_control_and_set_velocities() {
         .is_ok()
     );
     assert!(err(r#"{"command":"set_velocities","arguments":{"velocities":[1,2]}}"#).contains("6"));
+}
+
+#[test]
+fn calibrate_takes_an_axis_number_as_move_axis_does() {
+    for which in ["6", "6.0", "\"6\""] {
+        let text = format!(r#"{{"command":"calibrate","arguments":{{"which":{which}}}}}"#);
+        let Command::Calibrate(c) = parse(&text).unwrap() else {
+            panic!("{text}")
+        };
+        assert_eq!(c.which, Which::Axis(axis(6)), "{text}");
+    }
+    for which in ["6.5", "0", "7", "\"six\""] {
+        let text = format!(r#"{{"command":"calibrate","arguments":{{"which":{which}}}}}"#);
+        assert!(err(&text).contains("\"which\""), "{text}");
+    }
+}
+
+/// Every command a client writes with [`Command::to_json`] reads back as itself: the one
+/// encoding of each command serves both directions.
+#[test]
+fn every_command_reads_back_as_written() {
+    use crate::command::SimCommand;
+    let p = PvtPoint {
+        position_deg: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
+        velocity_deg_s: [0.5; 6],
+    };
+    let commands: Vec<Command> = vec![
+        Status { detail: false }.into(),
+        Status { detail: true }.into(),
+        Info.into(),
+        Hold.into(),
+        Calibrate {
+            which: Which::Elbow,
+            elbow_direction: Direction::Negative,
+            wrist_direction: Direction::Positive,
+            force_mechanical_stop: true,
+        }
+        .into(),
+        Calibrate {
+            which: Which::Axis(axis(4)),
+            elbow_direction: Direction::Positive,
+            wrist_direction: Direction::Negative,
+            force_mechanical_stop: false,
+        }
+        .into(),
+        Release.into(),
+        TorqueControl {
+            request: TorqueRequest {
+                timeout_s: None,
+                gravity_compensation: false,
+            },
+            dt_status: 0.005,
+        }
+        .into(),
+        SetTorques {
+            torques_nm: [1.0, -2.0, 0.5, 0.0, 0.0, 0.25],
+        }
+        .into(),
+        VelocityControl {
+            request: crate::command::VelocityControl {
+                timeout_s: Some(0.5),
+            },
+            dt_status: 0.0,
+        }
+        .into(),
+        SetVelocities {
+            velocities_deg_s: [0.0, 10.0, -5.0, 0.0, 1.0, 0.0],
+        }
+        .into(),
+        Pvt { dt_s: 0.02 }.into(),
+        MoveAxis {
+            axis: axis(3),
+            target_deg: -45.5,
+            velocity_factor: 0.25,
+        }
+        .into(),
+        MoveAll {
+            targets_deg: [0.0, 10.0, 20.0, 0.0, -5.0, 0.0],
+            velocity_factor: 1.0,
+        }
+        .into(),
+        PvtPoints {
+            points: vec![p, PvtPoint::default()],
+        }
+        .into(),
+        Sleep {
+            duration: std::time::Duration::from_millis(1500),
+        }
+        .into(),
+        SimCommand::default().into(),
+        SimCommand {
+            emergency_stop: Some(false),
+            disconnect_axis: Some(axis(1)),
+            reconnect_axis: Some(axis(2)),
+            block_axis: Some(axis(3)),
+            unblock_axis: Some(axis(4)),
+            external_torques_nm: Some([0.0, 5.0, 0.0, 0.0, 0.0, -1.0]),
+            power_cycle: true,
+        }
+        .into(),
+        TakeControl.into(),
+        ReleaseControl.into(),
+        Authenticate {
+            secret: Secret("s3cret words".into()),
+        }
+        .into(),
+    ];
+    let mut seen = std::collections::BTreeSet::new();
+    for c in &commands {
+        let text = c.to_json().to_string();
+        assert_eq!(&parse(&text).unwrap(), c, "{text}");
+        seen.insert(c.name());
+    }
+    assert_eq!(seen.len(), COMMANDS.len(), "a command is missing from this test");
+}
+
+#[test]
+fn the_lists_are_derived_from_the_definitions() {
+    let names: Vec<_> = command_names().collect();
+    assert_eq!(names.len(), COMMANDS.len());
+    let nothing: Vec<_> = COMMANDS
+        .iter()
+        .filter(|d| d.success == Success::Nothing)
+        .map(|d| d.name)
+        .collect();
+    assert_eq!(nothing, ["set_torques", "set_velocities"]);
+    for d in COMMANDS {
+        assert_eq!(find(&d.name.to_ascii_uppercase()), Some(*d));
+        // Every command of the core has its wire kind, and the kind's name is the command's.
+        if let Some(kind) = d.kind {
+            assert_eq!(kind.as_str(), d.name);
+        }
+        assert!(
+            COMMANDS.iter().any(|c| c.group == d.group),
+            "{}: its help group",
+            d.name
+        );
+    }
+    let control: Vec<_> = COMMANDS
+        .iter()
+        .filter(|d| d.needs_control())
+        .map(|d| d.name)
+        .collect();
+    assert!(control.contains(&"move_all") && !control.contains(&"hold"), "{control:?}");
 }

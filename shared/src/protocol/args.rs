@@ -1,10 +1,11 @@
 //! Typed access to a command's `arguments` object, with errors that name the command, the
 //! argument, the value received and what is allowed.
 
-use crate::framing::json_kind;
-use mcm_shared::command::Axis;
-use mcm_shared::config::RobotConfig;
-use mcm_shared::ranges::{Arg, Num};
+use super::json::json_kind;
+use super::spec::CommandDef;
+use crate::command::Axis;
+use crate::config::RobotConfig;
+use crate::ranges::{Arg, Num};
 use serde_json::{Map, Value};
 
 /// Why a command line was refused before it reached the robot.
@@ -77,12 +78,9 @@ pub struct Args<'a> {
 }
 
 impl<'a> Args<'a> {
-    /// Check the argument names against `allowed`.
-    pub fn new(
-        command: &'static str,
-        arguments: Option<&'a Value>,
-        allowed: &[&str],
-    ) -> Result<Self, CommandError> {
+    /// The `arguments` of the command `def`, their names checked against `def.args`.
+    pub fn new(def: &'static CommandDef, arguments: Option<&'a Value>) -> Result<Self, CommandError> {
+        let command = def.name;
         let map = match arguments {
             None | Some(Value::Null) => None,
             Some(Value::Object(m)) => Some(m),
@@ -95,14 +93,14 @@ impl<'a> Args<'a> {
         };
         if let Some(m) = map {
             for key in m.keys() {
-                if !allowed.contains(&key.as_str()) {
+                if !def.arg_list().any(|a| a == key) {
                     return Err(CommandError::UnknownArgument {
                         command,
                         argument: key.clone(),
-                        allowed: if allowed.is_empty() {
+                        allowed: if def.args.is_empty() {
                             "none (this command takes no arguments)".to_string()
                         } else {
-                            allowed.join(", ")
+                            def.arg_list().collect::<Vec<_>>().join(", ")
                         },
                     });
                 }
@@ -153,7 +151,7 @@ impl<'a> Args<'a> {
     }
 
     /// An optional number of the protocol argument `arg` within `bounds`, refused in the words
-    /// of [`mcm_shared::ranges`] (the real-time core's words for the same value).
+    /// of [`crate::ranges`] (the real-time core's words for the same value).
     pub fn ranged(&self, arg: Arg, bounds: (f64, f64)) -> Result<Option<f64>, CommandError> {
         let name = arg.name();
         let Some(v) = self.get(name) else {
@@ -214,7 +212,7 @@ impl<'a> Args<'a> {
         }
     }
 
-    /// An optional axis number 1..=6 (`name` an axis argument of [`mcm_shared::ranges`]).
+    /// An optional axis number 1..=6 (`name` an axis argument of [`crate::ranges`]).
     pub fn axis(&self, name: &'static str) -> Result<Option<Axis>, CommandError> {
         let Some(v) = self.get(name) else {
             return Ok(None);

@@ -1,0 +1,127 @@
+//! `sim`: fault injection into the simulated robot (refused on real hardware by the real-time
+//! core). Any combination of arguments; the reply is the `sim` result with the ground truth
+//! ([`crate::protocol::results::SimResult`]).
+
+use super::prelude::*;
+use crate::command::SimCommand;
+
+impl Definition for SimCommand {
+    const DEF: CommandDef = CommandDef {
+        name: "sim",
+        kind: Some(CommandKind::Sim),
+        success: Success::Sim,
+        group: Group::EveryMode,
+        ok_words: "",
+        summary: "fault injection into the simulated robot",
+        args: &[
+            arg(
+                "emergency_stop",
+                "estop",
+                Kind::Bool,
+                false,
+                "",
+                "press (true) or release (false) the emergency switch",
+            ),
+            arg(
+                "disconnect_axis",
+                "",
+                Kind::Axis,
+                false,
+                "",
+                "drive 1..6 goes silent on the bus",
+            ),
+            arg(
+                "reconnect_axis",
+                "",
+                Kind::Axis,
+                false,
+                "",
+                "drive 1..6 comes back",
+            ),
+            arg(
+                "block_axis",
+                "",
+                Kind::Axis,
+                false,
+                "",
+                "a rigid obstacle holds axis 1..6 where it is",
+            ),
+            arg(
+                "unblock_axis",
+                "",
+                Kind::Axis,
+                false,
+                "",
+                "remove the obstacle of axis 1..6",
+            ),
+            arg(
+                "external_torques",
+                "torques",
+                Kind::Six,
+                false,
+                "",
+                "six torques [Nm] of a hand pushing on the joints, until set back to zeros",
+            ),
+            arg(
+                "power_cycle",
+                "",
+                Kind::Bool,
+                false,
+                "false",
+                "the drives lose power and reboot: calibration is lost",
+            ),
+        ],
+        modes: "every mode; simulated robot only",
+        how: "",
+        reply: "the simulation's ground truth: true positions and velocities, emergency switch",
+        examples: &[
+            "sim estop=true",
+            "sim block_axis=2",
+            "sim external_torques=0,5,0,0,0,0",
+            "sim power_cycle",
+        ],
+        notes: "Any combination of arguments in one command. Refused on real hardware.",
+    };
+
+    /// The arguments not given change nothing.
+    fn parse(args: &Args<'_>, cfg: &RobotConfig) -> Result<Self, CommandError> {
+        Ok(SimCommand {
+        emergency_stop: args.boolean("emergency_stop")?,
+        disconnect_axis: args.axis("disconnect_axis")?,
+        reconnect_axis: args.axis("reconnect_axis")?,
+        block_axis: args.axis("block_axis")?,
+        unblock_axis: args.axis("unblock_axis")?,
+        external_torques_nm: args.ranged_six(Arg::ExternalTorques, cfg)?,
+        power_cycle: args.boolean("power_cycle")?.unwrap_or(false),
+    })
+    }
+
+    fn arguments(&self) -> Map<String, Value> {
+        let mut m = Map::new();
+        if let Some(e) = self.emergency_stop {
+            m.insert("emergency_stop".into(), e.into());
+        }
+        for (key, axis) in [
+            ("disconnect_axis", self.disconnect_axis),
+            ("reconnect_axis", self.reconnect_axis),
+            ("block_axis", self.block_axis),
+            ("unblock_axis", self.unblock_axis),
+        ] {
+            if let Some(a) = axis {
+                m.insert(key.into(), a.number().into());
+            }
+        }
+        if let Some(t) = self.external_torques_nm {
+            m.insert("external_torques".into(), t.to_vec().into());
+        }
+        if self.power_cycle {
+            m.insert("power_cycle".into(), true.into());
+        }
+        m
+    }
+
+    fn requests(&self) -> Vec<Request> {
+        vec![Request::Sim(*self)]
+    }
+}
+

@@ -1,0 +1,575 @@
+//! The results of the JSON protocol (`docs/protocol.md`, "Results"), typed: the gateway builds
+//! them from the real-time core's typed answers and state and writes them with
+//! [`Answer::to_value`]; the clients read them with [`Answer::from_value`]; the HMI renders the
+//! same types for people. Field names follow the manual. Not used inside the real-time cycle.
+//!
+//! ```
+//! use mcm_shared::protocol::results::{Answer, Generic};
+//! let line = Answer::Generic(Generic::ok()).to_value().to_string();
+//! assert_eq!(line, r#"{"error_status":"OK","result_type":"generic"}"#);
+//! assert_eq!(Answer::from_value(&serde_json::from_str(&line).unwrap()), Ok(Answer::Generic(Generic::ok())));
+//! ```
+
+use crate::NUM_AXES;
+use crate::command::DecodeError;
+use crate::config::RobotConfig;
+use crate::mode::{Mode, RejectCode};
+use crate::reply::{InfoReply, MoveAllPlan, Outcome, SafetyError};
+use crate::sample::{
+    AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord,
+    STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, STATE_SHUTTING_DOWN,
+    STATE_SIM_ESTOP, StateSample,
+};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use std::collections::BTreeMap;
+
+/// Six values, one per axis.
+pub type Six = [f64; NUM_AXES];
+
+/// One result line of the protocol, by its `result_type`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "result_type", rename_all = "snake_case")]
+pub enum Answer {
+    /// OK, or an ERROR with its words (the answer to a command, or a spontaneous error).
+    Generic(Generic),
+    Status(Box<Status>),
+    /// The answer to `info`.
+    Initialization(Info),
+    MoveAll(MoveAllResult),
+    Sim(SimResult),
+}
+
+impl Answer {
+    /// The JSON object (keys in the order serde_json's map keeps them).
+    pub fn to_value(&self) -> Value {
+        // Serialising these types cannot fail: every map key is a string.
+        serde_json::to_value(self).unwrap_or(Value::Null)
+    }
+
+    /// Read a result line; `Err` names what is wrong with it.
+    pub fn from_value(v: &Value) -> Result<Answer, String> {
+        let kind = v
+            .get("result_type")
+            .ok_or("no result_type")?
+            .as_str()
+            .ok_or("result_type is not a string")?;
+        Answer::deserialize(v).map_err(|e| format!("a `{kind}` result that does not read: {e}"))
+    }
+
+    /// An ERROR with `message`.
+    pub fn error(message: impl Into<String>) -> Answer {
+        Answer::Generic(Generic::error(message))
+    }
+
+    /// `generic` OK.
+    pub fn ok() -> Answer {
+        Answer::Generic(Generic::ok())
+    }
+}
+
+/// `error_status` of a `generic` result.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ErrorStatus {
+    #[serde(rename = "OK")]
+    Ok,
+    #[serde(rename = "ERROR")]
+    Error,
+}
+
+/// A `generic` result: OK, or an ERROR with its words. A spontaneous safety error adds the
+/// check, the axis and the flight-recorder file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Generic {
+    pub error_status: ErrorStatus,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_message: Option<String>,
+    /// The safety check that tripped ([`RejectCode::as_str`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub check: Option<String>,
+    /// The axis (1 to 6) the safety check tripped on.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis: Option<u8>,
+    /// The flight-recorder file written when the check tripped.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flight_recorder: Option<String>,
+}
+
+impl Generic {
+    /// `{"result_type":"generic","error_status":"OK"}`
+    pub fn ok() -> Generic {
+        Generic {
+            error_status: ErrorStatus::Ok,
+            error_message: None,
+            check: None,
+            axis: None,
+            flight_recorder: None,
+        }
+    }
+
+    /// An ERROR with a message.
+    pub fn error(message: impl Into<String>) -> Generic {
+        Generic {
+            error_status: ErrorStatus::Error,
+            error_message: Some(message.into()),
+            ..Generic::ok()
+        }
+    }
+
+    /// Whether it is OK.
+    pub fn is_ok(&self) -> bool {
+        self.error_status == ErrorStatus::Ok
+    }
+
+    /// The words of an ERROR ("" for OK).
+    pub fn message(&self) -> &str {
+        self.error_message.as_deref().unwrap_or_default()
+    }
+
+    /// The check of a safety error, when this version knows it.
+    pub fn check_code(&self) -> Option<RejectCode> {
+        let check = self.check.as_deref()?;
+        RejectCode::ALL.iter().copied().find(|c| c.as_str() == check)
+    }
+
+    /// The words for a refused or failed command, prefixed with the command name (a command
+    /// that was done is [`Generic::ok`]). A value of an argument outside its range reads exactly
+    /// as the gateway's own refusal of it (`move_axis: argument "target_position" = 175 is not
+    /// allowed; expected ...`), whichever side refused.
+    pub fn reply_error(command: &str, outcome: &Outcome) -> Generic {
+        let kind = crate::mode::CommandKind::ALL
+            .iter()
+            .find(|k| k.as_str() == command);
+        match outcome {
+            Outcome::Refused(reason) => match kind.and_then(|k| reason.argument(*k)) {
+                Some(arg) => Generic::error(format!("{command}: {arg}")),
+                None => Generic::error(format!("{command} refused: {reason}")),
+            },
+            Outcome::Failed(reason) => Generic::error(format!("{command} failed: {reason}")),
+            Outcome::Done(_) => Generic::ok(),
+        }
+    }
+
+    /// A safety error in words (without the mode and the flight-recorder file).
+    pub fn safety_error(e: &SafetyError) -> Generic {
+        Generic {
+            check: Some(e.reason.code().as_str().to_string()),
+            axis: e.reason.axis().map(|a| a.number()),
+            ..Generic::error(format!("safety check tripped: {}", e.reason))
+        }
+    }
+
+    /// A safety error whose record this version cannot read (a core of another MCM version).
+    pub fn unreadable_safety_error(e: &DecodeError) -> Generic {
+        Generic::error(format!(
+            "safety check tripped, but its record cannot be read ({e}); mcm-rt and the gateway \
+             are from different MCM versions: rebuild both from the same version"
+        ))
+    }
+
+    /// The safety error a state reports in words; `None` when there was none since start.
+    pub fn last_error(record: &ErrorRecord) -> Option<Generic> {
+        match SafetyError::decode(record) {
+            Ok(e) => e.as_ref().map(Generic::safety_error),
+            Err(e) => Some(Generic::unreadable_safety_error(&e)),
+        }
+    }
+
+    /// A spontaneous safety error: `error` (or the decode error of its record), the mode it
+    /// left the robot in and the flight-recorder file it wrote.
+    pub fn safety_event(
+        error: &Result<SafetyError, DecodeError>,
+        mode: u32,
+        file: &std::path::Path,
+    ) -> Generic {
+        let mut g = match error {
+            Ok(e) => Generic::safety_error(e),
+            Err(e) => Generic::unreadable_safety_error(e),
+        };
+        let mode = Mode::try_from(mode).map(Mode::as_str).unwrap_or("UNKNOWN");
+        let file = file.display().to_string();
+        g.error_message = Some(format!(
+            "{}; mode is now {mode}; flight recorder: {file}",
+            g.message()
+        ));
+        g.flight_recorder = Some(file);
+        g
+    }
+}
+
+/// A figure rounded to 6 decimals for the results.
+pub fn round(x: f64) -> f64 {
+    (x * 1e6).round() / 1e6
+}
+
+/// Six figures, rounded.
+pub fn six(v: &Six) -> Six {
+    v.map(round)
+}
+
+/// `axis_states` of a `status` result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AxisStates {
+    /// `CLOCK_MONOTONIC` of the cycle that measured the values [s], per axis.
+    pub time: Six,
+    /// [deg]
+    pub position: Six,
+    /// [deg/s]
+    pub velocity: Six,
+    /// [deg/s^2]
+    pub acceleration: Six,
+    /// Motor currents [A].
+    pub current: Six,
+}
+
+/// A `status` result: the answer to `status`, `hold`, `release`, `pvt`, `torque_control`,
+/// `velocity_control`, and the spontaneous status of a TORQUE_CONTROL or VELOCITY_CONTROL
+/// session.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Status {
+    #[serde(rename = "operating_mode", with = "mode_word")]
+    pub mode: Mode,
+    pub axis_states: AxisStates,
+    /// With `detail`: the drives, the emergency stop and the calibration in words.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hardware_status: Option<String>,
+    /// With `detail`: the detail object.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub detail: Option<Detail>,
+}
+
+impl Status {
+    /// The cycle's time [s] (`CLOCK_MONOTONIC` of the robot's computer).
+    pub fn time(&self) -> f64 {
+        self.axis_states.time[0]
+    }
+
+    /// The status of `state`, with the detail when `detail` (without `control` and `access`,
+    /// which the gateway adds for the connection). `Err` when the state's mode is unknown to
+    /// this version (a core of another MCM version).
+    pub fn from_state(state: &StateSample, detail: bool) -> Result<Status, String> {
+        let mode = Mode::try_from(state.mode).map_err(|e| {
+            format!(
+                "the real-time core reports {e}; mcm-rt and the gateway are from different MCM \
+                 versions: rebuild both from the same version"
+            )
+        })?;
+        let t = round(state.t_ns as f64 / 1e9);
+        Ok(Status {
+            mode,
+            axis_states: AxisStates {
+                time: [t; NUM_AXES],
+                position: six(&state.position),
+                velocity: six(&state.velocity),
+                acceleration: six(&state.acceleration),
+                current: six(&state.current),
+            },
+            hardware_status: detail.then(|| hardware_status(state)),
+            detail: detail.then(|| Detail::from_state(state)),
+        })
+    }
+}
+
+mod mode_word {
+    use crate::mode::Mode;
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(m: &Mode, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(m.as_str())
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Mode, D::Error> {
+        let word = String::deserialize(d)?;
+        Mode::ALL
+            .iter()
+            .copied()
+            .find(|m| m.as_str() == word)
+            .ok_or_else(|| serde::de::Error::custom(format!("{word} is not a known mode")))
+    }
+}
+
+/// A human summary of the hardware for `hardware_status`.
+pub fn hardware_status(state: &StateSample) -> String {
+    let count = |bit: u32| state.axis_flags.iter().filter(|f| *f & bit != 0).count();
+    let mut parts = vec![
+        format!("drives online {}/6", count(AXIS_ONLINE)),
+        format!("enabled {}/6", count(AXIS_ENABLED)),
+    ];
+    let faults = count(AXIS_FAULT);
+    if faults > 0 {
+        parts.push(format!("in fault {faults}"));
+    }
+    parts.push(format!(
+        "emergency stop {}",
+        if state.flags & STATE_ESTOP != 0 {
+            "PRESSED"
+        } else {
+            "released"
+        }
+    ));
+    parts.push(format!("calibrated {}/6", count(AXIS_CALIBRATED)));
+    let derated = count(AXIS_I2T_DERATED);
+    if derated > 0 {
+        parts.push(format!("i2t derated {derated}"));
+    }
+    if state.flags & STATE_NOT_REALTIME != 0 {
+        parts.push("cycle NOT real-time".into());
+    }
+    parts.join(", ")
+}
+
+/// The PVT queue of a detailed status.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PvtQueue {
+    pub queued: u32,
+    pub capacity: u32,
+    pub starved: bool,
+}
+
+/// Latency figures over a window of the cycle's timing [µs].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RecentTiming {
+    pub window_s: f64,
+    pub cycles: u64,
+    pub latency_p50_us: f64,
+    pub latency_p99_us: f64,
+    pub latency_p99_9_us: f64,
+    pub latency_p99_99_us: f64,
+    pub latency_max_us: f64,
+}
+
+/// The cycle's timing in a detailed status.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Timing {
+    pub period_s: f64,
+    pub overruns: u64,
+    pub latency_p50_us: f64,
+    pub latency_p99_us: f64,
+    pub latency_max_us: f64,
+    pub latency_p99_9_us: f64,
+    pub latency_p99_99_us: f64,
+    pub cycles: u64,
+    pub recent: RecentTiming,
+    pub work_max_us: f64,
+    pub work_budget_us: f64,
+    pub over_budget: u64,
+    pub realtime: bool,
+}
+
+/// The shared-memory link in a detailed status.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Ipc {
+    pub command_receive_errors: u64,
+}
+
+/// `detail.control`: who controls the arm, and whether it is this connection.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ControlDetail {
+    /// The owner in words (peer address or client name); `None` when nobody controls the arm.
+    pub owner: Option<String>,
+    pub owner_client_id: u64,
+    pub this_connection: bool,
+}
+
+/// `detail.access`: the access rules as they apply to this connection.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AccessDetail {
+    pub peer: String,
+    pub motion_networks: String,
+    pub motion_allowed_here: bool,
+    pub secret_required: bool,
+    pub authenticated: bool,
+    pub remote_sim: bool,
+    /// Refusals since the gateway started, by kind.
+    pub refused: BTreeMap<String, u64>,
+}
+
+/// The `detail` object of a detailed status.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Detail {
+    /// Cycle counter.
+    pub cycle: u64,
+    pub calibrated: [bool; NUM_AXES],
+    pub all_calibrated: bool,
+    pub measured_position: Six,
+    pub commanded_position: Six,
+    pub following_error: Six,
+    pub i2t: Six,
+    pub i2t_derated: [bool; NUM_AXES],
+    pub drive_online: [bool; NUM_AXES],
+    pub drive_enabled: [bool; NUM_AXES],
+    pub drive_fault: [bool; NUM_AXES],
+    pub emergency_stop: bool,
+    pub shutting_down: bool,
+    pub pvt_queue: PvtQueue,
+    pub timing: Timing,
+    pub ipc: Ipc,
+    /// Added by the gateway for the connection that asked.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub control: Option<ControlDetail>,
+    /// Added by the gateway for the connection that asked.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub access: Option<AccessDetail>,
+}
+
+impl Detail {
+    /// The detail of `state` (without `control` and `access`).
+    pub fn from_state(state: &StateSample) -> Detail {
+        let bits = |bit: u32| state.axis_flags.map(|f| f & bit != 0);
+        let us = |ns: u64| ns as f64 / 1e3;
+        let tm = &state.timing;
+        Detail {
+            cycle: state.seq,
+            calibrated: bits(AXIS_CALIBRATED),
+            all_calibrated: state.flags & STATE_ALL_CALIBRATED != 0,
+            measured_position: six(&state.measured_position),
+            commanded_position: six(&state.commanded_position),
+            following_error: six(&state.following_error),
+            i2t: six(&state.i2t),
+            i2t_derated: bits(AXIS_I2T_DERATED),
+            drive_online: bits(AXIS_ONLINE),
+            drive_enabled: bits(AXIS_ENABLED),
+            drive_fault: bits(AXIS_FAULT),
+            emergency_stop: state.flags & STATE_ESTOP != 0,
+            shutting_down: state.flags & STATE_SHUTTING_DOWN != 0,
+            pvt_queue: PvtQueue {
+                queued: state.pvt_queued,
+                capacity: state.pvt_capacity,
+                starved: state.flags & STATE_PVT_STARVED != 0,
+            },
+            timing: Timing {
+                period_s: tm.period_ns as f64 / 1e9,
+                overruns: tm.overruns,
+                latency_p50_us: us(tm.since_start.p50_ns),
+                latency_p99_us: us(tm.since_start.p99_ns),
+                latency_max_us: us(tm.since_start.max_ns),
+                latency_p99_9_us: us(tm.since_start.p99_9_ns),
+                latency_p99_99_us: us(tm.since_start.p99_99_ns),
+                cycles: tm.since_start.cycles,
+                recent: RecentTiming {
+                    window_s: tm.recent_window_ns as f64 / 1e9,
+                    cycles: tm.recent.cycles,
+                    latency_p50_us: us(tm.recent.p50_ns),
+                    latency_p99_us: us(tm.recent.p99_ns),
+                    latency_p99_9_us: us(tm.recent.p99_9_ns),
+                    latency_p99_99_us: us(tm.recent.p99_99_ns),
+                    latency_max_us: us(tm.recent.max_ns),
+                },
+                work_max_us: us(tm.work_max_ns),
+                work_budget_us: us(tm.work_budget_ns),
+                over_budget: tm.over_budget,
+                realtime: state.flags & STATE_NOT_REALTIME == 0,
+            },
+            ipc: Ipc {
+                command_receive_errors: state.command_receive_errors,
+            },
+            control: None,
+            access: None,
+        }
+    }
+}
+
+/// Limits of one axis, in the `initialization` result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AxisInfo {
+    /// 1 to 6.
+    pub axis: u8,
+    pub name: String,
+    /// [deg]
+    pub min_position: f64,
+    pub max_position: f64,
+    /// [deg/s]
+    pub max_velocity: f64,
+    /// [deg/s^2]
+    pub max_acceleration: f64,
+    /// Peak joint torque [Nm].
+    pub max_torque: f64,
+    pub light_barrier: bool,
+}
+
+/// The `initialization` result of `info`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Info {
+    pub num_axes: u32,
+    pub version: String,
+    pub robot: String,
+    /// Cycle period [s].
+    pub cycle_time: f64,
+    pub simulated: bool,
+    pub axes: Vec<AxisInfo>,
+}
+
+impl Info {
+    /// The result of `info` from the configuration and the core's answer; `simulated`: the core
+    /// runs the simulated robot (its state's `STATE_SIMULATED` flag).
+    pub fn new(cfg: &RobotConfig, info: &InfoReply, simulated: bool) -> Info {
+        let axes = cfg
+            .axes
+            .iter()
+            .zip(1u8..)
+            .map(|(a, axis)| AxisInfo {
+                axis,
+                name: a.name.clone(),
+                min_position: a.min_deg,
+                max_position: a.max_deg,
+                max_velocity: a.max_velocity_deg_s,
+                max_acceleration: a.max_acceleration_deg_s2,
+                max_torque: round(a.max_current_a * a.torque_per_amp()),
+                light_barrier: a.calibration.light_barrier_deg.is_some(),
+            })
+            .collect();
+        Info {
+            num_axes: info.num_axes,
+            version: crate::VERSION.to_string(),
+            robot: cfg.robot.name.clone(),
+            cycle_time: info.period_s,
+            simulated,
+            axes,
+        }
+    }
+}
+
+/// The `move_all` result: the move the MCM planned.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MoveAllResult {
+    /// Peak velocity of each axis [deg/s].
+    pub velocities: Six,
+    /// The axis (1 to 6) that would take longest on its own.
+    pub longest: u8,
+    /// Time from now to the target [s].
+    pub max_time_to_target: f64,
+}
+
+impl From<&MoveAllPlan> for MoveAllResult {
+    fn from(plan: &MoveAllPlan) -> MoveAllResult {
+        MoveAllResult {
+            velocities: six(&plan.velocities_deg_s),
+            longest: plan.longest.number(),
+            max_time_to_target: round(plan.duration_s),
+        }
+    }
+}
+
+/// The `sim` result: the simulation's ground truth.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SimResult {
+    /// Joint angles [deg].
+    pub true_position: Six,
+    /// [deg/s]
+    pub true_velocity: Six,
+    pub emergency_stop: bool,
+}
+
+impl SimResult {
+    /// The ground truth a state carries.
+    pub fn from_state(state: &StateSample) -> SimResult {
+        SimResult {
+            true_position: six(&state.sim_true_position),
+            true_velocity: six(&state.sim_true_velocity),
+            emergency_stop: state.flags & STATE_SIM_ESTOP != 0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

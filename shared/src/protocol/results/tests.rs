@@ -1,0 +1,183 @@
+use super::*;
+use crate::command::Axis;
+use crate::config::RobotConfig;
+use crate::reply::{CalibrationFailure, Reason};
+use serde_json::json;
+
+fn status(s: &StateSample, detail: bool) -> Value {
+    Answer::Status(Box::new(Status::from_state(s, detail).unwrap())).to_value()
+}
+
+fn reply_error(command: &str, outcome: &Outcome) -> Value {
+    Answer::Generic(Generic::reply_error(command, outcome)).to_value()
+}
+
+fn safety_error(e: &SafetyError) -> Value {
+    Answer::Generic(Generic::safety_error(e)).to_value()
+}
+
+fn last_error(r: &ErrorRecord) -> Option<Value> {
+    Generic::last_error(r).map(|g| Answer::Generic(g).to_value())
+}
+
+#[test]
+fn status_has_the_manual_fields() {
+    let s = StateSample {
+        mode: Mode::Hold.to_wire(),
+        position: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
+        ..StateSample::default()
+    };
+    let v = status(&s, false);
+    assert_eq!(v["result_type"], "status");
+    assert_eq!(v["operating_mode"], "HOLD");
+    for field in ["time", "position", "velocity", "acceleration", "current"] {
+        assert_eq!(
+            v["axis_states"][field].as_array().unwrap().len(),
+            6,
+            "{field}"
+        );
+    }
+    assert!(v.get("hardware_status").is_none());
+    let d = status(&s, true);
+    assert!(
+        d["hardware_status"]
+            .as_str()
+            .unwrap()
+            .contains("drives online 0/6")
+    );
+    assert_eq!(d["detail"]["calibrated"].as_array().unwrap().len(), 6);
+}
+
+#[test]
+fn status_detail_shows_the_receive_errors() {
+    let s = StateSample {
+        command_receive_errors: 3,
+        ..StateSample::default()
+    };
+    assert_eq!(
+        status(&s, true)["detail"]["ipc"]["command_receive_errors"],
+        3
+    );
+}
+
+#[test]
+fn status_detail_shows_the_tail_the_window_and_the_budget() {
+    use crate::sample::{CycleTiming, LatencyFigures};
+    let timing = CycleTiming {
+        since_start: LatencyFigures {
+            p99_9_ns: 300_000,
+            p99_99_ns: 640_000,
+            cycles: 12_000,
+            ..LatencyFigures::default()
+        },
+        recent: LatencyFigures {
+            p50_ns: 58_000,
+            max_ns: 700_000,
+            cycles: 2_000,
+            ..LatencyFigures::default()
+        },
+        recent_window_ns: 10_000_000_000,
+        work_budget_ns: 2_500_000,
+        over_budget: 4,
+        ..CycleTiming::default()
+    };
+    let s = StateSample {
+        timing,
+        ..StateSample::default()
+    };
+    let t = &status(&s, true)["detail"]["timing"];
+    assert_eq!(t["latency_p99_9_us"], 300.0);
+    assert_eq!(t["latency_p99_99_us"], 640.0);
+    assert_eq!(t["cycles"], 12_000);
+    assert_eq!(t["recent"]["latency_p50_us"], 58.0);
+    assert_eq!(t["recent"]["latency_max_us"], 700.0);
+    assert_eq!(t["recent"]["window_s"], 10.0);
+    assert_eq!(t["recent"]["cycles"], 2_000);
+    assert_eq!(t["work_budget_us"], 2500.0);
+    assert_eq!(t["over_budget"], 4);
+}
+
+#[test]
+fn reply_errors_are_words() {
+    let refused = Outcome::Refused(Reason::WrongMode { mode: Mode::Off });
+    assert_eq!(
+        reply_error("release", &refused)["error_message"],
+        "release refused: not allowed in mode OFF"
+    );
+    let failed = Outcome::Failed(Reason::CalibrationFailed {
+        axis: Axis::new(2).unwrap(),
+        cause: CalibrationFailure::DriveLost,
+    });
+    assert_eq!(
+        reply_error("calibrate", &failed)["error_message"],
+        "calibrate failed: calibration of axis 2 failed: its drive stopped answering"
+    );
+}
+
+#[test]
+fn safety_errors_name_the_check_and_the_axis() {
+    let e = SafetyError {
+        seq: 1,
+        cycle: 10,
+        unix_ns: 0,
+        reason: Reason::FollowingError {
+            axis: Axis::new(3).unwrap(),
+            error_deg: 2.5,
+            band_deg: 2.0,
+        },
+    };
+    let v = safety_error(&e);
+    assert_eq!(
+        v["error_message"],
+        "safety check tripped: following error: axis 3 is 2.500 deg away from its commanded \
+         position, band 2.000 deg"
+    );
+    assert_eq!(
+        (v["check"].as_str(), v["axis"].as_u64()),
+        (Some("following_error"), Some(3))
+    );
+    assert_eq!(last_error(&e.encode()), Some(v));
+    assert_eq!(last_error(&ErrorRecord::default()), None);
+    let unknown = ErrorRecord {
+        code: 99,
+        ..e.encode()
+    };
+    let text = last_error(&unknown).unwrap()["error_message"].to_string();
+    assert!(
+        text.contains("cannot be read (reject code 99 is not known")
+            && !text.contains("no error"),
+        "{text}"
+    );
+}
+
+#[test]
+fn move_all_result() {
+    let plan = MoveAllPlan {
+        velocities_deg_s: [10.0, 20.0, 0.0, 0.0, 0.0, 30.0],
+        longest: Axis::new(6).unwrap(),
+        duration_s: 1.5,
+    };
+    let v = Answer::MoveAll(MoveAllResult::from(&plan)).to_value();
+    assert_eq!(v["longest"], 6);
+    assert_eq!(v["max_time_to_target"], 1.5);
+    assert_eq!(v["velocities"], json!([10.0, 20.0, 0.0, 0.0, 0.0, 30.0]));
+}
+
+#[test]
+fn info_takes_simulated_from_the_state() {
+    let cfg = RobotConfig::prob2_default();
+    let info = InfoReply {
+        num_axes: 6,
+        period_s: 0.005,
+    };
+    let v = Answer::Initialization(Info::new(&cfg, &info, true)).to_value();
+    assert_eq!(
+        (v["num_axes"].as_u64(), v["cycle_time"].as_f64()),
+        (Some(6), Some(0.005))
+    );
+    assert_eq!(v["simulated"], true);
+    assert_eq!(
+        Answer::Initialization(Info::new(&cfg, &info, false)).to_value()["simulated"],
+        false
+    );
+}
