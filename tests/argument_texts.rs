@@ -6,8 +6,6 @@
 //! accept the same values and refuse the others with the same text. Arguments only the
 //! gateway reads (`dt_status`, `duration`) are checked against the table's own words.
 
-use mcm_shared::protocol::Command;
-use mcm_shared::protocol::results::Generic;
 use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::command::{
     Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, Request, SetTorques, SetVelocities,
@@ -15,6 +13,8 @@ use mcm_shared::command::{
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::Mode;
+use mcm_shared::protocol::Command;
+use mcm_shared::protocol::results::Generic;
 use mcm_shared::ranges::{ARGS, Arg};
 use mcm_shared::reply::{Outcome, Response};
 use mcm_shared::sample::CommandSample;

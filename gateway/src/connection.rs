@@ -10,7 +10,6 @@
 //! the connection with one ERROR line saying why.
 
 use crate::access::{Channel, Client, run_command};
-use mcm_shared::protocol::Command;
 use crate::exec::Context;
 use crate::framing::{Decoder, Frame, MAX_COMMAND_BYTES};
 use crate::lifecycle::CoreWatch;
@@ -19,6 +18,7 @@ use crate::server::admission::Slot;
 use crate::shutdown::Shutdown;
 use mcm_shared::config::{ConnectionLimits, RobotConfig};
 use mcm_shared::mode::Mode;
+use mcm_shared::protocol::Command;
 use mcm_shared::sample::StateSample;
 use serde_json::Value;
 use std::time::Duration;
@@ -258,7 +258,10 @@ pub async fn serve(
             if let Some(dt) = outcome.mode_session {
                 states.borrow_and_update();
                 session = Some(ModeSession::new(dt, outcome.state.as_deref()));
-            } else if matches!(cmd, Command::Hold(_) | Command::Release(_) | Command::Pvt(_)) {
+            } else if matches!(
+                cmd,
+                Command::Hold(_) | Command::Release(_) | Command::Pvt(_)
+            ) {
                 // Its own result is the status of the mode change.
                 session = None;
             }

@@ -385,7 +385,11 @@ impl fmt::Display for Allowed {
 /// version. Says which field was wrong, its value and what is allowed.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum DecodeError {
-    #[error("command kind {0} is not known to this MCM version (known: 1 to 17)")]
+    #[error(
+        "command kind {0} is not known to this MCM version (known: {first} to {last})",
+        first = CommandKind::ALL[0].to_wire(),
+        last = CommandKind::ALL[CommandKind::ALL.len() - 1].to_wire()
+    )]
     UnknownKind(u32),
     #[error("{kind}: {field} = {} is not allowed; allowed: {allowed}", Num(*value))]
     Invalid {

@@ -35,7 +35,9 @@ pub use types::{
     SimResult, Six, Status, TorqueOptions, VelocityOptions,
 };
 
-use mcm_shared::command::{MoveAll, MoveAxis, Pvt, PvtPoint, SetTorques, SetVelocities, SimCommand};
+use mcm_shared::command::{
+    MoveAll, MoveAxis, Pvt, PvtPoint, SetTorques, SetVelocities, SimCommand,
+};
 use mcm_shared::mode::Mode;
 use mcm_shared::protocol::results::Answer;
 use mcm_shared::protocol::{self, Command};
@@ -263,12 +265,7 @@ impl TcpClient {
     }
 
     /// Send `cmd` and read lines until its result (`mode`: see [`Expect`]).
-    fn call(
-        &mut self,
-        cmd: &Command,
-        mode: Option<Mode>,
-        timeout: Duration,
-    ) -> Result<Got, Error> {
+    fn call(&mut self, cmd: &Command, mode: Option<Mode>, timeout: Duration) -> Result<Got, Error> {
         let command = cmd.name();
         let expect = Expect {
             success: cmd.def().success,
@@ -317,7 +314,10 @@ impl TcpClient {
                 (Line::Ok, _) => return Err(unexpected("generic OK")),
                 (Line::Status(_), _) => return Err(unexpected("status")),
                 (Line::Other(a), _) => {
-                    let kind = a.to_value()["result_type"].as_str().unwrap_or("?").to_string();
+                    let kind = a.to_value()["result_type"]
+                        .as_str()
+                        .unwrap_or("?")
+                        .to_string();
                     return Err(unexpected(&kind));
                 }
             }

@@ -24,10 +24,10 @@ mod tests;
 
 pub use clients::{Channel, Client, Clients};
 
-use mcm_shared::protocol::results::{AccessDetail, Answer, ControlDetail, Generic};
-use mcm_shared::protocol::{Command, Secret};
 use crate::exec::{self, Context, Outcome};
 use mcm_shared::config::{AccessConfig, Cidr, ConfigError};
+use mcm_shared::protocol::results::{AccessDetail, Answer, ControlDetail, Generic};
+use mcm_shared::protocol::{Command, Secret};
 use mcm_shared::reply::{self, Reason};
 use std::net::IpAddr;
 use std::sync::atomic::{AtomicU64, Ordering};

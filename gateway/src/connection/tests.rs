@@ -4,8 +4,8 @@
 //! mutated valid commands.
 
 use super::*;
-use mcm_shared::protocol::json::to_ascii;
 use crate::test_support::offline_context;
+use mcm_shared::protocol::json::to_ascii;
 use proptest::prelude::*;
 use tokio::io::{AsyncBufReadExt, BufReader};
 use tokio::net::TcpListener;

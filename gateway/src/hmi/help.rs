@@ -5,8 +5,8 @@
 
 use super::render::{BOLD, RESET};
 use super::words::SESSION_COMMANDS;
-use mcm_shared::protocol::{self, ArgDef, COMMANDS, CommandDef, Group, command_names, suggest};
 use mcm_shared::config::RobotConfig;
+use mcm_shared::protocol::{self, ArgDef, COMMANDS, CommandDef, Group, command_names, suggest};
 use mcm_shared::ranges::{Arg, Num};
 use std::fmt::Write as _;
 

@@ -13,12 +13,12 @@
 //! ```
 
 use super::words::LineError;
+use mcm_shared::config::RobotConfig;
+use mcm_shared::mode::Mode;
 use mcm_shared::protocol;
 use mcm_shared::protocol::results::{
     Answer, Detail, Generic, Info, MoveAllResult, SimResult, Status,
 };
-use mcm_shared::config::RobotConfig;
-use mcm_shared::mode::Mode;
 use mcm_shared::sample::{
     AXIS_CALIBRATED, STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_PVT_STARVED, StateSample,
 };
@@ -123,12 +123,7 @@ pub fn pretty(v: &Value) -> String {
 
 /// A result of `command` for people. `state` (the reply's, or the newest) adds notes such as
 /// uncalibrated axes or the last safety error.
-pub fn answer(
-    command: &str,
-    v: &Answer,
-    cfg: &RobotConfig,
-    state: Option<&StateSample>,
-) -> String {
+pub fn answer(command: &str, v: &Answer, cfg: &RobotConfig, state: Option<&StateSample>) -> String {
     match v {
         Answer::Status(st) => status(st, cfg, state),
         Answer::MoveAll(m) => move_all(m, cfg),

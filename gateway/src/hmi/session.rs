@@ -18,13 +18,13 @@ use super::telnet::{Input, Telnet};
 use super::words::{Line, LineError};
 use super::{MAX_LINE_BYTES, help, render};
 use crate::access::{Channel, Client, run_command};
-use mcm_shared::protocol::Command;
-use mcm_shared::protocol::results::Answer;
 use crate::connection::{Expiry, WRITE_TIMEOUT, deadline};
 use crate::exec::Context;
 use crate::result;
 use crate::server::admission::Slot;
 use crate::shutdown::Shutdown;
+use mcm_shared::protocol::Command;
+use mcm_shared::protocol::results::Answer;
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 use std::io;
@@ -497,9 +497,7 @@ impl Session {
             (Some(v), true) => render::pretty(&v.to_value()),
             (None, true) => format!("(no result: {name} answers nothing on success)\n"),
             (Some(v), false) => render::answer(name, v, &self.ctx.cfg, state.as_deref()),
-            (None, false) => {
-                render::answer(name, &Answer::ok(), &self.ctx.cfg, state.as_deref())
-            }
+            (None, false) => render::answer(name, &Answer::ok(), &self.ctx.cfg, state.as_deref()),
         };
         if let (Command::Status(_), false, Some(st)) = (&cmd, json, &state) {
             text.push_str(&crate::access::control_words(

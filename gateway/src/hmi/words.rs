@@ -23,11 +23,9 @@
 //! assert_eq!(line, Line::Command { cmd: Command::MoveAxis(expected), json: false });
 //! ```
 
-use mcm_shared::protocol::CommandError;
-use mcm_shared::protocol::{
-    self, ArgDef, Command, CommandDef, Kind, command_names, suggest,
-};
 use mcm_shared::config::RobotConfig;
+use mcm_shared::protocol::CommandError;
+use mcm_shared::protocol::{self, ArgDef, Command, CommandDef, Kind, command_names, suggest};
 use mcm_shared::ranges::Arg;
 use serde_json::{Map, Value};
 

@@ -123,7 +123,7 @@ fn any_sample() -> impl Strategy<Value = CommandSample> {
     (
         any::<u64>(),
         any::<u64>(),
-        prop_oneof![0u32..19, any::<u32>()],
+        prop_oneof![0u32..=CommandKind::ALL.len() as u32 + 1, any::<u32>()],
         prop_oneof![0u32..0x1000, any::<u32>()],
         prop::collection::vec(arg, COMMAND_ARGS),
     )
@@ -385,4 +385,15 @@ fn axis_indices_are_zero_based_and_bounded() {
     assert_eq!(Axis::from_index(5), Axis::new(6));
     assert_eq!(Axis::from_index(6), None);
     assert_eq!(Axis::new(6).unwrap().index(), 5);
+}
+
+#[test]
+fn command_kinds_are_numbered_without_gaps() {
+    // `DecodeError::UnknownKind` names the known kinds as a range from the first to the last.
+    for (i, k) in CommandKind::ALL.iter().enumerate() {
+        assert_eq!(k.to_wire(), i as u32 + 1, "{k}");
+    }
+    let text = DecodeError::UnknownKind(99).to_string();
+    let last = CommandKind::ALL.len();
+    assert!(text.ends_with(&format!("(known: 1 to {last})")), "{text}");
 }

@@ -79,7 +79,10 @@ pub struct Args<'a> {
 
 impl<'a> Args<'a> {
     /// The `arguments` of the command `def`, their names checked against `def.args`.
-    pub fn new(def: &'static CommandDef, arguments: Option<&'a Value>) -> Result<Self, CommandError> {
+    pub fn new(
+        def: &'static CommandDef,
+        arguments: Option<&'a Value>,
+    ) -> Result<Self, CommandError> {
         let command = def.name;
         let map = match arguments {
             None | Some(Value::Null) => None,

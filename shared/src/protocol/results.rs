@@ -129,7 +129,10 @@ impl Generic {
     /// The check of a safety error, when this version knows it.
     pub fn check_code(&self) -> Option<RejectCode> {
         let check = self.check.as_deref()?;
-        RejectCode::ALL.iter().copied().find(|c| c.as_str() == check)
+        RejectCode::ALL
+            .iter()
+            .copied()
+            .find(|c| c.as_str() == check)
     }
 
     /// The words for a refused or failed command, prefixed with the command name (a command

@@ -252,4 +252,3 @@ pub(crate) const DT_STATUS: ArgDef = arg(
 pub(crate) const IN_HOLD: &str = "HOLD, with every axis calibrated";
 pub(crate) const TO_HOLD: &str = "`hold` first (and `calibrate` if an axis is not calibrated)";
 pub(crate) const TO_PVT: &str = "enter PVT mode first: `hold`, then `pvt`";
-

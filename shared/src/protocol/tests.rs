@@ -1,5 +1,5 @@
 use super::*;
-use crate::command::{Axis, PvtChunk, Direction, PvtPoint, TorqueControl as TorqueRequest, Which};
+use crate::command::{Axis, Direction, PvtChunk, PvtPoint, TorqueControl as TorqueRequest, Which};
 use crate::sample::PVT_POINTS_PER_COMMAND;
 
 fn axis(n: u8) -> Axis {
@@ -475,7 +475,11 @@ fn every_command_reads_back_as_written() {
         assert_eq!(&parse(&text).unwrap(), c, "{text}");
         seen.insert(c.name());
     }
-    assert_eq!(seen.len(), COMMANDS.len(), "a command is missing from this test");
+    assert_eq!(
+        seen.len(),
+        COMMANDS.len(),
+        "a command is missing from this test"
+    );
 }
 
 #[test]
@@ -505,5 +509,8 @@ fn the_lists_are_derived_from_the_definitions() {
         .filter(|d| d.needs_control())
         .map(|d| d.name)
         .collect();
-    assert!(control.contains(&"move_all") && !control.contains(&"hold"), "{control:?}");
+    assert!(
+        control.contains(&"move_all") && !control.contains(&"hold"),
+        "{control:?}"
+    );
 }

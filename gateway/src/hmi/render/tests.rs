@@ -39,11 +39,7 @@ fn state(mode: Mode) -> StateSample {
 #[test]
 fn status_table_is_aligned_with_units() {
     let st = state(Mode::Hold);
-    let text = strip_ansi(&status(
-        &status_of(&st, false),
-        &cfg(),
-        Some(&st),
-    ));
+    let text = strip_ansi(&status(&status_of(&st, false), &cfg(), Some(&st)));
     let lines: Vec<&str> = text.lines().collect();
     assert!(
         lines[0].starts_with("mode HOLD - axes hold their positions"),
@@ -81,11 +77,7 @@ fn detailed_status_and_notes() {
         band_deg: 2.0,
     })
     .encode();
-    let text = strip_ansi(&status(
-        &status_of(&st, true),
-        &cfg(),
-        Some(&st),
-    ));
+    let text = strip_ansi(&status(&status_of(&st, true), &cfg(), Some(&st)));
     let lines: Vec<&str> = text.lines().collect();
     assert!(lines[0].contains("mode ERROR") && lines[0].contains("`hold` clears"));
     for col in ["commanded", "measured", "foll. err", "i2t", "calibrated"] {

@@ -3,14 +3,14 @@
 //! leave with `hold`.
 
 use super::{Flow, Session};
-use mcm_shared::protocol::results::Answer;
-use mcm_shared::protocol::{Command, Hold, VelocityControl};
 use crate::hmi::jog::{
     Held, JOG_PERIOD, JOG_TIMEOUT_S, JogKey, KeyDecoder, status_line, velocities,
 };
 use crate::hmi::render;
 use mcm_shared::command::{self, Axis, SetVelocities};
 use mcm_shared::mode::Mode;
+use mcm_shared::protocol::results::Answer;
+use mcm_shared::protocol::{Command, Hold, VelocityControl};
 use std::io;
 use tokio::io::AsyncReadExt;
 use tokio::time::{Instant, MissedTickBehavior, interval};

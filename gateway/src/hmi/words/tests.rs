@@ -1,8 +1,8 @@
 use super::*;
-use mcm_shared::protocol::Status;
 use mcm_shared::command::{
     Axis, Calibrate, Direction, MoveAll, MoveAxis, PvtPoint, SetTorques, SimCommand, Which,
 };
+use mcm_shared::protocol::Status;
 
 fn cfg() -> RobotConfig {
     RobotConfig::prob2_default()
@@ -37,7 +37,10 @@ fn positional_and_named_arguments() {
         panic!()
     };
     assert_eq!((m.axis.number(), m.target_deg), (2, -45.0));
-    assert_eq!(m.velocity_factor, mcm_shared::protocol::DEFAULT_VELOCITY_FACTOR);
+    assert_eq!(
+        m.velocity_factor,
+        mcm_shared::protocol::DEFAULT_VELOCITY_FACTOR
+    );
 }
 
 #[test]

@@ -50,15 +50,17 @@ impl Definition for Authenticate {
     };
 
     fn parse(args: &Args<'_>, _: &RobotConfig) -> Result<Self, CommandError> {
-    let expected = format!("the shared secret as a string of 1 to {MAX_SECRET_BYTES} bytes");
-    match args.raw("secret") {
-        Some(Value::String(s)) if !s.is_empty() && s.len() <= MAX_SECRET_BYTES => {
-            Ok(Authenticate { secret: Secret(s.clone()) })
+        let expected = format!("the shared secret as a string of 1 to {MAX_SECRET_BYTES} bytes");
+        match args.raw("secret") {
+            Some(Value::String(s)) if !s.is_empty() && s.len() <= MAX_SECRET_BYTES => {
+                Ok(Authenticate {
+                    secret: Secret(s.clone()),
+                })
+            }
+            // Never echo what was given: it may be (a typo of) the secret.
+            Some(_) => Err(args.invalid_value("secret", "(not shown)", expected)),
+            None => Err(args.invalid_value("secret", "(missing)", expected)),
         }
-        // Never echo what was given: it may be (a typo of) the secret.
-        Some(_) => Err(args.invalid_value("secret", "(not shown)", expected)),
-        None => Err(args.invalid_value("secret", "(missing)", expected)),
-    }
     }
 
     fn arguments(&self) -> Map<String, Value> {

@@ -124,7 +124,9 @@ impl Definition for PvtPoints {
     }
 
     fn requests(&self) -> Vec<Request> {
-        PvtChunk::batch(&self.points).map(Request::PvtPoints).collect()
+        PvtChunk::batch(&self.points)
+            .map(Request::PvtPoints)
+            .collect()
     }
 }
 

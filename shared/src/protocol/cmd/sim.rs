@@ -86,14 +86,14 @@ impl Definition for SimCommand {
     /// The arguments not given change nothing.
     fn parse(args: &Args<'_>, cfg: &RobotConfig) -> Result<Self, CommandError> {
         Ok(SimCommand {
-        emergency_stop: args.boolean("emergency_stop")?,
-        disconnect_axis: args.axis("disconnect_axis")?,
-        reconnect_axis: args.axis("reconnect_axis")?,
-        block_axis: args.axis("block_axis")?,
-        unblock_axis: args.axis("unblock_axis")?,
-        external_torques_nm: args.ranged_six(Arg::ExternalTorques, cfg)?,
-        power_cycle: args.boolean("power_cycle")?.unwrap_or(false),
-    })
+            emergency_stop: args.boolean("emergency_stop")?,
+            disconnect_axis: args.axis("disconnect_axis")?,
+            reconnect_axis: args.axis("reconnect_axis")?,
+            block_axis: args.axis("block_axis")?,
+            unblock_axis: args.axis("unblock_axis")?,
+            external_torques_nm: args.ranged_six(Arg::ExternalTorques, cfg)?,
+            power_cycle: args.boolean("power_cycle")?.unwrap_or(false),
+        })
     }
 
     fn arguments(&self) -> Map<String, Value> {
@@ -124,4 +124,3 @@ impl Definition for SimCommand {
         vec![Request::Sim(*self)]
     }
 }
-

@@ -144,8 +144,7 @@ fn safety_errors_name_the_check_and_the_axis() {
     };
     let text = last_error(&unknown).unwrap()["error_message"].to_string();
     assert!(
-        text.contains("cannot be read (reject code 99 is not known")
-            && !text.contains("no error"),
+        text.contains("cannot be read (reject code 99 is not known") && !text.contains("no error"),
         "{text}"
     );
 }
