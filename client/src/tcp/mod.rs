@@ -349,6 +349,38 @@ impl TcpClient {
         }
     }
 
+    /// Any command of the protocol, typed ([`mcm_shared::protocol::Command`]), and its result:
+    /// `None` for a command that answers nothing on success (`set_torques`,
+    /// `set_velocities`: it returns once written, and a refusal comes later as
+    /// [`Event::CommandError`]). The methods below are this call with typed results; a command
+    /// without its own method is still reachable here. `calibrate` waits up to
+    /// [`TcpOptions::calibrate_timeout`], every other command [`TcpOptions::reply_timeout`].
+    ///
+    /// ```no_run
+    /// use mcm_client::tcp::TcpClient;
+    /// use mcm_shared::protocol::{results::Answer, Hold};
+    /// let mut mcm = TcpClient::connect("127.0.0.1:18010")?;
+    /// let Some(Answer::Status(s)) = mcm.command(Hold)? else { unreachable!() };
+    /// println!("mode {}", s.mode);
+    /// # Ok::<(), mcm_client::tcp::Error>(())
+    /// ```
+    pub fn command(&mut self, cmd: impl Into<Command>) -> Result<Option<Answer>, Error> {
+        let cmd = cmd.into();
+        if cmd.def().success == protocol::Success::Nothing {
+            self.write(cmd.name(), &cmd.to_json().to_string())?;
+            return Ok(None);
+        }
+        let timeout = match cmd {
+            Command::Calibrate(_) => self.opts.calibrate_timeout,
+            _ => self.opts.reply_timeout,
+        };
+        Ok(Some(match self.call(&cmd, None, timeout)? {
+            Got::Ok => Answer::ok(),
+            Got::Status(s) => Answer::Status(s),
+            Got::Other(a) => a,
+        }))
+    }
+
     /// The newest state (`status`). In a TORQUE_CONTROL or VELOCITY_CONTROL session with
     /// `dt_status` this may be
     /// one of the session's ticks (a state as fresh); the ticks are better read as events.
@@ -413,8 +445,7 @@ impl TcpClient {
     /// it was switched off). Returns once written: there is no result on success, and a
     /// refusal comes later as [`Event::CommandError`].
     pub fn set_torques(&mut self, torques_nm: Six) -> Result<(), Error> {
-        let cmd = Command::SetTorques(SetTorques { torques_nm });
-        self.write(cmd.name(), &cmd.to_json().to_string())
+        self.command(SetTorques { torques_nm }).map(|_| ())
     }
 
     /// Enter VELOCITY_CONTROL: every axis starts at target velocity 0. `timeout_s` and
@@ -432,8 +463,7 @@ impl TcpClient {
     /// Returns once written: there is no result on success, and a refusal comes later as
     /// [`Event::CommandError`].
     pub fn set_velocities(&mut self, velocities_deg_s: Six) -> Result<(), Error> {
-        let cmd = Command::SetVelocities(SetVelocities { velocities_deg_s });
-        self.write(cmd.name(), &cmd.to_json().to_string())
+        self.command(SetVelocities { velocities_deg_s }).map(|_| ())
     }
 
     /// Move one axis (1..6) to `target_deg` at `velocity_factor` (0, 1] of its limits; OK as

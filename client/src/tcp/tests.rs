@@ -253,3 +253,47 @@ fn wait_until_returns_the_first_state_that_holds_or_names_what_did_not() {
         "{e}"
     );
 }
+
+/// `command` sends any command as the contract writes it and returns its typed result;
+/// a command that answers nothing on success returns once written.
+#[test]
+fn any_command_goes_through_command_with_its_typed_result() {
+    use mcm_shared::command::{Axis, MoveAxis, SetVelocities, SimCommand};
+    use mcm_shared::protocol::results::Answer;
+    let (addr, seen) = server(vec![
+        vec![r#"{"result_type":"sim","true_position":[1,2,3,4,5,6],"true_velocity":[0,0,0,0,0,0],"emergency_stop":true}"#.into()],
+        vec![],
+        vec![r#"{"result_type":"generic","error_status":"OK"}"#.into()],
+    ]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    let sim = SimCommand {
+        block_axis: Axis::new(2),
+        ..SimCommand::default()
+    };
+    let Some(Answer::Sim(truth)) = c.command(sim).unwrap() else {
+        panic!("a sim result")
+    };
+    assert!(truth.emergency_stop && truth.true_position[5] == 6.0);
+    let v = SetVelocities {
+        velocities_deg_s: [0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+    };
+    assert_eq!(c.command(v).unwrap(), None);
+    let m = MoveAxis {
+        axis: Axis::new(3).unwrap(),
+        target_deg: 12.5,
+        velocity_factor: 0.5,
+    };
+    assert_eq!(c.command(m).unwrap(), Some(Answer::ok()));
+    let sent: Vec<Value> = seen
+        .try_iter()
+        .map(|l| serde_json::from_str(&l).unwrap())
+        .collect();
+    assert_eq!(
+        sent,
+        [
+            json!({"command": "sim", "arguments": {"block_axis": 2}}),
+            json!({"command": "set_velocities", "arguments": {"velocities": [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]}}),
+            json!({"command": "move_axis", "arguments": {"axis_index": 3, "target_position": 12.5, "velocity_factor": 0.5}}),
+        ]
+    );
+}
