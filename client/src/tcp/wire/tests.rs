@@ -1,0 +1,66 @@
+use super::*;
+use mcm_shared::mode::{Mode, RejectCode};
+
+const STATUS: &str = r#"{"result_type":"status","operating_mode":"HOLD","axis_states":{"time":[1,1,1,1,1,1],"position":[0,1,2,3,4,5],"velocity":[0,0,0,0,0,0],"acceleration":[0,0,0,0,0,0],"current":[0,0,0,0,0,0]}}"#;
+
+#[test]
+fn results_are_read_by_result_type() {
+    assert_eq!(
+        parse(r#"{"result_type":"generic","error_status":"OK"}"#),
+        Ok(Line::Ok)
+    );
+    let Ok(Line::Status(s)) = parse(STATUS) else {
+        panic!("a status")
+    };
+    assert_eq!(s.mode, Mode::Hold);
+    assert_eq!(s.axis_states.position[5], 5.0);
+    assert_eq!(s.detail, None);
+    let Ok(Line::Other(Answer::MoveAll(m))) = parse(
+        r#"{"result_type":"move_all","velocities":[1,2,3,4,5,6],"longest":3,"max_time_to_target":1.5}"#,
+    ) else {
+        panic!("move_all")
+    };
+    assert_eq!(m.longest, 3);
+}
+
+#[test]
+fn spontaneous_lines_are_events_never_results() {
+    let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"safety check tripped: the drive of axis 2 does not answer on the bus; mode is now ERROR; flight recorder: /tmp/x.csv","check":"drive_disconnected","axis":2,"flight_recorder":"/tmp/x.csv"}"#).unwrap();
+    let Line::Event(Event::SafetyError {
+        check,
+        axis,
+        flight_recorder,
+        ..
+    }) = l
+    else {
+        panic!("{l:?}")
+    };
+    assert_eq!(check, Some(RejectCode::DriveDisconnected));
+    assert_eq!(axis, Some(2));
+    assert_eq!(flight_recorder.as_deref(), Some("/tmp/x.csv"));
+    let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"mcm-rt is shutting down: the arm is being stopped"}"#).unwrap();
+    assert!(matches!(l, Line::Event(Event::Notice(_))), "{l:?}");
+    let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"set_torques refused: not allowed in mode HOLD"}"#).unwrap();
+    let Line::Event(Event::CommandError(e)) = l else {
+        panic!("{l:?}")
+    };
+    assert_eq!(
+        (e.command.as_str(), e.code),
+        ("set_torques", Some(RejectCode::WrongMode))
+    );
+    let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"set_torques: argument \"torques[0]\" = 10000.0 is not allowed"}"#).unwrap();
+    assert!(
+        matches!(&l, Line::Event(Event::CommandError(e)) if e.kind == crate::tcp::ErrorKind::Invalid),
+        "{l:?}"
+    );
+    let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"move_axis refused: not allowed in mode HOLD"}"#).unwrap();
+    assert!(matches!(l, Line::Error(_)), "{l:?}");
+}
+
+#[test]
+fn bad_lines_say_what_is_wrong() {
+    assert!(parse("hello").unwrap_err().starts_with("not JSON"));
+    assert_eq!(parse("{}").unwrap_err(), "no result_type");
+    let e = parse(&STATUS.replace("HOLD", "FLYING")).unwrap_err();
+    assert!(e.contains("FLYING"), "{e}");
+}
