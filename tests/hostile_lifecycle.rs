@@ -1,9 +1,10 @@
 //! End to end, the MCM's life under an operator's (and an accident's) hand: SIGTERM while the
 //! arm moves brings it to standstill (measured against the simulation's true velocity) and
 //! disables the drives before anything exits, and every client is told; `kill -9` of the
-//! launcher does not orphan its children; a gateway that keeps dying is restarted with a
-//! back-off while `mcm-rt` keeps the arm; a configuration that switches a safety check off is
-//! refused at start, naming the key.
+//! launcher does not orphan its children; `kill -9` of `mcm-rt` reaches clients as the core
+//! vanishing, before the launcher stops the gateway; a gateway that keeps dying is restarted
+//! with a back-off while `mcm-rt` keeps the arm; a configuration that switches a safety check
+//! off is refused at start, naming the key.
 //!
 //! Real processes (the `mcm` launcher, `mcm-rt`, `mcm-gateway`), unique instance names and
 //! free ports; every wait is bounded.
@@ -375,12 +376,18 @@ fn sigterm_while_moving_stops_the_arm_disables_the_drives_and_tells_every_client
             "{:?}",
             conn.notices
         );
+        // The launcher stops the gateway right after mcm-rt exited: the gateway still says
+        // so before its own last line.
+        let n = &conn.notices;
+        assert!(n.len() >= 2, "{n:?}");
         assert!(
-            conn.notices
-                .last()
+            n[n.len() - 2].starts_with("mcm-rt stopped after its controlled stop"),
+            "{n:?}"
+        );
+        assert!(
+            n.last()
                 .is_some_and(|n| n.starts_with("the MCM is shutting down")),
-            "{:?}",
-            conn.notices
+            "{n:?}"
         );
     }
     let hmi_text = hmi_text.join().unwrap();
@@ -403,6 +410,36 @@ fn kill_9_of_the_launcher_takes_mcm_rt_and_the_gateway_with_it() {
     wait_gone(rt, "mcm-rt");
     // mcm-rt stopped in order (its controlled stop), not killed.
     l.wait_log("controlled stop took");
+}
+
+#[test]
+fn kill_9_of_mcm_rt_tells_clients_the_core_stopped_before_the_launcher_stops_the_gateway() {
+    let mut l = Launcher::start("rt-kill9");
+    let mut c = Conn::connect(l.json);
+    // The gateway reads the core's state: the client is connected to a running MCM.
+    assert_eq!(c.request(DETAIL)["result_type"], "status");
+    // SAFETY: the mcm-rt this test's launcher started.
+    unsafe { libc::kill(l.rt_pid, libc::SIGKILL) };
+    c.drain();
+    let status = l.wait_exit();
+    assert!(!status.success(), "a dead core is an error: {status}");
+    l.wait_log("mcm-rt exited unexpectedly");
+    // The launcher stopped the gateway at once; the client still heard why: the core vanished
+    // (not a shutdown of mcm-rt), then the gateway's own last line.
+    let n = &c.notices;
+    assert!(n.len() >= 2, "{n:?}");
+    assert!(
+        n[n.len() - 2].starts_with("mcm-rt stopped publishing its state without shutting down"),
+        "{n:?}"
+    );
+    assert!(
+        n[n.len() - 1].starts_with("the MCM is shutting down"),
+        "{n:?}"
+    );
+    assert!(
+        !n.iter().any(|m| m.starts_with("mcm-rt is shutting down")),
+        "mcm-rt was killed, not asked to stop: {n:?}"
+    );
 }
 
 #[test]

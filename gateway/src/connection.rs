@@ -249,7 +249,7 @@ pub async fn serve(
                     e = errors.recv() => forward_error(&mut wr, e).await?,
                     // Only during a `sleep`, which does not protect from eviction.
                     why = slot.evicted() => return say_goodbye(&mut rd, &mut wr, &why).await,
-                    () = shutdown.recv() => return goodbye(&mut wr).await,
+                    () = shutdown.recv() => return goodbye(&mut wr, &mut core).await,
                 }
             };
             if let Some(r) = &outcome.result {
@@ -314,16 +314,26 @@ pub async fn serve(
                 return say_goodbye(&mut rd, &mut wr, &why).await;
             }
             why = slot.evicted() => return say_goodbye(&mut rd, &mut wr, &why).await,
-            () = shutdown.recv() => return goodbye(&mut wr).await,
+            () = shutdown.recv() => return goodbye(&mut wr, &mut core).await,
         }
     }
 }
 
-/// The last line before the gateway closes the connection on shutdown (bounded: a client that
+/// The last lines before the gateway closes the connection on shutdown: the notice about the
+/// core still due (it stopped, or vanished), then the gateway's own (bounded: a client that
 /// does not read does not hold the shutdown up).
-async fn goodbye(wr: &mut BufWriter<OwnedWriteHalf>) -> std::io::Result<()> {
-    let bye = crate::lifecycle::gateway_stopping();
-    let _ = tokio::time::timeout(Duration::from_secs(1), send(wr, &bye)).await;
+async fn goodbye(wr: &mut BufWriter<OwnedWriteHalf>, core: &mut CoreWatch) -> std::io::Result<()> {
+    let lines = core
+        .due()
+        .into_iter()
+        .chain([crate::lifecycle::gateway_stopping()]);
+    let say = async {
+        for v in lines {
+            send(wr, &v).await?;
+        }
+        Ok::<_, std::io::Error>(())
+    };
+    let _ = tokio::time::timeout(Duration::from_secs(1), say).await;
     Ok(())
 }
 

@@ -76,8 +76,9 @@ where
 }
 
 /// Accept connections on `listener` and serve each with `serve` in its own task, within the
-/// limits of `ctx.cfg.gateway.connections`, until `shutdown` resolves; then tell every
-/// connection to stop and wait for them. Shared by the JSON channel and the text HMI.
+/// limits of `ctx.cfg.gateway.connections`, until `shutdown` resolves; then settle what is
+/// known of the core ([`crate::lifecycle::settle`]), tell every connection to stop and wait
+/// for them. Shared by the JSON channel and the text HMI.
 pub async fn run<F, Fut>(
     listener: TcpListener,
     ctx: Context,
@@ -159,6 +160,9 @@ async fn run_with<F, Fut>(
         () = accept => {}
         _ = shutdown => {}
     }
+    // Usually the gateway is stopped because the core stopped: know that before the
+    // connections say goodbye, so that they tell it first (`crate::lifecycle`).
+    crate::lifecycle::settle(ctx.bridge.watch_state()).await;
     drop(notify);
     drop(done_tx);
     let _ = done_rx.recv().await;

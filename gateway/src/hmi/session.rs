@@ -21,6 +21,7 @@ use crate::access::{Channel, Client, run_command};
 use crate::cmd::Command;
 use crate::connection::{Expiry, WRITE_TIMEOUT, deadline};
 use crate::exec::Context;
+use crate::lifecycle::CoreWatch;
 use crate::result;
 use crate::server::admission::Slot;
 use crate::shutdown::Shutdown;
@@ -109,12 +110,21 @@ pub async fn serve(
     match ended {
         Some(r) => r,
         None => {
-            let bye = format!(
-                "\r\n\x1b[?25h{}ERROR: the MCM is shutting down (the gateway was asked to stop); goodbye{}\r\n",
+            // The notice about the core still due (it stopped, or vanished), then the
+            // gateway's own last line.
+            let mut bye = b"\r\n\x1b[?25h".to_vec();
+            if let Some(n) = session.core.due() {
+                let text = n["error_message"].as_str().unwrap_or_default();
+                let line = format!("{}ERROR: {text}{}\n", render::RED, render::RESET);
+                terminal_text(&line, &mut bye);
+            }
+            let line = format!(
+                "{}ERROR: the MCM is shutting down (the gateway was asked to stop); goodbye{}\n",
                 render::YELLOW,
                 render::RESET
             );
-            let write = session.wr.write_all(bye.as_bytes());
+            terminal_text(&line, &mut bye);
+            let write = session.wr.write_all(&bye);
             let _ = tokio::time::timeout(GOODBYE_TIMEOUT, write).await;
             Ok(())
         }
@@ -133,6 +143,8 @@ struct Session {
     closed: bool,
     errors: broadcast::Receiver<crate::bridge::SafetyEvent>,
     errors_open: bool,
+    /// The notices about the core's life (`crate::lifecycle`).
+    core: CoreWatch,
     /// This session's identity; dropped with the session (the core then hears it is gone).
     client: Client,
     out: Vec<u8>,
@@ -153,6 +165,7 @@ impl Session {
     ) -> Self {
         Self {
             errors: ctx.bridge.subscribe_errors(),
+            core: CoreWatch::new(ctx.bridge.watch_state()),
             client: Client::new(&ctx.clients, &ctx.bridge, Channel::Hmi, peer),
             ctx,
             rd,
@@ -180,7 +193,8 @@ impl Session {
         let banner = render::banner(&self.ctx.cfg, state.as_deref(), self.ctx.bridge.instance());
         self.say(&banner);
         self.prompt();
-        let mut core = crate::lifecycle::CoreWatch::new(self.ctx.bridge.watch_state());
+        // Notices start from what the banner said.
+        self.core = CoreWatch::new(self.ctx.bridge.watch_state());
         let mut tick = interval(PROMPT_CHECK);
         tick.set_missed_tick_behavior(MissedTickBehavior::Skip);
         loop {
@@ -209,7 +223,7 @@ impl Session {
             let event = tokio::select! {
                 n = self.rd.read(&mut self.buf) => Event::Read(n),
                 e = self.errors.recv(), if self.errors_open => Event::Error(e),
-                n = core.next() => Event::Core(n),
+                n = self.core.next() => Event::Core(n),
                 _ = tick.tick() => Event::Tick,
                 () = async { tokio::time::sleep_until(expiry.expect("guarded").0).await }, if expiry.is_some() => {
                     Event::Expired(expiry.expect("guarded").1)
