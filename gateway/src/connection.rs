@@ -211,6 +211,7 @@ pub async fn serve(
     let mut wr = BufWriter::new(wr);
     // Dropped when this function returns, however: the core then hears the client is gone.
     let client = Client::new(&ctx.clients, &ctx.bridge, Channel::Json, peer);
+    slot.identify(client.id);
     let mut decoder = Decoder::new();
     let mut errors = ctx.bridge.subscribe_errors();
     let mut session: Option<ModeSession> = None;
@@ -252,9 +253,6 @@ pub async fn serve(
                     () = shutdown.recv() => return goodbye(&mut wr, &mut core).await,
                 }
             };
-            if let Some(r) = &outcome.result {
-                send(&mut wr, r).await?;
-            }
             if let Some(dt) = outcome.mode_session {
                 states.borrow_and_update();
                 session = Some(ModeSession::new(dt, outcome.state.as_deref()));
@@ -262,7 +260,11 @@ pub async fn serve(
                 // Its own result is the status of the mode change.
                 session = None;
             }
+            // Idle (evictable) from now, before the client has the result and may act on it.
             slot.set_busy(session.is_some());
+            if let Some(r) = &outcome.result {
+                send(&mut wr, r).await?;
+            }
         }
         // A line is unfinished: it began with the read that brought its first byte.
         line_start = match line_start {

@@ -1,6 +1,7 @@
 //! The TCP listeners: accept connections, admit them within the limits of
 //! `[gateway.connections]` ([`admission`]: per-peer cap, total cap, loopback reserve, eviction
-//! of the longest-idle connection), hand each to its own task, and stop them all on shutdown.
+//! of the longest-idle connection, never the one that controls the arm), hand each to its own
+//! task, and stop them all on shutdown.
 
 pub mod admission;
 
@@ -120,9 +121,11 @@ async fn run_with<F, Fut>(
                 }
             };
             let ip = peer.ip().to_canonical();
-            let admitted = table
-                .lock()
-                .admit(ip, (port.is_local)(ip), tokio::time::Instant::now());
+            let owner = ctx.bridge.latest_state().map_or(0, |s| s.owner_client_id);
+            let admitted =
+                table
+                    .lock()
+                    .admit(ip, (port.is_local)(ip), tokio::time::Instant::now(), owner);
             let admission::Admitted { id, evict, .. } = match admitted {
                 Ok(a) => a,
                 Err(reason) => {

@@ -128,6 +128,7 @@ pub async fn serve(
     let peer = socket.peer_addr()?;
     let (rd, wr) = socket.into_split();
     let mut session = Session::new(ctx, rd, wr, peer, slot);
+    session.slot.identify(session.client.id);
     let ended = tokio::select! {
         r = session.run() => Some(r),
         () = shutdown.recv() => None,
