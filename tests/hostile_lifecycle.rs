@@ -12,6 +12,7 @@
 mod common;
 
 use common::{WAIT, alive, config_file, sim_state_path, unique_instance};
+use mcm_shared::ready::{McmReady, ReadyLine};
 use serde_json::{Value, json};
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpStream};
@@ -29,11 +30,6 @@ struct Launcher {
     hmi: SocketAddr,
     rt_pid: i32,
     gateway_pid: i32,
-}
-
-fn field(line: &str, key: &str) -> Option<String> {
-    line.split(|c: char| c.is_whitespace() || c == '[' || c == ']')
-        .find_map(|w| w.strip_prefix(key)?.strip_prefix('=').map(str::to_string))
 }
 
 fn spawn(
@@ -96,11 +92,13 @@ impl Launcher {
                 .stdout
                 .recv_timeout(left)
                 .unwrap_or_else(|e| panic!("no `MCM ready` within {WAIT:?}: {e}"));
-            if line.starts_with("MCM ready") {
-                self.json = field(&line, "json").unwrap().parse().unwrap();
-                self.hmi = field(&line, "hmi").unwrap().parse().unwrap();
-                self.rt_pid = field(&line, "rt_pid").unwrap().parse().unwrap();
-                self.gateway_pid = field(&line, "gateway_pid").unwrap().parse().unwrap();
+            if line.starts_with(McmReady::PREFIX) {
+                let ready: McmReady = line.parse().unwrap_or_else(|e| panic!("{e}"));
+                assert_eq!(ready.instance, self.instance);
+                self.json = ready.gateway.json;
+                self.hmi = ready.gateway.hmi;
+                self.rt_pid = ready.rt_pid as i32;
+                self.gateway_pid = ready.gateway_pid as i32;
                 return;
             }
         }
