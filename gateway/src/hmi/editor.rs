@@ -103,10 +103,11 @@ enum Esc {
     Csi(Params),
     /// After ESC and intermediate bytes (0x20-0x2F), before the final byte.
     Intermediate,
-    /// Inside a control string (`ESC ]` ...), up to BEL or `ESC \\`.
+    /// Inside a control string (`ESC ]` ...), up to BEL or `ESC \` (ST).
     String,
-    /// ESC inside a control string: `\\` ends it, anything else ends it and starts anew.
-    StringEsc,
+    /// ESC inside a control string: `\` ends it (ST); anything else ends it, and the ESC
+    /// starts a new sequence.
+    StringEnd,
 }
 
 /// What a byte did to the escape sequence under way.
@@ -389,12 +390,12 @@ impl Editor {
             (Esc::None, _) => (Esc::None, EscStep::Typed),
             // In a control string everything but its terminators belongs to it.
             (Esc::String, 0x07) => (Esc::None, EscStep::Taken),
-            (Esc::String, 0x1B) => (Esc::StringEsc, EscStep::Taken),
+            (Esc::String, 0x1B) => (Esc::StringEnd, EscStep::Taken),
             (Esc::String, b) if CANCEL.contains(&b) => (Esc::None, EscStep::Taken),
             (Esc::String, b) if b < 0x20 => (Esc::String, EscStep::Typed),
             (Esc::String, _) => (Esc::String, EscStep::Taken),
-            (Esc::StringEsc, b'\\') => (Esc::None, EscStep::Taken),
-            (Esc::StringEsc, b) => {
+            (Esc::StringEnd, b'\\') => (Esc::None, EscStep::Taken),
+            (Esc::StringEnd, b) => {
                 // The string ended without its terminator; this ESC starts a new sequence.
                 self.esc = Esc::Start;
                 return self.escape(b);
