@@ -1,6 +1,7 @@
-//! The launcher: starts `mcm rt` and `mcm gateway` as two processes, says where to connect,
-//! restarts the gateway whenever it dies (it holds no state) with a capped exponential
-//! back-off, stops everything if the real-time core dies (that is never silently papered
+//! The launcher: starts `mcm rt` and `mcm gateway` as two processes, reads their ready lines
+//! and says where to connect (the lines are typed: `mcm_shared::ready`), restarts the gateway
+//! whenever it dies (it holds no state) with a capped exponential back-off (the one the
+//! systemd unit has too: `mcm_shared::restart::GATEWAY_RESTART`), stops everything if the real-time core dies (that is never silently papered
 //! over), and on Ctrl-C or SIGTERM stops `mcm-rt` first (its controlled stop: standstill, then
 //! the drives disabled; the gateway meanwhile tells its clients) and then the gateway. A second
 //! Ctrl-C is passed on (it ends the controlled stop at once).
@@ -14,6 +15,8 @@ use mcm_rt_core::cli::LogArgs;
 use mcm_rt_core::signals;
 use mcm_shared::cli::CommonArgs;
 use mcm_shared::config::{BusBackend, RobotConfig};
+use mcm_shared::ready::{GatewayReady, McmReady, ReadyLine, RtReady};
+use mcm_shared::restart::GATEWAY_RESTART;
 use mcm_shared::service::ServiceNames;
 use std::ffi::OsString;
 use std::io::{BufRead, BufReader};
@@ -51,12 +54,6 @@ const STOP_TIMEOUT: Duration = Duration::from_secs(5);
 /// How long `mcm-rt` may take to stop after SIGTERM (its controlled stop is bounded by a few
 /// seconds, see `docs/safety.md`) before it is killed.
 const RT_STOP_TIMEOUT: Duration = Duration::from_secs(15);
-/// The first wait before restarting a gateway that died; doubled for each quick death.
-const RESTART_BACKOFF_MIN: Duration = Duration::from_millis(100);
-/// The longest wait before restarting the gateway.
-const RESTART_BACKOFF_MAX: Duration = Duration::from_secs(10);
-/// A gateway that ran this long was healthy: the back-off starts again from the minimum.
-const HEALTHY_RUN: Duration = Duration::from_secs(30);
 
 struct Proc {
     name: &'static str,
@@ -159,19 +156,23 @@ fn forward_lines(name: &'static str, stdout: ChildStdout) -> mpsc::Receiver<Stri
     rx
 }
 
-/// Wait for a line starting with `prefix`; fail if the child exits first.
-fn wait_ready(
-    p: &mut Proc,
-    lines: &mpsc::Receiver<String>,
-    prefix: &str,
-) -> Result<String, String> {
+/// Wait for the child's ready line `T`; fail if the child exits first, or if its ready line
+/// cannot be read.
+fn wait_ready<T: ReadyLine>(p: &mut Proc, lines: &mpsc::Receiver<String>) -> Result<T, String> {
     let deadline = Instant::now() + READY_TIMEOUT;
     loop {
         if signals::stop_requested() {
             return Err("stopped before start-up finished".into());
         }
         match lines.recv_timeout(Duration::from_millis(50)) {
-            Ok(line) if line.starts_with(prefix) => return Ok(line),
+            Ok(line) if line.starts_with(T::PREFIX) => {
+                return line.parse().map_err(|e| {
+                    format!(
+                        "{} said it is ready, but {e}; is it from the same MCM version as this launcher?",
+                        p.name
+                    )
+                });
+            }
             Ok(line) => println!("{line}"),
             Err(mpsc::RecvTimeoutError::Timeout) => {}
             Err(mpsc::RecvTimeoutError::Disconnected) => {
@@ -195,11 +196,6 @@ fn wait_ready(
             ));
         }
     }
-}
-
-fn field<'a>(line: &'a str, key: &str) -> Option<&'a str> {
-    line.split_whitespace()
-        .find_map(|w| w.strip_prefix(key).and_then(|r| r.strip_prefix('=')))
 }
 
 pub fn main(args: impl IntoIterator<Item = OsString>) -> ExitCode {
@@ -234,7 +230,17 @@ fn run(cli: Cli) -> Result<(), String> {
     gw_args.extend(cli.listen.to_args());
 
     let (mut rt, rt_lines) = Proc::spawn("mcm-rt", &prepend("rt", &rt_args))?;
-    if let Err(e) = wait_ready(&mut rt, &rt_lines, "mcm-rt ready") {
+    let rt_ready = wait_ready::<RtReady>(&mut rt, &rt_lines).and_then(|r| {
+        if r.instance == cli.common.instance {
+            Ok(r)
+        } else {
+            Err(format!(
+                "mcm-rt says it serves instance `{}`, not `{}`",
+                r.instance, cli.common.instance
+            ))
+        }
+    });
+    if let Err(e) = rt_ready {
         rt.stop(RT_STOP_TIMEOUT);
         return Err(e);
     }
@@ -248,7 +254,7 @@ fn run(cli: Cli) -> Result<(), String> {
     let mut first = true;
     let result = loop {
         let gw = Proc::spawn("mcm-gateway", &prepend("gateway", &gw_args)).and_then(
-            |(mut gw, gw_lines)| match wait_ready(&mut gw, &gw_lines, "mcm-gateway ready") {
+            |(mut gw, gw_lines)| match wait_ready::<GatewayReady>(&mut gw, &gw_lines) {
                 Ok(line) => Ok((gw, line)),
                 Err(e) => {
                     gw.stop(STOP_TIMEOUT);
@@ -275,22 +281,14 @@ fn run(cli: Cli) -> Result<(), String> {
         };
         first = false;
         let started = Instant::now();
-        let json = field(&ready, "json").unwrap_or("?");
-        let hmi = field(&ready, "hmi").unwrap_or("?");
-        let (zmq_words, zmq_fields) =
-            match (field(&ready, "zmq_router"), field(&ready, "zmq_publish")) {
-                (Some(r), Some(p)) => (
-                    format!(", ZeroMQ commands on {r} and state on {p}"),
-                    format!(" zmq_router={r} zmq_publish={p}"),
-                ),
-                _ => (String::new(), String::new()),
-            };
-        println!(
-            "MCM ready ({robot}, instance {}): JSON on {json}, telnet HMI on {hmi}{zmq_words}; Ctrl-C stops. [json={json} hmi={hmi}{zmq_fields} rt_pid={} gateway_pid={}]",
-            cli.common.instance,
-            rt.pid(),
-            gw.pid()
-        );
+        let line = McmReady {
+            robot: robot.clone(),
+            instance: cli.common.instance.clone(),
+            gateway: ready,
+            rt_pid: rt.pid(),
+            gateway_pid: gw.pid(),
+        };
+        println!("{line}");
         // Supervise.
         let outcome = loop {
             if signals::stop_requested() {
@@ -304,7 +302,7 @@ fn run(cli: Cli) -> Result<(), String> {
             if let Ok(Some(status)) = gw.child.try_wait() {
                 let wait = backoff.next(started.elapsed());
                 eprintln!(
-                    "mcm: mcm-gateway exited unexpectedly ({status}) after {:.1} s; mcm-rt keeps running; restarting the gateway in {wait:?} (back-off {RESTART_BACKOFF_MIN:?} doubling to {RESTART_BACKOFF_MAX:?})",
+                    "mcm: mcm-gateway exited unexpectedly ({status}) after {:.1} s; mcm-rt keeps running; restarting the gateway in {wait:?} (back-off {GATEWAY_RESTART})",
                     started.elapsed().as_secs_f64()
                 );
                 break wait_watching(&mut rt, wait);
@@ -353,28 +351,26 @@ fn wait_watching(rt: &mut Proc, wait: Duration) -> Result<bool, String> {
     }
 }
 
-/// The capped exponential back-off of gateway restarts.
+/// The capped exponential back-off of gateway restarts ([`GATEWAY_RESTART`]).
 #[derive(Debug, Clone, Copy)]
 struct Backoff {
-    next: Duration,
+    /// Restarts since the start or the last healthy run.
+    restarts: u32,
 }
 
 impl Backoff {
     fn new() -> Self {
-        Self {
-            next: RESTART_BACKOFF_MIN,
-        }
+        Self { restarts: 0 }
     }
 
-    /// The wait before the next restart of a gateway that ran for `ran`: the minimum after a
-    /// healthy run ([`HEALTHY_RUN`]), otherwise twice the last one, at most the maximum.
+    /// The wait before the next restart of a gateway that ran for `ran`: the first wait after
+    /// a healthy run, otherwise the next step of the policy.
     fn next(&mut self, ran: Duration) -> Duration {
-        if ran >= HEALTHY_RUN {
-            self.next = RESTART_BACKOFF_MIN;
+        if ran >= GATEWAY_RESTART.healthy_run {
+            self.restarts = 0;
         }
-        let wait = self.next;
-        self.next = (self.next * 2).min(RESTART_BACKOFF_MAX);
-        wait
+        self.restarts = self.restarts.saturating_add(1);
+        GATEWAY_RESTART.delay(self.restarts)
     }
 }
 
@@ -385,19 +381,4 @@ fn prepend(sub: &str, args: &[OsString]) -> Vec<OsString> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn backoff_doubles_to_the_cap_and_resets_after_a_healthy_run() {
-        let mut b = Backoff::new();
-        let quick = Duration::from_millis(50);
-        let waits: Vec<_> = (0..9).map(|_| b.next(quick)).collect();
-        assert_eq!(waits[0], RESTART_BACKOFF_MIN);
-        assert_eq!(waits[1], RESTART_BACKOFF_MIN * 2);
-        assert_eq!(waits[6], Duration::from_millis(6400));
-        assert_eq!(waits[7], RESTART_BACKOFF_MAX);
-        assert_eq!(waits[8], RESTART_BACKOFF_MAX);
-        assert_eq!(b.next(HEALTHY_RUN), RESTART_BACKOFF_MIN);
-    }
-}
+mod tests;

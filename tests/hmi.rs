@@ -604,13 +604,12 @@ fn hold_changes_the_prompt_and_a_safety_error_from_elsewhere_is_shown() {
     assert_clean(&t.data);
 }
 
-#[test]
-fn nc_style_use_without_negotiation_gets_readable_output_and_a_close() {
-    let mcm = Mcm::start("hmi-nc");
-    let mut s = TcpStream::connect(mcm.hmi).expect("connect to the HMI");
+/// Type `typed` at the HMI as `nc` does (no negotiation), at once; everything the HMI sends
+/// until it closes the connection.
+fn nc_session(hmi: SocketAddr, typed: &[u8]) -> Vec<u8> {
+    let mut s = TcpStream::connect(hmi).expect("connect to the HMI");
     s.set_read_timeout(Some(WAIT)).unwrap();
-    // Typed ahead, before the banner arrived, with plain LF line ends.
-    s.write_all(b"status\nquit\n").unwrap();
+    s.write_all(typed).unwrap();
     let deadline = Instant::now() + WAIT;
     let mut out = Vec::new();
     let mut buf = [0u8; 4096];
@@ -621,7 +620,7 @@ fn nc_style_use_without_negotiation_gets_readable_output_and_a_close() {
             String::from_utf8_lossy(&out)
         );
         match s.read(&mut buf) {
-            Ok(0) => break,
+            Ok(0) => return out,
             Ok(n) => out.extend_from_slice(&buf[..n]),
             Err(e) => panic!(
                 "no close within {WAIT:?} ({e}); got {:?}",
@@ -629,6 +628,13 @@ fn nc_style_use_without_negotiation_gets_readable_output_and_a_close() {
             ),
         }
     }
+}
+
+#[test]
+fn nc_style_use_without_negotiation_gets_readable_output_and_a_close() {
+    let mcm = Mcm::start("hmi-nc");
+    // Typed ahead, before the banner arrived, with plain LF line ends.
+    let out = nc_session(mcm.hmi, b"status\nquit\n");
     // The offer of ECHO and SGA comes first; right after it the row is cleared, so a terminal
     // shows nothing of it. Everything after it is clean text.
     let greeting = [IAC, WILL, ECHO, IAC, WILL, SGA];
@@ -653,6 +659,58 @@ fn nc_style_use_without_negotiation_gets_readable_output_and_a_close() {
         .unwrap_or_else(|| panic!("no second prompt: {after}"));
     assert_status_table(&table.replace("\r\n", "\n"), "OFF");
     assert_eq!(tail, "bye\r\n");
+}
+
+/// Every escape sequence in `out` is one the HMI itself writes (its colours, cursor and line
+/// control); an ESC from elsewhere (configuration text) fails, naming where.
+fn assert_only_own_escapes(out: &str) {
+    let own = [
+        "\x1b[1;31m",
+        "\x1b[32m",
+        "\x1b[33m",
+        "\x1b[1m",
+        "\x1b[0m",
+        "\x1b[K",
+        "\x1b[J",
+        "\x1b[?25h",
+        "\x1b[?25l",
+    ];
+    for (i, _) in out.match_indices('\x1b') {
+        let rest = &out[i..];
+        assert!(
+            own.iter().any(|e| rest.starts_with(e)),
+            "an escape sequence the HMI does not write at {i}: {:?}",
+            &rest[..rest.len().min(40)]
+        );
+    }
+}
+
+/// A robot and an axis name holding escape sequences (a hostile or careless configuration)
+/// reach the banner, `info` and `status` shown visibly, never as control codes: the screen is
+/// not cleared, the title not set, the line not overwritten.
+#[test]
+fn configuration_text_with_escape_sequences_is_shown_visibly() {
+    let config = common::config_file("hmi-esc", |base| {
+        let text = base
+            .replace("name = \"P-Rob2\"", "name = \"P-Rob2\\u001b[2J\"")
+            .replace("name = \"base\"", "name = \"b\\u001b]0;x\\u0007\\r\"");
+        assert!(text.contains("\\u001b[2J") && text.contains("\\u001b]0;x"));
+        text
+    });
+    let mcm = Mcm::start_with("hmi-esc", &["--config", config.path()]);
+    let out = nc_session(mcm.hmi, b"info\nstatus\nquit\n");
+    // After the telnet greeting (IAC WILL ECHO, IAC WILL SGA).
+    let text = std::str::from_utf8(&out[6..]).expect("ASCII output");
+    assert_only_own_escapes(text);
+    assert!(
+        !text.contains('\x07'),
+        "no BEL (it ends a title sequence): {text:?}"
+    );
+    let plain = strip_ansi(text);
+    assert!(plain.contains("robot: P-Rob2^[[2J\r\n"), "banner: {plain}");
+    assert!(plain.contains("P-Rob2^[[2J, MCM "), "info: {plain}");
+    assert!(plain.contains("b^[]0;x^G^M"), "axis name in info: {plain}");
+    assert!(plain.contains("bye\r\n"), "{plain}");
 }
 
 /// What the issue asks of the HMI: a person calibrates the arm, moves it and reads its state with

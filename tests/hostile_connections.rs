@@ -164,3 +164,53 @@ fn the_line_that_panicked_gets_an_error_on_each_port_and_the_connection_lives_on
     let text = read_until(&mut hmi, |t| t.contains("P-Rob2") && t.ends_with("> "));
     assert!(text.contains("P-Rob2"), "{text:?}");
 }
+
+const DETAIL: &str = r#"{"command":"status","arguments":{"detail":true}}"#;
+
+/// An operator who took control, then 16 more connections from the same address (the
+/// per-address cap): the connection closed to make room is the longest idle of the others,
+/// never the one that controls the arm.
+#[test]
+fn the_connection_that_controls_the_arm_is_not_closed_to_make_room() {
+    let mcm = Mcm::start("hostile-owner");
+    let mut owner = mcm.client();
+    let v = owner.request(r#"{"command":"take_control"}"#);
+    assert_eq!(v["error_status"], "OK", "{v}");
+    // The owner is now the longest idle connection of 127.0.0.1; the 17th from it is too many.
+    let mut others: Vec<TcpStream> = (0..16)
+        .map(|_| connect_from("127.0.0.1", mcm.json))
+        .collect();
+    let text = read_until(&mut others[0], |_| false);
+    assert!(
+        text.contains("connection closed to make room for a new one")
+            && text.contains("longest idle"),
+        "{text:?}"
+    );
+    let s = owner.request(DETAIL);
+    assert_eq!(s["result_type"], "status", "the owner is still served: {s}");
+    assert_eq!(s["detail"]["control"]["this_connection"], true, "{s}");
+}
+
+/// When the only connection that could make room controls the arm, the newcomer is refused,
+/// saying so.
+#[test]
+fn a_newcomer_is_refused_when_only_the_controlling_connection_could_make_room() {
+    let config = common::config_file("owner-cap", |base| {
+        format!("{base}\n[gateway.connections]\nmax_per_peer = 1\n")
+    });
+    let mcm = Mcm::start_with("hostile-owner-cap", &["--config", config.path()]);
+    let mut owner = mcm.client();
+    let v = owner.request(r#"{"command":"take_control"}"#);
+    assert_eq!(v["error_status"], "OK", "{v}");
+    let mut late = connect_from("127.0.0.1", mcm.json);
+    let text = read_until(&mut late, |_| false);
+    let v: Value = serde_json::from_str(text.trim_end()).expect("one JSON line");
+    let why = v["error_message"].as_str().unwrap_or_default();
+    assert!(
+        why.starts_with("connection refused: 127.0.0.1 already has 1 connections")
+            && why.contains("controls the arm"),
+        "{why}"
+    );
+    let s = owner.request(DETAIL);
+    assert_eq!(s["detail"]["control"]["this_connection"], true, "{s}");
+}

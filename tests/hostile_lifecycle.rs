@@ -1,9 +1,10 @@
 //! End to end, the MCM's life under an operator's (and an accident's) hand: SIGTERM while the
 //! arm moves brings it to standstill (measured against the simulation's true velocity) and
 //! disables the drives before anything exits, and every client is told; `kill -9` of the
-//! launcher does not orphan its children; a gateway that keeps dying is restarted with a
-//! back-off while `mcm-rt` keeps the arm; a configuration that switches a safety check off is
-//! refused at start, naming the key.
+//! launcher does not orphan its children; `kill -9` of `mcm-rt` reaches clients as the core
+//! vanishing, before the launcher stops the gateway; a gateway that keeps dying is restarted
+//! with a back-off while `mcm-rt` keeps the arm; a configuration that switches a safety check
+//! off is refused at start, naming the key.
 //!
 //! Real processes (the `mcm` launcher, `mcm-rt`, `mcm-gateway`), unique instance names and
 //! free ports; every wait is bounded.
@@ -11,6 +12,7 @@
 mod common;
 
 use common::{WAIT, alive, config_file, sim_state_path, unique_instance};
+use mcm_shared::ready::{McmReady, ReadyLine};
 use serde_json::{Value, json};
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpStream};
@@ -28,11 +30,6 @@ struct Launcher {
     hmi: SocketAddr,
     rt_pid: i32,
     gateway_pid: i32,
-}
-
-fn field(line: &str, key: &str) -> Option<String> {
-    line.split(|c: char| c.is_whitespace() || c == '[' || c == ']')
-        .find_map(|w| w.strip_prefix(key)?.strip_prefix('=').map(str::to_string))
 }
 
 fn spawn(
@@ -95,11 +92,13 @@ impl Launcher {
                 .stdout
                 .recv_timeout(left)
                 .unwrap_or_else(|e| panic!("no `MCM ready` within {WAIT:?}: {e}"));
-            if line.starts_with("MCM ready") {
-                self.json = field(&line, "json").unwrap().parse().unwrap();
-                self.hmi = field(&line, "hmi").unwrap().parse().unwrap();
-                self.rt_pid = field(&line, "rt_pid").unwrap().parse().unwrap();
-                self.gateway_pid = field(&line, "gateway_pid").unwrap().parse().unwrap();
+            if line.starts_with(McmReady::PREFIX) {
+                let ready: McmReady = line.parse().unwrap_or_else(|e| panic!("{e}"));
+                assert_eq!(ready.instance, self.instance);
+                self.json = ready.gateway.json;
+                self.hmi = ready.gateway.hmi;
+                self.rt_pid = ready.rt_pid as i32;
+                self.gateway_pid = ready.gateway_pid as i32;
                 return;
             }
         }
@@ -375,12 +374,18 @@ fn sigterm_while_moving_stops_the_arm_disables_the_drives_and_tells_every_client
             "{:?}",
             conn.notices
         );
+        // The launcher stops the gateway right after mcm-rt exited: the gateway still says
+        // so before its own last line.
+        let n = &conn.notices;
+        assert!(n.len() >= 2, "{n:?}");
         assert!(
-            conn.notices
-                .last()
+            n[n.len() - 2].starts_with("mcm-rt stopped after its controlled stop"),
+            "{n:?}"
+        );
+        assert!(
+            n.last()
                 .is_some_and(|n| n.starts_with("the MCM is shutting down")),
-            "{:?}",
-            conn.notices
+            "{n:?}"
         );
     }
     let hmi_text = hmi_text.join().unwrap();
@@ -403,6 +408,36 @@ fn kill_9_of_the_launcher_takes_mcm_rt_and_the_gateway_with_it() {
     wait_gone(rt, "mcm-rt");
     // mcm-rt stopped in order (its controlled stop), not killed.
     l.wait_log("controlled stop took");
+}
+
+#[test]
+fn kill_9_of_mcm_rt_tells_clients_the_core_stopped_before_the_launcher_stops_the_gateway() {
+    let mut l = Launcher::start("rt-kill9");
+    let mut c = Conn::connect(l.json);
+    // The gateway reads the core's state: the client is connected to a running MCM.
+    assert_eq!(c.request(DETAIL)["result_type"], "status");
+    // SAFETY: the mcm-rt this test's launcher started.
+    unsafe { libc::kill(l.rt_pid, libc::SIGKILL) };
+    c.drain();
+    let status = l.wait_exit();
+    assert!(!status.success(), "a dead core is an error: {status}");
+    l.wait_log("mcm-rt exited unexpectedly");
+    // The launcher stopped the gateway at once; the client still heard why: the core vanished
+    // (not a shutdown of mcm-rt), then the gateway's own last line.
+    let n = &c.notices;
+    assert!(n.len() >= 2, "{n:?}");
+    assert!(
+        n[n.len() - 2].starts_with("mcm-rt stopped publishing its state without shutting down"),
+        "{n:?}"
+    );
+    assert!(
+        n[n.len() - 1].starts_with("the MCM is shutting down"),
+        "{n:?}"
+    );
+    assert!(
+        !n.iter().any(|m| m.starts_with("mcm-rt is shutting down")),
+        "mcm-rt was killed, not asked to stop: {n:?}"
+    );
 }
 
 #[test]

@@ -131,12 +131,15 @@ fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         .build()?;
     rt.block_on(async move {
         let ready = |r: crate::Ready| {
-            // Machine-readable line for the launcher; keep its shape.
-            let zmq = r
-                .zmq
-                .map(|(router, publish)| format!(" zmq_router={router} zmq_publish={publish}"))
-                .unwrap_or_default();
-            println!("mcm-gateway ready json={} hmi={}{zmq}", r.json, r.hmi);
+            // The line the launcher reads (`mcm_shared::ready`).
+            let line = mcm_shared::ready::GatewayReady {
+                json: r.json,
+                hmi: r.hmi,
+                zmq: r
+                    .zmq
+                    .map(|(router, publish)| mcm_shared::ready::ZmqEndpoints { router, publish }),
+            };
+            println!("{line}");
         };
         crate::run(opts, ready, shutdown_signal()).await
     })?;

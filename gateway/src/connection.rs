@@ -211,6 +211,7 @@ pub async fn serve(
     let mut wr = BufWriter::new(wr);
     // Dropped when this function returns, however: the core then hears the client is gone.
     let client = Client::new(&ctx.clients, &ctx.bridge, Channel::Json, peer);
+    slot.identify(client.id);
     let mut decoder = Decoder::new();
     let mut errors = ctx.bridge.subscribe_errors();
     let mut session: Option<ModeSession> = None;
@@ -249,12 +250,9 @@ pub async fn serve(
                     e = errors.recv() => forward_error(&mut wr, e).await?,
                     // Only during a `sleep`, which does not protect from eviction.
                     why = slot.evicted() => return say_goodbye(&mut rd, &mut wr, &why).await,
-                    () = shutdown.recv() => return goodbye(&mut wr).await,
+                    () = shutdown.recv() => return goodbye(&mut wr, &mut core).await,
                 }
             };
-            if let Some(r) = &outcome.result {
-                send(&mut wr, &r.to_value()).await?;
-            }
             if let Some(dt) = outcome.mode_session {
                 states.borrow_and_update();
                 session = Some(ModeSession::new(dt, outcome.state.as_deref()));
@@ -265,7 +263,11 @@ pub async fn serve(
                 // Its own result is the status of the mode change.
                 session = None;
             }
+            // Idle (evictable) from now, before the client has the result and may act on it.
             slot.set_busy(session.is_some());
+            if let Some(r) = &outcome.result {
+                send(&mut wr, &r.to_value()).await?;
+            }
         }
         // A line is unfinished: it began with the read that brought its first byte.
         line_start = match line_start {
@@ -317,16 +319,26 @@ pub async fn serve(
                 return say_goodbye(&mut rd, &mut wr, &why).await;
             }
             why = slot.evicted() => return say_goodbye(&mut rd, &mut wr, &why).await,
-            () = shutdown.recv() => return goodbye(&mut wr).await,
+            () = shutdown.recv() => return goodbye(&mut wr, &mut core).await,
         }
     }
 }
 
-/// The last line before the gateway closes the connection on shutdown (bounded: a client that
+/// The last lines before the gateway closes the connection on shutdown: the notice about the
+/// core still due (it stopped, or vanished), then the gateway's own (bounded: a client that
 /// does not read does not hold the shutdown up).
-async fn goodbye(wr: &mut BufWriter<OwnedWriteHalf>) -> std::io::Result<()> {
-    let bye = crate::lifecycle::gateway_stopping();
-    let _ = tokio::time::timeout(Duration::from_secs(1), send(wr, &bye)).await;
+async fn goodbye(wr: &mut BufWriter<OwnedWriteHalf>, core: &mut CoreWatch) -> std::io::Result<()> {
+    let lines = core
+        .due()
+        .into_iter()
+        .chain([crate::lifecycle::gateway_stopping()]);
+    let say = async {
+        for v in lines {
+            send(wr, &v).await?;
+        }
+        Ok::<_, std::io::Error>(())
+    };
+    let _ = tokio::time::timeout(Duration::from_secs(1), say).await;
     Ok(())
 }
 

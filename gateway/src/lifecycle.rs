@@ -5,6 +5,13 @@
 //! Each connection watches the core with its own [`CoreWatch`], which looks at the newest
 //! state ([`crate::bridge::Bridge::watch_state`]) every [`CORE_CHECK`] (a connection does not
 //! wake at the cycle rate) and yields a notice on a change worth telling.
+//!
+//! The gateway is usually stopped *because* the core stopped: the launcher stops it when
+//! `mcm-rt` dies or after its controlled stop, and so does systemd (`BindsTo=mcm-rt.service`),
+//! both within milliseconds, before the bridge has seen the core fall silent. So on shutdown
+//! the servers first [`settle`] what is known of the core, and each connection sends the
+//! notice still due ([`CoreWatch::due`]) before its last line: a client hears that the core
+//! stopped (or vanished), not only that the gateway was asked to stop.
 
 use mcm_shared::sample::{STATE_SHUTTING_DOWN, StateSample};
 use serde_json::Value;
@@ -30,6 +37,34 @@ pub const RT_STOPPED: &str = "mcm-rt stopped after its controlled stop (arm at s
 /// The notice when a running core stopped publishing without a shutdown.
 pub const RT_VANISHED: &str = "mcm-rt stopped publishing its state without shutting down (killed \
      or crashed); the drives stop on their heartbeat timeout; commands fail until it runs again";
+
+/// Longest wait of [`settle`]: more than the bridge takes to call a silent core stopped (its
+/// state unchanged for 0.5 s, see `bridge/worker.rs`), with room for a loaded machine.
+pub const SETTLE_WAIT: Duration = Duration::from_secs(2);
+
+/// Wait until what is known of the core is current: two new states came (the core runs), or
+/// the bridge found it silent and said so (`None`); at most [`SETTLE_WAIT`]. One new state
+/// proves nothing: the bridge may not have read the last state a killed core published yet.
+/// Returns at once when no core is known to run. Used on shutdown, before the connections are
+/// told.
+pub async fn settle(mut state: watch::Receiver<Option<Box<StateSample>>>) {
+    if state.borrow_and_update().is_none() {
+        return;
+    }
+    let known = async {
+        let mut fresh = 0;
+        while state.changed().await.is_ok() {
+            if state.borrow_and_update().is_none() {
+                return;
+            }
+            fresh += 1;
+            if fresh == 2 {
+                return;
+            }
+        }
+    };
+    let _ = tokio::time::timeout(SETTLE_WAIT, known).await;
+}
 
 /// What a connection last knew of the core.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -78,47 +113,20 @@ impl CoreWatch {
     pub async fn next(&mut self) -> Value {
         loop {
             self.tick.tick().await;
-            let now = seen(self.state.borrow().as_deref());
-            let from = std::mem::replace(&mut self.last, now);
-            if let Some(text) = notice(from, now) {
-                return crate::result::error(text);
+            if let Some(v) = self.due() {
+                return v;
             }
         }
+    }
+
+    /// The notice due now, without waiting for the next check (on shutdown, after
+    /// [`settle`], before the last line); `None` when the client knows the core's state.
+    pub fn due(&mut self) -> Option<Value> {
+        let now = seen(self.state.borrow().as_deref());
+        let from = std::mem::replace(&mut self.last, now);
+        notice(from, now).map(crate::result::error)
     }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn sample(flags: u32) -> Option<Box<StateSample>> {
-        Some(Box::new(StateSample {
-            flags,
-            ..StateSample::default()
-        }))
-    }
-
-    #[tokio::test]
-    async fn a_shutdown_then_silence_gives_two_notices_in_order() {
-        let (tx, rx) = watch::channel(sample(0));
-        let mut w = CoreWatch::new(rx);
-        tx.send_replace(sample(STATE_SHUTTING_DOWN));
-        assert_eq!(w.next().await["error_message"], RT_STOPPING);
-        tx.send_replace(None);
-        assert_eq!(w.next().await["error_message"], RT_STOPPED);
-        tx.send_replace(sample(0));
-        let quiet = tokio::time::timeout(CORE_CHECK * 5, w.next()).await;
-        assert!(quiet.is_err(), "a core appearing is no error: {quiet:?}");
-    }
-
-    #[tokio::test]
-    async fn a_core_that_vanishes_is_told_as_such() {
-        let (tx, rx) = watch::channel(sample(0));
-        let mut w = CoreWatch::new(rx);
-        tx.send_replace(None);
-        let v = w.next().await;
-        assert_eq!(v["result_type"], "generic");
-        assert_eq!(v["error_status"], "ERROR");
-        assert_eq!(v["error_message"], RT_VANISHED);
-    }
-}
+mod tests;

@@ -1,6 +1,7 @@
 //! The TCP listeners: accept connections, admit them within the limits of
 //! `[gateway.connections]` ([`admission`]: per-peer cap, total cap, loopback reserve, eviction
-//! of the longest-idle connection), hand each to its own task, and stop them all on shutdown.
+//! of the longest-idle connection, never the one that controls the arm), hand each to its own
+//! task, and stop them all on shutdown.
 
 pub mod admission;
 
@@ -76,8 +77,9 @@ where
 }
 
 /// Accept connections on `listener` and serve each with `serve` in its own task, within the
-/// limits of `ctx.cfg.gateway.connections`, until `shutdown` resolves; then tell every
-/// connection to stop and wait for them. Shared by the JSON channel and the text HMI.
+/// limits of `ctx.cfg.gateway.connections`, until `shutdown` resolves; then settle what is
+/// known of the core ([`crate::lifecycle::settle`]), tell every connection to stop and wait
+/// for them. Shared by the JSON channel and the text HMI.
 pub async fn run<F, Fut>(
     listener: TcpListener,
     ctx: Context,
@@ -119,9 +121,11 @@ async fn run_with<F, Fut>(
                 }
             };
             let ip = peer.ip().to_canonical();
-            let admitted = table
-                .lock()
-                .admit(ip, (port.is_local)(ip), tokio::time::Instant::now());
+            let owner = ctx.bridge.latest_state().map_or(0, |s| s.owner_client_id);
+            let admitted =
+                table
+                    .lock()
+                    .admit(ip, (port.is_local)(ip), tokio::time::Instant::now(), owner);
             let admission::Admitted { id, evict, .. } = match admitted {
                 Ok(a) => a,
                 Err(reason) => {
@@ -159,6 +163,9 @@ async fn run_with<F, Fut>(
         () = accept => {}
         _ = shutdown => {}
     }
+    // Usually the gateway is stopped because the core stopped: know that before the
+    // connections say goodbye, so that they tell it first (`crate::lifecycle`).
+    crate::lifecycle::settle(ctx.bridge.watch_state()).await;
     drop(notify);
     drop(done_tx);
     let _ = done_rx.recv().await;

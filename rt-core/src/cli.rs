@@ -81,13 +81,16 @@ where
         eprintln!("mcm-rt: {e}");
         return ExitCode::FAILURE;
     }
-    let instance = opts.names.instance().to_string();
-    let backend = format!("{:?}", opts.config.bus.backend).to_lowercase();
+    // The line the launcher reads (`mcm_shared::ready`).
+    let ready = mcm_shared::ready::RtReady {
+        instance: opts.names.instance().to_string(),
+        bus: opts.config.bus.backend,
+    };
     let started = move |report: &crate::realtime::RtReport| {
         if !report.is_realtime() {
             eprintln!("mcm-rt: WARNING: {report}; running anyway (--allow-non-realtime)");
         }
-        println!("mcm-rt ready instance={instance} bus={backend}");
+        println!("{ready}");
     };
     match runner::run(opts, started) {
         Ok(summary) => {

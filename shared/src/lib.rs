@@ -16,6 +16,8 @@
 //! - [`ranges`]: the allowed range of every numeric argument and the words of a refusal,
 //!   read by the gateway's parsing and the core's checks alike;
 //! - [`cli`]: the command-line arguments the MCM programs share;
+//! - [`ready`]: the ready line each program prints when it serves, and how it is read;
+//! - [`restart`]: how a gateway that dies is restarted (the launcher and the systemd unit);
 //! - [`units`]: the unit conventions at the boundary (degrees outside, radians inside).
 //!
 //! ```
@@ -33,7 +35,9 @@ pub mod mode;
 pub mod protocol;
 pub mod pvt;
 pub mod ranges;
+pub mod ready;
 pub mod reply;
+pub mod restart;
 pub mod sample;
 pub mod service;
 pub mod units;

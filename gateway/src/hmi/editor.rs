@@ -12,6 +12,17 @@
 //! Without server echo (`nc`, or telnet in line mode) the client edits the line itself, so
 //! only characters, Backspace, Enter, Ctrl-C and Ctrl-D count; escape sequences are dropped.
 //!
+//! Escape sequences (ECMA-48, 7-bit) are read to their end whatever their length, and none of
+//! their bytes reaches the line: `ESC [` or `ESC O`, parameter and intermediate bytes
+//! (0x20-0x3F), a final byte (0x40-0x7E); `ESC`, intermediate bytes (0x20-0x2F), a final byte
+//! (0x30-0x7E), `ESC x` (Alt-x) included; control strings (`ESC ]`, `ESC P`, `ESC X`, `ESC ^`,
+//! `ESC _`) up to BEL or `ESC \`. Only the editing keys above act; unknown sequences, and known
+//! ones with parameters longer than [`MAX_KEY_PARAMS`], are dropped whole. Inside a sequence a
+//! control character acts as it would outside (Ctrl-C still interrupts), DEL is ignored, CAN and
+//! SUB cancel it, ESC starts a new one, and a byte above 0x7F (outside a control string) ends it
+//! and counts as typed. Only the parameters of a key are kept, at most [`MAX_KEY_PARAMS`] bytes,
+//! so memory stays bounded whatever a peer sends.
+//!
 //! Memory is bounded: a line holds at most `max_bytes` (the rest of a longer line is dropped
 //! and Enter then yields [`Action::TooLong`]); the history keeps at most [`HISTORY_LINES`]
 //! lines and [`HISTORY_BYTES`] bytes.
@@ -35,8 +46,9 @@ use std::fmt::Write as _;
 pub const HISTORY_LINES: usize = 100;
 /// Most bytes kept in the history.
 pub const HISTORY_BYTES: usize = 256 * 1024;
-/// Longest escape sequence accepted (longer ones are dropped).
-const MAX_ESCAPE: usize = 16;
+/// Longest parameters of an editing key kept (`ESC [ 1 ; 5 C` has 3); a sequence with longer
+/// ones is read to its end and dropped.
+pub const MAX_KEY_PARAMS: usize = 8;
 
 /// What a key did, when it is more than an edit.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -51,14 +63,66 @@ pub enum Action {
     TooLong { limit: usize },
 }
 
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// The parameter bytes of a CSI or SS3 sequence, as far as a key needs them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+struct Params {
+    bytes: [u8; MAX_KEY_PARAMS],
+    len: usize,
+    /// More than [`MAX_KEY_PARAMS`] came: the sequence is no key.
+    long: bool,
+}
+
+impl Params {
+    fn push(&mut self, b: u8) {
+        match self.bytes.get_mut(self.len) {
+            Some(slot) => {
+                *slot = b;
+                self.len += 1;
+            }
+            None => self.long = true,
+        }
+    }
+
+    /// The parameters as text; `None` when they were too long to be a key's.
+    fn text(&self) -> Option<&str> {
+        if self.long {
+            return None;
+        }
+        // Only bytes 0x20-0x3F are pushed: ASCII.
+        std::str::from_utf8(&self.bytes[..self.len]).ok()
+    }
+}
+
+/// Where the editor is in an escape sequence: what the next byte means.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Esc {
     None,
     /// After ESC.
     Start,
-    /// After `ESC [` or `ESC O`, with the parameter bytes so far.
-    Seq(String),
+    /// After `ESC [` or `ESC O`, with the parameter and intermediate bytes so far.
+    Csi(Params),
+    /// After ESC and intermediate bytes (0x20-0x2F), before the final byte.
+    Intermediate,
+    /// Inside a control string (`ESC ]` ...), up to BEL or `ESC \` (ST).
+    String,
+    /// ESC inside a control string: `\` ends it (ST); anything else ends it, and the ESC
+    /// starts a new sequence.
+    StringEnd,
 }
+
+/// What a byte did to the escape sequence under way.
+enum EscStep {
+    /// It belongs to the sequence (which may go on).
+    Taken,
+    /// It ended the sequence as a key (`ESC [ <params> <final>`); the parameters, when short.
+    Key(Params, u8),
+    /// It is no part of the sequence: process it as typed (the sequence ended or goes on, as
+    /// `self.esc` now says).
+    Typed,
+}
+
+/// CAN and SUB cancel an escape sequence (ECMA-48).
+const CANCEL: [u8; 2] = [0x18, 0x1A];
 
 /// One connection's line editor.
 #[derive(Debug, Clone)]
@@ -136,8 +200,22 @@ impl Editor {
             Input::EndOfFile => return self.ctrl_d(echo, out),
         };
         if self.esc != Esc::None {
-            return self.escape(b, echo, out);
+            match self.escape(b) {
+                EscStep::Taken => return None,
+                EscStep::Key(params, last) => {
+                    if echo && let Some(params) = params.text() {
+                        self.key(params, last, out);
+                    }
+                    return None;
+                }
+                EscStep::Typed => {}
+            }
         }
+        self.typed(b, echo, out)
+    }
+
+    /// A byte that is no part of an escape sequence.
+    fn typed(&mut self, b: u8, echo: bool, out: &mut Vec<u8>) -> Option<Action> {
         if b >= 0x80 {
             self.utf8_byte(b, echo, out);
             return None;
@@ -235,7 +313,10 @@ impl Editor {
             Ok(s) => {
                 let c = s.chars().next().expect("one character");
                 self.utf8.clear();
-                self.insert(c, echo, out);
+                // A C1 control (U+0080-U+009F, e.g. U+009B, the 8-bit CSI) is no character.
+                if !c.is_control() {
+                    self.insert(c, echo, out);
+                }
             }
             Err(e) if e.error_len().is_some() || self.utf8.len() >= 4 => self.utf8.clear(),
             Err(_) => {}
@@ -303,31 +384,40 @@ impl Editor {
         }
     }
 
-    fn escape(&mut self, b: u8, echo: bool, out: &mut Vec<u8>) -> Option<Action> {
-        match &mut self.esc {
-            Esc::Start if b == b'[' || b == b'O' => {
-                self.esc = Esc::Seq(String::new());
-                None
+    /// Take byte `b` of the escape sequence under way (`self.esc` is not `None`).
+    fn escape(&mut self, b: u8) -> EscStep {
+        let (esc, step) = match (self.esc, b) {
+            (Esc::None, _) => (Esc::None, EscStep::Typed),
+            // In a control string everything but its terminators belongs to it.
+            (Esc::String, 0x07) => (Esc::None, EscStep::Taken),
+            (Esc::String, 0x1B) => (Esc::StringEnd, EscStep::Taken),
+            (Esc::String, b) if CANCEL.contains(&b) => (Esc::None, EscStep::Taken),
+            (Esc::String, b) if b < 0x20 => (Esc::String, EscStep::Typed),
+            (Esc::String, _) => (Esc::String, EscStep::Taken),
+            (Esc::StringEnd, b'\\') => (Esc::None, EscStep::Taken),
+            (Esc::StringEnd, b) => {
+                // The string ended without its terminator; this ESC starts a new sequence.
+                self.esc = Esc::Start;
+                return self.escape(b);
             }
-            Esc::Start => {
-                // ESC and a key: drop the ESC, take the key.
-                self.esc = Esc::None;
-                self.feed(Input::Byte(b), echo, out)
+            // The same rules inside every other sequence.
+            (_, 0x1B) => (Esc::Start, EscStep::Taken),
+            (_, b) if CANCEL.contains(&b) => (Esc::None, EscStep::Taken),
+            (esc, b) if b < 0x20 => (esc, EscStep::Typed),
+            (esc, 0x7F) => (esc, EscStep::Taken),
+            (_, 0x80..) => (Esc::None, EscStep::Typed),
+            (Esc::Start, b'[' | b'O') => (Esc::Csi(Params::default()), EscStep::Taken),
+            (Esc::Start, b'P' | b'X' | b']' | b'^' | b'_') => (Esc::String, EscStep::Taken),
+            (Esc::Start | Esc::Intermediate, 0x20..=0x2F) => (Esc::Intermediate, EscStep::Taken),
+            (Esc::Start | Esc::Intermediate, _) => (Esc::None, EscStep::Taken),
+            (Esc::Csi(mut params), 0x20..=0x3F) => {
+                params.push(b);
+                (Esc::Csi(params), EscStep::Taken)
             }
-            Esc::Seq(params) if (0x20..0x40).contains(&b) && params.len() < MAX_ESCAPE => {
-                params.push(char::from(b));
-                None
-            }
-            Esc::Seq(params) => {
-                let params = std::mem::take(params);
-                self.esc = Esc::None;
-                if echo {
-                    self.key(&params, b, out);
-                }
-                None
-            }
-            Esc::None => None,
-        }
+            (Esc::Csi(params), _) => (Esc::None, EscStep::Key(params, b)),
+        };
+        self.esc = esc;
+        step
     }
 
     /// A cursor or editing key: `ESC [ <params> <b>` or `ESC O <b>`.
@@ -449,172 +539,4 @@ fn holds_secret(line: &str) -> bool {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    const WORDS: &[&str] = &["status", "sleep", "sim", "help", "hold"];
-
-    fn run(e: &mut Editor, bytes: &[u8], echo: bool) -> (Vec<Action>, String) {
-        let mut out = Vec::new();
-        let actions = bytes
-            .iter()
-            .map(|b| match *b {
-                b'\n' => Input::Enter,
-                b => Input::Byte(b),
-            })
-            .filter_map(|i| e.feed(i, echo, &mut out))
-            .collect();
-        (actions, String::from_utf8_lossy(&out).into_owned())
-    }
-
-    fn line(s: &str) -> Action {
-        Action::Line(s.to_string())
-    }
-
-    #[test]
-    fn typing_echo_and_backspace() {
-        let mut e = Editor::new(100, WORDS.to_vec());
-        let (a, out) = run(&mut e, b"holx\x7Fd\n", true);
-        assert_eq!(a, [line("hold")]);
-        assert_eq!(out, "holx\x08 \x08d\r\n");
-        // Without echo nothing is written back; Backspace still edits.
-        let (a, out) = run(&mut e, b"statux\x08s\n", false);
-        assert_eq!(a, [line("status")]);
-        assert!(out.is_empty());
-    }
-
-    #[test]
-    fn cursor_movement_and_editing_keys() {
-        let mut e = Editor::new(100, WORDS.to_vec());
-        // "move 1": Left twice, insert "_axis"... via Home/End and arrows.
-        let (a, _) = run(&mut e, b"ove_axis\x1b[Hm\x1b[F 1 30\n", true);
-        assert_eq!(a, [line("move_axis 1 30")]);
-        let (a, _) = run(&mut e, b"abc\x1b[D\x1b[D\x1b[3~\n", true);
-        assert_eq!(a, [line("ac")]);
-        let (a, _) = run(&mut e, b"one two\x17three\n", true);
-        assert_eq!(a, [line("one three")]);
-        let (a, _) = run(&mut e, b"abcdef\x01\x06\x06\x0b\n", true);
-        assert_eq!(a, [line("ab")]);
-        let (a, _) = run(&mut e, b"junk\x15ok\n", true);
-        assert_eq!(a, [line("ok")]);
-        // Unknown escape sequences never reach the line.
-        let (a, _) = run(&mut e, b"a\x1b[1;5Cb\x1bOPc\n", true);
-        assert_eq!(a, [line("abc")]);
-        let (a, _) = run(&mut e, b"x\x1b[A\n", false);
-        assert_eq!(a, [line("x")], "no history without echo");
-    }
-
-    #[test]
-    fn a_line_with_the_secret_is_not_kept_in_the_history() {
-        let mut e = Editor::new(200, WORDS.to_vec());
-        run(&mut e, b"status\nauthenticate hunter2\n", true);
-        run(
-            &mut e,
-            b"{\"command\":\"authenticate\",\"arguments\":{\"secret\":\"x\"}}\n",
-            true,
-        );
-        let (a, _) = run(&mut e, b"\x1b[A\n", true);
-        assert_eq!(a, [line("status")]);
-    }
-
-    #[test]
-    fn history() {
-        let mut e = Editor::new(100, WORDS.to_vec());
-        run(&mut e, b"first\nsecond\n", true);
-        let (a, _) = run(&mut e, b"\x1b[A\n", true);
-        assert_eq!(a, [line("second")]);
-        let (a, _) = run(&mut e, b"typed\x1b[A\x1b[A\x1b[A\n", true);
-        assert_eq!(a, [line("first")], "Up stops at the oldest line");
-        // History is now first, second, first.
-        let (a, _) = run(&mut e, b"typed\x1b[A\x1b[A\x1b[A\x1b[B\n", true);
-        assert_eq!(a, [line("second")], "Down walks back towards the newest");
-        let (a, _) = run(&mut e, b"typed\x10\x0e\n", true);
-        assert_eq!(
-            a,
-            [line("typed")],
-            "Down past the newest restores the typed line"
-        );
-    }
-
-    #[test]
-    fn ctrl_c_and_ctrl_d() {
-        let mut e = Editor::new(100, WORDS.to_vec());
-        let (a, out) = run(&mut e, b"half a line\x03", true);
-        assert_eq!(a, [Action::Interrupt]);
-        assert!(out.ends_with("line"), "at the end already: no movement");
-        let (a, out) = run(&mut e, b"abc\x01\x03", true);
-        assert_eq!(a, [Action::Interrupt]);
-        assert!(
-            out.ends_with("\x1b[3C"),
-            "cursor to the end before ^C: {out:?}"
-        );
-        assert_eq!(e.text(), "");
-        let (a, _) = run(&mut e, b"ab\x01\x04\n", true);
-        assert_eq!(a, [line("b")], "Ctrl-D inside a line deletes");
-        let (a, _) = run(&mut e, b"\x04", true);
-        assert_eq!(a, [Action::Eof]);
-        let mut out = Vec::new();
-        assert_eq!(
-            e.feed(Input::Interrupt, false, &mut out),
-            Some(Action::Interrupt)
-        );
-        assert_eq!(e.feed(Input::EndOfFile, false, &mut out), Some(Action::Eof));
-    }
-
-    #[test]
-    fn completion() {
-        let mut e = Editor::new(100, WORDS.to_vec());
-        let (a, _) = run(&mut e, b"sta\t\n", true);
-        assert_eq!(a, [line("status ")]);
-        let (a, out) = run(&mut e, b"s\t", true);
-        assert!(a.is_empty());
-        assert!(out.contains("status  sleep  sim"), "{out:?}");
-        let (a, _) = run(&mut e, b"\x15help ho\t\n", true);
-        assert_eq!(a, [line("help hold ")]);
-        let (a, _) = run(&mut e, b"st\tx\n", false);
-        assert_eq!(a, [line("st x")], "Tab is a space without echo");
-    }
-
-    #[test]
-    fn utf8_characters() {
-        let mut e = Editor::new(100, WORDS.to_vec());
-        let (a, out) = run(&mut e, "a\u{e4}\u{20ac}".as_bytes(), true);
-        assert!(a.is_empty());
-        assert_eq!(out, "a??", "non-ASCII characters are echoed as ASCII");
-        let (a, _) = run(&mut e, b"\x7F\n", true);
-        assert_eq!(a, [line("a\u{e4}")]);
-        let (a, _) = run(&mut e, b"x\xFF\xC3y\n", true);
-        assert_eq!(a, [line("xy")], "invalid UTF-8 is dropped");
-    }
-
-    #[test]
-    fn long_lines_are_dropped_with_bounded_memory() {
-        let mut e = Editor::new(10, WORDS.to_vec());
-        let (a, _) = run(&mut e, b"0123456789abcdef", true);
-        assert!(a.is_empty());
-        assert!(e.line.capacity() <= 16 && e.text().is_empty());
-        let (a, _) = run(&mut e, b"\nok\n", true);
-        assert_eq!(a, [Action::TooLong { limit: 10 }, line("ok")]);
-        let (a, _) = run(&mut e, b"0123456789\n", true);
-        assert_eq!(a, [line("0123456789")], "exactly the limit is fine");
-        let (a, _) = run(&mut e, b"0123456789a\n", true);
-        assert_eq!(
-            a,
-            [Action::TooLong { limit: 10 }],
-            "one byte more is refused"
-        );
-        // The limit counts UTF-8 bytes: 9 + a 2-byte character is one too many.
-        let (a, _) = run(&mut e, "012345678\u{e9}\n".as_bytes(), true);
-        assert_eq!(a, [Action::TooLong { limit: 10 }]);
-    }
-
-    #[test]
-    fn history_is_bounded() {
-        let mut e = Editor::new(100, WORDS.to_vec());
-        for i in 0..(HISTORY_LINES + 20) {
-            run(&mut e, format!("line {i}\n").as_bytes(), true);
-        }
-        assert_eq!(e.history.len(), HISTORY_LINES);
-        assert_eq!(e.history.front().unwrap(), "line 20");
-    }
-}
+mod tests;

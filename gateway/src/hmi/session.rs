@@ -20,13 +20,13 @@ use super::{MAX_LINE_BYTES, help, render};
 use crate::access::{Channel, Client, run_command};
 use crate::connection::{Expiry, WRITE_TIMEOUT, deadline};
 use crate::exec::Context;
+use crate::lifecycle::CoreWatch;
 use crate::result;
 use crate::server::admission::Slot;
 use crate::shutdown::Shutdown;
 use mcm_shared::protocol::Command;
 use mcm_shared::protocol::results::Answer;
 use std::collections::VecDeque;
-use std::fmt::Write as _;
 use std::io;
 use std::net::SocketAddr;
 use std::time::Duration;
@@ -37,6 +37,8 @@ use tokio::sync::broadcast::{self, error::RecvError};
 use tokio::time::{Instant, MissedTickBehavior, interval};
 
 mod jog;
+#[cfg(test)]
+mod tests;
 
 /// Most inputs kept as type-ahead while a command runs (reading pauses beyond it).
 pub const MAX_PENDING: usize = MAX_LINE_BYTES + 4096;
@@ -57,18 +59,42 @@ pub fn completions() -> Vec<&'static str> {
         .collect()
 }
 
-/// Append `text` for the terminal: line ends as CR LF, every non-ASCII character as
+/// The escape sequences text for the terminal may hold: the HMI's own colours. Cursor and
+/// line control (`ESC [ K`, hiding the cursor, ...) is written by the session directly, never
+/// as text.
+const OWN_COLOURS: [&str; 5] = [
+    render::RED,
+    render::GREEN,
+    render::YELLOW,
+    render::BOLD,
+    render::RESET,
+];
+
+/// Append `text` for the terminal, the one way text reaches it: line ends as CR LF; the HMI's
+/// own colours ([`OWN_COLOURS`]) as they are; every other control character shown visibly in
+/// caret notation (ESC as `^[`, BEL as `^G`, CR as `^M`, DEL as `^?`), so that text from the
+/// configuration (the robot's and the axes' names), the core or a peer cannot clear the
+/// screen, set the window title or overwrite a line; every non-ASCII character as
 /// [`render::NON_ASCII`] (the HMI writes only ASCII).
 pub fn terminal_text(text: &str, out: &mut Vec<u8>) {
     let text = render::ascii(text);
-    for part in text.split_inclusive('\n') {
-        match part.strip_suffix('\n') {
-            Some(l) => {
-                out.extend_from_slice(l.as_bytes());
-                out.extend_from_slice(b"\r\n");
-            }
-            None => out.extend_from_slice(part.as_bytes()),
+    let mut rest = text.as_bytes();
+    while let Some((&b, tail)) = rest.split_first() {
+        let own = (b == 0x1B)
+            .then(|| OWN_COLOURS.iter().find(|c| rest.starts_with(c.as_bytes())))
+            .flatten();
+        if let Some(colour) = own {
+            out.extend_from_slice(colour.as_bytes());
+            rest = &rest[colour.len()..];
+            continue;
         }
+        match b {
+            b'\n' => out.extend_from_slice(b"\r\n"),
+            0x00..=0x1F => out.extend_from_slice(&[b'^', b + 0x40]),
+            0x7F => out.extend_from_slice(b"^?"),
+            _ => out.push(b),
+        }
+        rest = tail;
     }
 }
 
@@ -101,6 +127,7 @@ pub async fn serve(
     let peer = socket.peer_addr()?;
     let (rd, wr) = socket.into_split();
     let mut session = Session::new(ctx, rd, wr, peer, slot);
+    session.slot.identify(session.client.id);
     let ended = tokio::select! {
         r = session.run() => Some(r),
         () = shutdown.recv() => None,
@@ -108,12 +135,21 @@ pub async fn serve(
     match ended {
         Some(r) => r,
         None => {
-            let bye = format!(
-                "\r\n\x1b[?25h{}ERROR: the MCM is shutting down (the gateway was asked to stop); goodbye{}\r\n",
+            // The notice about the core still due (it stopped, or vanished), then the
+            // gateway's own last line.
+            let mut bye = b"\r\n\x1b[?25h".to_vec();
+            if let Some(n) = session.core.due() {
+                let text = n["error_message"].as_str().unwrap_or_default();
+                let line = format!("{}ERROR: {text}{}\n", render::RED, render::RESET);
+                terminal_text(&line, &mut bye);
+            }
+            let line = format!(
+                "{}ERROR: the MCM is shutting down (the gateway was asked to stop); goodbye{}\n",
                 render::YELLOW,
                 render::RESET
             );
-            let write = session.wr.write_all(bye.as_bytes());
+            terminal_text(&line, &mut bye);
+            let write = session.wr.write_all(&bye);
             let _ = tokio::time::timeout(GOODBYE_TIMEOUT, write).await;
             Ok(())
         }
@@ -132,6 +168,8 @@ struct Session {
     closed: bool,
     errors: broadcast::Receiver<crate::bridge::SafetyEvent>,
     errors_open: bool,
+    /// The notices about the core's life (`crate::lifecycle`).
+    core: CoreWatch,
     /// This session's identity; dropped with the session (the core then hears it is gone).
     client: Client,
     out: Vec<u8>,
@@ -152,6 +190,7 @@ impl Session {
     ) -> Self {
         Self {
             errors: ctx.bridge.subscribe_errors(),
+            core: CoreWatch::new(ctx.bridge.watch_state()),
             client: Client::new(&ctx.clients, &ctx.bridge, Channel::Hmi, peer),
             ctx,
             rd,
@@ -179,7 +218,8 @@ impl Session {
         let banner = render::banner(&self.ctx.cfg, state.as_deref(), self.ctx.bridge.instance());
         self.say(&banner);
         self.prompt();
-        let mut core = crate::lifecycle::CoreWatch::new(self.ctx.bridge.watch_state());
+        // Notices start from what the banner said.
+        self.core = CoreWatch::new(self.ctx.bridge.watch_state());
         let mut tick = interval(PROMPT_CHECK);
         tick.set_missed_tick_behavior(MissedTickBehavior::Skip);
         loop {
@@ -208,7 +248,7 @@ impl Session {
             let event = tokio::select! {
                 n = self.rd.read(&mut self.buf) => Event::Read(n),
                 e = self.errors.recv(), if self.errors_open => Event::Error(e),
-                n = core.next() => Event::Core(n),
+                n = self.core.next() => Event::Core(n),
                 _ = tick.tick() => Event::Tick,
                 () = async { tokio::time::sleep_until(expiry.expect("guarded").0).await }, if expiry.is_some() => {
                     Event::Expired(expiry.expect("guarded").1)
@@ -244,11 +284,8 @@ impl Session {
 
     /// End the session with one line saying `why` (after what is still to be written).
     async fn goodbye(&mut self, why: &str) -> io::Result<()> {
-        let line = format!(
-            "\r\n\x1b[?25h{}error:{} {why}\n",
-            render::RED,
-            render::RESET
-        );
+        self.out.extend_from_slice(b"\r\n\x1b[?25h");
+        let line = format!("{}error:{} {why}\n", render::RED, render::RESET);
         self.say(&line);
         let out = std::mem::take(&mut self.out);
         crate::server::farewell(&mut self.rd, &mut self.wr, &out).await;
@@ -535,17 +572,17 @@ impl Session {
                         &self.ctx.cfg,
                         self.ctx.bridge.instance(),
                     );
-                    let mut text = String::new();
                     if drawn > 0 {
-                        let _ = write!(text, "\x1b[{drawn}A");
+                        self.out
+                            .extend_from_slice(format!("\x1b[{drawn}A").as_bytes());
                     }
-                    text.push('\r');
+                    self.out.push(b'\r');
                     for l in frame.lines() {
-                        let _ = write!(text, "{l}\x1b[K\r\n");
+                        terminal_text(l, &mut self.out);
+                        self.out.extend_from_slice(b"\x1b[K\r\n");
                     }
-                    text.push_str("\x1b[J");
+                    self.out.extend_from_slice(b"\x1b[J");
                     drawn = frame.lines().count();
-                    self.out.extend_from_slice(text.as_bytes());
                 }
                 Event::Read(n) => {
                     let n = n?;

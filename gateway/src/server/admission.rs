@@ -1,6 +1,7 @@
 //! Which connections a port admits, and which one it closes to make room: the per-peer cap,
-//! the total cap with its loopback reserve, and eviction of the longest-idle connection
-//! (rules in docs/protocol.md, "Connections"). Runs in the gateway's async tasks; the table
+//! the total cap with its loopback reserve, and eviction of the longest-idle connection, never
+//! one that is busy or that controls the arm (rules in docs/protocol.md, "Connections", and
+//! docs/security.md). Runs in the gateway's async tasks; the table
 //! is locked only for a few map operations, never across an `.await`.
 
 use mcm_shared::config::ConnectionLimits;
@@ -45,6 +46,9 @@ struct Entry {
     idle_since: Instant,
     /// A command executed by the core is running, or a torque session: never evicted.
     busy: bool,
+    /// The connection's client id ([`Slot::identify`]; 0 until known): the one that controls
+    /// the arm is never evicted.
+    client: u64,
     /// Receives the reason when the connection is evicted.
     evict: watch::Sender<Option<String>>,
 }
@@ -54,6 +58,15 @@ struct Entry {
 pub struct Evicted {
     pub id: u64,
     pub reason: String,
+}
+
+/// Which connection could make room.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Victim {
+    Found(u64),
+    /// None but the one that controls the arm.
+    OnlyOwner,
+    None,
 }
 
 /// A connection the table admitted.
@@ -117,21 +130,42 @@ impl Table {
         self.entries.values().filter(|e| e.busy).count()
     }
 
-    /// The longest-idle connection that is not busy among those `eligible`, oldest id first
-    /// on a tie.
-    fn longest_idle(&self, eligible: impl Fn(&Entry) -> bool) -> Option<u64> {
-        self.entries
+    /// The longest-idle connection among those `eligible` that is neither busy nor the one
+    /// whose client id is `owner` (it controls the arm; 0: nobody does), oldest id first on a
+    /// tie.
+    fn longest_idle(&self, owner: u64, eligible: impl Fn(&Entry) -> bool) -> Victim {
+        let mut owner_idle = false;
+        let found = self
+            .entries
             .iter()
             .filter(|(_, e)| !e.busy && eligible(e))
+            .filter(|(_, e)| {
+                let owns = owner != 0 && e.client == owner;
+                owner_idle |= owns;
+                !owns
+            })
             .min_by_key(|(id, e)| (e.idle_since, **id))
-            .map(|(id, _)| *id)
+            .map(|(id, _)| *id);
+        match found {
+            Some(id) => Victim::Found(id),
+            None if owner_idle => Victim::OnlyOwner,
+            None => Victim::None,
+        }
     }
 
-    /// Admit a connection from `ip` (`local`: a loopback peer) at `now`. When a cap is
-    /// reached, the longest-idle connection that the newcomer may displace is closed with a
-    /// reason (sent to its [`Slot`]) and returned; if there is none, the newcomer is refused
-    /// with the reason (`Err`). A remote peer never displaces a loopback connection.
-    pub fn admit(&mut self, ip: IpAddr, local: bool, now: Instant) -> Result<Admitted, String> {
+    /// Admit a connection from `ip` (`local`: a loopback peer) at `now`, while the client
+    /// `owner` controls the arm (0: nobody). When a cap is reached, the longest-idle connection
+    /// that the newcomer may displace is closed with a reason (sent to its [`Slot`]) and
+    /// returned; if there is none, the newcomer is refused with the reason (`Err`). A remote
+    /// peer never displaces a loopback connection; a busy connection and the one that controls
+    /// the arm are never displaced.
+    pub fn admit(
+        &mut self,
+        ip: IpAddr,
+        local: bool,
+        now: Instant,
+        owner: u64,
+    ) -> Result<Admitted, String> {
         let l = &self.limits;
         let (max, per_peer, reserve) = (l.max_connections, l.max_per_peer, l.loopback_reserve);
         let peer = PeerKey::of(ip);
@@ -140,35 +174,42 @@ impl Table {
         let total = self.entries.len();
         let (victim, why) = if same_peer >= per_peer {
             (
-                self.longest_idle(|e| e.peer == peer),
+                self.longest_idle(owner, |e| e.peer == peer),
                 format!(
                     "{peer} already has {same_peer} connections (at most {per_peer} per address)"
                 ),
             )
         } else if local && total >= max {
             (
-                self.longest_idle(|_| true),
+                self.longest_idle(owner, |_| true),
                 format!("all {max} connections of this port are in use"),
             )
         } else if !local && (total >= max || remote >= max - reserve) {
             (
-                self.longest_idle(|e| !e.local),
+                self.longest_idle(owner, |e| !e.local),
                 format!(
                     "all {} connections open to remote peers are in use ({reserve} of {max} are kept for loopback)",
                     max - reserve
                 ),
             )
         } else {
-            (None, String::new())
+            (Victim::None, String::new())
         };
         let evicted = match (why.is_empty(), victim) {
             (true, _) => None,
-            (false, None) => {
+            (false, Victim::None) => {
                 return Err(format!(
                     "connection refused: {why} and none of them is idle; try again later"
                 ));
             }
-            (false, Some(id)) => {
+            (false, Victim::OnlyOwner) => {
+                return Err(format!(
+                    "connection refused: {why}; the only idle one controls the arm, and the \
+                     connection that controls the arm is never closed to make room; try again \
+                     later, or have it send `release_control` or disconnect"
+                ));
+            }
+            (false, Victim::Found(id)) => {
                 let e = self.entries.remove(&id).expect("victim is in the table");
                 let idle = now.saturating_duration_since(e.idle_since).as_secs_f64();
                 let reason = format!(
@@ -189,6 +230,7 @@ impl Table {
                 local,
                 idle_since: now,
                 busy: false,
+                client: 0,
                 evict,
             },
         );
@@ -204,6 +246,13 @@ impl Table {
         if let Some(e) = self.entries.get_mut(&id) {
             e.busy = busy;
             e.idle_since = now;
+        }
+    }
+
+    /// Connection `id` is the client `client`.
+    fn identify(&mut self, id: u64, client: u64) {
+        if let Some(e) = self.entries.get_mut(&id) {
+            e.client = client;
         }
     }
 
@@ -253,6 +302,12 @@ impl Slot {
         self.idle_since
     }
 
+    /// The connection is the client `client` (its [`crate::access::Client`] id): while that
+    /// client controls the arm, the connection is not closed to make room.
+    pub fn identify(&mut self, client: u64) {
+        self.table.lock().identify(self.id, client);
+    }
+
     /// A complete line arrived: the connection is active now.
     pub fn touch(&mut self) {
         self.set_busy(false);
@@ -285,145 +340,4 @@ impl Drop for Slot {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use std::time::Duration;
-
-    fn limits(max: usize, per_peer: usize, reserve: usize) -> ConnectionLimits {
-        ConnectionLimits {
-            max_connections: max,
-            max_per_peer: per_peer,
-            loopback_reserve: reserve,
-            ..ConnectionLimits::default()
-        }
-    }
-
-    fn ip(s: &str) -> IpAddr {
-        s.parse().unwrap()
-    }
-
-    /// Admit `peer` at `t0 + at` seconds; returns (id, evicted id).
-    fn admit(t: &mut Table, peer: &str, at: u64) -> Result<(u64, Option<u64>), String> {
-        let t0 = Instant::now();
-        let p = ip(peer);
-        let a = t.admit(p, is_loopback(p), t0 + Duration::from_secs(at))?;
-        Ok((a.id, a.evicted.map(|e| e.id)))
-    }
-
-    #[test]
-    fn the_per_peer_cap_closes_the_longest_idle_of_that_peer() {
-        let mut t = Table::new(limits(10, 2, 0));
-        let (a, _) = admit(&mut t, "10.0.0.1", 0).unwrap();
-        let (b, _) = admit(&mut t, "10.0.0.1", 1).unwrap();
-        admit(&mut t, "10.0.0.2", 0).unwrap();
-        t.update(a, false, Instant::now() + Duration::from_secs(5));
-        // `a` was active later than `b`: `b` is the longest idle of 10.0.0.1.
-        assert_eq!(admit(&mut t, "10.0.0.1", 6).unwrap().1, Some(b));
-        assert_eq!(t.len(), 3);
-    }
-
-    #[test]
-    fn busy_connections_are_never_evicted_and_the_newcomer_is_refused() {
-        let mut t = Table::new(limits(10, 1, 0));
-        let (a, _) = admit(&mut t, "10.0.0.1", 0).unwrap();
-        t.update(a, true, Instant::now());
-        let e = admit(&mut t, "10.0.0.1", 1).unwrap_err();
-        assert!(
-            e.contains("10.0.0.1 already has 1 connections (at most 1 per address)"),
-            "{e}"
-        );
-        assert!(e.contains("none of them is idle"), "{e}");
-    }
-
-    #[test]
-    fn the_reserve_keeps_slots_for_loopback_and_remote_never_displaces_loopback() {
-        let mut t = Table::new(limits(4, 4, 2));
-        admit(&mut t, "10.0.0.1", 0).unwrap();
-        admit(&mut t, "10.0.0.2", 1).unwrap();
-        // Remote peers hold their 2 slots: a third remote peer displaces the longest idle one.
-        let (c, ev) = admit(&mut t, "10.0.0.3", 2).unwrap();
-        assert!(ev.is_some());
-        // Loopback still gets the two reserved slots.
-        admit(&mut t, "127.0.0.1", 3).unwrap();
-        admit(&mut t, "::1", 4).unwrap();
-        assert_eq!(t.len(), 4);
-        // A remote newcomer displaces a remote connection, never a loopback one.
-        let (_, ev) = admit(&mut t, "10.0.0.4", 5).unwrap();
-        assert!(
-            ev.is_some_and(|id| id != c),
-            "the longest-idle remote one (10.0.0.2)"
-        );
-        assert_eq!(t.entries.values().filter(|e| e.local).count(), 2);
-        // With every remote connection busy, a remote newcomer is refused ...
-        let remote: Vec<u64> = t
-            .entries
-            .iter()
-            .filter(|(_, e)| !e.local)
-            .map(|(i, _)| *i)
-            .collect();
-        for id in remote {
-            t.update(id, true, Instant::now());
-        }
-        let e = admit(&mut t, "10.0.0.5", 6).unwrap_err();
-        assert!(e.contains("2 of 4 are kept for loopback"), "{e}");
-        // ... while loopback displaces its own longest-idle connection.
-        let (_, ev) = admit(&mut t, "127.0.0.1", 7).unwrap();
-        assert!(ev.is_some());
-        assert_eq!(t.len(), 4);
-    }
-
-    #[test]
-    fn the_evicted_slot_hears_its_reason_and_a_dropped_slot_frees_its_place() {
-        let shared = Shared::new(limits(1, 1, 0));
-        let t0 = Instant::now();
-        let first = shared.lock().admit(ip("127.0.0.1"), true, t0).unwrap();
-        let id = first.id;
-        let mut slot = Slot::new(id, shared.clone(), first.evict);
-        let second = shared
-            .lock()
-            .admit(ip("127.0.0.1"), true, t0 + Duration::from_secs(42))
-            .unwrap();
-        let ev = second.evicted.expect("the first one is evicted");
-        assert_eq!(ev.id, id);
-        assert!(
-            ev.reason.contains("longest idle (42 s without a command)"),
-            "{}",
-            ev.reason
-        );
-        let rt = tokio::runtime::Builder::new_current_thread()
-            .enable_time()
-            .build()
-            .unwrap();
-        assert_eq!(rt.block_on(slot.evicted()), ev.reason);
-        drop(slot);
-        assert_eq!(
-            shared.lock().len(),
-            1,
-            "dropping the evicted slot frees nothing more"
-        );
-        drop(Slot::new(second.id, shared.clone(), second.evict));
-        assert!(shared.lock().is_empty());
-    }
-
-    #[test]
-    fn one_ipv6_network_is_one_peer() {
-        let mut t = Table::new(limits(10, 1, 0));
-        admit(&mut t, "2001:db8:1:2::10", 0).unwrap();
-        let (_, ev) = admit(&mut t, "2001:db8:1:2:ffff::1", 1).unwrap();
-        assert!(ev.is_some(), "same /64: the per-peer cap applies");
-        let (_, ev) = admit(&mut t, "2001:db8:1:3::10", 2).unwrap();
-        assert!(ev.is_none(), "another /64 is another peer");
-        assert_eq!(
-            PeerKey::of(ip("2001:db8:1:2::10")).to_string(),
-            "2001:db8:1:2::/64"
-        );
-        assert_eq!(PeerKey::of(ip("::ffff:10.0.0.1")).to_string(), "10.0.0.1");
-    }
-
-    #[test]
-    fn mapped_loopback_counts_as_loopback() {
-        assert!(is_loopback(ip("::ffff:127.0.0.1")));
-        assert!(is_loopback(ip("127.0.0.2")));
-        assert!(!is_loopback(ip("10.0.0.1")));
-    }
-}
+mod tests;

@@ -1,0 +1,312 @@
+//! The ready lines: the one line on stdout by which each MCM program says it serves, and where.
+//! `mcm-rt` prints [`RtReady`], `mcm-gateway` prints [`GatewayReady`], and the `mcm` launcher,
+//! which reads both, prints [`McmReady`] for people and for the programs that start it (tests,
+//! benchmarks, `mcm_client::launch`). Each has one `Display` (what is printed) and one
+//! `FromStr` (what a reader accepts); the fields are `key=value` words, so a reader finds them
+//! by name, ignores keys it does not know (a newer program may add some), and refuses a line
+//! that lacks one or holds a value of the wrong form.
+//!
+//! ```
+//! use mcm_shared::ready::{GatewayReady, ReadyLine};
+//! let line = "mcm-gateway ready json=127.0.0.1:18010 hmi=127.0.0.1:18011";
+//! let ready: GatewayReady = line.parse()?;
+//! assert_eq!(ready.json.port(), 18010);
+//! assert!(line.starts_with(GatewayReady::PREFIX));
+//! assert_eq!(ready.to_string(), line);
+//! # Ok::<(), mcm_shared::ready::ReadyError>(())
+//! ```
+
+use crate::config::BusBackend;
+use std::fmt;
+use std::net::SocketAddr;
+use std::str::FromStr;
+
+/// A program's ready line: what it starts with, and its one `Display` and `FromStr`.
+pub trait ReadyLine: fmt::Display + FromStr<Err = ReadyError> {
+    /// The words the line starts with.
+    const PREFIX: &'static str;
+}
+
+/// A line that is not the ready line it should be.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ReadyError {
+    #[error("not a ready line (`{prefix}` expected at its start): {line:?}")]
+    NotReady { prefix: &'static str, line: String },
+    #[error("the ready line has no `{key}=`: {line:?}")]
+    Missing { key: &'static str, line: String },
+    #[error("the ready line's `{key}={value}` is not {expected}: {line:?}")]
+    Invalid {
+        key: &'static str,
+        value: String,
+        expected: &'static str,
+        line: String,
+    },
+}
+
+/// `mcm-rt ready instance=NAME bus=sim|socketcan`: the core publishes its state.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RtReady {
+    pub instance: String,
+    pub bus: BusBackend,
+}
+
+/// `mcm-gateway ready json=ADDR hmi=ADDR [zmq_router=ENDPOINT zmq_publish=ENDPOINT]`: the
+/// gateway listens, on these addresses as bound (port 0 asked for any free port).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct GatewayReady {
+    pub json: SocketAddr,
+    pub hmi: SocketAddr,
+    /// The ZeroMQ endpoints as bound, when the ZeroMQ interface is on.
+    pub zmq: Option<ZmqEndpoints>,
+}
+
+/// Where the gateway's ZeroMQ sockets are bound.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ZmqEndpoints {
+    /// The ROUTER socket (commands), e.g. `tcp://127.0.0.1:18012`.
+    pub router: String,
+    /// The PUB socket (state and errors).
+    pub publish: String,
+}
+
+/// The launcher's line: words for people, then the fields in brackets, e.g.
+/// `MCM ready (simulated P-Rob2, instance default): JSON on 0.0.0.0:18010, telnet HMI on
+/// 0.0.0.0:18011; Ctrl-C stops. [instance=default json=0.0.0.0:18010 hmi=0.0.0.0:18011
+/// rt_pid=4242 gateway_pid=4243]`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct McmReady {
+    /// The robot in words, e.g. "simulated P-Rob2" (written with every control character as
+    /// `?`, so that a robot name from the configuration cannot drive the terminal).
+    pub robot: String,
+    pub instance: String,
+    /// Where the gateway serves.
+    pub gateway: GatewayReady,
+    pub rt_pid: u32,
+    pub gateway_pid: u32,
+}
+
+impl ReadyLine for RtReady {
+    const PREFIX: &'static str = "mcm-rt ready";
+}
+
+impl ReadyLine for GatewayReady {
+    const PREFIX: &'static str = "mcm-gateway ready";
+}
+
+impl ReadyLine for McmReady {
+    const PREFIX: &'static str = "MCM ready";
+}
+
+/// The words of a bus backend in the line.
+fn bus_word(bus: BusBackend) -> &'static str {
+    match bus {
+        BusBackend::Sim => "sim",
+        BusBackend::Socketcan => "socketcan",
+    }
+}
+
+impl fmt::Display for RtReady {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (prefix, instance, bus) = (Self::PREFIX, &self.instance, bus_word(self.bus));
+        write!(f, "{prefix} instance={instance} bus={bus}")
+    }
+}
+
+impl GatewayReady {
+    /// The fields of the line, as `key=value` words separated by spaces.
+    fn fields(&self) -> String {
+        let mut s = format!("json={} hmi={}", self.json, self.hmi);
+        if let Some(z) = &self.zmq {
+            s.push_str(&format!(
+                " zmq_router={} zmq_publish={}",
+                z.router, z.publish
+            ));
+        }
+        s
+    }
+}
+
+impl fmt::Display for GatewayReady {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} {}", Self::PREFIX, self.fields())
+    }
+}
+
+impl McmReady {
+    /// What follows the robot's words, up to the bracket.
+    fn words_after_robot(&self) -> String {
+        let g = &self.gateway;
+        let zmq = g
+            .zmq
+            .as_ref()
+            .map(|z| {
+                format!(
+                    ", ZeroMQ commands on {} and state on {}",
+                    z.router, z.publish
+                )
+            })
+            .unwrap_or_default();
+        format!(
+            ", instance {}): JSON on {}, telnet HMI on {}{zmq}; Ctrl-C stops.",
+            self.instance, g.json, g.hmi
+        )
+    }
+}
+
+impl fmt::Display for McmReady {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let robot: String = self
+            .robot
+            .chars()
+            .map(|c| if c.is_control() { '?' } else { c })
+            .collect();
+        write!(
+            f,
+            "{} ({robot}{} [instance={} {} rt_pid={} gateway_pid={}]",
+            Self::PREFIX,
+            self.words_after_robot(),
+            self.instance,
+            self.gateway.fields(),
+            self.rt_pid,
+            self.gateway_pid
+        )
+    }
+}
+
+/// The `key=value` words of a line, read by name.
+struct Fields<'a> {
+    line: &'a str,
+    words: Vec<(&'a str, &'a str)>,
+}
+
+impl<'a> Fields<'a> {
+    fn new(line: &'a str, fields: &'a str) -> Self {
+        let words = fields
+            .split_whitespace()
+            .filter_map(|w| w.split_once('='))
+            .collect();
+        Self { line, words }
+    }
+
+    fn get(&self, key: &'static str) -> Option<&'a str> {
+        self.words.iter().find(|(k, _)| *k == key).map(|(_, v)| *v)
+    }
+
+    fn text(&self, key: &'static str) -> Result<&'a str, ReadyError> {
+        self.get(key).ok_or_else(|| ReadyError::Missing {
+            key,
+            line: self.line.to_string(),
+        })
+    }
+
+    fn parsed<T: FromStr>(
+        &self,
+        key: &'static str,
+        expected: &'static str,
+    ) -> Result<T, ReadyError> {
+        let value = self.text(key)?;
+        value.parse().map_err(|_| ReadyError::Invalid {
+            key,
+            value: value.to_string(),
+            expected,
+            line: self.line.to_string(),
+        })
+    }
+
+    fn gateway(&self) -> Result<GatewayReady, ReadyError> {
+        let zmq = match (self.get("zmq_router"), self.get("zmq_publish")) {
+            (None, None) => None,
+            _ => Some(ZmqEndpoints {
+                router: self.text("zmq_router")?.to_string(),
+                publish: self.text("zmq_publish")?.to_string(),
+            }),
+        };
+        Ok(GatewayReady {
+            json: self.parsed("json", "an address and port")?,
+            hmi: self.parsed("hmi", "an address and port")?,
+            zmq,
+        })
+    }
+}
+
+/// `line` after `prefix` and a space.
+fn after_prefix<'a>(line: &'a str, prefix: &'static str) -> Result<&'a str, ReadyError> {
+    line.strip_prefix(prefix)
+        .and_then(|r| r.strip_prefix(' '))
+        .ok_or_else(|| ReadyError::NotReady {
+            prefix,
+            line: line.to_string(),
+        })
+}
+
+impl FromStr for RtReady {
+    type Err = ReadyError;
+
+    fn from_str(line: &str) -> Result<Self, ReadyError> {
+        let fields = Fields::new(line, after_prefix(line, Self::PREFIX)?);
+        let bus = match fields.text("bus")? {
+            "sim" => BusBackend::Sim,
+            "socketcan" => BusBackend::Socketcan,
+            other => {
+                return Err(ReadyError::Invalid {
+                    key: "bus",
+                    value: other.to_string(),
+                    expected: "`sim` or `socketcan`",
+                    line: line.to_string(),
+                });
+            }
+        };
+        Ok(RtReady {
+            instance: fields.text("instance")?.to_string(),
+            bus,
+        })
+    }
+}
+
+impl FromStr for GatewayReady {
+    type Err = ReadyError;
+
+    fn from_str(line: &str) -> Result<Self, ReadyError> {
+        Fields::new(line, after_prefix(line, Self::PREFIX)?).gateway()
+    }
+}
+
+impl FromStr for McmReady {
+    type Err = ReadyError;
+
+    fn from_str(line: &str) -> Result<Self, ReadyError> {
+        let rest = after_prefix(line, Self::PREFIX)?;
+        // The fields are the last bracket; `[instance=` cannot be in what precedes it but in
+        // the robot's words, so the last one is taken.
+        let start = rest.rfind("[instance=").ok_or(ReadyError::Missing {
+            key: "instance",
+            line: line.to_string(),
+        })?;
+        let (words, bracket) = rest.split_at(start);
+        let fields = Fields::new(line, bracket.trim_start_matches('[').trim_end_matches(']'));
+        let mut ready = McmReady {
+            robot: String::new(),
+            instance: fields.text("instance")?.to_string(),
+            gateway: fields.gateway()?,
+            rt_pid: fields.parsed("rt_pid", "a process id")?,
+            gateway_pid: fields.parsed("gateway_pid", "a process id")?,
+        };
+        // The words are determined by the fields but for the robot's: take it from between.
+        let tail = ready.words_after_robot();
+        ready.robot = words
+            .trim_end()
+            .strip_prefix('(')
+            .and_then(|w| w.strip_suffix(tail.as_str()))
+            .ok_or_else(|| ReadyError::Invalid {
+                key: "robot",
+                value: words.to_string(),
+                expected: "`(ROBOT, instance NAME): ...` agreeing with the fields",
+                line: line.to_string(),
+            })?
+            .to_string();
+        Ok(ready)
+    }
+}
+
+#[cfg(test)]
+mod tests;
