@@ -3,8 +3,10 @@
 //! the value and what is allowed.
 
 use crate::error::{Fail, mcm_error_t::MCM_ERR_ARGUMENT};
-use crate::types::{MCM_NUM_AXES, mcm_calibrate_t, mcm_control_options_t};
-use mcm_client::{Axis, Direction, Which};
+use crate::types::{MCM_NUM_AXES, mcm_calibrate_t, mcm_control_options_t, mcm_pvt_point_t};
+use mcm_client::mcm_shared::command::{Calibrate, TorqueControl, VelocityControl};
+use mcm_client::tcp::{CalibrateOptions, TorqueOptions, VelocityOptions};
+use mcm_client::{Axis, Direction, PvtPoint, Which};
 use std::ffi::{CStr, c_char};
 
 /// `p` as a reference, or the NULL refusal.
@@ -127,6 +129,105 @@ pub(crate) unsafe fn control_options(p: *const mcm_control_options_t) -> mcm_con
     unsafe { p.as_ref() }
         .copied()
         .unwrap_or_else(|| crate::types::mcm_control_options_default())
+}
+
+impl From<mcm_control_options_t> for TorqueOptions {
+    fn from(o: mcm_control_options_t) -> Self {
+        TorqueOptions {
+            timeout_s: timeout(o.timeout_s),
+            dt_status_s: (o.dt_status_s > 0.0).then_some(o.dt_status_s),
+            gravity_compensation: o.gravity_compensation,
+        }
+    }
+}
+
+impl From<mcm_control_options_t> for TorqueControl {
+    /// `dt_status_s` has no meaning over shared memory (every state is read).
+    fn from(o: mcm_control_options_t) -> Self {
+        TorqueControl {
+            timeout_s: timeout(o.timeout_s),
+            gravity_compensation: o.gravity_compensation,
+        }
+    }
+}
+
+impl From<mcm_control_options_t> for VelocityOptions {
+    fn from(o: mcm_control_options_t) -> Self {
+        VelocityOptions {
+            timeout_s: timeout(o.timeout_s),
+            dt_status_s: (o.dt_status_s > 0.0).then_some(o.dt_status_s),
+        }
+    }
+}
+
+impl From<mcm_control_options_t> for VelocityControl {
+    fn from(o: mcm_control_options_t) -> Self {
+        VelocityControl {
+            timeout_s: timeout(o.timeout_s),
+        }
+    }
+}
+
+/// The checked options of `calibrate`, for either client.
+pub(crate) struct CalibrateArgs(Calibrate);
+
+impl From<CalibrateArgs> for Calibrate {
+    fn from(c: CalibrateArgs) -> Self {
+        c.0
+    }
+}
+
+impl From<CalibrateArgs> for CalibrateOptions {
+    fn from(CalibrateArgs(c): CalibrateArgs) -> Self {
+        CalibrateOptions {
+            which: Some(c.which).filter(|w| *w != Which::All),
+            elbow_direction: c.elbow_direction,
+            wrist_direction: c.wrist_direction,
+            force_mechanical_stop: c.force_mechanical_stop,
+        }
+    }
+}
+
+/// [`calibrate`], for either client.
+///
+/// # Safety
+/// As [`calibrate`].
+pub(crate) unsafe fn calibrate_args(
+    p: *const mcm_calibrate_t,
+    function: &str,
+) -> Result<CalibrateArgs, Fail> {
+    // SAFETY: the caller's promise.
+    unsafe { calibrate(p, function) }.map(CalibrateArgs)
+}
+
+/// `count` PVT points from `p`.
+///
+/// # Safety
+/// `p` is NULL or points to `count` readable points.
+pub(crate) unsafe fn points(
+    p: *const mcm_pvt_point_t,
+    count: usize,
+    function: &str,
+) -> Result<Vec<PvtPoint>, Fail> {
+    if p.is_null() {
+        return Err(Fail::null(function, "points"));
+    }
+    // SAFETY: not NULL, `count` readable points (the caller's promise).
+    let pts = unsafe { std::slice::from_raw_parts(p, count) };
+    Ok(pts.iter().map(PvtPoint::from).collect())
+}
+
+/// An axis number as the JSON protocol's: the MCM words a wrong axis itself
+/// (`MCM_ERR_INVALID`); only what does not fit the protocol's number is refused here.
+pub(crate) fn protocol_axis(number: u32, function: &str) -> Result<u8, Fail> {
+    u8::try_from(number).map_err(|_| {
+        Fail::new(
+            MCM_ERR_ARGUMENT,
+            format!(
+                "{function}: argument `axis` = {number} is not allowed; expected an axis number from 1 to 6"
+            ),
+        )
+    })
 }
 
 /// A timeout [s] of the options: negative is none.

@@ -2,7 +2,7 @@
 //! that keeps panics from crossing the ABI. Not real-time code except the success path of
 //! [`guard`] (no allocation there).
 
-use mcm_client::shm::{ControlEnd, ShmError};
+use mcm_client::shm::{ControlEnd, OpenError, RequestError, SendError, WaitError, WaitUntilError};
 use mcm_client::tcp::{Error as TcpError, ErrorKind};
 use std::cell::RefCell;
 use std::ffi::{CString, c_char};
@@ -116,27 +116,69 @@ impl From<TcpError> for Fail {
     }
 }
 
-impl From<ShmError> for Fail {
-    fn from(e: ShmError) -> Fail {
-        let message = e.to_string();
-        let reject = e.reason().map_or(0, |r| r.code().to_wire());
+impl From<OpenError> for Fail {
+    fn from(e: OpenError) -> Fail {
         let code = match &e {
-            ShmError::InstanceName(_) | ShmError::Argument { .. } => MCM_ERR_ARGUMENT,
-            ShmError::NotRunning { .. } => MCM_ERR_NOT_RUNNING,
-            ShmError::Incompatible { .. } => MCM_ERR_INCOMPATIBLE,
-            ShmError::Ipc { .. } => MCM_ERR_IO,
-            ShmError::Timeout { .. } => MCM_ERR_TIMEOUT,
-            ShmError::Refused { .. } => MCM_ERR_REFUSED,
-            ShmError::Failed { .. } => MCM_ERR_FAILED,
-            ShmError::OutcomeUnknown { .. } => MCM_ERR_OUTCOME_UNKNOWN,
-            ShmError::Undecodable { .. } => MCM_ERR_PROTOCOL,
-            ShmError::NotReached { .. } => MCM_ERR_NOT_REACHED,
+            OpenError::InstanceName(_) => MCM_ERR_ARGUMENT,
+            OpenError::NotRunning { .. } => MCM_ERR_NOT_RUNNING,
+            OpenError::Incompatible { .. } => MCM_ERR_INCOMPATIBLE,
+            OpenError::NodeName { .. }
+            | OpenError::Node { .. }
+            | OpenError::ServiceName(_)
+            | OpenError::Service { .. }
+            | OpenError::Reader { .. }
+            | OpenError::Publisher { .. }
+            | OpenError::Listener { .. } => MCM_ERR_IO,
+        };
+        Fail::new(code, e.to_string())
+    }
+}
+
+impl From<SendError> for Fail {
+    fn from(e: SendError) -> Fail {
+        Fail::new(MCM_ERR_IO, e.to_string())
+    }
+}
+
+fn wait_code(e: &WaitError) -> mcm_error_t {
+    match e {
+        WaitError::Timeout { .. } => MCM_ERR_TIMEOUT,
+        WaitError::Listener { .. } => MCM_ERR_IO,
+    }
+}
+
+impl From<WaitError> for Fail {
+    fn from(e: WaitError) -> Fail {
+        Fail::new(wait_code(&e), e.to_string())
+    }
+}
+
+impl From<RequestError> for Fail {
+    fn from(e: RequestError) -> Fail {
+        let code = match &e {
+            RequestError::Send(_) => MCM_ERR_IO,
+            RequestError::Wait(w) => wait_code(w),
+            RequestError::Refused { .. } => MCM_ERR_REFUSED,
+            RequestError::Failed { .. } => MCM_ERR_FAILED,
+            RequestError::OutcomeUnknown { .. } => MCM_ERR_OUTCOME_UNKNOWN,
+            RequestError::Undecodable { .. } => MCM_ERR_PROTOCOL,
+            RequestError::Argument { .. } => MCM_ERR_ARGUMENT,
         };
         Fail {
             code,
-            reject,
-            message,
+            reject: e.reason().map_or(0, |r| r.code().to_wire()),
+            message: e.to_string(),
         }
+    }
+}
+
+impl From<WaitUntilError> for Fail {
+    fn from(e: WaitUntilError) -> Fail {
+        let code = match &e {
+            WaitUntilError::Wait(w) => wait_code(w),
+            WaitUntilError::NotReached { .. } => MCM_ERR_NOT_REACHED,
+        };
+        Fail::new(code, e.to_string())
     }
 }
 
@@ -156,10 +198,9 @@ pub(crate) fn control_end(end: &ControlEnd) -> (mcm_error_t, u32) {
             mcm_client::mcm_shared::reply::Outcome::Done(_) => (MCM_ERR_PROTOCOL, 0),
         },
         ControlEnd::NotControlling(_) => (MCM_ERR_NOT_CONTROLLING, 0),
-        ControlEnd::Shm(e) => {
-            let f = Fail::from(e.clone());
-            (f.code, f.reject)
-        }
+        ControlEnd::Send(_) => (MCM_ERR_IO, 0),
+        ControlEnd::Wait(e) => (wait_code(e), 0),
+        ControlEnd::UnreadableSafetyError(_) => (MCM_ERR_PROTOCOL, 0),
     }
 }
 
@@ -325,5 +366,54 @@ mod tests {
         assert_eq!((handle.reject, mcm_last_reject()), (16, 16));
         assert_eq!(guard("mcm_test", |_| unreachable!(), || Ok(())), MCM_OK);
         assert_eq!(mcm_last_reject(), 16, "success leaves the last failure");
+    }
+
+    #[test]
+    fn each_shared_memory_error_keeps_its_code_and_the_mcms_reject_code() {
+        use mcm_client::mcm_shared::mode::{CommandKind, Mode};
+        use mcm_client::mcm_shared::reply::Reason;
+        use std::time::Duration;
+        let timeout = WaitError::Timeout {
+            waited: Duration::from_millis(500),
+            last_seq: 9,
+        };
+        assert_eq!(Fail::from(timeout.clone()).code, MCM_ERR_TIMEOUT);
+        assert_eq!(
+            Fail::from(RequestError::Wait(timeout.clone())).code,
+            MCM_ERR_TIMEOUT
+        );
+        assert_eq!(
+            Fail::from(WaitUntilError::Wait(timeout)).code,
+            MCM_ERR_TIMEOUT
+        );
+        let not_reached = WaitUntilError::NotReached {
+            what: "home".into(),
+            waited: Duration::from_secs(1),
+            last_seq: 3,
+        };
+        assert_eq!(Fail::from(not_reached).code, MCM_ERR_NOT_REACHED);
+        let reason = Reason::WrongMode { mode: Mode::Hold };
+        let f = Fail::from(RequestError::Refused {
+            command: CommandKind::MoveAxis,
+            reason,
+        });
+        assert_eq!(
+            (f.code, f.reject, f.message.as_str()),
+            (
+                MCM_ERR_REFUSED,
+                reason.code().to_wire(),
+                format!("move_axis refused: {reason}").as_str()
+            )
+        );
+        let unknown = RequestError::OutcomeUnknown {
+            command: CommandKind::Hold,
+            waited: Duration::from_secs(5),
+            overwritten: false,
+        };
+        assert_eq!(Fail::from(unknown).code, MCM_ERR_OUTCOME_UNKNOWN);
+        let name = OpenError::InstanceName(
+            mcm_client::mcm_shared::service::ServiceNames::new("a/b").unwrap_err(),
+        );
+        assert_eq!(Fail::from(name).code, MCM_ERR_ARGUMENT);
     }
 }

@@ -39,7 +39,11 @@ mod shm;
 mod tcp;
 mod text;
 mod types;
+// Generated (capi/tests/wrappers): the functions of the commands for both transports.
+#[rustfmt::skip]
+mod commands;
 
+pub use commands::*;
 pub use error::*;
 pub use shm::*;
 pub use tcp::*;

@@ -379,6 +379,25 @@ impl From<&MoveAllResult> for mcm_move_all_result_t {
     }
 }
 
+impl From<&mcm_client::mcm_shared::reply::MoveAllPlan> for mcm_move_all_result_t {
+    fn from(p: &mcm_client::mcm_shared::reply::MoveAllPlan) -> Self {
+        mcm_move_all_result_t {
+            velocities: p.velocities_deg_s,
+            longest: u32::from(p.longest.number()),
+            max_time_to_target: p.duration_s,
+        }
+    }
+}
+
+impl From<&mcm_client::mcm_shared::reply::InfoReply> for mcm_shm_info_t {
+    fn from(i: &mcm_client::mcm_shared::reply::InfoReply) -> Self {
+        mcm_shm_info_t {
+            num_axes: i.num_axes,
+            period_s: i.period_s,
+        }
+    }
+}
+
 /// Options of `calibrate` (NULL: all axes, default directions, light barriers where the axis
 /// has one).
 #[repr(C)]

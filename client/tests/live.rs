@@ -5,7 +5,7 @@
 
 use mcm_client::Mode;
 use mcm_client::launch::SimulatedMcm;
-use mcm_client::shm::{ControlEnd, ControlOutput, ShmClient, ShmError, ShmEvent};
+use mcm_client::shm::{ControlEnd, ControlOutput, RequestError, ShmClient, ShmEvent, WaitError};
 use mcm_client::tcp::{Error, ErrorKind, Event, TcpClient, TorqueOptions, VelocityOptions};
 use mcm_shared::command::{Axis, Calibrate, SimCommand, TorqueControl, VelocityControl, Which};
 use mcm_shared::mode::RejectCode;
@@ -84,7 +84,7 @@ fn shared_memory_clients_obey_ownership_and_release_it_on_drop() {
     b.hold().expect("hold is open to every client");
     // A motion command of B is refused too, with the MCM's words.
     let e = b.release().unwrap_err();
-    assert!(matches!(e, ShmError::Refused { .. }), "{e}");
+    assert!(matches!(e, RequestError::Refused { .. }), "{e}");
 
     // A goes away: its drop says `client_gone`, and B may take control.
     let a_id = a.client_id();
@@ -104,7 +104,7 @@ fn shared_memory_clients_obey_ownership_and_release_it_on_drop() {
             Ok(_) => assert!(Instant::now() < deadline, "the core kept publishing"),
         }
     };
-    assert!(matches!(e, ShmError::Timeout { .. }), "{e}");
+    assert!(matches!(e, WaitError::Timeout { .. }), "{e}");
 }
 
 #[test]

@@ -4,9 +4,10 @@
 //! instance name.
 
 use iceoryx2::prelude::*;
-use mcm_client::shm::{ShmClient, ShmError};
+use mcm_client::shm::ports::Peer;
+use mcm_client::shm::{LayoutMismatch, OpenError, ShmClient};
 use mcm_shared::sample::{CommandSample, REPLY_BLOCKS, ReplyBlock};
-use mcm_shared::service::{STATE_KEY, ServiceNames};
+use mcm_shared::service::{STATE_KEY, ServiceNames, service_name};
 
 /// A state sample of an older layout: another name and size.
 #[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
@@ -39,7 +40,7 @@ fn node() -> Node<ipc::Service> {
         .unwrap()
 }
 
-fn err(instance: &str) -> ShmError {
+fn err(instance: &str) -> OpenError {
     match ShmClient::connect(instance) {
         Ok(_) => panic!("connect to {instance} should fail"),
         Err(e) => e,
@@ -50,13 +51,13 @@ fn err(instance: &str) -> ShmError {
 fn an_instance_that_is_not_running_says_so() {
     let name = instance("none");
     let e = err(&name);
-    assert!(matches!(e, ShmError::NotRunning { .. }), "{e:?}");
+    assert!(matches!(e, OpenError::NotRunning { .. }), "{e:?}");
     assert!(
         e.to_string()
             .contains(&format!("instance {name:?} is not running")),
         "{e}"
     );
-    assert!(matches!(err("bad/name"), ShmError::InstanceName(_)));
+    assert!(matches!(err("bad/name"), OpenError::InstanceName(_)));
 }
 
 #[test]
@@ -65,7 +66,7 @@ fn a_state_entry_of_another_version_is_named_with_what_the_client_expects() {
     let names = ServiceNames::new(&name).unwrap();
     let n = node();
     let mut creator = n
-        .service_builder(&ServiceName::new(&names.state()).unwrap())
+        .service_builder(&service_name(&names.state()).unwrap())
         .blackboard_creator::<u32>()
         .add::<OldState>(STATE_KEY, OldState::default());
     for key in 1..=REPLY_BLOCKS as u32 {
@@ -73,18 +74,30 @@ fn a_state_entry_of_another_version_is_named_with_what_the_client_expects() {
     }
     let _board = creator.create().unwrap();
     let e = err(&name);
-    let ShmError::Incompatible {
+    let OpenError::Incompatible {
         service,
-        problem,
+        peer,
+        mismatch,
         expected,
     } = &e
     else {
         panic!("{e:?}")
     };
-    assert_eq!(service, &names.state());
+    assert_eq!((service, *peer), (&names.state(), Peer::Client));
     assert!(
-        problem.contains("state entry (key 0) is of another type"),
-        "{problem}"
+        matches!(
+            mismatch,
+            LayoutMismatch::Entry {
+                key: 0,
+                present: true,
+                ..
+            }
+        ),
+        "{mismatch:?}"
+    );
+    assert_eq!(
+        mismatch.to_string(),
+        "its state entry (key 0) is of another type, size or alignment"
     );
     assert_eq!(expected, "`mcm.StateSample.v4`, 768 bytes, alignment 8");
     assert!(
@@ -100,7 +113,7 @@ fn a_command_service_of_another_version_names_the_cores_payload() {
     let names = ServiceNames::new(&name).unwrap();
     let n = node();
     let mut creator = n
-        .service_builder(&ServiceName::new(&names.state()).unwrap())
+        .service_builder(&service_name(&names.state()).unwrap())
         .blackboard_creator::<u32>()
         .add::<mcm_shared::sample::StateSample>(STATE_KEY, Default::default());
     for key in 1..=REPLY_BLOCKS as u32 {
@@ -108,22 +121,27 @@ fn a_command_service_of_another_version_names_the_cores_payload() {
     }
     let _board = creator.create().unwrap();
     let _commands = n
-        .service_builder(&ServiceName::new(&names.command()).unwrap())
+        .service_builder(&service_name(&names.command()).unwrap())
         .publish_subscribe::<OldCommand>()
         .create()
         .unwrap();
     let e = err(&name);
-    let ShmError::Incompatible {
+    let OpenError::Incompatible {
         service,
-        problem,
+        mismatch,
         expected,
+        ..
     } = &e
     else {
         panic!("{e:?}")
     };
     assert_eq!(service, &names.command());
+    assert!(
+        matches!(mismatch, LayoutMismatch::CommandPayload { .. }),
+        "{mismatch:?}"
+    );
     assert_eq!(
-        problem,
+        mismatch.to_string(),
         "its payload is `mcm.CommandSample.v0`, 16 bytes, alignment 8"
     );
     assert_eq!(
@@ -131,4 +149,44 @@ fn a_command_service_of_another_version_names_the_cores_payload() {
         &mcm_client::shm::describe::<CommandSample>(),
         "the client's own type"
     );
+}
+
+#[test]
+fn a_state_board_without_reply_blocks_says_how_many_keys_it_has() {
+    let name = instance("noreplies");
+    let names = ServiceNames::new(&name).unwrap();
+    let n = node();
+    let _board = n
+        .service_builder(&service_name(&names.state()).unwrap())
+        .blackboard_creator::<u32>()
+        .add::<mcm_shared::sample::StateSample>(STATE_KEY, Default::default())
+        .create()
+        .unwrap();
+    let e = err(&name);
+    let OpenError::Incompatible {
+        mismatch, expected, ..
+    } = &e
+    else {
+        panic!("{e:?}")
+    };
+    assert!(
+        matches!(
+            mismatch,
+            LayoutMismatch::Entry {
+                key: 1,
+                present: false,
+                keys: 1,
+                ..
+            }
+        ),
+        "{mismatch:?}"
+    );
+    assert_eq!(
+        mismatch.to_string(),
+        format!(
+            "it has no reply block (key 1); it has 1 keys, {} expected",
+            REPLY_BLOCKS + 1
+        )
+    );
+    assert_eq!(expected, &mcm_client::shm::describe::<ReplyBlock>());
 }

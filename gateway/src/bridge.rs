@@ -17,8 +17,13 @@
 //! of everything else, with the samples in flight capped below the core's command buffer (see
 //! `scheduler.rs`).
 //!
-//! Requests travel as typed [`Request`]s, encoded here; each reply routed to a request and each
-//! new safety error is decoded here, once, into [`Response`] and [`SafetyError`].
+//! Requests travel as typed [`Request`]s; each reply routed to a request and each new safety
+//! error is decoded here, once, into [`Response`] and [`SafetyError`].
+//!
+//! The thread is a client of the core like any co-located controller: it opens the core's
+//! services, publishes and finds its replies through the client library's layer
+//! ([`mcm_client::shm::ports`], [`mcm_client::shm::replies`]), the same code as
+//! `mcm_client::shm::ShmClient`.
 //!
 //! When the core is not running (not started yet, restarting, killed), requests fail at once
 //! with [`BridgeError::RtNotRunning`]; the thread keeps trying to open the services, so a
@@ -29,7 +34,6 @@
 
 pub(crate) mod doorbell;
 mod event;
-mod ports;
 mod scheduler;
 mod wait;
 mod worker;
@@ -37,7 +41,7 @@ mod worker;
 #[cfg(test)]
 mod tests;
 
-pub use ports::{LayoutMismatch, OpenError};
+pub use mcm_client::shm::{LayoutMismatch, OpenError, SendError};
 
 use iceoryx2::prelude::*;
 use mcm_shared::command::{DecodeError, Request};
@@ -71,8 +75,8 @@ pub enum BridgeError {
     #[error("cannot reach the real-time core (mcm-rt, instance `{instance}`): {error}")]
     IncompatibleLayout {
         instance: String,
-        /// The open error, in words.
-        error: String,
+        #[source]
+        error: OpenError,
     },
     /// The request was published, its reply never came: it may or may not have been executed.
     #[error(
@@ -81,7 +85,10 @@ pub enum BridgeError {
     )]
     OutcomeUnknown(NoReply),
     #[error("publishing the command to the real-time core failed: {0}")]
-    Publish(String),
+    Publish(#[source] SendError),
+    /// A job without a request (a bug of the gateway: every command sends at least one).
+    #[error("the command carries no request for the real-time core")]
+    NoRequest,
     #[error(
         "the real-time core's answer cannot be read ({0}); mcm-rt and the gateway are from \
          different MCM versions: rebuild both from the same version"

@@ -25,13 +25,12 @@ use iceoryx2::service::builder::event::{EventOpenError, EventOpenOrCreateError};
 use iceoryx2::service::builder::publish_subscribe::{
     PublishSubscribeOpenError, PublishSubscribeOpenOrCreateError,
 };
-use iceoryx2::service::service_name::ServiceNameError;
 use mcm_shared::sample::{
     CommandSample, REPLY_BLOCKS, Reply, ReplyBlock, StateSample, reply_location,
 };
 use mcm_shared::service::{
-    COMMAND_BUFFER, COMMAND_MAX_PUBLISHERS, STATE_EVENT_ID, STATE_EVENT_MAX_LISTENERS, STATE_KEY,
-    STATE_MAX_READERS, ServiceNames,
+    COMMAND_BUFFER, COMMAND_MAX_PUBLISHERS, InvalidServiceName, STATE_EVENT_ID,
+    STATE_EVENT_MAX_LISTENERS, STATE_KEY, STATE_MAX_READERS, ServiceNames, service_name,
 };
 
 /// Setting up the IPC services failed: which step, on which name, and iceoryx2's own error.
@@ -49,12 +48,8 @@ pub enum IpcSetupError {
         #[source]
         source: NodeCreationFailure,
     },
-    #[error("iceoryx2 refuses the service name `{name}`: {source}")]
-    ServiceName {
-        name: String,
-        #[source]
-        source: ServiceNameError,
-    },
+    #[error(transparent)]
+    ServiceName(#[from] InvalidServiceName),
     #[error("cannot create the state blackboard `{name}`: {source}")]
     StateCreate {
         name: String,
@@ -179,14 +174,6 @@ fn payload_name<T: ZeroCopySend>() -> &'static str {
     // SAFETY: only reads the name the type declares; nothing is sent or received here, so no
     // layout is relied upon.
     unsafe { <T as ZeroCopySend>::type_name() }
-}
-
-fn service_name(name: &str) -> Result<ServiceName, IpcSetupError> {
-    name.try_into()
-        .map_err(|source| IpcSetupError::ServiceName {
-            name: name.to_string(),
-            source,
-        })
 }
 
 /// The real-time core's IPC ports. Not `Send`: create it on the cycle thread.

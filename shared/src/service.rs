@@ -13,8 +13,13 @@
 //!
 //! Reply `n` is in the block [`reply_location`](crate::sample::reply_location) names; a reader
 //! keeps the last `n` it has seen and reads up to the state's `reply_head`.
+//!
+//! [`service_name`] turns one of these names into iceoryx2's `ServiceName`: the one conversion
+//! every participant (the core, the gateway, the clients, the tests) uses.
 
 use core::fmt;
+use iceoryx2::prelude::ServiceName;
+use iceoryx2::service::service_name::ServiceNameError;
 
 /// The blackboard key of the state entry.
 pub const STATE_KEY: u32 = 0;
@@ -42,6 +47,24 @@ pub const COMMAND_BACKLOG: usize = COMMAND_MAX_PUBLISHERS * COMMAND_BUFFER;
 )]
 pub struct InvalidInstanceName {
     pub name: String,
+}
+
+/// iceoryx2 refuses a service name (the names of [`ServiceNames`] are always accepted: this
+/// is for a name made elsewhere).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("iceoryx2 refuses the service name `{name}`: {source}")]
+pub struct InvalidServiceName {
+    pub name: String,
+    #[source]
+    pub source: ServiceNameError,
+}
+
+/// `name` (one of [`ServiceNames`]'s) as an iceoryx2 service name.
+pub fn service_name(name: &str) -> Result<ServiceName, InvalidServiceName> {
+    ServiceName::new(name).map_err(|source| InvalidServiceName {
+        name: name.to_string(),
+        source,
+    })
 }
 
 /// The service names of one MCM instance.
@@ -114,6 +137,22 @@ mod tests {
         assert_eq!(n.node("mcm-rt"), "mcm-rt.test-42_a");
         assert_eq!(n.instance(), "test-42_a");
         assert_eq!(n.to_string(), "test-42_a");
+    }
+
+    #[test]
+    fn every_service_name_of_an_instance_is_an_iceoryx2_name() {
+        let n = ServiceNames::new(&"x".repeat(32)).unwrap();
+        for name in [n.state(), n.state_event(), n.command()] {
+            assert_eq!(service_name(&name).unwrap().as_str(), name);
+        }
+        let e = service_name("").unwrap_err();
+        assert_eq!(e.name, "");
+        assert_eq!(e.source, ServiceNameError::InvalidContent);
+        assert!(
+            e.to_string()
+                .starts_with("iceoryx2 refuses the service name ``: "),
+            "{e}"
+        );
     }
 
     #[test]

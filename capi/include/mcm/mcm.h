@@ -171,6 +171,51 @@ typedef struct mcm_shm_client_t mcm_shm_client_t;
 // A connection to the MCM's JSON port (opaque; `mcm_tcp_connect`, `mcm_tcp_close`).
 typedef struct mcm_tcp_client_t mcm_tcp_client_t;
 
+// The answer to `status` over TCP (and to `hold`, `release`, `pvt`, `torque_control`,
+// `velocity_control`; the status events of a torque or velocity session).
+typedef struct mcm_status_t {
+  // Operating mode (`MCM_MODE_*`).
+  uint32_t mode;
+  // The cycle's time [s] (`CLOCK_MONOTONIC` of the robot's computer).
+  double time;
+  // [deg]
+  double position[MCM_NUM_AXES];
+  // [deg/s]
+  double velocity[MCM_NUM_AXES];
+  // [deg/s^2]
+  double acceleration[MCM_NUM_AXES];
+  // [A]
+  double current[MCM_NUM_AXES];
+  // The fields below are set (by `mcm_tcp_status_detail`); false: they are zero.
+  bool has_detail;
+  // Cycle counter.
+  uint64_t cycle;
+  bool calibrated[MCM_NUM_AXES];
+  bool all_calibrated;
+  bool emergency_stop;
+  // [deg]
+  double measured_position[MCM_NUM_AXES];
+  double commanded_position[MCM_NUM_AXES];
+  double following_error[MCM_NUM_AXES];
+  uint32_t pvt_queued;
+  uint32_t pvt_capacity;
+  bool pvt_starved;
+} mcm_status_t;
+
+// Something the MCM reported that answers no call.
+typedef struct mcm_event_t {
+  // `MCM_EVENT_*`.
+  uint32_t kind;
+  // Reject code (`mcm_reject_name`), 0: none.
+  uint32_t code;
+  // Axis 1 to 6, 0: none.
+  uint32_t axis;
+  // The MCM's words, NUL-terminated; owned by the handle, valid until its next call.
+  const char *message;
+  // `MCM_EVENT_STATUS` only: the status.
+  struct mcm_status_t status;
+} mcm_event_t;
+
 // Wake-up latency percentiles of the real-time cycle [ns].
 typedef struct mcm_latency_t {
   uint64_t p50_ns;
@@ -261,100 +306,6 @@ typedef struct mcm_state_t {
   uint64_t owner_client_id;
 } mcm_state_t;
 
-// The answer to `info` over shared memory.
-typedef struct mcm_shm_info_t {
-  uint32_t num_axes;
-  // Cycle period [s].
-  double period_s;
-} mcm_shm_info_t;
-
-// Options of `calibrate` (NULL: all axes, default directions, light barriers where the axis
-// has one).
-typedef struct mcm_calibrate_t {
-  // 0: all axes; 1 to 6: that axis; 7: the elbow (axes 1 to 3); 8: the wrist (4 to 6).
-  uint32_t which;
-  // +1 (or 0): the default direction; -1: the reverse one.
-  int32_t elbow_direction;
-  int32_t wrist_direction;
-  // Use the mechanical stops even where light barriers exist.
-  bool force_mechanical_stop;
-} mcm_calibrate_t;
-
-// Options of `torque_control` and `velocity_control` (`mcm_control_options_default` gives
-// the protocol's defaults).
-typedef struct mcm_control_options_t {
-  // Fall back to HOLD when no `set_torques` (`set_velocities`) came for this long [s];
-  // negative: never (0 is refused by the MCM).
-  double timeout_s;
-  // TCP only: interval of the status events [s] (`mcm_tcp_next_event`); 0: none.
-  double dt_status_s;
-  // `torque_control` only: add the model's gravity (and 70 % of its friction) compensation.
-  bool gravity_compensation;
-} mcm_control_options_t;
-
-// The move `move_all` planned.
-typedef struct mcm_move_all_result_t {
-  // Peak velocity of each axis [deg/s].
-  double velocities[MCM_NUM_AXES];
-  // The axis (1 to 6) that would take longest on its own.
-  uint32_t longest;
-  // Time from now to the target [s].
-  double max_time_to_target;
-} mcm_move_all_result_t;
-
-// One point of a PVT stream.
-typedef struct mcm_pvt_point_t {
-  // [deg]
-  double position[MCM_NUM_AXES];
-  // [deg/s]
-  double velocity[MCM_NUM_AXES];
-} mcm_pvt_point_t;
-
-// The answer to `status` over TCP (and to `hold`, `release`, `pvt`, `torque_control`,
-// `velocity_control`; the status events of a torque or velocity session).
-typedef struct mcm_status_t {
-  // Operating mode (`MCM_MODE_*`).
-  uint32_t mode;
-  // The cycle's time [s] (`CLOCK_MONOTONIC` of the robot's computer).
-  double time;
-  // [deg]
-  double position[MCM_NUM_AXES];
-  // [deg/s]
-  double velocity[MCM_NUM_AXES];
-  // [deg/s^2]
-  double acceleration[MCM_NUM_AXES];
-  // [A]
-  double current[MCM_NUM_AXES];
-  // The fields below are set (by `mcm_tcp_status_detail`); false: they are zero.
-  bool has_detail;
-  // Cycle counter.
-  uint64_t cycle;
-  bool calibrated[MCM_NUM_AXES];
-  bool all_calibrated;
-  bool emergency_stop;
-  // [deg]
-  double measured_position[MCM_NUM_AXES];
-  double commanded_position[MCM_NUM_AXES];
-  double following_error[MCM_NUM_AXES];
-  uint32_t pvt_queued;
-  uint32_t pvt_capacity;
-  bool pvt_starved;
-} mcm_status_t;
-
-// Something the MCM reported that answers no call.
-typedef struct mcm_event_t {
-  // `MCM_EVENT_*`.
-  uint32_t kind;
-  // Reject code (`mcm_reject_name`), 0: none.
-  uint32_t code;
-  // Axis 1 to 6, 0: none.
-  uint32_t axis;
-  // The MCM's words, NUL-terminated; owned by the handle, valid until its next call.
-  const char *message;
-  // `MCM_EVENT_STATUS` only: the status.
-  struct mcm_status_t status;
-} mcm_event_t;
-
 // A `wait_until` condition over shared memory: nonzero when the state shows what is waited
 // for.
 typedef int32_t (*mcm_state_predicate_fn)(const struct mcm_state_t *state, void *user);
@@ -392,6 +343,21 @@ typedef struct mcm_control_summary_t {
   uint64_t unanswered;
 } mcm_control_summary_t;
 
+// A `wait_until` condition over TCP: nonzero when the status shows what is waited for.
+typedef int32_t (*mcm_status_predicate_fn)(const struct mcm_status_t *status, void *user);
+
+// Options of `torque_control` and `velocity_control` (`mcm_control_options_default` gives
+// the protocol's defaults).
+typedef struct mcm_control_options_t {
+  // Fall back to HOLD when no `set_torques` (`set_velocities`) came for this long [s];
+  // negative: never (0 is refused by the MCM).
+  double timeout_s;
+  // TCP only: interval of the status events [s] (`mcm_tcp_next_event`); 0: none.
+  double dt_status_s;
+  // `torque_control` only: add the model's gravity (and 70 % of its friction) compensation.
+  bool gravity_compensation;
+} mcm_control_options_t;
+
 // Limits of one axis (from `info` over TCP).
 typedef struct mcm_axis_info_t {
   // 1 to 6.
@@ -424,8 +390,42 @@ typedef struct mcm_info_t {
   struct mcm_axis_info_t axes[MCM_NUM_AXES];
 } mcm_info_t;
 
-// A `wait_until` condition over TCP: nonzero when the status shows what is waited for.
-typedef int32_t (*mcm_status_predicate_fn)(const struct mcm_status_t *status, void *user);
+// Options of `calibrate` (NULL: all axes, default directions, light barriers where the axis
+// has one).
+typedef struct mcm_calibrate_t {
+  // 0: all axes; 1 to 6: that axis; 7: the elbow (axes 1 to 3); 8: the wrist (4 to 6).
+  uint32_t which;
+  // +1 (or 0): the default direction; -1: the reverse one.
+  int32_t elbow_direction;
+  int32_t wrist_direction;
+  // Use the mechanical stops even where light barriers exist.
+  bool force_mechanical_stop;
+} mcm_calibrate_t;
+
+// The move `move_all` planned.
+typedef struct mcm_move_all_result_t {
+  // Peak velocity of each axis [deg/s].
+  double velocities[MCM_NUM_AXES];
+  // The axis (1 to 6) that would take longest on its own.
+  uint32_t longest;
+  // Time from now to the target [s].
+  double max_time_to_target;
+} mcm_move_all_result_t;
+
+// One point of a PVT stream.
+typedef struct mcm_pvt_point_t {
+  // [deg]
+  double position[MCM_NUM_AXES];
+  // [deg/s]
+  double velocity[MCM_NUM_AXES];
+} mcm_pvt_point_t;
+
+// The answer to `info` over shared memory.
+typedef struct mcm_shm_info_t {
+  uint32_t num_axes;
+  // Cycle period [s].
+  double period_s;
+} mcm_shm_info_t;
 
 #ifdef __cplusplus
 extern "C" {
@@ -454,71 +454,6 @@ const char *mcm_shm_last_error(const struct mcm_shm_client_t *client);
 
 // The MCM's reject code of the last failed call on this handle (0: none). Real-time safe.
 uint32_t mcm_shm_last_reject(const struct mcm_shm_client_t *client);
-
-// This client's id, `(pid << 32) | n` (`mcm_state_t.owner_client_id` when it controls the
-// arm). Real-time safe.
-enum mcm_error_t mcm_shm_client_id(struct mcm_shm_client_t *client, uint64_t *out);
-
-// Cycles whose state `mcm_shm_wait_state` never returned since connect. Real-time safe.
-enum mcm_error_t mcm_shm_missed_states(struct mcm_shm_client_t *client, uint64_t *out);
-
-// The next cycle's state: blocks on the core's event (no spinning) at most 0.5 s
-// (`MCM_ERR_TIMEOUT`). Each state is returned once. Real-time safe.
-enum mcm_error_t mcm_shm_wait_state(struct mcm_shm_client_t *client, struct mcm_state_t *out);
-
-// `mcm_shm_wait_state` with its own bound [s]. Real-time safe.
-enum mcm_error_t mcm_shm_wait_state_timeout(struct mcm_shm_client_t *client, double timeout_s, struct mcm_state_t *out);
-
-// The newest state without waiting (it may be the one returned last). Real-time safe.
-enum mcm_error_t mcm_shm_latest(struct mcm_shm_client_t *client, struct mcm_state_t *out);
-
-// Enter HOLD (open to every client). Waits for the core's reply.
-enum mcm_error_t mcm_shm_hold(struct mcm_shm_client_t *client);
-
-// The core's number of axes and cycle period.
-enum mcm_error_t mcm_shm_info(struct mcm_shm_client_t *client, struct mcm_shm_info_t *out);
-
-// Home the axes (`options` NULL: all, default directions); returns when it has finished.
-enum mcm_error_t mcm_shm_calibrate(struct mcm_shm_client_t *client, const struct mcm_calibrate_t *options);
-
-// `hold`, then `calibrate` only when an axis is not calibrated; `*calibrated` (may be NULL)
-// says whether it calibrated.
-enum mcm_error_t mcm_shm_calibrate_if_needed(struct mcm_shm_client_t *client, bool *calibrated);
-
-// Enter RELEASE.
-enum mcm_error_t mcm_shm_release(struct mcm_shm_client_t *client);
-
-// Enter PVT with points spaced `dt_s` seconds.
-enum mcm_error_t mcm_shm_pvt(struct mcm_shm_client_t *client, double dt_s);
-
-// Enter TORQUE_CONTROL (`options` NULL: the defaults; `dt_status_s` is not used here).
-enum mcm_error_t mcm_shm_torque_control(struct mcm_shm_client_t *client, const struct mcm_control_options_t *options);
-
-// Set the six torques [Nm] without waiting (a refusal comes as an event). Real-time safe
-// (one small allocation inside iceoryx2's publisher).
-enum mcm_error_t mcm_shm_set_torques(struct mcm_shm_client_t *client, const double *torques);
-
-// Enter VELOCITY_CONTROL (`options` NULL: the defaults; only `timeout_s` is used).
-enum mcm_error_t mcm_shm_velocity_control(struct mcm_shm_client_t *client, const struct mcm_control_options_t *options);
-
-// Set the six velocities [deg/s] without waiting. Real-time safe (one small allocation
-// inside iceoryx2's publisher).
-enum mcm_error_t mcm_shm_set_velocities(struct mcm_shm_client_t *client, const double *velocities);
-
-// Move axis `axis` (1 to 6) to `target_deg` at `velocity_factor`; OK as the motion starts.
-enum mcm_error_t mcm_shm_move_axis(struct mcm_shm_client_t *client, uint32_t axis, double target_deg, double velocity_factor);
-
-// Move all axes together to the six `targets_deg`; `result` (may be NULL): the plan.
-enum mcm_error_t mcm_shm_move_all(struct mcm_shm_client_t *client, const double *targets_deg, double velocity_factor, struct mcm_move_all_result_t *result);
-
-// Queue a batch of 1 to 1000 PVT points, whole or not at all.
-enum mcm_error_t mcm_shm_pvt_points(struct mcm_shm_client_t *client, const struct mcm_pvt_point_t *points, size_t count);
-
-// Take control of the arm's motion.
-enum mcm_error_t mcm_shm_take_control(struct mcm_shm_client_t *client);
-
-// Give up control; what this client drove ends in HOLD.
-enum mcm_error_t mcm_shm_release_control(struct mcm_shm_client_t *client);
 
 // The oldest event not taken yet (safety errors and refusals seen while reading states);
 // `*got` says whether `*out` was filled (its `message` lives until the next call here).
@@ -558,73 +493,6 @@ const char *mcm_tcp_last_error(const struct mcm_tcp_client_t *client);
 // from the MCM's words). Real-time safe.
 uint32_t mcm_tcp_last_reject(const struct mcm_tcp_client_t *client);
 
-// Open a new connection in place of a broken one (repeats `authenticate`). Control of the arm
-// does not survive it: call `mcm_tcp_take_control` again.
-enum mcm_error_t mcm_tcp_reconnect(struct mcm_tcp_client_t *client);
-
-// The newest state (`status`).
-enum mcm_error_t mcm_tcp_status(struct mcm_tcp_client_t *client, struct mcm_status_t *out);
-
-// The newest state with its detail (`status` with `detail`): `has_detail` and the fields
-// after it are set.
-enum mcm_error_t mcm_tcp_status_detail(struct mcm_tcp_client_t *client, struct mcm_status_t *out);
-
-// Robot, version, cycle time and the limits of every axis (`info`).
-enum mcm_error_t mcm_tcp_info(struct mcm_tcp_client_t *client, struct mcm_info_t *out);
-
-// Enter HOLD (open to every client; powers the drives from OFF or ERROR, stops a motion).
-// `status` (may be NULL): the state in HOLD.
-enum mcm_error_t mcm_tcp_hold(struct mcm_tcp_client_t *client, struct mcm_status_t *status);
-
-// Enter RELEASE (the arm can be moved by hand). `status` may be NULL.
-enum mcm_error_t mcm_tcp_release(struct mcm_tcp_client_t *client, struct mcm_status_t *status);
-
-// Enter PVT with points spaced `dt_s` seconds. `status` may be NULL.
-enum mcm_error_t mcm_tcp_pvt(struct mcm_tcp_client_t *client, double dt_s, struct mcm_status_t *status);
-
-// Home the axes (`options` NULL: all axes, default directions); returns when the calibration
-// has finished (about 12 s on the simulated P-Rob2).
-enum mcm_error_t mcm_tcp_calibrate(struct mcm_tcp_client_t *client, const struct mcm_calibrate_t *options);
-
-// `hold`, then `calibrate` only when an axis is not calibrated yet; `*calibrated` (may be
-// NULL) says whether it calibrated. The arm ends in HOLD either way.
-enum mcm_error_t mcm_tcp_calibrate_if_needed(struct mcm_tcp_client_t *client, bool *calibrated);
-
-// Enter TORQUE_CONTROL (`options` NULL: `mcm_control_options_default()`); with
-// `dt_status_s` the status events come with `mcm_tcp_next_event`. `status` may be NULL.
-enum mcm_error_t mcm_tcp_torque_control(struct mcm_tcp_client_t *client, const struct mcm_control_options_t *options, struct mcm_status_t *status);
-
-// Set the six joint torques [Nm] in TORQUE_CONTROL; returns once written (a refusal comes
-// later as an `MCM_EVENT_COMMAND_ERROR` event).
-enum mcm_error_t mcm_tcp_set_torques(struct mcm_tcp_client_t *client, const double *torques);
-
-// Enter VELOCITY_CONTROL (`options` NULL: the defaults; `gravity_compensation` is not used).
-// `status` may be NULL.
-enum mcm_error_t mcm_tcp_velocity_control(struct mcm_tcp_client_t *client, const struct mcm_control_options_t *options, struct mcm_status_t *status);
-
-// Set the six joint velocities [deg/s] in VELOCITY_CONTROL; returns once written.
-enum mcm_error_t mcm_tcp_set_velocities(struct mcm_tcp_client_t *client, const double *velocities);
-
-// Move axis `axis` (1 to 6) to `target_deg` at `velocity_factor` (0.001 to 1) of its limits;
-// returns as the motion starts (PVT mode).
-enum mcm_error_t mcm_tcp_move_axis(struct mcm_tcp_client_t *client, uint32_t axis, double target_deg, double velocity_factor);
-
-// Move all axes together to the six `targets_deg`; `result` (may be NULL): the plan.
-enum mcm_error_t mcm_tcp_move_all(struct mcm_tcp_client_t *client, const double *targets_deg, double velocity_factor, struct mcm_move_all_result_t *result);
-
-// Queue `count` PVT points (spaced by `pvt`'s `dt`); long lists go as several commands, and
-// the first refused one ends the call.
-enum mcm_error_t mcm_tcp_pvt_points(struct mcm_tcp_client_t *client, const struct mcm_pvt_point_t *points, size_t count);
-
-// Take control of the arm's motion (refused while another client controls it).
-enum mcm_error_t mcm_tcp_take_control(struct mcm_tcp_client_t *client);
-
-// Give up control; what this connection drove ends in HOLD.
-enum mcm_error_t mcm_tcp_release_control(struct mcm_tcp_client_t *client);
-
-// Present the shared secret (kept for `mcm_tcp_reconnect`).
-enum mcm_error_t mcm_tcp_authenticate(struct mcm_tcp_client_t *client, const char *secret);
-
 // The next spontaneous message (safety errors, status events of a session, refusals of
 // `set_torques`/`set_velocities`, notices): a queued one at once, else the first within
 // `timeout_s`. `*got` says whether `*out` was filled; its `message` lives until the next call
@@ -649,6 +517,147 @@ const char *mcm_reject_name(uint32_t code);
 
 // The protocol's defaults: timeout 1 s, no status events, gravity compensated.
 struct mcm_control_options_t mcm_control_options_default(void);
+
+// Open a new connection in place of a broken one (repeats `authenticate`). Control of the arm
+// does not survive it: call `mcm_tcp_take_control` again.
+enum mcm_error_t mcm_tcp_reconnect(struct mcm_tcp_client_t *client);
+
+// The newest state (`status`).
+enum mcm_error_t mcm_tcp_status(struct mcm_tcp_client_t *client, struct mcm_status_t *out);
+
+// The newest state with its detail (`status` with `detail`): `has_detail` and the fields after
+// it are set.
+enum mcm_error_t mcm_tcp_status_detail(struct mcm_tcp_client_t *client, struct mcm_status_t *out);
+
+// The MCM's description: over TCP robot, version, cycle time and the limits of every axis
+// (`info`); over shared memory the core's number of axes and cycle period.
+enum mcm_error_t mcm_tcp_info(struct mcm_tcp_client_t *client, struct mcm_info_t *out);
+
+// Enter HOLD (open to every client; powers the drives from OFF or ERROR, stops a motion).
+// `status` (may be NULL): the state after it.
+enum mcm_error_t mcm_tcp_hold(struct mcm_tcp_client_t *client, struct mcm_status_t *status);
+
+// Enter RELEASE (the arm can be moved by hand). `status` (may be NULL): the state after it.
+enum mcm_error_t mcm_tcp_release(struct mcm_tcp_client_t *client, struct mcm_status_t *status);
+
+// Enter PVT with points spaced `dt_s` seconds. `status` (may be NULL): the state after it.
+enum mcm_error_t mcm_tcp_pvt(struct mcm_tcp_client_t *client, double dt_s, struct mcm_status_t *status);
+
+// Home the axes (`options` NULL: all axes, default directions); returns when the calibration
+// has finished (about 12 s on the simulated P-Rob2).
+enum mcm_error_t mcm_tcp_calibrate(struct mcm_tcp_client_t *client, const struct mcm_calibrate_t *options);
+
+// `hold`, then `calibrate` only when an axis is not calibrated yet; `*calibrated` (may be
+// NULL) says whether it calibrated. The arm ends in HOLD either way.
+enum mcm_error_t mcm_tcp_calibrate_if_needed(struct mcm_tcp_client_t *client, bool *calibrated);
+
+// Enter TORQUE_CONTROL (`options` NULL: `mcm_control_options_default()`). With `dt_status_s`
+// the status events come with `mcm_tcp_next_event`. `status` (may be NULL): the state after
+// it.
+enum mcm_error_t mcm_tcp_torque_control(struct mcm_tcp_client_t *client, const struct mcm_control_options_t *options, struct mcm_status_t *status);
+
+// Set the six joint torques [Nm] in TORQUE_CONTROL without waiting for the answer (a refusal
+// comes later as an `MCM_EVENT_COMMAND_ERROR` event).
+enum mcm_error_t mcm_tcp_set_torques(struct mcm_tcp_client_t *client, const double *torques);
+
+// Enter VELOCITY_CONTROL (`options` NULL: the defaults; `gravity_compensation` is not used).
+// With `dt_status_s` the status events come with `mcm_tcp_next_event`. `status` (may be NULL):
+// the state after it.
+enum mcm_error_t mcm_tcp_velocity_control(struct mcm_tcp_client_t *client, const struct mcm_control_options_t *options, struct mcm_status_t *status);
+
+// Set the six joint velocities [deg/s] in VELOCITY_CONTROL without waiting for the answer.
+enum mcm_error_t mcm_tcp_set_velocities(struct mcm_tcp_client_t *client, const double *velocities);
+
+// Move axis `axis` (1 to 6) to `target_deg` at `velocity_factor` (0.001 to 1) of its limits;
+// returns as the motion starts (PVT mode).
+enum mcm_error_t mcm_tcp_move_axis(struct mcm_tcp_client_t *client, uint32_t axis, double target_deg, double velocity_factor);
+
+// Move all axes together to the six `targets_deg`; `result` (may be NULL): the plan.
+enum mcm_error_t mcm_tcp_move_all(struct mcm_tcp_client_t *client, const double *targets_deg, double velocity_factor, struct mcm_move_all_result_t *result);
+
+// Queue `count` (1 to 1000) PVT points, spaced by `pvt`'s `dt`, whole or not at all. Long
+// lists go as several commands, and the first refused one ends the call.
+enum mcm_error_t mcm_tcp_pvt_points(struct mcm_tcp_client_t *client, const struct mcm_pvt_point_t *points, size_t count);
+
+// Take control of the arm's motion (refused while another client controls it).
+enum mcm_error_t mcm_tcp_take_control(struct mcm_tcp_client_t *client);
+
+// Give up control; what this client drove ends in HOLD.
+enum mcm_error_t mcm_tcp_release_control(struct mcm_tcp_client_t *client);
+
+// Present the shared secret (kept for `mcm_tcp_reconnect`).
+enum mcm_error_t mcm_tcp_authenticate(struct mcm_tcp_client_t *client, const char *secret);
+
+// This client's id, `(pid << 32) | n` (`mcm_state_t.owner_client_id` when it controls the
+// arm). Real-time safe.
+enum mcm_error_t mcm_shm_client_id(struct mcm_shm_client_t *client, uint64_t *out);
+
+// Cycles whose state `mcm_shm_wait_state` never returned since connect. Real-time safe.
+enum mcm_error_t mcm_shm_missed_states(struct mcm_shm_client_t *client, uint64_t *out);
+
+// The next cycle's state: blocks on the core's event (no spinning) at most 0.5 s
+// (`MCM_ERR_TIMEOUT`). Each state is returned once. Real-time safe.
+enum mcm_error_t mcm_shm_wait_state(struct mcm_shm_client_t *client, struct mcm_state_t *out);
+
+// `mcm_shm_wait_state` with its own bound [s]. Real-time safe.
+enum mcm_error_t mcm_shm_wait_state_timeout(struct mcm_shm_client_t *client, double timeout_s, struct mcm_state_t *out);
+
+// The newest state without waiting (it may be the one returned last). Real-time safe.
+enum mcm_error_t mcm_shm_latest(struct mcm_shm_client_t *client, struct mcm_state_t *out);
+
+// The MCM's description: over TCP robot, version, cycle time and the limits of every axis
+// (`info`); over shared memory the core's number of axes and cycle period.
+enum mcm_error_t mcm_shm_info(struct mcm_shm_client_t *client, struct mcm_shm_info_t *out);
+
+// Enter HOLD (open to every client; powers the drives from OFF or ERROR, stops a motion).
+enum mcm_error_t mcm_shm_hold(struct mcm_shm_client_t *client);
+
+// Enter RELEASE (the arm can be moved by hand).
+enum mcm_error_t mcm_shm_release(struct mcm_shm_client_t *client);
+
+// Enter PVT with points spaced `dt_s` seconds.
+enum mcm_error_t mcm_shm_pvt(struct mcm_shm_client_t *client, double dt_s);
+
+// Home the axes (`options` NULL: all axes, default directions); returns when the calibration
+// has finished (about 12 s on the simulated P-Rob2).
+enum mcm_error_t mcm_shm_calibrate(struct mcm_shm_client_t *client, const struct mcm_calibrate_t *options);
+
+// `hold`, then `calibrate` only when an axis is not calibrated yet; `*calibrated` (may be
+// NULL) says whether it calibrated. The arm ends in HOLD either way.
+enum mcm_error_t mcm_shm_calibrate_if_needed(struct mcm_shm_client_t *client, bool *calibrated);
+
+// Enter TORQUE_CONTROL (`options` NULL: `mcm_control_options_default()`). `dt_status_s` is not
+// used here.
+enum mcm_error_t mcm_shm_torque_control(struct mcm_shm_client_t *client, const struct mcm_control_options_t *options);
+
+// Set the six joint torques [Nm] in TORQUE_CONTROL without waiting for the answer (a refusal
+// comes later as an `MCM_EVENT_COMMAND_ERROR` event). Real-time safe (one small allocation
+// inside iceoryx2's publisher).
+enum mcm_error_t mcm_shm_set_torques(struct mcm_shm_client_t *client, const double *torques);
+
+// Enter VELOCITY_CONTROL (`options` NULL: the defaults; `gravity_compensation` is not used).
+// Only `timeout_s` is used.
+enum mcm_error_t mcm_shm_velocity_control(struct mcm_shm_client_t *client, const struct mcm_control_options_t *options);
+
+// Set the six joint velocities [deg/s] in VELOCITY_CONTROL without waiting for the answer.
+// Real-time safe (one small allocation inside iceoryx2's publisher).
+enum mcm_error_t mcm_shm_set_velocities(struct mcm_shm_client_t *client, const double *velocities);
+
+// Move axis `axis` (1 to 6) to `target_deg` at `velocity_factor` (0.001 to 1) of its limits;
+// returns as the motion starts (PVT mode).
+enum mcm_error_t mcm_shm_move_axis(struct mcm_shm_client_t *client, uint32_t axis, double target_deg, double velocity_factor);
+
+// Move all axes together to the six `targets_deg`; `result` (may be NULL): the plan.
+enum mcm_error_t mcm_shm_move_all(struct mcm_shm_client_t *client, const double *targets_deg, double velocity_factor, struct mcm_move_all_result_t *result);
+
+// Queue `count` (1 to 1000) PVT points, spaced by `pvt`'s `dt`, whole or not at all.
+enum mcm_error_t mcm_shm_pvt_points(struct mcm_shm_client_t *client, const struct mcm_pvt_point_t *points, size_t count);
+
+// Take control of the arm's motion (refused while another client controls it).
+enum mcm_error_t mcm_shm_take_control(struct mcm_shm_client_t *client);
+
+// Give up control; what this client drove ends in HOLD.
+enum mcm_error_t mcm_shm_release_control(struct mcm_shm_client_t *client);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -185,96 +185,109 @@ struct Close {
     void operator()(mcm_tcp_client_t* h) const noexcept { mcm_tcp_close(h); }
     void operator()(mcm_shm_client_t* h) const noexcept { mcm_shm_close(h); }
 };
-}  // namespace detail
 
-/// A connection to the MCM's JSON port (TCP): every command of docs/protocol.md, blocking,
-/// bounded. Move-only; the destructor closes the connection (what it controlled ends in HOLD).
-class TcpClient {
-public:
-    /// Connect to "host:port" (e.g. "127.0.0.1:18010").
-    static Result<TcpClient> connect(const std::string& addr) {
-        mcm_tcp_client_t* h = nullptr;
-        const mcm_error_t c = mcm_tcp_connect(addr.c_str(), &h);
-        if (c != MCM_OK) return detail::thread_error(c);
-        return TcpClient(h);
+/// Of the C functions of one command, `tcp` (mcm_tcp_<name>) or `shm` (mcm_shm_<name>): the
+/// one of the handle H.
+template <class H, class Tcp, class Shm>
+constexpr auto pick(Tcp tcp, [[maybe_unused]] Shm shm) noexcept {
+    if constexpr (std::is_same_v<H, mcm_tcp_client_t>) {
+        return tcp;
+    } else {
+        static_assert(std::is_same_v<H, mcm_shm_client_t>, "a handle of mcm.h");
+        return shm;
     }
-    // Move-only: the handle is a unique_ptr whose deleter closes it.
-    TcpClient(TcpClient&&) noexcept = default;
-    TcpClient& operator=(TcpClient&&) noexcept = default;
+}
+
+// The C function `mcm_tcp_<name>` or `mcm_shm_<name>` of the handle type H.
+#define MCM_C(name) ::mcm::detail::pick<H>(&mcm_tcp_##name, &mcm_shm_##name)
+
+/// The commands both transports have, once for both handles (TcpClient and ShmClient derive
+/// from it). Where the transports answer differently, the type says it: a mode change answers
+/// the state over TCP (Status) and nothing over shared memory; `info` answers Info over TCP
+/// and ShmInfo over shared memory; `wait_until` watches a Status over TCP and a State over
+/// shared memory.
+template <class H>
+class Client {
+    static constexpr bool kTcp = std::is_same_v<H, mcm_tcp_client_t>;
+
+public:
+    /// What a mode change (hold, release, pvt, torque_control, velocity_control) answers.
+    using ModeAnswer = std::conditional_t<kTcp, Status, void>;
+    using InfoAnswer = std::conditional_t<kTcp, Info, ShmInfo>;
+    /// What wait_until's predicate sees: the state over TCP is a Status (asked every 10 ms),
+    /// over shared memory every cycle's State.
+    using Observed = std::conditional_t<kTcp, Status, State>;
+
+    Client(Client&&) noexcept = default;
+    Client& operator=(Client&&) noexcept = default;
 
     /// The C handle, for functions this layer does not wrap.
-    mcm_tcp_client_t* handle() noexcept { return h_.get(); }
+    H* handle() noexcept { return h_.get(); }
 
-    Result<Status> status() { return get<Status>(mcm_tcp_status); }
-    Result<Status> status_detail() { return get<Status>(mcm_tcp_status_detail); }
-    Result<Info> info() { return get<Info>(mcm_tcp_info); }
-    Result<Status> hold() { return get<Status>(mcm_tcp_hold); }
-    Result<Status> release() { return get<Status>(mcm_tcp_release); }
-    Result<Status> pvt(double dt_s) {
-        Status s{};
-        return with(mcm_tcp_pvt(h_.get(), dt_s, &s), s);
+    Result<InfoAnswer> info() {
+        InfoAnswer i{};
+        return with(MCM_C(info)(h(), &i), i);
+    }
+    /// Enter HOLD (open to every client).
+    Result<ModeAnswer> hold() {
+        return mode([&](auto... status) { return MCM_C(hold)(h(), status...); });
+    }
+    Result<ModeAnswer> release() {
+        return mode([&](auto... status) { return MCM_C(release)(h(), status...); });
+    }
+    Result<ModeAnswer> pvt(double dt_s) {
+        return mode([&](auto... status) { return MCM_C(pvt)(h(), dt_s, status...); });
     }
     /// Home the axes (default options: all axes, default directions); returns when done.
     Result<void> calibrate(const CalibrateOptions& o = CalibrateOptions{}) {
-        return done(mcm_tcp_calibrate(h_.get(), &o));
+        return done(MCM_C(calibrate)(h(), &o));
     }
     /// hold, then calibrate only when needed; true when it calibrated.
     Result<bool> calibrate_if_needed() {
         bool b = false;
-        return with(mcm_tcp_calibrate_if_needed(h_.get(), &b), b);
+        return with(MCM_C(calibrate_if_needed)(h(), &b), b);
     }
-    Result<Status> torque_control(const ControlOptions& o = mcm_control_options_default()) {
-        Status s{};
-        return with(mcm_tcp_torque_control(h_.get(), &o, &s), s);
+    Result<ModeAnswer> torque_control(const ControlOptions& o = mcm_control_options_default()) {
+        return mode([&](auto... status) { return MCM_C(torque_control)(h(), &o, status...); });
     }
-    Result<void> set_torques(const Six& t) { return done(mcm_tcp_set_torques(h_.get(), t.data())); }
-    Result<Status> velocity_control(const ControlOptions& o = mcm_control_options_default()) {
-        Status s{};
-        return with(mcm_tcp_velocity_control(h_.get(), &o, &s), s);
+    /// Without waiting for the answer; a refusal comes as an event. Real-time safe over
+    /// shared memory.
+    Result<void> set_torques(const Six& t) { return done(MCM_C(set_torques)(h(), t.data())); }
+    Result<ModeAnswer> velocity_control(const ControlOptions& o = mcm_control_options_default()) {
+        return mode([&](auto... status) { return MCM_C(velocity_control)(h(), &o, status...); });
     }
+    /// Without waiting for the answer. Real-time safe over shared memory.
     Result<void> set_velocities(const Six& v) {
-        return done(mcm_tcp_set_velocities(h_.get(), v.data()));
+        return done(MCM_C(set_velocities)(h(), v.data()));
     }
     Result<void> move_axis(uint32_t axis, double target_deg, double velocity_factor) {
-        return done(mcm_tcp_move_axis(h_.get(), axis, target_deg, velocity_factor));
+        return done(MCM_C(move_axis)(h(), axis, target_deg, velocity_factor));
     }
     Result<MoveAllResult> move_all(const Six& targets_deg, double velocity_factor) {
         MoveAllResult r{};
-        return with(mcm_tcp_move_all(h_.get(), targets_deg.data(), velocity_factor, &r), r);
+        return with(MCM_C(move_all)(h(), targets_deg.data(), velocity_factor, &r), r);
     }
     Result<void> pvt_points(const std::vector<PvtPoint>& points) {
-        return done(mcm_tcp_pvt_points(h_.get(), points.data(), points.size()));
+        return done(MCM_C(pvt_points)(h(), points.data(), points.size()));
     }
-    Result<void> take_control() { return done(mcm_tcp_take_control(h_.get())); }
-    Result<void> release_control() { return done(mcm_tcp_release_control(h_.get())); }
-    Result<void> authenticate(const std::string& secret) {
-        return done(mcm_tcp_authenticate(h_.get(), secret.c_str()));
-    }
-    Result<void> reconnect() { return done(mcm_tcp_reconnect(h_.get())); }
-    /// The next spontaneous message within timeout_s, or std::nullopt. Its `message` lives
-    /// until the next call on this client.
-    Result<std::optional<mcm_event_t>> next_event(double timeout_s) {
-        mcm_event_t e{};
-        bool got = false;
-        const mcm_error_t c = mcm_tcp_next_event(h_.get(), timeout_s, &e, &got);
-        if (c != MCM_OK) return error(c);
-        return got ? std::optional<mcm_event_t>(e) : std::nullopt;
-    }
-    /// Ask for the state every 10 ms until pred(status) holds, at most timeout_s.
+    Result<void> take_control() { return done(MCM_C(take_control)(h())); }
+    Result<void> release_control() { return done(MCM_C(release_control)(h())); }
+    /// Read the state until pred(state) holds, at most timeout_s.
     template <class F>
-    Result<Status> wait_until(const std::string& what, double timeout_s, F pred) {
-        detail::Predicate<F, Status> p(&pred);
-        Status s{};
-        const mcm_error_t c = mcm_tcp_wait_until(h_.get(), what.c_str(), timeout_s,
-                                                 &detail::Predicate<F, Status>::call, &p, &s);
+    Result<Observed> wait_until(const std::string& what, double timeout_s, F pred) {
+        Predicate<F, Observed> p(&pred);
+        Observed s{};
+        const mcm_error_t c = MCM_C(wait_until)(h(), what.c_str(), timeout_s,
+                                                &Predicate<F, Observed>::call, &p, &s);
         p.rethrow();
         return with(c, s);
     }
 
-private:
-    explicit TcpClient(mcm_tcp_client_t* h) : h_(h) {}
+protected:
+    explicit Client(H* h) : h_(h) {}
+    H* h() const noexcept { return h_.get(); }
     Error error(mcm_error_t c) const {
-        return Error(c, mcm_tcp_last_reject(h_.get()), mcm_tcp_last_error(h_.get()));
+        return Error(c, MCM_C(last_reject)(h()), MCM_C(last_error)(h()));
     }
     Result<void> done(mcm_error_t c) const {
         if (c != MCM_OK) return error(c);
@@ -285,19 +298,67 @@ private:
         if (c != MCM_OK) return error(c);
         return v;
     }
+    /// Call `call` with a Status to fill over TCP, without over shared memory.
+    template <class F>
+    Result<ModeAnswer> mode(F call) {
+        if constexpr (kTcp) {
+            Status s{};
+            return with(call(&s), s);
+        } else {
+            return done(call());
+        }
+    }
+
+private:
+    std::unique_ptr<H, Close> h_;
+};
+
+#undef MCM_C
+}  // namespace detail
+
+/// A connection to the MCM's JSON port (TCP): every command of docs/protocol.md, blocking,
+/// bounded. Move-only; the destructor closes the connection (what it controlled ends in HOLD).
+/// The commands both transports have are detail::Client's.
+class TcpClient : public detail::Client<mcm_tcp_client_t> {
+public:
+    /// Connect to "host:port" (e.g. "127.0.0.1:18010").
+    static Result<TcpClient> connect(const std::string& addr) {
+        mcm_tcp_client_t* h = nullptr;
+        const mcm_error_t c = mcm_tcp_connect(addr.c_str(), &h);
+        if (c != MCM_OK) return detail::thread_error(c);
+        return TcpClient(h);
+    }
+
+    Result<Status> status() { return get<Status>(mcm_tcp_status); }
+    Result<Status> status_detail() { return get<Status>(mcm_tcp_status_detail); }
+    Result<void> authenticate(const std::string& secret) {
+        return done(mcm_tcp_authenticate(h(), secret.c_str()));
+    }
+    Result<void> reconnect() { return done(mcm_tcp_reconnect(h())); }
+    /// The next spontaneous message within timeout_s, or std::nullopt. Its `message` lives
+    /// until the next call on this client.
+    Result<std::optional<mcm_event_t>> next_event(double timeout_s) {
+        mcm_event_t e{};
+        bool got = false;
+        const mcm_error_t c = mcm_tcp_next_event(h(), timeout_s, &e, &got);
+        if (c != MCM_OK) return error(c);
+        return got ? std::optional<mcm_event_t>(e) : std::nullopt;
+    }
+
+private:
+    explicit TcpClient(mcm_tcp_client_t* h) : Client(h) {}
     template <class T, class Fn>
     Result<T> get(Fn fn) {
         T v{};
-        return with(fn(h_.get(), &v), v);
+        return with(fn(h(), &v), v);
     }
-    std::unique_ptr<mcm_tcp_client_t, detail::Close> h_;
 };
 
 /// A client of the real-time core's shared-memory services (same computer): each cycle's
 /// state, commands into the next cycle, and the control loop. Move-only; not to be used from
 /// another thread than the one that connected. The destructor tells the core the client is
-/// gone (what it drove ends in HOLD).
-class ShmClient {
+/// gone (what it drove ends in HOLD). The commands both transports have are detail::Client's.
+class ShmClient : public detail::Client<mcm_shm_client_t> {
 public:
     /// Open the services of the MCM instance ("default" unless started with --instance).
     static Result<ShmClient> connect(const std::string& instance = "default") {
@@ -306,91 +367,38 @@ public:
         if (c != MCM_OK) return detail::thread_error(c);
         return ShmClient(h);
     }
-    // Move-only: the handle is a unique_ptr whose deleter closes it.
-    ShmClient(ShmClient&&) noexcept = default;
-    ShmClient& operator=(ShmClient&&) noexcept = default;
-
-    mcm_shm_client_t* handle() noexcept { return h_.get(); }
 
     /// The next cycle's state (at most 0.5 s). Real-time safe.
     Result<State> wait_state() {
         State s{};
-        return with(mcm_shm_wait_state(h_.get(), &s), s);
+        return with(mcm_shm_wait_state(h(), &s), s);
     }
     Result<State> wait_state(double timeout_s) {
         State s{};
-        return with(mcm_shm_wait_state_timeout(h_.get(), timeout_s, &s), s);
+        return with(mcm_shm_wait_state_timeout(h(), timeout_s, &s), s);
     }
     /// The newest state without waiting. Real-time safe.
     Result<State> latest() {
         State s{};
-        return with(mcm_shm_latest(h_.get(), &s), s);
+        return with(mcm_shm_latest(h(), &s), s);
     }
     uint64_t client_id() {
         uint64_t id = 0;
-        (void)mcm_shm_client_id(h_.get(), &id);
+        (void)mcm_shm_client_id(h(), &id);
         return id;
     }
     uint64_t missed_states() {
         uint64_t n = 0;
-        (void)mcm_shm_missed_states(h_.get(), &n);
+        (void)mcm_shm_missed_states(h(), &n);
         return n;
     }
-    Result<void> hold() { return done(mcm_shm_hold(h_.get())); }
-    Result<ShmInfo> info() {
-        ShmInfo i{};
-        return with(mcm_shm_info(h_.get(), &i), i);
-    }
-    Result<void> calibrate(const CalibrateOptions& o = CalibrateOptions{}) {
-        return done(mcm_shm_calibrate(h_.get(), &o));
-    }
-    Result<bool> calibrate_if_needed() {
-        bool b = false;
-        return with(mcm_shm_calibrate_if_needed(h_.get(), &b), b);
-    }
-    Result<void> release() { return done(mcm_shm_release(h_.get())); }
-    Result<void> pvt(double dt_s) { return done(mcm_shm_pvt(h_.get(), dt_s)); }
-    Result<void> torque_control(const ControlOptions& o = mcm_control_options_default()) {
-        return done(mcm_shm_torque_control(h_.get(), &o));
-    }
-    /// Without waiting; a refusal comes as an event. Real-time safe.
-    Result<void> set_torques(const Six& t) { return done(mcm_shm_set_torques(h_.get(), t.data())); }
-    Result<void> velocity_control(const ControlOptions& o = mcm_control_options_default()) {
-        return done(mcm_shm_velocity_control(h_.get(), &o));
-    }
-    /// Without waiting. Real-time safe.
-    Result<void> set_velocities(const Six& v) {
-        return done(mcm_shm_set_velocities(h_.get(), v.data()));
-    }
-    Result<void> move_axis(uint32_t axis, double target_deg, double velocity_factor) {
-        return done(mcm_shm_move_axis(h_.get(), axis, target_deg, velocity_factor));
-    }
-    Result<MoveAllResult> move_all(const Six& targets_deg, double velocity_factor) {
-        MoveAllResult r{};
-        return with(mcm_shm_move_all(h_.get(), targets_deg.data(), velocity_factor, &r), r);
-    }
-    Result<void> pvt_points(const std::vector<PvtPoint>& points) {
-        return done(mcm_shm_pvt_points(h_.get(), points.data(), points.size()));
-    }
-    Result<void> take_control() { return done(mcm_shm_take_control(h_.get())); }
-    Result<void> release_control() { return done(mcm_shm_release_control(h_.get())); }
     /// The oldest event not taken yet, or std::nullopt.
     Result<std::optional<mcm_event_t>> next_event() {
         mcm_event_t e{};
         bool got = false;
-        const mcm_error_t c = mcm_shm_next_event(h_.get(), &e, &got);
+        const mcm_error_t c = mcm_shm_next_event(h(), &e, &got);
         if (c != MCM_OK) return error(c);
         return got ? std::optional<mcm_event_t>(e) : std::nullopt;
-    }
-    /// Read every state until pred(state) holds, at most timeout_s.
-    template <class F>
-    Result<State> wait_until(const std::string& what, double timeout_s, F pred) {
-        detail::Predicate<F, State> p(&pred);
-        State s{};
-        const mcm_error_t c = mcm_shm_wait_until(h_.get(), what.c_str(), timeout_s,
-                                                 &detail::Predicate<F, State>::call, &p, &s);
-        p.rethrow();
-        return with(c, s);
     }
 
     /// The control loop: `f(const mcm::State&, mcm::Output&) -> mcm::Control` is called with
@@ -423,7 +431,7 @@ public:
 #endif
         };
         ControlResult r{ControlSummary{}, Result<void>()};
-        const mcm_error_t c = mcm_shm_control(h_.get(), trampoline, &ctx, &r.summary);
+        const mcm_error_t c = mcm_shm_control(h(), trampoline, &ctx, &r.summary);
 #if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
         if (ctx.thrown) std::rethrow_exception(ctx.thrown);
 #endif
@@ -432,20 +440,7 @@ public:
     }
 
 private:
-    explicit ShmClient(mcm_shm_client_t* h) : h_(h) {}
-    Error error(mcm_error_t c) const {
-        return Error(c, mcm_shm_last_reject(h_.get()), mcm_shm_last_error(h_.get()));
-    }
-    Result<void> done(mcm_error_t c) const {
-        if (c != MCM_OK) return error(c);
-        return {};
-    }
-    template <class T>
-    Result<T> with(mcm_error_t c, const T& v) const {
-        if (c != MCM_OK) return error(c);
-        return v;
-    }
-    std::unique_ptr<mcm_shm_client_t, detail::Close> h_;
+    explicit ShmClient(mcm_shm_client_t* h) : Client(h) {}
 };
 
 }  // namespace mcm

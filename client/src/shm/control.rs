@@ -19,12 +19,12 @@
 //! The loop ends cleanly: on `Finish` (the mode is left as it is: send `hold` or let the
 //! torque or velocity timeout bring the arm to HOLD), and with a [`ControlError`] when the mode leaves the
 //! one the loop started in (timeout, `hold` from anyone), a safety check trips, another client
-//! takes control, a command is refused, or no state comes. Every end carries the
+//! takes control, a command is refused or cannot be sent, or no state comes. Every end carries the
 //! [`ControlSummary`]: cycles run, cycles missed (states the callback never saw), and how many
 //! answers to state `k` were applied in cycle `k + 1`.
 
-use super::{ShmClient, ShmError, ShmEvent};
-use mcm_shared::command::{PvtChunk, PvtPoint, Request, SetTorques, SetVelocities};
+use super::{SendError, ShmClient, ShmEvent, WaitError};
+use mcm_shared::command::{DecodeError, PvtChunk, PvtPoint, Request, SetTorques, SetVelocities};
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::{Outcome, Response, SafetyError};
 use mcm_shared::sample::{Reply, StateSample};
@@ -58,8 +58,12 @@ pub enum ControlEnd {
     Refused(Response),
     /// The loop can only run in TORQUE_CONTROL, VELOCITY_CONTROL or PVT.
     NotControlling(Mode),
-    /// The shared memory failed, or no state came in time.
-    Shm(ShmError),
+    /// A command could not be published.
+    Send(SendError),
+    /// No state came in time, or the listener of the state event failed.
+    Wait(WaitError),
+    /// The core's safety error record does not decode (a core of another MCM version).
+    UnreadableSafetyError(DecodeError),
 }
 
 impl fmt::Display for ControlEnd {
@@ -82,7 +86,12 @@ impl fmt::Display for ControlEnd {
                 f,
                 "the control loop runs in TORQUE_CONTROL, VELOCITY_CONTROL or PVT, the mode is {m}; enter one first"
             ),
-            ControlEnd::Shm(e) => write!(f, "{e}"),
+            ControlEnd::Send(e) => write!(f, "{e}"),
+            ControlEnd::Wait(e) => write!(f, "{e}"),
+            ControlEnd::UnreadableSafetyError(e) => write!(
+                f,
+                "the core's safety error record does not read ({e}); build the client from the same MCM version as the core"
+            ),
         }
     }
 }
@@ -210,7 +219,7 @@ impl ShmClient {
         };
         let mut s = self
             .wait_state()
-            .map_err(|e| end(ControlEnd::Shm(e), sum))?;
+            .map_err(|e| end(ControlEnd::Wait(e), sum))?;
         let mode = Mode::try_from(s.mode).unwrap_or(Mode::Error);
         if !matches!(
             mode,
@@ -256,11 +265,11 @@ impl ShmClient {
                     self.tracker.sent(id, s.seq);
                     sum.sent += 1;
                 }
-                Err(e) => break Err(ControlEnd::Shm(e)),
+                Err(e) => break Err(ControlEnd::Send(e)),
             }
             s = match self.wait_state_timeout(state_wait) {
                 Ok(s) => s,
-                Err(e) => break Err(ControlEnd::Shm(e)),
+                Err(e) => break Err(ControlEnd::Wait(e)),
             };
         };
         // The replies to the last commands come with the next cycle or two.
@@ -286,10 +295,7 @@ impl ShmClient {
                 ShmEvent::SafetyError(e) => return Some(ControlEnd::SafetyTrip(e)),
                 ShmEvent::Refused(r) => return Some(ControlEnd::Refused(r)),
                 ShmEvent::UnreadableSafetyError(e) => {
-                    return Some(ControlEnd::Shm(ShmError::Undecodable {
-                        command: mcm_shared::mode::CommandKind::Status,
-                        error: e,
-                    }));
+                    return Some(ControlEnd::UnreadableSafetyError(e));
                 }
             }
         }

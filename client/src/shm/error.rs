@@ -1,38 +1,43 @@
-//! Errors of the shared-memory client.
+//! What the shared-memory client's calls can end with besides their result: one error per
+//! operation. Opening ([`OpenError`](super::OpenError)) and publishing
+//! ([`SendError`](super::SendError)) are the ports' own ([`super::ports`]); waiting for a state,
+//! a command waiting for its reply and waiting for a condition are here. Each keeps iceoryx2's
+//! own error as its source.
 
+use super::ports::SendError;
+use iceoryx2::port::listener::ListenerWaitError;
 use mcm_shared::command::DecodeError;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::reply::Reason;
 use std::time::Duration;
 
-/// What a call of the shared-memory client can end with, other than its result.
+/// Waiting for the next state failed ([`ShmClient::wait_state`](super::ShmClient::wait_state)).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ShmError {
-    #[error(transparent)]
-    InstanceName(#[from] mcm_shared::service::InvalidInstanceName),
-    /// The MCM of this instance is not running (its services do not exist).
-    #[error(
-        "the MCM instance {instance:?} is not running on this computer (service `{service}` does not exist); start it (`cargo run --release -- --instance {instance}`) or check the instance name"
-    )]
-    NotRunning { instance: String, service: String },
-    /// The core's service is of another MCM version than this client.
-    #[error(
-        "service `{service}` of the running MCM does not match this client: {problem}; build the client from the same MCM version as the running core (iceoryx2 =0.10.0, {expected})"
-    )]
-    Incompatible {
-        service: String,
-        problem: String,
-        /// The sample type this client expects (type name, size).
-        expected: String,
-    },
-    /// An iceoryx2 step failed for another reason.
-    #[error("{step} failed: {problem}")]
-    Ipc { step: String, problem: String },
+pub enum WaitError {
     /// No new state within the wait: the core stopped publishing (or was never started).
     #[error(
         "no new state from the MCM within {waited:?} (last cycle seen: {last_seq}); the real-time core is not publishing"
     )]
     Timeout { waited: Duration, last_seq: u64 },
+    /// iceoryx2's listener of the state event failed.
+    #[error("waiting on `{service}` failed: {source}")]
+    Listener {
+        service: String,
+        #[source]
+        source: ListenerWaitError,
+    },
+}
+
+/// A command that waits for its reply did not end with `Done`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RequestError {
+    /// The command could not be published (nothing was sent).
+    #[error(transparent)]
+    Send(#[from] SendError),
+    /// Waiting for the reply failed in iceoryx2's listener (a reply that does not come in time
+    /// is [`RequestError::OutcomeUnknown`]).
+    #[error(transparent)]
+    Wait(#[from] WaitError),
     /// The core refused the command (nothing changed); `reason` gives the MCM's words.
     #[error("{command} refused: {reason}")]
     Refused {
@@ -62,6 +67,7 @@ pub enum ShmError {
     )]
     Undecodable {
         command: CommandKind,
+        #[source]
         error: DecodeError,
     },
     /// An argument this client refuses before sending anything.
@@ -70,22 +76,31 @@ pub enum ShmError {
         command: CommandKind,
         problem: String,
     },
-    /// [`ShmClient::wait_until`](super::ShmClient::wait_until): the condition `what` held for
-    /// no state within `waited`.
+}
+
+impl RequestError {
+    /// The MCM's reason, for a refusal or a failure.
+    pub fn reason(&self) -> Option<&Reason> {
+        match self {
+            RequestError::Refused { reason, .. } | RequestError::Failed { reason, .. } => {
+                Some(reason)
+            }
+            _ => None,
+        }
+    }
+}
+
+/// [`ShmClient::wait_until`](super::ShmClient::wait_until) ended without its condition.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum WaitUntilError {
+    /// No state came, or the listener failed.
+    #[error(transparent)]
+    Wait(#[from] WaitError),
+    /// The condition `what` held for no state within `waited`.
     #[error("{what}: not reached within {waited:?} (last cycle read: {last_seq})")]
     NotReached {
         what: String,
         waited: Duration,
         last_seq: u64,
     },
-}
-
-impl ShmError {
-    /// The MCM's reason, for a refusal or a failure.
-    pub fn reason(&self) -> Option<&Reason> {
-        match self {
-            ShmError::Refused { reason, .. } | ShmError::Failed { reason, .. } => Some(reason),
-            _ => None,
-        }
-    }
 }

@@ -6,7 +6,7 @@
 //! let s = mcm.wait_state()?; // the next cycle's state, woken by the core's event
 //! println!("cycle {} mode {}", s.seq, s.mode);
 //! mcm.hold()?;
-//! # Ok::<(), mcm_client::shm::ShmError>(())
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! - [`ShmClient::connect`] opens `mcm/<instance>/state` (blackboard), `mcm/<instance>/command`
@@ -21,25 +21,35 @@
 //!   within 200 ms (it checks that the owner's pid lives).
 //! - The client is not `Send` (iceoryx2's ports are bound to their thread): create it on the
 //!   thread that uses it.
+//! - Each operation has its own error: [`OpenError`] (connect), [`SendError`] (a command sent
+//!   without waiting), [`WaitError`] (the next state), [`RequestError`] (a command and its
+//!   reply), [`WaitUntilError`] (a condition on the state). iceoryx2's errors are kept as
+//!   their sources.
+//!
+//! The ports themselves ([`ports`]: opening the services with the version check, publishing)
+//! and the reply lookup ([`replies`]) are the layer the gateway's bridge uses too.
 
 mod control;
 mod error;
-mod open;
+pub mod ports;
 pub mod replies;
 mod steps;
 
 pub use control::{ControlEnd, ControlError, ControlOutput, ControlSummary};
-pub use error::ShmError;
-pub use open::describe;
+pub use error::{RequestError, WaitError, WaitUntilError};
+pub use ports::{LayoutMismatch, OpenError, SendError, describe};
 
+use iceoryx2::port::listener::Listener;
+use iceoryx2::prelude::ipc;
 use mcm_shared::command::{
     Calibrate, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques, SetVelocities,
     SimCommand, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
 use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Outcome, Response, SafetyError};
-use mcm_shared::sample::{StateSample, read_reply};
+use mcm_shared::sample::StateSample;
 use mcm_shared::service::{COMMAND_BUFFER, ServiceNames};
+use ports::{CorePorts, Peer};
 use std::collections::{HashMap, HashSet, VecDeque};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
@@ -71,13 +81,13 @@ pub enum ShmEvent {
 
 /// A client of the MCM's shared-memory services. See the module docs.
 pub struct ShmClient {
-    ports: open::Ports,
-    names: ServiceNames,
+    // Before `ports`: dropped before the node it was made through.
+    listener: Listener<ipc::Service>,
+    ports: CorePorts,
     client_id: u64,
     next_request: u64,
-    /// Newest state returned by `wait_state`, and the reply already read.
+    /// Newest state returned by `wait_state`.
     last_seq: u64,
-    reply_seen: u64,
     last_error_seq: u64,
     /// States (cycles) published but never returned by `wait_state`, since connect.
     missed: u64,
@@ -94,18 +104,19 @@ pub struct ShmClient {
 impl ShmClient {
     /// Open the services of the MCM `instance` (`"default"` unless it was started with
     /// `--instance`).
-    pub fn connect(instance: &str) -> Result<ShmClient, ShmError> {
+    pub fn connect(instance: &str) -> Result<ShmClient, OpenError> {
         let names = ServiceNames::new(instance)?;
-        let ports = open::open(&names)?;
-        let s = *ports.state.get();
+        let mut ports = CorePorts::open(&names, Peer::Client)?;
+        let listener = ports.open_state_event()?;
+        let s = ports.state();
+        ports.replies().skip_to(s.reply_head);
         let n = NEXT_CLIENT.fetch_add(1, Ordering::Relaxed);
         Ok(ShmClient {
+            listener,
             ports,
-            names,
             client_id: (u64::from(std::process::id()) << 32) | u64::from(n),
             next_request: 1,
             last_seq: s.seq,
-            reply_seen: s.reply_head,
             last_error_seq: s.last_error.seq,
             missed: 0,
             waiting: HashSet::new(),
@@ -124,12 +135,12 @@ impl ShmClient {
 
     /// The instance this client is connected to.
     pub fn instance(&self) -> &str {
-        self.names.instance()
+        self.ports.names().instance()
     }
 
     /// The newest state, without waiting (it may be the one `wait_state` returned last).
     pub fn latest(&self) -> StateSample {
-        *self.ports.state.get()
+        self.ports.state()
     }
 
     /// Cycles whose state `wait_state` never returned since connect (the caller was slower
@@ -140,16 +151,16 @@ impl ShmClient {
 
     /// The next cycle's state: the first state newer than the last one returned, waiting for
     /// the core's state event (no spinning) at most [`STATE_TIMEOUT`].
-    pub fn wait_state(&mut self) -> Result<StateSample, ShmError> {
+    pub fn wait_state(&mut self) -> Result<StateSample, WaitError> {
         self.wait_state_timeout(STATE_TIMEOUT)
     }
 
-    /// [`ShmClient::wait_state`] with its own bound; [`ShmError::Timeout`] when no new state
+    /// [`ShmClient::wait_state`] with its own bound; [`WaitError::Timeout`] when no new state
     /// came within `timeout`.
-    pub fn wait_state_timeout(&mut self, timeout: Duration) -> Result<StateSample, ShmError> {
+    pub fn wait_state_timeout(&mut self, timeout: Duration) -> Result<StateSample, WaitError> {
         let deadline = Instant::now() + timeout;
         loop {
-            let s = *self.ports.state.get();
+            let s = self.ports.state();
             if s.seq != self.last_seq {
                 if s.seq > self.last_seq + 1 && self.last_seq != 0 {
                     self.missed += s.seq - self.last_seq - 1;
@@ -160,42 +171,37 @@ impl ShmClient {
             }
             let left = deadline.saturating_duration_since(Instant::now());
             if left.is_zero() {
-                return Err(ShmError::Timeout {
+                return Err(WaitError::Timeout {
                     waited: timeout,
                     last_seq: self.last_seq,
                 });
             }
             // Wakes on the core's notification after its next publish (or a pending one: the
             // loop then reads the state again and waits once more).
-            self.ports
-                .listener
+            self.listener
                 .timed_wait(|_| {}, left)
-                .map_err(|e| ShmError::Ipc {
-                    step: format!("waiting on `{}`", self.names.state_event()),
-                    problem: format!("{e:?}"),
+                .map_err(|source| WaitError::Listener {
+                    service: self.ports.names().state_event(),
+                    source,
                 })?;
         }
     }
 
     /// Read the replies and the safety error a new state announces.
     fn absorb(&mut self, s: &StateSample) {
-        let (client, entries) = (self.client_id, &self.ports.replies);
+        let client = self.client_id;
         let (waiting, answers, tracker) = (&self.waiting, &mut self.answers, &mut self.tracker);
         let mut refused = Vec::new();
-        let (seen, scan) = replies::scan(
-            self.reply_seen,
-            s.reply_head,
-            client,
-            |n| read_reply(entries, n),
-            |r| {
-                if waiting.contains(&r.request_id) {
-                    answers.insert(r.request_id, r);
-                } else if let Some(resp) = tracker.answered(&r) {
-                    refused.push(resp);
-                }
-            },
-        );
-        self.reply_seen = seen;
+        let scan = self.ports.replies().read_to(s.reply_head, |r| {
+            if r.client_id != client {
+                return;
+            }
+            if waiting.contains(&r.request_id) {
+                answers.insert(r.request_id, *r);
+            } else if let Some(resp) = tracker.answered(r) {
+                refused.push(resp);
+            }
+        });
         if scan.overwritten > 0 && !self.waiting.is_empty() {
             self.lost_while_waiting = true;
         }
@@ -225,19 +231,11 @@ impl ShmClient {
     }
 
     /// Publish `req` with this client's id and a new request id; the request id.
-    pub fn send(&mut self, req: &Request) -> Result<u64, ShmError> {
-        let mut sample = req.encode();
-        sample.client_id = self.client_id;
-        sample.request_id = self.next_request;
+    pub fn send(&mut self, req: &Request) -> Result<u64, SendError> {
+        let id = self.next_request;
         self.next_request += 1;
-        self.ports
-            .publisher
-            .send_copy(sample)
-            .map_err(|e| ShmError::Ipc {
-                step: format!("publishing {} on `{}`", req.kind(), self.names.command()),
-                problem: format!("{e:?}"),
-            })?;
-        Ok(sample.request_id)
+        self.ports.publish(req, self.client_id, id)?;
+        Ok(id)
     }
 
     /// Wait for the replies to `ids` (sent by this client); the first that is not `Done`
@@ -247,7 +245,7 @@ impl ShmClient {
         kind: CommandKind,
         ids: &[u64],
         timeout: Duration,
-    ) -> Result<Done, ShmError> {
+    ) -> Result<Done, RequestError> {
         let start = Instant::now();
         let deadline = start + timeout;
         let mut last = Done::Ack;
@@ -273,8 +271,8 @@ impl ShmClient {
                 let gave_up = left.is_zero()
                     || match self.wait_state_timeout(left.min(STATE_TIMEOUT)) {
                         Ok(_) => false,
-                        Err(ShmError::Timeout { .. }) => true,
-                        Err(e) => return Err(e),
+                        Err(WaitError::Timeout { .. }) => true,
+                        Err(e) => return Err(e.into()),
                     };
                 if gave_up {
                     for id in ids {
@@ -282,7 +280,7 @@ impl ShmClient {
                         self.answers.remove(id);
                     }
                     let overwritten = std::mem::take(&mut self.lost_while_waiting);
-                    return Err(ShmError::OutcomeUnknown {
+                    return Err(RequestError::OutcomeUnknown {
                         command: kind,
                         waited: start.elapsed(),
                         overwritten,
@@ -298,7 +296,7 @@ impl ShmClient {
 
     /// Send `req` and wait for its reply ([`REPLY_TIMEOUT`], `calibrate`
     /// [`CALIBRATE_TIMEOUT`]).
-    pub fn request(&mut self, req: &Request) -> Result<Done, ShmError> {
+    pub fn request(&mut self, req: &Request) -> Result<Done, RequestError> {
         let timeout = if req.kind() == CommandKind::Calibrate {
             CALIBRATE_TIMEOUT
         } else {
@@ -308,22 +306,22 @@ impl ShmClient {
         self.waiting.insert(id);
         if let Err(e) = self.send(req) {
             self.waiting.remove(&id);
-            return Err(e);
+            return Err(e.into());
         }
         self.wait_replies(req.kind(), &[id], timeout)
     }
 
-    fn ack(&mut self, req: Request) -> Result<(), ShmError> {
+    fn ack(&mut self, req: Request) -> Result<(), RequestError> {
         self.request(&req).map(|_| ())
     }
 
     /// Enter HOLD (open to every client).
-    pub fn hold(&mut self) -> Result<(), ShmError> {
+    pub fn hold(&mut self) -> Result<(), RequestError> {
         self.ack(Request::Hold)
     }
 
     /// The core's number of axes and cycle period.
-    pub fn info(&mut self) -> Result<InfoReply, ShmError> {
+    pub fn info(&mut self) -> Result<InfoReply, RequestError> {
         match self.request(&Request::Info)? {
             Done::Info(i) => Ok(i),
             other => Err(mismatch(CommandKind::Info, other)),
@@ -331,34 +329,37 @@ impl ShmClient {
     }
 
     /// Home the axes; returns when the calibration has finished.
-    pub fn calibrate(&mut self, c: Calibrate) -> Result<(), ShmError> {
+    pub fn calibrate(&mut self, c: Calibrate) -> Result<(), RequestError> {
         self.ack(Request::Calibrate(c))
     }
 
     /// Enter RELEASE.
-    pub fn release(&mut self) -> Result<(), ShmError> {
+    pub fn release(&mut self) -> Result<(), RequestError> {
         self.ack(Request::Release)
     }
 
     /// Enter PVT with points spaced `dt_s`.
-    pub fn pvt(&mut self, dt_s: f64) -> Result<(), ShmError> {
+    pub fn pvt(&mut self, dt_s: f64) -> Result<(), RequestError> {
         self.ack(Request::Pvt(Pvt { dt_s }))
     }
 
     /// Enter TORQUE_CONTROL.
-    pub fn torque_control(&mut self, t: TorqueControl) -> Result<(), ShmError> {
+    pub fn torque_control(&mut self, t: TorqueControl) -> Result<(), RequestError> {
         self.ack(Request::TorqueControl(t))
     }
 
     /// Set the torques [Nm] without waiting: a refusal comes as [`ShmEvent::Refused`].
-    pub fn set_torques(&mut self, torques_nm: [f64; mcm_shared::NUM_AXES]) -> Result<(), ShmError> {
+    pub fn set_torques(
+        &mut self,
+        torques_nm: [f64; mcm_shared::NUM_AXES],
+    ) -> Result<(), SendError> {
         let id = self.send(&Request::SetTorques(SetTorques { torques_nm }))?;
         self.tracker.sent(id, 0);
         Ok(())
     }
 
     /// Enter VELOCITY_CONTROL (every axis starts at target velocity 0).
-    pub fn velocity_control(&mut self, v: VelocityControl) -> Result<(), ShmError> {
+    pub fn velocity_control(&mut self, v: VelocityControl) -> Result<(), RequestError> {
         self.ack(Request::VelocityControl(v))
     }
 
@@ -367,19 +368,19 @@ impl ShmClient {
     pub fn set_velocities(
         &mut self,
         velocities_deg_s: [f64; mcm_shared::NUM_AXES],
-    ) -> Result<(), ShmError> {
+    ) -> Result<(), SendError> {
         let id = self.send(&Request::SetVelocities(SetVelocities { velocities_deg_s }))?;
         self.tracker.sent(id, 0);
         Ok(())
     }
 
     /// Move one axis (OK as the motion starts).
-    pub fn move_axis(&mut self, m: MoveAxis) -> Result<(), ShmError> {
+    pub fn move_axis(&mut self, m: MoveAxis) -> Result<(), RequestError> {
         self.ack(Request::MoveAxis(m))
     }
 
     /// Move all axes together; the plan.
-    pub fn move_all(&mut self, m: MoveAll) -> Result<MoveAllPlan, ShmError> {
+    pub fn move_all(&mut self, m: MoveAll) -> Result<MoveAllPlan, RequestError> {
         match self.request(&Request::MoveAll(m))? {
             Done::MoveAll(p) => Ok(p),
             other => Err(mismatch(CommandKind::MoveAll, other)),
@@ -388,10 +389,10 @@ impl ShmClient {
 
     /// Queue a batch of PVT points (whole or not at all; at most
     /// [`MAX_POINTS_PER_COMMAND`](crate::tcp::MAX_POINTS_PER_COMMAND) points a batch, as over TCP).
-    pub fn pvt_points(&mut self, points: &[PvtPoint]) -> Result<(), ShmError> {
+    pub fn pvt_points(&mut self, points: &[PvtPoint]) -> Result<(), RequestError> {
         use crate::tcp::MAX_POINTS_PER_COMMAND as MAX;
         if points.is_empty() || points.len() > MAX {
-            return Err(ShmError::Argument {
+            return Err(RequestError::Argument {
                 command: CommandKind::PvtPoints,
                 problem: format!("{} points given; a batch has 1 to {MAX}", points.len()),
             });
@@ -415,17 +416,17 @@ impl ShmClient {
     }
 
     /// Take control of the arm's motion.
-    pub fn take_control(&mut self) -> Result<(), ShmError> {
+    pub fn take_control(&mut self) -> Result<(), RequestError> {
         self.ack(Request::TakeControl)
     }
 
     /// Give up control; what this client drove ends in HOLD.
-    pub fn release_control(&mut self) -> Result<(), ShmError> {
+    pub fn release_control(&mut self) -> Result<(), RequestError> {
         self.ack(Request::ReleaseControl)
     }
 
     /// Fault injection into the simulated robot (the ground truth is in the state's `sim_*`).
-    pub fn sim(&mut self, c: SimCommand) -> Result<(), ShmError> {
+    pub fn sim(&mut self, c: SimCommand) -> Result<(), RequestError> {
         self.ack(Request::Sim(c))
     }
 }
@@ -438,26 +439,26 @@ impl Drop for ShmClient {
 }
 
 /// A reply's outcome as this client's result.
-fn outcome(kind: CommandKind, r: &mcm_shared::sample::Reply) -> Result<Done, ShmError> {
-    let resp = Response::decode(r).map_err(|error| ShmError::Undecodable {
+fn outcome(kind: CommandKind, r: &mcm_shared::sample::Reply) -> Result<Done, RequestError> {
+    let resp = Response::decode(r).map_err(|error| RequestError::Undecodable {
         command: kind,
         error,
     })?;
     match resp.outcome {
         Outcome::Done(d) => Ok(d),
-        Outcome::Refused(reason) => Err(ShmError::Refused {
+        Outcome::Refused(reason) => Err(RequestError::Refused {
             command: resp.kind,
             reason,
         }),
-        Outcome::Failed(reason) => Err(ShmError::Failed {
+        Outcome::Failed(reason) => Err(RequestError::Failed {
             command: resp.kind,
             reason,
         }),
     }
 }
 
-fn mismatch(kind: CommandKind, got: Done) -> ShmError {
-    ShmError::Undecodable {
+fn mismatch(kind: CommandKind, got: Done) -> RequestError {
+    RequestError::Undecodable {
         command: kind,
         error: mcm_shared::command::DecodeError::Mismatch {
             kind,

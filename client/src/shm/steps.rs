@@ -1,7 +1,7 @@
 //! Steps most programs begin with, built from the commands: get the arm calibrated, and wait
 //! (bounded) until the state shows what a command was for.
 
-use super::{ShmClient, ShmError};
+use super::{RequestError, ShmClient, WaitUntilError};
 use mcm_shared::command::{Calibrate, Which};
 use mcm_shared::sample::{STATE_ALL_CALIBRATED, StateSample};
 use std::time::{Duration, Instant};
@@ -10,7 +10,7 @@ impl ShmClient {
     /// Enter HOLD (which powers the drives from OFF or ERROR) and, when an axis is not
     /// calibrated yet, calibrate all axes with the default directions; `true` when it
     /// calibrated. The arm ends in HOLD either way.
-    pub fn calibrate_if_needed(&mut self) -> Result<bool, ShmError> {
+    pub fn calibrate_if_needed(&mut self) -> Result<bool, RequestError> {
         self.hold()?;
         let calibrated = self.latest().flags & STATE_ALL_CALIBRATED != 0;
         if !calibrated {
@@ -26,13 +26,13 @@ impl ShmClient {
 
     /// Read every state ([`ShmClient::wait_state`]) until `arrived` holds for one, at most
     /// `timeout`; that state. `what` names the condition in the error
-    /// ([`ShmError::NotReached`]) when it does not hold in time.
+    /// ([`WaitUntilError::NotReached`]) when it does not hold in time.
     pub fn wait_until(
         &mut self,
         what: &str,
         timeout: Duration,
         mut arrived: impl FnMut(&StateSample) -> bool,
-    ) -> Result<StateSample, ShmError> {
+    ) -> Result<StateSample, WaitUntilError> {
         let deadline = Instant::now() + timeout;
         loop {
             let s = self.wait_state()?;
@@ -40,7 +40,7 @@ impl ShmClient {
                 return Ok(s);
             }
             if Instant::now() >= deadline {
-                return Err(ShmError::NotReached {
+                return Err(WaitUntilError::NotReached {
                     what: what.to_string(),
                     waited: timeout,
                     last_seq: s.seq,

@@ -9,6 +9,8 @@
 
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
+use mcm_client::shm::OpenError;
+use mcm_client::shm::ports::{open_node, open_state_event};
 use mcm_shared::service::{STATE_EVENT_ID, ServiceNames};
 use std::os::fd::RawFd;
 use std::time::{Duration, Instant};
@@ -19,33 +21,17 @@ pub(super) const OPEN_RETRY: Duration = Duration::from_millis(100);
 const SILENT_AFTER: Duration = Duration::from_millis(500);
 
 struct Open {
-    _node: Node<ipc::Service>,
     listener: Listener<ipc::Service>,
+    // Dropped after the listener made through it.
+    _node: Node<ipc::Service>,
 }
 
-fn open(names: &ServiceNames) -> Result<Open, String> {
-    let node = NodeBuilder::new()
-        .name(
-            &NodeName::new(&names.node("mcm-gateway-wake"))
-                .map_err(|e| format!("node name: {e:?}"))?,
-        )
-        .signal_handling_mode(SignalHandlingMode::Disabled)
-        .create::<ipc::Service>()
-        .map_err(|e| format!("creating the node failed: {e:?}"))?;
-    let service = node
-        .service_builder(
-            &ServiceName::new(&names.state_event()).map_err(|e| format!("service name: {e}"))?,
-        )
-        .event()
-        .open()
-        .map_err(|e| format!("opening `{}` failed: {e:?}", names.state_event()))?;
-    let listener = service
-        .listener_builder()
-        .create()
-        .map_err(|e| format!("creating a listener failed: {e:?}"))?;
+fn open(names: &ServiceNames) -> Result<Open, OpenError> {
+    let node = open_node(names, "mcm-gateway-wake")?;
+    let listener = open_state_event(&node, names)?;
     Ok(Open {
-        _node: node,
         listener,
+        _node: node,
     })
 }
 

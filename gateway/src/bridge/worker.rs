@@ -5,18 +5,18 @@
 
 use super::doorbell::Doorbell;
 use super::event::{OPEN_RETRY, StateEvent};
-use super::ports::{OpenError, Ports, open_ports};
 use super::scheduler::Scheduler;
 use super::wait::wait_readable;
 use super::{Answer, BridgeError, Job, NoReply, SafetyEvent, Wake};
+use mcm_client::shm::OpenError;
+use mcm_client::shm::ports::{CorePorts, Peer};
 use mcm_shared::command::DecodeError;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::reply::{Response, SafetyError};
-use mcm_shared::sample::{
-    REPLY_BLOCK, REPLY_BLOCKS, ReplyBlock, StateSample, flight_recorder_file, reply_location,
-};
+use mcm_shared::sample::{StateSample, flight_recorder_file};
 use mcm_shared::service::ServiceNames;
 use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 use std::sync::mpsc::{Receiver, TryRecvError};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -72,7 +72,7 @@ pub(super) struct Shared {
 
 pub(super) struct Worker {
     sh: Shared,
-    ports: Option<Ports>,
+    ports: Option<CorePorts>,
     event: StateEvent,
     /// A failed wait was logged (once).
     logged_wait: bool,
@@ -90,8 +90,7 @@ pub(super) struct Worker {
     alive: bool,
     last_seq: u64,
     last_change: Instant,
-    /// The newest reply already routed, and the newest safety error already reported.
-    last_reply: u64,
+    /// The newest safety error already reported.
     last_error_seq: Option<u64>,
     next_request: u64,
     sched: Scheduler<Queued>,
@@ -116,7 +115,6 @@ impl Worker {
             alive: false,
             last_seq: 0,
             last_change: Instant::now(),
-            last_reply: 0,
             last_error_seq: None,
             next_request: 1,
             sched: Scheduler::default(),
@@ -264,7 +262,7 @@ impl Worker {
             return;
         }
         self.last_open_try = Some(Instant::now());
-        match open_ports(&self.sh.names) {
+        match CorePorts::open(&self.sh.names, Peer::Gateway) {
             Ok(p) => {
                 self.ports = Some(p);
                 self.opened_at = Instant::now();
@@ -272,11 +270,11 @@ impl Worker {
                 self.logged = None;
             }
             Err(e) if e.is_not_running() => self.set_open_error(None),
-            Err(e) => self.open_failed(&e),
+            Err(e) => self.open_failed(e),
         }
     }
 
-    fn open_failed(&mut self, e: &OpenError) {
+    fn open_failed(&mut self, e: OpenError) {
         let text = e.to_string();
         if self.logged.as_ref() != Some(&text) {
             eprintln!(
@@ -285,12 +283,11 @@ impl Worker {
             );
             self.logged = Some(text.clone());
         }
-        let error = matches!(e, OpenError::IncompatibleLayout { .. }).then(|| {
-            BridgeError::IncompatibleLayout {
+        let error =
+            matches!(e, OpenError::Incompatible { .. }).then(|| BridgeError::IncompatibleLayout {
                 instance: self.sh.names.instance().to_string(),
-                error: text,
-            }
-        });
+                error: e,
+            });
         self.set_open_error(error);
     }
 
@@ -307,7 +304,7 @@ impl Worker {
     /// The state, when the core published a new one since the last read. A core that stopped
     /// publishing (or restarted) leaves every published request with an unknown outcome.
     fn read_state(&mut self) -> Option<StateSample> {
-        let state = *self.ports.as_ref()?.state.get();
+        let state = self.ports.as_ref()?.state();
         if state.seq != self.last_seq {
             let restarted = self.alive && state.seq < self.last_seq;
             if restarted {
@@ -315,7 +312,9 @@ impl Worker {
             }
             if !self.alive || restarted {
                 // (Re)started core: replies and errors from before are gone.
-                self.last_reply = state.reply_head;
+                if let Some(ports) = self.ports.as_mut() {
+                    ports.replies().skip_to(state.reply_head);
+                }
                 self.last_error_seq = Some(state.last_error.seq);
             }
             self.last_seq = state.seq;
@@ -335,32 +334,25 @@ impl Worker {
     /// no longer in the blocks (overwritten) is skipped; its request gets "outcome unknown"
     /// when its deadline passes.
     fn route_replies(&mut self, state: &StateSample) {
-        let Some(ports) = self.ports.as_ref() else {
+        let Some(ports) = self.ports.as_mut() else {
             return;
         };
-        let oldest = state
-            .reply_head
-            .saturating_sub((REPLY_BLOCKS * REPLY_BLOCK) as u64 - 1)
-            .max(1);
-        let mut block: Option<(u32, ReplyBlock)> = None;
-        for n in (self.last_reply + 1).max(oldest)..=state.reply_head {
-            let (key, _) = reply_location(n);
-            if block.is_none_or(|(k, _)| k != key) {
-                block = Some((key, *ports.reply_blocks[key as usize - 1].get()));
+        let (unacked, sched, pending) = (&mut self.unacked, &mut self.sched, &mut self.pending);
+        // A reply overwritten before it was read is skipped: the request waiting for it times
+        // out with "outcome unknown".
+        ports.replies().read_to(state.reply_head, |r| {
+            // Request ids are this gateway's own numbers: a reply to another client of the core
+            // (a co-located controller numbering its own requests) has another client id.
+            if let Entry::Occupied(u) = unacked.entry(r.request_id)
+                && u.get().client_id == r.client_id
+            {
+                let u = u.remove();
+                sched.answered(u.client_id, u.urgent);
             }
-            let Some(r) = block.as_ref().and_then(|(_, b)| b.reply(n)) else {
-                // Overwritten while being read (the core wrote more than the blocks hold since
-                // `state`); the request waiting for it times out with "outcome unknown".
-                continue;
-            };
-            if let Some(u) = self.unacked.remove(&r.request_id) {
-                self.sched.answered(u.client_id, u.urgent);
-            }
-            let ours = self
-                .pending
-                .get(&r.request_id)
-                .is_some_and(|p| p.client_id == r.client_id);
-            if ours && let Some(p) = self.pending.remove(&r.request_id) {
+            if let Entry::Occupied(p) = pending.entry(r.request_id)
+                && p.get().client_id == r.client_id
+            {
+                let p = p.remove();
                 let answer = match Response::decode(r) {
                     Ok(resp) if resp.kind == p.kind => Ok((resp, Box::new(*state))),
                     Ok(resp) => Err(BridgeError::Undecodable(DecodeError::Mismatch {
@@ -371,8 +363,7 @@ impl Worker {
                 };
                 let _ = p.answer.send(answer);
             }
-        }
-        self.last_reply = state.reply_head;
+        });
     }
 
     /// Broadcast a safety error not reported yet.
@@ -418,21 +409,14 @@ impl Worker {
             }
             let Some(request) = q.job.requests.get(q.next) else {
                 let q = self.sched.finish(g).expect("granted job exists");
-                let _ = q.job.answer.send(Err(BridgeError::Publish(
-                    "the command carries no request for the real-time core".into(),
-                )));
+                let _ = q.job.answer.send(Err(BridgeError::NoRequest));
                 continue;
             };
-            let mut s = request.encode();
-            s.client_id = q.job.client_id;
-            s.request_id = self.next_request;
+            let (client_id, request_id) = (q.job.client_id, self.next_request);
             let ports = self.ports.as_ref().expect("checked above");
-            if let Err(e) = ports.publisher.send_copy(s) {
+            if let Err(e) = ports.publish(request, client_id, request_id) {
                 let q = self.sched.finish(g).expect("granted job exists");
-                let _ = q
-                    .job
-                    .answer
-                    .send(Err(BridgeError::Publish(format!("{e:?}"))));
+                let _ = q.job.answer.send(Err(BridgeError::Publish(e)));
                 continue;
             }
             self.next_request += 1;
@@ -440,9 +424,9 @@ impl Worker {
             let last = q.next == q.job.requests.len();
             self.sched.sent(g);
             self.unacked.insert(
-                s.request_id,
+                request_id,
                 Unacked {
-                    client_id: s.client_id,
+                    client_id,
                     urgent: g.urgent,
                     sent: Instant::now(),
                 },
@@ -450,7 +434,7 @@ impl Worker {
             if last {
                 let q = self.sched.finish(g).expect("granted job exists");
                 self.pending.insert(
-                    s.request_id,
+                    request_id,
                     Pending {
                         client_id: q.job.client_id,
                         kind: request_kind(&q.job),

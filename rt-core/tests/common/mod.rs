@@ -7,7 +7,7 @@
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::reader::Reader;
 use iceoryx2::prelude::*;
-use mcm_shared::service::ServiceNames;
+use mcm_shared::service::{ServiceNames, service_name};
 use std::io::{BufRead, BufReader, Read};
 use std::process::{Child, Command, ExitStatus, Stdio};
 
@@ -20,14 +20,9 @@ pub fn node() -> Node<ipc::Service> {
         .unwrap()
 }
 
-/// `name` as an iceoryx2 service name.
-pub fn service_name(name: &str) -> ServiceName {
-    name.try_into().unwrap()
-}
-
 /// A reader of the state blackboard the core of `names` created.
 pub fn state_reader(node: &Node<ipc::Service>, names: &ServiceNames) -> Reader<ipc::Service, u32> {
-    node.service_builder(&service_name(&names.state()))
+    node.service_builder(&service_name(&names.state()).unwrap())
         .blackboard_opener::<u32>()
         .open()
         .expect("the core created the state service")
@@ -38,7 +33,7 @@ pub fn state_reader(node: &Node<ipc::Service>, names: &ServiceNames) -> Reader<i
 
 /// A listener of the state event the core of `names` created.
 pub fn state_listener(node: &Node<ipc::Service>, names: &ServiceNames) -> Listener<ipc::Service> {
-    node.service_builder(&service_name(&names.state_event()))
+    node.service_builder(&service_name(&names.state_event()).unwrap())
         .event()
         .open()
         .unwrap()

@@ -18,7 +18,7 @@
 //! OK and every mode reached, so the count cannot be zero for lack of work.
 
 use super::Meter;
-use crate::common::{node, service_name, state_listener, state_reader};
+use crate::common::{node, state_listener, state_reader};
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::reader::EntryHandle;
@@ -40,7 +40,7 @@ use mcm_shared::sample::{
     AXIS_ONLINE, CommandSample, ReplyEntries, STATE_ALL_CALIBRATED, STATE_SIMULATED, StateSample,
     flight_recorder_file, open_reply_entries, read_reply,
 };
-use mcm_shared::service::{STATE_EVENT_ID, STATE_KEY, ServiceNames};
+use mcm_shared::service::{STATE_EVENT_ID, STATE_KEY, ServiceNames, service_name};
 use mcm_sim::SimBus;
 
 const CLIENT: u64 = 77;
@@ -62,7 +62,7 @@ impl Client {
         let state = reader.entry::<StateSample>(&STATE_KEY).unwrap();
         let replies = open_reply_entries(&reader).unwrap();
         let publisher = node
-            .service_builder(&service_name(&names.command()))
+            .service_builder(&service_name(&names.command()).unwrap())
             .publish_subscribe::<CommandSample>()
             .open()
             .unwrap()

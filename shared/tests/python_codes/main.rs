@@ -1,0 +1,535 @@
+//! The Python package's `python/src/mcm/codes.py` is generated from the contract: the wire
+//! codes (`mcm_shared::mode`), the numeric arguments (`mcm_shared::ranges::ARGS`) and the words
+//! of every refusal (`Reason`'s and `ArgRefusal`'s `Display` in `mcm_shared::reply` and
+//! `mcm_shared::ranges`). This test fails when the checked-in file differs from what it
+//! generates now; `MCM_UPDATE_PYTHON=1 cargo test -p mcm-shared --test python_codes` writes it
+//! anew.
+//!
+//! The words are not copied: each reason is rendered by Rust with sentinel figures (axis 5,
+//! 11.123456789, ...), and the rendering of each figure is replaced by a placeholder the Python
+//! side fills from the reason's wire form (`code`, `axis`, `values`) in the same format. A
+//! figure whose rendering is not found (Rust's words changed their format) fails here.
+//! `tests/python_layout.rs` then checks the generated `reason_text` against Rust's words for
+//! sample reasons of every kind.
+
+mod text;
+
+use mcm_shared::command::Axis;
+use mcm_shared::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
+use mcm_shared::ranges::{ARGS, ArgRefusal, Num};
+use mcm_shared::reply::{CalibrationFailure, PvtQuantity, Reason};
+use std::fmt::Write;
+use std::path::Path;
+use text::{FRAGMENTS, FUNCTIONS, PRELUDE};
+
+/// Sentinel figures: distinct, and no rendering of one is part of another's.
+const S: [f64; 4] = [11.123456789, 22.234567891, 33.345678912, 44.456789123];
+const AXIS: u8 = 5;
+
+/// How Rust writes a figure, and the same in Python.
+#[derive(Clone, Copy)]
+enum Fmt {
+    /// `{:.3}`
+    F3,
+    /// `{:.1}`
+    F1,
+    /// `Num` (12 significant digits)
+    Num,
+    /// an integer
+    Int,
+    /// `{:04X}`
+    Hex4,
+}
+
+/// A piece of the words replaced by a placeholder: what Rust wrote, the placeholder's text
+/// and the Python expression that gives it.
+struct Slot {
+    needle: String,
+    replacement: String,
+    key: String,
+    py: String,
+}
+
+/// One way a code is worded: a Python condition (besides the code) and a reason with
+/// sentinels.
+struct Case {
+    code: RejectCode,
+    guard: String,
+    reason: Reason,
+    slots: Vec<Slot>,
+}
+
+fn axis() -> Axis {
+    Axis::new(AXIS).expect("axis 1..6")
+}
+
+/// The wire slot of reason `r` that holds `x`.
+fn wire_slot(r: &Reason, x: f64) -> usize {
+    r.to_wire()
+        .values
+        .iter()
+        .position(|&v| v == x)
+        .unwrap_or_else(|| panic!("{r:?}: no wire value {x}"))
+}
+
+/// The figure `x` of reason `r`, written as `fmt`, as the placeholder `key`.
+fn figure(r: &Reason, key: &str, x: f64, fmt: Fmt) -> Slot {
+    let k = wire_slot(r, x);
+    let (needle, py) = match fmt {
+        Fmt::F3 => (format!("{x:.3}"), format!("\"%.3f\" % v[{k}]")),
+        Fmt::F1 => (format!("{x:.1}"), format!("\"%.1f\" % v[{k}]")),
+        Fmt::Num => (Num(x).to_string(), format!("num(v[{k}])")),
+        Fmt::Int => (format!("{}", x as u64), format!("str(int(v[{k}]))")),
+        Fmt::Hex4 => (
+            format!("{:04X}", x as u64),
+            format!("\"%04X\" % int(v[{k}])"),
+        ),
+    };
+    custom(needle, key, py)
+}
+
+/// The axis, as the words write it ("axis 5").
+fn axis_slot() -> Slot {
+    Slot {
+        needle: format!("axis {AXIS}"),
+        replacement: "axis %(axis)s".into(),
+        key: "axis".into(),
+        py: "str(axis)".into(),
+    }
+}
+
+/// A piece with its own Python expression.
+fn custom(needle: String, key: &str, py: String) -> Slot {
+    Slot {
+        needle,
+        replacement: format!("%({key})s"),
+        key: key.into(),
+        py,
+    }
+}
+
+fn case(reason: Reason, guard: &str, slots: impl FnOnce(&Reason) -> Vec<Slot>) -> Case {
+    Case {
+        code: reason.code(),
+        guard: guard.into(),
+        slots: slots(&reason),
+        reason,
+    }
+}
+
+/// Every way a reason is worded, in the order the Python side tries them per code.
+fn cases() -> Vec<Case> {
+    let a = axis();
+    let [s0, s1, s2, s3] = S;
+    let mode = Mode::VelocityControl;
+    let mut out = vec![
+        case(Reason::WrongMode { mode }, "", |r| {
+            let k = wire_slot(r, f64::from(mode.to_wire()));
+            vec![custom(
+                mode.as_str().into(),
+                "mode",
+                format!("MODES.get(int(v[{k}]), \"?\")"),
+            )]
+        }),
+        case(Reason::NotCalibrated { axis: a }, "", |_| vec![axis_slot()]),
+        case(Reason::EmergencyStop, "", |_| vec![]),
+    ];
+    // One drive, or several (the others in a mask).
+    let several = Reason::DriveDisconnected {
+        axis: Axis::new(1).expect("axis 1"),
+        also: 0b110,
+    };
+    let k = wire_slot(&several, 6.0);
+    out.push(case(
+        Reason::DriveDisconnected { axis: a, also: 0 },
+        &format!("len(_lost_axes(axis, v[{k}])) <= 1"),
+        |_| vec![axis_slot()],
+    ));
+    out.push(case(several, "", |_| {
+        vec![custom(
+            "1, 2 and 3".into(),
+            "axes",
+            format!("_axes_words(_lost_axes(axis, v[{k}]))"),
+        )]
+    }));
+    let code = 0xBEEF;
+    out.push(case(
+        Reason::DriveFault {
+            axis: Some(a),
+            code,
+        },
+        "axis != 0",
+        |r| vec![axis_slot(), figure(r, "code", f64::from(code), Fmt::Hex4)],
+    ));
+    out.push(case(Reason::DriveFault { axis: None, code }, "", |r| {
+        vec![figure(r, "code", f64::from(code), Fmt::Hex4)]
+    }));
+    // Out of range: a value whose range is every finite number, else a range; each with or
+    // without an axis.
+    for (guard, axis, min, max) in [
+        (
+            "axis != 0 and _every_finite_number(v)",
+            Some(a),
+            f64::MIN,
+            f64::MAX,
+        ),
+        ("_every_finite_number(v)", None, f64::MIN, f64::MAX),
+        ("axis != 0", Some(a), s1, s2),
+        ("", None, s1, s2),
+    ] {
+        let reason = Reason::OutOfRange {
+            axis,
+            value: s0,
+            min,
+            max,
+        };
+        out.push(case(reason, guard, |r| {
+            let mut slots = vec![figure(r, "value", s0, Fmt::Num)];
+            if axis.is_some() {
+                slots.push(axis_slot());
+            }
+            if min != f64::MIN {
+                slots.push(figure(r, "lo", s1, Fmt::Num));
+                slots.push(figure(r, "hi", s2, Fmt::Num));
+            }
+            slots
+        }));
+    }
+    for reason in [Reason::NotAvailable, Reason::NotSimulated] {
+        out.push(case(reason, "", |_| vec![]));
+    }
+    let queue = Reason::QueueFull {
+        offered: 4101,
+        free: 4202,
+    };
+    out.push(case(queue, "", |r| {
+        vec![
+            figure(r, "offered", 4101.0, Fmt::Int),
+            figure(r, "free", 4202.0, Fmt::Int),
+        ]
+    }));
+    let limit = |r: &Reason| {
+        vec![
+            axis_slot(),
+            figure(r, "value", s0, Fmt::F3),
+            figure(r, "limit", s1, Fmt::F3),
+        ]
+    };
+    for reason in [
+        Reason::PositionLimit {
+            axis: a,
+            position_deg: s0,
+            limit_deg: s1,
+        },
+        Reason::VelocityLimit {
+            axis: a,
+            velocity_deg_s: s0,
+            limit_deg_s: s1,
+        },
+        Reason::BrakingDistance {
+            axis: a,
+            stop_deg: s0,
+            limit_deg: s1,
+        },
+        Reason::FollowingError {
+            axis: a,
+            error_deg: s0,
+            band_deg: s1,
+        },
+    ] {
+        out.push(case(reason, "", limit));
+    }
+    // Calibration: the cause is the first value.
+    for cause in [
+        CalibrationFailure::NoStop { searched_deg: s1 },
+        CalibrationFailure::NoEdge { searched_deg: s1 },
+        CalibrationFailure::DriveLost,
+        CalibrationFailure::Inconsistent {
+            first_deg: s1,
+            second_deg: s2,
+            tolerance_deg: s3,
+        },
+        CalibrationFailure::Implausible {
+            found_deg: s1,
+            configured_deg: s2,
+            tolerance_deg: s3,
+        },
+    ] {
+        let reason = Reason::CalibrationFailed { axis: a, cause };
+        let which = reason.to_wire().values[0];
+        out.push(case(reason, &format!("int(v[0]) == {which}"), |r| {
+            let mut slots = vec![axis_slot()];
+            match cause {
+                CalibrationFailure::NoStop { .. } | CalibrationFailure::NoEdge { .. } => {
+                    slots.push(figure(r, "searched", s1, Fmt::F1));
+                }
+                CalibrationFailure::DriveLost => {}
+                CalibrationFailure::Inconsistent { .. }
+                | CalibrationFailure::Implausible { .. } => {
+                    slots.push(figure(r, "first", s1, Fmt::F3));
+                    slots.push(figure(r, "second", s2, Fmt::F3));
+                    slots.push(figure(r, "tolerance", s3, Fmt::F3));
+                }
+            }
+            slots
+        }));
+    }
+    out.push(case(Reason::Aborted, "", |_| vec![]));
+    out.push(case(Reason::Busy { remaining_s: s0 }, "", |r| {
+        vec![figure(r, "left", s0, Fmt::F3)]
+    }));
+    // A PVT point: the quantity is the second value.
+    for quantity in [
+        PvtQuantity::Position,
+        PvtQuantity::Velocity,
+        PvtQuantity::Acceleration,
+    ] {
+        let reason = Reason::PvtPoint {
+            axis: a,
+            point: 4101,
+            quantity,
+            value: s0,
+            limit: s1,
+        };
+        let which = reason.to_wire().values[1];
+        out.push(case(reason, &format!("int(v[1]) == {which}"), |r| {
+            vec![
+                axis_slot(),
+                figure(r, "point", 4101.0, Fmt::Int),
+                figure(r, "value", s0, Fmt::Num),
+                figure(r, "limit", s1, Fmt::Num),
+            ]
+        }));
+    }
+    let unreachable = Reason::Unreachable {
+        axis: a,
+        target_deg: s0,
+        min_deg: s1,
+        max_deg: s2,
+    };
+    out.push(case(unreachable, "", |r| {
+        vec![
+            axis_slot(),
+            figure(r, "target", s0, Fmt::Num),
+            figure(r, "lo", s1, Fmt::Num),
+            figure(r, "hi", s2, Fmt::Num),
+        ]
+    }));
+    let owner = 0x1a2b_0000_0003_u64;
+    out.push(case(Reason::NotOwner { owner }, "", |r| {
+        let high = wire_slot(r, (owner >> 32) as f64);
+        let low = wire_slot(r, (owner & 0xFFFF_FFFF) as f64);
+        vec![custom(
+            format!("{owner:#x}"),
+            "owner",
+            format!("\"%#x\" % ((int(v[{high}]) << 32) | int(v[{low}]))"),
+        )]
+    }));
+    out.push(case(Reason::ShuttingDown, "", |_| vec![]));
+    out
+}
+
+/// `s` as a Python string literal.
+fn py_str(s: &str) -> String {
+    format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
+}
+
+/// `text` with each slot's needle replaced (and a literal `%` doubled for Python's `%`).
+fn template(text: &str, slots: &[Slot], what: &str) -> String {
+    let mut t = text.replace('%', "%%");
+    for s in slots {
+        assert!(
+            t.contains(&s.needle),
+            "{what}: `{}` is not in the words {text:?}; did their format change?",
+            s.needle
+        );
+        t = t.replace(&s.needle, &s.replacement);
+    }
+    for x in S {
+        assert!(
+            !t.contains(&format!("{x:.1}")),
+            "{what}: a sentinel figure is left in {t:?}"
+        );
+    }
+    t
+}
+
+/// `reason_text`: per code, its cases in order.
+fn reason_text() -> String {
+    let mut out = String::from(
+        "def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
+    \"\"\"The words for a refusal, failure or safety trip, as the core's ``Reason`` gives them.\"\"\"
+    name = REJECT_CODES.get(code)
+    if name == \"out_of_range\" and int(v[3]) != 0:
+        return argument_text(int(v[3]), axis, v[0], v[1], v[2])
+",
+    );
+    for c in cases() {
+        let text = c.reason.to_string();
+        let t = template(&text, &c.slots, &format!("{:?}", c.reason));
+        let guard = if c.guard.is_empty() {
+            String::new()
+        } else {
+            format!(" and {}", c.guard)
+        };
+        let _ = writeln!(out, "    if name == \"{}\"{guard}:", c.code.as_str());
+        if c.slots.is_empty() {
+            let _ = writeln!(out, "        return {}", py_str(&t));
+        } else {
+            let _ = writeln!(out, "        return {} % {{", py_str(&t));
+            for s in &c.slots {
+                let _ = writeln!(out, "            \"{}\": {},", s.key, s.py);
+            }
+            let _ = writeln!(out, "        }}");
+        }
+    }
+    out.push_str("    return \"reason code %d is not known to this client version\" % code\n");
+    out
+}
+
+/// `_ARG_WORDS`: per argument code, its refusal's words without and with the array index.
+fn arg_words() -> String {
+    let [s0, s1, s2, _] = S;
+    let mut out = String::from(
+        "# The words of an argument refusal (``ArgRefusal``'s), per argument code
+# (``mcm_shared::ranges::ARGS``): without the element's index, and with it for the per-axis
+# arrays (\"\" for the others).
+_ARG_WORDS: Dict[int, Tuple[str, str]] = {
+",
+    );
+    for spec in ARGS {
+        let words = |axis: Option<Axis>| {
+            let r = ArgRefusal {
+                arg: spec.arg,
+                axis,
+                value: s0,
+                min: s1,
+                max: s2,
+            };
+            let text = r.to_string();
+            let mut slots = vec![custom(Num(s0).to_string(), "value", String::new())];
+            for (x, key) in [(s1, "lo"), (s2, "hi")] {
+                // An argument that is "other than 0, at most ..." has no lower bound in words.
+                if text.contains(&Num(x).to_string()) {
+                    slots.push(custom(Num(x).to_string(), key, String::new()));
+                }
+            }
+            if axis.is_some() {
+                slots.push(Slot {
+                    needle: format!("[{}]", AXIS - 1),
+                    replacement: "[%(index)s]".into(),
+                    key: "index".into(),
+                    py: String::new(),
+                });
+            }
+            template(&text, &slots, spec.name)
+        };
+        let with_index = if spec.arg.per_axis_array() {
+            py_str(&words(Some(axis())))
+        } else {
+            "\"\"".into()
+        };
+        let _ = writeln!(
+            out,
+            "    {}: (\n        {},\n        {},\n    ),",
+            spec.arg as u32,
+            py_str(&words(None)),
+            with_index
+        );
+    }
+    out.push_str("}\n");
+    out
+}
+
+/// `NAME: TYPE = {...}` of (key, value) rows, with its `#:` doc.
+fn table(
+    name: &str,
+    ty: &str,
+    doc: &str,
+    rows: impl IntoIterator<Item = (String, String)>,
+) -> String {
+    let mut out = format!("#: {doc}\n{name}: {ty} = {{\n");
+    for (k, v) in rows {
+        let _ = writeln!(out, "    {k}: {v},");
+    }
+    out.push_str("}\n");
+    out
+}
+
+fn render() -> String {
+    let mut out = String::from(PRELUDE);
+    out.push('\n');
+    out.push_str(&table(
+        "MODES",
+        "Dict[int, str]",
+        "Operating modes by wire value.",
+        Mode::ALL
+            .iter()
+            .map(|m| (m.to_wire().to_string(), py_str(m.as_str()))),
+    ));
+    out.push('\n');
+    out.push_str(&table(
+        "KINDS",
+        "Dict[str, int]",
+        "Command kinds by protocol name (``CommandSample.kind``).",
+        CommandKind::ALL
+            .iter()
+            .map(|k| (py_str(k.as_str()), k.to_wire().to_string())),
+    ));
+    out.push_str("KIND_NAMES: Dict[int, str] = {v: k for k, v in KINDS.items()}\n\n");
+    out.push_str(
+        "#: Commands only the client that controls the arm may send \
+         (``CommandKind::needs_control``).\nNEEDS_CONTROL = frozenset(\n    [\n",
+    );
+    for k in CommandKind::ALL.iter().filter(|k| k.needs_control()) {
+        let _ = writeln!(out, "        {},", py_str(k.as_str()));
+    }
+    out.push_str("    ]\n)\n\n#: ``Reply.status`` values.\n");
+    for s in ReplyStatus::ALL {
+        let _ = writeln!(out, "REPLY_{} = {}", s.as_str().to_uppercase(), s.to_wire());
+    }
+    out.push('\n');
+    out.push_str(&table(
+        "REJECT_CODES",
+        "Dict[int, str]",
+        "Reject codes by wire value (``RejectCode``); also the ``check`` of a safety error.",
+        RejectCode::ALL
+            .iter()
+            .map(|c| (c.to_wire().to_string(), py_str(c.as_str()))),
+    ));
+    out.push('\n');
+    out.push_str(&arg_words());
+    out.push_str(FUNCTIONS);
+    out.push_str("\n\n");
+    out.push_str(&reason_text());
+    out.push_str("\n\n");
+    out.push_str(FRAGMENTS);
+    out
+}
+
+#[test]
+fn the_checked_in_codes_py_is_what_the_contract_generates() {
+    let generated = render();
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../python/src/mcm/codes.py");
+    if std::env::var_os("MCM_UPDATE_PYTHON").is_some() {
+        std::fs::write(&path, &generated).expect("write python/src/mcm/codes.py");
+    }
+    let checked_in = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        checked_in == generated,
+        "python/src/mcm/codes.py differs from what the contract generates; regenerate it with \
+         `MCM_UPDATE_PYTHON=1 cargo test -p mcm-shared --test python_codes` and commit it"
+    );
+}
+
+#[test]
+fn every_reject_code_has_words() {
+    let cases = cases();
+    for code in RejectCode::ALL {
+        // `none` is no refusal.
+        assert!(
+            *code == RejectCode::None || cases.iter().any(|c| c.code == *code),
+            "reject code {code} has no words in the generated reason_text"
+        );
+    }
+}
