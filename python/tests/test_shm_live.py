@@ -1,6 +1,6 @@
 """The shared-memory client against a running MCM (simulated), named by the environment
 variable ``MCM_INSTANCE`` (``tests/examples_python.rs`` starts one and sets it). Skipped,
-saying so, without it."""
+saying so, without it; a failure instead when ``CI`` is set."""
 
 import math
 import os
@@ -9,10 +9,12 @@ import unittest
 
 import mcm
 
+from . import needs
+
 INSTANCE = os.environ.get("MCM_INSTANCE")
 
 
-@unittest.skipUnless(INSTANCE, "MCM_INSTANCE is not set: run `cargo test --test examples_python`")
+@needs.env("MCM_INSTANCE", "run `cargo test --test examples_python`")
 class ShmLive(unittest.TestCase):
     def setUp(self) -> None:
         self.a = mcm.ShmClient(str(INSTANCE))
