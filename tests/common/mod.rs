@@ -3,6 +3,7 @@
 
 #![allow(dead_code)]
 
+pub mod flight;
 pub mod python;
 
 use serde_json::Value;
@@ -418,6 +419,12 @@ impl EventClient {
     /// Send a command and return its result (spontaneous errors go to `events`).
     pub fn request_within(&mut self, json: &str, wait: Duration) -> Value {
         self.send(json);
+        self.result_within(json, wait)
+    }
+
+    /// The result of the command `json` sent before ([`EventClient::send`]); spontaneous
+    /// errors that come first go to `events`.
+    pub fn result_within(&mut self, json: &str, wait: Duration) -> Value {
         loop {
             let v = self
                 .next(wait)
