@@ -6,6 +6,7 @@
 
 mod common;
 
+use common::flight::Flight;
 use common::{Client, Mcm, WAIT, unique_instance};
 use serde_json::Value;
 use std::process::{Command, Stdio};
@@ -37,6 +38,14 @@ fn spontaneous(v: &Value) -> bool {
 fn reply(c: &mut Client, json: &str) -> Value {
     c.send_raw(format!("{json}\n").as_bytes());
     c.recv_matching(|v| !spontaneous(v))
+}
+
+/// One look at the arm: the robot's time (of the newest state) and, right after it, the true
+/// joint angles.
+fn look(c: &mut Client) -> (f64, [f64; 6]) {
+    let s = reply(c, STATUS);
+    assert_eq!(s["result_type"], "status", "{s}");
+    (six(&s["axis_states"]["time"])[0], true_position(c))
 }
 
 fn true_position(c: &mut Client) -> [f64; 6] {
@@ -95,7 +104,8 @@ fn hold(c: &mut Client) {
 
 #[test]
 fn hold_keeps_the_arm_still() {
-    const OBSERVE: Duration = Duration::from_secs(3);
+    const OBSERVE_S: f64 = 3.0;
+    const MIN_LOOKS: usize = 15;
     const BAND_DEG: f64 = 0.05;
     /// How far enabling the drives under gravity may move the arm: a quarter of the
     /// following-error band (`following_error_deg` = 2). In this pose it is 0.22 deg on axis 2
@@ -115,31 +125,31 @@ fn hold_keeps_the_arm_still() {
 
     // Enabling under gravity: the brakes open and the position loops take the load, which
     // moves the arm a little until they have settled. Follow that as closely as the round
-    // trips allow, until the arm has been still (within 0.001 deg) for half a second.
-    const STILL_FOR: Duration = Duration::from_millis(500);
+    // trips allow, until the arm has been still (within 0.001 deg) for half a second of the
+    // robot's clock.
+    const STILL_FOR_S: f64 = 0.5;
     let mut bump = [0.0f64; 6];
-    let mut recent: Vec<(Instant, [f64; 6])> = Vec::new();
+    let mut recent: Vec<(f64, [f64; 6])> = Vec::new();
     let deadline = Instant::now() + WAIT;
     loop {
-        let p = true_position(&mut c);
-        let now = Instant::now();
+        let (t, p) = look(&mut c);
         for i in 0..6 {
             bump[i] = bump[i].max((p[i] - braked[i]).abs());
         }
-        recent.push((now, p));
+        recent.push((t, p));
         let moved_since = recent
             .iter()
             .rev()
             .find(|(_, q)| (0..6).any(|i| (q[i] - p[i]).abs() >= 0.001))
             .map_or(recent[0].0, |(t, _)| *t);
-        if now - moved_since >= STILL_FOR {
+        if t - moved_since >= STILL_FOR_S {
             break;
         }
         assert!(
-            now < deadline,
+            Instant::now() < deadline,
             "the arm did not settle within {WAIT:?} after hold: {p:?}"
         );
-        // Pacing: one look per ~20 ms (a status round trip takes about one cycle anyway).
+        // Pacing: one look per ~20 ms.
         std::thread::sleep(Duration::from_millis(20));
     }
     eprintln!(
@@ -154,14 +164,22 @@ fn hold_keeps_the_arm_still() {
         );
     }
 
-    let first = true_position(&mut c);
+    // Watch for OBSERVE_S of the robot's clock, at least MIN_LOOKS looks (one every ~100 ms).
+    let (t0, first) = look(&mut c);
     let (mut min, mut max) = (first, first);
     let mut samples = 1;
-    let end = Instant::now() + OBSERVE;
-    while Instant::now() < end {
-        // Pacing of the observation (one look every ~100 ms), not a synchronisation.
+    let deadline = Instant::now() + WAIT;
+    let mut t = t0;
+    while t - t0 < OBSERVE_S || samples < MIN_LOOKS {
+        assert!(
+            Instant::now() < deadline,
+            "{samples} looks over {:.3} s of robot time within {WAIT:?}",
+            t - t0
+        );
+        // Pacing of the observation, not a synchronisation.
         std::thread::sleep(Duration::from_millis(100));
-        let p = true_position(&mut c);
+        let p;
+        (t, p) = look(&mut c);
         for i in 0..6 {
             min[i] = min[i].min(p[i]);
             max[i] = max[i].max(p[i]);
@@ -170,8 +188,10 @@ fn hold_keeps_the_arm_still() {
     }
     let last = true_position(&mut c);
     let spread: [f64; 6] = core::array::from_fn(|i| max[i] - min[i]);
-    eprintln!("HOLD: {samples} looks in {OBSERVE:?}, spread per axis [deg] {spread:.6?}");
-    assert!(samples >= 15, "only {samples} looks in {OBSERVE:?}");
+    eprintln!(
+        "HOLD: {samples} looks in {:.3} s of robot time, spread per axis [deg] {spread:.6?}",
+        t - t0
+    );
     for i in 0..6 {
         let spread = max[i] - min[i];
         assert!(
@@ -184,7 +204,7 @@ fn hold_keeps_the_arm_still() {
         let drift = (last[i] - first[i]).abs();
         assert!(
             drift < BAND_DEG,
-            "axis {} is {drift:.4} deg away from where it was {OBSERVE:?} ago",
+            "axis {} is {drift:.4} deg away from where it was {OBSERVE_S} s ago",
             i + 1
         );
         let drift = (last[i] - braked[i]).abs();
@@ -225,7 +245,6 @@ fn a_silent_drive_is_detected_within_the_heartbeat_timeout_and_hold_recovers() {
     hold(&mut c);
     let before = reply(&mut c, STATUS);
     assert_eq!(before["operating_mode"], "HOLD", "{before}");
-    let t0 = six(&before["axis_states"]["time"])[0];
 
     c.send_raw(b"{\"command\":\"sim\",\"arguments\":{\"disconnect_axis\":3}}\n");
     // The sim result and the spontaneous error, in whichever order they come.
@@ -249,13 +268,25 @@ fn a_silent_drive_is_detected_within_the_heartbeat_timeout_and_hold_recovers() {
     let after = reply(&mut c, STATUS);
     assert_eq!(after["operating_mode"], "ERROR", "{after}");
     assert_eq!(after["detail"]["drive_online"][2], false, "{after}");
-    // An upper bound of the detection delay: from a cycle before the drive went silent to a
-    // cycle after the error had reached this client.
-    let delay = six(&after["axis_states"]["time"])[0] - t0;
-    eprintln!("silent drive reported within {:.1} ms", delay * 1e3);
+    // The detection delay on the robot's clock, from the flight-recorder file the error names:
+    // from the cycle that served the `sim` (the drive went silent) to the trip.
+    let file = std::path::PathBuf::from(
+        error["flight_recorder"]
+            .as_str()
+            .unwrap_or_else(|| panic!("no flight_recorder in {error}")),
+    );
+    let f = Flight::read(&file);
+    let _ = std::fs::remove_file(&file);
+    let (silent, trip) = (f.last_sim_before_trip(), f.last());
+    let delay = f.num(trip, "t_s") - f.num(silent, "t_s");
+    eprintln!(
+        "silent drive reported {:.1} ms ({} cycles) after it went silent",
+        delay * 1e3,
+        f.num(trip, "cycle") - f.num(silent, "cycle")
+    );
     let allowed = HEARTBEAT_TIMEOUT_S + 4.0 * PERIOD_S;
     assert!(
-        delay < allowed,
+        delay > 0.0 && delay < allowed,
         "the silent drive was reported {:.1} ms after it went silent; allowed {:.1} ms",
         delay * 1e3,
         allowed * 1e3

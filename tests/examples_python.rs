@@ -3,20 +3,35 @@
 //! shared-memory tests, each example run as a user would run it, and the effect checked on the
 //! simulation's ground truth (the arm moved, the spring gave way, CSV rows, a PNG of a real
 //! flight-recorder file). Python comes from a virtual environment under the target directory
-//! (`tests/common/python.rs`); without Python or the network the tests are skipped, saying so,
-//! or fail when `CI` is set.
+//! (`tests/common/python.rs`); without Python the tests are skipped, saying so, or fail when
+//! `CI` is set; a pip install that fails (no network) fails them. Every Python test that runs
+//! here must run and pass: a skipped one is a failure (unittest counts it in "Ran N").
 
 mod common;
 
+use common::python::venv_or_skip;
 use common::{Client, Mcm, WAIT, assert_ok, python, six};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-fn venv_or_skip(test: &str) -> Option<PathBuf> {
-    python::venv().map_or_else(|e| python::missing(test, &e), Some)
-}
+/// The share [%] of the benchmark's answers that must be applied in the very next cycle here:
+/// below its target on an idle machine (99.9 %), since the tests load this one.
+const BENCH_TARGET_PERCENT: f64 = 90.0;
+
+/// The modules of `python/tests/` that need what another test sets up, and that test: they
+/// skip without it (fail under `CI`), so the package's unit tests leave them out.
+const RUN_ELSEWHERE: [(&str, &str); 2] = [
+    (
+        "test_layout",
+        "tests/python_layout.rs (MCM_LAYOUT_JSON, the Rust layouts)",
+    ),
+    (
+        "test_shm_live",
+        "shared_memory_client_and_examples_run_at_the_cycle_rate below (MCM_INSTANCE, a running MCM)",
+    ),
+];
 
 /// Run `examples/python/<name>.py` against `mcm` with `args`; its stdout (it must succeed).
 fn example(py: &Path, mcm: &Mcm, name: &str, args: &[&str]) -> String {
@@ -99,13 +114,30 @@ fn python_package_unit_tests_pass() {
     let Some(py) = venv_or_skip("python_package_unit_tests_pass") else {
         return;
     };
-    let log = python::unittest(&py, &["discover", "-s", "tests", "-t", "."], &[])
+    // Every module of python/tests/ but those run elsewhere with what they need.
+    let dir = python::repo_root().join("python/tests");
+    let mut modules: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .filter_map(|n| Some(n.strip_prefix("test_")?.strip_suffix(".py")?.to_string()))
+        .map(|n| format!("test_{n}"))
+        .collect();
+    modules.sort();
+    for (module, runner) in RUN_ELSEWHERE {
+        assert!(
+            modules.iter().any(|m| m == module),
+            "python/tests/{module}.py (run by {runner}) is gone: update RUN_ELSEWHERE"
+        );
+    }
+    modules.retain(|m| !RUN_ELSEWHERE.iter().any(|(other, _)| m == other));
+    let names: Vec<&str> = modules.iter().map(String::as_str).collect();
+    let expected = python::tests_defined(&names);
+    assert!(expected >= 20, "the package's unit tests: {names:?}");
+    let args: Vec<String> = names.iter().map(|m| format!("tests.{m}")).collect();
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let log = python::unittest(&py, &args, &[])
         .unwrap_or_else(|e| panic!("the Python package's unit tests failed: {e}"));
-    let ran = number_after(&log, "\nRan ");
-    assert!(
-        ran >= 20.0,
-        "expected the package's unit tests to run: {log}"
-    );
+    python::assert_all_passed(&log, expected);
 }
 
 #[test]
@@ -278,31 +310,37 @@ fn shared_memory_client_and_examples_run_at_the_cycle_rate() {
         &[("MCM_INSTANCE", mcm.instance.as_ref())],
     )
     .unwrap_or_else(|e| panic!("the live shared-memory tests failed: {e}"));
-    assert!(
-        log.contains("Ran 7 tests") && !log.contains("skipped"),
-        "{log}"
-    );
+    python::assert_all_passed(&log, python::tests_defined(&["test_shm_live"]));
 
-    // The benchmark runs (its verdict depends on the machine's load: not asserted here).
+    // The benchmark (python/bench/control_loop.py) in TORQUE_CONTROL over 400 cycles, with a
+    // target this machine can hold under test load (the benchmark's own 99.9 % is for an idle
+    // machine: docs/performance.md): a loop whose answers are applied late as a rule fails it,
+    // and so does one whose answers the core does not reply to.
     let port = mcm.json.port().to_string();
+    let target = BENCH_TARGET_PERCENT.to_string();
     let out = python::run(
         Command::new(&py)
             .arg(python::repo_root().join("python/bench/control_loop.py"))
             .args(["--host", "127.0.0.1", "--port", &port])
-            .args([
-                "--instance",
-                &mcm.instance,
-                "--cycles",
-                "400",
-                "--target",
-                "0",
-            ]),
+            .args(["--instance", &mcm.instance, "--cycles", "400"])
+            .args(["--target", &target]),
     )
     .unwrap_or_else(|e| panic!("the control-loop benchmark failed: {e}"));
     let text = String::from_utf8_lossy(&out.stdout);
     eprintln!("[bench] {text}");
+    let cycles = number_after(&text, "cycles ");
+    let next = number_after(&text, "applied in the next cycle ");
+    let later = number_after(&text, "later ");
+    let unanswered = number_after(&text, "unanswered ");
+    let share = number_after(&text, "PASS: ");
+    assert_eq!(cycles, 400.0, "{text}");
+    assert_eq!(
+        (next + later, unanswered),
+        (400.0, 0.0),
+        "every answer replied to: {text}"
+    );
     assert!(
-        text.contains("cycles 400") && text.contains("PASS: "),
+        (share - 100.0 * next / 400.0).abs() < 0.001 && share >= BENCH_TARGET_PERCENT,
         "{text}"
     );
 }

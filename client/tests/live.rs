@@ -1,5 +1,5 @@
 //! Both transports against the real simulated MCM (the `mcm` launcher of this workspace, built
-//! here if missing, started with a unique instance on free ports): ownership between
+//! here from the current sources, started with a unique instance on free ports): ownership between
 //! shared-memory clients and its release on drop, events kept apart from results, safety
 //! errors on both transports, the control loop's clean ends, VELOCITY_CONTROL on both.
 
@@ -12,28 +12,37 @@ use mcm_shared::mode::RejectCode;
 use mcm_shared::reply::Reason;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
+use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 const WAIT: Duration = Duration::from_secs(20);
 
-/// The workspace's `mcm` binary in this test's profile, built if missing.
+/// The workspace's `mcm` binary in this test's profile, built by cargo once per test run (cargo
+/// builds a package's binaries only for that package's own tests, and `mcm` is the root
+/// package's): always built, so a binary left from older sources is never what is tested.
 fn mcm_binary() -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let dir = exe.parent().and_then(Path::parent).unwrap().to_path_buf();
-    let bin = dir.join("mcm");
-    if !bin.is_file() {
-        let mut cargo = Command::new(env!("CARGO"));
-        cargo.args(["build", "-p", "mcm"]);
-        if dir.file_name().is_some_and(|n| n == "release") {
-            cargo.arg("--release");
-        }
-        let status = cargo
-            .env("CARGO_TARGET_DIR", dir.parent().unwrap())
-            .status()
-            .unwrap();
-        assert!(status.success(), "cargo build -p mcm: {status}");
-    }
-    bin
+    static BUILT: OnceLock<PathBuf> = OnceLock::new();
+    BUILT
+        .get_or_init(|| {
+            let exe = std::env::current_exe().unwrap();
+            // target/<profile>/deps/live-<hash>
+            let dir = exe.parent().and_then(Path::parent).unwrap().to_path_buf();
+            let mut cargo = Command::new(env!("CARGO"));
+            cargo.args(["build", "-p", "mcm", "--bin", "mcm"]);
+            if dir.file_name().is_some_and(|n| n == "release") {
+                cargo.arg("--release");
+            }
+            let status = cargo
+                .env("CARGO_TARGET_DIR", dir.parent().unwrap())
+                .current_dir(env!("CARGO_MANIFEST_DIR"))
+                .status()
+                .expect("run cargo build -p mcm");
+            assert!(status.success(), "cargo build -p mcm --bin mcm: {status}");
+            let bin = dir.join("mcm");
+            assert!(bin.is_file(), "cargo built no {}", bin.display());
+            bin
+        })
+        .clone()
 }
 
 fn start(tag: &str) -> SimulatedMcm {

@@ -91,47 +91,4 @@ pub fn on_thread_start() {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Linux 6.12 introduced custom slices for `SCHED_OTHER` (reported back by sched_getattr).
-    fn kernel_has_custom_slices() -> bool {
-        let release = std::fs::read_to_string("/proc/sys/kernel/osrelease").unwrap_or_default();
-        let mut parts = release.trim().split(['.', '-']);
-        let major: u32 = parts.next().and_then(|p| p.parse().ok()).unwrap_or(0);
-        let minor: u32 = parts.next().and_then(|p| p.parse().ok()).unwrap_or(0);
-        (major, minor) >= (6, 12)
-    }
-
-    #[test]
-    fn a_thread_gets_the_short_slice_and_keeps_its_policy_and_nice_value() {
-        std::thread::spawn(|| {
-            let before = get().unwrap();
-            assert!(request_short_slice().unwrap());
-            let after = get().unwrap();
-            assert_eq!(after.sched_policy, before.sched_policy);
-            assert_eq!(after.sched_nice, before.sched_nice);
-            if kernel_has_custom_slices() {
-                assert_eq!(after.sched_runtime, SLICE.as_nanos() as u64);
-            }
-        })
-        .join()
-        .unwrap();
-    }
-
-    #[test]
-    fn an_idle_thread_is_left_alone() {
-        std::thread::spawn(|| {
-            let idle = libc::sched_param { sched_priority: 0 };
-            // SAFETY: sets only the calling thread's policy from a local `sched_param`.
-            assert_eq!(
-                unsafe { libc::sched_setscheduler(0, libc::SCHED_IDLE, &idle) },
-                0
-            );
-            assert!(!request_short_slice().unwrap());
-            assert_eq!(get().unwrap().sched_policy, libc::SCHED_IDLE as u32);
-        })
-        .join()
-        .unwrap();
-    }
-}
+mod tests;

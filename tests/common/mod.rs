@@ -3,6 +3,7 @@
 
 #![allow(dead_code)]
 
+pub mod flight;
 pub mod python;
 
 use serde_json::Value;
@@ -17,6 +18,20 @@ static COUNTER: AtomicU32 = AtomicU32::new(0);
 
 /// How long any single wait may take before the test fails.
 pub const WAIT: Duration = Duration::from_secs(20);
+
+/// Say that `test` is skipped because `why` (with what would make it run), or fail when the
+/// environment variable `CI` is set: CI must run every test. The message goes straight to
+/// stderr, past the test harness's output capture, so it shows also when the test passes
+/// (`eprintln!` would be captured and dropped). The caller returns right after.
+pub fn skip(test: &str, why: &str) {
+    if std::env::var_os("CI").is_some() {
+        panic!("{test} cannot run: {why}; CI is set, where a skipped test is a failure");
+    }
+    let _ = writeln!(
+        std::io::stderr(),
+        "SKIPPED {test}: {why} (with CI set this is a failure)"
+    );
+}
 
 /// The program `name` on `PATH`, if any.
 pub fn find_program(name: &str) -> Option<std::path::PathBuf> {
@@ -404,6 +419,12 @@ impl EventClient {
     /// Send a command and return its result (spontaneous errors go to `events`).
     pub fn request_within(&mut self, json: &str, wait: Duration) -> Value {
         self.send(json);
+        self.result_within(json, wait)
+    }
+
+    /// The result of the command `json` sent before ([`EventClient::send`]); spontaneous
+    /// errors that come first go to `events`.
+    pub fn result_within(&mut self, json: &str, wait: Duration) -> Value {
         loop {
             let v = self
                 .next(wait)

@@ -4,8 +4,9 @@
 //! `CARGO_TARGET_TMPDIR`) and installs `./python[shm]` and matplotlib into it, once: test
 //! binaries run in parallel, so the work is done under an exclusive file lock, and a stamp file
 //! records what was installed (the package is installed again when its sources change).
-//! Without `python3`, its `venv` module or the network (first run only), the test is skipped
-//! with a message saying why, or fails when the environment variable `CI` is set.
+//! Without `python3` or its `venv` module the test is skipped, saying so ([`super::skip`]), or
+//! fails when the environment variable `CI` is set. A pip install that fails (no network, a
+//! package that does not build) fails the test, with pip's output.
 
 use std::collections::hash_map::DefaultHasher;
 use std::ffi::OsStr;
@@ -22,17 +23,36 @@ pub fn repo_root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// What a test needs from Python is missing: fail under CI, else say it is skipped.
+/// Why there is no virtual environment.
+#[derive(Debug)]
+pub enum VenvError {
+    /// Python or its `venv` module is missing on this machine: the test is skipped (fails
+    /// under `CI`).
+    Missing(String),
+    /// Making it failed (pip, the file system): the test fails.
+    Failed(String),
+}
+
+/// What a test needs from Python is missing: fail under CI, else say (visibly) it is skipped.
 /// Returns `None` to the test, which then returns early.
 pub fn missing<T>(test: &str, why: &str) -> Option<T> {
-    if std::env::var_os("CI").is_some() {
-        panic!(
-            "{test}: {why}; CI must run it: install python3 with its venv module (Debian: \
-             apt-get install python3-venv) and allow pip to reach PyPI"
-        );
-    }
-    eprintln!("{test}: SKIPPED: {why} (set CI=1 to make this a failure)");
+    super::skip(
+        test,
+        &format!(
+            "{why} (install python3 with its venv module; Debian: apt-get install python3-venv)"
+        ),
+    );
     None
+}
+
+/// The virtual environment's Python ([`venv`]); `None` after saying the test is skipped when
+/// Python is missing (a failure under `CI`); panics, with pip's output, when making it failed.
+pub fn venv_or_skip(test: &str) -> Option<PathBuf> {
+    match venv() {
+        Ok(py) => Some(py),
+        Err(VenvError::Missing(why)) => missing(test, &why),
+        Err(VenvError::Failed(why)) => panic!("{test}: {why}"),
+    }
 }
 
 /// `python3` on the PATH, if it is 3.9 or newer.
@@ -85,6 +105,42 @@ pub fn unittest(py: &Path, args: &[&str], env: &[(&str, &OsStr)]) -> Result<Stri
     let log = String::from_utf8_lossy(&out.stderr).to_string();
     eprintln!("{log}");
     Ok(log)
+}
+
+/// The test methods (`def test_...`) that the modules `modules` of `python/tests/` define.
+pub fn tests_defined(modules: &[&str]) -> usize {
+    modules
+        .iter()
+        .map(|m| {
+            let path = repo_root().join("python/tests").join(format!("{m}.py"));
+            std::fs::read_to_string(&path)
+                .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()))
+                .lines()
+                .filter(|l| l.trim_start().starts_with("def test_"))
+                .count()
+        })
+        .sum()
+}
+
+/// Assert that a unittest `log` ([`unittest`], `-v`) ran `expected` tests and that every one
+/// of them passed: none skipped (unittest counts skipped tests in its "Ran N tests"), none
+/// an expected failure.
+pub fn assert_all_passed(log: &str, expected: usize) {
+    let ran: usize = log
+        .lines()
+        .find_map(|l| l.strip_prefix("Ran ")?.split(' ').next()?.parse().ok())
+        .unwrap_or_else(|| panic!("no \"Ran N tests\" line in the unittest log:\n{log}"));
+    let summary = log
+        .lines()
+        .rev()
+        .find(|l| l.starts_with("OK") || l.starts_with("FAILED"))
+        .unwrap_or_else(|| panic!("no OK/FAILED summary in the unittest log:\n{log}"));
+    let skipped = log.lines().filter(|l| l.contains(" ... skipped")).count();
+    assert!(
+        ran == expected && summary == "OK" && skipped == 0,
+        "expected {expected} tests to run and pass, none skipped: ran {ran}, {skipped} \
+         skipped, summary {summary:?}:\n{log}"
+    );
 }
 
 /// A hash of the package's sources, so a changed package is installed again.
@@ -145,16 +201,20 @@ impl Drop for FileLock {
 }
 
 /// The virtual environment's Python, with `./python[shm]` and the extra packages installed.
-pub fn venv() -> Result<PathBuf, String> {
-    let python = system_python()?;
+pub fn venv() -> Result<PathBuf, VenvError> {
+    let python = system_python().map_err(VenvError::Missing)?;
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("python-venv");
     std::fs::create_dir_all(dir.parent().expect("the venv has a parent"))
-        .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let _lock = FileLock::take(&dir.with_extension("lock"))?;
+        .map_err(|e| VenvError::Failed(format!("cannot create {}: {e}", dir.display())))?;
+    let _lock = FileLock::take(&dir.with_extension("lock")).map_err(VenvError::Failed)?;
     let venv_python = dir.join("bin").join("python");
     if !venv_python.exists() {
         run(Command::new(&python).args(["-m", "venv"]).arg(&dir)).map_err(|e| {
-            format!("cannot create a Python virtual environment (python3-venv missing?): {e}")
+            // Debian's python3 without python3-venv leaves a venv without pip behind.
+            let _ = std::fs::remove_dir_all(&dir);
+            VenvError::Missing(format!(
+                "cannot create a Python virtual environment (python3-venv missing?): {e}"
+            ))
         })?;
     }
     let root = repo_root();
@@ -182,7 +242,8 @@ pub fn venv() -> Result<PathBuf, String> {
         .and_then(|_| pip(EXTRA_PACKAGES))
         // The same version again: pip keeps an installed package whose version did not change.
         .and_then(|_| pip(&["--force-reinstall", "--no-deps", "./python"]))
-        .map_err(|e| format!("pip could not install the mcm package (no network?): {e}"))?;
-    std::fs::write(&stamp, want).map_err(|e| format!("cannot write {}: {e}", stamp.display()))?;
+        .map_err(|e| VenvError::Failed(format!("pip could not install the mcm package: {e}")))?;
+    std::fs::write(&stamp, want)
+        .map_err(|e| VenvError::Failed(format!("cannot write {}: {e}", stamp.display())))?;
     Ok(venv_python)
 }

@@ -1,0 +1,93 @@
+//! A flight-recorder file (`docs/safety.md`, "The flight recorder") read back: one row per
+//! cycle (`cycle`, `t_s` on the robot's clock, `mode`, `command`, ...), the trip in the last
+//! row. The recorder's writer thread writes the file after the trip: [`Flight::read`] waits
+//! until it is complete.
+
+use super::WAIT;
+use mcm_shared::mode::CommandKind;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// `sim` as recorded in the `command` column.
+const SIM_COMMAND: u32 = CommandKind::Sim.to_wire();
+
+/// One flight-recorder file, parsed.
+pub struct Flight {
+    pub path: PathBuf,
+    pub header: Vec<String>,
+    pub rows: Vec<Vec<String>>,
+}
+
+impl Flight {
+    /// Poll the file at `path` until it is completely written (ends with a newline, its last
+    /// row is the trip, its size no longer changes), then parse it; panics after [`WAIT`].
+    pub fn read(path: &Path) -> Flight {
+        let deadline = Instant::now() + WAIT;
+        let mut last_len = None;
+        let text = loop {
+            if let Ok(text) = std::fs::read_to_string(path) {
+                let complete = text.ends_with('\n')
+                    && text.lines().last().and_then(|l| l.split(',').nth(2)) == Some("ERROR");
+                if complete && last_len == Some(text.len()) {
+                    break text;
+                }
+                last_len = Some(text.len());
+            }
+            assert!(
+                Instant::now() < deadline,
+                "{} not written completely within {WAIT:?}",
+                path.display()
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        };
+        let mut lines = text.lines();
+        let header = lines
+            .next()
+            .unwrap()
+            .split(',')
+            .map(str::to_string)
+            .collect();
+        let rows = lines
+            .map(|l| l.split(',').map(str::to_string).collect())
+            .collect();
+        Flight {
+            path: path.to_path_buf(),
+            header,
+            rows,
+        }
+    }
+
+    pub fn col(&self, name: &str) -> usize {
+        self.header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no column {name} in {}", self.path.display()))
+    }
+
+    pub fn text(&self, row: usize, name: &str) -> &str {
+        &self.rows[row][self.col(name)]
+    }
+
+    pub fn num(&self, row: usize, name: &str) -> f64 {
+        let s = self.text(row, name);
+        s.parse()
+            .unwrap_or_else(|_| panic!("{name} = {s:?} in row {row} is not a number"))
+    }
+
+    pub fn column(&self, name: &str) -> Vec<f64> {
+        (0..self.rows.len()).map(|r| self.num(r, name)).collect()
+    }
+
+    /// The row of the trip (the last one).
+    pub fn last(&self) -> usize {
+        self.rows.len() - 1
+    }
+
+    /// The last row before the trip where a `sim` command was served.
+    pub fn last_sim_before_trip(&self) -> usize {
+        (0..self.last())
+            .rev()
+            .find(|&r| self.num(r, "command") as u32 == SIM_COMMAND)
+            .unwrap_or_else(|| panic!("no sim command in {}", self.path.display()))
+    }
+}
