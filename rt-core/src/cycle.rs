@@ -137,5 +137,4 @@ impl<B: Bus> Cycle<B> {
 }
 
 #[cfg(test)]
-#[path = "cycle_tests.rs"]
 mod tests;

@@ -175,3 +175,6 @@ fn axis_input(fb: &AxisFeedback) -> AxisInput {
         light_barrier: fb.light_barrier,
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -245,3 +245,6 @@ impl Controller {
         self.refuse(c, e.reason());
     }
 }
+
+#[cfg(test)]
+mod tests;

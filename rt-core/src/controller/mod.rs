@@ -415,18 +415,3 @@ impl Controller {
 
 #[cfg(test)]
 mod tests;
-
-#[cfg(test)]
-mod refusals_tests;
-
-#[cfg(test)]
-mod moves_tests;
-
-#[cfg(test)]
-mod ownership_tests;
-
-#[cfg(test)]
-mod shutdown_tests;
-
-#[cfg(test)]
-mod calibration_tests;

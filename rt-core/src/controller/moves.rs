@@ -163,3 +163,6 @@ impl Controller {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -122,3 +122,6 @@ impl Controller {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -249,5 +249,4 @@ impl JointPlan {
 }
 
 #[cfg(test)]
-#[path = "online_tests.rs"]
 mod tests;
