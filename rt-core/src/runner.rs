@@ -9,7 +9,7 @@
 //! timing, record, publish the state), ends it ([`crate::edge::Edge::end`]) and then wakes the
 //! state event's listeners ([`crate::edge::Edge::signal_state`], outside the timed work). The
 //! first SIGINT or SIGTERM (checked once per cycle) starts the controlled stop
-//! ([`crate::stop`]): the loop runs on until the arm is at standstill and the drives are
+//! ([`crate::process_stop`]): the loop runs on until the arm is at standstill and the drives are
 //! disabled, or a second signal ends it at once. [`run_cycle`] runs inside the cycle; the rest
 //! is set-up and teardown.
 //!
@@ -23,10 +23,10 @@ use crate::cycle::Cycle;
 use crate::edge::{Edge, Figures};
 use crate::flight::FlightRecorder;
 use crate::ipc::{IpcSetupError, RtIpc};
+use crate::process_stop::{StopOutcome, StopSequence};
 use crate::publish::{self, CycleClock};
 use crate::realtime::{self, RtReport};
 use crate::sim_edge::{SimAccess, SimEdge};
-use crate::stop::{StopOutcome, StopSequence};
 use mcm_bus::Bus;
 use mcm_bus::candump::{LogOptions, LoggingBus};
 use mcm_shared::config::{BusBackend, RobotConfig};

@@ -18,9 +18,9 @@
 //! calibration's searches, and keeping the previous calibration when one does not complete),
 //! `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client
 //! controls the arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a
-//! cycle reports), `shutdown.rs` (the controlled stop and disable when `mcm-rt` is asked to
-//! stop), `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft speed
-//! limit).
+//! cycle reports), `shutdown_sequence.rs` (the controlled stop and disable when `mcm-rt` is
+//! asked to stop), `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft
+//! speed limit).
 
 mod calibrate;
 mod commands;
@@ -28,7 +28,7 @@ mod motion;
 mod moves;
 mod ownership;
 pub mod release;
-mod shutdown;
+mod shutdown_sequence;
 mod state;
 mod trips;
 mod velocity;
@@ -48,7 +48,7 @@ use mcm_shared::mode::Mode;
 use mcm_shared::reply::{self, Done, Outcome, Reason, Response};
 use mcm_shared::sample::{CommandSample, Reply};
 pub use motion::QUICK_STOP_FACTOR;
-pub use shutdown::{
+pub use shutdown_sequence::{
     SHUTDOWN_HOLD_NS, SHUTDOWN_MIN_BOUND_NS, ShutdownPhase, ShutdownResult, ShutdownStatus,
     TimedOutPhase,
 };
@@ -107,7 +107,7 @@ pub struct Controller {
     now_ns: u64,
     /// The client that controls the arm's motion (0: nobody); see `ownership.rs`.
     owner: u64,
-    /// The shutdown, once `mcm-rt` was asked to stop (`shutdown.rs`).
+    /// The shutdown, once `mcm-rt` was asked to stop (`shutdown_sequence.rs`).
     shutdown: Option<ShutdownStatus>,
 }
 

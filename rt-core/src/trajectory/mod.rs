@@ -15,7 +15,7 @@
 //! | [`segments`] | an axis plan as constant-jerk segments; its closed-form range and peaks |
 //! | [`hermite`] | cubic Hermite PVT segments and their closed-form limit checks |
 //! | [`pvt_queue`] | fixed-capacity ring of PVT points with atomic batch push |
-//! | [`stop`] | controlled stop from a moving state; stopping distances d₂, d₃ |
+//! | [`controlled_stop`] | controlled stop from a moving state; stopping distances d₂, d₃ |
 //!
 //! ```
 //! use mcm_rt_core::trajectory::{AxisLimits, MovePlan, PlanError};
@@ -27,22 +27,22 @@
 //! # Ok::<(), PlanError>(())
 //! ```
 
+pub mod controlled_stop;
 pub mod error;
 pub mod hermite;
 pub mod online;
 pub mod profile;
 pub mod pvt_queue;
 pub mod segments;
-pub mod stop;
 pub mod sync;
 
+pub use controlled_stop::{StopPlan, stopping_distance, stopping_distance_from};
 pub use error::{PlanError, PvtSegmentError, QueueFull, SegmentError, StopError};
 pub use hermite::{Hermite, PvtSegment};
 pub use online::{JointPlan, plan_from_state};
 pub use profile::Profile1D;
 pub use pvt_queue::{DEFAULT_PVT_CAPACITY, PvtPoint, PvtQueue};
 pub use segments::AxisPlan;
-pub use stop::{StopPlan, stopping_distance, stopping_distance_from};
 pub use sync::MovePlan;
 
 use mcm_shared::NUM_AXES;
