@@ -12,18 +12,19 @@
 //! then). The reference sent in a cycle is the one for the end of that cycle: the drives apply
 //! it at the SYNC that closes the cycle and reach it one period later.
 //!
-//! The files of this module: `mod.rs` (the cycle, enabling the drives), `state.rs` (the
-//! operating state: one enum carrying each mode's data), `commands.rs` (what each command
-//! does), `moves.rs` (`move_axis`/`move_all`, re-planned during motion), `calibrate.rs` (a
+//! The files of this module: `mod.rs` (the cycle, enabling the drives), `state.rs` (the operating
+//! state: one enum carrying each mode's data), `commands.rs` (what each command does), `exits.rs`
+//! (the one path by which a mode ends before its time: `hold`, a gone owner, a shutdown, a timeout,
+//! a trip), `moves.rs` (`move_axis`/`move_all`, re-planned during motion), `calibrate.rs` (a
 //! calibration's searches, and keeping the previous calibration when one does not complete),
-//! `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client
-//! controls the arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a
-//! cycle reports), `shutdown_sequence.rs` (the controlled stop and disable when `mcm-rt` is
-//! asked to stop), `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft
-//! speed limit).
+//! `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client controls the
+//! arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a cycle reports),
+//! `shutdown_sequence.rs` (the controlled stop and disable when `mcm-rt` is asked to stop),
+//! `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft speed limit).
 
 mod calibrate;
 mod commands;
+mod exits;
 mod motion;
 mod moves;
 mod ownership;
@@ -322,21 +323,28 @@ impl Controller {
         if fb.iter().all(|f| f.enabled) {
             match then {
                 After::Hold => {
-                    self.state = State::Hold { stop: None };
                     self.incident_reported = false;
                     self.hold_here();
-                    self.done(caller, Done::Ack);
+                    self.arrive_in_hold(caller);
                 }
                 After::Calibrate(settings) => self.start_calibration(caller, settings),
             }
-        } else if let Some(reason) = self.enable_blocker() {
-            self.state = from.state();
-            self.fail(caller, reason);
-        } else if self.now_ns >= deadline_ns {
-            self.state = from.state();
-            let axis = fb.iter().position(|f| !f.enabled).map(|i| Axis::ALL[i]);
-            self.fail(caller, Reason::DriveFault { axis, code: 0 });
+            return;
         }
+        let failed = self.enable_blocker().or_else(|| {
+            let axis = fb.iter().position(|f| !f.enabled).map(|i| Axis::ALL[i]);
+            (self.now_ns >= deadline_ns).then_some(Reason::DriveFault { axis, code: 0 })
+        });
+        if let Some(reason) = failed {
+            self.state = self.enabling_failed(caller, from, reason);
+        }
+    }
+
+    /// What `caller` waited for (an enabling for `hold`, a calibration) completed: HOLD, at
+    /// rest, and its reply.
+    pub(super) fn arrive_in_hold(&mut self, caller: Caller) {
+        self.state = State::Hold { stop: None };
+        self.done(caller, Done::Ack);
     }
 
     /// Command every axis at its measured position, at rest (the caller sets the state).
