@@ -15,6 +15,8 @@
 //!   read by the gateway's parsing and the core's checks alike;
 //! - [`cli`]: the command-line arguments the MCM programs share;
 //! - [`units`]: the unit conventions at the boundary (degrees outside, radians inside).
+//! - [`alloc_count`]: a counting global allocator, for the tests that prove a path allocates
+//!   nothing.
 //!
 //! ```
 //! use mcm_shared::{service::ServiceNames, sample::StateSample, NUM_AXES};
@@ -24,6 +26,7 @@
 //! assert_eq!(s.position.len(), NUM_AXES);
 //! ```
 
+pub mod alloc_count;
 pub mod cli;
 pub mod command;
 pub mod config;
