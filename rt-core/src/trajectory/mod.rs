@@ -57,8 +57,9 @@ pub struct AxisLimits {
 }
 
 impl AxisLimits {
-    /// The limits scaled by a velocity factor `f` as §5.2 of the motion notes does with
-    /// f_a = f: V = f·v_max, A = f·a_max, J = f·j_max. Not validated here.
+    /// The limits scaled by a velocity factor `f`: V = f·v_max, A = f·a_max, J = f·j_max (the
+    /// factor scales each axis's maximum velocity, acceleration and jerk: docs/protocol.md,
+    /// "move_axis, move_all"). Not validated here.
     pub fn scaled(self, f: f64) -> AxisLimits {
         AxisLimits {
             velocity: f * self.velocity,
