@@ -418,8 +418,7 @@ mod tests {
     }
 
     proptest! {
-        // No regression files: failures print their minimal input instead.
-        #![proptest_config(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() })]
+        #![proptest_config(ProptestConfig::with_cases(400))]
 
         #[test]
         fn stop_from_cruise_stays_within_the_predicted_distance(

@@ -428,8 +428,7 @@ mod tests {
     }
 
     proptest! {
-        // No regression files: failures print their minimal input instead.
-        #![proptest_config(ProptestConfig { cases: 500, failure_persistence: None, ..ProptestConfig::default() })]
+        #![proptest_config(ProptestConfig::with_cases(500))]
 
         #[test]
         fn passes_through_knots_with_continuous_velocity(

@@ -382,8 +382,7 @@ mod tests {
     }
 
     proptest! {
-        // No regression files: failures print their minimal input instead.
-        #![proptest_config(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() })]
+        #![proptest_config(ProptestConfig::with_cases(400))]
 
         #[test]
         fn samples_respect_limits_and_end_at_rest((d, l) in limits_strategy()) {

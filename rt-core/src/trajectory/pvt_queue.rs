@@ -240,9 +240,6 @@ mod tests {
     }
 
     proptest! {
-        // No regression files: failures print their minimal input instead.
-        #![proptest_config(ProptestConfig { failure_persistence: None, ..ProptestConfig::default() })]
-
         #[test]
         fn behaves_like_a_bounded_deque(
             ops in proptest::collection::vec(

@@ -357,8 +357,7 @@ mod tests {
     }
 
     proptest! {
-        // No regression files: failures print their minimal input instead.
-        #![proptest_config(ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() })]
+        #![proptest_config(ProptestConfig::with_cases(300))]
 
         #[test]
         fn synchronised_straight_line_within_limits(

@@ -224,8 +224,7 @@ fn case() -> impl Strategy<Value = (AxisLimits, (f64, f64, f64), f64, f64)> {
 }
 
 proptest! {
-    // No regression files: failures print their minimal input instead.
-    #![proptest_config(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig::with_cases(400))]
 
     #[test]
     fn replans_from_any_allowed_state_are_continuous_bounded_and_arrive(
