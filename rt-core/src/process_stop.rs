@@ -139,7 +139,8 @@ impl StopSequence {
     }
 }
 
-#[cfg(test)]
+// The tests run the whole simulated robot.
+#[cfg(all(test, feature = "sim"))]
 mod tests {
     use super::*;
     use crate::sim_edge::SimCycle;

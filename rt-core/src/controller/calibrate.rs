@@ -170,5 +170,6 @@ fn axis_input(fb: &AxisFeedback) -> AxisInput {
     }
 }
 
-#[cfg(test)]
+// Scenario tests on the whole simulated robot.
+#[cfg(all(test, feature = "sim"))]
 mod tests;

@@ -83,4 +83,5 @@ proptest! {
     }
 }
 
+#[cfg(feature = "sim")]
 mod scenario;
