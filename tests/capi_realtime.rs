@@ -4,68 +4,23 @@
 //! of the running `mcm_shm_control`) at most once: the loan inside iceoryx2 0.10's publisher
 //! (`Publisher::send_copy` allocates its loan state), none of the library's own.
 //!
-//! Against the real launcher with the simulated arm: a counting global allocator counts the
-//! allocations of the test thread only (a thread-local switch), while the C functions run
-//! through the `mcm_c` library as a C program would call them.
+//! Against the real launcher with the simulated arm: a counting global allocator
+//! ([`mcm_shared::alloc_count`]) counts the allocations of the test thread only, while the C
+//! functions run through the `mcm_c` library as a C program would call them.
 
 mod common;
 
 use common::Mcm;
 use mcm_c::*;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
+use mcm_shared::alloc_count::{self, CountingAlloc};
 use std::ffi::{CString, c_void};
-use std::sync::atomic::{AtomicU64, Ordering};
-
-struct CountingAlloc;
-
-static ALLOCS: AtomicU64 = AtomicU64::new(0);
-
-thread_local! {
-    // `const` initialisation: reading it never allocates.
-    static COUNTING: Cell<bool> = const { Cell::new(false) };
-}
-
-fn note() {
-    if COUNTING.try_with(Cell::get).unwrap_or(false) {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-    }
-}
-
-// SAFETY: every method forwards to the system allocator with the caller's arguments unchanged;
-// the counting only touches an atomic and a const-initialised thread-local.
-unsafe impl GlobalAlloc for CountingAlloc {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        note();
-        // SAFETY: forwarded unchanged.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        note();
-        // SAFETY: forwarded unchanged.
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        note();
-        // SAFETY: forwarded unchanged.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: forwarded unchanged.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
 
 #[global_allocator]
 static GLOBAL: CountingAlloc = CountingAlloc;
 
 /// Allocations of this thread while `f` runs.
 fn allocations_in(f: impl FnOnce()) -> u64 {
-    let before = ALLOCS.load(Ordering::Relaxed);
-    COUNTING.with(|c| c.set(true));
-    f();
-    COUNTING.with(|c| c.set(false));
-    ALLOCS.load(Ordering::Relaxed) - before
+    alloc_count::count(f).1.allocations
 }
 
 fn ok(what: &str, code: mcm_error_t) {
@@ -94,12 +49,12 @@ extern "C" fn callback(
     l.calls += 1;
     out.values = [0.0; 6];
     if l.calls == 1 {
-        l.allocs_at_first = ALLOCS.load(Ordering::Relaxed);
-        COUNTING.with(|c| c.set(true));
+        l.allocs_at_first = alloc_count::counted().allocations;
+        alloc_count::set_counting(true);
     }
     if l.calls == l.stop_after {
-        COUNTING.with(|c| c.set(false));
-        l.allocs_running = Some(ALLOCS.load(Ordering::Relaxed) - l.allocs_at_first);
+        alloc_count::set_counting(false);
+        l.allocs_running = Some(alloc_count::counted().allocations - l.allocs_at_first);
         return MCM_CONTROL_FINISH;
     }
     MCM_CONTROL_CONTINUE

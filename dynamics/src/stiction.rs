@@ -28,13 +28,19 @@ const SWEEP_TOLERANCE: f64 = 1e-12;
 
 /// Find the friction torques `lambda` (warm-started with its input) for `v = v_free + w·λ`,
 /// `|λᵢ| ≤ bound[i]`. Returns the velocity after the step; sticking joints get exactly 0.
-/// `w` must be symmetric positive definite; `bound[i] ≤ 0` means no friction on joint i.
+/// `w` must be symmetric positive definite; `bound[i] ≤ 0` (or not a number) means no friction
+/// on joint i. A `w` with an entry that is not finite allows no solve: no friction this step
+/// (`λ = 0`, the velocity is `v_free`). `λ` always comes back finite.
 pub fn solve_friction(
     w: &Matrix6<f64>,
     v_free: &Vector6<f64>,
     bound: &Vector6<f64>,
     lambda: &mut Vector6<f64>,
 ) -> Vector6<f64> {
+    if !w.iter().all(|x| x.is_finite()) {
+        *lambda = Vector6::zeros();
+        return *v_free;
+    }
     for i in 0..N {
         let b = bound[i].max(0.0);
         let ok = lambda[i].is_finite() && w[(i, i)] > 0.0 && w[(i, i)].is_finite();
@@ -163,12 +169,54 @@ mod tests {
         );
     }
 
+    /// Bad input from the solver's side (`w`, the bounds, the warm start); `v_free` is the
+    /// caller's physics, and a velocity that is not a number there stays one.
     #[test]
     fn bad_input_gives_finite_output() {
-        let w = Matrix6::from_element(f64::NAN);
-        let mut lambda = Vector6::repeat(f64::NAN);
-        let v = solve_friction(&w, &Vector6::zeros(), &Vector6::repeat(1.0), &mut lambda);
-        assert!(lambda.iter().all(|l| l.is_finite()), "{lambda}");
-        let _ = v;
+        let mut one_nan = coupled_w();
+        one_nan[(0, 1)] = f64::NAN;
+        let v_free = Vector6::new(0.01, -2.0, 0.0, 0.5, 0.0, 0.0);
+        let bounds = Vector6::new(5.0, f64::NAN, -1.0, f64::INFINITY, 0.0, 1.0);
+        let cases = [
+            (
+                "w all NaN",
+                Matrix6::from_element(f64::NAN),
+                Vector6::repeat(1.0),
+                0.0,
+            ),
+            ("w with one NaN", one_nan, Vector6::repeat(1.0), 0.0),
+            (
+                "w infinite",
+                Matrix6::identity() * f64::INFINITY,
+                Vector6::repeat(1.0),
+                0.0,
+            ),
+            ("NaN, negative, infinite bounds", coupled_w(), bounds, 0.0),
+            (
+                "NaN warm start",
+                coupled_w(),
+                Vector6::repeat(1.0),
+                f64::NAN,
+            ),
+            (
+                "infinite warm start",
+                coupled_w(),
+                Vector6::repeat(1.0),
+                f64::INFINITY,
+            ),
+        ];
+        for (what, w, bound, start) in cases {
+            let mut lambda = Vector6::repeat(start);
+            let v = solve_friction(&w, &v_free, &bound, &mut lambda);
+            assert!(lambda.iter().all(|l| l.is_finite()), "{what}: λ = {lambda}");
+            assert!(v.iter().all(|x| x.is_finite()), "{what}: v = {v}");
+            if what.starts_with("w ") {
+                assert_eq!(
+                    (v, lambda),
+                    (v_free, Vector6::zeros()),
+                    "{what}: no friction"
+                );
+            }
+        }
     }
 }

@@ -8,6 +8,7 @@
 //! ([`crate::sim_edge`]) between [`Cycle::receive`] and [`Cycle::step`].
 //!
 //! ```
+//! # #[cfg(feature = "sim")] { // the simulated bus comes with the `sim` feature
 //! use mcm_rt_core::cycle::Cycle;
 //! use mcm_sim::SimBus;
 //! let cfg = mcm_shared::config::RobotConfig::prob2_default();
@@ -16,6 +17,7 @@
 //!     cycle.run(k * cfg.cycle_period_ns(), &[]);
 //! }
 //! assert_eq!(cycle.controller().view().cycle, 10);
+//! # }
 //! ```
 
 use crate::canopen::{FrameBuf, Master, MasterSetupError};
@@ -137,5 +139,4 @@ impl<B: Bus> Cycle<B> {
 }
 
 #[cfg(test)]
-#[path = "cycle_tests.rs"]
 mod tests;

@@ -251,5 +251,4 @@ impl Intake {
 }
 
 #[cfg(test)]
-#[path = "intake_tests.rs"]
 mod tests;

@@ -4,7 +4,9 @@
 //! Each module says at its top whether it runs inside the cycle. The drive bus, the arm's
 //! dynamics and the simulated robot are the crates `mcm-bus`, `mcm-dynamics` and `mcm-sim`;
 //! the simulator reaches the cycle only through [`sim_edge`], which the runner wires in for
-//! `bus.backend = "sim"`.
+//! `bus.backend = "sim"`. `mcm-sim` comes with the feature `sim` (on by default); built
+//! without it, the core runs real drives only and refuses a configuration that asks for the
+//! simulator ([`runner::RunError::SimNotBuilt`]).
 
 pub mod calibration;
 pub mod canopen;
@@ -19,6 +21,7 @@ pub mod intake;
 pub mod ipc;
 pub mod params;
 pub mod preflight;
+pub mod process_stop;
 pub mod publish;
 pub mod pvt;
 pub mod realtime;
@@ -26,6 +29,5 @@ pub mod runner;
 pub mod safety;
 pub mod signals;
 pub mod sim_edge;
-pub mod stop;
 pub mod timing;
 pub mod trajectory;

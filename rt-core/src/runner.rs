@@ -9,29 +9,31 @@
 //! timing, record, publish the state), ends it ([`crate::edge::Edge::end`]) and then wakes the
 //! state event's listeners ([`crate::edge::Edge::signal_state`], outside the timed work). The
 //! first SIGINT or SIGTERM (checked once per cycle) starts the controlled stop
-//! ([`crate::stop`]): the loop runs on until the arm is at standstill and the drives are
+//! ([`crate::process_stop`]): the loop runs on until the arm is at standstill and the drives are
 //! disabled, or a second signal ends it at once. [`run_cycle`] runs inside the cycle; the rest
 //! is set-up and teardown.
 //!
 //! The runner builds the bus and so knows its type: with the simulated bus it wires the
 //! simulator's edge ([`crate::sim_edge`]) into the loop, and the simulated robot outlives a
-//! restart of `mcm-rt` the way real drives that keep their power do
-//! ([`mcm_sim::snapshot`]: resumed at start, saved when the loop stops).
+//! restart of `mcm-rt` the way real drives that keep their power do (`mcm_sim::snapshot`:
+//! resumed at start, saved when the loop stops). Built without the `sim` feature, it refuses
+//! `bus.backend = "sim"` ([`RunError::SimNotBuilt`]).
 
 use crate::clock;
 use crate::cycle::Cycle;
 use crate::edge::{Edge, Figures};
 use crate::flight::FlightRecorder;
 use crate::ipc::{IpcSetupError, RtIpc};
+use crate::process_stop::{StopOutcome, StopSequence};
 use crate::publish::{self, CycleClock};
 use crate::realtime::{self, RtReport};
-use crate::sim_edge::{SimAccess, SimEdge};
-use crate::stop::{StopOutcome, StopSequence};
+use crate::sim_edge::SimEdge;
 use mcm_bus::Bus;
 use mcm_bus::candump::{LogOptions, LoggingBus};
 use mcm_shared::config::{BusBackend, RobotConfig};
 use mcm_shared::sample::CommandSample;
 use mcm_shared::service::ServiceNames;
+#[cfg(feature = "sim")]
 use mcm_sim::{SimBus, snapshot};
 
 /// What the real-time process runs.
@@ -66,6 +68,12 @@ pub enum RunError {
     FlightRecorder(String),
     #[error("cannot place the helper threads away from the cycle's CPU: {0}")]
     Placement(String),
+    #[error(
+        "bus.backend = \"sim\" asks for the simulated robot, but this mcm-rt was built without \
+         the `sim` feature of mcm-rt-core (build it with `--features sim`, one of its default \
+         features), or set bus.backend = \"socketcan\" for real drives"
+    )]
+    SimNotBuilt,
 }
 
 /// What happened during the run.
@@ -85,23 +93,35 @@ pub fn run(
         .candump
         .clone()
         .or_else(|| opts.config.bus.candump_log.clone().map(Into::into));
-    let state = snapshot::state_path(opts.names.instance());
-    let save_to = state.clone();
     match (opts.config.bus.backend, candump) {
-        (BusBackend::Sim, None) => spawn(
-            opts,
-            on_started,
-            move |cfg| Ok(snapshot::resume_or_power_up(cfg, &state)),
-            Some(|bus: &mut SimBus| bus as _),
-            move |bus: &mut SimBus| snapshot::save(bus, &save_to),
-        ),
-        (BusBackend::Sim, Some(path)) => spawn(
-            opts,
-            on_started,
-            move |cfg| logging(snapshot::resume_or_power_up(cfg, &state), "sim0", &path),
-            Some(|bus: &mut LoggingBus<SimBus>| bus.inner_mut() as _),
-            move |bus: &mut LoggingBus<SimBus>| snapshot::save(bus.inner(), &save_to),
-        ),
+        #[cfg(feature = "sim")]
+        (BusBackend::Sim, None) => {
+            let state = snapshot::state_path(opts.names.instance());
+            let save_to = state.clone();
+            spawn(
+                opts,
+                on_started,
+                move |cfg| Ok(snapshot::resume_or_power_up(cfg, &state)),
+                Some(SimEdge::new(|bus: &mut SimBus| bus as _)),
+                move |bus: &mut SimBus| snapshot::save(bus, &save_to),
+            )
+        }
+        #[cfg(feature = "sim")]
+        (BusBackend::Sim, Some(path)) => {
+            let state = snapshot::state_path(opts.names.instance());
+            let save_to = state.clone();
+            spawn(
+                opts,
+                on_started,
+                move |cfg| logging(snapshot::resume_or_power_up(cfg, &state), "sim0", &path),
+                Some(SimEdge::new(|bus: &mut LoggingBus<SimBus>| {
+                    bus.inner_mut() as _
+                })),
+                move |bus: &mut LoggingBus<SimBus>| snapshot::save(bus.inner(), &save_to),
+            )
+        }
+        #[cfg(not(feature = "sim"))]
+        (BusBackend::Sim, _) => Err(RunError::SimNotBuilt),
         (BusBackend::Socketcan, None) => spawn(opts, on_started, socketcan, None, finish_drives),
         (BusBackend::Socketcan, Some(path)) => spawn(
             opts,
@@ -139,14 +159,14 @@ fn logging<B: Bus>(bus: B, iface: &str, path: &std::path::Path) -> Result<Loggin
     })
 }
 
-/// Run the cycle over the bus `make_bus` opens, with the simulator's edge when `sim` reaches
-/// the simulator inside that bus; `finish` gets the bus after the loop stopped (outside the
+/// Run the cycle over the bus `make_bus` opens, with the simulator's edge `sim` when that bus
+/// is (or wraps) the simulator; `finish` gets the bus after the loop stopped (outside the
 /// cycle).
 fn spawn<B: Bus + 'static>(
     opts: RunOptions,
     on_started: impl FnOnce(&RtReport) + Send + 'static,
     make_bus: impl FnOnce(&RobotConfig) -> Result<B, RunError> + Send + 'static,
-    sim: Option<SimAccess<B>>,
+    sim: Option<SimEdge<B>>,
     finish: impl FnOnce(&mut B) + Send + 'static,
 ) -> Result<RunSummary, RunError> {
     let handle = std::thread::Builder::new()
@@ -173,7 +193,7 @@ fn spawn<B: Bus + 'static>(
             let ipc = RtIpc::create(&opts.names)?;
             let mut edge = Edge::new(
                 cycle,
-                sim.map(SimEdge::new),
+                sim,
                 ipc,
                 recorder,
                 cfg.cycle_period_ns(),
@@ -233,4 +253,24 @@ fn cycle_loop<B: Bus>(edge: &mut Edge<B>) -> (Figures, StopOutcome) {
         }
     };
     (edge.figures(), outcome)
+}
+
+// Built without the simulator, a configuration that asks for it is refused, naming the feature.
+#[cfg(all(test, not(feature = "sim")))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn without_the_sim_feature_the_simulated_backend_is_a_typed_error() {
+        let opts = RunOptions {
+            config: RobotConfig::prob2_default(),
+            names: ServiceNames::new(&format!("nosim-{}", std::process::id())).unwrap(),
+            allow_non_realtime: true,
+            candump: None,
+        };
+        assert_eq!(opts.config.bus.backend, BusBackend::Sim);
+        let err = run(opts, |_: &RtReport| panic!("started")).unwrap_err();
+        assert!(matches!(err, RunError::SimNotBuilt), "{err}");
+        assert!(err.to_string().contains("the `sim` feature"), "{err}");
+    }
 }

@@ -1,11 +1,11 @@
 //! The whole cycle allocates nothing, and the whole robot is deterministic.
 //!
-//! A counting global allocator counts the allocations (and bytes) made on the test thread
-//! while [`SimCycle::run`] (the cycle with the simulator's edge, as the runner runs it) runs
-//! the controller, the CANopen master, the six simulated drives and the arm physics in virtual
-//! time, with `status`, `hold`, `info` and `sim` commands mixed in.
-//! Only the thread that sets the thread-local flag is counted, so the test harness's own
-//! threads cannot disturb the figure.
+//! A counting global allocator ([`mcm_shared::alloc_count`]) counts the allocations (and
+//! bytes) made on the test thread while [`SimCycle::run`] (the cycle with the simulator's
+//! edge, as the runner runs it) runs the controller, the CANopen master, the six simulated
+//! drives and the arm physics in virtual time, with `status`, `hold`, `info` and `sim`
+//! commands mixed in. The counters are per thread, so the test harness's own threads cannot
+//! disturb the figure.
 //!
 //! [`every_mode`] drives the runner's edge ([`mcm_rt_core::edge::Edge::cycle`], with real
 //! iceoryx2 services) through every mode and counts the same way.
@@ -14,97 +14,38 @@
 //! the same inputs must give the same outputs, bit for bit.
 
 use mcm_rt_core::sim_edge::SimCycle;
+use mcm_shared::alloc_count::{self, CountingAlloc};
 use mcm_shared::command::{Request, SimCommand};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::sample::{CommandSample, StateSample};
 use mcm_sim::SimBus;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Mutex, MutexGuard};
 
 mod common;
 #[path = "no_alloc/every_mode.rs"]
 mod every_mode;
 
-/// Counts allocations made by threads that have switched counting on.
-struct CountingAlloc;
-
-static ALLOCS: AtomicU64 = AtomicU64::new(0);
-static BYTES: AtomicU64 = AtomicU64::new(0);
-
-thread_local! {
-    // `const` initialisation: reading it never allocates (no lazy init, no destructor).
-    static COUNTING: Cell<bool> = const { Cell::new(false) };
-}
-
-fn note(size: usize) {
-    // `try_with` so an allocation during thread teardown never panics inside the allocator.
-    if COUNTING.try_with(Cell::get).unwrap_or(false) {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        BYTES.fetch_add(size as u64, Ordering::Relaxed);
-    }
-}
-
-// SAFETY: every method forwards to the system allocator with the caller's arguments unchanged;
-// the counting only touches atomics and a const-initialised thread-local, which never allocate.
-unsafe impl GlobalAlloc for CountingAlloc {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        note(layout.size());
-        // SAFETY: forwarded unchanged; the caller upholds `alloc`'s contract.
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        note(layout.size());
-        // SAFETY: forwarded unchanged; the caller upholds `alloc_zeroed`'s contract.
-        unsafe { System.alloc_zeroed(layout) }
-    }
-
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        note(new_size);
-        // SAFETY: forwarded unchanged; the caller upholds `realloc`'s contract.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: forwarded unchanged; `ptr` came from this allocator, i.e. from `System`.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
 #[global_allocator]
 static GLOBAL: CountingAlloc = CountingAlloc;
 
-/// The test threads run in parallel and share the counters: measurements hold this lock.
-static LOCK: Mutex<()> = Mutex::new(());
-
-/// Counts the allocations (and bytes) made on this thread inside [`Meter::measure`], for as
-/// long as it lives; other measurements wait meanwhile.
+/// Counts the allocations (and bytes) made on this thread inside [`Meter::measure`]. The
+/// counters are per thread: tests measuring in parallel do not disturb each other.
+#[derive(Debug, Default)]
 struct Meter {
-    _guard: MutexGuard<'static, ()>,
     allocs: u64,
     bytes: u64,
 }
 
 impl Meter {
     fn new() -> Meter {
-        Meter {
-            _guard: LOCK.lock().unwrap_or_else(|e| e.into_inner()),
-            allocs: 0,
-            bytes: 0,
-        }
+        Meter::default()
     }
 
     /// Run `f`, counting what it allocates on this thread.
     fn measure<R>(&mut self, f: impl FnOnce() -> R) -> R {
-        let (a0, b0) = (ALLOCS.load(Ordering::SeqCst), BYTES.load(Ordering::SeqCst));
-        COUNTING.with(|c| c.set(true));
-        let r = f();
-        COUNTING.with(|c| c.set(false));
-        self.allocs += ALLOCS.load(Ordering::SeqCst) - a0;
-        self.bytes += BYTES.load(Ordering::SeqCst) - b0;
+        let (r, counts) = alloc_count::count(f);
+        self.allocs += counts.allocations;
+        self.bytes += counts.bytes;
         r
     }
 }

@@ -19,6 +19,8 @@
 //! - [`ready`]: the ready line each program prints when it serves, and how it is read;
 //! - [`restart`]: how a gateway that dies is restarted (the launcher and the systemd unit);
 //! - [`units`]: the unit conventions at the boundary (degrees outside, radians inside).
+//! - [`alloc_count`]: a counting global allocator, for the tests that prove a path allocates
+//!   nothing.
 //!
 //! ```
 //! use mcm_shared::{service::ServiceNames, sample::StateSample, NUM_AXES};
@@ -28,6 +30,7 @@
 //! assert_eq!(s.position.len(), NUM_AXES);
 //! ```
 
+pub mod alloc_count;
 pub mod cli;
 pub mod command;
 pub mod config;

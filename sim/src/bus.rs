@@ -375,3 +375,6 @@ impl SimControl for SimBus {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -632,9 +632,7 @@ fn valid_mode(raw: u32) -> bool {
     matches!(raw as u8 as i8, 0 | MODE_CSP | MODE_CST)
 }
 
-#[path = "drive_objects.rs"]
 mod objects;
 
 #[cfg(test)]
-#[path = "drive_tests.rs"]
 mod tests;

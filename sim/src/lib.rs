@@ -42,10 +42,6 @@ pub mod servo;
 pub mod snapshot;
 
 #[cfg(test)]
-mod bus_tests;
-#[cfg(test)]
-mod physics_tests;
-#[cfg(test)]
 mod test_master;
 
 pub use abort::SdoAbort;

@@ -350,3 +350,6 @@ impl ArmSim {
         e
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -23,7 +23,7 @@
 //!   gravity and Coulomb-friction steady error. Anti-windup: the integral is clamped to the
 //!   torque limit and frozen while the output saturates in the direction it would push.
 //!
-//! Checked with the real arm model (`sim::bus_tests`, through the whole bus with the full
+//! Checked with the real arm model (`sim::bus::tests`, through the whole bus with the full
 //! tool): at five poses across the workspace the steady error after 1 s is below 0.001 deg
 //! (required: 0.05 deg), the largest sag right after enabling is 0.29 deg (shoulder
 //! horizontal), and a 30 deg/s ramp is followed with at most 0.11 deg lag behind the

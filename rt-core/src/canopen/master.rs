@@ -881,5 +881,4 @@ fn push_counted(out: &mut FrameBuf, f: Frame, dropped: &mut u64) {
 }
 
 #[cfg(test)]
-#[path = "master_tests.rs"]
 mod tests;

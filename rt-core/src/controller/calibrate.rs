@@ -9,13 +9,14 @@
 //! drives (0x2100) only when they come into force.
 
 use super::Controller;
+use super::exits::Exit;
 use super::state::{CalPhase, Caller, Moving, State};
 use crate::calibration::{AxisCalibration, AxisInput, AxisSettings, Outcome};
 use crate::canopen::AxisFeedback;
 use crate::trajectory::{JointPlan, MovePlan};
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::Axis;
-use mcm_shared::reply::{Done, Reason};
+use mcm_shared::reply::Reason;
 
 /// Velocity factor of the move back to zero after calibration.
 const RETURN_VELOCITY_FACTOR: f64 = 0.5;
@@ -113,12 +114,10 @@ impl Controller {
                         cause,
                     };
                     // ERROR without a stop (the searches are slow): the caller hears of the
-                    // failure, and the trip records it; every axis keeps its previous
+                    // failure, and the incident is recorded; every axis keeps its previous
                     // calibration.
-                    self.restore_previous_calibration();
-                    self.state = State::error(None);
-                    self.fail(caller, reason);
-                    self.trip(reason);
+                    self.leave(Exit::SearchFailed(reason));
+                    self.report_incident(reason);
                     self.hold_here();
                     return;
                 }
@@ -156,14 +155,9 @@ impl Controller {
                     phase: CalPhase::Return(Moving { plan }),
                 }
             }
-            Err(_) => self.finish_calibration(caller),
+            // Calibration done.
+            Err(_) => self.arrive_in_hold(caller),
         }
-    }
-
-    /// Calibration done: HOLD, and the reply.
-    pub(super) fn finish_calibration(&mut self, caller: Caller) {
-        self.state = State::Hold { stop: None };
-        self.done(caller, Done::Ack);
     }
 }
 
@@ -175,3 +169,7 @@ fn axis_input(fb: &AxisFeedback) -> AxisInput {
         light_barrier: fb.light_barrier,
     }
 }
+
+// Scenario tests on the whole simulated robot.
+#[cfg(all(test, feature = "sim"))]
+mod tests;

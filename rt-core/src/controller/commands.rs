@@ -5,6 +5,7 @@
 //! in, and refusals carry their figures in degrees.
 
 use super::Controller;
+use super::exits::Exit;
 use super::state::{After, Caller, PvtMotion, State, Watchdog};
 use crate::calibration::AxisSettings;
 use crate::pvt::BatchError;
@@ -120,19 +121,13 @@ impl Controller {
                 }
                 self.begin_enabling(c, After::Hold);
             }
-            State::Hold { .. } => self.done(c, Done::Ack),
-            State::Calibration { caller, .. } => {
-                self.restore_previous_calibration();
-                self.fail(caller, Reason::Aborted);
-                self.state = State::Hold {
-                    stop: self.stop_motion(),
-                };
-                self.done(c, Done::Ack);
-            }
-            State::Pvt { .. } | State::Release | State::Torque { .. } | State::Velocity { .. } => {
-                self.state = State::Hold {
-                    stop: self.stop_motion(),
-                };
+            State::Hold { .. }
+            | State::Calibration { .. }
+            | State::Pvt { .. }
+            | State::Release
+            | State::Torque { .. }
+            | State::Velocity { .. } => {
+                self.leave(Exit::Hold);
                 self.done(c, Done::Ack);
             }
         }
@@ -245,3 +240,7 @@ impl Controller {
         self.refuse(c, e.reason());
     }
 }
+
+// Scenario tests on the whole simulated robot.
+#[cfg(all(test, feature = "sim"))]
+mod tests;

@@ -12,23 +12,24 @@
 //! then). The reference sent in a cycle is the one for the end of that cycle: the drives apply
 //! it at the SYNC that closes the cycle and reach it one period later.
 //!
-//! The files of this module: `mod.rs` (the cycle, enabling the drives), `state.rs` (the
-//! operating state: one enum carrying each mode's data), `commands.rs` (what each command
-//! does), `moves.rs` (`move_axis`/`move_all`, re-planned during motion), `calibrate.rs` (a
+//! The files of this module: `mod.rs` (the cycle, enabling the drives), `state.rs` (the operating
+//! state: one enum carrying each mode's data), `commands.rs` (what each command does), `exits.rs`
+//! (the one path by which a mode ends before its time: `hold`, a gone owner, a shutdown, a timeout,
+//! a trip), `moves.rs` (`move_axis`/`move_all`, re-planned during motion), `calibrate.rs` (a
 //! calibration's searches, and keeping the previous calibration when one does not complete),
-//! `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client
-//! controls the arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a
-//! cycle reports), `shutdown.rs` (the controlled stop and disable when `mcm-rt` is asked to
-//! stop), `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft speed
-//! limit).
+//! `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client controls the
+//! arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a cycle reports),
+//! `shutdown_sequence.rs` (the controlled stop and disable when `mcm-rt` is asked to stop),
+//! `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft speed limit).
 
 mod calibrate;
 mod commands;
+mod exits;
 mod motion;
 mod moves;
 mod ownership;
 pub mod release;
-mod shutdown;
+mod shutdown_sequence;
 mod state;
 mod trips;
 mod velocity;
@@ -48,7 +49,7 @@ use mcm_shared::mode::Mode;
 use mcm_shared::reply::{self, Done, Outcome, Reason, Response};
 use mcm_shared::sample::{CommandSample, Reply};
 pub use motion::QUICK_STOP_FACTOR;
-pub use shutdown::{
+pub use shutdown_sequence::{
     SHUTDOWN_HOLD_NS, SHUTDOWN_MIN_BOUND_NS, ShutdownPhase, ShutdownResult, ShutdownStatus,
     TimedOutPhase,
 };
@@ -107,7 +108,7 @@ pub struct Controller {
     now_ns: u64,
     /// The client that controls the arm's motion (0: nobody); see `ownership.rs`.
     owner: u64,
-    /// The shutdown, once `mcm-rt` was asked to stop (`shutdown.rs`).
+    /// The shutdown, once `mcm-rt` was asked to stop (`shutdown_sequence.rs`).
     shutdown: Option<ShutdownStatus>,
 }
 
@@ -322,21 +323,28 @@ impl Controller {
         if fb.iter().all(|f| f.enabled) {
             match then {
                 After::Hold => {
-                    self.state = State::Hold { stop: None };
                     self.incident_reported = false;
                     self.hold_here();
-                    self.done(caller, Done::Ack);
+                    self.arrive_in_hold(caller);
                 }
                 After::Calibrate(settings) => self.start_calibration(caller, settings),
             }
-        } else if let Some(reason) = self.enable_blocker() {
-            self.state = from.state();
-            self.fail(caller, reason);
-        } else if self.now_ns >= deadline_ns {
-            self.state = from.state();
-            let axis = fb.iter().position(|f| !f.enabled).map(|i| Axis::ALL[i]);
-            self.fail(caller, Reason::DriveFault { axis, code: 0 });
+            return;
         }
+        let failed = self.enable_blocker().or_else(|| {
+            let axis = fb.iter().position(|f| !f.enabled).map(|i| Axis::ALL[i]);
+            (self.now_ns >= deadline_ns).then_some(Reason::DriveFault { axis, code: 0 })
+        });
+        if let Some(reason) = failed {
+            self.state = self.enabling_failed(caller, from, reason);
+        }
+    }
+
+    /// What `caller` waited for (an enabling for `hold`, a calibration) completed: HOLD, at
+    /// rest, and its reply.
+    pub(super) fn arrive_in_hold(&mut self, caller: Caller) {
+        self.state = State::Hold { stop: None };
+        self.done(caller, Done::Ack);
     }
 
     /// Command every axis at its measured position, at rest (the caller sets the state).
@@ -413,20 +421,6 @@ impl Controller {
     }
 }
 
-#[cfg(test)]
+// Scenario tests on the whole simulated robot.
+#[cfg(all(test, feature = "sim"))]
 mod tests;
-
-#[cfg(test)]
-mod refusals_tests;
-
-#[cfg(test)]
-mod moves_tests;
-
-#[cfg(test)]
-mod ownership_tests;
-
-#[cfg(test)]
-mod shutdown_tests;
-
-#[cfg(test)]
-mod calibration_tests;

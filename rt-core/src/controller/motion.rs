@@ -3,6 +3,7 @@
 //! Runs inside the cycle.
 
 use super::Controller;
+use super::exits::Exit;
 use super::state::{CalPhase, Moving, PvtMotion, State, Stopping};
 use super::{FRICTION_COMPENSATION, RELEASE_DAMPING};
 use crate::canopen::DriveRequest;
@@ -115,7 +116,8 @@ impl Controller {
                         phase: CalPhase::Return(m),
                     }
                 }
-                None => self.finish_calibration(caller),
+                // Calibration done.
+                None => self.arrive_in_hold(caller),
             },
             State::Release => {
                 let q = self.measured();
@@ -136,10 +138,8 @@ impl Controller {
                 watchdog,
             } => {
                 if watchdog.is_some_and(|w| w.expired(self.now_ns)) {
-                    // set_torques stopped arriving: fall back to HOLD.
-                    self.state = State::Hold {
-                        stop: self.stop_motion(),
-                    };
+                    // set_torques stopped arriving: the controlled stop to HOLD.
+                    self.leave(Exit::Timeout);
                 } else {
                     self.compensate(gravity, &torques);
                     return;

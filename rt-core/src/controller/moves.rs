@@ -163,3 +163,7 @@ impl Controller {
         }
     }
 }
+
+// Scenario tests on the whole simulated robot.
+#[cfg(all(test, feature = "sim"))]
+mod tests;

@@ -24,7 +24,8 @@
 //!   never gets control, so its motion commands are refused `NotOwner`.
 
 use super::Controller;
-use super::state::{After, Caller, State};
+use super::exits::Exit;
+use super::state::Caller;
 use mcm_shared::command::Request;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::reply::{Done, Reason};
@@ -91,34 +92,10 @@ impl Controller {
     /// to HOLD in this cycle.
     fn lose_owner(&mut self) {
         self.owner = 0;
-        match self.state {
-            State::Off | State::Error { .. } | State::Hold { .. } => {}
-            State::Enabling {
-                caller,
-                deadline_ns,
-                from,
-                then: After::Calibrate(_),
-            } => {
-                self.state = State::Enabling {
-                    caller,
-                    deadline_ns,
-                    from,
-                    then: After::Hold,
-                };
-            }
-            State::Enabling { .. } => {}
-            State::Calibration { caller, .. } => {
-                self.restore_previous_calibration();
-                self.fail(caller, Reason::Aborted);
-                self.state = State::Hold {
-                    stop: self.stop_motion(),
-                };
-            }
-            State::Pvt { .. } | State::Release | State::Torque { .. } | State::Velocity { .. } => {
-                self.state = State::Hold {
-                    stop: self.stop_motion(),
-                };
-            }
-        }
+        self.leave(Exit::OwnerGone);
     }
 }
+
+// Scenario tests on the whole simulated robot.
+#[cfg(all(test, feature = "sim"))]
+mod tests;

@@ -279,7 +279,7 @@ fn a_move_while_moving_runs_alongside_and_hold_stops() {
     r.ok(PVT, 10);
     r.ok(move_axis(1, 60.0), 10);
     r.run(100);
-    // Accepted: axis 2 starts, axis 1 carries on (more in `moves_tests.rs`).
+    // Accepted: axis 2 starts, axis 1 carries on (more in `moves/tests.rs`).
     r.ok(move_axis(2, 10.0), 10);
     r.ok(Request::Hold, 10);
     assert_eq!(r.mode(), Mode::Hold);

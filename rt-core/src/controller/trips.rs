@@ -5,6 +5,7 @@
 //! Runs inside the cycle.
 
 use super::Controller;
+use super::exits::Exit;
 use super::state::State;
 use crate::canopen::MasterEvent;
 use crate::safety::{self, ActiveChecks};
@@ -16,6 +17,17 @@ use mcm_shared::reply::{Reason, SafetyError};
 /// Cycles an axis that tripped its following error follows its measured position (0.1 s at
 /// 200 Hz: a joint pressed into an obstacle springs back within a few cycles).
 const RELAX_CYCLES: u8 = 20;
+
+/// The axes that relax in the ERROR a trip for `reason` leads to: after a following error, the
+/// drive's loop wound up against whatever held the axis; the axis relaxes and holds where it
+/// comes to rest, so that it stops pressing.
+pub(super) fn relax_after(reason: Reason) -> [u8; NUM_AXES] {
+    let mut relax = [0; NUM_AXES];
+    if let Reason::FollowingError { axis, .. } = reason {
+        relax[axis.index()] = RELAX_CYCLES;
+    }
+    relax
+}
 
 impl Controller {
     pub(super) fn on_event(&mut self, ev: MasterEvent) {
@@ -128,37 +140,13 @@ impl Controller {
     /// and the error is only reported), axes stopped, a calibration or enabling under way
     /// failed, and one spontaneous error record per incident (until a `hold` succeeds).
     pub(super) fn trip(&mut self, reason: Reason) {
-        // A calibration under way ends: its axes keep their previous calibration.
-        self.restore_previous_calibration();
-        let mut relax = [0; NUM_AXES];
-        if let Reason::FollowingError { axis, .. } = reason {
-            // The drive's loop wound up against whatever held the axis: let the axis relax
-            // and hold it where it comes to rest, so that it stops pressing.
-            relax[axis.index()] = RELAX_CYCLES;
-        }
-        self.state = match self.state {
-            State::Off => State::Off,
-            State::Enabling { caller, from, .. } => {
-                self.fail(caller, reason);
-                from.state()
-            }
-            s @ State::Error { .. } => s,
-            State::Calibration { caller, .. } => {
-                self.fail(caller, reason);
-                State::Error {
-                    stop: self.quick_stop(),
-                    relax,
-                }
-            }
-            State::Hold { .. }
-            | State::Pvt { .. }
-            | State::Release
-            | State::Torque { .. }
-            | State::Velocity { .. } => State::Error {
-                stop: self.quick_stop(),
-                relax,
-            },
-        };
+        self.leave(Exit::Trip(reason));
+        self.report_incident(reason);
+    }
+
+    /// One spontaneous error record per incident: `reason` is recorded unless an error was
+    /// already reported and not yet cleared by a successful `hold`.
+    pub(super) fn report_incident(&mut self, reason: Reason) {
         if self.incident_reported {
             self.merge_lost_drive(reason);
             return;

@@ -9,6 +9,7 @@
 pub mod ramp;
 
 use super::Controller;
+use super::exits::Exit;
 use super::state::{Caller, State, Watchdog};
 use crate::params::JointParams;
 use crate::safety::SafetyParams;
@@ -86,10 +87,7 @@ impl Controller {
     /// passed without `set_velocities`, the controlled stop to HOLD.
     pub(super) fn advance_velocity(&mut self, target: [f64; NUM_AXES], watchdog: Option<Watchdog>) {
         if watchdog.is_some_and(|w| w.expired(self.now_ns)) {
-            self.state = State::Hold {
-                stop: self.stop_motion(),
-            };
-            return;
+            return self.leave(Exit::Timeout);
         }
         let dt = self.p.period;
         for (i, t) in target.iter().copied().enumerate() {
@@ -111,5 +109,6 @@ impl Controller {
     }
 }
 
-#[cfg(test)]
+// Scenario tests on the whole simulated robot.
+#[cfg(all(test, feature = "sim"))]
 mod tests;

@@ -1,8 +1,10 @@
-//! Cubic Hermite PVT segments (motion notes §2.1, §5.4). Construction, sampling and checking
-//! are O(1), allocation- and panic-free: all may run **inside the cycle**.
+//! Cubic Hermite PVT segments: how the points of `pvt_points` are interpolated
+//! (docs/protocol.md, "pvt_points"). Construction, sampling and checking are O(1), allocation-
+//! and panic-free: all may run **inside the cycle**.
 //!
 //! A segment joins (p0, v0) at τ = 0 to (p1, v1) at τ = dt:
-//! p(τ) = p0 + v0·τ + c2·τ² + c3·τ³ with c2 = (3(p1−p0)/dt − 2v0 − v1)/dt and
+//! p(τ) = p0 + v0·τ + c2·τ² + c3·τ³, where p(0) = p0 and p'(0) = v0 hold by construction and
+//! p(dt) = p1, p'(dt) = v1 give c2 = (3(p1−p0)/dt − 2v0 − v1)/dt and
 //! c3 = (2(p0−p1)/dt + v0 + v1)/dt². Consecutive segments share their knot (p, v), so position
 //! and velocity are continuous; acceleration may jump at a knot.
 //!
@@ -426,8 +428,7 @@ mod tests {
     }
 
     proptest! {
-        // No regression files: failures print their minimal input instead.
-        #![proptest_config(ProptestConfig { cases: 500, failure_persistence: None, ..ProptestConfig::default() })]
+        #![proptest_config(ProptestConfig::with_cases(500))]
 
         #[test]
         fn passes_through_knots_with_continuous_velocity(

@@ -15,7 +15,7 @@
 //! | [`segments`] | an axis plan as constant-jerk segments; its closed-form range and peaks |
 //! | [`hermite`] | cubic Hermite PVT segments and their closed-form limit checks |
 //! | [`pvt_queue`] | fixed-capacity ring of PVT points with atomic batch push |
-//! | [`stop`] | controlled stop from a moving state; stopping distances d₂, d₃ |
+//! | [`controlled_stop`] | controlled stop from a moving state; stopping distances d₂, d₃ |
 //!
 //! ```
 //! use mcm_rt_core::trajectory::{AxisLimits, MovePlan, PlanError};
@@ -27,22 +27,22 @@
 //! # Ok::<(), PlanError>(())
 //! ```
 
+pub mod controlled_stop;
 pub mod error;
 pub mod hermite;
 pub mod online;
 pub mod profile;
 pub mod pvt_queue;
 pub mod segments;
-pub mod stop;
 pub mod sync;
 
+pub use controlled_stop::{StopPlan, stopping_distance, stopping_distance_from};
 pub use error::{PlanError, PvtSegmentError, QueueFull, SegmentError, StopError};
 pub use hermite::{Hermite, PvtSegment};
 pub use online::{JointPlan, plan_from_state};
 pub use profile::Profile1D;
 pub use pvt_queue::{DEFAULT_PVT_CAPACITY, PvtPoint, PvtQueue};
 pub use segments::AxisPlan;
-pub use stop::{StopPlan, stopping_distance, stopping_distance_from};
 pub use sync::MovePlan;
 
 use mcm_shared::NUM_AXES;
@@ -57,8 +57,9 @@ pub struct AxisLimits {
 }
 
 impl AxisLimits {
-    /// The limits scaled by a velocity factor `f` as §5.2 of the motion notes does with
-    /// f_a = f: V = f·v_max, A = f·a_max, J = f·j_max. Not validated here.
+    /// The limits scaled by a velocity factor `f`: V = f·v_max, A = f·a_max, J = f·j_max (the
+    /// factor scales each axis's maximum velocity, acceleration and jerk: docs/protocol.md,
+    /// "move_axis, move_all"). Not validated here.
     pub fn scaled(self, f: f64) -> AxisLimits {
         AxisLimits {
             velocity: f * self.velocity,

@@ -7,8 +7,8 @@
 //! those times the velocity factor f, as for rest-to-rest moves):
 //! 1. **settle** (full limits): bring the acceleration to 0 and the velocity into
 //!    [−f·v_max, f·v_max] — with a jerk limit the acceleration ramps down at the full jerk
-//!    (Ruckig's brake, [`super::stop`], in a frame moving at the settled velocity), without
-//!    one it is dropped at once (a trapezoid may switch its acceleration);
+//!    (Ruckig's brake, [`super::controlled_stop`], in a frame moving at the settled velocity),
+//!    without one it is dropped at once (a trapezoid may switch its acceleration);
 //! 2. **approach**: if the axis already moves toward the target and can stop in time, ramp to
 //!    a peak velocity, cruise, and ramp to rest exactly on the target (the peak is the highest
 //!    that fits, found by bisection on a monotone distance); the ramps use the scaled limits,
@@ -33,8 +33,8 @@
 //! assert!(plan.position_range().1 > 0.5); // it overshoots before it turns back
 //! ```
 
+use super::controlled_stop::brake_phases;
 use super::segments::{AxisPlan, Builder, ramp_distance};
-use super::stop::brake_phases;
 use super::{AxisLimits, JointSample, MovePlan, PlanError, Profile1D};
 use mcm_shared::NUM_AXES;
 
@@ -249,5 +249,4 @@ impl JointPlan {
 }
 
 #[cfg(test)]
-#[path = "online_tests.rs"]
 mod tests;

@@ -1,5 +1,6 @@
-//! Fixed-capacity FIFO ring of PVT points (motion notes §5.4). Every operation is O(1) per
-//! point, allocation- and panic-free: usable **inside the cycle**.
+//! Fixed-capacity FIFO ring of PVT points: the queue of `pvt_points` (docs/protocol.md,
+//! "pvt_points"). Every operation is O(1) per point, allocation- and panic-free: usable
+//! **inside the cycle**.
 //!
 //! A batch (one `pvt_points` command) is queued atomically: either all of its points fit and are
 //! appended, or nothing is queued and [`QueueFull`] says how many were offered and how many
@@ -239,9 +240,6 @@ mod tests {
     }
 
     proptest! {
-        // No regression files: failures print their minimal input instead.
-        #![proptest_config(ProptestConfig { failure_persistence: None, ..ProptestConfig::default() })]
-
         #[test]
         fn behaves_like_a_bounded_deque(
             ops in proptest::collection::vec(

@@ -174,8 +174,8 @@ fn quadratic_roots(c2: f64, c1: f64, c0: f64) -> [f64; 2] {
     [(-c1 - r) / (2.0 * c2), (-c1 + r) / (2.0 * c2)]
 }
 
-/// Time to change the velocity by `dv` (≥ 0) from a = 0 back to a = 0 under `lim` (§5.2's
-/// T_acc for a jerk limit; dv/A without).
+/// Time to change the velocity by `dv` (≥ 0) from a = 0 back to a = 0 under `lim` (T_acc of
+/// [`super::profile`]'s closed form: dv/A without a jerk limit).
 pub fn ramp_time(dv: f64, lim: &AxisLimits) -> f64 {
     let a = lim.acceleration;
     match lim.jerk {

@@ -1,10 +1,11 @@
-//! `move_all` / `move_axis`: a phase-synchronised straight line in joint space (motion notes
-//! §5.3). Planning (once per command, O(1) per axis) and sampling (O(1)) may run **inside the
-//! cycle**: no allocation, no panics.
+//! `move_all` / `move_axis`: a phase-synchronised straight line in joint space (docs/protocol.md,
+//! "move_axis, move_all"). Planning (once per command, O(1) per axis) and sampling (O(1)) may
+//! run **inside the cycle**: no allocation, no panics.
 //!
 //! All axes follow q_i(t) = q_i0 + Δ_i·s(t) with one normalised profile s: 0 → 1, so they start
 //! together, stay on the straight line and arrive together. Per axis the limits are scaled by
-//! the velocity factor f: V_i = f·v_max,i, **A_i = f·a_max,i, J_i = f·j_max,i** (f_a = f, §5.2).
+//! the velocity factor f: V_i = f·v_max,i, **A_i = f·a_max,i, J_i = f·j_max,i**
+//! ([`AxisLimits::scaled`]).
 //! The path limits are S_v = min V_i/|Δ_i|, S_a = min A_i/|Δ_i|, S_j = min J_i/|Δ_i| over the
 //! moving axes (axes without a jerk limit do not constrain S_j; without any, s is a trapezoid).
 //! The axis limiting each quantity gets its full limit; every other axis stays below its own.
@@ -356,8 +357,7 @@ mod tests {
     }
 
     proptest! {
-        // No regression files: failures print their minimal input instead.
-        #![proptest_config(ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() })]
+        #![proptest_config(ProptestConfig::with_cases(300))]
 
         #[test]
         fn synchronised_straight_line_within_limits(

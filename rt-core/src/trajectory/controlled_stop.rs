@@ -1,17 +1,24 @@
-//! Controlled stops and stopping distances (motion notes §5.5, §5.6). Planning and sampling are
-//! O(1) per axis, allocation- and panic-free: they run **inside the cycle** (a stop is planned
-//! in the cycle that decides to stop).
+//! Controlled stops and stopping distances. Planning and sampling are O(1) per axis,
+//! allocation- and panic-free: they run **inside the cycle** (a stop is planned in the cycle
+//! that decides to stop).
 //!
 //! Each axis stops on its own, as fast as its limits allow:
 //! - **second order** (no jerk limit): constant deceleration D from the current velocity until
 //!   v = 0; the current acceleration is dropped at once. Distance d₂ = v²/(2D).
 //! - **jerk-limited** from (v, a): Ruckig's three-phase brake: ramp a at ±J to a peak
 //!   deceleration of at most D (or from beyond D back to D), hold it, ramp back to a = 0 exactly
-//!   when v reaches 0. From a = 0 the distance is d₃ of §5.6. If the axis is already braking so
+//!   when v reaches 0. From a = 0 the distance is d₃ (below). If the axis is already braking so
 //!   hard that ramping a back to zero would reverse it, the velocity crosses zero once and the
 //!   axis comes back to rest (unavoidable under the jerk limit).
 //!
 //! After `duration()` every axis holds its end position with v = a = 0 exactly.
+//!
+//! The stopping distances: a stop from v at a = 0 is the time reverse of accelerating from rest
+//! to |v| ([`super::profile`]'s closed form, with the deceleration D for A). It takes |v|/D
+//! without a jerk limit, |v|/D + D/J when |v|·J ≥ D² (the deceleration reaches D), 2·√(|v|/J)
+//! when it does not, and, the velocity falling symmetrically, covers |v| times half that time:
+//! d₂ = v²/(2D) without a jerk limit; d₃ = v²/(2D) + |v|·D/(2J), or |v|^{3/2}/√J. For example
+//! from 90°/s at D = 180°/s², J = 1800°/s³: d₂ = 22.5°, d₃ = 22.5° + 4.5° = 27°.
 //!
 //! ```
 //! use mcm_rt_core::trajectory::{StopPlan, stopping_distance};
@@ -28,7 +35,7 @@ use super::{JointSample, StopError};
 use mcm_shared::NUM_AXES;
 
 /// Distance (≥ 0, rad) needed to stop from speed |v| starting at a = 0 with deceleration
-/// `decel` and optional jerk limit (§5.6):
+/// `decel` and optional jerk limit (derived in the module doc):
 /// d₂ = v²/(2D); d₃ = v²/(2D) + |v|·D/(2J) if |v|·J ≥ D², else |v|^{3/2}/√J.
 /// Conservative on bad input: a non-finite v or a decel/jerk that is not finite and > 0 gives
 /// `f64::INFINITY` ("cannot stop"). Latency (v·t_lat) is the caller's to add.
@@ -340,7 +347,7 @@ mod tests {
 
     #[test]
     fn distances_match_the_reference_table() {
-        // §5.6: (v, a, j, d2, d3) in degrees.
+        // (v, a, j, d2, d3) in degrees, worked out by hand from the module doc's formulas.
         let table = [
             (90.0, 180.0, 1800.0, 22.5, 27.0),
             (30.0, 180.0, 1800.0, 2.5, 4.0),
@@ -411,8 +418,7 @@ mod tests {
     }
 
     proptest! {
-        // No regression files: failures print their minimal input instead.
-        #![proptest_config(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() })]
+        #![proptest_config(ProptestConfig::with_cases(400))]
 
         #[test]
         fn stop_from_cruise_stays_within_the_predicted_distance(

@@ -1,5 +1,5 @@
 //! How the real-time loop ends: the first SIGINT/SIGTERM starts the controller's shutdown
-//! (controlled stop, hold, disable the drives: `controller/shutdown.rs`), the loop runs on
+//! (controlled stop, hold, disable the drives: `controller/shutdown_sequence.rs`), the loop runs on
 //! until the controller says it finished, and a second signal ends it at once.
 //!
 //! [`StopSequence::poll`] runs in the real-time loop, between cycles: no allocation, no lock,
@@ -139,7 +139,8 @@ impl StopSequence {
     }
 }
 
-#[cfg(test)]
+// The tests run the whole simulated robot.
+#[cfg(all(test, feature = "sim"))]
 mod tests {
     use super::*;
     use crate::sim_edge::SimCycle;

@@ -1,7 +1,7 @@
 //! Scenario tests of RELEASE's soft speed limit in virtual time (the whole simulated robot,
-//! see `tests.rs`): pushes of increasing torque against the simulation's truth.
+//! see `controller/tests.rs`): pushes of increasing torque against the simulation's truth.
 
-use super::super::tests::Robot;
+use crate::controller::tests::Robot;
 use mcm_shared::command::{Axis, MoveAxis, Pvt, Request, SimCommand};
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::Reason;

@@ -3,7 +3,7 @@
 //! re-calibration keeps the previous calibration, and a reference that disagrees with the
 //! previous calibration fails with its figures.
 
-use super::tests::Robot;
+use crate::controller::tests::Robot;
 use mcm_shared::command::{Axis, Calibrate, Direction, Request, Which};
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::{CalibrationFailure, Outcome, Reason};

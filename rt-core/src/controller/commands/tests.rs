@@ -1,9 +1,9 @@
 //! Scenario tests of the refusals no other scenario provokes: each command in a mode that does
 //! not take it, values out of range, unreachable targets, PVT batches that break a limit or do
 //! not fit, a calibration superseded by `hold`. Each checks the refusal's reason and figures and
-//! the mode after it (virtual time, the whole simulated robot, as in `tests.rs`).
+//! the mode after it (virtual time, the whole simulated robot, as in `controller/tests.rs`).
 
-use super::tests::{Robot, move_axis};
+use crate::controller::tests::{Robot, move_axis};
 use mcm_shared::command::{
     Axis, Calibrate, Direction, MoveAll, Pvt, PvtChunk, PvtPoint, Request, SetTorques, SimCommand,
     TorqueControl, Which,
@@ -150,7 +150,7 @@ fn a_torque_beyond_the_peak_is_refused_whole_naming_axis_and_limit() {
             max: peak,
         })
     );
-    let super::state::State::Torque { torques, .. } = r.cycle.controller().state else {
+    let crate::controller::state::State::Torque { torques, .. } = r.cycle.controller().state else {
         panic!("still in torque control: {:?}", r.mode())
     };
     assert_eq!(torques, [0.0; 6], "none of the refused torques was taken");

@@ -11,6 +11,7 @@
 //! finished.
 
 use super::Controller;
+use super::exits::Exit;
 use super::state::State;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::Request;
@@ -142,9 +143,14 @@ impl Controller {
             ShutdownPhase::Disabling => TimedOutPhase::Disabling,
             ShutdownPhase::Done(_) => return,
         };
-        self.state = State::Off;
+        self.switch_off();
         s.phase = ShutdownPhase::Done(ShutdownResult::TimedOut { during });
         self.shutdown = Some(s);
+    }
+
+    /// The shutdown disables every drive: OFF, whose motion step requests `Disable` of each.
+    fn switch_off(&mut self) {
+        self.state = State::Off;
     }
 
     /// While shutting down, refuse `req` (every request but `status`) with
@@ -167,7 +173,8 @@ impl Controller {
             ShutdownPhase::Requested => {
                 s.started_ns = self.now_ns;
                 s.deadline_ns = self.now_ns.saturating_add(self.shutdown_bound_ns());
-                self.stop_for_shutdown();
+                // What runs ends: the controlled stop `hold` uses, callers told why.
+                self.leave(Exit::Shutdown);
                 ShutdownPhase::Stopping
             }
             phase => phase,
@@ -178,7 +185,7 @@ impl Controller {
                 until_ns: self.now_ns.saturating_add(SHUTDOWN_HOLD_NS),
             },
             ShutdownPhase::Holding { until_ns } if self.now_ns >= until_ns => {
-                self.state = State::Off;
+                self.switch_off();
                 ShutdownPhase::Disabling
             }
             ShutdownPhase::Disabling if self.master.feedback().iter().all(|f| !f.enabled) => {
@@ -195,35 +202,14 @@ impl Controller {
         if let Some(during) = during
             && self.now_ns >= s.deadline_ns
         {
-            self.state = State::Off;
+            self.switch_off();
             s.phase = ShutdownPhase::Done(ShutdownResult::TimedOut { during });
         }
         self.shutdown = Some(s);
         self.view.shutting_down = true;
     }
-
-    /// The first step of a shutdown: end what runs (callers waiting for an enabling or a
-    /// calibration are told why) and start the controlled stop `hold` uses.
-    fn stop_for_shutdown(&mut self) {
-        match self.state {
-            State::Enabling { caller, from, .. } => {
-                self.fail(caller, Reason::ShuttingDown);
-                self.state = from.state();
-            }
-            State::Calibration { caller, .. } => {
-                self.restore_previous_calibration();
-                self.fail(caller, Reason::ShuttingDown);
-                self.state = State::Hold {
-                    stop: self.stop_motion(),
-                };
-            }
-            State::Pvt { .. } | State::Release | State::Torque { .. } | State::Velocity { .. } => {
-                self.state = State::Hold {
-                    stop: self.stop_motion(),
-                };
-            }
-            // A stop under way (HOLD, ERROR) goes on; OFF is already disabled.
-            State::Off | State::Hold { .. } | State::Error { .. } => {}
-        }
-    }
 }
+
+// Scenario tests on the whole simulated robot.
+#[cfg(all(test, feature = "sim"))]
+mod tests;

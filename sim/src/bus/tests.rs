@@ -1,9 +1,9 @@
 //! Whole-bus tests of the simulated P-Rob2 with the real arm model: a scripted master
-//! ([`super::test_master`]) configures the six drives exactly as `docs/drive-profile.md` says,
+//! ([`crate::test_master`]) configures the six drives exactly as `docs/drive-profile.md` says,
 //! enables them in CSP and streams targets; the truth of the arm is checked.
 
 use super::SimBus;
-use super::test_master::TestMaster;
+use crate::test_master::TestMaster;
 use crate::{SimCommand, SimCommandError, SimControl, SimTruth};
 use mcm_shared::command::Axis;
 
@@ -402,7 +402,7 @@ fn a_disconnected_drive_goes_silent_and_faults_on_the_lost_master_heartbeat() {
     }
     assert_eq!(
         bus.drive(2).unwrap().state(),
-        super::cia402::State::Fault,
+        crate::cia402::State::Fault,
         "its heartbeat consumer fired"
     );
     assert!(
@@ -425,7 +425,7 @@ fn a_disconnected_drive_goes_silent_and_faults_on_the_lost_master_heartbeat() {
     run(&mut bus, &mut m, 2);
     assert!(m.nodes[2].is_fault(), "{:04X}", m.nodes[2].statusword);
     assert_eq!(
-        bus.drive(2).unwrap().od().raw(super::od::ERROR_CODE),
+        bus.drive(2).unwrap().od().raw(crate::od::ERROR_CODE),
         0x8130
     );
 }
@@ -576,7 +576,7 @@ fn light_barrier_bit_15_shows_the_positive_side() {
         let mut bus = SimBus::new(&cfg_at([base_deg, 0.0, 0.0, 0.0, 0.0, 0.0]));
         bus.send(&Frame::new(0x080, &[]).unwrap()).unwrap();
         let sw =
-            |axis: usize| bus.drive(axis).unwrap().od().raw(super::od::STATUSWORD) & 0x8000 != 0;
+            |axis: usize| bus.drive(axis).unwrap().od().raw(crate::od::STATUSWORD) & 0x8000 != 0;
         assert_eq!(sw(0), set, "base at {base_deg} deg, barrier at 0 deg");
         assert!(!sw(1), "the shoulder has no light barrier");
     }
@@ -590,12 +590,12 @@ fn receive_queue_is_a_bounded_ring_that_counts_overruns() {
     for _ in 0..600 {
         bus.send(&read).unwrap();
     }
-    assert_eq!(bus.rx_overruns(), 6 + 600 - super::bus::RX_CAPACITY as u64);
+    assert_eq!(bus.rx_overruns(), 6 + 600 - super::RX_CAPACITY as u64);
     let mut n = 0;
     while bus.recv(u64::MAX).unwrap().is_some() {
         n += 1;
     }
-    assert_eq!(n, super::bus::RX_CAPACITY);
+    assert_eq!(n, super::RX_CAPACITY);
     bus.send(&Frame::new(0x080, &[]).unwrap()).unwrap();
     assert_eq!(bus.now_ns(), 5_000_000);
 }

@@ -4,35 +4,11 @@
 use super::*;
 use crate::canopen::cia402::State;
 use crate::canopen::testdrive::{FakeDrive, Fault};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
+use mcm_shared::alloc_count::{self, CountingAlloc};
 
-/// Counts heap allocations of the current thread, to check the cyclic path allocates nothing.
-struct CountingAlloc;
-
-thread_local! {
-    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
-}
-
-// SAFETY: forwards to the system allocator unchanged; only counts calls.
-unsafe impl GlobalAlloc for CountingAlloc {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.with(|c| c.set(c.get() + 1));
-        // SAFETY: same contract as our caller's.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: same contract as our caller's.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
+/// Counts the heap allocations of each thread, to check the cyclic path allocates nothing.
 #[global_allocator]
 static GLOBAL: CountingAlloc = CountingAlloc;
-
-fn allocations() -> u64 {
-    ALLOCATIONS.with(|c| c.get())
-}
 
 const MS: u64 = 1_000_000;
 const T: u64 = 5 * MS;
@@ -69,16 +45,17 @@ impl World {
         let inbox = std::mem::take(&mut self.inbox);
         let mut out = FrameBuf::new();
         let mut events = [None; 16];
-        let before = allocations();
-        for f in &inbox {
-            self.master.handle_frame(self.now, f);
-        }
-        for e in events.iter_mut() {
-            *e = self.master.poll_event();
-        }
-        self.master
-            .cycle(self.now, &reqs, &self.max_current, &mut out);
-        self.cyclic_allocations += allocations() - before;
+        let ((), counts) = alloc_count::count(|| {
+            for f in &inbox {
+                self.master.handle_frame(self.now, f);
+            }
+            for e in events.iter_mut() {
+                *e = self.master.poll_event();
+            }
+            self.master
+                .cycle(self.now, &reqs, &self.max_current, &mut out);
+        });
+        self.cyclic_allocations += counts.allocations;
         self.events.extend(events.iter().flatten());
         for f in out.iter() {
             for d in &mut self.drives {

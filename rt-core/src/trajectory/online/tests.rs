@@ -117,8 +117,8 @@ fn retarget_ahead_keeps_going_and_behind_turns_back() {
         min_speed = min_speed.min(ahead.sample(t).1);
     }
     assert!(min_speed > 40.0 * DEG, "never slows down much: {min_speed}");
-    // A target behind: overshoots by the braking distance (full limits, §5.6's d3 = 4 deg
-    // from 30 deg/s), then comes back.
+    // A target behind: overshoots by the braking distance (full limits: d3 = 4 deg from
+    // 30 deg/s, `controlled_stop`'s module doc), then comes back.
     let back = plan_from_state(0, 0.0, 30.0 * DEG, 0.0, -0.2, l, 1.0).unwrap();
     check(&back, (0.0, 30.0 * DEG, 0.0), -0.2, l);
     assert!((back.position_range().1 - 4.0 * DEG).abs() < 1e-9);
@@ -224,8 +224,7 @@ fn case() -> impl Strategy<Value = (AxisLimits, (f64, f64, f64), f64, f64)> {
 }
 
 proptest! {
-    // No regression files: failures print their minimal input instead.
-    #![proptest_config(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig::with_cases(400))]
 
     #[test]
     fn replans_from_any_allowed_state_are_continuous_bounded_and_arrive(

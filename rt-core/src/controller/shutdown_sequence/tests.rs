@@ -1,7 +1,7 @@
 //! The controlled stop and disable of a shutdown, against the simulated robot in virtual time.
 
-use super::tests::Robot;
 use super::{ShutdownPhase, ShutdownResult};
+use crate::controller::tests::Robot;
 use mcm_shared::command::{Axis, MoveAxis, Pvt, Request};
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::Reason;

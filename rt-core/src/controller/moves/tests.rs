@@ -1,7 +1,7 @@
 //! Moves received during motion, against the simulated robot in virtual time: re-planned from
 //! the commanded state, per axis, with no step in the commanded velocity.
 
-use super::tests::Robot;
+use crate::controller::tests::Robot;
 use mcm_shared::command::{Axis, MoveAll, MoveAxis, Pvt, Request};
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::{Done, Reason};

@@ -1,8 +1,8 @@
 //! Scenario tests of control ownership (`ownership.rs`): which client may move the arm, that a
 //! stop is open to all, and that what a gone owner drove ends in HOLD (virtual time, the whole
-//! simulated robot, as in `tests.rs`).
+//! simulated robot, as in `controller/tests.rs`).
 
-use super::tests::{Robot, move_axis};
+use crate::controller::tests::{Robot, move_axis};
 use mcm_shared::command::{Calibrate, Direction, Pvt, Request, SetTorques, TorqueControl, Which};
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::{Done, Outcome, Reason};
