@@ -230,7 +230,9 @@ use std::ffi::c_char;
 #[test]
 fn the_checked_in_wrappers_are_what_the_list_generates() {
     let generated = render();
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/commands.rs");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("src")
+        .join("commands.rs");
     if std::env::var_os("MCM_UPDATE_CAPI").is_some() {
         std::fs::write(&path, &generated).expect("write capi/src/commands.rs");
     }

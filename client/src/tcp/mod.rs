@@ -266,12 +266,24 @@ impl TcpClient {
 
     /// Send `cmd` and read lines until its result (`mode`: see [`Expect`]).
     fn call(&mut self, cmd: &Command, mode: Option<Mode>, timeout: Duration) -> Result<Got, Error> {
-        let command = cmd.name();
+        self.call_line(cmd.def(), &cmd.to_json(), mode, timeout)
+    }
+
+    /// [`TcpClient::call`] with the command's line given: `line` is a command `def` (written by
+    /// [`Command::to_json`] but for a value the typed command cannot hold).
+    fn call_line(
+        &mut self,
+        def: &'static protocol::CommandDef,
+        line: &serde_json::Value,
+        mode: Option<Mode>,
+        timeout: Duration,
+    ) -> Result<Got, Error> {
+        let command = def.name;
         let expect = Expect {
-            success: cmd.def().success,
+            success: def.success,
             mode,
         };
-        self.write(command, &cmd.to_json().to_string())?;
+        self.write(command, &line.to_string())?;
         let deadline = Instant::now() + timeout;
         loop {
             let Some(line) = self.read_line(command, deadline)? else {
@@ -474,15 +486,23 @@ impl TcpClient {
         target_deg: f64,
         velocity_factor: f64,
     ) -> Result<(), Error> {
-        let axis = mcm_shared::command::Axis::new(axis).ok_or_else(|| Error::Argument {
-            command: "move_axis".into(),
-            problem: format!("axis {axis} does not exist; the axes are 1 to 6"),
-        })?;
-        self.call_ok(MoveAxis {
+        let typed = |axis| MoveAxis {
             axis,
             target_deg,
             velocity_factor,
-        })
+        };
+        match mcm_shared::command::Axis::new(axis) {
+            Some(a) => self.call_ok(typed(a)),
+            None => {
+                // Not an axis: sent as given, so that the MCM refuses it in its own words, as
+                // it refuses every other value out of range.
+                let cmd = Command::MoveAxis(typed(mcm_shared::command::Axis::ALL[0]));
+                let mut line = cmd.to_json();
+                line["arguments"]["axis_index"] = axis.into();
+                let t = self.opts.reply_timeout;
+                self.call_line(cmd.def(), &line, None, t).map(|_| ())
+            }
+        }
     }
 
     /// Move all axes together to `targets_deg` (PVT mode); the move the MCM planned.

@@ -297,3 +297,20 @@ fn any_command_goes_through_command_with_its_typed_result() {
         ]
     );
 }
+
+/// An axis number that is no axis still goes to the MCM, which refuses it in its own words.
+#[test]
+fn move_axis_leaves_a_bad_axis_to_the_mcm() {
+    let refusal = r#"{"result_type":"generic","error_status":"ERROR","error_message":"move_axis: argument \"axis_index\" = 9 is not allowed; expected an axis number from 1 to 6"}"#;
+    let (addr, seen) = server(vec![vec![refusal.into()]]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    let e = c.move_axis(9, 0.0, 0.5).unwrap_err();
+    let e = e.mcm().expect("the MCM's refusal");
+    assert_eq!(e.kind, ErrorKind::Invalid);
+    assert!(e.message.contains("\"axis_index\" = 9"), "{}", e.message);
+    let sent: Value = serde_json::from_str(&seen.recv().unwrap()).unwrap();
+    assert_eq!(
+        sent,
+        json!({"command": "move_axis", "arguments": {"axis_index": 9, "target_position": 0.0, "velocity_factor": 0.5}})
+    );
+}
