@@ -1,0 +1,100 @@
+use super::*;
+
+fn coupled_w() -> Matrix6<f64> {
+    let mut w = Matrix6::identity() * 2.0;
+    w[(0, 1)] = 0.8;
+    w[(1, 0)] = 0.8;
+    w[(2, 3)] = -0.5;
+    w[(3, 2)] = -0.5;
+    w * 0.01
+}
+
+#[test]
+fn below_the_level_the_joint_sticks_exactly() {
+    let w = coupled_w();
+    let v_free = Vector6::new(0.01, -0.005, 0.0, 0.002, 0.0, 0.0);
+    let bound = Vector6::repeat(5.0);
+    let mut lambda = Vector6::zeros();
+    let v = solve_friction(&w, &v_free, &bound, &mut lambda);
+    assert_eq!(v, Vector6::zeros());
+    assert!(lambda.iter().zip(bound.iter()).all(|(l, b)| l.abs() <= *b));
+}
+
+#[test]
+fn above_the_level_the_joint_slides_against_full_friction() {
+    let w = coupled_w();
+    let v_free = Vector6::new(1.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    let bound = Vector6::new(3.0, 100.0, 0.0, 0.0, 0.0, 0.0);
+    let mut lambda = Vector6::zeros();
+    let v = solve_friction(&w, &v_free, &bound, &mut lambda);
+    assert_eq!(lambda[0], -3.0, "sliding joint gets the full Coulomb level");
+    assert!(v[0] > 0.0, "still moving forward: {v}");
+    assert_eq!(v[1], 0.0, "joint 2 holds (its level is high)");
+    // Complementarity: the joint without friction moves freely.
+    assert_eq!(lambda[2], 0.0);
+}
+
+#[test]
+fn friction_never_reverses_the_motion() {
+    let w = Matrix6::identity() * 0.001;
+    let v_free = Vector6::new(0.001, -0.001, 0.0, 0.0, 0.0, 0.0);
+    let bound = Vector6::repeat(10.0);
+    let mut lambda = Vector6::zeros();
+    let v = solve_friction(&w, &v_free, &bound, &mut lambda);
+    assert_eq!(
+        v,
+        Vector6::zeros(),
+        "friction stops the joint, does not push it back"
+    );
+}
+
+/// Bad input from the solver's side (`w`, the bounds, the warm start); `v_free` is the
+/// caller's physics, and a velocity that is not a number there stays one.
+#[test]
+fn bad_input_gives_finite_output() {
+    let mut one_nan = coupled_w();
+    one_nan[(0, 1)] = f64::NAN;
+    let v_free = Vector6::new(0.01, -2.0, 0.0, 0.5, 0.0, 0.0);
+    let bounds = Vector6::new(5.0, f64::NAN, -1.0, f64::INFINITY, 0.0, 1.0);
+    let cases = [
+        (
+            "w all NaN",
+            Matrix6::from_element(f64::NAN),
+            Vector6::repeat(1.0),
+            0.0,
+        ),
+        ("w with one NaN", one_nan, Vector6::repeat(1.0), 0.0),
+        (
+            "w infinite",
+            Matrix6::identity() * f64::INFINITY,
+            Vector6::repeat(1.0),
+            0.0,
+        ),
+        ("NaN, negative, infinite bounds", coupled_w(), bounds, 0.0),
+        (
+            "NaN warm start",
+            coupled_w(),
+            Vector6::repeat(1.0),
+            f64::NAN,
+        ),
+        (
+            "infinite warm start",
+            coupled_w(),
+            Vector6::repeat(1.0),
+            f64::INFINITY,
+        ),
+    ];
+    for (what, w, bound, start) in cases {
+        let mut lambda = Vector6::repeat(start);
+        let v = solve_friction(&w, &v_free, &bound, &mut lambda);
+        assert!(lambda.iter().all(|l| l.is_finite()), "{what}: λ = {lambda}");
+        assert!(v.iter().all(|x| x.is_finite()), "{what}: v = {v}");
+        if what.starts_with("w ") {
+            assert_eq!(
+                (v, lambda),
+                (v_free, Vector6::zeros()),
+                "{what}: no friction"
+            );
+        }
+    }
+}
