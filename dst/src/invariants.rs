@@ -146,9 +146,9 @@ impl Checker {
             return fail(format!("unknown mode {}", s.mode));
         };
         self.modes_reached[mode as usize] += 1;
-        self.transition(mode).or_else(|m| fail(m))?;
-        self.positions(s, mode, faults).or_else(|m| fail(m))?;
-        self.replies(s, mode, replies).or_else(|m| fail(m))?;
+        self.transition(mode).or_else(&fail)?;
+        self.positions(s, mode, faults).or_else(&fail)?;
+        self.replies(s, mode, replies).or_else(&fail)?;
         self.prev_mode = mode;
         Ok(())
     }
