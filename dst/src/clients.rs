@@ -47,9 +47,11 @@ const GOALS: [Goal; 6] = [
 /// The limits a client draws its arguments within (and sometimes beyond).
 #[derive(Debug, Clone)]
 pub struct Limits {
-    min_deg: [f64; NUM_AXES],
-    max_deg: [f64; NUM_AXES],
-    max_velocity: [f64; NUM_AXES],
+    pub min_deg: [f64; NUM_AXES],
+    pub max_deg: [f64; NUM_AXES],
+    pub max_velocity: [f64; NUM_AXES],
+    /// The largest joint torque each motor gives [Nm].
+    pub max_torque: [f64; NUM_AXES],
 }
 
 impl Limits {
@@ -58,6 +60,9 @@ impl Limits {
             min_deg: core::array::from_fn(|i| cfg.axes[i].min_deg),
             max_deg: core::array::from_fn(|i| cfg.axes[i].max_deg),
             max_velocity: core::array::from_fn(|i| cfg.axes[i].max_velocity_deg_s),
+            max_torque: core::array::from_fn(|i| {
+                cfg.axes[i].max_current_a * cfg.axes[i].torque_per_amp()
+            }),
         }
     }
 }

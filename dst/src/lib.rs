@@ -13,6 +13,7 @@
 
 pub mod campaign;
 pub mod clients;
+pub mod driver;
 pub mod faults;
 pub mod faulty_bus;
 pub mod invariants;

@@ -3,6 +3,7 @@
 //! it can use; every cycle checked ([`Checker`]) and hashed (replay and determinism).
 
 use crate::clients::{Action, Client, FIRST_CLIENT_ID, Limits};
+use crate::driver::Driver;
 use crate::faults::{Fault, Schedule};
 use crate::faulty_bus::{BusFaultCounts, BusFaults};
 use crate::invariants::{Checker, Violation};
@@ -148,11 +149,13 @@ fn which_of(r: &Request) -> Option<Which> {
 /// Run one seed.
 pub fn run(opts: &RunOptions) -> RunReport {
     let mut rng = Rng::new(opts.seed);
-    let swarm = Swarm::draw(&mut rng);
+    let mut swarm = Swarm::draw(&mut rng);
     let cfg = config(&mut rng, opts.planted);
     let mut world = World::new(&cfg, rng.fork(1));
     let mut client_rng = rng.fork(2);
     let mut fault_rng = rng.fork(3);
+    let mut driver_rng = rng.fork(4);
+    swarm.draw_roles(&mut driver_rng);
     let limits = Limits::of(&cfg);
     let mut checker = Checker::new(&cfg);
     let mut schedule = Schedule::new(swarm.fault_rates, FAULT_CLIENT);
@@ -163,6 +166,9 @@ pub fn run(opts: &RunOptions) -> RunReport {
             Client::new(next_id, &mut client_rng)
         })
         .collect();
+    let mut driver = swarm
+        .driver
+        .then(|| Driver::new(FIRST_CLIENT_ID, &mut driver_rng));
     let mut report = RunReport {
         seed: opts.seed,
         swarm: swarm.clone(),
@@ -232,6 +238,13 @@ pub fn run(opts: &RunOptions) -> RunReport {
                     }
                 }
             }
+            if let Some(x) = driver
+                .as_mut()
+                .and_then(|d| d.act(&s, &limits, &mut driver_rng))
+            {
+                checker.asked(&x.sample, x.request.as_ref().and_then(which_of), k);
+                world.send(x.sample);
+            }
             faults.clear();
             faults.extend(schedule.active());
             faults.extend(inj.started.iter().copied());
@@ -244,9 +257,10 @@ pub fn run(opts: &RunOptions) -> RunReport {
             world.send(c);
         }
         world.bus().faults = BusFaults::default();
-        for client in &clients {
+        let ids = clients.iter().map(|c| c.id).chain(driver.map(|d| d.id));
+        for id in ids {
             let mut c = Request::ClientGone.encode();
-            (c.client_id, c.request_id) = (client.id, u64::MAX);
+            (c.client_id, c.request_id) = (id, u64::MAX);
             checker.asked(&c, None, k);
             world.send(c);
         }
@@ -280,10 +294,13 @@ pub fn run(opts: &RunOptions) -> RunReport {
             cycle: k,
             quiet_phase: true,
             message: format!(
-                "the quiet phase did not end in a usable calibrated HOLD within {} s: mode {}, axis flags {:?}, recovery at step {:?} (last answer {:?}), {} commands unanswered (oldest: {:?})",
+                "the quiet phase did not end in a usable calibrated HOLD within {} s: mode {}, axis flags {:?}, true angles {:?} deg, currents {:?} A, i2t {:?}, recovery at step {:?} (last answer {:?}), {} commands unanswered (oldest: {:?})",
                 opts.quiet_seconds,
                 Mode::try_from(s.mode).map_or("?".into(), |m| m.to_string()),
                 s.axis_flags,
+                s.sim_true_position.map(|x| (x * 10.0).round() / 10.0),
+                s.current.map(|x| (x * 100.0).round() / 100.0),
+                s.i2t.map(|x| (x * 100.0).round() / 100.0),
                 recovery.stage,
                 recovery.last,
                 unanswered.len(),

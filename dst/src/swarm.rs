@@ -11,6 +11,10 @@ pub struct Swarm {
     pub clients: usize,
     /// Chance per cycle of a new episode of each kind of fault (0: never in this run).
     pub fault_rates: [f64; Fault::ALL.len()],
+    /// A [`Driver`](crate::driver::Driver) among the clients (alone when `clients` is 0).
+    pub driver: bool,
+    /// Faults ten times rarer than drawn: the driver gets further between them.
+    pub calm: bool,
 }
 
 impl Swarm {
@@ -26,6 +30,25 @@ impl Swarm {
         Swarm {
             clients,
             fault_rates,
+            driver: false,
+            calm: false,
+        }
+    }
+
+    /// The roles (drawn after the rest, from their own generator, so that a seed's clients,
+    /// faults and configuration stay what they were without them).
+    pub fn draw_roles(&mut self, rng: &mut Rng) {
+        self.driver = rng.chance(0.5);
+        // Half the drivers drive alone: any client's `hold` aborts a calibration of all axes,
+        // which takes tens of seconds, so that with others around it rarely ends.
+        if self.driver && rng.chance(0.5) {
+            self.clients = 0;
+        }
+        self.calm = rng.chance(0.3);
+        if self.calm {
+            for r in &mut self.fault_rates {
+                *r /= 10.0;
+            }
         }
     }
 
