@@ -40,8 +40,9 @@ use super::pdo::{Rpdo1, Rpdo2, Tpdo1, Tpdo2};
 use super::sdo::{SdoClient, SdoDone, SdoError, SdoValue};
 use super::types::EventRing;
 pub use super::types::{
-    AxisFeedback, DriveRequest, EVENT_CAPACITY, FAULT_RESET_EDGES, FRAME_BUF_CAPACITY, FrameBuf,
-    LostReason, MODE_CSP, MODE_CST, MODE_RESEND_CYCLES, MasterEvent, MasterSetupError,
+    AxisFeedback, CONFIG_RETRIES, DriveRequest, EVENT_CAPACITY, FAULT_RESET_EDGES,
+    FRAME_BUF_CAPACITY, FrameBuf, LostReason, MODE_CSP, MODE_CST, MODE_RESEND_CYCLES, MasterEvent,
+    MasterSetupError,
 };
 use mcm_bus::Frame;
 use mcm_shared::NUM_AXES;
@@ -146,6 +147,8 @@ struct AxisRt {
     last_target_counts: i32,
     /// The torque feed-forward asked for in CSP [joint Nm] (see [`Master::set_torque_offset`]).
     torque_offset_nm: f64,
+    /// Configurations failed in a row (see [`CONFIG_RETRIES`]).
+    config_failures: u8,
 }
 
 impl AxisRt {
@@ -229,12 +232,13 @@ impl AxisRt {
             last_emcy_code: 0,
             last_target_counts: 0,
             torque_offset_nm: 0.0,
+            config_failures: 0,
         })
     }
 
     /// Back to "just booted": configuration state and feedback forgotten.
     ///
-    /// Kept: `link` (every caller sets it next), `started_ns` (read only while operational,
+    /// Kept: `link` (every caller sets it next), `config_failures`, `started_ns` (read only while operational,
     /// and set when the drive becomes so), `last_pos_counts` and `last_target_counts` (the
     /// setpoint holds the last known position until new feedback comes, so nothing jumps),
     /// `last_emcy_code` (a `Fault` event names the drive's last EMCY, whenever it came); in
@@ -384,8 +388,17 @@ impl Master {
     }
 
     /// Reset the communication of one drive (NMT `82`) in the next cycle: it boots again and
-    /// is reconfigured. Use after `ConfigFailed`. Out-of-range axes are ignored.
+    /// is reconfigured. The master does so by itself after a `ConfigFailed`, up to
+    /// [`CONFIG_RETRIES`] times in a row; this is for more. Out-of-range axes are ignored.
     pub fn reset_node(&mut self, axis: usize) {
+        if let Some(ax) = self.axes.get_mut(axis) {
+            ax.config_failures = 0;
+        }
+        self.reset_again(axis);
+    }
+
+    /// Forget drive `axis` and send it NMT reset communication in the next cycle.
+    fn reset_again(&mut self, axis: usize) {
         if let (Some(ax), Some(fb)) = (self.axes.get_mut(axis), self.feedback.get_mut(axis)) {
             ax.forget(fb);
             ax.link = Link::WaitingBootUp;
@@ -601,6 +614,8 @@ impl Master {
                     .get_or_insert(now_ns + boot_timeout);
                 if ax.session.reset_pending || now_ns >= deadline {
                     if !ax.session.reset_pending {
+                        // Gone rather than refusing its configuration: count afresh.
+                        ax.config_failures = 0;
                         self.events.push(MasterEvent::Missing { axis: i, node });
                     }
                     ax.session.reset_pending = false;
@@ -620,6 +635,7 @@ impl Master {
                     BootOutput::Send(f) => push_counted(out, f, &mut self.frames_dropped),
                     BootOutput::Done(f) => {
                         ax.link = Link::Operational;
+                        ax.config_failures = 0;
                         ax.started_ns = now_ns;
                         ax.hb.arm(now_ns);
                         ax.session.missed = 0;
@@ -632,6 +648,11 @@ impl Master {
                     }
                     BootOutput::Failed(error) => {
                         ax.link = Link::Failed;
+                        ax.config_failures = ax.config_failures.saturating_add(1);
+                        // The drive may have been away (its cable, its power) or the bus bad:
+                        // reset and configure it again a boot timeout later, a bounded number
+                        // of times, rather than leave it down until it reboots by itself.
+                        ax.session.boot_deadline_ns = Some(now_ns + boot_timeout);
                         self.events.push(MasterEvent::ConfigFailed {
                             axis: i,
                             node,
@@ -646,7 +667,15 @@ impl Master {
                 self.setpoints(i, now_ns, req, max_current_a, out);
                 self.store_step(i, now_ns, out);
             }
-            Link::Failed => self.axes[i].session.sdo_outcome = None,
+            Link::Failed => {
+                let ax = &mut self.axes[i];
+                ax.session.sdo_outcome = None;
+                if ax.config_failures <= CONFIG_RETRIES
+                    && ax.session.boot_deadline_ns.is_some_and(|d| now_ns >= d)
+                {
+                    self.reset_again(i);
+                }
+            }
         }
     }
 

@@ -25,6 +25,11 @@ pub const MODE_CST: i8 = 10;
 pub const MODE_RESEND_CYCLES: u16 = 20;
 /// Fault-reset edges sent per [`Master::reset_faults`] call to a drive that stays in FAULT.
 pub const FAULT_RESET_EDGES: u8 = 3;
+/// Times in a row the master resets and configures again a drive whose configuration failed
+/// ([`MasterEvent::ConfigFailed`]), `bus.boot_timeout_ms` after each failure; then it leaves
+/// the drive down until it boots by itself or [`super::Master::reset_node`] is called. A drive
+/// that comes up configured, or is missing (no boot-up after a reset), starts the count again.
+pub const CONFIG_RETRIES: u8 = 3;
 
 const _: () = assert!(2 + NUM_AXES * 3 <= FRAME_BUF_CAPACITY);
 
@@ -152,6 +157,8 @@ pub enum MasterEvent {
         axis: usize,
         error: SdoError,
     },
+    /// A configuration step failed after its retries. The master resets the drive and
+    /// configures it again `bus.boot_timeout_ms` later, up to [`CONFIG_RETRIES`] times in a row.
     ConfigFailed {
         axis: usize,
         node: u8,

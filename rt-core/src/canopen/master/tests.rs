@@ -644,6 +644,77 @@ fn config_failure_is_reported_and_reset_node_retries() {
     assert!(w.fb(1).online);
 }
 
+fn config_failures(events: &[MasterEvent], axis: usize) -> usize {
+    events
+        .iter()
+        .filter(|e| matches!(e, MasterEvent::ConfigFailed { axis: a, .. } if *a == axis))
+        .count()
+}
+
+#[test]
+fn a_failed_configuration_is_retried_a_boot_timeout_later() {
+    // The drive's cable was out while it was configured (found by mcm-dst seed 6): when it
+    // answers again the master must configure it, not leave it down until it reboots.
+    let mut w = World::new();
+    w.drives[1].script(0x6060, 0, Fault::Abort(0x0609_0030), 3);
+    let mut failed_at = None;
+    for k in 0..100 {
+        w.step([DriveRequest::Disable; 6]);
+        if failed_at.is_none() && config_failures(&w.take_events(), 1) == 1 {
+            failed_at = Some(k);
+        }
+    }
+    let failed_at = failed_at.expect("ConfigFailed of axis 2");
+    assert!(!w.fb(1).online);
+    // boot_timeout_ms = 2000 (400 cycles) after the failure the reset is due; NMT reset
+    // communication of node 2 goes out in the next cycle.
+    let frames = w.run(failed_at + 301, [DriveRequest::Disable; 6]);
+    assert!(!frames.concat().iter().any(|f| f.to_string() == "000#8202"));
+    let frames = w.step([DriveRequest::Disable; 6]);
+    assert!(
+        frames.iter().any(|f| f.to_string() == "000#8202"),
+        "no reset of node 2 at the boot timeout after the failure"
+    );
+    w.run(60, [DriveRequest::Disable; 6]);
+    let events = w.take_events();
+    assert!(
+        events.contains(&MasterEvent::Booted { axis: 1 }),
+        "{events:?}"
+    );
+    assert!(
+        events.contains(&MasterEvent::Configured { axis: 1 }),
+        "{events:?}"
+    );
+    assert!(w.fb(1).online, "{:?}", w.fb(1));
+}
+
+#[test]
+fn a_configuration_that_keeps_failing_is_retried_a_bounded_number_of_times() {
+    let mut w = World::new();
+    w.drives[1].script(0x6060, 0, Fault::Abort(0x0609_0030), 1_000);
+    let frames = w.run(3_000, [DriveRequest::Disable; 6]);
+    let resets = frames
+        .concat()
+        .iter()
+        .filter(|f| f.to_string() == "000#8202")
+        .count();
+    assert_eq!(resets, usize::from(CONFIG_RETRIES));
+    assert_eq!(
+        config_failures(&w.take_events(), 1),
+        1 + usize::from(CONFIG_RETRIES)
+    );
+    assert!(!w.fb(1).online);
+    // An explicit reset_node starts the count again.
+    w.master.reset_node(1);
+    let frames = w.run(2_000, [DriveRequest::Disable; 6]);
+    let resets = frames
+        .concat()
+        .iter()
+        .filter(|f| f.to_string() == "000#8202")
+        .count();
+    assert_eq!(resets, 1 + usize::from(CONFIG_RETRIES));
+}
+
 #[test]
 fn heartbeat_of_an_already_running_drive_triggers_a_reset() {
     let mut w = World::new();

@@ -1,0 +1,154 @@
+//! A campaign: many seeds, on several threads, until a budget of simulated time is spent or a
+//! run breaks an invariant; what was reached, summed over the runs, and the "sometimes"
+//! assertions (every mode and every kind of fault reached at least once).
+
+use crate::faults::Fault;
+use crate::run::{PlantedBug, RunOptions, RunReport, run};
+use mcm_shared::mode::Mode;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::Instant;
+
+/// What to run.
+#[derive(Debug, Clone, Copy)]
+pub struct CampaignOptions {
+    pub first_seed: u64,
+    /// Simulated seconds in all (the last runs may go a little beyond).
+    pub budget_s: f64,
+    /// Simulated seconds of each run's chaos phase.
+    pub run_s: f64,
+    pub jobs: usize,
+    pub planted: Option<PlantedBug>,
+}
+
+/// What a campaign did.
+#[derive(Debug, Clone, Default)]
+pub struct CampaignReport {
+    pub runs: u64,
+    pub simulated_s: f64,
+    pub wall_s: f64,
+    pub modes_reached: [u64; 8],
+    pub faults_started: [u64; Fault::ALL.len()],
+    pub faults_in_calibration: u64,
+    pub faults_while_braking: u64,
+    pub answers: [u64; 3],
+    pub bus_frames_hit: u64,
+    /// The failing runs (the campaign stops soon after the first).
+    pub failures: Vec<RunReport>,
+}
+
+impl CampaignReport {
+    fn add(&mut self, r: &RunReport) {
+        self.runs += 1;
+        self.simulated_s += r.simulated_s;
+        for (a, b) in self.modes_reached.iter_mut().zip(r.modes_reached) {
+            *a += b;
+        }
+        for (a, b) in self.faults_started.iter_mut().zip(r.faults_started) {
+            *a += b;
+        }
+        self.faults_in_calibration += r.faults_in_calibration;
+        self.faults_while_braking += r.faults_while_braking;
+        for (a, b) in self.answers.iter_mut().zip(r.answers) {
+            *a += b;
+        }
+        let b = r.bus;
+        self.bus_frames_hit +=
+            b.lost_tx + b.lost_rx + b.corrupted + b.duplicated + b.delayed + b.heartbeats_lost;
+        if r.violation.is_some() {
+            self.failures.push(r.clone());
+        }
+    }
+
+    /// The "sometimes" assertions: what no run reached (empty: all reached).
+    pub fn never_reached(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for m in Mode::ALL {
+            if self.modes_reached[*m as usize] == 0 {
+                out.push(format!("mode {m}"));
+            }
+        }
+        for f in Fault::ALL {
+            if self.faults_started[f.index()] == 0 {
+                out.push(format!("fault {}", f.name()));
+            }
+        }
+        if self.faults_in_calibration == 0 {
+            out.push("a fault during calibration".into());
+        }
+        if self.faults_while_braking == 0 {
+            out.push("a fault while braking in ERROR".into());
+        }
+        out
+    }
+
+    /// Simulated seconds per wall-clock second.
+    pub fn speed(&self) -> f64 {
+        self.simulated_s / self.wall_s.max(1e-9)
+    }
+
+    pub fn summary(&self) -> String {
+        use std::fmt::Write as _;
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "{} runs, {:.0} simulated s ({:.2} h) in {:.1} s wall: {:.0} simulated s per s",
+            self.runs,
+            self.simulated_s,
+            self.simulated_s / 3600.0,
+            self.wall_s,
+            self.speed()
+        );
+        let _ = write!(s, "modes (cycles):");
+        for m in Mode::ALL {
+            let _ = write!(s, " {m} {}", self.modes_reached[*m as usize]);
+        }
+        let _ = write!(s, "\nfaults started:");
+        for f in Fault::ALL {
+            let _ = write!(s, " {} {}", f.name(), self.faults_started[f.index()]);
+        }
+        let _ = write!(
+            s,
+            "\nfaults during calibration {}, while braking {}; frames hit by bus faults {}\nanswers: OK {}, refused {}, failed {}",
+            self.faults_in_calibration,
+            self.faults_while_braking,
+            self.bus_frames_hit,
+            self.answers[0],
+            self.answers[1],
+            self.answers[2]
+        );
+        s
+    }
+}
+
+/// Run the campaign.
+pub fn campaign(opts: &CampaignOptions) -> CampaignReport {
+    let next = AtomicU64::new(opts.first_seed);
+    let spent_ms = AtomicU64::new(0);
+    let stop = AtomicBool::new(false);
+    let total = Mutex::new(CampaignReport::default());
+    let t0 = Instant::now();
+    std::thread::scope(|scope| {
+        for _ in 0..opts.jobs.max(1) {
+            scope.spawn(|| {
+                while !stop.load(Ordering::Relaxed)
+                    && (spent_ms.load(Ordering::Relaxed) as f64) < opts.budget_s * 1e3
+                {
+                    let seed = next.fetch_add(1, Ordering::Relaxed);
+                    let mut o = RunOptions::new(seed, opts.run_s);
+                    o.planted = opts.planted;
+                    let r = run(&o);
+                    spent_ms.fetch_add((r.simulated_s * 1e3) as u64, Ordering::Relaxed);
+                    if r.violation.is_some() {
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                    total.lock().expect("no thread panicked").add(&r);
+                }
+            });
+        }
+    });
+    let mut report = total.into_inner().expect("no thread panicked");
+    report.wall_s = t0.elapsed().as_secs_f64();
+    report.failures.sort_by_key(|r| r.seed);
+    report
+}

@@ -1,0 +1,175 @@
+//! The driver: a client with one purpose, to get a calibrated arm into the motion modes and
+//! move it hard towards its limits, where the safety checks have to stop it in time. Random
+//! clients rarely get that far; a seed's swarm gives a run a driver or not
+//! ([`Swarm::driver`](crate::swarm::Swarm)).
+//!
+//! It reads the published state as a real client does: `take_control` when nobody has it,
+//! `hold` out of OFF and ERROR, `calibrate` all axes in HOLD unless they are, then one of
+//! VELOCITY_CONTROL (one axis at 50 to 100 % of its speed limit towards a limit),
+//! TORQUE_CONTROL (one axis pushed with 30 to 100 % of its motor's torque towards a limit,
+//! gravity compensated) or PVT (`move_axis` to just inside a limit at full speed), for a few
+//! seconds, then `hold` and the next plan.
+
+use crate::clients::{Limits, Sent};
+use crate::rng::Rng;
+use mcm_shared::NUM_AXES;
+use mcm_shared::command::{
+    Axis, Calibrate, Direction, MoveAxis, Pvt, Request, SetTorques, SetVelocities, TorqueControl,
+    VelocityControl, Which,
+};
+use mcm_shared::mode::Mode;
+use mcm_shared::sample::{AXIS_CALIBRATED, StateSample};
+
+/// Cycles a plan runs before the driver sends `hold` (about 3 s at 200 Hz).
+const PLAN_CYCLES: u64 = 600;
+
+/// What the driver does in the motion mode it entered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Motion {
+    Velocity,
+    Torque,
+    Pvt,
+}
+
+/// The driver client.
+#[derive(Debug, Clone)]
+pub struct Driver {
+    pub id: u64,
+    next_request: u64,
+    motion: Motion,
+    axis: usize,
+    /// +1 towards the upper limit, -1 towards the lower.
+    direction: f64,
+    /// Share of the axis's speed or torque limit.
+    factor: f64,
+    /// The state's `seq` before which it sends nothing.
+    wait_until: u64,
+    /// The state's `seq` at which the plan ends with `hold`.
+    plan_until: u64,
+    /// `move_axis` of the plan sent.
+    moved: bool,
+}
+
+impl Driver {
+    pub fn new(id: u64, rng: &mut Rng) -> Driver {
+        let mut d = Driver {
+            id,
+            next_request: 1,
+            motion: Motion::Velocity,
+            axis: 0,
+            direction: 1.0,
+            factor: 1.0,
+            wait_until: 0,
+            plan_until: 0,
+            moved: false,
+        };
+        d.plan(0, rng);
+        d
+    }
+
+    fn plan(&mut self, seq: u64, rng: &mut Rng) {
+        self.motion = rng.pick(&[Motion::Velocity, Motion::Torque, Motion::Pvt]);
+        self.axis = rng.below(NUM_AXES as u64) as usize;
+        self.direction = rng.pick(&[1.0, -1.0]);
+        self.factor = rng.pick(&[0.5, 0.8, 1.0]);
+        self.plan_until = seq + PLAN_CYCLES;
+        self.moved = false;
+    }
+
+    fn request(&mut self, r: Request) -> Sent {
+        let mut sample = r.encode();
+        sample.client_id = self.id;
+        sample.request_id = self.next_request;
+        self.next_request += 1;
+        Sent {
+            sample,
+            request: Some(r),
+        }
+    }
+
+    fn wait(&mut self, s: &StateSample, cycles: u64) {
+        self.wait_until = s.seq + cycles;
+    }
+
+    /// This cycle's command of the driver, if it sends one.
+    pub fn act(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Option<Sent> {
+        if s.seq < self.wait_until {
+            return None;
+        }
+        if s.owner_client_id != self.id {
+            if s.owner_client_id != 0 {
+                return None; // someone else drives
+            }
+            self.wait(s, 10);
+            return Some(self.request(Request::TakeControl));
+        }
+        let mode = Mode::try_from(s.mode).unwrap_or(Mode::Off);
+        let calibrated = s.axis_flags.iter().all(|f| f & AXIS_CALIBRATED != 0);
+        let r = match mode {
+            Mode::Off | Mode::Error | Mode::Release => {
+                self.wait(s, 40);
+                Request::Hold
+            }
+            Mode::Calibration => return None,
+            Mode::Hold if !calibrated => {
+                self.wait(s, 40);
+                Request::Calibrate(Calibrate {
+                    which: Which::All,
+                    elbow_direction: Direction::Positive,
+                    wrist_direction: Direction::Positive,
+                    force_mechanical_stop: false,
+                })
+            }
+            Mode::Hold => {
+                self.plan(s.seq, rng);
+                self.wait(s, 5);
+                match self.motion {
+                    Motion::Velocity => Request::VelocityControl(VelocityControl {
+                        timeout_s: Some(0.5),
+                    }),
+                    Motion::Torque => Request::TorqueControl(TorqueControl {
+                        timeout_s: Some(0.5),
+                        gravity_compensation: true,
+                    }),
+                    Motion::Pvt => Request::Pvt(Pvt { dt_s: 0.01 }),
+                }
+            }
+            _ if s.seq >= self.plan_until => {
+                self.wait(s, 20);
+                Request::Hold
+            }
+            Mode::VelocityControl => {
+                let mut v = [0.0; NUM_AXES];
+                v[self.axis] = self.direction * self.factor * lim.max_velocity[self.axis];
+                self.wait(s, 4);
+                Request::SetVelocities(SetVelocities {
+                    velocities_deg_s: v,
+                })
+            }
+            Mode::TorqueControl => {
+                let mut t = [0.0; NUM_AXES];
+                t[self.axis] = self.direction
+                    * (0.3 + 0.7 * (self.factor - 0.5) / 0.5)
+                    * lim.max_torque[self.axis];
+                self.wait(s, 4);
+                Request::SetTorques(SetTorques { torques_nm: t })
+            }
+            Mode::Pvt if !self.moved => {
+                self.moved = true;
+                let (lo, hi) = (lim.min_deg[self.axis], lim.max_deg[self.axis]);
+                let target = if self.direction > 0.0 {
+                    hi - 0.5
+                } else {
+                    lo + 0.5
+                };
+                Request::MoveAxis(MoveAxis {
+                    axis: Axis::ALL[self.axis],
+                    target_deg: target,
+                    velocity_factor: self.factor,
+                })
+            }
+            _ => return None,
+        };
+        Some(self.request(r))
+    }
+}

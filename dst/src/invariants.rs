@@ -1,0 +1,338 @@
+//! The invariants checked after every cycle of a run. Each violation names the cycle, the
+//! axis (1-based, where one is concerned) and the values.
+//!
+//! - every number of the published state is finite;
+//! - the true joint angle never beyond the mechanical stops (the hard limits) by more than
+//!   the stops' spring can give ([`STOP_PENETRATION_DEG`]);
+//! - the true joint angle never beyond a software limit by more than [`LIMIT_OVERRUN_DEG`]
+//!   while the controller is responsible for it: a calibrated axis, powered in HOLD, PVT,
+//!   VELOCITY_CONTROL, TORQUE_CONTROL or ERROR, with no push, obstacle, power cycle, emergency
+//!   stop or silent drive under way, that was inside its limits since;
+//! - every command answered exactly once, with the kind it asked (at the end of the run no
+//!   command may be left unanswered);
+//! - an OK to `pvt`, `release`, `torque_control`, `velocity_control` is published with its
+//!   mode (or ERROR: a trip in the same cycle), an OK to `calibrate` (its acceptance) with
+//!   CALIBRATION, unless a later command of that cycle changed the mode again;
+//! - only legal mode transitions: the motion modes entered from HOLD only, CALIBRATION from
+//!   OFF or HOLD only, OFF never entered again once left;
+//! - no axis flagged calibrated whose measured angle is further from the true angle than its
+//!   calibration tolerance (plus what one cycle of motion explains);
+//! - no allocation in the cycle's work.
+
+use crate::faults::Fault;
+use mcm_shared::NUM_AXES;
+use mcm_shared::command::Which;
+use mcm_shared::config::RobotConfig;
+use mcm_shared::mode::{CommandKind, Mode};
+use mcm_shared::reply::{Outcome, Response};
+use mcm_shared::sample::{AXIS_CALIBRATED, CommandSample, Reply, StateSample};
+use std::collections::HashMap;
+
+/// How far the stops' spring may give under the largest torques [deg].
+pub const STOP_PENETRATION_DEG: f64 = 2.0;
+/// How far past a software limit the controller may let an axis go [deg].
+pub const LIMIT_OVERRUN_DEG: f64 = 1.0;
+
+/// A broken invariant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Violation {
+    pub cycle: u64,
+    pub message: String,
+    /// The quiet phase did not bring the arm back to a usable calibrated HOLD (rather than a
+    /// per-cycle invariant broken).
+    pub quiet_phase: bool,
+}
+
+impl std::fmt::Display for Violation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "cycle {}: {}", self.cycle, self.message)
+    }
+}
+
+/// A command waiting for its answer.
+#[derive(Debug, Clone, Copy)]
+struct Asked {
+    kind: u32,
+    #[allow(dead_code)] // kept for a check of what a finished calibration covers
+    which: Option<Which>,
+    cycle: u64,
+}
+
+/// The checker of one run.
+pub struct Checker {
+    stops_deg: [(f64, f64); NUM_AXES],
+    limits_deg: [(f64, f64); NUM_AXES],
+    tolerance_deg: [f64; NUM_AXES],
+    period_s: f64,
+    asked: HashMap<(u64, u64), Asked>,
+    prev_mode: Mode,
+    left_off: bool,
+    /// Per axis: the controller is not (yet again) responsible for its limits.
+    excused: [bool; NUM_AXES],
+    pub modes_reached: [u64; 8],
+    pub answers: [u64; 3],
+}
+
+impl Checker {
+    pub fn new(cfg: &RobotConfig) -> Checker {
+        let stops_deg = core::array::from_fn(|i| {
+            let a = &cfg.axes[i];
+            let (stop, lo, hi) = (a.calibration.stop_deg, a.min_deg, a.max_deg);
+            if a.calibration.direction > 0 {
+                (lo - (stop - hi), stop)
+            } else {
+                (stop, hi + (lo - stop))
+            }
+        });
+        Checker {
+            stops_deg,
+            limits_deg: core::array::from_fn(|i| (cfg.axes[i].min_deg, cfg.axes[i].max_deg)),
+            tolerance_deg: core::array::from_fn(|i| cfg.axes[i].calibration.tolerance_deg),
+            period_s: cfg.cycle_period_ns() as f64 * 1e-9,
+            asked: HashMap::new(),
+            prev_mode: Mode::Off,
+            left_off: false,
+            excused: [true; NUM_AXES],
+            modes_reached: [0; 8],
+            answers: [0; 3],
+        }
+    }
+
+    /// A command was sent at cycle `k`.
+    pub fn asked(&mut self, c: &CommandSample, which: Option<Which>, k: u64) {
+        let a = Asked {
+            kind: c.kind,
+            which,
+            cycle: k,
+        };
+        self.asked.insert((c.client_id, c.request_id), a);
+    }
+
+    /// Commands not answered yet, the oldest first: (client, request, kind, cycle sent).
+    pub fn unanswered(&self) -> Vec<(u64, u64, u32, u64)> {
+        let mut v: Vec<_> = self
+            .asked
+            .iter()
+            .map(|(&(c, r), a)| (c, r, a.kind, a.cycle))
+            .collect();
+        v.sort_by_key(|x| (x.3, x.0, x.1));
+        v
+    }
+
+    /// Check cycle `k`: its published state, its replies, what it allocated, the faults under
+    /// way.
+    pub fn cycle(
+        &mut self,
+        k: u64,
+        s: &StateSample,
+        replies: &[Reply],
+        allocations: u64,
+        faults: &[Fault],
+    ) -> Result<(), Violation> {
+        let fail = |message: String| {
+            Err(Violation {
+                cycle: k,
+                message,
+                quiet_phase: false,
+            })
+        };
+        if allocations != 0 {
+            return fail(format!("the cycle's work allocated {allocations} times"));
+        }
+        if let Some(what) = non_finite(s) {
+            return fail(format!("a number of the state is not finite: {what}"));
+        }
+        let Ok(mode) = Mode::try_from(s.mode) else {
+            return fail(format!("unknown mode {}", s.mode));
+        };
+        self.modes_reached[mode as usize] += 1;
+        self.transition(mode).or_else(&fail)?;
+        self.positions(s, mode, faults).or_else(&fail)?;
+        self.replies(s, mode, replies).or_else(&fail)?;
+        self.prev_mode = mode;
+        Ok(())
+    }
+
+    fn transition(&mut self, mode: Mode) -> Result<(), String> {
+        let from = self.prev_mode;
+        if mode == from {
+            return Ok(());
+        }
+        let legal = match mode {
+            Mode::Error | Mode::Hold => true,
+            Mode::Off => !self.left_off,
+            Mode::Calibration => matches!(from, Mode::Off | Mode::Hold),
+            Mode::Release | Mode::TorqueControl | Mode::Pvt | Mode::VelocityControl => {
+                from == Mode::Hold
+            }
+        };
+        if from == Mode::Off {
+            self.left_off = true;
+        }
+        if legal {
+            Ok(())
+        } else {
+            Err(format!("illegal mode transition {from} -> {mode}"))
+        }
+    }
+
+    fn positions(&mut self, s: &StateSample, mode: Mode, faults: &[Fault]) -> Result<(), String> {
+        let outside_help = faults.iter().any(|f| {
+            matches!(
+                f,
+                Fault::Push
+                    | Fault::Obstacle
+                    | Fault::PowerCycle
+                    | Fault::EmergencyStop
+                    | Fault::DriveSilent
+            )
+        });
+        let responsible = matches!(
+            mode,
+            Mode::Hold | Mode::Pvt | Mode::VelocityControl | Mode::TorqueControl | Mode::Error
+        ) && !outside_help;
+        for i in 0..NUM_AXES {
+            let q = s.sim_true_position[i];
+            let (lo, hi) = self.stops_deg[i];
+            if q < lo - STOP_PENETRATION_DEG || q > hi + STOP_PENETRATION_DEG {
+                return Err(format!(
+                    "axis {}: true angle {q:.3} deg beyond the mechanical stops [{lo:.3}, {hi:.3}] (+{STOP_PENETRATION_DEG} deg)",
+                    i + 1
+                ));
+            }
+            let calibrated = s.axis_flags[i] & AXIS_CALIBRATED != 0;
+            let (lo, hi) = self.limits_deg[i];
+            let inside = (lo..=hi).contains(&q);
+            if !responsible || !calibrated {
+                self.excused[i] = true;
+            }
+            if inside && responsible && calibrated {
+                self.excused[i] = false;
+            }
+            if !self.excused[i] && (q < lo - LIMIT_OVERRUN_DEG || q > hi + LIMIT_OVERRUN_DEG) {
+                return Err(format!(
+                    "axis {}: true angle {q:.3} deg beyond the software limits [{lo}, {hi}] by more than {LIMIT_OVERRUN_DEG} deg in {mode} (velocity {:.3} deg/s)",
+                    i + 1,
+                    s.sim_true_velocity[i]
+                ));
+            }
+            let err = (s.measured_position[i] - q).abs();
+            let slack = self.tolerance_deg[i] + 2.0 * s.sim_true_velocity[i].abs() * self.period_s;
+            if calibrated && err > slack {
+                return Err(format!(
+                    "axis {}: flagged calibrated, but measured {:.4} deg vs true {q:.4} deg: off by {err:.4} deg, tolerance {slack:.4} deg",
+                    i + 1,
+                    s.measured_position[i]
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn replies(&mut self, _s: &StateSample, mode: Mode, replies: &[Reply]) -> Result<(), String> {
+        for (n, r) in replies.iter().enumerate() {
+            let Some(asked) = self.asked.remove(&(r.client_id, r.request_id)) else {
+                return Err(format!(
+                    "reply to client {} request {} (kind {}): never asked, or answered before",
+                    r.client_id, r.request_id, r.kind
+                ));
+            };
+            if asked.kind != r.kind && CommandKind::try_from(asked.kind).is_ok() {
+                return Err(format!(
+                    "client {} request {}: asked kind {}, answered as kind {}",
+                    r.client_id, r.request_id, asked.kind, r.kind
+                ));
+            }
+            if CommandKind::try_from(asked.kind).is_err() {
+                // An unknown kind is refused, its number echoed (no `Response` can hold it).
+                if r.status == 0 {
+                    return Err(format!(
+                        "client {} request {} of unknown kind {} answered OK",
+                        r.client_id, r.request_id, asked.kind
+                    ));
+                }
+                self.answers[1] += 1;
+                continue;
+            }
+            let resp = Response::decode(r).map_err(|e| {
+                format!(
+                    "reply to client {} request {} does not decode: {e}",
+                    r.client_id, r.request_id
+                )
+            })?;
+            let slot = match resp.outcome {
+                Outcome::Done(_) => 0,
+                Outcome::Refused(_) => 1,
+                Outcome::Failed(_) => 2,
+            };
+            self.answers[slot] += 1;
+            let Outcome::Done(done) = resp.outcome else {
+                continue;
+            };
+            // A later command of this cycle that may change the mode again: no conclusion.
+            let later_change = replies[n + 1..].iter().any(|x| {
+                x.status == 0
+                    && CommandKind::try_from(x.kind).is_ok_and(|k| {
+                        k.is_stop()
+                            || k.needs_control()
+                                && !matches!(
+                                    k,
+                                    CommandKind::SetTorques
+                                        | CommandKind::SetVelocities
+                                        | CommandKind::PvtPoints
+                                        | CommandKind::MoveAxis
+                                        | CommandKind::MoveAll
+                                )
+                    })
+            });
+            if later_change {
+                continue;
+            }
+            let entered = match resp.kind {
+                CommandKind::Pvt => Some(Mode::Pvt),
+                CommandKind::Release => Some(Mode::Release),
+                CommandKind::TorqueControl => Some(Mode::TorqueControl),
+                CommandKind::VelocityControl => Some(Mode::VelocityControl),
+                CommandKind::Calibrate => Some(Mode::Calibration),
+                _ => None,
+            };
+            if let Some(want) = entered
+                && mode != want
+                && mode != Mode::Error
+                // `calibrate` is answered when accepted or, when it ends in the same cycle, done.
+                && !(resp.kind == CommandKind::Calibrate && mode == Mode::Hold)
+            {
+                return Err(format!(
+                    "{} of client {} request {} answered OK ({done:?}) but the mode is {mode}, not {want}",
+                    resp.kind, r.client_id, r.request_id
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The first field of the state that is not finite, named with its value.
+fn non_finite(s: &StateSample) -> Option<String> {
+    let arrays: [(&str, &[f64; NUM_AXES]); 10] = [
+        ("position", &s.position),
+        ("velocity", &s.velocity),
+        ("acceleration", &s.acceleration),
+        ("current", &s.current),
+        ("measured_position", &s.measured_position),
+        ("commanded_position", &s.commanded_position),
+        ("following_error", &s.following_error),
+        ("i2t", &s.i2t),
+        ("sim_true_position", &s.sim_true_position),
+        ("sim_true_velocity", &s.sim_true_velocity),
+    ];
+    for (name, a) in arrays {
+        if let Some(i) = a.iter().position(|x| !x.is_finite()) {
+            return Some(format!("{name}[axis {}] = {}", i + 1, a[i]));
+        }
+    }
+    let v = &s.last_error.values;
+    v.iter()
+        .position(|x| !x.is_finite())
+        .map(|i| format!("last_error.values[{i}] = {}", v[i]))
+}

@@ -1,0 +1,135 @@
+//! `mcm-dst`: run one seed (`--seed N`, replayed bit for bit) or a campaign over many seeds
+//! (`--hours H --jobs J`). See `docs/testing.md`, "Deterministic simulation testing".
+
+use mcm_dst::campaign::{CampaignOptions, campaign};
+use mcm_dst::run::{PlantedBug, RunOptions, run};
+use mcm_shared::alloc_count::CountingAlloc;
+use std::process::ExitCode;
+
+#[global_allocator]
+static GLOBAL: CountingAlloc = CountingAlloc;
+
+const USAGE: &str = "usage: mcm-dst [--seed N] [--seconds S] [--hours H] [--jobs J] [--first-seed N] [--planted-bug braking]
+  --seed N        run seed N alone (twice, comparing the hashes of every state) and print what it did
+  --seconds S     simulated seconds of each run's chaos phase (default 60)
+  --hours H       a campaign of H simulated hours over seeds from --first-seed (default 0)
+  --jobs J        threads of the campaign (default 1)
+  --planted-bug braking   plant a bug (the braking check as good as off) to see the campaign catch it";
+
+/// The commit this binary was built from (`build.rs`).
+fn commit() -> &'static str {
+    env!("MCM_DST_COMMIT")
+}
+
+fn main() -> ExitCode {
+    let mut seed = None;
+    let mut seconds = 60.0;
+    let mut hours = None;
+    let mut jobs = 1usize;
+    let mut first_seed = 0u64;
+    let mut planted = None;
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        let mut value = |name: &str| {
+            args.next()
+                .unwrap_or_else(|| fail(&format!("{name} needs a value\n{USAGE}")))
+        };
+        match a.as_str() {
+            "--seed" => seed = Some(parse(&value("--seed"), "--seed")),
+            "--seconds" => seconds = parse(&value("--seconds"), "--seconds"),
+            "--hours" => hours = Some(parse::<f64>(&value("--hours"), "--hours")),
+            "--jobs" => jobs = parse(&value("--jobs"), "--jobs"),
+            "--first-seed" => first_seed = parse(&value("--first-seed"), "--first-seed"),
+            "--planted-bug" => match value("--planted-bug").as_str() {
+                "braking" => planted = Some(PlantedBug::BrakingCheckOff),
+                other => fail(&format!(
+                    "unknown planted bug {other:?}: `braking` is the only one"
+                )),
+            },
+            "-h" | "--help" => {
+                println!("{USAGE}");
+                return ExitCode::SUCCESS;
+            }
+            other => fail(&format!("unknown argument {other:?}\n{USAGE}")),
+        }
+    }
+    if let Some(seed) = seed {
+        let mut o = RunOptions::new(seed, seconds);
+        o.planted = planted;
+        let t0 = std::time::Instant::now();
+        let a = run(&o);
+        let wall = t0.elapsed().as_secs_f64();
+        let b = run(&o);
+        println!(
+            "seed {seed}: {} cycles, {:.0} simulated s in {wall:.2} s ({:.0} simulated s per s), hash {:016x}",
+            a.cycles,
+            a.simulated_s,
+            a.simulated_s / wall,
+            a.hash
+        );
+        println!(
+            "swarm: {} clients, faults {:?}",
+            a.swarm.clients,
+            a.swarm.fault_names()
+        );
+        println!(
+            "modes (cycles): {:?}; answers OK/refused/failed {:?}; recovery {:?} cycles",
+            a.modes_reached, a.answers, a.recovery_cycles
+        );
+        if a.hash != b.hash || a.violation != b.violation {
+            eprintln!(
+                "NOT DETERMINISTIC: seed {seed} gave hash {:016x} then {:016x}",
+                a.hash, b.hash
+            );
+            return ExitCode::FAILURE;
+        }
+        println!("replayed: the same hash twice");
+        return match a.violation {
+            None => ExitCode::SUCCESS,
+            Some(v) => {
+                eprintln!("FAILED seed {seed} (commit {}): {v}", commit());
+                ExitCode::FAILURE
+            }
+        };
+    }
+    let budget_s = hours.unwrap_or(0.1) * 3600.0;
+    let r = campaign(&CampaignOptions {
+        first_seed,
+        budget_s,
+        run_s: seconds,
+        jobs,
+        planted,
+    });
+    println!("{}", r.summary());
+    let mut ok = true;
+    for f in &r.failures {
+        ok = false;
+        eprintln!(
+            "FAILED seed {} (commit {}): {}\n  replay: mcm-dst --seed {} --seconds {seconds}",
+            f.seed,
+            commit(),
+            f.violation.as_ref().expect("a failure"),
+            f.seed
+        );
+    }
+    let never = r.never_reached();
+    if !never.is_empty() {
+        ok = false;
+        eprintln!("never reached: {}", never.join(", "));
+    }
+    if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+fn parse<T: std::str::FromStr>(s: &str, name: &str) -> T {
+    s.parse()
+        .unwrap_or_else(|_| fail(&format!("{name}: {s:?} is not a valid value")))
+}
+
+fn fail(msg: &str) -> ! {
+    eprintln!("mcm-dst: {msg}");
+    std::process::exit(2)
+}

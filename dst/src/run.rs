@@ -1,0 +1,429 @@
+//! One run: a seed's world, clients and faults for a chaos phase, then a quiet phase (faults
+//! off, clients gone) in which a last client must bring the arm back to a calibrated HOLD that
+//! it can use; every cycle checked ([`Checker`]) and hashed (replay and determinism).
+
+use crate::clients::{Action, Client, FIRST_CLIENT_ID, Limits};
+use crate::driver::Driver;
+use crate::faults::{Fault, Schedule};
+use crate::faulty_bus::{BusFaultCounts, BusFaults};
+use crate::invariants::{Checker, Violation};
+use crate::rng::Rng;
+use crate::swarm::Swarm;
+use crate::world::World;
+use mcm_shared::command::{Calibrate, Direction, Pvt, Request, Which};
+use mcm_shared::config::RobotConfig;
+use mcm_shared::mode::{CommandKind, Mode};
+use mcm_shared::reply::{Outcome, Response};
+use mcm_shared::sample::{AXIS_CALIBRATED, AXIS_I2T_DERATED, CommandSample, Reply, StateSample};
+
+/// Client id of the fault injector's `sim` commands.
+pub const FAULT_CLIENT: u64 = 1;
+/// Client id of the quiet phase's client.
+pub const RECOVERY_CLIENT: u64 = 2;
+
+/// A bug planted on purpose, to show that a campaign catches it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlantedBug {
+    /// The braking check believes the arm brakes 100 times harder than it can
+    /// (`safety.braking_efficiency = 100`, past the configuration's validation): the check
+    /// is as good as switched off.
+    BrakingCheckOff,
+}
+
+/// What to run.
+#[derive(Debug, Clone, Copy)]
+pub struct RunOptions {
+    pub seed: u64,
+    /// Simulated seconds of the chaos phase.
+    pub seconds: f64,
+    /// Simulated seconds the quiet phase may take at most.
+    pub quiet_seconds: f64,
+    pub planted: Option<PlantedBug>,
+}
+
+impl RunOptions {
+    pub fn new(seed: u64, seconds: f64) -> RunOptions {
+        RunOptions {
+            seed,
+            seconds,
+            quiet_seconds: 300.0,
+            planted: None,
+        }
+    }
+}
+
+/// What a run did.
+#[derive(Debug, Clone)]
+pub struct RunReport {
+    pub seed: u64,
+    pub swarm: Swarm,
+    pub cycles: u64,
+    pub simulated_s: f64,
+    /// Hash of every cycle's published state and replies: equal for two runs of a seed.
+    pub hash: u64,
+    pub violation: Option<Violation>,
+    pub modes_reached: [u64; 8],
+    pub faults_started: [u64; Fault::ALL.len()],
+    /// Faults started while the mode was CALIBRATION, and while an axis was braking in ERROR.
+    pub faults_in_calibration: u64,
+    pub faults_while_braking: u64,
+    /// Answers OK, refused, failed.
+    pub answers: [u64; 3],
+    pub bus: BusFaultCounts,
+    /// Cycles the quiet phase took to a calibrated HOLD.
+    pub recovery_cycles: Option<u64>,
+}
+
+/// FNV-1a over 64-bit words.
+struct Hash(u64);
+
+impl Hash {
+    fn word(&mut self, w: u64) {
+        for b in w.to_le_bytes() {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01B3);
+        }
+    }
+
+    fn state(&mut self, s: &StateSample, replies: &[Reply]) {
+        for w in [
+            s.seq,
+            s.t_ns,
+            u64::from(s.mode),
+            u64::from(s.flags),
+            s.reply_head,
+        ] {
+            self.word(w);
+        }
+        self.word(s.owner_client_id);
+        for a in [
+            &s.position,
+            &s.velocity,
+            &s.current,
+            &s.measured_position,
+            &s.commanded_position,
+            &s.sim_true_position,
+            &s.sim_true_velocity,
+        ] {
+            for x in a {
+                self.word(x.to_bits());
+            }
+        }
+        for f in s.axis_flags {
+            self.word(u64::from(f));
+        }
+        self.word(s.last_error.seq);
+        for r in replies {
+            for w in [
+                r.client_id,
+                r.request_id,
+                u64::from(r.status),
+                u64::from(r.code),
+            ] {
+                self.word(w);
+            }
+        }
+    }
+}
+
+/// The configuration of a seed's run: the P-Rob2, its encoder offsets and start pose drawn.
+pub fn config(rng: &mut Rng, planted: Option<PlantedBug>) -> RobotConfig {
+    let mut cfg = RobotConfig::prob2_default();
+    cfg.sim.seed = rng.next_u64();
+    for (q, a) in cfg.sim.initial_position_deg.iter_mut().zip(&cfg.axes) {
+        *q = rng.range(a.min_deg + 5.0, a.max_deg - 5.0);
+    }
+    if planted == Some(PlantedBug::BrakingCheckOff) {
+        cfg.safety.braking_efficiency = 100.0;
+    }
+    cfg
+}
+
+fn which_of(r: &Request) -> Option<Which> {
+    match r {
+        Request::Calibrate(c) => Some(c.which),
+        _ => None,
+    }
+}
+
+/// Run one seed.
+pub fn run(opts: &RunOptions) -> RunReport {
+    let mut rng = Rng::new(opts.seed);
+    let mut swarm = Swarm::draw(&mut rng);
+    let cfg = config(&mut rng, opts.planted);
+    let mut world = World::new(&cfg, rng.fork(1));
+    let mut client_rng = rng.fork(2);
+    let mut fault_rng = rng.fork(3);
+    let mut driver_rng = rng.fork(4);
+    swarm.draw_roles(&mut driver_rng);
+    let limits = Limits::of(&cfg);
+    let mut checker = Checker::new(&cfg);
+    let mut schedule = Schedule::new(swarm.fault_rates, FAULT_CLIENT);
+    let mut next_id = FIRST_CLIENT_ID;
+    let mut clients: Vec<Client> = (0..swarm.clients)
+        .map(|_| {
+            next_id += 1;
+            Client::new(next_id, &mut client_rng)
+        })
+        .collect();
+    let mut driver = swarm
+        .driver
+        .then(|| Driver::new(FIRST_CLIENT_ID, &mut driver_rng));
+    let mut report = RunReport {
+        seed: opts.seed,
+        swarm: swarm.clone(),
+        cycles: 0,
+        simulated_s: 0.0,
+        hash: 0xCBF2_9CE4_8422_2325,
+        violation: None,
+        modes_reached: [0; 8],
+        faults_started: [0; Fault::ALL.len()],
+        faults_in_calibration: 0,
+        faults_while_braking: 0,
+        answers: [0; 3],
+        bus: BusFaultCounts::default(),
+        recovery_cycles: None,
+    };
+    let mut hash = Hash(report.hash);
+    let period_s = world.period_ns() as f64 * 1e-9;
+    let chaos_cycles = (opts.seconds / period_s) as u64;
+    let mut faults: Vec<Fault> = Vec::new();
+
+    let step = |world: &mut World,
+                checker: &mut Checker,
+                hash: &mut Hash,
+                faults: &[Fault]|
+     -> Result<(), Violation> {
+        world.step();
+        let k = world.cycle_index();
+        let allocs = std::mem::take(&mut world.allocations);
+        let s = *world.state();
+        hash.state(&s, world.replies());
+        checker.cycle(k, &s, world.replies(), allocs, faults)
+    };
+
+    let result = (|| -> Result<(), Violation> {
+        for _ in 0..chaos_cycles {
+            let k = world.cycle_index();
+            let s = *world.state();
+            let inj = schedule.tick(k, &mut fault_rng);
+            for f in &inj.started {
+                report.faults_started[f.index()] += 1;
+                if s.mode == Mode::Calibration.to_wire() {
+                    report.faults_in_calibration += 1;
+                }
+                if s.mode == Mode::Error.to_wire() && s.velocity.iter().any(|v| v.abs() > 1.0) {
+                    report.faults_while_braking += 1;
+                }
+            }
+            for c in inj.commands {
+                checker.asked(&c, None, k);
+                world.send(c);
+            }
+            if let Some(b) = inj.bus {
+                world.bus().faults = b;
+            }
+            for client in &mut clients {
+                match client.act(&s, &limits, &mut client_rng) {
+                    Action::None => {}
+                    Action::Send(x) => {
+                        checker.asked(&x.sample, x.request.as_ref().and_then(which_of), k);
+                        world.send(x.sample);
+                    }
+                    Action::Gone(x) => {
+                        checker.asked(&x.sample, None, k);
+                        world.send(x.sample);
+                        next_id += 1;
+                        *client = Client::new(next_id, &mut client_rng);
+                    }
+                }
+            }
+            if let Some(x) = driver
+                .as_mut()
+                .and_then(|d| d.act(&s, &limits, &mut driver_rng))
+            {
+                checker.asked(&x.sample, x.request.as_ref().and_then(which_of), k);
+                world.send(x.sample);
+            }
+            faults.clear();
+            faults.extend(schedule.active());
+            faults.extend(inj.started.iter().copied());
+            step(&mut world, &mut checker, &mut hash, &faults)?;
+        }
+        // The quiet phase: faults off, every client gone, the recovery client.
+        let k = world.cycle_index();
+        for c in schedule.end_all() {
+            checker.asked(&c, None, k);
+            world.send(c);
+        }
+        world.bus().faults = BusFaults::default();
+        let ids = clients.iter().map(|c| c.id).chain(driver.map(|d| d.id));
+        for id in ids {
+            let mut c = Request::ClientGone.encode();
+            (c.client_id, c.request_id) = (id, u64::MAX);
+            checker.asked(&c, None, k);
+            world.send(c);
+        }
+        // Faults stay "under way" for the checker until the pushes etc. are undone.
+        faults.clear();
+        faults.push(Fault::Push);
+        for _ in 0..4 {
+            step(&mut world, &mut checker, &mut hash, &faults)?;
+        }
+        faults.clear();
+        let quiet_cycles = (opts.quiet_seconds / period_s) as u64;
+        let mut recovery = Recovery::new();
+        let start = world.cycle_index();
+        while world.cycle_index() - start < quiet_cycles {
+            let k = world.cycle_index();
+            if let Some(c) = recovery.next(world.state()) {
+                checker.asked(&c.0, c.1, k);
+                world.send(c.0);
+            }
+            step(&mut world, &mut checker, &mut hash, &faults)?;
+            recovery.read(world.replies());
+            if recovery.done && world.waiting() == 0 && checker.unanswered().is_empty() {
+                report.recovery_cycles = Some(world.cycle_index() - start);
+                return Ok(());
+            }
+        }
+        let k = world.cycle_index();
+        let s = world.state();
+        let unanswered = checker.unanswered();
+        Err(Violation {
+            cycle: k,
+            quiet_phase: true,
+            message: format!(
+                "the quiet phase did not end in a usable calibrated HOLD within {} s: mode {}, axis flags {:?}, true angles {:?} deg, currents {:?} A, i2t {:?}, recovery at step {:?} (last answer {:?}), {} commands unanswered (oldest: {:?})",
+                opts.quiet_seconds,
+                Mode::try_from(s.mode).map_or("?".into(), |m| m.to_string()),
+                s.axis_flags,
+                s.sim_true_position.map(|x| (x * 10.0).round() / 10.0),
+                s.current.map(|x| (x * 100.0).round() / 100.0),
+                s.i2t.map(|x| (x * 100.0).round() / 100.0),
+                recovery.stage,
+                recovery.last,
+                unanswered.len(),
+                unanswered.first()
+            ),
+        })
+    })();
+    report.violation = result.err();
+    report.cycles = world.cycle_index();
+    report.simulated_s = report.cycles as f64 * period_s;
+    report.hash = hash.0;
+    report.modes_reached = checker.modes_reached;
+    report.answers = checker.answers;
+    report.bus = world.bus().counts;
+    report
+}
+
+/// The quiet phase's client: `take_control`, `hold` until HOLD, `calibrate` all axes unless
+/// they are, then proves the HOLD usable: `pvt` accepted, `hold` accepted.
+#[derive(Debug)]
+struct Recovery {
+    stage: Stage,
+    pending: Option<u64>,
+    next_request: u64,
+    last: Option<Outcome>,
+    done: bool,
+    wait_until: u64,
+    /// `seq` of the state it last read.
+    seq: u64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Stage {
+    Control,
+    Hold,
+    Calibrate,
+    Use,
+    Back,
+}
+
+impl Recovery {
+    fn new() -> Recovery {
+        Recovery {
+            stage: Stage::Control,
+            pending: None,
+            next_request: 1,
+            last: None,
+            done: false,
+            wait_until: 0,
+            seq: 0,
+        }
+    }
+
+    fn next(&mut self, s: &StateSample) -> Option<(CommandSample, Option<Which>)> {
+        if self.pending.is_some() || self.done || s.seq < self.wait_until {
+            return None;
+        }
+        let calibrated = s.axis_flags.iter().all(|f| f & AXIS_CALIBRATED != 0);
+        // A motor derated by i2t cannot give the search current: let it cool in HOLD first.
+        let derated = s.axis_flags.iter().any(|f| f & AXIS_I2T_DERATED != 0);
+        if self.stage == Stage::Calibrate && !calibrated && derated {
+            return None;
+        }
+        self.seq = s.seq;
+        let r = match self.stage {
+            Stage::Control => Request::TakeControl,
+            Stage::Hold => Request::Hold,
+            Stage::Calibrate if calibrated && s.mode == Mode::Hold.to_wire() => {
+                self.stage = Stage::Use;
+                Request::Pvt(Pvt { dt_s: 0.01 })
+            }
+            Stage::Calibrate => Request::Calibrate(Calibrate {
+                which: Which::All,
+                elbow_direction: Direction::Positive,
+                wrist_direction: Direction::Positive,
+                force_mechanical_stop: false,
+            }),
+            Stage::Use => Request::Pvt(Pvt { dt_s: 0.01 }),
+            Stage::Back => Request::Hold,
+        };
+        let mut c = r.encode();
+        (c.client_id, c.request_id) = (RECOVERY_CLIENT, self.next_request);
+        self.pending = Some(self.next_request);
+        self.next_request += 1;
+        Some((c, which_of(&r)))
+    }
+
+    fn read(&mut self, replies: &[Reply]) {
+        for r in replies {
+            if r.client_id != RECOVERY_CLIENT || Some(r.request_id) != self.pending {
+                continue;
+            }
+            self.pending = None;
+            let Ok(resp) = Response::decode(r) else {
+                continue;
+            };
+            let ok = matches!(resp.outcome, Outcome::Done(_));
+            if std::env::var_os("MCM_DST_TRACE").is_some() {
+                eprintln!(
+                    "cycle {}: recovery {:?}: {} -> {:?}",
+                    self.seq, self.stage, resp.kind, resp.outcome
+                );
+            }
+            self.last = Some(resp.outcome);
+            let kind = resp.kind;
+            self.stage = match (self.stage, ok) {
+                (Stage::Control, true) => Stage::Hold,
+                (Stage::Hold, true) => Stage::Calibrate,
+                (Stage::Calibrate, true) => Stage::Calibrate, // checked again on the state
+                (Stage::Use, true) if kind == CommandKind::Pvt => Stage::Back,
+                (Stage::Back, true) => {
+                    self.done = true;
+                    Stage::Back
+                }
+                // Refused or failed (a drive still booting, a calibration that failed):
+                // start again from `hold`, a second later.
+                (Stage::Control, false) => Stage::Control,
+                (_, false) => {
+                    self.wait_until = self.seq + 200;
+                    Stage::Hold
+                }
+                (s, true) => s,
+            };
+        }
+    }
+}

@@ -1,0 +1,73 @@
+//! The CI budget of the deterministic simulation: replay bit for bit, and a small campaign in
+//! which no per-cycle invariant may break. Debug build (the workspace's dev profile); the
+//! figures are in `docs/testing.md`, "Deterministic simulation testing".
+
+use mcm_dst::campaign::{CampaignOptions, campaign};
+use mcm_dst::run::{RunOptions, run};
+use mcm_shared::alloc_count::CountingAlloc;
+
+// The allocation invariant needs the counting allocator to see anything.
+#[global_allocator]
+static GLOBAL: CountingAlloc = CountingAlloc;
+
+#[test]
+fn a_seed_replays_bit_for_bit_and_another_seed_differs() {
+    let a = run(&RunOptions::new(5, 10.0));
+    let b = run(&RunOptions::new(5, 10.0));
+    let c = run(&RunOptions::new(6, 10.0));
+    assert!(a.cycles > 2_000, "the run ran: {} cycles", a.cycles);
+    assert_eq!((a.hash, a.cycles), (b.hash, b.cycles), "seed 5 twice");
+    assert_eq!(a.violation, b.violation);
+    assert_ne!(a.hash, c.hash, "the hash sees a different run");
+}
+
+#[test]
+fn the_allocation_check_sees_an_allocation() {
+    // Guards the "no allocation in the cycle" invariant against a counter that sees nothing.
+    let ((), counts) = mcm_shared::alloc_count::count(|| {
+        drop(std::hint::black_box(vec![0u8; 8]));
+    });
+    assert_eq!(counts.allocations, 1);
+}
+
+#[test]
+fn a_small_campaign_breaks_no_invariant_of_any_cycle() {
+    let r = campaign(&CampaignOptions {
+        first_seed: 1_000,
+        budget_s: 600.0,
+        run_s: 20.0,
+        jobs: 2,
+        planted: None,
+    });
+    eprintln!("{}", r.summary());
+    for f in &r.failures {
+        let v = f.violation.as_ref().expect("a failure");
+        eprintln!("seed {}: {v}", f.seed);
+    }
+    let broken: Vec<String> = r
+        .failures
+        .iter()
+        .filter_map(|f| {
+            f.violation
+                .as_ref()
+                .filter(|v| !v.quiet_phase)
+                .map(|v| format!("seed {}: {v}", f.seed))
+        })
+        .collect();
+    assert!(
+        broken.is_empty(),
+        "invariants broken (replay with mcm-dst --seed N --seconds 20):\n{}",
+        broken.join("\n")
+    );
+    assert!(
+        r.runs >= 2 && r.simulated_s >= 600.0 || !r.failures.is_empty(),
+        "{} runs",
+        r.runs
+    );
+    assert!(
+        r.answers[0] > 100 && r.answers[1] > 10,
+        "commands answered: {:?}",
+        r.answers
+    );
+    assert!(r.modes_reached[mcm_shared::mode::Mode::Calibration as usize] > 0);
+}
