@@ -1,22 +1,23 @@
-//! The torque loop over shared memory, as a co-located controller runs it: the state blackboard
-//! and its reply blocks read directly, commands published on the command service, and the state
-//! event (`mcm/<i>/state-ready`) waited on; where mcm-rt offers no state event yet, the
-//! blackboard is polled every [`POLL`] instead, and the result says so.
+//! The torque loop over shared memory, as a co-located controller runs it: the core's services
+//! opened through the client library's layer ([`CorePorts`]: the state blackboard and its reply
+//! blocks, the command service, with the versions checked; [`Replies`]: the reply blocks read
+//! in order, as the gateway's bridge and `mcm_client::shm::ShmClient` read them), and the state
+//! event (`mcm/<i>/state-ready`) waited on; where mcm-rt offers no state event, the blackboard
+//! is polled every [`POLL`] instead, and the result says so.
+//!
+//! [`Replies`]: mcm_client::shm::replies::Replies
 
 use crate::error::BenchError;
 use crate::loopmatch::{Answer, LEVELS_NM, Observation, classify, level_of, tally};
 use crate::torque::{LoopOutcome, median};
 use iceoryx2::port::listener::Listener;
-use iceoryx2::port::publisher::Publisher;
-use iceoryx2::port::reader::EntryHandle;
-use iceoryx2::prelude::*;
+use iceoryx2::prelude::ipc;
+use mcm_client::shm::ports::{CorePorts, Peer};
 use mcm_shared::command::{Request, SetTorques, TorqueControl};
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::reply::{Outcome, Reason, Response};
-use mcm_shared::sample::{
-    CommandSample, ReplyEntries, StateSample, open_reply_entries, read_reply,
-};
-use mcm_shared::service::{STATE_KEY, ServiceNames};
+use mcm_shared::sample::StateSample;
+use mcm_shared::service::ServiceNames;
 use std::time::{Duration, Instant};
 
 /// Blackboard polling interval when there is no state event.
@@ -28,83 +29,43 @@ const TAIL_STATES: usize = 3;
 
 /// A shared-memory client of the core.
 pub struct ShmClient {
-    instance: String,
-    _node: Node<ipc::Service>,
-    publisher: Publisher<ipc::Service, CommandSample, ()>,
-    state: EntryHandle<ipc::Service, u32, StateSample>,
-    replies: ReplyEntries,
+    // Before `ports`: dropped before the node it was made through.
     listener: Option<Listener<ipc::Service>>,
+    ports: CorePorts,
     client_id: u64,
     next_request: u64,
-    reply_seen: u64,
     /// `set_torques` replies to this client that were not `Done`, with the first one's words.
     pub refused: u64,
     pub first_refusal: Option<String>,
+    /// Replies overwritten in the reply blocks before this client read them (any client's).
+    pub overwritten: u64,
 }
 
 impl ShmClient {
     pub fn open(names: &ServiceNames) -> Result<ShmClient, BenchError> {
-        let err = |what: String| BenchError::Shm {
-            instance: names.instance().to_string(),
-            what,
+        let mut ports = CorePorts::open(names, Peer::Client)?;
+        // Poll when the state event does not exist; any other failure to open it is an error.
+        let listener = match ports.open_state_event() {
+            Ok(l) => Some(l),
+            Err(e) if e.is_not_running() => None,
+            Err(e) => return Err(e.into()),
         };
-        set_log_level_from_env_or(LogLevel::Error);
-        let node = NodeBuilder::new()
-            .signal_handling_mode(SignalHandlingMode::Disabled)
-            .create::<ipc::Service>()
-            .map_err(|e| err(format!("create a node: {e:?}")))?;
-        let name = |s: String| -> Result<ServiceName, BenchError> {
-            s.as_str()
-                .try_into()
-                .map_err(|e| err(format!("service name {s:?}: {e:?}")))
-        };
-        let reader = node
-            .service_builder(&name(names.state())?)
-            .blackboard_opener::<u32>()
-            .open()
-            .map_err(|e| err(format!("open the state blackboard: {e:?}")))?
-            .reader_builder()
-            .create()
-            .map_err(|e| err(format!("create a blackboard reader: {e:?}")))?;
-        let state = reader
-            .entry::<StateSample>(&STATE_KEY)
-            .map_err(|e| err(format!("the state entry: {e:?}")))?;
-        let replies = open_reply_entries(&reader)
-            .map_err(|e| err(format!("reply block {}: {:?}", e.key, e.source)))?;
-        let publisher = node
-            .service_builder(&name(names.command())?)
-            .publish_subscribe::<CommandSample>()
-            .open()
-            .map_err(|e| err(format!("open the command service: {e:?}")))?
-            .publisher_builder()
-            .create()
-            .map_err(|e| err(format!("create a command publisher: {e:?}")))?;
-        // The state event exists only where mcm-rt creates it; poll otherwise.
-        let listener = node
-            .service_builder(&name(names.state_event())?)
-            .event()
-            .open()
-            .ok()
-            .and_then(|ev| ev.listener_builder().create().ok());
-        let reply_seen = state.get().reply_head;
+        let head = ports.state().reply_head;
+        ports.replies().skip_to(head);
         Ok(ShmClient {
-            instance: names.instance().to_string(),
-            _node: node,
-            publisher,
-            state,
-            replies,
             listener,
+            ports,
             client_id: (u64::from(std::process::id()) << 32) | 0xBE_0000,
             next_request: 1,
-            reply_seen,
             refused: 0,
             first_refusal: None,
+            overwritten: 0,
         })
     }
 
     fn err(&self, what: String) -> BenchError {
         BenchError::Shm {
-            instance: self.instance.clone(),
+            instance: self.ports.names().instance().to_string(),
             what,
         }
     }
@@ -118,7 +79,7 @@ impl ShmClient {
     }
 
     pub fn latest(&self) -> StateSample {
-        *self.state.get()
+        self.ports.state()
     }
 
     /// The first state newer than cycle `seq`.
@@ -145,37 +106,36 @@ impl ShmClient {
 
     /// Publish `req`; its request id.
     pub fn send(&mut self, req: &Request) -> Result<u64, BenchError> {
-        let mut sample = req.encode();
-        sample.client_id = self.client_id;
-        sample.request_id = self.next_request;
+        let id = self.next_request;
         self.next_request += 1;
-        self.publisher
-            .send_copy(sample)
-            .map_err(|e| self.err(format!("publish a command: {e:?}")))?;
-        Ok(sample.request_id)
+        self.ports.publish(req, self.client_id, id)?;
+        Ok(id)
     }
 
     /// Read the replies published up to `s`; the response to `want`, if among them. Replies to
     /// this client that are not `Done` are counted in `refused`.
     pub fn scan_replies(&mut self, s: &StateSample, want: Option<u64>) -> Option<Response> {
+        let client = self.client_id;
         let mut found = None;
-        for n in self.reply_seen + 1..=s.reply_head {
-            let r = read_reply(&self.replies, n);
-            self.reply_seen = n;
-            let Some(r) = r.filter(|r| r.client_id == self.client_id) else {
-                continue;
-            };
-            let Ok(resp) = Response::decode(&r) else {
-                continue;
+        let mut refused = Vec::new();
+        let scan = self.ports.replies().read_to(s.reply_head, |r| {
+            if r.client_id != client {
+                return;
+            }
+            let Ok(resp) = Response::decode(r) else {
+                return;
             };
             if resp.kind == CommandKind::SetTorques && !matches!(resp.outcome, Outcome::Done(_)) {
-                self.refused += 1;
-                self.first_refusal
-                    .get_or_insert_with(|| format!("{:?}: {:?}", resp.kind, resp.outcome));
+                refused.push(format!("{:?}: {:?}", resp.kind, resp.outcome));
             }
             if Some(r.request_id) == want {
                 found = Some(resp);
             }
+        });
+        self.overwritten += scan.overwritten;
+        self.refused += refused.len() as u64;
+        if self.first_refusal.is_none() {
+            self.first_refusal = refused.into_iter().next();
         }
         found
     }
@@ -294,6 +254,12 @@ pub fn shm_loop(
     out.errors = c.refused;
     if let Some(r) = &c.first_refusal {
         note.push(format!("shm loop: first refused reply: {r}"));
+    }
+    if c.overwritten > 0 {
+        note.push(format!(
+            "shm loop: {} replies were overwritten in the reply blocks before they were read",
+            c.overwritten
+        ));
     }
     Ok(out)
 }

@@ -6,7 +6,7 @@
 //! `call` (a NULL handle refused, no panic across the ABI, a failure recorded in the
 //! handle). Not real-time code, except where a function says so.
 
-use crate::args::{self, put, six, text};
+use crate::convert::{self, put, six, text};
 use crate::error::{call, mcm_error_t};
 use crate::shm::mcm_shm_client_t;
 use crate::tcp::mcm_tcp_client_t;
@@ -35,7 +35,7 @@ pub unsafe extern "C" fn mcm_tcp_status(client: *mut mcm_tcp_client_t, out: *mut
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let o = args::out(out, F, "out")?;
+            let o = convert::out(out, F, "out")?;
             let a = h.client.status()?;
             *o = (&a).into();
             Ok(())
@@ -51,7 +51,7 @@ pub unsafe extern "C" fn mcm_tcp_status_detail(client: *mut mcm_tcp_client_t, ou
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let o = args::out(out, F, "out")?;
+            let o = convert::out(out, F, "out")?;
             let a = h.client.status_detail()?;
             *o = (&a).into();
             Ok(())
@@ -67,7 +67,7 @@ pub unsafe extern "C" fn mcm_tcp_info(client: *mut mcm_tcp_client_t, out: *mut m
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let o = args::out(out, F, "out")?;
+            let o = convert::out(out, F, "out")?;
             let a = h.client.info()?;
             *o = (&a).into();
             Ok(())
@@ -126,7 +126,7 @@ pub unsafe extern "C" fn mcm_tcp_calibrate(client: *mut mcm_tcp_client_t, option
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            h.client.calibrate(args::calibrate_args(options, F)?.into())?;
+            h.client.calibrate(convert::calibrate_args(options, F)?.into())?;
             Ok(())
         })
     }
@@ -156,7 +156,7 @@ pub unsafe extern "C" fn mcm_tcp_torque_control(client: *mut mcm_tcp_client_t, o
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let a = h.client.torque_control(args::control_options(options).into())?;
+            let a = h.client.torque_control(convert::control_options(options).into())?;
             put(status, (&a).into());
             Ok(())
         })
@@ -186,7 +186,7 @@ pub unsafe extern "C" fn mcm_tcp_velocity_control(client: *mut mcm_tcp_client_t,
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let a = h.client.velocity_control(args::control_options(options).into())?;
+            let a = h.client.velocity_control(convert::control_options(options).into())?;
             put(status, (&a).into());
             Ok(())
         })
@@ -214,7 +214,7 @@ pub unsafe extern "C" fn mcm_tcp_move_axis(client: *mut mcm_tcp_client_t, axis: 
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            h.client.move_axis(args::protocol_axis(axis, F)?, target_deg, velocity_factor)?;
+            h.client.move_axis(convert::protocol_axis(axis, F)?, target_deg, velocity_factor)?;
             Ok(())
         })
     }
@@ -242,7 +242,7 @@ pub unsafe extern "C" fn mcm_tcp_pvt_points(client: *mut mcm_tcp_client_t, point
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            h.client.pvt_points(&args::points(points, count, F)?)?;
+            h.client.pvt_points(&convert::points(points, count, F)?)?;
             Ok(())
         })
     }
@@ -295,7 +295,7 @@ pub unsafe extern "C" fn mcm_shm_client_id(client: *mut mcm_shm_client_t, out: *
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let o = args::out(out, F, "out")?;
+            let o = convert::out(out, F, "out")?;
             let a = h.client.client_id();
             *o = a;
             Ok(())
@@ -310,7 +310,7 @@ pub unsafe extern "C" fn mcm_shm_missed_states(client: *mut mcm_shm_client_t, ou
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let o = args::out(out, F, "out")?;
+            let o = convert::out(out, F, "out")?;
             let a = h.client.missed_states();
             *o = a;
             Ok(())
@@ -326,7 +326,7 @@ pub unsafe extern "C" fn mcm_shm_wait_state(client: *mut mcm_shm_client_t, out: 
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let o = args::out(out, F, "out")?;
+            let o = convert::out(out, F, "out")?;
             let a = h.client.wait_state()?;
             *o = (&a).into();
             Ok(())
@@ -341,8 +341,8 @@ pub unsafe extern "C" fn mcm_shm_wait_state_timeout(client: *mut mcm_shm_client_
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let o = args::out(out, F, "out")?;
-            let a = h.client.wait_state_timeout(args::seconds(timeout_s, F, "timeout_s")?)?;
+            let o = convert::out(out, F, "out")?;
+            let a = h.client.wait_state_timeout(convert::seconds(timeout_s, F, "timeout_s")?)?;
             *o = (&a).into();
             Ok(())
         })
@@ -356,7 +356,7 @@ pub unsafe extern "C" fn mcm_shm_latest(client: *mut mcm_shm_client_t, out: *mut
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let o = args::out(out, F, "out")?;
+            let o = convert::out(out, F, "out")?;
             let a = h.client.latest();
             *o = (&a).into();
             Ok(())
@@ -372,7 +372,7 @@ pub unsafe extern "C" fn mcm_shm_info(client: *mut mcm_shm_client_t, out: *mut m
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let o = args::out(out, F, "out")?;
+            let o = convert::out(out, F, "out")?;
             let a = h.client.info()?;
             *o = (&a).into();
             Ok(())
@@ -427,7 +427,7 @@ pub unsafe extern "C" fn mcm_shm_calibrate(client: *mut mcm_shm_client_t, option
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            h.client.calibrate(args::calibrate_args(options, F)?.into())?;
+            h.client.calibrate(convert::calibrate_args(options, F)?.into())?;
             Ok(())
         })
     }
@@ -456,7 +456,7 @@ pub unsafe extern "C" fn mcm_shm_torque_control(client: *mut mcm_shm_client_t, o
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            h.client.torque_control(args::control_options(options).into())?;
+            h.client.torque_control(convert::control_options(options).into())?;
             Ok(())
         })
     }
@@ -485,7 +485,7 @@ pub unsafe extern "C" fn mcm_shm_velocity_control(client: *mut mcm_shm_client_t,
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            h.client.velocity_control(args::control_options(options).into())?;
+            h.client.velocity_control(convert::control_options(options).into())?;
             Ok(())
         })
     }
@@ -513,7 +513,7 @@ pub unsafe extern "C" fn mcm_shm_move_axis(client: *mut mcm_shm_client_t, axis: 
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            h.client.move_axis(MoveAxis { axis: args::axis(axis, F)?, target_deg, velocity_factor })?;
+            h.client.move_axis(MoveAxis { axis: convert::axis(axis, F)?, target_deg, velocity_factor })?;
             Ok(())
         })
     }
@@ -540,7 +540,7 @@ pub unsafe extern "C" fn mcm_shm_pvt_points(client: *mut mcm_shm_client_t, point
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            h.client.pvt_points(&args::points(points, count, F)?)?;
+            h.client.pvt_points(&convert::points(points, count, F)?)?;
             Ok(())
         })
     }

@@ -33,7 +33,7 @@
 // The C functions check their pointers; the caller's promise is the header's documentation.
 #![allow(clippy::missing_safety_doc)]
 
-mod args;
+mod convert;
 mod error;
 mod shm;
 mod tcp;

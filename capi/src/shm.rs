@@ -8,7 +8,7 @@
 //! error, events, `wait_until`, the control loop); the commands' functions are generated from
 //! one list for both transports (`commands.rs`).
 
-use crate::args::{self, put, text};
+use crate::convert::{self, put, text};
 use crate::error::{
     Fail, Handle, LastError, c_string, call, close, control_end, guard, mcm_error_t,
 };
@@ -47,7 +47,7 @@ pub unsafe extern "C" fn mcm_shm_connect(
         |_| {},
         || {
             // SAFETY: the header's contract for both pointers.
-            let slot = unsafe { args::out(out, F, "out") }?;
+            let slot = unsafe { convert::out(out, F, "out") }?;
             *slot = std::ptr::null_mut();
             // SAFETY: as above.
             let instance = unsafe { text(instance, F, "instance") }?;
@@ -99,8 +99,8 @@ pub unsafe extern "C" fn mcm_shm_next_event(
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let o = args::out(out, F, "out")?;
-            let got = args::out(got, F, "got")?;
+            let o = convert::out(out, F, "out")?;
+            let got = convert::out(got, F, "got")?;
             *got = false;
             let Some(e) = h.client.next_event() else {
                 return Ok(());
@@ -170,7 +170,7 @@ pub unsafe extern "C" fn mcm_shm_wait_until(
         call(F, client, |h| {
             let what = text(what, F, "what")?;
             let pred = predicate.ok_or_else(|| Fail::null(F, "predicate"))?;
-            let wait = args::seconds(timeout_s, F, "timeout_s")?;
+            let wait = convert::seconds(timeout_s, F, "timeout_s")?;
             let s = h.client.wait_until(what, wait, |s| {
                 let c: mcm_state_t = s.into();
                 // SAFETY: a C function with a valid state and the caller's `user`.

@@ -5,7 +5,7 @@
 //! error, events, `wait_until`); the commands' functions are generated from one list for both
 //! transports (`commands.rs`).
 
-use crate::args::{self, put, text};
+use crate::convert::{self, put, text};
 use crate::error::{Fail, Handle, LastError, c_string, call, close, guard, mcm_error_t};
 use crate::types::*;
 use mcm_client::tcp::{Event, TcpClient};
@@ -39,7 +39,7 @@ pub unsafe extern "C" fn mcm_tcp_connect(
         |_| {},
         || {
             // SAFETY: the header's contract for both pointers.
-            let slot = unsafe { args::out(out, F, "out") }?;
+            let slot = unsafe { convert::out(out, F, "out") }?;
             *slot = std::ptr::null_mut();
             // SAFETY: as above.
             let addr = unsafe { text(addr, F, "addr") }?;
@@ -96,12 +96,12 @@ pub unsafe extern "C" fn mcm_tcp_next_event(
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            let o = args::out(out, F, "out")?;
-            let got = args::out(got, F, "got")?;
+            let o = convert::out(out, F, "out")?;
+            let got = convert::out(got, F, "got")?;
             *got = false;
             let Some(e) = h
                 .client
-                .next_event(args::seconds(timeout_s, F, "timeout_s")?)?
+                .next_event(convert::seconds(timeout_s, F, "timeout_s")?)?
             else {
                 return Ok(());
             };
@@ -163,7 +163,7 @@ pub unsafe extern "C" fn mcm_tcp_wait_until(
         call(F, client, |h| {
             let what = text(what, F, "what")?;
             let pred = predicate.ok_or_else(|| Fail::null(F, "predicate"))?;
-            let wait = args::seconds(timeout_s, F, "timeout_s")?;
+            let wait = convert::seconds(timeout_s, F, "timeout_s")?;
             let s = h.client.wait_until(what, wait, |s| {
                 let c: mcm_status_t = s.into();
                 // SAFETY: a C function with a valid status and the caller's `user`.

@@ -13,11 +13,15 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+#[cfg(test)]
+mod tests;
+
+use mcm_shared::ready::{McmReady, ReadyError, ReadyLine};
 use std::io::{BufRead, BufReader};
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
+use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
 /// Longest wait for the launcher to exit after SIGTERM before it is killed.
@@ -34,8 +38,14 @@ pub enum LaunchError {
     },
     #[error("no ready line from {binary} within {waited:?}")]
     NotReady { binary: PathBuf, waited: Duration },
-    #[error("the ready line has no valid `{key}=`: {line}")]
-    ReadyLine { key: &'static str, line: String },
+    #[error("{binary} closed its output without a ready line (it stopped; see its log)")]
+    Exited { binary: PathBuf },
+    #[error("the ready line of {binary} cannot be read: {source}")]
+    ReadyLine {
+        binary: PathBuf,
+        #[source]
+        source: ReadyError,
+    },
 }
 
 /// A running simulated MCM; dropping it stops it (SIGTERM, at most 20 s, then SIGKILL) and
@@ -51,10 +61,36 @@ pub struct SimulatedMcm {
     pub gateway_pid: i32,
 }
 
-/// The value of `key=` in the launcher's ready line (`[json=ADDR hmi=ADDR rt_pid=N ...]`).
-pub fn ready_field<'a>(line: &'a str, key: &str) -> Option<&'a str> {
-    line.split(|c: char| c.is_whitespace() || c == '[' || c == ']')
-        .find_map(|w| w.strip_prefix(key).and_then(|r| r.strip_prefix('=')))
+/// The launcher's ready line ([`McmReady`]) among the lines of its stdout `lines`, waiting at
+/// most `ready_within`; the other lines are skipped.
+fn wait_ready(
+    lines: &mpsc::Receiver<String>,
+    binary: &Path,
+    ready_within: Duration,
+) -> Result<McmReady, LaunchError> {
+    let deadline = Instant::now() + ready_within;
+    loop {
+        match lines.recv_timeout(deadline.saturating_duration_since(Instant::now())) {
+            Ok(l) if l.starts_with(McmReady::PREFIX) => {
+                return l.parse().map_err(|source| LaunchError::ReadyLine {
+                    binary: binary.to_path_buf(),
+                    source,
+                });
+            }
+            Ok(_) => {}
+            Err(RecvTimeoutError::Timeout) => {
+                return Err(LaunchError::NotReady {
+                    binary: binary.to_path_buf(),
+                    waited: ready_within,
+                });
+            }
+            Err(RecvTimeoutError::Disconnected) => {
+                return Err(LaunchError::Exited {
+                    binary: binary.to_path_buf(),
+                });
+            }
+        }
+    }
 }
 
 impl SimulatedMcm {
@@ -96,35 +132,13 @@ impl SimulatedMcm {
             rt_pid: 0,
             gateway_pid: 0,
         };
-        let deadline = Instant::now() + ready_within;
-        let line = loop {
-            match rx.recv_timeout(deadline.saturating_duration_since(Instant::now())) {
-                Ok(l) if l.starts_with("MCM ready") => break l,
-                Ok(_) => {}
-                Err(_) => {
-                    return Err(LaunchError::NotReady {
-                        binary: binary.to_path_buf(),
-                        waited: ready_within,
-                    });
-                }
-            }
-        };
-        let bad = |key| LaunchError::ReadyLine {
-            key,
-            line: line.clone(),
-        };
-        mcm.json = ready_field(&line, "json")
-            .and_then(|v| v.parse().ok())
-            .ok_or_else(|| bad("json"))?;
-        mcm.hmi = ready_field(&line, "hmi")
-            .and_then(|v| v.parse().ok())
-            .ok_or_else(|| bad("hmi"))?;
-        mcm.rt_pid = ready_field(&line, "rt_pid")
-            .and_then(|v| v.parse().ok())
-            .ok_or_else(|| bad("rt_pid"))?;
-        mcm.gateway_pid = ready_field(&line, "gateway_pid")
-            .and_then(|v| v.parse().ok())
-            .ok_or_else(|| bad("gateway_pid"))?;
+        // On an error `mcm` is dropped, which stops the launcher.
+        let ready = wait_ready(&rx, binary, ready_within)?;
+        mcm.json = ready.gateway.json;
+        mcm.hmi = ready.gateway.hmi;
+        // A Linux pid is at most 2^22 (`pid_max`): it fits a `pid_t`.
+        mcm.rt_pid = ready.rt_pid as i32;
+        mcm.gateway_pid = ready.gateway_pid as i32;
         Ok(mcm)
     }
 }
@@ -150,20 +164,5 @@ impl Drop for SimulatedMcm {
         }
         let saved = std::env::temp_dir().join(format!("mcm-sim-{}.state", self.instance));
         let _ = std::fs::remove_file(saved);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn reads_fields_of_the_ready_line() {
-        let l = "MCM ready (simulated P-Rob2, instance b1): JSON on 127.0.0.1:4000, telnet HMI on \
-                 127.0.0.1:4001; Ctrl-C stops. [json=127.0.0.1:4000 hmi=127.0.0.1:4001 rt_pid=12 gateway_pid=13]";
-        assert_eq!(ready_field(l, "json"), Some("127.0.0.1:4000"));
-        assert_eq!(ready_field(l, "rt_pid"), Some("12"));
-        assert_eq!(ready_field(l, "gateway_pid"), Some("13"));
-        assert_eq!(ready_field(l, "pid"), None);
     }
 }

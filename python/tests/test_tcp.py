@@ -229,6 +229,30 @@ class TcpClient(unittest.TestCase):
         auths = [m for m in self.fake.received if m["command"] == "authenticate"]
         self.assertEqual(auths, [{"command": "authenticate", "arguments": {"secret": "s3"}}] * 2)
 
+    def test_every_command_of_the_protocol_has_a_method(self) -> None:
+        # The protocol's commands as the Rust contract lists them (codes.py is generated).
+        self.assertIn("set_velocities", codes.COMMANDS)
+        missing = [c for c in codes.COMMANDS if not callable(getattr(mcm.Client, c, None))]
+        self.assertEqual(missing, [])
+
+    def test_a_command_without_a_result_on_success_is_not_waited_for(self) -> None:
+        # The fake answers `set_torques` with nothing, as the MCM does on success: waiting for a
+        # result would end in a timeout.
+        c = self.connect(lambda cmd: [] if cmd["command"] in codes.NO_RESULT else [status()], timeout=0.2)
+        self.assertEqual(c.command("set_torques", {"torques": [0.0] * 6}), {})
+        self.assertEqual(c.status().operating_mode, "HOLD")
+        self.assertEqual([m["command"] for m in self.fake.received], ["set_torques", "status"])
+        # Told to wait, it waits (and times out here).
+        with self.assertRaises(mcm.McmTimeout):
+            c.command("set_velocities", {"velocities": [0.0] * 6}, expect_result=True)
+
+    def test_a_result_of_another_type_than_the_protocol_defines_is_refused(self) -> None:
+        c = self.connect(lambda cmd: [status()] if cmd["command"] == "info" else [OK])
+        with self.assertRaises(mcm.ProtocolError) as e:
+            c.info()
+        self.assertIn("expected a result of type \"initialization\"", str(e.exception))
+        c.take_control()  # a generic result, as defined
+
     def test_unreachable_mcm_says_where_it_tried(self) -> None:
         closed = socket.socket()  # bound, not listening: connections are refused
         self.addCleanup(closed.close)

@@ -1,7 +1,10 @@
-//! Round trip of a `status` command over the JSON protocol, measured from a client process:
-//! TCP to the gateway, shared memory to the real-time core, the reply published with the next
-//! cycle's state, and back. Not a test (it asserts nothing about speed); the figures go to
-//! `docs/performance.md`.
+//! Round trip of a command over the JSON protocol, measured from a client process. `status` is
+//! answered by the gateway from the newest state the real-time core published, without waiting
+//! for a cycle: its round trip is the loopback TCP and the gateway's work (tens of
+//! microseconds). Any other command (e.g. `{"command":"hold"}`) goes by shared memory to the
+//! core, which serves it in its next cycle and publishes the reply with that cycle's state:
+//! about one period when requests go back to back. Not a test (it asserts nothing about
+//! speed); the figures go to `docs/performance.md`.
 //!
 //! ```sh
 //! cargo run --release -- --instance perf1 --json-port 0 --hmi-port 0   # prints json=ADDR

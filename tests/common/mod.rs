@@ -6,6 +6,7 @@
 pub mod flight;
 pub mod python;
 
+use mcm_shared::ready::{McmReady, ReadyLine};
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{Shutdown, SocketAddr, TcpStream};
@@ -79,15 +80,6 @@ pub struct Mcm {
     pub zmq: Option<(String, String)>,
 }
 
-fn field(line: &str, key: &str) -> Option<String> {
-    line.split(|c: char| c.is_whitespace() || c == '[' || c == ']')
-        .find_map(|w| {
-            w.strip_prefix(key)
-                .and_then(|r| r.strip_prefix('='))
-                .map(str::to_string)
-        })
-}
-
 impl Mcm {
     /// Start with the embedded configuration.
     pub fn start(tag: &str) -> Mcm {
@@ -142,17 +134,19 @@ impl Mcm {
         mcm
     }
 
-    /// Wait for the launcher's ready line and take the addresses and pids from it.
+    /// Wait for the launcher's ready line ([`McmReady`]) and take the addresses and pids from
+    /// it.
     pub fn wait_ready(&mut self) {
-        let line = self.wait_line("MCM ready");
-        self.json = field(&line, "json").expect("json=").parse().unwrap();
-        self.hmi = field(&line, "hmi").expect("hmi=").parse().unwrap();
-        self.rt_pid = field(&line, "rt_pid").expect("rt_pid=").parse().unwrap();
-        self.gateway_pid = field(&line, "gateway_pid")
-            .expect("gateway_pid=")
+        let line = self.wait_line(McmReady::PREFIX);
+        let ready: McmReady = line
             .parse()
-            .unwrap();
-        self.zmq = field(&line, "zmq_router").zip(field(&line, "zmq_publish"));
+            .unwrap_or_else(|e| panic!("the launcher's ready line: {e}"));
+        self.json = ready.gateway.json;
+        self.hmi = ready.gateway.hmi;
+        // A Linux pid is at most 2^22 (`pid_max`): it fits a `pid_t`.
+        self.rt_pid = ready.rt_pid as i32;
+        self.gateway_pid = ready.gateway_pid as i32;
+        self.zmq = ready.gateway.zmq.map(|z| (z.router, z.publish));
     }
 
     /// The next stdout line starting with `prefix` (other lines are skipped).

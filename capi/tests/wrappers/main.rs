@@ -152,13 +152,13 @@ fn render_one(out: &mut String, c: &Command, tcp: bool) {
         }
         Answer::Out(name, ty, conv) | Answer::OutPer(name, ty, _, conv) if tcp => {
             params.push(format!("{name}: *mut {ty}"));
-            before = format!("            let o = args::out({name}, F, \"{name}\")?;\n");
+            before = format!("            let o = convert::out({name}, F, \"{name}\")?;\n");
             after = format!("            *o = {conv};\n");
             true
         }
         Answer::Out(name, ty, conv) | Answer::OutPer(name, _, ty, conv) => {
             params.push(format!("{name}: *mut {ty}"));
-            before = format!("            let o = args::out({name}, F, \"{name}\")?;\n");
+            before = format!("            let o = convert::out({name}, F, \"{name}\")?;\n");
             after = format!("            *o = {conv};\n");
             true
         }
@@ -206,7 +206,7 @@ fn render() -> String {
 //! `call` (a NULL handle refused, no panic across the ABI, a failure recorded in the
 //! handle). Not real-time code, except where a function says so.
 
-use crate::args::{self, put, six, text};
+use crate::convert::{self, put, six, text};
 use crate::error::{call, mcm_error_t};
 use crate::shm::mcm_shm_client_t;
 use crate::tcp::mcm_tcp_client_t;

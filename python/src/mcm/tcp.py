@@ -9,11 +9,16 @@ session, the ERROR of a ``set_torques`` or ``set_velocities``) are kept apart an
 
 Not thread-safe: use one client per thread.
 
-Adding a command: a method that calls :meth:`Client.command` with the protocol's name and
-arguments and wraps the result (``_status`` for a status result, ``_generic`` for OK/ERROR,
-``expect_result=False`` for a command without a result on success, like ``set_torques``); a
-command whose result is a status joins ``_STATUS_RESULT``, a command that starts a session
-with status ticks ``_SESSIONS``, and one without a result ``_NO_RESULT``.
+What each command answers on success comes from the protocol's own definition of it
+(:mod:`mcm.codes`, generated from ``mcm_shared::protocol::COMMANDS``): its ``result_type``
+(``codes.RESULT_TYPES``), or nothing at all (``codes.NO_RESULT``: the command is sent without
+waiting, and a refusal comes later as an event).
+
+Adding a command: regenerate :mod:`mcm.codes` (see its head), then add a method that calls
+:meth:`Client.command` (or ``_expect``, which also checks the result's type) with the
+protocol's name and arguments and wraps the result (``_status`` for a status result,
+``_generic`` for OK/ERROR); a command that starts a session with status ticks joins
+``_SESSIONS``.
 """
 
 import collections
@@ -53,14 +58,11 @@ _NOTICE_PREFIXES = (
     "connection closed to make room",
 )
 
-# Commands whose result is a status result.
-_STATUS_RESULT = frozenset(["status", "hold", "release", "pvt", "torque_control", "velocity_control"])
+# Commands whose result on success is a status result.
+_STATUS_RESULT = frozenset(c for c, t in codes.RESULT_TYPES.items() if t == "status")
 
 # Commands that start a session sending status ticks to this connection, and its mode.
 _SESSIONS = {"torque_control": "TORQUE_CONTROL", "velocity_control": "VELOCITY_CONTROL"}
-
-# Commands without a result on success: their refusals are events.
-_NO_RESULT = ("set_torques", "set_velocities")
 
 # The longest a command may take on top of the client's timeout (`calibrate` takes about 12 s
 # on the simulated arm; the gateway itself waits up to 600 s for it).
@@ -227,7 +229,8 @@ class Client:
                 if "check" in v:
                     self._session = None
                 return True
-            for name in _NO_RESULT:
+            # Commands without a result on success: their refusals are events.
+            for name in codes.NO_RESULT:
                 if msg.startswith(name) and msg[len(name) : len(name) + 1] in (" ", ":") and expecting != name:
                     self._events.append(CommandErrorEvent(name, msg))
                     return True
@@ -253,18 +256,22 @@ class Client:
         command: str,
         arguments: Optional[Dict[str, Any]] = None,
         timeout: Optional[float] = None,
-        expect_result: bool = True,
+        expect_result: Optional[bool] = None,
     ) -> Dict[str, Any]:
         """Send one command and return its result object; raise :class:`CommandError` for an
         ERROR result. Use this for commands this client has no method for yet.
 
-        ``expect_result=False`` sends without waiting (a command that has no result on
-        success, like ``set_torques`` and ``set_velocities``) and returns ``{}``.
+        A command that has no result on success (``codes.NO_RESULT``: ``set_torques``,
+        ``set_velocities``) is sent without waiting and returns ``{}``; ``expect_result``
+        overrides that (``False``: do not wait, ``True``: wait), e.g. for a command of a newer
+        MCM that this client's :mod:`mcm.codes` does not know.
         """
         msg: Dict[str, Any] = {"command": command}
         if arguments:
             msg["arguments"] = arguments
         self.send_raw((json.dumps(msg, separators=(",", ":")) + "\n").encode("ascii"))
+        if expect_result is None:
+            expect_result = command not in codes.NO_RESULT
         if not expect_result:
             return {}
         wait = self.timeout if timeout is None else timeout
@@ -295,16 +302,22 @@ class Client:
                 self._session = _SESSIONS[command]
             return v
 
-    def _generic(self, command: str, arguments: Optional[Dict[str, Any]] = None, **kw: Any) -> None:
+    def _expect(self, command: str, arguments: Optional[Dict[str, Any]] = None, **kw: Any) -> Dict[str, Any]:
+        """:meth:`command`, checking that the result is of the ``result_type`` the protocol
+        defines for ``command`` on success (``codes.RESULT_TYPES``)."""
+        expected = codes.RESULT_TYPES[command]
+        if expected is None:
+            raise ValueError("`%s` answers nothing on success; send it with `command`" % command)
         v = self.command(command, arguments, **kw)
-        if v.get("result_type") != "generic":
-            raise ProtocolError("`%s` answered %r, expected a generic result" % (command, v))
+        if v.get("result_type") != expected:
+            raise ProtocolError("`%s` answered %r, expected a result of type \"%s\"" % (command, v, expected))
+        return v
+
+    def _generic(self, command: str, arguments: Optional[Dict[str, Any]] = None, **kw: Any) -> None:
+        self._expect(command, arguments, **kw)
 
     def _status(self, command: str, arguments: Optional[Dict[str, Any]] = None) -> Status:
-        v = self.command(command, arguments)
-        if v.get("result_type") != "status":
-            raise ProtocolError("`%s` answered %r, expected a status result" % (command, v))
-        return Status.from_json(v)
+        return Status.from_json(self._expect(command, arguments))
 
     def status(self, detail: bool = False) -> Status:
         """The mode and the axis states (with ``detail``: hardware, calibration, timing...)."""
@@ -312,8 +325,7 @@ class Client:
 
     def info(self) -> Info:
         """The robot, version, cycle time and each axis's limits."""
-        v = self.command("info")
-        return Info.from_json(v)
+        return Info.from_json(self._expect("info"))
 
     def hold(self) -> Status:
         """Enter HOLD (clears errors, powers the drives; stops any motion)."""
@@ -360,7 +372,7 @@ class Client:
         a refusal arrives later as a :class:`CommandErrorEvent`, and is raised by the next
         ``set_torques`` (or read with :meth:`events`)."""
         self._raise_refusal("set_torques")
-        self.command("set_torques", {"torques": [float(t) for t in torques]}, expect_result=False)
+        self.command("set_torques", {"torques": [float(t) for t in torques]})
 
     def velocity_control(self, timeout: Optional[float] = None, dt_status: Optional[float] = None) -> Status:
         """Enter VELOCITY_CONTROL: every axis starts at target velocity 0. ``timeout``: longest
@@ -378,7 +390,7 @@ class Client:
         values = [float(v) for v in velocities]
         if len(values) != 6:
             raise ValueError("set_velocities: expected six velocities, got %d" % len(values))
-        self.command("set_velocities", {"velocities": values}, expect_result=False)
+        self.command("set_velocities", {"velocities": values})
 
     def _raise_refusal(self, command: str) -> None:
         """Raise the first queued refusal of `command` (one without a result on success)."""
@@ -408,7 +420,7 @@ class Client:
         """Move all axes to their targets [deg], starting and arriving together."""
         targets = [float(x) for x in target_positions]
         args = _given(target_positions=targets, velocity_factor=velocity_factor)
-        return MoveAllResult.from_json(self.command("move_all", args))
+        return MoveAllResult.from_json(self._expect("move_all", args))
 
     def pvt_points(self, points: Sequence[Union[PvtPoint, Dict[str, Any]]]) -> None:
         """Queue 1 to 1000 points (all or none)."""
@@ -439,7 +451,7 @@ class Client:
             external_torques=list(external_torques) if external_torques else None,
             power_cycle=power_cycle,
         )
-        return SimResult.from_json(self.command("sim", args))
+        return SimResult.from_json(self._expect("sim", args))
 
     def take_control(self) -> None:
         """Become the client that controls the arm's motion."""

@@ -1,9 +1,10 @@
 //! The Python package's `python/src/mcm/codes.py` is generated from the contract: the wire
-//! codes (`mcm_shared::mode`), the numeric arguments (`mcm_shared::ranges::ARGS`) and the words
-//! of every refusal (`Reason`'s and `ArgRefusal`'s `Display` in `mcm_shared::reply` and
-//! `mcm_shared::ranges`). This test fails when the checked-in file differs from what it
-//! generates now; `MCM_UPDATE_PYTHON=1 cargo test -p mcm-shared --test python_codes` writes it
-//! anew.
+//! codes (`mcm_shared::mode`), the protocol's commands (`mcm_shared::protocol::COMMANDS`: their
+//! names, the result each answers on success, those that answer nothing, those that need
+//! control), the numeric arguments (`mcm_shared::ranges::ARGS`) and the words of every refusal
+//! (`Reason`'s and `ArgRefusal`'s `Display` in `mcm_shared::reply` and `mcm_shared::ranges`).
+//! This test fails when the checked-in file differs from what it generates now;
+//! `MCM_UPDATE_PYTHON=1 cargo test -p mcm-shared --test python_codes` writes it anew.
 //!
 //! The words are not copied: each reason is rendered by Rust with sentinel figures (axis 5,
 //! 11.123456789, ...), and the rendering of each figure is replaced by a placeholder the Python
@@ -16,6 +17,7 @@ mod text;
 
 use mcm_shared::command::Axis;
 use mcm_shared::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
+use mcm_shared::protocol::{COMMANDS, Success};
 use mcm_shared::ranges::{ARGS, ArgRefusal, Num};
 use mcm_shared::reply::{CalibrationFailure, PvtQuantity, Reason};
 use std::fmt::Write;
@@ -456,6 +458,51 @@ fn table(
     out
 }
 
+/// `rows` as the lines of a Python list or tuple, one string literal a line.
+fn str_rows<'a>(rows: impl IntoIterator<Item = &'a str>, indent: &str) -> String {
+    rows.into_iter()
+        .map(|r| format!("{indent}{},\n", py_str(r)))
+        .collect()
+}
+
+/// The protocol's commands (`mcm_shared::protocol::COMMANDS`): their names in order, the
+/// `result_type` each answers on success, those that answer nothing and those that need
+/// control.
+fn commands() -> String {
+    let names = || COMMANDS.iter().map(|c| c.name);
+    let mut out = format!(
+        "#: The protocol's commands, in the order ``help`` lists them\n\
+         #: (``mcm_shared::protocol::COMMANDS``).\nCOMMANDS: Tuple[str, ...] = (\n{})\n\n",
+        str_rows(names(), "    ")
+    );
+    out.push_str(&table(
+        "RESULT_TYPES",
+        "Dict[str, Optional[str]]",
+        "The ``result_type`` of each command's result on success (``CommandDef::success``);\n\
+         #: None: it answers nothing on success.",
+        COMMANDS.iter().map(|c| {
+            let ty = c.success.result_type().map_or("None".into(), py_str);
+            (py_str(c.name), ty)
+        }),
+    ));
+    let nothing = COMMANDS.iter().filter(|c| c.success == Success::Nothing);
+    let _ = write!(
+        out,
+        "\n#: Commands that answer nothing on success (``Success::Nothing``): a refusal comes \
+         later,\n#: as an ERROR whose words start with the command's name.\n\
+         NO_RESULT: Tuple[str, ...] = (\n{})\n\n",
+        str_rows(nothing.map(|c| c.name), "    ")
+    );
+    let control = COMMANDS.iter().filter(|c| c.needs_control());
+    let _ = write!(
+        out,
+        "#: Commands only the client that controls the arm may send \
+         (``CommandDef::needs_control``).\nNEEDS_CONTROL = frozenset(\n    [\n{}    ]\n)\n",
+        str_rows(control.map(|c| c.name), "        ")
+    );
+    out
+}
+
 fn render() -> String {
     let mut out = String::from(PRELUDE);
     out.push('\n');
@@ -477,14 +524,8 @@ fn render() -> String {
             .map(|k| (py_str(k.as_str()), k.to_wire().to_string())),
     ));
     out.push_str("KIND_NAMES: Dict[int, str] = {v: k for k, v in KINDS.items()}\n\n");
-    out.push_str(
-        "#: Commands only the client that controls the arm may send \
-         (``CommandKind::needs_control``).\nNEEDS_CONTROL = frozenset(\n    [\n",
-    );
-    for k in CommandKind::ALL.iter().filter(|k| k.needs_control()) {
-        let _ = writeln!(out, "        {},", py_str(k.as_str()));
-    }
-    out.push_str("    ]\n)\n\n#: ``Reply.status`` values.\n");
+    out.push_str(&commands());
+    out.push_str("\n#: ``Reply.status`` values.\n");
     for s in ReplyStatus::ALL {
         let _ = writeln!(out, "REPLY_{} = {}", s.as_str().to_uppercase(), s.to_wire());
     }
