@@ -126,7 +126,7 @@ fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     };
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
-        .on_thread_start(crate::latency::on_thread_start)
+        .on_thread_start(crate::core_link::latency::on_thread_start)
         .enable_all()
         .build()?;
     rt.block_on(async move {
