@@ -118,11 +118,7 @@ pub async fn run(
             let _ = rx.recv().await;
         }
     };
-    let json_task = tokio::spawn(transport::server::run_json(
-        json,
-        ctx.clone(),
-        stopped(&stop_tx),
-    ));
+    let json_task = tokio::spawn(transport::json::run(json, ctx.clone(), stopped(&stop_tx)));
     let reaper = tokio::spawn(command::access::reaper::run(ctx.bridge.clone()));
     let hmi_task = tokio::spawn(transport::hmi::run(hmi, ctx, stopped(&stop_tx)));
     ready(Ready {

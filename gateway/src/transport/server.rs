@@ -1,12 +1,11 @@
-//! The TCP listeners: accept connections, admit them within the limits of
-//! `[gateway.connections]` ([`admission`]: per-peer cap, total cap, loopback reserve, eviction
-//! of the longest-idle connection, never the one that controls the arm), hand each to its own
-//! task, and stop them all on shutdown.
+//! The TCP listeners of the JSON port ([`super::json`]) and the HMI port ([`super::hmi`]):
+//! accept connections, admit them within the limits of `[gateway.connections]` ([`admission`]:
+//! per-peer cap, total cap, loopback reserve, eviction of the longest-idle connection, never the
+//! one that controls the arm), hand each to its own task, and stop them all on shutdown.
 
 pub mod admission;
 
 use crate::command::Context;
-use crate::transport::json::connection;
 use crate::transport::shutdown::Shutdown;
 use admission::{Shared, Slot};
 use std::future::Future;
@@ -35,27 +34,6 @@ pub struct Port {
     /// Which peers may use the loopback reserve ([`admission::is_loopback`]; tests that need
     /// "remote" peers on one machine narrow it).
     pub is_local: fn(IpAddr) -> bool,
-}
-
-/// The JSON port: refusals as a generic ERROR result line.
-pub const JSON_PORT: Port = Port {
-    what: "JSON connection",
-    refusal: json_line,
-    is_local: admission::is_loopback,
-};
-
-/// A generic ERROR result line with `message`.
-pub fn json_line(message: &str) -> String {
-    format!(
-        "{}\n",
-        mcm_shared::protocol::json::to_ascii(&crate::command::result::error(message))
-    )
-}
-
-/// Accept JSON connections on `listener` until `shutdown` resolves, then tell every connection
-/// to stop and wait for them.
-pub async fn run_json(listener: TcpListener, ctx: Context, shutdown: impl Future) {
-    run(listener, ctx, shutdown, JSON_PORT, connection::serve).await;
 }
 
 /// Write `line`, close our side, then drain what the peer still sends (bounded in time), so

@@ -391,7 +391,7 @@ async fn say_goodbye(
     wr: &mut BufWriter<OwnedWriteHalf>,
     why: &str,
 ) -> std::io::Result<()> {
-    let line = crate::transport::server::json_line(why);
+    let line = super::json_line(why);
     crate::transport::server::farewell(rd, wr, line.as_bytes()).await;
     Ok(())
 }

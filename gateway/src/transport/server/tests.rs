@@ -65,14 +65,14 @@ async fn start(limits: ConnectionLimits, hmi: bool) -> Server {
     } else {
         let port = Port {
             is_local: only_127_0_0_1,
-            ..JSON_PORT
+            ..crate::transport::json::JSON_PORT
         };
         tokio::spawn(run_with(
             listener,
             ctx,
             shutdown,
             port,
-            connection::serve,
+            crate::transport::json::connection::serve,
             t,
         ))
     };

@@ -1,7 +1,7 @@
-//! The JSON channel against hostile input: a real connection to
-//! [`crate::transport::server::run_json`] with a bridge whose real-time core is not running,
-//! and property tests of the framing and parsing path ([`Decoder`] -> [`step`]) over arbitrary
-//! bytes, arbitrary JSON values and mutated valid commands.
+//! The JSON channel against hostile input: a real connection to [`crate::transport::json::run`]
+//! with a bridge whose real-time core is not running, and property tests of the framing and
+//! parsing path ([`Decoder`] -> [`step`]) over arbitrary bytes, arbitrary JSON values and
+//! mutated valid commands.
 
 use super::*;
 use crate::test_support::offline_context;
@@ -26,13 +26,9 @@ async fn a_hostile_line_gets_an_ascii_error_and_the_connection_lives_on() {
     let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();
     let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
-    let server = tokio::spawn(crate::transport::server::run_json(
-        listener,
-        ctx,
-        async move {
-            let _ = stopped.await;
-        },
-    ));
+    let server = tokio::spawn(crate::transport::json::run(listener, ctx, async move {
+        let _ = stopped.await;
+    }));
 
     let socket = TcpStream::connect(addr).await.unwrap();
     let (rd, mut wr) = socket.into_split();
