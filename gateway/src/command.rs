@@ -11,8 +11,8 @@
 //! access rules of `[gateway.access]` to the connection's client. [`result`] writes the typed
 //! results as the JSON values the transports send.
 
-pub mod access;
-pub mod result;
+pub(crate) mod access;
+pub(crate) mod result;
 
 use crate::core_link::bridge::{Bridge, BridgeError};
 use mcm_shared::config::RobotConfig;

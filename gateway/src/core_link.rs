@@ -4,6 +4,6 @@
 //! gateway stopping), and [`latency`] asks the kernel for a short scheduling slice for the
 //! threads that answer clients. Not used inside the real-time cycle.
 
-pub mod bridge;
-pub mod latency;
-pub mod lifecycle;
+pub(crate) mod bridge;
+pub(crate) mod latency;
+pub(crate) mod lifecycle;

@@ -6,26 +6,27 @@
 //! blackboard and publishes command samples.
 //!
 //! Layout (as in tokio's mini-redis), by role:
-//! - [`transport`]: how clients reach the gateway. [`transport::json`] is the JSON/TCP protocol
-//!   ([`transport::json::framing`] splits bytes into commands, [`transport::json::connection`]
-//!   serves one client), [`transport::hmi`] the telnet text HMI, [`transport::zmq`] the optional
+//! - `transport`: how clients reach the gateway. `transport::json` is the JSON/TCP protocol
+//!   (`transport::json::framing` splits bytes into commands, `transport::json::connection`
+//!   serves one client), `transport::hmi` the telnet text HMI, `transport::zmq` the optional
 //!   ZeroMQ interface (commands over a ROUTER socket, state and errors over a PUB socket);
-//!   [`transport::server`] accepts and admits the TCP connections and shuts them down.
-//! - [`mcm_shared::protocol`] parses and validates each command (one file per command, shared
+//!   `transport::server` accepts and admits the TCP connections and shuts them down.
+//! - `mcm_shared::protocol` parses and validates each command (one file per command, shared
 //!   with the clients).
-//! - [`command`]: executes a command under the access rules ([`command::access`]) and builds its
-//!   typed result ([`command::result`] writes it as JSON).
-//! - [`core_link`]: the link to the real-time core: the [`core_link::bridge`] thread that owns
-//!   the shared memory, the notices about the core's life ([`core_link::lifecycle`]), the
-//!   scheduling hint of the threads that answer clients ([`core_link::latency`]).
-//! - [`cli`]: the command line, and [`run`], which starts it all and stops it.
+//! - `command`: executes a command under the access rules (`command::access`) and builds its
+//!   typed result (`command::result` writes it as JSON).
+//! - `core_link`: the link to the real-time core: the `core_link::bridge` thread that owns
+//!   the shared memory, the notices about the core's life (`core_link::lifecycle`), the
+//!   scheduling hint of the threads that answer clients (`core_link::latency`).
+//! - [`cli`]: the command line (the crate's one public module, for the `mcm-gateway` binary
+//!   and the `mcm` launcher), and `run`, which starts it all and stops it.
 
 pub mod cli;
-pub mod command;
-pub mod core_link;
+mod command;
+mod core_link;
 #[cfg(test)]
 mod test_support;
-pub mod transport;
+mod transport;
 
 use mcm_shared::config::RobotConfig;
 use mcm_shared::service::ServiceNames;
@@ -33,13 +34,13 @@ use std::net::SocketAddr;
 use std::sync::Arc;
 
 /// Default TCP port of the JSON protocol.
-pub const DEFAULT_JSON_PORT: u16 = 18010;
+pub(crate) const DEFAULT_JSON_PORT: u16 = 18010;
 /// Default TCP port of the text HMI.
-pub const DEFAULT_HMI_PORT: u16 = 18011;
+pub(crate) const DEFAULT_HMI_PORT: u16 = 18011;
 
 /// What the gateway serves, and where.
 #[derive(Debug, Clone)]
-pub struct GatewayOptions {
+pub(crate) struct GatewayOptions {
     pub config: RobotConfig,
     pub names: ServiceNames,
     /// Address of the JSON listener (port 0: any free port).
@@ -52,7 +53,7 @@ pub struct GatewayOptions {
 
 /// Starting the gateway failed.
 #[derive(Debug, thiserror::Error)]
-pub enum GatewayError {
+pub(crate) enum GatewayError {
     #[error("cannot listen on {addr}: {source}")]
     Bind {
         addr: SocketAddr,
@@ -66,7 +67,7 @@ pub enum GatewayError {
 
 /// Where the gateway serves, once it does.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Ready {
+pub(crate) struct Ready {
     pub json: SocketAddr,
     pub hmi: SocketAddr,
     /// The ZeroMQ ROUTER and PUB endpoints as bound, when `[gateway.zmq]` is enabled.
@@ -85,7 +86,7 @@ async fn bind(addr: SocketAddr) -> Result<(tokio::net::TcpListener, SocketAddr),
 
 /// Run the gateway until `shutdown` resolves. `ready` is called once with the bound addresses
 /// of the JSON and the HMI listeners and the ZeroMQ endpoints.
-pub async fn run(
+pub(crate) async fn run(
     opts: GatewayOptions,
     ready: impl FnOnce(Ready),
     shutdown: impl std::future::Future,

@@ -12,9 +12,9 @@
 //! limits of `[gateway.connections]` and stops them on [`shutdown`]; [`heavy`] parses long
 //! lines off the async workers, for every transport.
 
-pub mod heavy;
-pub mod hmi;
-pub mod json;
-pub mod server;
-pub mod shutdown;
-pub mod zmq;
+pub(crate) mod heavy;
+pub(crate) mod hmi;
+pub(crate) mod json;
+pub(crate) mod server;
+pub(crate) mod shutdown;
+pub(crate) mod zmq;

@@ -7,11 +7,6 @@ use mcm_shared::protocol::results::{Answer, Generic, Status};
 use mcm_shared::sample::StateSample;
 use serde_json::Value;
 
-/// `{"result_type":"generic","error_status":"OK"}`
-pub fn ok() -> Value {
-    Answer::ok().to_value()
-}
-
 /// A generic ERROR result with a message.
 pub fn error(message: impl Into<String>) -> Value {
     Answer::error(message).to_value()

@@ -41,7 +41,7 @@ mod worker;
 #[cfg(test)]
 mod tests;
 
-pub use mcm_client::shm::{LayoutMismatch, OpenError, SendError};
+pub use mcm_client::shm::{OpenError, SendError};
 
 use iceoryx2::prelude::*;
 use mcm_shared::command::{DecodeError, Request};

@@ -3,8 +3,8 @@
 //! one after the other and writes one result line each, with the spontaneous errors and notices
 //! in between).
 
-pub mod connection;
-pub mod framing;
+pub(crate) mod connection;
+pub(crate) mod framing;
 
 use crate::command::Context;
 use crate::transport::server::{self, Port};

@@ -3,7 +3,7 @@
 //! per-peer cap, total cap, loopback reserve, eviction of the longest-idle connection, never the
 //! one that controls the arm), hand each to its own task, and stop them all on shutdown.
 
-pub mod admission;
+pub(crate) mod admission;
 
 use crate::command::Context;
 use crate::transport::shutdown::Shutdown;

@@ -17,10 +17,6 @@ impl Shutdown {
         }
     }
 
-    pub fn is_shutdown(&self) -> bool {
-        self.is_shutdown
-    }
-
     /// Wait for the shutdown notice.
     pub async fn recv(&mut self) {
         if self.is_shutdown {

@@ -73,7 +73,6 @@ pub struct Client(Arc<Identity>);
 pub struct Identity {
     pub id: u64,
     pub peer: SocketAddr,
-    pub channel: Channel,
     /// The connection presented the right shared secret.
     authenticated: AtomicBool,
     /// The connection sent a command that may have given it control.
@@ -90,7 +89,6 @@ impl Client {
         Client(Arc::new(Identity {
             id,
             peer,
-            channel,
             authenticated: AtomicBool::new(false),
             might_own: AtomicBool::new(false),
             clients: clients.clone(),

@@ -17,8 +17,8 @@
 //! who controls the arm (`detail.control`).
 
 mod clients;
-pub mod reaper;
-pub mod sha256;
+pub(crate) mod reaper;
+mod sha256;
 #[cfg(test)]
 mod tests;
 

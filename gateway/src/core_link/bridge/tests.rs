@@ -1,8 +1,9 @@
 //! The bridge against real iceoryx2 services, each test under its own instance name.
 
-use super::{LayoutMismatch, OpenError};
+use super::OpenError;
 use iceoryx2::prelude::*;
 use iceoryx2::service::port_factory;
+use mcm_client::shm::LayoutMismatch;
 use mcm_client::shm::ports::{CorePorts, Peer};
 use mcm_shared::service::{STATE_KEY, ServiceNames, service_name};
 

@@ -26,17 +26,6 @@
 //! Memory is bounded: a line holds at most `max_bytes` (the rest of a longer line is dropped
 //! and Enter then yields [`Action::TooLong`]); the history keeps at most [`HISTORY_LINES`]
 //! lines and [`HISTORY_BYTES`] bytes.
-//!
-//! ```
-//! use mcm_gateway::transport::hmi::editor::{Action, Editor};
-//! use mcm_gateway::transport::hmi::telnet::Input;
-//! let mut e = Editor::new(100, vec!["status", "sleep"]);
-//! let mut echo = Vec::new();
-//! for b in *b"sta\t" {
-//!     e.feed(Input::Byte(b), true, &mut echo);
-//! }
-//! assert_eq!(e.feed(Input::Enter, true, &mut echo), Some(Action::Line("status ".into())));
-//! ```
 
 use super::telnet::Input;
 use std::collections::VecDeque;

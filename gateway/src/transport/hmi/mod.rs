@@ -10,32 +10,27 @@
 //!
 //! It runs in the gateway's async tasks, never inside the real-time cycle. It shares the JSON
 //! channel's command path: the words become a JSON `arguments` object parsed by
-//! [`mcm_shared::protocol::Command::parse`] and executed by [`crate::command::execute`], so
-//! both channels accept and refuse exactly the same things.
+//! [`mcm_shared::protocol::Command::parse`] and executed under the same access rules by
+//! [`crate::command::access::run_command`], so both channels accept and refuse exactly the same
+//! things.
 //!
 //! Layout: [`telnet`] (option negotiation, NVT line ends) -> [`editor`] (line editing, echo,
-//! history) -> [`words`] (the line parser, with [`spec`] describing each command's
-//! arguments) -> `crate::command` -> [`render`] (results for people); [`help`] holds the help
-//! texts and [`session`] ties one connection together. [`run`] accepts connections.
+//! history) -> [`words`] (the line parser, after each command's definition in
+//! [`mcm_shared::protocol`]) -> `crate::command` -> [`render`] (results for people); [`help`]
+//! holds the help texts and [`session`] ties one connection together. [`run`] accepts
+//! connections.
 //!
 //! Telnet choice: the server offers `WILL ECHO` and `WILL SUPPRESS-GO-AHEAD`, i.e. character
 //! mode with the server echoing (see [`telnet`]); clients that do not negotiate (`nc`) keep
 //! their terminal's own line editing and get no echo.
-//!
-//! ```no_run
-//! # async fn example(ctx: mcm_gateway::command::Context) -> std::io::Result<()> {
-//! let listener = tokio::net::TcpListener::bind(("0.0.0.0", mcm_gateway::DEFAULT_HMI_PORT)).await?;
-//! mcm_gateway::transport::hmi::run(listener, ctx, tokio::signal::ctrl_c()).await;
-//! # Ok(()) }
-//! ```
 
-pub mod editor;
-pub mod help;
-pub mod jog;
-pub mod render;
-pub mod session;
-pub mod telnet;
-pub mod words;
+mod editor;
+mod help;
+mod jog;
+mod render;
+pub(crate) mod session;
+mod telnet;
+mod words;
 
 use crate::command::Context;
 use crate::transport::server::Port;

@@ -2,15 +2,6 @@
 //! as on the JSON channel) turned into aligned tables with units, modes and errors in words, and
 //! hints that say how to fix what went wrong. Output uses `\n`; the session turns it into the
 //! terminal's `\r\n`. Not used inside the real-time cycle.
-//!
-//! ```
-//! use mcm_gateway::transport::hmi::render;
-//! let cfg = mcm_shared::config::RobotConfig::prob2_default();
-//! let ok = mcm_shared::protocol::results::Answer::ok();
-//! let text = render::answer("calibrate", &ok, &cfg, None);
-//! assert!(text.contains("calibration finished"));
-//! assert!(text.contains("OK"));
-//! ```
 
 use super::words::LineError;
 use mcm_shared::config::RobotConfig;
@@ -513,7 +504,8 @@ pub fn watch_frame(
     }
 }
 
-/// Remove ANSI escape sequences (for tests and logs).
+/// Remove ANSI escape sequences (for the tests, which read the text a person sees).
+#[cfg(test)]
 pub fn strip_ansi(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     let mut chars = s.chars();

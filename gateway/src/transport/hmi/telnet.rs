@@ -15,17 +15,6 @@
 //! (`IAC SB ... IAC SE`) are skipped without storing them, so memory stays bounded. Line ends
 //! CR LF, CR NUL and a bare LF each become one [`Input::Enter`]; `IAC IAC` is the data byte
 //! 0xFF. Nothing of the negotiation ever reaches the line.
-//!
-//! ```
-//! use mcm_gateway::transport::hmi::telnet::{Input, Telnet};
-//! let mut t = Telnet::new();
-//! let (mut inputs, mut replies) = (Vec::new(), Vec::new());
-//! // Linux telnet answers the greeting, then types "hi" and Enter (CR NUL):
-//! t.feed(&[255, 253, 1, 255, 253, 3, b'h', b'i', b'\r', 0], &mut inputs, &mut replies);
-//! assert_eq!(inputs, [Input::Byte(b'h'), Input::Byte(b'i'), Input::Enter]);
-//! assert!(t.server_echoes());
-//! assert!(replies.is_empty()); // the DOs acknowledged our WILLs: nothing to answer
-//! ```
 
 /// Interpret As Command.
 pub const IAC: u8 = 255;
@@ -137,6 +126,7 @@ impl Telnet {
     }
 
     /// True once the client sent any telnet command.
+    #[cfg(test)]
     pub fn speaks_telnet(&self) -> bool {
         self.seen_iac
     }
@@ -170,7 +160,9 @@ impl Telnet {
                     EL => inputs.push(Input::EraseLine),
                     XEOF => inputs.push(Input::EndOfFile),
                     AYT => replies.extend_from_slice(b"\r\n[MCM HMI: yes, here]\r\n"),
-                    // NOP, DM, GA, AO, SE outside a subnegotiation, EOR: nothing to do.
+                    // Abort output: every line is written at once, nothing waits to be dropped.
+                    AO => {}
+                    // NOP, DM, GA, SE outside a subnegotiation, EOR: nothing to do.
                     _ => {}
                 }
             }
@@ -273,6 +265,19 @@ mod tests {
         0xFF, 0xFD, 0x03, 0xFF, 0xFB, 0x18, 0xFF, 0xFB, 0x1F, 0xFF, 0xFB, 0x20, 0xFF, 0xFB, 0x21,
         0xFF, 0xFB, 0x22, 0xFF, 0xFB, 0x27, 0xFF, 0xFD, 0x05,
     ];
+
+    /// Linux telnet answers the greeting, then types "hi" and Enter (CR NUL).
+    #[test]
+    fn the_greeting_agreed_then_a_typed_line() {
+        let mut t = Telnet::new();
+        let (inputs, replies) = feed(&mut t, &[255, 253, 1, 255, 253, 3, b'h', b'i', b'\r', 0]);
+        assert_eq!(inputs, [Input::Byte(b'h'), Input::Byte(b'i'), Input::Enter]);
+        assert!(t.server_echoes());
+        assert!(
+            replies.is_empty(),
+            "the DOs acknowledged our WILLs: nothing to answer"
+        );
+    }
 
     #[test]
     fn linux_telnet_hello_is_answered_and_yields_no_input() {

@@ -11,17 +11,6 @@
 //! argument name means `true` (`status detail`). The words become a JSON `arguments` object
 //! that [`Command::parse`] validates, exactly as for the JSON channel. A line starting with `{`
 //! is a JSON command ([`Command::from_json`]).
-//!
-//! ```
-//! use mcm_gateway::transport::hmi::words::{Line, parse_line};
-//! use mcm_shared::protocol::Command;
-//! use mcm_shared::command::{Axis, MoveAxis};
-//! let cfg = mcm_shared::config::RobotConfig::prob2_default();
-//! let line = parse_line("move_axis 1 30 vf=0.5", &cfg).unwrap();
-//! let axis = Axis::new(1).unwrap();
-//! let expected = MoveAxis { axis, target_deg: 30.0, velocity_factor: 0.5 };
-//! assert_eq!(line, Line::Command { cmd: Command::MoveAxis(expected), json: false });
-//! ```
 
 use mcm_shared::config::RobotConfig;
 use mcm_shared::protocol::CommandError;

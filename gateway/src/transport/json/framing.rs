@@ -8,16 +8,6 @@
 //! `{` to its `}`), or a line that is not one (without its line end), of [`MAX_COMMAND_BYTES`]
 //! bytes is taken; one byte more is [`Frame::Oversize`] as soon as that byte arrives; the
 //! connection is then closed, so the memory a connection holds stays bounded.
-//!
-//! ```
-//! use mcm_gateway::transport::json::framing::{Decoder, Frame};
-//! let mut d = Decoder::new();
-//! d.extend(b"{\"command\":\"status\"}{\"command\":");
-//! assert_eq!(d.next_frame(), Some(Frame::Object("{\"command\":\"status\"}".into())));
-//! assert_eq!(d.next_frame(), None); // the second object is not complete yet
-//! d.extend(b"\"hold\"}\r\n");
-//! assert_eq!(d.next_frame(), Some(Frame::Object("{\"command\":\"hold\"}".into())));
-//! ```
 
 use mcm_shared::protocol::json::json_kind;
 

@@ -75,7 +75,11 @@ pub struct Admitted {
     pub id: u64,
     /// Where the connection hears that it was evicted (for its [`Slot`]).
     pub evict: watch::Receiver<Option<String>>,
-    /// The connection closed to make room, if any.
+    /// The connection closed to make room, if any (it hears why through its own `evict`).
+    #[cfg_attr(
+        not(test),
+        expect(dead_code, reason = "the tests check who was evicted")
+    )]
     pub evicted: Option<Evicted>,
 }
 
@@ -111,10 +115,12 @@ impl Table {
     }
 
     /// Connections held now.
+    #[cfg(test)]
     pub fn len(&self) -> usize {
         self.entries.len()
     }
 
+    #[cfg(test)]
     pub fn is_empty(&self) -> bool {
         self.entries.is_empty()
     }
@@ -123,11 +129,6 @@ impl Table {
     #[cfg(test)]
     pub(crate) fn ids(&self) -> Vec<u64> {
         self.entries.keys().copied().collect()
-    }
-
-    /// Connections that are busy now (a command in the core, a torque session).
-    pub fn busy(&self) -> usize {
-        self.entries.values().filter(|e| e.busy).count()
     }
 
     /// The longest-idle connection among those `eligible` that is neither busy nor the one

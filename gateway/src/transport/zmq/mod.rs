@@ -9,10 +9,10 @@
 //! The implementation is libzmq (the `zmq` crate, which builds libzmq 4.3.4 from source):
 //! `docs/performance.md` ("ZeroMQ") has the measurements that chose it.
 
-pub mod message;
-pub mod peer;
-pub mod publish;
-pub mod router;
+mod message;
+mod peer;
+mod publish;
+mod router;
 
 use crate::command::Context;
 use mcm_shared::config::ZmqConfig;

@@ -18,6 +18,7 @@ use tokio::sync::broadcast::error::RecvError;
 use tokio::sync::oneshot;
 
 /// Messages queued per subscriber before it loses new ones (5 s of states at 200 Hz).
+#[cfg_attr(feature = "bench-zeromq-rs", allow(dead_code))]
 pub const SEND_HWM: i32 = 1000;
 
 /// The publication thread; [`Publisher::stop`] ends it.

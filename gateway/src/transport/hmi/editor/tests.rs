@@ -300,3 +300,17 @@ proptest! {
         prop_assert!(e.line.capacity() <= 256, "{}", e.line.capacity());
     }
 }
+
+/// Tab completes the one word that starts with what was typed, followed by a space.
+#[test]
+fn tab_completes_a_unique_command() {
+    let mut e = Editor::new(100, vec!["status", "sleep"]);
+    let mut echo = Vec::new();
+    for b in *b"sta\t" {
+        e.feed(Input::Byte(b), true, &mut echo);
+    }
+    assert_eq!(
+        e.feed(Input::Enter, true, &mut echo),
+        Some(Action::Line("status ".into()))
+    );
+}

@@ -249,3 +249,11 @@ fn watch_frames() {
     let f = strip_ansi(&watch_frame(None, false, &cfg(), "x"));
     assert!(f.contains("not running"), "{f}");
 }
+
+/// An OK result says what was done, in words, for the command that gave it.
+#[test]
+fn an_ok_result_names_what_was_done() {
+    let text = answer("calibrate", &Answer::ok(), &cfg(), None);
+    assert!(text.contains("calibration finished"), "{text}");
+    assert!(text.contains("OK"), "{text}");
+}

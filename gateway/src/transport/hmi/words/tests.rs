@@ -326,3 +326,21 @@ fn jog_takes_an_axis_and_a_speed() {
         Command::VelocityControl(_)
     ));
 }
+
+/// Arguments by position and by short name in one line.
+#[test]
+fn positions_and_a_short_name_make_one_command() {
+    let line = parse_line("move_axis 1 30 vf=0.5", &cfg()).unwrap();
+    let expected = MoveAxis {
+        axis: Axis::new(1).unwrap(),
+        target_deg: 30.0,
+        velocity_factor: 0.5,
+    };
+    assert_eq!(
+        line,
+        Line::Command {
+            cmd: Command::MoveAxis(expected),
+            json: false
+        }
+    );
+}

@@ -167,3 +167,21 @@ fn oversize_garbage_line_without_newline() {
     d.extend(b"xx\n{\"a\":1}\n");
     assert_eq!(d.next_frame(), Some(obj("{\"a\":1}")));
 }
+
+/// Two reads: the first brings a whole object and the start of the next, the second its end
+/// and a CR LF.
+#[test]
+fn an_object_is_taken_when_complete_and_the_next_waits_for_its_end() {
+    let mut d = Decoder::new();
+    d.extend(b"{\"command\":\"status\"}{\"command\":");
+    assert_eq!(d.next_frame(), Some(obj("{\"command\":\"status\"}")));
+    assert_eq!(
+        d.next_frame(),
+        None,
+        "the second object is not complete yet"
+    );
+    d.extend(b"\"hold\"}\r\n");
+    assert_eq!(d.next_frame(), Some(obj("{\"command\":\"hold\"}")));
+    assert_eq!(d.next_frame(), None);
+    assert_eq!(d.buffered(), 0, "the line end is consumed");
+}
