@@ -9,8 +9,9 @@
 //! repeat; any other key stops at once. If the gateway stops sending, the core's own timeout
 //! ([`JOG_TIMEOUT_S`]) stops the axis.
 //!
-//! This file holds the pure parts (keys, the held-key timing, the line shown); the screen's
-//! loop is part of the HMI session ([`super::session`]). Not used inside the real-time cycle.
+//! This file holds the pure parts (keys, the held-key timing, the speed, the line shown); the
+//! screen's loop is part of the HMI session (`session/jog_screen.rs`). Not used inside the
+//! real-time cycle.
 
 use super::telnet::Input;
 use mcm_shared::command::Axis;

@@ -17,8 +17,9 @@
 //! Layout: [`telnet`] (option negotiation, NVT line ends) -> [`editor`] (line editing, echo,
 //! history) -> [`words`] (the line parser, after each command's definition in
 //! [`mcm_shared::protocol`]) -> `crate::command` -> [`render`] (results for people); [`help`]
-//! holds the help texts and [`session`] ties one connection together. [`run`] accepts
-//! connections.
+//! holds the help texts and [`session`] ties one connection together; [`jog`] holds the keys
+//! and timing of the `jog` screen, whose loop is the session's (`session/jog_screen.rs`).
+//! [`run`] accepts connections.
 //!
 //! Telnet choice: the server offers `WILL ECHO` and `WILL SUPPRESS-GO-AHEAD`, i.e. character
 //! mode with the server echoing (see [`telnet`]); clients that do not negotiate (`nc`) keep
