@@ -120,7 +120,8 @@ pub(crate) async fn run(
         }
     };
     let json_task = tokio::spawn(transport::json::run(json, ctx.clone(), stopped(&stop_tx)));
-    let reaper = tokio::spawn(command::access::reaper::run(ctx.bridge.clone()));
+    let bridge = ctx.bridge.clone();
+    let reaper = tokio::spawn(command::access::reaper::run(bridge.clone()));
     let hmi_task = tokio::spawn(transport::hmi::run(hmi, ctx, stopped(&stop_tx)));
     ready(Ready {
         json: json_addr,
@@ -128,6 +129,11 @@ pub(crate) async fn run(
         zmq: zmq.as_ref().map(|z| (z.router.clone(), z.publish.clone())),
     });
     shutdown.await;
+    // Usually the gateway is stopped because the core stopped: know that before any client is
+    // told the gateway stops, so that ZeroMQ subscribers too hear about the core first
+    // (`core_link::lifecycle`). The TCP servers settle again before their goodbyes: at once
+    // when the core is gone, two of its cycles when it runs.
+    core_link::lifecycle::settle(bridge.watch_state()).await;
     if let Some(z) = zmq {
         // Blocking joins (bounded: the threads wake within 200 ms), off the async workers.
         let _ = tokio::task::spawn_blocking(move || z.stop()).await;

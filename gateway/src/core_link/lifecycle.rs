@@ -126,6 +126,12 @@ impl CoreWatch {
         let from = std::mem::replace(&mut self.last, now);
         notice(from, now).map(crate::command::result::error)
     }
+
+    /// The last results a client gets when the gateway shuts down (after [`settle`]): the
+    /// notice about the core still due, if any, then [`gateway_stopping`].
+    pub fn last_words(&mut self) -> impl Iterator<Item = Value> + use<> {
+        self.due().into_iter().chain([gateway_stopping()])
+    }
 }
 
 #[cfg(test)]

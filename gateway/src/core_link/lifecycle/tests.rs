@@ -78,3 +78,20 @@ async fn a_core_that_vanishes_is_told_as_such() {
     assert_eq!(v["error_status"], "ERROR");
     assert_eq!(v["error_message"], RT_VANISHED);
 }
+
+#[tokio::test]
+async fn last_words_are_the_notice_still_due_then_the_gateways_own() {
+    let (tx, rx) = watch::channel(sample(0));
+    let mut w = CoreWatch::new(rx);
+    let running: Vec<Value> = w.last_words().collect();
+    assert_eq!(
+        running,
+        [gateway_stopping()],
+        "the core runs: nothing to tell of it"
+    );
+    tx.send_replace(None);
+    let vanished: Vec<Value> = w.last_words().collect();
+    assert_eq!(vanished.len(), 2, "{vanished:?}");
+    assert_eq!(vanished[0]["error_message"], RT_VANISHED);
+    assert_eq!(vanished[1], gateway_stopping());
+}

@@ -329,10 +329,7 @@ pub async fn serve(
 /// core still due (it stopped, or vanished), then the gateway's own (bounded: a client that
 /// does not read does not hold the shutdown up).
 async fn goodbye(wr: &mut BufWriter<OwnedWriteHalf>, core: &mut CoreWatch) -> std::io::Result<()> {
-    let lines = core
-        .due()
-        .into_iter()
-        .chain([crate::core_link::lifecycle::gateway_stopping()]);
+    let lines = core.last_words();
     let say = async {
         for v in lines {
             send(wr, &v).await?;

@@ -153,8 +153,9 @@ pub fn start(cfg: &ZmqConfig, ctx: Context, rt: tokio::runtime::Handle) -> Resul
 }
 
 impl Zmq {
-    /// Publish the gateway's last `error`, forget every peer (the core hears they are gone)
-    /// and end the threads.
+    /// Publish the notice about the core still due and the gateway's last `error` (call it
+    /// after [`crate::core_link::lifecycle::settle`]), forget every peer (the core hears they
+    /// are gone) and end the threads.
     pub fn stop(self) {
         self.stop.store(true, Ordering::Relaxed);
         self.bell.ring();

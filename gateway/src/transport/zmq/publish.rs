@@ -1,8 +1,8 @@
 //! The PUB socket: every state the core publishes, as the `status` result with the cycle number
-//! (topic `state`), and
-//! every spontaneous error, as the JSON/TCP connections get it (topic `error`: safety errors
-//! and drive errors, the core shutting down or gone, the gateway stopping). Each message has
-//! two frames, the topic and the JSON. Runs in its own thread (`mcm-zmq-pub`), not in the
+//! (topic `state`), and every spontaneous error, as the JSON/TCP connections get it (topic
+//! `error`: safety errors and drive errors, the core shutting down or gone, the gateway
+//! stopping; on shutdown, the notice about the core still due before the gateway's own, as on
+//! TCP). Each message has two frames, the topic and the JSON. Runs in its own thread (`mcm-zmq-pub`), not in the
 //! cycle and not in the gateway's async workers, so publishing never delays a TCP client.
 //!
 //! Sending never blocks: a subscriber that does not keep up loses messages at its high-water
@@ -93,7 +93,8 @@ impl Publisher {
         Ok((Publisher { stop, thread }, bound))
     }
 
-    /// Publish the gateway's last `error` and end the thread.
+    /// Publish the notice about the core still due and the gateway's last `error`, and end
+    /// the thread.
     pub(super) fn stop(self) {
         let _ = self.stop.send(());
         let _ = self.thread.join();
@@ -176,10 +177,17 @@ async fn run(
             },
             n = core.next() => ("error", n),
             _ = &mut stopped => {
-                sink.publish("error", &crate::core_link::lifecycle::gateway_stopping()).await;
+                // The notice about the core still due (the gateway settled what it knows of
+                // the core before it stopped this thread), then the gateway's own.
+                for v in core.last_words() {
+                    sink.publish("error", &v).await;
+                }
                 break;
             }
         };
         sink.publish(topic, &v).await;
     }
 }
+
+#[cfg(test)]
+mod tests;
