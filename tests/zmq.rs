@@ -8,7 +8,9 @@
 //!   TCP) confirms the axis is where the example saw it arrive;
 //! - `tests/zmq_checks.py` checks garbage and one-reply-per-request, ownership between two
 //!   ZeroMQ peers, control lost when a peer's connection closes, and a safety error on the
-//!   `error` topic.
+//!   `error` topic;
+//! - `tests/zmq_last_words.py` subscribes, then `mcm-rt` is killed (`kill -9`): the subscriber
+//!   hears that the core vanished before the gateway's own last line, as a TCP client does.
 //!
 //! Without Python the test is skipped, saying so, or fails when `CI` is set; a pip install that
 //! fails (no network) fails it.
@@ -16,8 +18,9 @@
 mod common;
 
 use common::{Mcm, python};
+use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
-use std::process::Command;
+use std::process::{Command, Stdio};
 
 fn run_python(py: &PathBuf, script: &str, args: &[&str]) -> String {
     let out = python::run(
@@ -104,4 +107,47 @@ fn a_pyzmq_client_subscribes_commands_and_sees_errors() {
     // The same error reached the TCP client (the error topic carries what TCP gets).
     let e = events.wait_event("the following error over TCP too", common::WAIT);
     assert_eq!(e["check"], "following_error", "{e}");
+
+    // 3. mcm-rt killed: the launcher stops the gateway within milliseconds, and a subscriber
+    // still hears that the core vanished, then the gateway's own last line.
+    let mut sub = Command::new(&py)
+        .arg(python::repo_root().join("tests/zmq_last_words.py"))
+        .arg(&publish)
+        .env("PYTHONDONTWRITEBYTECODE", "1")
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("start tests/zmq_last_words.py");
+    // Every read below ends: the script gives up after 20 s without a message.
+    let mut lines = BufReader::new(sub.stdout.take().unwrap()).lines();
+    let first = lines.next().and_then(Result::ok).unwrap_or_default();
+    assert_eq!(
+        first, "subscribed",
+        "tests/zmq_last_words.py did not subscribe"
+    );
+    // SAFETY: the mcm-rt this test's launcher started.
+    unsafe { libc::kill(mcm.rt_pid, libc::SIGKILL) };
+    let errors: Vec<serde_json::Value> = lines
+        .map_while(Result::ok)
+        .inspect(|l| eprintln!("[tests/zmq_last_words.py] {l}"))
+        .filter_map(|l| l.strip_prefix("error: ").map(str::to_string))
+        .map(|j| serde_json::from_str(&j).unwrap_or_else(|e| panic!("{e}: {j}")))
+        .collect();
+    assert!(
+        sub.wait().unwrap().success(),
+        "tests/zmq_last_words.py failed"
+    );
+    let said: Vec<&str> = errors
+        .iter()
+        .map(|e| e["error_message"].as_str().unwrap_or_default())
+        .collect();
+    assert!(said.len() >= 2, "{said:?}");
+    assert!(
+        said[said.len() - 2]
+            .starts_with("mcm-rt stopped publishing its state without shutting down"),
+        "the core vanished, said before the gateway's last line: {said:?}"
+    );
+    assert!(
+        said[said.len() - 1].starts_with("the MCM is shutting down"),
+        "{said:?}"
+    );
 }

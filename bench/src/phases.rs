@@ -15,7 +15,7 @@ use mcm_shared::service::ServiceNames;
 use std::net::SocketAddr;
 use std::time::Duration;
 
-/// The gateway's limit of one command line (`gateway/src/framing.rs`).
+/// The gateway's limit of one command line (`gateway/src/transport/json/framing.rs`).
 const MAX_COMMAND_BYTES: usize = 64 * 1024;
 
 /// What the phases share: the MCM under test, a connection to it, and the results so far.

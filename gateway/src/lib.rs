@@ -5,29 +5,28 @@
 //! real-time core (`mcm-rt`). It never blocks the real-time side: it only reads the state
 //! blackboard and publishes command samples.
 //!
-//! Layout (as in tokio's mini-redis): [`framing`] splits bytes into commands,
-//! [`mcm_shared::protocol`] parses and validates each command (one file per command, shared
-//! with the clients), [`exec`] runs it through the [`bridge`] to the core and builds its typed
-//! result, [`connection`] serves one client,
-//! [`server`] accepts clients and shuts them down. [`zmq`] is the optional ZeroMQ interface
-//! (commands over a ROUTER socket, state and errors over a PUB socket).
+//! Layout (as in tokio's mini-redis), by role:
+//! - `transport`: how clients reach the gateway. `transport::json` is the JSON/TCP protocol
+//!   (`transport::json::framing` splits bytes into commands, `transport::json::connection`
+//!   serves one client), `transport::hmi` the telnet text HMI, `transport::zmq` the optional
+//!   ZeroMQ interface (commands over a ROUTER socket, state and errors over a PUB socket);
+//!   `transport::server` accepts and admits the TCP connections and shuts them down.
+//! - `mcm_shared::protocol` parses and validates each command (one file per command, shared
+//!   with the clients).
+//! - `command`: executes a command under the access rules (`command::access`) and builds its
+//!   typed result (`command::result` writes it as JSON).
+//! - `core_link`: the link to the real-time core: the `core_link::bridge` thread that owns
+//!   the shared memory, the notices about the core's life (`core_link::lifecycle`), the
+//!   scheduling hint of the threads that answer clients (`core_link::latency`).
+//! - [`cli`]: the command line (the crate's one public module, for the `mcm-gateway` binary
+//!   and the `mcm` launcher), and `run`, which starts it all and stops it.
 
-pub mod access;
-pub mod bridge;
 pub mod cli;
-pub mod connection;
-pub mod exec;
-pub mod framing;
-pub mod heavy;
-pub mod hmi;
-pub mod latency;
-pub mod lifecycle;
-pub mod result;
-pub mod server;
-pub mod shutdown;
+mod command;
+mod core_link;
 #[cfg(test)]
 mod test_support;
-pub mod zmq;
+mod transport;
 
 use mcm_shared::config::RobotConfig;
 use mcm_shared::service::ServiceNames;
@@ -35,13 +34,13 @@ use std::net::SocketAddr;
 use std::sync::Arc;
 
 /// Default TCP port of the JSON protocol.
-pub const DEFAULT_JSON_PORT: u16 = 18010;
+pub(crate) const DEFAULT_JSON_PORT: u16 = 18010;
 /// Default TCP port of the text HMI.
-pub const DEFAULT_HMI_PORT: u16 = 18011;
+pub(crate) const DEFAULT_HMI_PORT: u16 = 18011;
 
 /// What the gateway serves, and where.
 #[derive(Debug, Clone)]
-pub struct GatewayOptions {
+pub(crate) struct GatewayOptions {
     pub config: RobotConfig,
     pub names: ServiceNames,
     /// Address of the JSON listener (port 0: any free port).
@@ -54,21 +53,21 @@ pub struct GatewayOptions {
 
 /// Starting the gateway failed.
 #[derive(Debug, thiserror::Error)]
-pub enum GatewayError {
+pub(crate) enum GatewayError {
     #[error("cannot listen on {addr}: {source}")]
     Bind {
         addr: SocketAddr,
         source: std::io::Error,
     },
     #[error(transparent)]
-    Access(#[from] access::AccessError),
+    Access(#[from] command::access::AccessError),
     #[error(transparent)]
-    Zmq(#[from] zmq::ZmqError),
+    Zmq(#[from] transport::zmq::ZmqError),
 }
 
 /// Where the gateway serves, once it does.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Ready {
+pub(crate) struct Ready {
     pub json: SocketAddr,
     pub hmi: SocketAddr,
     /// The ZeroMQ ROUTER and PUB endpoints as bound, when `[gateway.zmq]` is enabled.
@@ -87,20 +86,22 @@ async fn bind(addr: SocketAddr) -> Result<(tokio::net::TcpListener, SocketAddr),
 
 /// Run the gateway until `shutdown` resolves. `ready` is called once with the bound addresses
 /// of the JSON and the HMI listeners and the ZeroMQ endpoints.
-pub async fn run(
+pub(crate) async fn run(
     opts: GatewayOptions,
     ready: impl FnOnce(Ready),
     shutdown: impl std::future::Future,
 ) -> Result<(), GatewayError> {
-    let access = access::Access::from_config(&opts.config.gateway.access, opts.allow_remote_sim)?;
+    let access =
+        command::access::Access::from_config(&opts.config.gateway.access, opts.allow_remote_sim)?;
     let (json, json_addr) = bind(opts.json_addr).await?;
     let (hmi, hmi_addr) = bind(opts.hmi_addr).await?;
     let (bridge, bridge_thread) =
-        bridge::Bridge::start(&opts.names, &opts.config.safety.flight_recorder_dir);
+        core_link::bridge::Bridge::start(&opts.names, &opts.config.safety.flight_recorder_dir);
     let zmq_cfg = opts.config.gateway.zmq.clone();
-    let ctx = exec::Context::new(Arc::new(opts.config), bridge, access);
+    let ctx = command::Context::new(Arc::new(opts.config), bridge, access);
     let zmq = if zmq_cfg.enabled {
-        let started = zmq::start(&zmq_cfg, ctx.clone(), tokio::runtime::Handle::current());
+        let started =
+            transport::zmq::start(&zmq_cfg, ctx.clone(), tokio::runtime::Handle::current());
         match started {
             Ok(z) => Some(z),
             Err(e) => {
@@ -118,15 +119,21 @@ pub async fn run(
             let _ = rx.recv().await;
         }
     };
-    let json_task = tokio::spawn(server::run_json(json, ctx.clone(), stopped(&stop_tx)));
-    let reaper = tokio::spawn(access::reaper::run(ctx.bridge.clone()));
-    let hmi_task = tokio::spawn(hmi::run(hmi, ctx, stopped(&stop_tx)));
+    let json_task = tokio::spawn(transport::json::run(json, ctx.clone(), stopped(&stop_tx)));
+    let bridge = ctx.bridge.clone();
+    let reaper = tokio::spawn(command::access::reaper::run(bridge.clone()));
+    let hmi_task = tokio::spawn(transport::hmi::run(hmi, ctx, stopped(&stop_tx)));
     ready(Ready {
         json: json_addr,
         hmi: hmi_addr,
         zmq: zmq.as_ref().map(|z| (z.router.clone(), z.publish.clone())),
     });
     shutdown.await;
+    // Usually the gateway is stopped because the core stopped: know that before any client is
+    // told the gateway stops, so that ZeroMQ subscribers too hear about the core first
+    // (`core_link::lifecycle`). The TCP servers settle again before their goodbyes: at once
+    // when the core is gone, two of its cycles when it runs.
+    core_link::lifecycle::settle(bridge.watch_state()).await;
     if let Some(z) = zmq {
         // Blocking joins (bounded: the threads wake within 200 ms), off the async workers.
         let _ = tokio::task::spawn_blocking(move || z.stop()).await;

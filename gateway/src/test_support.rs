@@ -1,8 +1,8 @@
 //! Set-up shared by the unit tests that run the gateway against a bridge whose real-time core
 //! is not running.
 
-use crate::bridge::{Bridge, BridgeThread};
-use crate::exec::Context;
+use crate::command::Context;
+use crate::core_link::bridge::{Bridge, BridgeThread};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::service::ServiceNames;
 use std::sync::Arc;

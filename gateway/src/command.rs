@@ -1,0 +1,231 @@
+//! Executing one parsed command: through the bridge to the real-time core (or locally, for
+//! `sleep`), and turning the reply into the protocol's result. Shared by every transport (the
+//! JSON channel, the text HMI, ZeroMQ), so all behave the same.
+//!
+//! `status` reads the bridge's newest state and never waits for a cycle; a `pvt_points` batch
+//! is checked against the newest state and the configuration before any of it is sent
+//! ([`mcm_shared::protocol::PvtPoints::check`]); every other command goes through the core and
+//! is answered after the cycle that executed it.
+//!
+//! The transports do not call [`execute`] directly: [`access::run_command`] first applies the
+//! access rules of `[gateway.access]` to the connection's client. [`result`] writes the typed
+//! results as the JSON values the transports send.
+
+pub(crate) mod access;
+pub(crate) mod result;
+
+use crate::core_link::bridge::{Bridge, BridgeError};
+use mcm_shared::config::RobotConfig;
+use mcm_shared::mode::CommandKind;
+use mcm_shared::protocol::results::{Answer, Info, MoveAllResult, SimResult};
+use mcm_shared::protocol::{Command, Success};
+use mcm_shared::reply::{self, Done};
+use mcm_shared::sample::{STATE_SIMULATED, StateSample};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// Longest wait for a calibration to finish.
+pub const CALIBRATION_TIMEOUT: Duration = Duration::from_secs(600);
+/// Longest wait for any other reply.
+pub const REPLY_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// What a connection needs to execute commands.
+#[derive(Clone)]
+pub struct Context {
+    pub cfg: Arc<RobotConfig>,
+    pub bridge: Bridge,
+    /// The access rules and their refusal counters.
+    pub access: Arc<crate::command::access::Access>,
+    /// This gateway's connections, to name a client in words.
+    pub clients: crate::command::access::Clients,
+    /// The limits a `pvt_points` batch is checked against before it is sent (from `cfg`).
+    pub pvt_limits: mcm_shared::pvt::PointLimits,
+}
+
+impl Context {
+    /// The context of a gateway with the configuration `cfg`, its `bridge` to the core and
+    /// the `access` rules (built by the caller: production reads them from the configuration
+    /// before it binds anything), with no connection known yet.
+    pub fn new(
+        cfg: Arc<RobotConfig>,
+        bridge: Bridge,
+        access: crate::command::access::Access,
+    ) -> Context {
+        Context {
+            pvt_limits: mcm_shared::pvt::PointLimits::from_config(&cfg),
+            cfg,
+            bridge,
+            access: Arc::new(access),
+            clients: crate::command::access::Clients::default(),
+        }
+    }
+}
+
+/// The outcome of one command.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    /// The result to send; `None` for a command that answers nothing on success
+    /// ([`Success::Nothing`]: `set_torques`, `set_velocities`).
+    pub result: Option<Answer>,
+    /// The reply's state, when the command went to the core.
+    pub state: Option<Box<StateSample>>,
+    /// Set when this command put the robot into TORQUE_CONTROL or VELOCITY_CONTROL: the
+    /// status interval [s] (0: none) of the connection's mode session.
+    pub mode_session: Option<f64>,
+}
+
+impl Outcome {
+    fn only(result: Answer) -> Self {
+        Self {
+            result: Some(result),
+            state: None,
+            mode_session: None,
+        }
+    }
+}
+
+/// Execute `cmd` for the connection `client_id`.
+pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
+    match cmd {
+        Command::Sleep(s) => {
+            tokio::time::sleep(s.duration).await;
+            return Outcome::only(Answer::ok());
+        }
+        Command::Status(s) => return status(ctx, s.detail).await,
+        Command::PvtPoints(p) => {
+            let state = ctx.bridge.latest_state();
+            // Checked in the core's order: control of the arm first, then the batch.
+            let owner = state.as_ref().map_or(0, |s| s.owner_client_id);
+            let checked = if !CommandKind::may_control(owner, client_id) {
+                Err(reply::Reason::NotOwner { owner })
+            } else {
+                state
+                    .as_ref()
+                    .map_or(Ok(()), |s| p.check(&ctx.pvt_limits, s))
+            };
+            if let (Some(state), Err(reason)) = (state, checked) {
+                let refused = reply::Outcome::Refused(reason);
+                return Outcome {
+                    result: Some(Answer::Generic(crate::command::access::reply_error(
+                        ctx,
+                        cmd.name(),
+                        &refused,
+                    ))),
+                    state: Some(state),
+                    mode_session: None,
+                };
+            }
+        }
+        _ => {}
+    }
+    if let Command::Authenticate(_) = cmd {
+        return Outcome::only(Answer::error(
+            "authenticate: answered by the connection's access rules (crate::command::access::run_command), \
+             not by the real-time core"
+                .to_string(),
+        ));
+    }
+    let timeout = if matches!(cmd, Command::Calibrate(_)) {
+        CALIBRATION_TIMEOUT
+    } else {
+        REPLY_TIMEOUT
+    };
+    let answer = ctx.bridge.request(client_id, cmd.requests(), timeout).await;
+    let (response, state) = match answer {
+        Ok(a) => a,
+        Err(e) => return Outcome::only(Answer::error(bridge_message(cmd.name(), &e))),
+    };
+    let done = match response.outcome {
+        reply::Outcome::Done(done) => done,
+        refused_or_failed => {
+            return Outcome {
+                result: Some(Answer::Generic(crate::command::access::reply_error(
+                    ctx,
+                    cmd.name(),
+                    &refused_or_failed,
+                ))),
+                state: Some(state),
+                mode_session: None,
+            };
+        }
+    };
+    let result = success(ctx, cmd, &done, &state);
+    let mode_session = match cmd {
+        Command::TorqueControl(t) => Some(t.dt_status),
+        Command::VelocityControl(v) => Some(v.dt_status),
+        _ => None,
+    };
+    Outcome {
+        result,
+        state: Some(state),
+        mode_session,
+    }
+}
+
+/// `status` from the newest state, the same result the core's cycle would give.
+/// How long `status` waits for a state when the bridge has none: the gateway just started (its
+/// bridge has not read the core's first state yet) or the core is restarting.
+pub const STATE_GRACE: Duration = Duration::from_millis(300);
+
+/// `status`: from the newest state, without waiting for a cycle. With no state yet, waits at most
+/// [`STATE_GRACE`] for one before saying the core is not running.
+async fn status(ctx: &Context, detail: bool) -> Outcome {
+    match ctx.bridge.state_within(STATE_GRACE).await {
+        Some(state) => Outcome {
+            result: Some(crate::command::result::status_answer(&state, detail)),
+            state: Some(state),
+            mode_session: None,
+        },
+        None => Outcome::only(Answer::error(bridge_message(
+            "status",
+            &ctx.bridge.unavailable(),
+        ))),
+    }
+}
+
+/// The result of `cmd` done by the core, as its definition says it answers
+/// ([`mcm_shared::protocol::CommandDef::success`]).
+fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Option<Answer> {
+    let mismatch = |other: &Done| {
+        Answer::error(format!(
+            "{}: the real-time core's answer carries no figures ({other:?}); mcm-rt and the \
+             gateway are from different MCM versions: rebuild both from the same version",
+            cmd.name()
+        ))
+    };
+    Some(match cmd.def().success {
+        Success::Nothing => return None,
+        Success::Ok => Answer::ok(),
+        Success::Status => {
+            let detail = matches!(cmd, Command::Status(s) if s.detail);
+            crate::command::result::status_answer(state, detail)
+        }
+        Success::Initialization => match done {
+            Done::Info(info) => Answer::Initialization(Info::new(
+                &ctx.cfg,
+                info,
+                state.flags & STATE_SIMULATED != 0,
+            )),
+            other => mismatch(other),
+        },
+        Success::MoveAll => match done {
+            Done::MoveAll(plan) => Answer::MoveAll(MoveAllResult::from(plan)),
+            other => mismatch(other),
+        },
+        Success::Sim => Answer::Sim(SimResult::from_state(state)),
+    })
+}
+
+/// The error text of a request the bridge could not complete: "failed" only when the command
+/// surely was not executed.
+pub fn bridge_message(command: &str, e: &BridgeError) -> String {
+    if e.surely_not_executed() {
+        format!("{command} failed: {e}")
+    } else {
+        // Not "failed": the command may well have been done; its answer is what is unknown.
+        format!("{command}: {e}")
+    }
+}
+
+#[cfg(test)]
+mod tests;

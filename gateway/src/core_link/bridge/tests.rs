@@ -1,0 +1,90 @@
+//! The bridge against real iceoryx2 services, each test under its own instance name.
+
+use super::OpenError;
+use iceoryx2::prelude::*;
+use iceoryx2::service::port_factory;
+use mcm_client::shm::LayoutMismatch;
+use mcm_client::shm::ports::{CorePorts, Peer};
+use mcm_shared::service::{STATE_KEY, ServiceNames, service_name};
+
+fn names(test: &str) -> ServiceNames {
+    ServiceNames::new(&format!("gwtest-{test}-{}", std::process::id())).unwrap()
+}
+
+fn node(names: &ServiceNames) -> Node<ipc::Service> {
+    set_log_level_from_env_or(LogLevel::Fatal);
+    NodeBuilder::new()
+        .name(&names.node("fake-rt").as_str().try_into().unwrap())
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .unwrap()
+}
+
+/// The state blackboard of a core whose state sample is another type (here a `u64`, as a
+/// `StateSample` of another version would be) under the same key.
+fn state_of_another_layout(
+    node: &Node<ipc::Service>,
+    names: &ServiceNames,
+) -> port_factory::blackboard::PortFactory<ipc::Service, u32> {
+    node.service_builder(&service_name(&names.state()).unwrap())
+        .blackboard_creator::<u32>()
+        .add::<u64>(STATE_KEY, 0)
+        .create()
+        .unwrap()
+}
+
+#[test]
+fn a_state_entry_of_another_layout_names_the_gateway_to_rebuild() {
+    let names = names("state");
+    let node = node(&names);
+    let _state = state_of_another_layout(&node, &names);
+    let e = CorePorts::open(&names, Peer::Gateway)
+        .err()
+        .expect("the layouts differ");
+    let OpenError::Incompatible { mismatch, .. } = &e else {
+        panic!("{e:?}")
+    };
+    assert!(
+        matches!(
+            mismatch,
+            LayoutMismatch::Entry {
+                key: STATE_KEY,
+                present: true,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert!(!e.is_not_running());
+    let text = e.to_string();
+    assert!(
+        text.contains(&format!("service `{}`", names.state()))
+            && text.contains("does not match this gateway")
+            && text.contains("build the gateway from the same MCM version"),
+        "{text}"
+    );
+}
+
+#[tokio::test]
+async fn requests_get_the_layout_error_not_not_running() {
+    let names = names("bridge");
+    let node = node(&names);
+    let _state = state_of_another_layout(&node, &names);
+    let (bridge, thread) = super::Bridge::start(&names, "/tmp");
+    // The thread tries to open the services before it takes any request.
+    let e = bridge
+        .request(
+            bridge.new_client_id(),
+            vec![mcm_shared::command::Request::Status],
+            std::time::Duration::from_secs(1),
+        )
+        .await
+        .unwrap_err();
+    thread.stop();
+    let super::BridgeError::IncompatibleLayout { instance, error } = &e else {
+        panic!("{e:?}");
+    };
+    assert_eq!(instance, names.instance());
+    assert!(matches!(error, OpenError::Incompatible { .. }), "{error:?}");
+    assert!(e.to_string().contains("does not match this gateway"), "{e}");
+}

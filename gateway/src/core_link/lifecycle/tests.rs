@@ -1,0 +1,97 @@
+//! The notices of [`CoreWatch`] and the shutdown's [`settle`], over a watch channel that plays
+//! the bridge.
+
+use super::*;
+
+fn sample(flags: u32) -> Option<Box<StateSample>> {
+    Some(Box::new(StateSample {
+        flags,
+        ..StateSample::default()
+    }))
+}
+
+#[tokio::test]
+async fn a_shutdown_then_silence_gives_two_notices_in_order() {
+    let (tx, rx) = watch::channel(sample(0));
+    let mut w = CoreWatch::new(rx);
+    tx.send_replace(sample(STATE_SHUTTING_DOWN));
+    assert_eq!(w.next().await["error_message"], RT_STOPPING);
+    tx.send_replace(None);
+    assert_eq!(w.next().await["error_message"], RT_STOPPED);
+    tx.send_replace(sample(0));
+    let quiet = tokio::time::timeout(CORE_CHECK * 5, w.next()).await;
+    assert!(quiet.is_err(), "a core appearing is no error: {quiet:?}");
+}
+
+#[tokio::test]
+async fn settle_waits_for_the_bridge_to_call_a_silent_core_gone_and_the_notice_is_due() {
+    let (tx, rx) = watch::channel(sample(0));
+    let mut w = CoreWatch::new(rx.clone());
+    assert_eq!(w.due(), None, "nothing changed");
+    // The core was killed; the bridge reads the last state it published, and notices its
+    // silence a little later.
+    let bridge = tokio::spawn(async move {
+        tx.send_replace(sample(0));
+        tokio::time::sleep(CORE_CHECK).await;
+        tx.send_replace(None);
+        tx
+    });
+    tokio::time::timeout(SETTLE_WAIT, settle(rx.clone()))
+        .await
+        .expect("settle returns once the bridge says the core is gone");
+    assert!(rx.borrow().is_none());
+    let v = w.due().expect("a notice is due");
+    assert_eq!(v["error_message"], RT_VANISHED);
+    assert_eq!(w.due(), None, "told once");
+    drop(bridge.await);
+}
+
+#[tokio::test]
+async fn settle_returns_on_new_states_of_a_running_core_or_at_once_without_one() {
+    let (tx, rx) = watch::channel(None);
+    tokio::time::timeout(CORE_CHECK, settle(rx.clone()))
+        .await
+        .expect("no core: nothing to wait for");
+    tx.send_replace(sample(0));
+    let next = tokio::spawn(async move {
+        for _ in 0..2 {
+            tokio::time::sleep(CORE_CHECK).await;
+            tx.send_replace(sample(0));
+        }
+        tx
+    });
+    tokio::time::timeout(SETTLE_WAIT, settle(rx.clone()))
+        .await
+        .expect("two new states settle it");
+    let mut w = CoreWatch::new(rx);
+    assert_eq!(w.due(), None, "the core runs: nothing to tell");
+    drop(next.await);
+}
+
+#[tokio::test]
+async fn a_core_that_vanishes_is_told_as_such() {
+    let (tx, rx) = watch::channel(sample(0));
+    let mut w = CoreWatch::new(rx);
+    tx.send_replace(None);
+    let v = w.next().await;
+    assert_eq!(v["result_type"], "generic");
+    assert_eq!(v["error_status"], "ERROR");
+    assert_eq!(v["error_message"], RT_VANISHED);
+}
+
+#[tokio::test]
+async fn last_words_are_the_notice_still_due_then_the_gateways_own() {
+    let (tx, rx) = watch::channel(sample(0));
+    let mut w = CoreWatch::new(rx);
+    let running: Vec<Value> = w.last_words().collect();
+    assert_eq!(
+        running,
+        [gateway_stopping()],
+        "the core runs: nothing to tell of it"
+    );
+    tx.send_replace(None);
+    let vanished: Vec<Value> = w.last_words().collect();
+    assert_eq!(vanished.len(), 2, "{vanished:?}");
+    assert_eq!(vanished[0]["error_message"], RT_VANISHED);
+    assert_eq!(vanished[1], gateway_stopping());
+}

@@ -1,0 +1,145 @@
+//! The jog screen of a session (`jog AXIS [SPEED]`, see [`crate::transport::hmi::jog`]): enter
+//! VELOCITY_CONTROL, send the held direction's velocity every period, show the axis live, and
+//! leave with `hold`.
+
+use super::{Flow, Session};
+use crate::transport::hmi::jog::{
+    Held, JOG_PERIOD, JOG_TIMEOUT_S, JogKey, KeyDecoder, status_line, velocities,
+};
+use crate::transport::hmi::render;
+use mcm_shared::command::{self, Axis, SetVelocities};
+use mcm_shared::mode::Mode;
+use mcm_shared::protocol::results::Answer;
+use mcm_shared::protocol::{Command, Hold, VelocityControl};
+use std::io;
+use tokio::io::AsyncReadExt;
+use tokio::time::{Instant, MissedTickBehavior, interval};
+
+/// What ended a jog.
+enum End {
+    Quit,
+    /// The mode changed under the jog (a safety trip, `hold` from elsewhere), or a command
+    /// failed: the reason.
+    Lost(String),
+    Closed,
+}
+
+impl Session {
+    pub(super) async fn jog(&mut self, axis: Axis, speed: f64) -> io::Result<Flow> {
+        let enter = Command::VelocityControl(VelocityControl {
+            request: command::VelocityControl {
+                timeout_s: Some(JOG_TIMEOUT_S),
+            },
+            dt_status: 0.0,
+        });
+        if let Some(error) = self.jog_command(&enter).await {
+            self.say(&render::error("velocity_control", &error, None));
+            return Ok(Flow::Continue);
+        }
+        let name = self.ctx.cfg.axes[axis.index()].name.clone();
+        self.say(&format!(
+            "jogging axis {axis} ({name}) at {speed} deg/s: hold `+` or `-` (or the arrow keys) \
+             to move, any other key stops, `q` stops and leaves (mode HOLD)\n"
+        ));
+        self.out.extend_from_slice(b"\x1b[?25l");
+        self.flush().await?;
+        let end = self.jog_loop(axis, speed, &name).await?;
+        self.out.extend_from_slice(b"\r\n\x1b[?25h");
+        let reason = match end {
+            End::Quit => None,
+            End::Lost(why) => Some(why),
+            End::Closed => {
+                // The connection is gone: its `client_gone` stops the axis.
+                return Ok(Flow::Quit);
+            }
+        };
+        if let Some(why) = reason {
+            self.say(&format!(
+                "{}jog ended:{} {why}\n",
+                render::RED,
+                render::RESET
+            ));
+        }
+        let hold = self.jog_command(&Command::Hold(Hold)).await;
+        let state = self.ctx.bridge.latest_state();
+        let mode = state
+            .as_deref()
+            .and_then(|s| Mode::try_from(s.mode).ok())
+            .map_or("unknown", Mode::as_str);
+        match hold {
+            None => self.say(&format!("jog ended; mode {mode}\n")),
+            Some(e) => self.say(&render::error("hold", &e, state.as_deref())),
+        }
+        Ok(Flow::Continue)
+    }
+
+    /// Run `cmd` for this session; the error message when it was not done.
+    async fn jog_command(&mut self, cmd: &Command) -> Option<String> {
+        let (ctx, client) = (self.ctx.clone(), self.client.clone());
+        let out = crate::command::access::run_command(&ctx, &client, cmd).await;
+        match out.result? {
+            Answer::Generic(g) if !g.is_ok() => Some(g.message().to_string()),
+            _ => None,
+        }
+    }
+
+    async fn jog_loop(&mut self, axis: Axis, speed: f64, name: &str) -> io::Result<End> {
+        let mut tick = interval(JOG_PERIOD);
+        tick.set_missed_tick_behavior(MissedTickBehavior::Skip);
+        let mut keys = KeyDecoder::default();
+        let mut held = Held::default();
+        loop {
+            tokio::select! {
+                _ = tick.tick() => {
+                    let now = Instant::now().into_std();
+                    let direction = held.direction(now);
+                    let set = Command::SetVelocities(SetVelocities {
+                        velocities_deg_s: velocities(axis, speed, direction),
+                    });
+                    if let Some(e) = self.jog_command(&set).await {
+                        return Ok(End::Lost(e));
+                    }
+                    let Some(s) = self.ctx.bridge.latest_state() else {
+                        return Ok(End::Lost("the real-time core publishes no state".into()));
+                    };
+                    if s.mode != Mode::VelocityControl.to_wire() {
+                        let mode = Mode::try_from(s.mode).map_or("unknown", Mode::as_str);
+                        return Ok(End::Lost(format!("the mode changed to {mode}")));
+                    }
+                    let i = axis.index();
+                    let line = status_line(axis, name, s.position[i], s.velocity[i], speed, direction);
+                    self.out.extend_from_slice(b"\r");
+                    self.say(&line);
+                    self.out.extend_from_slice(b"\x1b[K");
+                }
+                n = self.rd.read(&mut self.buf), if !self.closed => {
+                    let n = n?;
+                    if n == 0 {
+                        self.closed = true;
+                        return Ok(End::Closed);
+                    }
+                    let mut inputs = Vec::new();
+                    self.telnet.feed(&self.buf[..n], &mut inputs, &mut self.out);
+                    let now = Instant::now().into_std();
+                    for input in inputs {
+                        match keys.feed(input) {
+                            Some(JogKey::Plus) => held.press(1, now),
+                            Some(JogKey::Minus) => held.press(-1, now),
+                            Some(JogKey::Stop) => held.stop(),
+                            Some(JogKey::Quit) => return Ok(End::Quit),
+                            None => {}
+                        }
+                    }
+                }
+                e = self.errors.recv(), if self.errors_open => {
+                    if let Some(text) = self.error_text(e) {
+                        self.out.extend_from_slice(b"\r\n");
+                        self.say(&text);
+                    }
+                }
+                why = self.slot.evicted() => return Ok(End::Lost(why)),
+            }
+            self.flush().await?;
+        }
+    }
+}
