@@ -248,41 +248,4 @@ pub(crate) fn seconds(s: f64, function: &str, name: &str) -> Result<std::time::D
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn arguments_are_checked_with_words_that_name_them() {
-        let e = axis(7, "mcm_tcp_move_axis").unwrap_err();
-        assert_eq!(e.code, MCM_ERR_ARGUMENT);
-        assert!(
-            e.message.contains("`axis` = 7") && e.message.contains("1 to 6"),
-            "{}",
-            e.message
-        );
-        let bad = mcm_calibrate_t {
-            which: 9,
-            ..Default::default()
-        };
-        // SAFETY: a valid struct.
-        let e = unsafe { calibrate(&bad, "f") }.unwrap_err();
-        assert!(e.message.contains("`which` = 9"), "{}", e.message);
-        let bad = mcm_calibrate_t {
-            elbow_direction: 2,
-            ..Default::default()
-        };
-        // SAFETY: a valid struct.
-        assert!(unsafe { calibrate(&bad, "f") }.is_err());
-        // SAFETY: NULL is allowed.
-        let c = unsafe { calibrate(std::ptr::null(), "f") }.unwrap();
-        assert_eq!(c.which, Which::All);
-        assert!(seconds(-1.0, "f", "timeout_s").is_err());
-        assert_eq!(timeout(-1.0), None);
-        // SAFETY: NULL is refused before any read.
-        let e = unsafe { six(std::ptr::null(), "mcm_shm_set_torques", "torques") }.unwrap_err();
-        assert_eq!(
-            e.message,
-            "mcm_shm_set_torques: argument `torques` is NULL; pass a valid pointer"
-        );
-    }
-}
+mod tests;

@@ -1,0 +1,79 @@
+use super::*;
+
+#[test]
+fn the_state_is_copied_field_for_field() {
+    // Same layout as the sample: every byte of a patterned sample lands at its offset.
+    assert_eq!(size_of::<mcm_state_t>(), size_of::<StateSample>());
+    assert_eq!(align_of::<mcm_state_t>(), align_of::<StateSample>());
+    let mut s = StateSample::default();
+    // SAFETY: StateSample is repr(C) of u64/u32/f64 fields without padding (pinned by
+    // shared/src/sample.rs's tests), so every byte pattern is a valid value.
+    let bytes = unsafe {
+        std::slice::from_raw_parts_mut(
+            (&mut s as *mut StateSample).cast::<u8>(),
+            size_of::<StateSample>(),
+        )
+    };
+    for (i, b) in bytes.iter_mut().enumerate() {
+        *b = (i % 251) as u8 + 1;
+    }
+    let c = mcm_state_t::from(&s);
+    // SAFETY: both are plain repr(C) data of the same size.
+    let (a, b) = unsafe {
+        (
+            std::slice::from_raw_parts(
+                (&s as *const StateSample).cast::<u8>(),
+                size_of::<StateSample>(),
+            ),
+            std::slice::from_raw_parts(
+                (&c as *const mcm_state_t).cast::<u8>(),
+                size_of::<mcm_state_t>(),
+            ),
+        )
+    };
+    assert_eq!(a, b);
+}
+
+#[test]
+fn flags_and_modes_are_the_contracts() {
+    use mcm_client::mcm_shared::mode::Mode;
+    use mcm_client::mcm_shared::sample as c;
+    let state = [
+        (MCM_STATE_ESTOP, c::STATE_ESTOP),
+        (MCM_STATE_SIMULATED, c::STATE_SIMULATED),
+        (MCM_STATE_ALL_CALIBRATED, c::STATE_ALL_CALIBRATED),
+        (MCM_STATE_PVT_STARVED, c::STATE_PVT_STARVED),
+        (MCM_STATE_NOT_REALTIME, c::STATE_NOT_REALTIME),
+        (MCM_STATE_SIM_ESTOP, c::STATE_SIM_ESTOP),
+        (MCM_STATE_SHUTTING_DOWN, c::STATE_SHUTTING_DOWN),
+        (MCM_AXIS_CALIBRATED, c::AXIS_CALIBRATED),
+        (MCM_AXIS_ONLINE, c::AXIS_ONLINE),
+        (MCM_AXIS_ENABLED, c::AXIS_ENABLED),
+        (MCM_AXIS_FAULT, c::AXIS_FAULT),
+        (MCM_AXIS_I2T_DERATED, c::AXIS_I2T_DERATED),
+    ];
+    for (i, (ours, contract)) in state.iter().enumerate() {
+        assert_eq!(ours, contract, "flag {i}");
+    }
+    let modes = [
+        (MCM_MODE_OFF, Mode::Off),
+        (MCM_MODE_ERROR, Mode::Error),
+        (MCM_MODE_HOLD, Mode::Hold),
+        (MCM_MODE_RELEASE, Mode::Release),
+        (MCM_MODE_TORQUE_CONTROL, Mode::TorqueControl),
+        (MCM_MODE_PVT, Mode::Pvt),
+        (MCM_MODE_CALIBRATION, Mode::Calibration),
+        (MCM_MODE_VELOCITY_CONTROL, Mode::VelocityControl),
+    ];
+    for (ours, mode) in modes {
+        assert_eq!(ours, mode.to_wire(), "{mode:?}");
+    }
+    assert_eq!(MCM_NUM_AXES, mcm_client::NUM_AXES);
+}
+
+#[test]
+fn strings_are_cut_to_fit_and_terminated() {
+    let mut buf = [1 as c_char; 4];
+    fill(&mut buf, "P-Rob2");
+    assert_eq!(buf, [b'P' as c_char, b'-' as c_char, b'R' as c_char, 0]);
+}
