@@ -216,43 +216,19 @@ fn a_control_inside_a_sequence_still_acts_and_memory_stays_bounded() {
     assert_eq!(a, [line(""), line("ok")]);
 }
 
-/// One escape sequence, of every kind the editor reads, with parameters or bodies of any length
-/// (without control characters, which act inside a sequence as outside).
-fn escape_sequence() -> impl Strategy<Value = Vec<u8>> {
-    use prop::collection::vec;
-    let csi = (
-        prop::sample::select(vec![b'[', b'O']),
-        vec(0x20u8..0x40, 0..200),
-        0x40u8..0x7F,
-    )
-        .prop_map(|(intro, params, last)| [&[0x1B, intro][..], &params, &[last]].concat());
-    let nf = (vec(0x20u8..0x30, 0..20), 0x30u8..0x7F)
-        .prop_filter("no introducer right after ESC", |(i, last)| {
-            !i.is_empty() || !b"[OPX]^_".contains(last)
-        })
-        .prop_map(|(i, last)| [&[0x1B][..], &i, &[last]].concat());
-    let string = (
-        prop::sample::select(b"PX]^_".to_vec()),
-        vec(prop_oneof![0x20u8..0x7F, 0x80u8..=0xFF], 0..200),
-        any::<bool>(),
-    )
-        .prop_map(|(intro, body, bel)| {
-            let end: &[u8] = if bel { b"\x07" } else { b"\x1b\\" };
-            [&[0x1B, intro][..], &body, end].concat()
-        });
-    prop_oneof![csi, nf, string]
-}
-
-/// Printable text and escape sequences, in any order; the text alone.
+/// Printable text and escape sequences (of every kind, [`crate::transport::hmi::keys::tests`]),
+/// in any order; the text alone.
 fn text_and_sequences() -> impl Strategy<Value = (Vec<u8>, String)> {
-    let part = prop_oneof![
-        "[ -~]{0,8}".prop_map(|t| (t.clone().into_bytes(), t)),
-        escape_sequence().prop_map(|s| (s, String::new())),
-    ];
-    prop::collection::vec(part, 0..12).prop_map(|parts| {
-        let bytes = parts.iter().flat_map(|(b, _)| b.clone()).collect();
-        let text = parts.iter().map(|(_, t)| t.as_str()).collect();
-        (bytes, text)
+    use crate::transport::hmi::keys::tests::{Part, bytes, parts};
+    parts().prop_map(|parts| {
+        let text = parts
+            .iter()
+            .map(|p| match p {
+                Part::Text(t) => t.as_str(),
+                Part::Sequence(..) => "",
+            })
+            .collect();
+        (bytes(&parts), text)
     })
 }
 
