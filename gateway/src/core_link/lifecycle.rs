@@ -9,9 +9,10 @@
 //! The gateway is usually stopped *because* the core stopped: the launcher stops it when
 //! `mcm-rt` dies or after its controlled stop, and so does systemd (`BindsTo=mcm-rt.service`),
 //! both within milliseconds, before the bridge has seen the core fall silent. So on shutdown
-//! the servers first [`settle`] what is known of the core, and each connection sends the
-//! notice still due ([`CoreWatch::due`]) before its last line: a client hears that the core
-//! stopped (or vanished), not only that the gateway was asked to stop.
+//! the gateway first [`settle`]s what is known of the core, once for every transport
+//! (`crate::run`), and each connection and the ZeroMQ PUB socket send the notice still due
+//! ([`CoreWatch::due`]) before their last line: a client hears that the core stopped (or
+//! vanished), not only that the gateway was asked to stop.
 
 use mcm_shared::sample::{STATE_SHUTTING_DOWN, StateSample};
 use serde_json::Value;
@@ -45,7 +46,7 @@ pub const SETTLE_WAIT: Duration = Duration::from_secs(2);
 /// Wait until what is known of the core is current: two new states came (the core runs), or
 /// the bridge found it silent and said so (`None`); at most [`SETTLE_WAIT`]. One new state
 /// proves nothing: the bridge may not have read the last state a killed core published yet.
-/// Returns at once when no core is known to run. Used on shutdown, before the connections are
+/// Returns at once when no core is known to run. Used once on shutdown, before any client is
 /// told.
 pub async fn settle(mut state: watch::Receiver<Option<Box<StateSample>>>) {
     if state.borrow_and_update().is_none() {

@@ -55,9 +55,11 @@ where
 }
 
 /// Accept connections on `listener` and serve each with `serve` in its own task, within the
-/// limits of `ctx.cfg.gateway.connections`, until `shutdown` resolves; then settle what is
-/// known of the core ([`crate::core_link::lifecycle::settle`]), tell every connection to stop
-/// and wait for them. Shared by the JSON channel and the text HMI.
+/// limits of `ctx.cfg.gateway.connections`, until `shutdown` resolves; then tell every
+/// connection to stop and wait for them. Shared by the JSON channel and the text HMI. The
+/// caller settles what is known of the core before it resolves `shutdown`
+/// ([`crate::core_link::lifecycle::settle`], once for every transport), so that each
+/// connection's last words tell it first.
 pub async fn run<F, Fut>(
     listener: TcpListener,
     ctx: Context,
@@ -141,9 +143,6 @@ async fn run_with<F, Fut>(
         () = accept => {}
         _ = shutdown => {}
     }
-    // Usually the gateway is stopped because the core stopped: know that before the
-    // connections say goodbye, so that they tell it first (`crate::core_link::lifecycle`).
-    crate::core_link::lifecycle::settle(ctx.bridge.watch_state()).await;
     drop(notify);
     drop(done_tx);
     let _ = done_rx.recv().await;
