@@ -46,26 +46,37 @@ async fn settle_waits_for_the_bridge_to_call_a_silent_core_gone_and_the_notice_i
     drop(bridge.await);
 }
 
-#[tokio::test]
-async fn settle_returns_on_new_states_of_a_running_core_or_at_once_without_one() {
+/// Time is paused: each wait below ends only when what it waits for happened, or its timeout
+/// (auto-advanced) passed; nothing depends on the machine's speed.
+#[tokio::test(start_paused = true)]
+async fn settle_returns_at_once_without_a_core_and_after_two_new_states_of_a_running_one() {
     let (tx, rx) = watch::channel(None);
-    tokio::time::timeout(CORE_CHECK, settle(rx.clone()))
-        .await
-        .expect("no core: nothing to wait for");
+    let t0 = tokio::time::Instant::now();
+    settle(rx.clone()).await;
+    assert_eq!(t0.elapsed(), Duration::ZERO, "no core: nothing to wait for");
     tx.send_replace(sample(0));
-    let next = tokio::spawn(async move {
-        for _ in 0..2 {
-            tokio::time::sleep(CORE_CHECK).await;
-            tx.send_replace(sample(0));
-        }
-        tx
-    });
-    tokio::time::timeout(SETTLE_WAIT, settle(rx.clone()))
+    let t0 = tokio::time::Instant::now();
+    let settling = settle(rx.clone());
+    tokio::pin!(settling);
+    let running = tokio::time::timeout(CORE_CHECK, &mut settling).await;
+    assert!(running.is_err(), "a running core: it waits for new states");
+    tx.send_replace(sample(0));
+    let one = tokio::time::timeout(CORE_CHECK, &mut settling).await;
+    assert!(
+        one.is_err(),
+        "one new state proves nothing (the bridge may have read a killed core's last one)"
+    );
+    tx.send_replace(sample(0));
+    tokio::time::timeout(CORE_CHECK, &mut settling)
         .await
-        .expect("two new states settle it");
+        .expect("the second new state settles it");
+    assert!(
+        t0.elapsed() < SETTLE_WAIT / 2,
+        "settled by the states, not by the bound: {:?}",
+        t0.elapsed()
+    );
     let mut w = CoreWatch::new(rx);
     assert_eq!(w.due(), None, "the core runs: nothing to tell");
-    drop(next.await);
 }
 
 #[tokio::test]
