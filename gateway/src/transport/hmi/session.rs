@@ -1,8 +1,9 @@
 //! One HMI session: a telnet (or `nc`) connection. Greets, shows a prompt with the current
 //! mode, edits lines ([`super::editor`]), parses them ([`super::words`]), executes commands
-//! through the same path as the JSON channel (`crate::command::execute`) and prints the results
-//! for people ([`super::render`]). Safety errors are printed as they happen without breaking
-//! the line being typed. Runs in the gateway's async tasks, not in the real-time cycle.
+//! through the same path as the JSON channel ([`crate::command::access::run_command`]: the
+//! access rules, then `crate::command::execute`) and prints the results for people
+//! ([`super::render`]). Safety errors are printed as they happen without breaking the line
+//! being typed. Runs in the gateway's async tasks, not in the real-time cycle.
 //!
 //! Time per session is bounded by the idle and line timeouts of `[gateway.connections]` (a
 //! command that runs or `watch` is not idle) and by
