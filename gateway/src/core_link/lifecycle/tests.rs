@@ -15,9 +15,9 @@ async fn a_shutdown_then_silence_gives_two_notices_in_order() {
     let (tx, rx) = watch::channel(sample(0));
     let mut w = CoreWatch::new(rx);
     tx.send_replace(sample(STATE_SHUTTING_DOWN));
-    assert_eq!(w.next().await["error_message"], RT_STOPPING);
+    assert_eq!(w.next().await, Notice::RtStopping);
     tx.send_replace(None);
-    assert_eq!(w.next().await["error_message"], RT_STOPPED);
+    assert_eq!(w.next().await, Notice::RtStopped);
     tx.send_replace(sample(0));
     let quiet = tokio::time::timeout(CORE_CHECK * 5, w.next()).await;
     assert!(quiet.is_err(), "a core appearing is no error: {quiet:?}");
@@ -40,8 +40,7 @@ async fn settle_waits_for_the_bridge_to_call_a_silent_core_gone_and_the_notice_i
         .await
         .expect("settle returns once the bridge says the core is gone");
     assert!(rx.borrow().is_none());
-    let v = w.due().expect("a notice is due");
-    assert_eq!(v["error_message"], RT_VANISHED);
+    assert_eq!(w.due(), Some(Notice::RtVanished), "a notice is due");
     assert_eq!(w.due(), None, "told once");
     drop(bridge.await);
 }
@@ -84,25 +83,30 @@ async fn a_core_that_vanishes_is_told_as_such() {
     let (tx, rx) = watch::channel(sample(0));
     let mut w = CoreWatch::new(rx);
     tx.send_replace(None);
-    let v = w.next().await;
+    let n = w.next().await;
+    assert_eq!(n, Notice::RtVanished);
+    // On JSON/TCP and ZeroMQ: a generic ERROR result with the same words.
+    let v = n.result();
     assert_eq!(v["result_type"], "generic");
     assert_eq!(v["error_status"], "ERROR");
-    assert_eq!(v["error_message"], RT_VANISHED);
+    assert_eq!(v["error_message"], n.text());
+    assert!(
+        n.text()
+            .starts_with("mcm-rt stopped publishing its state without shutting down")
+    );
 }
 
 #[tokio::test]
 async fn last_words_are_the_notice_still_due_then_the_gateways_own() {
     let (tx, rx) = watch::channel(sample(0));
     let mut w = CoreWatch::new(rx);
-    let running: Vec<Value> = w.last_words().collect();
+    let running: Vec<Notice> = w.last_words().collect();
     assert_eq!(
         running,
-        [gateway_stopping()],
+        [Notice::GatewayStopping],
         "the core runs: nothing to tell of it"
     );
     tx.send_replace(None);
-    let vanished: Vec<Value> = w.last_words().collect();
-    assert_eq!(vanished.len(), 2, "{vanished:?}");
-    assert_eq!(vanished[0]["error_message"], RT_VANISHED);
-    assert_eq!(vanished[1], gateway_stopping());
+    let vanished: Vec<Notice> = w.last_words().collect();
+    assert_eq!(vanished, [Notice::RtVanished, Notice::GatewayStopping]);
 }

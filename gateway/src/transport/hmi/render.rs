@@ -185,6 +185,12 @@ pub fn line_error(e: &LineError) -> String {
     s
 }
 
+/// A notice about the MCM's own life (`crate::core_link::lifecycle::Notice`): the words the
+/// JSON/TCP and ZeroMQ clients get as a `generic` ERROR result, as an ERROR line.
+pub fn notice(text: &str) -> String {
+    format!("{RED}ERROR: {text}{RESET}\n")
+}
+
 /// A spontaneous safety error ([`Generic::safety_event`]).
 pub fn safety(e: &Generic) -> String {
     let words = match e.message() {

@@ -22,7 +22,7 @@ use super::{MAX_LINE_BYTES, help, render};
 use crate::command::Context;
 use crate::command::access::{Channel, Client, run_command};
 use crate::command::result;
-use crate::core_link::lifecycle::CoreWatch;
+use crate::core_link::lifecycle::{CoreWatch, Notice};
 use crate::transport::json::connection::{Expiry, WRITE_TIMEOUT, deadline};
 use crate::transport::server::admission::Slot;
 use crate::transport::shutdown::Shutdown;
@@ -109,7 +109,7 @@ enum Flow {
 enum Event {
     Read(io::Result<usize>),
     Error(Result<crate::core_link::bridge::SafetyEvent, RecvError>),
-    Core(serde_json::Value),
+    Core(Notice),
     Tick,
     /// The idle or line timeout ended the session.
     Expired(Expiry),
@@ -138,19 +138,11 @@ pub async fn serve(
         Some(r) => r,
         None => {
             // The notice about the core still due (it stopped, or vanished), then the
-            // gateway's own last line.
+            // gateway's own last line: the words every channel gets.
             let mut bye = b"\r\n\x1b[?25h".to_vec();
-            if let Some(n) = session.core.due() {
-                let text = n["error_message"].as_str().unwrap_or_default();
-                let line = format!("{}ERROR: {text}{}\n", render::RED, render::RESET);
-                terminal_text(&line, &mut bye);
+            for n in session.core.last_words() {
+                terminal_text(&render::notice(n.text()), &mut bye);
             }
-            let line = format!(
-                "{}ERROR: the MCM is shutting down (the gateway was asked to stop); goodbye{}\n",
-                render::YELLOW,
-                render::RESET
-            );
-            terminal_text(&line, &mut bye);
             let write = session.wr.write_all(&bye);
             let _ = tokio::time::timeout(GOODBYE_TIMEOUT, write).await;
             Ok(())
@@ -260,14 +252,7 @@ impl Session {
             match event {
                 Event::Read(n) => self.received(n?),
                 Event::Error(e) => self.interject(e),
-                Event::Core(n) => {
-                    let text = n["error_message"].as_str().unwrap_or_default();
-                    self.interject_text(&format!(
-                        "{}ERROR: {text}{}\n",
-                        render::RED,
-                        render::RESET
-                    ));
-                }
+                Event::Core(n) => self.interject_text(&render::notice(n.text())),
                 Event::Tick => self.refresh_prompt(),
                 Event::Expired(kind) => {
                     let why = kind.message(&self.ctx.cfg.gateway.connections, true);

@@ -302,10 +302,16 @@ async fn nc_session_ctrl_d_and_shutdown() {
     t.send(&[IAC, DO, OPT_ECHO, 0x04]).await;
     assert!(t.until_closed().await.contains("bye"));
 
-    // Shutdown: the open session gets a goodbye and is closed; run() returns.
+    // Shutdown: the open session gets a goodbye and is closed; run() returns. The goodbye is
+    // the words the JSON and ZeroMQ clients get.
     let closing = async {
         let text = nc.until_closed().await;
         assert!(text.contains("shutting down"), "{text}");
+        let words = crate::core_link::lifecycle::Notice::GatewayStopping.text();
+        assert!(
+            strip_ansi(&text).contains(&format!("ERROR: {words}\r\n")),
+            "{text}"
+        );
     };
     tokio::join!(gw.shutdown(), closing);
 }

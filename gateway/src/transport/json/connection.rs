@@ -291,7 +291,7 @@ pub async fn serve(
                 }
             }
             e = errors.recv() => forward_error(&mut wr, e).await?,
-            n = core.next() => send(&mut wr, &n).await?,
+            n = core.next() => send(&mut wr, &n.result()).await?,
             changed = states.changed(), if session.is_some() => {
                 let running = session.as_mut().expect("guarded");
                 let state = match changed {
@@ -331,8 +331,8 @@ pub async fn serve(
 async fn goodbye(wr: &mut BufWriter<OwnedWriteHalf>, core: &mut CoreWatch) -> std::io::Result<()> {
     let lines = core.last_words();
     let say = async {
-        for v in lines {
-            send(wr, &v).await?;
+        for n in lines {
+            send(wr, &n.result()).await?;
         }
         Ok::<_, std::io::Error>(())
     };

@@ -175,12 +175,12 @@ async fn run(
                 ))),
                 Err(RecvError::Closed) => break,
             },
-            n = core.next() => ("error", n),
+            n = core.next() => ("error", n.result()),
             _ = &mut stopped => {
                 // The notice about the core still due (the gateway settled what it knows of
                 // the core before it stopped this thread), then the gateway's own.
-                for v in core.last_words() {
-                    sink.publish("error", &v).await;
+                for n in core.last_words() {
+                    sink.publish("error", &n.result()).await;
                 }
                 break;
             }

@@ -2,7 +2,7 @@
 //! channels that play the bridge.
 
 use super::*;
-use crate::core_link::lifecycle::{RT_VANISHED, gateway_stopping};
+use crate::core_link::lifecycle::Notice;
 use mcm_shared::sample::StateSample;
 use std::sync::Arc;
 use tokio::sync::{broadcast, watch};
@@ -76,11 +76,11 @@ fn on_stop_the_notice_about_the_core_comes_before_the_gateways_own() {
     core_tx.send_replace(None);
     stop.send(()).unwrap();
     let vanished = next_error(&sub);
-    assert_eq!(vanished["error_message"], RT_VANISHED, "{vanished}");
+    assert_eq!(vanished, Notice::RtVanished.result());
     let stopping = next_error(&sub);
     assert_eq!(
         stopping,
-        gateway_stopping(),
+        Notice::GatewayStopping.result(),
         "the gateway's own last line comes last"
     );
     thread.join().unwrap();
