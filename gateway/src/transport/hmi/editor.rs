@@ -10,7 +10,10 @@
 //! Ctrl-D on an empty line ends the session ([`Action::Eof`]).
 //!
 //! Without server echo (`nc`, or telnet in line mode) the client edits the line itself, so
-//! only characters, Backspace, Enter, Ctrl-C and Ctrl-D count; escape sequences are dropped.
+//! only characters, Backspace, Enter, Ctrl-C and Ctrl-D count. An escape sequence (an arrow or
+//! function key, Alt-x, a title string) cannot be edited then, and dropping it would change the
+//! line behind the person's back (`move_axis 1 3<Left>0` would move to 3, not 30): Enter after
+//! a line that held one yields [`Action::Escaped`], and the line is dropped.
 //!
 //! Keys come through the session's one key decoder ([`super::keys`]): escape sequences are read
 //! to their end whatever their length, and none of their bytes reaches the line; only the
@@ -41,6 +44,9 @@ pub enum Action {
     Eof,
     /// Enter after a line that exceeded the limit; the line was dropped.
     TooLong { limit: usize },
+    /// Enter, without server echo, after a line that held an escape sequence; the line was
+    /// dropped (what the person's terminal showed is not what came).
+    Escaped,
 }
 
 /// One connection's line editor.
@@ -53,6 +59,8 @@ pub struct Editor {
     overflow: bool,
     utf8: Vec<u8>,
     keys: KeyDecoder,
+    /// An escape sequence was dropped from the line, or a key came without echo.
+    escaped: bool,
     prompt: String,
     history: VecDeque<String>,
     history_bytes: usize,
@@ -72,6 +80,7 @@ impl Editor {
             overflow: false,
             utf8: Vec::new(),
             keys: KeyDecoder::default(),
+            escaped: false,
             prompt: String::new(),
             history: VecDeque::new(),
             history_bytes: 0,
@@ -114,11 +123,14 @@ impl Editor {
             }
             Input::EraseLine => {
                 self.kill(0, self.line.len(), echo, out);
+                // Nothing of the line is left, dropped sequences neither.
+                self.escaped = false;
                 return None;
             }
             Input::EndOfFile => return self.ctrl_d(echo, out),
         };
-        let Decoded { key, .. } = self.keys.byte(b);
+        let Decoded { dropped, key } = self.keys.byte(b);
+        self.escaped |= dropped;
         if self.keys.in_sequence() {
             // A character cut short by an escape sequence is dropped.
             self.utf8.clear();
@@ -128,6 +140,8 @@ impl Editor {
             Key::Csi(k) => {
                 if echo {
                     self.key(k, out);
+                } else {
+                    self.escaped = true;
                 }
                 None
             }
@@ -182,11 +196,15 @@ impl Editor {
         }
         let text = self.text();
         let overflow = std::mem::replace(&mut self.overflow, false);
+        let escaped = self.escaped || self.keys.in_sequence();
         self.clear();
         if overflow {
             return Action::TooLong {
                 limit: self.max_bytes,
             };
+        }
+        if escaped && !echo {
+            return Action::Escaped;
         }
         self.remember(&text);
         Action::Line(text)
@@ -220,6 +238,7 @@ impl Editor {
         self.cursor = 0;
         self.utf8.clear();
         self.keys.reset();
+        self.escaped = false;
         self.browsing = None;
     }
 

@@ -409,6 +409,17 @@ impl Session {
                 );
                 self.say(&msg);
             }
+            Some(Action::Escaped) => {
+                let msg = format!(
+                    "{}error:{} the line held an escape sequence; nothing was done. Without \
+                     telnet's character mode, keys such as the arrows are not edited here but \
+                     sent as they are: type the line again without them (or connect with \
+                     `telnet`).\n",
+                    render::RED,
+                    render::RESET
+                );
+                self.say(&msg);
+            }
         }
         self.prompt();
         Ok(Flow::Continue)

@@ -295,6 +295,15 @@ async fn nc_session_ctrl_d_and_shutdown() {
     let text = nc.until(PROMPT).await;
     assert!(text.contains("line longer than 65536 bytes"), "{text}");
     assert!(nc.command("help quit").await.contains("end the session"));
+    // An arrow key cannot be edited without echo: the line is refused, not run shortened
+    // (`move_axis 1 3`).
+    nc.send(b"move_axis 1 3\x1b[D0\n").await;
+    let text = nc.until(PROMPT).await;
+    assert!(
+        text.contains("error: the line held an escape sequence; nothing was done"),
+        "{text}"
+    );
+    assert!(!text.contains("move_axis"), "nothing ran: {text}");
 
     // Ctrl-D on an empty line ends a telnet session.
     let mut t = Client::connect(&gw).await;
