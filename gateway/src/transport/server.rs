@@ -1,9 +1,12 @@
 //! The TCP listeners of the JSON port ([`super::json`]) and the HMI port ([`super::hmi`]):
 //! accept connections, admit them within the limits of `[gateway.connections]` ([`admission`]:
 //! per-peer cap, total cap, loopback reserve, eviction of the longest-idle connection, never the
-//! one that controls the arm), hand each to its own task, and stop them all on shutdown.
+//! one that controls the arm), hand each to its own task, and stop them all on shutdown. What
+//! else both ports' connections share: their time limits ([`timeouts`]) and the bounded last
+//! line ([`farewell`], [`FAREWELL_TIMEOUT`]).
 
 pub(crate) mod admission;
+pub(crate) mod timeouts;
 
 use crate::command::Context;
 use crate::transport::shutdown::Shutdown;
@@ -18,8 +21,10 @@ use tokio::sync::{Semaphore, broadcast, mpsc};
 
 /// How long an evicted connection may take to say why and close before it is dropped.
 pub const EVICT_GRACE: Duration = Duration::from_secs(3);
-/// How long a farewell line (timeout, eviction, refusal) may take to be written, and how long
-/// the peer's remaining bytes are then drained so that the line is not lost to a reset.
+/// How long a connection's last line may take to be written: a farewell (timeout, eviction,
+/// refusal; the peer's remaining bytes are then drained as long again, so that the line is
+/// not lost to a reset) or the last words on shutdown (a client that does not read does not
+/// hold the shutdown up).
 pub const FAREWELL_TIMEOUT: Duration = Duration::from_secs(1);
 /// Most refused connections being told why at once; beyond it they are closed silently.
 const MAX_REFUSING: usize = 64;

@@ -7,7 +7,7 @@
 //!
 //! Time per session is bounded by the idle and line timeouts of `[gateway.connections]` (a
 //! command that runs or `watch` is not idle) and by
-//! [`crate::transport::json::connection::WRITE_TIMEOUT`]; when the port needs the slot the
+//! [`crate::transport::server::timeouts::WRITE_TIMEOUT`]; when the port needs the slot the
 //! session is evicted (`crate::transport::server::admission`). Each ends the session with one
 //! line saying why.
 //!
@@ -23,8 +23,9 @@ use crate::command::Context;
 use crate::command::access::{Channel, Client, run_command};
 use crate::command::result;
 use crate::core_link::lifecycle::{CoreWatch, Notice};
-use crate::transport::json::connection::{Expiry, WRITE_TIMEOUT, deadline};
+use crate::transport::server::FAREWELL_TIMEOUT;
 use crate::transport::server::admission::Slot;
+use crate::transport::server::timeouts::{Expiry, WRITE_TIMEOUT, deadline};
 use crate::transport::shutdown::Shutdown;
 use mcm_shared::protocol::Command;
 use mcm_shared::protocol::results::Answer;
@@ -48,8 +49,6 @@ pub const MAX_PENDING: usize = MAX_LINE_BYTES + 4096;
 pub const WATCH_PERIOD: Duration = Duration::from_millis(200);
 /// How often the prompt is checked against the current mode while a line is edited.
 pub const PROMPT_CHECK: Duration = Duration::from_millis(250);
-/// Longest wait to write the goodbye on shutdown.
-const GOODBYE_TIMEOUT: Duration = Duration::from_secs(1);
 /// Longest wait for the core's first state before the banner (just after the gateway started,
 /// the bridge may not have read it yet).
 const FIRST_STATE_WAIT: Duration = Duration::from_secs(1);
@@ -144,7 +143,7 @@ pub async fn serve(
                 terminal_text(&render::notice(n.text()), &mut bye);
             }
             let write = session.wr.write_all(&bye);
-            let _ = tokio::time::timeout(GOODBYE_TIMEOUT, write).await;
+            let _ = tokio::time::timeout(FAREWELL_TIMEOUT, write).await;
             Ok(())
         }
     }
