@@ -57,9 +57,14 @@ pub const HMI_PORT: Port = Port {
     is_local: is_loopback,
 };
 
-/// One line of text for a refused or closed session.
+/// One line of text for a refused or closed session, written as every text of the HMI is
+/// ([`session::terminal_text`]).
 pub fn hmi_line(message: &str) -> String {
-    format!("MCM HMI: {}\r\n", render::ascii(message))
+    let mut out = Vec::new();
+    let line = format!("MCM HMI: {}\n", render::visible(message));
+    session::terminal_text(&line, &mut out);
+    // `terminal_text` writes only ASCII: nothing is lost.
+    String::from_utf8_lossy(&out).into_owned()
 }
 
 #[cfg(test)]

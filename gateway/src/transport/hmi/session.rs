@@ -72,11 +72,13 @@ const OWN_COLOURS: [&str; 5] = [
 ];
 
 /// Append `text` for the terminal, the one way text reaches it: line ends as CR LF; the HMI's
-/// own colours ([`OWN_COLOURS`]) as they are; every other control character shown visibly in
-/// caret notation (ESC as `^[`, BEL as `^G`, CR as `^M`, DEL as `^?`), so that text from the
-/// configuration (the robot's and the axes' names), the core or a peer cannot clear the
-/// screen, set the window title or overwrite a line; every non-ASCII character as
-/// [`render::NON_ASCII`] (the HMI writes only ASCII).
+/// own colours ([`OWN_COLOURS`]) as they are; every non-ASCII character as
+/// [`render::NON_ASCII`] (the HMI writes only ASCII). Text from outside the HMI (the robot's
+/// and the axes' names, the core's and other clients' words) was made visible where it was
+/// inserted ([`render::visible`]), so none of its line ends or escape sequences reaches this
+/// point as such; any other control character is still shown in caret notation
+/// ([`render::caret`]: ESC as `^[`, BEL as `^G`, CR as `^M`, DEL as `^?`), so that no text can
+/// clear the screen, set the window title or overwrite a line.
 pub fn terminal_text(text: &str, out: &mut Vec<u8>) {
     let text = render::ascii(text);
     let mut rest = text.as_bytes();
@@ -91,8 +93,7 @@ pub fn terminal_text(text: &str, out: &mut Vec<u8>) {
         }
         match b {
             b'\n' => out.extend_from_slice(b"\r\n"),
-            0x00..=0x1F => out.extend_from_slice(&[b'^', b + 0x40]),
-            0x7F => out.extend_from_slice(b"^?"),
+            0x00..=0x1F | 0x7F => out.extend_from_slice(&render::caret(b)),
             _ => out.push(b),
         }
         rest = tail;
@@ -271,7 +272,12 @@ impl Session {
     /// End the session with one line saying `why` (after what is still to be written).
     async fn goodbye(&mut self, why: &str) -> io::Result<()> {
         self.out.extend_from_slice(b"\r\n\x1b[?25h");
-        let line = format!("{}error:{} {why}\n", render::RED, render::RESET);
+        let line = format!(
+            "{}error:{} {}\n",
+            render::RED,
+            render::RESET,
+            render::visible(why)
+        );
         self.say(&line);
         let out = std::mem::take(&mut self.out);
         crate::transport::server::farewell(&mut self.rd, &mut self.wr, &out).await;
@@ -537,11 +543,9 @@ impl Session {
             (None, false) => render::answer(name, &Answer::ok(), &self.ctx.cfg, state.as_deref()),
         };
         if let (Command::Status(_), false, Some(st)) = (&cmd, json, &state) {
-            text.push_str(&crate::command::access::control_words(
-                &self.ctx,
-                &self.client,
-                st.owner_client_id,
-            ));
+            let control =
+                crate::command::access::control_words(&self.ctx, &self.client, st.owner_client_id);
+            text.push_str(&render::visible(&control));
             text.push('\n');
         }
         self.say(&text);

@@ -36,7 +36,7 @@ impl Session {
             self.say(&render::error("velocity_control", &error, None));
             return Ok(Flow::Continue);
         }
-        let name = self.ctx.cfg.axes[axis.index()].name.clone();
+        let name = render::axis_name(&self.ctx.cfg, axis.index()).into_owned();
         self.say(&format!(
             "jogging axis {axis} ({name}) at {speed} deg/s: hold `+` or `-` (or the arrow keys) \
              to move, any other key stops, `q` stops and leaves (mode HOLD)\n"
