@@ -106,7 +106,7 @@ async fn run_with<F, Fut>(
                 }
             };
             let ip = peer.ip().to_canonical();
-            let owner = ctx.bridge.latest_state().map_or(0, |s| s.owner_client_id);
+            let owner = ctx.bridge.owner();
             let admitted =
                 table
                     .lock()
