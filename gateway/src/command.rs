@@ -171,7 +171,9 @@ pub const STATE_GRACE: Duration = Duration::from_millis(300);
 async fn status(ctx: &Context, detail: bool) -> Outcome {
     match ctx.bridge.state_within(STATE_GRACE).await {
         Some(state) => Outcome {
-            result: Some(crate::command::result::status_answer(&state, detail)),
+            result: Some(crate::command::result::status_answer(
+                "status", &state, detail,
+            )),
             state: Some(state),
             mode_session: None,
         },
@@ -197,7 +199,7 @@ fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Op
         Success::Ok => Answer::ok(),
         // `status` itself never comes here ([`execute`] answers it from the newest state): these
         // are the commands answered with the status of their cycle, without the detail.
-        Success::Status => crate::command::result::status_answer(state, false),
+        Success::Status => crate::command::result::status_answer(cmd.name(), state, false),
         Success::Initialization => match done {
             Done::Info(info) => Answer::Initialization(Info::new(
                 &ctx.cfg,

@@ -532,7 +532,7 @@ pub fn watch_frame(
             "{head}{}",
             answer(
                 "status",
-                &crate::command::result::status_answer(st, detail),
+                &crate::command::result::status_answer("status", st, detail),
                 cfg,
                 Some(st)
             )

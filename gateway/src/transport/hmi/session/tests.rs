@@ -50,7 +50,7 @@ fn names_from_the_configuration_show_their_control_characters() {
         mode: Mode::Off.to_wire(),
         ..StateSample::default()
     };
-    let status = crate::command::result::status_answer(&state, false);
+    let status = crate::command::result::status_answer("status", &state, false);
     let table = shown(&render::answer("status", &status, &cfg, None));
     let row = table
         .split("\r\n")

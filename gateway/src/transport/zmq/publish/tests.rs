@@ -90,3 +90,29 @@ fn on_stop_the_notice_about_the_core_comes_before_the_gateways_own() {
         "nothing after the gateway's last line"
     );
 }
+
+/// A state this version cannot read as a status (a core of another MCM version) is published
+/// as an ERROR on `error`, not as a state without a status on `state`.
+#[test]
+fn a_state_that_is_no_status_goes_to_the_error_topic() {
+    let good = StateSample {
+        seq: 7,
+        ..StateSample::default()
+    };
+    let (topic, v) = state_message(&good);
+    assert_eq!(topic, "state");
+    assert_eq!(v["result_type"], "status", "{v}");
+    assert_eq!(v["cycle"], 7, "{v}");
+    let other_version = StateSample {
+        seq: 8,
+        mode: 99,
+        ..StateSample::default()
+    };
+    let (topic, v) = state_message(&other_version);
+    assert_eq!(topic, "error", "{v}");
+    assert_eq!(v["result_type"], "generic", "{v}");
+    assert_eq!(v["error_status"], "ERROR", "{v}");
+    assert!(v.get("cycle").is_none(), "{v}");
+    let message = v["error_message"].as_str().unwrap_or_default();
+    assert!(message.contains("different MCM versions"), "{v}");
+}
