@@ -162,7 +162,6 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
     }
 }
 
-/// `status` from the newest state, the same result the core's cycle would give.
 /// How long `status` waits for a state when the bridge has none: the gateway just started (its
 /// bridge has not read the core's first state yet) or the core is restarting.
 pub const STATE_GRACE: Duration = Duration::from_millis(300);
@@ -172,7 +171,9 @@ pub const STATE_GRACE: Duration = Duration::from_millis(300);
 async fn status(ctx: &Context, detail: bool) -> Outcome {
     match ctx.bridge.state_within(STATE_GRACE).await {
         Some(state) => Outcome {
-            result: Some(crate::command::result::status_answer(&state, detail)),
+            result: Some(crate::command::result::status_answer(
+                "status", &state, detail,
+            )),
             state: Some(state),
             mode_session: None,
         },
@@ -196,10 +197,9 @@ fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Op
     Some(match cmd.def().success {
         Success::Nothing => return None,
         Success::Ok => Answer::ok(),
-        Success::Status => {
-            let detail = matches!(cmd, Command::Status(s) if s.detail);
-            crate::command::result::status_answer(state, detail)
-        }
+        // `status` itself never comes here ([`execute`] answers it from the newest state): these
+        // are the commands answered with the status of their cycle, without the detail.
+        Success::Status => crate::command::result::status_answer(cmd.name(), state, false),
         Success::Initialization => match done {
             Done::Info(info) => Answer::Initialization(Info::new(
                 &ctx.cfg,

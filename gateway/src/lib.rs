@@ -130,9 +130,9 @@ pub(crate) async fn run(
     });
     shutdown.await;
     // Usually the gateway is stopped because the core stopped: know that before any client is
-    // told the gateway stops, so that ZeroMQ subscribers too hear about the core first
-    // (`core_link::lifecycle`). The TCP servers settle again before their goodbyes: at once
-    // when the core is gone, two of its cycles when it runs.
+    // told the gateway stops, so that every client (TCP, HMI, ZeroMQ) hears about the core
+    // first (`core_link::lifecycle`). Once, for every transport: at most `SETTLE_WAIT`, so
+    // that the goodbyes still fit in the launcher's stop timeout.
     core_link::lifecycle::settle(bridge.watch_state()).await;
     if let Some(z) = zmq {
         // Blocking joins (bounded: the threads wake within 200 ms), off the async workers.

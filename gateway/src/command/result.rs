@@ -12,17 +12,20 @@ pub fn error(message: impl Into<String>) -> Value {
     Answer::error(message).to_value()
 }
 
-/// The status of `state` as a result; an ERROR when the state is from another MCM version.
-pub fn status_answer(state: &StateSample, detail: bool) -> Answer {
+/// The status of `state` as the result of `command` (`status`, or a command answered with the
+/// status of its cycle: `hold`, `release`, ...); an ERROR naming `command` when the state is
+/// from another MCM version.
+pub fn status_answer(command: &str, state: &StateSample, detail: bool) -> Answer {
     match Status::from_state(state, detail) {
         Ok(s) => Answer::Status(Box::new(s)),
-        Err(e) => Answer::error(format!("status: {e}")),
+        Err(e) => Answer::error(format!("{command}: {e}")),
     }
 }
 
-/// The status result of `state`.
+/// A spontaneous status result of `state` (a control mode's session, the ZeroMQ `state`
+/// topic).
 pub fn status(state: &StateSample, detail: bool) -> Value {
-    status_answer(state, detail).to_value()
+    status_answer("status", state, detail).to_value()
 }
 
 /// The spontaneous ERROR sent to every client when a safety check trips: the check, the axis,

@@ -1,6 +1,29 @@
 use super::*;
 use crate::core_link::bridge::NoReply;
 
+/// A state this version cannot read (a core of another MCM version) answers `hold` with an
+/// ERROR that names `hold`, not `status`.
+#[test]
+fn a_status_that_cannot_be_built_names_the_command_it_answers() {
+    let (ctx, thread, _) =
+        crate::test_support::offline_context("label", RobotConfig::prob2_default());
+    let state = StateSample {
+        mode: 99,
+        ..StateSample::default()
+    };
+    let hold = Command::Hold(mcm_shared::protocol::Hold);
+    let answer = success(&ctx, &hold, &Done::Ack, &state);
+    thread.stop();
+    let Some(Answer::Generic(g)) = &answer else {
+        panic!("{answer:?}")
+    };
+    assert!(
+        g.message().starts_with("hold: the real-time core reports"),
+        "{}",
+        g.message()
+    );
+}
+
 #[test]
 fn a_request_without_reply_has_an_unknown_outcome_never_a_failure() {
     let text = bridge_message(

@@ -274,6 +274,15 @@ impl Bridge {
         self.state.borrow().clone()
     }
 
+    /// The client that controls the arm in the newest state (0: nobody, or no core). Read in
+    /// place, without copying the state.
+    pub fn owner(&self) -> u64 {
+        self.state
+            .borrow()
+            .as_ref()
+            .map_or(0, |s| s.owner_client_id)
+    }
+
     /// The newest state; when there is none, the first one that comes within `wait` (the
     /// gateway just started and its bridge has not read the core's first state yet, or the core
     /// is restarting). `None`: still none after `wait`.

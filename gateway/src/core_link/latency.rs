@@ -1,6 +1,6 @@
-//! A latency hint for the gateway's threads that answer clients (the tokio workers and the
-//! bridge thread): a short EEVDF slice ([`SLICE`]) through `sched_setattr(2)`'s
-//! `sched_runtime`, for `SCHED_OTHER` threads on Linux 6.12 and later.
+//! A latency hint for the gateway's threads that answer clients (the tokio workers, the bridge
+//! thread, and the ZeroMQ ROUTER and PUB threads): a short EEVDF slice ([`SLICE`]) through
+//! `sched_setattr(2)`'s `sched_runtime`, for `SCHED_OTHER` threads on Linux 6.12 and later.
 //!
 //! The gateway stays an ordinary, non-real-time process (same policy, same nice value, no
 //! privilege needed). What changes is when the kernel lets a thread of it run after a wake-up:

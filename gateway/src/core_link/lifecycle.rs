@@ -9,9 +9,13 @@
 //! The gateway is usually stopped *because* the core stopped: the launcher stops it when
 //! `mcm-rt` dies or after its controlled stop, and so does systemd (`BindsTo=mcm-rt.service`),
 //! both within milliseconds, before the bridge has seen the core fall silent. So on shutdown
-//! the servers first [`settle`] what is known of the core, and each connection sends the
-//! notice still due ([`CoreWatch::due`]) before its last line: a client hears that the core
-//! stopped (or vanished), not only that the gateway was asked to stop.
+//! the gateway first [`settle`]s what is known of the core, once for every transport
+//! (`crate::run`), and each connection and the ZeroMQ PUB socket send the notice still due
+//! ([`CoreWatch::due`]) before their last line: a client hears that the core stopped (or
+//! vanished), not only that the gateway was asked to stop.
+//!
+//! A notice is a [`Notice`], the same words on every channel: JSON/TCP and ZeroMQ send it as a
+//! `generic` ERROR result ([`Notice::result`]), the HMI prints it as an ERROR line.
 
 use mcm_shared::sample::{STATE_SHUTTING_DOWN, StateSample};
 use serde_json::Value;
@@ -21,22 +25,46 @@ use tokio::sync::watch;
 /// How often a connection looks at the core's state.
 pub const CORE_CHECK: Duration = Duration::from_millis(100);
 
-/// The last result a client gets when the gateway shuts down.
-pub fn gateway_stopping() -> Value {
-    crate::command::result::error(
-        "the MCM is shutting down (the gateway was asked to stop); closing this connection",
-    )
+/// A notice about the MCM's own life.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Notice {
+    /// The core starts its controlled stop.
+    RtStopping,
+    /// A core that was shutting down stopped publishing.
+    RtStopped,
+    /// A running core stopped publishing without a shutdown.
+    RtVanished,
+    /// The gateway shuts down: the last words a client gets.
+    GatewayStopping,
 }
 
-/// The notice when the core starts its controlled stop.
-pub const RT_STOPPING: &str = "mcm-rt is shutting down (it was asked to stop): the arm is brought \
-     to standstill, held, then the drives are disabled; every command but status is refused";
-/// The notice when a core that was shutting down stopped publishing.
-pub const RT_STOPPED: &str = "mcm-rt stopped after its controlled stop (arm at standstill, drives \
-     disabled); commands fail until it runs again";
-/// The notice when a running core stopped publishing without a shutdown.
-pub const RT_VANISHED: &str = "mcm-rt stopped publishing its state without shutting down (killed \
-     or crashed); the drives stop on their heartbeat timeout; commands fail until it runs again";
+impl Notice {
+    /// The words, the same on every channel.
+    pub fn text(self) -> &'static str {
+        match self {
+            Notice::RtStopping => {
+                "mcm-rt is shutting down (it was asked to stop): the arm is brought to standstill, \
+                 held, then the drives are disabled; every command but status is refused"
+            }
+            Notice::RtStopped => {
+                "mcm-rt stopped after its controlled stop (arm at standstill, drives disabled); \
+                 commands fail until it runs again"
+            }
+            Notice::RtVanished => {
+                "mcm-rt stopped publishing its state without shutting down (killed or crashed); \
+                 the drives stop on their heartbeat timeout; commands fail until it runs again"
+            }
+            Notice::GatewayStopping => {
+                "the MCM is shutting down (the gateway was asked to stop); closing this connection"
+            }
+        }
+    }
+
+    /// As the JSON/TCP port and ZeroMQ send it: a `generic` ERROR result.
+    pub fn result(self) -> Value {
+        crate::command::result::error(self.text())
+    }
+}
 
 /// Longest wait of [`settle`]: more than the bridge takes to call a silent core stopped (its
 /// state unchanged for 0.5 s, see `bridge/worker.rs`), with room for a loaded machine.
@@ -45,7 +73,7 @@ pub const SETTLE_WAIT: Duration = Duration::from_secs(2);
 /// Wait until what is known of the core is current: two new states came (the core runs), or
 /// the bridge found it silent and said so (`None`); at most [`SETTLE_WAIT`]. One new state
 /// proves nothing: the bridge may not have read the last state a killed core published yet.
-/// Returns at once when no core is known to run. Used on shutdown, before the connections are
+/// Returns at once when no core is known to run. Used once on shutdown, before any client is
 /// told.
 pub async fn settle(mut state: watch::Receiver<Option<Box<StateSample>>>) {
     if state.borrow_and_update().is_none() {
@@ -84,11 +112,11 @@ fn seen(state: Option<&StateSample>) -> Seen {
 
 /// The notice for a change of what is known of the core; `None` for changes not worth an
 /// ERROR (the core appearing).
-fn notice(from: Seen, to: Seen) -> Option<&'static str> {
+fn notice(from: Seen, to: Seen) -> Option<Notice> {
     match (from, to) {
-        (Seen::Running | Seen::Gone, Seen::ShuttingDown) => Some(RT_STOPPING),
-        (Seen::ShuttingDown, Seen::Gone) => Some(RT_STOPPED),
-        (Seen::Running, Seen::Gone) => Some(RT_VANISHED),
+        (Seen::Running | Seen::Gone, Seen::ShuttingDown) => Some(Notice::RtStopping),
+        (Seen::ShuttingDown, Seen::Gone) => Some(Notice::RtStopped),
+        (Seen::Running, Seen::Gone) => Some(Notice::RtVanished),
         _ => None,
     }
 }
@@ -109,8 +137,8 @@ impl CoreWatch {
         Self { state, last, tick }
     }
 
-    /// The next notice for the client: a `generic` ERROR result. Cancel-safe.
-    pub async fn next(&mut self) -> Value {
+    /// The next notice for the client. Cancel-safe.
+    pub async fn next(&mut self) -> Notice {
         loop {
             self.tick.tick().await;
             if let Some(v) = self.due() {
@@ -121,16 +149,16 @@ impl CoreWatch {
 
     /// The notice due now, without waiting for the next check (on shutdown, after
     /// [`settle`], before the last line); `None` when the client knows the core's state.
-    pub fn due(&mut self) -> Option<Value> {
+    pub fn due(&mut self) -> Option<Notice> {
         let now = seen(self.state.borrow().as_deref());
         let from = std::mem::replace(&mut self.last, now);
-        notice(from, now).map(crate::command::result::error)
+        notice(from, now)
     }
 
-    /// The last results a client gets when the gateway shuts down (after [`settle`]): the
-    /// notice about the core still due, if any, then [`gateway_stopping`].
-    pub fn last_words(&mut self) -> impl Iterator<Item = Value> + use<> {
-        self.due().into_iter().chain([gateway_stopping()])
+    /// The last notices a client gets when the gateway shuts down (after [`settle`]): the one
+    /// about the core still due, if any, then [`Notice::GatewayStopping`].
+    pub fn last_words(&mut self) -> impl Iterator<Item = Notice> + use<> {
+        self.due().into_iter().chain([Notice::GatewayStopping])
     }
 }
 

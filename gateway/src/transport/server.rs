@@ -1,9 +1,12 @@
 //! The TCP listeners of the JSON port ([`super::json`]) and the HMI port ([`super::hmi`]):
 //! accept connections, admit them within the limits of `[gateway.connections]` ([`admission`]:
 //! per-peer cap, total cap, loopback reserve, eviction of the longest-idle connection, never the
-//! one that controls the arm), hand each to its own task, and stop them all on shutdown.
+//! one that controls the arm), hand each to its own task, and stop them all on shutdown. What
+//! else both ports' connections share: their time limits ([`timeouts`]) and the bounded last
+//! line ([`farewell`], [`FAREWELL_TIMEOUT`]).
 
 pub(crate) mod admission;
+pub(crate) mod timeouts;
 
 use crate::command::Context;
 use crate::transport::shutdown::Shutdown;
@@ -18,8 +21,10 @@ use tokio::sync::{Semaphore, broadcast, mpsc};
 
 /// How long an evicted connection may take to say why and close before it is dropped.
 pub const EVICT_GRACE: Duration = Duration::from_secs(3);
-/// How long a farewell line (timeout, eviction, refusal) may take to be written, and how long
-/// the peer's remaining bytes are then drained so that the line is not lost to a reset.
+/// How long a connection's last line may take to be written: a farewell (timeout, eviction,
+/// refusal; the peer's remaining bytes are then drained as long again, so that the line is
+/// not lost to a reset) or the last words on shutdown (a client that does not read does not
+/// hold the shutdown up).
 pub const FAREWELL_TIMEOUT: Duration = Duration::from_secs(1);
 /// Most refused connections being told why at once; beyond it they are closed silently.
 const MAX_REFUSING: usize = 64;
@@ -55,9 +60,11 @@ where
 }
 
 /// Accept connections on `listener` and serve each with `serve` in its own task, within the
-/// limits of `ctx.cfg.gateway.connections`, until `shutdown` resolves; then settle what is
-/// known of the core ([`crate::core_link::lifecycle::settle`]), tell every connection to stop
-/// and wait for them. Shared by the JSON channel and the text HMI.
+/// limits of `ctx.cfg.gateway.connections`, until `shutdown` resolves; then tell every
+/// connection to stop and wait for them. Shared by the JSON channel and the text HMI. The
+/// caller settles what is known of the core before it resolves `shutdown`
+/// ([`crate::core_link::lifecycle::settle`], once for every transport), so that each
+/// connection's last words tell it first.
 pub async fn run<F, Fut>(
     listener: TcpListener,
     ctx: Context,
@@ -99,7 +106,7 @@ async fn run_with<F, Fut>(
                 }
             };
             let ip = peer.ip().to_canonical();
-            let owner = ctx.bridge.latest_state().map_or(0, |s| s.owner_client_id);
+            let owner = ctx.bridge.owner();
             let admitted =
                 table
                     .lock()
@@ -141,9 +148,6 @@ async fn run_with<F, Fut>(
         () = accept => {}
         _ = shutdown => {}
     }
-    // Usually the gateway is stopped because the core stopped: know that before the
-    // connections say goodbye, so that they tell it first (`crate::core_link::lifecycle`).
-    crate::core_link::lifecycle::settle(ctx.bridge.watch_state()).await;
     drop(notify);
     drop(done_tx);
     let _ = done_rx.recv().await;

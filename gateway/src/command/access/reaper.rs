@@ -36,9 +36,7 @@ pub async fn run(bridge: Bridge) {
     tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
     loop {
         tick.tick().await;
-        let Some(owner) = bridge.latest_state().map(|s| s.owner_client_id) else {
-            continue;
-        };
+        let owner = bridge.owner();
         if orphaned(owner, me, process_alive) {
             eprintln!(
                 "mcm-gateway: the arm was controlled by client {owner:#x}, whose process \

@@ -10,23 +10,20 @@
 //! Ctrl-D on an empty line ends the session ([`Action::Eof`]).
 //!
 //! Without server echo (`nc`, or telnet in line mode) the client edits the line itself, so
-//! only characters, Backspace, Enter, Ctrl-C and Ctrl-D count; escape sequences are dropped.
+//! only characters, Backspace, Enter, Ctrl-C and Ctrl-D count. An escape sequence (an arrow or
+//! function key, Alt-x, a title string) cannot be edited then, and dropping it would change the
+//! line behind the person's back (`move_axis 1 3<Left>0` would move to 3, not 30): Enter after
+//! a line that held one yields [`Action::Escaped`], and the line is dropped.
 //!
-//! Escape sequences (ECMA-48, 7-bit) are read to their end whatever their length, and none of
-//! their bytes reaches the line: `ESC [` or `ESC O`, parameter and intermediate bytes
-//! (0x20-0x3F), a final byte (0x40-0x7E); `ESC`, intermediate bytes (0x20-0x2F), a final byte
-//! (0x30-0x7E), `ESC x` (Alt-x) included; control strings (`ESC ]`, `ESC P`, `ESC X`, `ESC ^`,
-//! `ESC _`) up to BEL or `ESC \`. Only the editing keys above act; unknown sequences, and known
-//! ones with parameters longer than [`MAX_KEY_PARAMS`], are dropped whole. Inside a sequence a
-//! control character acts as it would outside (Ctrl-C still interrupts), DEL is ignored, CAN and
-//! SUB cancel it, ESC starts a new one, and a byte above 0x7F (outside a control string) ends it
-//! and counts as typed. Only the parameters of a key are kept, at most [`MAX_KEY_PARAMS`] bytes,
-//! so memory stays bounded whatever a peer sends.
+//! Keys come through the session's one key decoder ([`super::keys`]): escape sequences are read
+//! to their end whatever their length, and none of their bytes reaches the line; only the
+//! editing keys above act, every other sequence is dropped whole.
 //!
 //! Memory is bounded: a line holds at most `max_bytes` (the rest of a longer line is dropped
 //! and Enter then yields [`Action::TooLong`]); the history keeps at most [`HISTORY_LINES`]
 //! lines and [`HISTORY_BYTES`] bytes.
 
+use super::keys::{Csi, Decoded, Key, KeyDecoder};
 use super::telnet::Input;
 use std::collections::VecDeque;
 use std::fmt::Write as _;
@@ -35,9 +32,6 @@ use std::fmt::Write as _;
 pub const HISTORY_LINES: usize = 100;
 /// Most bytes kept in the history.
 pub const HISTORY_BYTES: usize = 256 * 1024;
-/// Longest parameters of an editing key kept (`ESC [ 1 ; 5 C` has 3); a sequence with longer
-/// ones is read to its end and dropped.
-pub const MAX_KEY_PARAMS: usize = 8;
 
 /// What a key did, when it is more than an edit.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -50,68 +44,10 @@ pub enum Action {
     Eof,
     /// Enter after a line that exceeded the limit; the line was dropped.
     TooLong { limit: usize },
+    /// Enter, without server echo, after a line that held an escape sequence; the line was
+    /// dropped (what the person's terminal showed is not what came).
+    Escaped,
 }
-
-/// The parameter bytes of a CSI or SS3 sequence, as far as a key needs them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-struct Params {
-    bytes: [u8; MAX_KEY_PARAMS],
-    len: usize,
-    /// More than [`MAX_KEY_PARAMS`] came: the sequence is no key.
-    long: bool,
-}
-
-impl Params {
-    fn push(&mut self, b: u8) {
-        match self.bytes.get_mut(self.len) {
-            Some(slot) => {
-                *slot = b;
-                self.len += 1;
-            }
-            None => self.long = true,
-        }
-    }
-
-    /// The parameters as text; `None` when they were too long to be a key's.
-    fn text(&self) -> Option<&str> {
-        if self.long {
-            return None;
-        }
-        // Only bytes 0x20-0x3F are pushed: ASCII.
-        std::str::from_utf8(&self.bytes[..self.len]).ok()
-    }
-}
-
-/// Where the editor is in an escape sequence: what the next byte means.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Esc {
-    None,
-    /// After ESC.
-    Start,
-    /// After `ESC [` or `ESC O`, with the parameter and intermediate bytes so far.
-    Csi(Params),
-    /// After ESC and intermediate bytes (0x20-0x2F), before the final byte.
-    Intermediate,
-    /// Inside a control string (`ESC ]` ...), up to BEL or `ESC \` (ST).
-    String,
-    /// ESC inside a control string: `\` ends it (ST); anything else ends it, and the ESC
-    /// starts a new sequence.
-    StringEnd,
-}
-
-/// What a byte did to the escape sequence under way.
-enum EscStep {
-    /// It belongs to the sequence (which may go on).
-    Taken,
-    /// It ended the sequence as a key (`ESC [ <params> <final>`); the parameters, when short.
-    Key(Params, u8),
-    /// It is no part of the sequence: process it as typed (the sequence ended or goes on, as
-    /// `self.esc` now says).
-    Typed,
-}
-
-/// CAN and SUB cancel an escape sequence (ECMA-48).
-const CANCEL: [u8; 2] = [0x18, 0x1A];
 
 /// One connection's line editor.
 #[derive(Debug, Clone)]
@@ -122,7 +58,9 @@ pub struct Editor {
     max_bytes: usize,
     overflow: bool,
     utf8: Vec<u8>,
-    esc: Esc,
+    keys: KeyDecoder,
+    /// An escape sequence was dropped from the line, or a key came without echo.
+    escaped: bool,
     prompt: String,
     history: VecDeque<String>,
     history_bytes: usize,
@@ -141,7 +79,8 @@ impl Editor {
             max_bytes,
             overflow: false,
             utf8: Vec::new(),
-            esc: Esc::None,
+            keys: KeyDecoder::default(),
+            escaped: false,
             prompt: String::new(),
             history: VecDeque::new(),
             history_bytes: 0,
@@ -184,23 +123,29 @@ impl Editor {
             }
             Input::EraseLine => {
                 self.kill(0, self.line.len(), echo, out);
+                // Nothing of the line is left, dropped sequences neither.
+                self.escaped = false;
                 return None;
             }
             Input::EndOfFile => return self.ctrl_d(echo, out),
         };
-        if self.esc != Esc::None {
-            match self.escape(b) {
-                EscStep::Taken => return None,
-                EscStep::Key(params, last) => {
-                    if echo && let Some(params) = params.text() {
-                        self.key(params, last, out);
-                    }
-                    return None;
+        let Decoded { dropped, key } = self.keys.byte(b);
+        self.escaped |= dropped;
+        if self.keys.in_sequence() {
+            // A character cut short by an escape sequence is dropped.
+            self.utf8.clear();
+        }
+        match key? {
+            Key::Typed(b) => self.typed(b, echo, out),
+            Key::Csi(k) => {
+                if echo {
+                    self.key(k, out);
+                } else {
+                    self.escaped = true;
                 }
-                EscStep::Typed => {}
+                None
             }
         }
-        self.typed(b, echo, out)
     }
 
     /// A byte that is no part of an escape sequence.
@@ -214,7 +159,6 @@ impl Editor {
             0x03 => return Some(self.interrupt(echo, out)),
             0x04 => return self.ctrl_d(echo, out),
             0x08 | 0x7F => self.backspace(echo, out),
-            0x1B => self.esc = Esc::Start,
             b'\t' if echo => self.complete(out),
             b'\t' => self.insert(' ', echo, out),
             0x20..=0x7E => self.insert(char::from(b), echo, out),
@@ -252,11 +196,15 @@ impl Editor {
         }
         let text = self.text();
         let overflow = std::mem::replace(&mut self.overflow, false);
+        let escaped = self.escaped || self.keys.in_sequence();
         self.clear();
         if overflow {
             return Action::TooLong {
                 limit: self.max_bytes,
             };
+        }
+        if escaped && !echo {
+            return Action::Escaped;
         }
         self.remember(&text);
         Action::Line(text)
@@ -289,7 +237,8 @@ impl Editor {
         self.bytes = 0;
         self.cursor = 0;
         self.utf8.clear();
-        self.esc = Esc::None;
+        self.keys.reset();
+        self.escaped = false;
         self.browsing = None;
     }
 
@@ -373,45 +322,9 @@ impl Editor {
         }
     }
 
-    /// Take byte `b` of the escape sequence under way (`self.esc` is not `None`).
-    fn escape(&mut self, b: u8) -> EscStep {
-        let (esc, step) = match (self.esc, b) {
-            (Esc::None, _) => (Esc::None, EscStep::Typed),
-            // In a control string everything but its terminators belongs to it.
-            (Esc::String, 0x07) => (Esc::None, EscStep::Taken),
-            (Esc::String, 0x1B) => (Esc::StringEnd, EscStep::Taken),
-            (Esc::String, b) if CANCEL.contains(&b) => (Esc::None, EscStep::Taken),
-            (Esc::String, b) if b < 0x20 => (Esc::String, EscStep::Typed),
-            (Esc::String, _) => (Esc::String, EscStep::Taken),
-            (Esc::StringEnd, b'\\') => (Esc::None, EscStep::Taken),
-            (Esc::StringEnd, b) => {
-                // The string ended without its terminator; this ESC starts a new sequence.
-                self.esc = Esc::Start;
-                return self.escape(b);
-            }
-            // The same rules inside every other sequence.
-            (_, 0x1B) => (Esc::Start, EscStep::Taken),
-            (_, b) if CANCEL.contains(&b) => (Esc::None, EscStep::Taken),
-            (esc, b) if b < 0x20 => (esc, EscStep::Typed),
-            (esc, 0x7F) => (esc, EscStep::Taken),
-            (_, 0x80..) => (Esc::None, EscStep::Typed),
-            (Esc::Start, b'[' | b'O') => (Esc::Csi(Params::default()), EscStep::Taken),
-            (Esc::Start, b'P' | b'X' | b']' | b'^' | b'_') => (Esc::String, EscStep::Taken),
-            (Esc::Start | Esc::Intermediate, 0x20..=0x2F) => (Esc::Intermediate, EscStep::Taken),
-            (Esc::Start | Esc::Intermediate, _) => (Esc::None, EscStep::Taken),
-            (Esc::Csi(mut params), 0x20..=0x3F) => {
-                params.push(b);
-                (Esc::Csi(params), EscStep::Taken)
-            }
-            (Esc::Csi(params), _) => (Esc::None, EscStep::Key(params, b)),
-        };
-        self.esc = esc;
-        step
-    }
-
     /// A cursor or editing key: `ESC [ <params> <b>` or `ESC O <b>`.
-    fn key(&mut self, params: &str, b: u8, out: &mut Vec<u8>) {
-        match (b, params) {
+    fn key(&mut self, k: Csi, out: &mut Vec<u8>) {
+        match (k.last, k.params()) {
             (b'A', _) => self.history_step(true, out),
             (b'B', _) => self.history_step(false, out),
             (b'C', _) => self.move_to((self.cursor + 1).min(self.line.len()), out),

@@ -4,7 +4,7 @@
 //! axis of the configured robot (from [`mcm_shared::ranges`]). Built from the commands'
 //! definitions ([`mcm_shared::protocol::CommandDef`]). Not used inside the real-time cycle.
 
-use super::render::{BOLD, RESET};
+use super::render::{BOLD, RESET, visible};
 use super::words::SESSION_COMMANDS;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::protocol::{self, ArgDef, COMMANDS, CommandDef, Group, command_names, suggest};
@@ -141,7 +141,7 @@ fn limits(s: &mut String, command: &str, cfg: &RobotConfig) {
             .enumerate()
             .map(|(i, a)| {
                 let (min, max) = arg.bounds(cfg, Some(i));
-                format!("{} {} {}..{}", i + 1, a.name, Num(min), Num(max))
+                format!("{} {} {}..{}", i + 1, visible(&a.name), Num(min), Num(max))
             })
             .collect::<Vec<_>>()
             .join(", ")

@@ -13,6 +13,7 @@
 //! screen's loop is part of the HMI session (`session/jog_screen.rs`). Not used inside the
 //! real-time cycle.
 
+use super::keys::{Decoded, Key, KeyDecoder};
 use super::telnet::Input;
 use mcm_shared::command::Axis;
 use mcm_shared::config::RobotConfig;
@@ -44,52 +45,44 @@ pub enum JogKey {
     Stop,
 }
 
-/// Turns the session's inputs into [`JogKey`]s; escape sequences (arrow keys: `ESC [ A` or
-/// `ESC O A`) span several inputs.
+/// Turns the session's inputs into [`JogKey`]s through the HMI's one key decoder
+/// ([`super::keys`]): an escape sequence is one key as a whole (the arrows move, any other
+/// stops), never a key per byte, so a title string or a terminal's report holding `+` moves
+/// nothing.
 #[derive(Debug, Default)]
-pub struct KeyDecoder {
-    /// Bytes of an escape sequence seen so far (0: none).
-    esc: u8,
+pub struct JogKeys {
+    keys: KeyDecoder,
 }
 
-impl KeyDecoder {
+impl JogKeys {
     /// The key that `input` completes, if any.
     pub fn feed(&mut self, input: Input) -> Option<JogKey> {
         let b = match input {
             Input::Byte(b) => b,
-            Input::Interrupt | Input::EndOfFile => return Some(JogKey::Quit),
+            Input::Interrupt | Input::EndOfFile => {
+                self.keys.reset();
+                return Some(JogKey::Quit);
+            }
             Input::Enter | Input::EraseChar | Input::EraseLine => {
-                self.esc = 0;
+                self.keys.reset();
                 return Some(JogKey::Stop);
             }
         };
-        match (self.esc, b) {
-            (0, 0x1b) => {
-                self.esc = 1;
-                None
-            }
-            (1, b'[' | b'O') => {
-                self.esc = 2;
-                None
-            }
-            (2, b'A' | b'C') => {
-                self.esc = 0;
-                Some(JogKey::Plus)
-            }
-            (2, b'B' | b'D') => {
-                self.esc = 0;
-                Some(JogKey::Minus)
-            }
-            // Parameters of a longer sequence (e.g. `ESC [ 1 ; 5 C`): wait for its end.
-            (2, b'0'..=b'9' | b';') => None,
-            (1 | 2, _) => {
-                self.esc = 0;
-                Some(JogKey::Stop)
-            }
-            (_, b'+' | b'=') => Some(JogKey::Plus),
-            (_, b'-' | b'_') => Some(JogKey::Minus),
-            (_, b'q' | b'Q' | 0x03 | 0x04) => Some(JogKey::Quit),
-            _ => Some(JogKey::Stop),
+        let Decoded { dropped, key } = self.keys.byte(b);
+        match key {
+            Some(Key::Typed(b'+' | b'=')) => Some(JogKey::Plus),
+            Some(Key::Typed(b'-' | b'_')) => Some(JogKey::Minus),
+            Some(Key::Typed(b'q' | b'Q' | 0x03 | 0x04)) => Some(JogKey::Quit),
+            Some(Key::Typed(_)) => Some(JogKey::Stop),
+            // Up and Right, Down and Left (with modifiers too, e.g. `ESC [ 1 ; 5 C`).
+            Some(Key::Csi(k)) => Some(match k.last {
+                b'A' | b'C' => JogKey::Plus,
+                b'B' | b'D' => JogKey::Minus,
+                _ => JogKey::Stop,
+            }),
+            // Another sequence is another key: it stops.
+            None if dropped => Some(JogKey::Stop),
+            None => None,
         }
     }
 }

@@ -14,11 +14,12 @@
 //! [`crate::command::access::run_command`], so both channels accept and refuse exactly the same
 //! things.
 //!
-//! Layout: [`telnet`] (option negotiation, NVT line ends) -> [`editor`] (line editing, echo,
-//! history) -> [`words`] (the line parser, after each command's definition in
-//! [`mcm_shared::protocol`]) -> `crate::command` -> [`render`] (results for people); [`help`]
-//! holds the help texts and [`session`] ties one connection together; [`jog`] holds the keys
-//! and timing of the `jog` screen, whose loop is the session's (`session/jog_screen.rs`).
+//! Layout: [`telnet`] (option negotiation, NVT line ends) -> [`keys`] (the one key decoder:
+//! escape sequences read whole) -> [`editor`] (line editing, echo, history) -> [`words`] (the
+//! line parser, after each command's definition in [`mcm_shared::protocol`]) ->
+//! `crate::command` -> [`render`] (results for people); [`help`] holds the help texts and
+//! [`session`] ties one connection together; [`jog`] holds the keys and timing of the `jog`
+//! screen (read through [`keys`] too), whose loop is the session's (`session/jog_screen.rs`).
 //! [`run`] accepts connections.
 //!
 //! Telnet choice: the server offers `WILL ECHO` and `WILL SUPPRESS-GO-AHEAD`, i.e. character
@@ -28,6 +29,7 @@
 mod editor;
 mod help;
 mod jog;
+mod keys;
 mod render;
 pub(crate) mod session;
 mod telnet;
@@ -55,9 +57,14 @@ pub const HMI_PORT: Port = Port {
     is_local: is_loopback,
 };
 
-/// One line of text for a refused or closed session.
+/// One line of text for a refused or closed session, written as every text of the HMI is
+/// ([`session::terminal_text`]).
 pub fn hmi_line(message: &str) -> String {
-    format!("MCM HMI: {}\r\n", render::ascii(message))
+    let mut out = Vec::new();
+    let line = format!("MCM HMI: {}\n", render::visible(message));
+    session::terminal_text(&line, &mut out);
+    // `terminal_text` writes only ASCII: nothing is lost.
+    String::from_utf8_lossy(&out).into_owned()
 }
 
 #[cfg(test)]

@@ -30,6 +30,7 @@ fn session_path(bytes: &[u8], echo_agreed: bool, max_bytes: usize) -> (usize, us
         let text = match action.clone() {
             None | Some(Action::Interrupt | Action::Eof) => String::new(),
             Some(Action::TooLong { limit }) => format!("line longer than {limit} bytes"),
+            Some(Action::Escaped) => "the line held an escape sequence".to_string(),
             Some(Action::Line(line)) => match parse_line(&line, &cfg) {
                 Ok(Line::Help(Some(t))) => help::topic(&t, &cfg),
                 Ok(Line::Help(None)) => help::overview(),
@@ -40,7 +41,10 @@ fn session_path(bytes: &[u8], echo_agreed: bool, max_bytes: usize) -> (usize, us
         };
         if input == Input::Enter {
             assert!(
-                matches!(action, Some(Action::Line(_) | Action::TooLong { .. })),
+                matches!(
+                    action,
+                    Some(Action::Line(_) | Action::TooLong { .. } | Action::Escaped)
+                ),
                 "Enter gives a line: {action:?}"
             );
             answers += 1;

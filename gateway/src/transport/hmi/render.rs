@@ -2,6 +2,11 @@
 //! as on the JSON channel) turned into aligned tables with units, modes and errors in words, and
 //! hints that say how to fix what went wrong. Output uses `\n`; the session turns it into the
 //! terminal's `\r\n`. Not used inside the real-time cycle.
+//!
+//! Text from outside the HMI (the configuration's robot and axis names, the core's and the
+//! gateway's messages, other clients' words) goes in through [`visible`], where it is
+//! inserted: its control characters are shown, so it can hold neither a line end nor an escape
+//! sequence, not even one of the HMI's own colours.
 
 use super::words::LineError;
 use mcm_shared::config::RobotConfig;
@@ -71,7 +76,7 @@ pub fn banner(cfg: &RobotConfig, state: Option<&StateSample>, instance: &str) ->
     let mut s = format!(
         "{BOLD}MCM {} - Motion Control Module, text HMI{RESET}\nrobot: {}\n",
         mcm_shared::VERSION,
-        cfg.robot.name
+        visible(&cfg.robot.name)
     );
     match state {
         Some(st) => {
@@ -81,7 +86,8 @@ pub fn banner(cfg: &RobotConfig, state: Option<&StateSample>, instance: &str) ->
         None => {
             let _ = writeln!(
                 s,
-                "mode:  unknown - {YELLOW}the real-time core (instance `{instance}`) is not running{RESET}; commands fail until it starts"
+                "mode:  unknown - {YELLOW}the real-time core (instance `{}`) is not running{RESET}; commands fail until it starts",
+                visible(instance)
             );
         }
     }
@@ -91,6 +97,29 @@ pub fn banner(cfg: &RobotConfig, state: Option<&StateSample>, instance: &str) ->
 
 /// The replacement shown for a non-ASCII character: the HMI writes only ASCII.
 pub const NON_ASCII: char = '?';
+
+/// A control character (0x00-0x1F, 0x7F) in caret notation: ESC as `^[`, BEL as `^G`, a line
+/// end as `^J`, DEL as `^?`.
+pub fn caret(b: u8) -> [u8; 2] {
+    [b'^', b ^ 0x40]
+}
+
+/// Text from outside the HMI as it is shown: every control character in caret notation
+/// ([`caret`]), line ends and ESC included, every non-ASCII character as [`NON_ASCII`].
+pub fn visible(s: &str) -> std::borrow::Cow<'_, str> {
+    if s.bytes().all(|b| (0x20..0x7F).contains(&b)) {
+        return s.into();
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        match u8::try_from(c) {
+            Ok(b) if b < 0x20 || b == 0x7F => out.extend(caret(b).map(char::from)),
+            Ok(b) if b < 0x80 => out.push(c),
+            _ => out.push(NON_ASCII),
+        }
+    }
+    out.into()
+}
 
 /// `s` with every non-ASCII character shown as [`NON_ASCII`] (one column each, as the line
 /// editor counts them).
@@ -130,7 +159,7 @@ pub fn answer(command: &str, v: &Answer, cfg: &RobotConfig, state: Option<&State
 
 /// An error of `command` with a hint on how to fix it.
 pub fn error(command: &str, message: &str, state: Option<&StateSample>) -> String {
-    let mut s = format!("{RED}error:{RESET} {message}\n");
+    let mut s = format!("{RED}error:{RESET} {}\n", visible(message));
     let spec = protocol::find(command);
     let hint = if message.contains("is not running") {
         Some(
@@ -173,7 +202,7 @@ fn capitalise(s: &str) -> String {
 
 /// A line the parser refused, with the usage of its command.
 pub fn line_error(e: &LineError) -> String {
-    let mut s = format!("{RED}error:{RESET} {e}\n");
+    let mut s = format!("{RED}error:{RESET} {}\n", visible(&e.to_string()));
     if let Some(spec) = e.command() {
         let _ = writeln!(
             s,
@@ -185,17 +214,27 @@ pub fn line_error(e: &LineError) -> String {
     s
 }
 
+/// A notice about the MCM's own life (`crate::core_link::lifecycle::Notice`): the words the
+/// JSON/TCP and ZeroMQ clients get as a `generic` ERROR result, as an ERROR line.
+pub fn notice(text: &str) -> String {
+    format!("{RED}ERROR: {text}{RESET}\n")
+}
+
 /// A spontaneous safety error ([`Generic::safety_event`]).
 pub fn safety(e: &Generic) -> String {
     let words = match e.message() {
         "" => "safety check tripped",
         m => m,
     };
-    format!("{RED}*** {words}{RESET}\n  hint: once the cause is gone, `hold` clears the error\n")
+    format!(
+        "{RED}*** {}{RESET}\n  hint: once the cause is gone, `hold` clears the error\n",
+        visible(words)
+    )
 }
 
-fn name(cfg: &RobotConfig, i: usize) -> &str {
-    cfg.axes.get(i).map_or("", |a| a.name.as_str())
+/// The name of axis `i + 1` in the configuration, as shown.
+pub fn axis_name(cfg: &RobotConfig, i: usize) -> std::borrow::Cow<'_, str> {
+    visible(cfg.axes.get(i).map_or("", |a| a.name.as_str()))
 }
 
 fn num(x: f64, width: usize, decimals: usize) -> String {
@@ -247,7 +286,7 @@ pub fn status(v: &Status, cfg: &RobotConfig, state: Option<&StateSample>) -> Str
             s,
             "{:>4}  {:<9} {} {} {}",
             i + 1,
-            name(cfg, i),
+            axis_name(cfg, i),
             num(axes.position[i], 11, 3),
             num(axes.velocity[i], 11, 3),
             num(axes.current[i], 11, 3)
@@ -276,7 +315,7 @@ pub fn status(v: &Status, cfg: &RobotConfig, state: Option<&StateSample>) -> Str
 
 fn detail_lines(s: &mut String, hardware: Option<&str>, d: &Detail) {
     if let Some(h) = hardware {
-        let _ = writeln!(s, "hardware:  {h}");
+        let _ = writeln!(s, "hardware:  {}", visible(h));
     }
     if let Some(a) = &d.access {
         let refused = a
@@ -288,7 +327,7 @@ fn detail_lines(s: &mut String, hardware: Option<&str>, d: &Detail) {
         let _ = writeln!(
             s,
             "access:    motion from {}{}; secret {}; refused so far: {refused}",
-            a.motion_networks,
+            visible(&a.motion_networks),
             if a.motion_allowed_here {
                 ""
             } else {
@@ -365,7 +404,7 @@ fn notes(s: &mut String, st: &StateSample) {
     if st.mode == Mode::Error.to_wire()
         && let Some(e) = Generic::last_error(&st.last_error)
     {
-        let _ = writeln!(s, "{RED}last error:{RESET} {}", e.message());
+        let _ = writeln!(s, "{RED}last error:{RESET} {}", visible(e.message()));
     }
     if st.mode == Mode::Pvt.to_wire() && st.flags & STATE_PVT_STARVED != 0 {
         let _ = writeln!(s, "PVT queue ran dry: the axes stopped and hold");
@@ -378,7 +417,7 @@ pub fn move_all(v: &MoveAllResult, cfg: &RobotConfig) -> String {
     let mut s = format!(
         "{GREEN}OK{RESET} - every axis arrives within {} s; axis {longest} ({}) takes longest\n",
         num(v.max_time_to_target, 0, 3),
-        name(cfg, longest.wrapping_sub(1))
+        axis_name(cfg, longest.wrapping_sub(1))
     );
     let _ = writeln!(s, "{:>4}  {:<9} {:>11}", "axis", "name", "velocity");
     let _ = writeln!(s, "{:>4}  {:<9} {:>11}", "", "", "deg/s");
@@ -388,7 +427,7 @@ pub fn move_all(v: &MoveAllResult, cfg: &RobotConfig) -> String {
             s,
             "{:>4}  {:<9} {}{mark}",
             i + 1,
-            name(cfg, i),
+            axis_name(cfg, i),
             num(*vel, 11, 3)
         );
     }
@@ -400,7 +439,7 @@ pub fn info(v: &Info) -> String {
     let cycle = v.cycle_time;
     let mut s = format!(
         "{}, MCM {}, {} axes, cycle {} ms ({} Hz), {}\n",
-        v.robot,
+        visible(&v.robot),
         v.version,
         v.num_axes,
         num(cycle * 1e3, 0, 3),
@@ -435,7 +474,7 @@ pub fn info(v: &Info) -> String {
             s,
             "{:>4}  {:<9} {} {} {} {} {}  {}",
             a.axis,
-            a.name,
+            visible(&a.name),
             num(a.min_position, 8, 1),
             num(a.max_position, 9, 1),
             num(a.max_velocity, 10, 1),
@@ -472,7 +511,7 @@ pub fn sim(v: &SimResult, cfg: &RobotConfig) -> String {
             s,
             "{:>4}  {:<9} {} {}",
             i + 1,
-            name(cfg, i),
+            axis_name(cfg, i),
             num(v.true_position[i], 13, 3),
             num(v.true_velocity[i], 14, 3)
         );
@@ -493,13 +532,14 @@ pub fn watch_frame(
             "{head}{}",
             answer(
                 "status",
-                &crate::command::result::status_answer(st, detail),
+                &crate::command::result::status_answer("status", st, detail),
                 cfg,
                 Some(st)
             )
         ),
         None => format!(
-            "{head}{YELLOW}the real-time core (instance `{instance}`) is not running{RESET}; waiting for it ...\n"
+            "{head}{YELLOW}the real-time core (instance `{}`) is not running{RESET}; waiting for it ...\n",
+            visible(instance)
         ),
     }
 }

@@ -1,12 +1,13 @@
 //! One HMI session: a telnet (or `nc`) connection. Greets, shows a prompt with the current
 //! mode, edits lines ([`super::editor`]), parses them ([`super::words`]), executes commands
-//! through the same path as the JSON channel (`crate::command::execute`) and prints the results
-//! for people ([`super::render`]). Safety errors are printed as they happen without breaking
-//! the line being typed. Runs in the gateway's async tasks, not in the real-time cycle.
+//! through the same path as the JSON channel ([`crate::command::access::run_command`]: the
+//! access rules, then `crate::command::execute`) and prints the results for people
+//! ([`super::render`]). Safety errors are printed as they happen without breaking the line
+//! being typed. Runs in the gateway's async tasks, not in the real-time cycle.
 //!
 //! Time per session is bounded by the idle and line timeouts of `[gateway.connections]` (a
 //! command that runs or `watch` is not idle) and by
-//! [`crate::transport::json::connection::WRITE_TIMEOUT`]; when the port needs the slot the
+//! [`crate::transport::server::timeouts::WRITE_TIMEOUT`]; when the port needs the slot the
 //! session is evicted (`crate::transport::server::admission`). Each ends the session with one
 //! line saying why.
 //!
@@ -21,9 +22,10 @@ use super::{MAX_LINE_BYTES, help, render};
 use crate::command::Context;
 use crate::command::access::{Channel, Client, run_command};
 use crate::command::result;
-use crate::core_link::lifecycle::CoreWatch;
-use crate::transport::json::connection::{Expiry, WRITE_TIMEOUT, deadline};
+use crate::core_link::lifecycle::{CoreWatch, Notice};
+use crate::transport::server::FAREWELL_TIMEOUT;
 use crate::transport::server::admission::Slot;
+use crate::transport::server::timeouts::{Expiry, WRITE_TIMEOUT, deadline};
 use crate::transport::shutdown::Shutdown;
 use mcm_shared::protocol::Command;
 use mcm_shared::protocol::results::Answer;
@@ -47,8 +49,6 @@ pub const MAX_PENDING: usize = MAX_LINE_BYTES + 4096;
 pub const WATCH_PERIOD: Duration = Duration::from_millis(200);
 /// How often the prompt is checked against the current mode while a line is edited.
 pub const PROMPT_CHECK: Duration = Duration::from_millis(250);
-/// Longest wait to write the goodbye on shutdown.
-const GOODBYE_TIMEOUT: Duration = Duration::from_secs(1);
 /// Longest wait for the core's first state before the banner (just after the gateway started,
 /// the bridge may not have read it yet).
 const FIRST_STATE_WAIT: Duration = Duration::from_secs(1);
@@ -72,11 +72,13 @@ const OWN_COLOURS: [&str; 5] = [
 ];
 
 /// Append `text` for the terminal, the one way text reaches it: line ends as CR LF; the HMI's
-/// own colours ([`OWN_COLOURS`]) as they are; every other control character shown visibly in
-/// caret notation (ESC as `^[`, BEL as `^G`, CR as `^M`, DEL as `^?`), so that text from the
-/// configuration (the robot's and the axes' names), the core or a peer cannot clear the
-/// screen, set the window title or overwrite a line; every non-ASCII character as
-/// [`render::NON_ASCII`] (the HMI writes only ASCII).
+/// own colours ([`OWN_COLOURS`]) as they are; every non-ASCII character as
+/// [`render::NON_ASCII`] (the HMI writes only ASCII). Text from outside the HMI (the robot's
+/// and the axes' names, the core's and other clients' words) was made visible where it was
+/// inserted ([`render::visible`]), so none of its line ends or escape sequences reaches this
+/// point as such; any other control character is still shown in caret notation
+/// ([`render::caret`]: ESC as `^[`, BEL as `^G`, CR as `^M`, DEL as `^?`), so that no text can
+/// clear the screen, set the window title or overwrite a line.
 pub fn terminal_text(text: &str, out: &mut Vec<u8>) {
     let text = render::ascii(text);
     let mut rest = text.as_bytes();
@@ -91,8 +93,7 @@ pub fn terminal_text(text: &str, out: &mut Vec<u8>) {
         }
         match b {
             b'\n' => out.extend_from_slice(b"\r\n"),
-            0x00..=0x1F => out.extend_from_slice(&[b'^', b + 0x40]),
-            0x7F => out.extend_from_slice(b"^?"),
+            0x00..=0x1F | 0x7F => out.extend_from_slice(&render::caret(b)),
             _ => out.push(b),
         }
         rest = tail;
@@ -108,7 +109,7 @@ enum Flow {
 enum Event {
     Read(io::Result<usize>),
     Error(Result<crate::core_link::bridge::SafetyEvent, RecvError>),
-    Core(serde_json::Value),
+    Core(Notice),
     Tick,
     /// The idle or line timeout ended the session.
     Expired(Expiry),
@@ -137,21 +138,13 @@ pub async fn serve(
         Some(r) => r,
         None => {
             // The notice about the core still due (it stopped, or vanished), then the
-            // gateway's own last line.
+            // gateway's own last line: the words every channel gets.
             let mut bye = b"\r\n\x1b[?25h".to_vec();
-            if let Some(n) = session.core.due() {
-                let text = n["error_message"].as_str().unwrap_or_default();
-                let line = format!("{}ERROR: {text}{}\n", render::RED, render::RESET);
-                terminal_text(&line, &mut bye);
+            for n in session.core.last_words() {
+                terminal_text(&render::notice(n.text()), &mut bye);
             }
-            let line = format!(
-                "{}ERROR: the MCM is shutting down (the gateway was asked to stop); goodbye{}\n",
-                render::YELLOW,
-                render::RESET
-            );
-            terminal_text(&line, &mut bye);
             let write = session.wr.write_all(&bye);
-            let _ = tokio::time::timeout(GOODBYE_TIMEOUT, write).await;
+            let _ = tokio::time::timeout(FAREWELL_TIMEOUT, write).await;
             Ok(())
         }
     }
@@ -259,14 +252,7 @@ impl Session {
             match event {
                 Event::Read(n) => self.received(n?),
                 Event::Error(e) => self.interject(e),
-                Event::Core(n) => {
-                    let text = n["error_message"].as_str().unwrap_or_default();
-                    self.interject_text(&format!(
-                        "{}ERROR: {text}{}\n",
-                        render::RED,
-                        render::RESET
-                    ));
-                }
+                Event::Core(n) => self.interject_text(&render::notice(n.text())),
                 Event::Tick => self.refresh_prompt(),
                 Event::Expired(kind) => {
                     let why = kind.message(&self.ctx.cfg.gateway.connections, true);
@@ -286,7 +272,12 @@ impl Session {
     /// End the session with one line saying `why` (after what is still to be written).
     async fn goodbye(&mut self, why: &str) -> io::Result<()> {
         self.out.extend_from_slice(b"\r\n\x1b[?25h");
-        let line = format!("{}error:{} {why}\n", render::RED, render::RESET);
+        let line = format!(
+            "{}error:{} {}\n",
+            render::RED,
+            render::RESET,
+            render::visible(why)
+        );
         self.say(&line);
         let out = std::mem::take(&mut self.out);
         crate::transport::server::farewell(&mut self.rd, &mut self.wr, &out).await;
@@ -423,6 +414,17 @@ impl Session {
                 );
                 self.say(&msg);
             }
+            Some(Action::Escaped) => {
+                let msg = format!(
+                    "{}error:{} the line held an escape sequence; nothing was done. Without \
+                     telnet's character mode, keys such as the arrows are not edited here but \
+                     sent as they are: type the line again without them (or connect with \
+                     `telnet`).\n",
+                    render::RED,
+                    render::RESET
+                );
+                self.say(&msg);
+            }
         }
         self.prompt();
         Ok(Flow::Continue)
@@ -541,11 +543,9 @@ impl Session {
             (None, false) => render::answer(name, &Answer::ok(), &self.ctx.cfg, state.as_deref()),
         };
         if let (Command::Status(_), false, Some(st)) = (&cmd, json, &state) {
-            text.push_str(&crate::command::access::control_words(
-                &self.ctx,
-                &self.client,
-                st.owner_client_id,
-            ));
+            let control =
+                crate::command::access::control_words(&self.ctx, &self.client, st.owner_client_id);
+            text.push_str(&render::visible(&control));
             text.push('\n');
         }
         self.say(&text);

@@ -87,8 +87,6 @@ pub struct Telnet {
     client_sga: bool,
     /// The previous data byte was CR: a following LF or NUL belongs to it.
     after_cr: bool,
-    /// The client sent at least one IAC sequence (it speaks telnet).
-    seen_iac: bool,
 }
 
 impl Default for Telnet {
@@ -106,7 +104,6 @@ impl Telnet {
             sga: Opt::WantYes,
             client_sga: false,
             after_cr: false,
-            seen_iac: false,
         }
     }
 
@@ -125,12 +122,6 @@ impl Telnet {
         self.state != State::Data
     }
 
-    /// True once the client sent any telnet command.
-    #[cfg(test)]
-    pub fn speaks_telnet(&self) -> bool {
-        self.seen_iac
-    }
-
     /// Decode `bytes`: inputs are appended to `inputs`, negotiation answers to `replies`
     /// (send them to the client).
     pub fn feed(&mut self, bytes: &[u8], inputs: &mut Vec<Input>, replies: &mut Vec<u8>) {
@@ -144,7 +135,6 @@ impl Telnet {
             State::Data => {
                 if b == IAC {
                     self.state = State::Iac;
-                    self.seen_iac = true;
                 } else {
                     self.data(b, inputs);
                 }

@@ -295,6 +295,15 @@ async fn nc_session_ctrl_d_and_shutdown() {
     let text = nc.until(PROMPT).await;
     assert!(text.contains("line longer than 65536 bytes"), "{text}");
     assert!(nc.command("help quit").await.contains("end the session"));
+    // An arrow key cannot be edited without echo: the line is refused, not run shortened
+    // (`move_axis 1 3`).
+    nc.send(b"move_axis 1 3\x1b[D0\n").await;
+    let text = nc.until(PROMPT).await;
+    assert!(
+        text.contains("error: the line held an escape sequence; nothing was done"),
+        "{text}"
+    );
+    assert!(!text.contains("move_axis"), "nothing ran: {text}");
 
     // Ctrl-D on an empty line ends a telnet session.
     let mut t = Client::connect(&gw).await;
@@ -302,12 +311,16 @@ async fn nc_session_ctrl_d_and_shutdown() {
     t.send(&[IAC, DO, OPT_ECHO, 0x04]).await;
     assert!(t.until_closed().await.contains("bye"));
 
-    // Shutdown: the open session gets a goodbye and is closed; run() returns.
-    let stop = gw.stop.is_some();
-    assert!(stop);
+    // Shutdown: the open session gets a goodbye and is closed; run() returns. The goodbye is
+    // the words the JSON and ZeroMQ clients get.
     let closing = async {
         let text = nc.until_closed().await;
         assert!(text.contains("shutting down"), "{text}");
+        let words = crate::core_link::lifecycle::Notice::GatewayStopping.text();
+        assert!(
+            strip_ansi(&text).contains(&format!("ERROR: {words}\r\n")),
+            "{text}"
+        );
     };
     tokio::join!(gw.shutdown(), closing);
 }
@@ -346,21 +359,4 @@ async fn jog_without_a_core_says_why_and_keeps_the_session() {
     c.send(b"quit\r\n").await;
     c.until_closed().await;
     gw.shutdown().await;
-}
-
-/// [`run`] serves the listener it is given until its shutdown future resolves, then returns.
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn run_serves_its_listener_until_shutdown() {
-    let gw = start().await;
-    let mut c = Client::connect(&gw).await;
-    let banner = c.until(PROMPT).await;
-    assert!(
-        banner.contains("MCM"),
-        "a banner, then the prompt: {banner}"
-    );
-    let closing = async {
-        let text = c.until_closed().await;
-        assert!(text.contains("shutting down"), "{text}");
-    };
-    tokio::join!(gw.shutdown(), closing);
 }

@@ -6,7 +6,8 @@
 //!
 //! A connection only ever waits on its own socket and its own commands, so a slow or hostile
 //! client cannot delay another one. Its memory is bounded by the framing limit, its time by the
-//! idle and line timeouts of `[gateway.connections]` and by [`WRITE_TIMEOUT`]; when its port
+//! idle and line timeouts of `[gateway.connections]` and by [`WRITE_TIMEOUT`]
+//! ([`crate::transport::server::timeouts`]); when its port
 //! needs the slot, it is evicted (see [`crate::transport::server::admission`]). Each of these
 //! ends the connection with one ERROR line saying why.
 
@@ -15,78 +16,20 @@ use crate::command::access::{Channel, Client, run_command};
 use crate::command::result;
 use crate::core_link::lifecycle::CoreWatch;
 use crate::transport::json::framing::{Decoder, Frame, MAX_COMMAND_BYTES};
+use crate::transport::server::FAREWELL_TIMEOUT;
 use crate::transport::server::admission::Slot;
+use crate::transport::server::timeouts::{WRITE_TIMEOUT, deadline};
 use crate::transport::shutdown::Shutdown;
-use mcm_shared::config::{ConnectionLimits, RobotConfig};
+use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::Mode;
 use mcm_shared::protocol::Command;
 use mcm_shared::sample::StateSample;
 use serde_json::Value;
-use std::time::Duration;
 use tokio::io::{AsyncReadExt, AsyncWriteExt, BufWriter};
 use tokio::net::TcpStream;
 use tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
 use tokio::sync::broadcast::error::RecvError;
 use tokio::time::Instant;
-
-/// Longest wait for a client to take a result line; a client that reads nothing is closed.
-pub const WRITE_TIMEOUT: Duration = Duration::from_secs(30);
-
-/// Which timeout of `[gateway.connections]` ends a connection.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Expiry {
-    /// `idle_timeout_s`: no complete line for that long.
-    Idle,
-    /// `line_timeout_s` (JSON) or `hmi_line_timeout_s` (HMI): a started line not completed.
-    Line,
-}
-
-impl Expiry {
-    /// The reason given to the client, naming the timeout, its value and its key.
-    pub fn message(self, limits: &ConnectionLimits, hmi: bool) -> String {
-        let (who, key, value) = match (self, hmi) {
-            (Expiry::Idle, false) => ("connection", "idle_timeout_s", limits.idle_timeout_s),
-            (Expiry::Idle, true) => ("session", "idle_timeout_s", limits.idle_timeout_s),
-            (Expiry::Line, false) => ("connection", "line_timeout_s", limits.line_timeout_s),
-            (Expiry::Line, true) => ("session", "hmi_line_timeout_s", limits.hmi_line_timeout_s),
-        };
-        let what = match self {
-            Expiry::Idle => "idle timeout: no command",
-            Expiry::Line => "line timeout: a command line was started but not completed",
-        };
-        let within = if self == Expiry::Idle {
-            "for"
-        } else {
-            "within"
-        };
-        format!("{what} {within} {value} s (gateway.connections.{key}); closing the {who}")
-    }
-}
-
-/// `s` seconds after `t`; `None` if that is not a time (a value validation would refuse).
-fn after(t: Instant, s: f64) -> Option<Instant> {
-    Duration::try_from_secs_f64(s)
-        .ok()
-        .and_then(|d| t.checked_add(d))
-}
-
-/// The idle or the line timeout, whichever ends first. `idle_since`: since when the connection
-/// has been idle; `line_start`: when its unfinished line began; `line_timeout_s`: the port's.
-pub fn deadline(
-    limits: &ConnectionLimits,
-    idle_since: Instant,
-    line_start: Option<Instant>,
-    line_timeout_s: f64,
-) -> Option<(Instant, Expiry)> {
-    let idle = after(idle_since, limits.idle_timeout_s).map(|t| (t, Expiry::Idle));
-    let line = line_start
-        .and_then(|s| after(s, line_timeout_s))
-        .map(|t| (t, Expiry::Line));
-    match (idle, line) {
-        (Some(i), Some(l)) => Some(if l.0 < i.0 { l } else { i }),
-        (i, l) => i.or(l),
-    }
-}
 
 /// A TORQUE_CONTROL or VELOCITY_CONTROL session of this connection: spontaneous status results
 /// on the robot's clock, driven by the states the core publishes (not by a timer of the
@@ -291,7 +234,7 @@ pub async fn serve(
                 }
             }
             e = errors.recv() => forward_error(&mut wr, e).await?,
-            n = core.next() => send(&mut wr, &n).await?,
+            n = core.next() => send(&mut wr, &n.result()).await?,
             changed = states.changed(), if session.is_some() => {
                 let running = session.as_mut().expect("guarded");
                 let state = match changed {
@@ -331,12 +274,12 @@ pub async fn serve(
 async fn goodbye(wr: &mut BufWriter<OwnedWriteHalf>, core: &mut CoreWatch) -> std::io::Result<()> {
     let lines = core.last_words();
     let say = async {
-        for v in lines {
-            send(wr, &v).await?;
+        for n in lines {
+            send(wr, &n.result()).await?;
         }
         Ok::<_, std::io::Error>(())
     };
-    let _ = tokio::time::timeout(Duration::from_secs(1), say).await;
+    let _ = tokio::time::timeout(FAREWELL_TIMEOUT, say).await;
     Ok(())
 }
 

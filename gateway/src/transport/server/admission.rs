@@ -53,13 +53,6 @@ struct Entry {
     evict: watch::Sender<Option<String>>,
 }
 
-/// A connection the table closed to make room for a new one.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Evicted {
-    pub id: u64,
-    pub reason: String,
-}
-
 /// Which connection could make room.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Victim {
@@ -75,12 +68,6 @@ pub struct Admitted {
     pub id: u64,
     /// Where the connection hears that it was evicted (for its [`Slot`]).
     pub evict: watch::Receiver<Option<String>>,
-    /// The connection closed to make room, if any (it hears why through its own `evict`).
-    #[cfg_attr(
-        not(test),
-        expect(dead_code, reason = "the tests check who was evicted")
-    )]
-    pub evicted: Option<Evicted>,
 }
 
 /// The connections of one port.
@@ -156,8 +143,8 @@ impl Table {
 
     /// Admit a connection from `ip` (`local`: a loopback peer) at `now`, while the client
     /// `owner` controls the arm (0: nobody). When a cap is reached, the longest-idle connection
-    /// that the newcomer may displace is closed with a reason (sent to its [`Slot`]) and
-    /// returned; if there is none, the newcomer is refused with the reason (`Err`). A remote
+    /// that the newcomer may displace is closed with a reason (sent to its [`Slot`], which
+    /// ends it); if there is none, the newcomer is refused with the reason (`Err`). A remote
     /// peer never displaces a loopback connection; a busy connection and the one that controls
     /// the arm are never displaced.
     pub fn admit(
@@ -196,8 +183,8 @@ impl Table {
         } else {
             (Victim::None, String::new())
         };
-        let evicted = match (why.is_empty(), victim) {
-            (true, _) => None,
+        match (why.is_empty(), victim) {
+            (true, _) => {}
             (false, Victim::None) => {
                 return Err(format!(
                     "connection refused: {why} and none of them is idle; try again later"
@@ -217,10 +204,9 @@ impl Table {
                     "connection closed to make room for a new one: {why} and this one was the longest idle ({} s without a command)",
                     secs(idle)
                 );
-                let _ = e.evict.send(Some(reason.clone()));
-                Some(Evicted { id, reason })
+                let _ = e.evict.send(Some(reason));
             }
-        };
+        }
         let id = self.next_id;
         self.next_id += 1;
         let (evict, rx) = watch::channel(None);
@@ -235,11 +221,7 @@ impl Table {
                 evict,
             },
         );
-        Ok(Admitted {
-            id,
-            evict: rx,
-            evicted,
-        })
+        Ok(Admitted { id, evict: rx })
     }
 
     /// Connection `id` is busy or not, and active at `now`.

@@ -13,6 +13,7 @@
 use crate::command::result;
 use crate::core_link::bridge::Bridge;
 use crate::core_link::lifecycle::CoreWatch;
+use mcm_shared::protocol::results::Answer;
 use serde_json::Value;
 use tokio::sync::broadcast::error::RecvError;
 use tokio::sync::oneshot;
@@ -144,12 +145,19 @@ impl Sink {
     }
 }
 
-/// The `state` message: the `status` result of the state, plus `cycle`, the core's cycle
-/// number (`detail.cycle` of `status`), by which a subscriber can tell that it missed none.
-pub fn state_message(s: &mcm_shared::sample::StateSample) -> Value {
-    let mut v = result::status(s, false);
-    v["cycle"] = serde_json::json!(s.seq);
-    v
+/// The message of a new state, with its topic: on `state`, the `status` result of the state
+/// plus `cycle`, the core's cycle number (`detail.cycle` of `status`), by which a subscriber
+/// can tell that it missed none. A state that is no status (a core of another MCM version) is
+/// an ERROR result on `error`, without `cycle`: it is no state message.
+pub fn state_message(s: &mcm_shared::sample::StateSample) -> (&'static str, Value) {
+    match result::status_answer("status", s, false) {
+        status @ Answer::Status(_) => {
+            let mut v = status.to_value();
+            v["cycle"] = serde_json::json!(s.seq);
+            ("state", v)
+        }
+        error => ("error", error.to_value()),
+    }
 }
 
 async fn run(
@@ -162,7 +170,7 @@ async fn run(
     loop {
         let (topic, v) = tokio::select! {
             s = states.recv() => match s {
-                Ok(s) => ("state", state_message(&s)),
+                Ok(s) => state_message(&s),
                 Err(RecvError::Lagged(n)) => ("error", result::error(format!(
                     "{n} states were not published on ZeroMQ: the publisher fell behind the cycle"
                 ))),
@@ -175,12 +183,12 @@ async fn run(
                 ))),
                 Err(RecvError::Closed) => break,
             },
-            n = core.next() => ("error", n),
+            n = core.next() => ("error", n.result()),
             _ = &mut stopped => {
                 // The notice about the core still due (the gateway settled what it knows of
                 // the core before it stopped this thread), then the gateway's own.
-                for v in core.last_words() {
-                    sink.publish("error", &v).await;
+                for n in core.last_words() {
+                    sink.publish("error", &n.result()).await;
                 }
                 break;
             }

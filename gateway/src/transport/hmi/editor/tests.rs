@@ -23,6 +23,17 @@ fn line(s: &str) -> Action {
     Action::Line(s.to_string())
 }
 
+/// Feed `bytes` (no Enter among them): the line is then `text`; Enter runs it with echo, and
+/// refuses it without echo (it held an escape sequence).
+fn then_enter(e: &mut Editor, bytes: &[u8], echo: bool, text: &str) {
+    let (a, _) = run(e, bytes, echo);
+    assert!(a.is_empty(), "{a:?}");
+    assert_eq!(e.text(), text, "echo {echo}");
+    let (a, _) = run(e, b"\n", echo);
+    let expected = if echo { line(text) } else { Action::Escaped };
+    assert_eq!(a, [expected], "echo {echo}");
+}
+
 #[test]
 fn typing_echo_and_backspace() {
     let mut e = Editor::new(100, WORDS.to_vec());
@@ -52,8 +63,11 @@ fn cursor_movement_and_editing_keys() {
     // Unknown escape sequences never reach the line.
     let (a, _) = run(&mut e, b"a\x1b[1;5Cb\x1bOPc\n", true);
     assert_eq!(a, [line("abc")]);
-    let (a, _) = run(&mut e, b"x\x1b[A\n", false);
-    assert_eq!(a, [line("x")], "no history without echo");
+    let (a, _) = run(&mut e, b"x\x1b[A", false);
+    assert!(a.is_empty());
+    assert_eq!(e.text(), "x", "no history without echo");
+    let (a, _) = run(&mut e, b"\n", false);
+    assert_eq!(a, [Action::Escaped], "the line held a key");
 }
 
 #[test]
@@ -175,20 +189,45 @@ fn escape_sequences_of_any_length_are_read_to_their_end() {
     for echo in [false, true] {
         let mut e = Editor::new(100, WORDS.to_vec());
         // A CSI with long parameters (a terminal's report, a modified key) is one sequence.
-        let long = format!("a\x1b[{}Db\n", "1;".repeat(40));
-        let (a, _) = run(&mut e, long.as_bytes(), echo);
-        assert_eq!(a, [line("ab")], "echo {echo}");
+        let long = format!("a\x1b[{}Db", "1;".repeat(40));
+        then_enter(&mut e, long.as_bytes(), echo, "ab");
         // A window-title report (OSC, ended by BEL or by ST) and a charset designation.
-        let (a, _) = run(
+        then_enter(
             &mut e,
-            b"a\x1b]0;a title\x07b\x1b]2;x\x1b\\c\x1b(Bd\n",
+            b"a\x1b]0;a title\x07b\x1b]2;x\x1b\\c\x1b(Bd",
             echo,
+            "abcd",
         );
-        assert_eq!(a, [line("abcd")], "echo {echo}");
         // ESC and a key (Alt-x) is a sequence too: dropped whole.
-        let (a, _) = run(&mut e, b"a\x1bxb\n", echo);
-        assert_eq!(a, [line("ab")], "echo {echo}");
+        then_enter(&mut e, b"a\x1bxb", echo, "ab");
     }
+}
+
+/// Without echo (`nc`) an escape sequence cannot be edited: dropping it would run a shorter
+/// line than the person typed (`move_axis 1 3` for `30`), so Enter refuses the line instead.
+#[test]
+fn without_echo_a_line_that_held_an_escape_sequence_is_refused_not_run_shortened() {
+    let mut e = Editor::new(100, WORDS.to_vec());
+    for typed in [
+        &b"move_axis 1 3\x1b[D0\n"[..],
+        b"move_axis 1 3\x1bx0\n",
+        b"move_axis 1 3\x1b]0;t\x070\n",
+        // A control string swallows everything up to Enter.
+        b"move_axis 1 3\x1bP0\n",
+        b"move_axis 1 3\x1b_0\n",
+    ] {
+        let (a, _) = run(&mut e, typed, false);
+        assert_eq!(a, [Action::Escaped], "{:?}", String::from_utf8_lossy(typed));
+    }
+    // The refusal is not remembered, and the next line runs.
+    let (a, _) = run(&mut e, b"move_axis 1 30\n", false);
+    assert_eq!(a, [line("move_axis 1 30")]);
+    // Ctrl-C drops the line and what it held.
+    let (a, _) = run(&mut e, b"a\x1b[D\x03b\n", false);
+    assert_eq!(a, [Action::Interrupt, line("b")]);
+    // With echo the person sees the line as edited: it runs.
+    let (a, _) = run(&mut e, b"move_axis 1 3\x1b[D0\x1b[F\n", true);
+    assert_eq!(a, [line("move_axis 1 03")]);
 }
 
 #[test]
@@ -201,8 +240,7 @@ fn a_control_inside_a_sequence_still_acts_and_memory_stays_bounded() {
     let (a, _) = run(&mut e, b"\x1b[12\x18x\n", true);
     assert_eq!(a, [line("x")]);
     // A byte above 0x7F ends a sequence and counts as typed.
-    let (a, _) = run(&mut e, "\x1b[1\u{e9}\n".as_bytes(), false);
-    assert_eq!(a, [line("\u{e9}")]);
+    then_enter(&mut e, "\x1b[1\u{e9}".as_bytes(), false, "\u{e9}");
     // A control string that never ends takes every byte, and nothing is kept of it.
     let mut e = Editor::new(100, WORDS.to_vec());
     let mut flood = b"\x1b]".to_vec();
@@ -216,43 +254,19 @@ fn a_control_inside_a_sequence_still_acts_and_memory_stays_bounded() {
     assert_eq!(a, [line(""), line("ok")]);
 }
 
-/// One escape sequence, of every kind the editor reads, with parameters or bodies of any length
-/// (without control characters, which act inside a sequence as outside).
-fn escape_sequence() -> impl Strategy<Value = Vec<u8>> {
-    use prop::collection::vec;
-    let csi = (
-        prop::sample::select(vec![b'[', b'O']),
-        vec(0x20u8..0x40, 0..200),
-        0x40u8..0x7F,
-    )
-        .prop_map(|(intro, params, last)| [&[0x1B, intro][..], &params, &[last]].concat());
-    let nf = (vec(0x20u8..0x30, 0..20), 0x30u8..0x7F)
-        .prop_filter("no introducer right after ESC", |(i, last)| {
-            !i.is_empty() || !b"[OPX]^_".contains(last)
-        })
-        .prop_map(|(i, last)| [&[0x1B][..], &i, &[last]].concat());
-    let string = (
-        prop::sample::select(b"PX]^_".to_vec()),
-        vec(prop_oneof![0x20u8..0x7F, 0x80u8..=0xFF], 0..200),
-        any::<bool>(),
-    )
-        .prop_map(|(intro, body, bel)| {
-            let end: &[u8] = if bel { b"\x07" } else { b"\x1b\\" };
-            [&[0x1B, intro][..], &body, end].concat()
-        });
-    prop_oneof![csi, nf, string]
-}
-
-/// Printable text and escape sequences, in any order; the text alone.
+/// Printable text and escape sequences (of every kind, [`crate::transport::hmi::keys::tests`]),
+/// in any order; the text alone.
 fn text_and_sequences() -> impl Strategy<Value = (Vec<u8>, String)> {
-    let part = prop_oneof![
-        "[ -~]{0,8}".prop_map(|t| (t.clone().into_bytes(), t)),
-        escape_sequence().prop_map(|s| (s, String::new())),
-    ];
-    prop::collection::vec(part, 0..12).prop_map(|parts| {
-        let bytes = parts.iter().flat_map(|(b, _)| b.clone()).collect();
-        let text = parts.iter().map(|(_, t)| t.as_str()).collect();
-        (bytes, text)
+    use crate::transport::hmi::keys::tests::{Part, bytes, parts};
+    parts().prop_map(|parts| {
+        let text = parts
+            .iter()
+            .map(|p| match p {
+                Part::Text(t) => t.as_str(),
+                Part::Sequence(..) => "",
+            })
+            .collect();
+        (bytes(&parts), text)
     })
 }
 

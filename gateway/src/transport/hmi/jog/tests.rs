@@ -1,7 +1,11 @@
+//! The jog screen's keys, held-key timing and speeds.
+
 use super::*;
+use crate::transport::hmi::keys::tests::{Part, parts};
+use proptest::prelude::*;
 
 fn keys(bytes: &[u8]) -> Vec<JogKey> {
-    let mut d = KeyDecoder::default();
+    let mut d = JogKeys::default();
     bytes
         .iter()
         .filter_map(|b| d.feed(Input::Byte(*b)))
@@ -19,9 +23,53 @@ fn keys_and_arrows() {
     assert_eq!(keys(b"\x1bOA\x1b[1;5C"), [Plus, Plus]);
     assert_eq!(keys(b"qQ\x03\x04"), [Quit, Quit, Quit, Quit]);
     assert_eq!(keys(b" x\x1b[H"), [Stop, Stop, Stop]);
-    let mut d = KeyDecoder::default();
+    let mut d = JogKeys::default();
     assert_eq!(d.feed(Input::Interrupt), Some(Quit));
     assert_eq!(d.feed(Input::Enter), Some(Stop));
+}
+
+/// A window-title string (OSC) holding `+` mid-jog is one other key: it stops, never moves.
+#[test]
+fn a_title_string_is_no_jog_key() {
+    use JogKey::*;
+    assert_eq!(keys(b"\x1b]0;+x\x07"), [Stop]);
+    assert_eq!(keys(b"+\x1b]0;+x\x1b\\-"), [Plus, Stop, Minus]);
+    // Alt-+ and a charset designation are no `+` either.
+    assert_eq!(keys(b"\x1b+\x1b(B"), [Stop, Stop]);
+}
+
+proptest! {
+    /// Every character of the text is a key of its own; every escape sequence is exactly one
+    /// key, `Plus` or `Minus` only for an arrow: no byte of a sequence is a jog key.
+    #[test]
+    fn no_byte_of_an_escape_sequence_is_a_jog_key(parts in parts()) {
+        let mut d = JogKeys::default();
+        for part in parts {
+            match part {
+                Part::Text(t) => {
+                    for b in t.bytes() {
+                        let key = d.feed(Input::Byte(b));
+                        let expected = match b {
+                            b'+' | b'=' => JogKey::Plus,
+                            b'-' | b'_' => JogKey::Minus,
+                            b'q' | b'Q' => JogKey::Quit,
+                            _ => JogKey::Stop,
+                        };
+                        prop_assert_eq!(key, Some(expected));
+                    }
+                }
+                Part::Sequence(bytes, key) => {
+                    let got: Vec<JogKey> = bytes.iter().filter_map(|b| d.feed(Input::Byte(*b))).collect();
+                    let expected = match key {
+                        Some(b'A' | b'C') => JogKey::Plus,
+                        Some(b'B' | b'D') => JogKey::Minus,
+                        _ => JogKey::Stop,
+                    };
+                    prop_assert_eq!(got, vec![expected], "{:?}", bytes);
+                }
+            }
+        }
+    }
 }
 
 #[test]

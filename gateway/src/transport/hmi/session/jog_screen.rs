@@ -4,7 +4,7 @@
 
 use super::{Flow, Session};
 use crate::transport::hmi::jog::{
-    Held, JOG_PERIOD, JOG_TIMEOUT_S, JogKey, KeyDecoder, status_line, velocities,
+    Held, JOG_PERIOD, JOG_TIMEOUT_S, JogKey, JogKeys, status_line, velocities,
 };
 use crate::transport::hmi::render;
 use mcm_shared::command::{self, Axis, SetVelocities};
@@ -36,7 +36,7 @@ impl Session {
             self.say(&render::error("velocity_control", &error, None));
             return Ok(Flow::Continue);
         }
-        let name = self.ctx.cfg.axes[axis.index()].name.clone();
+        let name = render::axis_name(&self.ctx.cfg, axis.index()).into_owned();
         self.say(&format!(
             "jogging axis {axis} ({name}) at {speed} deg/s: hold `+` or `-` (or the arrow keys) \
              to move, any other key stops, `q` stops and leaves (mode HOLD)\n"
@@ -86,7 +86,7 @@ impl Session {
     async fn jog_loop(&mut self, axis: Axis, speed: f64, name: &str) -> io::Result<End> {
         let mut tick = interval(JOG_PERIOD);
         tick.set_missed_tick_behavior(MissedTickBehavior::Skip);
-        let mut keys = KeyDecoder::default();
+        let mut keys = JogKeys::default();
         let mut held = Held::default();
         loop {
             tokio::select! {

@@ -1,5 +1,6 @@
 //! What a session writes to the terminal: [`terminal_text`] keeps the HMI's own colours and
-//! shows every other control character visibly, whatever the text.
+//! shows every other control character visibly, whatever the text; text from outside the HMI
+//! (names from the configuration) shows even those ([`render::visible`]).
 
 use super::*;
 use proptest::prelude::*;
@@ -26,6 +27,41 @@ fn own_colours_pass_and_other_control_characters_are_shown_visibly() {
         shown("caf\u{e9} \u{9b}2J"),
         "caf? ?2J",
         "C1 controls are non-ASCII"
+    );
+}
+
+/// A robot or axis name holding one of the HMI's own colours and a line end is shown as it
+/// is: it cannot colour the terminal, nor start a line that looks like the HMI's.
+#[test]
+fn names_from_the_configuration_show_their_control_characters() {
+    use mcm_shared::mode::Mode;
+    use mcm_shared::sample::StateSample;
+    let mut cfg = mcm_shared::config::RobotConfig::prob2_default();
+    cfg.robot.name = format!("P-Rob2{}\nmode:  HOLD - fine", render::RED);
+    cfg.axes[2].name = format!("elb{}\now", render::GREEN);
+    let banner = shown(&render::banner(&cfg, None, "x"));
+    assert!(
+        banner.contains("\r\nrobot: P-Rob2^[[1;31m^Jmode:  HOLD - fine\r\n"),
+        "{banner:?}"
+    );
+    assert!(!banner.contains(render::RED), "{banner:?}");
+    assert_eq!(banner.matches("\r\n").count(), 4, "{banner:?}");
+    let state = StateSample {
+        mode: Mode::Off.to_wire(),
+        ..StateSample::default()
+    };
+    let status = crate::command::result::status_answer("status", &state, false);
+    let table = shown(&render::answer("status", &status, &cfg, None));
+    let row = table
+        .split("\r\n")
+        .find(|l| l.trim_start().starts_with('3'))
+        .expect("a row for axis 3");
+    assert!(row.contains("elb^[[32m^Jow"), "{table:?}");
+    assert!(!table.contains(render::GREEN), "{table:?}");
+    // The line that refuses a session: the same rules.
+    assert_eq!(
+        crate::transport::hmi::hmi_line("a\x1b[1;31mb\nc"),
+        "MCM HMI: a^[[1;31mb^Jc\r\n"
     );
 }
 

@@ -47,7 +47,7 @@ fn linux_telnet_hello_is_answered_and_yields_no_input() {
     assert!(!t.server_echoes(), "ECHO not agreed yet");
     let (inputs, replies) = feed(&mut t, &[IAC, DO, OPT_ECHO]);
     assert!(inputs.is_empty() && replies.is_empty());
-    assert!(t.server_echoes() && t.speaks_telnet());
+    assert!(t.server_echoes());
 }
 
 #[test]

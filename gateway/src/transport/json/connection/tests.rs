@@ -7,6 +7,7 @@ use super::*;
 use crate::test_support::offline_context;
 use mcm_shared::protocol::json::to_ascii;
 use proptest::prelude::*;
+use std::time::Duration;
 use tokio::io::{AsyncBufReadExt, BufReader};
 use tokio::net::TcpListener;
 

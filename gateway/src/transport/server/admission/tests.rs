@@ -31,8 +31,18 @@ fn admit_owned(
 ) -> Result<(u64, Option<u64>), String> {
     let t0 = Instant::now();
     let p = ip(peer);
+    let before = t.ids();
     let a = t.admit(p, is_loopback(p), t0 + Duration::from_secs(at), owner)?;
-    Ok((a.id, a.evicted.map(|e| e.id)))
+    let after = t.ids();
+    let gone: Vec<u64> = before
+        .into_iter()
+        .filter(|id| !after.contains(id))
+        .collect();
+    assert!(
+        gone.len() <= 1,
+        "one connection makes room at most: {gone:?}"
+    );
+    Ok((a.id, gone.first().copied()))
 }
 
 #[test]
@@ -141,18 +151,16 @@ fn the_evicted_slot_hears_its_reason_and_a_dropped_slot_frees_its_place() {
         .lock()
         .admit(ip("127.0.0.1"), true, t0 + Duration::from_secs(42), 0)
         .unwrap();
-    let ev = second.evicted.expect("the first one is evicted");
-    assert_eq!(ev.id, id);
-    assert!(
-        ev.reason.contains("longest idle (42 s without a command)"),
-        "{}",
-        ev.reason
-    );
+    assert_eq!(shared.lock().ids(), [second.id], "the first one is evicted");
     let rt = tokio::runtime::Builder::new_current_thread()
         .enable_time()
         .build()
         .unwrap();
-    assert_eq!(rt.block_on(slot.evicted()), ev.reason);
+    let reason = rt.block_on(slot.evicted());
+    assert!(
+        reason.contains("longest idle (42 s without a command)"),
+        "{reason}"
+    );
     drop(slot);
     assert_eq!(
         shared.lock().len(),

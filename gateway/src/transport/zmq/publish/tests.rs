@@ -2,7 +2,7 @@
 //! channels that play the bridge.
 
 use super::*;
-use crate::core_link::lifecycle::{RT_VANISHED, gateway_stopping};
+use crate::core_link::lifecycle::Notice;
 use mcm_shared::sample::StateSample;
 use std::sync::Arc;
 use tokio::sync::{broadcast, watch};
@@ -76,11 +76,11 @@ fn on_stop_the_notice_about_the_core_comes_before_the_gateways_own() {
     core_tx.send_replace(None);
     stop.send(()).unwrap();
     let vanished = next_error(&sub);
-    assert_eq!(vanished["error_message"], RT_VANISHED, "{vanished}");
+    assert_eq!(vanished, Notice::RtVanished.result());
     let stopping = next_error(&sub);
     assert_eq!(
         stopping,
-        gateway_stopping(),
+        Notice::GatewayStopping.result(),
         "the gateway's own last line comes last"
     );
     thread.join().unwrap();
@@ -89,4 +89,30 @@ fn on_stop_the_notice_about_the_core_comes_before_the_gateways_own() {
         0,
         "nothing after the gateway's last line"
     );
+}
+
+/// A state this version cannot read as a status (a core of another MCM version) is published
+/// as an ERROR on `error`, not as a state without a status on `state`.
+#[test]
+fn a_state_that_is_no_status_goes_to_the_error_topic() {
+    let good = StateSample {
+        seq: 7,
+        ..StateSample::default()
+    };
+    let (topic, v) = state_message(&good);
+    assert_eq!(topic, "state");
+    assert_eq!(v["result_type"], "status", "{v}");
+    assert_eq!(v["cycle"], 7, "{v}");
+    let other_version = StateSample {
+        seq: 8,
+        mode: 99,
+        ..StateSample::default()
+    };
+    let (topic, v) = state_message(&other_version);
+    assert_eq!(topic, "error", "{v}");
+    assert_eq!(v["result_type"], "generic", "{v}");
+    assert_eq!(v["error_status"], "ERROR", "{v}");
+    assert!(v.get("cycle").is_none(), "{v}");
+    let message = v["error_message"].as_str().unwrap_or_default();
+    assert!(message.contains("different MCM versions"), "{v}");
 }
