@@ -1,8 +1,9 @@
 //! The systemd units restart as the launcher does: the gateway's unit carries the numbers of
 //! `mcm_shared::restart::GATEWAY_RESTART` (the launcher's own back-off, systemd 254 or later),
 //! with a start limit that the back-off never reaches but that ends a restart every 0.1 s (an
-//! older systemd, which ignores the back-off); the core's unit never restarts it, as the
-//! launcher never does. Reads the files of `deploy/systemd/`.
+//! older systemd, which ignores the back-off), and it is stopped with the core and after it, as
+//! the launcher stops them; the core's unit never restarts it, as the launcher never does. Reads
+//! the files of `deploy/systemd/`.
 
 use mcm_shared::restart::GATEWAY_RESTART;
 use std::time::Duration;
@@ -124,4 +125,27 @@ fn the_start_limit_never_stops_the_back_off_but_stops_a_restart_every_first_wait
 fn the_core_unit_is_never_restarted() {
     let service = section("mcm-rt.service", "Service");
     assert!(service.contains(&"Restart=no".to_string()), "{service:#?}");
+}
+
+/// systemd stops units in the reverse of their start order: the gateway's unit is ordered
+/// before the core's, so that stopping the core (`systemctl stop mcm-rt`, a shutdown) stops the
+/// core first and the gateway, bound to it, after it, as the launcher does. Its clients then
+/// hear the core's controlled stop before the gateway's last line. `After=mcm-rt.service` would
+/// stop the gateway first.
+#[test]
+fn the_gateway_unit_is_stopped_with_the_core_and_after_it() {
+    let unit = section("mcm-gateway.service", "Unit");
+    assert_eq!(value(&unit, "BindsTo"), "mcm-rt.service", "{unit:#?}");
+    assert_eq!(value(&unit, "Before"), "mcm-rt.service", "{unit:#?}");
+    assert!(
+        !unit.iter().any(|l| l.starts_with("After=")),
+        "the gateway must not be ordered after the core: {unit:#?}"
+    );
+    let core = section("mcm-rt.service", "Unit");
+    assert!(
+        !core
+            .iter()
+            .any(|l| l.starts_with("Before=") || l.starts_with("After=mcm-gateway")),
+        "the order is the gateway unit's to give: {core:#?}"
+    );
 }

@@ -7,8 +7,9 @@
 //! not wake at the cycle rate) and yields a notice on a change worth telling.
 //!
 //! The gateway is usually stopped *because* the core stopped: the launcher stops it when
-//! `mcm-rt` dies or after its controlled stop, and so does systemd (`BindsTo=mcm-rt.service`),
-//! both within milliseconds, before the bridge has seen the core fall silent. So on shutdown
+//! `mcm-rt` dies or after its controlled stop, and so does systemd (the unit's `BindsTo=` and
+//! `Before=mcm-rt.service`: stopped with the core, after it), both within milliseconds,
+//! before the bridge has seen the core fall silent. So on shutdown
 //! the servers first [`settle`] what is known of the core, and each connection sends the
 //! notice still due ([`CoreWatch::due`]) before its last line: a client hears that the core
 //! stopped (or vanished), not only that the gateway was asked to stop.
