@@ -19,7 +19,7 @@ pub enum mcm_error_t {
     /// A required pointer argument was NULL.
     MCM_ERR_NULL_POINTER = 1,
     /// An argument this library refuses before sending anything (not UTF-8, an axis outside
-    /// 1 to 6, a point count outside 1 to 1000, an unknown output kind).
+    /// 1 to 6, no PVT points, more than 1000 over shared memory, an unknown output kind).
     MCM_ERR_ARGUMENT = 2,
     /// TCP: the MCM cannot be reached at that address.
     MCM_ERR_CONNECT = 3,
