@@ -3,12 +3,14 @@
 //! file like any other source (it does not expand macros, hence a generator and not a macro).
 //! This test fails when the checked-in file differs from what the list generates now; to
 //! write it anew: `MCM_UPDATE_CAPI=1 cargo test -p mcm-capi --test wrappers` (then
-//! `MCM_UPDATE_HEADER=1 cargo test -p mcm-capi --test header` for the header).
+//! `MCM_UPDATE_HEADER=1 cargo test -p mcm-capi --test header` for the header); that run writes
+//! and says what changed instead of comparing (refused when `CI` is set: CI always compares).
 
+#[path = "../common/mod.rs"]
+mod common;
 mod list;
 
 use std::fmt::Write;
-use std::path::Path;
 
 /// The transports a command exists on.
 #[derive(Clone, Copy, PartialEq)]
@@ -229,18 +231,12 @@ use std::ffi::c_char;
 
 #[test]
 fn the_checked_in_wrappers_are_what_the_list_generates() {
-    let generated = render();
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("src")
-        .join("commands.rs");
-    if std::env::var_os("MCM_UPDATE_CAPI").is_some() {
-        std::fs::write(&path, &generated).expect("write capi/src/commands.rs");
-    }
-    let checked_in = std::fs::read_to_string(&path).unwrap_or_default();
-    assert!(
-        checked_in == generated,
-        "capi/src/commands.rs differs from what capi/tests/wrappers/list.rs generates; \
-         regenerate it with `MCM_UPDATE_CAPI=1 cargo test -p mcm-capi --test wrappers` and commit it"
+    common::check_generated(
+        "src/commands.rs",
+        "capi/tests/wrappers/list.rs",
+        &render(),
+        "MCM_UPDATE_CAPI",
+        "cargo test -p mcm-capi --test wrappers",
     );
 }
 
