@@ -61,7 +61,12 @@ fn most_starts_in(interval: Duration, wait: impl Fn(u32) -> Duration) -> usize {
         n += 1;
     }
     (0..starts.len())
-        .map(|i| starts[i..].iter().take_while(|&&t| t < starts[i] + interval).count())
+        .map(|i| {
+            starts[i..]
+                .iter()
+                .take_while(|&&t| t < starts[i] + interval)
+                .count()
+        })
         .max()
         .unwrap()
 }
