@@ -123,8 +123,8 @@ fn python_package_unit_tests_pass() {
     let mut modules: Vec<String> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
         .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
-        .filter_map(|n| Some(n.strip_prefix("test_")?.strip_suffix(".py")?.to_string()))
-        .map(|n| format!("test_{n}"))
+        .filter(|n| n.starts_with("test_"))
+        .filter_map(|n| n.strip_suffix(".py").map(str::to_string))
         .collect();
     modules.sort();
     for (module, runner) in RUN_ELSEWHERE {

@@ -36,6 +36,18 @@ pub enum Answer {
     Put(&'static str, &'static str, &'static str),
 }
 
+impl Answer {
+    /// The answer on one transport: an `OutPer` is the `Out` of that transport's type.
+    fn on(self, tcp: bool) -> Answer {
+        match self {
+            Answer::OutPer(name, tcp_ty, shm_ty, conv) => {
+                Answer::Out(name, if tcp { tcp_ty } else { shm_ty }, conv)
+            }
+            other => other,
+        }
+    }
+}
+
 /// One command of the list.
 pub struct Command {
     name: &'static str,
@@ -133,17 +145,17 @@ fn doc_lines(text: &str) -> String {
 
 fn render_one(out: &mut String, c: &Command, tcp: bool) {
     let t = if tcp { "tcp" } else { "shm" };
-    let mut doc = c.doc.to_string();
-    for extra in [if tcp { c.tcp_doc } else { c.shm_doc }] {
-        if !extra.is_empty() {
-            doc = format!("{doc} {extra}");
-        }
-    }
+    let extra = if tcp { c.tcp_doc } else { c.shm_doc };
+    let mut doc = if extra.is_empty() {
+        c.doc.to_string()
+    } else {
+        format!("{} {extra}", c.doc)
+    };
     let mut params: Vec<String> = vec![format!("client: *mut mcm_{t}_client_t")];
     params.extend(c.params.iter().map(|(n, ty)| format!("{n}: {ty}")));
     let mut before = String::new();
     let mut after = String::new();
-    let answered = match c.answer {
+    let answered = match c.answer.on(tcp) {
         Answer::Ack => false,
         Answer::Mode if !tcp => false,
         Answer::Mode => {
@@ -152,13 +164,8 @@ fn render_one(out: &mut String, c: &Command, tcp: bool) {
             after = "            put(status, (&a).into());\n".into();
             true
         }
-        Answer::Out(name, ty, conv) | Answer::OutPer(name, ty, _, conv) if tcp => {
-            params.push(format!("{name}: *mut {ty}"));
-            before = format!("            let o = convert::out({name}, F, \"{name}\")?;\n");
-            after = format!("            *o = {conv};\n");
-            true
-        }
-        Answer::Out(name, ty, conv) | Answer::OutPer(name, _, ty, conv) => {
+        Answer::OutPer(..) => unreachable!("`Answer::on` gives an `Out`"),
+        Answer::Out(name, ty, conv) => {
             params.push(format!("{name}: *mut {ty}"));
             before = format!("            let o = convert::out({name}, F, \"{name}\")?;\n");
             after = format!("            *o = {conv};\n");
