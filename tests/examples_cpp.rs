@@ -5,8 +5,9 @@
 //!
 //! The library is the `libmcm_c.a` cargo built for this test (the root package dev-depends on
 //! `mcm-capi`, so it is in this test's `deps/` directory): no nested cargo build, no network.
-//! Needs `cmake` and a C++17 compiler (`c++`) in `PATH`; without them the test says it is
-//! skipped, except when `CI` is set, where it fails (`.ci/run` installs cmake and g++).
+//! Needs `cmake`, `make` (CMake's default generator) and a C++17 compiler (`c++`) in `PATH`;
+//! without them the test says it is skipped, except when `CI` is set, where it fails (`.ci/run`
+//! installs cmake, make and g++).
 
 mod common;
 
@@ -150,7 +151,7 @@ fn build_examples(lib_dir: &Path) -> PathBuf {
 
 #[test]
 fn cpp_examples_build_with_cmake_and_run_against_the_simulated_arm() {
-    let missing: Vec<&str> = ["cmake", "c++", "cc"]
+    let missing: Vec<&str> = ["cmake", "make", "c++", "cc"]
         .into_iter()
         .filter(|p| find_program(p).is_none())
         .collect();
@@ -158,8 +159,8 @@ fn cpp_examples_build_with_cmake_and_run_against_the_simulated_arm() {
         common::skip(
             "cpp_examples_build_with_cmake_and_run_against_the_simulated_arm",
             &format!(
-                "{} not found in PATH (install with `apt-get install cmake g++`; .ci/run does \
-                 so on CI)",
+                "{} not found in PATH (install with `apt-get install cmake make g++`; .ci/run \
+                 does so on CI)",
                 missing.join(" and ")
             ),
         );

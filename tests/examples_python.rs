@@ -16,9 +16,13 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-/// The share [%] of the benchmark's answers that must be applied in the very next cycle here:
-/// below its target on an idle machine (99.9 %), since the tests load this one.
-const BENCH_TARGET_PERCENT: f64 = 90.0;
+/// The share [%] of the benchmark's answers (400) that must be applied in the very next cycle
+/// here. Measured under test load (`docs/performance.md`, "The Python loop under test load":
+/// this file run 8 times, alone and beside other end-to-end test binaries, load average 5 to 9
+/// on the 2 vCPUs): 400 of 400 in every run. The target keeps a margin of 20 late answers (the
+/// loop stalled for about 0.1 s), below the benchmark's own target for an idle machine
+/// (99.9 %); the checks that every answer is replied to stay exact.
+const BENCH_TARGET_PERCENT: f64 = 95.0;
 
 /// The modules of `python/tests/` that need what another test sets up, and that test: they
 /// skip without it (fail under `CI`), so the package's unit tests leave them out.
@@ -119,8 +123,8 @@ fn python_package_unit_tests_pass() {
     let mut modules: Vec<String> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
         .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
-        .filter_map(|n| Some(n.strip_prefix("test_")?.strip_suffix(".py")?.to_string()))
-        .map(|n| format!("test_{n}"))
+        .filter(|n| n.starts_with("test_"))
+        .filter_map(|n| n.strip_suffix(".py").map(str::to_string))
         .collect();
     modules.sort();
     for (module, runner) in RUN_ELSEWHERE {

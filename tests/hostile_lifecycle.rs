@@ -13,6 +13,7 @@ mod common;
 
 use common::{WAIT, alive, config_file, sim_state_path, unique_instance};
 use mcm_shared::ready::{McmReady, ReadyLine};
+use mcm_shared::restart::GATEWAY_RESTART;
 use serde_json::{Value, json};
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpStream};
@@ -445,7 +446,10 @@ fn a_gateway_that_keeps_dying_is_restarted_with_a_back_off_and_mcm_rt_keeps_runn
     let mut l = Launcher::start("gw-dies");
     let rt = l.rt_pid;
     let mut last_cycle = 0u64;
-    for (round, wait) in ["100ms", "200ms", "400ms", "800ms"].iter().enumerate() {
+    // The launcher's back-off: the first four waits, each longer than the one before.
+    let waits: Vec<Duration> = (1..=4).map(|n| GATEWAY_RESTART.delay(n)).collect();
+    assert!(waits.windows(2).all(|w| w[0] < w[1]), "{waits:?}");
+    for (round, wait) in waits.iter().enumerate() {
         let mut c = Conn::connect(l.json);
         let cycle = c.request(DETAIL)["detail"]["cycle"]
             .as_u64()
@@ -461,7 +465,7 @@ fn a_gateway_that_keeps_dying_is_restarted_with_a_back_off_and_mcm_rt_keeps_runn
         l.wait_ready();
         assert_ne!(l.gateway_pid, gw, "a new gateway");
         assert_eq!(l.rt_pid, rt, "the same mcm-rt");
-        let line = l.wait_log(&format!("restarting the gateway in {wait}"));
+        let line = l.wait_log(&format!("restarting the gateway in {wait:?}"));
         assert!(line.contains("mcm-rt keeps running"), "{line}");
     }
     assert!(alive(rt) && !gone(rt));

@@ -177,7 +177,7 @@ pub unsafe extern "C" fn mcm_tcp_set_torques(client: *mut mcm_tcp_client_t, torq
     }
 }
 
-/// Enter VELOCITY_CONTROL (`options` NULL: the defaults; `gravity_compensation` is not used).
+/// Enter VELOCITY_CONTROL (`options` NULL: the defaults). `gravity_compensation` is not used.
 /// With `dt_status_s` the status events come with `mcm_tcp_next_event`. `status` (may be NULL):
 /// the state after it.
 #[unsafe(no_mangle)]
@@ -234,8 +234,10 @@ pub unsafe extern "C" fn mcm_tcp_move_all(client: *mut mcm_tcp_client_t, targets
     }
 }
 
-/// Queue `count` (1 to 1000) PVT points, spaced by `pvt`'s `dt`, whole or not at all. Long
-/// lists go as several commands, and the first refused one ends the call.
+/// Queue `count` PVT points, spaced by `pvt`'s `dt`. Any count from 1: up to 1000 points that
+/// fit one line go as one command, queued whole or not at all; longer lists go as several
+/// commands in order, and the first refused one ends the call (the commands before it stay
+/// queued).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_tcp_pvt_points(client: *mut mcm_tcp_client_t, points: *const mcm_pvt_point_t, count: usize) -> mcm_error_t {
     const F: &str = "mcm_tcp_pvt_points";
@@ -381,6 +383,7 @@ pub unsafe extern "C" fn mcm_shm_info(client: *mut mcm_shm_client_t, out: *mut m
 }
 
 /// Enter HOLD (open to every client; powers the drives from OFF or ERROR, stops a motion).
+/// Waits for the core's reply.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_shm_hold(client: *mut mcm_shm_client_t) -> mcm_error_t {
     const F: &str = "mcm_shm_hold";
@@ -477,8 +480,7 @@ pub unsafe extern "C" fn mcm_shm_set_torques(client: *mut mcm_shm_client_t, torq
     }
 }
 
-/// Enter VELOCITY_CONTROL (`options` NULL: the defaults; `gravity_compensation` is not used).
-/// Only `timeout_s` is used.
+/// Enter VELOCITY_CONTROL (`options` NULL: the defaults). Only `timeout_s` is used.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_shm_velocity_control(client: *mut mcm_shm_client_t, options: *const mcm_control_options_t) -> mcm_error_t {
     const F: &str = "mcm_shm_velocity_control";
@@ -533,7 +535,8 @@ pub unsafe extern "C" fn mcm_shm_move_all(client: *mut mcm_shm_client_t, targets
     }
 }
 
-/// Queue `count` (1 to 1000) PVT points, spaced by `pvt`'s `dt`, whole or not at all.
+/// Queue `count` PVT points, spaced by `pvt`'s `dt`. 1 to 1000 points, queued whole or not at
+/// all.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_shm_pvt_points(client: *mut mcm_shm_client_t, points: *const mcm_pvt_point_t, count: usize) -> mcm_error_t {
     const F: &str = "mcm_shm_pvt_points";

@@ -2,6 +2,7 @@
 //! that keeps panics from crossing the ABI. Not real-time code except the success path of
 //! [`guard`] (no allocation there).
 
+use mcm_client::mcm_shared::reply::{Outcome, Reason};
 use mcm_client::shm::{ControlEnd, OpenError, RequestError, SendError, WaitError, WaitUntilError};
 use mcm_client::tcp::{Error as TcpError, ErrorKind};
 use std::cell::RefCell;
@@ -19,7 +20,7 @@ pub enum mcm_error_t {
     /// A required pointer argument was NULL.
     MCM_ERR_NULL_POINTER = 1,
     /// An argument this library refuses before sending anything (not UTF-8, an axis outside
-    /// 1 to 6, a point count outside 1 to 1000, an unknown output kind).
+    /// 1 to 6, no PVT points, more than 1000 over shared memory, an unknown output kind).
     MCM_ERR_ARGUMENT = 2,
     /// TCP: the MCM cannot be reached at that address.
     MCM_ERR_CONNECT = 3,
@@ -188,19 +189,25 @@ pub(crate) fn control_end(end: &ControlEnd) -> (mcm_error_t, u32) {
         ControlEnd::ModeLeft { .. } => (MCM_ERR_MODE_LEFT, 0),
         ControlEnd::SafetyTrip(e) => (MCM_ERR_SAFETY_TRIP, e.reason.code().to_wire()),
         ControlEnd::OwnershipLost { .. } => (MCM_ERR_OWNERSHIP_LOST, 0),
-        ControlEnd::Refused(r) => match r.outcome {
-            mcm_client::mcm_shared::reply::Outcome::Refused(reason) => {
-                (MCM_ERR_REFUSED, reason.code().to_wire())
-            }
-            mcm_client::mcm_shared::reply::Outcome::Failed(reason) => {
-                (MCM_ERR_FAILED, reason.code().to_wire())
-            }
-            mcm_client::mcm_shared::reply::Outcome::Done(_) => (MCM_ERR_PROTOCOL, 0),
-        },
+        ControlEnd::Refused(r) => {
+            let (code, reason, _) = not_done(r.outcome);
+            (code, reason.map_or(0, |r| r.code().to_wire()))
+        }
         ControlEnd::NotControlling(_) => (MCM_ERR_NOT_CONTROLLING, 0),
         ControlEnd::Send(_) => (MCM_ERR_IO, 0),
         ControlEnd::Wait(e) => (wait_code(e), 0),
         ControlEnd::UnreadableSafetyError(_) => (MCM_ERR_PROTOCOL, 0),
+    }
+}
+
+/// What the core's answer `outcome` to a request that was not answered as expected says in
+/// the C API: its code, its reason (none for an answer of another kind) and the verb of its
+/// message ("refused", "failed", "answered").
+pub(crate) fn not_done(outcome: Outcome) -> (mcm_error_t, Option<Reason>, &'static str) {
+    match outcome {
+        Outcome::Refused(reason) => (MCM_ERR_REFUSED, Some(reason), "refused"),
+        Outcome::Failed(reason) => (MCM_ERR_FAILED, Some(reason), "failed"),
+        Outcome::Done(_) => (MCM_ERR_PROTOCOL, None, "answered"),
     }
 }
 

@@ -10,12 +10,11 @@
 
 use crate::convert::{self, put, text};
 use crate::error::{
-    Fail, Handle, LastError, c_string, call, close, control_end, guard, mcm_error_t,
+    Fail, Handle, LastError, c_string, call, close, control_end, guard, mcm_error_t, not_done,
 };
 use crate::types::*;
 use mcm_client::Mode;
 use mcm_client::mcm_shared::command::PvtPoint;
-use mcm_client::mcm_shared::reply::Outcome;
 use mcm_client::shm::{ControlOutput, ShmClient, ShmEvent};
 use std::ffi::{CString, c_char, c_void};
 
@@ -113,11 +112,7 @@ pub unsafe extern "C" fn mcm_shm_next_event(
                     format!("safety check tripped: {}", e.reason),
                 ),
                 ShmEvent::Refused(r) => {
-                    let (reason, verb) = match r.outcome {
-                        Outcome::Refused(reason) => (Some(reason), "refused"),
-                        Outcome::Failed(reason) => (Some(reason), "failed"),
-                        Outcome::Done(_) => (None, "answered"),
-                    };
+                    let (_, reason, verb) = not_done(r.outcome);
                     (
                         MCM_EVENT_COMMAND_ERROR,
                         reason.map_or(0, |r| r.code().to_wire()),

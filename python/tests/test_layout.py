@@ -59,13 +59,6 @@ class LayoutMatchesRust(unittest.TestCase):
         for seq, key, slot in self.rust["reply_locations"]:
             self.assertEqual(layout.reply_location(seq), (key, slot), "reply %d" % seq)
 
-    def test_wire_codes(self) -> None:
-        # Modes, command kinds (VELOCITY_CONTROL's included), who needs control, reject codes.
-        self.assertEqual({v: k for k, v in codes.MODES.items()}, self.rust["modes"])
-        self.assertEqual(codes.KINDS, self.rust["kinds"])
-        self.assertEqual(sorted(codes.NEEDS_CONTROL), sorted(self.rust["needs_control"]))
-        self.assertEqual({v: k for k, v in codes.REJECT_CODES.items()}, self.rust["reject_codes"])
-
     def test_reason_words(self) -> None:
         for code, axis, values, text in self.rust["reasons"]:
             with self.subTest(code=code):

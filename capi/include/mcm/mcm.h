@@ -124,7 +124,7 @@ typedef enum mcm_error_t {
   // A required pointer argument was NULL.
   MCM_ERR_NULL_POINTER = 1,
   // An argument this library refuses before sending anything (not UTF-8, an axis outside
-  // 1 to 6, a point count outside 1 to 1000, an unknown output kind).
+  // 1 to 6, no PVT points, more than 1000 over shared memory, an unknown output kind).
   MCM_ERR_ARGUMENT = 2,
   // TCP: the MCM cannot be reached at that address.
   MCM_ERR_CONNECT = 3,
@@ -560,7 +560,7 @@ enum mcm_error_t mcm_tcp_torque_control(struct mcm_tcp_client_t *client, const s
 // comes later as an `MCM_EVENT_COMMAND_ERROR` event).
 enum mcm_error_t mcm_tcp_set_torques(struct mcm_tcp_client_t *client, const double *torques);
 
-// Enter VELOCITY_CONTROL (`options` NULL: the defaults; `gravity_compensation` is not used).
+// Enter VELOCITY_CONTROL (`options` NULL: the defaults). `gravity_compensation` is not used.
 // With `dt_status_s` the status events come with `mcm_tcp_next_event`. `status` (may be NULL):
 // the state after it.
 enum mcm_error_t mcm_tcp_velocity_control(struct mcm_tcp_client_t *client, const struct mcm_control_options_t *options, struct mcm_status_t *status);
@@ -575,8 +575,10 @@ enum mcm_error_t mcm_tcp_move_axis(struct mcm_tcp_client_t *client, uint32_t axi
 // Move all axes together to the six `targets_deg`; `result` (may be NULL): the plan.
 enum mcm_error_t mcm_tcp_move_all(struct mcm_tcp_client_t *client, const double *targets_deg, double velocity_factor, struct mcm_move_all_result_t *result);
 
-// Queue `count` (1 to 1000) PVT points, spaced by `pvt`'s `dt`, whole or not at all. Long
-// lists go as several commands, and the first refused one ends the call.
+// Queue `count` PVT points, spaced by `pvt`'s `dt`. Any count from 1: up to 1000 points that
+// fit one line go as one command, queued whole or not at all; longer lists go as several
+// commands in order, and the first refused one ends the call (the commands before it stay
+// queued).
 enum mcm_error_t mcm_tcp_pvt_points(struct mcm_tcp_client_t *client, const struct mcm_pvt_point_t *points, size_t count);
 
 // Take control of the arm's motion (refused while another client controls it).
@@ -610,6 +612,7 @@ enum mcm_error_t mcm_shm_latest(struct mcm_shm_client_t *client, struct mcm_stat
 enum mcm_error_t mcm_shm_info(struct mcm_shm_client_t *client, struct mcm_shm_info_t *out);
 
 // Enter HOLD (open to every client; powers the drives from OFF or ERROR, stops a motion).
+// Waits for the core's reply.
 enum mcm_error_t mcm_shm_hold(struct mcm_shm_client_t *client);
 
 // Enter RELEASE (the arm can be moved by hand).
@@ -635,8 +638,7 @@ enum mcm_error_t mcm_shm_torque_control(struct mcm_shm_client_t *client, const s
 // inside iceoryx2's publisher).
 enum mcm_error_t mcm_shm_set_torques(struct mcm_shm_client_t *client, const double *torques);
 
-// Enter VELOCITY_CONTROL (`options` NULL: the defaults; `gravity_compensation` is not used).
-// Only `timeout_s` is used.
+// Enter VELOCITY_CONTROL (`options` NULL: the defaults). Only `timeout_s` is used.
 enum mcm_error_t mcm_shm_velocity_control(struct mcm_shm_client_t *client, const struct mcm_control_options_t *options);
 
 // Set the six joint velocities [deg/s] in VELOCITY_CONTROL without waiting for the answer.
@@ -650,7 +652,8 @@ enum mcm_error_t mcm_shm_move_axis(struct mcm_shm_client_t *client, uint32_t axi
 // Move all axes together to the six `targets_deg`; `result` (may be NULL): the plan.
 enum mcm_error_t mcm_shm_move_all(struct mcm_shm_client_t *client, const double *targets_deg, double velocity_factor, struct mcm_move_all_result_t *result);
 
-// Queue `count` (1 to 1000) PVT points, spaced by `pvt`'s `dt`, whole or not at all.
+// Queue `count` PVT points, spaced by `pvt`'s `dt`. 1 to 1000 points, queued whole or not at
+// all.
 enum mcm_error_t mcm_shm_pvt_points(struct mcm_shm_client_t *client, const struct mcm_pvt_point_t *points, size_t count);
 
 // Take control of the arm's motion (refused while another client controls it).

@@ -198,8 +198,13 @@ constexpr auto pick(Tcp tcp, [[maybe_unused]] Shm shm) noexcept {
     }
 }
 
-// The C function `mcm_tcp_<name>` or `mcm_shm_<name>` of the handle type H.
-#define MCM_C(name) ::mcm::detail::pick<H>(&mcm_tcp_##name, &mcm_shm_##name)
+// The C function `mcm_tcp_<name>` or `mcm_shm_<name>` of the handle type H. A macro of this
+// header alone, with a name of its own (undefined again after the class): it pastes the
+// function's name, which a template cannot.
+#ifdef MCM_HPP_FN
+#error "MCM_HPP_FN is mcm.hpp's own macro; do not define it"
+#endif
+#define MCM_HPP_FN(name) ::mcm::detail::pick<H>(&mcm_tcp_##name, &mcm_shm_##name)
 
 /// The commands both transports have, once for both handles (TcpClient and ShmClient derive
 /// from it). Where the transports answer differently, the type says it: a mode change answers
@@ -226,58 +231,59 @@ public:
 
     Result<InfoAnswer> info() {
         InfoAnswer i{};
-        return with(MCM_C(info)(h(), &i), i);
+        return with(MCM_HPP_FN(info)(h(), &i), i);
     }
     /// Enter HOLD (open to every client).
     Result<ModeAnswer> hold() {
-        return mode([&](auto... status) { return MCM_C(hold)(h(), status...); });
+        return mode([&](auto... status) { return MCM_HPP_FN(hold)(h(), status...); });
     }
     Result<ModeAnswer> release() {
-        return mode([&](auto... status) { return MCM_C(release)(h(), status...); });
+        return mode([&](auto... status) { return MCM_HPP_FN(release)(h(), status...); });
     }
     Result<ModeAnswer> pvt(double dt_s) {
-        return mode([&](auto... status) { return MCM_C(pvt)(h(), dt_s, status...); });
+        return mode([&](auto... status) { return MCM_HPP_FN(pvt)(h(), dt_s, status...); });
     }
     /// Home the axes (default options: all axes, default directions); returns when done.
     Result<void> calibrate(const CalibrateOptions& o = CalibrateOptions{}) {
-        return done(MCM_C(calibrate)(h(), &o));
+        return done(MCM_HPP_FN(calibrate)(h(), &o));
     }
     /// hold, then calibrate only when needed; true when it calibrated.
     Result<bool> calibrate_if_needed() {
         bool b = false;
-        return with(MCM_C(calibrate_if_needed)(h(), &b), b);
+        return with(MCM_HPP_FN(calibrate_if_needed)(h(), &b), b);
     }
     Result<ModeAnswer> torque_control(const ControlOptions& o = mcm_control_options_default()) {
-        return mode([&](auto... status) { return MCM_C(torque_control)(h(), &o, status...); });
+        return mode([&](auto... status) { return MCM_HPP_FN(torque_control)(h(), &o, status...); });
     }
     /// Without waiting for the answer; a refusal comes as an event. Real-time safe over
     /// shared memory.
-    Result<void> set_torques(const Six& t) { return done(MCM_C(set_torques)(h(), t.data())); }
+    Result<void> set_torques(const Six& t) { return done(MCM_HPP_FN(set_torques)(h(), t.data())); }
     Result<ModeAnswer> velocity_control(const ControlOptions& o = mcm_control_options_default()) {
-        return mode([&](auto... status) { return MCM_C(velocity_control)(h(), &o, status...); });
+        return mode(
+            [&](auto... status) { return MCM_HPP_FN(velocity_control)(h(), &o, status...); });
     }
     /// Without waiting for the answer. Real-time safe over shared memory.
     Result<void> set_velocities(const Six& v) {
-        return done(MCM_C(set_velocities)(h(), v.data()));
+        return done(MCM_HPP_FN(set_velocities)(h(), v.data()));
     }
     Result<void> move_axis(uint32_t axis, double target_deg, double velocity_factor) {
-        return done(MCM_C(move_axis)(h(), axis, target_deg, velocity_factor));
+        return done(MCM_HPP_FN(move_axis)(h(), axis, target_deg, velocity_factor));
     }
     Result<MoveAllResult> move_all(const Six& targets_deg, double velocity_factor) {
         MoveAllResult r{};
-        return with(MCM_C(move_all)(h(), targets_deg.data(), velocity_factor, &r), r);
+        return with(MCM_HPP_FN(move_all)(h(), targets_deg.data(), velocity_factor, &r), r);
     }
     Result<void> pvt_points(const std::vector<PvtPoint>& points) {
-        return done(MCM_C(pvt_points)(h(), points.data(), points.size()));
+        return done(MCM_HPP_FN(pvt_points)(h(), points.data(), points.size()));
     }
-    Result<void> take_control() { return done(MCM_C(take_control)(h())); }
-    Result<void> release_control() { return done(MCM_C(release_control)(h())); }
+    Result<void> take_control() { return done(MCM_HPP_FN(take_control)(h())); }
+    Result<void> release_control() { return done(MCM_HPP_FN(release_control)(h())); }
     /// Read the state until pred(state) holds, at most timeout_s.
     template <class F>
     Result<Observed> wait_until(const std::string& what, double timeout_s, F pred) {
         Predicate<F, Observed> p(&pred);
         Observed s{};
-        const mcm_error_t c = MCM_C(wait_until)(h(), what.c_str(), timeout_s,
+        const mcm_error_t c = MCM_HPP_FN(wait_until)(h(), what.c_str(), timeout_s,
                                                 &Predicate<F, Observed>::call, &p, &s);
         p.rethrow();
         return with(c, s);
@@ -287,7 +293,7 @@ protected:
     explicit Client(H* h) : h_(h) {}
     H* h() const noexcept { return h_.get(); }
     Error error(mcm_error_t c) const {
-        return Error(c, MCM_C(last_reject)(h()), MCM_C(last_error)(h()));
+        return Error(c, MCM_HPP_FN(last_reject)(h()), MCM_HPP_FN(last_error)(h()));
     }
     Result<void> done(mcm_error_t c) const {
         if (c != MCM_OK) return error(c);
@@ -313,7 +319,7 @@ private:
     std::unique_ptr<H, Close> h_;
 };
 
-#undef MCM_C
+#undef MCM_HPP_FN
 }  // namespace detail
 
 /// A connection to the MCM's JSON port (TCP): every command of docs/protocol.md, blocking,

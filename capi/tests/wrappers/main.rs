@@ -3,12 +3,14 @@
 //! file like any other source (it does not expand macros, hence a generator and not a macro).
 //! This test fails when the checked-in file differs from what the list generates now; to
 //! write it anew: `MCM_UPDATE_CAPI=1 cargo test -p mcm-capi --test wrappers` (then
-//! `MCM_UPDATE_HEADER=1 cargo test -p mcm-capi --test header` for the header).
+//! `MCM_UPDATE_HEADER=1 cargo test -p mcm-capi --test header` for the header); that run writes
+//! and says what changed instead of comparing (refused when `CI` is set: CI always compares).
 
+#[path = "../common/mod.rs"]
+mod common;
 mod list;
 
 use std::fmt::Write;
-use std::path::Path;
 
 /// The transports a command exists on.
 #[derive(Clone, Copy, PartialEq)]
@@ -32,6 +34,18 @@ pub enum Answer {
     OutPer(&'static str, &'static str, &'static str, &'static str),
     /// An optional output (may be NULL).
     Put(&'static str, &'static str, &'static str),
+}
+
+impl Answer {
+    /// The answer on one transport: an `OutPer` is the `Out` of that transport's type.
+    fn on(self, tcp: bool) -> Answer {
+        match self {
+            Answer::OutPer(name, tcp_ty, shm_ty, conv) => {
+                Answer::Out(name, if tcp { tcp_ty } else { shm_ty }, conv)
+            }
+            other => other,
+        }
+    }
 }
 
 /// One command of the list.
@@ -131,17 +145,17 @@ fn doc_lines(text: &str) -> String {
 
 fn render_one(out: &mut String, c: &Command, tcp: bool) {
     let t = if tcp { "tcp" } else { "shm" };
-    let mut doc = c.doc.to_string();
-    for extra in [if tcp { c.tcp_doc } else { c.shm_doc }] {
-        if !extra.is_empty() {
-            doc = format!("{doc} {extra}");
-        }
-    }
+    let extra = if tcp { c.tcp_doc } else { c.shm_doc };
+    let mut doc = if extra.is_empty() {
+        c.doc.to_string()
+    } else {
+        format!("{} {extra}", c.doc)
+    };
     let mut params: Vec<String> = vec![format!("client: *mut mcm_{t}_client_t")];
     params.extend(c.params.iter().map(|(n, ty)| format!("{n}: {ty}")));
     let mut before = String::new();
     let mut after = String::new();
-    let answered = match c.answer {
+    let answered = match c.answer.on(tcp) {
         Answer::Ack => false,
         Answer::Mode if !tcp => false,
         Answer::Mode => {
@@ -150,13 +164,8 @@ fn render_one(out: &mut String, c: &Command, tcp: bool) {
             after = "            put(status, (&a).into());\n".into();
             true
         }
-        Answer::Out(name, ty, conv) | Answer::OutPer(name, ty, _, conv) if tcp => {
-            params.push(format!("{name}: *mut {ty}"));
-            before = format!("            let o = convert::out({name}, F, \"{name}\")?;\n");
-            after = format!("            *o = {conv};\n");
-            true
-        }
-        Answer::Out(name, ty, conv) | Answer::OutPer(name, _, ty, conv) => {
+        Answer::OutPer(..) => unreachable!("`Answer::on` gives an `Out`"),
+        Answer::Out(name, ty, conv) => {
             params.push(format!("{name}: *mut {ty}"));
             before = format!("            let o = convert::out({name}, F, \"{name}\")?;\n");
             after = format!("            *o = {conv};\n");
@@ -229,18 +238,12 @@ use std::ffi::c_char;
 
 #[test]
 fn the_checked_in_wrappers_are_what_the_list_generates() {
-    let generated = render();
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("src")
-        .join("commands.rs");
-    if std::env::var_os("MCM_UPDATE_CAPI").is_some() {
-        std::fs::write(&path, &generated).expect("write capi/src/commands.rs");
-    }
-    let checked_in = std::fs::read_to_string(&path).unwrap_or_default();
-    assert!(
-        checked_in == generated,
-        "capi/src/commands.rs differs from what capi/tests/wrappers/list.rs generates; \
-         regenerate it with `MCM_UPDATE_CAPI=1 cargo test -p mcm-capi --test wrappers` and commit it"
+    common::check_generated(
+        "src/commands.rs",
+        "capi/tests/wrappers/list.rs",
+        &render(),
+        "MCM_UPDATE_CAPI",
+        "cargo test -p mcm-capi --test wrappers",
     );
 }
 

@@ -7,12 +7,13 @@
 //! not wake at the cycle rate) and yields a notice on a change worth telling.
 //!
 //! The gateway is usually stopped *because* the core stopped: the launcher stops it when
-//! `mcm-rt` dies or after its controlled stop, and so does systemd (`BindsTo=mcm-rt.service`),
-//! both within milliseconds, before the bridge has seen the core fall silent. So on shutdown
-//! the gateway first [`settle`]s what is known of the core, once for every transport
-//! (`crate::run`), and each connection and the ZeroMQ PUB socket send the notice still due
-//! ([`CoreWatch::due`]) before their last line: a client hears that the core stopped (or
-//! vanished), not only that the gateway was asked to stop.
+//! `mcm-rt` dies or after its controlled stop, and so does systemd (the unit's `BindsTo=` and
+//! `Before=mcm-rt.service`: stopped with the core, after it), both within milliseconds, before
+//! the bridge has seen the core fall silent. So on shutdown the gateway first [`settle`]s what
+//! is known of the core, once for every transport (`crate::run`), and each connection and the
+//! ZeroMQ PUB socket send the notice still due ([`CoreWatch::due`]) before their last line: a
+//! client hears that the core stopped (or vanished), not only that the gateway was asked to
+//! stop.
 //!
 //! A notice is a [`Notice`], the same words on every channel: JSON/TCP and ZeroMQ send it as a
 //! `generic` ERROR result ([`Notice::result`]), the HMI prints it as an ERROR line.

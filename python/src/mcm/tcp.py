@@ -15,10 +15,11 @@ What each command answers on success comes from the protocol's own definition of
 waiting, and a refusal comes later as an event).
 
 Adding a command: regenerate :mod:`mcm.codes` (see its head), then add a method that calls
-:meth:`Client.command` (or ``_expect``, which also checks the result's type) with the
-protocol's name and arguments and wraps the result (``_status`` for a status result,
-``_generic`` for OK/ERROR); a command that starts a session with status ticks joins
-``_SESSIONS``.
+``_expect`` with the protocol's name and arguments (:meth:`Client.command`, checking that the
+result is of the type the protocol defines for the command) and wraps the result (``_status``
+for a status result; a ``generic`` OK is checked and dropped); a command that answers nothing
+on success (``codes.NO_RESULT``) calls :meth:`Client.command`; a command that starts a session
+with status ticks joins ``_SESSIONS``.
 """
 
 import collections
@@ -313,9 +314,6 @@ class Client:
             raise ProtocolError("`%s` answered %r, expected a result of type \"%s\"" % (command, v, expected))
         return v
 
-    def _generic(self, command: str, arguments: Optional[Dict[str, Any]] = None, **kw: Any) -> None:
-        self._expect(command, arguments, **kw)
-
     def _status(self, command: str, arguments: Optional[Dict[str, Any]] = None) -> Status:
         return Status.from_json(self._expect(command, arguments))
 
@@ -339,7 +337,7 @@ class Client:
         force_mechanical_stop: bool = False,
     ) -> None:
         """Home the axes; returns when the calibration has finished (about 12 s simulated)."""
-        self._generic(
+        self._expect(
             "calibrate",
             {
                 "which": which,
@@ -409,7 +407,7 @@ class Client:
         self, axis_index: int, target_position: float, velocity_factor: Optional[float] = None
     ) -> None:
         """Move one axis (1..6) to a target [deg]; returns as the motion starts."""
-        self._generic(
+        self._expect(
             "move_axis",
             _given(axis_index=axis_index, target_position=target_position, velocity_factor=velocity_factor),
         )
@@ -425,11 +423,11 @@ class Client:
     def pvt_points(self, points: Sequence[Union[PvtPoint, Dict[str, Any]]]) -> None:
         """Queue 1 to 1000 points (all or none)."""
         pts = [p.to_json() if isinstance(p, PvtPoint) else p for p in points]
-        self._generic("pvt_points", {"points": pts})
+        self._expect("pvt_points", {"points": pts})
 
     def sleep(self, duration: float) -> None:
         """Delay this connection's next command by ``duration`` seconds (on the MCM)."""
-        self._generic("sleep", {"duration": duration}, timeout=self.timeout + duration)
+        self._expect("sleep", {"duration": duration}, timeout=self.timeout + duration)
 
     def sim(
         self,
@@ -455,15 +453,15 @@ class Client:
 
     def take_control(self) -> None:
         """Become the client that controls the arm's motion."""
-        self._generic("take_control")
+        self._expect("take_control")
 
     def release_control(self) -> None:
         """Give up control of the arm (its motion ends in HOLD)."""
-        self._generic("release_control")
+        self._expect("release_control")
 
     def authenticate(self, secret: str) -> None:
         """Present the shared secret of an MCM that requires one."""
-        self._generic("authenticate", {"secret": secret})
+        self._expect("authenticate", {"secret": secret})
 
     # -- spontaneous results ----------------------------------------------------------------
 
