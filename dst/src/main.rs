@@ -40,12 +40,15 @@ fn main() -> ExitCode {
             "--hours" => hours = Some(parse::<f64>(&value("--hours"), "--hours")),
             "--jobs" => jobs = parse(&value("--jobs"), "--jobs"),
             "--first-seed" => first_seed = parse(&value("--first-seed"), "--first-seed"),
-            "--planted-bug" => match value("--planted-bug").as_str() {
-                "braking" => planted = Some(PlantedBug::BrakingCheckOff),
-                other => fail(&format!(
-                    "unknown planted bug {other:?}: `braking` is the only one"
-                )),
-            },
+            "--planted-bug" => {
+                let name = value("--planted-bug");
+                match PlantedBug::ALL.into_iter().find(|p| p.name() == name) {
+                    Some(p) => planted = Some(p),
+                    None => fail(&format!(
+                        "unknown planted bug {name:?}: `braking` is the only one"
+                    )),
+                }
+            }
             "-h" | "--help" => {
                 println!("{USAGE}");
                 return ExitCode::SUCCESS;
@@ -102,10 +105,11 @@ fn main() -> ExitCode {
     });
     println!("{}", r.summary());
     let mut ok = true;
+    let planted_arg = planted.map_or(String::new(), |p| format!(" --planted-bug {}", p.name()));
     for f in &r.failures {
         ok = false;
         eprintln!(
-            "FAILED seed {} (commit {}): {}\n  replay: mcm-dst --seed {} --seconds {seconds}",
+            "FAILED seed {} (commit {}): {}\n  replay: mcm-dst --seed {} --seconds {seconds}{planted_arg}",
             f.seed,
             commit(),
             f.violation.as_ref().expect("a failure"),

@@ -30,6 +30,17 @@ pub enum PlantedBug {
     BrakingCheckOff,
 }
 
+impl PlantedBug {
+    pub const ALL: [PlantedBug; 1] = [PlantedBug::BrakingCheckOff];
+
+    /// Its name on the command line (`--planted-bug NAME`).
+    pub fn name(self) -> &'static str {
+        match self {
+            PlantedBug::BrakingCheckOff => "braking",
+        }
+    }
+}
+
 /// What to run.
 #[derive(Debug, Clone, Copy)]
 pub struct RunOptions {
