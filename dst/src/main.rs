@@ -16,9 +16,23 @@ const USAGE: &str = "usage: mcm-dst [--seed N] [--seconds S] [--hours H] [--jobs
   --jobs J        threads of the campaign (default 1)
   --planted-bug braking   plant a bug (the braking check as good as off) to see the campaign catch it";
 
-/// The commit this binary was built from (`build.rs`).
-fn commit() -> &'static str {
-    env!("MCM_DST_COMMIT")
+/// The commit this binary was built from (`build.rs`), and whether the checkout it was built
+/// in has uncommitted changes now (looked at when a failure is reported: the build script
+/// cannot see edits, and a replay needs to know that the commit alone may not be the code).
+fn commit() -> String {
+    let dirty = std::process::Command::new("git")
+        .args(["status", "--porcelain", "--untracked-files=no"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .is_some_and(|o| !o.stdout.is_empty());
+    let commit = env!("MCM_DST_COMMIT");
+    if dirty {
+        format!("{commit}; its checkout has uncommitted changes now")
+    } else {
+        commit.to_string()
+    }
 }
 
 fn main() -> ExitCode {
