@@ -81,14 +81,6 @@ pub struct Client {
     phase: f64,
 }
 
-/// What a client sent, for the checker.
-#[derive(Debug, Clone, Copy)]
-pub struct Sent {
-    pub sample: CommandSample,
-    /// The request as the client meant it (`None`: a sample built not to decode).
-    pub request: Option<Request>,
-}
-
 impl Client {
     pub fn new(id: u64, rng: &mut Rng) -> Client {
         Client {
@@ -108,11 +100,8 @@ impl Client {
         sample
     }
 
-    fn request(&mut self, r: Request) -> Sent {
-        Sent {
-            sample: self.stamp(r.encode()),
-            request: Some(r),
-        }
+    fn request(&mut self, r: Request) -> CommandSample {
+        self.stamp(r.encode())
     }
 
     /// This cycle's command of this client, if it sends one; `Gone` when it disconnects.
@@ -140,7 +129,12 @@ impl Client {
         }
     }
 
-    fn towards_goal(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Option<Sent> {
+    fn towards_goal(
+        &mut self,
+        s: &StateSample,
+        lim: &Limits,
+        rng: &mut Rng,
+    ) -> Option<CommandSample> {
         let mode = Mode::try_from(s.mode).unwrap_or(Mode::Off);
         let calibrated = s.axis_flags.iter().all(|f| f & AXIS_CALIBRATED != 0);
         if s.owner_client_id != self.id && s.owner_client_id != 0 && rng.chance(0.7) {
@@ -207,7 +201,7 @@ impl Client {
     }
 
     /// Any command, its arguments drawn wide (some refused); or a sample that does not decode.
-    fn random(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Option<Sent> {
+    fn random(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Option<CommandSample> {
         let r = match rng.below(18) {
             0 => Request::Status,
             1 => Request::Hold,
@@ -253,7 +247,7 @@ impl Client {
     }
 
     /// A sample that may not decode: an unknown kind, or a known kind with wild arguments.
-    fn garbage(&mut self, rng: &mut Rng) -> Sent {
+    fn garbage(&mut self, rng: &mut Rng) -> CommandSample {
         let mut sample = CommandSample {
             kind: rng.below(20) as u32,
             flags: rng.next_u64() as u32,
@@ -266,10 +260,7 @@ impl Client {
         {
             *a = rng.pick(&[f64::NAN, f64::INFINITY, -1e300, 0.0, 1.0, 7.0, -3.5, 1e-9]);
         }
-        Sent {
-            sample: self.stamp(sample),
-            request: None,
-        }
+        self.stamp(sample)
     }
 }
 
@@ -277,9 +268,9 @@ impl Client {
 #[derive(Debug, Clone, Copy)]
 pub enum Action {
     None,
-    Send(Sent),
+    Send(CommandSample),
     /// It sends `client_gone` and disconnects.
-    Gone(Sent),
+    Gone(CommandSample),
 }
 
 fn calibrate(rng: &mut Rng) -> Calibrate {

@@ -10,7 +10,7 @@
 //! gravity compensated) or PVT (`move_axis` to just inside a limit at full speed), for a few
 //! seconds, then `hold` and the next plan.
 
-use crate::clients::{Limits, Sent};
+use crate::clients::Limits;
 use crate::rng::Rng;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
@@ -18,7 +18,7 @@ use mcm_shared::command::{
     VelocityControl, Which,
 };
 use mcm_shared::mode::Mode;
-use mcm_shared::sample::{AXIS_CALIBRATED, StateSample};
+use mcm_shared::sample::{AXIS_CALIBRATED, CommandSample, StateSample};
 
 /// Cycles a plan runs before the driver sends `hold` (about 3 s at 200 Hz).
 const PLAN_CYCLES: u64 = 600;
@@ -76,15 +76,12 @@ impl Driver {
         self.moved = false;
     }
 
-    fn request(&mut self, r: Request) -> Sent {
+    fn request(&mut self, r: Request) -> CommandSample {
         let mut sample = r.encode();
         sample.client_id = self.id;
         sample.request_id = self.next_request;
         self.next_request += 1;
-        Sent {
-            sample,
-            request: Some(r),
-        }
+        sample
     }
 
     fn wait(&mut self, s: &StateSample, cycles: u64) {
@@ -92,7 +89,7 @@ impl Driver {
     }
 
     /// This cycle's command of the driver, if it sends one.
-    pub fn act(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Option<Sent> {
+    pub fn act(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Option<CommandSample> {
         if s.seq < self.wait_until {
             return None;
         }

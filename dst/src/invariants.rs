@@ -11,8 +11,9 @@
 //! - every command answered exactly once, with the kind it asked (at the end of the run no
 //!   command may be left unanswered);
 //! - an OK to `pvt`, `release`, `torque_control`, `velocity_control` is published with its
-//!   mode (or ERROR: a trip in the same cycle), an OK to `calibrate` (its acceptance) with
-//!   CALIBRATION, unless a later command of that cycle changed the mode again;
+//!   mode (or ERROR: a trip in the same cycle), and an OK to `calibrate` (given when the
+//!   calibration ends) with every axis it covered flagged calibrated, unless a later command
+//!   of that cycle changed the mode again;
 //! - only legal mode transitions: the motion modes entered from HOLD only, CALIBRATION from
 //!   OFF or HOLD only, OFF never entered again once left;
 //! - no axis flagged calibrated whose measured angle is further from the true angle than its
@@ -21,7 +22,7 @@
 
 use crate::faults::Fault;
 use mcm_shared::NUM_AXES;
-use mcm_shared::command::Which;
+use mcm_shared::command::{Axis, Request, Which};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::reply::{Outcome, Response};
@@ -53,7 +54,7 @@ impl std::fmt::Display for Violation {
 #[derive(Debug, Clone, Copy)]
 struct Asked {
     kind: u32,
-    #[allow(dead_code)] // kept for a check of what a finished calibration covers
+    /// The axes a `calibrate` covers.
     which: Option<Which>,
     cycle: u64,
 }
@@ -99,7 +100,11 @@ impl Checker {
     }
 
     /// A command was sent at cycle `k`.
-    pub fn asked(&mut self, c: &CommandSample, which: Option<Which>, k: u64) {
+    pub fn asked(&mut self, c: &CommandSample, k: u64) {
+        let which = match Request::decode(c) {
+            Ok(Request::Calibrate(cal)) => Some(cal.which),
+            _ => None,
+        };
         let a = Asked {
             kind: c.kind,
             which,
@@ -229,7 +234,7 @@ impl Checker {
         Ok(())
     }
 
-    fn replies(&mut self, _s: &StateSample, mode: Mode, replies: &[Reply]) -> Result<(), String> {
+    fn replies(&mut self, s: &StateSample, mode: Mode, replies: &[Reply]) -> Result<(), String> {
         for (n, r) in replies.iter().enumerate() {
             let Some(asked) = self.asked.remove(&(r.client_id, r.request_id)) else {
                 return Err(format!(
@@ -288,19 +293,34 @@ impl Checker {
             if later_change {
                 continue;
             }
+            if resp.kind == CommandKind::Calibrate {
+                // Answered OK only when the calibration ended with every axis it covered found.
+                let Some(which) = asked.which else {
+                    return Err(format!(
+                        "calibrate of client {} request {} answered OK, but it did not decode as one",
+                        r.client_id, r.request_id
+                    ));
+                };
+                let missing = Axis::ALL
+                    .iter()
+                    .find(|a| which.contains(**a) && s.axis_flags[a.index()] & AXIS_CALIBRATED == 0);
+                if let Some(a) = missing {
+                    return Err(format!(
+                        "calibrate ({which:?}) of client {} request {} answered OK in {mode}, but axis {a} is not flagged calibrated (axis flags {:?})",
+                        r.client_id, r.request_id, s.axis_flags
+                    ));
+                }
+            }
             let entered = match resp.kind {
                 CommandKind::Pvt => Some(Mode::Pvt),
                 CommandKind::Release => Some(Mode::Release),
                 CommandKind::TorqueControl => Some(Mode::TorqueControl),
                 CommandKind::VelocityControl => Some(Mode::VelocityControl),
-                CommandKind::Calibrate => Some(Mode::Calibration),
                 _ => None,
             };
             if let Some(want) = entered
                 && mode != want
                 && mode != Mode::Error
-                // `calibrate` is answered when accepted or, when it ends in the same cycle, done.
-                && !(resp.kind == CommandKind::Calibrate && mode == Mode::Hold)
             {
                 return Err(format!(
                     "{} of client {} request {} answered OK ({done:?}) but the mode is {mode}, not {want}",

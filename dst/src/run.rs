@@ -150,13 +150,6 @@ pub fn config(rng: &mut Rng, planted: Option<PlantedBug>) -> RobotConfig {
     cfg
 }
 
-fn which_of(r: &Request) -> Option<Which> {
-    match r {
-        Request::Calibrate(c) => Some(c.which),
-        _ => None,
-    }
-}
-
 /// Run one seed.
 pub fn run(opts: &RunOptions) -> RunReport {
     let mut rng = Rng::new(opts.seed);
@@ -228,7 +221,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
                 }
             }
             for c in inj.commands {
-                checker.asked(&c, None, k);
+                checker.asked(&c, k);
                 world.send(c);
             }
             if let Some(b) = inj.bus {
@@ -237,24 +230,24 @@ pub fn run(opts: &RunOptions) -> RunReport {
             for client in &mut clients {
                 match client.act(&s, &limits, &mut client_rng) {
                     Action::None => {}
-                    Action::Send(x) => {
-                        checker.asked(&x.sample, x.request.as_ref().and_then(which_of), k);
-                        world.send(x.sample);
+                    Action::Send(c) => {
+                        checker.asked(&c, k);
+                        world.send(c);
                     }
-                    Action::Gone(x) => {
-                        checker.asked(&x.sample, None, k);
-                        world.send(x.sample);
+                    Action::Gone(c) => {
+                        checker.asked(&c, k);
+                        world.send(c);
                         next_id += 1;
                         *client = Client::new(next_id, &mut client_rng);
                     }
                 }
             }
-            if let Some(x) = driver
+            if let Some(c) = driver
                 .as_mut()
                 .and_then(|d| d.act(&s, &limits, &mut driver_rng))
             {
-                checker.asked(&x.sample, x.request.as_ref().and_then(which_of), k);
-                world.send(x.sample);
+                checker.asked(&c, k);
+                world.send(c);
             }
             faults.clear();
             faults.extend(schedule.active());
@@ -264,7 +257,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
         // The quiet phase: faults off, every client gone, the recovery client.
         let k = world.cycle_index();
         for c in schedule.end_all() {
-            checker.asked(&c, None, k);
+            checker.asked(&c, k);
             world.send(c);
         }
         world.bus().faults = BusFaults::default();
@@ -272,7 +265,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
         for id in ids {
             let mut c = Request::ClientGone.encode();
             (c.client_id, c.request_id) = (id, u64::MAX);
-            checker.asked(&c, None, k);
+            checker.asked(&c, k);
             world.send(c);
         }
         // Faults stay "under way" for the checker until the pushes etc. are undone.
@@ -288,8 +281,8 @@ pub fn run(opts: &RunOptions) -> RunReport {
         while world.cycle_index() - start < quiet_cycles {
             let k = world.cycle_index();
             if let Some(c) = recovery.next(world.state()) {
-                checker.asked(&c.0, c.1, k);
-                world.send(c.0);
+                checker.asked(&c, k);
+                world.send(c);
             }
             step(&mut world, &mut checker, &mut hash, &faults)?;
             recovery.read(world.replies());
@@ -365,7 +358,7 @@ impl Recovery {
         }
     }
 
-    fn next(&mut self, s: &StateSample) -> Option<(CommandSample, Option<Which>)> {
+    fn next(&mut self, s: &StateSample) -> Option<CommandSample> {
         if self.pending.is_some() || self.done || s.seq < self.wait_until {
             return None;
         }
@@ -396,7 +389,7 @@ impl Recovery {
         (c.client_id, c.request_id) = (RECOVERY_CLIENT, self.next_request);
         self.pending = Some(self.next_request);
         self.next_request += 1;
-        Some((c, which_of(&r)))
+        Some(c)
     }
 
     fn read(&mut self, replies: &[Reply]) {
