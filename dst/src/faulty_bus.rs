@@ -50,7 +50,7 @@ pub struct BusFaultCounts {
 
 /// [`SimBus`] behind a faulty cable.
 pub struct FaultyBus {
-    pub sim: SimBus,
+    sim: SimBus,
     pub faults: BusFaults,
     pub counts: BusFaultCounts,
     rng: Rng,
@@ -77,6 +77,11 @@ impl FaultyBus {
     /// The simulated robot inside (the simulator's edge reaches it through this).
     pub fn sim_mut(&mut self) -> &mut SimBus {
         &mut self.sim
+    }
+
+    /// The simulated robot inside, for inspection.
+    pub fn sim(&self) -> &SimBus {
+        &self.sim
     }
 
     fn is_heartbeat_of(frame: &Frame, node: Option<u8>) -> bool {

@@ -189,7 +189,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
         recovery_cycles: None,
     };
     let mut hash = Hash(report.hash);
-    let period_s = world.period_ns() as f64 * 1e-9;
+    let period_s = cfg.cycle_period_s();
     let chaos_cycles = (opts.seconds / period_s) as u64;
     let mut faults: Vec<Fault> = Vec::new();
 
