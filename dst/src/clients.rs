@@ -9,6 +9,7 @@
 //! with random arguments, some outside their ranges, some not decodable at all.
 
 use crate::rng::Rng;
+use crate::stamp::Stamp;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
     Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques,
@@ -70,8 +71,7 @@ impl Limits {
 /// One client connection.
 #[derive(Debug, Clone)]
 pub struct Client {
-    pub id: u64,
-    next_request: u64,
+    stamp: Stamp,
     goal: Goal,
     /// Chance per cycle to send a command.
     cadence: f64,
@@ -84,8 +84,7 @@ pub struct Client {
 impl Client {
     pub fn new(id: u64, rng: &mut Rng) -> Client {
         Client {
-            id,
-            next_request: 1,
+            stamp: Stamp::new(id),
             goal: rng.pick(&GOALS),
             cadence: rng.pick(&[0.02, 0.1, 0.3, 0.8]),
             chaos: rng.pick(&[0.05, 0.2, 0.5]),
@@ -93,21 +92,23 @@ impl Client {
         }
     }
 
-    fn stamp(&mut self, mut sample: CommandSample) -> CommandSample {
-        sample.client_id = self.id;
-        sample.request_id = self.next_request;
-        self.next_request += 1;
-        sample
+    pub fn id(&self) -> u64 {
+        self.stamp.client_id
     }
 
     fn request(&mut self, r: Request) -> CommandSample {
-        self.stamp(r.encode())
+        self.stamp.request(r)
+    }
+
+    /// Its `client_gone` (its connection closes).
+    pub fn gone(&mut self) -> CommandSample {
+        self.request(Request::ClientGone)
     }
 
     /// This cycle's command of this client, if it sends one; `Gone` when it disconnects.
     pub fn act(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Action {
         if rng.chance(0.0005) {
-            return Action::Gone(self.request(Request::ClientGone));
+            return Action::Gone(self.gone());
         }
         if rng.chance(0.002) {
             self.goal = rng.pick(&GOALS);
@@ -137,7 +138,7 @@ impl Client {
     ) -> Option<CommandSample> {
         let mode = Mode::try_from(s.mode).unwrap_or(Mode::Off);
         let calibrated = s.axis_flags.iter().all(|f| f & AXIS_CALIBRATED != 0);
-        if s.owner_client_id != self.id && s.owner_client_id != 0 && rng.chance(0.7) {
+        if s.owner_client_id != self.id() && s.owner_client_id != 0 && rng.chance(0.7) {
             return None; // someone else drives: mostly wait
         }
         if s.owner_client_id == 0 && self.goal != Goal::Idle && rng.chance(0.3) {
@@ -260,7 +261,7 @@ impl Client {
         {
             *a = rng.pick(&[f64::NAN, f64::INFINITY, -1e300, 0.0, 1.0, 7.0, -3.5, 1e-9]);
         }
-        self.stamp(sample)
+        self.stamp.stamp(sample)
     }
 }
 

@@ -12,10 +12,10 @@
 
 use crate::clients::Limits;
 use crate::rng::Rng;
+use crate::stamp::{Stamp, calibrate_all};
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAxis, Pvt, Request, SetTorques, SetVelocities, TorqueControl,
-    VelocityControl, Which,
+    Axis, MoveAxis, Pvt, Request, SetTorques, SetVelocities, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::Mode;
 use mcm_shared::sample::{AXIS_CALIBRATED, CommandSample, StateSample};
@@ -34,8 +34,7 @@ enum Motion {
 /// The driver client.
 #[derive(Debug, Clone)]
 pub struct Driver {
-    pub id: u64,
-    next_request: u64,
+    stamp: Stamp,
     motion: Motion,
     axis: usize,
     /// +1 towards the upper limit, -1 towards the lower.
@@ -53,8 +52,7 @@ pub struct Driver {
 impl Driver {
     pub fn new(id: u64, rng: &mut Rng) -> Driver {
         let mut d = Driver {
-            id,
-            next_request: 1,
+            stamp: Stamp::new(id),
             motion: Motion::Velocity,
             axis: 0,
             direction: 1.0,
@@ -77,11 +75,12 @@ impl Driver {
     }
 
     fn request(&mut self, r: Request) -> CommandSample {
-        let mut sample = r.encode();
-        sample.client_id = self.id;
-        sample.request_id = self.next_request;
-        self.next_request += 1;
-        sample
+        self.stamp.request(r)
+    }
+
+    /// Its `client_gone` (its connection closes).
+    pub fn gone(&mut self) -> CommandSample {
+        self.request(Request::ClientGone)
     }
 
     fn wait(&mut self, s: &StateSample, cycles: u64) {
@@ -93,7 +92,7 @@ impl Driver {
         if s.seq < self.wait_until {
             return None;
         }
-        if s.owner_client_id != self.id {
+        if s.owner_client_id != self.stamp.client_id {
             if s.owner_client_id != 0 {
                 return None; // someone else drives
             }
@@ -110,12 +109,7 @@ impl Driver {
             Mode::Calibration => return None,
             Mode::Hold if !calibrated => {
                 self.wait(s, 40);
-                Request::Calibrate(Calibrate {
-                    which: Which::All,
-                    elbow_direction: Direction::Positive,
-                    wrist_direction: Direction::Positive,
-                    force_mechanical_stop: false,
-                })
+                calibrate_all()
             }
             Mode::Hold => {
                 self.plan(s.seq, rng);

@@ -8,9 +8,13 @@
 
 use crate::faulty_bus::BusFaults;
 use crate::rng::Rng;
+use crate::stamp::Stamp;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{Axis, Request, SimCommand};
 use mcm_shared::sample::CommandSample;
+
+/// The largest torque a push puts on its joint [Nm].
+pub const PUSH_MAX_NM: f64 = 15.0;
 
 /// The kinds of fault, for the schedule and the campaign's counts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -97,8 +101,7 @@ pub struct Schedule {
     /// Chance per cycle that each enabled kind starts an episode (when none of it runs).
     rates: [f64; Fault::ALL.len()],
     active: Vec<Episode>,
-    client_id: u64,
-    next_request: u64,
+    stamp: Stamp,
 }
 
 impl Schedule {
@@ -107,17 +110,12 @@ impl Schedule {
         Schedule {
             rates,
             active: Vec::new(),
-            client_id,
-            next_request: 1,
+            stamp: Stamp::new(client_id),
         }
     }
 
     fn sim(&mut self, cmd: SimCommand) -> CommandSample {
-        let mut c = Request::Sim(cmd).encode();
-        c.client_id = self.client_id;
-        c.request_id = self.next_request;
-        self.next_request += 1;
-        c
+        self.stamp.request(Request::Sim(cmd))
     }
 
     /// This cycle's injections at cycle `k`.
@@ -222,7 +220,7 @@ fn start(f: Fault, axis: Axis, rng: &mut Rng) -> Option<SimCommand> {
         },
         Fault::Push => {
             let mut tau = [0.0; NUM_AXES];
-            tau[axis.index()] = rng.range(-15.0, 15.0);
+            tau[axis.index()] = rng.range(-PUSH_MAX_NM, PUSH_MAX_NM);
             SimCommand {
                 external_torques_nm: Some(tau),
                 ..none

@@ -27,9 +27,17 @@ use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::reply::{Outcome, Response};
 use mcm_shared::sample::{AXIS_CALIBRATED, CommandSample, Reply, StateSample};
+use mcm_sim::SimBus;
 use std::collections::HashMap;
 
-/// How far the stops' spring may give under the largest torques [deg].
+/// How far the stops' spring may give [deg]. Not derived at run time; the P-Rob2's figures
+/// (`deploy/prob2.toml`, the stops' `sim.stop_stiffness_nm_rad` 20 000 Nm/rad): pressed by
+/// the largest torques (a motor's peak torque, 129.6 Nm on axes 1 to 3, a push of up to
+/// [`PUSH_MAX_NM`](crate::faults::PUSH_MAX_NM), gravity up to 65 Nm on axis 2) a stop gives
+/// up to 0.6 deg; hit at the overspeed limit (1.1 x 90 deg/s) with the arm stretched (up to
+/// 4.6 kg m^2 on axes 1 and 2) it gives up to 1.5 deg more (undamped, `v·sqrt(I/k)`). 2 deg
+/// is about their sum. A push on an unpowered axis is held to no speed limit and may go
+/// deeper (`docs/testing.md`, findings).
 pub const STOP_PENETRATION_DEG: f64 = 2.0;
 /// How far past a software limit the controller may let an axis go [deg].
 pub const LIMIT_OVERRUN_DEG: f64 = 1.0;
@@ -75,21 +83,17 @@ pub struct Checker {
 }
 
 impl Checker {
-    pub fn new(cfg: &RobotConfig) -> Checker {
+    /// The checker of a run under `cfg`, of the simulated robot `sim` (its mechanical stops).
+    pub fn new(cfg: &RobotConfig, sim: &SimBus) -> Checker {
         let stops_deg = core::array::from_fn(|i| {
-            let a = &cfg.axes[i];
-            let (stop, lo, hi) = (a.calibration.stop_deg, a.min_deg, a.max_deg);
-            if a.calibration.direction > 0 {
-                (lo - (stop - hi), stop)
-            } else {
-                (stop, hi + (lo - stop))
-            }
+            let (lo, hi) = sim.arm().mechanical_stops(i);
+            (lo.to_degrees(), hi.to_degrees())
         });
         Checker {
             stops_deg,
             limits_deg: core::array::from_fn(|i| (cfg.axes[i].min_deg, cfg.axes[i].max_deg)),
             tolerance_deg: core::array::from_fn(|i| cfg.axes[i].calibration.tolerance_deg),
-            period_s: cfg.cycle_period_ns() as f64 * 1e-9,
+            period_s: cfg.cycle_period_s(),
             asked: HashMap::new(),
             prev_mode: Mode::Off,
             left_off: false,

@@ -19,5 +19,6 @@ pub mod faulty_bus;
 pub mod invariants;
 pub mod rng;
 pub mod run;
+pub mod stamp;
 pub mod swarm;
 pub mod world;

@@ -8,9 +8,10 @@ use crate::faults::{Fault, Schedule};
 use crate::faulty_bus::{BusFaultCounts, BusFaults};
 use crate::invariants::{Checker, Violation};
 use crate::rng::Rng;
+use crate::stamp::{Stamp, calibrate_all};
 use crate::swarm::Swarm;
 use crate::world::World;
-use mcm_shared::command::{Calibrate, Direction, Pvt, Request, Which};
+use mcm_shared::command::{Pvt, Request};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::reply::{Outcome, Response};
@@ -161,7 +162,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
     let mut driver_rng = rng.fork(4);
     swarm.draw_roles(&mut driver_rng);
     let limits = Limits::of(&cfg);
-    let mut checker = Checker::new(&cfg);
+    let mut checker = Checker::new(&cfg, world.bus().sim());
     let mut schedule = Schedule::new(swarm.fault_rates, FAULT_CLIENT);
     let mut next_id = FIRST_CLIENT_ID;
     let mut clients: Vec<Client> = (0..swarm.clients)
@@ -261,10 +262,11 @@ pub fn run(opts: &RunOptions) -> RunReport {
             world.send(c);
         }
         world.bus().faults = BusFaults::default();
-        let ids = clients.iter().map(|c| c.id).chain(driver.map(|d| d.id));
-        for id in ids {
-            let mut c = Request::ClientGone.encode();
-            (c.client_id, c.request_id) = (id, u64::MAX);
+        let gone = clients
+            .iter_mut()
+            .map(Client::gone)
+            .chain(driver.as_mut().map(Driver::gone));
+        for c in gone {
             checker.asked(&c, k);
             world.send(c);
         }
@@ -328,7 +330,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
 struct Recovery {
     stage: Stage,
     pending: Option<u64>,
-    next_request: u64,
+    stamp: Stamp,
     last: Option<Outcome>,
     done: bool,
     wait_until: u64,
@@ -350,7 +352,7 @@ impl Recovery {
         Recovery {
             stage: Stage::Control,
             pending: None,
-            next_request: 1,
+            stamp: Stamp::new(RECOVERY_CLIENT),
             last: None,
             done: false,
             wait_until: 0,
@@ -376,19 +378,12 @@ impl Recovery {
                 self.stage = Stage::Use;
                 Request::Pvt(Pvt { dt_s: 0.01 })
             }
-            Stage::Calibrate => Request::Calibrate(Calibrate {
-                which: Which::All,
-                elbow_direction: Direction::Positive,
-                wrist_direction: Direction::Positive,
-                force_mechanical_stop: false,
-            }),
+            Stage::Calibrate => calibrate_all(),
             Stage::Use => Request::Pvt(Pvt { dt_s: 0.01 }),
             Stage::Back => Request::Hold,
         };
-        let mut c = r.encode();
-        (c.client_id, c.request_id) = (RECOVERY_CLIENT, self.next_request);
-        self.pending = Some(self.next_request);
-        self.next_request += 1;
+        let c = self.stamp.request(r);
+        self.pending = Some(c.request_id);
         Some(c)
     }
 
