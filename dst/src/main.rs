@@ -2,6 +2,7 @@
 //! (`--hours H --jobs J`). See `docs/testing.md`, "Deterministic simulation testing".
 
 use mcm_dst::campaign::{CampaignOptions, campaign};
+use mcm_dst::hash::first_divergence;
 use mcm_dst::run::{PlantedBug, RunOptions, run};
 use mcm_shared::alloc_count::CountingAlloc;
 use std::process::ExitCode;
@@ -94,8 +95,10 @@ fn main() -> ExitCode {
             a.modes_reached, a.answers, a.recovery_cycles
         );
         if a.hash != b.hash || a.violation != b.violation {
+            let at = first_divergence(&a.checkpoints, &b.checkpoints)
+                .map_or("no cycle (the violations differ)".into(), |k| format!("cycle {k}"));
             eprintln!(
-                "NOT DETERMINISTIC: seed {seed} gave hash {:016x} then {:016x}",
+                "NOT DETERMINISTIC: seed {seed} gave hash {:016x} then {:016x}; first different: {at}",
                 a.hash, b.hash
             );
             return ExitCode::FAILURE;

@@ -6,6 +6,7 @@ use crate::clients::{Action, Client, FIRST_CLIENT_ID, Limits};
 use crate::driver::Driver;
 use crate::faults::{Fault, Schedule};
 use crate::faulty_bus::{BusFaultCounts, BusFaults};
+use crate::hash::RunHash;
 use crate::invariants::{Checker, Violation};
 use crate::rng::Rng;
 use crate::stamp::{Stamp, calibrate_all};
@@ -73,6 +74,8 @@ pub struct RunReport {
     pub simulated_s: f64,
     /// Hash of every cycle's published state and replies: equal for two runs of a seed.
     pub hash: u64,
+    /// The hash after each cycle ([`crate::hash::first_divergence`] of two runs).
+    pub checkpoints: Vec<u64>,
     pub violation: Option<Violation>,
     pub modes_reached: [u64; 8],
     pub faults_started: [u64; Fault::ALL.len()],
@@ -84,58 +87,6 @@ pub struct RunReport {
     pub bus: BusFaultCounts,
     /// Cycles the quiet phase took to a calibrated HOLD.
     pub recovery_cycles: Option<u64>,
-}
-
-/// FNV-1a over 64-bit words.
-struct Hash(u64);
-
-impl Hash {
-    fn word(&mut self, w: u64) {
-        for b in w.to_le_bytes() {
-            self.0 ^= u64::from(b);
-            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01B3);
-        }
-    }
-
-    fn state(&mut self, s: &StateSample, replies: &[Reply]) {
-        for w in [
-            s.seq,
-            s.t_ns,
-            u64::from(s.mode),
-            u64::from(s.flags),
-            s.reply_head,
-        ] {
-            self.word(w);
-        }
-        self.word(s.owner_client_id);
-        for a in [
-            &s.position,
-            &s.velocity,
-            &s.current,
-            &s.measured_position,
-            &s.commanded_position,
-            &s.sim_true_position,
-            &s.sim_true_velocity,
-        ] {
-            for x in a {
-                self.word(x.to_bits());
-            }
-        }
-        for f in s.axis_flags {
-            self.word(u64::from(f));
-        }
-        self.word(s.last_error.seq);
-        for r in replies {
-            for w in [
-                r.client_id,
-                r.request_id,
-                u64::from(r.status),
-                u64::from(r.code),
-            ] {
-                self.word(w);
-            }
-        }
-    }
 }
 
 /// The configuration of a seed's run: the P-Rob2, its encoder offsets and start pose drawn.
@@ -179,7 +130,8 @@ pub fn run(opts: &RunOptions) -> RunReport {
         swarm: swarm.clone(),
         cycles: 0,
         simulated_s: 0.0,
-        hash: 0xCBF2_9CE4_8422_2325,
+        hash: 0,
+        checkpoints: Vec::new(),
         violation: None,
         modes_reached: [0; 8],
         faults_started: [0; Fault::ALL.len()],
@@ -189,21 +141,21 @@ pub fn run(opts: &RunOptions) -> RunReport {
         bus: BusFaultCounts::default(),
         recovery_cycles: None,
     };
-    let mut hash = Hash(report.hash);
+    let mut hash = RunHash::default();
     let period_s = cfg.cycle_period_s();
     let chaos_cycles = (opts.seconds / period_s) as u64;
     let mut faults: Vec<Fault> = Vec::new();
 
     let step = |world: &mut World,
                 checker: &mut Checker,
-                hash: &mut Hash,
+                hash: &mut RunHash,
                 faults: &[Fault]|
      -> Result<(), Violation> {
         world.step();
         let k = world.cycle_index();
         let allocs = std::mem::take(&mut world.allocations);
         let s = *world.state();
-        hash.state(&s, world.replies());
+        hash.cycle(&s, world.replies());
         checker.cycle(k, &s, world.replies(), allocs, faults)
     };
 
@@ -317,7 +269,8 @@ pub fn run(opts: &RunOptions) -> RunReport {
     report.violation = result.err();
     report.cycles = world.cycle_index();
     report.simulated_s = report.cycles as f64 * period_s;
-    report.hash = hash.0;
+    report.hash = hash.value();
+    report.checkpoints = hash.checkpoints().to_vec();
     report.modes_reached = checker.modes_reached;
     report.answers = checker.answers;
     report.bus = world.bus().counts;
