@@ -8,8 +8,12 @@
 //!   while the controller is responsible for it: a calibrated axis, powered in HOLD, PVT,
 //!   VELOCITY_CONTROL, TORQUE_CONTROL or ERROR, with no push, obstacle, power cycle, emergency
 //!   stop or silent drive under way, that was inside its limits since;
-//! - every command answered exactly once, with the kind it asked (at the end of the run no
-//!   command may be left unanswered);
+//! - every command answered exactly once, with the kind it asked: within [`QUEUE_CYCLES`] of
+//!   its sending, plus the drives' enabling for a `hold` or `calibrate` (which wait for it),
+//!   and for a `calibrate` however long its calibration runs (the mode CALIBRATION); none
+//!   left unanswered when the quiet phase has brought the arm back
+//!   ([`Checker::left_unanswered`]; a run that does not get there ends with commands that
+//!   may still be within their bound, which the per-cycle bound judged up to then);
 //! - an OK to `pvt`, `release`, `torque_control`, `velocity_control` is published with its
 //!   mode (or ERROR: a trip in the same cycle), and an OK to `calibrate` (given when the
 //!   calibration ends) with every axis it covered flagged calibrated, unless a later command
@@ -42,6 +46,23 @@ pub const STOP_PENETRATION_DEG: f64 = 2.0;
 /// How far past a software limit the controller may let an axis go [deg].
 pub const LIMIT_OVERRUN_DEG: f64 = 1.0;
 
+/// Cycles a command may wait for its turn in the intake. A run has fewer senders (at most 4
+/// clients, the driver, the fault injector, the quiet phase's client) than the intake serves
+/// commands in a cycle (`COMMANDS_PER_CYCLE`, 8), so round robin serves each of them at
+/// least once a cycle, and a command waits behind the ones its own sender sent before it.
+/// Every sender sends at most one command a cycle but the fault injector, which sends at
+/// most a start and an undo of each kind of fault at once. Two cycles more for the round
+/// robin's cursor and for the cycle the command arrives in.
+pub const QUEUE_CYCLES: u64 = 2 * Fault::ALL.len() as u64 + 2;
+
+/// How long the controller waits at most for every drive to enable (`hold` out of OFF or
+/// ERROR, `calibrate` out of OFF) before it gives up and answers: rt-core's
+/// `ENABLE_TIMEOUT_NS` (2 s, private to `rt-core/src/controller/mod.rs`) or
+/// `bus.boot_timeout_ms`, the longer.
+fn enabling_wait_ns(cfg: &RobotConfig) -> u64 {
+    2_000_000_000.max(u64::from(cfg.bus.boot_timeout_ms) * 1_000_000)
+}
+
 /// A broken invariant.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Violation {
@@ -65,6 +86,15 @@ struct Asked {
     /// The axes a `calibrate` covers.
     which: Option<Which>,
     cycle: u64,
+    /// The last cycle it may be answered in (a `calibrate` later while its calibration runs).
+    due: u64,
+}
+
+impl Asked {
+    /// A `calibrate`, answered when its calibration ends.
+    fn waits_for_calibration(&self) -> bool {
+        self.kind == CommandKind::Calibrate.to_wire()
+    }
 }
 
 /// The checker of one run.
@@ -73,6 +103,8 @@ pub struct Checker {
     limits_deg: [(f64, f64); NUM_AXES],
     tolerance_deg: [f64; NUM_AXES],
     period_s: f64,
+    /// Cycles the drives' enabling may take.
+    enabling_cycles: u64,
     asked: HashMap<(u64, u64), Asked>,
     prev_mode: Mode,
     left_off: bool,
@@ -94,6 +126,7 @@ impl Checker {
             limits_deg: core::array::from_fn(|i| (cfg.axes[i].min_deg, cfg.axes[i].max_deg)),
             tolerance_deg: core::array::from_fn(|i| cfg.axes[i].calibration.tolerance_deg),
             period_s: cfg.cycle_period_s(),
+            enabling_cycles: enabling_wait_ns(cfg).div_ceil(cfg.cycle_period_ns()),
             asked: HashMap::new(),
             prev_mode: Mode::Off,
             left_off: false,
@@ -109,10 +142,20 @@ impl Checker {
             Ok(Request::Calibrate(cal)) => Some(cal.which),
             _ => None,
         };
+        let waits_for_enabling = matches!(
+            CommandKind::try_from(c.kind),
+            Ok(CommandKind::Hold | CommandKind::Calibrate)
+        );
+        let wait = if waits_for_enabling {
+            QUEUE_CYCLES + self.enabling_cycles + 1
+        } else {
+            QUEUE_CYCLES
+        };
         let a = Asked {
             kind: c.kind,
             which,
             cycle: k,
+            due: k + wait,
         };
         self.asked.insert((c.client_id, c.request_id), a);
     }
@@ -158,8 +201,48 @@ impl Checker {
         self.transition(mode).or_else(&fail)?;
         self.positions(s, mode, faults).or_else(&fail)?;
         self.replies(s, mode, replies).or_else(&fail)?;
+        self.overdue(k, mode).or_else(&fail)?;
         self.prev_mode = mode;
         Ok(())
+    }
+
+    /// A command not answered by its due cycle (the oldest such), but a `calibrate` while a
+    /// calibration runs.
+    fn overdue(&self, k: u64, mode: Mode) -> Result<(), String> {
+        let late = self
+            .asked
+            .iter()
+            .filter(|(_, a)| k > a.due && !(a.waits_for_calibration() && mode == Mode::Calibration))
+            .min_by_key(|(key, a)| (a.cycle, key.0, key.1));
+        match late {
+            Some((&(c, r), a)) => Err(format!(
+                "client {c} request {r} (kind {}) sent in cycle {} not answered by cycle {} ({} cycles later), in {mode}",
+                a.kind,
+                a.cycle,
+                a.due,
+                a.due - a.cycle
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// At the end of a run in cycle `k`, once the quiet phase brought the arm back to a usable
+    /// HOLD with nothing waiting in the intake: no command may be left unanswered (its last
+    /// `hold` ended every calibration and enabling under way).
+    pub fn left_unanswered(&self, k: u64) -> Result<(), Violation> {
+        let left = self.unanswered();
+        if left.is_empty() {
+            return Ok(());
+        }
+        Err(Violation {
+            cycle: k,
+            quiet_phase: false,
+            message: format!(
+                "{} commands left unanswered at the end of the run (client, request, kind, cycle sent; the oldest first): {:?}",
+                left.len(),
+                &left[..left.len().min(5)]
+            ),
+        })
     }
 
     fn transition(&mut self, mode: Mode) -> Result<(), String> {

@@ -240,9 +240,9 @@ pub fn run(opts: &RunOptions) -> RunReport {
             }
             step(&mut world, &mut checker, &mut hash, &faults)?;
             recovery.read(world.replies());
-            if recovery.done && world.waiting() == 0 && checker.unanswered().is_empty() {
+            if recovery.done && world.waiting() == 0 {
                 report.recovery_cycles = Some(world.cycle_index() - start);
-                return Ok(());
+                return checker.left_unanswered(world.cycle_index());
             }
         }
         let k = world.cycle_index();
