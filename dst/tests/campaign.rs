@@ -1,6 +1,7 @@
 //! The CI budget of the deterministic simulation: replay bit for bit, and a small campaign in
-//! which no per-cycle invariant may break. Debug build (the workspace's dev profile); the
-//! figures are in `docs/testing.md`, "Deterministic simulation testing".
+//! which no per-cycle invariant may break (one job: the same seeds every time). Debug build
+//! (the workspace's dev profile); the figures are in `docs/testing.md`, "Deterministic
+//! simulation testing".
 
 use mcm_dst::campaign::{CampaignOptions, campaign};
 use mcm_dst::hash::first_divergence;
@@ -40,7 +41,7 @@ fn a_small_campaign_breaks_no_invariant_of_any_cycle() {
         first_seed: 1_000,
         budget_s: 600.0,
         run_s: 20.0,
-        jobs: 2,
+        jobs: 1,
         planted: None,
     });
     eprintln!("{}", r.summary());
@@ -64,9 +65,10 @@ fn a_small_campaign_breaks_no_invariant_of_any_cycle() {
         broken.join("\n")
     );
     assert!(
-        r.runs >= 2 && r.simulated_s >= 600.0 || !r.failures.is_empty(),
-        "{} runs",
-        r.runs
+        r.runs >= 2 && r.simulated_s >= 600.0,
+        "{} runs, {} simulated s",
+        r.runs,
+        r.simulated_s
     );
     assert!(
         r.answers[0] > 100 && r.answers[1] > 10,
