@@ -13,6 +13,7 @@
 //! and counts what the cycle's work allocates.
 
 pub mod campaign;
+pub mod cli;
 pub mod clients;
 pub mod driver;
 pub mod faults;
