@@ -32,7 +32,7 @@ pub struct CampaignReport {
     pub runs: u64,
     pub simulated_s: f64,
     pub wall_s: f64,
-    pub modes_reached: [u64; 8],
+    pub modes_reached: [u64; Mode::ALL.len()],
     pub faults_started: [u64; Fault::ALL.len()],
     pub faults_in_calibration: u64,
     pub faults_while_braking: u64,

@@ -147,9 +147,8 @@ impl Client {
         let r = match (mode, self.goal) {
             (_, Goal::Idle) => rng.pick(&[Request::Status, Request::Info, Request::ReleaseControl]),
             (Mode::Off | Mode::Error, _) => Request::Hold,
-            (Mode::Hold, _) if !calibrated || self.goal == Goal::Calibrate => {
-                Request::Calibrate(calibrate(rng))
-            }
+            (Mode::Hold, Goal::Calibrate) => Request::Calibrate(calibrate(rng)),
+            (Mode::Hold, _) if !calibrated => Request::Calibrate(calibrate(rng)),
             (Mode::Hold, Goal::Pvt) => Request::Pvt(Pvt {
                 dt_s: rng.pick(&[0.005, 0.01, 0.02, 0.05]),
             }),
@@ -182,7 +181,6 @@ impl Client {
                     Request::Status
                 }
             }
-            (Mode::Hold, Goal::Calibrate) => Request::Status,
         };
         Some(self.request(r))
     }
@@ -223,11 +221,7 @@ impl Client {
                 Request::MoveAxis(m)
             }
             8 => Request::MoveAll(move_all(lim, rng)),
-            9 => {
-                let mut c = self.pvt_chunk(s, rng);
-                let _ = &mut c;
-                Request::PvtPoints(c)
-            }
+            9 => Request::PvtPoints(self.pvt_chunk(s, rng)),
             10 => Request::SetTorques(SetTorques {
                 torques_nm: core::array::from_fn(|_| rng.range(-20.0, 20.0)),
             }),

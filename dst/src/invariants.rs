@@ -110,7 +110,7 @@ pub struct Checker {
     left_off: bool,
     /// Per axis: the controller is not (yet again) responsible for its limits.
     excused: [bool; NUM_AXES],
-    pub modes_reached: [u64; 8],
+    pub modes_reached: [u64; Mode::ALL.len()],
     pub answers: [u64; 3],
 }
 
@@ -131,7 +131,7 @@ impl Checker {
             prev_mode: Mode::Off,
             left_off: false,
             excused: [true; NUM_AXES],
-            modes_reached: [0; 8],
+            modes_reached: [0; Mode::ALL.len()],
             answers: [0; 3],
         }
     }

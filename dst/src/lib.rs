@@ -20,6 +20,7 @@ pub mod faults;
 pub mod faulty_bus;
 pub mod hash;
 pub mod invariants;
+pub mod rate;
 pub mod rng;
 pub mod run;
 pub mod stamp;

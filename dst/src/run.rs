@@ -8,6 +8,7 @@ use crate::faults::{Fault, Schedule};
 use crate::faulty_bus::{BusFaultCounts, BusFaults};
 use crate::hash::RunHash;
 use crate::invariants::{Checker, Violation};
+use crate::rate::Rate;
 use crate::rng::Rng;
 use crate::stamp::{Stamp, calibrate_all};
 use crate::swarm::Swarm;
@@ -77,7 +78,7 @@ pub struct RunReport {
     /// The hash after each cycle ([`crate::hash::first_divergence`] of two runs).
     pub checkpoints: Vec<u64>,
     pub violation: Option<Violation>,
-    pub modes_reached: [u64; 8],
+    pub modes_reached: [u64; Mode::ALL.len()],
     pub faults_started: [u64; Fault::ALL.len()],
     /// Faults started while the mode was CALIBRATION, and while an axis was braking in ERROR.
     pub faults_in_calibration: u64,
@@ -114,7 +115,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
     swarm.draw_roles(&mut driver_rng);
     let limits = Limits::of(&cfg);
     let mut checker = Checker::new(&cfg, world.bus().sim());
-    let mut schedule = Schedule::new(swarm.fault_rates, FAULT_CLIENT);
+    let mut schedule = Schedule::new(swarm.fault_every_s, &cfg, FAULT_CLIENT);
     let mut next_id = FIRST_CLIENT_ID;
     let mut clients: Vec<Client> = (0..swarm.clients)
         .map(|_| {
@@ -124,7 +125,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
         .collect();
     let mut driver = swarm
         .driver
-        .then(|| Driver::new(FIRST_CLIENT_ID, &mut driver_rng));
+        .then(|| Driver::new(FIRST_CLIENT_ID, Rate::of(&cfg), &mut driver_rng));
     let mut report = RunReport {
         seed: opts.seed,
         swarm: swarm.clone(),
@@ -133,7 +134,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
         hash: 0,
         checkpoints: Vec::new(),
         violation: None,
-        modes_reached: [0; 8],
+        modes_reached: [0; Mode::ALL.len()],
         faults_started: [0; Fault::ALL.len()],
         faults_in_calibration: 0,
         faults_while_braking: 0,
@@ -206,6 +207,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
             faults.extend(schedule.active());
             faults.extend(inj.started.iter().copied());
             step(&mut world, &mut checker, &mut hash, &faults)?;
+            schedule.answered(world.replies());
         }
         // The quiet phase: faults off, every client gone, the recovery client.
         let k = world.cycle_index();
@@ -222,15 +224,16 @@ pub fn run(opts: &RunOptions) -> RunReport {
             checker.asked(&c, k);
             world.send(c);
         }
-        // Faults stay "under way" for the checker until the pushes etc. are undone.
-        faults.clear();
-        faults.push(Fault::Push);
-        for _ in 0..4 {
+        // The faults act (and stay under way for the checker) until their undoing is answered.
+        while schedule.undoing() {
+            faults.clear();
+            faults.extend(schedule.active());
             step(&mut world, &mut checker, &mut hash, &faults)?;
+            schedule.answered(world.replies());
         }
         faults.clear();
         let quiet_cycles = (opts.quiet_seconds / period_s) as u64;
-        let mut recovery = Recovery::new();
+        let mut recovery = Recovery::new(Rate::of(&cfg));
         let start = world.cycle_index();
         while world.cycle_index() - start < quiet_cycles {
             let k = world.cycle_index();
@@ -239,7 +242,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
                 world.send(c);
             }
             step(&mut world, &mut checker, &mut hash, &faults)?;
-            recovery.read(world.replies());
+            recovery.read(world.state().seq, world.replies());
             if recovery.done && world.waiting() == 0 {
                 report.recovery_cycles = Some(world.cycle_index() - start);
                 return checker.left_unanswered(world.cycle_index());
@@ -286,10 +289,14 @@ struct Recovery {
     stamp: Stamp,
     last: Option<Outcome>,
     done: bool,
+    /// The state's `seq` before which it sends nothing.
     wait_until: u64,
-    /// `seq` of the state it last read.
-    seq: u64,
+    rate: Rate,
 }
+
+/// How long the quiet phase's client waits after a refusal or failure before it tries again
+/// from `hold` [s].
+const RETRY_AFTER_S: f64 = 1.0;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Stage {
@@ -301,7 +308,7 @@ enum Stage {
 }
 
 impl Recovery {
-    fn new() -> Recovery {
+    fn new(rate: Rate) -> Recovery {
         Recovery {
             stage: Stage::Control,
             pending: None,
@@ -309,7 +316,7 @@ impl Recovery {
             last: None,
             done: false,
             wait_until: 0,
-            seq: 0,
+            rate,
         }
     }
 
@@ -323,7 +330,6 @@ impl Recovery {
         if self.stage == Stage::Calibrate && !calibrated && derated {
             return None;
         }
-        self.seq = s.seq;
         let r = match self.stage {
             Stage::Control => Request::TakeControl,
             Stage::Hold => Request::Hold,
@@ -340,7 +346,9 @@ impl Recovery {
         Some(c)
     }
 
-    fn read(&mut self, replies: &[Reply]) {
+    /// The replies of the cycle whose state has `seq` (a reply's own `cycle` is stamped when
+    /// the edge publishes it, which the virtual-time cycle does not).
+    fn read(&mut self, seq: u64, replies: &[Reply]) {
         for r in replies {
             if r.client_id != RECOVERY_CLIENT || Some(r.request_id) != self.pending {
                 continue;
@@ -353,7 +361,7 @@ impl Recovery {
             if std::env::var_os("MCM_DST_TRACE").is_some() {
                 eprintln!(
                     "cycle {}: recovery {:?}: {} -> {:?}",
-                    self.seq, self.stage, resp.kind, resp.outcome
+                    seq, self.stage, resp.kind, resp.outcome
                 );
             }
             self.last = Some(resp.outcome);
@@ -371,7 +379,7 @@ impl Recovery {
                 // start again from `hold`, a second later.
                 (Stage::Control, false) => Stage::Control,
                 (_, false) => {
-                    self.wait_until = self.seq + 200;
+                    self.wait_until = seq + self.rate.cycles(RETRY_AFTER_S);
                     Stage::Hold
                 }
                 (s, true) => s,
