@@ -443,3 +443,6 @@ fn non_finite(s: &StateSample) -> Option<String> {
         .position(|x| !x.is_finite())
         .map(|i| format!("last_error.values[{i}] = {}", v[i]))
 }
+
+#[cfg(test)]
+mod tests;
