@@ -21,7 +21,8 @@
 //! - only legal mode transitions: the motion modes entered from HOLD only, CALIBRATION from
 //!   OFF or HOLD only, OFF never entered again once left;
 //! - no axis flagged calibrated whose measured angle is further from the true angle than its
-//!   calibration tolerance (plus what one cycle of motion explains);
+//!   calibration tolerance, plus the motion of the cycles the measurement may lag the truth
+//!   ([`Checker::new`]: two, and the TPDOs the master may miss in a row);
 //! - no allocation in the cycle's work.
 
 use crate::faults::Fault;
@@ -32,7 +33,7 @@ use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::reply::{Outcome, Response};
 use mcm_shared::sample::{AXIS_CALIBRATED, CommandSample, Reply, StateSample};
 use mcm_sim::SimBus;
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
 
 /// How far the stops' spring may give [deg]. Not derived at run time; the P-Rob2's figures
 /// (`deploy/prob2.toml`, the stops' `sim.stop_stiffness_nm_rad` 20 000 Nm/rad): pressed by
@@ -103,6 +104,10 @@ pub struct Checker {
     limits_deg: [(f64, f64); NUM_AXES],
     tolerance_deg: [f64; NUM_AXES],
     period_s: f64,
+    /// Cycles the measured angle may lag the true one.
+    lag_cycles: usize,
+    /// The true speeds of the last `lag_cycles` cycles [deg/s], the newest last.
+    recent_speeds: VecDeque<[f64; NUM_AXES]>,
     /// Cycles the drives' enabling may take.
     enabling_cycles: u64,
     asked: HashMap<(u64, u64), Asked>,
@@ -126,6 +131,12 @@ impl Checker {
             limits_deg: core::array::from_fn(|i| (cfg.axes[i].min_deg, cfg.axes[i].max_deg)),
             tolerance_deg: core::array::from_fn(|i| cfg.axes[i].calibration.tolerance_deg),
             period_s: cfg.cycle_period_s(),
+            // The position read in a cycle was sampled at the SYNC before and the truth is
+            // the one after the cycle's physics (two cycles), and when TPDOs are lost the
+            // master keeps the last one it got for up to `bus.max_missed_tpdos` cycles before
+            // it declares the drive lost.
+            lag_cycles: 2 + usize::from(cfg.bus.max_missed_tpdos),
+            recent_speeds: VecDeque::new(),
             enabling_cycles: enabling_wait_ns(cfg).div_ceil(cfg.cycle_period_ns()),
             asked: HashMap::new(),
             prev_mode: Mode::Off,
@@ -283,6 +294,11 @@ impl Checker {
             mode,
             Mode::Hold | Mode::Pvt | Mode::VelocityControl | Mode::TorqueControl | Mode::Error
         ) && !outside_help;
+        if self.recent_speeds.len() == self.lag_cycles {
+            self.recent_speeds.pop_front();
+        }
+        self.recent_speeds
+            .push_back(s.sim_true_velocity.map(f64::abs));
         for i in 0..NUM_AXES {
             let q = s.sim_true_position[i];
             let (lo, hi) = self.stops_deg[i];
@@ -309,7 +325,8 @@ impl Checker {
                 ));
             }
             let err = (s.measured_position[i] - q).abs();
-            let slack = self.tolerance_deg[i] + 2.0 * s.sim_true_velocity[i].abs() * self.period_s;
+            let speed = self.recent_speeds.iter().map(|v| v[i]).fold(0.0, f64::max);
+            let slack = self.tolerance_deg[i] + self.lag_cycles as f64 * speed * self.period_s;
             if calibrated && err > slack {
                 return Err(format!(
                     "axis {}: flagged calibrated, but measured {:.4} deg vs true {q:.4} deg: off by {err:.4} deg, tolerance {slack:.4} deg",

@@ -307,3 +307,27 @@ fn a_command_left_unanswered_at_the_end_is_a_violation() {
     check(&mut c, 1, &state(Mode::Hold), &[ok(1, CommandKind::Status)]).unwrap();
     c.left_unanswered(1).unwrap();
 }
+
+#[test]
+fn a_measurement_may_lag_the_truth_by_the_cycles_of_missed_tpdos_but_not_at_rest() {
+    let cfg = RobotConfig::prob2_default();
+    let tol = cfg.axes[0].calibration.tolerance_deg;
+    let lag = 2.0 + f64::from(cfg.bus.max_missed_tpdos);
+    let mut c = checker();
+    let mut s = state(Mode::TorqueControl);
+    check(&mut c, 1, &state(Mode::Hold), &[]).unwrap();
+    // Fast, then braking: the measurement stale by a few cycles of the fast speed.
+    s.sim_true_velocity[0] = 200.0;
+    check(&mut c, 2, &s, &[]).unwrap();
+    s.sim_true_velocity[0] = 50.0;
+    s.measured_position[0] = 0.9 * lag * 200.0 * c.period_s;
+    check(&mut c, 3, &s, &[]).unwrap();
+    // At rest for as long as the measurement may lag: the tolerance alone.
+    s.sim_true_velocity[0] = 0.0;
+    s.measured_position[0] = tol * 0.9;
+    for k in 4..4 + lag as u64 {
+        check(&mut c, k, &s, &[]).unwrap();
+    }
+    s.measured_position[0] = tol * 1.1;
+    broken(check(&mut c, 10, &s, &[]), "axis 1: flagged calibrated");
+}
