@@ -1,7 +1,9 @@
-//! The clients of a run: several at once, each sending random commands of every kind, valid
-//! and invalid, at its own random cadence, taking and losing control, disconnecting (a
-//! `client_gone`, then a new connection with a new id), streaming `pvt_points`, `set_torques`
-//! and `set_velocities`, and sending `hold` at random moments.
+//! The clients of a run: several at once, each sending random commands of every kind but `sim`
+//! (the fault injector's, [`crate::faults`]) and `client_gone` (sent when it disconnects, then
+//! a new connection with a new id), valid and invalid, at its own random cadence, taking and
+//! losing control, streaming `pvt_points`, `set_torques` and `set_velocities`, and sending
+//! `hold` at random moments; besides, garbage samples of any kind number from 0 to 19 (these
+//! two included), with wild arguments.
 //!
 //! A client reads the published state as a real one does, and pursues a goal (a mode) most of
 //! the time, so that every mode is reached: from HOLD it sends what enters its goal, in the

@@ -18,7 +18,10 @@ const DELAYED: usize = 64;
 /// What the bus does wrong, each a probability per frame (0: never).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct BusFaults {
-    /// A frame from the master to the drives is lost (never SYNC: see the docs).
+    /// A frame from the master to the drives is lost, but never SYNC: the simulated robot's
+    /// time and physics advance only on SYNC (lock-step time, `sim/src/bus.rs`), so a lost
+    /// SYNC would stop the world for a cycle rather than make the drives miss one; a lost or
+    /// stuck SYNC is not modelled (`docs/testing.md`, "Not yet built").
     pub lose_tx: f64,
     /// A frame from the drives to the master is lost.
     pub lose_rx: f64,
@@ -29,7 +32,9 @@ pub struct BusFaults {
     pub corrupt_rx: f64,
     /// A frame to the master arrives twice.
     pub duplicate_rx: f64,
-    /// A frame to the master arrives one to three SYNCs late.
+    /// A frame to the master arrives one to three SYNCs late. The delayed frames keep their
+    /// order: one due earlier than the frame delayed before it waits for that one, which is
+    /// still at most three SYNCs after its own delay began.
     pub delay_rx: f64,
     /// The heartbeats (0x700 + node) of this node are lost.
     pub lose_heartbeats_of: Option<u8>,
