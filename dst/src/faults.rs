@@ -221,9 +221,7 @@ impl Schedule {
                 Fault::BusCorruption => b.corrupt_rx = e.p,
                 Fault::BusDelay => b.delay_rx = e.p,
                 Fault::BusDuplication => b.duplicate_rx = e.p,
-                Fault::HeartbeatLoss => {
-                    b.lose_heartbeats_of = Some(self.node_ids[e.axis.index()])
-                }
+                Fault::HeartbeatLoss => b.lose_heartbeats_of = Some(self.node_ids[e.axis.index()]),
                 _ => {}
             }
         }
@@ -239,8 +237,11 @@ impl Schedule {
     /// The replies of a cycle: the undoing commands answered end their faults.
     pub fn answered(&mut self, replies: &[Reply]) {
         let me = self.stamp.client_id;
-        self.undoing
-            .retain(|(id, _)| !replies.iter().any(|r| r.client_id == me && r.request_id == *id));
+        self.undoing.retain(|(id, _)| {
+            !replies
+                .iter()
+                .any(|r| r.client_id == me && r.request_id == *id)
+        });
     }
 
     /// Whether a fault ended but its undoing is not answered yet.

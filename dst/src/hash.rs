@@ -168,13 +168,7 @@ impl RunHash {
             axis,
             values,
         } = e;
-        for w in [
-            *seq,
-            *cycle,
-            *unix_ns,
-            u64::from(*code),
-            u64::from(*axis),
-        ] {
+        for w in [*seq, *cycle, *unix_ns, u64::from(*code), u64::from(*axis)] {
             self.word(w);
         }
         self.floats(values);

@@ -405,9 +405,9 @@ impl Checker {
                         r.client_id, r.request_id
                     ));
                 };
-                let missing = Axis::ALL
-                    .iter()
-                    .find(|a| which.contains(**a) && s.axis_flags[a.index()] & AXIS_CALIBRATED == 0);
+                let missing = Axis::ALL.iter().find(|a| {
+                    which.contains(**a) && s.axis_flags[a.index()] & AXIS_CALIBRATED == 0
+                });
                 if let Some(a) = missing {
                     return Err(format!(
                         "calibrate ({which:?}) of client {} request {} answered OK in {mode}, but axis {a} is not flagged calibrated (axis flags {:?})",

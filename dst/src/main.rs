@@ -76,7 +76,9 @@ fn main() -> ExitCode {
         );
         if a.hash != b.hash || a.violation != b.violation {
             let at = first_divergence(&a.checkpoints, &b.checkpoints)
-                .map_or("no cycle (the violations differ)".into(), |k| format!("cycle {k}"));
+                .map_or("no cycle (the violations differ)".into(), |k| {
+                    format!("cycle {k}")
+                });
             eprintln!(
                 "NOT DETERMINISTIC: seed {seed} gave hash {:016x} then {:016x}; first different: {at}",
                 a.hash, b.hash

@@ -20,7 +20,11 @@ fn a_seed_replays_bit_for_bit_and_another_seed_differs() {
     assert!(a.cycles > 2_000, "the run ran: {} cycles", a.cycles);
     assert_eq!((a.hash, a.cycles), (b.hash, b.cycles), "seed 5 twice");
     assert_eq!(first_divergence(&a.checkpoints, &b.checkpoints), None);
-    assert_eq!(a.checkpoints.len() as u64, a.cycles, "a checkpoint per cycle");
+    assert_eq!(
+        a.checkpoints.len() as u64,
+        a.cycles,
+        "a checkpoint per cycle"
+    );
     assert_eq!(a.violation, b.violation);
     assert_ne!(a.hash, c.hash, "the hash sees a different run");
     assert!(first_divergence(&a.checkpoints, &c.checkpoints).is_some());

@@ -7,8 +7,9 @@ fn args(line: &str) -> Result<Args, ArgError> {
 #[test]
 fn the_defaults_and_every_option() {
     assert_eq!(args(""), Ok(Args::default()));
-    let a = args("--seed 7 --seconds 20 --hours 0.5 --jobs 2 --first-seed 100 --planted-bug braking")
-        .unwrap();
+    let a =
+        args("--seed 7 --seconds 20 --hours 0.5 --jobs 2 --first-seed 100 --planted-bug braking")
+            .unwrap();
     assert_eq!(
         a,
         Args {
@@ -51,12 +52,11 @@ fn a_value_that_would_run_nothing_or_mean_something_else_is_refused_saying_what_
         let text = e.to_string();
         assert!(text.contains(&value) && text.contains(allowed), "{text}");
     }
-    assert_eq!(
-        args("--jobs"),
-        Err(ArgError::Missing { option: "--jobs" })
-    );
+    assert_eq!(args("--jobs"), Err(ArgError::Missing { option: "--jobs" }));
     assert_eq!(
         args("--job 2"),
-        Err(ArgError::Unknown { arg: "--job".into() })
+        Err(ArgError::Unknown {
+            arg: "--job".into()
+        })
     );
 }

@@ -30,10 +30,14 @@ fn every_field_of_the_state_and_of_a_reply_changes_the_hash() {
         ("axis_flags", |s, _| s.axis_flags[5] = 1),
         ("pvt_queued", |s, _| s.pvt_queued = 1),
         ("pvt_capacity", |s, _| s.pvt_capacity = 1),
-        ("command_receive_errors", |s, _| s.command_receive_errors = 1),
+        ("command_receive_errors", |s, _| {
+            s.command_receive_errors = 1
+        }),
         ("timing.period_ns", |s, _| s.timing.period_ns = 1),
         ("timing.recent.max_ns", |s, _| s.timing.recent.max_ns = 1),
-        ("timing.since_start.cycles", |s, _| s.timing.since_start.cycles = 1),
+        ("timing.since_start.cycles", |s, _| {
+            s.timing.since_start.cycles = 1
+        }),
         ("last_error.seq", |s, _| s.last_error.seq = 1),
         ("last_error.code", |s, _| s.last_error.code = 1),
         ("last_error.values", |s, _| s.last_error.values[3] = 1.0),

@@ -83,8 +83,20 @@ fn a_number_of_the_state_that_is_not_finite_is_named() {
 #[test]
 fn illegal_mode_transitions_are_violations_and_legal_ones_are_not() {
     for path in [
-        &[Mode::Hold, Mode::Pvt, Mode::Error, Mode::Hold, Mode::Calibration, Mode::Hold][..],
-        &[Mode::Calibration, Mode::Error, Mode::Hold, Mode::VelocityControl][..],
+        &[
+            Mode::Hold,
+            Mode::Pvt,
+            Mode::Error,
+            Mode::Hold,
+            Mode::Calibration,
+            Mode::Hold,
+        ][..],
+        &[
+            Mode::Calibration,
+            Mode::Error,
+            Mode::Hold,
+            Mode::VelocityControl,
+        ][..],
     ] {
         let mut c = checker();
         for (k, m) in path.iter().enumerate() {
@@ -93,9 +105,18 @@ fn illegal_mode_transitions_are_violations_and_legal_ones_are_not() {
     }
     for (path, what) in [
         (&[Mode::Pvt][..], "illegal mode transition OFF -> PVT"),
-        (&[Mode::Hold, Mode::Off][..], "illegal mode transition HOLD -> OFF"),
-        (&[Mode::Error, Mode::Calibration][..], "ERROR -> CALIBRATION"),
-        (&[Mode::Hold, Mode::Pvt, Mode::Release][..], "PVT -> RELEASE"),
+        (
+            &[Mode::Hold, Mode::Off][..],
+            "illegal mode transition HOLD -> OFF",
+        ),
+        (
+            &[Mode::Error, Mode::Calibration][..],
+            "ERROR -> CALIBRATION",
+        ),
+        (
+            &[Mode::Hold, Mode::Pvt, Mode::Release][..],
+            "PVT -> RELEASE",
+        ),
     ] {
         let mut c = checker();
         let (last, first) = path.split_last().unwrap();
@@ -150,7 +171,9 @@ fn a_software_limit_overrun_is_a_violation_while_the_controller_is_responsible()
 
 #[test]
 fn an_axis_flagged_calibrated_off_the_truth_is_a_violation() {
-    let tol = RobotConfig::prob2_default().axes[4].calibration.tolerance_deg;
+    let tol = RobotConfig::prob2_default().axes[4]
+        .calibration
+        .tolerance_deg;
     let mut c = checker();
     let mut s = state(Mode::Hold);
     s.measured_position[4] = tol * 0.9;
@@ -207,9 +230,18 @@ fn a_sample_of_an_unknown_kind_answered_ok_is_a_violation() {
     let mut refused = reply;
     refused.status = 1;
     check(&mut c, 1, &s, &[refused]).unwrap();
-    c.asked(&CommandSample { request_id: 2, ..unknown }, 1);
+    c.asked(
+        &CommandSample {
+            request_id: 2,
+            ..unknown
+        },
+        1,
+    );
     reply.request_id = 2;
-    broken(check(&mut c, 2, &s, &[reply]), "of unknown kind 99 answered OK");
+    broken(
+        check(&mut c, 2, &s, &[reply]),
+        "of unknown kind 99 answered OK",
+    );
 }
 
 #[test]
