@@ -1,7 +1,9 @@
-//! The clients of a run: several at once, each sending random commands of every kind, valid
-//! and invalid, at its own random cadence, taking and losing control, disconnecting (a
-//! `client_gone`, then a new connection with a new id), streaming `pvt_points`, `set_torques`
-//! and `set_velocities`, and sending `hold` at random moments.
+//! The clients of a run: several at once, each sending random commands of every kind but `sim`
+//! (the fault injector's, [`crate::faults`]) and `client_gone` (sent when it disconnects, then
+//! a new connection with a new id), valid and invalid, at its own random cadence, taking and
+//! losing control, streaming `pvt_points`, `set_torques` and `set_velocities`, and sending
+//! `hold` at random moments; besides, garbage samples of any kind number from 0 to 19 (these
+//! two included), with wild arguments.
 //!
 //! A client reads the published state as a real one does, and pursues a goal (a mode) most of
 //! the time, so that every mode is reached: from HOLD it sends what enters its goal, in the
@@ -9,6 +11,7 @@
 //! with random arguments, some outside their ranges, some not decodable at all.
 
 use crate::rng::Rng;
+use crate::stamp::Stamp;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
     Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques,
@@ -70,8 +73,7 @@ impl Limits {
 /// One client connection.
 #[derive(Debug, Clone)]
 pub struct Client {
-    pub id: u64,
-    next_request: u64,
+    stamp: Stamp,
     goal: Goal,
     /// Chance per cycle to send a command.
     cadence: f64,
@@ -81,19 +83,10 @@ pub struct Client {
     phase: f64,
 }
 
-/// What a client sent, for the checker.
-#[derive(Debug, Clone, Copy)]
-pub struct Sent {
-    pub sample: CommandSample,
-    /// The request as the client meant it (`None`: a sample built not to decode).
-    pub request: Option<Request>,
-}
-
 impl Client {
     pub fn new(id: u64, rng: &mut Rng) -> Client {
         Client {
-            id,
-            next_request: 1,
+            stamp: Stamp::new(id),
             goal: rng.pick(&GOALS),
             cadence: rng.pick(&[0.02, 0.1, 0.3, 0.8]),
             chaos: rng.pick(&[0.05, 0.2, 0.5]),
@@ -101,24 +94,23 @@ impl Client {
         }
     }
 
-    fn stamp(&mut self, mut sample: CommandSample) -> CommandSample {
-        sample.client_id = self.id;
-        sample.request_id = self.next_request;
-        self.next_request += 1;
-        sample
+    pub fn id(&self) -> u64 {
+        self.stamp.client_id
     }
 
-    fn request(&mut self, r: Request) -> Sent {
-        Sent {
-            sample: self.stamp(r.encode()),
-            request: Some(r),
-        }
+    fn request(&mut self, r: Request) -> CommandSample {
+        self.stamp.request(r)
+    }
+
+    /// Its `client_gone` (its connection closes).
+    pub fn gone(&mut self) -> CommandSample {
+        self.request(Request::ClientGone)
     }
 
     /// This cycle's command of this client, if it sends one; `Gone` when it disconnects.
     pub fn act(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Action {
         if rng.chance(0.0005) {
-            return Action::Gone(self.request(Request::ClientGone));
+            return Action::Gone(self.gone());
         }
         if rng.chance(0.002) {
             self.goal = rng.pick(&GOALS);
@@ -140,10 +132,15 @@ impl Client {
         }
     }
 
-    fn towards_goal(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Option<Sent> {
+    fn towards_goal(
+        &mut self,
+        s: &StateSample,
+        lim: &Limits,
+        rng: &mut Rng,
+    ) -> Option<CommandSample> {
         let mode = Mode::try_from(s.mode).unwrap_or(Mode::Off);
         let calibrated = s.axis_flags.iter().all(|f| f & AXIS_CALIBRATED != 0);
-        if s.owner_client_id != self.id && s.owner_client_id != 0 && rng.chance(0.7) {
+        if s.owner_client_id != self.id() && s.owner_client_id != 0 && rng.chance(0.7) {
             return None; // someone else drives: mostly wait
         }
         if s.owner_client_id == 0 && self.goal != Goal::Idle && rng.chance(0.3) {
@@ -152,9 +149,8 @@ impl Client {
         let r = match (mode, self.goal) {
             (_, Goal::Idle) => rng.pick(&[Request::Status, Request::Info, Request::ReleaseControl]),
             (Mode::Off | Mode::Error, _) => Request::Hold,
-            (Mode::Hold, _) if !calibrated || self.goal == Goal::Calibrate => {
-                Request::Calibrate(calibrate(rng))
-            }
+            (Mode::Hold, Goal::Calibrate) => Request::Calibrate(calibrate(rng)),
+            (Mode::Hold, _) if !calibrated => Request::Calibrate(calibrate(rng)),
             (Mode::Hold, Goal::Pvt) => Request::Pvt(Pvt {
                 dt_s: rng.pick(&[0.005, 0.01, 0.02, 0.05]),
             }),
@@ -187,7 +183,6 @@ impl Client {
                     Request::Status
                 }
             }
-            (Mode::Hold, Goal::Calibrate) => Request::Status,
         };
         Some(self.request(r))
     }
@@ -207,7 +202,7 @@ impl Client {
     }
 
     /// Any command, its arguments drawn wide (some refused); or a sample that does not decode.
-    fn random(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Option<Sent> {
+    fn random(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Option<CommandSample> {
         let r = match rng.below(18) {
             0 => Request::Status,
             1 => Request::Hold,
@@ -228,11 +223,7 @@ impl Client {
                 Request::MoveAxis(m)
             }
             8 => Request::MoveAll(move_all(lim, rng)),
-            9 => {
-                let mut c = self.pvt_chunk(s, rng);
-                let _ = &mut c;
-                Request::PvtPoints(c)
-            }
+            9 => Request::PvtPoints(self.pvt_chunk(s, rng)),
             10 => Request::SetTorques(SetTorques {
                 torques_nm: core::array::from_fn(|_| rng.range(-20.0, 20.0)),
             }),
@@ -253,10 +244,17 @@ impl Client {
     }
 
     /// A sample that may not decode: an unknown kind, or a known kind with wild arguments.
-    fn garbage(&mut self, rng: &mut Rng) -> Sent {
+    /// Its flags are mostly 0 (the flags every kind allows), so that the decoding gets to the
+    /// arguments; a tenth of the samples have random flags, which every kind refuses first.
+    fn garbage(&mut self, rng: &mut Rng) -> CommandSample {
+        let flags = if rng.chance(0.1) {
+            rng.next_u64() as u32
+        } else {
+            0
+        };
         let mut sample = CommandSample {
             kind: rng.below(20) as u32,
-            flags: rng.next_u64() as u32,
+            flags,
             ..CommandSample::default()
         };
         for a in sample
@@ -266,10 +264,7 @@ impl Client {
         {
             *a = rng.pick(&[f64::NAN, f64::INFINITY, -1e300, 0.0, 1.0, 7.0, -3.5, 1e-9]);
         }
-        Sent {
-            sample: self.stamp(sample),
-            request: None,
-        }
+        self.stamp.stamp(sample)
     }
 }
 
@@ -277,9 +272,9 @@ impl Client {
 #[derive(Debug, Clone, Copy)]
 pub enum Action {
     None,
-    Send(Sent),
+    Send(CommandSample),
     /// It sends `client_gone` and disconnects.
-    Gone(Sent),
+    Gone(CommandSample),
 }
 
 fn calibrate(rng: &mut Rng) -> Calibrate {
@@ -318,3 +313,6 @@ fn move_all(lim: &Limits, rng: &mut Rng) -> MoveAll {
         velocity_factor: rng.pick(&[0.05, 0.2, 0.5, 1.0]),
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -10,18 +10,30 @@
 //! gravity compensated) or PVT (`move_axis` to just inside a limit at full speed), for a few
 //! seconds, then `hold` and the next plan.
 
-use crate::clients::{Limits, Sent};
+use crate::clients::Limits;
+use crate::rate::Rate;
 use crate::rng::Rng;
+use crate::stamp::{Stamp, calibrate_all};
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAxis, Pvt, Request, SetTorques, SetVelocities, TorqueControl,
-    VelocityControl, Which,
+    Axis, MoveAxis, Pvt, Request, SetTorques, SetVelocities, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::Mode;
-use mcm_shared::sample::{AXIS_CALIBRATED, StateSample};
+use mcm_shared::sample::{AXIS_CALIBRATED, CommandSample, StateSample};
 
-/// Cycles a plan runs before the driver sends `hold` (about 3 s at 200 Hz).
-const PLAN_CYCLES: u64 = 600;
+/// How long a plan runs before the driver sends `hold` [s].
+const PLAN_S: f64 = 3.0;
+/// How long it waits after `take_control` [s].
+const AFTER_TAKE_CONTROL_S: f64 = 0.05;
+/// How long it waits after `hold` out of OFF, ERROR or RELEASE, and after `calibrate` (the
+/// drives' enabling takes a while) [s].
+const AFTER_HOLD_S: f64 = 0.2;
+/// How long it waits after the entry into a motion mode [s].
+const AFTER_ENTRY_S: f64 = 0.025;
+/// How long it waits after the `hold` that ends a plan [s].
+const AFTER_PLAN_S: f64 = 0.1;
+/// How often it sends `set_velocities` and `set_torques` [s].
+const SETPOINT_PERIOD_S: f64 = 0.02;
 
 /// What the driver does in the motion mode it entered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -34,8 +46,8 @@ enum Motion {
 /// The driver client.
 #[derive(Debug, Clone)]
 pub struct Driver {
-    pub id: u64,
-    next_request: u64,
+    stamp: Stamp,
+    rate: Rate,
     motion: Motion,
     axis: usize,
     /// +1 towards the upper limit, -1 towards the lower.
@@ -51,10 +63,10 @@ pub struct Driver {
 }
 
 impl Driver {
-    pub fn new(id: u64, rng: &mut Rng) -> Driver {
+    pub fn new(id: u64, rate: Rate, rng: &mut Rng) -> Driver {
         let mut d = Driver {
-            id,
-            next_request: 1,
+            stamp: Stamp::new(id),
+            rate,
             motion: Motion::Velocity,
             axis: 0,
             direction: 1.0,
@@ -72,57 +84,50 @@ impl Driver {
         self.axis = rng.below(NUM_AXES as u64) as usize;
         self.direction = rng.pick(&[1.0, -1.0]);
         self.factor = rng.pick(&[0.5, 0.8, 1.0]);
-        self.plan_until = seq + PLAN_CYCLES;
+        self.plan_until = seq + self.rate.cycles(PLAN_S);
         self.moved = false;
     }
 
-    fn request(&mut self, r: Request) -> Sent {
-        let mut sample = r.encode();
-        sample.client_id = self.id;
-        sample.request_id = self.next_request;
-        self.next_request += 1;
-        Sent {
-            sample,
-            request: Some(r),
-        }
+    fn request(&mut self, r: Request) -> CommandSample {
+        self.stamp.request(r)
     }
 
-    fn wait(&mut self, s: &StateSample, cycles: u64) {
-        self.wait_until = s.seq + cycles;
+    /// Its `client_gone` (its connection closes).
+    pub fn gone(&mut self) -> CommandSample {
+        self.request(Request::ClientGone)
+    }
+
+    fn wait(&mut self, s: &StateSample, seconds: f64) {
+        self.wait_until = s.seq + self.rate.cycles(seconds);
     }
 
     /// This cycle's command of the driver, if it sends one.
-    pub fn act(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Option<Sent> {
+    pub fn act(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Option<CommandSample> {
         if s.seq < self.wait_until {
             return None;
         }
-        if s.owner_client_id != self.id {
+        if s.owner_client_id != self.stamp.client_id {
             if s.owner_client_id != 0 {
                 return None; // someone else drives
             }
-            self.wait(s, 10);
+            self.wait(s, AFTER_TAKE_CONTROL_S);
             return Some(self.request(Request::TakeControl));
         }
         let mode = Mode::try_from(s.mode).unwrap_or(Mode::Off);
         let calibrated = s.axis_flags.iter().all(|f| f & AXIS_CALIBRATED != 0);
         let r = match mode {
             Mode::Off | Mode::Error | Mode::Release => {
-                self.wait(s, 40);
+                self.wait(s, AFTER_HOLD_S);
                 Request::Hold
             }
             Mode::Calibration => return None,
             Mode::Hold if !calibrated => {
-                self.wait(s, 40);
-                Request::Calibrate(Calibrate {
-                    which: Which::All,
-                    elbow_direction: Direction::Positive,
-                    wrist_direction: Direction::Positive,
-                    force_mechanical_stop: false,
-                })
+                self.wait(s, AFTER_HOLD_S);
+                calibrate_all()
             }
             Mode::Hold => {
                 self.plan(s.seq, rng);
-                self.wait(s, 5);
+                self.wait(s, AFTER_ENTRY_S);
                 match self.motion {
                     Motion::Velocity => Request::VelocityControl(VelocityControl {
                         timeout_s: Some(0.5),
@@ -135,13 +140,13 @@ impl Driver {
                 }
             }
             _ if s.seq >= self.plan_until => {
-                self.wait(s, 20);
+                self.wait(s, AFTER_PLAN_S);
                 Request::Hold
             }
             Mode::VelocityControl => {
                 let mut v = [0.0; NUM_AXES];
                 v[self.axis] = self.direction * self.factor * lim.max_velocity[self.axis];
-                self.wait(s, 4);
+                self.wait(s, SETPOINT_PERIOD_S);
                 Request::SetVelocities(SetVelocities {
                     velocities_deg_s: v,
                 })
@@ -151,7 +156,7 @@ impl Driver {
                 t[self.axis] = self.direction
                     * (0.3 + 0.7 * (self.factor - 0.5) / 0.5)
                     * lim.max_torque[self.axis];
-                self.wait(s, 4);
+                self.wait(s, SETPOINT_PERIOD_S);
                 Request::SetTorques(SetTorques { torques_nm: t })
             }
             Mode::Pvt if !self.moved => {

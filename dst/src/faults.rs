@@ -7,10 +7,16 @@
 //! often is its [`Swarm`](crate::swarm::Swarm)'s choice.
 
 use crate::faulty_bus::BusFaults;
+use crate::rate::Rate;
 use crate::rng::Rng;
+use crate::stamp::Stamp;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{Axis, Request, SimCommand};
-use mcm_shared::sample::CommandSample;
+use mcm_shared::config::RobotConfig;
+use mcm_shared::sample::{CommandSample, Reply};
+
+/// The largest torque a push puts on its joint [Nm].
+pub const PUSH_MAX_NM: f64 = 15.0;
 
 /// The kinds of fault, for the schedule and the campaign's counts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -41,8 +47,9 @@ impl Fault {
         Fault::HeartbeatLoss,
     ];
 
+    /// Its place in [`Fault::ALL`] (the declaration order, checked at compile time below).
     pub fn index(self) -> usize {
-        Fault::ALL.iter().position(|f| *f == self).expect("listed")
+        self as usize
     }
 
     pub fn name(self) -> &'static str {
@@ -72,12 +79,28 @@ impl Fault {
     }
 }
 
-/// One fault under way: its kind, the axis it concerns, the cycle it ends.
+// `Fault::ALL` lists the kinds in their declaration order, which `Fault::index` relies on.
+const _: () = {
+    let mut i = 0;
+    while i < Fault::ALL.len() {
+        assert!(Fault::ALL[i] as usize == i);
+        i += 1;
+    }
+};
+
+/// How long an episode lasts, from a few cycles to 20 s [s].
+const EPISODE_S: [f64; 5] = [0.01, 0.1, 1.0, 5.0, 20.0];
+/// The chance per frame a bus episode hits a frame with (one drawn per episode).
+const BUS_FAULT_CHANCES: [f64; 3] = [0.001, 0.01, 0.1];
+
+/// One fault under way: its kind, the axis it concerns, the cycle it ends, the chance per
+/// frame of a bus fault.
 #[derive(Debug, Clone, Copy)]
 struct Episode {
     fault: Fault,
     axis: Axis,
     until: u64,
+    p: f64,
 }
 
 /// What the schedule does this cycle.
@@ -96,28 +119,45 @@ pub struct Injection {
 pub struct Schedule {
     /// Chance per cycle that each enabled kind starts an episode (when none of it runs).
     rates: [f64; Fault::ALL.len()],
+    rate: Rate,
+    /// The CANopen node id of each axis's drive.
+    node_ids: [u8; NUM_AXES],
     active: Vec<Episode>,
-    client_id: u64,
-    next_request: u64,
+    /// Episodes ended whose undoing `sim` command is not answered yet (request id, fault):
+    /// until then the fault still acts.
+    undoing: Vec<(u64, Fault)>,
+    stamp: Stamp,
 }
 
 impl Schedule {
-    /// `rates[f.index()]`: chance per cycle of a new episode of `f` (0: never in this run).
-    pub fn new(rates: [f64; Fault::ALL.len()], client_id: u64) -> Schedule {
+    /// `every_s[f.index()]`: mean time between the episodes of `f` [s] (`None`: never in this
+    /// run); `client_id`: the injector's, for its `sim` commands.
+    pub fn new(
+        every_s: [Option<f64>; Fault::ALL.len()],
+        cfg: &RobotConfig,
+        client_id: u64,
+    ) -> Schedule {
+        let period_s = cfg.cycle_period_s();
         Schedule {
-            rates,
+            rates: every_s.map(|e| e.map_or(0.0, |e| period_s / e)),
+            rate: Rate::of(cfg),
+            node_ids: core::array::from_fn(|i| cfg.axes[i].node_id),
             active: Vec::new(),
-            client_id,
-            next_request: 1,
+            undoing: Vec::new(),
+            stamp: Stamp::new(client_id),
         }
     }
 
     fn sim(&mut self, cmd: SimCommand) -> CommandSample {
-        let mut c = Request::Sim(cmd).encode();
-        c.client_id = self.client_id;
-        c.request_id = self.next_request;
-        self.next_request += 1;
-        c
+        self.stamp.request(Request::Sim(cmd))
+    }
+
+    /// The `sim` command that undoes `e`, if it needs one; the fault counts as under way until
+    /// it is answered ([`Schedule::answered`]).
+    fn undo(&mut self, e: Episode) -> Option<CommandSample> {
+        let c = self.sim(undo(e.fault, e.axis)?);
+        self.undoing.push((c.request_id, e.fault));
+        Some(c)
     }
 
     /// This cycle's injections at cycle `k`.
@@ -133,10 +173,7 @@ impl Schedule {
         self.active.retain(|e| e.until > k);
         for e in ended {
             bus_changed |= e.fault.is_bus();
-            if let Some(cmd) = undo(e.fault, e.axis) {
-                let c = self.sim(cmd);
-                out.commands.push(c);
-            }
+            out.commands.extend(self.undo(e));
         }
         for f in Fault::ALL {
             let rate = self.rates[f.index()];
@@ -144,12 +181,17 @@ impl Schedule {
                 continue;
             }
             let axis = Axis::new(1 + rng.below(NUM_AXES as u64) as u8).expect("1..=6");
-            // From a few cycles to about 20 s (5 ms cycles).
-            let length = rng.pick(&[2, 20, 200, 1_000, 4_000]);
+            let length = self.rate.cycles(rng.pick(&EPISODE_S));
+            let p = if f.is_bus() {
+                rng.pick(&BUS_FAULT_CHANCES)
+            } else {
+                0.0
+            };
             let e = Episode {
                 fault: f,
                 axis,
                 until: k + length,
+                p,
             };
             if let Some(cmd) = start(f, axis, rng) {
                 let c = self.sim(cmd);
@@ -162,25 +204,24 @@ impl Schedule {
             }
         }
         if bus_changed {
-            out.bus = Some(self.bus_faults(rng));
+            out.bus = Some(self.bus_faults());
         }
         out
     }
 
     /// The bus faults of the bus episodes under way.
-    fn bus_faults(&self, rng: &mut Rng) -> BusFaults {
+    fn bus_faults(&self) -> BusFaults {
         let mut b = BusFaults::default();
         for e in &self.active {
-            let p = rng.pick(&[0.001, 0.01, 0.1]);
             match e.fault {
                 Fault::BusLoss => {
-                    b.lose_rx = p;
-                    b.lose_tx = p;
+                    b.lose_rx = e.p;
+                    b.lose_tx = e.p;
                 }
-                Fault::BusCorruption => b.corrupt_rx = p,
-                Fault::BusDelay => b.delay_rx = p,
-                Fault::BusDuplication => b.duplicate_rx = p,
-                Fault::HeartbeatLoss => b.lose_heartbeats_of = Some(e.axis.number()),
+                Fault::BusCorruption => b.corrupt_rx = e.p,
+                Fault::BusDelay => b.delay_rx = e.p,
+                Fault::BusDuplication => b.duplicate_rx = e.p,
+                Fault::HeartbeatLoss => b.lose_heartbeats_of = Some(self.node_ids[e.axis.index()]),
                 _ => {}
             }
         }
@@ -190,18 +231,30 @@ impl Schedule {
     /// Undo every fault under way (the quiet phase): the `sim` commands that do it.
     pub fn end_all(&mut self) -> Vec<CommandSample> {
         let active = std::mem::take(&mut self.active);
-        let mut out = Vec::new();
-        for e in active {
-            if let Some(cmd) = undo(e.fault, e.axis) {
-                out.push(self.sim(cmd));
-            }
-        }
-        out
+        active.into_iter().filter_map(|e| self.undo(e)).collect()
     }
 
-    /// Faults under way.
+    /// The replies of a cycle: the undoing commands answered end their faults.
+    pub fn answered(&mut self, replies: &[Reply]) {
+        let me = self.stamp.client_id;
+        self.undoing.retain(|(id, _)| {
+            !replies
+                .iter()
+                .any(|r| r.client_id == me && r.request_id == *id)
+        });
+    }
+
+    /// Whether a fault ended but its undoing is not answered yet.
+    pub fn undoing(&self) -> bool {
+        !self.undoing.is_empty()
+    }
+
+    /// Faults under way, the ones being undone included.
     pub fn active(&self) -> impl Iterator<Item = Fault> + '_ {
-        self.active.iter().map(|e| e.fault)
+        self.active
+            .iter()
+            .map(|e| e.fault)
+            .chain(self.undoing.iter().map(|u| u.1))
     }
 }
 
@@ -222,7 +275,7 @@ fn start(f: Fault, axis: Axis, rng: &mut Rng) -> Option<SimCommand> {
         },
         Fault::Push => {
             let mut tau = [0.0; NUM_AXES];
-            tau[axis.index()] = rng.range(-15.0, 15.0);
+            tau[axis.index()] = rng.range(-PUSH_MAX_NM, PUSH_MAX_NM);
             SimCommand {
                 external_torques_nm: Some(tau),
                 ..none

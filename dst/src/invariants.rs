@@ -8,30 +8,61 @@
 //!   while the controller is responsible for it: a calibrated axis, powered in HOLD, PVT,
 //!   VELOCITY_CONTROL, TORQUE_CONTROL or ERROR, with no push, obstacle, power cycle, emergency
 //!   stop or silent drive under way, that was inside its limits since;
-//! - every command answered exactly once, with the kind it asked (at the end of the run no
-//!   command may be left unanswered);
+//! - every command answered exactly once, with the kind it asked: within [`QUEUE_CYCLES`] of
+//!   its sending, plus the drives' enabling for a `hold` or `calibrate` (which wait for it),
+//!   and for a `calibrate` however long its calibration runs (the mode CALIBRATION); none
+//!   left unanswered when the quiet phase has brought the arm back
+//!   ([`Checker::left_unanswered`]; a run that does not get there ends with commands that
+//!   may still be within their bound, which the per-cycle bound judged up to then);
 //! - an OK to `pvt`, `release`, `torque_control`, `velocity_control` is published with its
-//!   mode (or ERROR: a trip in the same cycle), an OK to `calibrate` (its acceptance) with
-//!   CALIBRATION, unless a later command of that cycle changed the mode again;
+//!   mode (or ERROR: a trip in the same cycle), and an OK to `calibrate` (given when the
+//!   calibration ends) with every axis it covered flagged calibrated, unless a later command
+//!   of that cycle changed the mode again;
 //! - only legal mode transitions: the motion modes entered from HOLD only, CALIBRATION from
 //!   OFF or HOLD only, OFF never entered again once left;
 //! - no axis flagged calibrated whose measured angle is further from the true angle than its
-//!   calibration tolerance (plus what one cycle of motion explains);
+//!   calibration tolerance, plus the motion of the cycles the measurement may lag the truth
+//!   ([`Checker::new`]: two, and the TPDOs the master may miss in a row);
 //! - no allocation in the cycle's work.
 
 use crate::faults::Fault;
 use mcm_shared::NUM_AXES;
-use mcm_shared::command::Which;
+use mcm_shared::command::{Axis, Request, Which};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::reply::{Outcome, Response};
 use mcm_shared::sample::{AXIS_CALIBRATED, CommandSample, Reply, StateSample};
-use std::collections::HashMap;
+use mcm_sim::SimBus;
+use std::collections::{HashMap, VecDeque};
 
-/// How far the stops' spring may give under the largest torques [deg].
+/// How far the stops' spring may give [deg]. Not derived at run time; the P-Rob2's figures
+/// (`deploy/prob2.toml`, the stops' `sim.stop_stiffness_nm_rad` 20 000 Nm/rad): pressed by
+/// the largest torques (a motor's peak torque, 129.6 Nm on axes 1 to 3, a push of up to
+/// [`PUSH_MAX_NM`](crate::faults::PUSH_MAX_NM), gravity up to 65 Nm on axis 2) a stop gives
+/// up to 0.6 deg; hit at the overspeed limit (1.1 x 90 deg/s) with the arm stretched (up to
+/// 4.6 kg m^2 on axes 1 and 2) it gives up to 1.5 deg more (undamped, `v·sqrt(I/k)`). 2 deg
+/// is about their sum. A push on an unpowered axis is held to no speed limit and may go
+/// deeper (`docs/testing.md`, findings).
 pub const STOP_PENETRATION_DEG: f64 = 2.0;
 /// How far past a software limit the controller may let an axis go [deg].
 pub const LIMIT_OVERRUN_DEG: f64 = 1.0;
+
+/// Cycles a command may wait for its turn in the intake. A run has fewer senders (at most 4
+/// clients, the driver, the fault injector, the quiet phase's client) than the intake serves
+/// commands in a cycle (`COMMANDS_PER_CYCLE`, 8), so round robin serves each of them at
+/// least once a cycle, and a command waits behind the ones its own sender sent before it.
+/// Every sender sends at most one command a cycle but the fault injector, which sends at
+/// most a start and an undo of each kind of fault at once. Two cycles more for the round
+/// robin's cursor and for the cycle the command arrives in.
+pub const QUEUE_CYCLES: u64 = 2 * Fault::ALL.len() as u64 + 2;
+
+/// How long the controller waits at most for every drive to enable (`hold` out of OFF or
+/// ERROR, `calibrate` out of OFF) before it gives up and answers: rt-core's
+/// `ENABLE_TIMEOUT_NS` (2 s, private to `rt-core/src/controller/mod.rs`) or
+/// `bus.boot_timeout_ms`, the longer.
+fn enabling_wait_ns(cfg: &RobotConfig) -> u64 {
+    2_000_000_000.max(u64::from(cfg.bus.boot_timeout_ms) * 1_000_000)
+}
 
 /// A broken invariant.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,9 +84,18 @@ impl std::fmt::Display for Violation {
 #[derive(Debug, Clone, Copy)]
 struct Asked {
     kind: u32,
-    #[allow(dead_code)] // kept for a check of what a finished calibration covers
+    /// The axes a `calibrate` covers.
     which: Option<Which>,
     cycle: u64,
+    /// The last cycle it may be answered in (a `calibrate` later while its calibration runs).
+    due: u64,
+}
+
+impl Asked {
+    /// A `calibrate`, answered when its calibration ends.
+    fn waits_for_calibration(&self) -> bool {
+        self.kind == CommandKind::Calibrate.to_wire()
+    }
 }
 
 /// The checker of one run.
@@ -64,46 +104,69 @@ pub struct Checker {
     limits_deg: [(f64, f64); NUM_AXES],
     tolerance_deg: [f64; NUM_AXES],
     period_s: f64,
+    /// Cycles the measured angle may lag the true one.
+    lag_cycles: usize,
+    /// The true speeds of the last `lag_cycles` cycles [deg/s], the newest last.
+    recent_speeds: VecDeque<[f64; NUM_AXES]>,
+    /// Cycles the drives' enabling may take.
+    enabling_cycles: u64,
     asked: HashMap<(u64, u64), Asked>,
     prev_mode: Mode,
     left_off: bool,
     /// Per axis: the controller is not (yet again) responsible for its limits.
     excused: [bool; NUM_AXES],
-    pub modes_reached: [u64; 8],
+    pub modes_reached: [u64; Mode::ALL.len()],
     pub answers: [u64; 3],
 }
 
 impl Checker {
-    pub fn new(cfg: &RobotConfig) -> Checker {
+    /// The checker of a run under `cfg`, of the simulated robot `sim` (its mechanical stops).
+    pub fn new(cfg: &RobotConfig, sim: &SimBus) -> Checker {
         let stops_deg = core::array::from_fn(|i| {
-            let a = &cfg.axes[i];
-            let (stop, lo, hi) = (a.calibration.stop_deg, a.min_deg, a.max_deg);
-            if a.calibration.direction > 0 {
-                (lo - (stop - hi), stop)
-            } else {
-                (stop, hi + (lo - stop))
-            }
+            let (lo, hi) = sim.arm().mechanical_stops(i);
+            (lo.to_degrees(), hi.to_degrees())
         });
         Checker {
             stops_deg,
             limits_deg: core::array::from_fn(|i| (cfg.axes[i].min_deg, cfg.axes[i].max_deg)),
             tolerance_deg: core::array::from_fn(|i| cfg.axes[i].calibration.tolerance_deg),
-            period_s: cfg.cycle_period_ns() as f64 * 1e-9,
+            period_s: cfg.cycle_period_s(),
+            // The position read in a cycle was sampled at the SYNC before and the truth is
+            // the one after the cycle's physics (two cycles), and when TPDOs are lost the
+            // master keeps the last one it got for up to `bus.max_missed_tpdos` cycles before
+            // it declares the drive lost.
+            lag_cycles: 2 + usize::from(cfg.bus.max_missed_tpdos),
+            recent_speeds: VecDeque::new(),
+            enabling_cycles: enabling_wait_ns(cfg).div_ceil(cfg.cycle_period_ns()),
             asked: HashMap::new(),
             prev_mode: Mode::Off,
             left_off: false,
             excused: [true; NUM_AXES],
-            modes_reached: [0; 8],
+            modes_reached: [0; Mode::ALL.len()],
             answers: [0; 3],
         }
     }
 
     /// A command was sent at cycle `k`.
-    pub fn asked(&mut self, c: &CommandSample, which: Option<Which>, k: u64) {
+    pub fn asked(&mut self, c: &CommandSample, k: u64) {
+        let which = match Request::decode(c) {
+            Ok(Request::Calibrate(cal)) => Some(cal.which),
+            _ => None,
+        };
+        let waits_for_enabling = matches!(
+            CommandKind::try_from(c.kind),
+            Ok(CommandKind::Hold | CommandKind::Calibrate)
+        );
+        let wait = if waits_for_enabling {
+            QUEUE_CYCLES + self.enabling_cycles + 1
+        } else {
+            QUEUE_CYCLES
+        };
         let a = Asked {
             kind: c.kind,
             which,
             cycle: k,
+            due: k + wait,
         };
         self.asked.insert((c.client_id, c.request_id), a);
     }
@@ -149,8 +212,48 @@ impl Checker {
         self.transition(mode).or_else(&fail)?;
         self.positions(s, mode, faults).or_else(&fail)?;
         self.replies(s, mode, replies).or_else(&fail)?;
+        self.overdue(k, mode).or_else(&fail)?;
         self.prev_mode = mode;
         Ok(())
+    }
+
+    /// A command not answered by its due cycle (the oldest such), but a `calibrate` while a
+    /// calibration runs.
+    fn overdue(&self, k: u64, mode: Mode) -> Result<(), String> {
+        let late = self
+            .asked
+            .iter()
+            .filter(|(_, a)| k > a.due && !(a.waits_for_calibration() && mode == Mode::Calibration))
+            .min_by_key(|(key, a)| (a.cycle, key.0, key.1));
+        match late {
+            Some((&(c, r), a)) => Err(format!(
+                "client {c} request {r} (kind {}) sent in cycle {} not answered by cycle {} ({} cycles later), in {mode}",
+                a.kind,
+                a.cycle,
+                a.due,
+                a.due - a.cycle
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// At the end of a run in cycle `k`, once the quiet phase brought the arm back to a usable
+    /// HOLD with nothing waiting in the intake: no command may be left unanswered (its last
+    /// `hold` ended every calibration and enabling under way).
+    pub fn left_unanswered(&self, k: u64) -> Result<(), Violation> {
+        let left = self.unanswered();
+        if left.is_empty() {
+            return Ok(());
+        }
+        Err(Violation {
+            cycle: k,
+            quiet_phase: false,
+            message: format!(
+                "{} commands left unanswered at the end of the run (client, request, kind, cycle sent; the oldest first): {:?}",
+                left.len(),
+                &left[..left.len().min(5)]
+            ),
+        })
     }
 
     fn transition(&mut self, mode: Mode) -> Result<(), String> {
@@ -191,6 +294,11 @@ impl Checker {
             mode,
             Mode::Hold | Mode::Pvt | Mode::VelocityControl | Mode::TorqueControl | Mode::Error
         ) && !outside_help;
+        if self.recent_speeds.len() == self.lag_cycles {
+            self.recent_speeds.pop_front();
+        }
+        self.recent_speeds
+            .push_back(s.sim_true_velocity.map(f64::abs));
         for i in 0..NUM_AXES {
             let q = s.sim_true_position[i];
             let (lo, hi) = self.stops_deg[i];
@@ -217,7 +325,8 @@ impl Checker {
                 ));
             }
             let err = (s.measured_position[i] - q).abs();
-            let slack = self.tolerance_deg[i] + 2.0 * s.sim_true_velocity[i].abs() * self.period_s;
+            let speed = self.recent_speeds.iter().map(|v| v[i]).fold(0.0, f64::max);
+            let slack = self.tolerance_deg[i] + self.lag_cycles as f64 * speed * self.period_s;
             if calibrated && err > slack {
                 return Err(format!(
                     "axis {}: flagged calibrated, but measured {:.4} deg vs true {q:.4} deg: off by {err:.4} deg, tolerance {slack:.4} deg",
@@ -229,7 +338,7 @@ impl Checker {
         Ok(())
     }
 
-    fn replies(&mut self, _s: &StateSample, mode: Mode, replies: &[Reply]) -> Result<(), String> {
+    fn replies(&mut self, s: &StateSample, mode: Mode, replies: &[Reply]) -> Result<(), String> {
         for (n, r) in replies.iter().enumerate() {
             let Some(asked) = self.asked.remove(&(r.client_id, r.request_id)) else {
                 return Err(format!(
@@ -288,19 +397,34 @@ impl Checker {
             if later_change {
                 continue;
             }
+            if resp.kind == CommandKind::Calibrate {
+                // Answered OK only when the calibration ended with every axis it covered found.
+                let Some(which) = asked.which else {
+                    return Err(format!(
+                        "calibrate of client {} request {} answered OK, but it did not decode as one",
+                        r.client_id, r.request_id
+                    ));
+                };
+                let missing = Axis::ALL.iter().find(|a| {
+                    which.contains(**a) && s.axis_flags[a.index()] & AXIS_CALIBRATED == 0
+                });
+                if let Some(a) = missing {
+                    return Err(format!(
+                        "calibrate ({which:?}) of client {} request {} answered OK in {mode}, but axis {a} is not flagged calibrated (axis flags {:?})",
+                        r.client_id, r.request_id, s.axis_flags
+                    ));
+                }
+            }
             let entered = match resp.kind {
                 CommandKind::Pvt => Some(Mode::Pvt),
                 CommandKind::Release => Some(Mode::Release),
                 CommandKind::TorqueControl => Some(Mode::TorqueControl),
                 CommandKind::VelocityControl => Some(Mode::VelocityControl),
-                CommandKind::Calibrate => Some(Mode::Calibration),
                 _ => None,
             };
             if let Some(want) = entered
                 && mode != want
                 && mode != Mode::Error
-                // `calibrate` is answered when accepted or, when it ends in the same cycle, done.
-                && !(resp.kind == CommandKind::Calibrate && mode == Mode::Hold)
             {
                 return Err(format!(
                     "{} of client {} request {} answered OK ({done:?}) but the mode is {mode}, not {want}",
@@ -336,3 +460,6 @@ fn non_finite(s: &StateSample) -> Option<String> {
         .position(|x| !x.is_finite())
         .map(|i| format!("last_error.values[{i}] = {}", v[i]))
 }
+
+#[cfg(test)]
+mod tests;

@@ -2,57 +2,55 @@
 //! (`--hours H --jobs J`). See `docs/testing.md`, "Deterministic simulation testing".
 
 use mcm_dst::campaign::{CampaignOptions, campaign};
-use mcm_dst::run::{PlantedBug, RunOptions, run};
+use mcm_dst::cli;
+use mcm_dst::hash::first_divergence;
+use mcm_dst::run::{RunOptions, run};
 use mcm_shared::alloc_count::CountingAlloc;
 use std::process::ExitCode;
 
 #[global_allocator]
 static GLOBAL: CountingAlloc = CountingAlloc;
 
-const USAGE: &str = "usage: mcm-dst [--seed N] [--seconds S] [--hours H] [--jobs J] [--first-seed N] [--planted-bug braking]
-  --seed N        run seed N alone (twice, comparing the hashes of every state) and print what it did
-  --seconds S     simulated seconds of each run's chaos phase (default 60)
-  --hours H       a campaign of H simulated hours over seeds from --first-seed (default 0)
-  --jobs J        threads of the campaign (default 1)
-  --planted-bug braking   plant a bug (the braking check as good as off) to see the campaign catch it";
-
-/// The commit this binary was built from (`build.rs`).
-fn commit() -> &'static str {
-    env!("MCM_DST_COMMIT")
+/// The commit this binary was built from (`build.rs`), and whether the checkout it was built
+/// in has uncommitted changes now (looked at when a failure is reported: the build script
+/// cannot see edits, and a replay needs to know that the commit alone may not be the code).
+fn commit() -> String {
+    let dirty = std::process::Command::new("git")
+        .args(["status", "--porcelain", "--untracked-files=no"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .is_some_and(|o| !o.stdout.is_empty());
+    let commit = env!("MCM_DST_COMMIT");
+    if dirty {
+        format!("{commit}; its checkout has uncommitted changes now")
+    } else {
+        commit.to_string()
+    }
 }
 
 fn main() -> ExitCode {
-    let mut seed = None;
-    let mut seconds = 60.0;
-    let mut hours = None;
-    let mut jobs = 1usize;
-    let mut first_seed = 0u64;
-    let mut planted = None;
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        let mut value = |name: &str| {
-            args.next()
-                .unwrap_or_else(|| fail(&format!("{name} needs a value\n{USAGE}")))
-        };
-        match a.as_str() {
-            "--seed" => seed = Some(parse(&value("--seed"), "--seed")),
-            "--seconds" => seconds = parse(&value("--seconds"), "--seconds"),
-            "--hours" => hours = Some(parse::<f64>(&value("--hours"), "--hours")),
-            "--jobs" => jobs = parse(&value("--jobs"), "--jobs"),
-            "--first-seed" => first_seed = parse(&value("--first-seed"), "--first-seed"),
-            "--planted-bug" => match value("--planted-bug").as_str() {
-                "braking" => planted = Some(PlantedBug::BrakingCheckOff),
-                other => fail(&format!(
-                    "unknown planted bug {other:?}: `braking` is the only one"
-                )),
-            },
-            "-h" | "--help" => {
-                println!("{USAGE}");
-                return ExitCode::SUCCESS;
-            }
-            other => fail(&format!("unknown argument {other:?}\n{USAGE}")),
+    let args = match cli::parse(std::env::args().skip(1)) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("mcm-dst: {e}\n{}", cli::USAGE);
+            return ExitCode::from(2);
         }
+    };
+    if args.help {
+        println!("{}", cli::USAGE);
+        return ExitCode::SUCCESS;
     }
+    let cli::Args {
+        seed,
+        seconds,
+        hours,
+        jobs,
+        first_seed,
+        planted,
+        ..
+    } = args;
     if let Some(seed) = seed {
         let mut o = RunOptions::new(seed, seconds);
         o.planted = planted;
@@ -77,8 +75,12 @@ fn main() -> ExitCode {
             a.modes_reached, a.answers, a.recovery_cycles
         );
         if a.hash != b.hash || a.violation != b.violation {
+            let at = first_divergence(&a.checkpoints, &b.checkpoints)
+                .map_or("no cycle (the violations differ)".into(), |k| {
+                    format!("cycle {k}")
+                });
             eprintln!(
-                "NOT DETERMINISTIC: seed {seed} gave hash {:016x} then {:016x}",
+                "NOT DETERMINISTIC: seed {seed} gave hash {:016x} then {:016x}; first different: {at}",
                 a.hash, b.hash
             );
             return ExitCode::FAILURE;
@@ -92,7 +94,7 @@ fn main() -> ExitCode {
             }
         };
     }
-    let budget_s = hours.unwrap_or(0.1) * 3600.0;
+    let budget_s = hours * 3600.0;
     let r = campaign(&CampaignOptions {
         first_seed,
         budget_s,
@@ -102,10 +104,11 @@ fn main() -> ExitCode {
     });
     println!("{}", r.summary());
     let mut ok = true;
+    let planted_arg = planted.map_or(String::new(), |p| format!(" --planted-bug {}", p.name()));
     for f in &r.failures {
         ok = false;
         eprintln!(
-            "FAILED seed {} (commit {}): {}\n  replay: mcm-dst --seed {} --seconds {seconds}",
+            "FAILED seed {} (commit {}): {}\n  replay: mcm-dst --seed {} --seconds {seconds}{planted_arg}",
             f.seed,
             commit(),
             f.violation.as_ref().expect("a failure"),
@@ -122,14 +125,4 @@ fn main() -> ExitCode {
     } else {
         ExitCode::FAILURE
     }
-}
-
-fn parse<T: std::str::FromStr>(s: &str, name: &str) -> T {
-    s.parse()
-        .unwrap_or_else(|_| fail(&format!("{name}: {s:?} is not a valid value")))
-}
-
-fn fail(msg: &str) -> ! {
-    eprintln!("mcm-dst: {msg}");
-    std::process::exit(2)
 }

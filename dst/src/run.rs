@@ -6,11 +6,14 @@ use crate::clients::{Action, Client, FIRST_CLIENT_ID, Limits};
 use crate::driver::Driver;
 use crate::faults::{Fault, Schedule};
 use crate::faulty_bus::{BusFaultCounts, BusFaults};
+use crate::hash::RunHash;
 use crate::invariants::{Checker, Violation};
+use crate::rate::Rate;
 use crate::rng::Rng;
+use crate::stamp::{Stamp, calibrate_all};
 use crate::swarm::Swarm;
 use crate::world::World;
-use mcm_shared::command::{Calibrate, Direction, Pvt, Request, Which};
+use mcm_shared::command::{Pvt, Request};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::reply::{Outcome, Response};
@@ -28,6 +31,17 @@ pub enum PlantedBug {
     /// (`safety.braking_efficiency = 100`, past the configuration's validation): the check
     /// is as good as switched off.
     BrakingCheckOff,
+}
+
+impl PlantedBug {
+    pub const ALL: [PlantedBug; 1] = [PlantedBug::BrakingCheckOff];
+
+    /// Its name on the command line (`--planted-bug NAME`).
+    pub fn name(self) -> &'static str {
+        match self {
+            PlantedBug::BrakingCheckOff => "braking",
+        }
+    }
 }
 
 /// What to run.
@@ -61,8 +75,10 @@ pub struct RunReport {
     pub simulated_s: f64,
     /// Hash of every cycle's published state and replies: equal for two runs of a seed.
     pub hash: u64,
+    /// The hash after each cycle ([`crate::hash::first_divergence`] of two runs).
+    pub checkpoints: Vec<u64>,
     pub violation: Option<Violation>,
-    pub modes_reached: [u64; 8],
+    pub modes_reached: [u64; Mode::ALL.len()],
     pub faults_started: [u64; Fault::ALL.len()],
     /// Faults started while the mode was CALIBRATION, and while an axis was braking in ERROR.
     pub faults_in_calibration: u64,
@@ -72,58 +88,6 @@ pub struct RunReport {
     pub bus: BusFaultCounts,
     /// Cycles the quiet phase took to a calibrated HOLD.
     pub recovery_cycles: Option<u64>,
-}
-
-/// FNV-1a over 64-bit words.
-struct Hash(u64);
-
-impl Hash {
-    fn word(&mut self, w: u64) {
-        for b in w.to_le_bytes() {
-            self.0 ^= u64::from(b);
-            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01B3);
-        }
-    }
-
-    fn state(&mut self, s: &StateSample, replies: &[Reply]) {
-        for w in [
-            s.seq,
-            s.t_ns,
-            u64::from(s.mode),
-            u64::from(s.flags),
-            s.reply_head,
-        ] {
-            self.word(w);
-        }
-        self.word(s.owner_client_id);
-        for a in [
-            &s.position,
-            &s.velocity,
-            &s.current,
-            &s.measured_position,
-            &s.commanded_position,
-            &s.sim_true_position,
-            &s.sim_true_velocity,
-        ] {
-            for x in a {
-                self.word(x.to_bits());
-            }
-        }
-        for f in s.axis_flags {
-            self.word(u64::from(f));
-        }
-        self.word(s.last_error.seq);
-        for r in replies {
-            for w in [
-                r.client_id,
-                r.request_id,
-                u64::from(r.status),
-                u64::from(r.code),
-            ] {
-                self.word(w);
-            }
-        }
-    }
 }
 
 /// The configuration of a seed's run: the P-Rob2, its encoder offsets and start pose drawn.
@@ -139,13 +103,6 @@ pub fn config(rng: &mut Rng, planted: Option<PlantedBug>) -> RobotConfig {
     cfg
 }
 
-fn which_of(r: &Request) -> Option<Which> {
-    match r {
-        Request::Calibrate(c) => Some(c.which),
-        _ => None,
-    }
-}
-
 /// Run one seed.
 pub fn run(opts: &RunOptions) -> RunReport {
     let mut rng = Rng::new(opts.seed);
@@ -157,8 +114,8 @@ pub fn run(opts: &RunOptions) -> RunReport {
     let mut driver_rng = rng.fork(4);
     swarm.draw_roles(&mut driver_rng);
     let limits = Limits::of(&cfg);
-    let mut checker = Checker::new(&cfg);
-    let mut schedule = Schedule::new(swarm.fault_rates, FAULT_CLIENT);
+    let mut checker = Checker::new(&cfg, world.bus().sim());
+    let mut schedule = Schedule::new(swarm.fault_every_s, &cfg, FAULT_CLIENT);
     let mut next_id = FIRST_CLIENT_ID;
     let mut clients: Vec<Client> = (0..swarm.clients)
         .map(|_| {
@@ -168,15 +125,16 @@ pub fn run(opts: &RunOptions) -> RunReport {
         .collect();
     let mut driver = swarm
         .driver
-        .then(|| Driver::new(FIRST_CLIENT_ID, &mut driver_rng));
+        .then(|| Driver::new(FIRST_CLIENT_ID, Rate::of(&cfg), &mut driver_rng));
     let mut report = RunReport {
         seed: opts.seed,
         swarm: swarm.clone(),
         cycles: 0,
         simulated_s: 0.0,
-        hash: 0xCBF2_9CE4_8422_2325,
+        hash: 0,
+        checkpoints: Vec::new(),
         violation: None,
-        modes_reached: [0; 8],
+        modes_reached: [0; Mode::ALL.len()],
         faults_started: [0; Fault::ALL.len()],
         faults_in_calibration: 0,
         faults_while_braking: 0,
@@ -184,21 +142,21 @@ pub fn run(opts: &RunOptions) -> RunReport {
         bus: BusFaultCounts::default(),
         recovery_cycles: None,
     };
-    let mut hash = Hash(report.hash);
-    let period_s = world.period_ns() as f64 * 1e-9;
+    let mut hash = RunHash::default();
+    let period_s = cfg.cycle_period_s();
     let chaos_cycles = (opts.seconds / period_s) as u64;
     let mut faults: Vec<Fault> = Vec::new();
 
     let step = |world: &mut World,
                 checker: &mut Checker,
-                hash: &mut Hash,
+                hash: &mut RunHash,
                 faults: &[Fault]|
      -> Result<(), Violation> {
         world.step();
         let k = world.cycle_index();
         let allocs = std::mem::take(&mut world.allocations);
         let s = *world.state();
-        hash.state(&s, world.replies());
+        hash.cycle(&s, world.replies());
         checker.cycle(k, &s, world.replies(), allocs, faults)
     };
 
@@ -217,7 +175,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
                 }
             }
             for c in inj.commands {
-                checker.asked(&c, None, k);
+                checker.asked(&c, k);
                 world.send(c);
             }
             if let Some(b) = inj.bus {
@@ -226,65 +184,68 @@ pub fn run(opts: &RunOptions) -> RunReport {
             for client in &mut clients {
                 match client.act(&s, &limits, &mut client_rng) {
                     Action::None => {}
-                    Action::Send(x) => {
-                        checker.asked(&x.sample, x.request.as_ref().and_then(which_of), k);
-                        world.send(x.sample);
+                    Action::Send(c) => {
+                        checker.asked(&c, k);
+                        world.send(c);
                     }
-                    Action::Gone(x) => {
-                        checker.asked(&x.sample, None, k);
-                        world.send(x.sample);
+                    Action::Gone(c) => {
+                        checker.asked(&c, k);
+                        world.send(c);
                         next_id += 1;
                         *client = Client::new(next_id, &mut client_rng);
                     }
                 }
             }
-            if let Some(x) = driver
+            if let Some(c) = driver
                 .as_mut()
                 .and_then(|d| d.act(&s, &limits, &mut driver_rng))
             {
-                checker.asked(&x.sample, x.request.as_ref().and_then(which_of), k);
-                world.send(x.sample);
+                checker.asked(&c, k);
+                world.send(c);
             }
             faults.clear();
             faults.extend(schedule.active());
             faults.extend(inj.started.iter().copied());
             step(&mut world, &mut checker, &mut hash, &faults)?;
+            schedule.answered(world.replies());
         }
         // The quiet phase: faults off, every client gone, the recovery client.
         let k = world.cycle_index();
         for c in schedule.end_all() {
-            checker.asked(&c, None, k);
+            checker.asked(&c, k);
             world.send(c);
         }
         world.bus().faults = BusFaults::default();
-        let ids = clients.iter().map(|c| c.id).chain(driver.map(|d| d.id));
-        for id in ids {
-            let mut c = Request::ClientGone.encode();
-            (c.client_id, c.request_id) = (id, u64::MAX);
-            checker.asked(&c, None, k);
+        let gone = clients
+            .iter_mut()
+            .map(Client::gone)
+            .chain(driver.as_mut().map(Driver::gone));
+        for c in gone {
+            checker.asked(&c, k);
             world.send(c);
         }
-        // Faults stay "under way" for the checker until the pushes etc. are undone.
-        faults.clear();
-        faults.push(Fault::Push);
-        for _ in 0..4 {
+        // The faults act (and stay under way for the checker) until their undoing is answered.
+        while schedule.undoing() {
+            faults.clear();
+            faults.extend(schedule.active());
             step(&mut world, &mut checker, &mut hash, &faults)?;
+            schedule.answered(world.replies());
         }
         faults.clear();
         let quiet_cycles = (opts.quiet_seconds / period_s) as u64;
-        let mut recovery = Recovery::new();
+        let mut recovery = Recovery::new(Rate::of(&cfg));
         let start = world.cycle_index();
         while world.cycle_index() - start < quiet_cycles {
             let k = world.cycle_index();
             if let Some(c) = recovery.next(world.state()) {
-                checker.asked(&c.0, c.1, k);
-                world.send(c.0);
+                checker.asked(&c, k);
+                world.send(c);
             }
             step(&mut world, &mut checker, &mut hash, &faults)?;
-            recovery.read(world.replies());
-            if recovery.done && world.waiting() == 0 && checker.unanswered().is_empty() {
+            recovery.read(world.state().seq, world.replies());
+            if recovery.done && world.waiting() == 0 {
                 report.recovery_cycles = Some(world.cycle_index() - start);
-                return Ok(());
+                return checker.left_unanswered(world.cycle_index());
             }
         }
         let k = world.cycle_index();
@@ -311,7 +272,8 @@ pub fn run(opts: &RunOptions) -> RunReport {
     report.violation = result.err();
     report.cycles = world.cycle_index();
     report.simulated_s = report.cycles as f64 * period_s;
-    report.hash = hash.0;
+    report.hash = hash.value();
+    report.checkpoints = hash.checkpoints().to_vec();
     report.modes_reached = checker.modes_reached;
     report.answers = checker.answers;
     report.bus = world.bus().counts;
@@ -324,13 +286,17 @@ pub fn run(opts: &RunOptions) -> RunReport {
 struct Recovery {
     stage: Stage,
     pending: Option<u64>,
-    next_request: u64,
+    stamp: Stamp,
     last: Option<Outcome>,
     done: bool,
+    /// The state's `seq` before which it sends nothing.
     wait_until: u64,
-    /// `seq` of the state it last read.
-    seq: u64,
+    rate: Rate,
 }
+
+/// How long the quiet phase's client waits after a refusal or failure before it tries again
+/// from `hold` [s].
+const RETRY_AFTER_S: f64 = 1.0;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Stage {
@@ -342,19 +308,19 @@ enum Stage {
 }
 
 impl Recovery {
-    fn new() -> Recovery {
+    fn new(rate: Rate) -> Recovery {
         Recovery {
             stage: Stage::Control,
             pending: None,
-            next_request: 1,
+            stamp: Stamp::new(RECOVERY_CLIENT),
             last: None,
             done: false,
             wait_until: 0,
-            seq: 0,
+            rate,
         }
     }
 
-    fn next(&mut self, s: &StateSample) -> Option<(CommandSample, Option<Which>)> {
+    fn next(&mut self, s: &StateSample) -> Option<CommandSample> {
         if self.pending.is_some() || self.done || s.seq < self.wait_until {
             return None;
         }
@@ -364,7 +330,6 @@ impl Recovery {
         if self.stage == Stage::Calibrate && !calibrated && derated {
             return None;
         }
-        self.seq = s.seq;
         let r = match self.stage {
             Stage::Control => Request::TakeControl,
             Stage::Hold => Request::Hold,
@@ -372,23 +337,18 @@ impl Recovery {
                 self.stage = Stage::Use;
                 Request::Pvt(Pvt { dt_s: 0.01 })
             }
-            Stage::Calibrate => Request::Calibrate(Calibrate {
-                which: Which::All,
-                elbow_direction: Direction::Positive,
-                wrist_direction: Direction::Positive,
-                force_mechanical_stop: false,
-            }),
+            Stage::Calibrate => calibrate_all(),
             Stage::Use => Request::Pvt(Pvt { dt_s: 0.01 }),
             Stage::Back => Request::Hold,
         };
-        let mut c = r.encode();
-        (c.client_id, c.request_id) = (RECOVERY_CLIENT, self.next_request);
-        self.pending = Some(self.next_request);
-        self.next_request += 1;
-        Some((c, which_of(&r)))
+        let c = self.stamp.request(r);
+        self.pending = Some(c.request_id);
+        Some(c)
     }
 
-    fn read(&mut self, replies: &[Reply]) {
+    /// The replies of the cycle whose state has `seq` (a reply's own `cycle` is stamped when
+    /// the edge publishes it, which the virtual-time cycle does not).
+    fn read(&mut self, seq: u64, replies: &[Reply]) {
         for r in replies {
             if r.client_id != RECOVERY_CLIENT || Some(r.request_id) != self.pending {
                 continue;
@@ -401,7 +361,7 @@ impl Recovery {
             if std::env::var_os("MCM_DST_TRACE").is_some() {
                 eprintln!(
                     "cycle {}: recovery {:?}: {} -> {:?}",
-                    self.seq, self.stage, resp.kind, resp.outcome
+                    seq, self.stage, resp.kind, resp.outcome
                 );
             }
             self.last = Some(resp.outcome);
@@ -419,7 +379,7 @@ impl Recovery {
                 // start again from `hold`, a second later.
                 (Stage::Control, false) => Stage::Control,
                 (_, false) => {
-                    self.wait_until = self.seq + 200;
+                    self.wait_until = seq + self.rate.cycles(RETRY_AFTER_S);
                     Stage::Hold
                 }
                 (s, true) => s,

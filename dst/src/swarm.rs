@@ -9,29 +9,26 @@ use crate::rng::Rng;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Swarm {
     pub clients: usize,
-    /// Chance per cycle of a new episode of each kind of fault (0: never in this run).
-    pub fault_rates: [f64; Fault::ALL.len()],
+    /// Mean time between the episodes of each kind of fault [simulated s] (`None`: never in
+    /// this run).
+    pub fault_every_s: [Option<f64>; Fault::ALL.len()],
     /// A [`Driver`](crate::driver::Driver) among the clients (alone when `clients` is 0).
     pub driver: bool,
-    /// Faults ten times rarer than drawn: the driver gets further between them.
-    pub calm: bool,
 }
 
 impl Swarm {
     pub fn draw(rng: &mut Rng) -> Swarm {
         let clients = 1 + rng.below(4) as usize;
-        let mut fault_rates = [0.0; Fault::ALL.len()];
-        for r in &mut fault_rates {
+        let mut fault_every_s = [None; Fault::ALL.len()];
+        for every in &mut fault_every_s {
             if rng.chance(0.5) {
-                // About every 5 s, 50 s or 500 s of simulated time.
-                *r = rng.pick(&[1.0 / 1_000.0, 1.0 / 10_000.0, 1.0 / 100_000.0]);
+                *every = Some(rng.pick(&[5.0, 50.0, 500.0]));
             }
         }
         Swarm {
             clients,
-            fault_rates,
+            fault_every_s,
             driver: false,
-            calm: false,
         }
     }
 
@@ -44,10 +41,11 @@ impl Swarm {
         if self.driver && rng.chance(0.5) {
             self.clients = 0;
         }
-        self.calm = rng.chance(0.3);
-        if self.calm {
-            for r in &mut self.fault_rates {
-                *r /= 10.0;
+        // A calm run: faults ten times rarer than drawn, so that the driver gets further
+        // between them.
+        if rng.chance(0.3) {
+            for every in self.fault_every_s.iter_mut().flatten() {
+                *every *= 10.0;
             }
         }
     }
@@ -56,7 +54,7 @@ impl Swarm {
     pub fn fault_names(&self) -> Vec<&'static str> {
         Fault::ALL
             .iter()
-            .filter(|f| self.fault_rates[f.index()] > 0.0)
+            .filter(|f| self.fault_every_s[f.index()].is_some())
             .map(|f| f.name())
             .collect()
     }

@@ -1,20 +1,18 @@
 //! The system under test, composed as the real-time process composes it, in virtual time:
-//! command intake ([`Intake`]: stops first, then round robin), the cycle ([`Cycle`]: the
-//! controller with its ownership rules and the CANopen master), the simulator's edge
-//! ([`SimEdge`]: `sim` fault injection) and the simulated robot behind a [`FaultyBus`].
+//! command intake ([`Intake`]: stops first, then round robin) and rt-core's [`SimCycle`] (the
+//! cycle, the controller with its ownership rules and the CANopen master, with the
+//! simulator's edge for `sim` fault injection) over the simulated robot behind a
+//! [`FaultyBus`].
 //!
 //! [`World::step`] is one cycle of the real-time loop, the work [`mcm_rt_core::edge::Edge`]
 //! does minus the IPC: the commands that arrived go into the backlog, the intake chooses this
-//! cycle's, [`run_cycle`] runs it. It counts what that work allocates (the global allocator
+//! cycle's, [`SimCycle::run`] runs it. It counts what that work allocates (the global allocator
 //! must be [`mcm_shared::alloc_count::CountingAlloc`] for the count to see anything).
 
 use crate::faulty_bus::FaultyBus;
 use crate::rng::Rng;
-use mcm_rt_core::cycle::Cycle;
 use mcm_rt_core::intake::Intake;
-use mcm_rt_core::publish::CycleClock;
-use mcm_rt_core::runner::run_cycle;
-use mcm_rt_core::sim_edge::SimEdge;
+use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::alloc_count;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::sample::{CommandSample, Reply, StateSample};
@@ -23,8 +21,7 @@ use std::collections::VecDeque;
 
 /// The real-time process over the simulated robot, in virtual time.
 pub struct World {
-    cycle: Box<Cycle<FaultyBus>>,
-    edge: SimEdge<FaultyBus>,
+    robot: SimCycle<FaultyBus>,
     intake: Intake,
     /// Commands sent but not yet in the backlog (iceoryx2's queue, when the backlog is full).
     queued: VecDeque<CommandSample>,
@@ -38,10 +35,10 @@ impl World {
     /// The robot at power-up, under `cfg`; `rng` drives the bus faults.
     pub fn new(cfg: &RobotConfig, rng: Rng) -> World {
         let bus = FaultyBus::new(SimBus::new(cfg), rng);
-        let cycle = Cycle::new(cfg, bus).expect("the configuration passes the master's checks");
+        let robot = SimCycle::over(cfg, bus, |b| b.sim_mut())
+            .expect("the configuration passes the master's checks");
         World {
-            cycle: Box::new(cycle),
-            edge: SimEdge::new(|b: &mut FaultyBus| b.sim_mut() as _),
+            robot,
             intake: Intake::new(),
             queued: VecDeque::new(),
             period_ns: cfg.cycle_period_ns(),
@@ -53,10 +50,6 @@ impl World {
     /// Cycles run so far.
     pub fn cycle_index(&self) -> u64 {
         self.k
-    }
-
-    pub fn period_ns(&self) -> u64 {
-        self.period_ns
     }
 
     /// A command arrives (taken into the backlog at the next cycle, as iceoryx2 delivers).
@@ -72,32 +65,27 @@ impl World {
             *slot = c;
         }
         let now_ns = self.k * self.period_ns;
-        let (cycle, edge, intake) = (&mut self.cycle, &mut self.edge, &mut self.intake);
-        let clock = CycleClock::virtual_time(now_ns, self.period_ns);
+        let (robot, intake) = (&mut self.robot, &mut self.intake);
         let ((), counts) = alloc_count::count(|| {
             intake.received(n);
             let commands = intake.next_cycle();
-            run_cycle(cycle, Some(edge), now_ns, &clock, commands);
+            robot.run(now_ns, commands);
         });
         self.allocations += counts.allocations;
         self.k += 1;
     }
 
     pub fn state(&self) -> &StateSample {
-        self.cycle.state()
+        self.robot.state()
     }
 
     /// The replies of the last cycle.
     pub fn replies(&self) -> &[Reply] {
-        self.cycle.replies()
+        self.robot.replies()
     }
 
     pub fn bus(&mut self) -> &mut FaultyBus {
-        self.cycle.bus_mut()
-    }
-
-    pub fn controller(&self) -> &mcm_rt_core::controller::Controller {
-        self.cycle.controller()
+        self.robot.bus_mut()
     }
 
     /// Commands sent and not yet served.

@@ -193,6 +193,11 @@ impl SimBus {
         self.now_ns
     }
 
+    /// The arm's physics (its true state, its mechanical stops), for inspection.
+    pub fn arm(&self) -> &ArmSim {
+        &self.arm
+    }
+
     /// The drive of `axis` (0-based), for inspection.
     pub fn drive(&self, axis: usize) -> Option<&SimDrive> {
         self.drives.get(axis)

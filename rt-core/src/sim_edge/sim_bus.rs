@@ -39,9 +39,11 @@ impl SimulatedRobot for SimBus {
     }
 }
 
-/// The simulated robot in virtual time: `Cycle<SimBus>` with the simulator's edge, stepped by
-/// the runner's own [`crate::runner::run_cycle`] (for tests and benchmarks). The cycle (about
-/// 230 kB) lives on the heap so that a test can hold several robots on its thread's stack.
+/// The simulated robot in virtual time: `Cycle<B>` with the simulator's edge, stepped by the
+/// runner's own [`crate::runner::run_cycle`] (for tests and benchmarks). `B` is the simulator's
+/// [`SimBus`], or a bus that wraps it (the deterministic simulation's faulty cable:
+/// [`SimCycle::over`]). The cycle (about 230 kB) lives on the heap so that a test can hold
+/// several robots on its thread's stack.
 ///
 /// ```
 /// use mcm_rt_core::sim_edge::SimCycle;
@@ -60,18 +62,30 @@ impl SimulatedRobot for SimBus {
 /// assert_ne!(s.flags & STATE_SIMULATED, 0);
 /// assert_ne!(s.flags & STATE_SIM_ESTOP, 0);
 /// ```
-pub struct SimCycle {
-    cycle: Box<Cycle<SimBus>>,
-    edge: SimEdge<SimBus>,
+pub struct SimCycle<B: mcm_bus::Bus = SimBus> {
+    cycle: Box<Cycle<B>>,
+    edge: SimEdge<B>,
     period_ns: u64,
 }
 
 impl SimCycle {
     /// The controller over `bus`, with the edge (see [`Cycle::new`]).
     pub fn new(cfg: &RobotConfig, bus: SimBus) -> Result<Self, MasterSetupError> {
+        Self::over(cfg, bus, |b| b)
+    }
+}
+
+impl<B: mcm_bus::Bus> SimCycle<B> {
+    /// The controller over `bus`, a bus with the simulated robot inside that the edge reaches
+    /// through `sim` (see [`Cycle::new`]).
+    pub fn over(
+        cfg: &RobotConfig,
+        bus: B,
+        sim: super::SimAccess<B>,
+    ) -> Result<Self, MasterSetupError> {
         Ok(Self {
             cycle: Box::new(Cycle::new(cfg, bus)?),
-            edge: SimEdge::new(|b| b),
+            edge: SimEdge::new(sim),
             period_ns: cfg.cycle_period_ns(),
         })
     }
@@ -109,7 +123,7 @@ impl SimCycle {
     }
 
     /// The simulated robot (inspection, save/resume, direct fault injection).
-    pub fn bus_mut(&mut self) -> &mut SimBus {
+    pub fn bus_mut(&mut self) -> &mut B {
         self.cycle.bus_mut()
     }
 }

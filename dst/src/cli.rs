@@ -1,0 +1,143 @@
+//! The command line of `mcm-dst`: what to run, every value checked, a refusal naming the
+//! option, the value and what is allowed.
+
+use crate::run::PlantedBug;
+
+pub const USAGE: &str = "usage: mcm-dst [--seed N] [--seconds S] [--hours H] [--jobs J] [--first-seed N] [--planted-bug braking]
+  --seed N        run seed N alone (twice, comparing the hashes of every state) and print what it did
+  --seconds S     simulated seconds of each run's chaos phase (default 60)
+  --hours H       without --seed: a campaign of H simulated hours over seeds from --first-seed (default 0.1)
+  --jobs J        threads of the campaign (default 1; with 1 a campaign is reproducible)
+  --first-seed N  the campaign's first seed (default 0)
+  --planted-bug braking   plant a bug (the braking check as good as off) to see the campaign catch it";
+
+/// What the command line asks for.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Args {
+    /// Run this seed alone; `None`: a campaign.
+    pub seed: Option<u64>,
+    pub seconds: f64,
+    pub hours: f64,
+    pub jobs: usize,
+    pub first_seed: u64,
+    pub planted: Option<PlantedBug>,
+    /// `--help`: print the usage and nothing else.
+    pub help: bool,
+}
+
+impl Default for Args {
+    fn default() -> Self {
+        Args {
+            seed: None,
+            seconds: 60.0,
+            hours: 0.1,
+            jobs: 1,
+            first_seed: 0,
+            planted: None,
+            help: false,
+        }
+    }
+}
+
+/// A command line `mcm-dst` refuses.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ArgError {
+    /// An option without its value.
+    Missing { option: &'static str },
+    /// A value the option does not allow.
+    Invalid {
+        option: &'static str,
+        value: String,
+        allowed: &'static str,
+    },
+    /// Not an option of `mcm-dst`.
+    Unknown { arg: String },
+}
+
+impl std::fmt::Display for ArgError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ArgError::Missing { option } => write!(f, "{option} needs a value"),
+            ArgError::Invalid {
+                option,
+                value,
+                allowed,
+            } => write!(f, "{option} {value:?}: allowed is {allowed}"),
+            ArgError::Unknown { arg } => write!(f, "unknown argument {arg:?}"),
+        }
+    }
+}
+
+impl std::error::Error for ArgError {}
+
+const SEED: &str = "an integer from 0 to 18446744073709551615";
+const POSITIVE: &str = "a finite number above 0";
+const JOBS: &str = "an integer from 1";
+const PLANTED: &str = "`braking`, the only planted bug";
+
+/// `value` of `option` as a `T`, else refused with `allowed`.
+fn number<T: std::str::FromStr>(
+    option: &'static str,
+    value: &str,
+    allowed: &'static str,
+    ok: impl Fn(&T) -> bool,
+) -> Result<T, ArgError> {
+    value
+        .parse()
+        .ok()
+        .filter(|v| ok(v))
+        .ok_or_else(|| ArgError::Invalid {
+            option,
+            value: value.to_string(),
+            allowed,
+        })
+}
+
+fn positive(x: &f64) -> bool {
+    x.is_finite() && *x > 0.0
+}
+
+/// The arguments after the program's name.
+pub fn parse(args: impl IntoIterator<Item = String>) -> Result<Args, ArgError> {
+    let mut out = Args::default();
+    let mut args = args.into_iter();
+    while let Some(a) = args.next() {
+        let option: &'static str = match a.as_str() {
+            "-h" | "--help" => {
+                out.help = true;
+                continue;
+            }
+            "--seed" => "--seed",
+            "--seconds" => "--seconds",
+            "--hours" => "--hours",
+            "--jobs" => "--jobs",
+            "--first-seed" => "--first-seed",
+            "--planted-bug" => "--planted-bug",
+            _ => return Err(ArgError::Unknown { arg: a }),
+        };
+        let value = args.next().ok_or(ArgError::Missing { option })?;
+        match option {
+            "--seed" => out.seed = Some(number(option, &value, SEED, |_| true)?),
+            "--seconds" => out.seconds = number(option, &value, POSITIVE, positive)?,
+            "--hours" => out.hours = number(option, &value, POSITIVE, positive)?,
+            "--jobs" => out.jobs = number(option, &value, JOBS, |j| *j >= 1)?,
+            "--first-seed" => out.first_seed = number(option, &value, SEED, |_| true)?,
+            _ => {
+                out.planted = Some(
+                    PlantedBug::ALL
+                        .into_iter()
+                        .find(|p| p.name() == value)
+                        .ok_or(ArgError::Invalid {
+                            option,
+                            value,
+                            allowed: PLANTED,
+                        })?,
+                )
+            }
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests;

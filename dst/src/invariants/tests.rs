@@ -1,0 +1,365 @@
+//! One case per invariant: a cycle that breaks it is a violation naming what broke, and the
+//! same cycle without the defect passes (so that each case fails without its check).
+
+use super::*;
+use mcm_shared::command::{Calibrate, Direction, Pvt};
+use mcm_shared::reply::{Done, Reason};
+use mcm_shared::sample::AXIS_CALIBRATED;
+
+const CLIENT: u64 = 100;
+
+fn checker() -> Checker {
+    let cfg = RobotConfig::prob2_default();
+    Checker::new(&cfg, &SimBus::new(&cfg))
+}
+
+/// The arm at zero (inside every limit), in `mode`, every axis calibrated and measured right.
+fn state(mode: Mode) -> StateSample {
+    StateSample {
+        mode: mode.to_wire(),
+        axis_flags: [AXIS_CALIBRATED; NUM_AXES],
+        ..StateSample::default()
+    }
+}
+
+fn sample(r: Request, request_id: u64) -> CommandSample {
+    let mut c = r.encode();
+    (c.client_id, c.request_id) = (CLIENT, request_id);
+    c
+}
+
+fn answer(request_id: u64, kind: CommandKind, outcome: Outcome) -> Reply {
+    Response {
+        client_id: CLIENT,
+        request_id,
+        kind,
+        outcome,
+    }
+    .encode()
+}
+
+fn ok(request_id: u64, kind: CommandKind) -> Reply {
+    answer(request_id, kind, Outcome::Done(Done::Ack))
+}
+
+/// Cycle `k` with no faults and no allocation; the violation's message, if any.
+fn check(c: &mut Checker, k: u64, s: &StateSample, replies: &[Reply]) -> Result<(), String> {
+    c.cycle(k, s, replies, 0, &[]).map_err(|v| {
+        assert_eq!(v.cycle, k);
+        assert!(!v.quiet_phase);
+        v.message
+    })
+}
+
+fn broken(r: Result<(), String>, what: &str) {
+    match r {
+        Err(m) => assert!(m.contains(what), "expected {what:?} in {m:?}"),
+        Ok(()) => panic!("not seen as broken: {what}"),
+    }
+}
+
+#[test]
+fn an_allocation_in_the_cycle_is_a_violation() {
+    let mut c = checker();
+    let s = state(Mode::Hold);
+    assert!(c.cycle(1, &s, &[], 0, &[]).is_ok());
+    let e = c.cycle(2, &s, &[], 3, &[]).unwrap_err();
+    assert!(e.message.contains("allocated 3 times"), "{e}");
+}
+
+#[test]
+fn a_number_of_the_state_that_is_not_finite_is_named() {
+    let mut c = checker();
+    let mut s = state(Mode::Hold);
+    check(&mut c, 1, &s, &[]).unwrap();
+    s.following_error[3] = f64::NAN;
+    broken(check(&mut c, 2, &s, &[]), "following_error[axis 4] = NaN");
+    let mut c = checker();
+    let mut s = state(Mode::Hold);
+    s.last_error.values[1] = f64::INFINITY;
+    broken(check(&mut c, 1, &s, &[]), "last_error.values[1] = inf");
+}
+
+#[test]
+fn illegal_mode_transitions_are_violations_and_legal_ones_are_not() {
+    for path in [
+        &[
+            Mode::Hold,
+            Mode::Pvt,
+            Mode::Error,
+            Mode::Hold,
+            Mode::Calibration,
+            Mode::Hold,
+        ][..],
+        &[
+            Mode::Calibration,
+            Mode::Error,
+            Mode::Hold,
+            Mode::VelocityControl,
+        ][..],
+    ] {
+        let mut c = checker();
+        for (k, m) in path.iter().enumerate() {
+            check(&mut c, k as u64 + 1, &state(*m), &[]).unwrap();
+        }
+    }
+    for (path, what) in [
+        (&[Mode::Pvt][..], "illegal mode transition OFF -> PVT"),
+        (
+            &[Mode::Hold, Mode::Off][..],
+            "illegal mode transition HOLD -> OFF",
+        ),
+        (
+            &[Mode::Error, Mode::Calibration][..],
+            "ERROR -> CALIBRATION",
+        ),
+        (
+            &[Mode::Hold, Mode::Pvt, Mode::Release][..],
+            "PVT -> RELEASE",
+        ),
+    ] {
+        let mut c = checker();
+        let (last, first) = path.split_last().unwrap();
+        for (k, m) in first.iter().enumerate() {
+            check(&mut c, k as u64 + 1, &state(*m), &[]).unwrap();
+        }
+        broken(check(&mut c, path.len() as u64, &state(*last), &[]), what);
+    }
+}
+
+#[test]
+fn a_true_angle_beyond_the_mechanical_stop_is_a_violation() {
+    let cfg = RobotConfig::prob2_default();
+    let (_, hi) = SimBus::new(&cfg).arm().mechanical_stops(2);
+    let mut c = checker();
+    let mut s = state(Mode::Off);
+    s.axis_flags = [0; NUM_AXES];
+    s.sim_true_position[2] = hi.to_degrees() + STOP_PENETRATION_DEG - 0.01;
+    s.measured_position[2] = s.sim_true_position[2];
+    check(&mut c, 1, &s, &[]).unwrap();
+    s.sim_true_position[2] = hi.to_degrees() + STOP_PENETRATION_DEG + 0.01;
+    broken(check(&mut c, 2, &s, &[]), "axis 3: true angle");
+}
+
+#[test]
+fn a_software_limit_overrun_is_a_violation_while_the_controller_is_responsible() {
+    let hi = RobotConfig::prob2_default().axes[0].max_deg;
+    let over = |s: &mut StateSample, q: f64| {
+        s.sim_true_position[0] = q;
+        s.measured_position[0] = q;
+    };
+    // Inside first, then beyond by more than the overrun allowed.
+    let mut c = checker();
+    let mut s = state(Mode::Hold);
+    check(&mut c, 1, &s, &[]).unwrap();
+    over(&mut s, hi + LIMIT_OVERRUN_DEG - 0.01);
+    check(&mut c, 2, &s, &[]).unwrap();
+    over(&mut s, hi + LIMIT_OVERRUN_DEG + 0.01);
+    broken(check(&mut c, 3, &s, &[]), "beyond the software limits");
+    // A push under way: the controller is not to blame, nor afterwards until back inside.
+    let mut c = checker();
+    let mut s = state(Mode::Hold);
+    check(&mut c, 1, &s, &[]).unwrap();
+    over(&mut s, hi + 5.0);
+    c.cycle(2, &s, &[], 0, &[Fault::Push]).unwrap();
+    check(&mut c, 3, &s, &[]).unwrap();
+    over(&mut s, hi);
+    check(&mut c, 4, &s, &[]).unwrap();
+    over(&mut s, hi + 5.0);
+    broken(check(&mut c, 5, &s, &[]), "beyond the software limits");
+}
+
+#[test]
+fn an_axis_flagged_calibrated_off_the_truth_is_a_violation() {
+    let tol = RobotConfig::prob2_default().axes[4]
+        .calibration
+        .tolerance_deg;
+    let mut c = checker();
+    let mut s = state(Mode::Hold);
+    s.measured_position[4] = tol * 0.9;
+    check(&mut c, 1, &s, &[]).unwrap();
+    s.measured_position[4] = tol * 1.1;
+    broken(check(&mut c, 2, &s, &[]), "axis 5: flagged calibrated");
+    // Not flagged calibrated: the raw encoder angle may be anything.
+    s.axis_flags[4] = 0;
+    check(&mut c, 3, &s, &[]).unwrap();
+}
+
+#[test]
+fn a_reply_never_asked_for_or_given_twice_is_a_violation() {
+    let mut c = checker();
+    let s = state(Mode::Hold);
+    c.asked(&sample(Request::Status, 1), 0);
+    check(&mut c, 1, &s, &[ok(1, CommandKind::Status)]).unwrap();
+    broken(
+        check(&mut c, 2, &s, &[ok(1, CommandKind::Status)]),
+        "never asked, or answered before",
+    );
+    broken(
+        check(&mut c, 3, &s, &[ok(9, CommandKind::Status)]),
+        "never asked, or answered before",
+    );
+}
+
+#[test]
+fn a_reply_of_another_kind_than_asked_is_a_violation() {
+    let mut c = checker();
+    let s = state(Mode::Hold);
+    c.asked(&sample(Request::Status, 1), 0);
+    c.asked(&sample(Request::Info, 2), 0);
+    check(&mut c, 1, &s, &[ok(1, CommandKind::Status)]).unwrap();
+    broken(
+        check(&mut c, 2, &s, &[ok(2, CommandKind::Status)]),
+        "asked kind 3, answered as kind 1",
+    );
+}
+
+#[test]
+fn a_sample_of_an_unknown_kind_answered_ok_is_a_violation() {
+    let mut c = checker();
+    let s = state(Mode::Hold);
+    let unknown = CommandSample {
+        kind: 99,
+        client_id: CLIENT,
+        request_id: 1,
+        ..CommandSample::default()
+    };
+    c.asked(&unknown, 0);
+    let mut reply = ok(1, CommandKind::Status);
+    reply.kind = 99;
+    let mut refused = reply;
+    refused.status = 1;
+    check(&mut c, 1, &s, &[refused]).unwrap();
+    c.asked(
+        &CommandSample {
+            request_id: 2,
+            ..unknown
+        },
+        1,
+    );
+    reply.request_id = 2;
+    broken(
+        check(&mut c, 2, &s, &[reply]),
+        "of unknown kind 99 answered OK",
+    );
+}
+
+#[test]
+fn an_ok_that_enters_a_mode_is_published_with_that_mode() {
+    let pvt = Request::Pvt(Pvt { dt_s: 0.01 });
+    let mut c = checker();
+    c.asked(&sample(pvt, 1), 0);
+    check(&mut c, 1, &state(Mode::Hold), &[]).unwrap();
+    check(&mut c, 2, &state(Mode::Pvt), &[ok(1, CommandKind::Pvt)]).unwrap();
+    let mut c = checker();
+    c.asked(&sample(pvt, 1), 0);
+    check(&mut c, 1, &state(Mode::Hold), &[]).unwrap();
+    broken(
+        check(&mut c, 2, &state(Mode::Hold), &[ok(1, CommandKind::Pvt)]),
+        "but the mode is HOLD, not PVT",
+    );
+    // Unless a later command of the cycle changed the mode again.
+    let mut c = checker();
+    c.asked(&sample(pvt, 1), 0);
+    c.asked(&sample(Request::Hold, 2), 0);
+    check(&mut c, 1, &state(Mode::Hold), &[]).unwrap();
+    let replies = [ok(1, CommandKind::Pvt), ok(2, CommandKind::Hold)];
+    check(&mut c, 2, &state(Mode::Hold), &replies).unwrap();
+}
+
+#[test]
+fn an_ok_to_calibrate_needs_every_axis_it_covered_flagged_calibrated() {
+    let wrist = Request::Calibrate(Calibrate {
+        which: Which::Wrist,
+        elbow_direction: Direction::Positive,
+        wrist_direction: Direction::Positive,
+        force_mechanical_stop: false,
+    });
+    let mut s = state(Mode::Hold);
+    s.axis_flags[..3].fill(0); // axes 1 to 3 not calibrated: not covered
+    let mut c = checker();
+    c.asked(&sample(wrist, 1), 0);
+    check(&mut c, 1, &s, &[ok(1, CommandKind::Calibrate)]).unwrap();
+    s.axis_flags[4] = 0;
+    let mut c = checker();
+    c.asked(&sample(wrist, 1), 0);
+    broken(
+        check(&mut c, 1, &s, &[ok(1, CommandKind::Calibrate)]),
+        "axis 5 is not flagged calibrated",
+    );
+    // A refusal says nothing about the axes.
+    let mut c = checker();
+    c.asked(&sample(wrist, 1), 0);
+    let busy = Outcome::Refused(Reason::Busy { remaining_s: 1.0 });
+    check(&mut c, 1, &s, &[answer(1, CommandKind::Calibrate, busy)]).unwrap();
+}
+
+#[test]
+fn a_command_not_answered_in_time_is_a_violation() {
+    let mut c = checker();
+    let s = state(Mode::Hold);
+    c.asked(&sample(Request::Status, 1), 0);
+    for k in 1..=QUEUE_CYCLES {
+        check(&mut c, k, &s, &[]).unwrap();
+    }
+    broken(
+        check(&mut c, QUEUE_CYCLES + 1, &s, &[]),
+        "client 100 request 1 (kind 1) sent in cycle 0 not answered",
+    );
+    // `hold` waits for the drives' enabling too (at least 2 s).
+    let mut c = checker();
+    let s = state(Mode::Off);
+    c.asked(&sample(Request::Hold, 1), 0);
+    for k in 1..=QUEUE_CYCLES + 400 {
+        check(&mut c, k, &s, &[]).unwrap();
+    }
+    // `calibrate` as long as its calibration runs.
+    let mut c = checker();
+    c.asked(&sample(crate::stamp::calibrate_all(), 1), 0);
+    let s = state(Mode::Calibration);
+    for k in 1..=10_000 {
+        check(&mut c, k, &s, &[]).unwrap();
+    }
+    broken(
+        check(&mut c, 10_001, &state(Mode::Hold), &[]),
+        "not answered",
+    );
+}
+
+#[test]
+fn a_command_left_unanswered_at_the_end_is_a_violation() {
+    let mut c = checker();
+    c.asked(&sample(Request::Status, 1), 0);
+    c.asked(&sample(crate::stamp::calibrate_all(), 2), 0);
+    let e = c.left_unanswered(3).unwrap_err();
+    assert!(!e.quiet_phase);
+    assert!(e.message.contains("2 commands left unanswered"), "{e}");
+    let mut c = checker();
+    c.asked(&sample(Request::Status, 1), 0);
+    check(&mut c, 1, &state(Mode::Hold), &[ok(1, CommandKind::Status)]).unwrap();
+    c.left_unanswered(1).unwrap();
+}
+
+#[test]
+fn a_measurement_may_lag_the_truth_by_the_cycles_of_missed_tpdos_but_not_at_rest() {
+    let cfg = RobotConfig::prob2_default();
+    let tol = cfg.axes[0].calibration.tolerance_deg;
+    let lag = 2.0 + f64::from(cfg.bus.max_missed_tpdos);
+    let mut c = checker();
+    let mut s = state(Mode::TorqueControl);
+    check(&mut c, 1, &state(Mode::Hold), &[]).unwrap();
+    // Fast, then braking: the measurement stale by a few cycles of the fast speed.
+    s.sim_true_velocity[0] = 200.0;
+    check(&mut c, 2, &s, &[]).unwrap();
+    s.sim_true_velocity[0] = 50.0;
+    s.measured_position[0] = 0.9 * lag * 200.0 * c.period_s;
+    check(&mut c, 3, &s, &[]).unwrap();
+    // At rest for as long as the measurement may lag: the tolerance alone.
+    s.sim_true_velocity[0] = 0.0;
+    s.measured_position[0] = tol * 0.9;
+    for k in 4..4 + lag as u64 {
+        check(&mut c, k, &s, &[]).unwrap();
+    }
+    s.measured_position[0] = tol * 1.1;
+    broken(check(&mut c, 10, &s, &[]), "axis 1: flagged calibrated");
+}
