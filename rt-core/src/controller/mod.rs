@@ -28,6 +28,8 @@ mod exits;
 mod motion;
 mod moves;
 mod ownership;
+#[cfg(feature = "planted-bugs")]
+pub mod planted;
 pub mod release;
 mod shutdown_sequence;
 mod state;
@@ -110,6 +112,9 @@ pub struct Controller {
     owner: u64,
     /// The shutdown, once `mcm-rt` was asked to stop (`shutdown_sequence.rs`).
     shutdown: Option<ShutdownStatus>,
+    /// Bugs planted by the simulation tester (`planted.rs`).
+    #[cfg(feature = "planted-bugs")]
+    planted: planted::Planted,
 }
 
 impl Controller {
@@ -156,6 +161,8 @@ impl Controller {
             now_ns: 0,
             owner: 0,
             shutdown: None,
+            #[cfg(feature = "planted-bugs")]
+            planted: planted::Planted::default(),
         }
     }
 
