@@ -8,6 +8,7 @@
 //! invariant) depends on the threads' timing.
 
 use crate::faults::Fault;
+use crate::invariants::LIMIT_OVERRUN_DEG;
 use crate::run::{PlantedBug, RunOptions, RunReport, run};
 use mcm_shared::mode::Mode;
 use std::sync::Mutex;
@@ -37,6 +38,8 @@ pub struct CampaignReport {
     pub faults_in_calibration: u64,
     pub faults_while_braking: u64,
     pub answers: [u64; 3],
+    /// The largest [`RunReport::max_overrun_deg`] and its seed.
+    pub max_overrun: (f64, u64),
     pub bus_frames_hit: u64,
     /// The failing runs, by seed: every quiet phase that failed, and the run that broke a
     /// per-cycle invariant (the campaign stops at it; with several jobs, the runs under way
@@ -58,6 +61,9 @@ impl CampaignReport {
         self.faults_while_braking += r.faults_while_braking;
         for (a, b) in self.answers.iter_mut().zip(r.answers) {
             *a += b;
+        }
+        if r.max_overrun_deg > self.max_overrun.0 {
+            self.max_overrun = (r.max_overrun_deg, r.seed);
         }
         let b = r.bus;
         self.bus_frames_hit +=
@@ -116,13 +122,15 @@ impl CampaignReport {
         }
         let _ = write!(
             s,
-            "\nfaults during calibration {}, while braking {}; frames hit by bus faults {}\nanswers: OK {}, refused {}, failed {}",
+            "\nfaults during calibration {}, while braking {}; frames hit by bus faults {}\nanswers: OK {}, refused {}, failed {}\nfurthest beyond a software limit while responsible: {:.3} deg (seed {}; allowed {LIMIT_OVERRUN_DEG} deg)",
             self.faults_in_calibration,
             self.faults_while_braking,
             self.bus_frames_hit,
             self.answers[0],
             self.answers[1],
-            self.answers[2]
+            self.answers[2],
+            self.max_overrun.0,
+            self.max_overrun.1
         );
         s
     }

@@ -1,7 +1,7 @@
 //! The command line of `mcm-dst`: what to run, every value checked, a refusal naming the
 //! option, the value and what is allowed.
 
-use crate::run::PlantedBug;
+use crate::run::{PLANTED_BUGS, PlantedBug};
 
 pub const USAGE: &str = "usage: mcm-dst [--seed N] [--seconds S] [--hours H] [--jobs J] [--first-seed N] [--planted-bug braking]
   --seed N        run seed N alone (twice, comparing the hashes of every state) and print what it did
@@ -9,7 +9,7 @@ pub const USAGE: &str = "usage: mcm-dst [--seed N] [--seconds S] [--hours H] [--
   --hours H       without --seed: a campaign of H simulated hours over seeds from --first-seed (default 0.1)
   --jobs J        threads of the campaign (default 1; with 1 a campaign is reproducible)
   --first-seed N  the campaign's first seed (default 0)
-  --planted-bug braking   plant a bug (the braking check as good as off) to see the campaign catch it";
+  --planted-bug braking   plant a bug (the braking-distance check never trips) to see the campaign catch it";
 
 /// What the command line asks for.
 #[derive(Debug, Clone, PartialEq)]
@@ -124,9 +124,10 @@ pub fn parse(args: impl IntoIterator<Item = String>) -> Result<Args, ArgError> {
             "--first-seed" => out.first_seed = number(option, &value, SEED, |_| true)?,
             _ => {
                 out.planted = Some(
-                    PlantedBug::ALL
+                    PLANTED_BUGS
                         .into_iter()
-                        .find(|p| p.name() == value)
+                        .find(|(_, name)| *name == value)
+                        .map(|(bug, _)| bug)
                         .ok_or(ArgError::Invalid {
                             option,
                             value,

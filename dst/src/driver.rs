@@ -6,20 +6,26 @@
 //! It reads the published state as a real client does: `take_control` when nobody has it,
 //! `hold` out of OFF and ERROR, `calibrate` all axes in HOLD unless they are, then one of
 //! VELOCITY_CONTROL (one axis at 50 to 100 % of its speed limit towards a limit),
-//! TORQUE_CONTROL (one axis pushed with 30 to 100 % of its motor's torque towards a limit,
-//! gravity compensated) or PVT (`move_axis` to just inside a limit at full speed), for a few
-//! seconds, then `hold` and the next plan.
+//! TORQUE_CONTROL (gravity compensated, one axis towards a limit: half the plans push with 30 to
+//! 100 % of its motor's torque, which the overspeed check ends within a few cycles; the other
+//! half regulate the axis's speed to 45 to 90 % of its limit with torques, as an integrator's
+//! force or admittance controller would, so that the axis reaches its limit at speed and the
+//! braking-distance check has to stop it) or PVT (`move_axis` to just inside a limit at full
+//! speed), for a few seconds, then `hold` and the next plan.
 
 use crate::clients::Limits;
 use crate::rate::Rate;
 use crate::rng::Rng;
 use crate::stamp::{Stamp, calibrate_all};
+use mcm_dynamics::ArmModel;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
     Axis, MoveAxis, Pvt, Request, SetTorques, SetVelocities, TorqueControl, VelocityControl,
 };
+use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::Mode;
 use mcm_shared::sample::{AXIS_CALIBRATED, CommandSample, StateSample};
+use mcm_shared::units::deg_to_rad;
 
 /// How long a plan runs before the driver sends `hold` [s].
 const PLAN_S: f64 = 3.0;
@@ -34,12 +40,21 @@ const AFTER_ENTRY_S: f64 = 0.025;
 const AFTER_PLAN_S: f64 = 0.1;
 /// How often it sends `set_velocities` and `set_torques` [s].
 const SETPOINT_PERIOD_S: f64 = 0.02;
+/// Time constant of the torque plans' speed regulation [s]: ten setpoint periods, so that the
+/// loop, closed over the published state once a period, is well damped.
+const SPEED_LOOP_TAU_S: f64 = 0.2;
+/// Share of the speed limit a speed-regulating torque plan aims at, times its factor: 45 to
+/// 90 %, below the overspeed check (110 %).
+const SPEED_LOOP_SHARE: f64 = 0.9;
 
 /// What the driver does in the motion mode it entered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Motion {
     Velocity,
+    /// A constant torque.
     Torque,
+    /// Torques that regulate the speed.
+    TorqueSpeed,
     Pvt,
 }
 
@@ -47,6 +62,8 @@ enum Motion {
 #[derive(Debug, Clone)]
 pub struct Driver {
     stamp: Stamp,
+    /// The arm's rigid-body model: the joint's inertia for the speed-regulating torques.
+    model: ArmModel,
     rate: Rate,
     motion: Motion,
     axis: usize,
@@ -63,9 +80,10 @@ pub struct Driver {
 }
 
 impl Driver {
-    pub fn new(id: u64, rate: Rate, rng: &mut Rng) -> Driver {
+    pub fn new(id: u64, cfg: &RobotConfig, rate: Rate, rng: &mut Rng) -> Driver {
         let mut d = Driver {
             stamp: Stamp::new(id),
+            model: ArmModel::from_config(cfg),
             rate,
             motion: Motion::Velocity,
             axis: 0,
@@ -81,6 +99,9 @@ impl Driver {
 
     fn plan(&mut self, seq: u64, rng: &mut Rng) {
         self.motion = rng.pick(&[Motion::Velocity, Motion::Torque, Motion::Pvt]);
+        if self.motion == Motion::Torque && rng.below(2) == 0 {
+            self.motion = Motion::TorqueSpeed;
+        }
         self.axis = rng.below(NUM_AXES as u64) as usize;
         self.direction = rng.pick(&[1.0, -1.0]);
         self.factor = rng.pick(&[0.5, 0.8, 1.0]);
@@ -132,7 +153,7 @@ impl Driver {
                     Motion::Velocity => Request::VelocityControl(VelocityControl {
                         timeout_s: Some(0.5),
                     }),
-                    Motion::Torque => Request::TorqueControl(TorqueControl {
+                    Motion::Torque | Motion::TorqueSpeed => Request::TorqueControl(TorqueControl {
                         timeout_s: Some(0.5),
                         gravity_compensation: true,
                     }),
@@ -153,9 +174,18 @@ impl Driver {
             }
             Mode::TorqueControl => {
                 let mut t = [0.0; NUM_AXES];
-                t[self.axis] = self.direction
-                    * (0.3 + 0.7 * (self.factor - 0.5) / 0.5)
-                    * lim.max_torque[self.axis];
+                let i = self.axis;
+                let most = (0.3 + 0.7 * (self.factor - 0.5) / 0.5) * lim.max_torque[i];
+                t[i] = if self.motion == Motion::TorqueSpeed {
+                    let target =
+                        self.direction * self.factor * SPEED_LOOP_SHARE * lim.max_velocity[i];
+                    let q = s.position.map(deg_to_rad);
+                    let inertia = self.model.mass_matrix(&q)[(i, i)];
+                    let nm = inertia * deg_to_rad(target - s.velocity[i]) / SPEED_LOOP_TAU_S;
+                    nm.clamp(-most, most)
+                } else {
+                    self.direction * most
+                };
                 self.wait(s, SETPOINT_PERIOD_S);
                 Request::SetTorques(SetTorques { torques_nm: t })
             }

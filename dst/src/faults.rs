@@ -34,6 +34,20 @@ pub enum Fault {
 }
 
 impl Fault {
+    /// Whether the fault moves the arm or takes it from the controller's hands (a push, an
+    /// obstacle, the drives' power cut or a drive gone silent), so that where the arm goes
+    /// is not the controller's doing while it acts.
+    pub fn moves_the_arm(self) -> bool {
+        matches!(
+            self,
+            Fault::Push
+                | Fault::Obstacle
+                | Fault::PowerCycle
+                | Fault::EmergencyStop
+                | Fault::DriveSilent
+        )
+    }
+
     pub const ALL: [Fault; 10] = [
         Fault::EmergencyStop,
         Fault::DriveSilent,

@@ -20,12 +20,21 @@
 //!   of that cycle changed the mode again;
 //! - only legal mode transitions: the motion modes entered from HOLD only, CALIBRATION from
 //!   OFF or HOLD only, OFF never entered again once left;
+//! - after a trip (the mode ERROR entered), every axis that was moving at standstill within its
+//!   braking distance as the braking check computes it (`docs/safety.md`, "Braking distance":
+//!   the speed times the reaction latency, plus `v^2 / (2 braking_efficiency a_max)`), from the
+//!   fastest true speed of the cycles the measurement lags, plus the lag's own travel and
+//!   [`STANDSTILL_SLACK_DEG`]; and within the time that takes plus [`STANDSTILL_SLACK_S`]
+//!   ([`Stopping`]); judged while the mode stays ERROR (a client's `hold` commands the arm
+//!   again) and not while a push, an obstacle, a power cycle, an emergency stop or a silent
+//!   drive acts (the arm is not the controller's to stop then);
 //! - no axis flagged calibrated whose measured angle is further from the true angle than its
 //!   calibration tolerance, plus the motion of the cycles the measurement may lag the truth
 //!   ([`Checker::new`]: two, and the TPDOs the master may miss in a row);
 //! - no allocation in the cycle's work.
 
 use crate::faults::Fault;
+use mcm_rt_core::safety::SafetyParams;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{Axis, Request, Which};
 use mcm_shared::config::RobotConfig;
@@ -46,6 +55,30 @@ use std::collections::{HashMap, VecDeque};
 pub const STOP_PENETRATION_DEG: f64 = 2.0;
 /// How far past a software limit the controller may let an axis go [deg].
 pub const LIMIT_OVERRUN_DEG: f64 = 1.0;
+/// Travel allowed after a trip beyond the braking distance [deg]: the drive's position loop
+/// lags the stop's reference by up to the following error of the moment.
+pub const STANDSTILL_SLACK_DEG: f64 = 0.5;
+/// Time allowed after a trip beyond the stop's own duration [s]: the position loop settling.
+pub const STANDSTILL_SLACK_S: f64 = 0.5;
+/// An axis slower than this is at standstill [deg/s].
+pub const STANDSTILL_DEG_S: f64 = 0.5;
+
+/// An axis braking after a trip, watched until standstill.
+#[derive(Debug, Clone, Copy)]
+struct Stopping {
+    /// The cycle of the trip.
+    cycle: u64,
+    /// The true angle at the trip [deg] and the direction of motion (+1 or -1).
+    from_deg: f64,
+    direction: f64,
+    /// The speed the bound was computed from [deg/s].
+    speed: f64,
+    /// The travel allowed [deg], and the furthest travelled so far.
+    allowed_deg: f64,
+    travelled_deg: f64,
+    /// The last cycle by which the axis must be at standstill.
+    due: u64,
+}
 
 /// Cycles a command may wait for its turn in the intake. A run has fewer senders (at most 4
 /// clients, the driver, the fault injector, the quiet phase's client) than the intake serves
@@ -108,6 +141,12 @@ pub struct Checker {
     lag_cycles: usize,
     /// The true speeds of the last `lag_cycles` cycles [deg/s], the newest last.
     recent_speeds: VecDeque<[f64; NUM_AXES]>,
+    /// Per axis: the deceleration a stop brakes with at least (`braking_efficiency` times the
+    /// maximum acceleration) [deg/s^2] and the braking check's latency [s].
+    brake_decel_deg: [f64; NUM_AXES],
+    braking_latency_s: [f64; NUM_AXES],
+    /// The axes braking after a trip.
+    stopping: [Option<Stopping>; NUM_AXES],
     /// Cycles the drives' enabling may take.
     enabling_cycles: u64,
     asked: HashMap<(u64, u64), Asked>,
@@ -117,11 +156,16 @@ pub struct Checker {
     excused: [bool; NUM_AXES],
     pub modes_reached: [u64; Mode::ALL.len()],
     pub answers: [u64; 3],
+    /// The furthest the true angle went beyond a software limit while the controller was
+    /// responsible for it [deg] (0: never beyond): how close the run came to breaking
+    /// [`LIMIT_OVERRUN_DEG`].
+    pub max_overrun_deg: f64,
 }
 
 impl Checker {
     /// The checker of a run under `cfg`, of the simulated robot `sim` (its mechanical stops).
     pub fn new(cfg: &RobotConfig, sim: &SimBus) -> Checker {
+        let safety = SafetyParams::from_config(cfg).with_jerk_limited_stop(cfg);
         let stops_deg = core::array::from_fn(|i| {
             let (lo, hi) = sim.arm().mechanical_stops(i);
             (lo.to_degrees(), hi.to_degrees())
@@ -137,6 +181,9 @@ impl Checker {
             // it declares the drive lost.
             lag_cycles: 2 + usize::from(cfg.bus.max_missed_tpdos),
             recent_speeds: VecDeque::new(),
+            brake_decel_deg: core::array::from_fn(|i| safety.brake_decel[i].to_degrees()),
+            braking_latency_s: core::array::from_fn(|i| safety.braking_latency_s(i)),
+            stopping: [None; NUM_AXES],
             enabling_cycles: enabling_wait_ns(cfg).div_ceil(cfg.cycle_period_ns()),
             asked: HashMap::new(),
             prev_mode: Mode::Off,
@@ -144,6 +191,7 @@ impl Checker {
             excused: [true; NUM_AXES],
             modes_reached: [0; Mode::ALL.len()],
             answers: [0; 3],
+            max_overrun_deg: 0.0,
         }
     }
 
@@ -211,6 +259,7 @@ impl Checker {
         self.modes_reached[mode as usize] += 1;
         self.transition(mode).or_else(&fail)?;
         self.positions(s, mode, faults).or_else(&fail)?;
+        self.standstill(k, s, mode, faults).or_else(&fail)?;
         self.replies(s, mode, replies).or_else(&fail)?;
         self.overdue(k, mode).or_else(&fail)?;
         self.prev_mode = mode;
@@ -280,16 +329,7 @@ impl Checker {
     }
 
     fn positions(&mut self, s: &StateSample, mode: Mode, faults: &[Fault]) -> Result<(), String> {
-        let outside_help = faults.iter().any(|f| {
-            matches!(
-                f,
-                Fault::Push
-                    | Fault::Obstacle
-                    | Fault::PowerCycle
-                    | Fault::EmergencyStop
-                    | Fault::DriveSilent
-            )
-        });
+        let outside_help = faults.iter().any(|f| f.moves_the_arm());
         let responsible = matches!(
             mode,
             Mode::Hold | Mode::Pvt | Mode::VelocityControl | Mode::TorqueControl | Mode::Error
@@ -317,6 +357,9 @@ impl Checker {
             if inside && responsible && calibrated {
                 self.excused[i] = false;
             }
+            if !self.excused[i] {
+                self.max_overrun_deg = self.max_overrun_deg.max(lo - q).max(q - hi);
+            }
             if !self.excused[i] && (q < lo - LIMIT_OVERRUN_DEG || q > hi + LIMIT_OVERRUN_DEG) {
                 return Err(format!(
                     "axis {}: true angle {q:.3} deg beyond the software limits [{lo}, {hi}] by more than {LIMIT_OVERRUN_DEG} deg in {mode} (velocity {:.3} deg/s)",
@@ -332,6 +375,80 @@ impl Checker {
                     "axis {}: flagged calibrated, but measured {:.4} deg vs true {q:.4} deg: off by {err:.4} deg, tolerance {slack:.4} deg",
                     i + 1,
                     s.measured_position[i]
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The braking after a trip: watched from the cycle ERROR is entered until standstill.
+    /// Runs after [`Self::positions`], which has pushed this cycle's speeds.
+    fn standstill(
+        &mut self,
+        k: u64,
+        s: &StateSample,
+        mode: Mode,
+        faults: &[Fault],
+    ) -> Result<(), String> {
+        // A client's `hold` out of ERROR, and what follows it, commands the arm again.
+        if mode != Mode::Error || faults.iter().any(|f| f.moves_the_arm()) {
+            self.stopping = [None; NUM_AXES];
+            return Ok(());
+        }
+        if mode == Mode::Error && !matches!(self.prev_mode, Mode::Error | Mode::Off) {
+            for i in 0..NUM_AXES {
+                let speed = self.recent_speeds.iter().map(|v| v[i]).fold(0.0, f64::max);
+                let v = s.sim_true_velocity[i];
+                if speed < STANDSTILL_DEG_S || self.stopping[i].is_some() {
+                    continue;
+                }
+                let lag_s = self.lag_cycles as f64 * self.period_s;
+                let latency_s = self.braking_latency_s[i] + lag_s;
+                let a = self.brake_decel_deg[i];
+                self.stopping[i] = Some(Stopping {
+                    cycle: k,
+                    from_deg: s.sim_true_position[i],
+                    direction: if v < 0.0 { -1.0 } else { 1.0 },
+                    speed,
+                    allowed_deg: speed * latency_s
+                        + speed * speed / (2.0 * a)
+                        + STANDSTILL_SLACK_DEG,
+                    travelled_deg: 0.0,
+                    due: k
+                        + ((latency_s + speed / a + STANDSTILL_SLACK_S) / self.period_s).ceil()
+                            as u64,
+                });
+            }
+        }
+        for i in 0..NUM_AXES {
+            let Some(st) = self.stopping[i].as_mut() else {
+                continue;
+            };
+            let travel = (s.sim_true_position[i] - st.from_deg) * st.direction;
+            st.travelled_deg = st.travelled_deg.max(travel);
+            if st.travelled_deg > st.allowed_deg {
+                return Err(format!(
+                    "axis {}: {:.3} deg travelled since the trip in cycle {} at {:.3} deg/s, more than its braking distance {:.3} deg (true angle {:.3} deg, velocity {:.3} deg/s, in {mode})",
+                    i + 1,
+                    st.travelled_deg,
+                    st.cycle,
+                    st.speed,
+                    st.allowed_deg,
+                    s.sim_true_position[i],
+                    s.sim_true_velocity[i]
+                ));
+            }
+            if s.sim_true_velocity[i].abs() < STANDSTILL_DEG_S {
+                self.stopping[i] = None;
+            } else if k > st.due {
+                return Err(format!(
+                    "axis {}: still at {:.3} deg/s in cycle {k}, {} cycles after the trip in cycle {} at {:.3} deg/s: its stop should have ended by cycle {} (in {mode})",
+                    i + 1,
+                    s.sim_true_velocity[i],
+                    k - st.cycle,
+                    st.cycle,
+                    st.speed,
+                    st.due
                 ));
             }
         }

@@ -4,7 +4,7 @@
 use mcm_dst::campaign::{CampaignOptions, campaign};
 use mcm_dst::cli;
 use mcm_dst::hash::first_divergence;
-use mcm_dst::run::{RunOptions, run};
+use mcm_dst::run::{RunOptions, planted_name, run};
 use mcm_shared::alloc_count::CountingAlloc;
 use std::process::ExitCode;
 
@@ -71,8 +71,8 @@ fn main() -> ExitCode {
             a.swarm.fault_names()
         );
         println!(
-            "modes (cycles): {:?}; answers OK/refused/failed {:?}; recovery {:?} cycles",
-            a.modes_reached, a.answers, a.recovery_cycles
+            "modes (cycles): {:?}; answers OK/refused/failed {:?}; recovery {:?} cycles; furthest beyond a software limit {:.3} deg",
+            a.modes_reached, a.answers, a.recovery_cycles, a.max_overrun_deg
         );
         if a.hash != b.hash || a.violation != b.violation {
             let at = first_divergence(&a.checkpoints, &b.checkpoints)
@@ -104,7 +104,9 @@ fn main() -> ExitCode {
     });
     println!("{}", r.summary());
     let mut ok = true;
-    let planted_arg = planted.map_or(String::new(), |p| format!(" --planted-bug {}", p.name()));
+    let planted_arg = planted.map_or(String::new(), |p| {
+        format!(" --planted-bug {}", planted_name(p))
+    });
     for f in &r.failures {
         ok = false;
         eprintln!(

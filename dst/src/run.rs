@@ -24,24 +24,17 @@ pub const FAULT_CLIENT: u64 = 1;
 /// Client id of the quiet phase's client.
 pub const RECOVERY_CLIENT: u64 = 2;
 
-/// A bug planted on purpose, to show that a campaign catches it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PlantedBug {
-    /// The braking check believes the arm brakes 100 times harder than it can
-    /// (`safety.braking_efficiency = 100`, past the configuration's validation): the check
-    /// is as good as switched off.
-    BrakingCheckOff,
-}
+pub use mcm_rt_core::controller::planted::PlantedBug;
 
-impl PlantedBug {
-    pub const ALL: [PlantedBug; 1] = [PlantedBug::BrakingCheckOff];
+/// Every bug `--planted-bug` can plant, with its name on the command line.
+pub const PLANTED_BUGS: [(PlantedBug, &str); 1] = [(PlantedBug::BrakingCheckOff, "braking")];
 
-    /// Its name on the command line (`--planted-bug NAME`).
-    pub fn name(self) -> &'static str {
-        match self {
-            PlantedBug::BrakingCheckOff => "braking",
-        }
-    }
+/// The name of `bug` on the command line (`--planted-bug NAME`).
+pub fn planted_name(bug: PlantedBug) -> &'static str {
+    PLANTED_BUGS
+        .iter()
+        .find(|(b, _)| *b == bug)
+        .map_or("?", |(_, name)| name)
 }
 
 /// What to run.
@@ -85,20 +78,19 @@ pub struct RunReport {
     pub faults_while_braking: u64,
     /// Answers OK, refused, failed.
     pub answers: [u64; 3],
+    /// [`Checker::max_overrun_deg`].
+    pub max_overrun_deg: f64,
     pub bus: BusFaultCounts,
     /// Cycles the quiet phase took to a calibrated HOLD.
     pub recovery_cycles: Option<u64>,
 }
 
 /// The configuration of a seed's run: the P-Rob2, its encoder offsets and start pose drawn.
-pub fn config(rng: &mut Rng, planted: Option<PlantedBug>) -> RobotConfig {
+pub fn config(rng: &mut Rng) -> RobotConfig {
     let mut cfg = RobotConfig::prob2_default();
     cfg.sim.seed = rng.next_u64();
     for (q, a) in cfg.sim.initial_position_deg.iter_mut().zip(&cfg.axes) {
         *q = rng.range(a.min_deg + 5.0, a.max_deg - 5.0);
-    }
-    if planted == Some(PlantedBug::BrakingCheckOff) {
-        cfg.safety.braking_efficiency = 100.0;
     }
     cfg
 }
@@ -107,8 +99,11 @@ pub fn config(rng: &mut Rng, planted: Option<PlantedBug>) -> RobotConfig {
 pub fn run(opts: &RunOptions) -> RunReport {
     let mut rng = Rng::new(opts.seed);
     let mut swarm = Swarm::draw(&mut rng);
-    let cfg = config(&mut rng, opts.planted);
+    let cfg = config(&mut rng);
     let mut world = World::new(&cfg, rng.fork(1));
+    if let Some(bug) = opts.planted {
+        world.plant(bug);
+    }
     let mut client_rng = rng.fork(2);
     let mut fault_rng = rng.fork(3);
     let mut driver_rng = rng.fork(4);
@@ -125,7 +120,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
         .collect();
     let mut driver = swarm
         .driver
-        .then(|| Driver::new(FIRST_CLIENT_ID, Rate::of(&cfg), &mut driver_rng));
+        .then(|| Driver::new(FIRST_CLIENT_ID, &cfg, Rate::of(&cfg), &mut driver_rng));
     let mut report = RunReport {
         seed: opts.seed,
         swarm: swarm.clone(),
@@ -139,6 +134,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
         faults_in_calibration: 0,
         faults_while_braking: 0,
         answers: [0; 3],
+        max_overrun_deg: 0.0,
         bus: BusFaultCounts::default(),
         recovery_cycles: None,
     };
@@ -152,10 +148,23 @@ pub fn run(opts: &RunOptions) -> RunReport {
                 hash: &mut RunHash,
                 faults: &[Fault]|
      -> Result<(), Violation> {
+        let before = world.state().mode;
         world.step();
         let k = world.cycle_index();
         let allocs = std::mem::take(&mut world.allocations);
         let s = *world.state();
+        if s.mode != before && trace() {
+            eprintln!(
+                "cycle {k}: mode {} -> {} (last error: code {} axis {} values {:?}), true angles {:?} deg, velocities {:?} deg/s",
+                mode_name(before),
+                mode_name(s.mode),
+                s.last_error.code,
+                s.last_error.axis,
+                s.last_error.values,
+                s.sim_true_position.map(|x| (x * 100.0).round() / 100.0),
+                s.sim_true_velocity.map(|x| (x * 10.0).round() / 10.0),
+            );
+        }
         hash.cycle(&s, world.replies());
         checker.cycle(k, &s, world.replies(), allocs, faults)
     };
@@ -257,7 +266,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
             message: format!(
                 "the quiet phase did not end in a usable calibrated HOLD within {} s: mode {}, axis flags {:?}, true angles {:?} deg, currents {:?} A, i2t {:?}, recovery at step {:?} (last answer {:?}), {} commands unanswered (oldest: {:?})",
                 opts.quiet_seconds,
-                Mode::try_from(s.mode).map_or("?".into(), |m| m.to_string()),
+                mode_name(s.mode),
                 s.axis_flags,
                 s.sim_true_position.map(|x| (x * 10.0).round() / 10.0),
                 s.current.map(|x| (x * 100.0).round() / 100.0),
@@ -276,8 +285,18 @@ pub fn run(opts: &RunOptions) -> RunReport {
     report.checkpoints = hash.checkpoints().to_vec();
     report.modes_reached = checker.modes_reached;
     report.answers = checker.answers;
+    report.max_overrun_deg = checker.max_overrun_deg;
     report.bus = world.bus().counts;
     report
+}
+
+/// Whether `MCM_DST_TRACE` asks for mode changes and the quiet phase's answers on stderr.
+fn trace() -> bool {
+    std::env::var_os("MCM_DST_TRACE").is_some()
+}
+
+fn mode_name(m: u32) -> String {
+    Mode::try_from(m).map_or_else(|_| format!("mode {m}"), |m| m.to_string())
 }
 
 /// The quiet phase's client: `take_control`, `hold` until HOLD, `calibrate` all axes unless
@@ -358,7 +377,7 @@ impl Recovery {
                 continue;
             };
             let ok = matches!(resp.outcome, Outcome::Done(_));
-            if std::env::var_os("MCM_DST_TRACE").is_some() {
+            if trace() {
                 eprintln!(
                     "cycle {}: recovery {:?}: {} -> {:?}",
                     seq, self.stage, resp.kind, resp.outcome

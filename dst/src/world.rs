@@ -47,6 +47,11 @@ impl World {
         }
     }
 
+    /// Plant `bug` in the controller (before the first cycle).
+    pub fn plant(&mut self, bug: mcm_rt_core::controller::planted::PlantedBug) {
+        self.robot.controller_mut().plant(bug);
+    }
+
     /// Cycles run so far.
     pub fn cycle_index(&self) -> u64 {
         self.k
