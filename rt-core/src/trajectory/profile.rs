@@ -254,8 +254,8 @@ impl Profile1D {
 }
 
 /// Time to accelerate from rest to `v` (and back to a = 0) under A and J: T_acc of the module
-/// doc.
-fn accel_time(v: f64, a: f64, j: f64) -> f64 {
+/// doc (a stop from `v` at a = 0 is its time reverse, [`super::controlled_stop`]).
+pub(super) fn accel_time(v: f64, a: f64, j: f64) -> f64 {
     if v * j >= a * a {
         v / a + a / j
     } else {
