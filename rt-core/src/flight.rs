@@ -17,7 +17,8 @@
 //! ```no_run
 //! # use mcm_rt_core::flight::{FlightRecorder, Record};
 //! # use mcm_shared::sample::ErrorRecord;
-//! let (mut rec, writer) = FlightRecorder::start(1000, "/tmp/mcm-flight-recorder", "default").unwrap();
+//! let (mut rec, writer) =
+//!     FlightRecorder::start(1000, "/tmp/mcm-flight-recorder", "default").unwrap();
 //! rec.record(&Record::default());
 //! rec.trigger(&ErrorRecord::default()); // written to mcm_shared::sample::flight_recorder_file(..)
 //! writer.stop(); // writes what is pending, then ends

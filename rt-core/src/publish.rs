@@ -2,11 +2,11 @@
 //! the cycle (SI units, [`CycleView`]), the simulation's truth (`None` with real drives) and
 //! the cycle's timing ([`CycleClock`]). Degrees are produced here, and only here, for the state.
 //!
-//! Runs inside the cycle: writes into a sample the caller owns, no allocation. The sample
-//! persists from cycle to cycle: `reply_head` counts every reply since start (the replies of
-//! this cycle are numbered up to it and published by the edge, [`crate::ipc::RtIpc::publish_replies`]),
-//! and the last error record is replaced only when the controller reports a new one, stamped
-//! with this cycle's wall clock.
+//! Runs inside the cycle: writes into a sample the caller owns, no allocation. The sample persists
+//! from cycle to cycle: `reply_head` counts every reply since start (the replies of this cycle are
+//! numbered up to it and published by the edge, [`crate::ipc::RtIpc::publish_replies`]), and the
+//! last error record is replaced only when the controller reports a new one, stamped with this
+//! cycle's wall clock.
 //!
 //! ```
 //! use mcm_rt_core::controller::CycleView;

@@ -242,11 +242,11 @@ impl AxisRt {
 
     /// Back to "just booted": configuration state and feedback forgotten.
     ///
-    /// Kept: `link` (every caller sets it next), `config_failures`, `started_ns` (read only while operational,
-    /// and set when the drive becomes so), `last_pos_counts` and `last_target_counts` (the
-    /// setpoint holds the last known position until new feedback comes, so nothing jumps),
-    /// `last_emcy_code` (a `Fault` event names the drive's last EMCY, whenever it came); in
-    /// the feedback the position and the last EMCY.
+    /// Kept: `link` (every caller sets it next), `config_failures`, `started_ns` (read only while
+    /// operational, and set when the drive becomes so), `last_pos_counts` and `last_target_counts`
+    /// (the setpoint holds the last known position until new feedback comes, so nothing jumps),
+    /// `last_emcy_code` (a `Fault` event names the drive's last EMCY, whenever it came); in the
+    /// feedback the position and the last EMCY.
     fn forget(&mut self, fb: &mut AxisFeedback) {
         self.sdo.cancel();
         self.boot.stop();
