@@ -1,7 +1,7 @@
-//! A candump logger for any bus: [`LoggingBus<B>`] wraps a [`Bus`] and records every frame
-//! sent and received, with a `clock_gettime` timestamp and its direction, into a preallocated
-//! wait-free single-producer single-consumer ring ([`rtrb`]). A separate, non-real-time writer thread
-//! drains the ring and writes `candump -L` lines to a file:
+//! A candump logger for any bus: [`LoggingBus<B>`] wraps a [`Bus`] and records every frame sent and
+//! received, with a `clock_gettime` timestamp and its direction, into a preallocated wait-free
+//! single-producer single-consumer ring ([`rtrb`]). A separate, non-real-time writer thread drains
+//! the ring and writes `candump -L` lines to a file:
 //!
 //! ```text
 //! (1735270496.916858) can0 185#3702A0860100

@@ -43,7 +43,7 @@ pub fn solve_friction(
     }
     for i in 0..N {
         let b = bound[i].max(0.0);
-        let ok = lambda[i].is_finite() && w[(i, i)] > 0.0 && w[(i, i)].is_finite();
+        let ok = lambda[i].is_finite() && w[(i, i)] > 0.0;
         lambda[i] = if ok { lambda[i].clamp(-b, b) } else { 0.0 };
     }
     for _ in 0..MAX_SWEEPS {
@@ -51,7 +51,7 @@ pub fn solve_friction(
         for i in 0..N {
             let b = bound[i];
             let d = w[(i, i)];
-            if !(b > 0.0 && d > 0.0 && d.is_finite()) {
+            if !(b > 0.0 && d > 0.0) {
                 continue;
             }
             let vi = v_free[i] + w.row(i).dot(&lambda.transpose());

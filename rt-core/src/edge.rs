@@ -1,15 +1,15 @@
 //! The runner's edge: everything one cycle of the real-time loop does, in one call.
 //!
-//! [`Edge::cycle`] runs inside the cycle (no allocation, lock, blocking or logging): drain
-//! every waiting command into the backlog and choose this cycle's ([`crate::intake`]: stops
-//! first, then round robin over the clients), run the cycle with the simulator's edge when there is one and compose the state
-//! with this cycle's timing ([`crate::runner::run_cycle`], [`crate::publish::compose`]), keep the cycle in the flight
-//! recorder (and hand it over when a new error appears), publish the state. [`Edge::end`]
-//! (also inside the cycle) does the deadline arithmetic once the cycle's work is done.
-//! [`Edge::signal_state`] then wakes the state event's listeners: still on the cycle thread,
-//! but outside the timed work (a failure is counted, never logged). Only sleeping until the
-//! deadline and reading the clock stay in the loop around them ([`crate::runner`]); the tests
-//! drive the same three calls back to back.
+//! [`Edge::cycle`] runs inside the cycle (no allocation, lock, blocking or logging): drain every
+//! waiting command into the backlog and choose this cycle's ([`crate::intake`]: stops first, then
+//! round robin over the clients), run the cycle with the simulator's edge when there is one and
+//! compose the state with this cycle's timing ([`crate::runner::run_cycle`],
+//! [`crate::publish::compose`]), keep the cycle in the flight recorder (and hand it over when a new
+//! error appears), publish the state. [`Edge::end`] (also inside the cycle) does the deadline
+//! arithmetic once the cycle's work is done. [`Edge::signal_state`] then wakes the state event's
+//! listeners: still on the cycle thread, but outside the timed work (a failure is counted, never
+//! logged). Only sleeping until the deadline and reading the clock stay in the loop around them
+//! ([`crate::runner`]); the tests drive the same three calls back to back.
 //!
 //! ```no_run
 //! # fn run<B: mcm_bus::Bus>(mut edge: mcm_rt_core::edge::Edge<B>) {

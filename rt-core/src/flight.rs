@@ -6,13 +6,19 @@
 //! block or touch a file. A separate writer thread (not real-time) writes the file.
 //!
 //! Two buffers take turns: the cycle records into one; on a trigger it hands that buffer to
-//! the writer (through a wait-free [`rtrb`] ring) and goes on in the other. If the writer still holds the other buffer (two errors
-//! within the time it takes to write one file), the second dump is skipped and counted.
+//! the writer (through a wait-free [`rtrb`] ring) and goes on in the other. If the writer still
+//! holds the other buffer (two errors within the time it takes to write one file), the second
+//! dump is skipped and counted.
+//!
+//! A file appears only complete: the writer writes `<file>.tmp` and renames it to the file's
+//! name when it is written, so a reader that finds the file (the gateway names it in the error
+//! event) reads all of it.
 //!
 //! ```no_run
 //! # use mcm_rt_core::flight::{FlightRecorder, Record};
 //! # use mcm_shared::sample::ErrorRecord;
-//! let (mut rec, writer) = FlightRecorder::start(1000, "/tmp/mcm-flight-recorder", "default").unwrap();
+//! let (mut rec, writer) =
+//!     FlightRecorder::start(1000, "/tmp/mcm-flight-recorder", "default").unwrap();
 //! rec.record(&Record::default());
 //! rec.trigger(&ErrorRecord::default()); // written to mcm_shared::sample::flight_recorder_file(..)
 //! writer.stop(); // writes what is pending, then ends
@@ -21,7 +27,7 @@
 use mcm_shared::NUM_AXES;
 use mcm_shared::sample::{ErrorRecord, StateSample, flight_recorder_file};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Duration;
@@ -260,11 +266,43 @@ impl Writer {
     }
 }
 
-fn write_csv(path: &Path, records: &[Record], next: usize, held: usize) -> std::io::Result<()> {
+/// Write the file at `path` with `body` so that it appears only complete: into `<path>.tmp`,
+/// renamed to `path` once written (removed if writing fails). Outside the cycle.
+fn write_whole(
+    path: &Path,
+    body: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> std::io::Result<()> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir)?;
     }
-    let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    let written = std::fs::File::create(&tmp).and_then(|file| {
+        let mut f = std::io::BufWriter::new(file);
+        body(&mut f)?;
+        f.flush()
+    });
+    match written {
+        Ok(()) => std::fs::rename(&tmp, path),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
+}
+
+fn write_csv(path: &Path, records: &[Record], next: usize, held: usize) -> std::io::Result<()> {
+    write_whole(path, |f| write_rows(f, records, next, held))
+}
+
+/// The CSV of the `held` records of the ring `records` that ends before `next`, oldest first.
+fn write_rows(
+    f: &mut dyn Write,
+    records: &[Record],
+    next: usize,
+    held: usize,
+) -> std::io::Result<()> {
     write!(f, "cycle,t_s,mode,flags,command")?;
     for name in [
         "commanded_deg",
@@ -310,7 +348,7 @@ fn write_csv(path: &Path, records: &[Record], next: usize, held: usize) -> std::
         }
         writeln!(f)?;
     }
-    f.flush()
+    Ok(())
 }
 
 #[cfg(test)]

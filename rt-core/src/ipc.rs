@@ -3,11 +3,12 @@
 //!
 //! Set-up ([`RtIpc::create`]) runs once before the cycle. Inside the cycle, [`RtIpc::drain`]
 //! (`Subscriber::receive`), [`RtIpc::publish`] (blackboard `update_with_copy`) and
-//! [`RtIpc::notify_state`] (`Notifier::notify`: a bit in shared memory and, only when a listener
-//! is idle, one non-blocking `sendto`) neither block nor allocate in steady state. When a peer opens or closes the command service, the next
-//! `receive` sets the connection up inside that call (iceoryx2 0.10: about ten small allocations
-//! and 0.1 to 0.3 ms); peers therefore join at start-up, not per command. State goes through a
-//! blackboard precisely because readers joining or leaving never touch the writer.
+//! [`RtIpc::notify_state`] (`Notifier::notify`: a bit in shared memory and, only when a listener is
+//! idle, one non-blocking `sendto`) neither block nor allocate in steady state. When a peer opens
+//! or closes the command service, the next `receive` sets the connection up inside that call
+//! (iceoryx2 0.10: about ten small allocations and 0.1 to 0.3 ms); peers therefore join at
+//! start-up, not per command. State goes through a blackboard precisely because readers joining or
+//! leaving never touch the writer.
 //!
 //! The real-time core *creates* the services with the QoS of [`mcm_shared::service`]; anything
 //! else opens them. Set-up errors keep iceoryx2's own error as their source, one variant per

@@ -2,11 +2,11 @@
 //! the cycle (SI units, [`CycleView`]), the simulation's truth (`None` with real drives) and
 //! the cycle's timing ([`CycleClock`]). Degrees are produced here, and only here, for the state.
 //!
-//! Runs inside the cycle: writes into a sample the caller owns, no allocation. The sample
-//! persists from cycle to cycle: `reply_head` counts every reply since start (the replies of
-//! this cycle are numbered up to it and published by the edge, [`crate::ipc::RtIpc::publish_replies`]),
-//! and the last error record is replaced only when the controller reports a new one, stamped
-//! with this cycle's wall clock.
+//! Runs inside the cycle: writes into a sample the caller owns, no allocation. The sample persists
+//! from cycle to cycle: `reply_head` counts every reply since start (the replies of this cycle are
+//! numbered up to it and published by the edge, [`crate::ipc::RtIpc::publish_replies`]), and the
+//! last error record is replaced only when the controller reports a new one, stamped with this
+//! cycle's wall clock.
 //!
 //! ```
 //! use mcm_rt_core::controller::CycleView;
@@ -28,20 +28,8 @@ use mcm_shared::sample::{
     STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, STATE_SHUTTING_DOWN,
     STATE_SIM_ESTOP, STATE_SIMULATED, StateSample,
 };
+use mcm_shared::simulator::SimTruth;
 use mcm_shared::units::rad_to_deg;
-
-/// What only a simulated robot knows, as the state publishes it (`sim_true_position`,
-/// `sim_true_velocity`, `STATE_SIM_ESTOP`); yielded by the simulator's edge
-/// ([`crate::sim_edge`]).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Truth {
-    /// True joint angles [rad].
-    pub position: [f64; 6],
-    /// True joint velocities [rad/s].
-    pub velocity: [f64; 6],
-    /// The simulated emergency switch is pressed.
-    pub emergency_stop: bool,
-}
 
 /// The timing of one cycle, as the real-time loop measured it.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -74,10 +62,10 @@ impl CycleClock {
     }
 }
 
-/// Compose `s` for this cycle from the controller's `view`, the simulation's `truth` (`None`
-/// for real drives: the truth fields zero, `STATE_SIMULATED` and `STATE_SIM_ESTOP` clear) and
-/// the cycle's `clock`.
-pub fn compose(s: &mut StateSample, view: &CycleView, truth: Option<Truth>, clock: &CycleClock) {
+/// Compose `s` for this cycle from the controller's `view`, the simulation's `truth` (yielded
+/// by the simulator's edge, [`crate::sim_edge`]; `None` for real drives: the truth fields
+/// zero, `STATE_SIMULATED` and `STATE_SIM_ESTOP` clear) and the cycle's `clock`.
+pub fn compose(s: &mut StateSample, view: &CycleView, truth: Option<SimTruth>, clock: &CycleClock) {
     s.seq = view.cycle;
     s.t_ns = clock.t_ns;
     s.mode = view.mode.to_wire();

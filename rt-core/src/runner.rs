@@ -94,34 +94,10 @@ pub fn run(
         .clone()
         .or_else(|| opts.config.bus.candump_log.clone().map(Into::into));
     match (opts.config.bus.backend, candump) {
-        #[cfg(feature = "sim")]
-        (BusBackend::Sim, None) => {
-            let state = snapshot::state_path(opts.names.instance());
-            let save_to = state.clone();
-            spawn(
-                opts,
-                on_started,
-                move |cfg| Ok(snapshot::resume_or_power_up(cfg, &state)),
-                Some(SimEdge::new(|bus: &mut SimBus| bus as _)),
-                move |bus: &mut SimBus| snapshot::save(bus, &save_to),
-            )
+        (BusBackend::Sim, candump) => {
+            require_simulator(cfg!(feature = "sim"))?;
+            simulated(opts, on_started, candump)
         }
-        #[cfg(feature = "sim")]
-        (BusBackend::Sim, Some(path)) => {
-            let state = snapshot::state_path(opts.names.instance());
-            let save_to = state.clone();
-            spawn(
-                opts,
-                on_started,
-                move |cfg| logging(snapshot::resume_or_power_up(cfg, &state), "sim0", &path),
-                Some(SimEdge::new(|bus: &mut LoggingBus<SimBus>| {
-                    bus.inner_mut() as _
-                })),
-                move |bus: &mut LoggingBus<SimBus>| snapshot::save(bus.inner(), &save_to),
-            )
-        }
-        #[cfg(not(feature = "sim"))]
-        (BusBackend::Sim, _) => Err(RunError::SimNotBuilt),
         (BusBackend::Socketcan, None) => spawn(opts, on_started, socketcan, None, finish_drives),
         (BusBackend::Socketcan, Some(path)) => spawn(
             opts,
@@ -134,6 +110,65 @@ pub fn run(
             finish_drives,
         ),
     }
+}
+
+/// `bus.backend = "sim"` needs the simulator built in (`built`: `cfg!(feature = "sim")`);
+/// without it the configuration is refused with [`RunError::SimNotBuilt`]. A function of the
+/// flag so that the refusal is compiled and tested in every build, not only in the one
+/// without the feature.
+fn require_simulator(built: bool) -> Result<(), RunError> {
+    if built {
+        Ok(())
+    } else {
+        Err(RunError::SimNotBuilt)
+    }
+}
+
+/// Run the simulated robot (over a candump log when `candump` names one), resumed from the
+/// state the last run of this instance saved, and saved again when the loop stops.
+#[cfg(feature = "sim")]
+fn simulated(
+    opts: RunOptions,
+    on_started: impl FnOnce(&RtReport) + Send + 'static,
+    candump: Option<std::path::PathBuf>,
+) -> Result<RunSummary, RunError> {
+    match candump {
+        None => {
+            let state = snapshot::state_path(opts.names.instance());
+            let save_to = state.clone();
+            spawn(
+                opts,
+                on_started,
+                move |cfg| Ok(snapshot::resume_or_power_up(cfg, &state)),
+                Some(SimEdge::new(|bus: &mut SimBus| bus as _)),
+                move |bus: &mut SimBus| snapshot::save(bus, &save_to),
+            )
+        }
+        Some(path) => {
+            let state = snapshot::state_path(opts.names.instance());
+            let save_to = state.clone();
+            spawn(
+                opts,
+                on_started,
+                move |cfg| logging(snapshot::resume_or_power_up(cfg, &state), "sim0", &path),
+                Some(SimEdge::new(|bus: &mut LoggingBus<SimBus>| {
+                    bus.inner_mut() as _
+                })),
+                move |bus: &mut LoggingBus<SimBus>| snapshot::save(bus.inner(), &save_to),
+            )
+        }
+    }
+}
+
+/// Built without the simulator there is none to run; [`require_simulator`] refuses the
+/// configuration before this is reached, and this refuses it the same way.
+#[cfg(not(feature = "sim"))]
+fn simulated(
+    _opts: RunOptions,
+    _on_started: impl FnOnce(&RtReport) + Send + 'static,
+    _candump: Option<std::path::PathBuf>,
+) -> Result<RunSummary, RunError> {
+    Err(RunError::SimNotBuilt)
 }
 
 /// The last frames to real drives, after the loop stopped (the controlled stop left them
@@ -255,22 +290,5 @@ fn cycle_loop<B: Bus>(edge: &mut Edge<B>) -> (Figures, StopOutcome) {
     (edge.figures(), outcome)
 }
 
-// Built without the simulator, a configuration that asks for it is refused, naming the feature.
-#[cfg(all(test, not(feature = "sim")))]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn without_the_sim_feature_the_simulated_backend_is_a_typed_error() {
-        let opts = RunOptions {
-            config: RobotConfig::prob2_default(),
-            names: ServiceNames::new(&format!("nosim-{}", std::process::id())).unwrap(),
-            allow_non_realtime: true,
-            candump: None,
-        };
-        assert_eq!(opts.config.bus.backend, BusBackend::Sim);
-        let err = run(opts, |_: &RtReport| panic!("started")).unwrap_err();
-        assert!(matches!(err, RunError::SimNotBuilt), "{err}");
-        assert!(err.to_string().contains("the `sim` feature"), "{err}");
-    }
-}
+#[cfg(test)]
+mod tests;

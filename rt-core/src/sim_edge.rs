@@ -4,41 +4,35 @@
 //! it in, for `bus.backend = "sim"` ([`crate::runner::run_cycle`]); with real drives there is
 //! no edge and a `sim` command reaches the controller, which refuses it as `not_simulated`.
 //!
-//! The edge reaches the simulated robot through [`SimulatedRobot`], which `mcm-sim`'s
-//! `SimBus` implements when the crate is built with its `sim` feature (on by default; it also
-//! brings `SimCycle`). Without the feature there is no simulated robot to reach, and the
-//! runner refuses `bus.backend = "sim"` ([`crate::runner::RunError::SimNotBuilt`]).
+//! The edge reaches the simulated robot through the contract's [`SimControl`]
+//! (`mcm_shared::simulator`), which `mcm-sim`'s `SimBus` implements. `mcm-sim` is a dependency
+//! of this crate only with this crate's `sim` feature (on by default; it also brings
+//! `SimCycle`). Without the feature there is no simulated robot to reach, and the runner
+//! refuses `bus.backend = "sim"` ([`crate::runner::RunError::SimNotBuilt`]).
 //!
 //! Per cycle, between [`Cycle::receive`] and [`Cycle::step`] (where the frames the injection
 //! makes the drives send are read in the next cycle, as on a real bus): the samples that decode
 //! as `sim` requests are taken out of the commands, applied to the simulated robot
-//! ([`SimulatedRobot::apply`]), and their replies added to the controller's outbox of this
-//! cycle; the other commands, a `sim` sample that does not decode among them, go to the
-//! controller. After the step the edge yields the simulation's truth, which the composer of the
-//! state sample ([`crate::publish`]) reads.
+//! ([`SimControl::apply`]), and their replies added to the controller's outbox of this cycle
+//! (a refusal as the [`Reason`] its error maps to); the other commands, a `sim` sample that
+//! does not decode among them, go to the controller. After the step the edge yields the
+//! simulation's truth ([`SimTruth`]), which the composer of the state sample
+//! ([`crate::publish`]) reads.
 //!
 //! `SimCycle` composes `Cycle<SimBus>` with the edge exactly as the runner does, for the
 //! deterministic tests and the benchmarks (virtual time).
 
 use crate::controller::Controller;
 use crate::cycle::{COMMANDS_PER_CYCLE, Cycle};
-use crate::publish::Truth;
 use mcm_bus::Bus;
 use mcm_shared::command::{Request, SimCommand};
 use mcm_shared::mode::CommandKind;
 use mcm_shared::reply::{Done, Outcome, Reason, Response};
 use mcm_shared::sample::CommandSample;
-
-/// The simulated robot as the edge reaches it: its fault injection and its truth.
-pub trait SimulatedRobot {
-    /// Apply a `sim` command; the refusal names the value the simulator refused.
-    fn apply(&mut self, cmd: &SimCommand) -> Result<(), Reason>;
-    /// The simulation's truth, as the state publishes it.
-    fn truth(&self) -> Truth;
-}
+use mcm_shared::simulator::{SimControl, SimTruth};
 
 /// How the edge reaches the simulated robot inside the bus the runner built.
-pub type SimAccess<B> = fn(&mut B) -> &mut dyn SimulatedRobot;
+pub type SimAccess<B> = fn(&mut B) -> &mut dyn SimControl;
 
 /// The simulator's edge around the cycles over a bus `B` that is (or wraps) the simulator.
 pub struct SimEdge<B: Bus> {
@@ -58,7 +52,12 @@ impl<B: Bus> SimEdge<B> {
     /// One cycle of `cycle` at controller time `now_ns` with `commands` (at most
     /// [`COMMANDS_PER_CYCLE`] are served), with the `sim` commands served by the edge; the
     /// simulation's truth after the cycle.
-    pub fn run(&mut self, cycle: &mut Cycle<B>, now_ns: u64, commands: &[CommandSample]) -> Truth {
+    pub fn run(
+        &mut self,
+        cycle: &mut Cycle<B>,
+        now_ns: u64,
+        commands: &[CommandSample],
+    ) -> SimTruth {
         cycle.receive();
         let (controller, bus) = cycle.parts_mut();
         let sim = (self.sim)(bus);
@@ -93,14 +92,14 @@ fn sim_request(c: &CommandSample) -> Option<SimCommand> {
 /// Apply one `sim` command to the simulator and answer it: done, or refused as the simulator
 /// says.
 fn serve(
-    sim: &mut dyn SimulatedRobot,
+    sim: &mut dyn SimControl,
     controller: &mut Controller,
     c: &CommandSample,
     cmd: &SimCommand,
 ) {
     let outcome = match sim.apply(cmd) {
         Ok(()) => Outcome::Done(Done::Ack),
-        Err(reason) => Outcome::Refused(reason),
+        Err(e) => Outcome::Refused(Reason::from(e)),
     };
     let r = Response {
         client_id: c.client_id,
@@ -112,6 +111,6 @@ fn serve(
 }
 
 #[cfg(feature = "sim")]
-mod sim_bus;
+mod sim_cycle;
 #[cfg(feature = "sim")]
-pub use sim_bus::SimCycle;
+pub use sim_cycle::SimCycle;

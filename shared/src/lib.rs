@@ -43,6 +43,7 @@ pub mod reply;
 pub mod restart;
 pub mod sample;
 pub mod service;
+pub mod simulator;
 pub mod units;
 
 /// Number of axes of the arm. The samples are sized for exactly this many.

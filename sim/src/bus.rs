@@ -5,14 +5,14 @@
 //! is a fixed ring of [`RX_CAPACITY`] frames; when it is full, new frames are dropped and
 //! counted, like a CAN controller's receive overrun).
 //!
-//! Lock-step time (`docs/drive-profile.md`, "The simulated drive"): time advances only on SYNC (`080#`), by exactly one
-//! cycle period. On SYNC every drive applies its latched RPDOs and sends its TPDOs (sampled at
-//! the SYNC), then the physics runs the period in sub-steps of `sim.physics_step_us`; in each
-//! sub-step every drive computes its motor current from the true joint state, the joint
-//! torques (current x `torque_per_amp`) go to [`ArmSim::step`], and the holding brakes are
-//! engaged for axes with `brake = true` whose drive is not enabled. Any other frame is handled
-//! by the drives the moment it is sent; their answers are queued for the master's next
-//! [`Bus::recv`]. Everything is deterministic: the same frames sent give the same frames
+//! Lock-step time (`docs/drive-profile.md`, "The simulated drive"): time advances only on SYNC
+//! (`080#`), by exactly one cycle period. On SYNC every drive applies its latched RPDOs and sends
+//! its TPDOs (sampled at the SYNC), then the physics runs the period in sub-steps of
+//! `sim.physics_step_us`; in each sub-step every drive computes its motor current from the true
+//! joint state, the joint torques (current x `torque_per_amp`) go to [`ArmSim::step`], and the
+//! holding brakes are engaged for axes with `brake = true` whose drive is not enabled. Any other
+//! frame is handled by the drives the moment it is sent; their answers are queued for the master's
+//! next [`Bus::recv`]. Everything is deterministic: the same frames sent give the same frames
 //! received and the same truth, bit for bit.
 //!
 //! Restart of the MCM: the drives keep their power while `mcm-rt` restarts, so
@@ -31,7 +31,8 @@
 //! sim.apply(&SimCommand { emergency_stop: Some(true), ..SimCommand::default() }).unwrap();
 //! assert!(sim.truth().emergency_stop);
 //! let nan = [f64::NAN; 6];
-//! assert!(sim.apply(&SimCommand { external_torques_nm: Some(nan), ..SimCommand::default() }).is_err());
+//! let bad = SimCommand { external_torques_nm: Some(nan), ..SimCommand::default() };
+//! assert!(sim.apply(&bad).is_err());
 //! ```
 
 use super::drive::{DriveParams, Retained, SimDrive};

@@ -1,6 +1,6 @@
-//! The CiA 402 power state machine of the simulated drive (`docs/drive-profile.md`, "Drive
-//! state machine"): controlword decoding, transitions 1-15, the statusword encoding, and the drive profile's
-//! additions (quick stop option 2: ramp down, then SWITCH ON DISABLED; fault reset on the
+//! The CiA 402 power state machine of the simulated drive (`docs/drive-profile.md`, "Drive state
+//! machine"): controlword decoding, transitions 1-15, the statusword encoding, and the drive
+//! profile's additions (quick stop option 2: ramp down, then SWITCH ON DISABLED; fault reset on the
 //! rising edge of controlword bit 7; transition 2 refused while the safe-torque-off input is
 //! active).
 //!

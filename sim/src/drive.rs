@@ -1,8 +1,8 @@
-//! One simulated CiA 402 servo drive (`docs/drive-profile.md`, "The simulated drive"): object dictionary,
-//! expedited SDO server, NMT slave with heartbeat producer and master-heartbeat consumer, PDO
-//! engine, CiA 402 state machine, and the motor: CSP position loop, CST torque, current limit
-//! 0x6073, incremental encoder with a random offset drawn at every power-up, and the stored
-//! calibration 0x2100 (see [`od`]), which only a power cycle clears.
+//! One simulated CiA 402 servo drive (`docs/drive-profile.md`, "The simulated drive"): object
+//! dictionary, expedited SDO server, NMT slave with heartbeat producer and master-heartbeat
+//! consumer, PDO engine, CiA 402 state machine, and the motor: CSP position loop, CST torque,
+//! current limit 0x6073, incremental encoder with a random offset drawn at every power-up, and the
+//! stored calibration 0x2100 (see [`od`]), which only a power cycle clears.
 //!
 //! Runs inside the cycle: no allocation after construction, no panics on bad frames. The
 //! drive's clock advances only through SYNC ([`SimDrive::end_period`]); the bus drives it:
@@ -219,8 +219,8 @@ impl SimDrive {
         }
     }
 
-    /// Power off and on again: defaults (the stored calibration 0x2100 too), new encoder offset, boot-up frame, NOT READY TO
-    /// SWITCH ON (SWITCH ON DISABLED at the next SYNC).
+    /// Power off and on again: defaults (the stored calibration 0x2100 too), new encoder offset,
+    /// boot-up frame, NOT READY TO SWITCH ON (SWITCH ON DISABLED at the next SYNC).
     pub fn power_cycle(&mut self, out: &mut dyn FrameSink) {
         self.power_cycles += 1;
         self.boot(Boot::PowerUp, out);

@@ -3,9 +3,9 @@
 //! Six simulated CiA 402 servo drives on a simulated CAN bus, moving the arm model of
 //! `mcm-dynamics` ([`physics`]). Selected by `bus.backend = "sim"`; the CANopen master drives it
 //! through the same [`mcm_bus::Bus`] trait as real drives, frame for frame as
-//! `docs/drive-profile.md` specifies. Fault injection and ground truth go through [`SimControl`],
-//! which only the real-time core's simulator edge uses; [`snapshot`] keeps the simulated robot
-//! across a restart of `mcm-rt`.
+//! `docs/drive-profile.md` specifies. Fault injection and ground truth go through [`SimControl`]
+//! (`mcm_shared::simulator`, the one control surface), which only the real-time core's
+//! simulator edge uses; [`snapshot`] keeps the simulated robot across a restart of `mcm-rt`.
 //!
 //! Runs inside the cycle: after construction nothing allocates, blocks or panics on bad input
 //! (except [`snapshot`] and [`SimBus::save`]/[`SimBus::resume`], which do file I/O outside it).
@@ -31,7 +31,6 @@
 mod abort;
 pub mod bus;
 pub mod cia402;
-mod control;
 pub mod drive;
 pub mod nmt;
 pub mod od;
@@ -46,8 +45,9 @@ mod test_master;
 
 pub use abort::SdoAbort;
 pub use bus::SimBus;
-pub use control::{SimCommand, SimCommandError, SimControl, SimTruth};
 pub use drive::SimDrive;
+pub use mcm_shared::command::SimCommand;
+pub use mcm_shared::simulator::{SimCommandError, SimControl, SimTruth};
 pub use physics::{ArmSim, BRAKE_HOLD_FACTOR, MAX_JOINT_SPEED_RAD_S};
 
 use mcm_bus::Frame;

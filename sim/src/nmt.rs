@@ -1,5 +1,5 @@
-//! NMT slave of the simulated drive (CiA 301 §7.2.8; `docs/drive-profile.md`, "Bus and nodes"): the NMT
-//! state, the decoding of NMT commands (`000#<cs><node>`), the heartbeat producer (0x1017) and
+//! NMT slave of the simulated drive (CiA 301 §7.2.8; `docs/drive-profile.md`, "Bus and nodes"): the
+//! NMT state, the decoding of NMT commands (`000#<cs><node>`), the heartbeat producer (0x1017) and
 //! the consumer of the master's heartbeat (0x1016:1).
 //!
 //! Runs inside the cycle: plain data, no allocation. Time is the drive's own SYNC-driven

@@ -15,7 +15,12 @@
 //!
 //! ```
 //! use mcm_sim::od::{self, Od, OdDefaults};
-//! let mut od = Od::new(&OdDefaults { node_id: 5, rated_current_ma: 4000, rated_torque_mnm: 480, peak_current_permille: 2500 });
+//! let mut od = Od::new(&OdDefaults {
+//!     node_id: 5,
+//!     rated_current_ma: 4000,
+//!     rated_torque_mnm: 480,
+//!     peak_current_permille: 2500,
+//! });
 //! assert_eq!(od.raw(od::DEVICE_TYPE), 0x0002_0192);
 //! assert_eq!(od.raw(od::RPDO_COMM[0].cob_id), 0x8000_0205); // invalid after power-up
 //! od.set_raw(od::MODES_OF_OPERATION, (-1i8) as u8 as u32);

@@ -1,5 +1,5 @@
-//! PDO engine of the simulated drive (CiA 301 §7.2.2; `docs/drive-profile.md`, "Cyclic data"): two RPDOs and
-//! two TPDOs whose communication and mapping parameters live in the object dictionary
+//! PDO engine of the simulated drive (CiA 301 §7.2.2; `docs/drive-profile.md`, "Cyclic data"): two
+//! RPDOs and two TPDOs whose communication and mapping parameters live in the object dictionary
 //! (0x1400/0x1401, 0x1600/0x1601, 0x1800/0x1801, 0x1A00/0x1A01).
 //!
 //! Runs inside the cycle: fixed-size state, no allocation. What it does:

@@ -1,6 +1,6 @@
 //! Expedited SDO server of the simulated drive (CiA 301 §7.2.4, the subset of
-//! `docs/drive-profile.md`, "Boot and configuration"): decodes a request frame on `0x600 + n`, asks the drive for the
-//! object through [`ObjectAccess`], and builds the response on `0x580 + n`.
+//! `docs/drive-profile.md`, "Boot and configuration"): decodes a request frame on `0x600 + n`, asks
+//! the drive for the object through [`ObjectAccess`], and builds the response on `0x580 + n`.
 //!
 //! Runs inside the cycle: pure, no allocation. The object semantics (access rights, lengths,
 //! PDO-mapping rules, value ranges) live in the drive's [`ObjectAccess`] implementation; this

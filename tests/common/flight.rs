@@ -1,7 +1,7 @@
 //! A flight-recorder file (`docs/safety.md`, "The flight recorder") read back: one row per
 //! cycle (`cycle`, `t_s` on the robot's clock, `mode`, `command`, ...), the trip in the last
-//! row. The recorder's writer thread writes the file after the trip: [`Flight::read`] waits
-//! until it is complete.
+//! row. The recorder's writer thread writes the file after the trip, under a temporary name
+//! that it renames to the file's name once written: [`Flight::read`] waits until it exists.
 
 use super::WAIT;
 use mcm_shared::mode::CommandKind;
@@ -19,27 +19,20 @@ pub struct Flight {
 }
 
 impl Flight {
-    /// Poll the file at `path` until it is completely written (ends with a newline, its last
-    /// row is the trip, its size no longer changes), then parse it; panics after [`WAIT`].
+    /// Wait until the file at `path` exists (it appears complete), then parse it and check that
+    /// its last row is the trip (mode ERROR); panics after [`WAIT`].
     pub fn read(path: &Path) -> Flight {
         let deadline = Instant::now() + WAIT;
-        let mut last_len = None;
-        let text = loop {
-            if let Ok(text) = std::fs::read_to_string(path) {
-                let complete = text.ends_with('\n')
-                    && text.lines().last().and_then(|l| l.split(',').nth(2)) == Some("ERROR");
-                if complete && last_len == Some(text.len()) {
-                    break text;
-                }
-                last_len = Some(text.len());
-            }
+        while !path.exists() {
             assert!(
                 Instant::now() < deadline,
-                "{} not written completely within {WAIT:?}",
+                "{} not written within {WAIT:?}",
                 path.display()
             );
-            std::thread::sleep(Duration::from_millis(50));
-        };
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let text = std::fs::read_to_string(path)
+            .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
         let mut lines = text.lines();
         let header = lines
             .next()
@@ -50,11 +43,18 @@ impl Flight {
         let rows = lines
             .map(|l| l.split(',').map(str::to_string).collect())
             .collect();
-        Flight {
+        let f = Flight {
             path: path.to_path_buf(),
             header,
             rows,
-        }
+        };
+        assert_eq!(
+            f.text(f.last(), "mode"),
+            "ERROR",
+            "the last row of {} is the trip",
+            path.display()
+        );
+        f
     }
 
     pub fn col(&self, name: &str) -> usize {

@@ -52,44 +52,69 @@ fn friction_never_reverses_the_motion() {
 /// caller's physics, and a velocity that is not a number there stays one.
 #[test]
 fn bad_input_gives_finite_output() {
+    struct Case {
+        what: &'static str,
+        w: Matrix6<f64>,
+        bound: Vector6<f64>,
+        start: f64,
+        /// A `w` that allows no solve: no friction this step (λ = 0, v = v_free).
+        no_friction: bool,
+    }
     let mut one_nan = coupled_w();
     one_nan[(0, 1)] = f64::NAN;
     let v_free = Vector6::new(0.01, -2.0, 0.0, 0.5, 0.0, 0.0);
     let bounds = Vector6::new(5.0, f64::NAN, -1.0, f64::INFINITY, 0.0, 1.0);
     let cases = [
-        (
-            "w all NaN",
-            Matrix6::from_element(f64::NAN),
-            Vector6::repeat(1.0),
-            0.0,
-        ),
-        ("w with one NaN", one_nan, Vector6::repeat(1.0), 0.0),
-        (
-            "w infinite",
-            Matrix6::identity() * f64::INFINITY,
-            Vector6::repeat(1.0),
-            0.0,
-        ),
-        ("NaN, negative, infinite bounds", coupled_w(), bounds, 0.0),
-        (
-            "NaN warm start",
-            coupled_w(),
-            Vector6::repeat(1.0),
-            f64::NAN,
-        ),
-        (
-            "infinite warm start",
-            coupled_w(),
-            Vector6::repeat(1.0),
-            f64::INFINITY,
-        ),
+        Case {
+            what: "w all NaN",
+            w: Matrix6::from_element(f64::NAN),
+            bound: Vector6::repeat(1.0),
+            start: 0.0,
+            no_friction: true,
+        },
+        Case {
+            what: "w with one NaN",
+            w: one_nan,
+            bound: Vector6::repeat(1.0),
+            start: 0.0,
+            no_friction: true,
+        },
+        Case {
+            what: "w infinite",
+            w: Matrix6::identity() * f64::INFINITY,
+            bound: Vector6::repeat(1.0),
+            start: 0.0,
+            no_friction: true,
+        },
+        Case {
+            what: "NaN, negative, infinite bounds",
+            w: coupled_w(),
+            bound: bounds,
+            start: 0.0,
+            no_friction: false,
+        },
+        Case {
+            what: "NaN warm start",
+            w: coupled_w(),
+            bound: Vector6::repeat(1.0),
+            start: f64::NAN,
+            no_friction: false,
+        },
+        Case {
+            what: "infinite warm start",
+            w: coupled_w(),
+            bound: Vector6::repeat(1.0),
+            start: f64::INFINITY,
+            no_friction: false,
+        },
     ];
-    for (what, w, bound, start) in cases {
-        let mut lambda = Vector6::repeat(start);
-        let v = solve_friction(&w, &v_free, &bound, &mut lambda);
+    for c in cases {
+        let what = c.what;
+        let mut lambda = Vector6::repeat(c.start);
+        let v = solve_friction(&c.w, &v_free, &c.bound, &mut lambda);
         assert!(lambda.iter().all(|l| l.is_finite()), "{what}: λ = {lambda}");
         assert!(v.iter().all(|x| x.is_finite()), "{what}: v = {v}");
-        if what.starts_with("w ") {
+        if c.no_friction {
             assert_eq!(
                 (v, lambda),
                 (v_free, Vector6::zeros()),

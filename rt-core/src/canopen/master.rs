@@ -53,7 +53,11 @@ enum Link {
     WaitingBootUp,
     Configuring,
     Operational,
-    Failed,
+    /// The configuration failed: the drive is reset and configured again at `retry_at_ns`
+    /// (`None`: [`CONFIG_RETRIES`] ran out).
+    Failed {
+        retry_at_ns: Option<u64>,
+    },
 }
 
 /// A write of the stored calibration in progress: 0x2100:1 = `offset`, then 0x2100:2 = 1.
@@ -238,11 +242,11 @@ impl AxisRt {
 
     /// Back to "just booted": configuration state and feedback forgotten.
     ///
-    /// Kept: `link` (every caller sets it next), `config_failures`, `started_ns` (read only while operational,
-    /// and set when the drive becomes so), `last_pos_counts` and `last_target_counts` (the
-    /// setpoint holds the last known position until new feedback comes, so nothing jumps),
-    /// `last_emcy_code` (a `Fault` event names the drive's last EMCY, whenever it came); in
-    /// the feedback the position and the last EMCY.
+    /// Kept: `link` (every caller sets it next), `config_failures`, `started_ns` (read only while
+    /// operational, and set when the drive becomes so), `last_pos_counts` and `last_target_counts`
+    /// (the setpoint holds the last known position until new feedback comes, so nothing jumps),
+    /// `last_emcy_code` (a `Fault` event names the drive's last EMCY, whenever it came); in the
+    /// feedback the position and the last EMCY.
     fn forget(&mut self, fb: &mut AxisFeedback) {
         self.sdo.cancel();
         self.boot.stop();
@@ -506,9 +510,7 @@ impl Master {
                     && now_ns.saturating_sub(ax.started_ns) >= grace =>
             {
                 let node = ax.params.node;
-                ax.forget(&mut self.feedback[i]);
-                ax.link = Link::WaitingBootUp;
-                ax.session.reset_pending = true;
+                self.reset_again(i);
                 self.events.push(MasterEvent::Lost {
                     axis: i,
                     node,
@@ -647,12 +649,14 @@ impl Master {
                         push_counted(out, f, &mut self.frames_dropped);
                     }
                     BootOutput::Failed(error) => {
-                        ax.link = Link::Failed;
                         ax.config_failures = ax.config_failures.saturating_add(1);
                         // The drive may have been away (its cable, its power) or the bus bad:
                         // reset and configure it again a boot timeout later, a bounded number
                         // of times, rather than leave it down until it reboots by itself.
-                        ax.session.boot_deadline_ns = Some(now_ns + boot_timeout);
+                        ax.link = Link::Failed {
+                            retry_at_ns: (ax.config_failures <= CONFIG_RETRIES)
+                                .then_some(now_ns + boot_timeout),
+                        };
                         self.events.push(MasterEvent::ConfigFailed {
                             axis: i,
                             node,
@@ -667,12 +671,9 @@ impl Master {
                 self.setpoints(i, now_ns, req, max_current_a, out);
                 self.store_step(i, now_ns, out);
             }
-            Link::Failed => {
-                let ax = &mut self.axes[i];
-                ax.session.sdo_outcome = None;
-                if ax.config_failures <= CONFIG_RETRIES
-                    && ax.session.boot_deadline_ns.is_some_and(|d| now_ns >= d)
-                {
+            Link::Failed { retry_at_ns } => {
+                self.axes[i].session.sdo_outcome = None;
+                if retry_at_ns.is_some_and(|t| now_ns >= t) {
                     self.reset_again(i);
                 }
             }

@@ -113,12 +113,11 @@ impl Controller {
                         axis: Axis::ALL[i],
                         cause,
                     };
-                    // ERROR without a stop (the searches are slow): the caller hears of the
-                    // failure, and the incident is recorded; every axis keeps its previous
-                    // calibration.
+                    // ERROR without a stop, held where the arm is (`Exit::SearchFailed`): the
+                    // caller hears of the failure, and the incident is recorded; every axis
+                    // keeps its previous calibration.
                     self.leave(Exit::SearchFailed(reason));
                     self.report_incident(reason);
-                    self.hold_here();
                     return;
                 }
             }

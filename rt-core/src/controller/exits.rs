@@ -11,22 +11,25 @@
 //! - OFF and ERROR stay as they are (a trip in OFF is only reported; ERROR keeps its stop).
 //! - HOLD stays (a stop under way goes on), except after a trip: ERROR.
 //! - An enabling goes on after a timeout (a `hold` starts it anew: `begin_enabling`); when its
-//!   owner is gone it ends in HOLD instead of starting a calibration. A shutdown or a trip fails its caller
-//!   (`shutting_down`, or the trip's reason) and it falls back to the mode it started from
-//!   (OFF or ERROR).
+//!   owner is gone it ends in HOLD instead of starting a calibration. A shutdown or a trip
+//!   fails its caller (`shutting_down`, or the trip's reason) and it falls back to the mode it
+//!   started from (OFF or ERROR).
 //! - CALIBRATION: every axis it was searching gets the calibration it had back
 //!   ([`Controller::restore_previous_calibration`]) and its caller is failed (`aborted` after a
-//!   `hold`, a gone owner or a timeout, `shutting_down`, or the trip's reason); then as below.
+//!   `hold`, a gone owner or a timeout, `shutting_down`, or the reason of the trip or of the
+//!   failed search); then as below.
 //! - PVT (a move, a stop or a stream), RELEASE, TORQUE_CONTROL, VELOCITY_CONTROL, CALIBRATION:
 //!   HOLD with the controlled stop `hold` uses ([`Controller::stop_motion`]: from the commanded
 //!   state in the position modes, from the measured state in the torque modes and the
-//!   calibration searches); after a trip ERROR with the quick stop; after a failed search
-//!   ERROR without a stop.
+//!   calibration searches); after a trip ERROR with the quick stop; after a failed calibration
+//!   search ERROR without a stop, every axis held where it is (the searches are slow). Only a
+//!   calibration search fails so: a failed search anywhere else is taken as a trip (and is a
+//!   bug, which a debug build asserts).
 //!
 //! The PVT queue is left as it is: entering PVT again empties it.
 
 use super::Controller;
-use super::state::{After, Before, Caller, State};
+use super::state::{After, Before, CalPhase, Caller, State};
 use mcm_shared::reply::Reason;
 
 /// Why the mode that runs ends before its time.
@@ -42,7 +45,8 @@ pub(super) enum Exit {
     Timeout,
     /// A safety check or drive error.
     Trip(Reason),
-    /// A calibration search failed: ERROR without a stop (the searches are slow).
+    /// A calibration search failed: ERROR without a stop (the searches are slow), held where
+    /// the arm is. Taken only by a calibration search.
     SearchFailed(Reason),
 }
 
@@ -60,12 +64,36 @@ impl Exit {
     fn trips(self) -> bool {
         matches!(self, Exit::Trip(_) | Exit::SearchFailed(_))
     }
+
+    /// The exit as a mode other than a calibration search takes it: a failed search is a trip.
+    fn outside_a_search(self) -> Exit {
+        match self {
+            Exit::SearchFailed(reason) => Exit::Trip(reason),
+            why => why,
+        }
+    }
 }
 
 impl Controller {
     /// End the mode that runs for `why` (see the module doc): the mode's exit hook, then the
     /// mode the exit leads to. An exit that does not end the mode changes nothing.
     pub(super) fn leave(&mut self, why: Exit) {
+        let searching = matches!(
+            self.state,
+            State::Calibration {
+                phase: CalPhase::Search { .. },
+                ..
+            }
+        );
+        debug_assert!(
+            searching || !matches!(why, Exit::SearchFailed(_)),
+            "{why:?} outside a calibration search"
+        );
+        let why = if searching {
+            why
+        } else {
+            why.outside_a_search()
+        };
         self.state = match self.state {
             s @ (State::Off | State::Error { .. }) => s,
             s @ State::Hold { .. } if !why.trips() => s,
@@ -119,7 +147,10 @@ impl Controller {
                 stop: self.quick_stop(),
                 relax: super::trips::relax_after(reason),
             },
-            Exit::SearchFailed(_) => State::error(None),
+            Exit::SearchFailed(_) => {
+                self.hold_here();
+                State::error(None)
+            }
             Exit::Hold | Exit::OwnerGone | Exit::Shutdown | Exit::Timeout => State::Hold {
                 stop: self.stop_motion(),
             },

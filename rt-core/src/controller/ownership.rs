@@ -13,13 +13,13 @@
 //! - `hold`, `status`, `info`, `sim`, `take_control`, `release_control` and `client_gone` are
 //!   open to every client: a stop is never refused for lack of control.
 //! - `release_control` from the owner, or `client_gone` from the owner, ends the ownership and
-//!   brings whatever the owner drove to HOLD within that cycle: a PVT move or stream, RELEASE
-//!   and TORQUE_CONTROL end in the controlled stop `hold` uses; a calibration is aborted like
-//!   `hold` aborts it (the axes it was searching keep the calibration they had before: a
-//!   homing search nobody watches is a motion like any other); an enabling that was to start a calibration ends in
-//!   HOLD instead. OFF, ERROR and HOLD stay as they are. `release_control` while nobody owns
-//!   the arm is OK; from another client it is refused `NotOwner`. `client_gone` from a client
-//!   that does not own the arm changes nothing.
+//!   brings whatever the owner drove to HOLD within that cycle: a PVT move or stream, RELEASE and
+//!   TORQUE_CONTROL end in the controlled stop `hold` uses; a calibration is aborted like `hold`
+//!   aborts it (the axes it was searching keep the calibration they had before: a homing search
+//!   nobody watches is a motion like any other); an enabling that was to start a calibration ends
+//!   in HOLD instead. OFF, ERROR and HOLD stay as they are. `release_control` while nobody owns the
+//!   arm is OK; from another client it is refused `NotOwner`. `client_gone` from a client that does
+//!   not own the arm changes nothing.
 //! - Client id 0 means "nobody" in the state (`owner_client_id`): a sample with client id 0
 //!   never gets control, so its motion commands are refused `NotOwner`.
 

@@ -143,14 +143,10 @@ impl Controller {
             ShutdownPhase::Disabling => TimedOutPhase::Disabling,
             ShutdownPhase::Done(_) => return,
         };
-        self.switch_off();
+        // OFF: its motion step requests `Disable` of every drive.
+        self.state = State::Off;
         s.phase = ShutdownPhase::Done(ShutdownResult::TimedOut { during });
         self.shutdown = Some(s);
-    }
-
-    /// The shutdown disables every drive: OFF, whose motion step requests `Disable` of each.
-    fn switch_off(&mut self) {
-        self.state = State::Off;
     }
 
     /// While shutting down, refuse `req` (every request but `status`) with
@@ -185,7 +181,7 @@ impl Controller {
                 until_ns: self.now_ns.saturating_add(SHUTDOWN_HOLD_NS),
             },
             ShutdownPhase::Holding { until_ns } if self.now_ns >= until_ns => {
-                self.switch_off();
+                self.state = State::Off;
                 ShutdownPhase::Disabling
             }
             ShutdownPhase::Disabling if self.master.feedback().iter().all(|f| !f.enabled) => {
@@ -202,7 +198,7 @@ impl Controller {
         if let Some(during) = during
             && self.now_ns >= s.deadline_ns
         {
-            self.switch_off();
+            self.state = State::Off;
             s.phase = ShutdownPhase::Done(ShutdownResult::TimedOut { during });
         }
         self.shutdown = Some(s);

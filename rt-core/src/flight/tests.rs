@@ -56,3 +56,33 @@ fn writes_the_last_cycles_in_order() {
     assert_eq!(text.lines().count(), 2, "{text}");
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn a_file_appears_only_once_it_is_complete() {
+    let dir = std::env::temp_dir().join(format!("mcm-flight-whole-{}", std::process::id()));
+    let path = dir.join("mcm-t-1-following_error.csv");
+    let tmp = dir.join("mcm-t-1-following_error.csv.tmp");
+    write_whole(&path, |f| {
+        writeln!(f, "cycle")?;
+        assert!(
+            !path.exists(),
+            "{} exists while it is written",
+            path.display()
+        );
+        writeln!(f, "1")
+    })
+    .unwrap();
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "cycle\n1\n");
+    assert!(!tmp.exists(), "{} left behind", tmp.display());
+    // A write that fails leaves neither the file nor its temporary.
+    let failed = dir.join("mcm-t-2-following_error.csv");
+    let err = write_whole(&failed, |f| {
+        writeln!(f, "cycle")?;
+        Err(std::io::Error::other("disk full"))
+    })
+    .unwrap_err();
+    assert_eq!(err.to_string(), "disk full");
+    assert!(!failed.exists());
+    assert!(!dir.join("mcm-t-2-following_error.csv.tmp").exists());
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -18,7 +18,7 @@ fn ack(request_id: u64) -> mcm_shared::sample::Reply {
 fn truth_sets_the_sim_fields_and_none_clears_them() {
     let view = CycleView::default();
     let mut s = StateSample::default();
-    let truth = Truth {
+    let truth = mcm_shared::simulator::SimTruth {
         position: [0.5; 6],
         velocity: [-1.0; 6],
         emergency_stop: true,

@@ -1,5 +1,5 @@
-//! The dynamic limit check (`docs/safety.md`, "Braking distance"): stop an axis that could no longer stop
-//! before its limit, and the preventive velocity cap that keeps the check from firing.
+//! The dynamic limit check (`docs/safety.md`, "Braking distance"): stop an axis that could no
+//! longer stop before its limit, and the preventive velocity cap that keeps the check from firing.
 //!
 //! Runs inside the cycle (pure, allocation-free, panic-free).
 //!

@@ -31,6 +31,7 @@
 //! assert_eq!(stop.sample(0.5).velocity, [0.0; 6]);
 //! ```
 
+use super::profile::accel_time;
 use super::{JointSample, StopError};
 use mcm_shared::NUM_AXES;
 
@@ -45,12 +46,12 @@ pub fn stopping_distance(v: f64, decel: f64, jerk: Option<f64>) -> f64 {
     if !v.is_finite() || !valid(decel) || !jerk.is_none_or(valid) {
         return f64::INFINITY;
     }
-    let d2 = v * v / (2.0 * decel);
-    match jerk {
-        None => d2,
-        Some(j) if v * j >= decel * decel => d2 + v * decel / (2.0 * j),
-        Some(j) => v * (v / j).sqrt(),
-    }
+    // |v| times half the time of the stop, the time reverse of accelerating to |v|.
+    let t_stop = match jerk {
+        None => v / decel,
+        Some(j) => accel_time(v, decel, j),
+    };
+    v * t_stop / 2.0
 }
 
 /// Signed displacement (rad) of the stop from velocity `v` and acceleration `a` (see the module

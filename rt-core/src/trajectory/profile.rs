@@ -36,7 +36,11 @@
 //! ```
 //! use mcm_rt_core::trajectory::{AxisLimits, Profile1D};
 //! let deg = std::f64::consts::PI / 180.0;
-//! let lim = AxisLimits { velocity: 90.0 * deg, acceleration: 180.0 * deg, jerk: Some(1800.0 * deg) };
+//! let lim = AxisLimits {
+//!     velocity: 90.0 * deg,
+//!     acceleration: 180.0 * deg,
+//!     jerk: Some(1800.0 * deg),
+//! };
 //! let p = Profile1D::plan(90.0 * deg, lim).unwrap();
 //! assert!((p.duration() - 1.6).abs() < 1e-12);
 //! assert_eq!(p.sample(p.duration()), (90.0 * deg, 0.0, 0.0));
@@ -254,8 +258,8 @@ impl Profile1D {
 }
 
 /// Time to accelerate from rest to `v` (and back to a = 0) under A and J: T_acc of the module
-/// doc.
-fn accel_time(v: f64, a: f64, j: f64) -> f64 {
+/// doc (a stop from `v` at a = 0 is its time reverse, [`super::controlled_stop`]).
+pub(super) fn accel_time(v: f64, a: f64, j: f64) -> f64 {
     if v * j >= a * a {
         v / a + a / j
     } else {

@@ -10,12 +10,12 @@
 //! cycle's). Cycles run back to back on the real clock without sleeping; the controller's time
 //! is k x period.
 //!
-//! The scenario: boot, hold, calibration of all axes, PVT with `move_all` (re-planned by a
-//! second `move_all` while the arm moves) and a `pvt_points` batch of many chunks streamed to
-//! its end, release, torque control with `set_torques`, velocity control with
-//! `set_velocities` and its timeout, a move blocked through the simulator's edge (following-error trip, quick stop, flight-recorder
-//! hand-off), more fault injection, and the way back to HOLD. Every command must be answered
-//! OK and every mode reached, so the count cannot be zero for lack of work.
+//! The scenario: boot, hold, calibration of all axes, PVT with `move_all` (re-planned by a second
+//! `move_all` while the arm moves) and a `pvt_points` batch of many chunks streamed to its end,
+//! release, torque control with `set_torques`, velocity control with `set_velocities` and its
+//! timeout, a move blocked through the simulator's edge (following-error trip, quick stop,
+//! flight-recorder hand-off), more fault injection, and the way back to HOLD. Every command must be
+//! answered OK and every mode reached, so the count cannot be zero for lack of work.
 
 use super::Meter;
 use crate::common::{node, state_listener, state_reader};
@@ -276,8 +276,8 @@ fn calibrate(rig: &mut Rig) {
     assert_eq!(s.mode, Mode::Hold.to_wire());
 }
 
-/// PVT: a `move_all`, re-planned from the moving state by a second one, then a batch of many `pvt_points` chunks (a full sine period around the
-/// target, ending at rest) streamed to its end.
+/// PVT: a `move_all`, re-planned from the moving state by a second one, then a batch of many
+/// `pvt_points` chunks (a full sine period around the target, ending at rest) streamed to its end.
 fn pvt(rig: &mut Rig) {
     rig.ok(Request::Pvt(Pvt { dt_s: 0.01 }), 5);
     let target = [20.0, -30.0, 45.0, 60.0, -40.0, 90.0];

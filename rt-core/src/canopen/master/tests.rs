@@ -657,19 +657,30 @@ fn a_failed_configuration_is_retried_a_boot_timeout_later() {
     // answers again the master must configure it, not leave it down until it reboots.
     let mut w = World::new();
     w.drives[1].script(0x6060, 0, Fault::Abort(0x0609_0030), 3);
-    let mut failed_at = None;
-    for k in 0..100 {
+    // The master's time of the cycle that reported the failure.
+    let mut failed_ns = None;
+    for _ in 0..100 {
+        let now = w.now;
         w.step([DriveRequest::Disable; 6]);
-        if failed_at.is_none() && config_failures(&w.take_events(), 1) == 1 {
-            failed_at = Some(k);
+        if failed_ns.is_none() && config_failures(&w.take_events(), 1) == 1 {
+            failed_ns = Some(now);
         }
     }
-    let failed_at = failed_at.expect("ConfigFailed of axis 2");
+    let failed_ns = failed_ns.expect("ConfigFailed of axis 2");
     assert!(!w.fb(1).online);
-    // boot_timeout_ms = 2000 (400 cycles) after the failure the reset is due; NMT reset
-    // communication of node 2 goes out in the next cycle.
-    let frames = w.run(failed_at + 301, [DriveRequest::Disable; 6]);
-    assert!(!frames.concat().iter().any(|f| f.to_string() == "000#8202"));
+    // The reset is due `bus.boot_timeout_ms` after the failure; NMT reset communication of
+    // node 2 goes out in the cycle after that, and not before.
+    let boot_timeout_ns = u64::from(RobotConfig::prob2_default().bus.boot_timeout_ms) * 1_000_000;
+    let reset_ns = failed_ns + boot_timeout_ns + T;
+    assert!(w.now < reset_ns);
+    while w.now < reset_ns {
+        let frames = w.step([DriveRequest::Disable; 6]);
+        assert!(
+            !frames.iter().any(|f| f.to_string() == "000#8202"),
+            "node 2 reset {} ms after the failure",
+            (w.now - T - failed_ns) / 1_000_000
+        );
+    }
     let frames = w.step([DriveRequest::Disable; 6]);
     assert!(
         frames.iter().any(|f| f.to_string() == "000#8202"),

@@ -20,14 +20,14 @@ const TRIP: Reason = Reason::FollowingError {
     band_deg: 2.0,
 };
 
-/// The exits a mode that runs may take, each once.
-const EXITS: [Exit; 6] = [
+/// The exits a mode that runs may take, each once (and in a calibration search a failed
+/// search, [`Exit::SearchFailed`]).
+const EXITS: [Exit; 5] = [
     Exit::Hold,
     Exit::OwnerGone,
     Exit::Shutdown,
     Exit::Timeout,
     Exit::Trip(TRIP),
-    Exit::SearchFailed(TRIP),
 ];
 
 /// Send `req` as request `id` of client 42 in one cycle, without waiting for its reply.
@@ -116,10 +116,9 @@ fn the_motion_modes_end_in_hold_with_the_controlled_stop_or_in_error() {
             let (mode, replies) = take(&mut r, why);
             assert_eq!(mode, motion_exit_mode(why), "{what}, {why:?}");
             assert!(replies.is_empty(), "{what}, {why:?}: {replies:?}");
-            // A moving arm stops (after a failed search, which only ends a calibration, it
-            // is held where its reference was); one at rest has (next to) nothing to stop.
+            // A moving arm stops; one at rest has (next to) nothing to stop.
             let stop_s = state(&r).remaining().unwrap_or(0.0);
-            if moving && !matches!(why, Exit::SearchFailed(_)) {
+            if moving {
                 assert!(stop_s > 0.02, "{what}, {why:?}: a stop of {stop_s} s");
             } else {
                 assert!(stop_s < 0.02, "{what}, {why:?}: a stop of {stop_s} s");
@@ -141,7 +140,8 @@ fn a_calibration_answers_its_caller_and_its_axes_keep_the_previous_calibration()
         wrist_direction: Direction::Positive,
         force_mechanical_stop: false,
     });
-    for (n, why) in EXITS.into_iter().enumerate() {
+    let searching = EXITS.into_iter().chain([Exit::SearchFailed(TRIP)]);
+    for (n, why) in searching.enumerate() {
         let previous = r.cycle.controller().offsets();
         let id = 1000 + n as u64;
         send(&mut r, id, calibrate);
@@ -163,6 +163,13 @@ fn a_calibration_answers_its_caller_and_its_axes_keep_the_previous_calibration()
         assert_eq!(replies[0].request_id, id);
         assert_eq!(replies[0].outcome, Outcome::Failed(why.reason()), "{why:?}");
         assert_eq!(r.cycle.controller().offsets(), previous, "{why:?}");
+        if let Exit::SearchFailed(_) = why {
+            // ERROR without a stop: every axis commanded where it is, at rest.
+            let c = r.cycle.controller();
+            assert_eq!(state(&r).remaining(), None, "no stop after a failed search");
+            assert_eq!(c.cmd.position, c.measured(), "held where the arm is");
+            assert_eq!(c.cmd.velocity, [0.0; 6]);
+        }
         back_to_hold(&mut r);
     }
     // On its way back to zero the new calibration is in force: a `hold` keeps it.
@@ -272,5 +279,27 @@ fn off_and_error_stay_and_hold_ends_only_in_a_trip() {
             }
             r.ok(Request::Hold, 800);
         }
+    }
+}
+
+/// A failed search is taken only by a calibration search: anywhere else it is a bug, which a
+/// debug build asserts (a release build takes it as the trip it names).
+#[test]
+#[cfg(debug_assertions)]
+#[should_panic(expected = "outside a calibration search")]
+fn a_failed_search_outside_a_calibration_search_is_a_bug() {
+    let mut r = Robot::new();
+    r.ok(Request::Hold, 800);
+    take(&mut r, Exit::SearchFailed(TRIP));
+}
+
+#[test]
+fn outside_a_search_a_failed_search_is_a_trip_and_the_rest_are_as_they_are() {
+    assert_eq!(
+        Exit::SearchFailed(TRIP).outside_a_search(),
+        Exit::Trip(TRIP)
+    );
+    for why in EXITS {
+        assert_eq!(why.outside_a_search(), why);
     }
 }

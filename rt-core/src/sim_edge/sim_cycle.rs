@@ -1,43 +1,16 @@
-//! `mcm-sim`'s simulated robot behind the simulator's edge: [`SimulatedRobot`] for its bus,
-//! and [`SimCycle`], the cycle over it with the edge, as the runner composes them (only with the
-//! `sim` feature).
+//! [`SimCycle`]: the cycle over `mcm-sim`'s simulated bus with the simulator's edge, as the
+//! runner composes them (only with the `sim` feature).
 //!
 //! Runs inside the cycle (`SimCycle::run` in virtual time, for the tests and the benchmarks).
 
-use super::{SimEdge, SimulatedRobot};
+use super::SimEdge;
 use crate::canopen::MasterSetupError;
 use crate::controller::Controller;
 use crate::cycle::Cycle;
-use crate::publish::{CycleClock, Truth};
-use mcm_shared::command::{Axis, SimCommand};
+use crate::publish::CycleClock;
 use mcm_shared::config::RobotConfig;
-use mcm_shared::reply::Reason;
 use mcm_shared::sample::{CommandSample, StateSample};
-use mcm_sim::{SimBus, SimCommandError, SimControl};
-
-/// `mcm-sim`'s simulated robot: a refused fault injection is `out_of_range`, naming the value.
-impl SimulatedRobot for SimBus {
-    fn apply(&mut self, cmd: &SimCommand) -> Result<(), Reason> {
-        match <SimBus as SimControl>::apply(self, cmd) {
-            Ok(()) => Ok(()),
-            Err(SimCommandError::TorqueNotFinite { index, value }) => Err(Reason::OutOfRange {
-                axis: Axis::from_index(index),
-                value,
-                min: f64::MIN,
-                max: f64::MAX,
-            }),
-        }
-    }
-
-    fn truth(&self) -> Truth {
-        let t = <SimBus as SimControl>::truth(self);
-        Truth {
-            position: t.position,
-            velocity: t.velocity,
-            emergency_stop: t.emergency_stop,
-        }
-    }
-}
+use mcm_sim::SimBus;
 
 /// The simulated robot in virtual time: `Cycle<B>` with the simulator's edge, stepped by the
 /// runner's own [`crate::runner::run_cycle`] (for tests and benchmarks). `B` is the simulator's
