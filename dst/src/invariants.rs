@@ -241,9 +241,10 @@ impl Checker {
         faults: &[Fault],
     ) -> Result<(), Violation> {
         let fail = |message: String| {
+            let names: Vec<&str> = faults.iter().map(|f| f.name()).collect();
             Err(Violation {
                 cycle: k,
-                message,
+                message: format!("{message}; faults under way: {names:?}"),
                 quiet_phase: false,
             })
         };
