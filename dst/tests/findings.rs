@@ -19,3 +19,15 @@ fn seed_6_a_drive_whose_configuration_failed_is_configured_again() {
     assert_eq!(r.violation, None, "seed 6");
     assert!(r.recovery_cycles.is_some(), "seed 6 recovered");
 }
+
+/// Seed 1003 (and 1010): drive 1 was lost (its cable out) while the drives were power cycled;
+/// its boot-up went unheard and it came back silent (PRE-OPERATIONAL, no heartbeats), and the
+/// master waited for its heartbeats for good, so every `hold` of the quiet phase was refused
+/// (`drive_disconnected`). Fixed in the master: a drive lost for a boot timeout is reset and
+/// waited for as one that never answered.
+#[test]
+fn seed_1003_a_drive_lost_through_a_power_cycle_is_reset() {
+    let r = run(&RunOptions::new(1003, 20.0));
+    assert_eq!(r.violation, None, "seed 1003");
+    assert!(r.recovery_cycles.is_some(), "seed 1003 recovered");
+}

@@ -94,6 +94,8 @@ struct Session {
     reset_pending: bool,
     reset_sent: bool,
     lost: bool,
+    /// When `lost` was set [ns]: a drive lost for a boot timeout is reset.
+    lost_since_ns: Option<u64>,
     tpdo_this_cycle: bool,
     tpdo_seen_since_start: bool,
     missed: u16,
@@ -118,6 +120,7 @@ impl Default for Session {
             reset_pending: false,
             reset_sent: false,
             lost: false,
+            lost_since_ns: None,
             tpdo_this_cycle: false,
             tpdo_seen_since_start: false,
             missed: 0,
@@ -735,6 +738,7 @@ impl Master {
 
     fn supervise(&mut self, i: usize, now_ns: u64) {
         let max_missed = self.max_missed;
+        let boot_timeout = self.boot_timeout_ns;
         let (ax, fb) = (&mut self.axes[i], &mut self.feedback[i]);
         if ax.session.tpdo_this_cycle {
             ax.session.missed = 0;
@@ -743,6 +747,7 @@ impl Master {
             fb.tpdo_age_cycles = fb.tpdo_age_cycles.saturating_add(1);
             if ax.session.missed == max_missed && !ax.session.lost {
                 ax.session.lost = true;
+                ax.session.lost_since_ns = Some(now_ns);
                 self.events.push(MasterEvent::Lost {
                     axis: i,
                     node: ax.params.node,
@@ -754,6 +759,7 @@ impl Master {
         }
         if ax.hb.check(now_ns) && !ax.session.lost {
             ax.session.lost = true;
+            ax.session.lost_since_ns = Some(now_ns);
             self.events.push(MasterEvent::Lost {
                 axis: i,
                 node: ax.params.node,
@@ -762,10 +768,22 @@ impl Master {
         }
         if ax.session.lost && ax.session.missed == 0 && ax.hb.is_fresh(now_ns) {
             ax.session.lost = false;
+            ax.session.lost_since_ns = None;
             self.events.push(MasterEvent::Recovered {
                 axis: i,
                 node: ax.params.node,
             });
+        }
+        // Lost for a boot timeout: its cable out for that long, or its power cycled while its
+        // boot-up went unheard, after which it sits in PRE-OPERATIONAL without heartbeats
+        // (0x1017 = 0 after power-up) and would never be heard again. Reset it and wait for it
+        // as for a drive that never answered (resets repeated every boot timeout, `Missing`).
+        if ax
+            .session
+            .lost_since_ns
+            .is_some_and(|t| now_ns.saturating_sub(t) >= boot_timeout)
+        {
+            self.reset_again(i);
         }
     }
 

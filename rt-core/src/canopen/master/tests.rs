@@ -338,6 +338,61 @@ fn missed_tpdos_make_the_axis_lost_then_recovered() {
     assert!(w.fb(2).online);
 }
 
+/// Seed 1010 of the simulation tester: a drive lost while its cable is out is power cycled;
+/// its boot-up goes nowhere and it comes back silent (PRE-OPERATIONAL, heartbeat producer off
+/// after power-up). Waiting for its heartbeats would wait for good: a boot timeout after it
+/// was lost it is reset (NMT reset communication, as a drive that never answered) and boots
+/// and is configured again.
+#[test]
+fn a_drive_lost_for_a_boot_timeout_is_reset_and_configured_again() {
+    let mut w = World::booted();
+    w.take_events();
+    w.drives[2].silent = true; // its cable out
+    let lost_at = loop {
+        let t = w.now;
+        w.step([DriveRequest::Disable; 6]);
+        if w.take_events()
+            .iter()
+            .any(|e| matches!(e, MasterEvent::Lost { axis: 2, .. }))
+        {
+            break t;
+        }
+        assert!(w.now < 1000 * MS, "not lost");
+    };
+    // Power cycled meanwhile: a fresh drive, silent until it is reset.
+    w.drives[2] = FakeDrive::new(3);
+    let reset = loop {
+        let t = w.now;
+        let frames = w.step([DriveRequest::Disable; 6]);
+        if frames.iter().any(|f| f.to_string() == "000#8203") {
+            break t;
+        }
+        assert!(
+            t <= lost_at + 2000 * MS + T,
+            "no reset a boot timeout (2000 ms) after the loss at {lost_at} ns: {:?}",
+            w.take_events()
+        );
+    };
+    assert!(
+        reset >= lost_at + 2000 * MS,
+        "reset before the boot timeout: {reset} ns"
+    );
+    w.run(45, [DriveRequest::Disable; 6]);
+    let events = w.take_events();
+    assert_eq!(
+        events,
+        [
+            MasterEvent::Booted { axis: 2 },
+            MasterEvent::Configured { axis: 2 },
+            MasterEvent::Calibration {
+                axis: 2,
+                offset_counts: None
+            }
+        ]
+    );
+    assert!(w.fb(2).online, "{:?}", w.fb(2));
+}
+
 #[test]
 fn heartbeat_timeout_at_exactly_the_configured_time() {
     let mut w = World::booted();
