@@ -122,8 +122,12 @@ pub enum Error {
     /// `TcpOptions::reconnect_on_next_call`).
     #[error("not connected (the connection broke earlier); call reconnect()")]
     NotConnected,
+    /// No result to `command` within `waited`: it may or may not have been executed. The
+    /// connection is closed (its result, should it still come, would answer the next call):
+    /// the next call fails with [`Error::NotConnected`], or reconnects first with
+    /// `TcpOptions::reconnect_on_next_call` (control of the arm is lost with the connection).
     #[error(
-        "no result to `{command}` within {waited:?}: it may or may not have been executed; read the state"
+        "no result to `{command}` within {waited:?}: it may or may not have been executed; read the state (the connection was closed: reconnect)"
     )]
     Timeout { command: String, waited: Duration },
     /// A line that is not the protocol this client knows (another MCM version?).

@@ -18,7 +18,8 @@
 //! arrives later as [`Event::CommandError`].
 //!
 //! **Reconnecting.** When the connection breaks, the call that saw it fails and the client is
-//! disconnected. [`TcpClient::reconnect`] opens a new connection (and repeats `authenticate`
+//! disconnected; so does a call whose result does not come in time ([`Error::Timeout`]: a
+//! late result must not answer the next call). [`TcpClient::reconnect`] opens a new connection (and repeats `authenticate`
 //! if it was given). Control of the arm does *not* survive: the old connection closing makes
 //! the gateway release its control, and what it drove (a move, a PVT stream, RELEASE,
 //! TORQUE_CONTROL, VELOCITY_CONTROL) ends in HOLD. Take control again (`take_control`) after a reconnect. With
@@ -84,23 +85,6 @@ fn ticking(dt_status_s: Option<f64>) -> bool {
     dt_status_s.is_some_and(|d| d > 0.0)
 }
 
-/// Which result a command waits for: what its definition says it answers on success
-/// ([`protocol::CommandDef::success`]); a `status` result in this mode, when given (in a
-/// session with ticks, TORQUE_CONTROL or VELOCITY_CONTROL, the session's ticks are in the
-/// session's mode, and a tick is what a `status` call may get there).
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Expect {
-    success: protocol::Success,
-    mode: Option<Mode>,
-}
-
-/// What [`TcpClient::call`] read: the result the command answers.
-enum Got {
-    Ok,
-    Status(Box<Status>),
-    Other(Answer),
-}
-
 struct Conn {
     stream: TcpStream,
     buf: Vec<u8>,
@@ -116,6 +100,19 @@ pub struct TcpClient {
     /// status ticks; `None`: no ticks.
     ticks: Option<Mode>,
     secret: Option<String>,
+}
+
+/// The error for `answer`, which is not what the command `def` answers on success.
+fn unexpected(def: &protocol::CommandDef, answer: &Answer) -> Error {
+    Error::Protocol {
+        command: def.name.to_string(),
+        problem: format!(
+            "a {} result where {} was expected",
+            answer.result_type(),
+            def.success.result_type().unwrap_or("none")
+        ),
+        line: answer.to_value().to_string(),
+    }
 }
 
 impl TcpClient {
@@ -264,8 +261,18 @@ impl TcpClient {
         self.events.push_back(e);
     }
 
-    /// Send `cmd` and read lines until its result (`mode`: see [`Expect`]).
-    fn call(&mut self, cmd: &Command, mode: Option<Mode>, timeout: Duration) -> Result<Got, Error> {
+    /// Send `cmd` and read lines until its result: what its definition says it answers on
+    /// success ([`protocol::CommandDef::success`]), and nothing else. `mode`: the mode of the
+    /// status the command answers, when known (in a session with ticks, TORQUE_CONTROL or
+    /// VELOCITY_CONTROL, a status in another mode is one of the session's ticks, and a tick is
+    /// what a `status` call may get there). When no result comes within `timeout` the
+    /// connection is closed: its late result would otherwise answer the next call.
+    fn call(
+        &mut self,
+        cmd: &Command,
+        mode: Option<Mode>,
+        timeout: Duration,
+    ) -> Result<Answer, Error> {
         self.call_line(cmd.def(), &cmd.to_json(), mode, timeout)
     }
 
@@ -277,16 +284,14 @@ impl TcpClient {
         line: &serde_json::Value,
         mode: Option<Mode>,
         timeout: Duration,
-    ) -> Result<Got, Error> {
+    ) -> Result<Answer, Error> {
         let command = def.name;
-        let expect = Expect {
-            success: def.success,
-            mode,
-        };
         self.write(command, &line.to_string())?;
         let deadline = Instant::now() + timeout;
         loop {
             let Some(line) = self.read_line(command, deadline)? else {
+                // The result may still come: on this connection it would answer the next call.
+                self.conn = None;
                 return Err(Error::Timeout {
                     command: command.to_string(),
                     waited: timeout,
@@ -297,42 +302,31 @@ impl TcpClient {
                 problem,
                 line: line.clone(),
             })?;
-            let unexpected = |what: &str| Error::Protocol {
-                command: command.to_string(),
-                problem: format!(
-                    "a {what} result where {} was expected",
-                    expect.success.result_type().unwrap_or("none")
-                ),
-                line: line.clone(),
-            };
-            use protocol::Success as S;
-            match (parsed, expect.success) {
-                (Line::Event(e), _) => self.queue(e),
-                (Line::Error(message), _) => {
+            let answer = match parsed {
+                Line::Event(e) => {
+                    self.queue(e);
+                    continue;
+                }
+                Line::Error(message) => {
                     return Err(McmError::from_message(command, &message).into());
                 }
-                (Line::Ok, S::Ok) => return Ok(Got::Ok),
-                (Line::Status(s), S::Status) => {
-                    let tick = self.ticks.is_some() && mode.is_some_and(|m| m != s.mode);
-                    if !tick {
-                        return Ok(Got::Status(s));
+                Line::Status(s) => {
+                    let tick = self.ticks.is_some()
+                        && (def.success != protocol::Success::Status
+                            || mode.is_some_and(|m| m != s.mode));
+                    if tick {
+                        self.queue(Event::Status(s));
+                        continue;
                     }
-                    self.queue(Event::Status(s));
+                    Answer::Status(s)
                 }
-                (Line::Status(s), _) if self.ticks.is_some() => self.queue(Event::Status(s)),
-                (Line::Other(a), S::Initialization | S::MoveAll | S::Sim) => {
-                    return Ok(Got::Other(a));
-                }
-                (Line::Ok, _) => return Err(unexpected("generic OK")),
-                (Line::Status(_), _) => return Err(unexpected("status")),
-                (Line::Other(a), _) => {
-                    let kind = a.to_value()["result_type"]
-                        .as_str()
-                        .unwrap_or("?")
-                        .to_string();
-                    return Err(unexpected(&kind));
-                }
+                Line::Ok => Answer::ok(),
+                Line::Other(a) => a,
+            };
+            if def.success.answers(&answer) {
+                return Ok(answer);
             }
+            return Err(unexpected(def, &answer));
         }
     }
 
@@ -347,18 +341,24 @@ impl TcpClient {
         mode: Option<Mode>,
     ) -> Result<Status, Error> {
         let t = self.opts.reply_timeout;
-        match self.call(&cmd.into(), mode, t)? {
-            Got::Status(s) => Ok(*s),
-            _ => unreachable!("call returns what the command answers: a status"),
+        let cmd = cmd.into();
+        match self.call(&cmd, mode, t)? {
+            Answer::Status(s) => Ok(*s),
+            other => Err(unexpected(cmd.def(), &other)),
         }
     }
 
-    fn call_other(&mut self, cmd: impl Into<Command>) -> Result<Answer, Error> {
+    /// [`TcpClient::call`] with the default wait, for a command whose typed result `typed`
+    /// takes out of its answer.
+    fn call_typed<T>(
+        &mut self,
+        cmd: impl Into<Command>,
+        typed: impl FnOnce(Answer) -> Result<T, Answer>,
+    ) -> Result<T, Error> {
         let t = self.opts.reply_timeout;
-        match self.call(&cmd.into(), None, t)? {
-            Got::Other(a) => Ok(a),
-            _ => unreachable!("call returns what the command answers: another result"),
-        }
+        let cmd = cmd.into();
+        let answer = self.call(&cmd, None, t)?;
+        typed(answer).map_err(|other| unexpected(cmd.def(), &other))
     }
 
     /// Any command of the protocol, typed ([`mcm_shared::protocol::Command`]), and its result:
@@ -386,11 +386,7 @@ impl TcpClient {
             Command::Calibrate(_) => self.opts.calibrate_timeout,
             _ => self.opts.reply_timeout,
         };
-        Ok(Some(match self.call(&cmd, None, timeout)? {
-            Got::Ok => Answer::ok(),
-            Got::Status(s) => Answer::Status(s),
-            Got::Other(a) => a,
-        }))
+        self.call(&cmd, None, timeout).map(Some)
     }
 
     /// The newest state (`status`). In a TORQUE_CONTROL or VELOCITY_CONTROL session with
@@ -407,10 +403,10 @@ impl TcpClient {
 
     /// Robot, version, cycle time and the limits of every axis (`info`).
     pub fn info(&mut self) -> Result<Info, Error> {
-        match self.call_other(protocol::Info)? {
+        self.call_typed(protocol::Info, |a| match a {
             Answer::Initialization(i) => Ok(i),
-            _ => unreachable!("`info` answers `initialization`"),
-        }
+            other => Err(other),
+        })
     }
 
     /// Enter HOLD (clears errors and powers the drives from OFF/ERROR; stops a motion). Open
@@ -515,10 +511,10 @@ impl TcpClient {
             targets_deg,
             velocity_factor,
         };
-        match self.call_other(cmd)? {
+        self.call_typed(cmd, |a| match a {
             Answer::MoveAll(m) => Ok(m),
-            _ => unreachable!("`move_all` answers `move_all`"),
-        }
+            other => Err(other),
+        })
     }
 
     /// Queue PVT points (spaced by `pvt`'s `dt`). Up to [`MAX_POINTS_PER_COMMAND`] points that
@@ -576,10 +572,10 @@ impl TcpClient {
 
     /// Fault injection into the simulated robot (from loopback); the simulation's ground truth.
     pub fn sim(&mut self, c: SimCommand) -> Result<SimResult, Error> {
-        match self.call_other(c)? {
+        self.call_typed(c, |a| match a {
             Answer::Sim(r) => Ok(r),
-            _ => unreachable!("`sim` answers `sim`"),
-        }
+            other => Err(other),
+        })
     }
 
     /// The next spontaneous message: a queued one at once, else the first to arrive within
@@ -595,7 +591,8 @@ impl TcpClient {
                 Ok(Line::Event(e)) => e,
                 Ok(Line::Status(s)) => Event::Status(s),
                 Ok(Line::Error(m)) => Event::Notice(m),
-                // A result no call waits for (a call that timed out earlier): its words.
+                // A result no call waits for (a timed-out call closed its connection, so
+                // not its late result): its words.
                 Ok(Line::Ok | Line::Other(..)) | Err(_) => Event::Notice(line),
             };
             self.queue(event);

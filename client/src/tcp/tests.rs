@@ -155,6 +155,91 @@ fn a_result_that_does_not_come_is_a_timeout_naming_the_command() {
         matches!(&e, Error::Timeout { command, .. } if command == "info"),
         "{e}"
     );
+    assert!(!c.is_connected(), "a timed-out call closes its connection");
+}
+
+/// A result of another type than the command answers is a protocol error, never taken as the
+/// command's result (nor a panic).
+#[test]
+fn a_result_of_the_wrong_type_is_a_protocol_error() {
+    let sim = r#"{"result_type":"sim","true_position":[1,2,3,4,5,6],"true_velocity":[0,0,0,0,0,0],"emergency_stop":false}"#;
+    let move_all = r#"{"result_type":"move_all","velocities":[1,2,3,4,5,6],"longest":3,"max_time_to_target":1.5}"#;
+    let (addr, _seen) = server(vec![
+        vec![sim.into()],
+        vec![sim.into()],
+        vec![move_all.into()],
+        vec![r#"{"result_type":"generic","error_status":"OK"}"#.into()],
+    ]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    let wrong = |e: Error, command: &str, problem: &str| match e {
+        Error::Protocol {
+            command: c,
+            problem: p,
+            ..
+        } => assert_eq!((c.as_str(), p.as_str()), (command, problem)),
+        other => panic!("{other}"),
+    };
+    wrong(
+        c.info().unwrap_err(),
+        "info",
+        "a sim result where initialization was expected",
+    );
+    wrong(
+        c.move_all([0.0; 6], 0.5).unwrap_err(),
+        "move_all",
+        "a sim result where move_all was expected",
+    );
+    wrong(
+        c.sim(SimCommand::default()).unwrap_err(),
+        "sim",
+        "a move_all result where sim was expected",
+    );
+    wrong(
+        c.hold().unwrap_err(),
+        "hold",
+        "a generic result where status was expected",
+    );
+}
+
+/// A result that comes after its call timed out does not answer the next call: the timed-out
+/// call closed its connection, and the next call gets its own result on a new one.
+#[test]
+fn a_late_result_after_a_timeout_does_not_answer_the_next_call() {
+    let l = TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = l.local_addr().unwrap().to_string();
+    std::thread::spawn(move || {
+        let (first, _) = l.accept().unwrap();
+        let mut w = first.try_clone().unwrap();
+        let mut lines = BufReader::new(first).lines();
+        // `status`: answered late, once the client sent its next command on this connection
+        // (or closed it).
+        let _status = lines.next();
+        let next = lines.next();
+        let _ = w.write_all(format!("{}
+", status("PVT", 1.0)).as_bytes());
+        if let Some(Ok(_hold)) = next {
+            let _ = w.write_all(format!("{}
+", status("HOLD", 2.0)).as_bytes());
+            return;
+        }
+        let (second, _) = l.accept().unwrap();
+        let mut w = second.try_clone().unwrap();
+        if let Some(Ok(_hold)) = BufReader::new(second).lines().next() {
+            let _ = w.write_all(format!("{}
+", status("HOLD", 2.0)).as_bytes());
+        }
+    });
+    let opts = TcpOptions {
+        reply_timeout: Duration::from_millis(100),
+        reconnect_on_next_call: true,
+        ..TcpOptions::default()
+    };
+    let mut c = TcpClient::connect_with(&addr, opts).unwrap();
+    let e = c.status().unwrap_err();
+    assert!(matches!(&e, Error::Timeout { command, .. } if command == "status"), "{e}");
+    c.opts.reply_timeout = Duration::from_secs(10);
+    let held = c.hold().unwrap();
+    assert_eq!((held.mode, held.time()), (Mode::Hold, 2.0), "{held:?}");
 }
 
 #[test]

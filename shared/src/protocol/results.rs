@@ -57,6 +57,17 @@ impl Answer {
         Answer::deserialize(v).map_err(|e| format!("a `{kind}` result that does not read: {e}"))
     }
 
+    /// Its `result_type`, as [`Answer::to_value`] writes it.
+    pub const fn result_type(&self) -> &'static str {
+        match self {
+            Answer::Generic(_) => "generic",
+            Answer::Status(_) => "status",
+            Answer::Initialization(_) => "initialization",
+            Answer::MoveAll(_) => "move_all",
+            Answer::Sim(_) => "sim",
+        }
+    }
+
     /// An ERROR with `message`.
     pub fn error(message: impl Into<String>) -> Answer {
         Answer::Generic(Generic::error(message))

@@ -180,3 +180,79 @@ fn info_takes_simulated_from_the_state() {
         false
     );
 }
+
+/// One result of every `result_type` (the match makes a new one fail to compile until it is
+/// added here).
+fn one_of_each() -> Vec<Answer> {
+    let state = StateSample::default();
+    let info = InfoReply {
+        num_axes: 6,
+        period_s: 0.005,
+    };
+    let each = vec![
+        Answer::ok(),
+        Answer::error("move_all refused: x"),
+        Answer::Status(Box::new(Status::from_state(&state, false).unwrap())),
+        Answer::Initialization(Info::new(&RobotConfig::prob2_default(), &info, true)),
+        Answer::MoveAll(MoveAllResult {
+            velocities: [1.0; 6],
+            longest: 2,
+            max_time_to_target: 0.5,
+        }),
+        Answer::Sim(SimResult::from_state(&state)),
+    ];
+    for a in &each {
+        match a {
+            Answer::Generic(_)
+            | Answer::Status(_)
+            | Answer::Initialization(_)
+            | Answer::MoveAll(_)
+            | Answer::Sim(_) => {}
+        }
+    }
+    each
+}
+
+/// `Answer::result_type` is the `result_type` the JSON carries, and `Success` names the same
+/// words: what a command's definition says it answers and the result a client waits for cannot
+/// drift apart.
+#[test]
+fn every_result_type_is_the_one_a_success_names() {
+    use crate::protocol::Success;
+    let each = one_of_each();
+    for a in &each {
+        assert_eq!(a.to_value()["result_type"], a.result_type(), "{a:?}");
+    }
+    let successes = [
+        Success::Ok,
+        Success::Status,
+        Success::Nothing,
+        Success::Initialization,
+        Success::MoveAll,
+        Success::Sim,
+    ];
+    let mut named = std::collections::BTreeSet::new();
+    for s in successes {
+        match s {
+            Success::Ok
+            | Success::Status
+            | Success::Nothing
+            | Success::Initialization
+            | Success::MoveAll
+            | Success::Sim => {}
+        }
+        let answering: Vec<&Answer> = each.iter().filter(|a| s.answers(a)).collect();
+        match s.result_type() {
+            None => assert!(answering.is_empty(), "{s:?} answers {answering:?}"),
+            Some(t) => {
+                // Exactly one of each: `generic` OK answers `Success::Ok`, an ERROR nothing.
+                assert_eq!(answering.len(), 1, "{s:?} answers {answering:?}");
+                assert_eq!(answering[0].result_type(), t, "{s:?}");
+                named.insert(t);
+            }
+        }
+    }
+    let types: std::collections::BTreeSet<_> = each.iter().map(Answer::result_type).collect();
+    assert_eq!(named, types, "every result_type is answered by one Success");
+    assert!(!Success::Ok.answers(&Answer::error("x")));
+}
