@@ -46,6 +46,7 @@ use mcm_shared::command::{
     SimCommand, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
+use mcm_shared::protocol::core_reply_within;
 use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Outcome, Response, SafetyError};
 use mcm_shared::sample::StateSample;
 use mcm_shared::service::{COMMAND_BUFFER, ServiceNames};
@@ -54,10 +55,6 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
-/// Longest wait for a reply (the gateway's bound too).
-pub const REPLY_TIMEOUT: Duration = Duration::from_secs(5);
-/// Longest wait for the reply to `calibrate`.
-pub const CALIBRATE_TIMEOUT: Duration = Duration::from_secs(600);
 /// Default longest wait for the next state.
 pub const STATE_TIMEOUT: Duration = Duration::from_millis(500);
 /// Most commands of one client unanswered at a time (the core buffers 64 per publisher).
@@ -294,14 +291,10 @@ impl ShmClient {
         Ok(last)
     }
 
-    /// Send `req` and wait for its reply ([`REPLY_TIMEOUT`], `calibrate`
-    /// [`CALIBRATE_TIMEOUT`]).
+    /// Send `req` and wait for its reply, as long as the core may take for it
+    /// ([`core_reply_within`]: 5 s, `calibrate` 600 s, as the gateway waits).
     pub fn request(&mut self, req: &Request) -> Result<Done, RequestError> {
-        let timeout = if req.kind() == CommandKind::Calibrate {
-            CALIBRATE_TIMEOUT
-        } else {
-            REPLY_TIMEOUT
-        };
+        let timeout = core_reply_within(req.kind());
         let id = self.next_request;
         self.waiting.insert(id);
         if let Err(e) = self.send(req) {
@@ -407,7 +400,8 @@ impl ShmClient {
                 self.send(&Request::PvtPoints(*c))?;
                 ids.push(id);
             }
-            result = self.wait_replies(CommandKind::PvtPoints, &ids, REPLY_TIMEOUT);
+            let timeout = core_reply_within(CommandKind::PvtPoints);
+            result = self.wait_replies(CommandKind::PvtPoints, &ids, timeout);
             if result.is_err() {
                 break;
             }

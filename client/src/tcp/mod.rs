@@ -59,12 +59,12 @@ const MAX_LINE: usize = 60_000;
 #[derive(Debug, Clone, PartialEq)]
 pub struct TcpOptions {
     pub connect_timeout: Duration,
-    /// Longest wait for a command's result (the MCM itself answers within 5 s or says the
-    /// outcome is unknown).
+    /// Longest wait for a command's result (the MCM itself answers within
+    /// [`protocol::REPLY_TIMEOUT`], 5 s, or says the outcome is unknown). A command the MCM may
+    /// take longer to answer waits that much longer
+    /// ([`Command::extra_reply_time`](mcm_shared::protocol::Command::extra_reply_time):
+    /// `calibrate` up to 600 s, `sleep` its duration).
     pub reply_timeout: Duration,
-    /// Longest wait for `calibrate` (about 12 s on the simulated P-Rob2; the MCM's own bound
-    /// is 600 s).
-    pub calibrate_timeout: Duration,
     /// A call on a broken connection reconnects first (see the module docs on control).
     pub reconnect_on_next_call: bool,
 }
@@ -74,7 +74,6 @@ impl Default for TcpOptions {
         TcpOptions {
             connect_timeout: Duration::from_secs(5),
             reply_timeout: Duration::from_secs(10),
-            calibrate_timeout: Duration::from_secs(610),
             reconnect_on_next_call: false,
         }
     }
@@ -265,15 +264,18 @@ impl TcpClient {
     /// success ([`protocol::CommandDef::success`]), and nothing else. `mode`: the mode of the
     /// status the command answers, when known (in a session with ticks, TORQUE_CONTROL or
     /// VELOCITY_CONTROL, a status in another mode is one of the session's ticks, and a tick is
-    /// what a `status` call may get there). When no result comes within `timeout` the
-    /// connection is closed: its late result would otherwise answer the next call.
-    fn call(
-        &mut self,
-        cmd: &Command,
-        mode: Option<Mode>,
-        timeout: Duration,
-    ) -> Result<Answer, Error> {
+    /// what a `status` call may get there). When no result comes within
+    /// [`TcpClient::wait_for`] the connection is closed: its late result would otherwise
+    /// answer the next call.
+    fn call(&mut self, cmd: &Command, mode: Option<Mode>) -> Result<Answer, Error> {
+        let timeout = self.wait_for(cmd);
         self.call_line(cmd.def(), &cmd.to_json(), mode, timeout)
+    }
+
+    /// The longest wait for the result of `cmd`: [`TcpOptions::reply_timeout`], plus the time
+    /// the MCM may take beyond its usual bound for this command.
+    fn wait_for(&self, cmd: &Command) -> Duration {
+        self.opts.reply_timeout + cmd.extra_reply_time()
     }
 
     /// [`TcpClient::call`] with the command's line given: `line` is a command `def` (written by
@@ -331,8 +333,7 @@ impl TcpClient {
     }
 
     fn call_ok(&mut self, cmd: impl Into<Command>) -> Result<(), Error> {
-        let t = self.opts.reply_timeout;
-        self.call(&cmd.into(), None, t).map(|_| ())
+        self.call(&cmd.into(), None).map(|_| ())
     }
 
     fn call_status(
@@ -340,24 +341,21 @@ impl TcpClient {
         cmd: impl Into<Command>,
         mode: Option<Mode>,
     ) -> Result<Status, Error> {
-        let t = self.opts.reply_timeout;
         let cmd = cmd.into();
-        match self.call(&cmd, mode, t)? {
+        match self.call(&cmd, mode)? {
             Answer::Status(s) => Ok(*s),
             other => Err(unexpected(cmd.def(), &other)),
         }
     }
 
-    /// [`TcpClient::call`] with the default wait, for a command whose typed result `typed`
-    /// takes out of its answer.
+    /// [`TcpClient::call`] for a command whose typed result `typed` takes out of its answer.
     fn call_typed<T>(
         &mut self,
         cmd: impl Into<Command>,
         typed: impl FnOnce(Answer) -> Result<T, Answer>,
     ) -> Result<T, Error> {
-        let t = self.opts.reply_timeout;
         let cmd = cmd.into();
-        let answer = self.call(&cmd, None, t)?;
+        let answer = self.call(&cmd, None)?;
         typed(answer).map_err(|other| unexpected(cmd.def(), &other))
     }
 
@@ -365,8 +363,9 @@ impl TcpClient {
     /// `None` for a command that answers nothing on success (`set_torques`,
     /// `set_velocities`: it returns once written, and a refusal comes later as
     /// [`Event::CommandError`]). The methods below are this call with typed results; a command
-    /// without its own method is still reachable here. `calibrate` waits up to
-    /// [`TcpOptions::calibrate_timeout`], every other command [`TcpOptions::reply_timeout`].
+    /// without its own method is still reachable here. It waits [`TcpOptions::reply_timeout`]
+    /// for the result, plus the time the MCM may take beyond its usual bound for the command
+    /// (`calibrate`, `sleep`).
     ///
     /// ```no_run
     /// use mcm_client::tcp::TcpClient;
@@ -382,11 +381,7 @@ impl TcpClient {
             self.write(cmd.name(), &cmd.to_json().to_string())?;
             return Ok(None);
         }
-        let timeout = match cmd {
-            Command::Calibrate(_) => self.opts.calibrate_timeout,
-            _ => self.opts.reply_timeout,
-        };
-        self.call(&cmd, None, timeout).map(Some)
+        self.call(&cmd, None).map(Some)
     }
 
     /// The newest state (`status`). In a TORQUE_CONTROL or VELOCITY_CONTROL session with
@@ -420,9 +415,8 @@ impl TcpClient {
     /// Home the axes; returns when the calibration has finished (about 12 s on the simulated
     /// P-Rob2), with the arm back at zero in HOLD.
     pub fn calibrate(&mut self, o: CalibrateOptions) -> Result<(), Error> {
-        let t = self.opts.calibrate_timeout;
         let cmd = Command::Calibrate(o.into());
-        self.call(&cmd, None, t).map(|_| ())
+        self.call(&cmd, None).map(|_| ())
     }
 
     /// Enter RELEASE (the arm can be moved by hand).
@@ -495,7 +489,7 @@ impl TcpClient {
                 let cmd = Command::MoveAxis(typed(mcm_shared::command::Axis::ALL[0]));
                 let mut line = cmd.to_json();
                 line["arguments"]["axis_index"] = axis.into();
-                let t = self.opts.reply_timeout;
+                let t = self.wait_for(&cmd);
                 self.call_line(cmd.def(), &line, None, t).map(|_| ())
             }
         }
