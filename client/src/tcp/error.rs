@@ -2,6 +2,7 @@
 //! way ([`Error`]).
 
 use mcm_shared::mode::RejectCode;
+use mcm_shared::protocol::results::ReadError;
 use std::time::Duration;
 
 /// How the MCM answered a command it did not do.
@@ -134,7 +135,7 @@ pub enum Error {
     #[error("unexpected line from the MCM while waiting for `{command}` ({problem}): {line}")]
     Protocol {
         command: String,
-        problem: String,
+        problem: ProtocolProblem,
         line: String,
     },
     /// An argument this client refuses before sending anything.
@@ -150,6 +151,22 @@ pub enum Error {
         what: String,
         waited: Duration,
         last: Box<super::Status>,
+    },
+}
+
+/// What is wrong with a line from the MCM ([`Error::Protocol`]).
+#[derive(Debug, thiserror::Error)]
+pub enum ProtocolProblem {
+    #[error("not JSON: {0}")]
+    NotJson(#[source] serde_json::Error),
+    /// JSON, but no result of this version.
+    #[error(transparent)]
+    Result(#[from] ReadError),
+    /// A result, but not of the type the command answers on success.
+    #[error("a {got} result where {expected} was expected")]
+    Unexpected {
+        got: &'static str,
+        expected: &'static str,
     },
 }
 

@@ -30,7 +30,7 @@ mod steps;
 mod types;
 mod wire;
 
-pub use error::{Error, ErrorKind, McmError};
+pub use error::{Error, ErrorKind, McmError, ProtocolProblem};
 pub use types::{
     AxisInfo, AxisStates, CalibrateOptions, Detail, Event, Info, MoveAllResult, PvtQueue,
     SimResult, Six, Status, TorqueOptions, VelocityOptions,
@@ -105,11 +105,10 @@ pub struct TcpClient {
 fn unexpected(def: &protocol::CommandDef, answer: &Answer) -> Error {
     Error::Protocol {
         command: def.name.to_string(),
-        problem: format!(
-            "a {} result where {} was expected",
-            answer.result_type(),
-            def.success.result_type().unwrap_or("none")
-        ),
+        problem: ProtocolProblem::Unexpected {
+            got: answer.result_type(),
+            expected: def.success.result_type().unwrap_or("none"),
+        },
         line: answer.to_value().to_string(),
     }
 }

@@ -176,7 +176,7 @@ fn a_result_of_the_wrong_type_is_a_protocol_error() {
             command: c,
             problem: p,
             ..
-        } => assert_eq!((c.as_str(), p.as_str()), (command, problem)),
+        } => assert_eq!((c.as_str(), p.to_string().as_str()), (command, problem)),
         other => panic!("{other}"),
     };
     wrong(

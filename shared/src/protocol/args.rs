@@ -1,7 +1,7 @@
 //! Typed access to a command's `arguments` object, with errors that name the command, the
 //! argument, the value received and what is allowed.
 
-use super::json::json_kind;
+use super::json::{json_kind, shown};
 use super::spec::CommandDef;
 use crate::command::Axis;
 use crate::config::RobotConfig;
@@ -62,15 +62,6 @@ pub enum CommandError {
     },
 }
 
-fn show(v: &Value) -> String {
-    let s = v.to_string();
-    // Cut at a character boundary: the value may hold any Unicode text.
-    match s.char_indices().nth(60) {
-        Some((cut, _)) => format!("{}...", &s[..cut]),
-        None => s,
-    }
-}
-
 /// The `arguments` of one command.
 pub struct Args<'a> {
     command: &'static str,
@@ -125,7 +116,7 @@ impl<'a> Args<'a> {
         CommandError::Invalid {
             command: self.command,
             argument: name.to_string(),
-            value: show(value),
+            value: shown(value),
             expected: expected.into(),
         }
     }

@@ -7,7 +7,8 @@
 //! use mcm_shared::protocol::results::{Answer, Generic};
 //! let line = Answer::Generic(Generic::ok()).to_value().to_string();
 //! assert_eq!(line, r#"{"error_status":"OK","result_type":"generic"}"#);
-//! assert_eq!(Answer::from_value(&serde_json::from_str(&line).unwrap()), Ok(Answer::Generic(Generic::ok())));
+//! assert_eq!(Answer::from_value(&serde_json::from_str(&line)?)?, Answer::Generic(Generic::ok()));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 use crate::NUM_AXES;
@@ -48,13 +49,17 @@ impl Answer {
     }
 
     /// Read a result line; `Err` names what is wrong with it.
-    pub fn from_value(v: &Value) -> Result<Answer, String> {
-        let kind = v
-            .get("result_type")
-            .ok_or("no result_type")?
+    pub fn from_value(v: &Value) -> Result<Answer, ReadError> {
+        let kind = v.get("result_type").ok_or(ReadError::NoResultType)?;
+        let kind = kind
             .as_str()
-            .ok_or("result_type is not a string")?;
-        Answer::deserialize(v).map_err(|e| format!("a `{kind}` result that does not read: {e}"))
+            .ok_or_else(|| ReadError::ResultTypeNotString {
+                value: crate::protocol::json::shown(kind),
+            })?;
+        Answer::deserialize(v).map_err(|source| ReadError::Unreadable {
+            result_type: kind.chars().take(40).collect(),
+            source,
+        })
     }
 
     /// Its `result_type`, as [`Answer::to_value`] writes it.
@@ -77,6 +82,45 @@ impl Answer {
     pub fn ok() -> Answer {
         Answer::Generic(Generic::ok())
     }
+}
+
+/// A line that does not read as a result of this version ([`Answer::from_value`]).
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    #[error("no result_type")]
+    NoResultType,
+    #[error("result_type is {value}, not a string")]
+    ResultTypeNotString { value: String },
+    /// A `result_type` this version does not know, or a result whose fields do not read.
+    #[error("a `{result_type}` result that does not read: {source}")]
+    Unreadable {
+        result_type: String,
+        #[source]
+        source: serde_json::Error,
+    },
+}
+
+/// A state in a mode this version does not know: the real-time core is of another MCM
+/// version ([`Status::from_state`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "the real-time core reports operating mode {value}, which this MCM version does not know \
+     (it knows {}); mcm-rt and the gateway are from different MCM versions: rebuild both from \
+     the same version",
+    known_modes()
+)]
+pub struct UnknownMode {
+    /// The state's `mode`.
+    pub value: u32,
+}
+
+/// Every mode this version knows, as its number and word, for [`UnknownMode`].
+fn known_modes() -> String {
+    let modes: Vec<String> = Mode::ALL
+        .iter()
+        .map(|m| format!("{} {m}", m.to_wire()))
+        .collect();
+    modes.join(", ")
 }
 
 /// `error_status` of a `generic` result.
@@ -261,13 +305,8 @@ impl Status {
     /// The status of `state`, with the detail when `detail` (without `control` and `access`,
     /// which the gateway adds for the connection). `Err` when the state's mode is unknown to
     /// this version (a core of another MCM version).
-    pub fn from_state(state: &StateSample, detail: bool) -> Result<Status, String> {
-        let mode = Mode::try_from(state.mode).map_err(|e| {
-            format!(
-                "the real-time core reports {e}; mcm-rt and the gateway are from different MCM \
-                 versions: rebuild both from the same version"
-            )
-        })?;
+    pub fn from_state(state: &StateSample, detail: bool) -> Result<Status, UnknownMode> {
+        let mode = Mode::try_from(state.mode).map_err(|e| UnknownMode { value: e.value })?;
         let t = round(state.t_ns as f64 / 1e9);
         Ok(Status {
             mode,

@@ -1,14 +1,15 @@
 use super::*;
 use mcm_shared::mode::{Mode, RejectCode};
+use mcm_shared::protocol::results::ReadError;
 
 const STATUS: &str = r#"{"result_type":"status","operating_mode":"HOLD","axis_states":{"time":[1,1,1,1,1,1],"position":[0,1,2,3,4,5],"velocity":[0,0,0,0,0,0],"acceleration":[0,0,0,0,0,0],"current":[0,0,0,0,0,0]}}"#;
 
 #[test]
 fn results_are_read_by_result_type() {
-    assert_eq!(
+    assert!(matches!(
         parse(r#"{"result_type":"generic","error_status":"OK"}"#),
         Ok(Line::Ok)
-    );
+    ));
     let Ok(Line::Status(s)) = parse(STATUS) else {
         panic!("a status")
     };
@@ -59,8 +60,15 @@ fn spontaneous_lines_are_events_never_results() {
 
 #[test]
 fn bad_lines_say_what_is_wrong() {
-    assert!(parse("hello").unwrap_err().starts_with("not JSON"));
-    assert_eq!(parse("{}").unwrap_err(), "no result_type");
+    let e = parse("hello").unwrap_err();
+    assert!(matches!(e, ProtocolProblem::NotJson(_)), "{e:?}");
+    assert!(e.to_string().starts_with("not JSON"), "{e}");
+    let e = parse("{}").unwrap_err();
+    assert!(
+        matches!(e, ProtocolProblem::Result(ReadError::NoResultType)),
+        "{e:?}"
+    );
+    assert_eq!(e.to_string(), "no result_type");
     let e = parse(&STATUS.replace("HOLD", "FLYING")).unwrap_err();
-    assert!(e.contains("FLYING"), "{e}");
+    assert!(e.to_string().contains("FLYING"), "{e}");
 }

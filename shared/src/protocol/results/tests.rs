@@ -256,3 +256,38 @@ fn every_result_type_is_the_one_a_success_names() {
     assert_eq!(named, types, "every result_type is answered by one Success");
     assert!(!Success::Ok.answers(&Answer::error("x")));
 }
+
+/// A line that is no result of this version is refused naming what is wrong and the value.
+#[test]
+fn unreadable_results_are_typed_errors_naming_the_value() {
+    assert!(matches!(
+        Answer::from_value(&json!({})),
+        Err(ReadError::NoResultType)
+    ));
+    let e = Answer::from_value(&json!({"result_type": 7})).unwrap_err();
+    assert!(matches!(&e, ReadError::ResultTypeNotString { value } if value == "7"));
+    assert_eq!(e.to_string(), "result_type is 7, not a string");
+    let e = Answer::from_value(&json!({"result_type": "telemetry"})).unwrap_err();
+    let ReadError::Unreadable { result_type, .. } = &e else {
+        panic!("{e:?}")
+    };
+    assert_eq!(result_type, "telemetry");
+    assert!(e.to_string().starts_with("a `telemetry` result that does not read: "), "{e}");
+    let mut status = status(&StateSample::default(), false);
+    status["operating_mode"] = "FLYING".into();
+    let e = Answer::from_value(&status).unwrap_err();
+    assert!(e.to_string().contains("FLYING is not a known mode"), "{e}");
+}
+
+#[test]
+fn a_state_in_an_unknown_mode_names_the_mode_and_the_known_ones() {
+    let s = StateSample {
+        mode: 99,
+        ..StateSample::default()
+    };
+    let e = Status::from_state(&s, false).unwrap_err();
+    assert_eq!(e, UnknownMode { value: 99 });
+    let text = e.to_string();
+    assert!(text.contains("operating mode 99, which this MCM version does not know"), "{text}");
+    assert!(text.contains("0 OFF, 1 ERROR"), "{text}");
+}
