@@ -107,7 +107,7 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
                 return Outcome {
                     result: Some(Answer::Generic(crate::command::access::reply_error(
                         ctx,
-                        cmd.name(),
+                        CommandKind::PvtPoints,
                         &refused,
                     ))),
                     state: Some(state),
@@ -138,7 +138,9 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
             return Outcome {
                 result: Some(Answer::Generic(crate::command::access::reply_error(
                     ctx,
-                    cmd.name(),
+                    // Every command sent to the core has its kind (sleep and authenticate
+                    // returned above).
+                    cmd.def().kind.unwrap_or(response.kind),
                     &refused_or_failed,
                 ))),
                 state: Some(state),

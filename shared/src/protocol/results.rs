@@ -14,7 +14,7 @@
 use crate::NUM_AXES;
 use crate::command::DecodeError;
 use crate::config::RobotConfig;
-use crate::mode::{Mode, RejectCode};
+use crate::mode::{CommandKind, Mode, RejectCode};
 use crate::reply::{InfoReply, MoveAllPlan, Outcome, SafetyError};
 use crate::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord,
@@ -190,16 +190,14 @@ impl Generic {
             .find(|c| c.as_str() == check)
     }
 
-    /// The words for a refused or failed command, prefixed with the command name (a command
-    /// that was done is [`Generic::ok`]). A value of an argument outside its range reads exactly
-    /// as the gateway's own refusal of it (`move_axis: argument "target_position" = 175 is not
-    /// allowed; expected ...`), whichever side refused.
-    pub fn reply_error(command: &str, outcome: &Outcome) -> Generic {
-        let kind = crate::mode::CommandKind::ALL
-            .iter()
-            .find(|k| k.as_str() == command);
+    /// The words for a refused or failed command of `kind`, prefixed with the command name (a
+    /// command that was done is [`Generic::ok`]). A value of an argument outside its range
+    /// reads exactly as the gateway's own refusal of it (`move_axis: argument
+    /// "target_position" = 175 is not allowed; expected ...`), whichever side refused.
+    pub fn reply_error(kind: CommandKind, outcome: &Outcome) -> Generic {
+        let command = kind.as_str();
         match outcome {
-            Outcome::Refused(reason) => match kind.and_then(|k| reason.argument(*k)) {
+            Outcome::Refused(reason) => match reason.argument(kind) {
                 Some(arg) => Generic::error(format!("{command}: {arg}")),
                 None => Generic::error(format!("{command} refused: {reason}")),
             },

@@ -8,8 +8,8 @@ fn status(s: &StateSample, detail: bool) -> Value {
     Answer::Status(Box::new(Status::from_state(s, detail).unwrap())).to_value()
 }
 
-fn reply_error(command: &str, outcome: &Outcome) -> Value {
-    Answer::Generic(Generic::reply_error(command, outcome)).to_value()
+fn reply_error(kind: CommandKind, outcome: &Outcome) -> Value {
+    Answer::Generic(Generic::reply_error(kind, outcome)).to_value()
 }
 
 fn safety_error(e: &SafetyError) -> Value {
@@ -101,7 +101,7 @@ fn status_detail_shows_the_tail_the_window_and_the_budget() {
 fn reply_errors_are_words() {
     let refused = Outcome::Refused(Reason::WrongMode { mode: Mode::Off });
     assert_eq!(
-        reply_error("release", &refused)["error_message"],
+        reply_error(CommandKind::Release, &refused)["error_message"],
         "release refused: not allowed in mode OFF"
     );
     let failed = Outcome::Failed(Reason::CalibrationFailed {
@@ -109,7 +109,7 @@ fn reply_errors_are_words() {
         cause: CalibrationFailure::DriveLost,
     });
     assert_eq!(
-        reply_error("calibrate", &failed)["error_message"],
+        reply_error(CommandKind::Calibrate, &failed)["error_message"],
         "calibrate failed: calibration of axis 2 failed: its drive stopped answering"
     );
 }
