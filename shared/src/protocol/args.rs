@@ -5,7 +5,7 @@ use super::json::{json_kind, shown};
 use super::spec::CommandDef;
 use crate::command::Axis;
 use crate::config::RobotConfig;
-use crate::ranges::{Arg, Num};
+use crate::ranges::{Arg, Num, Shape};
 use serde_json::{Map, Value};
 
 /// Why a command line was refused before it reached the robot.
@@ -136,7 +136,8 @@ impl<'a> Args<'a> {
         }
     }
 
-    fn missing(&self, name: &'static str, expected: &str) -> CommandError {
+    /// An error for the required argument `name`, not given; `expected` says what it holds.
+    pub fn missing(&self, name: &'static str, expected: &str) -> CommandError {
         CommandError::Missing {
             command: self.command,
             argument: name,
@@ -206,22 +207,26 @@ impl<'a> Args<'a> {
         }
     }
 
-    /// An optional axis number 1..=6 (`name` an axis argument of [`crate::ranges`]).
-    pub fn axis(&self, name: &'static str) -> Result<Option<Axis>, CommandError> {
+    /// An optional axis number 1..=6 of the axis argument `arg` ([`Shape::Axis`] in
+    /// [`crate::ranges`]).
+    pub fn axis(&self, arg: Arg) -> Result<Option<Axis>, CommandError> {
+        debug_assert_eq!(arg.spec().shape, Shape::Axis, "{arg:?} is no axis argument");
+        let name = arg.name();
         let Some(v) = self.get(name) else {
             return Ok(None);
         };
-        let arg = Arg::by_name(name).unwrap_or(Arg::AxisIndex);
         let n = ranged_value(self, arg, name, v, arg.fixed_bounds())?;
-        Ok(Axis::new(n as u8))
+        // Accepted within the axis range: a whole number from 1 to 6.
+        Axis::new(n as u8)
+            .map(Some)
+            .ok_or_else(|| self.invalid(name, v, arg.expected(1.0, 6.0).to_string()))
     }
 
-    /// A required axis number 1..=6.
-    pub fn required_axis(&self, name: &'static str) -> Result<Axis, CommandError> {
-        let arg = Arg::by_name(name).unwrap_or(Arg::AxisIndex);
+    /// A required axis number 1..=6 of the axis argument `arg`.
+    pub fn required_axis(&self, arg: Arg) -> Result<Axis, CommandError> {
         let (lo, hi) = arg.fixed_bounds();
-        self.axis(name)?
-            .ok_or_else(|| self.missing(name, &arg.expected(lo, hi).to_string()))
+        self.axis(arg)?
+            .ok_or_else(|| self.missing(arg.name(), &arg.expected(lo, hi).to_string()))
     }
 
     /// The raw value of an argument.

@@ -519,3 +519,52 @@ fn the_lists_are_derived_from_the_definitions() {
         "{control:?}"
     );
 }
+
+#[test]
+fn axis_arguments_are_refused_under_their_own_names() {
+    for (command, name, more) in [
+        ("move_axis", "axis_index", r#","target_position":0"#),
+        ("sim", "disconnect_axis", ""),
+        ("sim", "reconnect_axis", ""),
+        ("sim", "block_axis", ""),
+        ("sim", "unblock_axis", ""),
+    ] {
+        let e = err(&format!(
+            r#"{{"command":"{command}","arguments":{{"{name}":2.5{more}}}}}"#
+        ));
+        assert!(
+            e.contains(&format!(
+                "argument \"{name}\" = 2.5 is not allowed; expected an axis number from 1 to 6"
+            )),
+            "{e}"
+        );
+    }
+}
+
+/// A missing secret is a missing argument; a secret of the wrong form is refused without
+/// echoing it.
+#[test]
+fn authenticate_says_a_missing_secret_is_missing_and_never_echoes_one() {
+    let e = parse(r#"{"command":"authenticate"}"#).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            CommandError::Missing {
+                command: "authenticate",
+                argument: "secret",
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert_eq!(
+        e.to_string(),
+        "authenticate: missing argument \"secret\" (the shared secret as a string of 1 to 1024 \
+         bytes)"
+    );
+    let e = err(r#"{"command":"authenticate","arguments":{"secret":12345678}}"#);
+    assert!(
+        e.contains("\"secret\" = (not shown)") && !e.contains("12345678"),
+        "{e}"
+    );
+}
