@@ -11,12 +11,11 @@ use crate::stats::Summary;
 use crate::torque::LoopOutcome;
 use crate::{shm, stall, torque};
 use mcm_shared::config::RobotConfig;
+use mcm_shared::protocol::MAX_COMMAND_BYTES;
 use mcm_shared::service::ServiceNames;
 use std::net::SocketAddr;
 use std::time::Duration;
 
-/// The gateway's limit of one command line (`gateway/src/transport/json/framing.rs`).
-const MAX_COMMAND_BYTES: usize = 64 * 1024;
 
 /// What the phases share: the MCM under test, a connection to it, and the results so far.
 pub struct Bench<'a> {

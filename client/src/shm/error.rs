@@ -54,7 +54,7 @@ pub enum RequestError {
     /// "failed".
     #[error(
         "{command}: no reply from the real-time core within {waited:?}{}: the command may or may not have been executed; check the state",
-        if *overwritten { " (replies were overwritten before this client read them: it fell more than 8192 replies behind)" } else { "" }
+        if *overwritten { format!(" (replies were overwritten before this client read them: it fell more than {} replies behind)", super::replies::KEPT) } else { String::new() }
     )]
     OutcomeUnknown {
         command: CommandKind,

@@ -381,9 +381,10 @@ impl ShmClient {
     }
 
     /// Queue a batch of PVT points (whole or not at all; at most
-    /// [`MAX_POINTS_PER_COMMAND`](crate::tcp::MAX_POINTS_PER_COMMAND) points a batch, as over TCP).
+    /// [`MAX_POINTS_PER_BATCH`](mcm_shared::protocol::MAX_POINTS_PER_BATCH) points a batch, as
+    /// over TCP).
     pub fn pvt_points(&mut self, points: &[PvtPoint]) -> Result<(), RequestError> {
-        use crate::tcp::MAX_POINTS_PER_COMMAND as MAX;
+        use mcm_shared::protocol::MAX_POINTS_PER_BATCH as MAX;
         if points.is_empty() || points.len() > MAX {
             return Err(RequestError::Argument {
                 command: CommandKind::PvtPoints,

@@ -2,7 +2,8 @@
 //! (bounded) until the state shows what a command was for.
 
 use super::{RequestError, ShmClient, WaitUntilError};
-use mcm_shared::command::{Calibrate, Which};
+use mcm_shared::command::Calibrate;
+use mcm_shared::protocol::DEFAULT_WHICH;
 use mcm_shared::sample::{STATE_ALL_CALIBRATED, StateSample};
 use std::time::{Duration, Instant};
 
@@ -15,7 +16,7 @@ impl ShmClient {
         let calibrated = self.latest().flags & STATE_ALL_CALIBRATED != 0;
         if !calibrated {
             self.calibrate(Calibrate {
-                which: Which::All,
+                which: DEFAULT_WHICH,
                 elbow_direction: Default::default(),
                 wrist_direction: Default::default(),
                 force_mechanical_stop: false,

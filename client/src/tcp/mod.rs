@@ -52,8 +52,9 @@ use wire::Line;
 pub const DEFAULT_PORT: u16 = 18010;
 /// Most points the MCM takes in one `pvt_points` command.
 pub const MAX_POINTS_PER_COMMAND: usize = protocol::MAX_POINTS_PER_BATCH;
-/// Longest command line this client writes (the MCM's limit is 65536 bytes).
-const MAX_LINE: usize = 60_000;
+/// Longest command line this client writes (without its newline): the MCM's limit. A
+/// `pvt_points` batch is cut to fit by an estimate that never falls short of the line's length.
+const MAX_LINE: usize = protocol::MAX_COMMAND_BYTES;
 
 /// How the client connects and waits.
 #[derive(Debug, Clone, PartialEq)]

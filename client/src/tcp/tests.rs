@@ -399,3 +399,42 @@ fn move_axis_leaves_a_bad_axis_to_the_mcm() {
         json!({"command": "move_axis", "arguments": {"axis_index": 9, "target_position": 0.0, "velocity_factor": 0.5}})
     );
 }
+
+/// A list of points longer than a line goes as several `pvt_points` commands, each within the
+/// MCM's limit of a command, in order, every point once.
+#[test]
+fn pvt_points_are_cut_into_lines_within_the_limit_of_a_command() {
+    use mcm_shared::command::PvtPoint;
+    let ok = r#"{"result_type":"generic","error_status":"OK"}"#.to_string();
+    let (addr, seen) = server(vec![vec![ok.clone()]; 8]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    // Long numbers (exact in binary, so that they read back unchanged): 1000 of these points
+    // take about 200 KB.
+    let points: Vec<PvtPoint> = (0..1000)
+        .map(|k| PvtPoint {
+            position_deg: [-100.0 - f64::from(k) / 1024.0; 6],
+            velocity_deg_s: [98.757_812_5; 6],
+        })
+        .collect();
+    c.pvt_points(&points).unwrap();
+    let sent: Vec<String> = seen.try_iter().collect();
+    assert!(sent.len() > 1, "one line of {} bytes", sent[0].len());
+    let mut got = Vec::new();
+    for line in &sent {
+        assert!(line.len() <= protocol::MAX_COMMAND_BYTES, "{} bytes", line.len());
+        let cmd = Command::from_json(line, &mcm_shared::config::RobotConfig::prob2_default());
+        let Ok(Command::PvtPoints(p)) = cmd else {
+            panic!("{cmd:?}")
+        };
+        got.extend(p.points);
+    }
+    assert!(got == points, "{} points read back of {}", got.len(), points.len());
+    // Full lines: the next point would not have fit.
+    let one = Command::PvtPoints(protocol::PvtPoints {
+        points: vec![points[0]],
+    })
+    .to_json()
+    .to_string()
+    .len();
+    assert!(sent[0].len() + one > protocol::MAX_COMMAND_BYTES, "{}", sent[0].len());
+}

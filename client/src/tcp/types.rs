@@ -31,7 +31,7 @@ impl Default for TorqueOptions {
     /// The protocol's defaults: 1 s timeout, no status ticks, gravity compensated.
     fn default() -> Self {
         TorqueOptions {
-            timeout_s: Some(1.0),
+            timeout_s: Some(mcm_shared::protocol::DEFAULT_MODE_TIMEOUT),
             dt_status_s: None,
             gravity_compensation: true,
         }
@@ -52,7 +52,7 @@ impl Default for VelocityOptions {
     /// The protocol's defaults: 1 s timeout, no status ticks.
     fn default() -> Self {
         VelocityOptions {
-            timeout_s: Some(1.0),
+            timeout_s: Some(mcm_shared::protocol::DEFAULT_MODE_TIMEOUT),
             dt_status_s: None,
         }
     }

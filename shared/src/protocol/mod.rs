@@ -65,6 +65,11 @@ use crate::config::RobotConfig;
 use json::json_kind;
 use serde_json::{Map, Value};
 
+/// Longest command the MCM takes (64 KiB): a JSON object, from `{` to its `}`, of this many
+/// bytes is read; one byte more closes the connection (`docs/protocol.md`). A client keeps its
+/// command lines within it.
+pub const MAX_COMMAND_BYTES: usize = 64 * 1024;
+
 /// One command of the protocol: its definition, and its values read from and written to JSON.
 /// Each type in [`cmd`] implements it; [`Command`] dispatches to them.
 pub trait Definition: Sized {

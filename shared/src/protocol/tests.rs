@@ -568,3 +568,39 @@ fn authenticate_says_a_missing_secret_is_missing_and_never_echoes_one() {
         "{e}"
     );
 }
+
+/// The default `help` shows for an argument (`ArgDef::default`) is what parsing takes when it
+/// is not given (the `DEFAULT_*` constants): given as shown, the command is the same.
+#[test]
+fn every_default_shown_is_the_default_parsed() {
+    use serde_json::{Value, json};
+    let zeros = json!([0, 0, 0, 0, 0, 0]);
+    let required = |name: &str| match name {
+        "authenticate" => json!({"secret": "s"}),
+        "move_all" => json!({"target_positions": zeros}),
+        "move_axis" => json!({"axis_index": 1, "target_position": 0}),
+        "pvt_points" => json!({"points": [{"position": zeros, "velocity": zeros}]}),
+        "set_torques" => json!({"torques": zeros}),
+        "set_velocities" => json!({"velocities": zeros}),
+        "sleep" => json!({"duration": 0}),
+        _ => json!({}),
+    };
+    let mut checked = Vec::new();
+    for d in COMMANDS {
+        let base = required(d.name);
+        let without = Command::parse(d, Some(&base), &cfg())
+            .unwrap_or_else(|e| panic!("{}: {e}", d.name));
+        for a in d.args.iter().filter(|a| !a.default.is_empty()) {
+            // As written for people: a JSON value, or a word (`ALL`).
+            let value: Value =
+                serde_json::from_str(a.default).unwrap_or_else(|_| Value::from(a.default));
+            let mut with = base.clone();
+            with[a.name] = value;
+            let given = Command::parse(d, Some(&with), &cfg())
+                .unwrap_or_else(|e| panic!("{} {}={}: {e}", d.name, a.name, a.default));
+            assert_eq!(given, without, "{}: {} = {}", d.name, a.name, a.default);
+            checked.push(format!("{}.{}", d.name, a.name));
+        }
+    }
+    assert_eq!(checked.len(), 14, "{checked:?}");
+}
