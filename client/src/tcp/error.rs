@@ -2,6 +2,8 @@
 //! way ([`Error`]).
 
 use mcm_shared::mode::RejectCode;
+use mcm_shared::ranges::Arg;
+use mcm_shared::reply::Reason;
 use mcm_shared::protocol::results::ReadError;
 use std::time::Duration;
 
@@ -29,7 +31,9 @@ pub struct McmError {
     pub command: String,
     pub kind: ErrorKind,
     /// The reject code, read from the words (the JSON protocol carries words only); `None`
-    /// when they name no code of [`RejectCode`].
+    /// when they name no code of [`RejectCode`]. A value of a numeric argument outside its
+    /// range has the code the core gives it (`unreachable` for a target position,
+    /// `out_of_range` otherwise), whichever side refused it: the words are the same.
     pub code: Option<RejectCode>,
     /// The MCM's `error_message`, unchanged.
     pub message: String,
@@ -69,6 +73,14 @@ const CODE_WORDS: &[(&str, RejectCode)] = &[
     ("is shutting down", RejectCode::ShuttingDown),
 ];
 
+/// The numeric argument a refusal names (`: argument "target_positions[2]" = ...` after the
+/// command), if it is one of [`mcm_shared::ranges`].
+fn refused_argument(rest: &str) -> Option<Arg> {
+    let name = rest.strip_prefix(": argument \"")?;
+    let end = name.find(['"', '['])?;
+    Arg::by_name(&name[..end])
+}
+
 impl McmError {
     /// Read a `generic` ERROR result that answers `command`.
     pub fn from_message(command: &str, message: &str) -> McmError {
@@ -87,7 +99,8 @@ impl McmError {
                 .iter()
                 .find(|(words, _)| rest.contains(words))
                 .map(|(_, code)| *code),
-            ErrorKind::OutcomeUnknown | ErrorKind::Invalid => None,
+            ErrorKind::Invalid => refused_argument(rest).map(Reason::argument_code),
+            ErrorKind::OutcomeUnknown => None,
         };
         McmError {
             command: command.to_string(),

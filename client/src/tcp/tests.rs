@@ -13,6 +13,20 @@ fn status(mode: &str, t: f64) -> String {
     )
 }
 
+/// The result line the gateway writes for a command line it refuses itself.
+fn refusal_line(json: &str) -> String {
+    let cfg = mcm_shared::config::RobotConfig::prob2_default();
+    let e = Command::from_json(json, &cfg).unwrap_err();
+    Answer::error(e.to_string()).to_value().to_string()
+}
+
+/// The result line the gateway writes for the core's refusal of a `kind` request.
+fn core_refusal_line(kind: mcm_shared::mode::CommandKind, reason: mcm_shared::reply::Reason) -> String {
+    let outcome = mcm_shared::reply::Outcome::Refused(reason);
+    let g = mcm_shared::protocol::results::Generic::reply_error(kind, &outcome);
+    Answer::Generic(g).to_value().to_string()
+}
+
 /// A server that answers the n-th line it reads with `script[n]` (several lines, or none),
 /// and reports every line read on the channel. Connections are served one after the other.
 fn server(script: Vec<Vec<String>>) -> (String, mpsc::Receiver<String>) {
@@ -42,18 +56,38 @@ fn server(script: Vec<Vec<String>>) -> (String, mpsc::Receiver<String>) {
     (addr, rx)
 }
 
+/// The spontaneous error the gateway sends when the velocity check of axis 3 trips.
+fn safety_line() -> String {
+    use mcm_shared::protocol::results::Generic;
+    use mcm_shared::reply::{Reason, SafetyError};
+    let e = SafetyError {
+        seq: 1,
+        cycle: 100,
+        unix_ns: 0,
+        reason: Reason::VelocityLimit {
+            axis: mcm_shared::command::Axis::new(3).unwrap(),
+            velocity_deg_s: 200.0,
+            limit_deg_s: 150.0,
+        },
+    };
+    let g = Generic::safety_event(&Ok(e), Mode::Error.to_wire(), "/tmp/mcm-flight.csv".as_ref());
+    Answer::Generic(g).to_value().to_string()
+}
+
 #[test]
 fn ticks_and_errors_between_results_become_events() {
     let ok = r#"{"result_type":"generic","error_status":"OK"}"#.to_string();
     let (addr, seen) = server(vec![
         vec![status("TORQUE_CONTROL", 1.0)],
         // set_torques: a refusal, later.
-        vec![r#"{"result_type":"generic","error_status":"ERROR","error_message":"set_torques refused: axis 1: value 900 is outside the allowed range [-129.6, 129.6]"}"#.into()],
+        vec![refusal_line(
+            r#"{"command":"set_torques","arguments":{"torques":[900,0,0,0,0,0]}}"#,
+        )],
         // hold: two ticks of the session, a safety error, then hold's own status.
         vec![
             status("TORQUE_CONTROL", 1.1),
             status("TORQUE_CONTROL", 1.2),
-            r#"{"result_type":"generic","error_status":"ERROR","error_message":"safety check tripped: x","check":"velocity_limit","axis":3}"#.into(),
+            safety_line(),
             status("HOLD", 1.3),
         ],
         vec![ok.clone()],
@@ -90,9 +124,10 @@ fn ticks_and_errors_between_results_become_events() {
 
 #[test]
 fn refusals_carry_command_words_and_code() {
-    let (addr, _seen) = server(vec![vec![
-        r#"{"result_type":"generic","error_status":"ERROR","error_message":"move_all refused: not allowed in mode HOLD"}"#.into(),
-    ]]);
+    let (addr, _seen) = server(vec![vec![core_refusal_line(
+        mcm_shared::mode::CommandKind::MoveAll,
+        mcm_shared::reply::Reason::WrongMode { mode: Mode::Hold },
+    )]]);
     let mut c = TcpClient::connect(&addr).unwrap();
     let e = c.move_all([0.0; 6], 0.5).unwrap_err();
     let m = e.mcm().expect("the MCM's error");
@@ -250,7 +285,9 @@ fn a_velocity_session_sends_its_arguments_and_its_ticks_become_events() {
         // set_velocities: refused later, between two ticks.
         vec![
             status("VELOCITY_CONTROL", 2.1),
-            r#"{"result_type":"generic","error_status":"ERROR","error_message":"set_velocities: argument \"velocities\" = [0,0,0,900,0,0] is not allowed; expected a velocity of axis 4 from -150 to 150 deg/s (its maximum velocity)"}"#.into(),
+            refusal_line(
+                r#"{"command":"set_velocities","arguments":{"velocities":[0,0,0,900,0,0]}}"#,
+            ),
         ],
         // status: answered by a tick (a state as fresh).
         vec![status("VELOCITY_CONTROL", 2.2)],
@@ -386,8 +423,10 @@ fn any_command_goes_through_command_with_its_typed_result() {
 /// An axis number that is no axis still goes to the MCM, which refuses it in its own words.
 #[test]
 fn move_axis_leaves_a_bad_axis_to_the_mcm() {
-    let refusal = r#"{"result_type":"generic","error_status":"ERROR","error_message":"move_axis: argument \"axis_index\" = 9 is not allowed; expected an axis number from 1 to 6"}"#;
-    let (addr, seen) = server(vec![vec![refusal.into()]]);
+    let refusal = refusal_line(
+        r#"{"command":"move_axis","arguments":{"axis_index":9,"target_position":0,"velocity_factor":0.5}}"#,
+    );
+    let (addr, seen) = server(vec![vec![refusal]]);
     let mut c = TcpClient::connect(&addr).unwrap();
     let e = c.move_axis(9, 0.0, 0.5).unwrap_err();
     let e = e.mcm().expect("the MCM's refusal");
