@@ -991,5 +991,8 @@ impl SafetyError {
     }
 }
 
+mod words;
+pub use words::OutcomeWords;
+
 #[cfg(test)]
 mod tests;

@@ -195,14 +195,9 @@ impl Generic {
     /// reads exactly as the gateway's own refusal of it (`move_axis: argument
     /// "target_position" = 175 is not allowed; expected ...`), whichever side refused.
     pub fn reply_error(kind: CommandKind, outcome: &Outcome) -> Generic {
-        let command = kind.as_str();
         match outcome {
-            Outcome::Refused(reason) => match reason.argument(kind) {
-                Some(arg) => Generic::error(format!("{command}: {arg}")),
-                None => Generic::error(format!("{command} refused: {reason}")),
-            },
-            Outcome::Failed(reason) => Generic::error(format!("{command} failed: {reason}")),
             Outcome::Done(_) => Generic::ok(),
+            refused_or_failed => Generic::error(refused_or_failed.words(kind).to_string()),
         }
     }
 
@@ -211,7 +206,7 @@ impl Generic {
         Generic {
             check: Some(e.reason.code().as_str().to_string()),
             axis: e.reason.axis().map(|a| a.number()),
-            ..Generic::error(format!("safety check tripped: {}", e.reason))
+            ..Generic::error(e.to_string())
         }
     }
 
