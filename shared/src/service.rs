@@ -50,6 +50,13 @@ pub struct InvalidInstanceName {
     pub name: String,
 }
 
+/// Where the simulated robot of `instance` waits while its `mcm-rt` restarts: the file
+/// `mcm-sim-<instance>.state` in the temporary directory, written when the real-time loop
+/// stops and resumed from (then deleted) at the next start of the same instance.
+pub fn sim_state_path(instance: &str) -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("mcm-sim-{instance}.state"))
+}
+
 /// Longest instance name [characters].
 const MAX_INSTANCE: usize = 32;
 
