@@ -32,7 +32,7 @@ mod wire;
 
 pub use error::{Error, ErrorKind, McmError, ProtocolProblem};
 pub use types::{
-    AxisInfo, AxisStates, CalibrateOptions, Detail, Event, Info, MoveAllResult, PvtQueue,
+    AxisInfo, AxisStates, Calibrate, Detail, Event, Info, MoveAllResult, PvtQueue,
     SimResult, Six, Status, TorqueOptions, VelocityOptions,
 };
 
@@ -414,8 +414,8 @@ impl TcpClient {
 
     /// Home the axes; returns when the calibration has finished (about 12 s on the simulated
     /// P-Rob2), with the arm back at zero in HOLD.
-    pub fn calibrate(&mut self, o: CalibrateOptions) -> Result<(), Error> {
-        let cmd = Command::Calibrate(o.into());
+    pub fn calibrate(&mut self, o: Calibrate) -> Result<(), Error> {
+        let cmd = Command::Calibrate(o);
         self.call(&cmd, None).map(|_| ())
     }
 

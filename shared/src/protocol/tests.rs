@@ -149,6 +149,10 @@ fn calibrate_arguments() {
             force_mechanical_stop: false
         })]
     );
+    // Calibrate::default() (what the clients send for "the defaults") is what the MCM reads
+    // when no argument is given.
+    let c = parse(r#"{"command":"calibrate"}"#).unwrap();
+    assert_eq!(c, Command::Calibrate(Calibrate::default()));
     assert!(err(r#"{"command":"calibrate","arguments":{"which":7}}"#).contains("= 7 is not"));
     assert!(
         err(r#"{"command":"calibrate","arguments":{"which":"KNEE"}}"#)
