@@ -16,7 +16,6 @@ use mcm_shared::service::ServiceNames;
 use std::net::SocketAddr;
 use std::time::Duration;
 
-
 /// What the phases share: the MCM under test, a connection to it, and the results so far.
 pub struct Bench<'a> {
     pub args: &'a Args,

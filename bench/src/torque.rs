@@ -132,10 +132,7 @@ pub fn tcp_loop(
         };
         let (t, i) = (s.time(), s.axis_states.current[5]);
         if s.mode != Mode::TorqueControl {
-            out.ended_early = Some(format!(
-                "left TORQUE_CONTROL after {k} answers: {}",
-                s.mode
-            ));
+            out.ended_early = Some(format!("left TORQUE_CONTROL after {k} answers: {}", s.mode));
             break;
         }
         if t <= last_t {
@@ -184,7 +181,10 @@ mod tests {
         let protocol::Command::SetTorques(t) = cmd else {
             panic!("{cmd:?}")
         };
-        assert_eq!(t.torques_nm, [0.0, 0.0, 0.0, 0.0, 0.0, LEVELS_NM[level_of(1)]]);
+        assert_eq!(
+            t.torques_nm,
+            [0.0, 0.0, 0.0, 0.0, 0.0, LEVELS_NM[level_of(1)]]
+        );
         assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
     }
 }

@@ -10,9 +10,7 @@ use iceoryx2::port::writer::EntryHandleMutError;
 use iceoryx2::prelude::*;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use mcm_rt_core::ipc::{Incompatibility, IpcSetupError, PortTaken, RtIpc};
-use mcm_shared::service::{
-    STATE_EVENT_ID, STATE_KEY, STATE_MAX_READERS, ServiceNames,
-};
+use mcm_shared::service::{STATE_EVENT_ID, STATE_KEY, STATE_MAX_READERS, ServiceNames};
 use std::time::Duration;
 
 /// A state sample of an older MCM version: another type name, another layout.

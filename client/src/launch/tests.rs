@@ -65,7 +65,10 @@ fn no_ready_line_in_time_or_before_the_launcher_stops_is_an_error() {
 
 #[test]
 fn a_line_is_found_by_its_prefix_and_its_absence_names_the_prefix() {
-    let (rx, _tx) = stdout(&["mcm: starting".into(), "mcm: gateway restarted".into()], true);
+    let (rx, _tx) = stdout(
+        &["mcm: starting".into(), "mcm: gateway restarted".into()],
+        true,
+    );
     let got = wait_line(&rx, Path::new("mcm"), "mcm: gateway", Duration::ZERO).unwrap();
     assert_eq!(got, "mcm: gateway restarted");
     let e = wait_line(&rx, Path::new("mcm"), "mcm: stopped", Duration::ZERO).unwrap_err();

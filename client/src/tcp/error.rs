@@ -2,9 +2,9 @@
 //! way ([`Error`]).
 
 use mcm_shared::mode::RejectCode;
+use mcm_shared::protocol::results::ReadError;
 use mcm_shared::ranges::Arg;
 use mcm_shared::reply::Reason;
-use mcm_shared::protocol::results::ReadError;
 use std::time::Duration;
 
 /// How the MCM answered a command it did not do.

@@ -21,7 +21,10 @@ fn refusal_line(json: &str) -> String {
 }
 
 /// The result line the gateway writes for the core's refusal of a `kind` request.
-fn core_refusal_line(kind: mcm_shared::mode::CommandKind, reason: mcm_shared::reply::Reason) -> String {
+fn core_refusal_line(
+    kind: mcm_shared::mode::CommandKind,
+    reason: mcm_shared::reply::Reason,
+) -> String {
     let outcome = mcm_shared::reply::Outcome::Refused(reason);
     let g = mcm_shared::protocol::results::Generic::reply_error(kind, &outcome);
     Answer::Generic(g).to_value().to_string()
@@ -70,7 +73,11 @@ fn safety_line() -> String {
             limit_deg_s: 150.0,
         },
     };
-    let g = Generic::safety_event(&Ok(e), Mode::Error.to_wire(), "/tmp/mcm-flight.csv".as_ref());
+    let g = Generic::safety_event(
+        &Ok(e),
+        Mode::Error.to_wire(),
+        "/tmp/mcm-flight.csv".as_ref(),
+    );
     Answer::Generic(g).to_value().to_string()
 }
 
@@ -250,18 +257,36 @@ fn a_late_result_after_a_timeout_does_not_answer_the_next_call() {
         // (or closed it).
         let _status = lines.next();
         let next = lines.next();
-        let _ = w.write_all(format!("{}
-", status("PVT", 1.0)).as_bytes());
+        let _ = w.write_all(
+            format!(
+                "{}
+",
+                status("PVT", 1.0)
+            )
+            .as_bytes(),
+        );
         if let Some(Ok(_hold)) = next {
-            let _ = w.write_all(format!("{}
-", status("HOLD", 2.0)).as_bytes());
+            let _ = w.write_all(
+                format!(
+                    "{}
+",
+                    status("HOLD", 2.0)
+                )
+                .as_bytes(),
+            );
             return;
         }
         let (second, _) = l.accept().unwrap();
         let mut w = second.try_clone().unwrap();
         if let Some(Ok(_hold)) = BufReader::new(second).lines().next() {
-            let _ = w.write_all(format!("{}
-", status("HOLD", 2.0)).as_bytes());
+            let _ = w.write_all(
+                format!(
+                    "{}
+",
+                    status("HOLD", 2.0)
+                )
+                .as_bytes(),
+            );
         }
     });
     let opts = TcpOptions {
@@ -271,7 +296,10 @@ fn a_late_result_after_a_timeout_does_not_answer_the_next_call() {
     };
     let mut c = TcpClient::connect_with(&addr, opts).unwrap();
     let e = c.status().unwrap_err();
-    assert!(matches!(&e, Error::Timeout { command, .. } if command == "status"), "{e}");
+    assert!(
+        matches!(&e, Error::Timeout { command, .. } if command == "status"),
+        "{e}"
+    );
     c.opts.reply_timeout = Duration::from_secs(10);
     let held = c.hold().unwrap();
     assert_eq!((held.mode, held.time()), (Mode::Hold, 2.0), "{held:?}");
@@ -460,14 +488,23 @@ fn pvt_points_are_cut_into_lines_within_the_limit_of_a_command() {
     assert!(sent.len() > 1, "one line of {} bytes", sent[0].len());
     let mut got = Vec::new();
     for line in &sent {
-        assert!(line.len() <= protocol::MAX_COMMAND_BYTES, "{} bytes", line.len());
+        assert!(
+            line.len() <= protocol::MAX_COMMAND_BYTES,
+            "{} bytes",
+            line.len()
+        );
         let cmd = Command::from_json(line, &mcm_shared::config::RobotConfig::prob2_default());
         let Ok(Command::PvtPoints(p)) = cmd else {
             panic!("{cmd:?}")
         };
         got.extend(p.points);
     }
-    assert!(got == points, "{} points read back of {}", got.len(), points.len());
+    assert!(
+        got == points,
+        "{} points read back of {}",
+        got.len(),
+        points.len()
+    );
     // Full lines: the next point would not have fit.
     let one = Command::PvtPoints(protocol::PvtPoints {
         points: vec![points[0]],
@@ -475,5 +512,9 @@ fn pvt_points_are_cut_into_lines_within_the_limit_of_a_command() {
     .to_json()
     .to_string()
     .len();
-    assert!(sent[0].len() + one > protocol::MAX_COMMAND_BYTES, "{}", sent[0].len());
+    assert!(
+        sent[0].len() + one > protocol::MAX_COMMAND_BYTES,
+        "{}",
+        sent[0].len()
+    );
 }

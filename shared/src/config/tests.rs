@@ -306,7 +306,8 @@ fn each_backend_reads_from_its_word() {
         let word = b.as_str();
         assert_eq!(word.parse::<BusBackend>(), Ok(b));
         assert!(BusBackend::WORDS.contains(&format!("`{word}`")), "{word}");
-        let cfg = with(|t| *t = t.replacen(r#"backend = "sim""#, &format!("backend = \"{word}\""), 1));
+        let cfg =
+            with(|t| *t = t.replacen(r#"backend = "sim""#, &format!("backend = \"{word}\""), 1));
         // (socketcan also needs an interface: refused by validate, not by the word)
         if let Err(ConfigError::Parse(msg)) = cfg {
             panic!("{word}: {msg}");

@@ -592,8 +592,8 @@ fn every_default_shown_is_the_default_parsed() {
     let mut checked = Vec::new();
     for d in COMMANDS {
         let base = required(d.name);
-        let without = Command::parse(d, Some(&base), &cfg())
-            .unwrap_or_else(|e| panic!("{}: {e}", d.name));
+        let without =
+            Command::parse(d, Some(&base), &cfg()).unwrap_or_else(|e| panic!("{}: {e}", d.name));
         for a in d.args.iter().filter(|a| !a.default.is_empty()) {
             // As written for people: a JSON value, or a word (`ALL`).
             let value: Value =

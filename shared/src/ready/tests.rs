@@ -80,7 +80,11 @@ fn the_lines_read_as_printed_so_far() {
 fn the_launcher_s_words_may_change_without_breaking_a_reader() {
     let fields = "[instance=b1 robot=P-Rob2%20%5Blab%5D%25 json=127.0.0.1:4000 \
                   hmi=127.0.0.1:4001 rt_pid=12 gateway_pid=13]";
-    for words in ["", "(the P-Rob2 is up; connect to port 4000) ", "(x [instance=y]) "] {
+    for words in [
+        "",
+        "(the P-Rob2 is up; connect to port 4000) ",
+        "(x [instance=y]) ",
+    ] {
         let mcm: McmReady = format!("MCM ready {words}{fields}").parse().unwrap();
         assert_eq!(mcm.robot, "P-Rob2 [lab]%", "{words}");
         assert_eq!((mcm.instance.as_str(), mcm.rt_pid), ("b1", 12), "{words}");

@@ -18,7 +18,11 @@ fn a_send_failing_mid_batch_forgets_the_whole_batch() {
     let e = p
         .send_each(&[(); 5], &mut ids, |_| {
             next += 1;
-            if next == 13 { Err(send_error()) } else { Ok(next) }
+            if next == 13 {
+                Err(send_error())
+            } else {
+                Ok(next)
+            }
         })
         .unwrap_err();
     assert_eq!(e, send_error());

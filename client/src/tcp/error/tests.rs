@@ -33,7 +33,9 @@ fn refusals_failures_and_unknown_outcomes_are_told_apart_with_their_code() {
         CommandKind::Calibrate,
         Outcome::Failed(Reason::CalibrationFailed {
             axis: Axis::new(3).unwrap(),
-            cause: CalibrationFailure::NoStop { searched_deg: 310.0 },
+            cause: CalibrationFailure::NoStop {
+                searched_deg: 310.0,
+            },
         }),
     );
     let e = McmError::from_message("calibrate", &failed);
@@ -48,9 +50,8 @@ fn refusals_failures_and_unknown_outcomes_are_told_apart_with_their_code() {
         "move_axis: no reply from the real-time core within 5 s: the command may or may not have been executed; check the state",
     );
     assert_eq!((e.kind, e.code), (ErrorKind::OutcomeUnknown, None));
-    let bad_axis = refusal_of(
-        r#"{"command":"move_axis","arguments":{"axis_index":9,"target_position":0}}"#,
-    );
+    let bad_axis =
+        refusal_of(r#"{"command":"move_axis","arguments":{"axis_index":9,"target_position":0}}"#);
     let e = McmError::from_message("move_axis", &bad_axis);
     assert_eq!(
         (e.kind, e.code),
@@ -74,9 +75,8 @@ fn refusals_failures_and_unknown_outcomes_are_told_apart_with_their_code() {
 /// or the core; either way it is the `unreachable` code.
 #[test]
 fn an_unreachable_target_is_read_as_unreachable_from_either_side() {
-    let gateway = refusal_of(
-        r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":400}}"#,
-    );
+    let gateway =
+        refusal_of(r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":400}}"#);
     let (min_deg, max_deg) = mcm_shared::ranges::reachable_deg(&RobotConfig::prob2_default(), 1);
     let core = core_words(
         CommandKind::MoveAxis,

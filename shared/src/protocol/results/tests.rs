@@ -272,7 +272,11 @@ fn unreadable_results_are_typed_errors_naming_the_value() {
         panic!("{e:?}")
     };
     assert_eq!(result_type, "telemetry");
-    assert!(e.to_string().starts_with("a `telemetry` result that does not read: "), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with("a `telemetry` result that does not read: "),
+        "{e}"
+    );
     let mut status = status(&StateSample::default(), false);
     status["operating_mode"] = "FLYING".into();
     let e = Answer::from_value(&status).unwrap_err();
@@ -288,6 +292,9 @@ fn a_state_in_an_unknown_mode_names_the_mode_and_the_known_ones() {
     let e = Status::from_state(&s, false).unwrap_err();
     assert_eq!(e, UnknownMode { value: 99 });
     let text = e.to_string();
-    assert!(text.contains("operating mode 99, which this MCM version does not know"), "{text}");
+    assert!(
+        text.contains("operating mode 99, which this MCM version does not know"),
+        "{text}"
+    );
     assert!(text.contains("0 OFF, 1 ERROR"), "{text}");
 }

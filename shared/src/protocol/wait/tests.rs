@@ -11,7 +11,10 @@ fn calibrate_and_sleep_may_take_longer_than_any_other_command() {
         force_mechanical_stop: false,
     });
     assert_eq!(calibrate.reply_within(), CALIBRATION_TIMEOUT);
-    assert_eq!(calibrate.extra_reply_time(), CALIBRATION_TIMEOUT - REPLY_TIMEOUT);
+    assert_eq!(
+        calibrate.extra_reply_time(),
+        CALIBRATION_TIMEOUT - REPLY_TIMEOUT
+    );
     let hour = Duration::from_secs(3600);
     let sleep = Command::Sleep(Sleep { duration: hour });
     assert_eq!(sleep.reply_within(), hour);

@@ -7,15 +7,21 @@ use crate::reply::{Done, Reason};
 fn refusals_failures_and_arguments_are_worded_with_their_command() {
     let busy = Reason::Busy { remaining_s: 0.5 };
     assert_eq!(
-        Outcome::Refused(busy).words(CommandKind::MoveAll).to_string(),
+        Outcome::Refused(busy)
+            .words(CommandKind::MoveAll)
+            .to_string(),
         format!("move_all refused: {busy}")
     );
     assert_eq!(
-        Outcome::Failed(busy).words(CommandKind::Calibrate).to_string(),
+        Outcome::Failed(busy)
+            .words(CommandKind::Calibrate)
+            .to_string(),
         format!("calibrate failed: {busy}")
     );
     assert_eq!(
-        Outcome::Done(Done::Ack).words(CommandKind::Hold).to_string(),
+        Outcome::Done(Done::Ack)
+            .words(CommandKind::Hold)
+            .to_string(),
         "hold done"
     );
     // A target out of reach reads as the gateway's refusal of the argument.
@@ -26,7 +32,9 @@ fn refusals_failures_and_arguments_are_worded_with_their_command() {
         min_deg,
         max_deg,
     };
-    let words = Outcome::Refused(far).words(CommandKind::MoveAxis).to_string();
+    let words = Outcome::Refused(far)
+        .words(CommandKind::MoveAxis)
+        .to_string();
     assert!(
         words.starts_with("move_axis: argument \"target_position\" = 400 is not allowed"),
         "{words}"
