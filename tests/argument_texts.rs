@@ -413,7 +413,10 @@ fn gateway_and_core_accept_and_refuse_the_same_values_in_the_same_words() {
             let outcome = robot.send((case.sample)(x), 400);
             let core = match &outcome {
                 Outcome::Done(_) => None,
-                other => Generic::reply_error(case.command, other).error_message,
+                other => {
+                    let kind = mcm_shared::protocol::find(case.command).and_then(|d| d.kind);
+                    Generic::reply_error(kind.expect("a command of the core"), other).error_message
+                }
             };
             assert_eq!(
                 gateway, core,

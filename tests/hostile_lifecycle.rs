@@ -11,9 +11,10 @@
 
 mod common;
 
-use common::{WAIT, alive, config_file, sim_state_path, unique_instance};
+use common::{WAIT, alive, config_file, unique_instance};
 use mcm_shared::ready::{McmReady, ReadyLine};
 use mcm_shared::restart::GATEWAY_RESTART;
+use mcm_shared::service::sim_state_path;
 use serde_json::{Value, json};
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpStream};

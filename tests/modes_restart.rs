@@ -4,7 +4,8 @@
 
 mod common;
 
-use common::{Client, Mcm, sim_state_path};
+use common::{Client, Mcm};
+use mcm_shared::service::sim_state_path;
 use serde_json::{Value, json};
 
 fn six(v: &Value) -> [f64; 6] {

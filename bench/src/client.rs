@@ -1,23 +1,36 @@
-//! A JSON protocol client over one TCP connection (blocking, one line per result).
+//! A JSON protocol client over one TCP connection (blocking, one line per result). The command
+//! lines are the contract's ([`Command::to_json`]), each encoded once; the result lines are read
+//! as the contract's results ([`Answer::from_value`]).
 
 use crate::error::BenchError;
-use serde_json::Value;
+use mcm_shared::protocol::results::{Answer, Status};
+use mcm_shared::protocol::{self, Command};
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpStream};
+use std::sync::LazyLock;
 use std::time::{Duration, Instant};
 
 /// Longest wait for one result line.
 pub const READ_WAIT: Duration = Duration::from_secs(15);
 
-pub const STATUS: &str = r#"{"command":"status"}"#;
-pub const STATUS_DETAIL: &str = r#"{"command":"status","arguments":{"detail":true}}"#;
-pub const HOLD: &str = r#"{"command":"hold"}"#;
+/// The line of `cmd` as a client sends it (without the newline).
+pub fn line(cmd: impl Into<Command>) -> String {
+    cmd.into().to_json().to_string()
+}
+
+pub static STATUS: LazyLock<String> = LazyLock::new(|| line(protocol::Status { detail: false }));
+pub static STATUS_DETAIL: LazyLock<String> =
+    LazyLock::new(|| line(protocol::Status { detail: true }));
+pub static HOLD: LazyLock<String> = LazyLock::new(|| line(protocol::Hold));
+pub static INFO: LazyLock<String> = LazyLock::new(|| line(protocol::Info));
 
 pub struct Client {
     addr: SocketAddr,
     stream: TcpStream,
     reader: BufReader<TcpStream>,
     line: String,
+    /// When the last result line was read, before it was parsed.
+    read_at: Instant,
 }
 
 impl Client {
@@ -40,6 +53,7 @@ impl Client {
             stream,
             reader,
             line: String::new(),
+            read_at: Instant::now(),
         })
     }
 
@@ -62,40 +76,60 @@ impl Client {
     }
 
     /// Read one result line.
-    pub fn recv(&mut self) -> Result<Value, BenchError> {
+    pub fn recv(&mut self) -> Result<Answer, BenchError> {
         self.line.clear();
         let n = self
             .reader
             .read_line(&mut self.line)
             .map_err(|e| self.io("read a result", e))?;
+        self.read_at = Instant::now();
         if n == 0 {
             return Err(self.io(
                 "read a result",
                 std::io::Error::new(std::io::ErrorKind::UnexpectedEof, "connection closed"),
             ));
         }
-        serde_json::from_str(&self.line).map_err(|e| BenchError::Protocol {
+        let problem = |what: String| BenchError::Protocol {
             command: "(any)".into(),
-            answer: format!("not JSON ({e}): {:?}", self.line),
-        })
+            answer: format!("{what}: {:?}", self.line),
+        };
+        let v = serde_json::from_str(&self.line).map_err(|e| problem(format!("not JSON ({e})")))?;
+        Answer::from_value(&v).map_err(|e| problem(e.to_string()))
+    }
+
+    /// When the last result line was read (before it was parsed): a round trip ends here.
+    pub fn read_at(&self) -> Instant {
+        self.read_at
     }
 
     /// Send one command and read its result.
-    pub fn request(&mut self, json: &str) -> Result<Value, BenchError> {
+    pub fn request(&mut self, json: &str) -> Result<Answer, BenchError> {
         self.send(json)?;
         self.recv()
     }
 
     /// Send one command and require a result that is not an ERROR.
-    pub fn ok(&mut self, json: &str) -> Result<Value, BenchError> {
-        let v = self.request(json)?;
-        if is_error(&v) {
+    pub fn ok(&mut self, json: &str) -> Result<Answer, BenchError> {
+        let a = self.request(json)?;
+        if is_error(&a) {
             return Err(BenchError::Protocol {
                 command: json.into(),
-                answer: v.to_string(),
+                answer: a.to_value().to_string(),
             });
         }
-        Ok(v)
+        Ok(a)
+    }
+
+    /// Send one command that answers a status and return it (an ERROR or another result is
+    /// an error naming it).
+    pub fn status(&mut self, json: &str) -> Result<Status, BenchError> {
+        match self.ok(json)? {
+            Answer::Status(s) => Ok(*s),
+            other => Err(BenchError::Protocol {
+                command: json.into(),
+                answer: other.to_value().to_string(),
+            }),
+        }
     }
 
     /// Poll the detailed status until `pred` holds (at most `wait`).
@@ -103,17 +137,18 @@ impl Client {
         &mut self,
         what: &str,
         wait: Duration,
-        pred: impl Fn(&Value) -> bool,
-    ) -> Result<Value, BenchError> {
+        pred: impl Fn(&Status) -> bool,
+    ) -> Result<Status, BenchError> {
         let deadline = Instant::now() + wait;
         loop {
-            let s = self.request(STATUS_DETAIL)?;
+            let s = self.status(&STATUS_DETAIL)?;
             if pred(&s) {
                 return Ok(s);
             }
             if Instant::now() > deadline {
                 return Err(BenchError::Setup(format!(
-                    "{what}: not reached within {wait:?}; last status: {s}"
+                    "{what}: not reached within {wait:?}; last status: {}",
+                    Answer::Status(Box::new(s)).to_value()
                 )));
             }
             std::thread::sleep(Duration::from_millis(20));
@@ -136,33 +171,17 @@ impl Client {
 }
 
 /// A generic ERROR result.
-pub fn is_error(v: &Value) -> bool {
-    v["result_type"] == "generic" && v["error_status"] == "ERROR"
+pub fn is_error(a: &Answer) -> bool {
+    matches!(a, Answer::Generic(g) if !g.is_ok())
 }
 
-/// A status result (`result_type` "status").
-pub fn is_status(v: &Value) -> bool {
-    v["result_type"] == "status"
-}
-
-/// The robot time of a status result [s] (`axis_states.time[0]`).
-pub fn status_time(v: &Value) -> Option<f64> {
-    v["axis_states"]["time"][0].as_f64()
+/// The status a result is, if it is one.
+pub fn status_of(a: &Answer) -> Option<&Status> {
+    match a {
+        Answer::Status(s) => Some(s),
+        _ => None,
+    }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use serde_json::json;
-
-    #[test]
-    fn classifies_results() {
-        let e = json!({"result_type":"generic","error_status":"ERROR","error_message":"x"});
-        let ok = json!({"result_type":"generic","error_status":"OK"});
-        let s = json!({"result_type":"status","axis_states":{"time":[1.5,1.5]}});
-        assert!(is_error(&e) && !is_error(&ok) && !is_error(&s));
-        assert!(is_status(&s) && !is_status(&ok));
-        assert_eq!(status_time(&s), Some(1.5));
-        assert_eq!(status_time(&ok), None);
-    }
-}
+mod tests;

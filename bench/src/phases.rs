@@ -11,12 +11,10 @@ use crate::stats::Summary;
 use crate::torque::LoopOutcome;
 use crate::{shm, stall, torque};
 use mcm_shared::config::RobotConfig;
+use mcm_shared::protocol::MAX_COMMAND_BYTES;
 use mcm_shared::service::ServiceNames;
 use std::net::SocketAddr;
 use std::time::Duration;
-
-/// The gateway's limit of one command line (`gateway/src/transport/json/framing.rs`).
-const MAX_COMMAND_BYTES: usize = 64 * 1024;
 
 /// What the phases share: the MCM under test, a connection to it, and the results so far.
 pub struct Bench<'a> {
@@ -67,8 +65,12 @@ pub fn latency(b: &mut Bench) -> Result<(), BenchError> {
     if b.args.no_cyclictest {
         std::thread::sleep(Duration::from_secs(b.plan.latency_secs));
     }
-    let detail = b.c.ok(STATUS_DETAIL)?;
-    let (since, recent) = rt_latency(&detail);
+    let detail = b.c.status(&STATUS_DETAIL)?;
+    let timing = detail
+        .detail
+        .map(|d| d.timing)
+        .ok_or_else(|| BenchError::Setup("the detailed status has no detail".into()))?;
+    let (since, recent) = rt_latency(&timing);
     // The ratio compares like with like: mcm-rt since its start (the whole cyclictest window
     // plus start-up and calibration, thousands of cycles) against cyclictest's whole run. The
     // recent window holds only its last 10 s, 2000 cycles at 200 Hz, where p99.9 is the second
@@ -82,14 +84,13 @@ pub fn latency(b: &mut Bench) -> Result<(), BenchError> {
         "<= 1.5",
         Verdict::at_most(p999_ratio, 1.5),
     ));
-    let t = &detail["detail"]["timing"];
     b.rows.push(Row::info(
         "mcm-rt overruns / work max / over budget",
         format!(
             "{} / {} / {}",
-            t["overruns"],
-            us(t["work_max_us"].as_f64()),
-            t.get("over_budget").map_or("n/a".into(), |v| v.to_string())
+            timing.overruns,
+            us(Some(timing.work_max_us)),
+            timing.over_budget
         ),
     ));
     Ok(())
@@ -99,7 +100,7 @@ pub fn latency(b: &mut Bench) -> Result<(), BenchError> {
 pub fn status(b: &mut Bench) -> Result<(), BenchError> {
     // 2. status round trip on one connection.
     step("status round trip");
-    match sequential(&mut b.c, STATUS, b.plan.status, b.plan.budget, WARM_UP) {
+    match sequential(&mut b.c, &STATUS, b.plan.status, b.plan.budget, WARM_UP) {
         Ok(s) => {
             let m = s.summary;
             b.rows.push(Row::new(
@@ -157,7 +158,7 @@ pub fn hold(b: &mut Bench) -> Result<(), BenchError> {
     let hold_limit_us = b.period_us as f64 + 500.0;
     let hold_target = format!("<= {} us (1 cycle + 0.5 ms)", hold_limit_us);
     step("hold acknowledgement (idle)");
-    match sequential(&mut b.c, HOLD, b.plan.holds, b.plan.budget, WARM_UP) {
+    match sequential(&mut b.c, &HOLD, b.plan.holds, b.plan.budget, WARM_UP) {
         Ok(s) => {
             hold_rows(
                 &mut b.rows,
@@ -209,14 +210,14 @@ pub fn torque(b: &mut Bench) -> Result<(), BenchError> {
     ));
     let r = torque::tcp_loop(b.json, b.plan.torque_cycles, b.period_s, b.kt6);
     loop_rows(&mut b.rows, &mut b.notes, "TCP", r, b.plan.torque_cycles);
-    let _ = b.c.ok(HOLD);
+    let _ = b.c.ok(&HOLD);
     step(&format!(
         "torque loop over shared memory, {} cycles",
         b.plan.torque_cycles
     ));
     let r = shm::shm_loop(&b.names, b.plan.torque_cycles, b.kt6, &mut b.notes);
     loop_rows(&mut b.rows, &mut b.notes, "shm", r, b.plan.torque_cycles);
-    let _ = b.c.ok(HOLD);
+    let _ = b.c.ok(&HOLD);
     Ok(())
 }
 
@@ -329,9 +330,7 @@ fn hold_rows(
 
 /// A 1000-point `pvt_points` batch at the arm's position (refused in HOLD: not in PVT).
 fn flood_batch(c: &mut Client) -> Result<String, BenchError> {
-    let s = c.ok(STATUS)?;
-    let pos: [f64; 6] =
-        std::array::from_fn(|i| s["axis_states"]["position"][i].as_f64().unwrap_or(0.0));
+    let pos = c.status(&STATUS)?.axis_states.position;
     let batch = pvt_batch(1000, pos);
     if batch.len() >= MAX_COMMAND_BYTES {
         return Err(BenchError::Setup(format!(
@@ -353,12 +352,12 @@ fn flood_phase(
     let batches = flood.stop()?;
     // The gateway may still hold flooded work: one hold through it before going on.
     c.set_read_timeout(Duration::from_secs(120))?;
-    let v = c.request(HOLD)?;
+    let v = c.request(&HOLD)?;
     c.set_read_timeout(crate::client::READ_WAIT)?;
     if is_error(&v) {
         return Err(BenchError::Protocol {
             command: "hold (after the flood)".into(),
-            answer: v.to_string(),
+            answer: v.to_value().to_string(),
         });
     }
     Ok((measured?, batches))

@@ -2,7 +2,7 @@
 //! (pure: builds text, does no I/O).
 
 use crate::stats::HistFigure;
-use serde_json::Value;
+use mcm_shared::protocol::results::{RecentTiming, Timing};
 
 /// Wake-up latency figures [µs]; `None` where the source does not report one.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -15,14 +15,25 @@ pub struct Latency {
 }
 
 impl Latency {
-    fn from_keys(t: &Value) -> Latency {
-        let k = |key: &str| t[key].as_f64();
+    /// mcm-rt's figures since its start.
+    fn since_start(t: &Timing) -> Latency {
         Latency {
-            p50: k("latency_p50_us"),
-            p99: k("latency_p99_us"),
-            p99_9: k("latency_p99_9_us"),
-            p99_99: k("latency_p99_99_us"),
-            max: k("latency_max_us"),
+            p50: Some(t.latency_p50_us),
+            p99: Some(t.latency_p99_us),
+            p99_9: Some(t.latency_p99_9_us),
+            p99_99: Some(t.latency_p99_99_us),
+            max: Some(t.latency_max_us),
+        }
+    }
+
+    /// mcm-rt's figures over its recent window.
+    fn recent(t: &RecentTiming) -> Latency {
+        Latency {
+            p50: Some(t.latency_p50_us),
+            p99: Some(t.latency_p99_us),
+            p99_9: Some(t.latency_p99_9_us),
+            p99_99: Some(t.latency_p99_99_us),
+            max: Some(t.latency_max_us),
         }
     }
 
@@ -42,15 +53,12 @@ impl Latency {
     }
 }
 
-/// mcm-rt's wake-up latency from a detailed status result: the since-start figures
-/// (`detail.timing.latency_*_us`) and, when reported, the recent window's
-/// (`detail.timing.recent.latency_*_us`). Keys that are missing stay `None`.
-pub fn rt_latency(status: &Value) -> (Latency, Option<Latency>) {
-    let t = &status["detail"]["timing"];
-    let recent = t["recent"]
-        .is_object()
-        .then(|| Latency::from_keys(&t["recent"]));
-    (Latency::from_keys(t), recent)
+/// mcm-rt's wake-up latency from the timing of a detailed status: the since-start figures
+/// (`detail.timing.latency_*_us`) and, when its window holds cycles, the recent window's
+/// (`detail.timing.recent.latency_*_us`).
+pub fn rt_latency(t: &Timing) -> (Latency, Option<Latency>) {
+    let recent = (t.recent.cycles > 0).then(|| Latency::recent(&t.recent));
+    (Latency::since_start(t), recent)
 }
 
 /// Verdict of one figure against its target.

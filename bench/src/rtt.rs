@@ -1,9 +1,10 @@
 //! Round trips over TCP: `status` one at a time and pipelined on one connection, and the
 //! `hold` acknowledgement, idle and while other connections flood `pvt_points` batches.
 
-use crate::client::{Client, HOLD, STATUS, is_error, is_status};
+use crate::client::{Client, HOLD, STATUS, is_error, status_of};
 use crate::error::BenchError;
 use crate::stats::Summary;
+use mcm_shared::protocol::results::Answer;
 use std::net::SocketAddr;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -40,13 +41,14 @@ pub fn monotonic_s() -> f64 {
 
 /// The time from the start of the answering cycle (`time` of a status result, seconds on
 /// `CLOCK_MONOTONIC`) to `read_at_s`; `None` for a result without a time.
-pub fn after_cycle(v: &serde_json::Value, read_at_s: f64) -> Option<Duration> {
-    let t = v["axis_states"]["time"][0].as_f64()?;
+pub fn after_cycle(a: &Answer, read_at_s: f64) -> Option<Duration> {
+    let t = status_of(a)?.time();
     Some(Duration::from_secs_f64((read_at_s - t).max(0.0)))
 }
 
 /// Send `json` `warm_up` times unmeasured, then `count` times one after the other (each when
-/// the previous result arrived), stopping early after `budget`; the time from writing the command to reading its result.
+/// the previous result arrived), stopping early after `budget`; the time from writing the
+/// command to reading its result (its line read, before it is parsed).
 pub fn sequential(
     c: &mut Client,
     json: &str,
@@ -64,8 +66,9 @@ pub fn sequential(
     while samples.len() < count && start.elapsed() < budget {
         let t0 = Instant::now();
         let v = c.request(json)?;
-        samples.push(t0.elapsed());
-        after.extend(after_cycle(&v, monotonic_s()));
+        let read_at = monotonic_s() - c.read_at().elapsed().as_secs_f64();
+        samples.push(c.read_at() - t0);
+        after.extend(after_cycle(&v, read_at));
         if is_error(&v) {
             errors += 1;
         }
@@ -97,14 +100,14 @@ pub fn pipelined(c: &mut Client, count: usize, budget: Duration) -> Result<Pipel
     let start = Instant::now();
     loop {
         while sent < count && sent_at.len() < PIPELINE_WINDOW && start.elapsed() < budget {
-            c.send(STATUS)?;
+            c.send(&STATUS)?;
             sent_at.push_back(Instant::now());
             sent += 1;
         }
         let Some(t0) = sent_at.pop_front() else { break };
         let v = c.recv()?;
-        samples.push(t0.elapsed());
-        if !is_status(&v) {
+        samples.push(c.read_at() - t0);
+        if status_of(&v).is_none() {
             errors += 1;
         }
     }
@@ -200,7 +203,7 @@ pub fn hold_under_flood(
     }
     let mut c = Client::connect(addr)?;
     // No warm-up: under the flood every request may take seconds.
-    sequential(&mut c, HOLD, count, budget, 0)
+    sequential(&mut c, &HOLD, count, budget, 0)
 }
 
 #[cfg(test)]

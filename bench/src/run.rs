@@ -2,12 +2,14 @@
 //! A phase that fails is reported in its rows (not measured) and the run goes on.
 
 use crate::Args;
-use crate::client::{Client, HOLD, STATUS_DETAIL};
+use crate::client::{Client, HOLD, STATUS_DETAIL, line};
 use crate::error::BenchError;
 use crate::mcm::{Mcm, locate};
 use crate::phases::{self, Bench, failed, step};
 use crate::report::{Verdict, table};
+use mcm_shared::command::{Calibrate, Direction};
 use mcm_shared::config::RobotConfig;
+use mcm_shared::protocol::DEFAULT_WHICH;
 use mcm_shared::service::ServiceNames;
 use std::time::{Duration, Instant};
 
@@ -88,9 +90,9 @@ pub fn run(args: &Args) -> Result<bool, BenchError> {
     let mut c = Client::connect(mcm.json)?;
     let wait = Duration::from_secs(60);
     c.wait_status("all drives online", wait, |s| {
-        s["detail"]["drive_online"]
-            .as_array()
-            .is_some_and(|a| a.iter().all(|x| x == true))
+        s.detail
+            .as_ref()
+            .is_some_and(|d| d.drive_online.iter().all(|&online| online))
     })?;
     step("calibrating the simulated arm");
     {
@@ -98,11 +100,19 @@ pub fn run(args: &Args) -> Result<bool, BenchError> {
         // and ownership ends when the connection closes; the loops later need to own it.
         let mut cal = Client::connect(mcm.json)?;
         cal.set_read_timeout(Duration::from_secs(180))?;
-        cal.ok(r#"{"command":"calibrate"}"#)?;
-        cal.ok(HOLD)?;
+        cal.ok(&line(Calibrate {
+            which: DEFAULT_WHICH,
+            elbow_direction: Direction::Positive,
+            wrist_direction: Direction::Positive,
+            force_mechanical_stop: false,
+        }))?;
+        cal.ok(&HOLD)?;
     }
-    c.ok(HOLD)?;
-    let realtime = c.ok(STATUS_DETAIL)?["detail"]["timing"]["realtime"] == true;
+    c.ok(&HOLD)?;
+    let realtime = c
+        .status(&STATUS_DETAIL)?
+        .detail
+        .is_some_and(|d| d.timing.realtime);
     if !realtime {
         notes.push(
             "mcm-rt runs WITHOUT real-time scheduling (not root?): latency figures mean little"

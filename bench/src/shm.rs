@@ -113,11 +113,12 @@ impl ShmClient {
     }
 
     /// Read the replies published up to `s`; the response to `want`, if among them. Replies to
-    /// this client that are not `Done` are counted in `refused`.
+    /// this client that are not `Done` are counted in `refused`. Inside the measured loop:
+    /// allocates nothing but the words of the first refusal.
     pub fn scan_replies(&mut self, s: &StateSample, want: Option<u64>) -> Option<Response> {
         let client = self.client_id;
+        let (refused, first_refusal) = (&mut self.refused, &mut self.first_refusal);
         let mut found = None;
-        let mut refused = Vec::new();
         let scan = self.ports.replies().read_to(s.reply_head, |r| {
             if r.client_id != client {
                 return;
@@ -126,17 +127,14 @@ impl ShmClient {
                 return;
             };
             if resp.kind == CommandKind::SetTorques && !matches!(resp.outcome, Outcome::Done(_)) {
-                refused.push(format!("{:?}: {:?}", resp.kind, resp.outcome));
+                *refused += 1;
+                first_refusal.get_or_insert_with(|| resp.outcome.words(resp.kind).to_string());
             }
             if Some(r.request_id) == want {
                 found = Some(resp);
             }
         });
         self.overwritten += scan.overwritten;
-        self.refused += refused.len() as u64;
-        if self.first_refusal.is_none() {
-            self.first_refusal = refused.into_iter().next();
-        }
         found
     }
 

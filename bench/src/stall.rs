@@ -2,7 +2,7 @@
 //! the gateway stopped (SIGSTOP) for a while and continued (SIGCONT); every request must get its
 //! result, and none may be an error.
 
-use crate::client::{Client, HOLD, READ_WAIT, is_error};
+use crate::client::{Client, HOLD, INFO, READ_WAIT, is_error};
 use crate::error::BenchError;
 use crate::rtt::Flood;
 use std::net::SocketAddr;
@@ -12,7 +12,6 @@ use std::time::{Duration, Instant};
 
 /// Requests each client keeps unanswered on its connection.
 const WINDOW: usize = 4;
-const INFO: &str = r#"{"command":"info"}"#;
 
 /// What one client saw.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -65,7 +64,7 @@ fn client_loop(
     stop: &AtomicBool,
     answered: &AtomicU64,
 ) -> ClientCount {
-    let json = if command == "hold" { HOLD } else { INFO };
+    let json: &str = if command == "hold" { &HOLD } else { &INFO };
     let mut n = ClientCount {
         command,
         ..ClientCount::default()
@@ -88,7 +87,8 @@ fn client_loop(
                 answered.fetch_add(1, Ordering::Relaxed);
                 if is_error(&v) {
                     n.errors += 1;
-                    n.first_error.get_or_insert_with(|| v.to_string());
+                    n.first_error
+                        .get_or_insert_with(|| v.to_value().to_string());
                 } else {
                     n.ok += 1;
                 }

@@ -2,10 +2,12 @@
 //! result answered with a `set_torques`; [`crate::loopmatch`] tells from the next status in
 //! which cycle each answer was applied.
 
-use crate::client::{Client, HOLD, is_error, is_status, status_time};
+use crate::client::{Client, HOLD, is_error, line, status_of};
 use crate::error::BenchError;
 use crate::loopmatch::{Answer, LEVELS_NM, Observation, Tally, classify, cycle_numbers, level_of};
-use serde_json::Value;
+use mcm_shared::command::{SetTorques, TorqueControl};
+use mcm_shared::mode::Mode;
+use mcm_shared::protocol;
 use std::net::SocketAddr;
 use std::time::{Duration, Instant};
 
@@ -34,23 +36,23 @@ pub struct LoopOutcome {
     pub wait_mode: &'static str,
 }
 
-/// The `set_torques` line for answer `k`.
-pub fn set_torques_json(k: u64) -> String {
-    set_torques_level(LEVELS_NM[level_of(k)])
+/// The `set_torques` line for `axis6_nm` on axis 6 and none on the others.
+fn set_torques_line(axis6_nm: f64) -> String {
+    line(SetTorques {
+        torques_nm: [0.0, 0.0, 0.0, 0.0, 0.0, axis6_nm],
+    })
 }
 
-fn set_torques_level(axis6_nm: f64) -> String {
-    format!(r#"{{"command":"set_torques","arguments":{{"torques":[0,0,0,0,0,{axis6_nm}]}}}}"#)
+/// The `set_torques` line of every level of [`LEVELS_NM`], encoded once: answer `k` sends
+/// `levels[level_of(k)]`.
+pub fn set_torques_lines() -> Vec<String> {
+    LEVELS_NM.iter().map(|&nm| set_torques_line(nm)).collect()
 }
 
 /// Median of a non-empty list.
 pub fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
-}
-
-fn axis6_current(v: &Value) -> Option<f64> {
-    v["axis_states"]["current"][5].as_f64()
 }
 
 /// Run the loop for `cycles` answers on a new connection; `kt6`: axis 6's torque per ampere.
@@ -61,22 +63,28 @@ pub fn tcp_loop(
     kt6: f64,
 ) -> Result<LoopOutcome, BenchError> {
     let mut c = Client::connect(addr)?;
-    c.ok(HOLD)?;
-    let enter = format!(
-        r#"{{"command":"torque_control","arguments":{{"timeout":{SESSION_TIMEOUT_S},"dt_status":{period_s},"gravity_compensation":true}}}}"#
-    );
+    c.ok(&HOLD)?;
+    let enter = line(protocol::TorqueControl {
+        request: TorqueControl {
+            timeout_s: Some(SESSION_TIMEOUT_S),
+            gravity_compensation: true,
+        },
+        dt_status: period_s,
+    });
+    let zeros = set_torques_line(0.0);
+    let answers = set_torques_lines();
     // The client of an earlier phase may still own motion for a moment after it closed its
     // connection: try again for a bounded time.
     let deadline = Instant::now() + OWNER_WAIT;
     loop {
         let r = c.request(&enter)?;
-        if is_status(&r) && r["operating_mode"] == "TORQUE_CONTROL" {
+        if status_of(&r).is_some_and(|s| s.mode == Mode::TorqueControl) {
             break;
         }
         if Instant::now() > deadline {
             return Err(BenchError::Protocol {
                 command: enter,
-                answer: r.to_string(),
+                answer: r.to_value().to_string(),
             });
         }
         std::thread::sleep(Duration::from_millis(50));
@@ -86,7 +94,7 @@ pub fn tcp_loop(
         ..LoopOutcome::default()
     };
     // The compensation alone: zero torques, then the axis-6 current of a few states.
-    c.send(&set_torques_level(0.0))?;
+    c.send(&zeros)?;
     let mut last_t = f64::NEG_INFINITY;
     let mut base = Vec::with_capacity(BASELINE_STATES);
     while base.len() < BASELINE_STATES {
@@ -94,16 +102,16 @@ pub fn tcp_loop(
         if is_error(&v) {
             return Err(BenchError::Protocol {
                 command: "set_torques (zeros)".into(),
-                answer: v.to_string(),
+                answer: v.to_value().to_string(),
             });
         }
-        if let (Some(t), Some(i)) = (status_time(&v), axis6_current(&v))
-            && t > last_t
+        if let Some(s) = status_of(&v)
+            && s.time() > last_t
         {
-            last_t = t;
-            base.push(i * kt6);
+            last_t = s.time();
+            base.push(s.axis_states.current[5] * kt6);
             // Keep the session alive while measuring.
-            c.send(&set_torques_level(0.0))?;
+            c.send(&zeros)?;
         }
     }
     out.baseline_nm = median(&mut base);
@@ -119,14 +127,12 @@ pub fn tcp_loop(
             out.errors += 1;
             continue;
         }
-        let (Some(t), Some(i)) = (status_time(&v), axis6_current(&v)) else {
+        let Some(s) = status_of(&v) else {
             continue;
         };
-        if v["operating_mode"] != "TORQUE_CONTROL" {
-            out.ended_early = Some(format!(
-                "left TORQUE_CONTROL after {k} answers: {}",
-                v["operating_mode"]
-            ));
+        let (t, i) = (s.time(), s.axis_states.current[5]);
+        if s.mode != Mode::TorqueControl {
+            out.ended_early = Some(format!("left TORQUE_CONTROL after {k} answers: {}", s.mode));
             break;
         }
         if t <= last_t {
@@ -137,14 +143,14 @@ pub fn tcp_loop(
         times.push(t);
         levels.push(classify(i * kt6 - out.baseline_nm));
         if k < cycles {
-            c.send(&set_torques_json(k))?;
+            c.send(&answers[level_of(k)])?;
             answered.push((times.len() - 1, level_of(k)));
             k += 1;
         } else {
             tail += 1;
         }
     }
-    c.send(HOLD)?;
+    c.send(&HOLD)?;
     let numbers = cycle_numbers(&times, period_s);
     let observations: Vec<Observation> = numbers
         .iter()
@@ -168,10 +174,17 @@ mod tests {
 
     #[test]
     fn answers_step_through_the_levels() {
-        let v: Value = serde_json::from_str(&set_torques_json(1)).unwrap();
-        assert_eq!(v["command"], "set_torques");
-        assert_eq!(v["arguments"]["torques"][5], LEVELS_NM[1]);
-        assert_eq!(v["arguments"]["torques"][0], 0);
+        let cfg = mcm_shared::config::RobotConfig::prob2_default();
+        let lines = set_torques_lines();
+        assert_eq!(lines.len(), LEVELS_NM.len());
+        let cmd = protocol::Command::from_json(&lines[level_of(1)], &cfg).unwrap();
+        let protocol::Command::SetTorques(t) = cmd else {
+            panic!("{cmd:?}")
+        };
+        assert_eq!(
+            t.torques_nm,
+            [0.0, 0.0, 0.0, 0.0, 0.0, LEVELS_NM[level_of(1)]]
+        );
         assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
     }
 }

@@ -113,7 +113,7 @@ fn round_trips(c: &mut Client, secs: u64) -> Result<Summary, BenchError> {
     let end = Instant::now() + Duration::from_secs(secs);
     while Instant::now() < end {
         let t = Instant::now();
-        c.ok(STATUS)?;
+        c.ok(&STATUS)?;
         rtt.push(t.elapsed());
     }
     Summary::of(&rtt).ok_or_else(|| BenchError::Setup("no round trip measured".into()))

@@ -5,7 +5,7 @@
 use crate::error::{Fail, mcm_error_t::MCM_ERR_ARGUMENT};
 use crate::types::{MCM_NUM_AXES, mcm_calibrate_t, mcm_control_options_t, mcm_pvt_point_t};
 use mcm_client::mcm_shared::command::{Calibrate, TorqueControl, VelocityControl};
-use mcm_client::tcp::{CalibrateOptions, TorqueOptions, VelocityOptions};
+use mcm_client::tcp::{TorqueOptions, VelocityOptions};
 use mcm_client::{Axis, Direction, PvtPoint, Which};
 use std::ffi::{CStr, c_char};
 
@@ -174,17 +174,6 @@ pub(crate) struct CalibrateArgs(Calibrate);
 impl From<CalibrateArgs> for Calibrate {
     fn from(c: CalibrateArgs) -> Self {
         c.0
-    }
-}
-
-impl From<CalibrateArgs> for CalibrateOptions {
-    fn from(CalibrateArgs(c): CalibrateArgs) -> Self {
-        CalibrateOptions {
-            which: Some(c.which).filter(|w| *w != Which::All),
-            elbow_direction: c.elbow_direction,
-            wrist_direction: c.wrist_direction,
-            force_mechanical_stop: c.force_mechanical_stop,
-        }
     }
 }
 

@@ -125,7 +125,6 @@ impl From<OpenError> for Fail {
             OpenError::Incompatible { .. } => MCM_ERR_INCOMPATIBLE,
             OpenError::NodeName { .. }
             | OpenError::Node { .. }
-            | OpenError::ServiceName(_)
             | OpenError::Service { .. }
             | OpenError::Reader { .. }
             | OpenError::Publisher { .. }

@@ -7,7 +7,7 @@ use iceoryx2::prelude::*;
 use mcm_client::shm::ports::Peer;
 use mcm_client::shm::{LayoutMismatch, OpenError, ShmClient};
 use mcm_shared::sample::{CommandSample, REPLY_BLOCKS, ReplyBlock};
-use mcm_shared::service::{STATE_KEY, ServiceNames, service_name};
+use mcm_shared::service::{STATE_KEY, ServiceNames};
 
 /// A state sample of an older layout: another name and size.
 #[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
@@ -66,7 +66,7 @@ fn a_state_entry_of_another_version_is_named_with_what_the_client_expects() {
     let names = ServiceNames::new(&name).unwrap();
     let n = node();
     let mut creator = n
-        .service_builder(&service_name(&names.state()).unwrap())
+        .service_builder(&names.state_service())
         .blackboard_creator::<u32>()
         .add::<OldState>(STATE_KEY, OldState::default());
     for key in 1..=REPLY_BLOCKS as u32 {
@@ -113,7 +113,7 @@ fn a_command_service_of_another_version_names_the_cores_payload() {
     let names = ServiceNames::new(&name).unwrap();
     let n = node();
     let mut creator = n
-        .service_builder(&service_name(&names.state()).unwrap())
+        .service_builder(&names.state_service())
         .blackboard_creator::<u32>()
         .add::<mcm_shared::sample::StateSample>(STATE_KEY, Default::default());
     for key in 1..=REPLY_BLOCKS as u32 {
@@ -121,7 +121,7 @@ fn a_command_service_of_another_version_names_the_cores_payload() {
     }
     let _board = creator.create().unwrap();
     let _commands = n
-        .service_builder(&service_name(&names.command()).unwrap())
+        .service_builder(&names.command_service())
         .publish_subscribe::<OldCommand>()
         .create()
         .unwrap();
@@ -157,7 +157,7 @@ fn a_state_board_without_reply_blocks_says_how_many_keys_it_has() {
     let names = ServiceNames::new(&name).unwrap();
     let n = node();
     let _board = n
-        .service_builder(&service_name(&names.state()).unwrap())
+        .service_builder(&names.state_service())
         .blackboard_creator::<u32>()
         .add::<mcm_shared::sample::StateSample>(STATE_KEY, Default::default())
         .create()

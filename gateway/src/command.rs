@@ -24,10 +24,9 @@ use mcm_shared::sample::{STATE_SIMULATED, StateSample};
 use std::sync::Arc;
 use std::time::Duration;
 
-/// Longest wait for a calibration to finish.
-pub const CALIBRATION_TIMEOUT: Duration = Duration::from_secs(600);
-/// Longest wait for any other reply.
-pub const REPLY_TIMEOUT: Duration = Duration::from_secs(5);
+/// Longest wait for the core's reply to a command other than `calibrate` (the contract's,
+/// [`Command::reply_within`] gives each command's).
+pub use mcm_shared::protocol::REPLY_TIMEOUT;
 
 /// What a connection needs to execute commands.
 #[derive(Clone)]
@@ -108,7 +107,7 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
                 return Outcome {
                     result: Some(Answer::Generic(crate::command::access::reply_error(
                         ctx,
-                        cmd.name(),
+                        CommandKind::PvtPoints,
                         &refused,
                     ))),
                     state: Some(state),
@@ -125,12 +124,10 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
                 .to_string(),
         ));
     }
-    let timeout = if matches!(cmd, Command::Calibrate(_)) {
-        CALIBRATION_TIMEOUT
-    } else {
-        REPLY_TIMEOUT
-    };
-    let answer = ctx.bridge.request(client_id, cmd.requests(), timeout).await;
+    let answer = ctx
+        .bridge
+        .request(client_id, cmd.requests(), cmd.reply_within())
+        .await;
     let (response, state) = match answer {
         Ok(a) => a,
         Err(e) => return Outcome::only(Answer::error(bridge_message(cmd.name(), &e))),
@@ -141,7 +138,9 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
             return Outcome {
                 result: Some(Answer::Generic(crate::command::access::reply_error(
                     ctx,
-                    cmd.name(),
+                    // Every command sent to the core has its kind (sleep and authenticate
+                    // returned above).
+                    cmd.def().kind.unwrap_or(response.kind),
                     &refused_or_failed,
                 ))),
                 state: Some(state),

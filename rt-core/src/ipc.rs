@@ -30,8 +30,8 @@ use mcm_shared::sample::{
     CommandSample, REPLY_BLOCKS, Reply, ReplyBlock, StateSample, reply_location,
 };
 use mcm_shared::service::{
-    COMMAND_BUFFER, COMMAND_MAX_PUBLISHERS, InvalidServiceName, STATE_EVENT_ID,
-    STATE_EVENT_MAX_LISTENERS, STATE_KEY, STATE_MAX_READERS, ServiceNames, service_name,
+    COMMAND_BUFFER, COMMAND_MAX_PUBLISHERS, STATE_EVENT_ID, STATE_EVENT_MAX_LISTENERS, STATE_KEY,
+    STATE_MAX_READERS, ServiceNames,
 };
 
 /// Setting up the IPC services failed: which step, on which name, and iceoryx2's own error.
@@ -49,8 +49,6 @@ pub enum IpcSetupError {
         #[source]
         source: NodeCreationFailure,
     },
-    #[error(transparent)]
-    ServiceName(#[from] InvalidServiceName),
     #[error("cannot create the state blackboard `{name}`: {source}")]
     StateCreate {
         name: String,
@@ -313,7 +311,7 @@ fn state_entries(
         payload: payload_name::<StateSample>(),
         source,
     };
-    let service_name = service_name(&name)?;
+    let service_name = names.state_service();
     let mut creator = node
         .service_builder(&service_name)
         .blackboard_creator::<u32>()
@@ -390,7 +388,7 @@ fn command_subscriber(
 ) -> Result<Subscriber<ipc::Service, CommandSample, ()>, IpcSetupError> {
     let name = names.command();
     let service = node
-        .service_builder(&service_name(&name)?)
+        .service_builder(&names.command_service())
         .publish_subscribe::<CommandSample>()
         .max_publishers(COMMAND_MAX_PUBLISHERS)
         .max_subscribers(1)
@@ -443,7 +441,7 @@ fn state_notifier(
 ) -> Result<Notifier<ipc::Service>, IpcSetupError> {
     let name = names.state_event();
     let service = node
-        .service_builder(&service_name(&name)?)
+        .service_builder(&names.state_event_service())
         .event()
         .max_listeners(STATE_EVENT_MAX_LISTENERS)
         .max_notifiers(1)

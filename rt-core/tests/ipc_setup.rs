@@ -10,9 +10,7 @@ use iceoryx2::port::writer::EntryHandleMutError;
 use iceoryx2::prelude::*;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use mcm_rt_core::ipc::{Incompatibility, IpcSetupError, PortTaken, RtIpc};
-use mcm_shared::service::{
-    STATE_EVENT_ID, STATE_KEY, STATE_MAX_READERS, ServiceNames, service_name,
-};
+use mcm_shared::service::{STATE_EVENT_ID, STATE_KEY, STATE_MAX_READERS, ServiceNames};
 use std::time::Duration;
 
 /// A state sample of an older MCM version: another type name, another layout.
@@ -60,7 +58,7 @@ fn a_stale_state_service_of_another_version_is_named_as_such() {
     let names = names("stale-state");
     let node = node();
     let _old = node
-        .service_builder(&service_name(&names.state()).unwrap())
+        .service_builder(&names.state_service())
         .blackboard_creator::<u32>()
         .max_readers(STATE_MAX_READERS)
         .add::<OldStateSample>(STATE_KEY, OldStateSample::default())
@@ -89,7 +87,7 @@ fn a_stale_command_service_of_another_version_is_named_as_such() {
     let names = names("stale-command");
     let node = node();
     let _old = node
-        .service_builder(&service_name(&names.command()).unwrap())
+        .service_builder(&names.command_service())
         .publish_subscribe::<OldCommandSample>()
         .create()
         .unwrap();
@@ -131,7 +129,7 @@ fn a_restarted_core_opens_the_services_its_peers_keep() {
     // A peer keeps the command service open while the core restarts.
     let node = node();
     let _peer = node
-        .service_builder(&service_name(&names.command()).unwrap())
+        .service_builder(&names.command_service())
         .publish_subscribe::<mcm_shared::sample::CommandSample>()
         .open()
         .unwrap();

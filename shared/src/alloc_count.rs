@@ -27,10 +27,16 @@
 //! }
 //! ```
 //!
-//! Without [`CountingAlloc`] installed nothing is counted: every figure stays 0.
+//! Without [`CountingAlloc`] installed nothing could be counted and "allocates nothing" would
+//! pass whatever the code does: [`count`], [`counted`] and [`set_counting`] panic instead,
+//! naming the missing `#[global_allocator]`.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Set by [`CountingAlloc`] on its first call: it is the program's global allocator.
+static INSTALLED: AtomicBool = AtomicBool::new(false);
 
 /// What was counted on one thread: allocations (`alloc`, `alloc_zeroed`, `realloc`) and the
 /// bytes they asked for (the new size, for a `realloc`).
@@ -64,6 +70,9 @@ pub struct CountingAlloc;
 
 /// Count one allocation of `size` bytes, if this thread counts.
 fn note(size: usize) {
+    if !INSTALLED.load(Ordering::Relaxed) {
+        INSTALLED.store(true, Ordering::Relaxed);
+    }
     // `try_with`: an allocation while the thread is torn down is not counted, never a panic
     // inside the allocator.
     if COUNTING.try_with(Cell::get).unwrap_or(false) {
@@ -73,8 +82,8 @@ fn note(size: usize) {
 }
 
 // SAFETY: every method forwards to the system allocator with the caller's arguments unchanged,
-// so `System` upholds `GlobalAlloc`'s contract; the counting only touches const-initialised
-// thread-locals of `Copy` data, which never allocate and never unwind.
+// so `System` upholds `GlobalAlloc`'s contract; the counting only touches an atomic flag and
+// const-initialised thread-locals of `Copy` data, which never allocate and never unwind.
 unsafe impl GlobalAlloc for CountingAlloc {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         note(layout.size());
@@ -101,38 +110,61 @@ unsafe impl GlobalAlloc for CountingAlloc {
     }
 }
 
-/// Switch counting on (`true`) or off for the calling thread.
+/// Panic unless [`CountingAlloc`] is the program's global allocator: without it every count
+/// would be 0, whatever was allocated.
+fn require_installed() {
+    if INSTALLED.load(Ordering::Relaxed) {
+        return;
+    }
+    // Nothing went through it yet, or it is not installed: one allocation tells.
+    drop(std::hint::black_box(Box::new(0u8)));
+    assert!(
+        INSTALLED.load(Ordering::Relaxed),
+        "alloc_count: CountingAlloc is not this program's global allocator, so every count \
+         would be 0; add `#[global_allocator] static GLOBAL: \
+         mcm_shared::alloc_count::CountingAlloc = mcm_shared::alloc_count::CountingAlloc;` \
+         to the test binary"
+    );
+}
+
+/// Switch counting on (`true`) or off for the calling thread. Panics when [`CountingAlloc`]
+/// is not the global allocator.
 pub fn set_counting(on: bool) {
+    require_installed();
     COUNTING.with(|c| c.set(on));
 }
 
-/// Everything the calling thread counted so far (while its counting was on).
+/// Everything the calling thread counted so far (while its counting was on). Panics when
+/// [`CountingAlloc`] is not the global allocator.
 pub fn counted() -> Counts {
+    require_installed();
     Counts {
         allocations: ALLOCATIONS.with(Cell::get),
         bytes: BYTES.with(Cell::get),
     }
 }
 
+/// Puts the calling thread's counting back as it was when dropped, also by a panic.
+struct Restore(bool);
+
+impl Drop for Restore {
+    fn drop(&mut self) {
+        // `try_with`: never a second panic while the thread is torn down.
+        let _ = COUNTING.try_with(|c| c.set(self.0));
+    }
+}
+
 /// Run `f` with counting on for the calling thread: its result and what the thread allocated
-/// meanwhile. Counting is then as it was before.
+/// meanwhile. Counting is then as it was before, also when `f` panics. Panics when
+/// [`CountingAlloc`] is not the global allocator.
 pub fn count<R>(f: impl FnOnce() -> R) -> (R, Counts) {
-    let was = COUNTING.with(Cell::get);
     let before = counted();
+    let restore = Restore(COUNTING.with(Cell::get));
     set_counting(true);
     let r = f();
-    set_counting(was);
+    drop(restore);
     (r, counted() - before)
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn without_the_allocator_installed_nothing_is_counted() {
-        let (v, counts) = count(|| vec![1u8; 100]);
-        assert_eq!(v.len(), 100);
-        assert_eq!(counts, Counts::default());
-    }
-}
+mod tests;

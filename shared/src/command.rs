@@ -187,6 +187,19 @@ pub struct Calibrate {
     pub force_mechanical_stop: bool,
 }
 
+impl Default for Calibrate {
+    /// The protocol's defaults: every axis ([`crate::protocol::DEFAULT_WHICH`]), the default
+    /// directions, light barriers where there are some.
+    fn default() -> Self {
+        Calibrate {
+            which: crate::protocol::DEFAULT_WHICH,
+            elbow_direction: Direction::default(),
+            wrist_direction: Direction::default(),
+            force_mechanical_stop: false,
+        }
+    }
+}
+
 /// `torque_control`: enter TORQUE_CONTROL.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TorqueControl {

@@ -97,14 +97,65 @@ pub struct CycleConfig {
     pub work_budget_us: Option<u64>,
 }
 
-/// Which bus backend drives the arm.
+/// Which bus backend drives the arm. Its word ([`BusBackend::as_str`]) is the one of the
+/// configuration's `bus.backend` and of `mcm-rt`'s ready line.
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
+#[serde(try_from = "String")]
 pub enum BusBackend {
     /// The simulated P-Rob2: simulated CiA 402 drives on an in-process bus.
     Sim,
     /// A real CAN interface through Linux SocketCAN.
     Socketcan,
+}
+
+impl BusBackend {
+    /// Every backend.
+    pub const ALL: [BusBackend; 2] = [BusBackend::Sim, BusBackend::Socketcan];
+
+    /// Every word, for messages (a test checks it names each of [`BusBackend::ALL`]).
+    pub const WORDS: &'static str = "`sim` or `socketcan`";
+
+    /// Its word.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            BusBackend::Sim => "sim",
+            BusBackend::Socketcan => "socketcan",
+        }
+    }
+}
+
+/// A word that names no [`BusBackend`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown bus backend `{word}`; expected {}", BusBackend::WORDS)]
+pub struct UnknownBackend {
+    pub word: String,
+}
+
+impl std::str::FromStr for BusBackend {
+    type Err = UnknownBackend;
+
+    fn from_str(word: &str) -> Result<BusBackend, UnknownBackend> {
+        BusBackend::ALL
+            .into_iter()
+            .find(|b| b.as_str() == word)
+            .ok_or_else(|| UnknownBackend {
+                word: word.to_string(),
+            })
+    }
+}
+
+impl TryFrom<String> for BusBackend {
+    type Error = UnknownBackend;
+
+    fn try_from(word: String) -> Result<BusBackend, UnknownBackend> {
+        word.parse()
+    }
+}
+
+impl std::fmt::Display for BusBackend {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
 }
 
 #[derive(Debug, Clone, Deserialize, PartialEq)]

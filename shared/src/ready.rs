@@ -4,7 +4,8 @@
 //! benchmarks, `mcm_client::launch`). Each has one `Display` (what is printed) and one
 //! `FromStr` (what a reader accepts); the fields are `key=value` words, so a reader finds them
 //! by name, ignores keys it does not know (a newer program may add some), and refuses a line
-//! that lacks one or holds a value of the wrong form.
+//! that lacks one or holds a value of the wrong form. A reader reads only the fields: the
+//! launcher's words for people may change without breaking one.
 //!
 //! ```
 //! use mcm_shared::ready::{GatewayReady, ReadyLine};
@@ -71,8 +72,9 @@ pub struct ZmqEndpoints {
 
 /// The launcher's line: words for people, then the fields in brackets, e.g.
 /// `MCM ready (simulated P-Rob2, instance default): JSON on 0.0.0.0:18010, telnet HMI on
-/// 0.0.0.0:18011; Ctrl-C stops. [instance=default json=0.0.0.0:18010 hmi=0.0.0.0:18011
-/// rt_pid=4242 gateway_pid=4243]`.
+/// 0.0.0.0:18011; Ctrl-C stops. [instance=default robot=simulated%20P-Rob2
+/// json=0.0.0.0:18010 hmi=0.0.0.0:18011 rt_pid=4242 gateway_pid=4243]`. In the `robot` field
+/// a space (any white space), `%`, `[` and `]` are written as `%` and two hex digits per byte.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct McmReady {
     /// The robot in words, e.g. "simulated P-Rob2" (written with every control character as
@@ -97,19 +99,57 @@ impl ReadyLine for McmReady {
     const PREFIX: &'static str = "MCM ready";
 }
 
-/// The words of a bus backend in the line.
-fn bus_word(bus: BusBackend) -> &'static str {
-    match bus {
-        BusBackend::Sim => "sim",
-        BusBackend::Socketcan => "socketcan",
+impl fmt::Display for RtReady {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (prefix, instance, bus) = (Self::PREFIX, &self.instance, self.bus);
+        write!(f, "{prefix} instance={instance} bus={bus}")
     }
 }
 
-impl fmt::Display for RtReady {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let (prefix, instance, bus) = (Self::PREFIX, &self.instance, bus_word(self.bus));
-        write!(f, "{prefix} instance={instance} bus={bus}")
+/// `text` with every control character as `?`, so that it cannot drive a terminal.
+fn without_controls(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_control() { '?' } else { c })
+        .collect()
+}
+
+/// Whether `c` is written as `%XX` bytes in a field.
+fn escaped(c: char) -> bool {
+    c.is_whitespace() || c.is_control() || matches!(c, '%' | '[' | ']')
+}
+
+/// `text` as one field value: no white space, no brackets.
+fn field_value(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if escaped(c) {
+            let mut buf = [0u8; 4];
+            for b in c.encode_utf8(&mut buf).bytes() {
+                out.push_str(&format!("%{b:02X}"));
+            }
+        } else {
+            out.push(c);
+        }
     }
+    out
+}
+
+/// The text a field value stands for (`None`: a `%` without two hex digits, or bytes that are
+/// not UTF-8).
+fn field_text(value: &str) -> Option<String> {
+    let mut bytes = Vec::with_capacity(value.len());
+    let mut rest = value.as_bytes();
+    while let Some((&b, tail)) = rest.split_first() {
+        if b == b'%' {
+            let hex = std::str::from_utf8(tail.get(..2)?).ok()?;
+            bytes.push(u8::from_str_radix(hex, 16).ok()?);
+            rest = &tail[2..];
+        } else {
+            bytes.push(b);
+            rest = tail;
+        }
+    }
+    String::from_utf8(bytes).ok()
 }
 
 impl GatewayReady {
@@ -155,17 +195,14 @@ impl McmReady {
 
 impl fmt::Display for McmReady {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let robot: String = self
-            .robot
-            .chars()
-            .map(|c| if c.is_control() { '?' } else { c })
-            .collect();
+        let robot = without_controls(&self.robot);
         write!(
             f,
-            "{} ({robot}{} [instance={} {} rt_pid={} gateway_pid={}]",
+            "{} ({robot}{} [instance={} robot={} {} rt_pid={} gateway_pid={}]",
             Self::PREFIX,
             self.words_after_robot(),
             self.instance,
+            field_value(&robot),
             self.gateway.fields(),
             self.rt_pid,
             self.gateway_pid
@@ -244,21 +281,9 @@ impl FromStr for RtReady {
 
     fn from_str(line: &str) -> Result<Self, ReadyError> {
         let fields = Fields::new(line, after_prefix(line, Self::PREFIX)?);
-        let bus = match fields.text("bus")? {
-            "sim" => BusBackend::Sim,
-            "socketcan" => BusBackend::Socketcan,
-            other => {
-                return Err(ReadyError::Invalid {
-                    key: "bus",
-                    value: other.to_string(),
-                    expected: "`sim` or `socketcan`",
-                    line: line.to_string(),
-                });
-            }
-        };
         Ok(RtReady {
             instance: fields.text("instance")?.to_string(),
-            bus,
+            bus: fields.parsed("bus", BusBackend::WORDS)?,
         })
     }
 }
@@ -276,35 +301,27 @@ impl FromStr for McmReady {
 
     fn from_str(line: &str) -> Result<Self, ReadyError> {
         let rest = after_prefix(line, Self::PREFIX)?;
-        // The fields are the last bracket; `[instance=` cannot be in what precedes it but in
-        // the robot's words, so the last one is taken.
+        // The fields are the last bracket: the robot's words before it may hold anything
+        // but a control character, its field holds no bracket.
         let start = rest.rfind("[instance=").ok_or(ReadyError::Missing {
             key: "instance",
             line: line.to_string(),
         })?;
-        let (words, bracket) = rest.split_at(start);
+        let bracket = &rest[start..];
         let fields = Fields::new(line, bracket.trim_start_matches('[').trim_end_matches(']'));
-        let mut ready = McmReady {
-            robot: String::new(),
+        let robot = fields.text("robot")?;
+        Ok(McmReady {
+            robot: field_text(robot).ok_or_else(|| ReadyError::Invalid {
+                key: "robot",
+                value: robot.to_string(),
+                expected: "text with `%` followed by two hex digits of UTF-8",
+                line: line.to_string(),
+            })?,
             instance: fields.text("instance")?.to_string(),
             gateway: fields.gateway()?,
             rt_pid: fields.parsed("rt_pid", "a process id")?,
             gateway_pid: fields.parsed("gateway_pid", "a process id")?,
-        };
-        // The words are determined by the fields but for the robot's: take it from between.
-        let tail = ready.words_after_robot();
-        ready.robot = words
-            .trim_end()
-            .strip_prefix('(')
-            .and_then(|w| w.strip_suffix(tail.as_str()))
-            .ok_or_else(|| ReadyError::Invalid {
-                key: "robot",
-                value: words.to_string(),
-                expected: "`(ROBOT, instance NAME): ...` agreeing with the fields",
-                line: line.to_string(),
-            })?
-            .to_string();
-        Ok(ready)
+        })
     }
 }
 

@@ -252,6 +252,16 @@ impl Reason {
         }
     }
 
+    /// The code of the core's refusal of a value of `arg` outside its range, which is worded
+    /// as the argument ([`Reason::argument`]): `unreachable` for a target position,
+    /// `out_of_range` (an [`Reason::InvalidArgument`]) for every other argument.
+    pub fn argument_code(arg: Arg) -> RejectCode {
+        match arg {
+            Arg::TargetPosition | Arg::TargetPositions => RejectCode::Unreachable,
+            _ => RejectCode::OutOfRange,
+        }
+    }
+
     /// The wire form.
     pub fn to_wire(&self) -> WireReason {
         let w = |code, axis: Option<Axis>, values| WireReason {
@@ -980,6 +990,9 @@ impl SafetyError {
         }))
     }
 }
+
+mod words;
+pub use words::OutcomeWords;
 
 #[cfg(test)]
 mod tests;

@@ -14,12 +14,13 @@
 //! Reply `n` is in the block [`reply_location`](crate::sample::reply_location) names; a reader
 //! keeps the last `n` it has seen and reads up to the state's `reply_head`.
 //!
-//! [`service_name`] turns one of these names into iceoryx2's `ServiceName`: the one conversion
-//! every participant (the core, the gateway, the clients, the tests) uses.
+//! [`ServiceNames`] hands out each name as text (for messages) and as iceoryx2's
+//! `ServiceName` (`*_service`), the one conversion every participant (the core, the gateway,
+//! the clients, the tests) uses; an instance name that [`ServiceNames::new`] accepts always
+//! makes names iceoryx2 accepts, so the conversion cannot fail.
 
 use core::fmt;
 use iceoryx2::prelude::ServiceName;
-use iceoryx2::service::service_name::ServiceNameError;
 
 /// The blackboard key of the state entry.
 pub const STATE_KEY: u32 = 0;
@@ -49,22 +50,24 @@ pub struct InvalidInstanceName {
     pub name: String,
 }
 
-/// iceoryx2 refuses a service name (the names of [`ServiceNames`] are always accepted: this
-/// is for a name made elsewhere).
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("iceoryx2 refuses the service name `{name}`: {source}")]
-pub struct InvalidServiceName {
-    pub name: String,
-    #[source]
-    pub source: ServiceNameError,
+/// Where the simulated robot of `instance` waits while its `mcm-rt` restarts: the file
+/// `mcm-sim-<instance>.state` in the temporary directory, written when the real-time loop
+/// stops and resumed from (then deleted) at the next start of the same instance.
+pub fn sim_state_path(instance: &str) -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("mcm-sim-{instance}.state"))
 }
 
-/// `name` (one of [`ServiceNames`]'s) as an iceoryx2 service name.
-pub fn service_name(name: &str) -> Result<ServiceName, InvalidServiceName> {
-    ServiceName::new(name).map_err(|source| InvalidServiceName {
-        name: name.to_string(),
-        source,
-    })
+/// Longest instance name [characters].
+const MAX_INSTANCE: usize = 32;
+
+/// One of an instance's service names as iceoryx2's: `mcm/`, an instance name of 1 to
+/// [`MAX_INSTANCE`] characters from `a-z A-Z 0-9 - _`, and a fixed suffix, which iceoryx2
+/// always accepts (non-empty ASCII, far within its length limit; a test tries the extremes).
+fn iceoryx2_name(name: &str) -> ServiceName {
+    match ServiceName::new(name) {
+        Ok(n) => n,
+        Err(e) => unreachable!("the service name `{name}` of a valid instance is refused: {e}"),
+    }
 }
 
 /// The service names of one MCM instance.
@@ -78,7 +81,7 @@ impl ServiceNames {
     pub const DEFAULT_INSTANCE: &'static str = "default";
 
     pub fn new(instance: &str) -> Result<Self, InvalidInstanceName> {
-        let ok = (1..=32).contains(&instance.len())
+        let ok = (1..=MAX_INSTANCE).contains(&instance.len())
             && instance
                 .bytes()
                 .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_');
@@ -110,6 +113,21 @@ impl ServiceNames {
     /// The command publish-subscribe service.
     pub fn command(&self) -> String {
         format!("mcm/{}/command", self.instance)
+    }
+
+    /// [`ServiceNames::state`] as iceoryx2's service name.
+    pub fn state_service(&self) -> ServiceName {
+        iceoryx2_name(&self.state())
+    }
+
+    /// [`ServiceNames::state_event`] as iceoryx2's service name.
+    pub fn state_event_service(&self) -> ServiceName {
+        iceoryx2_name(&self.state_event())
+    }
+
+    /// [`ServiceNames::command`] as iceoryx2's service name.
+    pub fn command_service(&self) -> ServiceName {
+        iceoryx2_name(&self.command())
     }
 
     /// Node name of a participant, e.g. `mcm-rt.robot1`.

@@ -19,9 +19,10 @@ use crate::SimBus;
 use mcm_shared::config::RobotConfig;
 use std::path::{Path, PathBuf};
 
-/// Where the simulated robot waits while `mcm-rt` of `instance` restarts.
+/// Where the simulated robot waits while `mcm-rt` of `instance` restarts (the one path every
+/// program uses: [`mcm_shared::service::sim_state_path`]).
 pub fn state_path(instance: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("mcm-sim-{instance}.state"))
+    mcm_shared::service::sim_state_path(instance)
 }
 
 /// The simulated robot: resumed from `state` (which is then deleted) if an earlier run of the

@@ -1,16 +1,17 @@
 //! Test harness: start the real `mcm` launcher (both processes) on free ports with a unique
-//! instance name, talk to it over TCP, stop it on drop. Every wait is bounded.
+//! instance name (through the client library's launcher, `mcm_client::launch`), talk to it
+//! over TCP, stop it on drop. Every wait is bounded.
 
 #![allow(dead_code)]
 
 pub mod flight;
 pub mod python;
 
-use mcm_shared::ready::{McmReady, ReadyLine};
+use mcm_client::launch::SimulatedMcm;
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{Shutdown, SocketAddr, TcpStream};
-use std::process::{Child, Command, Stdio};
+use std::process::Stdio;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -67,10 +68,10 @@ pub fn unique_instance(tag: &str) -> String {
     )
 }
 
-/// A running MCM (launcher + mcm-rt + mcm-gateway).
+/// A running MCM (launcher + mcm-rt + mcm-gateway); dropping it stops it and removes the
+/// simulation state it saved ([`Mcm::stop`] keeps it).
 pub struct Mcm {
-    child: Child,
-    lines: mpsc::Receiver<String>,
+    sim: SimulatedMcm,
     pub instance: String,
     pub json: SocketAddr,
     pub hmi: SocketAddr,
@@ -93,73 +94,51 @@ impl Mcm {
 
     /// Start with the instance name `instance` and extra launcher arguments.
     pub fn start_named(instance: &str, extra: &[&str]) -> Mcm {
-        let instance = instance.to_string();
-        let mut child = Command::new(env!("CARGO_BIN_EXE_mcm"))
-            .args([
-                "--instance",
-                &instance,
-                "--bind",
-                "127.0.0.1",
-                "--json-port",
-                "0",
-                "--hmi-port",
-                "0",
-            ])
-            .args(extra)
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .spawn()
-            .expect("start mcm");
-        let stdout = child.stdout.take().unwrap();
-        let (tx, rx) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout).lines().map_while(Result::ok) {
-                eprintln!("[mcm] {line}");
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
-        let mut mcm = Mcm {
-            child,
-            lines: rx,
+        let extra: Vec<&std::ffi::OsStr> = extra.iter().map(|a| a.as_ref()).collect();
+        let sim = SimulatedMcm::start_echoing(
+            env!("CARGO_BIN_EXE_mcm").as_ref(),
             instance,
+            &extra,
+            Stdio::inherit(),
+            WAIT,
+            Some("[mcm] "),
+        )
+        .unwrap_or_else(|e| panic!("start mcm: {e}"));
+        let mut mcm = Mcm {
+            sim,
+            instance: instance.to_string(),
             json: "0.0.0.0:0".parse().unwrap(),
             hmi: "0.0.0.0:0".parse().unwrap(),
             rt_pid: 0,
             gateway_pid: 0,
             zmq: None,
         };
-        mcm.wait_ready();
+        mcm.take_addresses();
         mcm
     }
 
-    /// Wait for the launcher's ready line ([`McmReady`]) and take the addresses and pids from
-    /// it.
+    /// The addresses and pids of the launcher's last ready line.
+    fn take_addresses(&mut self) {
+        let s = &self.sim;
+        (self.json, self.hmi) = (s.json, s.hmi);
+        (self.rt_pid, self.gateway_pid) = (s.rt_pid, s.gateway_pid);
+        self.zmq = s.zmq.clone().map(|z| (z.router, z.publish));
+    }
+
+    /// Wait for the launcher's next ready line (after it restarted the gateway) and take the
+    /// addresses and pids from it.
     pub fn wait_ready(&mut self) {
-        let line = self.wait_line(McmReady::PREFIX);
-        let ready: McmReady = line
-            .parse()
+        self.sim
+            .wait_ready(WAIT)
             .unwrap_or_else(|e| panic!("the launcher's ready line: {e}"));
-        self.json = ready.gateway.json;
-        self.hmi = ready.gateway.hmi;
-        // A Linux pid is at most 2^22 (`pid_max`): it fits a `pid_t`.
-        self.rt_pid = ready.rt_pid as i32;
-        self.gateway_pid = ready.gateway_pid as i32;
-        self.zmq = ready.gateway.zmq.map(|z| (z.router, z.publish));
+        self.take_addresses();
     }
 
     /// The next stdout line starting with `prefix` (other lines are skipped).
     pub fn wait_line(&self, prefix: &str) -> String {
-        let deadline = Instant::now() + WAIT;
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.lines.recv_timeout(left) {
-                Ok(l) if l.starts_with(prefix) => return l,
-                Ok(_) => {}
-                Err(e) => panic!("no line starting with {prefix:?} from mcm within {WAIT:?}: {e}"),
-            }
-        }
+        self.sim
+            .wait_line(prefix, WAIT)
+            .unwrap_or_else(|e| panic!("{e}"))
     }
 
     /// A new JSON client.
@@ -167,41 +146,11 @@ impl Mcm {
         Client::connect(self.json)
     }
 
-    /// Stop with SIGTERM; returns the launcher's exit status.
-    pub fn stop(mut self) -> std::process::ExitStatus {
-        self.terminate()
+    /// Stop with SIGTERM; returns the launcher's exit status. The simulation state mcm-rt
+    /// saved is kept for a restart of the same instance.
+    pub fn stop(self) -> std::process::ExitStatus {
+        self.sim.stop().unwrap_or_else(|e| panic!("{e}"))
     }
-
-    fn terminate(&mut self) -> std::process::ExitStatus {
-        // SAFETY: signalling our own child.
-        unsafe { libc::kill(self.child.id() as i32, libc::SIGTERM) };
-        let deadline = Instant::now() + WAIT;
-        loop {
-            if let Some(s) = self.child.try_wait().unwrap() {
-                return s;
-            }
-            if Instant::now() > deadline {
-                let _ = self.child.kill();
-                panic!("mcm did not stop within {WAIT:?} after SIGTERM");
-            }
-            std::thread::sleep(Duration::from_millis(10));
-        }
-    }
-}
-
-impl Drop for Mcm {
-    fn drop(&mut self) {
-        if self.child.try_wait().ok().flatten().is_none() {
-            self.terminate();
-            // The simulation mcm-rt saved for a restart (only `stop` keeps it for one).
-            let _ = std::fs::remove_file(sim_state_path(&self.instance));
-        }
-    }
-}
-
-/// Where mcm-rt of `instance` saves the simulated robot when it stops (for the next start).
-pub fn sim_state_path(instance: &str) -> std::path::PathBuf {
-    std::env::temp_dir().join(format!("mcm-sim-{instance}.state"))
 }
 
 /// A configuration file written for one test, in the temp directory; removed on drop.

@@ -1,16 +1,27 @@
 use super::*;
-use serde_json::json;
+use mcm_shared::protocol::results::Detail;
+use mcm_shared::sample::StateSample;
+
+/// The timing of a detailed status of `state`.
+fn timing(state: &StateSample) -> Timing {
+    Detail::from_state(state).timing
+}
 
 #[test]
-fn missing_latency_keys_stay_unknown() {
-    let v = json!({"detail":{"timing":{"latency_p50_us":14.0,"latency_p99_us":45.0,"latency_max_us":900.0}}});
-    let (since, recent) = rt_latency(&v);
-    assert_eq!(since.p50, Some(14.0));
-    assert_eq!(since.p99_9, None);
-    assert_eq!(since.p99_99, None);
-    assert_eq!(recent, None);
-    let v = json!({"detail":{"timing":{"recent":{"latency_p99_9_us":70.0}}}});
-    assert_eq!(rt_latency(&v).1.unwrap().p99_9, Some(70.0));
+fn the_latency_figures_are_the_status_timing_and_an_empty_window_has_none() {
+    let mut s = StateSample::default();
+    s.timing.since_start.p50_ns = 14_000;
+    s.timing.since_start.p99_9_ns = 45_000;
+    s.timing.since_start.max_ns = 900_000;
+    let (since, recent) = rt_latency(&timing(&s));
+    assert_eq!(
+        (since.p50, since.p99_9, since.max),
+        (Some(14.0), Some(45.0), Some(900.0))
+    );
+    assert_eq!(recent, None, "no cycle in the recent window");
+    s.timing.recent.cycles = 2000;
+    s.timing.recent.p99_9_ns = 70_000;
+    assert_eq!(rt_latency(&timing(&s)).1.unwrap().p99_9, Some(70.0));
 }
 
 #[test]

@@ -2,13 +2,15 @@ use super::*;
 
 #[test]
 fn the_time_after_the_answering_cycle_comes_from_the_status_time() {
-    let v = serde_json::json!({"axis_states": {"time": [10.0015, 10.0015]}});
+    use mcm_shared::protocol::results::Status;
+    let state = mcm_shared::sample::StateSample {
+        t_ns: 10_001_500_000,
+        ..Default::default()
+    };
+    let v = Answer::Status(Box::new(Status::from_state(&state, false).unwrap()));
     let d = after_cycle(&v, 10.0035).unwrap();
     assert!((d.as_secs_f64() - 0.002).abs() < 1e-9, "{d:?}");
-    assert_eq!(
-        after_cycle(&serde_json::json!({"result_type": "generic"}), 1.0),
-        None
-    );
+    assert_eq!(after_cycle(&Answer::ok(), 1.0), None);
     // A clock read before the stamp (cannot happen on one clock) counts as zero.
     assert_eq!(after_cycle(&v, 10.0), Some(Duration::ZERO));
 }

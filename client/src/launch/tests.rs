@@ -62,3 +62,19 @@ fn no_ready_line_in_time_or_before_the_launcher_stops_is_an_error() {
     let e = wait_ready(&rx, Path::new("mcm"), Duration::from_secs(60)).unwrap_err();
     assert!(matches!(e, LaunchError::Exited { .. }), "{e:?}");
 }
+
+#[test]
+fn a_line_is_found_by_its_prefix_and_its_absence_names_the_prefix() {
+    let (rx, _tx) = stdout(
+        &["mcm: starting".into(), "mcm: gateway restarted".into()],
+        true,
+    );
+    let got = wait_line(&rx, Path::new("mcm"), "mcm: gateway", Duration::ZERO).unwrap();
+    assert_eq!(got, "mcm: gateway restarted");
+    let e = wait_line(&rx, Path::new("mcm"), "mcm: stopped", Duration::ZERO).unwrap_err();
+    assert!(
+        matches!(&e, LaunchError::NoLine { prefix, .. } if prefix == "mcm: stopped"),
+        "{e:?}"
+    );
+    assert!(e.to_string().contains("\"mcm: stopped\""), "{e}");
+}

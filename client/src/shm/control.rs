@@ -70,18 +70,14 @@ impl fmt::Display for ControlEnd {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             ControlEnd::ModeLeft { from, to } => write!(f, "the mode changed from {from} to {to}"),
-            ControlEnd::SafetyTrip(e) => write!(f, "safety check tripped: {}", e.reason),
+            ControlEnd::SafetyTrip(e) => write!(f, "{e}"),
             ControlEnd::OwnershipLost { owner: 0 } => {
                 f.write_str("this client no longer controls the arm (nobody does)")
             }
             ControlEnd::OwnershipLost { owner } => {
                 write!(f, "another client (id {owner:#x}) controls the arm now")
             }
-            ControlEnd::Refused(r) => match r.outcome {
-                Outcome::Refused(reason) => write!(f, "{} refused: {reason}", r.kind),
-                Outcome::Failed(reason) => write!(f, "{} failed: {reason}", r.kind),
-                Outcome::Done(_) => write!(f, "{} answered", r.kind),
-            },
+            ControlEnd::Refused(r) => write!(f, "{}", r.outcome.words(r.kind)),
             ControlEnd::NotControlling(m) => write!(
                 f,
                 "the control loop runs in TORQUE_CONTROL, VELOCITY_CONTROL or PVT, the mode is {m}; enter one first"

@@ -8,7 +8,7 @@ use super::ports::SendError;
 use iceoryx2::port::listener::ListenerWaitError;
 use mcm_shared::command::DecodeError;
 use mcm_shared::mode::CommandKind;
-use mcm_shared::reply::Reason;
+use mcm_shared::reply::{Outcome, Reason};
 use std::time::Duration;
 
 /// Waiting for the next state failed ([`ShmClient::wait_state`](super::ShmClient::wait_state)).
@@ -38,14 +38,15 @@ pub enum RequestError {
     /// is [`RequestError::OutcomeUnknown`]).
     #[error(transparent)]
     Wait(#[from] WaitError),
-    /// The core refused the command (nothing changed); `reason` gives the MCM's words.
-    #[error("{command} refused: {reason}")]
+    /// The core refused the command (nothing changed); `reason` gives the MCM's words (a
+    /// value of an argument outside its range in the gateway's words for it).
+    #[error("{}", Outcome::Refused(*reason).words(*command))]
     Refused {
         command: CommandKind,
         reason: Reason,
     },
     /// The core accepted the command, then it failed while running.
-    #[error("{command} failed: {reason}")]
+    #[error("{}", Outcome::Failed(*reason).words(*command))]
     Failed {
         command: CommandKind,
         reason: Reason,
@@ -54,7 +55,7 @@ pub enum RequestError {
     /// "failed".
     #[error(
         "{command}: no reply from the real-time core within {waited:?}{}: the command may or may not have been executed; check the state",
-        if *overwritten { " (replies were overwritten before this client read them: it fell more than 8192 replies behind)" } else { "" }
+        if *overwritten { format!(" (replies were overwritten before this client read them: it fell more than {} replies behind)", super::replies::KEPT) } else { String::new() }
     )]
     OutcomeUnknown {
         command: CommandKind,

@@ -31,6 +31,7 @@
 
 mod control;
 mod error;
+mod pending;
 pub mod ports;
 pub mod replies;
 mod steps;
@@ -46,18 +47,15 @@ use mcm_shared::command::{
     SimCommand, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
+use mcm_shared::protocol::core_reply_within;
 use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Outcome, Response, SafetyError};
 use mcm_shared::sample::StateSample;
 use mcm_shared::service::{COMMAND_BUFFER, ServiceNames};
 use ports::{CorePorts, Peer};
-use std::collections::{HashMap, HashSet, VecDeque};
+use std::collections::VecDeque;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
-/// Longest wait for a reply (the gateway's bound too).
-pub const REPLY_TIMEOUT: Duration = Duration::from_secs(5);
-/// Longest wait for the reply to `calibrate`.
-pub const CALIBRATE_TIMEOUT: Duration = Duration::from_secs(600);
 /// Default longest wait for the next state.
 pub const STATE_TIMEOUT: Duration = Duration::from_millis(500);
 /// Most commands of one client unanswered at a time (the core buffers 64 per publisher).
@@ -92,10 +90,7 @@ pub struct ShmClient {
     /// States (cycles) published but never returned by `wait_state`, since connect.
     missed: u64,
     /// Requests whose reply a call waits for, and their replies once read.
-    waiting: HashSet<u64>,
-    answers: HashMap<u64, mcm_shared::sample::Reply>,
-    /// Replies were overwritten while a request waited.
-    lost_while_waiting: bool,
+    pending: pending::Pending,
     events: VecDeque<ShmEvent>,
     /// The control loop's bookkeeping of replies to commands it did not wait for.
     pub(crate) tracker: control::Tracker,
@@ -119,9 +114,7 @@ impl ShmClient {
             last_seq: s.seq,
             last_error_seq: s.last_error.seq,
             missed: 0,
-            waiting: HashSet::new(),
-            answers: HashMap::new(),
-            lost_while_waiting: false,
+            pending: pending::Pending::default(),
             events: VecDeque::new(),
             tracker: control::Tracker::default(),
         })
@@ -190,20 +183,18 @@ impl ShmClient {
     /// Read the replies and the safety error a new state announces.
     fn absorb(&mut self, s: &StateSample) {
         let client = self.client_id;
-        let (waiting, answers, tracker) = (&self.waiting, &mut self.answers, &mut self.tracker);
+        let (pending, tracker) = (&mut self.pending, &mut self.tracker);
         let mut refused = Vec::new();
         let scan = self.ports.replies().read_to(s.reply_head, |r| {
-            if r.client_id != client {
+            if r.client_id != client || pending.offer(r) {
                 return;
             }
-            if waiting.contains(&r.request_id) {
-                answers.insert(r.request_id, *r);
-            } else if let Some(resp) = tracker.answered(r) {
+            if let Some(resp) = tracker.answered(r) {
                 refused.push(resp);
             }
         });
-        if scan.overwritten > 0 && !self.waiting.is_empty() {
-            self.lost_while_waiting = true;
+        if scan.overwritten > 0 {
+            self.pending.overwritten();
         }
         for r in refused {
             self.push_event(ShmEvent::Refused(r));
@@ -238,8 +229,38 @@ impl ShmClient {
         Ok(id)
     }
 
-    /// Wait for the replies to `ids` (sent by this client); the first that is not `Done`
-    /// ends the wait with its error, else the last one's `Done`.
+    /// Send `requests` (of `kind`, at most [`MAX_IN_FLIGHT`]) and wait for their replies, as
+    /// long as the core may take ([`core_reply_within`]: 5 s, `calibrate` 600 s, as the gateway
+    /// waits); the first that is not `Done` ends the wait with its error, else the last one's
+    /// `Done`. However the call ends (a send that fails, a refusal, no reply in time), none of
+    /// its requests is waited for afterwards.
+    fn send_and_wait(
+        &mut self,
+        kind: CommandKind,
+        requests: &[Request],
+    ) -> Result<Done, RequestError> {
+        let mut ids = [0u64; MAX_IN_FLIGHT];
+        let ids = &mut ids[..requests.len()];
+        let mut pending = std::mem::take(&mut self.pending);
+        let sent = pending.send_each(requests, ids, |r| self.send(r));
+        self.pending = pending;
+        sent?;
+        let result = self.wait_replies(kind, ids, core_reply_within(kind));
+        let overwritten = self.pending.forget(ids);
+        result.map_err(|e| match e {
+            RequestError::OutcomeUnknown {
+                command, waited, ..
+            } => RequestError::OutcomeUnknown {
+                command,
+                waited,
+                overwritten,
+            },
+            e => e,
+        })
+    }
+
+    /// Wait for the replies to `ids` (sent by this client) at most `timeout`; the first that
+    /// is not `Done` ends the wait with its error, else the last one's `Done`.
     fn wait_replies(
         &mut self,
         kind: CommandKind,
@@ -249,21 +270,11 @@ impl ShmClient {
         let start = Instant::now();
         let deadline = start + timeout;
         let mut last = Done::Ack;
-        for id in ids {
+        for &id in ids {
             loop {
-                if let Some(r) = self.answers.remove(id) {
-                    self.waiting.remove(id);
-                    match outcome(kind, &r) {
-                        Ok(d) => last = d,
-                        Err(e) => {
-                            // A refused chunk ends the batch; the others' replies are dropped.
-                            for id in ids {
-                                self.waiting.remove(id);
-                                self.answers.remove(id);
-                            }
-                            return Err(e);
-                        }
-                    }
+                if let Some(r) = self.pending.take(id) {
+                    // A refused chunk ends the batch; the others' replies are dropped.
+                    last = outcome(kind, &r)?;
                     break;
                 }
                 let left = deadline.saturating_duration_since(Instant::now());
@@ -275,40 +286,22 @@ impl ShmClient {
                         Err(e) => return Err(e.into()),
                     };
                 if gave_up {
-                    for id in ids {
-                        self.waiting.remove(id);
-                        self.answers.remove(id);
-                    }
-                    let overwritten = std::mem::take(&mut self.lost_while_waiting);
                     return Err(RequestError::OutcomeUnknown {
                         command: kind,
                         waited: start.elapsed(),
-                        overwritten,
+                        // Set by `send_and_wait`, which knows.
+                        overwritten: false,
                     });
                 }
             }
         }
-        if self.waiting.is_empty() {
-            self.lost_while_waiting = false;
-        }
         Ok(last)
     }
 
-    /// Send `req` and wait for its reply ([`REPLY_TIMEOUT`], `calibrate`
-    /// [`CALIBRATE_TIMEOUT`]).
+    /// Send `req` and wait for its reply, as long as the core may take for it
+    /// ([`core_reply_within`]: 5 s, `calibrate` 600 s, as the gateway waits).
     pub fn request(&mut self, req: &Request) -> Result<Done, RequestError> {
-        let timeout = if req.kind() == CommandKind::Calibrate {
-            CALIBRATE_TIMEOUT
-        } else {
-            REPLY_TIMEOUT
-        };
-        let id = self.next_request;
-        self.waiting.insert(id);
-        if let Err(e) = self.send(req) {
-            self.waiting.remove(&id);
-            return Err(e.into());
-        }
-        self.wait_replies(req.kind(), &[id], timeout)
+        self.send_and_wait(req.kind(), std::slice::from_ref(req))
     }
 
     fn ack(&mut self, req: Request) -> Result<(), RequestError> {
@@ -388,31 +381,21 @@ impl ShmClient {
     }
 
     /// Queue a batch of PVT points (whole or not at all; at most
-    /// [`MAX_POINTS_PER_COMMAND`](crate::tcp::MAX_POINTS_PER_COMMAND) points a batch, as over TCP).
+    /// [`MAX_POINTS_PER_BATCH`](mcm_shared::protocol::MAX_POINTS_PER_BATCH) points a batch, as
+    /// over TCP).
     pub fn pvt_points(&mut self, points: &[PvtPoint]) -> Result<(), RequestError> {
-        use crate::tcp::MAX_POINTS_PER_COMMAND as MAX;
+        use mcm_shared::protocol::MAX_POINTS_PER_BATCH as MAX;
         if points.is_empty() || points.len() > MAX {
             return Err(RequestError::Argument {
                 command: CommandKind::PvtPoints,
                 problem: format!("{} points given; a batch has 1 to {MAX}", points.len()),
             });
         }
-        let chunks: Vec<PvtChunk> = PvtChunk::batch(points).collect();
-        let mut result = Ok(Done::Ack);
+        let chunks: Vec<Request> = PvtChunk::batch(points).map(Request::PvtPoints).collect();
         for window in chunks.chunks(MAX_IN_FLIGHT) {
-            let mut ids = Vec::with_capacity(window.len());
-            for c in window {
-                let id = self.next_request;
-                self.waiting.insert(id);
-                self.send(&Request::PvtPoints(*c))?;
-                ids.push(id);
-            }
-            result = self.wait_replies(CommandKind::PvtPoints, &ids, REPLY_TIMEOUT);
-            if result.is_err() {
-                break;
-            }
+            self.send_and_wait(CommandKind::PvtPoints, window)?;
         }
-        result.map(|_| ())
+        Ok(())
     }
 
     /// Take control of the arm's motion.

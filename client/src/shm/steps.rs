@@ -2,7 +2,7 @@
 //! (bounded) until the state shows what a command was for.
 
 use super::{RequestError, ShmClient, WaitUntilError};
-use mcm_shared::command::{Calibrate, Which};
+use mcm_shared::command::Calibrate;
 use mcm_shared::sample::{STATE_ALL_CALIBRATED, StateSample};
 use std::time::{Duration, Instant};
 
@@ -14,12 +14,7 @@ impl ShmClient {
         self.hold()?;
         let calibrated = self.latest().flags & STATE_ALL_CALIBRATED != 0;
         if !calibrated {
-            self.calibrate(Calibrate {
-                which: Which::All,
-                elbow_direction: Default::default(),
-                wrist_direction: Default::default(),
-                force_mechanical_stop: false,
-            })?;
+            self.calibrate(Calibrate::default())?;
         }
         Ok(!calibrated)
     }

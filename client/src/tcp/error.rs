@@ -2,6 +2,9 @@
 //! way ([`Error`]).
 
 use mcm_shared::mode::RejectCode;
+use mcm_shared::protocol::results::ReadError;
+use mcm_shared::ranges::Arg;
+use mcm_shared::reply::Reason;
 use std::time::Duration;
 
 /// How the MCM answered a command it did not do.
@@ -28,7 +31,9 @@ pub struct McmError {
     pub command: String,
     pub kind: ErrorKind,
     /// The reject code, read from the words (the JSON protocol carries words only); `None`
-    /// when they name no code of [`RejectCode`].
+    /// when they name no code of [`RejectCode`]. A value of a numeric argument outside its
+    /// range has the code the core gives it (`unreachable` for a target position,
+    /// `out_of_range` otherwise), whichever side refused it: the words are the same.
     pub code: Option<RejectCode>,
     /// The MCM's `error_message`, unchanged.
     pub message: String,
@@ -68,6 +73,14 @@ const CODE_WORDS: &[(&str, RejectCode)] = &[
     ("is shutting down", RejectCode::ShuttingDown),
 ];
 
+/// The numeric argument a refusal names (`: argument "target_positions[2]" = ...` after the
+/// command), if it is one of [`mcm_shared::ranges`].
+fn refused_argument(rest: &str) -> Option<Arg> {
+    let name = rest.strip_prefix(": argument \"")?;
+    let end = name.find(['"', '['])?;
+    Arg::by_name(&name[..end])
+}
+
 impl McmError {
     /// Read a `generic` ERROR result that answers `command`.
     pub fn from_message(command: &str, message: &str) -> McmError {
@@ -86,7 +99,8 @@ impl McmError {
                 .iter()
                 .find(|(words, _)| rest.contains(words))
                 .map(|(_, code)| *code),
-            ErrorKind::OutcomeUnknown | ErrorKind::Invalid => None,
+            ErrorKind::Invalid => refused_argument(rest).map(Reason::argument_code),
+            ErrorKind::OutcomeUnknown => None,
         };
         McmError {
             command: command.to_string(),
@@ -122,15 +136,19 @@ pub enum Error {
     /// `TcpOptions::reconnect_on_next_call`).
     #[error("not connected (the connection broke earlier); call reconnect()")]
     NotConnected,
+    /// No result to `command` within `waited`: it may or may not have been executed. The
+    /// connection is closed (its result, should it still come, would answer the next call):
+    /// the next call fails with [`Error::NotConnected`], or reconnects first with
+    /// `TcpOptions::reconnect_on_next_call` (control of the arm is lost with the connection).
     #[error(
-        "no result to `{command}` within {waited:?}: it may or may not have been executed; read the state"
+        "no result to `{command}` within {waited:?}: it may or may not have been executed; read the state (the connection was closed: reconnect)"
     )]
     Timeout { command: String, waited: Duration },
     /// A line that is not the protocol this client knows (another MCM version?).
     #[error("unexpected line from the MCM while waiting for `{command}` ({problem}): {line}")]
     Protocol {
         command: String,
-        problem: String,
+        problem: ProtocolProblem,
         line: String,
     },
     /// An argument this client refuses before sending anything.
@@ -146,6 +164,22 @@ pub enum Error {
         what: String,
         waited: Duration,
         last: Box<super::Status>,
+    },
+}
+
+/// What is wrong with a line from the MCM ([`Error::Protocol`]).
+#[derive(Debug, thiserror::Error)]
+pub enum ProtocolProblem {
+    #[error("not JSON: {0}")]
+    NotJson(#[source] serde_json::Error),
+    /// JSON, but no result of this version.
+    #[error(transparent)]
+    Result(#[from] ReadError),
+    /// A result, but not of the type the command answers on success.
+    #[error("a {got} result where {expected} was expected")]
+    Unexpected {
+        got: &'static str,
+        expected: &'static str,
     },
 }
 

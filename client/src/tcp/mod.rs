@@ -18,7 +18,8 @@
 //! arrives later as [`Event::CommandError`].
 //!
 //! **Reconnecting.** When the connection breaks, the call that saw it fails and the client is
-//! disconnected. [`TcpClient::reconnect`] opens a new connection (and repeats `authenticate`
+//! disconnected; so does a call whose result does not come in time ([`Error::Timeout`]: a
+//! late result must not answer the next call). [`TcpClient::reconnect`] opens a new connection (and repeats `authenticate`
 //! if it was given). Control of the arm does *not* survive: the old connection closing makes
 //! the gateway release its control, and what it drove (a move, a PVT stream, RELEASE,
 //! TORQUE_CONTROL, VELOCITY_CONTROL) ends in HOLD. Take control again (`take_control`) after a reconnect. With
@@ -29,10 +30,10 @@ mod steps;
 mod types;
 mod wire;
 
-pub use error::{Error, ErrorKind, McmError};
+pub use error::{Error, ErrorKind, McmError, ProtocolProblem};
 pub use types::{
-    AxisInfo, AxisStates, CalibrateOptions, Detail, Event, Info, MoveAllResult, PvtQueue,
-    SimResult, Six, Status, TorqueOptions, VelocityOptions,
+    AxisInfo, AxisStates, Calibrate, Detail, Event, Info, MoveAllResult, PvtQueue, SimResult, Six,
+    Status, TorqueOptions, VelocityOptions,
 };
 
 use mcm_shared::command::{
@@ -51,19 +52,20 @@ use wire::Line;
 pub const DEFAULT_PORT: u16 = 18010;
 /// Most points the MCM takes in one `pvt_points` command.
 pub const MAX_POINTS_PER_COMMAND: usize = protocol::MAX_POINTS_PER_BATCH;
-/// Longest command line this client writes (the MCM's limit is 65536 bytes).
-const MAX_LINE: usize = 60_000;
+/// Longest command line this client writes (without its newline): the MCM's limit. A
+/// `pvt_points` batch is cut to fit by an estimate that never falls short of the line's length.
+const MAX_LINE: usize = protocol::MAX_COMMAND_BYTES;
 
 /// How the client connects and waits.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TcpOptions {
     pub connect_timeout: Duration,
-    /// Longest wait for a command's result (the MCM itself answers within 5 s or says the
-    /// outcome is unknown).
+    /// Longest wait for a command's result (the MCM itself answers within
+    /// [`protocol::REPLY_TIMEOUT`], 5 s, or says the outcome is unknown). A command the MCM may
+    /// take longer to answer waits that much longer
+    /// ([`Command::extra_reply_time`](mcm_shared::protocol::Command::extra_reply_time):
+    /// `calibrate` up to 600 s, `sleep` its duration).
     pub reply_timeout: Duration,
-    /// Longest wait for `calibrate` (about 12 s on the simulated P-Rob2; the MCM's own bound
-    /// is 600 s).
-    pub calibrate_timeout: Duration,
     /// A call on a broken connection reconnects first (see the module docs on control).
     pub reconnect_on_next_call: bool,
 }
@@ -73,7 +75,6 @@ impl Default for TcpOptions {
         TcpOptions {
             connect_timeout: Duration::from_secs(5),
             reply_timeout: Duration::from_secs(10),
-            calibrate_timeout: Duration::from_secs(610),
             reconnect_on_next_call: false,
         }
     }
@@ -82,23 +83,6 @@ impl Default for TcpOptions {
 /// A session with this `dt_status` sends status ticks.
 fn ticking(dt_status_s: Option<f64>) -> bool {
     dt_status_s.is_some_and(|d| d > 0.0)
-}
-
-/// Which result a command waits for: what its definition says it answers on success
-/// ([`protocol::CommandDef::success`]); a `status` result in this mode, when given (in a
-/// session with ticks, TORQUE_CONTROL or VELOCITY_CONTROL, the session's ticks are in the
-/// session's mode, and a tick is what a `status` call may get there).
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Expect {
-    success: protocol::Success,
-    mode: Option<Mode>,
-}
-
-/// What [`TcpClient::call`] read: the result the command answers.
-enum Got {
-    Ok,
-    Status(Box<Status>),
-    Other(Answer),
 }
 
 struct Conn {
@@ -116,6 +100,18 @@ pub struct TcpClient {
     /// status ticks; `None`: no ticks.
     ticks: Option<Mode>,
     secret: Option<String>,
+}
+
+/// The error for `answer`, which is not what the command `def` answers on success.
+fn unexpected(def: &protocol::CommandDef, answer: &Answer) -> Error {
+    Error::Protocol {
+        command: def.name.to_string(),
+        problem: ProtocolProblem::Unexpected {
+            got: answer.result_type(),
+            expected: def.success.result_type().unwrap_or("none"),
+        },
+        line: answer.to_value().to_string(),
+    }
 }
 
 impl TcpClient {
@@ -264,9 +260,22 @@ impl TcpClient {
         self.events.push_back(e);
     }
 
-    /// Send `cmd` and read lines until its result (`mode`: see [`Expect`]).
-    fn call(&mut self, cmd: &Command, mode: Option<Mode>, timeout: Duration) -> Result<Got, Error> {
+    /// Send `cmd` and read lines until its result: what its definition says it answers on
+    /// success ([`protocol::CommandDef::success`]), and nothing else. `mode`: the mode of the
+    /// status the command answers, when known (in a session with ticks, TORQUE_CONTROL or
+    /// VELOCITY_CONTROL, a status in another mode is one of the session's ticks, and a tick is
+    /// what a `status` call may get there). When no result comes within
+    /// [`TcpClient::wait_for`] the connection is closed: its late result would otherwise
+    /// answer the next call.
+    fn call(&mut self, cmd: &Command, mode: Option<Mode>) -> Result<Answer, Error> {
+        let timeout = self.wait_for(cmd);
         self.call_line(cmd.def(), &cmd.to_json(), mode, timeout)
+    }
+
+    /// The longest wait for the result of `cmd`: [`TcpOptions::reply_timeout`], plus the time
+    /// the MCM may take beyond its usual bound for this command.
+    fn wait_for(&self, cmd: &Command) -> Duration {
+        self.opts.reply_timeout + cmd.extra_reply_time()
     }
 
     /// [`TcpClient::call`] with the command's line given: `line` is a command `def` (written by
@@ -277,16 +286,14 @@ impl TcpClient {
         line: &serde_json::Value,
         mode: Option<Mode>,
         timeout: Duration,
-    ) -> Result<Got, Error> {
+    ) -> Result<Answer, Error> {
         let command = def.name;
-        let expect = Expect {
-            success: def.success,
-            mode,
-        };
         self.write(command, &line.to_string())?;
         let deadline = Instant::now() + timeout;
         loop {
             let Some(line) = self.read_line(command, deadline)? else {
+                // The result may still come: on this connection it would answer the next call.
+                self.conn = None;
                 return Err(Error::Timeout {
                     command: command.to_string(),
                     waited: timeout,
@@ -297,48 +304,36 @@ impl TcpClient {
                 problem,
                 line: line.clone(),
             })?;
-            let unexpected = |what: &str| Error::Protocol {
-                command: command.to_string(),
-                problem: format!(
-                    "a {what} result where {} was expected",
-                    expect.success.result_type().unwrap_or("none")
-                ),
-                line: line.clone(),
-            };
-            use protocol::Success as S;
-            match (parsed, expect.success) {
-                (Line::Event(e), _) => self.queue(e),
-                (Line::Error(message), _) => {
+            let answer = match parsed {
+                Line::Event(e) => {
+                    self.queue(e);
+                    continue;
+                }
+                Line::Error(message) => {
                     return Err(McmError::from_message(command, &message).into());
                 }
-                (Line::Ok, S::Ok) => return Ok(Got::Ok),
-                (Line::Status(s), S::Status) => {
-                    let tick = self.ticks.is_some() && mode.is_some_and(|m| m != s.mode);
-                    if !tick {
-                        return Ok(Got::Status(s));
+                Line::Status(s) => {
+                    let tick = self.ticks.is_some()
+                        && (def.success != protocol::Success::Status
+                            || mode.is_some_and(|m| m != s.mode));
+                    if tick {
+                        self.queue(Event::Status(s));
+                        continue;
                     }
-                    self.queue(Event::Status(s));
+                    Answer::Status(s)
                 }
-                (Line::Status(s), _) if self.ticks.is_some() => self.queue(Event::Status(s)),
-                (Line::Other(a), S::Initialization | S::MoveAll | S::Sim) => {
-                    return Ok(Got::Other(a));
-                }
-                (Line::Ok, _) => return Err(unexpected("generic OK")),
-                (Line::Status(_), _) => return Err(unexpected("status")),
-                (Line::Other(a), _) => {
-                    let kind = a.to_value()["result_type"]
-                        .as_str()
-                        .unwrap_or("?")
-                        .to_string();
-                    return Err(unexpected(&kind));
-                }
+                Line::Ok => Answer::ok(),
+                Line::Other(a) => a,
+            };
+            if def.success.answers(&answer) {
+                return Ok(answer);
             }
+            return Err(unexpected(def, &answer));
         }
     }
 
     fn call_ok(&mut self, cmd: impl Into<Command>) -> Result<(), Error> {
-        let t = self.opts.reply_timeout;
-        self.call(&cmd.into(), None, t).map(|_| ())
+        self.call(&cmd.into(), None).map(|_| ())
     }
 
     fn call_status(
@@ -346,27 +341,31 @@ impl TcpClient {
         cmd: impl Into<Command>,
         mode: Option<Mode>,
     ) -> Result<Status, Error> {
-        let t = self.opts.reply_timeout;
-        match self.call(&cmd.into(), mode, t)? {
-            Got::Status(s) => Ok(*s),
-            _ => unreachable!("call returns what the command answers: a status"),
+        let cmd = cmd.into();
+        match self.call(&cmd, mode)? {
+            Answer::Status(s) => Ok(*s),
+            other => Err(unexpected(cmd.def(), &other)),
         }
     }
 
-    fn call_other(&mut self, cmd: impl Into<Command>) -> Result<Answer, Error> {
-        let t = self.opts.reply_timeout;
-        match self.call(&cmd.into(), None, t)? {
-            Got::Other(a) => Ok(a),
-            _ => unreachable!("call returns what the command answers: another result"),
-        }
+    /// [`TcpClient::call`] for a command whose typed result `typed` takes out of its answer.
+    fn call_typed<T>(
+        &mut self,
+        cmd: impl Into<Command>,
+        typed: impl FnOnce(Answer) -> Result<T, Answer>,
+    ) -> Result<T, Error> {
+        let cmd = cmd.into();
+        let answer = self.call(&cmd, None)?;
+        typed(answer).map_err(|other| unexpected(cmd.def(), &other))
     }
 
     /// Any command of the protocol, typed ([`mcm_shared::protocol::Command`]), and its result:
     /// `None` for a command that answers nothing on success (`set_torques`,
     /// `set_velocities`: it returns once written, and a refusal comes later as
     /// [`Event::CommandError`]). The methods below are this call with typed results; a command
-    /// without its own method is still reachable here. `calibrate` waits up to
-    /// [`TcpOptions::calibrate_timeout`], every other command [`TcpOptions::reply_timeout`].
+    /// without its own method is still reachable here. It waits [`TcpOptions::reply_timeout`]
+    /// for the result, plus the time the MCM may take beyond its usual bound for the command
+    /// (`calibrate`, `sleep`).
     ///
     /// ```no_run
     /// use mcm_client::tcp::TcpClient;
@@ -382,15 +381,7 @@ impl TcpClient {
             self.write(cmd.name(), &cmd.to_json().to_string())?;
             return Ok(None);
         }
-        let timeout = match cmd {
-            Command::Calibrate(_) => self.opts.calibrate_timeout,
-            _ => self.opts.reply_timeout,
-        };
-        Ok(Some(match self.call(&cmd, None, timeout)? {
-            Got::Ok => Answer::ok(),
-            Got::Status(s) => Answer::Status(s),
-            Got::Other(a) => a,
-        }))
+        self.call(&cmd, None).map(Some)
     }
 
     /// The newest state (`status`). In a TORQUE_CONTROL or VELOCITY_CONTROL session with
@@ -407,10 +398,10 @@ impl TcpClient {
 
     /// Robot, version, cycle time and the limits of every axis (`info`).
     pub fn info(&mut self) -> Result<Info, Error> {
-        match self.call_other(protocol::Info)? {
+        self.call_typed(protocol::Info, |a| match a {
             Answer::Initialization(i) => Ok(i),
-            _ => unreachable!("`info` answers `initialization`"),
-        }
+            other => Err(other),
+        })
     }
 
     /// Enter HOLD (clears errors and powers the drives from OFF/ERROR; stops a motion). Open
@@ -423,10 +414,9 @@ impl TcpClient {
 
     /// Home the axes; returns when the calibration has finished (about 12 s on the simulated
     /// P-Rob2), with the arm back at zero in HOLD.
-    pub fn calibrate(&mut self, o: CalibrateOptions) -> Result<(), Error> {
-        let t = self.opts.calibrate_timeout;
-        let cmd = Command::Calibrate(o.into());
-        self.call(&cmd, None, t).map(|_| ())
+    pub fn calibrate(&mut self, o: Calibrate) -> Result<(), Error> {
+        let cmd = Command::Calibrate(o);
+        self.call(&cmd, None).map(|_| ())
     }
 
     /// Enter RELEASE (the arm can be moved by hand).
@@ -499,7 +489,7 @@ impl TcpClient {
                 let cmd = Command::MoveAxis(typed(mcm_shared::command::Axis::ALL[0]));
                 let mut line = cmd.to_json();
                 line["arguments"]["axis_index"] = axis.into();
-                let t = self.opts.reply_timeout;
+                let t = self.wait_for(&cmd);
                 self.call_line(cmd.def(), &line, None, t).map(|_| ())
             }
         }
@@ -515,10 +505,10 @@ impl TcpClient {
             targets_deg,
             velocity_factor,
         };
-        match self.call_other(cmd)? {
+        self.call_typed(cmd, |a| match a {
             Answer::MoveAll(m) => Ok(m),
-            _ => unreachable!("`move_all` answers `move_all`"),
-        }
+            other => Err(other),
+        })
     }
 
     /// Queue PVT points (spaced by `pvt`'s `dt`). Up to [`MAX_POINTS_PER_COMMAND`] points that
@@ -576,10 +566,10 @@ impl TcpClient {
 
     /// Fault injection into the simulated robot (from loopback); the simulation's ground truth.
     pub fn sim(&mut self, c: SimCommand) -> Result<SimResult, Error> {
-        match self.call_other(c)? {
+        self.call_typed(c, |a| match a {
             Answer::Sim(r) => Ok(r),
-            _ => unreachable!("`sim` answers `sim`"),
-        }
+            other => Err(other),
+        })
     }
 
     /// The next spontaneous message: a queued one at once, else the first to arrive within
@@ -595,7 +585,8 @@ impl TcpClient {
                 Ok(Line::Event(e)) => e,
                 Ok(Line::Status(s)) => Event::Status(s),
                 Ok(Line::Error(m)) => Event::Notice(m),
-                // A result no call waits for (a call that timed out earlier): its words.
+                // A result no call waits for (a timed-out call closed its connection, so
+                // not its late result): its words.
                 Ok(Line::Ok | Line::Other(..)) | Err(_) => Event::Notice(line),
             };
             self.queue(event);

@@ -13,6 +13,23 @@ fn status(mode: &str, t: f64) -> String {
     )
 }
 
+/// The result line the gateway writes for a command line it refuses itself.
+fn refusal_line(json: &str) -> String {
+    let cfg = mcm_shared::config::RobotConfig::prob2_default();
+    let e = Command::from_json(json, &cfg).unwrap_err();
+    Answer::error(e.to_string()).to_value().to_string()
+}
+
+/// The result line the gateway writes for the core's refusal of a `kind` request.
+fn core_refusal_line(
+    kind: mcm_shared::mode::CommandKind,
+    reason: mcm_shared::reply::Reason,
+) -> String {
+    let outcome = mcm_shared::reply::Outcome::Refused(reason);
+    let g = mcm_shared::protocol::results::Generic::reply_error(kind, &outcome);
+    Answer::Generic(g).to_value().to_string()
+}
+
 /// A server that answers the n-th line it reads with `script[n]` (several lines, or none),
 /// and reports every line read on the channel. Connections are served one after the other.
 fn server(script: Vec<Vec<String>>) -> (String, mpsc::Receiver<String>) {
@@ -42,18 +59,42 @@ fn server(script: Vec<Vec<String>>) -> (String, mpsc::Receiver<String>) {
     (addr, rx)
 }
 
+/// The spontaneous error the gateway sends when the velocity check of axis 3 trips.
+fn safety_line() -> String {
+    use mcm_shared::protocol::results::Generic;
+    use mcm_shared::reply::{Reason, SafetyError};
+    let e = SafetyError {
+        seq: 1,
+        cycle: 100,
+        unix_ns: 0,
+        reason: Reason::VelocityLimit {
+            axis: mcm_shared::command::Axis::new(3).unwrap(),
+            velocity_deg_s: 200.0,
+            limit_deg_s: 150.0,
+        },
+    };
+    let g = Generic::safety_event(
+        &Ok(e),
+        Mode::Error.to_wire(),
+        "/tmp/mcm-flight.csv".as_ref(),
+    );
+    Answer::Generic(g).to_value().to_string()
+}
+
 #[test]
 fn ticks_and_errors_between_results_become_events() {
     let ok = r#"{"result_type":"generic","error_status":"OK"}"#.to_string();
     let (addr, seen) = server(vec![
         vec![status("TORQUE_CONTROL", 1.0)],
         // set_torques: a refusal, later.
-        vec![r#"{"result_type":"generic","error_status":"ERROR","error_message":"set_torques refused: axis 1: value 900 is outside the allowed range [-129.6, 129.6]"}"#.into()],
+        vec![refusal_line(
+            r#"{"command":"set_torques","arguments":{"torques":[900,0,0,0,0,0]}}"#,
+        )],
         // hold: two ticks of the session, a safety error, then hold's own status.
         vec![
             status("TORQUE_CONTROL", 1.1),
             status("TORQUE_CONTROL", 1.2),
-            r#"{"result_type":"generic","error_status":"ERROR","error_message":"safety check tripped: x","check":"velocity_limit","axis":3}"#.into(),
+            safety_line(),
             status("HOLD", 1.3),
         ],
         vec![ok.clone()],
@@ -90,9 +131,10 @@ fn ticks_and_errors_between_results_become_events() {
 
 #[test]
 fn refusals_carry_command_words_and_code() {
-    let (addr, _seen) = server(vec![vec![
-        r#"{"result_type":"generic","error_status":"ERROR","error_message":"move_all refused: not allowed in mode HOLD"}"#.into(),
-    ]]);
+    let (addr, _seen) = server(vec![vec![core_refusal_line(
+        mcm_shared::mode::CommandKind::MoveAll,
+        mcm_shared::reply::Reason::WrongMode { mode: Mode::Hold },
+    )]]);
     let mut c = TcpClient::connect(&addr).unwrap();
     let e = c.move_all([0.0; 6], 0.5).unwrap_err();
     let m = e.mcm().expect("the MCM's error");
@@ -155,6 +197,112 @@ fn a_result_that_does_not_come_is_a_timeout_naming_the_command() {
         matches!(&e, Error::Timeout { command, .. } if command == "info"),
         "{e}"
     );
+    assert!(!c.is_connected(), "a timed-out call closes its connection");
+}
+
+/// A result of another type than the command answers is a protocol error, never taken as the
+/// command's result (nor a panic).
+#[test]
+fn a_result_of_the_wrong_type_is_a_protocol_error() {
+    let sim = r#"{"result_type":"sim","true_position":[1,2,3,4,5,6],"true_velocity":[0,0,0,0,0,0],"emergency_stop":false}"#;
+    let move_all = r#"{"result_type":"move_all","velocities":[1,2,3,4,5,6],"longest":3,"max_time_to_target":1.5}"#;
+    let (addr, _seen) = server(vec![
+        vec![sim.into()],
+        vec![sim.into()],
+        vec![move_all.into()],
+        vec![r#"{"result_type":"generic","error_status":"OK"}"#.into()],
+    ]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    let wrong = |e: Error, command: &str, problem: &str| match e {
+        Error::Protocol {
+            command: c,
+            problem: p,
+            ..
+        } => assert_eq!((c.as_str(), p.to_string().as_str()), (command, problem)),
+        other => panic!("{other}"),
+    };
+    wrong(
+        c.info().unwrap_err(),
+        "info",
+        "a sim result where initialization was expected",
+    );
+    wrong(
+        c.move_all([0.0; 6], 0.5).unwrap_err(),
+        "move_all",
+        "a sim result where move_all was expected",
+    );
+    wrong(
+        c.sim(SimCommand::default()).unwrap_err(),
+        "sim",
+        "a move_all result where sim was expected",
+    );
+    wrong(
+        c.hold().unwrap_err(),
+        "hold",
+        "a generic result where status was expected",
+    );
+}
+
+/// A result that comes after its call timed out does not answer the next call: the timed-out
+/// call closed its connection, and the next call gets its own result on a new one.
+#[test]
+fn a_late_result_after_a_timeout_does_not_answer_the_next_call() {
+    let l = TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = l.local_addr().unwrap().to_string();
+    std::thread::spawn(move || {
+        let (first, _) = l.accept().unwrap();
+        let mut w = first.try_clone().unwrap();
+        let mut lines = BufReader::new(first).lines();
+        // `status`: answered late, once the client sent its next command on this connection
+        // (or closed it).
+        let _status = lines.next();
+        let next = lines.next();
+        let _ = w.write_all(
+            format!(
+                "{}
+",
+                status("PVT", 1.0)
+            )
+            .as_bytes(),
+        );
+        if let Some(Ok(_hold)) = next {
+            let _ = w.write_all(
+                format!(
+                    "{}
+",
+                    status("HOLD", 2.0)
+                )
+                .as_bytes(),
+            );
+            return;
+        }
+        let (second, _) = l.accept().unwrap();
+        let mut w = second.try_clone().unwrap();
+        if let Some(Ok(_hold)) = BufReader::new(second).lines().next() {
+            let _ = w.write_all(
+                format!(
+                    "{}
+",
+                    status("HOLD", 2.0)
+                )
+                .as_bytes(),
+            );
+        }
+    });
+    let opts = TcpOptions {
+        reply_timeout: Duration::from_millis(100),
+        reconnect_on_next_call: true,
+        ..TcpOptions::default()
+    };
+    let mut c = TcpClient::connect_with(&addr, opts).unwrap();
+    let e = c.status().unwrap_err();
+    assert!(
+        matches!(&e, Error::Timeout { command, .. } if command == "status"),
+        "{e}"
+    );
+    c.opts.reply_timeout = Duration::from_secs(10);
+    let held = c.hold().unwrap();
+    assert_eq!((held.mode, held.time()), (Mode::Hold, 2.0), "{held:?}");
 }
 
 #[test]
@@ -165,7 +313,9 @@ fn a_velocity_session_sends_its_arguments_and_its_ticks_become_events() {
         // set_velocities: refused later, between two ticks.
         vec![
             status("VELOCITY_CONTROL", 2.1),
-            r#"{"result_type":"generic","error_status":"ERROR","error_message":"set_velocities: argument \"velocities\" = [0,0,0,900,0,0] is not allowed; expected a velocity of axis 4 from -150 to 150 deg/s (its maximum velocity)"}"#.into(),
+            refusal_line(
+                r#"{"command":"set_velocities","arguments":{"velocities":[0,0,0,900,0,0]}}"#,
+            ),
         ],
         // status: answered by a tick (a state as fresh).
         vec![status("VELOCITY_CONTROL", 2.2)],
@@ -301,8 +451,10 @@ fn any_command_goes_through_command_with_its_typed_result() {
 /// An axis number that is no axis still goes to the MCM, which refuses it in its own words.
 #[test]
 fn move_axis_leaves_a_bad_axis_to_the_mcm() {
-    let refusal = r#"{"result_type":"generic","error_status":"ERROR","error_message":"move_axis: argument \"axis_index\" = 9 is not allowed; expected an axis number from 1 to 6"}"#;
-    let (addr, seen) = server(vec![vec![refusal.into()]]);
+    let refusal = refusal_line(
+        r#"{"command":"move_axis","arguments":{"axis_index":9,"target_position":0,"velocity_factor":0.5}}"#,
+    );
+    let (addr, seen) = server(vec![vec![refusal]]);
     let mut c = TcpClient::connect(&addr).unwrap();
     let e = c.move_axis(9, 0.0, 0.5).unwrap_err();
     let e = e.mcm().expect("the MCM's refusal");
@@ -312,5 +464,57 @@ fn move_axis_leaves_a_bad_axis_to_the_mcm() {
     assert_eq!(
         sent,
         json!({"command": "move_axis", "arguments": {"axis_index": 9, "target_position": 0.0, "velocity_factor": 0.5}})
+    );
+}
+
+/// A list of points longer than a line goes as several `pvt_points` commands, each within the
+/// MCM's limit of a command, in order, every point once.
+#[test]
+fn pvt_points_are_cut_into_lines_within_the_limit_of_a_command() {
+    use mcm_shared::command::PvtPoint;
+    let ok = r#"{"result_type":"generic","error_status":"OK"}"#.to_string();
+    let (addr, seen) = server(vec![vec![ok.clone()]; 8]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    // Long numbers (exact in binary, so that they read back unchanged): 1000 of these points
+    // take about 200 KB.
+    let points: Vec<PvtPoint> = (0..1000)
+        .map(|k| PvtPoint {
+            position_deg: [-100.0 - f64::from(k) / 1024.0; 6],
+            velocity_deg_s: [98.757_812_5; 6],
+        })
+        .collect();
+    c.pvt_points(&points).unwrap();
+    let sent: Vec<String> = seen.try_iter().collect();
+    assert!(sent.len() > 1, "one line of {} bytes", sent[0].len());
+    let mut got = Vec::new();
+    for line in &sent {
+        assert!(
+            line.len() <= protocol::MAX_COMMAND_BYTES,
+            "{} bytes",
+            line.len()
+        );
+        let cmd = Command::from_json(line, &mcm_shared::config::RobotConfig::prob2_default());
+        let Ok(Command::PvtPoints(p)) = cmd else {
+            panic!("{cmd:?}")
+        };
+        got.extend(p.points);
+    }
+    assert!(
+        got == points,
+        "{} points read back of {}",
+        got.len(),
+        points.len()
+    );
+    // Full lines: the next point would not have fit.
+    let one = Command::PvtPoints(protocol::PvtPoints {
+        points: vec![points[0]],
+    })
+    .to_json()
+    .to_string()
+    .len();
+    assert!(
+        sent[0].len() + one > protocol::MAX_COMMAND_BYTES,
+        "{}",
+        sent[0].len()
     );
 }

@@ -1,20 +1,13 @@
 //! The typed results of the JSON protocol (`docs/protocol.md`, "Results"): those of the
 //! contract ([`mcm_shared::protocol::results`]), the options of the calls, and the events.
+//! `calibrate` takes the contract's [`Calibrate`] itself (as the shared-memory client does).
 
 use mcm_shared::mode::RejectCode;
 
+pub use mcm_shared::command::Calibrate;
 pub use mcm_shared::protocol::results::{
     AxisInfo, AxisStates, Detail, Info, MoveAllResult, PvtQueue, SimResult, Six, Status,
 };
-
-/// Options of `calibrate`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct CalibrateOptions {
-    pub which: Option<mcm_shared::command::Which>,
-    pub elbow_direction: mcm_shared::command::Direction,
-    pub wrist_direction: mcm_shared::command::Direction,
-    pub force_mechanical_stop: bool,
-}
 
 /// Options of `torque_control`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,7 +24,7 @@ impl Default for TorqueOptions {
     /// The protocol's defaults: 1 s timeout, no status ticks, gravity compensated.
     fn default() -> Self {
         TorqueOptions {
-            timeout_s: Some(1.0),
+            timeout_s: Some(mcm_shared::protocol::DEFAULT_MODE_TIMEOUT),
             dt_status_s: None,
             gravity_compensation: true,
         }
@@ -52,7 +45,7 @@ impl Default for VelocityOptions {
     /// The protocol's defaults: 1 s timeout, no status ticks.
     fn default() -> Self {
         VelocityOptions {
-            timeout_s: Some(1.0),
+            timeout_s: Some(mcm_shared::protocol::DEFAULT_MODE_TIMEOUT),
             dt_status_s: None,
         }
     }
@@ -77,17 +70,6 @@ pub enum Event {
     /// A notice about the MCM's own life (shutting down, the core stopped) or about this
     /// connection (closed for idleness, to make room): its words.
     Notice(String),
-}
-
-impl From<CalibrateOptions> for mcm_shared::command::Calibrate {
-    fn from(o: CalibrateOptions) -> Self {
-        mcm_shared::command::Calibrate {
-            which: o.which.unwrap_or(mcm_shared::protocol::DEFAULT_WHICH),
-            elbow_direction: o.elbow_direction,
-            wrist_direction: o.wrist_direction,
-            force_mechanical_stop: o.force_mechanical_stop,
-        }
-    }
 }
 
 impl From<TorqueOptions> for mcm_shared::protocol::TorqueControl {

@@ -1,7 +1,7 @@
 //! Lines of the JSON protocol: the parsing of result lines by `result_type`, and telling the
 //! result of a command from spontaneous messages.
 
-use super::error::McmError;
+use super::error::{McmError, ProtocolProblem};
 use super::types::{Event, Status};
 use mcm_shared::protocol::results::Answer;
 use mcm_shared::protocol::{self, Success};
@@ -40,8 +40,8 @@ pub(crate) enum Line {
 }
 
 /// Read one line. `Err` names what is wrong with it.
-pub(crate) fn parse(line: &str) -> Result<Line, String> {
-    let v: Value = serde_json::from_str(line).map_err(|e| format!("not JSON: {e}"))?;
+pub(crate) fn parse(line: &str) -> Result<Line, ProtocolProblem> {
+    let v: Value = serde_json::from_str(line).map_err(ProtocolProblem::NotJson)?;
     let g = match Answer::from_value(&v)? {
         Answer::Generic(g) => g,
         Answer::Status(s) => return Ok(Line::Status(s)),

@@ -7,7 +7,7 @@
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::reader::Reader;
 use iceoryx2::prelude::*;
-use mcm_shared::service::{ServiceNames, service_name};
+use mcm_shared::service::ServiceNames;
 use std::io::{BufRead, BufReader, Read};
 use std::process::{Child, Command, ExitStatus, Stdio};
 
@@ -22,7 +22,7 @@ pub fn node() -> Node<ipc::Service> {
 
 /// A reader of the state blackboard the core of `names` created.
 pub fn state_reader(node: &Node<ipc::Service>, names: &ServiceNames) -> Reader<ipc::Service, u32> {
-    node.service_builder(&service_name(&names.state()).unwrap())
+    node.service_builder(&names.state_service())
         .blackboard_opener::<u32>()
         .open()
         .expect("the core created the state service")
@@ -33,7 +33,7 @@ pub fn state_reader(node: &Node<ipc::Service>, names: &ServiceNames) -> Reader<i
 
 /// A listener of the state event the core of `names` created.
 pub fn state_listener(node: &Node<ipc::Service>, names: &ServiceNames) -> Listener<ipc::Service> {
-    node.service_builder(&service_name(&names.state_event()).unwrap())
+    node.service_builder(&names.state_event_service())
         .event()
         .open()
         .unwrap()

@@ -40,7 +40,7 @@ use mcm_shared::sample::{
     AXIS_ONLINE, CommandSample, ReplyEntries, STATE_ALL_CALIBRATED, STATE_SIMULATED, StateSample,
     flight_recorder_file, open_reply_entries, read_reply,
 };
-use mcm_shared::service::{STATE_EVENT_ID, STATE_KEY, ServiceNames, service_name};
+use mcm_shared::service::{STATE_EVENT_ID, STATE_KEY, ServiceNames};
 use mcm_sim::SimBus;
 
 const CLIENT: u64 = 77;
@@ -62,7 +62,7 @@ impl Client {
         let state = reader.entry::<StateSample>(&STATE_KEY).unwrap();
         let replies = open_reply_entries(&reader).unwrap();
         let publisher = node
-            .service_builder(&service_name(&names.command()).unwrap())
+            .service_builder(&names.command_service())
             .publish_subscribe::<CommandSample>()
             .open()
             .unwrap()

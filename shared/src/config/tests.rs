@@ -298,6 +298,27 @@ fn unknown_key_is_named() {
     assert!(msg.contains("rate"), "{msg}");
 }
 
+/// The words of the backends are the ones `bus.backend` takes, and the list of them in
+/// messages names each.
+#[test]
+fn each_backend_reads_from_its_word() {
+    for b in BusBackend::ALL {
+        let word = b.as_str();
+        assert_eq!(word.parse::<BusBackend>(), Ok(b));
+        assert!(BusBackend::WORDS.contains(&format!("`{word}`")), "{word}");
+        let cfg =
+            with(|t| *t = t.replacen(r#"backend = "sim""#, &format!("backend = \"{word}\""), 1));
+        // (socketcan also needs an interface: refused by validate, not by the word)
+        if let Err(ConfigError::Parse(msg)) = cfg {
+            panic!("{word}: {msg}");
+        }
+    }
+    assert_eq!(
+        "can".parse::<BusBackend>().unwrap_err().to_string(),
+        "unknown bus backend `can`; expected `sim` or `socketcan`"
+    );
+}
+
 #[test]
 fn unknown_backend_is_a_parse_error_naming_it() {
     let err =

@@ -1,11 +1,11 @@
 //! Typed access to a command's `arguments` object, with errors that name the command, the
 //! argument, the value received and what is allowed.
 
-use super::json::json_kind;
+use super::json::{json_kind, shown};
 use super::spec::CommandDef;
 use crate::command::Axis;
 use crate::config::RobotConfig;
-use crate::ranges::{Arg, Num};
+use crate::ranges::{Arg, Num, Shape};
 use serde_json::{Map, Value};
 
 /// Why a command line was refused before it reached the robot.
@@ -62,15 +62,6 @@ pub enum CommandError {
     },
 }
 
-fn show(v: &Value) -> String {
-    let s = v.to_string();
-    // Cut at a character boundary: the value may hold any Unicode text.
-    match s.char_indices().nth(60) {
-        Some((cut, _)) => format!("{}...", &s[..cut]),
-        None => s,
-    }
-}
-
 /// The `arguments` of one command.
 pub struct Args<'a> {
     command: &'static str,
@@ -125,7 +116,7 @@ impl<'a> Args<'a> {
         CommandError::Invalid {
             command: self.command,
             argument: name.to_string(),
-            value: show(value),
+            value: shown(value),
             expected: expected.into(),
         }
     }
@@ -145,7 +136,8 @@ impl<'a> Args<'a> {
         }
     }
 
-    fn missing(&self, name: &'static str, expected: &str) -> CommandError {
+    /// An error for the required argument `name`, not given; `expected` says what it holds.
+    pub fn missing(&self, name: &'static str, expected: &str) -> CommandError {
         CommandError::Missing {
             command: self.command,
             argument: name,
@@ -215,22 +207,26 @@ impl<'a> Args<'a> {
         }
     }
 
-    /// An optional axis number 1..=6 (`name` an axis argument of [`crate::ranges`]).
-    pub fn axis(&self, name: &'static str) -> Result<Option<Axis>, CommandError> {
+    /// An optional axis number 1..=6 of the axis argument `arg` ([`Shape::Axis`] in
+    /// [`crate::ranges`]).
+    pub fn axis(&self, arg: Arg) -> Result<Option<Axis>, CommandError> {
+        debug_assert_eq!(arg.spec().shape, Shape::Axis, "{arg:?} is no axis argument");
+        let name = arg.name();
         let Some(v) = self.get(name) else {
             return Ok(None);
         };
-        let arg = Arg::by_name(name).unwrap_or(Arg::AxisIndex);
         let n = ranged_value(self, arg, name, v, arg.fixed_bounds())?;
-        Ok(Axis::new(n as u8))
+        // Accepted within the axis range: a whole number from 1 to 6.
+        Axis::new(n as u8)
+            .map(Some)
+            .ok_or_else(|| self.invalid(name, v, arg.expected(1.0, 6.0).to_string()))
     }
 
-    /// A required axis number 1..=6.
-    pub fn required_axis(&self, name: &'static str) -> Result<Axis, CommandError> {
-        let arg = Arg::by_name(name).unwrap_or(Arg::AxisIndex);
+    /// A required axis number 1..=6 of the axis argument `arg`.
+    pub fn required_axis(&self, arg: Arg) -> Result<Axis, CommandError> {
         let (lo, hi) = arg.fixed_bounds();
-        self.axis(name)?
-            .ok_or_else(|| self.missing(name, &arg.expected(lo, hi).to_string()))
+        self.axis(arg)?
+            .ok_or_else(|| self.missing(arg.name(), &arg.expected(lo, hi).to_string()))
     }
 
     /// The raw value of an argument.

@@ -37,6 +37,16 @@ pub fn json_kind(v: &Value) -> &'static str {
     }
 }
 
+/// A value as a message shows it: its JSON text, cut after 60 characters.
+pub fn shown(v: &Value) -> String {
+    let s = v.to_string();
+    // Cut at a character boundary: the value may hold any Unicode text.
+    match s.char_indices().nth(60) {
+        Some((cut, _)) => format!("{}...", &s[..cut]),
+        None => s,
+    }
+}
+
 /// Longest part of a key quoted in an error (in characters).
 const KEY_EXCERPT_CHARS: usize = 40;
 

@@ -6,7 +6,8 @@
 //! typed requests that carry it to the real-time core, and its [`CommandDef`] (name, wire kind,
 //! what it answers on success, its help for people). [`Command`] and [`COMMANDS`] are derived
 //! from the list in `commands!` below; so are the command names, the help groups and the set of
-//! commands that answer nothing on success. The typed results are in [`results`].
+//! commands that answer nothing on success. The typed results are in [`results`]; how long
+//! the MCM may take to answer each command is in [`wait`].
 //!
 //! Parsing checks every value against [`crate::ranges`] (the same table the core checks
 //! against) and the robot's configuration, and refuses with a [`CommandError`] that names the
@@ -37,6 +38,7 @@ pub mod cmd;
 pub mod json;
 pub mod results;
 pub mod spec;
+pub mod wait;
 
 pub use args::{Args, CommandError};
 pub use cmd::authenticate::{Authenticate, Secret};
@@ -54,6 +56,7 @@ pub use cmd::take_control::TakeControl;
 pub use cmd::torque_control::{DEFAULT_MODE_TIMEOUT, TorqueControl};
 pub use cmd::velocity_control::VelocityControl;
 pub use spec::{ArgDef, CommandDef, Group, Kind, Success};
+pub use wait::{CALIBRATION_TIMEOUT, REPLY_TIMEOUT, core_reply_within};
 
 use crate::command::{
     Calibrate, MoveAll, MoveAxis, Pvt, Request, SetTorques, SetVelocities, SimCommand,
@@ -61,6 +64,11 @@ use crate::command::{
 use crate::config::RobotConfig;
 use json::json_kind;
 use serde_json::{Map, Value};
+
+/// Longest command the MCM takes (64 KiB): a JSON object, from `{` to its `}`, of this many
+/// bytes is read; one byte more closes the connection (`docs/protocol.md`). A client keeps its
+/// command lines within it.
+pub const MAX_COMMAND_BYTES: usize = 64 * 1024;
 
 /// One command of the protocol: its definition, and its values read from and written to JSON.
 /// Each type in [`cmd`] implements it; [`Command`] dispatches to them.

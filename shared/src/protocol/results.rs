@@ -7,13 +7,14 @@
 //! use mcm_shared::protocol::results::{Answer, Generic};
 //! let line = Answer::Generic(Generic::ok()).to_value().to_string();
 //! assert_eq!(line, r#"{"error_status":"OK","result_type":"generic"}"#);
-//! assert_eq!(Answer::from_value(&serde_json::from_str(&line).unwrap()), Ok(Answer::Generic(Generic::ok())));
+//! assert_eq!(Answer::from_value(&serde_json::from_str(&line)?)?, Answer::Generic(Generic::ok()));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 use crate::NUM_AXES;
 use crate::command::DecodeError;
 use crate::config::RobotConfig;
-use crate::mode::{Mode, RejectCode};
+use crate::mode::{CommandKind, Mode, RejectCode};
 use crate::reply::{InfoReply, MoveAllPlan, Outcome, SafetyError};
 use crate::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord,
@@ -48,13 +49,28 @@ impl Answer {
     }
 
     /// Read a result line; `Err` names what is wrong with it.
-    pub fn from_value(v: &Value) -> Result<Answer, String> {
-        let kind = v
-            .get("result_type")
-            .ok_or("no result_type")?
+    pub fn from_value(v: &Value) -> Result<Answer, ReadError> {
+        let kind = v.get("result_type").ok_or(ReadError::NoResultType)?;
+        let kind = kind
             .as_str()
-            .ok_or("result_type is not a string")?;
-        Answer::deserialize(v).map_err(|e| format!("a `{kind}` result that does not read: {e}"))
+            .ok_or_else(|| ReadError::ResultTypeNotString {
+                value: crate::protocol::json::shown(kind),
+            })?;
+        Answer::deserialize(v).map_err(|source| ReadError::Unreadable {
+            result_type: kind.chars().take(40).collect(),
+            source,
+        })
+    }
+
+    /// Its `result_type`, as [`Answer::to_value`] writes it.
+    pub const fn result_type(&self) -> &'static str {
+        match self {
+            Answer::Generic(_) => "generic",
+            Answer::Status(_) => "status",
+            Answer::Initialization(_) => "initialization",
+            Answer::MoveAll(_) => "move_all",
+            Answer::Sim(_) => "sim",
+        }
     }
 
     /// An ERROR with `message`.
@@ -66,6 +82,45 @@ impl Answer {
     pub fn ok() -> Answer {
         Answer::Generic(Generic::ok())
     }
+}
+
+/// A line that does not read as a result of this version ([`Answer::from_value`]).
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    #[error("no result_type")]
+    NoResultType,
+    #[error("result_type is {value}, not a string")]
+    ResultTypeNotString { value: String },
+    /// A `result_type` this version does not know, or a result whose fields do not read.
+    #[error("a `{result_type}` result that does not read: {source}")]
+    Unreadable {
+        result_type: String,
+        #[source]
+        source: serde_json::Error,
+    },
+}
+
+/// A state in a mode this version does not know: the real-time core is of another MCM
+/// version ([`Status::from_state`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "the real-time core reports operating mode {value}, which this MCM version does not know \
+     (it knows {}); mcm-rt and the gateway are from different MCM versions: rebuild both from \
+     the same version",
+    known_modes()
+)]
+pub struct UnknownMode {
+    /// The state's `mode`.
+    pub value: u32,
+}
+
+/// Every mode this version knows, as its number and word, for [`UnknownMode`].
+fn known_modes() -> String {
+    let modes: Vec<String> = Mode::ALL
+        .iter()
+        .map(|m| format!("{} {m}", m.to_wire()))
+        .collect();
+    modes.join(", ")
 }
 
 /// `error_status` of a `generic` result.
@@ -135,21 +190,14 @@ impl Generic {
             .find(|c| c.as_str() == check)
     }
 
-    /// The words for a refused or failed command, prefixed with the command name (a command
-    /// that was done is [`Generic::ok`]). A value of an argument outside its range reads exactly
-    /// as the gateway's own refusal of it (`move_axis: argument "target_position" = 175 is not
-    /// allowed; expected ...`), whichever side refused.
-    pub fn reply_error(command: &str, outcome: &Outcome) -> Generic {
-        let kind = crate::mode::CommandKind::ALL
-            .iter()
-            .find(|k| k.as_str() == command);
+    /// The words for a refused or failed command of `kind`, prefixed with the command name (a
+    /// command that was done is [`Generic::ok`]). A value of an argument outside its range
+    /// reads exactly as the gateway's own refusal of it (`move_axis: argument
+    /// "target_position" = 175 is not allowed; expected ...`), whichever side refused.
+    pub fn reply_error(kind: CommandKind, outcome: &Outcome) -> Generic {
         match outcome {
-            Outcome::Refused(reason) => match kind.and_then(|k| reason.argument(*k)) {
-                Some(arg) => Generic::error(format!("{command}: {arg}")),
-                None => Generic::error(format!("{command} refused: {reason}")),
-            },
-            Outcome::Failed(reason) => Generic::error(format!("{command} failed: {reason}")),
             Outcome::Done(_) => Generic::ok(),
+            refused_or_failed => Generic::error(refused_or_failed.words(kind).to_string()),
         }
     }
 
@@ -158,7 +206,7 @@ impl Generic {
         Generic {
             check: Some(e.reason.code().as_str().to_string()),
             axis: e.reason.axis().map(|a| a.number()),
-            ..Generic::error(format!("safety check tripped: {}", e.reason))
+            ..Generic::error(e.to_string())
         }
     }
 
@@ -250,13 +298,8 @@ impl Status {
     /// The status of `state`, with the detail when `detail` (without `control` and `access`,
     /// which the gateway adds for the connection). `Err` when the state's mode is unknown to
     /// this version (a core of another MCM version).
-    pub fn from_state(state: &StateSample, detail: bool) -> Result<Status, String> {
-        let mode = Mode::try_from(state.mode).map_err(|e| {
-            format!(
-                "the real-time core reports {e}; mcm-rt and the gateway are from different MCM \
-                 versions: rebuild both from the same version"
-            )
-        })?;
+    pub fn from_state(state: &StateSample, detail: bool) -> Result<Status, UnknownMode> {
+        let mode = Mode::try_from(state.mode).map_err(|e| UnknownMode { value: e.value })?;
         let t = round(state.t_ns as f64 / 1e9);
         Ok(Status {
             mode,

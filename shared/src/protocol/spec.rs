@@ -5,6 +5,7 @@
 //! command from it, and [`super::Args`] accepts exactly the arguments listed. Not used inside the
 //! real-time cycle.
 
+use super::results::Answer;
 use crate::mode::CommandKind;
 
 /// What a command answers on success.
@@ -25,7 +26,8 @@ pub enum Success {
 }
 
 impl Success {
-    /// The `result_type` of the answer; `None` for [`Success::Nothing`].
+    /// The `result_type` of the answer ([`Answer::result_type`]); `None` for
+    /// [`Success::Nothing`].
     pub const fn result_type(self) -> Option<&'static str> {
         match self {
             Success::Ok => Some("generic"),
@@ -34,6 +36,17 @@ impl Success {
             Success::Initialization => Some("initialization"),
             Success::MoveAll => Some("move_all"),
             Success::Sim => Some("sim"),
+        }
+    }
+
+    /// Whether `answer` is what a command answers on success: a `generic` OK for
+    /// [`Success::Ok`], a result of the type [`Success::result_type`] names otherwise (a
+    /// command that answers [`Success::Nothing`] is answered by no result).
+    pub fn answers(self, answer: &Answer) -> bool {
+        match (self, answer) {
+            (Success::Ok, Answer::Generic(g)) => g.is_ok(),
+            (Success::Nothing, _) => false,
+            (s, a) => s.result_type() == Some(a.result_type()),
         }
     }
 }

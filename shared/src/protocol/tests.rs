@@ -149,6 +149,10 @@ fn calibrate_arguments() {
             force_mechanical_stop: false
         })]
     );
+    // Calibrate::default() (what the clients send for "the defaults") is what the MCM reads
+    // when no argument is given.
+    let c = parse(r#"{"command":"calibrate"}"#).unwrap();
+    assert_eq!(c, Command::Calibrate(Calibrate::default()));
     assert!(err(r#"{"command":"calibrate","arguments":{"which":7}}"#).contains("= 7 is not"));
     assert!(
         err(r#"{"command":"calibrate","arguments":{"which":"KNEE"}}"#)
@@ -484,8 +488,10 @@ fn every_command_reads_back_as_written() {
 
 #[test]
 fn the_lists_are_derived_from_the_definitions() {
-    let names: Vec<_> = command_names().collect();
-    assert_eq!(names.len(), COMMANDS.len());
+    // Every name is one command's: `find` and the parsing take the first that matches.
+    let names: std::collections::BTreeSet<_> =
+        command_names().map(str::to_ascii_lowercase).collect();
+    assert_eq!(names.len(), COMMANDS.len(), "a command name is used twice");
     let nothing: Vec<_> = COMMANDS
         .iter()
         .filter(|d| d.success == Success::Nothing)
@@ -498,10 +504,13 @@ fn the_lists_are_derived_from_the_definitions() {
         if let Some(kind) = d.kind {
             assert_eq!(kind.as_str(), d.name);
         }
+    }
+    // `help` lists each group with its commands: none is empty.
+    for g in Group::ALL {
         assert!(
-            COMMANDS.iter().any(|c| c.group == d.group),
-            "{}: its help group",
-            d.name
+            COMMANDS.iter().any(|c| c.group == g),
+            "no command in the help group {g:?} ({})",
+            g.title()
         );
     }
     let control: Vec<_> = COMMANDS
@@ -513,4 +522,89 @@ fn the_lists_are_derived_from_the_definitions() {
         control.contains(&"move_all") && !control.contains(&"hold"),
         "{control:?}"
     );
+}
+
+#[test]
+fn axis_arguments_are_refused_under_their_own_names() {
+    for (command, name, more) in [
+        ("move_axis", "axis_index", r#","target_position":0"#),
+        ("sim", "disconnect_axis", ""),
+        ("sim", "reconnect_axis", ""),
+        ("sim", "block_axis", ""),
+        ("sim", "unblock_axis", ""),
+    ] {
+        let e = err(&format!(
+            r#"{{"command":"{command}","arguments":{{"{name}":2.5{more}}}}}"#
+        ));
+        assert!(
+            e.contains(&format!(
+                "argument \"{name}\" = 2.5 is not allowed; expected an axis number from 1 to 6"
+            )),
+            "{e}"
+        );
+    }
+}
+
+/// A missing secret is a missing argument; a secret of the wrong form is refused without
+/// echoing it.
+#[test]
+fn authenticate_says_a_missing_secret_is_missing_and_never_echoes_one() {
+    let e = parse(r#"{"command":"authenticate"}"#).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            CommandError::Missing {
+                command: "authenticate",
+                argument: "secret",
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert_eq!(
+        e.to_string(),
+        "authenticate: missing argument \"secret\" (the shared secret as a string of 1 to 1024 \
+         bytes)"
+    );
+    let e = err(r#"{"command":"authenticate","arguments":{"secret":12345678}}"#);
+    assert!(
+        e.contains("\"secret\" = (not shown)") && !e.contains("12345678"),
+        "{e}"
+    );
+}
+
+/// The default `help` shows for an argument (`ArgDef::default`) is what parsing takes when it
+/// is not given (the `DEFAULT_*` constants): given as shown, the command is the same.
+#[test]
+fn every_default_shown_is_the_default_parsed() {
+    use serde_json::{Value, json};
+    let zeros = json!([0, 0, 0, 0, 0, 0]);
+    let required = |name: &str| match name {
+        "authenticate" => json!({"secret": "s"}),
+        "move_all" => json!({"target_positions": zeros}),
+        "move_axis" => json!({"axis_index": 1, "target_position": 0}),
+        "pvt_points" => json!({"points": [{"position": zeros, "velocity": zeros}]}),
+        "set_torques" => json!({"torques": zeros}),
+        "set_velocities" => json!({"velocities": zeros}),
+        "sleep" => json!({"duration": 0}),
+        _ => json!({}),
+    };
+    let mut checked = Vec::new();
+    for d in COMMANDS {
+        let base = required(d.name);
+        let without =
+            Command::parse(d, Some(&base), &cfg()).unwrap_or_else(|e| panic!("{}: {e}", d.name));
+        for a in d.args.iter().filter(|a| !a.default.is_empty()) {
+            // As written for people: a JSON value, or a word (`ALL`).
+            let value: Value =
+                serde_json::from_str(a.default).unwrap_or_else(|_| Value::from(a.default));
+            let mut with = base.clone();
+            with[a.name] = value;
+            let given = Command::parse(d, Some(&with), &cfg())
+                .unwrap_or_else(|e| panic!("{} {}={}: {e}", d.name, a.name, a.default));
+            assert_eq!(given, without, "{}: {} = {}", d.name, a.name, a.default);
+            checked.push(format!("{}.{}", d.name, a.name));
+        }
+    }
+    assert_eq!(checked.len(), 14, "{checked:?}");
 }

@@ -66,13 +66,34 @@ fn the_lines_read_as_printed_so_far() {
     assert_eq!(rt.instance, "default");
     assert_eq!(rt.bus, BusBackend::Sim);
     let line = "MCM ready (simulated P-Rob2, instance b1): JSON on 127.0.0.1:4000, telnet HMI \
-                on 127.0.0.1:4001; Ctrl-C stops. [instance=b1 json=127.0.0.1:4000 \
-                hmi=127.0.0.1:4001 rt_pid=12 gateway_pid=13]";
+                on 127.0.0.1:4001; Ctrl-C stops. [instance=b1 robot=simulated%20P-Rob2 \
+                json=127.0.0.1:4000 hmi=127.0.0.1:4001 rt_pid=12 gateway_pid=13]";
     let mcm: McmReady = line.parse().unwrap();
     assert_eq!(mcm.robot, "simulated P-Rob2");
     assert_eq!(mcm.gateway.hmi.port(), 4001);
     assert_eq!((mcm.rt_pid, mcm.gateway_pid), (12, 13));
     assert_eq!(mcm.to_string(), line);
+}
+
+/// A reader reads the fields only: other words for people, or none, read the same.
+#[test]
+fn the_launcher_s_words_may_change_without_breaking_a_reader() {
+    let fields = "[instance=b1 robot=P-Rob2%20%5Blab%5D%25 json=127.0.0.1:4000 \
+                  hmi=127.0.0.1:4001 rt_pid=12 gateway_pid=13]";
+    for words in [
+        "",
+        "(the P-Rob2 is up; connect to port 4000) ",
+        "(x [instance=y]) ",
+    ] {
+        let mcm: McmReady = format!("MCM ready {words}{fields}").parse().unwrap();
+        assert_eq!(mcm.robot, "P-Rob2 [lab]%", "{words}");
+        assert_eq!((mcm.instance.as_str(), mcm.rt_pid), ("b1", 12), "{words}");
+    }
+    let e = "MCM ready [instance=b1 robot=a%2 json=1.2.3.4:5 hmi=1.2.3.4:6 rt_pid=1 \
+             gateway_pid=2]"
+        .parse::<McmReady>()
+        .unwrap_err();
+    assert!(e.to_string().contains("`robot=a%2`"), "{e}");
 }
 
 #[test]

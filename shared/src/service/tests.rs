@@ -11,20 +11,37 @@ fn names_derive_from_instance() {
     assert_eq!(n.to_string(), "test-42_a");
 }
 
+/// Every instance name `ServiceNames::new` accepts makes service names iceoryx2 accepts: the
+/// shortest and the longest, and every character allowed.
 #[test]
 fn every_service_name_of_an_instance_is_an_iceoryx2_name() {
-    let n = ServiceNames::new(&"x".repeat(32)).unwrap();
-    for name in [n.state(), n.state_event(), n.command()] {
-        assert_eq!(service_name(&name).unwrap().as_str(), name);
-    }
-    let e = service_name("").unwrap_err();
-    assert_eq!(e.name, "");
-    assert_eq!(e.source, ServiceNameError::InvalidContent);
-    assert!(
-        e.to_string()
-            .starts_with("iceoryx2 refuses the service name ``: "),
-        "{e}"
+    let alphabet: String = ('a'..='z')
+        .chain('A'..='Z')
+        .chain('0'..='9')
+        .chain(['-', '_'])
+        .collect();
+    let mut instances = vec!["x".to_string(), "x".repeat(MAX_INSTANCE)];
+    instances.extend(
+        alphabet
+            .as_bytes()
+            .chunks(MAX_INSTANCE)
+            .map(|c| String::from_utf8(c.to_vec()).unwrap()),
     );
+    for c in alphabet.chars() {
+        instances.push(c.to_string());
+        instances.push(c.to_string().repeat(MAX_INSTANCE));
+    }
+    for instance in instances {
+        let n = ServiceNames::new(&instance).unwrap();
+        let pairs = [
+            (n.state_service(), n.state()),
+            (n.state_event_service(), n.state_event()),
+            (n.command_service(), n.command()),
+        ];
+        for (service, name) in pairs {
+            assert_eq!(service.as_str(), name);
+        }
+    }
 }
 
 #[test]

@@ -12,7 +12,7 @@ use iceoryx2::service::builder::event::EventOpenError;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::sample::REPLY_BLOCKS;
-use mcm_shared::service::{COMMAND_MAX_PUBLISHERS, InvalidInstanceName, InvalidServiceName};
+use mcm_shared::service::{COMMAND_MAX_PUBLISHERS, InvalidInstanceName};
 
 /// iceoryx2's error opening one of the core's services.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -54,8 +54,6 @@ pub enum OpenError {
         #[source]
         source: NodeCreationFailure,
     },
-    #[error(transparent)]
-    ServiceName(#[from] InvalidServiceName),
     /// The MCM of this instance is not running (its service does not exist).
     #[error(
         "the MCM instance {instance:?} is not running on this computer (service `{service}` does not exist); start it (`cargo run --release -- --instance {instance}`) or check the instance name"

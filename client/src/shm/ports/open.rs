@@ -15,7 +15,7 @@ use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use mcm_shared::sample::{
     CommandSample, ReplyBlock, ReplyEntries, StateSample, open_reply_entries,
 };
-use mcm_shared::service::{STATE_KEY, ServiceNames, service_name};
+use mcm_shared::service::{STATE_KEY, ServiceNames};
 
 /// `name` (size bytes, align bytes) of a sample type, as iceoryx2 compares it.
 pub fn describe<T: ZeroCopySend>() -> String {
@@ -75,7 +75,7 @@ pub(super) fn state(
         expected,
     };
     let board = node
-        .service_builder(&service_name(&service)?)
+        .service_builder(&names.state_service())
         .blackboard_opener::<u32>()
         .open()
         .map_err(|e| match e {
@@ -127,7 +127,7 @@ pub(super) fn publisher(
     peer: Peer,
 ) -> Result<Publisher<ipc::Service, CommandSample, ()>, OpenError> {
     let service = names.command();
-    node.service_builder(&service_name(&service)?)
+    node.service_builder(&names.command_service())
         .publish_subscribe::<CommandSample>()
         .open()
         .map_err(|e| match e {
@@ -135,7 +135,7 @@ pub(super) fn publisher(
                 service: service.clone(),
                 peer,
                 mismatch: LayoutMismatch::CommandPayload {
-                    found: found_payload(&service),
+                    found: found_payload(&names.command_service()),
                     source: e,
                 },
                 expected: describe::<CommandSample>(),
@@ -153,7 +153,7 @@ pub fn open_state_event(
     names: &ServiceNames,
 ) -> Result<Listener<ipc::Service>, OpenError> {
     let service = names.state_event();
-    node.service_builder(&service_name(&service)?)
+    node.service_builder(&names.state_event_service())
         .event()
         .open()
         .map_err(|e| open_failed(names, &service, e.into()))?
@@ -164,10 +164,9 @@ pub fn open_state_event(
 
 /// The payload type the running core's command service carries, in words, when iceoryx2 can
 /// tell.
-fn found_payload(service: &str) -> Option<String> {
-    let name = service_name(service).ok()?;
+fn found_payload(service: &ServiceName) -> Option<String> {
     let details = ipc::Service::details(
-        &name,
+        service,
         Config::global_config(),
         MessagingPattern::PublishSubscribe,
     )

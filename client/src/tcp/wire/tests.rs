@@ -1,14 +1,17 @@
 use super::*;
-use mcm_shared::mode::{Mode, RejectCode};
+use mcm_shared::command::Axis;
+use mcm_shared::mode::{CommandKind, Mode, RejectCode};
+use mcm_shared::protocol::results::{Generic, ReadError};
+use mcm_shared::reply::{Outcome, Reason, SafetyError};
 
 const STATUS: &str = r#"{"result_type":"status","operating_mode":"HOLD","axis_states":{"time":[1,1,1,1,1,1],"position":[0,1,2,3,4,5],"velocity":[0,0,0,0,0,0],"acceleration":[0,0,0,0,0,0],"current":[0,0,0,0,0,0]}}"#;
 
 #[test]
 fn results_are_read_by_result_type() {
-    assert_eq!(
+    assert!(matches!(
         parse(r#"{"result_type":"generic","error_status":"OK"}"#),
         Ok(Line::Ok)
-    );
+    ));
     let Ok(Line::Status(s)) = parse(STATUS) else {
         panic!("a status")
     };
@@ -23,9 +26,30 @@ fn results_are_read_by_result_type() {
     assert_eq!(m.longest, 3);
 }
 
+/// A line as the gateway writes `g`.
+fn line(g: Generic) -> String {
+    Answer::Generic(g).to_value().to_string()
+}
+
+/// The gateway's words for the core's refusal of a `kind` request in HOLD.
+fn refused_in_hold(kind: CommandKind) -> String {
+    let outcome = Outcome::Refused(Reason::WrongMode { mode: Mode::Hold });
+    line(Generic::reply_error(kind, &outcome))
+}
+
 #[test]
 fn spontaneous_lines_are_events_never_results() {
-    let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"safety check tripped: the drive of axis 2 does not answer on the bus; mode is now ERROR; flight recorder: /tmp/x.csv","check":"drive_disconnected","axis":2,"flight_recorder":"/tmp/x.csv"}"#).unwrap();
+    let lost = SafetyError {
+        seq: 1,
+        cycle: 10,
+        unix_ns: 0,
+        reason: Reason::DriveDisconnected {
+            axis: Axis::new(2).unwrap(),
+            also: 0,
+        },
+    };
+    let event = Generic::safety_event(&Ok(lost), Mode::Error.to_wire(), "/tmp/x.csv".as_ref());
+    let l = parse(&line(event)).unwrap();
     let Line::Event(Event::SafetyError {
         check,
         axis,
@@ -40,7 +64,7 @@ fn spontaneous_lines_are_events_never_results() {
     assert_eq!(flight_recorder.as_deref(), Some("/tmp/x.csv"));
     let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"mcm-rt is shutting down: the arm is being stopped"}"#).unwrap();
     assert!(matches!(l, Line::Event(Event::Notice(_))), "{l:?}");
-    let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"set_torques refused: not allowed in mode HOLD"}"#).unwrap();
+    let l = parse(&refused_in_hold(CommandKind::SetTorques)).unwrap();
     let Line::Event(Event::CommandError(e)) = l else {
         panic!("{l:?}")
     };
@@ -48,19 +72,29 @@ fn spontaneous_lines_are_events_never_results() {
         (e.command.as_str(), e.code),
         ("set_torques", Some(RejectCode::WrongMode))
     );
-    let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"set_torques: argument \"torques[0]\" = 10000.0 is not allowed"}"#).unwrap();
+    let cfg = mcm_shared::config::RobotConfig::prob2_default();
+    let torques = r#"{"command":"set_torques","arguments":{"torques":[10000,0,0,0,0,0]}}"#;
+    let refused = mcm_shared::protocol::Command::from_json(torques, &cfg).unwrap_err();
+    let l = parse(&line(Generic::error(refused.to_string()))).unwrap();
     assert!(
         matches!(&l, Line::Event(Event::CommandError(e)) if e.kind == crate::tcp::ErrorKind::Invalid),
         "{l:?}"
     );
-    let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"move_axis refused: not allowed in mode HOLD"}"#).unwrap();
+    let l = parse(&refused_in_hold(CommandKind::MoveAxis)).unwrap();
     assert!(matches!(l, Line::Error(_)), "{l:?}");
 }
 
 #[test]
 fn bad_lines_say_what_is_wrong() {
-    assert!(parse("hello").unwrap_err().starts_with("not JSON"));
-    assert_eq!(parse("{}").unwrap_err(), "no result_type");
+    let e = parse("hello").unwrap_err();
+    assert!(matches!(e, ProtocolProblem::NotJson(_)), "{e:?}");
+    assert!(e.to_string().starts_with("not JSON"), "{e}");
+    let e = parse("{}").unwrap_err();
+    assert!(
+        matches!(e, ProtocolProblem::Result(ReadError::NoResultType)),
+        "{e:?}"
+    );
+    assert_eq!(e.to_string(), "no result_type");
     let e = parse(&STATUS.replace("HOLD", "FLYING")).unwrap_err();
-    assert!(e.contains("FLYING"), "{e}");
+    assert!(e.to_string().contains("FLYING"), "{e}");
 }

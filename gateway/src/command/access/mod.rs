@@ -26,6 +26,7 @@ pub use clients::{Channel, Client, Clients};
 
 use crate::command::{self, Context, Outcome};
 use mcm_shared::config::{AccessConfig, Cidr, ConfigError};
+use mcm_shared::mode::CommandKind;
 use mcm_shared::protocol::results::{AccessDetail, Answer, ControlDetail, Generic};
 use mcm_shared::protocol::{Command, Secret};
 use mcm_shared::reply::{self, Reason};
@@ -259,18 +260,18 @@ pub fn control_detail(ctx: &Context, client: &Client, owner: u64) -> ControlDeta
 
 /// The ERROR result of a refused or failed reply; a `not_owner` refusal names the owner in
 /// words and is counted.
-pub fn reply_error(ctx: &Context, command: &str, outcome: &reply::Outcome) -> Generic {
+pub fn reply_error(ctx: &Context, kind: CommandKind, outcome: &reply::Outcome) -> Generic {
     match outcome {
         reply::Outcome::Refused(Reason::NotOwner { owner }) => {
             ctx.access.count(Refusal::NotOwner);
             Generic::error(format!(
-                "{command} refused: the arm is controlled by {} (client id {owner:#x}); only \
+                "{kind} refused: the arm is controlled by {} (client id {owner:#x}); only \
                  `hold`, `status` and `info` are open to others until it sends \
                  `release_control` or disconnects",
                 ctx.clients.who(*owner)
             ))
         }
-        other => Generic::reply_error(command, other),
+        other => Generic::reply_error(kind, other),
     }
 }
 

@@ -5,7 +5,7 @@
 use super::OpenError;
 use iceoryx2::prelude::*;
 use iceoryx2::service::port_factory;
-use mcm_shared::service::{STATE_KEY, ServiceNames, service_name};
+use mcm_shared::service::{STATE_KEY, ServiceNames};
 
 fn names(test: &str) -> ServiceNames {
     ServiceNames::new(&format!("gwtest-{test}-{}", std::process::id())).unwrap()
@@ -26,7 +26,7 @@ fn state_of_another_layout(
     node: &Node<ipc::Service>,
     names: &ServiceNames,
 ) -> port_factory::blackboard::PortFactory<ipc::Service, u32> {
-    node.service_builder(&service_name(&names.state()).unwrap())
+    node.service_builder(&names.state_service())
         .blackboard_creator::<u32>()
         .add::<u64>(STATE_KEY, 0)
         .create()

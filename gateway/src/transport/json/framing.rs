@@ -11,8 +11,8 @@
 
 use mcm_shared::protocol::json::json_kind;
 
-/// Longest command accepted (64 KiB).
-pub const MAX_COMMAND_BYTES: usize = 64 * 1024;
+/// Longest command accepted (64 KiB): the contract's limit.
+pub use mcm_shared::protocol::MAX_COMMAND_BYTES;
 
 /// One unit of input.
 #[derive(Debug, Clone, PartialEq, Eq)]

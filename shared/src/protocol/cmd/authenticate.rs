@@ -59,7 +59,7 @@ impl Definition for Authenticate {
             }
             // Never echo what was given: it may be (a typo of) the secret.
             Some(_) => Err(args.invalid_value("secret", "(not shown)", expected)),
-            None => Err(args.invalid_value("secret", "(missing)", expected)),
+            None => Err(args.missing("secret", &expected)),
         }
     }
 

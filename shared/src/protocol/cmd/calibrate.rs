@@ -9,14 +9,15 @@ pub const DEFAULT_WHICH: Which = Which::All;
 
 const WHICH_EXPECTED: &str = "\"ALL\", \"ELBOW\", \"WRIST\" or an axis number from 1 to 6";
 
-/// An axis number given as a JSON number (`3`, also `3.0`, as `axis_index` takes it) or as a
-/// string (`"3"`).
+/// An axis number given as a JSON number (`3`, also `3.0`, as `axis_index` takes it: the same
+/// check) or as a string (`"3"`).
 fn axis_of(v: &Value) -> Option<Axis> {
     let n = match v {
         Value::String(s) => s.trim().parse::<f64>().ok()?,
         _ => v.as_f64()?,
     };
-    (n.fract() == 0.0 && (1.0..=6.0).contains(&n))
+    let arg = Arg::AxisIndex;
+    arg.accepts(n, arg.fixed_bounds())
         .then(|| Axis::new(n as u8))
         .flatten()
 }

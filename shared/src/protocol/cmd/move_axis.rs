@@ -50,7 +50,7 @@ impl Definition for MoveAxis {
     };
 
     fn parse(args: &Args<'_>, cfg: &RobotConfig) -> Result<Self, CommandError> {
-        let axis = args.required_axis("axis_index")?;
+        let axis = args.required_axis(Arg::AxisIndex)?;
         let target_deg = args.required_ranged(
             Arg::TargetPosition,
             Arg::TargetPosition.bounds(cfg, Some(axis.index())),

@@ -61,11 +61,7 @@ impl Definition for PvtPoints {
             "an array of 1 to {MAX_POINTS_PER_BATCH} points {{\"position\":[6 deg],\"velocity\":[6 deg/s]}}"
         );
         let Some(raw) = args.raw("points") else {
-            return Err(CommandError::Missing {
-                command: "pvt_points",
-                argument: "points",
-                expected,
-            });
+            return Err(args.missing("points", &expected));
         };
         let list = raw
             .as_array()

@@ -87,10 +87,10 @@ impl Definition for SimCommand {
     fn parse(args: &Args<'_>, cfg: &RobotConfig) -> Result<Self, CommandError> {
         Ok(SimCommand {
             emergency_stop: args.boolean("emergency_stop")?,
-            disconnect_axis: args.axis("disconnect_axis")?,
-            reconnect_axis: args.axis("reconnect_axis")?,
-            block_axis: args.axis("block_axis")?,
-            unblock_axis: args.axis("unblock_axis")?,
+            disconnect_axis: args.axis(Arg::DisconnectAxis)?,
+            reconnect_axis: args.axis(Arg::ReconnectAxis)?,
+            block_axis: args.axis(Arg::BlockAxis)?,
+            unblock_axis: args.axis(Arg::UnblockAxis)?,
             external_torques_nm: args.ranged_six(Arg::ExternalTorques, cfg)?,
             power_cycle: args.boolean("power_cycle")?.unwrap_or(false),
         })

@@ -8,8 +8,8 @@ fn status(s: &StateSample, detail: bool) -> Value {
     Answer::Status(Box::new(Status::from_state(s, detail).unwrap())).to_value()
 }
 
-fn reply_error(command: &str, outcome: &Outcome) -> Value {
-    Answer::Generic(Generic::reply_error(command, outcome)).to_value()
+fn reply_error(kind: CommandKind, outcome: &Outcome) -> Value {
+    Answer::Generic(Generic::reply_error(kind, outcome)).to_value()
 }
 
 fn safety_error(e: &SafetyError) -> Value {
@@ -101,7 +101,7 @@ fn status_detail_shows_the_tail_the_window_and_the_budget() {
 fn reply_errors_are_words() {
     let refused = Outcome::Refused(Reason::WrongMode { mode: Mode::Off });
     assert_eq!(
-        reply_error("release", &refused)["error_message"],
+        reply_error(CommandKind::Release, &refused)["error_message"],
         "release refused: not allowed in mode OFF"
     );
     let failed = Outcome::Failed(Reason::CalibrationFailed {
@@ -109,7 +109,7 @@ fn reply_errors_are_words() {
         cause: CalibrationFailure::DriveLost,
     });
     assert_eq!(
-        reply_error("calibrate", &failed)["error_message"],
+        reply_error(CommandKind::Calibrate, &failed)["error_message"],
         "calibrate failed: calibration of axis 2 failed: its drive stopped answering"
     );
 }
@@ -179,4 +179,122 @@ fn info_takes_simulated_from_the_state() {
         Answer::Initialization(Info::new(&cfg, &info, false)).to_value()["simulated"],
         false
     );
+}
+
+/// One result of every `result_type` (the match makes a new one fail to compile until it is
+/// added here).
+fn one_of_each() -> Vec<Answer> {
+    let state = StateSample::default();
+    let info = InfoReply {
+        num_axes: 6,
+        period_s: 0.005,
+    };
+    let each = vec![
+        Answer::ok(),
+        Answer::error("move_all refused: x"),
+        Answer::Status(Box::new(Status::from_state(&state, false).unwrap())),
+        Answer::Initialization(Info::new(&RobotConfig::prob2_default(), &info, true)),
+        Answer::MoveAll(MoveAllResult {
+            velocities: [1.0; 6],
+            longest: 2,
+            max_time_to_target: 0.5,
+        }),
+        Answer::Sim(SimResult::from_state(&state)),
+    ];
+    for a in &each {
+        match a {
+            Answer::Generic(_)
+            | Answer::Status(_)
+            | Answer::Initialization(_)
+            | Answer::MoveAll(_)
+            | Answer::Sim(_) => {}
+        }
+    }
+    each
+}
+
+/// `Answer::result_type` is the `result_type` the JSON carries, and `Success` names the same
+/// words: what a command's definition says it answers and the result a client waits for cannot
+/// drift apart.
+#[test]
+fn every_result_type_is_the_one_a_success_names() {
+    use crate::protocol::Success;
+    let each = one_of_each();
+    for a in &each {
+        assert_eq!(a.to_value()["result_type"], a.result_type(), "{a:?}");
+    }
+    let successes = [
+        Success::Ok,
+        Success::Status,
+        Success::Nothing,
+        Success::Initialization,
+        Success::MoveAll,
+        Success::Sim,
+    ];
+    let mut named = std::collections::BTreeSet::new();
+    for s in successes {
+        match s {
+            Success::Ok
+            | Success::Status
+            | Success::Nothing
+            | Success::Initialization
+            | Success::MoveAll
+            | Success::Sim => {}
+        }
+        let answering: Vec<&Answer> = each.iter().filter(|a| s.answers(a)).collect();
+        match s.result_type() {
+            None => assert!(answering.is_empty(), "{s:?} answers {answering:?}"),
+            Some(t) => {
+                // Exactly one of each: `generic` OK answers `Success::Ok`, an ERROR nothing.
+                assert_eq!(answering.len(), 1, "{s:?} answers {answering:?}");
+                assert_eq!(answering[0].result_type(), t, "{s:?}");
+                named.insert(t);
+            }
+        }
+    }
+    let types: std::collections::BTreeSet<_> = each.iter().map(Answer::result_type).collect();
+    assert_eq!(named, types, "every result_type is answered by one Success");
+    assert!(!Success::Ok.answers(&Answer::error("x")));
+}
+
+/// A line that is no result of this version is refused naming what is wrong and the value.
+#[test]
+fn unreadable_results_are_typed_errors_naming_the_value() {
+    assert!(matches!(
+        Answer::from_value(&json!({})),
+        Err(ReadError::NoResultType)
+    ));
+    let e = Answer::from_value(&json!({"result_type": 7})).unwrap_err();
+    assert!(matches!(&e, ReadError::ResultTypeNotString { value } if value == "7"));
+    assert_eq!(e.to_string(), "result_type is 7, not a string");
+    let e = Answer::from_value(&json!({"result_type": "telemetry"})).unwrap_err();
+    let ReadError::Unreadable { result_type, .. } = &e else {
+        panic!("{e:?}")
+    };
+    assert_eq!(result_type, "telemetry");
+    assert!(
+        e.to_string()
+            .starts_with("a `telemetry` result that does not read: "),
+        "{e}"
+    );
+    let mut status = status(&StateSample::default(), false);
+    status["operating_mode"] = "FLYING".into();
+    let e = Answer::from_value(&status).unwrap_err();
+    assert!(e.to_string().contains("FLYING is not a known mode"), "{e}");
+}
+
+#[test]
+fn a_state_in_an_unknown_mode_names_the_mode_and_the_known_ones() {
+    let s = StateSample {
+        mode: 99,
+        ..StateSample::default()
+    };
+    let e = Status::from_state(&s, false).unwrap_err();
+    assert_eq!(e, UnknownMode { value: 99 });
+    let text = e.to_string();
+    assert!(
+        text.contains("operating mode 99, which this MCM version does not know"),
+        "{text}"
+    );
+    assert!(text.contains("0 OFF, 1 ERROR"), "{text}");
 }
