@@ -21,7 +21,7 @@ fn the_checked_in_header_is_what_cbindgen_generates() {
         .write(&mut generated);
     let generated = String::from_utf8(generated).expect("UTF-8");
     common::check_generated(
-        "include/mcm/mcm.h",
+        "capi/include/mcm/mcm.h",
         "cbindgen from capi/src",
         &generated,
         "MCM_UPDATE_HEADER",

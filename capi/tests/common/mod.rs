@@ -36,17 +36,17 @@ pub fn difference(old: &str, new: &str) -> String {
     }
 }
 
-/// The checked-in file `capi/<file>` must be `generated` (what `source` generates now). With
+/// The checked-in file `file` (a path from the repository's root) must be `generated` (what `source` generates now). With
 /// the environment variable `update` set the file is written instead (when it differs) and the
 /// run says what changed, comparing nothing; `update` under `CI` is refused, so that CI always
 /// compares. `command` is the test command that regenerates the file with `update` set.
 pub fn check_generated(file: &str, source: &str, generated: &str, update: &str, command: &str) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(file);
     let checked_in = std::fs::read_to_string(&path).unwrap_or_default();
     if std::env::var_os(update).is_some() {
         assert!(
             std::env::var_os("CI").is_none(),
-            "{update} is set together with CI: CI compares capi/{file}, it never writes it"
+            "{update} is set together with CI: CI compares {file}, it never writes it"
         );
         let news = if checked_in == generated {
             "unchanged".to_string()
@@ -57,12 +57,12 @@ pub fn check_generated(file: &str, source: &str, generated: &str, update: &str, 
         };
         let _ = writeln!(
             std::io::stderr(),
-            "{update}: capi/{file} {news}; not compared (run again without {update} to check it)"
+            "{update}: {file} {news}; not compared (run again without {update} to check it)"
         );
     } else {
         assert!(
             checked_in == generated,
-            "capi/{file} differs from what {source} generates now ({}); regenerate it with \
+            "{file} differs from what {source} generates now ({}); regenerate it with \
              `{update}=1 {command}` and commit it",
             difference(&checked_in, generated)
         );

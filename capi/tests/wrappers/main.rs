@@ -239,7 +239,7 @@ use std::ffi::c_char;
 #[test]
 fn the_checked_in_wrappers_are_what_the_list_generates() {
     common::check_generated(
-        "src/commands.rs",
+        "capi/src/commands.rs",
         "capi/tests/wrappers/list.rs",
         &render(),
         "MCM_UPDATE_CAPI",
