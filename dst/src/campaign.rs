@@ -40,6 +40,8 @@ pub struct CampaignReport {
     pub answers: [u64; 3],
     /// The largest [`RunReport::max_overrun_deg`] and its seed.
     pub max_overrun: (f64, u64),
+    /// The most CPU time a cycle's work took [ns].
+    pub max_work_ns: u64,
     pub bus_frames_hit: u64,
     /// The failing runs, by seed: every quiet phase that failed, and the run that broke a
     /// per-cycle invariant (the campaign stops at it; with several jobs, the runs under way
@@ -62,6 +64,7 @@ impl CampaignReport {
         for (a, b) in self.answers.iter_mut().zip(r.answers) {
             *a += b;
         }
+        self.max_work_ns = self.max_work_ns.max(r.max_work_ns);
         if r.max_overrun_deg > self.max_overrun.0 {
             self.max_overrun = (r.max_overrun_deg, r.seed);
         }
@@ -122,7 +125,7 @@ impl CampaignReport {
         }
         let _ = write!(
             s,
-            "\nfaults during calibration {}, while braking {}; frames hit by bus faults {}\nanswers: OK {}, refused {}, failed {}\nfurthest beyond a software limit while responsible: {:.3} deg (seed {}; allowed {LIMIT_OVERRUN_DEG} deg)",
+            "\nfaults during calibration {}, while braking {}; frames hit by bus faults {}\nanswers: OK {}, refused {}, failed {}\nfurthest beyond a software limit while responsible: {:.3} deg (seed {}; allowed {LIMIT_OVERRUN_DEG} deg)\nthe longest cycle's work (controller and simulation): {} us of CPU time",
             self.faults_in_calibration,
             self.faults_while_braking,
             self.bus_frames_hit,
@@ -130,7 +133,8 @@ impl CampaignReport {
             self.answers[1],
             self.answers[2],
             self.max_overrun.0,
-            self.max_overrun.1
+            self.max_overrun.1,
+            self.max_work_ns / 1000
         );
         s
     }

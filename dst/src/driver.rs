@@ -11,7 +11,8 @@
 //! half regulate the axis's speed to 45 to 90 % of its limit with torques, as an integrator's
 //! force or admittance controller would, so that the axis reaches its limit at speed and the
 //! braking-distance check has to stop it) or PVT (`move_axis` to just inside a limit at full
-//! speed), for a few seconds, then `hold` and the next plan.
+//! speed) or RELEASE (the arm limp, moved only by a push), for a few seconds, then `hold` and
+//! the next plan.
 
 use crate::clients::Limits;
 use crate::rate::Rate;
@@ -56,6 +57,8 @@ enum Motion {
     /// Torques that regulate the speed.
     TorqueSpeed,
     Pvt,
+    /// RELEASE: the arm limp (gravity compensated) for a pushed fault or nothing to move it.
+    Release,
 }
 
 /// The driver client.
@@ -98,7 +101,12 @@ impl Driver {
     }
 
     fn plan(&mut self, seq: u64, rng: &mut Rng) {
-        self.motion = rng.pick(&[Motion::Velocity, Motion::Torque, Motion::Pvt]);
+        self.motion = rng.pick(&[
+            Motion::Velocity,
+            Motion::Torque,
+            Motion::Pvt,
+            Motion::Release,
+        ]);
         if self.motion == Motion::Torque && rng.below(2) == 0 {
             self.motion = Motion::TorqueSpeed;
         }
@@ -158,6 +166,7 @@ impl Driver {
                         gravity_compensation: true,
                     }),
                     Motion::Pvt => Request::Pvt(Pvt { dt_s: 0.01 }),
+                    Motion::Release => Request::Release,
                 }
             }
             _ if s.seq >= self.plan_until => {

@@ -31,7 +31,9 @@
 //! - no axis flagged calibrated whose measured angle is further from the true angle than its
 //!   calibration tolerance, plus the motion of the cycles the measurement may lag the truth
 //!   ([`Checker::new`]: two, and the TPDOs the master may miss in a row);
-//! - no allocation in the cycle's work.
+//! - no allocation in the cycle's work, and its work within `cycle.work_budget_us` of CPU time
+//!   (measured on the thread's CPU clock, which a preemption does not advance; it includes the
+//!   simulated drives' and physics' share, so the controller's own work is less).
 
 use crate::faults::Fault;
 use mcm_rt_core::safety::SafetyParams;
@@ -97,6 +99,13 @@ fn enabling_wait_ns(cfg: &RobotConfig) -> u64 {
     2_000_000_000.max(u64::from(cfg.bus.boot_timeout_ms) * 1_000_000)
 }
 
+/// What a cycle's work cost: the allocations counted and the thread's CPU time.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Work {
+    pub allocations: u64,
+    pub cpu_ns: u64,
+}
+
 /// A broken invariant.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Violation {
@@ -149,6 +158,10 @@ pub struct Checker {
     stopping: [Option<Stopping>; NUM_AXES],
     /// Cycles the drives' enabling may take.
     enabling_cycles: u64,
+    /// The CPU time a cycle's work may take [ns].
+    work_budget_ns: u64,
+    /// The most CPU time a cycle's work took [ns].
+    pub max_work_ns: u64,
     asked: HashMap<(u64, u64), Asked>,
     prev_mode: Mode,
     left_off: bool,
@@ -185,6 +198,8 @@ impl Checker {
             braking_latency_s: core::array::from_fn(|i| safety.braking_latency_s(i)),
             stopping: [None; NUM_AXES],
             enabling_cycles: enabling_wait_ns(cfg).div_ceil(cfg.cycle_period_ns()),
+            work_budget_ns: cfg.work_budget_ns(),
+            max_work_ns: 0,
             asked: HashMap::new(),
             prev_mode: Mode::Off,
             left_off: false,
@@ -237,7 +252,7 @@ impl Checker {
         k: u64,
         s: &StateSample,
         replies: &[Reply],
-        allocations: u64,
+        work: Work,
         faults: &[Fault],
     ) -> Result<(), Violation> {
         let fail = |message: String| {
@@ -248,8 +263,19 @@ impl Checker {
                 quiet_phase: false,
             })
         };
-        if allocations != 0 {
-            return fail(format!("the cycle's work allocated {allocations} times"));
+        if work.allocations != 0 {
+            return fail(format!(
+                "the cycle's work allocated {} times",
+                work.allocations
+            ));
+        }
+        self.max_work_ns = self.max_work_ns.max(work.cpu_ns);
+        if work.cpu_ns > self.work_budget_ns {
+            return fail(format!(
+                "the cycle's work took {} us of CPU time, more than its budget of {} us",
+                work.cpu_ns / 1000,
+                self.work_budget_ns / 1000
+            ));
         }
         if let Some(what) = non_finite(s) {
             return fail(format!("a number of the state is not finite: {what}"));

@@ -7,7 +7,7 @@ use crate::driver::Driver;
 use crate::faults::{Fault, Schedule};
 use crate::faulty_bus::{BusFaultCounts, BusFaults};
 use crate::hash::RunHash;
-use crate::invariants::{Checker, Violation};
+use crate::invariants::{Checker, Violation, Work};
 use crate::rate::Rate;
 use crate::rng::Rng;
 use crate::stamp::{Stamp, calibrate_all};
@@ -80,6 +80,8 @@ pub struct RunReport {
     pub answers: [u64; 3],
     /// [`Checker::max_overrun_deg`].
     pub max_overrun_deg: f64,
+    /// [`Checker::max_work_ns`] (not part of the replay: CPU time is not deterministic).
+    pub max_work_ns: u64,
     pub bus: BusFaultCounts,
     /// Cycles the quiet phase took to a calibrated HOLD.
     pub recovery_cycles: Option<u64>,
@@ -135,6 +137,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
         faults_while_braking: 0,
         answers: [0; 3],
         max_overrun_deg: 0.0,
+        max_work_ns: 0,
         bus: BusFaultCounts::default(),
         recovery_cycles: None,
     };
@@ -151,7 +154,10 @@ pub fn run(opts: &RunOptions) -> RunReport {
         let before = world.state().mode;
         world.step();
         let k = world.cycle_index();
-        let allocs = std::mem::take(&mut world.allocations);
+        let work = Work {
+            allocations: std::mem::take(&mut world.allocations),
+            cpu_ns: world.last_cpu_ns,
+        };
         let s = *world.state();
         if s.mode != before && trace() {
             eprintln!(
@@ -166,7 +172,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
             );
         }
         hash.cycle(&s, world.replies());
-        checker.cycle(k, &s, world.replies(), allocs, faults)
+        checker.cycle(k, &s, world.replies(), work, faults)
     };
 
     let result = (|| -> Result<(), Violation> {
@@ -286,6 +292,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
     report.modes_reached = checker.modes_reached;
     report.answers = checker.answers;
     report.max_overrun_deg = checker.max_overrun_deg;
+    report.max_work_ns = checker.max_work_ns;
     report.bus = world.bus().counts;
     report
 }

@@ -29,6 +29,8 @@ pub struct World {
     k: u64,
     /// Allocations counted inside the cycle's work so far.
     pub allocations: u64,
+    /// The thread's CPU time of the last cycle's work [ns].
+    pub last_cpu_ns: u64,
 }
 
 impl World {
@@ -44,6 +46,7 @@ impl World {
             period_ns: cfg.cycle_period_ns(),
             k: 0,
             allocations: 0,
+            last_cpu_ns: 0,
         }
     }
 
@@ -71,11 +74,13 @@ impl World {
         }
         let now_ns = self.k * self.period_ns;
         let (robot, intake) = (&mut self.robot, &mut self.intake);
+        let started = thread_cpu_ns();
         let ((), counts) = alloc_count::count(|| {
             intake.received(n);
             let commands = intake.next_cycle();
             robot.run(now_ns, commands);
         });
+        self.last_cpu_ns = thread_cpu_ns().saturating_sub(started);
         self.allocations += counts.allocations;
         self.k += 1;
     }
@@ -97,4 +102,19 @@ impl World {
     pub fn waiting(&self) -> usize {
         self.queued.len() + self.intake.waiting()
     }
+}
+
+/// The calling thread's CPU time [ns] (`CLOCK_THREAD_CPUTIME_ID`: not advanced while the
+/// thread is preempted, so that a busy machine does not fail the work budget).
+fn thread_cpu_ns() -> u64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec for the duration of the call.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    if rc != 0 {
+        return 0;
+    }
+    u64::try_from(ts.tv_sec).unwrap_or(0) * 1_000_000_000 + u64::try_from(ts.tv_nsec).unwrap_or(0)
 }

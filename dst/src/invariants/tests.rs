@@ -44,7 +44,7 @@ fn ok(request_id: u64, kind: CommandKind) -> Reply {
 
 /// Cycle `k` with no faults and no allocation; the violation's message, if any.
 fn check(c: &mut Checker, k: u64, s: &StateSample, replies: &[Reply]) -> Result<(), String> {
-    c.cycle(k, s, replies, 0, &[]).map_err(|v| {
+    c.cycle(k, s, replies, Work::default(), &[]).map_err(|v| {
         assert_eq!(v.cycle, k);
         assert!(!v.quiet_phase);
         v.message
@@ -59,11 +59,34 @@ fn broken(r: Result<(), String>, what: &str) {
 }
 
 #[test]
+fn a_cycle_over_its_cpu_budget_is_a_violation() {
+    let mut c = checker();
+    let s = state(Mode::Hold);
+    let budget_ns = RobotConfig::prob2_default().work_budget_ns();
+    let within = Work {
+        allocations: 0,
+        cpu_ns: budget_ns,
+    };
+    assert!(c.cycle(1, &s, &[], within, &[]).is_ok());
+    let over = Work {
+        allocations: 0,
+        cpu_ns: budget_ns + 1000,
+    };
+    let e = c.cycle(2, &s, &[], over, &[]).unwrap_err();
+    assert!(e.message.contains("more than its budget of 2500 us"), "{e}");
+    assert_eq!(c.max_work_ns, budget_ns + 1000);
+}
+
+#[test]
 fn an_allocation_in_the_cycle_is_a_violation() {
     let mut c = checker();
     let s = state(Mode::Hold);
-    assert!(c.cycle(1, &s, &[], 0, &[]).is_ok());
-    let e = c.cycle(2, &s, &[], 3, &[]).unwrap_err();
+    assert!(c.cycle(1, &s, &[], Work::default(), &[]).is_ok());
+    let work = Work {
+        allocations: 3,
+        cpu_ns: 0,
+    };
+    let e = c.cycle(2, &s, &[], work, &[]).unwrap_err();
     assert!(e.message.contains("allocated 3 times"), "{e}");
 }
 
@@ -161,7 +184,8 @@ fn a_software_limit_overrun_is_a_violation_while_the_controller_is_responsible()
     let mut s = state(Mode::Hold);
     check(&mut c, 1, &s, &[]).unwrap();
     over(&mut s, hi + 5.0);
-    c.cycle(2, &s, &[], 0, &[Fault::Push]).unwrap();
+    c.cycle(2, &s, &[], Work::default(), &[Fault::Push])
+        .unwrap();
     check(&mut c, 3, &s, &[]).unwrap();
     over(&mut s, hi);
     check(&mut c, 4, &s, &[]).unwrap();
