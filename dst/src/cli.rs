@@ -3,8 +3,11 @@
 
 use crate::run::{PLANTED_BUGS, PlantedBug};
 
-pub const USAGE: &str = "usage: mcm-dst [--seed N] [--seconds S] [--hours H] [--jobs J] [--first-seed N] [--planted-bug braking]
-  --seed N        run seed N alone (twice, comparing the hashes of every state) and print what it did
+pub const USAGE: &str = "usage: mcm-dst [--seed N | --replay FILE] [--seconds S] [--hours H] [--jobs J] [--first-seed N] [--planted-bug braking] [--shrink-replays R]
+  --seed N        run seed N alone (twice, comparing the hashes of every state) and print what it did;
+                  a broken invariant is shrunk to the inputs it needs, written to mcm-dst-seed-N.script
+  --replay FILE   replay a script (what --seed writes) for S simulated seconds past its last input
+  --shrink-replays R  replays the shrinking may make at most (default 400)
   --seconds S     simulated seconds of each run's chaos phase (default 60)
   --hours H       without --seed: a campaign of H simulated hours over seeds from --first-seed (default 0.1)
   --jobs J        threads of the campaign (default 1; with 1 a campaign is reproducible)
@@ -16,6 +19,9 @@ pub const USAGE: &str = "usage: mcm-dst [--seed N] [--seconds S] [--hours H] [--
 pub struct Args {
     /// Run this seed alone; `None`: a campaign.
     pub seed: Option<u64>,
+    /// Replay this script file.
+    pub replay: Option<String>,
+    pub shrink_replays: u32,
     pub seconds: f64,
     pub hours: f64,
     pub jobs: usize,
@@ -29,6 +35,8 @@ impl Default for Args {
     fn default() -> Self {
         Args {
             seed: None,
+            replay: None,
+            shrink_replays: 400,
             seconds: 60.0,
             hours: 0.1,
             jobs: 1,
@@ -73,6 +81,7 @@ impl std::error::Error for ArgError {}
 const SEED: &str = "an integer from 0 to 18446744073709551615";
 const POSITIVE: &str = "a finite number above 0";
 const JOBS: &str = "an integer from 1";
+const REPLAYS: &str = "an integer from 1 to 4294967295";
 const PLANTED: &str = "`braking`, the only planted bug";
 
 /// `value` of `option` as a `T`, else refused with `allowed`.
@@ -113,6 +122,8 @@ pub fn parse(args: impl IntoIterator<Item = String>) -> Result<Args, ArgError> {
             "--jobs" => "--jobs",
             "--first-seed" => "--first-seed",
             "--planted-bug" => "--planted-bug",
+            "--replay" => "--replay",
+            "--shrink-replays" => "--shrink-replays",
             _ => return Err(ArgError::Unknown { arg: a }),
         };
         let value = args.next().ok_or(ArgError::Missing { option })?;
@@ -122,6 +133,10 @@ pub fn parse(args: impl IntoIterator<Item = String>) -> Result<Args, ArgError> {
             "--hours" => out.hours = number(option, &value, POSITIVE, positive)?,
             "--jobs" => out.jobs = number(option, &value, JOBS, |j| *j >= 1)?,
             "--first-seed" => out.first_seed = number(option, &value, SEED, |_| true)?,
+            "--replay" => out.replay = Some(value),
+            "--shrink-replays" => {
+                out.shrink_replays = number(option, &value, REPLAYS, |r| *r >= 1)?;
+            }
             _ => {
                 out.planted = Some(
                     PLANTED_BUGS
@@ -136,6 +151,13 @@ pub fn parse(args: impl IntoIterator<Item = String>) -> Result<Args, ArgError> {
                 )
             }
         }
+    }
+    if out.seed.is_some() && out.replay.is_some() {
+        return Err(ArgError::Invalid {
+            option: "--replay",
+            value: out.replay.unwrap_or_default(),
+            allowed: "a script without --seed (a script names its own seed)",
+        });
     }
     Ok(out)
 }

@@ -23,6 +23,8 @@ pub mod invariants;
 pub mod rate;
 pub mod rng;
 pub mod run;
+pub mod script;
+pub mod shrink;
 pub mod stamp;
 pub mod swarm;
 pub mod world;

@@ -5,6 +5,8 @@ use mcm_dst::campaign::{CampaignOptions, campaign};
 use mcm_dst::cli;
 use mcm_dst::hash::first_divergence;
 use mcm_dst::run::{RunOptions, planted_name, run};
+use mcm_dst::script::{Script, replay};
+use mcm_dst::shrink::shrink;
 use mcm_shared::alloc_count::CountingAlloc;
 use std::process::ExitCode;
 
@@ -49,8 +51,13 @@ fn main() -> ExitCode {
         jobs,
         first_seed,
         planted,
+        replay: replay_file,
+        shrink_replays,
         ..
     } = args;
+    if let Some(file) = replay_file {
+        return replay_script(&file, seconds);
+    }
     if let Some(seed) = seed {
         let mut o = RunOptions::new(seed, seconds);
         o.planted = planted;
@@ -90,6 +97,9 @@ fn main() -> ExitCode {
             None => ExitCode::SUCCESS,
             Some(v) => {
                 eprintln!("FAILED seed {seed} (commit {}): {v}", commit());
+                if !v.quiet_phase {
+                    write_shrunk(&a.script, &v, shrink_replays);
+                }
                 ExitCode::FAILURE
             }
         };
@@ -126,5 +136,71 @@ fn main() -> ExitCode {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
+    }
+}
+
+/// Shrink the failing run's script and write what is left to `mcm-dst-seed-N.script`.
+fn write_shrunk(script: &Script, v: &mcm_dst::invariants::Violation, max_replays: u32) {
+    let t0 = std::time::Instant::now();
+    let Some(s) = shrink(script, v, max_replays) else {
+        eprintln!(
+            "NOT SHRUNK: the run's own script does not break the same invariant when replayed (a bug of mcm-dst's recording)"
+        );
+        return;
+    };
+    let file = format!("mcm-dst-seed-{}.script", script.seed);
+    let budget = if s.budget_spent {
+        " (the replay budget ran out: --shrink-replays)"
+    } else {
+        ""
+    };
+    eprintln!(
+        "shrunk in {:.1} s, {} replays{budget}: {} inputs of {} up to the failure are needed; the shrunk run fails at cycle {}: {}",
+        t0.elapsed().as_secs_f64(),
+        s.replays,
+        s.script.events.len(),
+        s.inputs_before,
+        s.violation.cycle,
+        s.violation.message
+    );
+    match std::fs::write(&file, s.script.to_string()) {
+        Ok(()) => eprintln!("  written to {file}; replay: mcm-dst --replay {file}"),
+        Err(e) => eprintln!("  cannot write {file}: {e}"),
+    }
+}
+
+/// Replay a script file for `seconds` past its last input.
+fn replay_script(file: &str, seconds: f64) -> ExitCode {
+    let text = match std::fs::read_to_string(file) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("mcm-dst: cannot read {file}: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let script: Script = match text.parse() {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("mcm-dst: {file}: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let last = script.events.last().map_or(0, |e| e.cycle);
+    // The runs' configuration is the P-Rob2's (`run::config` draws only offsets and the pose).
+    let rate = mcm_dst::rate::Rate::of(&mcm_shared::config::RobotConfig::prob2_default());
+    let cycles = last + rate.cycles(seconds);
+    match replay(&script, cycles) {
+        None => {
+            println!(
+                "{file}: seed {}, {} inputs, {cycles} cycles replayed: no invariant broken",
+                script.seed,
+                script.events.len()
+            );
+            ExitCode::SUCCESS
+        }
+        Some(v) => {
+            eprintln!("FAILED {file} (commit {}): {v}", commit());
+            ExitCode::FAILURE
+        }
     }
 }

@@ -10,6 +10,7 @@ use crate::hash::RunHash;
 use crate::invariants::{Checker, Violation, Work};
 use crate::rate::Rate;
 use crate::rng::Rng;
+use crate::script::Script;
 use crate::stamp::{Stamp, calibrate_all};
 use crate::swarm::Swarm;
 use crate::world::World;
@@ -85,6 +86,9 @@ pub struct RunReport {
     pub bus: BusFaultCounts,
     /// Cycles the quiet phase took to a calibrated HOLD.
     pub recovery_cycles: Option<u64>,
+    /// Every input of the run ([`crate::script`]): what a failing run is replayed and shrunk
+    /// from.
+    pub script: Script,
 }
 
 /// The configuration of a seed's run: the P-Rob2, its encoder offsets and start pose drawn.
@@ -97,12 +101,20 @@ pub fn config(rng: &mut Rng) -> RobotConfig {
     cfg
 }
 
+/// The world of `seed`: its swarm options, its configuration, the world under test, and the
+/// generator after drawing them (its forks 2 to 4 drive the clients, the faults and the
+/// driver). A replay ([`crate::script::replay`]) builds the same world.
+pub fn seeded(seed: u64) -> (Rng, Swarm, RobotConfig, World) {
+    let mut rng = Rng::new(seed);
+    let swarm = Swarm::draw(&mut rng);
+    let cfg = config(&mut rng);
+    let world = World::new(&cfg, rng.fork(1));
+    (rng, swarm, cfg, world)
+}
+
 /// Run one seed.
 pub fn run(opts: &RunOptions) -> RunReport {
-    let mut rng = Rng::new(opts.seed);
-    let mut swarm = Swarm::draw(&mut rng);
-    let cfg = config(&mut rng);
-    let mut world = World::new(&cfg, rng.fork(1));
+    let (mut rng, mut swarm, cfg, mut world) = seeded(opts.seed);
     if let Some(bug) = opts.planted {
         world.plant(bug);
     }
@@ -140,16 +152,19 @@ pub fn run(opts: &RunOptions) -> RunReport {
         max_work_ns: 0,
         bus: BusFaultCounts::default(),
         recovery_cycles: None,
+        script: Script {
+            seed: opts.seed,
+            planted: opts.planted,
+            events: Vec::new(),
+        },
     };
     let mut hash = RunHash::default();
     let period_s = cfg.cycle_period_s();
     let chaos_cycles = (opts.seconds / period_s) as u64;
-    let mut faults: Vec<Fault> = Vec::new();
 
     let step = |world: &mut World,
                 checker: &mut Checker,
-                hash: &mut RunHash,
-                faults: &[Fault]|
+                hash: &mut RunHash|
      -> Result<(), Violation> {
         let before = world.state().mode;
         world.step();
@@ -172,7 +187,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
             );
         }
         hash.cycle(&s, world.replies());
-        checker.cycle(k, &s, world.replies(), work, faults)
+        checker.cycle(k, &s, world.replies(), work, world.faults())
     };
 
     let result = (|| -> Result<(), Violation> {
@@ -194,7 +209,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
                 world.send(c);
             }
             if let Some(b) = inj.bus {
-                world.bus().faults = b;
+                world.set_bus_faults(b);
             }
             for client in &mut clients {
                 match client.act(&s, &limits, &mut client_rng) {
@@ -218,10 +233,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
                 checker.asked(&c, k);
                 world.send(c);
             }
-            faults.clear();
-            faults.extend(schedule.active());
-            faults.extend(inj.started.iter().copied());
-            step(&mut world, &mut checker, &mut hash, &faults)?;
+            step(&mut world, &mut checker, &mut hash)?;
             schedule.answered(world.replies());
         }
         // The quiet phase: faults off, every client gone, the recovery client.
@@ -230,7 +242,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
             checker.asked(&c, k);
             world.send(c);
         }
-        world.bus().faults = BusFaults::default();
+        world.set_bus_faults(BusFaults::default());
         let gone = clients
             .iter_mut()
             .map(Client::gone)
@@ -241,12 +253,9 @@ pub fn run(opts: &RunOptions) -> RunReport {
         }
         // The faults act (and stay under way for the checker) until their undoing is answered.
         while schedule.undoing() {
-            faults.clear();
-            faults.extend(schedule.active());
-            step(&mut world, &mut checker, &mut hash, &faults)?;
+            step(&mut world, &mut checker, &mut hash)?;
             schedule.answered(world.replies());
         }
-        faults.clear();
         let quiet_cycles = (opts.quiet_seconds / period_s) as u64;
         let mut recovery = Recovery::new(Rate::of(&cfg));
         let start = world.cycle_index();
@@ -256,7 +265,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
                 checker.asked(&c, k);
                 world.send(c);
             }
-            step(&mut world, &mut checker, &mut hash, &faults)?;
+            step(&mut world, &mut checker, &mut hash)?;
             recovery.read(world.state().seq, world.replies());
             if recovery.done && world.waiting() == 0 {
                 report.recovery_cycles = Some(world.cycle_index() - start);
@@ -294,6 +303,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
     report.max_overrun_deg = checker.max_overrun_deg;
     report.max_work_ns = checker.max_work_ns;
     report.bus = world.bus().counts;
+    report.script.events = world.take_events();
     report
 }
 

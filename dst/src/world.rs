@@ -9,8 +9,10 @@
 //! cycle's, [`SimCycle::run`] runs it. It counts what that work allocates (the global allocator
 //! must be [`mcm_shared::alloc_count::CountingAlloc`] for the count to see anything).
 
-use crate::faulty_bus::FaultyBus;
+use crate::faults::Fault;
+use crate::faulty_bus::{BusFaults, FaultyBus};
 use crate::rng::Rng;
+use crate::script::{Event, FaultTracker, Input};
 use mcm_rt_core::intake::Intake;
 use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::alloc_count;
@@ -31,6 +33,11 @@ pub struct World {
     pub allocations: u64,
     /// The thread's CPU time of the last cycle's work [ns].
     pub last_cpu_ns: u64,
+    /// Every input so far, in order (the run's script).
+    events: Vec<Event>,
+    /// The faults under way, from the inputs; and those of the last step.
+    tracker: FaultTracker,
+    faults: Vec<Fault>,
 }
 
 impl World {
@@ -47,6 +54,9 @@ impl World {
             k: 0,
             allocations: 0,
             last_cpu_ns: 0,
+            events: Vec::new(),
+            tracker: FaultTracker::default(),
+            faults: Vec::new(),
         }
     }
 
@@ -62,7 +72,32 @@ impl World {
 
     /// A command arrives (taken into the backlog at the next cycle, as iceoryx2 delivers).
     pub fn send(&mut self, c: CommandSample) {
+        self.tracker.sent(&c);
+        self.events.push(Event {
+            cycle: self.k,
+            input: Input::Command(c),
+        });
         self.queued.push_back(c);
+    }
+
+    /// The bus faults from this cycle on.
+    pub fn set_bus_faults(&mut self, b: BusFaults) {
+        self.tracker.bus(&b);
+        self.events.push(Event {
+            cycle: self.k,
+            input: Input::Bus(b),
+        });
+        self.robot.bus_mut().faults = b;
+    }
+
+    /// The faults under way in the last step (derived from the inputs, [`FaultTracker`]).
+    pub fn faults(&self) -> &[Fault] {
+        &self.faults
+    }
+
+    /// The inputs so far, handed over.
+    pub fn take_events(&mut self) -> Vec<Event> {
+        std::mem::take(&mut self.events)
     }
 
     /// One cycle: the arrived commands into the backlog, this cycle's chosen, the cycle run.
@@ -83,6 +118,8 @@ impl World {
         self.last_cpu_ns = thread_cpu_ns().saturating_sub(started);
         self.allocations += counts.allocations;
         self.k += 1;
+        self.faults = self.tracker.active();
+        self.tracker.answered(self.robot.replies());
     }
 
     pub fn state(&self) -> &StateSample {

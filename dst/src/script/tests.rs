@@ -1,0 +1,137 @@
+use super::*;
+use crate::faulty_bus::BusFaults;
+use mcm_shared::command::Axis;
+
+fn command(client: u64, request: u64, r: Request) -> CommandSample {
+    let mut c = r.encode();
+    c.client_id = client;
+    c.request_id = request;
+    c
+}
+
+#[test]
+fn the_text_reads_back_as_written() {
+    let mut args = CommandSample::default();
+    args.args[0] = 0.1;
+    args.args[3] = -1e-300;
+    let script = Script {
+        seed: 37,
+        planted: Some(PlantedBug::BrakingCheckOff),
+        events: vec![
+            Event {
+                cycle: 4,
+                input: Input::Command(CommandSample {
+                    client_id: 100,
+                    request_id: 7,
+                    kind: 6,
+                    flags: 1,
+                    ..args
+                }),
+            },
+            Event {
+                cycle: 4,
+                input: Input::Bus(BusFaults {
+                    lose_tx: 0.01,
+                    lose_heartbeats_of: Some(3),
+                    ..BusFaults::default()
+                }),
+            },
+            Event {
+                cycle: 9,
+                input: Input::Command(CommandSample::default()),
+            },
+        ],
+    };
+    let text = script.to_string();
+    assert!(
+        text.starts_with("mcm-dst script: seed 37, planted braking\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("\n9 command 0 0 0 0\n"),
+        "trailing zero arguments left out: {text}"
+    );
+    assert_eq!(text.parse::<Script>(), Ok(script));
+}
+
+#[test]
+fn a_bad_text_is_refused_naming_the_line() {
+    assert!(matches!(
+        "seed 3".parse::<Script>(),
+        Err(ScriptError::Header(h)) if h == "seed 3"
+    ));
+    let e = "mcm-dst script: seed 3, planted none\n5 command 1 2\n"
+        .parse::<Script>()
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "line 2: not `CYCLE command CLIENT REQUEST KIND FLAGS ARGS...` or `CYCLE bus ...` in \"5 command 1 2\""
+    );
+    let e = "mcm-dst script: seed 3, planted none\n5 bus 0 0 0 0 0 -\n4 bus 0 0 0 0 0 -\n"
+        .parse::<Script>()
+        .unwrap_err();
+    assert_eq!(
+        e,
+        ScriptError::Order {
+            line: 3,
+            cycle: 4,
+            before: 5
+        }
+    );
+    assert!(
+        "mcm-dst script: seed 3, planted gravity\n"
+            .parse::<Script>()
+            .is_err()
+    );
+}
+
+#[test]
+fn the_tracker_keeps_a_fault_until_its_undoing_is_answered() {
+    let mut t = FaultTracker::default();
+    let push = SimCommand {
+        external_torques_nm: Some([0.0, 5.0, 0.0, 0.0, 0.0, 0.0]),
+        ..SimCommand::default()
+    };
+    t.sent(&command(FAULT_CLIENT, 1, Request::Sim(push)));
+    // A client's own `sim` command is not the fault injector's.
+    let block = SimCommand {
+        block_axis: Some(Axis::ALL[0]),
+        ..SimCommand::default()
+    };
+    t.sent(&command(100, 1, Request::Sim(block)));
+    assert_eq!(t.active(), [Fault::Push]);
+    let off = SimCommand {
+        external_torques_nm: Some([0.0; 6]),
+        ..SimCommand::default()
+    };
+    t.sent(&command(FAULT_CLIENT, 2, Request::Sim(off)));
+    t.answered(&[]);
+    assert_eq!(
+        t.active(),
+        [Fault::Push],
+        "acts until the undoing is answered"
+    );
+    let reply = Reply {
+        client_id: FAULT_CLIENT,
+        request_id: 2,
+        ..Reply::default()
+    };
+    t.answered(&[reply]);
+    assert_eq!(t.active(), []);
+    let cycle = SimCommand {
+        power_cycle: true,
+        ..SimCommand::default()
+    };
+    t.sent(&command(FAULT_CLIENT, 3, Request::Sim(cycle)));
+    t.bus(&BusFaults {
+        delay_rx: 0.1,
+        ..BusFaults::default()
+    });
+    assert_eq!(t.active(), [Fault::BusDelay, Fault::PowerCycle]);
+    t.answered(&[]);
+    assert_eq!(
+        t.active(),
+        [Fault::BusDelay],
+        "a power cycle acts in its cycle only"
+    );
+}

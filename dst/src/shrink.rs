@@ -1,0 +1,140 @@
+//! Shrinking a failing run to the inputs its failure needs: delta debugging (Zeller's
+//! `ddmin`) over the run's script ([`crate::script`]). A candidate keeps a subset of the
+//! inputs, in order, over the same seed's world; it "still fails" when its replay breaks the
+//! same invariant ([`invariant_of`]) by the failing cycle (plus [`LATER_CYCLES`]). The result
+//! is 1-minimal when the replay budget allows: removing any one input left makes the failure
+//! go away.
+//!
+//! Nothing here runs inside the cycle.
+
+use crate::invariants::Violation;
+use crate::script::{Script, replay};
+
+/// A candidate may fail this many cycles after the original failure and still count [cycles]
+/// (1 s at 200 Hz): an input removed may delay what it did not cause.
+pub const LATER_CYCLES: u64 = 200;
+
+/// The invariant a violation's message is about (the words that name it), so that a shrunk
+/// run is held to the same failure, not any failure.
+pub fn invariant_of(message: &str) -> &'static str {
+    const INVARIANTS: [&str; 16] = [
+        "beyond the mechanical stops",
+        "beyond the software limits",
+        "flagged calibrated",
+        "travelled since the trip",
+        "its stop should have ended",
+        "allocated",
+        "CPU time",
+        "not finite",
+        "unknown mode",
+        "illegal mode transition",
+        "not answered by cycle",
+        "never asked",
+        "answered as kind",
+        "of unknown kind",
+        "does not decode",
+        "answered OK",
+    ];
+    INVARIANTS
+        .iter()
+        .find(|words| message.contains(*words))
+        .copied()
+        .unwrap_or("another invariant")
+}
+
+/// A shrunk run.
+#[derive(Debug, Clone)]
+pub struct Shrunk {
+    pub script: Script,
+    /// The violation of the shrunk script's replay.
+    pub violation: Violation,
+    /// Inputs before (up to the failing cycle) and after.
+    pub inputs_before: usize,
+    /// Replays made.
+    pub replays: u32,
+    /// Whether the budget ran out before the result was 1-minimal.
+    pub budget_spent: bool,
+}
+
+/// Shrink `script`, whose replay broke `failure`, with at most `max_replays` replays. `None`
+/// when the script's own replay does not break the same invariant (a run that is not
+/// reproducible from its script: a bug of the tester, said so by the caller).
+pub fn shrink(script: &Script, failure: &Violation, max_replays: u32) -> Option<Shrunk> {
+    let target = invariant_of(&failure.message);
+    let horizon = failure.cycle + LATER_CYCLES;
+    let replays = std::cell::Cell::new(0u32);
+    let fails = |events: &[crate::script::Event]| -> Option<Violation> {
+        replays.set(replays.get() + 1);
+        let candidate = Script {
+            seed: script.seed,
+            planted: script.planted,
+            events: events.to_vec(),
+        };
+        replay(&candidate, horizon).filter(|v| invariant_of(&v.message) == target)
+    };
+    // Inputs after the failing cycle cannot have caused it.
+    let mut events: Vec<_> = script
+        .events
+        .iter()
+        .copied()
+        .filter(|e| e.cycle <= failure.cycle)
+        .collect();
+    let inputs_before = events.len();
+    let mut violation = fails(&events)?;
+    let mut n = 2usize;
+    let mut budget_spent = false;
+    while events.len() >= 2 {
+        let chunk = events.len().div_ceil(n);
+        let mut reduced = false;
+        for i in 0..n {
+            if replays.get() >= max_replays {
+                budget_spent = true;
+                break;
+            }
+            let (from, to) = (i * chunk, ((i + 1) * chunk).min(events.len()));
+            if from >= to {
+                continue;
+            }
+            let candidate: Vec<_> = events[..from]
+                .iter()
+                .chain(&events[to..])
+                .copied()
+                .collect();
+            if let Some(v) = fails(&candidate) {
+                events = candidate;
+                violation = v;
+                n = (n - 1).max(2);
+                reduced = true;
+                break;
+            }
+        }
+        if budget_spent {
+            break;
+        }
+        if !reduced {
+            if n >= events.len() {
+                break;
+            }
+            n = (2 * n).min(events.len());
+        }
+    }
+    // A last try without any input at all (a failure of the world alone).
+    if !budget_spent
+        && events.len() == 1
+        && let Some(v) = fails(&[])
+    {
+        events.clear();
+        violation = v;
+    }
+    Some(Shrunk {
+        script: Script {
+            seed: script.seed,
+            planted: script.planted,
+            events,
+        },
+        violation,
+        inputs_before,
+        replays: replays.get(),
+        budget_spent,
+    })
+}
