@@ -12,8 +12,9 @@
 //! limit (baseline + search current), until contact again. Contact is decided by
 //! [`contact::ContactDetector`] from currents and positions over many cycles (current beyond
 //! the baseline in the search direction, a following error, the axis no longer advancing),
-//! never from one sample: another axis hitting its stop, a late cycle or a current spike does
-//! not make a contact. The stop is where the slow approach touched: joint angle = raw
+//! never from one sample: another axis hitting its stop (the swing it puts into this axis
+//! starts a quiet time), a load that changes as the other axes move, a late cycle or a current
+//! spike does not make a contact. The stop is where the slow approach touched: joint angle = raw
 //! position - (raw at contact - stop angle).
 //!
 //! **Light barrier**: a fast search towards the barrier's edge (the barrier input tells which
@@ -140,7 +141,6 @@ impl AxisSettings {
             confirm_cycles,
             min_lag: lag_deg.to_radians(),
             stall_fraction: STALL_FRACTION,
-            track_armed: !slow,
         }
     }
 }

@@ -260,6 +260,23 @@ fn a_reference_away_from_the_previous_calibration_is_implausible() {
     assert!(matches!(out, Outcome::Found { .. }), "{out:?}");
 }
 
+/// One 5 ms cycle of `c` with this `position` and `current`; whether a search found a contact
+/// in it (it backs off).
+fn step_noting_contact(c: &mut AxisCalibration, position: f64, current: f64) -> (Outcome, bool) {
+    let before = c.phase;
+    let out = c.step(
+        AxisInput {
+            position,
+            current,
+            light_barrier: false,
+        },
+        0.005,
+    );
+    let contact =
+        matches!(before, Phase::Search { .. }) && matches!(c.phase, Phase::Backoff { .. });
+    (out, contact)
+}
+
 #[test]
 fn a_slow_contact_away_from_the_fast_one_is_approached_again_then_fails() {
     // A wall that moves back by 1 deg after every contact: two approaches never agree.
@@ -267,7 +284,6 @@ fn a_slow_contact_away_from_the_fast_one_is_approached_again_then_fails() {
         direction: 1.0,
         stop: 2.0,
     });
-    let dt = 0.005;
     let mut wall = 1.0;
     let mut contacts = 0;
     let mut c = AxisCalibration::start(s, AxisInput::default(), None);
@@ -276,16 +292,8 @@ fn a_slow_contact_away_from_the_fast_one_is_approached_again_then_fails() {
     for _ in 0..200_000 {
         position = sent[1].min(wall);
         let current = 0.3 + 3000.0 * (sent[1] - wall).max(0.0);
-        let before = c.phase;
-        let out = c.step(
-            AxisInput {
-                position,
-                current,
-                light_barrier: false,
-            },
-            dt,
-        );
-        if matches!(before, Phase::Search { .. }) && matches!(c.phase, Phase::Backoff { .. }) {
+        let (out, contact) = step_noting_contact(&mut c, position, current);
+        if contact {
             contacts += 1;
             wall += 1f64.to_radians();
         }
@@ -328,4 +336,59 @@ fn an_axis_that_starts_against_its_stop_finds_it_there() {
         (offset + 0.7).abs() < 0.05f64.to_radians(),
         "offset {offset}"
     );
+}
+
+#[test]
+fn a_jolt_from_another_axis_s_impact_is_not_taken_for_the_stop() {
+    // Seed 11 of the simulation tester: in the middle of the fast search another axis hits
+    // its stop and the arm throws this axis 1 deg ahead of its target and back, ringing,
+    // its servo's current against the displacement (7 A at the peak). The stop is further on.
+    let s = settings(Method::Stop {
+        direction: -1.0,
+        stop: -2.0,
+    });
+    let dir = -1.0;
+    let wall = -1.6;
+    let swing = |k: usize| {
+        let t = k.saturating_sub(300) as f64;
+        if k < 300 {
+            0.0
+        } else {
+            1.0f64.to_radians() * (-t / 20.0).exp() * (core::f64::consts::TAU * t / 24.0).sin()
+        }
+    };
+    let mut c = AxisCalibration::start(s, AxisInput::default(), None);
+    let mut sent = [0.0f64; 2];
+    let mut contacts = Vec::new();
+    for k in 0..200_000usize {
+        let ahead = swing(k);
+        let free = sent[1] + dir * ahead;
+        let position = if dir * (free - wall) > 0.0 {
+            wall
+        } else {
+            free
+        };
+        let current = 0.3 - dir * 400.0 * ahead + dir * 3000.0 * (dir * (sent[1] - wall)).max(0.0);
+        let (out, contact) = step_noting_contact(&mut c, position, current);
+        if contact {
+            contacts.push(position);
+        }
+        sent = [c.target(), sent[0]];
+        if out != Outcome::Running {
+            let Outcome::Found { offset } = out else {
+                panic!("{out:?}")
+            };
+            assert!(
+                (offset - (wall + 2.0)).abs() < 0.05f64.to_radians(),
+                "offset {offset}"
+            );
+            assert_eq!(
+                contacts.len(),
+                1,
+                "contacts at {contacts:?} (the wall at {wall})"
+            );
+            return;
+        }
+    }
+    panic!("did not finish");
 }

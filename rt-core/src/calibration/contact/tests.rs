@@ -5,7 +5,6 @@ const P: ContactParams = ContactParams {
     confirm_cycles: 6,
     min_lag: 0.01,
     stall_fraction: 0.5,
-    track_armed: true,
 };
 
 fn settled(current: f64) -> ContactDetector {
@@ -115,4 +114,62 @@ fn nothing_before_the_baseline_settles_or_while_unarmed() {
             );
         }
     }
+}
+
+/// Steps `d` through `cycles` cycles of a search in the positive direction whose target moves
+/// 0.01 per cycle; `axis(k, target)` gives the measured position and current. The cycle and
+/// position of the contact, if one is confirmed.
+fn search(
+    d: &mut ContactDetector,
+    p: &ContactParams,
+    cycles: u32,
+    axis: impl Fn(u32, f64) -> (f64, f64),
+) -> Option<(u32, f64)> {
+    (0..cycles).find_map(|k| {
+        let target = 0.01 * f64::from(k);
+        let (position, current) = axis(k, target);
+        let sample = Sample {
+            position,
+            current,
+            target,
+        };
+        d.step(p, 1.0, sample, true, 0.005).map(|at| (k, at))
+    })
+}
+
+#[test]
+fn the_swing_of_a_jolt_from_another_axis_is_no_contact() {
+    // Another axis hits its stop: the arm throws this axis ahead of its target, then back,
+    // ringing (the servo's current against the displacement); no stop anywhere.
+    let swing = |k: u32| {
+        let t = f64::from(k.saturating_sub(50));
+        if k < 50 {
+            0.0
+        } else {
+            0.1 * (-t / 40.0).exp() * (core::f64::consts::TAU * t / 24.0).sin()
+        }
+    };
+    let mut d = settled(1.0);
+    let found = search(&mut d, &P, 400, |k, target| {
+        let ahead = swing(k);
+        (target + ahead, 1.0 - 100.0 * ahead)
+    });
+    assert_eq!(found, None, "a contact in free air");
+}
+
+#[test]
+fn a_load_change_while_the_axis_follows_leaves_no_stale_onset() {
+    // At cycle 20 the load steps up by twice the threshold in the search direction (another
+    // axis moved, gravity changed) while the axis goes on following; at cycle 200 a stop
+    // holds it. The contact is where the stop holds it, not where the load changed.
+    let mut d = settled(1.0);
+    let stop = 0.01 * 200.0;
+    let found = search(&mut d, &P, 400, |k, target| {
+        let load = if k >= 20 { 2.0 } else { 1.0 };
+        let position = target.min(stop);
+        (position, load + 100.0 * (target - position))
+    });
+    let (k, at) = found.expect("the stop is found");
+    assert!((at - stop).abs() < 0.015, "onset {at}, the stop at {stop}");
+    assert!(k > 200, "confirmed at cycle {k}");
 }
