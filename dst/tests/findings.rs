@@ -30,6 +30,8 @@ fn seed_1003_a_drive_lost_through_a_power_cycle_is_reset() {
     let r = run(&RunOptions::new(1003, 20.0));
     assert_eq!(r.violation, None, "seed 1003");
     assert!(r.recovery_cycles.is_some(), "seed 1003 recovered");
+}
+
 /// Seed 11: in the quiet phase's calibration of all axes, axis 2 hit its stop at search speed
 /// and threw axis 5 (searching) about; the contact detector took the swing for axis 5's stop,
 /// and the slow approach, its baseline frozen while axis 3's search changed its gravity load,

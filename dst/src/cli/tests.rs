@@ -20,8 +20,16 @@ fn the_defaults_and_every_option() {
             first_seed: 100,
             planted: Some(PlantedBug::BrakingCheckOff),
             help: false,
+            ..Args::default()
         }
     );
+    let r = args("--replay x.script --shrink-replays 50").unwrap();
+    assert_eq!((r.replay.as_deref(), r.shrink_replays), (Some("x.script"), 50));
+    assert_eq!(
+        args("--seed 3 --replay x.script").unwrap_err().to_string(),
+        "--replay \"x.script\": allowed is a script without --seed (a script names its own seed)"
+    );
+    assert!(args("--shrink-replays 0").is_err());
     assert!(args("--help").unwrap().help);
 }
 
