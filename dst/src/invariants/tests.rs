@@ -210,6 +210,26 @@ fn an_axis_flagged_calibrated_off_the_truth_is_a_violation() {
 }
 
 #[test]
+fn a_calibration_an_obstacle_or_a_push_acted_on_is_not_judged_until_calibrated_again() {
+    let mut c = checker();
+    let mut s = state(Mode::Calibration);
+    s.axis_flags = [0; 6];
+    c.cycle(1, &s, &[], Work::default(), &[Fault::Obstacle])
+        .unwrap();
+    s.mode = Mode::Hold.to_wire();
+    s.axis_flags = [AXIS_CALIBRATED; 6];
+    s.measured_position[4] = 14.9; // calibrated against the obstacle
+    check(&mut c, 2, &s, &[]).unwrap();
+    // Calibrated again with a free path: judged again.
+    s.mode = Mode::Calibration.to_wire();
+    s.axis_flags = [0; 6];
+    check(&mut c, 3, &s, &[]).unwrap();
+    s.mode = Mode::Hold.to_wire();
+    s.axis_flags = [AXIS_CALIBRATED; 6];
+    broken(check(&mut c, 4, &s, &[]), "axis 5: flagged calibrated");
+}
+
+#[test]
 fn a_reply_never_asked_for_or_given_twice_is_a_violation() {
     let mut c = checker();
     let s = state(Mode::Hold);
