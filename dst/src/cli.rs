@@ -3,7 +3,7 @@
 
 use crate::run::{PLANTED_BUGS, PlantedBug};
 
-pub const USAGE: &str = "usage: mcm-dst [--seed N | --replay FILE] [--seconds S] [--hours H] [--jobs J] [--first-seed N] [--planted-bug braking] [--shrink-replays R]
+pub const USAGE: &str = "usage: mcm-dst [--seed N | --replay FILE] [--seconds S] [--hours H] [--jobs J] [--first-seed N] [--planted-bug braking|soft-stop] [--shrink-replays R]
   --seed N        run seed N alone (twice, comparing the hashes of every state) and print what it did;
                   a broken invariant is shrunk to the inputs it needs, written to mcm-dst-seed-N.script
   --replay FILE   replay a script (what --seed writes) for S simulated seconds past its last input
@@ -12,7 +12,9 @@ pub const USAGE: &str = "usage: mcm-dst [--seed N | --replay FILE] [--seconds S]
   --hours H       without --seed: a campaign of H simulated hours over seeds from --first-seed (default 0.1)
   --jobs J        threads of the campaign (default 1; with 1 a campaign is reproducible)
   --first-seed N  the campaign's first seed (default 0)
-  --planted-bug braking   plant a bug (the braking-distance check never trips) to see the campaign catch it";
+  --planted-bug NAME  plant a bug to see the campaign catch it: braking (the braking-distance
+                  check never trips) or soft-stop (the stop after a trip brakes at a tenth of
+                  the maximum deceleration)";
 
 /// What the command line asks for.
 #[derive(Debug, Clone, PartialEq)]
@@ -82,7 +84,7 @@ const SEED: &str = "an integer from 0 to 18446744073709551615";
 const POSITIVE: &str = "a finite number above 0";
 const JOBS: &str = "an integer from 1";
 const REPLAYS: &str = "an integer from 1 to 4294967295";
-const PLANTED: &str = "`braking`, the only planted bug";
+const PLANTED: &str = "`braking` or `soft-stop`";
 
 /// `value` of `option` as a `T`, else refused with `allowed`.
 fn number<T: std::str::FromStr>(

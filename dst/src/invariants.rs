@@ -35,7 +35,8 @@
 //!   calibration cannot tell an obstacle or a hand from its stop) until it is calibrated again;
 //! - no allocation in the cycle's work, and its work within `cycle.work_budget_us` of CPU time
 //!   (measured on the thread's CPU clock, which a preemption does not advance; it includes the
-//!   simulated drives' and physics' share, so the controller's own work is less).
+//!   simulated drives' and physics' share, so the controller's own work is less; ten times
+//!   that in a debug build, [`DEBUG_SLOWDOWN`]).
 
 use crate::faults::Fault;
 use mcm_rt_core::safety::SafetyParams;
@@ -64,6 +65,10 @@ pub const LIMIT_OVERRUN_DEG: f64 = 1.0;
 pub const STANDSTILL_SLACK_DEG: f64 = 0.5;
 /// Time allowed after a trip beyond the stop's own duration [s]: the position loop settling.
 pub const STANDSTILL_SLACK_S: f64 = 0.5;
+/// How much more CPU time a cycle's work may take in a build with debug assertions (the
+/// workspace's dev profile, `opt-level = 1`, which CI's tests run), whose code is several
+/// times slower than the release build's the budget is meant for; 1 in a release build.
+pub const DEBUG_SLOWDOWN: u64 = if cfg!(debug_assertions) { 10 } else { 1 };
 /// An axis slower than this is at standstill [deg/s].
 pub const STANDSTILL_DEG_S: f64 = 0.5;
 
@@ -204,7 +209,7 @@ impl Checker {
             braking_latency_s: core::array::from_fn(|i| safety.braking_latency_s(i)),
             stopping: [None; NUM_AXES],
             enabling_cycles: enabling_wait_ns(cfg).div_ceil(cfg.cycle_period_ns()),
-            work_budget_ns: cfg.work_budget_ns(),
+            work_budget_ns: cfg.work_budget_ns() * DEBUG_SLOWDOWN,
             max_work_ns: 0,
             asked: HashMap::new(),
             prev_mode: Mode::Off,

@@ -28,7 +28,10 @@ pub const RECOVERY_CLIENT: u64 = 2;
 pub use mcm_rt_core::controller::planted::PlantedBug;
 
 /// Every bug `--planted-bug` can plant, with its name on the command line.
-pub const PLANTED_BUGS: [(PlantedBug, &str); 1] = [(PlantedBug::BrakingCheckOff, "braking")];
+pub const PLANTED_BUGS: [(PlantedBug, &str); 2] = [
+    (PlantedBug::BrakingCheckOff, "braking"),
+    (PlantedBug::QuickStopSoft, "soft-stop"),
+];
 
 /// The name of `bug` on the command line (`--planted-bug NAME`).
 pub fn planted_name(bug: PlantedBug) -> &'static str {

@@ -62,7 +62,7 @@ fn broken(r: Result<(), String>, what: &str) {
 fn a_cycle_over_its_cpu_budget_is_a_violation() {
     let mut c = checker();
     let s = state(Mode::Hold);
-    let budget_ns = RobotConfig::prob2_default().work_budget_ns();
+    let budget_ns = RobotConfig::prob2_default().work_budget_ns() * DEBUG_SLOWDOWN;
     let within = Work {
         allocations: 0,
         cpu_ns: budget_ns,
@@ -73,7 +73,8 @@ fn a_cycle_over_its_cpu_budget_is_a_violation() {
         cpu_ns: budget_ns + 1000,
     };
     let e = c.cycle(2, &s, &[], over, &[]).unwrap_err();
-    assert!(e.message.contains("more than its budget of 2500 us"), "{e}");
+    let words = format!("more than its budget of {} us", budget_ns / 1000);
+    assert!(e.message.contains(&words), "{e}");
     assert_eq!(c.max_work_ns, budget_ns + 1000);
 }
 

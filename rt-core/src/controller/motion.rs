@@ -57,13 +57,31 @@ impl Controller {
         } else {
             self.cmd
         };
-        let factor = if quick { QUICK_STOP_FACTOR } else { 1.0 };
+        let factor = if quick && self.quick_stop_planted_soft() {
+            0.1
+        } else if quick {
+            QUICK_STOP_FACTOR
+        } else {
+            1.0
+        };
         let decel: [f64; NUM_AXES] =
             core::array::from_fn(|i| factor * self.p.limits[i].acceleration);
         let plan = StopPlan::plan(from.position, from.velocity, decel);
         self.cmd = from;
         self.current_limit = self.p.max_current;
         (plan.duration() > 0.0).then_some(Stopping { plan, t: 0.0 })
+    }
+
+    /// Whether the simulation tester planted a soft quick stop (`planted.rs`).
+    fn quick_stop_planted_soft(&self) -> bool {
+        #[cfg(feature = "planted-bugs")]
+        {
+            self.planted.quick_stop_soft
+        }
+        #[cfg(not(feature = "planted-bugs"))]
+        {
+            false
+        }
     }
 
     /// Advance a stop by `dt`; `None` once it ended (the axes at rest where it ended).

@@ -15,12 +15,17 @@ pub enum PlantedBug {
     /// driven by torques or pushed towards a limit is stopped by the position-limit check
     /// alone, when it already passes the limit less the margin.
     BrakingCheckOff,
+    /// The stop after a safety trip brakes at a tenth of each axis's maximum deceleration
+    /// instead of [`super::QUICK_STOP_FACTOR`] times it (a wrong factor): the arm
+    /// stops far beyond the braking distance the braking check counts on.
+    QuickStopSoft,
 }
 
 /// The bugs planted in a controller.
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct Planted {
     pub(super) braking_check_off: bool,
+    pub(super) quick_stop_soft: bool,
 }
 
 impl Controller {
@@ -28,6 +33,7 @@ impl Controller {
     pub fn plant(&mut self, bug: PlantedBug) {
         match bug {
             PlantedBug::BrakingCheckOff => self.planted.braking_check_off = true,
+            PlantedBug::QuickStopSoft => self.planted.quick_stop_soft = true,
         }
     }
 }
