@@ -36,6 +36,8 @@ pub struct Event {
     pub input: Input,
 }
 
+// Nearly every input is a command: boxing them would only add an allocation per input.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Input {
     /// A command arrives (any sender: a client, the driver, the fault injector, the quiet

@@ -85,7 +85,7 @@ pub fn shrink(script: &Script, failure: &Violation, max_replays: u32) -> Option<
     let mut budget_spent = false;
     while events.len() >= 2 {
         let chunk = events.len().div_ceil(n);
-        let mut reduced = false;
+        let mut found = None;
         for i in 0..n {
             if replays.get() >= max_replays {
                 budget_spent = true;
@@ -101,21 +101,18 @@ pub fn shrink(script: &Script, failure: &Violation, max_replays: u32) -> Option<
                 .copied()
                 .collect();
             if let Some(v) = fails(&candidate) {
+                found = Some((candidate, v));
+                break;
+            }
+        }
+        match found {
+            Some((candidate, v)) => {
                 events = candidate;
                 violation = v;
                 n = (n - 1).max(2);
-                reduced = true;
-                break;
             }
-        }
-        if budget_spent {
-            break;
-        }
-        if !reduced {
-            if n >= events.len() {
-                break;
-            }
-            n = (2 * n).min(events.len());
+            None if budget_spent || n >= events.len() => break,
+            None => n = (2 * n).min(events.len()),
         }
     }
     // A last try without any input at all (a failure of the world alone).
