@@ -36,10 +36,11 @@ pub fn difference(old: &str, new: &str) -> String {
     }
 }
 
-/// The checked-in file `file` (a path from the repository's root) must be `generated` (what `source` generates now). With
-/// the environment variable `update` set the file is written instead (when it differs) and the
-/// run says what changed, comparing nothing; `update` under `CI` is refused, so that CI always
-/// compares. `command` is the test command that regenerates the file with `update` set.
+/// The checked-in file `file` (a path from the repository's root) must be `generated` (what
+/// `source` generates now). With the environment variable `update` set the file is written
+/// instead (when it differs) and the run says what changed, comparing nothing; `update` under
+/// `CI` is refused, so that CI always compares. `command` is the test command that regenerates
+/// the file with `update` set.
 pub fn check_generated(file: &str, source: &str, generated: &str, update: &str, command: &str) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(file);
     let checked_in = std::fs::read_to_string(&path).unwrap_or_default();
