@@ -812,7 +812,7 @@ fn setup_refuses_250_hz_at_500_kbit() {
     cfg.cycle.rate_hz = 250;
     let err = Master::new(&cfg).unwrap_err();
     assert!(matches!(err, MasterSetupError::BusLoad(_)));
-    assert!(err.to_string().contains("85.6 %"), "{err}");
+    assert!(err.to_string().contains("86.4 %"), "{err}");
     cfg.bus.bitrate = 1_000_000;
     assert!(Master::new(&cfg).is_ok());
     cfg.cycle.rate_hz = 400; // 2.5 ms is not a whole number of ms
