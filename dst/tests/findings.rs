@@ -47,3 +47,15 @@ fn seed_11_another_axis_s_impact_is_not_taken_for_a_stop() {
     assert_eq!(r.violation, None, "seed 11");
     assert!(r.recovery_cycles.is_some(), "seed 11 recovered");
 }
+
+/// Seed 3: a trip switched the drives back to CSP while 10 % of the frames were lost; drive
+/// 6's TPDO2 with the new mode display was lost and, the mode not changing again, never sent
+/// again, so the master never confirmed CSP and every `hold` of the quiet phase failed
+/// (`drive_fault`, code 0). Fixed in the boot configuration: TPDO2 has an event timer
+/// (`TPDO2_EVENT_TIMER_MS`, 100 ms), so the mode display is repeated.
+#[test]
+fn seed_3_a_lost_mode_display_is_repeated() {
+    let r = run(&RunOptions::new(3, 60.0));
+    assert_eq!(r.violation, None, "seed 3");
+    assert!(r.recovery_cycles.is_some(), "seed 3 recovered");
+}

@@ -499,7 +499,12 @@ impl SimDrive {
     fn emit_events(&mut self, out: &mut dyn FrameSink) {
         if self.nmt == NmtState::Operational {
             self.refresh_statusword();
-            for f in self.pdo.event_tx(&self.od).into_iter().flatten() {
+            for f in self
+                .pdo
+                .event_tx(&self.od, self.time_ns)
+                .into_iter()
+                .flatten()
+            {
                 out.emit(f);
             }
         }

@@ -150,7 +150,7 @@ const fn map(index: u16, sub: u8) -> ObjectDef {
 }
 
 /// Number of objects (index:sub pairs) in the dictionary.
-pub const LEN: usize = 85;
+pub const LEN: usize = 87;
 
 /// The table, sorted by (index, sub).
 pub static TABLE: [ObjectDef; LEN] = [
@@ -192,13 +192,15 @@ pub static TABLE: [ObjectDef; LEN] = [
     map(0x1601, 6),
     map(0x1601, 7),
     map(0x1601, 8),
-    e(0x1800, 0, U8, Const, No, Fixed(2)), // TPDO1 communication
+    e(0x1800, 0, U8, Const, No, Fixed(5)), // TPDO1 communication
     e(0x1800, 1, U32, Rw, No, PlusNodeId(0x8000_0180)),
     e(0x1800, 2, U8, Rw, No, Fixed(255)),
-    e(0x1801, 0, U8, Const, No, Fixed(2)), // TPDO2 communication
+    e(0x1800, 5, U16, Rw, No, Fixed(0)), // event timer [ms], 0 = off
+    e(0x1801, 0, U8, Const, No, Fixed(5)), // TPDO2 communication
     e(0x1801, 1, U32, Rw, No, PlusNodeId(0x8000_0280)),
     e(0x1801, 2, U8, Rw, No, Fixed(255)),
-    e(0x1A00, 0, U8, Rw, No, Fixed(0)), // TPDO1 mapping
+    e(0x1801, 5, U16, Rw, No, Fixed(0)), // event timer [ms], 0 = off
+    e(0x1A00, 0, U8, Rw, No, Fixed(0)),  // TPDO1 mapping
     map(0x1A00, 1),
     map(0x1A00, 2),
     map(0x1A00, 3),
@@ -288,6 +290,9 @@ pub struct PdoCommSlots {
     pub cob_id: usize,
     pub transmission: usize,
 }
+/// Slots of the TPDOs' event timers (sub 5, ms, 0 = off): an event-driven TPDO is also sent
+/// when this long has passed since it was last sent. Sub 3 (inhibit time) is not implemented.
+pub const TPDO_EVENT_TIMER: [usize; 2] = [slot(0x1800, 5), slot(0x1801, 5)];
 /// Slot of a PDO mapping's sub 0 (count); entries follow at `count + 1 ..= count + 8`.
 pub type PdoMapSlot = usize;
 

@@ -12,8 +12,11 @@
 //!   [`PdoEngine::take_latched`] at the next SYNC) and returns an event-driven one at once;
 //!   frames shorter than the mapping are ignored;
 //! - TPDOs: [`PdoEngine::sync_tx`] sends synchronous TPDOs every n-th SYNC;
-//!   [`PdoEngine::event_tx`] sends an event-driven TPDO when its data changed, and once after
-//!   [`PdoEngine::start`] (entering OPERATIONAL).
+//!   [`PdoEngine::event_tx`] sends an event-driven TPDO when its data changed, once after
+//!   [`PdoEngine::start`] (entering OPERATIONAL), and again whenever its event timer (sub 5,
+//!   ms, 0 = off) has run out since it was last sent (the drive's clock advances at SYNC, so
+//!   the timer is honoured at the first SYNC at or after it runs out). The inhibit time
+//!   (sub 3) is not implemented.
 //!
 //! The caller (the drive) gates everything on the NMT state: PDOs only in OPERATIONAL.
 
@@ -59,6 +62,8 @@ pub struct PdoEngine {
     latch: [Option<[u8; 8]>; NUM_RPDO],
     sync_count: [u8; NUM_TPDO],
     last_event: [Option<Frame>; NUM_TPDO],
+    /// The drive's clock [ns] when each event-driven TPDO was last sent.
+    sent_at_ns: [u64; NUM_TPDO],
     force_event: [bool; NUM_TPDO],
 }
 
@@ -303,9 +308,10 @@ impl PdoEngine {
         out
     }
 
-    /// Event-driven TPDOs whose data changed since they were last sent (or that are due once
-    /// after [`PdoEngine::start`]).
-    pub fn event_tx(&mut self, od: &Od) -> [Option<Frame>; NUM_TPDO] {
+    /// Event-driven TPDOs whose data changed since they were last sent, that are due once
+    /// after [`PdoEngine::start`], or whose event timer has run out at `now_ns` (the drive's
+    /// clock).
+    pub fn event_tx(&mut self, od: &Od, now_ns: u64) -> [Option<Frame>; NUM_TPDO] {
         let mut out = [None; NUM_TPDO];
         for (i, o) in out.iter_mut().enumerate() {
             let comm = od::TPDO_COMM[i];
@@ -317,9 +323,12 @@ impl PdoEngine {
                 continue;
             }
             let f = pack(od, od::TPDO_MAP[i], id);
-            if self.force_event[i] || self.last_event[i] != Some(f) {
+            let timer_ns = u64::from(od.raw(od::TPDO_EVENT_TIMER[i])) * 1_000_000;
+            let timer_out = timer_ns > 0 && now_ns >= self.sent_at_ns[i].saturating_add(timer_ns);
+            if self.force_event[i] || self.last_event[i] != Some(f) || timer_out {
                 self.force_event[i] = false;
                 self.last_event[i] = Some(f);
+                self.sent_at_ns[i] = now_ns;
                 *o = Some(f);
             }
         }

@@ -23,9 +23,13 @@ use super::sdo::{SdoAbortCode, SdoClient, SdoDone, SdoError, SdoRequest, SdoValu
 use mcm_bus::Frame;
 
 /// Number of SDO operations of the sequence (steps 1..=11).
-pub const BOOT_OPS: usize = 39;
+pub const BOOT_OPS: usize = 40;
 /// Retries of one operation after a timeout or abort (so at most 3 attempts).
 pub const MAX_RETRIES: u8 = 2;
+/// TPDO2's event timer (0x1801:5) [ms]: the drive sends its mode display on every change and
+/// again at least this often, so a lost TPDO2 is made good within this time (the master does
+/// not depend on one event-driven frame to confirm a mode).
+pub const TPDO2_EVENT_TIMER_MS: u16 = 100;
 
 /// What one operation does.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,7 +50,7 @@ pub const CALIBRATION_OFFSET_SUB: u8 = 1;
 /// 0x2100:2, the calibration is valid (u8, 0/1).
 pub const CALIBRATION_VALID_SUB: u8 = 2;
 
-/// Step 12, after the 39 operations of [`boot_ops`] and before the NMT start: read whether
+/// Step 12, after the 40 operations of [`boot_ops`] and before the NMT start: read whether
 /// the drive holds a calibration, then (only if it does) the offset.
 pub const CALIBRATION_OPS: [BootOp; 2] = [
     BootOp {
@@ -93,7 +97,7 @@ pub struct BootParams {
     pub max_current_permille: u16,
 }
 
-/// The 39 operations of steps 1..=11, in order.
+/// The 40 operations of steps 1..=11, in order.
 pub fn boot_ops(p: &BootParams) -> [BootOp; BOOT_OPS] {
     let n = u32::from(p.node);
     let a = ObjectAddr::new;
@@ -233,7 +237,7 @@ pub fn boot_ops(p: &BootParams) -> [BootOp; BOOT_OPS] {
             "TPDO1 transmission type (synchronous)",
         ),
         w(6, a(TPDO_COMM, 1), U32(0x180 + n), "TPDO1 COB-ID (enable)"),
-        // 7. TPDO2, event-driven mode display.
+        // 7. TPDO2, event-driven mode display, repeated by its event timer.
         w(
             7,
             a(TPDO_COMM + 1, 1),
@@ -253,6 +257,12 @@ pub fn boot_ops(p: &BootParams) -> [BootOp; BOOT_OPS] {
             a(TPDO_COMM + 1, 2),
             U8(255),
             "TPDO2 transmission type (event-driven)",
+        ),
+        w(
+            7,
+            a(TPDO_COMM + 1, 5),
+            U16(TPDO2_EVENT_TIMER_MS),
+            "TPDO2 event timer (ms)",
         ),
         w(
             7,

@@ -4,8 +4,10 @@
 //! al. 2007): `bits(s) = 47 + 8 s + floor((33 + 8 s) / 4)`, i.e. 55 bits for SYNC, 65 for a
 //! heartbeat, 135 for an 8-byte PDO. Per cycle the MCM sends SYNC and, per axis, RPDO1 and
 //! TPDO1 (8 bytes each); heartbeats (every drive at `bus.drive_heartbeat_ms`, the master at
-//! `bus.master_heartbeat_ms`) are added as a rate. Event-driven PDOs (RPDO2/TPDO2), EMCY and
-//! SDO are not cyclic and are left out: the budget is what leaves room for them.
+//! `bus.master_heartbeat_ms`) and the repeats of each drive's TPDO2 (1 byte, event timer
+//! [`TPDO2_EVENT_TIMER_MS`]) are added as rates. The event-driven frames (RPDO2, TPDO2 on a
+//! change), EMCY and SDO are not periodic and are left out: the budget is what leaves room for
+//! them.
 //!
 //! Runs once at start-up (not in the cycle).
 //!
@@ -15,6 +17,7 @@
 //! assert_eq!(frame_bits_worst_case(0), 55);
 //! ```
 
+use super::boot::TPDO2_EVENT_TIMER_MS;
 use mcm_shared::config::RobotConfig;
 
 /// Worst-case length of a classic CAN frame with an 11-bit id and `len` data bytes, including
@@ -46,6 +49,10 @@ pub struct BusLoad {
     pub bitrate: u32,
     pub heartbeat_producers: u32,
     pub heartbeat_bits_per_s: f64,
+    /// Period of each drive's TPDO2 repeat [ms] (its event timer; 0 = none).
+    pub tpdo2_period_ms: u16,
+    /// The TPDO2 repeats of all drives [bit/s].
+    pub tpdo2_bits_per_s: f64,
     /// Total worst-case bits per second.
     pub bits_per_s: f64,
     /// Fraction of the bit rate (0.67 = 67 %).
@@ -58,13 +65,14 @@ pub struct BusLoad {
 impl BusLoad {
     /// Compute the load of `axes` axes at `rate_hz` on a `bitrate` bus with the given
     /// heartbeat periods (`drive_hb_ms` for each drive, `master_hb_ms` for the master; 0 =
-    /// no heartbeat).
+    /// no heartbeat) and each drive's TPDO2 repeated every `tpdo2_ms` (0 = not repeated).
     pub fn compute(
         axes: u32,
         rate_hz: u32,
         bitrate: u32,
         drive_hb_ms: u16,
         master_hb_ms: u16,
+        tpdo2_ms: u16,
         budget: f64,
     ) -> BusLoad {
         let rpdo_bits = frame_bits_worst_case(CYCLIC_RPDO_BYTES);
@@ -77,7 +85,9 @@ impl BusLoad {
             hb_bits * (f64::from(axes) * per_s(drive_hb_ms) + per_s(master_hb_ms));
         let heartbeat_producers =
             if drive_hb_ms == 0 { 0 } else { axes } + u32::from(master_hb_ms != 0);
-        let bits_per_s = f64::from(bits_per_cycle) * f64::from(rate_hz) + heartbeat_bits_per_s;
+        let tpdo2_bits_per_s = hb_bits * f64::from(axes) * per_s(tpdo2_ms);
+        let periodic_bits_per_s = heartbeat_bits_per_s + tpdo2_bits_per_s;
+        let bits_per_s = f64::from(bits_per_cycle) * f64::from(rate_hz) + periodic_bits_per_s;
         let bitrate_f = f64::from(bitrate.max(1));
         BusLoad {
             axes,
@@ -89,10 +99,12 @@ impl BusLoad {
             bitrate,
             heartbeat_producers,
             heartbeat_bits_per_s,
+            tpdo2_period_ms: tpdo2_ms,
+            tpdo2_bits_per_s,
             bits_per_s,
             load: bits_per_s / bitrate_f,
             budget,
-            max_rate_hz: ((budget * bitrate_f - heartbeat_bits_per_s) / f64::from(bits_per_cycle))
+            max_rate_hz: ((budget * bitrate_f - periodic_bits_per_s) / f64::from(bits_per_cycle))
                 .max(0.0),
         }
     }
@@ -106,6 +118,7 @@ impl BusLoad {
             b.bitrate,
             b.drive_heartbeat_ms,
             b.master_heartbeat_ms,
+            TPDO2_EVENT_TIMER_MS,
             b.load_budget,
         )
     }
@@ -136,12 +149,14 @@ pub enum BusLoadError {
     #[error(
         "worst-case bus load {:.1} % exceeds bus.load_budget {:.1} %: per cycle {} bits \
          ({} axes x (RPDO1 {} + TPDO1 {} bits) + SYNC {} bits) = {:.0} us at {} bit/s, \
-         x cycle.rate_hz {} = {:.0} bit/s, plus heartbeats {:.0} bit/s ({} producers x {} bits); \
+         x cycle.rate_hz {} = {:.0} bit/s, plus heartbeats {:.0} bit/s ({} producers x {} bits), \
+         plus TPDO2 repeats {:.0} bit/s ({} drives x {} bits every {} ms); \
          allowed: cycle.rate_hz <= {:.0} Hz at this bit rate, or a higher bus.bitrate",
         .0.load * 100.0, .0.budget * 100.0, .0.bits_per_cycle, .0.axes, .0.rpdo_bits, .0.tpdo_bits,
         .0.sync_bits, .0.cycle_bus_time_us(), .0.bitrate, .0.rate_hz,
         f64::from(.0.bits_per_cycle) * f64::from(.0.rate_hz), .0.heartbeat_bits_per_s,
-        .0.heartbeat_producers, frame_bits_worst_case(1), .0.max_rate_hz.floor()
+        .0.heartbeat_producers, frame_bits_worst_case(1), .0.tpdo2_bits_per_s, .0.axes,
+        frame_bits_worst_case(1), .0.tpdo2_period_ms, .0.max_rate_hz.floor()
     )]
     OverBudget(BusLoad),
 }

@@ -2,7 +2,8 @@
 //!
 //! It answers expedited SDO, obeys NMT, applies RPDO1 at SYNC with the CiA 402 transitions of
 //! [`apply_controlword`], follows the CSP target exactly, sends TPDO1 on SYNC, TPDO2 on mode
-//! changes and its heartbeat on its own SYNC-driven clock. Faults can be scripted per object.
+//! changes and when its event timer (0x1801:5) runs out, and its heartbeat on its own
+//! SYNC-driven clock. Faults can be scripted per object.
 //! It is deliberately not the simulated drive of `sim/` (no physics).
 
 use super::cia402::{ControlWord, State, apply_controlword, statusword_for};
@@ -47,6 +48,7 @@ pub struct FakeDrive {
     time_ms: u64,
     period_ms: u64,
     next_hb_ms: u64,
+    tpdo2_sent_ms: u64,
 }
 
 impl FakeDrive {
@@ -71,6 +73,7 @@ impl FakeDrive {
             time_ms: 0,
             period_ms: 5,
             next_hb_ms: 0,
+            tpdo2_sent_ms: 0,
         };
         d.reset_objects();
         d
@@ -135,12 +138,7 @@ impl FakeDrive {
                     0x01 => {
                         self.nmt = NmtState::Operational;
                         if self.pdo_valid(0x1801) {
-                            out.push(
-                                Tpdo2 {
-                                    mode_display: self.mode,
-                                }
-                                .encode(self.node),
-                            );
+                            out.push(self.tpdo2());
                         }
                     }
                     0x02 => self.nmt = NmtState::Stopped,
@@ -169,18 +167,22 @@ impl FakeDrive {
                         .insert((0x6073, 0), u32::from(r.max_current_permille));
                     if r.mode != self.mode {
                         self.mode = r.mode;
-                        out.push(
-                            Tpdo2 {
-                                mode_display: self.mode,
-                            }
-                            .encode(self.node),
-                        );
+                        out.push(self.tpdo2());
                     }
                 }
             }
             _ => {}
         }
         self.out(out)
+    }
+
+    /// TPDO2 (mode display), sent now: restarts its event timer.
+    fn tpdo2(&mut self) -> Frame {
+        self.tpdo2_sent_ms = self.time_ms;
+        Tpdo2 {
+            mode_display: self.mode,
+        }
+        .encode(self.node)
     }
 
     fn on_sync(&mut self) -> Vec<Frame> {
@@ -221,6 +223,14 @@ impl FakeDrive {
                 }
                 .encode(self.node),
             );
+        }
+        let timer_ms = u64::from(self.object(0x1801, 5).unwrap_or(0));
+        if self.nmt == NmtState::Operational
+            && self.pdo_valid(0x1801)
+            && timer_ms > 0
+            && self.time_ms >= self.tpdo2_sent_ms + timer_ms
+        {
+            out.push(self.tpdo2());
         }
         self.time_ms += self.period_ms;
         let hb = u64::from(self.object(0x1017, 0).unwrap_or(0));

@@ -188,16 +188,53 @@ fn tpdos_sync_every_nth_and_events_on_change() {
     assert_eq!(e.sync_tx(&od)[0], None);
     assert_eq!(e.sync_tx(&od)[0].unwrap().to_string(), "182#3702FEFFFFFF");
     assert_eq!(
-        e.event_tx(&od)[1].unwrap().to_string(),
+        e.event_tx(&od, 0)[1].unwrap().to_string(),
         "282#00",
         "once on start"
     );
-    assert_eq!(e.event_tx(&od), [None, None]);
+    assert_eq!(e.event_tx(&od, 0), [None, None]);
     od.set_i32(od::MODES_DISPLAY, 8);
-    assert_eq!(e.event_tx(&od)[1].unwrap().to_string(), "282#08");
-    assert_eq!(e.event_tx(&od), [None, None]);
+    assert_eq!(e.event_tx(&od, 0)[1].unwrap().to_string(), "282#08");
+    assert_eq!(e.event_tx(&od, 0), [None, None]);
     w(&mut od, false, 0x1801, 1, 0x8000_0282).unwrap();
     od.set_i32(od::MODES_DISPLAY, 10);
-    assert_eq!(e.event_tx(&od), [None, None], "invalid PDO sends nothing");
+    assert_eq!(
+        e.event_tx(&od, 0),
+        [None, None],
+        "invalid PDO sends nothing"
+    );
     let _ = slot(0x1A01, 8);
+}
+
+#[test]
+fn an_event_driven_tpdo_is_repeated_when_its_event_timer_runs_out() {
+    const MS: u64 = 1_000_000;
+    let mut od = od();
+    for (i, s, v) in [
+        (0x1A01, 1, 0x6061_0008),
+        (0x1A01, 0, 1),
+        (0x1801, 2, 255),
+        (0x1801, 5, 100),
+        (0x1801, 1, 0x282),
+    ] {
+        w(&mut od, false, i, s, v).unwrap();
+    }
+    od.set_i32(od::MODES_DISPLAY, 8);
+    let mut e = PdoEngine::default();
+    e.start();
+    // The drive's clock at SYNC, every 5 ms: once on start, then every 100 ms.
+    let sent_at = |e: &mut PdoEngine, od: &Od, from: u64, to: u64| -> Vec<u64> {
+        (from..to)
+            .filter(|k| e.event_tx(od, k * 5 * MS)[1].is_some())
+            .map(|k| k * 5)
+            .collect()
+    };
+    assert_eq!(sent_at(&mut e, &od, 0, 50), [0, 100, 200]);
+    // A change is sent at once and restarts the timer.
+    od.set_i32(od::MODES_DISPLAY, 10);
+    assert_eq!(e.event_tx(&od, 205 * MS)[1].unwrap().to_string(), "282#0A");
+    assert_eq!(sent_at(&mut e, &od, 42, 70), [305]);
+    // Event timer 0: only changes.
+    w(&mut od, false, 0x1801, 5, 0).unwrap();
+    assert_eq!(sent_at(&mut e, &od, 70, 200), Vec::<u64>::new());
 }

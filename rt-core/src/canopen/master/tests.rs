@@ -2,6 +2,7 @@
 //! answer SDO/NMT at once (read by the master in the next cycle) and send TPDO1 on SYNC.
 
 use super::*;
+use crate::canopen::boot::TPDO2_EVENT_TIMER_MS;
 use crate::canopen::cia402::State;
 use crate::canopen::testdrive::{FakeDrive, Fault};
 use mcm_shared::alloc_count::{self, CountingAlloc};
@@ -811,7 +812,7 @@ fn setup_refuses_250_hz_at_500_kbit() {
     cfg.cycle.rate_hz = 250;
     let err = Master::new(&cfg).unwrap_err();
     assert!(matches!(err, MasterSetupError::BusLoad(_)));
-    assert!(err.to_string().contains("85.6 %"), "{err}");
+    assert!(err.to_string().contains("86.4 %"), "{err}");
     cfg.bus.bitrate = 1_000_000;
     assert!(Master::new(&cfg).is_ok());
     cfg.cycle.rate_hz = 400; // 2.5 ms is not a whole number of ms
@@ -888,4 +889,42 @@ fn the_torque_offset_goes_out_in_rpdo2_on_the_axis_turn_and_zero_in_cst() {
     reqs[1] = DriveRequest::Torque { torque_nm: 1.0 };
     let r = rpdo2_of(&w.step(reqs), 2).unwrap();
     assert_eq!((r.mode, r.torque_offset), (MODE_CST, 0));
+}
+
+/// DST seed 3: a trip switched the drives back to CSP during a bus loss and drive 6's TPDO2
+/// with the new mode display was lost. The drive does not change its mode again, so without a
+/// repeat the master never confirms CSP and the axis never counts as enabled. TPDO2's event
+/// timer (boot step 7) repeats the mode display: the loss is made good within one timer period.
+#[test]
+fn a_lost_tpdo2_after_a_mode_change_is_made_good_by_its_event_timer() {
+    let mut w = World::booted();
+    assert_eq!(
+        w.drives[5].object(0x1801, 5),
+        Some(u32::from(TPDO2_EVENT_TIMER_MS))
+    );
+    let hold = w.hold_all();
+    w.run(3, hold);
+    let torque = [DriveRequest::Torque { torque_nm: 0.0 }; 6];
+    w.run(2, torque);
+    assert!((0..6).all(|a| w.fb(a).enabled && w.fb(a).mode_display == Some(MODE_CST)));
+    // Back to CSP; drive 6's answer (TPDO2 "8") is lost on the bus.
+    let hold = w.hold_all();
+    w.step(hold);
+    let lost = 0x280 + 6;
+    assert!(w.inbox.iter().any(|f| f.id == lost), "drive 6 answered");
+    w.inbox.retain(|f| f.id != lost);
+    let bound = usize::from(TPDO2_EVENT_TIMER_MS) / 5 + 1;
+    let mut confirmed_after = None;
+    for k in 1..=bound + 20 {
+        w.step(hold);
+        if w.fb(5).enabled {
+            confirmed_after = Some(k);
+            break;
+        }
+        assert_eq!(w.fb(5).mode_display, Some(MODE_CST), "cycle {k}");
+    }
+    let k = confirmed_after.expect("drive 6's CSP is never confirmed");
+    assert!(k <= bound, "confirmed after {k} cycles, bound {bound}");
+    assert_eq!(w.fb(5).mode_display, Some(MODE_CSP));
+    assert!((0..5).all(|a| w.fb(a).enabled));
 }
