@@ -6,7 +6,8 @@
 //! ([`clients`]), its faults ([`faults`], bus faults in [`faulty_bus`]). Every cycle is
 //! checked against the invariants ([`invariants`]) and hashed ([`hash`]), so that
 //! `mcm-dst --seed N` replays a run bit for bit and names the first cycle where a replay
-//! differs. [`campaign`] runs many seeds on several threads and counts what was reached. See
+//! differs. [`campaign`] runs many seeds on several threads and counts what was reached;
+//! [`fuzz_input`] runs a script that the fuzz target (`fuzz/`) builds from its bytes. See
 //! `docs/testing.md`, "Deterministic simulation testing".
 //!
 //! Nothing here runs inside the real-time cycle; it drives the cycle ([`world::World::step`])
@@ -18,6 +19,7 @@ pub mod clients;
 pub mod driver;
 pub mod faults;
 pub mod faulty_bus;
+pub mod fuzz_input;
 pub mod hash;
 pub mod invariants;
 pub mod rate;
