@@ -29,4 +29,5 @@ pub mod script;
 pub mod shrink;
 pub mod stamp;
 pub mod swarm;
+pub mod under_way;
 pub mod world;

@@ -5,8 +5,8 @@
 //!
 //! The world itself (the configuration, the simulated robot's seed, the faulty bus's draws)
 //! still comes from the seed: [`seeded`]. The faults the checker is told are under
-//! way are derived from the inputs ([`FaultTracker`]), in a run and in a replay alike, so that
-//! a replay of the whole script is the run, cycle for cycle.
+//! way are derived from the inputs by the world ([`crate::under_way`]), in a run and in a
+//! replay alike, so that a replay of the whole script is the run, cycle for cycle.
 //!
 //! Text form (`Script`'s `Display` and `FromStr`), one input per line after the header:
 //!
@@ -20,12 +20,10 @@
 //! `bus`: lose_tx, lose_rx, corrupt_rx, duplicate_rx, delay_rx, the node whose heartbeats are
 //! lost or `-`.)
 
-use crate::faults::Fault;
 use crate::faulty_bus::BusFaults;
 use crate::invariants::{Checker, Violation, Work};
-use crate::run::{FAULT_CLIENT, PLANTED_BUGS, PlantedBug, planted_name, seeded};
-use mcm_shared::command::{Request, SimCommand};
-use mcm_shared::sample::{COMMAND_ARGS, CommandSample, Reply};
+use crate::run::{PLANTED_BUGS, PlantedBug, planted_name, seeded};
+use mcm_shared::sample::{COMMAND_ARGS, CommandSample};
 use std::fmt;
 use std::str::FromStr;
 
@@ -53,105 +51,6 @@ pub struct Script {
     pub seed: u64,
     pub planted: Option<PlantedBug>,
     pub events: Vec<Event>,
-}
-
-/// The faults under way, derived from the inputs: a `sim` command of the fault injector
-/// starts one; its undoing command ends it once answered (until then it still acts); a
-/// power cycle acts in the cycle it is sent; the bus faults act while set.
-#[derive(Debug, Default)]
-pub struct FaultTracker {
-    on: Vec<Fault>,
-    /// Undoing commands not answered yet: (request id, fault).
-    undoing: Vec<(u64, Fault)>,
-    bus: Vec<Fault>,
-    this_cycle: Vec<Fault>,
-}
-
-impl FaultTracker {
-    /// A command sent this cycle.
-    pub fn sent(&mut self, c: &CommandSample) {
-        if c.client_id != FAULT_CLIENT {
-            return;
-        }
-        let Ok(Request::Sim(cmd)) = Request::decode(c) else {
-            return;
-        };
-        for (fault, starts) in classify(&cmd) {
-            if starts {
-                if fault == Fault::PowerCycle {
-                    self.this_cycle.push(fault);
-                } else if !self.on.contains(&fault) {
-                    self.on.push(fault);
-                }
-            } else {
-                self.undoing.push((c.request_id, fault));
-            }
-        }
-    }
-
-    /// The bus faults set this cycle.
-    pub fn bus(&mut self, b: &BusFaults) {
-        self.bus.clear();
-        let kinds = [
-            (b.lose_rx > 0.0 || b.lose_tx > 0.0, Fault::BusLoss),
-            (b.corrupt_rx > 0.0, Fault::BusCorruption),
-            (b.delay_rx > 0.0, Fault::BusDelay),
-            (b.duplicate_rx > 0.0, Fault::BusDuplication),
-            (b.lose_heartbeats_of.is_some(), Fault::HeartbeatLoss),
-        ];
-        self.bus
-            .extend(kinds.iter().filter(|(set, _)| *set).map(|(_, f)| *f));
-    }
-
-    /// The faults under way in this cycle's step.
-    pub fn active(&self) -> Vec<Fault> {
-        let mut v = self.on.clone();
-        v.extend(self.bus.iter().copied());
-        v.extend(self.this_cycle.iter().copied());
-        v
-    }
-
-    /// The replies of the cycle: undoing commands answered end their faults.
-    pub fn answered(&mut self, replies: &[Reply]) {
-        self.this_cycle.clear();
-        let (on, undoing) = (&mut self.on, &mut self.undoing);
-        undoing.retain(|(id, fault)| {
-            let done = replies
-                .iter()
-                .any(|r| r.client_id == FAULT_CLIENT && r.request_id == *id);
-            if done {
-                on.retain(|f| f != fault);
-            }
-            !done
-        });
-    }
-}
-
-/// The faults a `sim` command starts (`true`) or undoes (`false`).
-fn classify(cmd: &SimCommand) -> Vec<(Fault, bool)> {
-    let mut out = Vec::new();
-    if let Some(pressed) = cmd.emergency_stop {
-        out.push((Fault::EmergencyStop, pressed));
-    }
-    if cmd.disconnect_axis.is_some() {
-        out.push((Fault::DriveSilent, true));
-    }
-    if cmd.reconnect_axis.is_some() {
-        out.push((Fault::DriveSilent, false));
-    }
-    if cmd.block_axis.is_some() {
-        out.push((Fault::Obstacle, true));
-    }
-    if cmd.unblock_axis.is_some() {
-        out.push((Fault::Obstacle, false));
-    }
-    if let Some(t) = cmd.external_torques_nm {
-        out.push((Fault::Push, t.iter().any(|x| *x != 0.0)));
-    }
-    if cmd.power_cycle {
-        out.push((Fault::PowerCycle, true));
-    }
-    out
 }
 
 /// Replay `script` for at most `cycles` cycles, checking every cycle; the first violation.

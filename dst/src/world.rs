@@ -12,7 +12,8 @@
 use crate::faults::Fault;
 use crate::faulty_bus::{BusFaults, FaultyBus};
 use crate::rng::Rng;
-use crate::script::{Event, FaultTracker, Input};
+use crate::script::{Event, Input};
+use crate::under_way::UnderWay;
 use mcm_rt_core::intake::Intake;
 use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::alloc_count;
@@ -35,8 +36,10 @@ pub struct World {
     pub last_cpu_ns: u64,
     /// Every input so far, in order (the run's script).
     events: Vec<Event>,
-    /// The faults under way, from the inputs; and those of the last step.
-    tracker: FaultTracker,
+    /// The faults under way, from the inputs ([`UnderWay`]); the bus faults set; and the
+    /// faults of the last step.
+    under_way: UnderWay,
+    bus_faults: BusFaults,
     faults: Vec<Fault>,
 }
 
@@ -55,7 +58,8 @@ impl World {
             allocations: 0,
             last_cpu_ns: 0,
             events: Vec::new(),
-            tracker: FaultTracker::default(),
+            under_way: UnderWay::default(),
+            bus_faults: BusFaults::default(),
             faults: Vec::new(),
         }
     }
@@ -72,7 +76,7 @@ impl World {
 
     /// A command arrives (taken into the backlog at the next cycle, as iceoryx2 delivers).
     pub fn send(&mut self, c: CommandSample) {
-        self.tracker.sent(&c);
+        self.under_way.sent(&c);
         self.events.push(Event {
             cycle: self.k,
             input: Input::Command(c),
@@ -82,7 +86,7 @@ impl World {
 
     /// The bus faults from this cycle on.
     pub fn set_bus_faults(&mut self, b: BusFaults) {
-        self.tracker.bus(&b);
+        self.bus_faults = b;
         self.events.push(Event {
             cycle: self.k,
             input: Input::Bus(b),
@@ -90,7 +94,7 @@ impl World {
         self.robot.bus_mut().faults = b;
     }
 
-    /// The faults under way in the last step (derived from the inputs, [`FaultTracker`]).
+    /// The faults under way in the last step (derived from the inputs, [`UnderWay`]).
     pub fn faults(&self) -> &[Fault] {
         &self.faults
     }
@@ -109,6 +113,8 @@ impl World {
         }
         let now_ns = self.k * self.period_ns;
         let (robot, intake) = (&mut self.robot, &mut self.intake);
+        self.faults.clear();
+        self.under_way.faults(&self.bus_faults, &mut self.faults);
         let started = thread_cpu_ns();
         let ((), counts) = alloc_count::count(|| {
             intake.received(n);
@@ -118,8 +124,7 @@ impl World {
         self.last_cpu_ns = thread_cpu_ns().saturating_sub(started);
         self.allocations += counts.allocations;
         self.k += 1;
-        self.faults = self.tracker.active();
-        self.tracker.answered(self.robot.replies());
+        self.under_way.answered(self.robot.replies());
     }
 
     pub fn state(&self) -> &StateSample {

@@ -1,13 +1,5 @@
 use super::*;
 use crate::faulty_bus::BusFaults;
-use mcm_shared::command::Axis;
-
-fn command(client: u64, request: u64, r: Request) -> CommandSample {
-    let mut c = r.encode();
-    c.client_id = client;
-    c.request_id = request;
-    c
-}
 
 #[test]
 fn the_text_reads_back_as_written() {
@@ -82,56 +74,5 @@ fn a_bad_text_is_refused_naming_the_line() {
         "mcm-dst script: seed 3, planted gravity\n"
             .parse::<Script>()
             .is_err()
-    );
-}
-
-#[test]
-fn the_tracker_keeps_a_fault_until_its_undoing_is_answered() {
-    let mut t = FaultTracker::default();
-    let push = SimCommand {
-        external_torques_nm: Some([0.0, 5.0, 0.0, 0.0, 0.0, 0.0]),
-        ..SimCommand::default()
-    };
-    t.sent(&command(FAULT_CLIENT, 1, Request::Sim(push)));
-    // A client's own `sim` command is not the fault injector's.
-    let block = SimCommand {
-        block_axis: Some(Axis::ALL[0]),
-        ..SimCommand::default()
-    };
-    t.sent(&command(100, 1, Request::Sim(block)));
-    assert_eq!(t.active(), [Fault::Push]);
-    let off = SimCommand {
-        external_torques_nm: Some([0.0; 6]),
-        ..SimCommand::default()
-    };
-    t.sent(&command(FAULT_CLIENT, 2, Request::Sim(off)));
-    t.answered(&[]);
-    assert_eq!(
-        t.active(),
-        [Fault::Push],
-        "acts until the undoing is answered"
-    );
-    let reply = Reply {
-        client_id: FAULT_CLIENT,
-        request_id: 2,
-        ..Reply::default()
-    };
-    t.answered(&[reply]);
-    assert_eq!(t.active(), []);
-    let cycle = SimCommand {
-        power_cycle: true,
-        ..SimCommand::default()
-    };
-    t.sent(&command(FAULT_CLIENT, 3, Request::Sim(cycle)));
-    t.bus(&BusFaults {
-        delay_rx: 0.1,
-        ..BusFaults::default()
-    });
-    assert_eq!(t.active(), [Fault::BusDelay, Fault::PowerCycle]);
-    t.answered(&[]);
-    assert_eq!(
-        t.active(),
-        [Fault::BusDelay],
-        "a power cycle acts in its cycle only"
     );
 }
