@@ -69,8 +69,13 @@ impl CampaignReport {
             self.max_overrun = (r.max_overrun_deg, r.seed);
         }
         let b = r.bus;
-        self.bus_frames_hit +=
-            b.lost_tx + b.lost_rx + b.corrupted + b.duplicated + b.delayed + b.heartbeats_lost;
+        self.bus_frames_hit += b.lost_tx
+            + b.lost_rx
+            + b.corrupted
+            + b.duplicated
+            + b.delayed
+            + b.heartbeats_lost
+            + b.syncs_stuck;
         if r.violation.is_some() {
             self.failures.push(r.clone());
         }

@@ -1,6 +1,8 @@
 //! The faults of a run: what the simulated robot can suffer (emergency stop, a drive's cable
 //! pulled, an obstacle, a hand pushing, the drives' power switched off and on) through `sim`
-//! commands as a client sends them, and bus faults ([`BusFaults`]) set on the faulty bus.
+//! commands as a client sends them, and bus faults ([`BusFaults`]) set on the faulty bus
+//! (frames lost, corrupted, delayed or duplicated, one drive's heartbeats lost, a stuck SYNC,
+//! one drive rebooting).
 //!
 //! Each kind of fault comes in episodes: it starts at a random cycle (any mode, calibration
 //! and braking included) and is undone after a random duration. Which kinds a run uses and how
@@ -31,12 +33,16 @@ pub enum Fault {
     BusDelay,
     BusDuplication,
     HeartbeatLoss,
+    /// No SYNC reaches the drives for the episode.
+    SyncStuck,
+    /// One drive reboots: its supply off for the episode, then it boots as at power-up.
+    DriveReboot,
 }
 
 impl Fault {
     /// Whether the fault moves the arm or takes it from the controller's hands (a push, an
-    /// obstacle, the drives' power cut or a drive gone silent), so that where the arm goes
-    /// is not the controller's doing while it acts.
+    /// obstacle, the drives' power cut, a drive gone silent or rebooting: its power stage off),
+    /// so that where the arm goes is not the controller's doing while it acts.
     pub fn moves_the_arm(self) -> bool {
         matches!(
             self,
@@ -45,10 +51,11 @@ impl Fault {
                 | Fault::PowerCycle
                 | Fault::EmergencyStop
                 | Fault::DriveSilent
+                | Fault::DriveReboot
         )
     }
 
-    pub const ALL: [Fault; 10] = [
+    pub const ALL: [Fault; 12] = [
         Fault::EmergencyStop,
         Fault::DriveSilent,
         Fault::Obstacle,
@@ -59,6 +66,8 @@ impl Fault {
         Fault::BusDelay,
         Fault::BusDuplication,
         Fault::HeartbeatLoss,
+        Fault::SyncStuck,
+        Fault::DriveReboot,
     ];
 
     /// Its place in [`Fault::ALL`] (the declaration order, checked at compile time below).
@@ -78,17 +87,25 @@ impl Fault {
             Fault::BusDelay => "bus_delay",
             Fault::BusDuplication => "bus_duplication",
             Fault::HeartbeatLoss => "heartbeat_loss",
+            Fault::SyncStuck => "sync_stuck",
+            Fault::DriveReboot => "drive_reboot",
         }
     }
 
+    /// Set on the faulty bus ([`BusFaults`]) rather than by a `sim` command.
     fn is_bus(self) -> bool {
+        self.per_frame()
+            || matches!(
+                self,
+                Fault::HeartbeatLoss | Fault::SyncStuck | Fault::DriveReboot
+            )
+    }
+
+    /// A bus fault that hits frames at random, with a chance per frame drawn per episode.
+    fn per_frame(self) -> bool {
         matches!(
             self,
-            Fault::BusLoss
-                | Fault::BusCorruption
-                | Fault::BusDelay
-                | Fault::BusDuplication
-                | Fault::HeartbeatLoss
+            Fault::BusLoss | Fault::BusCorruption | Fault::BusDelay | Fault::BusDuplication
         )
     }
 }
@@ -196,7 +213,7 @@ impl Schedule {
             }
             let axis = Axis::new(1 + rng.below(NUM_AXES as u64) as u8).expect("1..=6");
             let length = self.rate.cycles(rng.pick(&EPISODE_S));
-            let p = if f.is_bus() {
+            let p = if f.per_frame() {
                 rng.pick(&BUS_FAULT_CHANCES)
             } else {
                 0.0
@@ -236,6 +253,8 @@ impl Schedule {
                 Fault::BusDelay => b.delay_rx = e.p,
                 Fault::BusDuplication => b.duplicate_rx = e.p,
                 Fault::HeartbeatLoss => b.lose_heartbeats_of = Some(self.node_ids[e.axis.index()]),
+                Fault::SyncStuck => b.sync_stuck = true,
+                Fault::DriveReboot => b.rebooting = Some(e.axis.index()),
                 _ => {}
             }
         }

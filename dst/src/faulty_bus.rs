@@ -1,6 +1,6 @@
 //! The simulated bus with bus faults: lost, corrupted (dropped by the CRC check), delayed and
-//! duplicated frames, and lost heartbeats of one drive, between the CANopen master and
-//! [`SimBus`].
+//! duplicated frames, lost heartbeats of one drive, a stuck SYNC and a drive rebooting,
+//! between the CANopen master and [`SimBus`].
 //!
 //! Runs inside the cycle (it is the cycle's bus): fixed-capacity queues, no allocation. Its
 //! randomness is its own [`Rng`], seeded from the run's seed, so a run stays deterministic.
@@ -15,13 +15,13 @@ use mcm_sim::bus::SYNC_ID;
 /// Frames held back at most (more are delivered at once).
 const DELAYED: usize = 64;
 
-/// What the bus does wrong, each a probability per frame (0: never).
+/// What the bus does wrong: probabilities per frame (0: never), and states that last while
+/// they are set.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct BusFaults {
-    /// A frame from the master to the drives is lost, but never SYNC: the simulated robot's
-    /// time and physics advance only on SYNC (lock-step time, `sim/src/bus.rs`), so a lost
-    /// SYNC would stop the world for a cycle rather than make the drives miss one; a lost or
-    /// stuck SYNC is not modelled (`docs/testing.md`, "Not yet built").
+    /// A frame from the master to the drives is lost, SYNC included. The simulated robot's
+    /// time advances on SYNC (lock-step time, `sim/src/bus.rs`); a lost SYNC's period passes
+    /// all the same ([`SimBus::period_without_sync`]): the arm moves on, the drives miss it.
     pub lose_tx: f64,
     /// A frame from the drives to the master is lost.
     pub lose_rx: f64,
@@ -38,6 +38,14 @@ pub struct BusFaults {
     pub delay_rx: f64,
     /// The heartbeats (0x700 + node) of this node are lost.
     pub lose_heartbeats_of: Option<u8>,
+    /// The SYNC producer is stuck: no SYNC reaches the drives, whose periods pass without it
+    /// ([`SimBus::period_without_sync`]): they hold their last setpoint and send no TPDO,
+    /// while the arm moves on and their heartbeats go on.
+    pub sync_stuck: bool,
+    /// The drive of this axis (0-based) is rebooting: its supply off from the first bus access
+    /// that sees it set ([`SimBus::power_off_drive`]) until the first that sees it cleared,
+    /// when it boots as at power-up ([`SimBus::power_on_drive`]).
+    pub rebooting: Option<usize>,
 }
 
 impl BusFaults {
@@ -55,6 +63,10 @@ pub struct BusFaultCounts {
     pub duplicated: u64,
     pub delayed: u64,
     pub heartbeats_lost: u64,
+    /// SYNCs held back by a stuck SYNC (those lost count in `lost_tx`).
+    pub syncs_stuck: u64,
+    /// Drives switched off for a reboot.
+    pub reboots: u64,
 }
 
 /// [`SimBus`] behind a faulty cable.
@@ -68,6 +80,8 @@ pub struct FaultyBus {
     delayed: heapless::Deque<(u64, Frame), DELAYED>,
     /// A duplicate to deliver on the next `recv`.
     again: Option<Frame>,
+    /// The axis whose drive is off for its reboot.
+    off: Option<usize>,
 }
 
 impl FaultyBus {
@@ -80,7 +94,25 @@ impl FaultyBus {
             syncs: 0,
             delayed: heapless::Deque::new(),
             again: None,
+            off: None,
         }
+    }
+
+    /// Switch a drive off or on when [`BusFaults::rebooting`] changed: the schedule sets the
+    /// faults between cycles, the bus follows at its next access.
+    fn follow_reboots(&mut self) {
+        let want = self.faults.rebooting;
+        if want == self.off {
+            return;
+        }
+        if let Some(axis) = self.off {
+            self.sim.power_on_drive(axis);
+        }
+        if let Some(axis) = want {
+            self.sim.power_off_drive(axis);
+            self.counts.reboots += 1;
+        }
+        self.off = want;
     }
 
     /// The simulated robot inside (the simulator's edge reaches it through this).
@@ -100,16 +132,27 @@ impl FaultyBus {
 
 impl Bus for FaultyBus {
     fn send(&mut self, frame: &Frame) -> Result<(), BusError> {
-        if frame.id == SYNC_ID {
+        self.follow_reboots();
+        let sync = frame.id == SYNC_ID;
+        if sync {
             self.syncs += 1;
+        }
+        if sync && self.faults.sync_stuck {
+            self.counts.syncs_stuck += 1;
         } else if self.faults.lose_tx > 0.0 && self.rng.chance(self.faults.lose_tx) {
             self.counts.lost_tx += 1;
-            return Ok(());
+        } else {
+            return self.sim.send(frame);
         }
-        self.sim.send(frame)
+        // Lost: the drives miss it, but a SYNC's period passes all the same.
+        if sync {
+            self.sim.period_without_sync();
+        }
+        Ok(())
     }
 
     fn recv(&mut self, deadline_ns: u64) -> Result<Option<Frame>, BusError> {
+        self.follow_reboots();
         if let Some(f) = self.again.take() {
             return Ok(Some(f));
         }

@@ -7,7 +7,7 @@
 //! - the true joint angle never beyond a software limit by more than [`LIMIT_OVERRUN_DEG`]
 //!   while the controller is responsible for it: a calibrated axis, powered in HOLD, PVT,
 //!   VELOCITY_CONTROL, TORQUE_CONTROL or ERROR, with no push, obstacle, power cycle, emergency
-//!   stop or silent drive under way, that was inside its limits since;
+//!   stop, silent drive or drive rebooting under way, that was inside its limits since;
 //! - every command answered exactly once, with the kind it asked: within [`QUEUE_CYCLES`] of
 //!   its sending, plus the drives' enabling for a `hold` or `calibrate` (which wait for it),
 //!   and for a `calibrate` however long its calibration runs (the mode CALIBRATION); none
@@ -26,8 +26,8 @@
 //!   fastest true speed of the cycles the measurement lags, plus the lag's own travel and
 //!   [`STANDSTILL_SLACK_DEG`]; and within the time that takes plus [`STANDSTILL_SLACK_S`]
 //!   ([`Stopping`]); judged while the mode stays ERROR (a client's `hold` commands the arm
-//!   again) and not while a push, an obstacle, a power cycle, an emergency stop or a silent
-//!   drive acts (the arm is not the controller's to stop then);
+//!   again) and not while a push, an obstacle, a power cycle, an emergency stop, a silent
+//!   drive or a drive rebooting acts (the arm is not the controller's to stop then);
 //! - no axis flagged calibrated whose measured angle is further from the true angle than its
 //!   calibration tolerance, plus the motion of the cycles the measurement may lag the truth
 //!   ([`Checker::new`]: two, and the TPDOs the master may miss in a row); not judged for an

@@ -6,7 +6,9 @@
 //! counted, like a CAN controller's receive overrun).
 //!
 //! Lock-step time (`docs/drive-profile.md`, "The simulated drive"): time advances only on SYNC
-//! (`080#`), by exactly one cycle period. On SYNC every drive applies its latched RPDOs and sends
+//! (`080#`), by exactly one cycle period (or on [`SimBus::period_without_sync`], a fault
+//! injection: the period passes but the SYNC never reaches the drives, so they neither apply
+//! RPDOs nor send TPDOs). On SYNC every drive applies its latched RPDOs and sends
 //! its TPDOs (sampled at the SYNC), then the physics runs the period in sub-steps of
 //! `sim.physics_step_us`; in each sub-step every drive computes its motor current from the true
 //! joint state, the joint torques (current x `torque_per_amp`) go to [`ArmSim::step`], and the
@@ -72,6 +74,15 @@ impl RxRing {
     fn pop(&mut self) -> Option<Frame> {
         self.frames.pop_front()
     }
+}
+
+/// Where a drive's frames go: to the master (`connected`) or nowhere (its cable is cut).
+fn sink<'a>(
+    rx: &'a mut RxRing,
+    discard: &'a mut Discard,
+    connected: bool,
+) -> &'a mut dyn FrameSink {
+    if connected { rx } else { discard }
 }
 
 impl FrameSink for RxRing {
@@ -189,7 +200,7 @@ impl SimBus {
         Ok(Some(bus))
     }
 
-    /// Simulated time [ns]: SYNCs so far x cycle period.
+    /// Simulated time [ns]: cycle periods so far (SYNCs, and periods without one) x period.
     pub fn now_ns(&self) -> u64 {
         self.now_ns
     }
@@ -219,15 +230,47 @@ impl SimBus {
         }
     }
 
-    fn sync(&mut self) {
+    /// One cycle period passes without SYNC reaching the drives (it was lost on the bus, or
+    /// its producer is stuck): the physics and the drives' clocks advance as on SYNC, but no
+    /// drive applies its latched RPDOs or samples and sends its TPDOs. The drives keep their
+    /// last setpoint (CSP: the last target, held; CST: the last torque) and still send their
+    /// heartbeats, which run on their own clocks. A fault injection for tests (the master never
+    /// calls it): lock-step time needs the period to pass although the SYNC did not arrive.
+    pub fn period_without_sync(&mut self) {
+        self.period(false);
+    }
+
+    /// Switch off the supply of the drive of `axis` (0-based; others are ignored), the first
+    /// half of a reboot of that drive alone: its power stage off at once (no current, the brake
+    /// engaged), dead to the bus until [`SimBus::power_on_drive`].
+    pub fn power_off_drive(&mut self, axis: usize) {
+        if let Some(d) = self.drives.get_mut(axis) {
+            d.power_off();
+        }
+        self.update_brakes();
+    }
+
+    /// The supply of the drive of `axis` is back: it boots as at power-up (object dictionary
+    /// back to its defaults, 0x2100 cleared, a new encoder offset, its boot-up frame sent,
+    /// PRE-OPERATIONAL, NOT READY TO SWITCH ON). Nothing for a drive that has power.
+    pub fn power_on_drive(&mut self, axis: usize) {
+        if let Some(d) = self.drives.get_mut(axis) {
+            d.power_on(sink(&mut self.rx, &mut Discard, self.connected[axis]));
+        }
+        self.update_brakes();
+    }
+
+    /// One cycle period: the drives see the SYNC (`sync`, when their cable is in) or only
+    /// their own clock, then the physics runs the period.
+    fn period(&mut self, sync: bool) {
         let (q, v) = (self.arm.position(), self.arm.velocity());
         for (i, d) in self.drives.iter_mut().enumerate() {
             d.observe(q[i], v[i]);
-            if self.connected[i] {
-                d.on_sync(true, &mut self.rx);
-            } else {
-                d.on_sync(false, &mut Discard);
-            }
+            let connected = self.connected[i];
+            d.on_sync(
+                sync && connected,
+                sink(&mut self.rx, &mut Discard, connected),
+            );
         }
         for k in 0..self.substeps {
             let fraction = f64::from(k) / f64::from(self.substeps);
@@ -309,7 +352,7 @@ impl core::fmt::Debug for SimBus {
 impl Bus for SimBus {
     fn send(&mut self, frame: &Frame) -> Result<(), BusError> {
         if frame.id == SYNC_ID {
-            self.sync();
+            self.period(true);
             return Ok(());
         }
         for (i, d) in self.drives.iter_mut().enumerate() {
@@ -336,12 +379,7 @@ impl SimControl for SimBus {
         if let Some(pressed) = cmd.emergency_stop {
             self.emergency_stop = pressed;
             for (i, d) in self.drives.iter_mut().enumerate() {
-                let out: &mut dyn FrameSink = if self.connected[i] {
-                    &mut self.rx
-                } else {
-                    &mut Discard
-                };
-                d.set_safe_torque_off(pressed, out);
+                d.set_safe_torque_off(pressed, sink(&mut self.rx, &mut Discard, self.connected[i]));
             }
         }
         if let Some(a) = cmd.disconnect_axis {
@@ -361,12 +399,7 @@ impl SimControl for SimBus {
         }
         if cmd.power_cycle {
             for (i, d) in self.drives.iter_mut().enumerate() {
-                let out: &mut dyn FrameSink = if self.connected[i] {
-                    &mut self.rx
-                } else {
-                    &mut Discard
-                };
-                d.power_cycle(out);
+                d.power_cycle(sink(&mut self.rx, &mut Discard, self.connected[i]));
             }
         }
         self.update_brakes();

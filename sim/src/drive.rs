@@ -154,6 +154,9 @@ pub struct SimDrive {
     power_cycles: u64,
     offset_counts: i64,
     safe_torque_off: bool,
+    /// The drive's supply is on ([`SimDrive::power_off`] turns it off until
+    /// [`SimDrive::power_on`]).
+    powered: bool,
     joint_position: f64,
     encoder_counts: i64,
     velocity: f64,
@@ -178,6 +181,7 @@ impl SimDrive {
             power_cycles: 0,
             offset_counts: 0,
             safe_torque_off: false,
+            powered: true,
             joint_position: q,
             encoder_counts: 0,
             velocity: v,
@@ -222,9 +226,39 @@ impl SimDrive {
     /// Power off and on again: defaults (the stored calibration 0x2100 too), new encoder offset,
     /// boot-up frame, NOT READY TO SWITCH ON (SWITCH ON DISABLED at the next SYNC).
     pub fn power_cycle(&mut self, out: &mut dyn FrameSink) {
+        self.power_off();
+        self.power_on(out);
+    }
+
+    /// The drive's supply fails (a reboot begins): the power stage is off at once (no current,
+    /// the brake engaged) and the drive is dead to the bus (it handles no frame and sends
+    /// nothing, heartbeats included) until [`SimDrive::power_on`].
+    pub fn power_off(&mut self) {
+        self.powered = false;
+        self.sm = StateMachine::new();
+        self.current_a = 0.0;
+        self.nmt = NmtState::PreOperational;
+        self.pdo.stop();
+        self.producer = HeartbeatProducer::default();
+        self.consumer = HeartbeatConsumer::default();
+    }
+
+    /// The supply is back: the drive boots as at power-up (object dictionary defaults, the
+    /// stored calibration 0x2100 cleared, a new encoder offset), sends its boot-up frame to
+    /// `out` and is PRE-OPERATIONAL, NOT READY TO SWITCH ON. Nothing when it is powered.
+    pub fn power_on(&mut self, out: &mut dyn FrameSink) {
+        if self.powered {
+            return;
+        }
+        self.powered = true;
         self.power_cycles += 1;
         self.boot(Boot::PowerUp, out);
         self.observe(self.joint_position, self.velocity);
+    }
+
+    /// Whether the drive's supply is on.
+    pub fn powered(&self) -> bool {
+        self.powered
     }
 
     fn boot(&mut self, kind: Boot, out: &mut dyn FrameSink) {
@@ -304,6 +338,9 @@ impl SimDrive {
 
     /// A frame from the bus (not SYNC), handled at once.
     pub fn on_frame(&mut self, f: &Frame, out: &mut dyn FrameSink) {
+        if !self.powered {
+            return;
+        }
         self.consumer.on_frame(f, self.time_ns);
         if let Some(cmd) = NmtCommand::decode(f, self.p.node_id) {
             self.nmt_command(cmd, out);
@@ -349,10 +386,16 @@ impl SimDrive {
         }
     }
 
-    /// SYNC (received, or only "seen" by the drive's own clock when its cable is cut:
-    /// `received = false`): apply latched RPDOs, check the master's heartbeat, start the next
-    /// interpolation segment, sample, send TPDOs and the heartbeat when due.
+    /// A SYNC period begins: SYNC received (`received`), or a period of the drive's own clock
+    /// without it (its cable cut, or the SYNC lost on the bus: `received = false`). Apply
+    /// latched RPDOs (only on a SYNC received), check the master's heartbeat, start the next
+    /// interpolation segment (without a SYNC: towards the same target, so the last setpoint is
+    /// held), sample, send TPDOs (only on a SYNC received) and the heartbeat when due. Nothing
+    /// while the drive has no power.
     pub fn on_sync(&mut self, received: bool, out: &mut dyn FrameSink) {
+        if !self.powered {
+            return;
+        }
         let t = self.sm.boot_complete();
         self.on_transition(t, out);
         if received && self.nmt == NmtState::Operational {

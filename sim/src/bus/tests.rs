@@ -600,6 +600,19 @@ fn receive_queue_is_a_bounded_ring_that_counts_overruns() {
     assert_eq!(bus.now_ns(), 5_000_000);
 }
 
+/// Store the calibration 12345 in drive 3 (node 3) by SDO; the receive queue must be empty
+/// (between SYNCs: only the answers queue).
+fn store_calibration_12345_in_node_3(bus: &mut SimBus) {
+    for req in [
+        [0x23, 0x00, 0x21, 0x01, 0x39, 0x30, 0x00, 0x00], // 0x2100:1 = 12345
+        [0x2F, 0x00, 0x21, 0x02, 0x01, 0x00, 0x00, 0x00], // 0x2100:2 = 1
+    ] {
+        bus.send(&Frame::new(0x603, &req).unwrap()).unwrap();
+        let resp = bus.recv(0).unwrap().unwrap();
+        assert_eq!((resp.id, resp.data[0]), (0x583, 0x60), "{resp}");
+    }
+}
+
 #[test]
 fn save_and_resume_keep_offsets_calibration_and_pose_and_boot_like_a_reset() {
     let cfg = RobotConfig::prob2_default();
@@ -614,14 +627,7 @@ fn save_and_resume_keep_offsets_calibration_and_pose_and_boot_like_a_reset() {
     m.run_until_enabled(&mut bus, 100);
     // Store a calibration in drive 3 (node 3) by SDO (between SYNCs: only the answers queue).
     while bus.recv(0).unwrap().is_some() {}
-    for req in [
-        [0x23, 0x00, 0x21, 0x01, 0x39, 0x30, 0x00, 0x00], // 0x2100:1 = 12345
-        [0x2F, 0x00, 0x21, 0x02, 0x01, 0x00, 0x00, 0x00], // 0x2100:2 = 1
-    ] {
-        bus.send(&Frame::new(0x603, &req).unwrap()).unwrap();
-        let resp = bus.recv(0).unwrap().unwrap();
-        assert_eq!((resp.id, resp.data[0]), (0x583, 0x60), "{resp}");
-    }
+    store_calibration_12345_in_node_3(&mut bus);
     let path = std::env::temp_dir().join(format!("mcm-sim-test-{}.state", std::process::id()));
     assert!(SimBus::resume(&cfg, &path).unwrap().is_none(), "no file");
     bus.save(&path).unwrap();
@@ -650,4 +656,201 @@ fn save_and_resume_keep_offsets_calibration_and_pose_and_boot_like_a_reset() {
     let err = SimBus::resume(&cfg, &path).unwrap_err();
     std::fs::remove_file(&path).unwrap();
     assert_eq!(err.kind(), std::io::ErrorKind::InvalidData, "{err}");
+}
+
+/// The frames from node `node` among `frames` (its TPDOs, EMCY, SDO answers, heartbeats).
+fn from_node(frames: &[Frame], node: u8) -> Vec<Frame> {
+    frames
+        .iter()
+        .filter(|f| f.id != 0x080 && f.id & 0x7F == u16::from(node))
+        .copied()
+        .collect()
+}
+
+#[test]
+fn a_drive_rebooting_alone_is_dead_while_off_then_boots_as_at_power_up() {
+    use crate::cia402::State;
+    use crate::nmt::NmtState;
+    use crate::od;
+    let cfg = cfg_at([0.0, 30.0, -60.0, 0.0, 45.0, 0.0]);
+    let (mut bus, mut m) = enabled(&cfg, true);
+    // A stored calibration in drive 3 (node 3), which its reboot must clear.
+    while let Some(f) = bus.recv(0).unwrap() {
+        m.received.push(f);
+    }
+    store_calibration_12345_in_node_3(&mut bus);
+    let node = cfg.axes[2].node_id;
+    let d = bus.drive(2).unwrap();
+    let offset = d.encoder_offset_counts();
+    assert_ne!(d.od().raw(od::PRODUCER_HEARTBEAT), 0, "configured");
+    assert_ne!(d.od().raw(od::TPDO_MAP[0]), 0, "configured");
+    let tpdos: Vec<u64> = m.nodes.iter().map(|n| n.tpdos).collect();
+
+    bus.power_off_drive(2);
+    let d = bus.drive(2).unwrap();
+    assert_eq!((d.state(), d.current_a()), (State::NotReadyToSwitchOn, 0.0));
+    let heard = m.received.len();
+    let read_1017 = [0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0];
+    bus.send(&Frame::new(0x603, &read_1017).unwrap()).unwrap();
+    let truths = run(&mut bus, &mut m, 40); // 200 ms, four heartbeat periods
+    assert_eq!(
+        from_node(&m.received[heard..], node),
+        [],
+        "a drive without power answers nothing and sends nothing, heartbeats included"
+    );
+    let d = bus.drive(2).unwrap();
+    assert!(!d.powered());
+    assert_eq!(
+        (d.state(), d.current_a()),
+        (State::NotReadyToSwitchOn, 0.0),
+        "no SYNC moves a drive without power"
+    );
+    for (i, n) in m.nodes.iter().enumerate() {
+        let got = n.tpdos - tpdos[i];
+        // The TPDOs of the SYNC before went with the SDO answers, the 40th's wait to be read.
+        assert_eq!(got, if i == 2 { 0 } else { 39 }, "node {}", n.node);
+        assert!(i == 2 || n.is_enabled(), "node {} enabled", n.node);
+    }
+    assert!(
+        (truths[39].position[2] - truths[0].position[2]).abs() > 0.1 * DEG,
+        "axis 3 unpowered sags under gravity: {} -> {} deg",
+        truths[0].position[2] / DEG,
+        truths[39].position[2] / DEG
+    );
+
+    bus.power_on_drive(2);
+    let heard = m.received.len();
+    let q = bus.truth().position[2]; // where the next SYNC samples it
+    run(&mut bus, &mut m, 1);
+    let boot: Vec<String> = from_node(&m.received[heard..], node)
+        .iter()
+        .map(Frame::to_string)
+        .collect();
+    assert_eq!(
+        boot,
+        ["703#00"],
+        "its boot-up frame, then nothing (0x1017 = 0)"
+    );
+    for n in &m.nodes {
+        assert_eq!(
+            n.boot_ups,
+            if n.node == node { 2 } else { 1 },
+            "node {}",
+            n.node
+        );
+    }
+    let d = bus.drive(2).unwrap();
+    assert_eq!(d.nmt_state(), NmtState::PreOperational);
+    assert_eq!(d.state(), State::SwitchOnDisabled, "after its first SYNC");
+    assert_eq!(d.od().raw(od::PRODUCER_HEARTBEAT), 0, "heartbeat off");
+    assert_eq!(d.od().raw(od::TPDO_MAP[0]), 0, "mapping back to power-up");
+    assert_eq!(d.od().raw(od::RPDO_MAP[0]), 0, "mapping back to power-up");
+    let r = d.retained();
+    assert_eq!(
+        (r.calibration_offset, r.calibration_valid, r.power_cycles),
+        (0, 0, 1),
+        "the stored calibration is gone"
+    );
+    assert_ne!(d.encoder_offset_counts(), offset, "a new encoder offset");
+    let measured = f64::from(bus.drive(2).unwrap().od().i32(od::POSITION_ACTUAL));
+    let expected = q * cfg.axes[2].counts_per_rad() + d.encoder_offset_counts() as f64;
+    assert!(
+        (measured - expected).abs() < 50.0,
+        "the encoder reads the joint where the physics has it"
+    );
+    m.run_until_enabled(&mut bus, 100);
+    assert!(
+        m.nodes.iter().all(|n| n.aborts.is_empty()),
+        "configured again"
+    );
+}
+
+/// [`SimBus`] with its SYNCs lost on the wire: each SYNC the master sends is a period without it.
+struct SyncLost<'a>(&'a mut SimBus);
+
+impl Bus for SyncLost<'_> {
+    fn send(&mut self, frame: &Frame) -> Result<(), mcm_bus::BusError> {
+        if frame.id == super::SYNC_ID {
+            self.0.period_without_sync();
+            return Ok(());
+        }
+        self.0.send(frame)
+    }
+    fn recv(&mut self, deadline_ns: u64) -> Result<Option<Frame>, mcm_bus::BusError> {
+        self.0.recv(deadline_ns)
+    }
+}
+
+#[test]
+fn without_sync_time_and_physics_go_on_the_drives_hold_their_setpoint_and_send_no_tpdo() {
+    let cfg = cfg_at([0.0, 30.0, -60.0, 0.0, 45.0, 0.0]);
+    let (mut bus, mut m) = enabled(&cfg, true);
+    run(&mut bus, &mut m, 40);
+    // A target 2 deg away on axis 1, sent once: it reaches the drive only with a SYNC.
+    let step = (2.0 * DEG * cfg.axes[0].counts_per_rad()) as i32;
+    m.nodes[0].target += step;
+    let held = target_angle(&cfg, &bus, &m, 0) - 2.0 * DEG;
+    let t0 = bus.now_ns();
+    let tpdos: Vec<u64> = m.nodes.iter().map(|n| n.tpdos).collect();
+    let heard = m.received.len();
+    let truths: Vec<SimTruth> = (0..100)
+        .map(|_| {
+            m.run_cycle(&mut SyncLost(&mut bus));
+            bus.truth()
+        })
+        .collect();
+    assert_eq!(
+        bus.now_ns() - t0,
+        100 * cfg.cycle_period_ns(),
+        "time goes on"
+    );
+    for (i, n) in m.nodes.iter().enumerate() {
+        assert_eq!(
+            n.tpdos - tpdos[i],
+            1,
+            "node {}: only the last SYNC's TPDO",
+            n.node
+        );
+        let heartbeats = from_node(&m.received[heard..], n.node)
+            .iter()
+            .filter(|f| f.id == 0x700 + u16::from(n.node))
+            .count();
+        assert!(heartbeats >= 9, "node {}: {heartbeats} heartbeats", n.node);
+        assert!(n.is_enabled(), "node {}", n.node);
+    }
+    // The new target never arrived: axis 1 holds the last one it had.
+    let err = max_error_deg(&truths, &[held; NUM_AXES])[0];
+    assert!(err < 0.05, "axis 1 off its last setpoint by {err} deg");
+    // A push moves the arm: the physics runs although no SYNC comes.
+    let mut tau = [0.0; NUM_AXES];
+    tau[0] = 40.0;
+    apply(
+        &mut bus,
+        SimCommand {
+            external_torques_nm: Some(tau),
+            ..SimCommand::default()
+        },
+    );
+    let before = bus.truth().position[0];
+    for _ in 0..4 {
+        m.run_cycle(&mut SyncLost(&mut bus));
+    }
+    assert!(
+        bus.truth().position[0] > before + 1e-4 * DEG,
+        "the push moved axis 1: {} -> {} deg",
+        before / DEG,
+        bus.truth().position[0] / DEG
+    );
+    // SYNC back: the latched target applies and the TPDOs come again.
+    let tpdos = m.nodes[0].tpdos;
+    run(&mut bus, &mut m, 100);
+    assert_eq!(m.nodes[0].tpdos - tpdos, 99, "the 100th waits to be read");
+    let at = bus.truth().position[0];
+    let reached = target_angle(&cfg, &bus, &m, 0);
+    assert!(
+        (at - reached).abs() < 0.1 * DEG,
+        "{} vs {} deg",
+        at / DEG,
+        reached / DEG
+    );
 }
