@@ -13,12 +13,12 @@
 //! ```text
 //! mcm-dst script: seed 37, planted braking
 //! 4974 command 100 12 6 1 0.5
-//! 5000 bus 0.01 0.01 0.0 0.0 0.0 -
+//! 5000 bus 0.01 0.01 0.0 0.0 0.0 - 0 -
 //! ```
 //!
 //! (`command`: client, request, kind, flags, the arguments up to the last one that is not 0;
 //! `bus`: lose_tx, lose_rx, corrupt_rx, duplicate_rx, delay_rx, the node whose heartbeats are
-//! lost or `-`.)
+//! lost or `-`, SYNC stuck 0 or 1, the axis index (0-based) whose drive reboots or `-`.)
 
 use crate::faulty_bus::BusFaults;
 use crate::invariants::{Checker, Violation, Work};
@@ -108,10 +108,17 @@ impl fmt::Display for Script {
                     let hb = b
                         .lose_heartbeats_of
                         .map_or("-".to_string(), |n| n.to_string());
+                    let reboot = b.rebooting.map_or("-".to_string(), |a| a.to_string());
                     writeln!(
                         f,
-                        "{} bus {:?} {:?} {:?} {:?} {:?} {hb}",
-                        e.cycle, b.lose_tx, b.lose_rx, b.corrupt_rx, b.duplicate_rx, b.delay_rx
+                        "{} bus {:?} {:?} {:?} {:?} {:?} {hb} {} {reboot}",
+                        e.cycle,
+                        b.lose_tx,
+                        b.lose_rx,
+                        b.corrupt_rx,
+                        b.duplicate_rx,
+                        b.delay_rx,
+                        u8::from(b.sync_stuck)
                     )?;
                 }
             }
@@ -185,7 +192,7 @@ impl FromStr for Script {
                         args,
                     })
                 }
-                Some("bus") if words.len() == 8 => {
+                Some("bus") if words.len() == 10 => {
                     let p = |i: usize| {
                         words[i]
                             .parse::<f64>()
@@ -200,6 +207,15 @@ impl FromStr for Script {
                         lose_heartbeats_of: match words[7] {
                             "-" => None,
                             w => Some(w.parse().map_err(|_| bad("not a node id or -"))?),
+                        },
+                        sync_stuck: match words[8] {
+                            "0" => false,
+                            "1" => true,
+                            _ => return Err(bad("SYNC stuck is not 0 or 1")),
+                        },
+                        rebooting: match words[9] {
+                            "-" => None,
+                            w => Some(w.parse().map_err(|_| bad("not an axis index or -"))?),
                         },
                     })
                 }

@@ -113,6 +113,8 @@ impl UnderWay {
         add(bus.delay_rx > 0.0, Fault::BusDelay);
         add(bus.duplicate_rx > 0.0, Fault::BusDuplication);
         add(bus.lose_heartbeats_of.is_some(), Fault::HeartbeatLoss);
+        add(bus.sync_stuck, Fault::SyncStuck);
+        add(bus.rebooting.is_some(), Fault::DriveReboot);
     }
 }
 

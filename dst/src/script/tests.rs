@@ -25,6 +25,8 @@ fn the_text_reads_back_as_written() {
                 input: Input::Bus(BusFaults {
                     lose_tx: 0.01,
                     lose_heartbeats_of: Some(3),
+                    sync_stuck: true,
+                    rebooting: Some(5),
                     ..BusFaults::default()
                 }),
             },
@@ -59,7 +61,7 @@ fn a_bad_text_is_refused_naming_the_line() {
         e.to_string(),
         "line 2: not `CYCLE command CLIENT REQUEST KIND FLAGS ARGS...` or `CYCLE bus ...` in \"5 command 1 2\""
     );
-    let e = "mcm-dst script: seed 3, planted none\n5 bus 0 0 0 0 0 -\n4 bus 0 0 0 0 0 -\n"
+    let e = "mcm-dst script: seed 3, planted none\n5 bus 0 0 0 0 0 - 0 -\n4 bus 0 0 0 0 0 - 0 -\n"
         .parse::<Script>()
         .unwrap_err();
     assert_eq!(

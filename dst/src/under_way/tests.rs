@@ -124,6 +124,8 @@ fn every_kind_of_sim_fault_and_of_bus_fault_is_named() {
         delay_rx: 0.1,
         duplicate_rx: 0.1,
         lose_heartbeats_of: Some(3),
+        sync_stuck: true,
+        rebooting: Some(4),
         ..BusFaults::default()
     };
     let mut out = Vec::new();
