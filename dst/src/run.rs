@@ -50,6 +50,8 @@ pub struct RunOptions {
     /// Simulated seconds the quiet phase may take at most.
     pub quiet_seconds: f64,
     pub planted: Option<PlantedBug>,
+    /// The run's faults are of the first `fault_kinds` of [`Fault::ALL`] ([`Swarm::draw`]).
+    pub fault_kinds: usize,
 }
 
 impl RunOptions {
@@ -59,7 +61,15 @@ impl RunOptions {
             seconds,
             quiet_seconds: 300.0,
             planted: None,
+            fault_kinds: Fault::ALL.len(),
         }
+    }
+
+    /// A run whose faults are of the first `kinds` fault kinds only, as when a finding was
+    /// found (more kinds change a seed's draws).
+    pub fn with_fault_kinds(mut self, kinds: usize) -> RunOptions {
+        self.fault_kinds = kinds.min(Fault::ALL.len());
+        self
     }
 }
 
@@ -107,9 +117,9 @@ pub fn config(rng: &mut Rng) -> RobotConfig {
 /// The world of `seed`: its swarm options, its configuration, the world under test, and the
 /// generator after drawing them (its forks 2 to 4 drive the clients, the faults and the
 /// driver). A replay ([`crate::script::replay`]) builds the same world.
-pub fn seeded(seed: u64) -> (Rng, Swarm, RobotConfig, World) {
+pub fn seeded(seed: u64, fault_kinds: usize) -> (Rng, Swarm, RobotConfig, World) {
     let mut rng = Rng::new(seed);
-    let swarm = Swarm::draw(&mut rng);
+    let swarm = Swarm::draw(&mut rng, fault_kinds);
     let cfg = config(&mut rng);
     let world = World::new(&cfg, rng.fork(1));
     (rng, swarm, cfg, world)
@@ -117,7 +127,7 @@ pub fn seeded(seed: u64) -> (Rng, Swarm, RobotConfig, World) {
 
 /// Run one seed.
 pub fn run(opts: &RunOptions) -> RunReport {
-    let (mut rng, mut swarm, cfg, mut world) = seeded(opts.seed);
+    let (mut rng, mut swarm, cfg, mut world) = seeded(opts.seed, opts.fault_kinds);
     if let Some(bug) = opts.planted {
         world.plant(bug);
     }
@@ -157,6 +167,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
         recovery_cycles: None,
         script: Script {
             seed: opts.seed,
+            fault_kinds: opts.fault_kinds,
             planted: opts.planted,
             events: Vec::new(),
         },

@@ -11,7 +11,7 @@
 //! Text form (`Script`'s `Display` and `FromStr`), one input per line after the header:
 //!
 //! ```text
-//! mcm-dst script: seed 37, planted braking
+//! mcm-dst script: seed 37, fault kinds 12, planted braking
 //! 4974 command 100 12 6 1 0.5
 //! 5000 bus 0.01 0.01 0.0 0.0 0.0 - 0 -
 //! ```
@@ -20,6 +20,7 @@
 //! `bus`: lose_tx, lose_rx, corrupt_rx, duplicate_rx, delay_rx, the node whose heartbeats are
 //! lost or `-`, SYNC stuck 0 or 1, the axis index (0-based) whose drive reboots or `-`.)
 
+use crate::faults::Fault;
 use crate::faulty_bus::BusFaults;
 use crate::invariants::{Checker, Violation, Work};
 use crate::run::{PLANTED_BUGS, PlantedBug, planted_name, seeded};
@@ -49,13 +50,15 @@ pub enum Input {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Script {
     pub seed: u64,
+    /// The fault kinds its world was drawn with ([`crate::run::RunOptions::fault_kinds`]).
+    pub fault_kinds: usize,
     pub planted: Option<PlantedBug>,
     pub events: Vec<Event>,
 }
 
 /// Replay `script` for at most `cycles` cycles, checking every cycle; the first violation.
 pub fn replay(script: &Script, cycles: u64) -> Option<Violation> {
-    let (_, _, cfg, mut world) = seeded(script.seed);
+    let (_, _, cfg, mut world) = seeded(script.seed, script.fault_kinds);
     if let Some(bug) = script.planted {
         world.plant(bug);
     }
@@ -89,7 +92,11 @@ pub fn replay(script: &Script, cycles: u64) -> Option<Violation> {
 impl fmt::Display for Script {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let planted = self.planted.map_or("none", planted_name);
-        writeln!(f, "mcm-dst script: seed {}, planted {planted}", self.seed)?;
+        writeln!(
+            f,
+            "mcm-dst script: seed {}, fault kinds {}, planted {planted}",
+            self.seed, self.fault_kinds
+        )?;
         for e in &self.events {
             match e.input {
                 Input::Command(c) => {
@@ -130,7 +137,7 @@ impl fmt::Display for Script {
 /// Why a script's text does not read.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum ScriptError {
-    #[error("line 1 must be `mcm-dst script: seed N, planted NAME|none`, not {0:?}")]
+    #[error("line 1 must be `mcm-dst script: seed N, fault kinds K, planted NAME|none`, not {0:?}")]
     Header(String),
     #[error("line {line}: {what} in {text:?}")]
     Line {
@@ -152,16 +159,21 @@ impl FromStr for Script {
     fn from_str(text: &str) -> Result<Script, ScriptError> {
         let mut lines = text.lines();
         let header = lines.next().unwrap_or("");
-        let (seed, planted) = header
+        let (seed, fault_kinds, planted) = header
             .strip_prefix("mcm-dst script: seed ")
-            .and_then(|rest| rest.split_once(", planted "))
-            .and_then(|(seed, name)| {
+            .and_then(|rest| rest.split_once(", fault kinds "))
+            .and_then(|(seed, rest)| {
+                let (kinds, name) = rest.split_once(", planted ")?;
                 let seed = seed.parse::<u64>().ok()?;
+                let kinds = kinds
+                    .parse::<usize>()
+                    .ok()
+                    .filter(|k| *k <= Fault::ALL.len())?;
                 let planted = match name.trim() {
                     "none" => None,
                     n => Some(PLANTED_BUGS.iter().find(|(_, m)| *m == n)?.0),
                 };
-                Some((seed, planted))
+                Some((seed, kinds, planted))
             })
             .ok_or_else(|| ScriptError::Header(header.to_string()))?;
         let mut events = Vec::new();
@@ -238,6 +250,7 @@ impl FromStr for Script {
         }
         Ok(Script {
             seed,
+            fault_kinds,
             planted,
             events,
         })

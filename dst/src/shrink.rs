@@ -67,6 +67,7 @@ pub fn shrink(script: &Script, failure: &Violation, max_replays: u32) -> Option<
         replays.set(replays.get() + 1);
         let candidate = Script {
             seed: script.seed,
+            fault_kinds: script.fault_kinds,
             planted: script.planted,
             events: events.to_vec(),
         };
@@ -126,6 +127,7 @@ pub fn shrink(script: &Script, failure: &Violation, max_replays: u32) -> Option<
     Some(Shrunk {
         script: Script {
             seed: script.seed,
+            fault_kinds: script.fault_kinds,
             planted: script.planted,
             events,
         },

@@ -5,6 +5,11 @@
 use mcm_dst::run::{RunOptions, run};
 use mcm_shared::alloc_count::CountingAlloc;
 
+/// The fault kinds these seeds were found with (the first ten of `Fault::ALL`, before the
+/// stuck SYNC and the rebooting drive): every kind added draws a chance in each seed's swarm
+/// and so changes the seed's run. Each test below was shown to fail with its fix undone.
+const FOUND_WITH: usize = 10;
+
 // The allocation invariant needs the counting allocator to see anything.
 #[global_allocator]
 static GLOBAL: CountingAlloc = CountingAlloc;
@@ -15,7 +20,7 @@ static GLOBAL: CountingAlloc = CountingAlloc;
 /// configuration is retried a boot timeout later (`CONFIG_RETRIES`).
 #[test]
 fn seed_6_a_drive_whose_configuration_failed_is_configured_again() {
-    let r = run(&RunOptions::new(6, 20.0));
+    let r = run(&RunOptions::new(6, 20.0).with_fault_kinds(FOUND_WITH));
     assert_eq!(r.violation, None, "seed 6");
     assert!(r.recovery_cycles.is_some(), "seed 6 recovered");
 }
@@ -28,7 +33,7 @@ fn seed_6_a_drive_whose_configuration_failed_is_configured_again() {
 #[test]
 fn seed_1003_a_drive_lost_through_a_power_cycle_is_reset() {
     for seed in [1003, 1010] {
-        let r = run(&RunOptions::new(seed, 20.0));
+        let r = run(&RunOptions::new(seed, 20.0).with_fault_kinds(FOUND_WITH));
         assert_eq!(r.violation, None, "seed {seed}");
         assert!(r.recovery_cycles.is_some(), "seed {seed} recovered");
     }
@@ -43,7 +48,7 @@ fn seed_1003_a_drive_lost_through_a_power_cycle_is_reset() {
 /// slow approach too).
 #[test]
 fn seed_11_another_axis_s_impact_is_not_taken_for_a_stop() {
-    let r = run(&RunOptions::new(11, 60.0));
+    let r = run(&RunOptions::new(11, 60.0).with_fault_kinds(FOUND_WITH));
     assert_eq!(r.violation, None, "seed 11");
     assert!(r.recovery_cycles.is_some(), "seed 11 recovered");
 }
@@ -55,7 +60,7 @@ fn seed_11_another_axis_s_impact_is_not_taken_for_a_stop() {
 /// (`TPDO2_EVENT_TIMER_MS`, 100 ms), so the mode display is repeated.
 #[test]
 fn seed_3_a_lost_mode_display_is_repeated() {
-    let r = run(&RunOptions::new(3, 60.0));
+    let r = run(&RunOptions::new(3, 60.0).with_fault_kinds(FOUND_WITH));
     assert_eq!(r.violation, None, "seed 3");
     assert!(r.recovery_cycles.is_some(), "seed 3 recovered");
 }

@@ -8,6 +8,7 @@ fn the_text_reads_back_as_written() {
     args.args[3] = -1e-300;
     let script = Script {
         seed: 37,
+        fault_kinds: 10,
         planted: Some(PlantedBug::BrakingCheckOff),
         events: vec![
             Event {
@@ -38,7 +39,7 @@ fn the_text_reads_back_as_written() {
     };
     let text = script.to_string();
     assert!(
-        text.starts_with("mcm-dst script: seed 37, planted braking\n"),
+        text.starts_with("mcm-dst script: seed 37, fault kinds 10, planted braking\n"),
         "{text}"
     );
     assert!(
@@ -54,14 +55,14 @@ fn a_bad_text_is_refused_naming_the_line() {
         "seed 3".parse::<Script>(),
         Err(ScriptError::Header(h)) if h == "seed 3"
     ));
-    let e = "mcm-dst script: seed 3, planted none\n5 command 1 2\n"
+    let e = "mcm-dst script: seed 3, fault kinds 12, planted none\n5 command 1 2\n"
         .parse::<Script>()
         .unwrap_err();
     assert_eq!(
         e.to_string(),
         "line 2: not `CYCLE command CLIENT REQUEST KIND FLAGS ARGS...` or `CYCLE bus ...` in \"5 command 1 2\""
     );
-    let e = "mcm-dst script: seed 3, planted none\n5 bus 0 0 0 0 0 - 0 -\n4 bus 0 0 0 0 0 - 0 -\n"
+    let e = "mcm-dst script: seed 3, fault kinds 12, planted none\n5 bus 0 0 0 0 0 - 0 -\n4 bus 0 0 0 0 0 - 0 -\n"
         .parse::<Script>()
         .unwrap_err();
     assert_eq!(
@@ -73,8 +74,14 @@ fn a_bad_text_is_refused_naming_the_line() {
         }
     );
     assert!(
-        "mcm-dst script: seed 3, planted gravity\n"
+        "mcm-dst script: seed 3, fault kinds 12, planted gravity\n"
             .parse::<Script>()
             .is_err()
+    );
+    assert!(
+        "mcm-dst script: seed 3, fault kinds 99, planted none\n"
+            .parse::<Script>()
+            .is_err(),
+        "more fault kinds than there are"
     );
 }
