@@ -24,7 +24,10 @@ fn the_defaults_and_every_option() {
         }
     );
     let r = args("--replay x.script --shrink-replays 50").unwrap();
-    assert_eq!((r.replay.as_deref(), r.shrink_replays), (Some("x.script"), 50));
+    assert_eq!(
+        (r.replay.as_deref(), r.shrink_replays),
+        (Some("x.script"), 50)
+    );
     assert_eq!(
         args("--seed 3 --replay x.script").unwrap_err().to_string(),
         "--replay \"x.script\": allowed is a script without --seed (a script names its own seed)"
