@@ -64,3 +64,44 @@ fn seed_3_a_lost_mode_display_is_repeated() {
     assert_eq!(r.violation, None, "seed 3");
     assert!(r.recovery_cycles.is_some(), "seed 3 recovered");
 }
+
+/// Seed 28, shrunk to its 19 inputs: axis 1, held by an obstacle and derated by i2t, was
+/// calibrated; its current sat at the derated limit, the baseline the contact detector had
+/// learned, so no contact was seen, and the search's target ran from -12 deg to +245 deg while
+/// the axis stood at -1.84 deg (no safety check watches a search). When the obstacle went, the
+/// drive threw the axis at its target, 541 deg/s into its stop at 175 deg (true 177 deg).
+/// Fixed in the calibration search (`rt-core/src/calibration/lead.rs`): the target leads the
+/// measured position by at most the following-error band plus the detector's confirmation at
+/// the search speed; an axis beyond that whose current shows no push fails the calibration
+/// (`blocked`) and holds where it stands.
+const SEED_28: &str = "\
+mcm-dst script: seed 28, fault kinds 10, planted none
+50 command 100 3 4 0 0.0 1.0 1.0
+472 command 102 8 2 0
+513 command 100 5 4 0 0.0 1.0 1.0
+641 command 103 1 2 0
+642 command 100 6 2 0
+682 command 100 7 4 0 0.0 1.0 1.0
+2876 command 103 71 2 0
+2893 command 100 15 4 0 0.0 1.0 1.0
+3097 command 104 13 2 0
+3098 command 100 16 2 0
+3138 command 100 17 4 0 0.0 1.0 1.0
+3279 command 104 39 2 0
+3280 command 100 18 2 0
+3360 command 1 3 12 8 0.0 0.0 0.0 1.0
+3360 command 100 20 4 0 0.0 1.0 1.0
+5478 command 100 31 2 0
+5518 command 100 32 4 0 0.0 1.0 1.0
+7339 command 108 9 1 0
+7360 command 1 8 12 16 0.0 0.0 0.0 0.0 1.0
+";
+
+#[test]
+fn seed_28_a_blocked_search_does_not_run_its_target_away() {
+    let script: mcm_dst::script::Script = SEED_28.parse().expect("the script parses");
+    // 30 s past the last input (the axis was thrown 0.5 s after it).
+    let last = script.events.last().map_or(0, |e| e.cycle);
+    let v = mcm_dst::script::replay(&script, last + 6000);
+    assert_eq!(v, None, "seed 28");
+}

@@ -55,6 +55,11 @@ pub enum CalibrationFailure {
         configured_deg: f64,
         tolerance_deg: f64,
     },
+    /// The axis fell `lag_deg` behind its search target, more than the search allows
+    /// (`bound_deg`), and no contact was seen: something holds it (an obstacle) or it cannot
+    /// move (a derated current), and its current did not show a stop. The search stopped
+    /// there rather than let its target run on.
+    Blocked { lag_deg: f64, bound_deg: f64 },
 }
 
 /// Which limit a PVT point breaks.
@@ -357,6 +362,9 @@ impl Reason {
                         configured_deg,
                         tolerance_deg,
                     } => [5.0, found_deg, configured_deg, tolerance_deg],
+                    CalibrationFailure::Blocked { lag_deg, bound_deg } => {
+                        [6.0, lag_deg, bound_deg, 0.0]
+                    }
                 };
                 w(RejectCode::CalibrationFailed, a(axis), values)
             }
@@ -517,6 +525,10 @@ impl Reason {
                         found_deg: v1,
                         configured_deg: v2,
                         tolerance_deg: v3,
+                    },
+                    6 => CalibrationFailure::Blocked {
+                        lag_deg: v1,
+                        bound_deg: v2,
                     },
                     n => {
                         return Err(DecodeError::Unknown {
@@ -692,6 +704,10 @@ impl fmt::Display for Reason {
                 } => write!(
                     f,
                     "calibration of axis {axis} failed: its reference was found at {found_deg:.3} deg by its previous calibration, configured at {configured_deg:.3} deg, more than the tolerance {tolerance_deg:.3} deg apart (an obstacle in the way, or the stop is not where the configuration says); the arm holds where it is, its previous calibration is kept"
+                ),
+                CalibrationFailure::Blocked { lag_deg, bound_deg } => write!(
+                    f,
+                    "calibration of axis {axis} failed: it stayed {lag_deg:.3} deg behind its search target, more than the {bound_deg:.3} deg allowed, without a contact seen (an obstacle holds it, or it cannot move: derated current); the arm holds where it is, its previous calibration is kept"
                 ),
             },
             Reason::Aborted => {

@@ -374,6 +374,12 @@ def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
             "second": "%.3f" % v[2],
             "tolerance": "%.3f" % v[3],
         }
+    if name == "calibration_failed" and int(v[0]) == 6:
+        return "calibration of axis %(axis)s failed: it stayed %(lag)s deg behind its search target, more than the %(bound)s deg allowed, without a contact seen (an obstacle holds it, or it cannot move: derated current); the arm holds where it is, its previous calibration is kept" % {
+            "axis": str(axis),
+            "lag": "%.3f" % v[1],
+            "bound": "%.3f" % v[2],
+        }
     if name == "aborted":
         return "aborted (superseded by another command or a mode change)"
     if name == "busy":

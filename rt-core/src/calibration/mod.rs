@@ -31,10 +31,19 @@
 //!
 //! A search that travels further than the whole axis range plus twice the largest possible
 //! encoder offset without finding its stop fails; the axis then holds where it is.
+//!
+//! **Lead** ([`lead`]): a search's target never runs further ahead of the measured position
+//! than the axis's following-error band plus what the contact detector needs to confirm a
+//! contact at the search speed. An axis that falls further behind stops its target; it is in
+//! contact if its current pushes in the search direction while it stands, else the calibration
+//! fails with [`CalibrationFailure::Blocked`] and the axis holds where it is (an obstacle whose
+//! push the current cannot show, e.g. an axis derated by i2t).
 
 pub mod contact;
+pub mod lead;
 
 use contact::{ContactDetector, ContactParams, Sample};
+use lead::{LeadGuard, Verdict};
 use mcm_shared::config::{AxisConfig, RobotConfig};
 use mcm_shared::reply::CalibrationFailure;
 use mcm_shared::units::rad_to_deg;
@@ -92,6 +101,9 @@ pub struct AxisSettings {
     /// How far two approaches (or the reference and the previous calibration) may disagree
     /// [rad].
     pub tolerance: f64,
+    /// The axis's following-error band [rad]: the base of how far the search's target may
+    /// lead the measured position (see [`lead`]).
+    pub following_band: f64,
 }
 
 impl AxisSettings {
@@ -131,6 +143,7 @@ impl AxisSettings {
             max_current: a.max_current_a,
             range,
             tolerance: c.tolerance_deg.to_radians(),
+            following_band: a.following_error_deg.to_radians(),
         }
     }
 
@@ -207,6 +220,8 @@ pub struct AxisCalibration {
     target: f64,
     start: f64,
     detector: ContactDetector,
+    /// Keeps the target within its bound of the measured position.
+    lead: LeadGuard,
     /// The targets of the last two cycles, `[k-1, k-2]`: the position measured in cycle k
     /// answers the target of cycle k-2.
     sent: [f64; 2],
@@ -250,6 +265,7 @@ impl AxisCalibration {
             target: now.position,
             start: now.position,
             detector: ContactDetector::new(now.current),
+            lead: LeadGuard::default(),
             sent: [now.position; 2],
             searching: 0.0,
             approach_start: now.position,
@@ -304,6 +320,7 @@ impl AxisCalibration {
                 self.detector.track(input.current, dt);
                 self.phase = if left <= dt {
                     self.detector.restart();
+                    self.lead = LeadGuard::default();
                     self.searching = 0.0;
                     self.approach_start = self.target;
                     if next.slow {
@@ -356,9 +373,9 @@ impl AxisCalibration {
         let speed = (speed + RAMP_ACCEL * dt).min(top);
         let at_speed = speed >= top;
         self.searching += dt;
+        let params = self.s.contact_params(search.slow);
         match self.s.method {
             Method::Stop { .. } => {
-                let params = self.s.contact_params(search.slow);
                 let lagged = self.sent[1];
                 let sample = Sample {
                     position: input.position,
@@ -395,6 +412,42 @@ impl AxisCalibration {
                     self.found(search, at);
                     return;
                 }
+            }
+        }
+        // The target stays within its bound of the position it is answered by (see `lead`).
+        let lag = search.direction * (self.sent[1] - input.position);
+        let bound = lead::bound(self.s.following_band, top, params.confirm_cycles, dt);
+        // Only a stop is pushed against; a barrier search has nothing to push.
+        let push = matches!(self.s.method, Method::Stop { .. })
+            && search.direction * (input.current - self.detector.baseline()) > params.threshold;
+        match self.lead.step(
+            lag,
+            bound,
+            input.position,
+            push,
+            params.confirm_cycles,
+            params.min_lag,
+        ) {
+            Verdict::Advance => {}
+            Verdict::Stay => {
+                self.phase = Phase::Search { search, speed };
+                return;
+            }
+            Verdict::Contact(at) => {
+                self.target = input.position;
+                self.found(search, at);
+                return;
+            }
+            Verdict::Blocked(lag) => {
+                // Hold where the axis is, not where the target went.
+                self.target = input.position;
+                self.phase = Phase::Failed {
+                    cause: CalibrationFailure::Blocked {
+                        lag_deg: rad_to_deg(lag),
+                        bound_deg: rad_to_deg(bound),
+                    },
+                };
+                return;
             }
         }
         let searched = (self.target - self.start).abs();

@@ -49,6 +49,7 @@ fn settings(method: Method) -> AxisSettings {
         max_current: 10.0,
         range: 4.0,
         tolerance: 0.5f64.to_radians(),
+        following_band: 2f64.to_radians(),
     }
 }
 
@@ -391,4 +392,72 @@ fn a_jolt_from_another_axis_s_impact_is_not_taken_for_the_stop() {
         }
     }
     panic!("did not finish");
+}
+
+#[test]
+fn a_blocked_axis_whose_current_cannot_show_it_fails_and_stays_where_it_is() {
+    // Seed 28 of the simulation tester: an axis derated by i2t, held by an obstacle. Its
+    // current sits at the derated limit, which is the baseline the detector learned, so it
+    // never departs: the detector cannot see the obstacle. The target must not run away; the
+    // calibration fails naming the lag and the bound; the axis holds where it stands, and
+    // stays there when the obstacle goes.
+    let dt = 0.005;
+    let s = settings(Method::Stop {
+        direction: 1.0,
+        stop: 2.0,
+    });
+    let obstacle = 0.3;
+    let derated = 2.0;
+    let bound = lead::bound(s.following_band, s.velocity, FAST_CONTACT.1, dt);
+    let mut blocked = true;
+    let read = |target: f64, blocked: bool| AxisInput {
+        position: if blocked {
+            target.min(obstacle)
+        } else {
+            target
+        },
+        current: derated,
+        light_barrier: false,
+    };
+    let mut c = AxisCalibration::start(s, read(0.0, blocked), None);
+    let mut sent = [0.0f64; 2];
+    let mut lead_most = 0.0f64;
+    let mut failed = None;
+    for k in 0..20_000 {
+        let input = read(sent[1], blocked);
+        let out = c.step(input, dt);
+        lead_most = lead_most.max(c.target() - input.position);
+        sent = [c.target(), sent[0]];
+        if let Outcome::Failed { cause } = out {
+            failed = Some((k, cause));
+            break;
+        }
+    }
+    let Some((k, cause)) = failed else {
+        panic!("no failure; target {}", c.target())
+    };
+    assert!(
+        lead_most <= bound + 3.0 * s.velocity * dt,
+        "the target led by {} deg, bound {} deg",
+        lead_most.to_degrees(),
+        bound.to_degrees()
+    );
+    let CalibrationFailure::Blocked { lag_deg, bound_deg } = cause else {
+        panic!("{cause:?} at cycle {k}")
+    };
+    assert!((bound_deg - bound.to_degrees()).abs() < 1e-9, "{bound_deg}");
+    assert!(
+        lag_deg > bound_deg && lag_deg < bound_deg + 1.0,
+        "lag {lag_deg}"
+    );
+    assert_eq!(c.target(), obstacle, "holds where the axis stands");
+    // The obstacle goes (a little later: the drive has had the targets sent since): the axis
+    // is told to stay where it is.
+    for k in 0..400 {
+        blocked = k < 10;
+        let input = read(sent[1], blocked);
+        c.step(input, dt);
+        sent = [c.target(), sent[0]];
+        assert_eq!(input.position, obstacle);
+    }
 }

@@ -33,6 +33,8 @@ pub(crate) fn reason() -> impl Strategy<Value = Reason> {
                 tolerance_deg,
             }
         }),
+        (x(), x())
+            .prop_map(|(lag_deg, bound_deg)| CalibrationFailure::Blocked { lag_deg, bound_deg }),
     ];
     let quantity = prop_oneof![
         Just(PvtQuantity::Position),

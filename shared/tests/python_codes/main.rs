@@ -256,6 +256,10 @@ fn cases() -> Vec<Case> {
             configured_deg: s2,
             tolerance_deg: s3,
         },
+        CalibrationFailure::Blocked {
+            lag_deg: s1,
+            bound_deg: s2,
+        },
     ] {
         let reason = Reason::CalibrationFailed { axis: a, cause };
         let which = reason.to_wire().values[0];
@@ -271,6 +275,10 @@ fn cases() -> Vec<Case> {
                     slots.push(figure(r, "first", s1, Fmt::F3));
                     slots.push(figure(r, "second", s2, Fmt::F3));
                     slots.push(figure(r, "tolerance", s3, Fmt::F3));
+                }
+                CalibrationFailure::Blocked { .. } => {
+                    slots.push(figure(r, "lag", s1, Fmt::F3));
+                    slots.push(figure(r, "bound", s2, Fmt::F3));
                 }
             }
             slots
