@@ -105,3 +105,23 @@ fn seed_28_a_blocked_search_does_not_run_its_target_away() {
     let v = mcm_dst::script::replay(&script, last + 6000);
     assert_eq!(v, None, "seed 28");
 }
+
+/// The fault kinds of today's `Fault::ALL` (twelve, the stuck SYNC and the rebooting drive
+/// included): what the seeds below were found with.
+const TWELVE_KINDS: usize = 12;
+
+/// Seed 1 (found with the twelve fault kinds; earlier seeds 2, 5 and 1002 with ten): a
+/// calibration search drove axis 2 into its mechanical stop's spring; the search ended without
+/// success there and HOLD held the measured position inside the spring, so the drive pressed
+/// with its full current for good (4 A derated, i2t 1.0). The derated motor could not reach
+/// the search's contact current, every calibration of the quiet phase failed, and HOLD never
+/// let the motor cool. Fixed in the controller (`rt-core/src/controller/calibrate_relax.rs`,
+/// `relax_searched_axes`): every axis of a search that ends without success relaxes (follows
+/// its measured position, its drive's loop restarted) once no stop runs, through ERROR, an
+/// enabling and HOLD, and holds where it comes to rest.
+#[test]
+fn seed_1_an_axis_whose_search_ended_in_its_stop_stops_pressing() {
+    let r = run(&RunOptions::new(1, 60.0).with_fault_kinds(TWELVE_KINDS));
+    assert_eq!(r.violation, None, "seed 1");
+    assert!(r.recovery_cycles.is_some(), "seed 1 recovered");
+}

@@ -297,6 +297,15 @@ impl AxisCalibration {
         self.previous
     }
 
+    /// The direction (+1/-1) in which the axis's search finds its mechanical stop; `None` for
+    /// a light barrier (nothing to press into).
+    pub fn stop_direction(&self) -> Option<f64> {
+        match self.s.method {
+            Method::Stop { direction, .. } => Some(direction),
+            Method::Barrier { .. } => None,
+        }
+    }
+
     /// The axis's drive rebooted (its encoder reference may be gone): its previous calibration
     /// is no longer valid.
     pub fn forget_previous(&mut self) {

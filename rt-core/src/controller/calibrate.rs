@@ -5,8 +5,9 @@
 //! Runs inside the cycle. While an axis searches it works in its raw (encoder) frame (its offset
 //! is `None`); the offset it had is kept by its [`AxisCalibration`] and restored by
 //! [`Controller::restore_previous_calibration`] when the calibration is aborted (`hold`, a mode
-//! change by a lost owner, a shutdown, a safety trip) or fails. Offsets found are written to the
-//! drives (0x2100) only when they come into force.
+//! change by a lost owner, a shutdown, a safety trip) or fails; an axis that was searching its
+//! mechanical stop then relaxes out of it (`calibrate_relax.rs`). Offsets found are written to
+//! the drives (0x2100) only when they come into force.
 
 use super::Controller;
 use super::exits::Exit;
@@ -51,11 +52,7 @@ impl Controller {
     /// it had (the commanded positions follow into the joint frame). Called before the state
     /// changes; nothing happens outside the searches.
     pub(super) fn restore_previous_calibration(&mut self) {
-        let State::Calibration {
-            phase: CalPhase::Search { axes },
-            ..
-        } = self.state
-        else {
+        let Some(axes) = self.searches() else {
             return;
         };
         for (i, cal) in axes.iter().enumerate() {
@@ -70,6 +67,17 @@ impl Controller {
             for h in &mut self.cmd_hist {
                 h[i] += shift;
             }
+        }
+    }
+
+    /// The searches of the calibration under way; `None` outside them.
+    pub(super) fn searches(&self) -> Option<[Option<AxisCalibration>; NUM_AXES]> {
+        match self.state {
+            State::Calibration {
+                phase: CalPhase::Search { axes },
+                ..
+            } => Some(axes),
+            _ => None,
         }
     }
 

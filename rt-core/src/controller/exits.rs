@@ -17,7 +17,10 @@
 //! - CALIBRATION: every axis it was searching gets the calibration it had back
 //!   ([`Controller::restore_previous_calibration`]) and its caller is failed (`aborted` after a
 //!   `hold`, a gone owner or a timeout, `shutting_down`, or the reason of the trip or of the
-//!   failed search); then as below.
+//!   failed search). Each axis that was searching its mechanical stop relaxes out of the
+//!   stop's spring once every stop has ended ([`Controller::relax_searched_axes`]): held at
+//!   its measured position there, its drive would press with the full current for good; then
+//!   as below.
 //! - PVT (a move, a stop or a stream), RELEASE, TORQUE_CONTROL, VELOCITY_CONTROL, CALIBRATION:
 //!   HOLD with the controlled stop `hold` uses ([`Controller::stop_motion`]: from the commanded
 //!   state in the position modes, from the measured state in the torque modes and the
@@ -115,6 +118,7 @@ impl Controller {
                 }
             },
             State::Calibration { caller, .. } => {
+                self.relax_searched_axes();
                 self.restore_previous_calibration();
                 self.fail(caller, why.reason());
                 self.stop_for(why)

@@ -23,6 +23,7 @@
 //! `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft speed limit).
 
 mod calibrate;
+mod calibrate_relax;
 mod commands;
 mod exits;
 mod motion;
@@ -103,6 +104,10 @@ pub struct Controller {
     enable_timeout_ns: u64,
     requests: [DriveRequest; NUM_AXES],
     current_limit: [f64; NUM_AXES],
+    /// The relax of the axes whose calibration search ended without success (`calibrate_relax.rs`,
+    /// [`calibrate_relax::SearchRelax`]). Not part of [`State`]: the relax outlives the ERROR of a
+    /// failed search, the enabling a `hold` starts from there and the arrival in HOLD.
+    search_relax: calibrate_relax::SearchRelax,
     prev_velocity: [f64; NUM_AXES],
     acceleration: [f64; NUM_AXES],
     view: CycleView,
@@ -153,6 +158,7 @@ impl Controller {
                 .max(u64::from(cfg.bus.boot_timeout_ms) * 1_000_000),
             requests: [DriveRequest::Disable; NUM_AXES],
             current_limit: p.max_current,
+            search_relax: calibrate_relax::SearchRelax::NONE,
             prev_velocity: [0.0; NUM_AXES],
             acceleration: [0.0; NUM_AXES],
             p,

@@ -108,15 +108,26 @@ impl Controller {
     pub(super) fn advance_motion(&mut self) {
         let dt = self.p.period;
         self.current_limit = self.p.max_current;
+        // OFF, and a mode with a motion of its own, end the relax of the axes whose
+        // calibration search ended without success (`calibrate_relax.rs`).
+        if !matches!(
+            self.state,
+            State::Enabling { .. } | State::Hold { .. } | State::Error { .. }
+        ) {
+            self.search_relax.end();
+        }
         match self.state {
-            State::Off | State::Enabling { .. } => {}
+            State::Off => {}
+            State::Enabling { .. } => self.relax_searched(false),
             State::Hold { stop } => {
                 let stop = self.advance_stop(stop, dt);
+                self.relax_searched(stop.is_some());
                 self.state = State::Hold { stop };
             }
             State::Error { stop, mut relax } => {
                 let stop = self.advance_stop(stop, dt);
                 self.relax_tripped_axes(&mut relax);
+                self.relax_searched(stop.is_some());
                 self.state = State::Error { stop, relax };
             }
             State::Pvt { motion, starved } => self.advance_pvt(motion, starved, dt),

@@ -16,7 +16,7 @@ use mcm_shared::reply::{Reason, SafetyError};
 
 /// Cycles an axis that tripped its following error follows its measured position (0.1 s at
 /// 200 Hz: a joint pressed into an obstacle springs back within a few cycles).
-const RELAX_CYCLES: u8 = 20;
+pub(super) const RELAX_CYCLES: u8 = 20;
 
 /// The axes that relax in the ERROR a trip for `reason` leads to: after a following error, the
 /// drive's loop wound up against whatever held the axis; the axis relaxes and holds where it

@@ -203,7 +203,10 @@ fn a_reference_away_from_the_previous_calibration_fails_with_both_positions() {
     assert!((tolerance_deg - 0.5).abs() < 1e-9);
     assert_eq!(r.mode(), Mode::Error);
     assert_eq!(offsets(&r), before, "the previous calibration is kept");
+    // A recovering client's `hold` in the next cycle: the slow approach left axis 3 pressed
+    // into its stop, and it relaxes through ERROR, the enabling and HOLD.
     r.ok(Request::Hold, 800);
+    assert_not_pressing(&mut r, "HOLD after the implausible reference");
     assert_true(&mut r, "after the implausible reference");
 }
 
@@ -253,4 +256,70 @@ fn an_obstacle_in_the_way_of_a_recalibration_is_implausible() {
     assert!((found_deg - 100.0).abs() < 1.0, "found {found_deg}");
     assert_eq!(configured_deg, 140.0);
     assert_eq!(offsets(&r), before, "the previous calibration is kept");
+}
+
+/// Axis 3's mechanical stop in the default configuration [deg].
+const AXIS_3_STOP_DEG: f64 = 140.0;
+
+/// Axis 3 (index 2) rests against its stop without pressing into it, `what` says when: within
+/// half a second, and still a second later, its current is below 1 A (holding its weight there
+/// takes a fraction of that; pressing into the stop's spring takes the full 4 A and heats the
+/// motor to its i2t derating) and it rests less than 0.1 deg deep in the spring (the search
+/// pressed it deeper).
+fn assert_not_pressing(r: &mut Robot, what: &str) {
+    for wait in [100, 200] {
+        r.run(wait);
+        let s = r.cycle.state();
+        let (current, truth, i2t) = (s.current[2], s.sim_true_position[2], s.i2t[2]);
+        assert!(
+            current.abs() < 1.0 && truth < AXIS_3_STOP_DEG + 0.1,
+            "{what}: axis 3 still presses with {current} A at {truth} deg (its stop at \
+             {AXIS_3_STOP_DEG} deg), i2t {i2t}"
+        );
+    }
+}
+
+/// Run until axis 3's search presses it into its stop's spring with more than 2 A.
+fn until_axis_3_presses(r: &mut Robot) {
+    r.run_until("axis 3 presses its stop", 4000, |r| {
+        let s = r.cycle.state();
+        s.sim_true_position[2] > AXIS_3_STOP_DEG + 0.05 && s.current[2].abs() > 2.0
+    });
+    assert_eq!(r.mode(), Mode::Calibration);
+}
+
+/// A calibration of `which` (axis 3 among its axes) is aborted by `hold` while axis 3
+/// presses its stop: axis 3 stops pressing, and the next calibration of `which` succeeds.
+fn aborted_while_axis_3_presses(which: Which) {
+    let mut r = Robot::new();
+    send(
+        &mut r,
+        calibrate(which, Direction::Positive, Direction::Positive),
+        7201,
+    );
+    until_axis_3_presses(&mut r);
+    send(&mut r, Request::Hold, 7202);
+    assert_eq!(r.mode(), Mode::Hold);
+    assert_not_pressing(&mut r, &format!("HOLD after the aborted {which:?}"));
+    // What HOLD holds leaves the motor cool enough: the next search finds the stop.
+    let resp = r.command(
+        calibrate(which, Direction::Positive, Direction::Positive),
+        20_000,
+    );
+    assert!(
+        matches!(resp.outcome, Outcome::Done(_)),
+        "{which:?}: {resp:?}"
+    );
+}
+
+#[test]
+fn a_search_aborted_while_pressing_its_stop_stops_pressing() {
+    aborted_while_axis_3_presses(Which::Axis(Axis::new(3).unwrap()));
+}
+
+#[test]
+fn an_elbow_search_aborted_while_axis_3_presses_its_stop_stops_pressing() {
+    // The elbow group searches axes 2 and 3 together: both relax, axis 2 held by its drive
+    // against its weight, axis 3 out of its stop.
+    aborted_while_axis_3_presses(Which::Elbow);
 }
