@@ -1,5 +1,6 @@
-//! Shrinking a failing run to the inputs its failure needs: delta debugging (Zeller's
-//! `ddmin`) over the run's script ([`crate::script`]). A candidate keeps a subset of the
+//! Shrinking a failing run to the inputs its failure needs: every input of one sender at a
+//! time first, then delta debugging (Zeller's `ddmin`) over the run's script
+//! ([`crate::script`]). A candidate keeps a subset of the
 //! inputs, in order, over the same seed's world; it "still fails" when its replay breaks the
 //! same invariant ([`invariant_of`]) by the failing cycle (plus [`LATER_CYCLES`]). The result
 //! is 1-minimal when the replay budget allows: removing any one input left makes the failure
@@ -8,7 +9,7 @@
 //! Nothing here runs inside the cycle.
 
 use crate::invariants::Violation;
-use crate::script::{Script, replay};
+use crate::script::{Input, Script, replay};
 
 /// A candidate may fail this many cycles after the original failure and still count [cycles]
 /// (1 s at 200 Hz): an input removed may delay what it did not cause.
@@ -82,6 +83,36 @@ pub fn shrink(script: &Script, failure: &Violation, max_replays: u32) -> Option<
         .collect();
     let inputs_before = events.len();
     let mut violation = fails(&events)?;
+    // First every input of one sender at a time (a client, the driver, the fault injector,
+    // the bus faults as one): most senders have nothing to do with a failure, and each goes
+    // in one replay instead of the many ddmin takes to find its scattered inputs.
+    let mut senders: Vec<Option<u64>> = Vec::new();
+    for e in &events {
+        let sender = match e.input {
+            Input::Command(c) => Some(c.client_id),
+            Input::Bus(_) => None,
+        };
+        if !senders.contains(&sender) {
+            senders.push(sender);
+        }
+    }
+    for sender in senders {
+        if replays.get() >= max_replays {
+            break;
+        }
+        let candidate: Vec<_> = events
+            .iter()
+            .copied()
+            .filter(|e| match e.input {
+                Input::Command(c) => Some(c.client_id) != sender,
+                Input::Bus(_) => sender.is_some(),
+            })
+            .collect();
+        if let Some(v) = fails(&candidate) {
+            events = candidate;
+            violation = v;
+        }
+    }
     let mut n = 2usize;
     let mut budget_spent = false;
     while events.len() >= 2 {

@@ -62,7 +62,7 @@ fn a_soft_stop_after_a_trip_is_caught_and_shrunk() {
         "the invariant the bug breaks: {v}"
     );
 
-    let s = shrink(&caught.script, &v, 80).expect("the run's own script reproduces it");
+    let s = shrink(&caught.script, &v, 250).expect("the run's own script reproduces it");
     eprintln!(
         "shrunk with {} replays: {} inputs of {}, failing at cycle {}: {}\n{}",
         s.replays,
