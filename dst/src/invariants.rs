@@ -174,10 +174,13 @@ pub struct Checker {
     left_off: bool,
     /// Per axis: the controller is not (yet again) responsible for its limits.
     excused: [bool; NUM_AXES],
-    /// Per axis: calibrated while an obstacle or a push acted during the calibration, which
-    /// no stop-based calibration can tell from the stop (not judged against the truth until
-    /// calibrated again).
+    /// Per axis: its calibration in use was made while an obstacle or a push acted, which no
+    /// stop-based calibration can tell from the stop (not judged against the truth until
+    /// calibrated again: set when a `calibrate` covering it is answered OK); and the same of
+    /// the calibration under way or last tried (a failed one gives the previous calibration
+    /// back, which keeps its own).
     fooled: [bool; NUM_AXES],
+    attempt_fooled: [bool; NUM_AXES],
     pub modes_reached: [u64; Mode::ALL.len()],
     pub answers: [u64; 3],
     /// The furthest the true angle went beyond a software limit while the controller was
@@ -216,6 +219,7 @@ impl Checker {
             left_off: false,
             excused: [true; NUM_AXES],
             fooled: [false; NUM_AXES],
+            attempt_fooled: [false; NUM_AXES],
             modes_reached: [0; Mode::ALL.len()],
             answers: [0; 3],
             max_overrun_deg: 0.0,
@@ -381,13 +385,12 @@ impl Checker {
         let fooling = faults
             .iter()
             .any(|f| matches!(f, Fault::Obstacle | Fault::Push));
-        for i in 0..NUM_AXES {
-            let calibrated = s.axis_flags[i] & AXIS_CALIBRATED != 0;
-            if mode == Mode::Calibration && !calibrated {
-                if self.prev_mode != Mode::Calibration {
-                    self.fooled[i] = false;
-                }
-                self.fooled[i] |= fooling;
+        if mode == Mode::Calibration {
+            if self.prev_mode != Mode::Calibration {
+                self.attempt_fooled = [false; NUM_AXES];
+            }
+            for f in &mut self.attempt_fooled {
+                *f |= fooling;
             }
         }
         for i in 0..NUM_AXES {
@@ -421,7 +424,8 @@ impl Checker {
             let err = (s.measured_position[i] - q).abs();
             let speed = self.recent_speeds.iter().map(|v| v[i]).fold(0.0, f64::max);
             let slack = self.tolerance_deg[i] + self.lag_cycles as f64 * speed * self.period_s;
-            if calibrated && !self.fooled[i] && err > slack {
+            let fooled = self.fooled[i] || self.attempt_fooled[i];
+            if calibrated && !fooled && err > slack {
                 return Err(format!(
                     "axis {}: flagged calibrated, but measured {:.4} deg vs true {q:.4} deg: off by {err:.4} deg, tolerance {slack:.4} deg",
                     i + 1,
@@ -546,6 +550,14 @@ impl Checker {
             let Outcome::Done(done) = resp.outcome else {
                 continue;
             };
+            if resp.kind == CommandKind::Calibrate
+                && let Some(which) = asked.which
+            {
+                // The axes it covered use the calibration just made from now on.
+                for a in Axis::ALL.iter().filter(|a| which.contains(**a)) {
+                    self.fooled[a.index()] = self.attempt_fooled[a.index()];
+                }
+            }
             // A later command of this cycle that may change the mode again: no conclusion.
             let later_change = replies[n + 1..].iter().any(|x| {
                 x.status == 0

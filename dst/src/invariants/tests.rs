@@ -2,6 +2,7 @@
 //! same cycle without the defect passes (so that each case fails without its check).
 
 use super::*;
+use crate::stamp::calibrate_all;
 use mcm_shared::command::{Calibrate, Direction, Pvt};
 use mcm_shared::reply::{Done, Reason};
 use mcm_shared::sample::AXIS_CALIBRATED;
@@ -213,6 +214,8 @@ fn an_axis_flagged_calibrated_off_the_truth_is_a_violation() {
 #[test]
 fn a_calibration_an_obstacle_or_a_push_acted_on_is_not_judged_until_calibrated_again() {
     let mut c = checker();
+    let cal = sample(calibrate_all(), 1);
+    c.asked(&cal, 0);
     let mut s = state(Mode::Calibration);
     s.axis_flags = [0; 6];
     c.cycle(1, &s, &[], Work::default(), &[Fault::Obstacle])
@@ -220,14 +223,28 @@ fn a_calibration_an_obstacle_or_a_push_acted_on_is_not_judged_until_calibrated_a
     s.mode = Mode::Hold.to_wire();
     s.axis_flags = [AXIS_CALIBRATED; 6];
     s.measured_position[4] = 14.9; // calibrated against the obstacle
-    check(&mut c, 2, &s, &[]).unwrap();
-    // Calibrated again with a free path: judged again.
+    check(&mut c, 2, &s, &[ok(1, CommandKind::Calibrate)]).unwrap();
+    check(&mut c, 3, &s, &[]).unwrap();
+    // A recalibration with a free path that fails gives that calibration back: still not
+    // judged.
+    c.asked(&sample(calibrate_all(), 2), 3);
     s.mode = Mode::Calibration.to_wire();
     s.axis_flags = [0; 6];
-    check(&mut c, 3, &s, &[]).unwrap();
+    check(&mut c, 4, &s, &[]).unwrap();
     s.mode = Mode::Hold.to_wire();
     s.axis_flags = [AXIS_CALIBRATED; 6];
-    broken(check(&mut c, 4, &s, &[]), "axis 5: flagged calibrated");
+    let aborted = answer(2, CommandKind::Calibrate, Outcome::Failed(Reason::Aborted));
+    check(&mut c, 5, &s, &[aborted]).unwrap();
+    check(&mut c, 6, &s, &[]).unwrap();
+    // Calibrated again with a free path: judged again.
+    c.asked(&sample(calibrate_all(), 3), 6);
+    s.mode = Mode::Calibration.to_wire();
+    s.axis_flags = [0; 6];
+    check(&mut c, 7, &s, &[]).unwrap();
+    s.mode = Mode::Hold.to_wire();
+    s.axis_flags = [AXIS_CALIBRATED; 6];
+    check(&mut c, 8, &s, &[ok(3, CommandKind::Calibrate)]).unwrap();
+    broken(check(&mut c, 9, &s, &[]), "axis 5: flagged calibrated");
 }
 
 #[test]
