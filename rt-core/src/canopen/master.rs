@@ -774,14 +774,18 @@ impl Master {
                 node: ax.params.node,
             });
         }
-        // Lost for a boot timeout: its cable out for that long, or its power cycled while its
-        // boot-up went unheard, after which it sits in PRE-OPERATIONAL without heartbeats
-        // (0x1017 = 0 after power-up) and would never be heard again. Reset it and wait for it
-        // as for a drive that never answered (resets repeated every boot timeout, `Missing`).
-        if ax
-            .session
-            .lost_since_ns
-            .is_some_and(|t| now_ns.saturating_sub(t) >= boot_timeout)
+        // Lost for a boot timeout and silent: its cable out for that long, or its power cycled
+        // while its boot-up went unheard, after which it sits in PRE-OPERATIONAL without
+        // heartbeats (0x1017 = 0 after power-up) and would never be heard again. Reset it and
+        // wait for it as for a drive that never answered (resets repeated every boot timeout,
+        // `Missing`). A drive whose heartbeats still come is not reset: it only misses its
+        // TPDOs (no SYNC reaches it, the bus loses them) and recovers when they come back; one
+        // that leaves OPERATIONAL is reset by its heartbeat (`on_heartbeat`).
+        if !ax.hb.is_fresh(now_ns)
+            && ax
+                .session
+                .lost_since_ns
+                .is_some_and(|t| now_ns.saturating_sub(t) >= boot_timeout)
         {
             self.reset_again(i);
         }

@@ -394,6 +394,35 @@ fn a_drive_lost_for_a_boot_timeout_is_reset_and_configured_again() {
     assert!(w.fb(2).online, "{:?}", w.fb(2));
 }
 
+/// A drive that only misses its TPDOs (no SYNC reaches it, the bus loses them) while its
+/// heartbeats come is lost but not reset, however long it lasts, and recovers when its TPDOs
+/// come back.
+#[test]
+fn a_drive_lost_with_fresh_heartbeats_is_not_reset() {
+    let mut w = World::booted();
+    w.take_events();
+    w.drives[2].drop_tpdos = true;
+    for _ in 0..600 {
+        let frames = w.step([DriveRequest::Disable; 6]);
+        assert!(
+            !frames.iter().any(|f| f.to_string() == "000#8203"),
+            "reset at {} ns although its heartbeats come",
+            w.now
+        );
+    }
+    assert!(
+        w.take_events()
+            .iter()
+            .any(|e| matches!(e, MasterEvent::Lost { axis: 2, .. }))
+    );
+    w.drives[2].drop_tpdos = false;
+    w.run(2, [DriveRequest::Disable; 6]);
+    assert_eq!(
+        w.take_events(),
+        [MasterEvent::Recovered { axis: 2, node: 3 }]
+    );
+}
+
 #[test]
 fn heartbeat_timeout_at_exactly_the_configured_time() {
     let mut w = World::booted();
