@@ -192,6 +192,8 @@ struct BusIn {
     duplicate_rx: Option<u8>,
     delay_rx: Option<u8>,
     lose_heartbeats_of: Option<u8>,
+    sync_stuck: bool,
+    rebooting: Option<u8>,
 }
 
 fn axis(a: u8) -> Axis {
@@ -213,6 +215,8 @@ impl BusIn {
             lose_heartbeats_of: self
                 .lose_heartbeats_of
                 .map(|a| cfg.axes[axis(a).index()].node_id),
+            sync_stuck: self.sync_stuck,
+            rebooting: self.rebooting.map(|a| axis(a).index()),
         }
     }
 }
