@@ -304,6 +304,11 @@ impl Checker {
         self.positions(s, mode, faults).or_else(&fail)?;
         self.standstill(k, s, mode, faults).or_else(&fail)?;
         self.replies(s, mode, replies).or_else(&fail)?;
+        if mode != Mode::Calibration {
+            // The attempt ended: an OK gave its axes its excuse; a failure gave back the
+            // calibration before it, with that one's.
+            self.attempt_fooled = [false; NUM_AXES];
+        }
         self.overdue(k, mode).or_else(&fail)?;
         self.prev_mode = mode;
         Ok(())
@@ -450,11 +455,12 @@ impl Checker {
             self.stopping = [None; NUM_AXES];
             return Ok(());
         }
-        if mode == Mode::Error && !matches!(self.prev_mode, Mode::Error | Mode::Off) {
+        // ERROR just entered (the watches of an earlier ERROR ended when it was left).
+        if !matches!(self.prev_mode, Mode::Error | Mode::Off) {
             for i in 0..NUM_AXES {
                 let speed = self.recent_speeds.iter().map(|v| v[i]).fold(0.0, f64::max);
                 let v = s.sim_true_velocity[i];
-                if speed < STANDSTILL_DEG_S || self.stopping[i].is_some() {
+                if speed < STANDSTILL_DEG_S {
                     continue;
                 }
                 let lag_s = self.lag_cycles as f64 * self.period_s;

@@ -248,6 +248,68 @@ fn a_calibration_an_obstacle_or_a_push_acted_on_is_not_judged_until_calibrated_a
 }
 
 #[test]
+fn a_failed_attempt_under_an_obstacle_does_not_excuse_the_calibration_it_gives_back() {
+    let mut c = checker();
+    c.asked(&sample(calibrate_all(), 1), 0);
+    let mut s = state(Mode::Calibration);
+    s.axis_flags = [0; 6];
+    check(&mut c, 1, &s, &[]).unwrap();
+    s.mode = Mode::Hold.to_wire();
+    s.axis_flags = [AXIS_CALIBRATED; 6];
+    check(&mut c, 2, &s, &[ok(1, CommandKind::Calibrate)]).unwrap();
+    // A second attempt, under an obstacle, that fails: the free-path calibration comes back.
+    c.asked(&sample(calibrate_all(), 2), 2);
+    s.mode = Mode::Calibration.to_wire();
+    s.axis_flags = [0; 6];
+    c.cycle(3, &s, &[], Work::default(), &[Fault::Obstacle])
+        .unwrap();
+    s.mode = Mode::Hold.to_wire();
+    s.axis_flags = [AXIS_CALIBRATED; 6];
+    let aborted = answer(2, CommandKind::Calibrate, Outcome::Failed(Reason::Aborted));
+    check(&mut c, 4, &s, &[aborted]).unwrap();
+    s.measured_position[4] = 14.9;
+    broken(check(&mut c, 5, &s, &[]), "axis 5: flagged calibrated");
+}
+
+#[test]
+fn an_axis_that_brakes_beyond_its_braking_distance_or_too_long_after_a_trip_is_a_violation() {
+    // Moving at 90 deg/s in VELOCITY_CONTROL, then a trip.
+    let moving = |mode: Mode, q: f64, v: f64| {
+        let mut s = state(mode);
+        s.sim_true_position[0] = q;
+        s.measured_position[0] = q;
+        s.sim_true_velocity[0] = v;
+        s
+    };
+    let mut c = checker();
+    check(&mut c, 0, &state(Mode::Hold), &[]).unwrap();
+    check(&mut c, 1, &moving(Mode::VelocityControl, 0.0, 90.0), &[]).unwrap();
+    check(&mut c, 2, &moving(Mode::Error, 0.5, 80.0), &[]).unwrap();
+    // Within the braking distance, still braking: fine; 60 deg on: beyond it.
+    check(&mut c, 3, &moving(Mode::Error, 5.0, 40.0), &[]).unwrap();
+    broken(
+        check(&mut c, 4, &moving(Mode::Error, 60.0, 40.0), &[]),
+        "travelled since the trip",
+    );
+    // Braking too long (still at 10 deg/s, within the distance, seconds later).
+    let mut c = checker();
+    check(&mut c, 0, &state(Mode::Hold), &[]).unwrap();
+    check(&mut c, 1, &moving(Mode::VelocityControl, 0.0, 90.0), &[]).unwrap();
+    check(&mut c, 2, &moving(Mode::Error, 0.5, 80.0), &[]).unwrap();
+    broken(
+        check(&mut c, 2000, &moving(Mode::Error, 10.0, 10.0), &[]),
+        "its stop should have ended",
+    );
+    // At standstill in time: the watch ends.
+    let mut c = checker();
+    check(&mut c, 0, &state(Mode::Hold), &[]).unwrap();
+    check(&mut c, 1, &moving(Mode::VelocityControl, 0.0, 90.0), &[]).unwrap();
+    check(&mut c, 2, &moving(Mode::Error, 0.5, 80.0), &[]).unwrap();
+    check(&mut c, 3, &moving(Mode::Error, 10.0, 0.0), &[]).unwrap();
+    check(&mut c, 2000, &moving(Mode::Error, 10.0, 0.0), &[]).unwrap();
+}
+
+#[test]
 fn a_reply_never_asked_for_or_given_twice_is_a_violation() {
     let mut c = checker();
     let s = state(Mode::Hold);
