@@ -312,6 +312,13 @@ fn reasons() -> Vec<String> {
                 tolerance_deg: 0.5,
             },
         },
+        Reason::CalibrationFailed {
+            axis: a(4),
+            cause: CalibrationFailure::Blocked {
+                lag_deg: 3.167,
+                bound_deg: 3.05,
+            },
+        },
         Reason::Aborted,
         Reason::Busy { remaining_s: 0.845 },
         Reason::PvtPoint {
