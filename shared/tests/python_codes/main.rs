@@ -561,6 +561,12 @@ fn the_checked_in_codes_py_is_what_the_contract_generates() {
     let generated = render();
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../python/src/mcm/codes.py");
     if std::env::var_os("MCM_UPDATE_PYTHON").is_some() {
+        // Under CI the file is compared, never written: a CI run that set both would check a
+        // file it had just written.
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "MCM_UPDATE_PYTHON is set together with CI: CI compares python/src/mcm/codes.py, it never writes it"
+        );
         std::fs::write(&path, &generated).expect("write python/src/mcm/codes.py");
     }
     let checked_in = std::fs::read_to_string(&path).unwrap_or_default();
