@@ -93,8 +93,8 @@ struct Session {
     boot_deadline_ns: Option<u64>,
     reset_pending: bool,
     reset_sent: bool,
-    lost: bool,
-    /// When `lost` was set [ns]: a drive lost for a boot timeout is reset.
+    /// Since when the drive counts as lost [ns] (`None`: not lost); a drive lost and silent
+    /// for a boot timeout is reset.
     lost_since_ns: Option<u64>,
     tpdo_this_cycle: bool,
     tpdo_seen_since_start: bool,
@@ -112,6 +112,12 @@ struct Session {
     cal_queued: Option<i32>,
 }
 
+impl Session {
+    fn lost(&self) -> bool {
+        self.lost_since_ns.is_some()
+    }
+}
+
 impl Default for Session {
     fn default() -> Self {
         Session {
@@ -119,7 +125,6 @@ impl Default for Session {
             boot_deadline_ns: None,
             reset_pending: false,
             reset_sent: false,
-            lost: false,
             lost_since_ns: None,
             tpdo_this_cycle: false,
             tpdo_seen_since_start: false,
@@ -489,7 +494,7 @@ impl Master {
 
     fn on_boot_up(&mut self, i: usize) {
         let (ax, fb) = (&mut self.axes[i], &mut self.feedback[i]);
-        if ax.link == Link::Operational && !ax.session.lost {
+        if ax.link == Link::Operational && !ax.session.lost() {
             self.events.push(MasterEvent::Lost {
                 axis: i,
                 node: ax.params.node,
@@ -567,7 +572,7 @@ impl Master {
     fn refresh(&mut self, i: usize, now_ns: u64) {
         let (ax, fb) = (&self.axes[i], &mut self.feedback[i]);
         let started = ax.link == Link::Operational;
-        fb.online = started && !ax.session.lost && ax.hb.is_fresh(now_ns);
+        fb.online = started && !ax.session.lost() && ax.hb.is_fresh(now_ns);
         fb.operational = started
             && (ax.hb.state() == Some(NmtState::Operational) || ax.session.tpdo_seen_since_start);
         fb.enabled = started
@@ -745,8 +750,7 @@ impl Master {
         } else {
             ax.session.missed = ax.session.missed.saturating_add(1);
             fb.tpdo_age_cycles = fb.tpdo_age_cycles.saturating_add(1);
-            if ax.session.missed == max_missed && !ax.session.lost {
-                ax.session.lost = true;
+            if ax.session.missed == max_missed && !ax.session.lost() {
                 ax.session.lost_since_ns = Some(now_ns);
                 self.events.push(MasterEvent::Lost {
                     axis: i,
@@ -757,8 +761,7 @@ impl Master {
                 });
             }
         }
-        if ax.hb.check(now_ns) && !ax.session.lost {
-            ax.session.lost = true;
+        if ax.hb.check(now_ns) && !ax.session.lost() {
             ax.session.lost_since_ns = Some(now_ns);
             self.events.push(MasterEvent::Lost {
                 axis: i,
@@ -766,8 +769,7 @@ impl Master {
                 reason: LostReason::HeartbeatTimeout,
             });
         }
-        if ax.session.lost && ax.session.missed == 0 && ax.hb.is_fresh(now_ns) {
-            ax.session.lost = false;
+        if ax.session.lost() && ax.session.missed == 0 && ax.hb.is_fresh(now_ns) {
             ax.session.lost_since_ns = None;
             self.events.push(MasterEvent::Recovered {
                 axis: i,

@@ -29,7 +29,6 @@ mod exits;
 mod motion;
 mod moves;
 mod ownership;
-#[cfg(feature = "planted-bugs")]
 pub mod planted;
 pub mod release;
 mod shutdown_sequence;
@@ -117,8 +116,7 @@ pub struct Controller {
     owner: u64,
     /// The shutdown, once `mcm-rt` was asked to stop (`shutdown_sequence.rs`).
     shutdown: Option<ShutdownStatus>,
-    /// Bugs planted by the simulation tester (`planted.rs`).
-    #[cfg(feature = "planted-bugs")]
+    /// Bugs planted by the simulation tester (`planted.rs`): none in `mcm-rt`.
     planted: planted::Planted,
 }
 
@@ -167,7 +165,6 @@ impl Controller {
             now_ns: 0,
             owner: 0,
             shutdown: None,
-            #[cfg(feature = "planted-bugs")]
             planted: planted::Planted::default(),
         }
     }

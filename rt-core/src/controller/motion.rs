@@ -57,10 +57,8 @@ impl Controller {
         } else {
             self.cmd
         };
-        let factor = if quick && self.quick_stop_planted_soft() {
-            0.1
-        } else if quick {
-            QUICK_STOP_FACTOR
+        let factor = if quick {
+            self.planted.quick_stop_factor()
         } else {
             1.0
         };
@@ -70,18 +68,6 @@ impl Controller {
         self.cmd = from;
         self.current_limit = self.p.max_current;
         (plan.duration() > 0.0).then_some(Stopping { plan, t: 0.0 })
-    }
-
-    /// Whether the simulation tester planted a soft quick stop (`planted.rs`).
-    fn quick_stop_planted_soft(&self) -> bool {
-        #[cfg(feature = "planted-bugs")]
-        {
-            self.planted.quick_stop_soft
-        }
-        #[cfg(not(feature = "planted-bugs"))]
-        {
-            false
-        }
     }
 
     /// Advance a stop by `dt`; `None` once it ended (the axes at rest where it ended).

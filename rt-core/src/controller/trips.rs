@@ -124,7 +124,7 @@ impl Controller {
         }
         // A planned move or stop is validated when planned: it ends inside the reachable range
         // at the deceleration it plans with; the braking check watches everything else.
-        if active.braking && !self.state.planned_motion() && !self.braking_check_planted_off() {
+        if active.braking && !self.state.planned_motion() && !self.planted.braking_check_off {
             result = result.and_then(|()| safety::check_braking(&self.safety, &q, &qd));
         }
         if active.following {
@@ -133,18 +133,6 @@ impl Controller {
         }
         if let Err(v) = result {
             self.trip(v.reason());
-        }
-    }
-
-    /// Whether the simulation tester planted the braking check's absence (`planted.rs`).
-    fn braking_check_planted_off(&self) -> bool {
-        #[cfg(feature = "planted-bugs")]
-        {
-            self.planted.braking_check_off
-        }
-        #[cfg(not(feature = "planted-bugs"))]
-        {
-            false
         }
     }
 
