@@ -418,8 +418,10 @@ impl SimDrive {
             for f in self.pdo.sync_tx(&self.od).into_iter().flatten() {
                 out.emit(f);
             }
-            self.emit_events(out);
         }
+        // Event-driven TPDOs (a change, or their event timer run out) go on the drive's own
+        // clock, SYNC or not.
+        self.emit_events(out);
         if self.producer.due(self.time_ns) {
             out.emit(nmt::heartbeat_frame(
                 self.p.node_id,

@@ -854,3 +854,42 @@ fn without_sync_time_and_physics_go_on_the_drives_hold_their_setpoint_and_send_n
         reached / DEG
     );
 }
+
+/// A CiA 301 event timer runs on the drive's clock: TPDO2 with its event timer set (as the
+/// MCM's boot sets it, 100 ms) is repeated while no SYNC, nor any other frame, comes.
+#[test]
+fn an_event_timer_repeats_tpdo2_without_sync() {
+    let cfg = cfg_at([0.0; NUM_AXES]);
+    let (mut bus, mut m) = enabled(&cfg, true);
+    for n in 1..=6u8 {
+        // SDO expedited download of 2 bytes: 0x1801:5 = 100 ms.
+        let sdo = Frame {
+            id: 0x600 + u16::from(n),
+            len: 8,
+            data: [0x2B, 0x01, 0x18, 0x05, 100, 0, 0, 0],
+        };
+        bus.send(&sdo).unwrap();
+    }
+    // The answers (0x580 + node) are not the test master's to read.
+    let mut answers = 0;
+    while let Some(f) = bus.recv(0).unwrap() {
+        answers += usize::from(f.id & 0xFF80 == 0x580 && f.data[0] == 0x60);
+    }
+    assert_eq!(answers, 6, "every drive took the event timer");
+    run(&mut bus, &mut m, 4);
+    // The master silent (nothing reaches the drives, SYNC or other): 0.5 s on their clocks.
+    let mut heard = Vec::new();
+    for _ in 0..100 {
+        bus.period_without_sync();
+        while let Some(f) = bus.recv(0).unwrap() {
+            heard.push(f);
+        }
+    }
+    for n in 1..=6u8 {
+        let tpdo2 = heard
+            .iter()
+            .filter(|f| f.id == 0x280 + u16::from(n))
+            .count();
+        assert!(tpdo2 >= 4, "node {n}: {tpdo2} TPDO2 in 0.5 s without SYNC");
+    }
+}
