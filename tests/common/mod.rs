@@ -8,6 +8,7 @@ pub mod flight;
 pub mod python;
 
 use mcm_client::launch::SimulatedMcm;
+use mcm_shared::service::sim_state_path;
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{Shutdown, SocketAddr, TcpStream};
@@ -71,7 +72,8 @@ pub fn unique_instance(tag: &str) -> String {
 /// A running MCM (launcher + mcm-rt + mcm-gateway); dropping it stops it and removes the
 /// simulation state it saved ([`Mcm::stop`] keeps it).
 pub struct Mcm {
-    sim: SimulatedMcm,
+    /// `None` once stopped by [`Mcm::stop`].
+    sim: Option<SimulatedMcm>,
     pub instance: String,
     pub json: SocketAddr,
     pub hmi: SocketAddr,
@@ -105,7 +107,7 @@ impl Mcm {
         )
         .unwrap_or_else(|e| panic!("start mcm: {e}"));
         let mut mcm = Mcm {
-            sim,
+            sim: Some(sim),
             instance: instance.to_string(),
             json: "0.0.0.0:0".parse().unwrap(),
             hmi: "0.0.0.0:0".parse().unwrap(),
@@ -119,7 +121,7 @@ impl Mcm {
 
     /// The addresses and pids of the launcher's last ready line.
     fn take_addresses(&mut self) {
-        let s = &self.sim;
+        let s = self.sim.as_ref().expect("running until stopped");
         (self.json, self.hmi) = (s.json, s.hmi);
         (self.rt_pid, self.gateway_pid) = (s.rt_pid, s.gateway_pid);
         self.zmq = s.zmq.clone().map(|z| (z.router, z.publish));
@@ -129,6 +131,8 @@ impl Mcm {
     /// addresses and pids from it.
     pub fn wait_ready(&mut self) {
         self.sim
+            .as_mut()
+            .expect("running until stopped")
             .wait_ready(WAIT)
             .unwrap_or_else(|e| panic!("the launcher's ready line: {e}"));
         self.take_addresses();
@@ -136,7 +140,7 @@ impl Mcm {
 
     /// The next stdout line starting with `prefix` (other lines are skipped).
     pub fn wait_line(&self, prefix: &str) -> String {
-        self.sim
+        self.sim()
             .wait_line(prefix, WAIT)
             .unwrap_or_else(|e| panic!("{e}"))
     }
@@ -148,8 +152,32 @@ impl Mcm {
 
     /// Stop with SIGTERM; returns the launcher's exit status. The simulation state mcm-rt
     /// saved is kept for a restart of the same instance.
-    pub fn stop(self) -> std::process::ExitStatus {
-        self.sim.stop().unwrap_or_else(|e| panic!("{e}"))
+    pub fn stop(mut self) -> std::process::ExitStatus {
+        let sim = self.sim.take().expect("running until stopped");
+        sim.stop().unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    fn sim(&self) -> &SimulatedMcm {
+        self.sim.as_ref().expect("running until stopped")
+    }
+}
+
+/// A test that ends without [`Mcm::stop`] still stops the MCM with SIGTERM and fails when it
+/// does not stop in time (a shutdown that hangs is a bug, not only a slow test); its
+/// simulation state is removed. When the test already fails, the MCM is stopped as well as it
+/// can be, without a second panic.
+impl Drop for Mcm {
+    fn drop(&mut self) {
+        let Some(sim) = self.sim.take() else {
+            return;
+        };
+        let stopped = sim.stop();
+        let _ = std::fs::remove_file(sim_state_path(&self.instance));
+        if let Err(e) = stopped
+            && !std::thread::panicking()
+        {
+            panic!("the MCM did not stop: {e}");
+        }
     }
 }
 
