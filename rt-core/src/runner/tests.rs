@@ -1,6 +1,6 @@
 //! A configuration that asks for the simulator in a build without it is refused, naming the
 //! feature: the refusal itself in every build, and `run` refusing it in the build without the
-//! `sim` feature (compiled in every test run by `rt-core/tests/no_sim_build.rs`).
+//! `sim` feature (compiled in every test run by `tests/builds.rs`).
 
 use super::*;
 

@@ -1,9 +1,12 @@
-//! The build without the simulator (`--no-default-features`: real drives only) compiles, its
-//! unit tests included. CI runs `cargo test --workspace`, where the `sim` feature is always on,
-//! so without this test the code under `#[cfg(not(feature = "sim"))]` would never be compiled
-//! there. It checks (no code generation) with the cargo of the test run, in its target
-//! directory (`CARGO_TARGET_DIR` is inherited); a failed check fails the test with cargo's
-//! output, and the time the check took is printed.
+//! Builds that `cargo test --workspace` (CI's test command) does not otherwise compile, checked
+//! (no code generation) with the cargo of the test run, in the workspace's target directory;
+//! a failed check fails the test with cargo's output, and the time each took is printed:
+//! - the real-time core without the simulator (`--no-default-features`: real drives only), its
+//!   unit tests included: the `sim` feature is always on in the workspace, so the code under
+//!   `#[cfg(not(feature = "sim"))]` would never be compiled;
+//! - the fuzz target (`fuzz/`, its own workspace, excluded from this one): it uses the
+//!   simulation tester's API, and a change to that API went unnoticed once (on stable; the
+//!   fuzzer itself needs nightly and cargo-fuzz, `docs/testing.md`).
 
 use std::io::Read;
 use std::path::Path;
@@ -16,7 +19,7 @@ const CHECK_BOUND: Duration = Duration::from_secs(20 * 60);
 /// `cargo check` of `args` (after `check`) in the workspace; panics with cargo's output when it
 /// fails or does not finish within [`CHECK_BOUND`].
 fn cargo_check(args: &[&str]) {
-    let workspace = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let workspace = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut cmd = Command::new(env!("CARGO"));
     cmd.current_dir(workspace)
         .arg("check")
@@ -69,5 +72,21 @@ fn the_core_compiles_without_the_simulator() {
         "--no-default-features",
         "--lib",
         "--tests",
+    ]);
+}
+
+#[test]
+fn the_fuzz_target_compiles() {
+    let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("target")
+            .display()
+            .to_string()
+    });
+    cargo_check(&[
+        "--manifest-path",
+        "fuzz/Cargo.toml",
+        "--target-dir",
+        &target,
     ]);
 }
