@@ -48,6 +48,7 @@ impl Routes {
         // Compressed: the assets and the API; not the WebSocket's upgrade.
         let compressed = Router::new()
             .route("/api/model", get(model))
+            .route("/api/connections", get(connections))
             .route("/api/flight-records", get(records))
             .route("/api/flight-records/{name}", get(record))
             .fallback(assets::serve)
@@ -69,6 +70,11 @@ struct Conn {
 
 async fn model(State(web): State<Arc<Web>>) -> Json<serde_json::Value> {
     Json(api::model(&web.ctx.cfg, &web.instance))
+}
+
+async fn connections(State(web): State<Arc<Web>>) -> Json<serde_json::Value> {
+    let owner = web.ctx.bridge.owner();
+    Json(api::connections(&web.ctx.clients.list(), owner))
 }
 
 async fn records(State(web): State<Arc<Web>>) -> Json<serde_json::Value> {

@@ -85,6 +85,12 @@ async fn the_page_the_model_and_the_records_are_served() {
     assert_eq!(model["instance"], srv.instance);
     assert_eq!(model["axes"].as_array().unwrap().len(), 6);
 
+    // The page's own socket is one of the connections.
+    let _page = ws(srv.addr).await;
+    let (_, body) = get(srv.addr, "/api/connections", "").await;
+    let conns: Value = serde_json::from_slice(&body).unwrap();
+    assert_eq!(conns["clients"][0]["channel"], "browser pendant", "{conns}");
+
     let (head, body) = get(srv.addr, "/api/flight-records", "").await;
     assert!(head.starts_with("http/1.1 200"), "{head}");
     let list: Value = serde_json::from_slice(&body).unwrap();
