@@ -221,7 +221,8 @@ document.addEventListener('keydown', (e) => {
   const dir = JOG_KEYS[e.key];
   if (dir) {
     e.preventDefault();
-    if (!motionAllowed()) return;
+    // Only the first press: a refused jog must not be retried at the key's repeat rate.
+    if (e.repeat || !motionAllowed()) return;
     jog.start(jogAxis, dir, `key:${e.key}`);
   }
 });
@@ -265,9 +266,11 @@ const HINTS = {
 function addError(msg, command) {
   const ul = $('#errors');
   ul.querySelector('li.none')?.remove();
-  ul.querySelectorAll('li.current').forEach((li) => li.classList.remove('current'));
+  if (msg.check !== undefined) {
+    ul.querySelectorAll('li.current').forEach((x) => x.classList.remove('current'));
+  }
   const li = document.createElement('li');
-  li.className = 'error current';
+  li.className = msg.check !== undefined ? 'error current' : 'error';
   const time = new Date().toLocaleTimeString();
   const head = document.createElement('div');
   head.className = 'head';

@@ -97,7 +97,7 @@ export function plotRecord(el, csv, check, names) {
       scales: { x: { time: false } },
       axes: [{ label: 's before the trip' }, { label, size: 60 }],
       series,
-      legend: { show: true },
+      legend: { show: true, live: false },
       plugins: [tripMarker(check)],
     };
     plots.push(new uPlot(opts, data, box));

@@ -43,6 +43,22 @@ export function fkOrigins(links, qDeg) {
   return out;
 }
 
+/**
+ * Where to draw each joint: joint i turns about the z axis of frame i-1, at its origin; where
+ * that origin is the previous joint's place (a wrist's roll, the flange's roll) or the floor
+ * (joint 1), halfway along the link that follows, so that every joint shows on its own.
+ */
+export function jointPlacesOf(pts) {
+  const places = [];
+  for (let i = 1; i < pts.length; i++) {
+    const o = pts[i - 1];
+    const prev = i === 1 ? null : places[i - 2];
+    const same = prev && Math.hypot(o[0] - prev[0], o[1] - prev[1], o[2] - prev[2]) < 0.01;
+    places.push(i === 1 || same ? o.map((v, k) => (v + pts[i][k]) / 2) : o);
+  }
+  return places;
+}
+
 export function webglAvailable() {
   try {
     const c = document.createElement('canvas');
@@ -70,7 +86,7 @@ export class View3d {
     this.scene.background = new THREE.Color(0xf4f6f8);
     this.camera = new THREE.PerspectiveCamera(40, 1, 0.01, 50);
     this.camera.up.set(0, 0, 1);
-    this.orbit = { az: -0.9, el: 0.45, r: 3.0, target: new THREE.Vector3(0, 0, 0.5) };
+    this.orbit = { az: -0.9, el: 0.4, r: 2.3, target: new THREE.Vector3(0, 0, 0.45) };
 
     this.scene.add(new THREE.HemisphereLight(0xffffff, 0x8899aa, 2.2));
     const sun = new THREE.DirectionalLight(0xffffff, 1.6);
@@ -171,6 +187,7 @@ export class View3d {
   /** Pose the arm at the frame origins `pts` (from fkOrigins); `colours` per joint. */
   update(pts, colours) {
     const up = new THREE.Vector3(0, 1, 0);
+    const jointPlaces = jointPlacesOf(pts);
     for (let i = 0; i < this.segments.length; i++) {
       const a = new THREE.Vector3(...pts[i]);
       const b = new THREE.Vector3(...pts[i + 1]);
@@ -182,8 +199,7 @@ export class View3d {
         seg.scale.set(1, len, 1);
         seg.quaternion.setFromUnitVectors(up, b.clone().sub(a).normalize());
       }
-      // Joint i+1 turns about the z axis of frame i: it sits at that frame's origin.
-      this.joints[i].position.copy(a);
+      this.joints[i].position.set(...jointPlaces[i]);
       this.joints[i].material.color.setHex(JOINT_COLOURS[colours[i]] ?? JOINT_COLOURS.uncalibrated);
     }
     this.flangeMesh.position.set(...pts[pts.length - 1]);
