@@ -32,7 +32,11 @@ const conn = new Connection({
     const el = $('#conn');
     el.textContent = up ? 'connected' : 'disconnected';
     el.dataset.state = el.textContent;
-    if (up) poll();
+    document.body.dataset.conn = el.textContent; // dims the last state shown while it is stale
+    if (up) {
+      poll();
+      loadRecords();
+    }
     else {
       jog.stop('lost');
       jog.sessionEnded();
@@ -406,7 +410,7 @@ async function loadRecords() {
     if (rec.name === chosen) li.classList.add('chosen');
     const label = document.createElement('span');
     label.className = 'rec-label';
-    label.textContent = `${new Date(rec.unix_ms).toLocaleString()}  ${rec.check}  (${Math.round(rec.bytes / 1024)} KiB)`;
+    label.textContent = `${stamp(rec.unix_ms)}  ${rec.check}  (${Math.round(rec.bytes / 1024)} KiB)`;
     label.title = `${rec.name}: click to plot`;
     const a = document.createElement('a');
     a.className = 'download';
@@ -418,6 +422,13 @@ async function loadRecords() {
     li.addEventListener('click', () => showRecord(rec, li));
     ul.appendChild(li);
   }
+}
+
+/** Local time as YYYY-MM-DD HH:MM:SS. */
+function stamp(ms) {
+  const d = new Date(ms);
+  const p = (n) => String(n).padStart(2, '0');
+  return `${d.getFullYear()}-${p(d.getMonth() + 1)}-${p(d.getDate())} ${p(d.getHours())}:${p(d.getMinutes())}:${p(d.getSeconds())}`;
 }
 
 async function showRecord(rec, li) {
