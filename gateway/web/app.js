@@ -5,14 +5,14 @@
 import { Connection } from './socket.js';
 import { Jogger } from './jog.js';
 import { fkOrigins, View3d, webglAvailable } from './view3d.js';
-import { fetchRecords, parseCsv, plotRecord } from './records.js';
+import { loadRecords as loadRecordList } from './records.js';
+import { addError, clearCurrent } from './errors.js';
 import {
   fillModel, jointColours, percentile, renderConnections, renderJoints, renderTiming, fmt,
 } from './panels.js';
 
 const $ = (sel) => document.querySelector(sel);
 const POLL_MS = 1000;
-const MAX_ERRORS = 20;
 
 const page = {
   model: null,
@@ -255,53 +255,6 @@ function showAccess() {
   }
 }
 
-// ---- errors ------------------------------------------------------------------------------
-
-const HINTS = {
-  following_error: 'an axis could not follow its command: something blocked it, or it is overloaded; remove the cause',
-  position_limit: 'a joint went beyond its limit; once held, move it back inside its range',
-  velocity_limit: 'a joint moved faster than its limit',
-  braking_distance: 'a joint could no longer stop before its limit',
-  drive_disconnected: 'a drive does not answer on the bus: check its cable and power',
-  drive_fault: 'a drive reported a fault',
-  emergency_stop: 'the emergency stop was pressed: release it first',
-};
-
-function addError(msg, command) {
-  const ul = $('#errors');
-  ul.querySelector('li.none')?.remove();
-  if (msg.check !== undefined) {
-    ul.querySelectorAll('li.current').forEach((x) => x.classList.remove('current'));
-  }
-  const li = document.createElement('li');
-  li.className = msg.check !== undefined ? 'error current' : 'error';
-  const time = new Date().toLocaleTimeString();
-  const head = document.createElement('div');
-  head.className = 'head';
-  if (msg.check !== undefined) {
-    li.dataset.check = msg.check;
-    if (msg.axis !== undefined) li.dataset.axis = String(msg.axis);
-    head.textContent = `${time}  safety check ${msg.check}${msg.axis ? `, axis ${msg.axis}` : ''}`;
-  } else {
-    li.classList.add(command ? 'refused' : 'notice');
-    if (command) li.dataset.command = command;
-    head.textContent = `${time}  ${command ? `${command} refused or failed` : 'notice'}`;
-  }
-  const text = document.createElement('div');
-  text.className = 'message';
-  text.textContent = msg.error_message || JSON.stringify(msg);
-  li.append(head, text);
-  if (msg.check !== undefined) {
-    const todo = document.createElement('div');
-    todo.className = 'todo';
-    const hint = HINTS[msg.check] ? `${HINTS[msg.check]}; ` : '';
-    todo.textContent = `What to do: ${hint}once the cause is gone, press Hold to clear the error (the protocol's \`hold\`).`;
-    li.appendChild(todo);
-  }
-  ul.prepend(li);
-  while (ul.children.length > MAX_ERRORS) ul.lastElementChild.remove();
-}
-
 // ---- rendering the state -----------------------------------------------------------------
 
 let renderPending = false;
@@ -328,7 +281,7 @@ function render() {
   $('#owner').textContent = thisPageControls() ? 'this page' : (f.owner ?? 'nobody');
   $('#owner').dataset.owner = thisPageControls() ? 'this-page' : f.owner ? 'other' : 'nobody';
   if (st.operating_mode !== 'ERROR') {
-    document.querySelectorAll('#errors li.current').forEach((li) => li.classList.remove('current'));
+    clearCurrent();
   }
   renderJoints($('#joints'), st, page.model);
   renderTiming($('#timing'), st.detail?.timing, page.model?.bus);
@@ -382,71 +335,9 @@ function setupView() {
   }
 }
 
-async function loadRecords() {
-  const ul = $('#records');
-  let list;
-  try {
-    list = await fetchRecords();
-  } catch (e) {
-    ul.innerHTML = '';
-    const li = document.createElement('li');
-    li.className = 'none muted';
-    li.textContent = `could not list the records: ${e.message}`;
-    ul.appendChild(li);
-    return;
-  }
-  const chosen = ul.querySelector('li.chosen')?.dataset.name;
-  ul.textContent = '';
-  if (!list.records.length) {
-    const li = document.createElement('li');
-    li.className = 'none muted';
-    li.textContent = `no flight records yet (in ${list.dir})`;
-    ul.appendChild(li);
-  }
-  for (const rec of list.records) {
-    const li = document.createElement('li');
-    li.dataset.name = rec.name;
-    li.dataset.check = rec.check;
-    if (rec.name === chosen) li.classList.add('chosen');
-    const label = document.createElement('span');
-    label.className = 'rec-label';
-    label.textContent = `${stamp(rec.unix_ms)}  ${rec.check}  (${Math.round(rec.bytes / 1024)} KiB)`;
-    label.title = `${rec.name}: click to plot`;
-    const a = document.createElement('a');
-    a.className = 'download';
-    a.href = `/api/flight-records/${encodeURIComponent(rec.name)}`;
-    a.setAttribute('download', rec.name);
-    a.textContent = 'CSV';
-    a.addEventListener('click', (e) => e.stopPropagation());
-    li.append(label, ' ', a);
-    li.addEventListener('click', () => showRecord(rec, li));
-    ul.appendChild(li);
-  }
-}
 
-/** Local time as YYYY-MM-DD HH:MM:SS. */
-function stamp(ms) {
-  const d = new Date(ms);
-  const p = (n) => String(n).padStart(2, '0');
-  return `${d.getFullYear()}-${p(d.getMonth() + 1)}-${p(d.getDate())} ${p(d.getHours())}:${p(d.getMinutes())}:${p(d.getSeconds())}`;
-}
 
-async function showRecord(rec, li) {
-  document.querySelectorAll('#records li.chosen').forEach((x) => x.classList.remove('chosen'));
-  li.classList.add('chosen');
-  const el = $('#record-plot');
-  el.textContent = `loading ${rec.name} ...`;
-  try {
-    const r = await fetch(`/api/flight-records/${encodeURIComponent(rec.name)}`, { cache: 'no-store' });
-    if (!r.ok) throw new Error(`HTTP ${r.status}: ${(await r.text()).slice(0, 200)}`);
-    const csv = parseCsv(await r.text());
-    plotRecord(el, csv, rec.check, page.names);
-    el.dataset.name = rec.name;
-  } catch (e) {
-    el.textContent = `could not plot ${rec.name}: ${e.message}`;
-  }
-}
-
+const loadRecords = () => loadRecordList(() => page.names);
 $('#records-refresh').addEventListener('click', loadRecords);
 
 // ---- for the tests -----------------------------------------------------------------------

@@ -104,3 +104,70 @@ export function plotRecord(el, csv, check, names) {
   }
   return plots;
 }
+
+/** Fill `#records` from /api/flight-records; a click plots a record with the axis `names()`. */
+export async function loadRecords(names) {
+  const ul = document.querySelector('#records');
+  let list;
+  try {
+    list = await fetchRecords();
+  } catch (e) {
+    ul.innerHTML = '';
+    const li = document.createElement('li');
+    li.className = 'none muted';
+    li.textContent = `could not list the records: ${e.message}`;
+    ul.appendChild(li);
+    return;
+  }
+  const chosen = ul.querySelector('li.chosen')?.dataset.name;
+  ul.textContent = '';
+  if (!list.records.length) {
+    const li = document.createElement('li');
+    li.className = 'none muted';
+    li.textContent = `no flight records yet (in ${list.dir})`;
+    ul.appendChild(li);
+  }
+  for (const rec of list.records) {
+    const li = document.createElement('li');
+    li.dataset.name = rec.name;
+    li.dataset.check = rec.check;
+    if (rec.name === chosen) li.classList.add('chosen');
+    const label = document.createElement('span');
+    label.className = 'rec-label';
+    label.textContent = `${stamp(rec.unix_ms)}  ${rec.check}  (${Math.round(rec.bytes / 1024)} KiB)`;
+    label.title = `${rec.name}: click to plot`;
+    const a = document.createElement('a');
+    a.className = 'download';
+    a.href = `/api/flight-records/${encodeURIComponent(rec.name)}`;
+    a.setAttribute('download', rec.name);
+    a.textContent = 'CSV';
+    a.addEventListener('click', (e) => e.stopPropagation());
+    li.append(label, ' ', a);
+    li.addEventListener('click', () => showRecord(rec, li, names()));
+    ul.appendChild(li);
+  }
+}
+
+/** Local time as YYYY-MM-DD HH:MM:SS. */
+function stamp(ms) {
+  const d = new Date(ms);
+  const p = (n) => String(n).padStart(2, '0');
+  return `${d.getFullYear()}-${p(d.getMonth() + 1)}-${p(d.getDate())} ${p(d.getHours())}:${p(d.getMinutes())}:${p(d.getSeconds())}`;
+}
+
+async function showRecord(rec, li, names) {
+  document.querySelectorAll('#records li.chosen').forEach((x) => x.classList.remove('chosen'));
+  li.classList.add('chosen');
+  const el = document.querySelector('#record-plot');
+  el.textContent = `loading ${rec.name} ...`;
+  try {
+    const r = await fetch(`/api/flight-records/${encodeURIComponent(rec.name)}`, { cache: 'no-store' });
+    if (!r.ok) throw new Error(`HTTP ${r.status}: ${(await r.text()).slice(0, 200)}`);
+    const csv = parseCsv(await r.text());
+    plotRecord(el, csv, rec.check, names);
+    el.dataset.name = rec.name;
+  } catch (e) {
+    el.textContent = `could not plot ${rec.name}: ${e.message}`;
+  }
+}
+
