@@ -287,7 +287,10 @@ fn the_vendored_files_match_their_recorded_checksums() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("web/vendor");
     let versions = std::fs::read_to_string(dir.join("VERSIONS")).unwrap();
     let mut checked = Vec::new();
-    for line in versions.lines().filter(|l| !l.starts_with('#') && !l.trim().is_empty()) {
+    for line in versions
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+    {
         let words: Vec<&str> = line.split_whitespace().collect();
         let [file, package, _path, hash] = words[..] else {
             panic!("VERSIONS: {line:?} is not `file package@version path sha256`");
@@ -304,5 +307,8 @@ fn the_vendored_files_match_their_recorded_checksums() {
         .collect();
     present.sort();
     checked.sort();
-    assert_eq!(present, checked, "every vendored file is listed in VERSIONS");
+    assert_eq!(
+        present, checked,
+        "every vendored file is listed in VERSIONS"
+    );
 }
