@@ -426,7 +426,16 @@ fn a_socketcan_interface_that_cannot_be_opened_stops_the_launcher_with_its_name(
     let instance = unique_instance("socketcan");
     let mut child = Command::new(env!("CARGO_BIN_EXE_mcm"))
         .args(["--config", cfg.path(), "--instance", &instance])
-        .args(["--bind", "127.0.0.1", "--json-port", "0", "--hmi-port", "0"])
+        .args([
+            "--bind",
+            "127.0.0.1",
+            "--json-port",
+            "0",
+            "--hmi-port",
+            "0",
+            "--http-port",
+            "0",
+        ])
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

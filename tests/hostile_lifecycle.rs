@@ -40,7 +40,7 @@ fn spawn(
 ) -> (Child, mpsc::Receiver<String>, Arc<Mutex<Vec<String>>>) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_mcm"))
         .args(["--instance", instance, "--bind", "127.0.0.1"])
-        .args(["--json-port", "0", "--hmi-port", "0"])
+        .args(["--json-port", "0", "--hmi-port", "0", "--http-port", "0"])
         .args(extra)
         .stdin(Stdio::null())
         .stdout(Stdio::piped())

@@ -77,6 +77,8 @@ pub struct SimulatedMcm {
     pub json: SocketAddr,
     /// The telnet HMI port.
     pub hmi: SocketAddr,
+    /// The browser pendant's HTTP port (`None` when `[gateway.web]` is off).
+    pub web: Option<SocketAddr>,
     /// The ZeroMQ endpoints, when the launcher was asked for them (`--zmq-router`, ...).
     pub zmq: Option<ZmqEndpoints>,
     pub rt_pid: i32,
@@ -157,7 +159,7 @@ impl SimulatedMcm {
     ) -> Result<SimulatedMcm, LaunchError> {
         let mut child = Command::new(binary)
             .args(["--instance", instance, "--bind", "127.0.0.1"])
-            .args(["--json-port", "0", "--hmi-port", "0"])
+            .args(["--json-port", "0", "--hmi-port", "0", "--http-port", "0"])
             .args(extra)
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
@@ -186,6 +188,7 @@ impl SimulatedMcm {
             instance: instance.to_string(),
             json: SocketAddr::from(([127, 0, 0, 1], 0)),
             hmi: SocketAddr::from(([127, 0, 0, 1], 0)),
+            web: None,
             zmq: None,
             rt_pid: 0,
             gateway_pid: 0,
@@ -201,6 +204,7 @@ impl SimulatedMcm {
         let ready = wait_ready(&self.lines, &self.binary, within)?;
         self.json = ready.gateway.json;
         self.hmi = ready.gateway.hmi;
+        self.web = ready.gateway.web;
         self.zmq = ready.gateway.zmq;
         // A Linux pid is at most 2^22 (`pid_max`): it fits a `pid_t`.
         self.rt_pid = ready.rt_pid as i32;

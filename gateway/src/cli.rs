@@ -1,6 +1,6 @@
 //! The command line of `mcm-gateway` (also `mcm gateway`).
 
-use crate::{DEFAULT_HMI_PORT, DEFAULT_JSON_PORT, GatewayOptions};
+use crate::{DEFAULT_HMI_PORT, DEFAULT_JSON_PORT, DEFAULT_WEB_PORT, GatewayOptions};
 use clap::Parser;
 use mcm_shared::cli::CommonArgs;
 use mcm_shared::config::RobotConfig;
@@ -31,6 +31,10 @@ pub struct ListenArgs {
     /// TCP port of the telnet text HMI (0: any free port, printed at start).
     #[arg(long, default_value_t = DEFAULT_HMI_PORT)]
     pub hmi_port: u16,
+    /// TCP port of the browser pendant, page and WebSocket (0: any free port, printed at
+    /// start; `[gateway.web] enabled = false` switches it off).
+    #[arg(long, default_value_t = DEFAULT_WEB_PORT)]
+    pub http_port: u16,
     /// Accept `sim` fault injection from other hosts too (default: from loopback only).
     #[arg(long)]
     pub allow_remote_sim: bool,
@@ -57,6 +61,8 @@ impl ListenArgs {
             self.json_port.to_string().into(),
             "--hmi-port".into(),
             self.hmi_port.to_string().into(),
+            "--http-port".into(),
+            self.http_port.to_string().into(),
         ];
         if self.allow_remote_sim {
             args.push("--allow-remote-sim".into());
@@ -122,6 +128,7 @@ fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         names,
         json_addr: SocketAddr::new(cli.listen.bind, cli.listen.json_port),
         hmi_addr: SocketAddr::new(cli.listen.bind, cli.listen.hmi_port),
+        web_addr: SocketAddr::new(cli.listen.bind, cli.listen.http_port),
         allow_remote_sim: cli.listen.allow_remote_sim,
     };
     let rt = tokio::runtime::Builder::new_multi_thread()
@@ -135,6 +142,7 @@ fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             let line = mcm_shared::ready::GatewayReady {
                 json: r.json,
                 hmi: r.hmi,
+                web: r.web,
                 zmq: r
                     .zmq
                     .map(|(router, publish)| mcm_shared::ready::ZmqEndpoints { router, publish }),

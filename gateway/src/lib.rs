@@ -37,6 +37,8 @@ use std::sync::Arc;
 pub(crate) const DEFAULT_JSON_PORT: u16 = 18010;
 /// Default TCP port of the text HMI.
 pub(crate) const DEFAULT_HMI_PORT: u16 = 18011;
+/// Default TCP port of the browser pendant.
+pub(crate) const DEFAULT_WEB_PORT: u16 = 18014;
 
 /// What the gateway serves, and where.
 #[derive(Debug, Clone)]
@@ -47,6 +49,9 @@ pub(crate) struct GatewayOptions {
     pub json_addr: SocketAddr,
     /// Address of the telnet HMI listener (port 0: any free port).
     pub hmi_addr: SocketAddr,
+    /// Address of the browser pendant's listener (port 0: any free port), when
+    /// `[gateway.web]` is enabled.
+    pub web_addr: SocketAddr,
     /// Accept `sim` commands from other hosts than this one (`--allow-remote-sim`).
     pub allow_remote_sim: bool,
 }
@@ -70,6 +75,8 @@ pub(crate) enum GatewayError {
 pub(crate) struct Ready {
     pub json: SocketAddr,
     pub hmi: SocketAddr,
+    /// The browser pendant's address as bound, when `[gateway.web]` is enabled.
+    pub web: Option<SocketAddr>,
     /// The ZeroMQ ROUTER and PUB endpoints as bound, when `[gateway.zmq]` is enabled.
     pub zmq: Option<(String, String)>,
 }
@@ -95,6 +102,11 @@ pub(crate) async fn run(
         command::access::Access::from_config(&opts.config.gateway.access, opts.allow_remote_sim)?;
     let (json, json_addr) = bind(opts.json_addr).await?;
     let (hmi, hmi_addr) = bind(opts.hmi_addr).await?;
+    let web = if opts.config.gateway.web.enabled {
+        Some(bind(opts.web_addr).await?)
+    } else {
+        None
+    };
     let (bridge, bridge_thread) =
         core_link::bridge::Bridge::start(&opts.names, &opts.config.safety.flight_recorder_dir);
     let zmq_cfg = opts.config.gateway.zmq.clone();
@@ -122,10 +134,21 @@ pub(crate) async fn run(
     let json_task = tokio::spawn(transport::json::run(json, ctx.clone(), stopped(&stop_tx)));
     let bridge = ctx.bridge.clone();
     let reaper = tokio::spawn(command::access::reaper::run(bridge.clone()));
+    let web_addr = web.as_ref().map(|(_, a)| *a);
+    let web_task = web.map(|(listener, _)| {
+        let instance = opts.names.instance().to_string();
+        tokio::spawn(transport::web::run(
+            listener,
+            ctx.clone(),
+            instance,
+            stopped(&stop_tx),
+        ))
+    });
     let hmi_task = tokio::spawn(transport::hmi::run(hmi, ctx, stopped(&stop_tx)));
     ready(Ready {
         json: json_addr,
         hmi: hmi_addr,
+        web: web_addr,
         zmq: zmq.as_ref().map(|z| (z.router.clone(), z.publish.clone())),
     });
     shutdown.await;
@@ -141,6 +164,9 @@ pub(crate) async fn run(
     let _ = stop_tx.send(());
     let _ = json_task.await;
     let _ = hmi_task.await;
+    if let Some(t) = web_task {
+        let _ = t.await;
+    }
     reaper.abort();
     bridge_thread.stop();
     Ok(())

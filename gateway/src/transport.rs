@@ -1,4 +1,4 @@
-//! The three ways clients reach the gateway, each turning its bytes into commands for
+//! The four ways clients reach the gateway, each turning its bytes into commands for
 //! [`crate::command`] and its results back into bytes. Runs in the gateway's async tasks (and,
 //! for ZeroMQ, two threads of its own), never in the real-time cycle.
 //!
@@ -6,9 +6,11 @@
 //!   per line each way;
 //! - [`hmi`]: the telnet text HMI for people (default port 18011);
 //! - [`zmq`]: the optional ZeroMQ interface (commands over a ROUTER socket, state and errors
-//!   over a PUB socket).
+//!   over a PUB socket);
+//! - [`web`]: the browser pendant (default port 18014): a page, and per page a WebSocket that
+//!   carries the JSON protocol and the state.
 //!
-//! What they share: [`server`] accepts the TCP connections of the JSON and HMI ports within the
+//! What they share: [`server`] accepts the TCP connections of the JSON, HMI and web ports within the
 //! limits of `[gateway.connections]` and stops them on [`shutdown`]; [`heavy`] parses long
 //! lines off the async workers, for every transport.
 
@@ -17,4 +19,5 @@ pub(crate) mod hmi;
 pub(crate) mod json;
 pub(crate) mod server;
 pub(crate) mod shutdown;
+pub(crate) mod web;
 pub(crate) mod zmq;

@@ -31,6 +31,7 @@
 //! ```
 
 pub mod alloc_count;
+pub mod busload;
 pub mod cli;
 pub mod command;
 pub mod config;

@@ -51,12 +51,14 @@ pub struct RtReady {
     pub bus: BusBackend,
 }
 
-/// `mcm-gateway ready json=ADDR hmi=ADDR [zmq_router=ENDPOINT zmq_publish=ENDPOINT]`: the
-/// gateway listens, on these addresses as bound (port 0 asked for any free port).
+/// `mcm-gateway ready json=ADDR hmi=ADDR [web=ADDR] [zmq_router=ENDPOINT zmq_publish=ENDPOINT]`:
+/// the gateway listens, on these addresses as bound (port 0 asked for any free port).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct GatewayReady {
     pub json: SocketAddr,
     pub hmi: SocketAddr,
+    /// The browser pendant's HTTP port, when `[gateway.web]` is enabled.
+    pub web: Option<SocketAddr>,
     /// The ZeroMQ endpoints as bound, when the ZeroMQ interface is on.
     pub zmq: Option<ZmqEndpoints>,
 }
@@ -156,6 +158,9 @@ impl GatewayReady {
     /// The fields of the line, as `key=value` words separated by spaces.
     fn fields(&self) -> String {
         let mut s = format!("json={} hmi={}", self.json, self.hmi);
+        if let Some(w) = &self.web {
+            s.push_str(&format!(" web={w}"));
+        }
         if let Some(z) = &self.zmq {
             s.push_str(&format!(
                 " zmq_router={} zmq_publish={}",
@@ -186,8 +191,12 @@ impl McmReady {
                 )
             })
             .unwrap_or_default();
+        let web = g
+            .web
+            .map(|w| format!(", browser pendant on http://{w}/"))
+            .unwrap_or_default();
         format!(
-            ", instance {}): JSON on {}, telnet HMI on {}{zmq}; Ctrl-C stops.",
+            ", instance {}): JSON on {}, telnet HMI on {}{web}{zmq}; Ctrl-C stops.",
             self.instance, g.json, g.hmi
         )
     }
@@ -261,6 +270,10 @@ impl<'a> Fields<'a> {
         Ok(GatewayReady {
             json: self.parsed("json", "an address and port")?,
             hmi: self.parsed("hmi", "an address and port")?,
+            web: match self.get("web") {
+                None => None,
+                Some(_) => Some(self.parsed("web", "an address and port")?),
+            },
             zmq,
         })
     }

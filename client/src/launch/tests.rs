@@ -8,6 +8,7 @@ fn ready() -> McmReady {
         gateway: GatewayReady {
             json: "127.0.0.1:4000".parse().unwrap(),
             hmi: "127.0.0.1:4001".parse().unwrap(),
+            web: None,
             zmq: None,
         },
         rt_pid: 12,

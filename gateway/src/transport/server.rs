@@ -72,11 +72,27 @@ pub async fn run<F, Fut>(
     port: Port,
     serve: F,
 ) where
-    F: Fn(TcpStream, Context, Shutdown, Slot) -> Fut + Copy + Send + 'static,
+    F: Fn(TcpStream, Context, Shutdown, Slot) -> Fut + Clone + Send + 'static,
     Fut: Future<Output = std::io::Result<()>> + Send + 'static,
 {
     let table = Shared::new(ctx.cfg.gateway.connections.clone());
     run_with(listener, ctx, shutdown, port, serve, table).await;
+}
+
+/// [`run`] with limits of its own instead of `[gateway.connections]` (the web port's per-peer
+/// cap is `[gateway.web] max_per_peer`: a browser opens several connections for one page).
+pub async fn run_limited<F, Fut>(
+    listener: TcpListener,
+    ctx: Context,
+    shutdown: impl Future,
+    port: Port,
+    limits: mcm_shared::config::ConnectionLimits,
+    serve: F,
+) where
+    F: Fn(TcpStream, Context, Shutdown, Slot) -> Fut + Clone + Send + 'static,
+    Fut: Future<Output = std::io::Result<()>> + Send + 'static,
+{
+    run_with(listener, ctx, shutdown, port, serve, Shared::new(limits)).await;
 }
 
 /// [`run`] with the port's connection table given (tests watch it).
@@ -88,7 +104,7 @@ async fn run_with<F, Fut>(
     serve: F,
     table: Shared,
 ) where
-    F: Fn(TcpStream, Context, Shutdown, Slot) -> Fut + Copy + Send + 'static,
+    F: Fn(TcpStream, Context, Shutdown, Slot) -> Fut + Clone + Send + 'static,
     Fut: Future<Output = std::io::Result<()>> + Send + 'static,
 {
     let what = port.what;
@@ -123,6 +139,7 @@ async fn run_with<F, Fut>(
             let ctx = ctx.clone();
             let shutdown = Shutdown::new(notify.subscribe());
             let done = done_tx.clone();
+            let serve = serve.clone();
             tokio::spawn(async move {
                 let evicted_long_ago = async {
                     if kill.wait_for(Option::is_some).await.is_err() {

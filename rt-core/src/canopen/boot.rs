@@ -26,10 +26,8 @@ use mcm_bus::Frame;
 pub const BOOT_OPS: usize = 40;
 /// Retries of one operation after a timeout or abort (so at most 3 attempts).
 pub const MAX_RETRIES: u8 = 2;
-/// TPDO2's event timer (0x1801:5) [ms]: the drive sends its mode display on every change and
-/// again at least this often, so a lost TPDO2 is made good within this time (the master does
-/// not depend on one event-driven frame to confirm a mode).
-pub const TPDO2_EVENT_TIMER_MS: u16 = 100;
+/// TPDO2's event timer (0x1801:5) [ms], in the contract beside the bus load it enters.
+pub use mcm_shared::busload::TPDO2_EVENT_TIMER_MS;
 
 /// What one operation does.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -19,7 +19,8 @@
 //! Everything except `busload` and `Master::new` runs inside the cycle and allocates nothing.
 
 pub mod boot;
-pub mod busload;
+/// The worst-case bus load (in the contract: the gateway shows it too).
+pub use mcm_shared::busload;
 pub mod cia402;
 pub mod emcy;
 pub mod heartbeat;

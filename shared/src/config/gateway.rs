@@ -1,7 +1,8 @@
 //! The `[gateway]` section: how the gateway limits connections (`[gateway.connections]`),
-//! who may move the arm (`[gateway.access]`) and its ZeroMQ interface (`[gateway.zmq]`, off by
-//! default). The whole section is optional; its defaults keep the manual's behaviour (any
-//! client on the factory network may connect and command).
+//! who may move the arm (`[gateway.access]`), its ZeroMQ interface (`[gateway.zmq]`, off by
+//! default) and the browser pendant (`[gateway.web]`, on by default). The whole section is
+//! optional; its defaults keep the manual's behaviour (any client on the factory network may
+//! connect and command).
 
 use super::ConfigError;
 use serde::Deserialize;
@@ -16,6 +17,8 @@ pub struct GatewayConfig {
     pub access: AccessConfig,
     #[serde(default)]
     pub zmq: ZmqConfig,
+    #[serde(default)]
+    pub web: WebConfig,
 }
 
 mod connections;
@@ -27,12 +30,16 @@ pub use access::{AccessConfig, Cidr};
 pub mod zmq;
 pub use zmq::ZmqConfig;
 
+pub mod web;
+pub use web::WebConfig;
+
 impl GatewayConfig {
     /// Check every value of the section; the first problem found names its key.
     pub fn validate(&self) -> Result<(), ConfigError> {
         self.connections.validate()?;
         self.access.validate()?;
         self.zmq.validate()?;
+        self.web.validate()?;
         Ok(())
     }
 }

@@ -22,7 +22,12 @@ fn gateway() -> impl Strategy<Value = GatewayReady> {
     ];
     let zmq = prop::option::of((endpoint.clone(), endpoint))
         .prop_map(|z| z.map(|(router, publish)| ZmqEndpoints { router, publish }));
-    (addr(), addr(), zmq).prop_map(|(json, hmi, zmq)| GatewayReady { json, hmi, zmq })
+    (addr(), addr(), prop::option::of(addr()), zmq).prop_map(|(json, hmi, web, zmq)| GatewayReady {
+        json,
+        hmi,
+        web,
+        zmq,
+    })
 }
 
 proptest! {

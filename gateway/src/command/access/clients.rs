@@ -17,6 +17,8 @@ pub enum Channel {
     Hmi,
     /// A peer (routing id) of the ZeroMQ ROUTER socket.
     Zmq,
+    /// A browser page of the pendant (its WebSocket).
+    Web,
 }
 
 impl Channel {
@@ -25,6 +27,7 @@ impl Channel {
             Channel::Json => "JSON client",
             Channel::Hmi => "HMI client",
             Channel::Zmq => "ZeroMQ client",
+            Channel::Web => "browser pendant",
         }
     }
 }

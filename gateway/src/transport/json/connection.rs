@@ -25,9 +25,9 @@ use mcm_shared::mode::Mode;
 use mcm_shared::protocol::Command;
 use mcm_shared::sample::StateSample;
 use serde_json::Value;
-use tokio::io::{AsyncReadExt, AsyncWriteExt, BufWriter};
+use std::net::SocketAddr;
+use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt, BufWriter};
 use tokio::net::TcpStream;
-use tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
 use tokio::sync::broadcast::error::RecvError;
 use tokio::time::Instant;
 
@@ -146,15 +146,34 @@ pub fn step(frame: Frame, cfg: &RobotConfig) -> Step {
 pub async fn serve(
     socket: TcpStream,
     ctx: Context,
-    mut shutdown: Shutdown,
-    mut slot: Slot,
+    shutdown: Shutdown,
+    slot: Slot,
 ) -> std::io::Result<()> {
     socket.set_nodelay(true)?;
     let peer = socket.peer_addr()?;
-    let (mut rd, wr) = socket.into_split();
+    let (rd, wr) = socket.into_split();
+    serve_stream(rd, wr, Channel::Json, peer, ctx, shutdown, slot).await
+}
+
+/// [`serve`] over any byte stream: a TCP connection's halves, or the pipe that carries a browser
+/// page's WebSocket messages (`crate::transport::web::socket`), so that every channel of the
+/// JSON protocol runs this one connection code. `peer` and `channel` identify the client.
+pub async fn serve_stream<R, W>(
+    mut rd: R,
+    wr: W,
+    channel: Channel,
+    peer: SocketAddr,
+    ctx: Context,
+    mut shutdown: Shutdown,
+    mut slot: Slot,
+) -> std::io::Result<()>
+where
+    R: AsyncRead + Unpin,
+    W: AsyncWrite + Unpin,
+{
     let mut wr = BufWriter::new(wr);
     // Dropped when this function returns, however: the core then hears the client is gone.
-    let client = Client::new(&ctx.clients, &ctx.bridge, Channel::Json, peer);
+    let client = Client::new(&ctx.clients, &ctx.bridge, channel, peer);
     slot.identify(client.id);
     let mut decoder = Decoder::new();
     let mut errors = ctx.bridge.subscribe_errors();
@@ -271,7 +290,10 @@ pub async fn serve(
 /// The last lines before the gateway closes the connection on shutdown: the notice about the
 /// core still due (it stopped, or vanished), then the gateway's own (bounded: a client that
 /// does not read does not hold the shutdown up).
-async fn goodbye(wr: &mut BufWriter<OwnedWriteHalf>, core: &mut CoreWatch) -> std::io::Result<()> {
+async fn goodbye<W: AsyncWrite + Unpin>(
+    wr: &mut BufWriter<W>,
+    core: &mut CoreWatch,
+) -> std::io::Result<()> {
     let lines = core.last_words();
     let say = async {
         for n in lines {
@@ -283,8 +305,8 @@ async fn goodbye(wr: &mut BufWriter<OwnedWriteHalf>, core: &mut CoreWatch) -> st
     Ok(())
 }
 
-async fn forward_error(
-    wr: &mut BufWriter<OwnedWriteHalf>,
+async fn forward_error<W: AsyncWrite + Unpin>(
+    wr: &mut BufWriter<W>,
     e: Result<crate::core_link::bridge::SafetyEvent, RecvError>,
 ) -> std::io::Result<()> {
     match e {
@@ -304,7 +326,7 @@ async fn forward_error(
 
 /// Write one result line (pure ASCII: non-ASCII characters as `\uXXXX`); a client that does
 /// not take it within [`WRITE_TIMEOUT`] gets a `TimedOut` error (the connection ends).
-pub async fn send(wr: &mut BufWriter<OwnedWriteHalf>, v: &Value) -> std::io::Result<()> {
+pub async fn send<W: AsyncWrite + Unpin>(wr: &mut BufWriter<W>, v: &Value) -> std::io::Result<()> {
     let mut line = mcm_shared::protocol::json::to_ascii(v);
     line.push('\n');
     let write = async {
@@ -326,9 +348,9 @@ pub async fn send(wr: &mut BufWriter<OwnedWriteHalf>, v: &Value) -> std::io::Res
 
 /// End the connection with one ERROR line saying `why` (see
 /// [`crate::transport::server::farewell`]).
-async fn say_goodbye(
-    rd: &mut OwnedReadHalf,
-    wr: &mut BufWriter<OwnedWriteHalf>,
+async fn say_goodbye<R: AsyncRead + Unpin, W: AsyncWrite + Unpin>(
+    rd: &mut R,
+    wr: &mut BufWriter<W>,
     why: &str,
 ) -> std::io::Result<()> {
     let line = super::json_line(why);

@@ -9,16 +9,22 @@
 //! change), EMCY and SDO are not periodic and are left out: the budget is what leaves room for
 //! them.
 //!
-//! Runs once at start-up (not in the cycle).
+//! In the contract because both sides use it: `mcm-rt` checks it once at start-up (not in the
+//! cycle), the gateway shows it on the browser pendant.
 //!
 //! ```
-//! use mcm_rt_core::canopen::busload::frame_bits_worst_case;
+//! use mcm_shared::busload::frame_bits_worst_case;
 //! assert_eq!(frame_bits_worst_case(8), 135);
 //! assert_eq!(frame_bits_worst_case(0), 55);
 //! ```
 
-use super::boot::TPDO2_EVENT_TIMER_MS;
-use mcm_shared::config::RobotConfig;
+use crate::config::RobotConfig;
+
+/// TPDO2's event timer (0x1801:5) [ms]: the drive sends its mode display on every change and
+/// again at least this often, so a lost TPDO2 is made good within this time (the master does
+/// not depend on one event-driven frame to confirm a mode). Written to the drives at boot
+/// (`mcm_rt_core::canopen::boot`).
+pub const TPDO2_EVENT_TIMER_MS: u16 = 100;
 
 /// Worst-case length of a classic CAN frame with an 11-bit id and `len` data bytes, including
 /// stuff bits and the 3-bit interframe space.

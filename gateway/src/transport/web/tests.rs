@@ -1,0 +1,253 @@
+//! The web port over real sockets on 127.0.0.1:0 with a bridge whose real-time core is not
+//! running: HTTP as raw bytes, the WebSocket through an independent client (tungstenite).
+
+use super::*;
+use crate::core_link::bridge::BridgeThread;
+use crate::test_support::offline_context;
+use futures_util::{SinkExt, StreamExt};
+use mcm_shared::config::RobotConfig;
+use serde_json::Value;
+use std::net::SocketAddr;
+use std::time::Duration;
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::net::TcpStream;
+use tokio::sync::oneshot;
+use tokio::task::JoinHandle;
+use tokio_tungstenite::tungstenite::Message;
+
+const WAIT: Duration = Duration::from_secs(10);
+
+struct Server {
+    addr: SocketAddr,
+    stop: oneshot::Sender<()>,
+    task: JoinHandle<()>,
+    bridge: BridgeThread,
+    instance: String,
+}
+
+async fn start(cfg: RobotConfig) -> Server {
+    let (ctx, bridge, instance) = offline_context("web", cfg);
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (stop, stopped) = oneshot::channel::<()>();
+    let shutdown = async move {
+        let _ = stopped.await;
+    };
+    let task = tokio::spawn(run(listener, ctx, instance.clone(), shutdown));
+    Server {
+        addr,
+        stop,
+        task,
+        bridge,
+        instance,
+    }
+}
+
+impl Server {
+    async fn stop(self) {
+        let _ = self.stop.send(());
+        tokio::time::timeout(WAIT, self.task)
+            .await
+            .unwrap()
+            .unwrap();
+        self.bridge.stop();
+    }
+}
+
+/// One raw HTTP/1.1 GET (`connection: close`): the response's head and body.
+async fn get(addr: SocketAddr, path: &str, extra: &str) -> (String, Vec<u8>) {
+    let mut s = TcpStream::connect(addr).await.unwrap();
+    let req = format!("GET {path} HTTP/1.1\r\nhost: x\r\nconnection: close\r\n{extra}\r\n");
+    s.write_all(req.as_bytes()).await.unwrap();
+    let mut bytes = Vec::new();
+    tokio::time::timeout(WAIT, s.read_to_end(&mut bytes))
+        .await
+        .unwrap()
+        .unwrap();
+    let split = bytes.windows(4).position(|w| w == b"\r\n\r\n").unwrap();
+    let head = String::from_utf8_lossy(&bytes[..split]).to_lowercase();
+    (head, bytes[split + 4..].to_vec())
+}
+
+#[tokio::test]
+async fn the_page_the_model_and_the_records_are_served() {
+    let srv = start(RobotConfig::prob2_default()).await;
+    let (head, body) = get(srv.addr, "/", "").await;
+    assert!(head.starts_with("http/1.1 200"), "{head}");
+    assert!(head.contains("content-type: text/html"), "{head}");
+    assert!(String::from_utf8_lossy(&body).contains("<html") || !body.is_empty());
+    let (head, _) = get(srv.addr, "/", "accept-encoding: gzip\r\n").await;
+    assert!(head.contains("content-encoding: gzip"), "{head}");
+
+    let (head, body) = get(srv.addr, "/api/model", "").await;
+    assert!(head.contains("application/json"), "{head}");
+    let model: Value = serde_json::from_slice(&body).unwrap();
+    assert_eq!(model["instance"], srv.instance);
+    assert_eq!(model["axes"].as_array().unwrap().len(), 6);
+
+    let (head, body) = get(srv.addr, "/api/flight-records", "").await;
+    assert!(head.starts_with("http/1.1 200"), "{head}");
+    let list: Value = serde_json::from_slice(&body).unwrap();
+    assert!(list["records"].is_array(), "{list}");
+
+    for path in [
+        "/api/flight-records/..%2F..%2Fetc%2Fpasswd",
+        "/api/flight-records/mcm-other-1-following_error.csv",
+        "/no/such/file.js",
+    ] {
+        let (head, body) = get(srv.addr, path, "").await;
+        assert!(head.starts_with("http/1.1 404"), "{path}: {head}");
+        assert!(!body.is_empty(), "{path}: a 404 says why");
+    }
+    srv.stop().await;
+}
+
+#[tokio::test]
+async fn every_embedded_file_is_served_with_its_type() {
+    let srv = start(RobotConfig::prob2_default()).await;
+    let paths = assets::paths();
+    assert!(paths.iter().any(|p| p == "index.html"), "{paths:?}");
+    for p in paths {
+        let (head, _) = get(srv.addr, &format!("/{p}"), "").await;
+        assert!(head.starts_with("http/1.1 200"), "{p}: {head}");
+        if p.ends_with(".js") {
+            assert!(head.contains("javascript"), "{p}: {head}");
+        }
+    }
+    srv.stop().await;
+}
+
+type Ws = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<TcpStream>>;
+
+async fn ws(addr: SocketAddr) -> Ws {
+    let (ws, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/ws"))
+        .await
+        .unwrap();
+    ws
+}
+
+/// The next text message as JSON.
+async fn next(ws: &mut Ws) -> Value {
+    loop {
+        let msg = tokio::time::timeout(WAIT, ws.next())
+            .await
+            .expect("a message within the wait")
+            .expect("the socket is open")
+            .unwrap();
+        match msg {
+            Message::Text(t) => return serde_json::from_str(&t).unwrap(),
+            Message::Ping(_) | Message::Pong(_) => continue,
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+}
+
+#[tokio::test]
+async fn the_socket_carries_the_json_protocol_one_result_per_command() {
+    let srv = start(RobotConfig::prob2_default()).await;
+    let mut ws = ws(srv.addr).await;
+    // Refused by the framing and the parser, as on the TCP port.
+    ws.send(Message::text("{\"command\":\"fly\"}"))
+        .await
+        .unwrap();
+    let r = next(&mut ws).await;
+    assert_eq!(r["error_status"], "ERROR", "{r}");
+    assert!(r["error_message"].as_str().unwrap().contains("fly"), "{r}");
+    ws.send(Message::binary(vec![0xff, 0x00, 0x7b]))
+        .await
+        .unwrap();
+    let r = next(&mut ws).await;
+    assert_eq!(r["error_status"], "ERROR", "{r}");
+    // Executed by the gateway: `sleep` answers OK.
+    ws.send(Message::text(
+        "{\"command\":\"sleep\",\"arguments\":{\"duration\":0.01}}",
+    ))
+    .await
+    .unwrap();
+    let r = next(&mut ws).await;
+    assert_eq!(r["error_status"], "OK", "{r}");
+    // The core is not running: said so, "failed" since it was surely not sent.
+    ws.send(Message::text("{\"command\":\"hold\"}"))
+        .await
+        .unwrap();
+    let r = next(&mut ws).await;
+    let m = r["error_message"].as_str().unwrap();
+    assert!(
+        m.starts_with("hold failed") && m.contains("not running"),
+        "{r}"
+    );
+    // Shutdown: the last line, then the socket closes.
+    let _ = srv.stop.send(());
+    let last = next(&mut ws).await;
+    assert!(
+        last["error_message"]
+            .as_str()
+            .unwrap()
+            .contains("the MCM is shutting down"),
+        "{last}"
+    );
+    tokio::time::timeout(WAIT, srv.task).await.unwrap().unwrap();
+    srv.bridge.stop();
+}
+
+#[tokio::test]
+async fn an_over_long_command_is_answered_then_the_socket_closes() {
+    let srv = start(RobotConfig::prob2_default()).await;
+    let mut ws = ws(srv.addr).await;
+    let long = format!(
+        "{{\"command\":\"status\",\"pad\":\"{}\"}}",
+        "x".repeat(mcm_shared::protocol::MAX_COMMAND_BYTES)
+    );
+    ws.send(Message::text(long)).await.unwrap();
+    let r = next(&mut ws).await;
+    assert!(
+        r["error_message"].as_str().unwrap().contains("longer than"),
+        "{r}"
+    );
+    let end = tokio::time::timeout(WAIT, async {
+        loop {
+            match ws.next().await {
+                None | Some(Err(_)) | Some(Ok(Message::Close(_))) => return,
+                Some(Ok(_)) => {}
+            }
+        }
+    })
+    .await;
+    assert!(end.is_ok(), "the socket stays open");
+    srv.stop().await;
+}
+
+#[tokio::test]
+async fn an_idle_page_makes_room_and_is_told_why() {
+    let mut cfg = RobotConfig::prob2_default();
+    cfg.gateway.web.max_per_peer = 1;
+    let srv = start(cfg).await;
+    let mut first = ws(srv.addr).await;
+    let (head, _) = get(srv.addr, "/", "").await;
+    assert!(head.starts_with("http/1.1 200"), "{head}");
+    let r = next(&mut first).await;
+    assert_eq!(r["error_status"], "ERROR", "{r}");
+    assert!(
+        r["error_message"]
+            .as_str()
+            .unwrap()
+            .contains("to make room"),
+        "{r}"
+    );
+    srv.stop().await;
+}
+
+#[test]
+fn a_refusal_is_a_whole_http_response() {
+    let r = http_refusal("too many connections from 10.0.0.1 (16 allowed)");
+    let (head, body) = r.split_once("\r\n\r\n").unwrap();
+    assert!(head.starts_with("HTTP/1.1 503 "), "{head}");
+    let len: usize = head
+        .lines()
+        .find_map(|l| l.strip_prefix("content-length: "))
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(len, body.len());
+    assert!(body.contains("16 allowed"));
+}
