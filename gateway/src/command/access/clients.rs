@@ -22,7 +22,8 @@ pub enum Channel {
 }
 
 impl Channel {
-    fn words(self) -> &'static str {
+    /// The channel in words, e.g. "JSON client".
+    pub fn words(self) -> &'static str {
         match self {
             Channel::Json => "JSON client",
             Channel::Hmi => "HMI client",
@@ -48,6 +49,17 @@ impl Clients {
 
     pub fn remove(&self, id: u64) {
         self.map().remove(&id);
+    }
+
+    /// Every connection known now: id, channel and peer, by id.
+    pub fn list(&self) -> Vec<(u64, Channel, SocketAddr)> {
+        let mut all: Vec<_> = self
+            .map()
+            .iter()
+            .map(|(id, (c, p))| (*id, *c, *p))
+            .collect();
+        all.sort_by_key(|(id, _, _)| *id);
+        all
     }
 
     /// The client `id` in words: "JSON client 10.1.2.3:51234", "HMI client 127.0.0.1:40000",

@@ -1,6 +1,7 @@
 //! The pendant's JSON API: `/api/model` (the robot as configured: axes, limits, the DH links
-//! for the 3D view, the bus load) and `/api/flight-records[/NAME]` (this instance's
-//! flight-recorder files, docs/safety.md, listed newest first and downloadable).
+//! for the 3D view, the bus load), `/api/connections` (the gateway's clients now, and which
+//! controls the arm) and `/api/flight-records[/NAME]` (this instance's flight-recorder files,
+//! docs/safety.md, listed newest first and downloadable).
 
 use mcm_shared::busload::BusLoad;
 use mcm_shared::config::RobotConfig;
@@ -45,6 +46,26 @@ pub fn model(cfg: &RobotConfig, instance: &str) -> Value {
             "load_budget": load.budget,
         },
     })
+}
+
+/// `/api/connections`: the gateway's clients `list` (id, channel, peer), and the client id of
+/// the arm's `owner` (0: nobody; it may be a shared-memory client, not in the list).
+pub fn connections(
+    list: &[(u64, crate::command::access::Channel, std::net::SocketAddr)],
+    owner: u64,
+) -> Value {
+    let clients: Vec<Value> = list
+        .iter()
+        .map(|(id, channel, peer)| {
+            json!({
+                "client_id": id,
+                "channel": channel.words(),
+                "peer": peer.to_string(),
+                "controls_the_arm": *id == owner,
+            })
+        })
+        .collect();
+    json!({"owner_client_id": owner, "clients": clients})
 }
 
 /// One flight-recorder file of this instance.

@@ -48,6 +48,7 @@ impl Routes {
         // Compressed: the assets and the API; not the WebSocket's upgrade.
         let compressed = Router::new()
             .route("/api/model", get(model))
+            .route("/api/connections", get(connections))
             .route("/api/flight-records", get(records))
             .route("/api/flight-records/{name}", get(record))
             .fallback(assets::serve)
@@ -69,6 +70,11 @@ struct Conn {
 
 async fn model(State(web): State<Arc<Web>>) -> Json<serde_json::Value> {
     Json(api::model(&web.ctx.cfg, &web.instance))
+}
+
+async fn connections(State(web): State<Arc<Web>>) -> Json<serde_json::Value> {
+    let owner = web.ctx.bridge.owner();
+    Json(api::connections(&web.ctx.clients.list(), owner))
 }
 
 async fn records(State(web): State<Arc<Web>>) -> Json<serde_json::Value> {
@@ -105,7 +111,42 @@ async fn record(State(web): State<Arc<Web>>, UrlPath(name): UrlPath<String>) -> 
     }
 }
 
-async fn upgrade(ws: WebSocketUpgrade, Extension(conn): Extension<Conn>) -> Response {
+/// Whether a WebSocket request with these headers comes from the pendant's own page: a browser
+/// always sends `Origin`, and it must be this server (`Host`), so that a page from elsewhere
+/// that an operator's browser happens to show cannot drive the arm through the operator's
+/// network position (cross-site WebSocket hijacking). A request without `Origin` is not from a
+/// browser page (a program, which could connect to the JSON port as well).
+pub fn same_origin(headers: &axum::http::HeaderMap) -> Result<(), String> {
+    let Some(origin) = headers.get(header::ORIGIN) else {
+        return Ok(());
+    };
+    let origin = origin.to_str().unwrap_or("");
+    let host = headers
+        .get(header::HOST)
+        .and_then(|h| h.to_str().ok())
+        .unwrap_or("");
+    let origin_host = origin
+        .strip_prefix("http://")
+        .or_else(|| origin.strip_prefix("https://"))
+        .unwrap_or("");
+    if !host.is_empty() && origin_host.eq_ignore_ascii_case(host) {
+        Ok(())
+    } else {
+        Err(format!(
+            "WebSocket refused: a page from {origin:?} may not use the pendant of {host:?}; \
+             open the pendant's own page (http://{host}/)"
+        ))
+    }
+}
+
+async fn upgrade(
+    ws: WebSocketUpgrade,
+    headers: axum::http::HeaderMap,
+    Extension(conn): Extension<Conn>,
+) -> Response {
+    if let Err(why) = same_origin(&headers) {
+        return (StatusCode::FORBIDDEN, format!("{why}\n")).into_response();
+    }
     let taken = conn
         .upgrade
         .lock()

@@ -85,6 +85,12 @@ async fn the_page_the_model_and_the_records_are_served() {
     assert_eq!(model["instance"], srv.instance);
     assert_eq!(model["axes"].as_array().unwrap().len(), 6);
 
+    // The page's own socket is one of the connections.
+    let _page = ws(srv.addr).await;
+    let (_, body) = get(srv.addr, "/api/connections", "").await;
+    let conns: Value = serde_json::from_slice(&body).unwrap();
+    assert_eq!(conns["clients"][0]["channel"], "browser pendant", "{conns}");
+
     let (head, body) = get(srv.addr, "/api/flight-records", "").await;
     assert!(head.starts_with("http/1.1 200"), "{head}");
     let list: Value = serde_json::from_slice(&body).unwrap();
@@ -250,4 +256,25 @@ fn a_refusal_is_a_whole_http_response() {
         .unwrap();
     assert_eq!(len, body.len());
     assert!(body.contains("16 allowed"));
+}
+
+#[tokio::test]
+async fn a_page_from_another_origin_may_not_open_the_socket() {
+    use tokio_tungstenite::tungstenite::client::IntoClientRequest;
+    let srv = start(RobotConfig::prob2_default()).await;
+    let url = format!("ws://{}/ws", srv.addr);
+    let mut foreign = url.clone().into_client_request().unwrap();
+    foreign
+        .headers_mut()
+        .insert("origin", "http://evil.example".parse().unwrap());
+    let refused = tokio_tungstenite::connect_async(foreign).await;
+    match refused {
+        Err(tokio_tungstenite::tungstenite::Error::Http(r)) => assert_eq!(r.status(), 403),
+        other => panic!("a foreign origin got {other:?}"),
+    }
+    let mut own = url.into_client_request().unwrap();
+    let origin = format!("http://{}", srv.addr);
+    own.headers_mut().insert("origin", origin.parse().unwrap());
+    assert!(tokio_tungstenite::connect_async(own).await.is_ok());
+    srv.stop().await;
 }

@@ -67,3 +67,15 @@ fn the_model_has_six_axes_and_links_and_the_bus_load() {
     let load = m["bus"]["worst_case_load"].as_f64().unwrap();
     assert!(load > 0.5 && load < 0.8, "{load}");
 }
+
+#[test]
+fn connections_name_channel_peer_and_the_owner() {
+    use crate::command::access::Channel;
+    let peer: std::net::SocketAddr = "10.0.0.5:4000".parse().unwrap();
+    let v = connections(&[(7, Channel::Web, peer), (9, Channel::Json, peer)], 9);
+    assert_eq!(v["owner_client_id"], 9);
+    assert_eq!(v["clients"][0]["channel"], "browser pendant");
+    assert_eq!(v["clients"][0]["controls_the_arm"], false);
+    assert_eq!(v["clients"][1]["peer"], "10.0.0.5:4000");
+    assert_eq!(v["clients"][1]["controls_the_arm"], true);
+}
