@@ -205,6 +205,19 @@ fn calibrated_after(mcm: &mut Mcm) {
     assert_ok(&c.request(r#"{"command":"calibrate"}"#));
 }
 
+/// Remove the flight-recorder files the run's fault wrote (`mcm-<instance>-<ms>-<check>.csv`).
+fn remove_flight_records(instance: &str) {
+    let dir = mcm_shared::config::RobotConfig::prob2_default()
+        .safety
+        .flight_recorder_dir;
+    let prefix = format!("mcm-{instance}-");
+    for e in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+        if e.file_name().to_string_lossy().starts_with(&prefix) {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+}
+
 fn report(r: &ScriptRun) {
     eprintln!(
         "--- tests/web/{} ({}, {:.1} s) ---\n{}",
@@ -239,6 +252,7 @@ fn the_pendant_in_chromium_against_the_simulated_arm() {
     let readonly = run_script(&tools, "readonly.test.mjs", &mcm, port);
     report(&readonly);
     drop(mcm);
+    remove_flight_records(&instance);
 
     let failed: Vec<&str> = [&pendant, &readonly]
         .iter()

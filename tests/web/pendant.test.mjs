@@ -14,9 +14,11 @@ import {
   setField, screenshot, flange, maxAbs, maxDiff, waitUntil, Sequence,
 } from './lib.mjs';
 
-/// How far the page's joint angles may be from the truth at rest [deg]: encoder counts and
-/// the 3-decimal display.
-const TRUTH_TOLERANCE_DEG = 0.02;
+/// How far the reported joint angles may be from the simulation's truth at rest [deg]: the
+/// calibration's accuracy (docs/testing.md: within 0.05 deg of the truth).
+const TRUTH_TOLERANCE_DEG = 0.05;
+/// How far the page's 3-decimal angles may be from the state it shows [deg]: the rounding.
+const DISPLAY_TOLERANCE_DEG = 0.0006;
 /// How long the arm may take, on the robot's clock, from the key's release (or the tab's
 /// closing, or Escape) to rest: the page's 50 ms between messages, the core's 0.2 s velocity
 /// timeout for a closed tab, and the controlled stop from the jog speed.
@@ -44,19 +46,26 @@ after(async () => {
   await browser?.close();
 });
 
-/// Wait until the page's joint table shows the truth (the arm at rest); the truth.
+/// With the arm at rest: the page's joint table shows the MCM's reported angles (to its 3
+/// decimals), and those are the simulation's true angles (within the calibration's accuracy);
+/// the truth.
 async function assertJointsShowTruth(p, what) {
   const rest = await json.waitAtRest(`the arm at rest (${what})`, 20000);
   let table;
+  let reported;
   try {
-    await waitUntil(`the joint table to show the truth (${what})`, 5000, async () => {
-      table = await jointTable(p);
-      return maxDiff(table.map((r) => Number(r.pos)), rest.truth.position) <= TRUTH_TOLERANCE_DEG;
+    await waitUntil(`the joint table to show the reported angles (${what})`, 5000, async () => {
+      reported = (await json.status()).axis_states.position;
+      table = (await jointTable(p)).map((r) => r.pos);
+      return maxDiff(table.map(Number), reported) <= DISPLAY_TOLERANCE_DEG;
     });
   } catch (e) {
-    throw new Error(`${e.message}: table ${JSON.stringify(table.map((r) => r.pos))}, truth ${JSON.stringify(rest.truth.position)}`);
+    throw new Error(`${e.message}: table ${JSON.stringify(table)}, reported ${JSON.stringify(reported)}`);
   }
-  for (const r of table) assert.match(r.pos, /^-?\d+\.\d{3}$/, 'positions with 3 decimals');
+  for (const pos of table) assert.match(pos, /^-?\d+\.\d{3}$/, 'positions with 3 decimals');
+  const off = maxDiff(table.map(Number), rest.truth.position);
+  assert.ok(off <= TRUTH_TOLERANCE_DEG,
+    `the page shows ${JSON.stringify(table)}, the truth is ${JSON.stringify(rest.truth.position)} (${off.toFixed(4)} deg apart)`);
   return rest.truth;
 }
 
@@ -76,8 +85,10 @@ async function startKeyJog(p, axis, key) {
   assert.ok(sign * moving.velocity[axis - 1] <= 1.1 * jog,
     `the jog speed is ${JOG_FRACTION} of the axis's maximum: ${moving.velocity[axis - 1]} deg/s`);
   assert.ok(sign * (moving.position[axis - 1] - start.position[axis - 1]) > 0, 'moved the right way');
+  // The other axes hold their positions; the motion of one joint disturbs the others a little
+  // (the arm's dynamics, e.g. about 0.7 deg/s on axes 3 and 5 while axis 2 jogs).
   for (let a = 0; a < 6; a++) {
-    if (a !== axis - 1) assert.ok(Math.abs(moving.velocity[a]) < 0.5, `only axis ${axis} moves: ${moving.velocity}`);
+    if (a !== axis - 1) assert.ok(Math.abs(moving.velocity[a]) < 0.1 * jog, `only axis ${axis} jogs: ${moving.velocity}`);
   }
   return moving;
 }
@@ -117,7 +128,6 @@ test('calibrating from the page\'s button: HOLD, every axis calibrated, the join
 test('a held arrow key jogs the selected axis; released, the arm stops', { timeout: 60000 }, seq.wrap('jog', async () => {
   await startKeyJog(page, 1, 'ArrowRight');
   await waitMode(page, 'VELOCITY_CONTROL', 3000);
-  await screenshot(page, 'jogging');
   await page.keyboard.up('ArrowRight');
   const released = await json.robotTime();
   const rest = await json.waitAtRest('the arm at rest after the key was released', 10000);
@@ -129,6 +139,9 @@ test('a held arrow key jogs the selected axis; released, the arm stops', { timeo
 
 test('Escape during a jog holds the arm', { timeout: 60000 }, seq.wrap('escape-jog', async () => {
   await startKeyJog(page, 2, 'ArrowLeft');
+  // Far enough for the 3D view to show the arm leaning (and the screenshot of docs/web.md).
+  await json.waitTruth('axis 2 jogged past -15 deg', 10000, (t) => t.position[1] < -15);
+  await screenshot(page, 'jogging');
   await page.keyboard.press('Escape');
   const pressed = await json.robotTime();
   await waitMode(page, 'HOLD', 3000);
@@ -136,7 +149,7 @@ test('Escape during a jog holds the arm', { timeout: 60000 }, seq.wrap('escape-j
   assert.ok(rest.time - pressed < STOP_WITHIN_S, `at rest ${(rest.time - pressed).toFixed(3)} s after Escape`);
   await page.keyboard.up('ArrowLeft');
   assert.equal((await json.status()).operating_mode, 'HOLD');
-  assert.ok(rest.truth.position[1] < -1, `axis 2 moved: ${rest.truth.position}`);
+  assert.ok(rest.truth.position[1] < -15, `axis 2 moved: ${rest.truth.position}`);
 }));
 
 test('Escape during a move holds the arm, also with the focus in a form field', { timeout: 60000 }, seq.wrap('escape-move', async () => {
