@@ -13,8 +13,9 @@
 //!
 //! Needs `node`, `npm` and Chromium (`MCM_CHROMIUM`, else `chromium` on the PATH); without
 //! them the test says it is skipped, or fails when `CI` is set (`.ci/run` installs them as
-//! root). The node packages are installed with `npm ci` into `tests/web/node_modules` on the
-//! first run (file-locked; again when `package-lock.json` changes). With
+//! root). The scripts run from a copy under the target directory (`web-node` in
+//! `CARGO_TARGET_TMPDIR`), where `npm ci` installs the node packages on the first run
+//! (file-locked; again when `package-lock.json` changes). With
 //! `MCM_WEB_SCREENSHOTS=1` the scripts write the screenshots of `docs/web.md` to `docs/web/`.
 
 mod common;
@@ -73,29 +74,50 @@ fn tools_or_skip(test: &str) -> Option<Tools> {
     }
 }
 
-/// The scripts' directory.
+/// The scripts' directory in the repository.
 fn web_dir() -> PathBuf {
     repo_root().join("tests/web")
 }
 
-/// Install the node packages of `tests/web/package-lock.json` (`npm ci`) unless the ones
-/// installed are from this very lock file; under an exclusive lock, since test binaries run
-/// in parallel. A failed `npm ci` (no registry) is an error with npm's output.
+/// Where the scripts run: a copy of `tests/web` under the target directory, with the node
+/// packages beside them (`node_modules` stays out of the source tree, as the Python venv does).
+fn run_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("web-node")
+}
+
+/// Copy the files of `tests/web` whose names end in one of `suffixes` to [`run_dir`].
+fn copy_sources(suffixes: &[&str]) -> Result<(), String> {
+    let entries =
+        std::fs::read_dir(web_dir()).map_err(|e| format!("cannot read tests/web: {e}"))?;
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().to_string();
+        if suffixes.iter().any(|s| name.ends_with(s)) {
+            let to = run_dir().join(&name);
+            std::fs::copy(e.path(), &to).map_err(|err| {
+                format!("cannot copy tests/web/{name} to {}: {err}", to.display())
+            })?;
+        }
+    }
+    Ok(())
+}
+
+/// Install the node packages of `tests/web/package-lock.json` (`npm ci`) in [`run_dir`] unless
+/// the ones installed there are from this very lock file; under an exclusive lock, since test
+/// binaries run in parallel. A failed `npm ci` (no registry) is an error with npm's output.
 fn node_modules(tools: &Tools) -> Result<(), String> {
-    let dir = web_dir();
-    let lock_file = std::fs::read(dir.join("package-lock.json"))
+    let dir = run_dir();
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let _lock = FileLock::take(&dir.with_extension("lock"))?;
+    let lock_file = std::fs::read(web_dir().join("package-lock.json"))
         .map_err(|e| format!("cannot read tests/web/package-lock.json: {e}"))?;
     let mut h = DefaultHasher::new();
     lock_file.hash(&mut h);
     let want = format!("{:x}", h.finish());
-    let target_tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
-    std::fs::create_dir_all(&target_tmp)
-        .map_err(|e| format!("cannot create {}: {e}", target_tmp.display()))?;
-    let _lock = FileLock::take(&target_tmp.join("web-npm.lock"))?;
     let stamp = dir.join("node_modules/.mcm-installed");
     if std::fs::read_to_string(&stamp).ok().as_deref() == Some(want.as_str()) {
         return Ok(());
     }
+    copy_sources(&["package.json", "package-lock.json"])?;
     run(Command::new(&tools.npm)
         .args(["ci", "--no-audit", "--no-fund", "--loglevel=error"])
         .current_dir(&dir))?;
@@ -131,9 +153,10 @@ struct ScriptRun {
 /// killed (with the browser it started: its own process group) after [`SCRIPT_LIMIT`].
 fn run_script(tools: &Tools, script: &'static str, mcm: &Mcm, port: u16) -> ScriptRun {
     let started = Instant::now();
+    copy_sources(&[".mjs"]).unwrap_or_else(|e| panic!("{e}"));
     let mut cmd = Command::new(&tools.node);
     cmd.args(["--test", "--test-reporter=spec", script])
-        .current_dir(web_dir())
+        .current_dir(run_dir())
         .env("MCM_WEB_URL", format!("http://127.0.0.1:{port}/"))
         .env("MCM_JSON", mcm.json.to_string())
         .env("MCM_GATEWAY_PID", mcm.gateway_pid.to_string())
