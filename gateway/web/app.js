@@ -8,7 +8,8 @@ import { fkOrigins, View3d, webglAvailable } from './view3d.js';
 import { loadRecords as loadRecordList } from './records.js';
 import { addError, clearCurrent } from './errors.js';
 import {
-  fillModel, jointColours, percentile, renderConnections, renderJoints, renderTiming, fmt,
+  fillModel, jointColours, percentile, renderClients, renderConnections, renderJoints, renderTiming,
+  fmt,
 } from './panels.js';
 
 const $ = (sel) => document.querySelector(sel);
@@ -72,6 +73,8 @@ const conn = new Connection({
       page.detail = msg.detail;
       showAccess();
       renderConnections($('#connections'), msg.detail, page.state?.owner);
+      const a = msg.detail.access || {};
+      $('#auth').hidden = !(a.secret_required && !a.authenticated && a.motion_allowed_here !== false);
       return;
     }
     showResult(cmd, msg);
@@ -84,7 +87,26 @@ function poll() {
   pollTimer = setTimeout(poll, POLL_MS);
   if (!conn.connected || conn.has('status')) return;
   conn.request({ command: 'status', arguments: { detail: true } }).catch(() => {});
+  loadClients();
 }
+
+async function loadClients() {
+  try {
+    const r = await fetch('/api/connections', { cache: 'no-store' });
+    if (r.ok) renderClients($('#clients'), await r.json(), page.detail?.access?.peer);
+  } catch (e) {
+    // The socket's state says the gateway is gone; the list waits for it.
+  }
+}
+
+$('#auth').addEventListener('submit', async (e) => {
+  e.preventDefault();
+  const secret = $('#secret').value;
+  $('#secret').value = '';
+  const r = await run({ command: 'authenticate', arguments: { secret } });
+  if (r && r.error_status === 'OK') $('#last-result').textContent = 'authenticated: this page may take control';
+  poll();
+});
 
 /** Send a command and show its outcome; resolves with the reply (or null when it failed). */
 async function run(cmd) {

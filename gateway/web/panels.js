@@ -133,3 +133,29 @@ export function percentile(xs, p) {
   const i = Math.min(s.length - 1, Math.max(0, Math.ceil((p / 100) * s.length) - 1));
   return s[i];
 }
+
+/** The gateway's clients (`/api/connections`) as list items; `self` is this page's peer. */
+export function renderClients(el, list, self) {
+  el.replaceChildren();
+  const clients = list?.clients || [];
+  if (!clients.length) {
+    const li = document.createElement('li');
+    li.className = 'muted';
+    li.textContent = 'none';
+    el.append(li);
+  }
+  for (const c of clients) {
+    const li = document.createElement('li');
+    li.dataset.clientId = String(c.client_id);
+    const mine = self && c.channel === 'browser pendant' && c.peer === self;
+    li.textContent = `${c.channel} ${c.peer}${mine ? ' (this page)' : ''}${c.controls_the_arm ? ': controls the arm' : ''}`;
+    if (c.controls_the_arm) li.className = 'owner';
+    el.append(li);
+  }
+  if (list && list.owner_client_id && !clients.some((c) => c.controls_the_arm)) {
+    const li = document.createElement('li');
+    li.className = 'owner';
+    li.textContent = `shared-memory client ${list.owner_client_id.toString(16)}: controls the arm`;
+    el.append(li);
+  }
+}

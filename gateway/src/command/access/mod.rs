@@ -18,7 +18,7 @@
 
 mod clients;
 pub(crate) mod reaper;
-mod sha256;
+pub(crate) mod sha256;
 #[cfg(test)]
 mod tests;
 

@@ -278,3 +278,31 @@ async fn a_page_from_another_origin_may_not_open_the_socket() {
     assert!(tokio_tungstenite::connect_async(own).await.is_ok());
     srv.stop().await;
 }
+
+/// The vendored libraries are the published files: each matches the checksum `VERSIONS` records
+/// for its package (so a hand edit, or a copy from another version, fails here).
+#[test]
+fn the_vendored_files_match_their_recorded_checksums() {
+    use crate::command::access::sha256;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("web/vendor");
+    let versions = std::fs::read_to_string(dir.join("VERSIONS")).unwrap();
+    let mut checked = Vec::new();
+    for line in versions.lines().filter(|l| !l.starts_with('#') && !l.trim().is_empty()) {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let [file, package, _path, hash] = words[..] else {
+            panic!("VERSIONS: {line:?} is not `file package@version path sha256`");
+        };
+        let bytes = std::fs::read(dir.join(file)).unwrap();
+        let want = sha256::from_hex(hash).unwrap_or_else(|| panic!("{file}: bad hash {hash}"));
+        assert_eq!(sha256::digest(&bytes), want, "{file} is not {package}'s");
+        checked.push(file.to_string());
+    }
+    let mut present: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n != "VERSIONS" && n != "LICENSES")
+        .collect();
+    present.sort();
+    checked.sort();
+    assert_eq!(present, checked, "every vendored file is listed in VERSIONS");
+}
