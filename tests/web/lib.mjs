@@ -167,7 +167,7 @@ export async function openPendant(browser, url = env('MCM_WEB_URL')) {
   page.on('pageerror', (e) => log.push(`pageerror: ${e.message}`));
   page.pendantLog = log;
   await page.goto(url);
-  await waitFrames(page, 'the page connected and receiving state frames', 15000);
+  await waitFrames(page, 'the page connected and receiving state frames', 30000);
   return page;
 }
 

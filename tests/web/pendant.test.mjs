@@ -93,7 +93,7 @@ async function startKeyJog(p, axis, key) {
   return moving;
 }
 
-test('the page loads and shows six joints of the configured arm', { timeout: 30000 }, seq.wrap('load', async () => {
+test('the page loads and shows six joints of the configured arm', { timeout: 60000 }, seq.wrap('load', async () => {
   page = await openPendant(browser);
   assert.equal(await page.textContent('#conn'), 'connected');
   assert.equal(await page.getAttribute('#conn', 'data-state'), 'connected');

@@ -54,7 +54,7 @@ function overPagesSocket(p, command) {
   }), command);
 }
 
-test('the page says it is read-only and disables its motion controls', { timeout: 30000 }, seq.wrap('banner', async () => {
+test('the page says it is read-only and disables its motion controls', { timeout: 60000 }, seq.wrap('banner', async () => {
   const s = await json.status();
   assert.equal(s.detail.access.motion_allowed_here, false, 'loopback is outside motion_networks');
   assert.equal(s.detail.all_calibrated, true, 'the restarted MCM kept the calibration');
