@@ -32,7 +32,10 @@ use std::time::{Duration, Instant};
     name = "mcm",
     version,
     about,
-    after_help = "Subcommands: `mcm rt --help` and `mcm gateway --help` run one process each."
+    after_help = "Subcommands: `mcm rt --help` and `mcm gateway --help` run one process each.",
+    // An option given twice takes the last value: a harness passes its defaults first (e.g.
+    // `mcm_client::launch` passes `--http-port 0`) and a caller's extra arguments override them.
+    args_override_self = true
 )]
 struct Cli {
     #[command(flatten)]

@@ -168,10 +168,10 @@ fn sources_hash(dir: &Path, h: &mut DefaultHasher) {
 }
 
 /// An exclusive lock on a file, released on drop.
-struct FileLock(std::fs::File);
+pub(crate) struct FileLock(std::fs::File);
 
 impl FileLock {
-    fn take(path: &Path) -> Result<FileLock, String> {
+    pub(crate) fn take(path: &Path) -> Result<FileLock, String> {
         let f = std::fs::OpenOptions::new()
             .create(true)
             .truncate(false)
