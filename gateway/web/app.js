@@ -9,7 +9,7 @@ import { loadRecords as loadRecordList } from './records.js';
 import { addError, clearCurrent } from './errors.js';
 import {
   fillModel, jointColours, percentile, renderClients, renderConnections, renderJoints, renderTiming,
-  fmt,
+  fmt, setText,
 } from './panels.js';
 
 const $ = (sel) => document.querySelector(sel);
@@ -22,6 +22,7 @@ const page = {
   latencies: [],
   detail: null, // detail of our last `status` with detail (access, control)
   lastError: null, // last safety error result
+  slowRenderedAt: -Infinity, // when the timing figures were last drawn
   view: null,
   names: [],
 };
@@ -296,21 +297,28 @@ function render() {
   if (!f || !f.status) return;
   const st = f.status;
   const mode = $('#mode');
-  mode.textContent = st.operating_mode ?? '-';
-  mode.dataset.mode = mode.textContent;
-  document.body.dataset.mode = mode.textContent;
-  $('#hw').textContent = st.hardware_status ?? '';
-  $('#owner').textContent = thisPageControls() ? 'this page' : (f.owner ?? 'nobody');
-  $('#owner').dataset.owner = thisPageControls() ? 'this-page' : f.owner ? 'other' : 'nobody';
+  setText(mode, st.operating_mode ?? '-');
+  if (mode.dataset.mode !== mode.textContent) mode.dataset.mode = mode.textContent;
+  if (document.body.dataset.mode !== mode.textContent) document.body.dataset.mode = mode.textContent;
+  setText($('#hw'), st.hardware_status ?? '');
+  const mine = thisPageControls();
+  setText($('#owner'), mine ? 'this page' : (f.owner ?? 'nobody'));
+  const ownerKind = mine ? 'this-page' : f.owner ? 'other' : 'nobody';
+  if ($('#owner').dataset.owner !== ownerKind) $('#owner').dataset.owner = ownerKind;
   if (st.operating_mode !== 'ERROR') {
     clearCurrent();
   }
   renderJoints($('#joints'), st, page.model);
-  renderTiming($('#timing'), st.detail?.timing, page.model?.bus);
-  const l = page.latencies;
-  $('#latency').textContent = l.length
-    ? `p50 ${fmt(percentile(l, 50), 1)} ms, p99 ${fmt(percentile(l, 99), 1)} ms (last ${l.length} frames)`
-    : '-';
+  // Figures for reading, not for watching: four times a second is enough.
+  const now = performance.now();
+  if (!(now - page.slowRenderedAt < 250)) {
+    page.slowRenderedAt = now;
+    renderTiming($('#timing'), st.detail?.timing, page.model?.bus);
+    const l = page.latencies;
+    setText($('#latency'), l.length
+      ? `p50 ${fmt(percentile(l, 50), 1)} ms, p99 ${fmt(percentile(l, 99), 1)} ms (last ${l.length} frames)`
+      : '-');
+  }
   if (page.view && page.model) {
     const pts = fkOrigins(page.model.links, st.axis_states?.position || []);
     page.view.update(pts, jointColours(st, page.model, page.lastError?.axis));

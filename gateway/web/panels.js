@@ -3,6 +3,16 @@
 
 const NEAR_LIMIT_DEG = 10;
 
+/** Set `el`'s text only when it changes: an unchanged page must not be laid out and painted
+ * again at the frame rate (browsers may draw in software, several pages on one machine). */
+export function setText(el, text) {
+  if (el && el.textContent !== text) el.textContent = text;
+}
+
+function setAttr(el, name, value) {
+  if (el && el.getAttribute(name) !== value) el.setAttribute(name, value);
+}
+
 export function fmt(v, digits) {
   return typeof v === 'number' && Number.isFinite(v) ? v.toFixed(digits) : '-';
 }
@@ -55,26 +65,31 @@ export function renderJoints(table, status, model) {
     const tr = table.querySelector(`tbody tr[data-axis="${i + 1}"]`);
     if (!tr) continue;
     const pos = s.position?.[i];
-    tr.querySelector('.pos').textContent = fmt(pos, 3);
-    tr.querySelector('.vel').textContent = fmt(s.velocity?.[i], 2);
-    tr.querySelector('.cur').textContent = fmt(s.current?.[i], 2);
+    setText(tr.querySelector('.pos'), fmt(pos, 3));
+    setText(tr.querySelector('.vel'), fmt(s.velocity?.[i], 2));
+    setText(tr.querySelector('.cur'), fmt(s.current?.[i], 2));
     const c = tr.querySelector('.cal');
-    c.textContent = cal[i] === true ? 'yes' : cal[i] === false ? 'no' : '-';
-    c.dataset.cal = c.textContent;
+    setText(c, cal[i] === true ? 'yes' : cal[i] === false ? 'no' : '-');
+    setAttr(c, 'data-cal', c.textContent);
     const ax = model?.axes?.[i];
     const band = tr.querySelector('.band');
     const z = zone(pos, ax);
-    band.dataset.zone = z;
-    band.className = `band ${z}`;
+    setAttr(band, 'data-zone', z);
+    setAttr(band, 'class', `band ${z}`);
     if (ax && typeof pos === 'number') {
       const f = Math.max(0, Math.min(1, (pos - ax.min_deg) / (ax.max_deg - ax.min_deg)));
-      band.querySelector('.band-mark').style.left = `${(f * 100).toFixed(1)}%`;
-      band.title = `${pos.toFixed(1)} deg within ${ax.min_deg}..${ax.max_deg} deg`;
+      const mark = band.querySelector('.band-mark');
+      const left = `${(f * 100).toFixed(1)}%`;
+      if (mark.style.left !== left) mark.style.left = left;
+      setAttr(band, 'title', `${pos.toFixed(1)} deg within ${ax.min_deg}..${ax.max_deg} deg`);
     }
   }
 }
 
 function dl(el, pairs) {
+  const key = JSON.stringify(pairs);
+  if (el.dataset.key === key) return;
+  el.dataset.key = key;
   el.textContent = '';
   for (const [k, v, cls] of pairs) {
     const dt = document.createElement('dt');

@@ -131,14 +131,22 @@ export class View3d {
     this.resize();
     this.placeCamera();
     new ResizeObserver(() => this.resize()).observe(canvas);
-    const loop = () => {
+    this.draw();
+  }
+
+  /** Draw at the next animation frame, once, when something changed: an animation frame asked
+   * for every frame would keep the browser producing frames at the display's rate even for an
+   * arm at rest. */
+  draw() {
+    if (this.drawPending) return;
+    this.drawPending = true;
+    requestAnimationFrame(() => {
+      this.drawPending = false;
       if (this.dirty) {
         this.dirty = false;
         this.renderer.render(this.scene, this.camera);
       }
-      requestAnimationFrame(loop);
-    };
-    requestAnimationFrame(loop);
+    });
   }
 
   resize() {
@@ -148,6 +156,7 @@ export class View3d {
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
     this.dirty = true;
+    this.draw();
   }
 
   placeCamera() {
@@ -159,6 +168,7 @@ export class View3d {
     );
     this.camera.lookAt(target);
     this.dirty = true;
+    this.draw();
   }
 
   installOrbit() {
@@ -186,6 +196,11 @@ export class View3d {
 
   /** Pose the arm at the frame origins `pts` (from fkOrigins); `colours` per joint. */
   update(pts, colours) {
+    // Drawn again only when something visible changed (0.1 mm, a colour): WebGL may be rendered
+    // in software, and a page showing an arm at rest must cost (almost) nothing.
+    const key = pts.map((p) => p.map((v) => Math.round(v * 1e4)).join(',')).join(';') + colours.join(',');
+    if (key === this.lastKey) return;
+    this.lastKey = key;
     const up = new THREE.Vector3(0, 1, 0);
     const jointPlaces = jointPlacesOf(pts);
     for (let i = 0; i < this.segments.length; i++) {
@@ -204,5 +219,6 @@ export class View3d {
     }
     this.flangeMesh.position.set(...pts[pts.length - 1]);
     this.dirty = true;
+    this.draw();
   }
 }

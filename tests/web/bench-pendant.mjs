@@ -10,7 +10,9 @@
 // beside a copy of these scripts in target/tmp/web-node:
 //   cargo build --release
 //   cp tests/web/*.mjs target/tmp/web-node/
-//   node target/tmp/web-node/bench-pendant.mjs [--mcm target/release/mcm] [--pages 10] [--seconds 60]
+//   node target/tmp/web-node/bench-pendant.mjs [--mcm target/release/mcm] [--pages 10] [--seconds 60] [--moving]
+// --moving: the arm is calibrated first and axis 1 sweeps back and forth (velocity control,
+// 30 deg/s) through every measurement, so that the pages draw a moving arm.
 
 import { spawn, execFileSync } from 'node:child_process';
 import { readFileSync, rmSync } from 'node:fs';
@@ -29,6 +31,30 @@ const pages = Number(opt('pages', 10));
 const seconds = Number(opt('seconds', 60));
 const chromiumPath = opt('chromium', process.env.MCM_CHROMIUM ?? '/usr/bin/chromium');
 const rttSamples = 2000;
+const moving = process.argv.includes('--moving');
+
+/// Calibrate, then sweep axis 1 at +-30 deg/s (velocity control, a new direction every 2 s)
+/// until `stop()`; over its own JSON connection.
+async function sweep(addr) {
+  const c = await JsonClient.connect(addr);
+  const cal = await c.request('calibrate', undefined, 120000);
+  if (cal.error_status !== 'OK') throw new Error(`calibrate: ${JSON.stringify(cal)}`);
+  const vc = await c.request('velocity_control', { timeout: 0.5, dt_status: 0 });
+  if (vc.operating_mode !== 'VELOCITY_CONTROL') throw new Error(`velocity_control: ${JSON.stringify(vc)}`);
+  let running = true;
+  const t0 = Date.now();
+  const timer = setInterval(() => {
+    if (!running) return;
+    const dir = Math.floor((Date.now() - t0) / 2000) % 2 === 0 ? 1 : -1;
+    c.sock.write(`${JSON.stringify({ command: 'set_velocities', arguments: { velocities: [30 * dir, 0, 0, 0, 0, 0] } })}\n`);
+  }, 50);
+  return async () => {
+    running = false;
+    clearInterval(timer);
+    await c.request('hold');
+    c.close();
+  };
+}
 
 const freePort = () => new Promise((resolve) => {
   const s = createServer().listen(0, '127.0.0.1', () => {
@@ -97,6 +123,8 @@ const mcm = await startMcm();
 let browser;
 try {
   const json = await JsonClient.connect(mcm.json);
+  const stopSweep = moving ? await sweep(mcm.json) : null;
+  if (moving) console.log('the arm is calibrated; axis 1 sweeps at 30 deg/s through the measurements');
   console.log(`MCM ${mcm.instance}: page ${mcm.web}, JSON ${mcm.json}, gateway pid ${mcm.gatewayPid}; ${pages} pages, ${seconds} s windows`);
   const idleCpu = await gatewayCpu(mcm.gatewayPid);
   console.log(`without pages: gateway CPU ${idleCpu.toFixed(1)} % of one core over ${seconds} s`);
@@ -129,6 +157,7 @@ try {
   console.log(`with ${pages} pages: display latency ${summary(lat)}`);
   const load = readFileSync('/proc/loadavg', 'utf8').split(' ').slice(0, 3).join(' ');
   console.log(`load average at the end: ${load}`);
+  if (stopSweep) await stopSweep();
   json.close();
 } finally {
   await browser?.close();
