@@ -125,3 +125,42 @@ fn seed_1_an_axis_whose_search_ended_in_its_stop_stops_pressing() {
     assert_eq!(r.violation, None, "seed 1");
     assert!(r.recovery_cycles.is_some(), "seed 1 recovered");
 }
+
+/// Found by the fuzz target (seed 0's robot, one step): a `calibrate` out of OFF, then its
+/// sender's `client_gone` while the drives were being enabled for it. The enabling ended in
+/// HOLD without calibrating, as documented, but the `calibrate` was answered OK as if it had
+/// been a `hold` (no axis calibrated). Fixed in the controller (`After::HoldAborted`,
+/// `rt-core/src/controller/exits.rs`): the `calibrate` is answered `aborted`.
+#[test]
+fn fuzz_a_calibrate_whose_owner_went_while_enabling_is_not_answered_ok() {
+    use mcm_dst::fuzz_input::{Limits, Script, Step, run_script};
+    use mcm_dst::rng::Rng;
+    use mcm_dst::run::config;
+    use mcm_shared::command::{Axis, Calibrate, Direction, Request, Which};
+    let calibrate = Request::Calibrate(Calibrate {
+        which: Which::Axis(Axis::ALL[1]),
+        elbow_direction: Direction::Negative,
+        wrist_direction: Direction::Negative,
+        force_mechanical_stop: true,
+    });
+    // One client: `client_gone`, the `calibrate`, then `client_gone` again and again (each
+    // from a new connection), one a cycle.
+    let mut commands = vec![(0, Request::ClientGone.encode()), (0, calibrate.encode())];
+    commands.extend((0..40).map(|_| (0, Request::ClientGone.encode())));
+    let script = Script {
+        cfg: config(&mut Rng::new(0)),
+        bus_seed: 0,
+        steps: vec![Step {
+            cycles: 1,
+            commands,
+            bus: None,
+        }],
+    };
+    let limits = Limits {
+        max_cycles: 20_000,
+        cpu_budget: false,
+    };
+    let r = run_script(&script, limits).unwrap_or_else(|v| panic!("{v}"));
+    // The calibrate was answered, and not OK: `aborted`.
+    assert!(r.answers[2] >= 1, "{r:?}");
+}

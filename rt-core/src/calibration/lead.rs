@@ -20,11 +20,19 @@
 //!   advances less than the detector's least lag): a stop the detector did not confirm in time
 //!   (it was in its quiet time after another axis's impact, or the search was still ramping up
 //!   when the axis started against its stop); the contact is where the axis stands;
-//! - else it is blocked: the calibration fails, naming the lag and the bound.
+//! - is waited for while it still advances: an axis that gains at least the detector's least
+//!   lag in the search direction within the detector's confirmation and latency cycles lags
+//!   (the other axes' searches load it), it is not held, and with its target standing it
+//!   catches up;
+//! - else it is blocked (it stood, or went back, for the confirmation and latency cycles
+//!   without a push): the calibration fails, naming the lag and the bound.
 //!
 //! An axis that catches up within the bound again (whatever held it let go) searches on. The
 //! target only ever advances while the axis is within the bound, so it never leads by more
-//! than the bound and one cycle's step.
+//! than the bound and one cycle's step; while the target stands, an axis that advances
+//! shrinks its lag, so the wait for it is bounded by the lag over the least lag.
+
+use super::contact::ContactParams;
 
 /// Cycles beyond the confirmation run the detector may take: one missed sample and the two
 /// cycles the measured position lags its target.
@@ -57,23 +65,26 @@ pub struct LeadGuard {
     held: u32,
     /// Cycles in a row of those its current pushed in the search direction.
     pushes: u32,
-    /// Where the axis stood when it went beyond the bound.
+    /// Where the axis stood when it went beyond the bound, or when it last advanced the
+    /// detector's least lag since.
     from: f64,
 }
 
 impl LeadGuard {
     /// One cycle: `lag` = (target answered - position) in the search direction [rad],
+    /// `position` the measured (raw) position [rad], `direction` the search's (+1/-1),
     /// `push` = the current departs beyond the detector's threshold in the search direction;
-    /// `confirm_cycles` and `min_lag` [rad] are the detector's.
+    /// the confirmation cycles and the least lag [rad] are the detector's (`params`).
     pub fn step(
         &mut self,
         lag: f64,
         bound: f64,
         position: f64,
+        direction: f64,
         push: bool,
-        confirm_cycles: u32,
-        min_lag: f64,
+        params: &ContactParams,
     ) -> Verdict {
+        let (confirm_cycles, min_lag) = (params.confirm_cycles, params.min_lag);
         if lag <= bound {
             // Within the bound (again: whatever held the axis let it go and it caught up).
             *self = LeadGuard::default();
@@ -83,7 +94,17 @@ impl LeadGuard {
             self.from = position;
         }
         self.held += 1;
-        let still = (position - self.from).abs() < min_lag;
+        let advanced = direction * (position - self.from);
+        if advanced >= min_lag {
+            // Still advancing: a lagging axis, not a held one; its target waits for it.
+            *self = LeadGuard {
+                held: 1,
+                pushes: 0,
+                from: position,
+            };
+            return Verdict::Stay;
+        }
+        let still = advanced.abs() < min_lag;
         self.pushes = if push && still { self.pushes + 1 } else { 0 };
         if self.pushes >= confirm_cycles {
             return Verdict::Contact(position);

@@ -35,9 +35,10 @@
 //! **Lead** ([`lead`]): a search's target never runs further ahead of the measured position
 //! than the axis's following-error band plus what the contact detector needs to confirm a
 //! contact at the search speed. An axis that falls further behind stops its target; it is in
-//! contact if its current pushes in the search direction while it stands, else the calibration
-//! fails with [`CalibrationFailure::Blocked`] and the axis holds where it is (an obstacle whose
-//! push the current cannot show, e.g. an axis derated by i2t).
+//! contact if its current pushes in the search direction while it stands, it is waited for
+//! while it still advances (it lags, loaded by the other axes' searches), else the calibration
+//! fails with [`CalibrationFailure::Blocked`] (an obstacle whose push the current cannot show,
+//! e.g. an axis derated by i2t).
 
 pub mod contact;
 pub mod lead;
@@ -429,14 +430,10 @@ impl AxisCalibration {
         // Only a stop is pushed against; a barrier search has nothing to push.
         let push = matches!(self.s.method, Method::Stop { .. })
             && search.direction * (input.current - self.detector.baseline()) > params.threshold;
-        match self.lead.step(
-            lag,
-            bound,
-            input.position,
-            push,
-            params.confirm_cycles,
-            params.min_lag,
-        ) {
+        match self
+            .lead
+            .step(lag, bound, input.position, search.direction, push, &params)
+        {
             Verdict::Advance => {}
             Verdict::Stay => {
                 self.phase = Phase::Search { search, speed };

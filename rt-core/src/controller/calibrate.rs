@@ -121,9 +121,9 @@ impl Controller {
                         axis: Axis::ALL[i],
                         cause,
                     };
-                    // ERROR without a stop, held where the arm is (`Exit::SearchFailed`): the
-                    // caller hears of the failure, and the incident is recorded; every axis
-                    // keeps its previous calibration.
+                    // ERROR with the controlled stop from the measured state
+                    // (`Exit::SearchFailed`): the caller hears of the failure, and the incident
+                    // is recorded; every axis keeps its previous calibration.
                     self.leave(Exit::SearchFailed(reason));
                     self.report_incident(reason);
                     return;

@@ -11,7 +11,8 @@
 //! - OFF and ERROR stay as they are (a trip in OFF is only reported; ERROR keeps its stop).
 //! - HOLD stays (a stop under way goes on), except after a trip: ERROR.
 //! - An enabling goes on after a timeout (a `hold` starts it anew: `begin_enabling`); when its
-//!   owner is gone it ends in HOLD instead of starting a calibration. A shutdown or a trip
+//!   owner is gone it ends in HOLD instead of starting a calibration, and a `calibrate` that
+//!   started it is then answered `aborted` (never OK: nothing was calibrated). A shutdown or a trip
 //!   fails its caller (`shutting_down`, or the trip's reason) and it falls back to the mode it
 //!   started from (OFF or ERROR).
 //! - CALIBRATION: every axis it was searching gets the calibration it had back
@@ -25,9 +26,13 @@
 //!   HOLD with the controlled stop `hold` uses ([`Controller::stop_motion`]: from the commanded
 //!   state in the position modes, from the measured state in the torque modes and the
 //!   calibration searches); after a trip ERROR with the quick stop; after a failed calibration
-//!   search ERROR without a stop, every axis held where it is (the searches are slow). Only a
-//!   calibration search fails so: a failed search anywhere else is taken as a trip (and is a
-//!   bug, which a debug build asserts).
+//!   search ERROR with that controlled stop from the measured state: the axis that failed
+//!   stands (it was blocked, or its search ended), but the others may still search at full
+//!   speed, and a reference commanded at the measured position with no stop would leave each
+//!   drive's position loop to brake it as hard and as far as it happens to (seed 318 of the
+//!   simulation: 3.9 deg at 22 deg/s, beyond the braking distance). Only a calibration search
+//!   fails so: a failed search anywhere else is taken as a trip (and is a bug, which a debug
+//!   build asserts).
 //!
 //! The PVT queue is left as it is: entering PVT again empties it.
 
@@ -48,8 +53,8 @@ pub(super) enum Exit {
     Timeout,
     /// A safety check or drive error.
     Trip(Reason),
-    /// A calibration search failed: ERROR without a stop (the searches are slow), held where
-    /// the arm is. Taken only by a calibration search.
+    /// A calibration search failed: ERROR with the controlled stop of `hold` from the measured
+    /// state (the other axes may still search at speed). Taken only by a calibration search.
     SearchFailed(Reason),
 }
 
@@ -104,14 +109,18 @@ impl Controller {
                 caller,
                 deadline_ns,
                 from,
-                then: _,
+                then,
             } => match why {
                 Exit::Hold | Exit::Timeout => return,
+                // A `hold` is still done when the drives are enabled; a `calibrate` is not.
                 Exit::OwnerGone => State::Enabling {
                     caller,
                     deadline_ns,
                     from,
-                    then: After::Hold,
+                    then: match then {
+                        After::Hold => After::Hold,
+                        After::Calibrate(_) | After::HoldAborted => After::HoldAborted,
+                    },
                 },
                 Exit::Shutdown | Exit::Trip(_) | Exit::SearchFailed(_) => {
                     self.enabling_failed(caller, from, why.reason())
@@ -151,10 +160,7 @@ impl Controller {
                 stop: self.quick_stop(),
                 relax: super::trips::relax_after(reason),
             },
-            Exit::SearchFailed(_) => {
-                self.hold_here();
-                State::error(None)
-            }
+            Exit::SearchFailed(_) => State::error(self.stop_motion()),
             Exit::Hold | Exit::OwnerGone | Exit::Shutdown | Exit::Timeout => State::Hold {
                 stop: self.stop_motion(),
             },

@@ -338,6 +338,12 @@ impl Controller {
                     self.arrive_in_hold(caller);
                 }
                 After::Calibrate(settings) => self.start_calibration(caller, settings),
+                After::HoldAborted => {
+                    self.incident_reported = false;
+                    self.hold_here();
+                    self.state = State::Hold { stop: None };
+                    self.fail(caller, Reason::Aborted);
+                }
             }
             return;
         }

@@ -113,6 +113,10 @@ pub(crate) enum After {
     Hold,
     /// `calibrate` from OFF: the calibration with these per-axis settings.
     Calibrate([Option<AxisSettings>; NUM_AXES]),
+    /// A `calibrate` whose owner went away while the drives were being enabled for it: HOLD
+    /// without calibrating, and the `calibrate` answered `aborted` (an OK would tell its
+    /// caller the axes were calibrated).
+    HoldAborted,
 }
 
 /// The controller's mode and the data only that mode has.

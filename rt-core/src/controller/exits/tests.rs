@@ -164,11 +164,18 @@ fn a_calibration_answers_its_caller_and_its_axes_keep_the_previous_calibration()
         assert_eq!(replies[0].outcome, Outcome::Failed(why.reason()), "{why:?}");
         assert_eq!(r.cycle.controller().offsets(), previous, "{why:?}");
         if let Exit::SearchFailed(_) = why {
-            // ERROR without a stop: every axis commanded where it is, at rest.
+            // ERROR with the controlled stop from the measured state (what moves brakes).
             let c = r.cycle.controller();
-            assert_eq!(state(&r).remaining(), None, "no stop after a failed search");
-            assert_eq!(c.cmd.position, c.measured(), "held where the arm is");
-            assert_eq!(c.cmd.velocity, [0.0; 6]);
+            assert_eq!(
+                c.cmd.position,
+                c.measured(),
+                "stopping from where the arm is"
+            );
+            assert_eq!(
+                c.cmd.velocity,
+                c.measured_velocity(),
+                "and as fast as it moves"
+            );
         }
         back_to_hold(&mut r);
     }
@@ -204,7 +211,7 @@ fn an_enabling_goes_on_ends_in_hold_or_falls_back_to_where_it_started() {
     });
     // `Some(true)`: enabling for HOLD; `Some(false)`: for a calibration.
     let enabling = |r: &Robot| match state(r) {
-        State::Enabling { then, .. } => Some(matches!(then, After::Hold)),
+        State::Enabling { then, .. } => Some(!matches!(then, After::Calibrate(_))),
         _ => None,
     };
     for (n, why) in EXITS.into_iter().enumerate() {
@@ -229,10 +236,16 @@ fn an_enabling_goes_on_ends_in_hold_or_falls_back_to_where_it_started() {
                     r.run_until("enabled", 800, |r| enabling(r).is_none());
                     assert_eq!(r.mode(), Mode::Hold);
                     let last = r.replies.last().map(|r| Response::decode(r).unwrap());
+                    // A `hold` is done; a `calibrate` is not: nothing was calibrated.
+                    let answer = if for_hold {
+                        Outcome::Done(Done::Ack)
+                    } else {
+                        Outcome::Failed(Reason::Aborted)
+                    };
                     assert_eq!(
                         last.map(|l| (l.request_id, l.outcome)),
-                        Some((id, Outcome::Done(Done::Ack))),
-                        "the caller is answered as a `hold`"
+                        Some((id, answer)),
+                        "the caller is answered when the enabling ends"
                     );
                 }
                 Exit::Shutdown | Exit::Trip(_) | Exit::SearchFailed(_) => {
@@ -280,6 +293,55 @@ fn off_and_error_stay_and_hold_ends_only_in_a_trip() {
             r.ok(Request::Hold, 800);
         }
     }
+}
+
+/// Seed 318 of the simulation: a search failed while another axis still searched at full
+/// speed, and ERROR commanded every axis at its measured position, at rest, with no stop: the
+/// drive's position loop braked the moving axis as it happened to (3.9 deg from 22 deg/s,
+/// beyond its braking distance). A failed search now brakes what moves with the controlled
+/// stop from the measured state, and the axis comes to rest within its braking distance.
+#[test]
+fn a_search_that_fails_while_an_axis_moves_at_search_speed_stops_it_in_its_braking_distance() {
+    let mut r = Robot::calibrated();
+    // Axis 3's search runs from near zero towards its stop at 140 deg at 30 deg/s.
+    send(
+        &mut r,
+        6000,
+        Request::Calibrate(Calibrate {
+            which: Which::Axis(Axis::ALL[2]),
+            elbow_direction: Direction::Positive,
+            wrist_direction: Direction::Positive,
+            force_mechanical_stop: false,
+        }),
+    );
+    r.run_until("axis 3 at search speed", 2000, |r| {
+        r.cycle.state().sim_true_velocity[2].abs() > 25.0
+    });
+    let (from, speed) = (r.truth()[2], r.cycle.state().sim_true_velocity[2]);
+    let (mode, replies) = take(&mut r, Exit::SearchFailed(TRIP));
+    assert_eq!((mode, replies.len()), (Mode::Error, 1));
+    let c = r.cycle.controller();
+    assert!(
+        (c.cmd.velocity[2].to_degrees() - speed).abs() < 5.0,
+        "the stop starts at the axis's speed: commanded {} deg/s, true {speed} deg/s",
+        c.cmd.velocity[2].to_degrees()
+    );
+    let stop_s = state(&r).remaining().expect("a stop is planned");
+    // At most the braking distance as the braking check computes it at 80 % of the maximum
+    // deceleration, plus 0.5 deg, and at rest within the stop's time plus 0.5 s.
+    let decel = c.p.limits[2].acceleration.to_degrees();
+    let allowed = speed * speed / (2.0 * 0.8 * decel) + 0.5;
+    let cycles = ((stop_s + 0.5) / c.p.period).ceil() as u64;
+    let mut furthest: f64 = 0.0;
+    for _ in 0..cycles {
+        r.step(&[]);
+        furthest = furthest.max((r.truth()[2] - from).abs());
+    }
+    assert!(r.at_rest(), "at rest {stop_s} s + 0.5 s after the failure");
+    assert!(
+        furthest <= allowed,
+        "axis 3 went {furthest} deg from {speed} deg/s, {allowed} deg allowed"
+    );
 }
 
 /// A failed search is taken only by a calibration search: anywhere else it is a bug, which a

@@ -188,6 +188,15 @@ fn a_calibration_whose_owner_is_gone_is_aborted_and_holds() {
     r.run_until("HOLD", 1000, |r| r.mode() == Mode::Hold);
     r.run(50);
     assert_eq!(r.mode(), Mode::Hold, "no calibration started");
+    // Nothing was calibrated: the `calibrate` is answered `aborted`, never OK.
+    let answers: Vec<_> = r
+        .replies
+        .iter()
+        .filter(|rep| rep.request_id == 9000)
+        .map(|rep| mcm_shared::reply::Response::decode(rep).expect("a well-formed reply"))
+        .collect();
+    assert_eq!(answers.len(), 1, "{answers:?}");
+    assert_eq!(answers[0].outcome, Outcome::Failed(Reason::Aborted));
     // A calibration under way is aborted, its caller told so.
     let mut s = cal.encode();
     (s.client_id, s.request_id) = (A, 9001);
