@@ -68,6 +68,8 @@ pub(crate) enum GatewayError {
     Access(#[from] command::access::AccessError),
     #[error(transparent)]
     Zmq(#[from] transport::zmq::ZmqError),
+    #[error("cannot start the browser pendant's thread: {0}")]
+    Web(std::io::Error),
 }
 
 /// Where the gateway serves, once it does.
@@ -135,15 +137,20 @@ pub(crate) async fn run(
     let bridge = ctx.bridge.clone();
     let reaper = tokio::spawn(command::access::reaper::run(bridge.clone()));
     let web_addr = web.as_ref().map(|(_, a)| *a);
-    let web_task = web.map(|(listener, _)| {
-        let instance = opts.names.instance().to_string();
-        tokio::spawn(transport::web::run(
-            listener,
-            ctx.clone(),
-            instance,
-            stopped(&stop_tx),
-        ))
-    });
+    let web_task = match web {
+        Some((listener, _)) => {
+            let instance = opts.names.instance().to_string();
+            let thread = transport::web::start(listener, ctx.clone(), instance, stopped(&stop_tx));
+            match thread {
+                Ok(t) => Some(t),
+                Err(e) => {
+                    bridge_thread.stop();
+                    return Err(GatewayError::Web(e));
+                }
+            }
+        }
+        None => None,
+    };
     let hmi_task = tokio::spawn(transport::hmi::run(hmi, ctx, stopped(&stop_tx)));
     ready(Ready {
         json: json_addr,
@@ -165,7 +172,8 @@ pub(crate) async fn run(
     let _ = json_task.await;
     let _ = hmi_task.await;
     if let Some(t) = web_task {
-        let _ = t.await;
+        // A blocking join (bounded: its connections stop as the others do), off the workers.
+        let _ = tokio::task::spawn_blocking(move || t.join()).await;
     }
     reaper.abort();
     bridge_thread.stop();

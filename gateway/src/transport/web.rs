@@ -12,7 +12,11 @@
 //!   ownership), and state frames ([`frames`]) at `[gateway.web] rate_hz`, only ever the newest
 //!   (a slow page skips frames; it never holds memory or the core up).
 //!
-//! Runs in the gateway's async tasks, never in the real-time cycle.
+//! Runs on a thread of its own with its own single-threaded tokio runtime ([`start`]), never in
+//! the real-time cycle: the pages are best-effort, and their frames (ten pages: 300 messages a
+//! second, sent in bursts at each frame) must not queue ahead of the machine clients' commands
+//! on the gateway's workers, which also have the short scheduling slice
+//! (`crate::core_link::latency`) that this thread does not ask for.
 
 mod api;
 mod assets;
@@ -24,6 +28,37 @@ use crate::command::Context;
 use crate::transport::server::{self, Port};
 use std::future::Future;
 use tokio::net::TcpListener;
+
+/// Serve the pendant on `listener` (bound on the gateway's runtime) on the thread `mcm-web`,
+/// until `shutdown` resolves; join the returned thread to wait for its connections' end.
+pub fn start(
+    listener: TcpListener,
+    ctx: Context,
+    instance: String,
+    shutdown: impl Future + Send + 'static,
+) -> std::io::Result<std::thread::JoinHandle<()>> {
+    let listener = listener.into_std()?;
+    std::thread::Builder::new()
+        .name("mcm-web".into())
+        .spawn(move || {
+            let rt = match tokio::runtime::Builder::new_current_thread()
+                .enable_all()
+                .build()
+            {
+                Ok(rt) => rt,
+                Err(e) => {
+                    eprintln!("mcm-gateway: the browser pendant cannot run: {e}");
+                    return;
+                }
+            };
+            rt.block_on(async move {
+                match TcpListener::from_std(listener) {
+                    Ok(l) => run(l, ctx, instance, shutdown).await,
+                    Err(e) => eprintln!("mcm-gateway: the browser pendant cannot listen: {e}"),
+                }
+            });
+        })
+}
 
 /// Accept web connections on `listener` for MCM instance `instance` until `shutdown` resolves,
 /// then stop every connection (a page's WebSocket included) and wait for them.
