@@ -47,7 +47,21 @@ fn tools_or_skip(test: &str) -> Option<Tools> {
         .map(PathBuf::from)
         .or_else(|| find_program("chromium"))
         .or_else(|| find_program("chromium-browser"));
-    match (find_program("node"), find_program("npm"), chromium) {
+    let node = find_program("node");
+    if let Some(n) = &node
+        && let Some(version) = too_old(n)
+    {
+        skip(
+            test,
+            &format!(
+                "{} is node {version}; playwright-core needs node 20 or newer (Debian 12's \
+                 nodejs is 18: install node 20 from Debian's backports or NodeSource)",
+                n.display()
+            ),
+        );
+        return None;
+    }
+    match (node, find_program("npm"), chromium) {
         (Some(node), Some(npm), Some(chromium)) => Some(Tools {
             node,
             npm,
@@ -72,6 +86,20 @@ fn tools_or_skip(test: &str) -> Option<Tools> {
             None
         }
     }
+}
+
+/// `node`'s version when it is older than 20 (what playwright-core needs); `None` when new
+/// enough or when it cannot tell (then the scripts say what is wrong).
+fn too_old(node: &std::path::Path) -> Option<String> {
+    let out = Command::new(node).arg("--version").output().ok()?;
+    let version = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    let major: u32 = version
+        .trim_start_matches('v')
+        .split('.')
+        .next()?
+        .parse()
+        .ok()?;
+    (major < 20).then_some(version)
 }
 
 /// The scripts' directory in the repository.
