@@ -2,7 +2,7 @@
 // run in CI. It starts the MCM (simulated arm) itself and measures, first without pages, then
 // with N pages open in headless Chromium:
 //   - the gateway's CPU over S seconds (utime + stime of /proc/<gateway pid>/stat),
-//   - the JSON `status` round trip (2000 requests one after the other on one connection),
+//   - the JSON `status` round trip (10000 requests one after the other on one connection),
 //   - with pages: each page's display latency (`window.mcmPendant.latencies`: Date.now() minus
 //     the cycle's `cycle_unix_ms` when a frame is shown), p50/p99/max over all pages.
 //
@@ -30,8 +30,12 @@ const mcmBinary = path.resolve(opt('mcm', 'target/release/mcm'));
 const pages = Number(opt('pages', 10));
 const seconds = Number(opt('seconds', 60));
 const chromiumPath = opt('chromium', process.env.MCM_CHROMIUM ?? '/usr/bin/chromium');
-const rttSamples = 2000;
+const rttSamples = 10000;
 const moving = process.argv.includes('--moving');
+// --sockets: instead of N pendant pages in Chromium, N WebSockets that only take the frames, in
+// a node process of their own (bench-sockets.mjs): the gateway's cost of N pages without N
+// browsers rendering on the same two CPUs (on a robot the browsers run on other machines).
+const socketsOnly = process.argv.includes('--sockets');
 
 /// Calibrate, then sweep axis 1 at +-30 deg/s (velocity control, a new direction every 2 s)
 /// until `stop()`; over its own JSON connection.
@@ -131,30 +135,67 @@ try {
   const rttAlone = await statusRtt(json);
   console.log(`without pages: status round trip ${summary(rttAlone)}`);
 
-  browser = await chromium.launch({
-    executablePath: chromiumPath,
-    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
-  const open = [];
-  for (let i = 0; i < pages; i++) {
-    // One context each: every page is a foreground tab of its own window.
-    const p = await (await browser.newContext({ viewport: { width: 1280, height: 900 } })).newPage();
-    await p.goto(mcm.web);
-    open.push(p);
+  if (socketsOnly) {
+    // At the lowest priority (nice 19): they stand in for browsers on other machines, so
+    // their own CPU time must not delay the measuring client on these two CPUs.
+    const child = spawn('nice', ['-n', '19', process.execPath, '--experimental-websocket', path.join(path.dirname(new URL(import.meta.url).pathname), 'bench-sockets.mjs'),
+      new URL(mcm.web).host, String(pages)], { stdio: ['ignore', 'pipe', 'ignore'] });
+    let out = '';
+    child.stdout.on('data', (d) => { out += d; });
+    await waitUntil('the sockets to open', 10000, async () => out.includes('open'), 20);
+    await new Promise((r) => setTimeout(r, 2000));
+    const cpu = await gatewayCpu(mcm.gatewayPid);
+    const rtt = await statusRtt(json);
+    child.kill('SIGTERM');
+    await waitUntil('the sockets\' figures', 10000, async () => out.trim().split('\n').length > 1, 20);
+    const f = JSON.parse(out.trim().split('\n').pop());
+    console.log(`with ${pages} sockets: gateway CPU ${cpu.toFixed(1)} % of one core over ${seconds} s; frames per socket ${f.frames_per_socket_s.toFixed(1)} /s`);
+    console.log(`with ${pages} sockets: status round trip ${summary(rtt)}`);
+    console.log(`with ${pages} sockets: frame age when taken p50 ${f.p50.toFixed(2)} ms, p99 ${f.p99.toFixed(2)} ms, max ${f.max.toFixed(2)} ms (n=${f.n})`);
   }
-  for (const p of open) {
-    await p.waitForFunction(() => window.mcmPendant?.connected && window.mcmPendant.frames > 10, null, { timeout: 30000 });
+  if (!socketsOnly) {
+    browser = await chromium.launch({
+      executablePath: chromiumPath,
+      args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+        '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+    });
+    const open = [];
+    for (let i = 0; i < pages; i++) {
+      // One context each: every page is a foreground tab of its own window.
+      const p = await (await browser.newContext({ viewport: { width: 1280, height: 900 } })).newPage();
+      await p.goto(mcm.web);
+      open.push(p);
+    }
+    for (const p of open) {
+      await p.waitForFunction(() => window.mcmPendant?.connected && window.mcmPendant.frames > 10, null, { timeout: 30000 });
+    }
+    // The first page's weight on the wire (compressed, headers included: the browser's
+    // `transferSize` of the page and every resource it loaded) and its first contentful paint.
+    const first = await open[0].evaluate(() => {
+      const nav = performance.getEntriesByType('navigation')[0];
+      const res = performance.getEntriesByType('resource');
+      const fcp = performance.getEntriesByName('first-contentful-paint')[0];
+      return {
+        bytes: nav.transferSize + res.reduce((a, r) => a + r.transferSize, 0),
+        decoded: nav.decodedBodySize + res.reduce((a, r) => a + r.decodedBodySize, 0),
+        files: res.length + 1,
+        fcp: fcp ? fcp.startTime : null,
+      };
+    });
+    console.log(`first page: ${first.files} files, ${(first.bytes / 1024).toFixed(0)} KiB on the wire (${(first.decoded / 1024).toFixed(0)} KiB decoded), first contentful paint ${first.fcp?.toFixed(0)} ms after navigation`);
+    // Only the window's frames count: not those of the pages' start (loading, compiling the 3D
+    // view's shaders).
+    await Promise.all(open.map((p) => p.evaluate(() => { window.mcmPendant.latencies.length = 0; })));
+    const framesBefore = await Promise.all(open.map((p) => p.evaluate(() => window.mcmPendant.frames)));
+    const pagesCpu = await gatewayCpu(mcm.gatewayPid);
+    const framesAfter = await Promise.all(open.map((p) => p.evaluate(() => window.mcmPendant.frames)));
+    const rate = framesAfter.map((f, i) => (f - framesBefore[i]) / seconds);
+    console.log(`with ${pages} pages: gateway CPU ${pagesCpu.toFixed(1)} % of one core over ${seconds} s; frames per page ${Math.min(...rate).toFixed(1)}..${Math.max(...rate).toFixed(1)} /s`);
+    const rttPages = await statusRtt(json);
+    console.log(`with ${pages} pages: status round trip ${summary(rttPages)}`);
+    const lat = (await Promise.all(open.map((p) => p.evaluate(() => window.mcmPendant.latencies)))).flat();
+    console.log(`with ${pages} pages: display latency ${summary(lat)}`);
   }
-  const framesBefore = await Promise.all(open.map((p) => p.evaluate(() => window.mcmPendant.frames)));
-  const pagesCpu = await gatewayCpu(mcm.gatewayPid);
-  const framesAfter = await Promise.all(open.map((p) => p.evaluate(() => window.mcmPendant.frames)));
-  const rate = framesAfter.map((f, i) => (f - framesBefore[i]) / seconds);
-  console.log(`with ${pages} pages: gateway CPU ${pagesCpu.toFixed(1)} % of one core over ${seconds} s; frames per page ${Math.min(...rate).toFixed(1)}..${Math.max(...rate).toFixed(1)} /s`);
-  const rttPages = await statusRtt(json);
-  console.log(`with ${pages} pages: status round trip ${summary(rttPages)}`);
-  const lat = (await Promise.all(open.map((p) => p.evaluate(() => window.mcmPendant.latencies)))).flat();
-  console.log(`with ${pages} pages: display latency ${summary(lat)}`);
   const load = readFileSync('/proc/loadavg', 'utf8').split(' ').slice(0, 3).join(' ');
   console.log(`load average at the end: ${load}`);
   if (stopSweep) await stopSweep();
