@@ -79,3 +79,21 @@ fn connections_name_channel_peer_and_the_owner() {
     assert_eq!(v["clients"][1]["peer"], "10.0.0.5:4000");
     assert_eq!(v["clients"][1]["controls_the_arm"], true);
 }
+
+proptest::proptest! {
+    /// Whatever name a request carries, it is either refused or a plain file name of this
+    /// instance's records inside the records' directory: never a path elsewhere, never a panic.
+    #[test]
+    fn no_name_reaches_outside_the_records(
+        name in "[a-z0-9_./-]{0,24}|.{0,80}",
+        ms in proptest::num::u64::ANY,
+    ) {
+        let dir = Path::new("/var/mcm/records");
+        for candidate in [name.clone(), format!("mcm-default-{ms}-{name}.csv")] {
+            if let Some(path) = record_path(dir, "default", &candidate) {
+                proptest::prop_assert_eq!(path.parent(), Some(dir));
+                proptest::prop_assert!(!candidate.contains('/') && !candidate.contains(".."));
+            }
+        }
+    }
+}
