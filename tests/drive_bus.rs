@@ -386,15 +386,13 @@ fn the_candump_log_shows_the_canopen_traffic() {
     let log = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| panic!("read the candump log {}: {e}", path.display()));
     let mut ids = std::collections::BTreeMap::<u16, usize>::new();
-    let mut comments = Vec::new();
+    let mut last_data = std::collections::BTreeMap::<u16, String>::new();
+    // Every line is a candump frame line: no comment lines, which candump's readers refuse.
     for (n, line) in log.lines().enumerate() {
-        if line.starts_with('#') {
-            comments.push(line);
-            continue;
-        }
-        let (id, _) = parse_candump(line)
+        let (id, data) = parse_candump(line)
             .unwrap_or_else(|| panic!("line {} of the candump log is malformed: {line:?}", n + 1));
         *ids.entry(id).or_default() += 1;
+        last_data.insert(id, data);
     }
     let count = |id: u16| ids.get(&id).copied().unwrap_or(0);
     assert!(count(0x080) > 0, "SYNC frames 080#: {ids:x?}");
@@ -406,10 +404,16 @@ fn the_candump_log_shows_the_canopen_traffic() {
             "SDO configuration of node {node}: {ids:x?}"
         );
     }
-    assert!(
-        comments.iter().any(|c| c.contains("end of log")),
-        "the log was closed cleanly: {comments:?}"
-    );
+    // Written to the end, through the controlled stop: each drive's last RPDO1 no longer
+    // enables operation (controlword 0x000F, little-endian first).
+    assert!(log.ends_with('\n'), "the last line is complete");
+    for node in 1..=6u16 {
+        let cw = &last_data[&(0x200 + node)];
+        assert!(
+            !cw.to_ascii_uppercase().starts_with("0F00"),
+            "node {node}'s last RPDO1 {cw} still enables operation: the log ends before the stop"
+        );
+    }
     std::fs::remove_file(&path).unwrap();
 }
 

@@ -6,14 +6,14 @@
 //! ```text
 //! (1735270496.916858) can0 185#3702A0860100
 //! (1735270496.916901) can0 205#0F00048701000000 T      <- with LogOptions::direction_suffix
-//! # mcm-candump: end of log, 2 frames written, 0 dropped
 //! ```
 //!
+//! The file holds frame lines only, as `candump -L` writes them, so that every reader of that
+//! format takes it as it is (`canplayer`, python-can's `CanutilsLogReader`, `socketcan::dump`).
 //! The cycle side (`send`/`recv`) never blocks and never allocates: when the ring is full the
-//! frame is counted as dropped. Drop counts are written as `#` comment lines when they change
-//! and at the end of the file (strip them with `grep -v '^#'` before feeding `canplayer`).
-//! [`parse_line`] reads the lines back (comments and blank lines give `Ok(None)`); the frame
-//! lines are also readable by `socketcan::dump::Reader`.
+//! frame is counted as dropped. The writer says so on stderr when the count changes, and at the
+//! end how many frames it wrote and how many were dropped (also in [`LogSummary`]).
+//! [`parse_line`] reads the lines back (comments and blank lines give `Ok(None)`).
 //!
 //! Runs inside the cycle: `LoggingBus::send`/`recv`. Not in the cycle: `new`, `finish`, the
 //! writer thread, `parse_line`.
@@ -249,7 +249,10 @@ impl<B: Bus> LoggingBus<B> {
         let clock = options.clock;
         let writer = std::thread::Builder::new()
             .name("mcm-candump".into())
-            .spawn(move || writer_loop(consumer, BufWriter::new(file), &iface, &options))
+            .spawn({
+                let shown = path.display().to_string();
+                move || writer_loop(consumer, BufWriter::new(file), &iface, &options, &shown)
+            })
             .map_err(|source| CandumpError::Spawn {
                 path: path.to_path_buf(),
                 source,
@@ -341,11 +344,13 @@ impl<B: Bus> Bus for LoggingBus<B> {
     }
 }
 
+/// Drain the ring into `out` (the file `path`) until told to stop.
 fn writer_loop(
     mut c: Consumer,
     mut out: BufWriter<File>,
     iface: &str,
     opt: &LogOptions,
+    path: &str,
 ) -> io::Result<u64> {
     let mut written = 0u64;
     let mut reported_dropped = 0u64;
@@ -368,11 +373,11 @@ fn writer_loop(
         written += n;
         let dropped = c.shared.dropped.load(Ordering::Relaxed);
         if dropped != reported_dropped && !stopping {
-            writeln!(
-                out,
-                "# mcm-candump: {dropped} frames dropped so far (log ring of {} full)",
+            // Not in the file: a comment line is no candump line, and readers refuse it.
+            eprintln!(
+                "mcm-candump: {path}: {dropped} frames dropped so far (log ring of {} full)",
                 c.shared.capacity
-            )?;
+            );
             reported_dropped = dropped;
         }
         if stopping {
@@ -383,12 +388,9 @@ fn writer_loop(
             std::thread::park_timeout(opt.poll_interval);
         }
     }
-    let dropped = c.shared.dropped.load(Ordering::Relaxed);
-    writeln!(
-        out,
-        "# mcm-candump: end of log, {written} frames written, {dropped} dropped"
-    )?;
     out.flush()?;
+    let dropped = c.shared.dropped.load(Ordering::Relaxed);
+    eprintln!("mcm-candump: {path}: end of log, {written} frames written, {dropped} dropped");
     Ok(written)
 }
 

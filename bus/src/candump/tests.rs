@@ -120,11 +120,9 @@ fn logged_file_parses_line_by_line() {
     );
     let text = std::fs::read_to_string(&path).unwrap();
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines.len(), 9, "{text}");
-    assert_eq!(
-        lines[8],
-        "# mcm-candump: end of log, 8 frames written, 0 dropped"
-    );
+    // Frame lines only: a `#` line is no candump line (python-can's reader refuses it).
+    assert_eq!(lines.len(), 8, "{text}");
+    assert!(lines.iter().all(|l| l.starts_with('(')), "{text}");
     let parsed: Vec<LogLine> = lines
         .iter()
         .filter_map(|l| parse_line(l).unwrap())
@@ -161,7 +159,7 @@ fn logged_file_parses_line_by_line() {
 }
 
 #[test]
-fn full_ring_counts_drops_and_reports_them_in_the_file() {
+fn full_ring_counts_drops_and_reports_them_in_the_summary() {
     let path = temp_path("drops");
     let opts = LogOptions {
         capacity: 8,
@@ -183,10 +181,8 @@ fn full_ring_counts_drops_and_reports_them_in_the_file() {
         }
     );
     let text = std::fs::read_to_string(&path).unwrap();
-    assert!(
-        text.ends_with("# mcm-candump: end of log, 8 frames written, 12 dropped\n"),
-        "{text}"
-    );
+    // The drops are counted in the summary (and said on stderr), not written into the log.
+    assert!(text.lines().all(|l| l.starts_with('(')), "{text}");
     let first: Vec<u8> = text
         .lines()
         .filter_map(|l| parse_line(l).unwrap())
@@ -205,10 +201,9 @@ fn dropping_the_bus_ends_the_log() {
         bus.send(&Frame::new(0x080, &[]).unwrap()).unwrap();
     }
     let text = std::fs::read_to_string(&path).unwrap();
-    assert!(
-        text.ends_with("# mcm-candump: end of log, 1 frames written, 0 dropped\n"),
-        "{text}"
-    );
+    // Complete (flushed) when the bus is dropped: the one frame, and nothing else.
+    assert_eq!(text.lines().count(), 1, "{text}");
+    assert!(text.ends_with("080#\n"), "{text}");
     std::fs::remove_file(&path).unwrap();
 }
 
