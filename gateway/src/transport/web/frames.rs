@@ -1,7 +1,7 @@
 //! The state frames of the pages' WebSockets: `[gateway.web] rate_hz` times a second, one task
 //! takes the newest state the core published, writes it once as a frame and hands the same
-//! text to every page ([`Frames::subscribe`]). A page that is slow to take frames only ever
-//! gets the newest one (a `watch` channel): it skips frames and holds no memory. With no page
+//! text to every page ([`Frames::subscribe`]; a clone of it is a reference count, not a copy).
+//! A page that is slow to take frames only ever gets the newest one (a `watch` channel): it skips frames and holds no memory. With no page
 //! open nothing is built.
 //!
 //! A frame is `{"stream":"state","cycle_unix_ms":…,"owner":…,"status":…}` (docs/web.md):
@@ -13,15 +13,15 @@
 
 use crate::command::Context;
 use crate::command::result::status;
+use axum::extract::ws::Utf8Bytes;
 use serde_json::{Value, json};
-use std::sync::Arc;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 use tokio::sync::watch;
 
 /// The newest frame, shared by every page; cheap to clone.
 #[derive(Clone)]
 pub struct Frames {
-    rx: watch::Receiver<Option<Arc<str>>>,
+    rx: watch::Receiver<Option<Utf8Bytes>>,
 }
 
 impl Frames {
@@ -35,14 +35,14 @@ impl Frames {
     }
 
     /// A receiver of the frames from now on.
-    pub fn subscribe(&self) -> watch::Receiver<Option<Arc<str>>> {
+    pub fn subscribe(&self) -> watch::Receiver<Option<Utf8Bytes>> {
         let mut rx = self.rx.clone();
         rx.mark_unchanged();
         rx
     }
 }
 
-async fn produce(ctx: Context, tx: watch::Sender<Option<Arc<str>>>, period: Duration) {
+async fn produce(ctx: Context, tx: watch::Sender<Option<Utf8Bytes>>, period: Duration) {
     let mut tick = tokio::time::interval(period);
     tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
     let mut last_seq = None;
@@ -63,7 +63,7 @@ async fn produce(ctx: Context, tx: watch::Sender<Option<Arc<str>>>, period: Dura
         }
         last_seq = Some(state.seq);
         let frame = frame(&ctx, &state, unix_ms_of(state.t_ns));
-        tx.send_replace(Some(Arc::from(frame.to_string())));
+        tx.send_replace(Some(Utf8Bytes::from(frame.to_string())));
     }
 }
 

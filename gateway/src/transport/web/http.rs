@@ -55,10 +55,7 @@ impl Routes {
             .layer(tower_http::compression::CompressionLayer::new())
             .with_state(web);
         let router = Router::new().route("/ws", get(upgrade)).merge(compressed);
-        Routes {
-            router,
-            frames: frames.clone(),
-        }
+        Routes { router, frames }
     }
 }
 

@@ -64,7 +64,7 @@ pub async fn session(
         loop {
             let msg = tokio::select! {
                 line = results.next_line() => match line {
-                    Ok(Some(l)) => l,
+                    Ok(Some(l)) => l.into(),
                     _ => break,
                 },
                 changed = states.changed() => {
@@ -73,12 +73,12 @@ pub async fn session(
                     }
                     let frame = states.borrow_and_update().clone();
                     match frame {
-                        Some(f) => f.to_string(),
+                        Some(f) => f,
                         None => continue,
                     }
                 }
             };
-            let sent = tokio::time::timeout(WRITE_TIMEOUT, sink.send(Message::Text(msg.into())));
+            let sent = tokio::time::timeout(WRITE_TIMEOUT, sink.send(Message::Text(msg)));
             if !matches!(sent.await, Ok(Ok(()))) {
                 return;
             }
