@@ -133,9 +133,7 @@ pub(crate) async fn run(
             let _ = rx.recv().await;
         }
     };
-    let json_task = tokio::spawn(transport::json::run(json, ctx.clone(), stopped(&stop_tx)));
-    let bridge = ctx.bridge.clone();
-    let reaper = tokio::spawn(command::access::reaper::run(bridge.clone()));
+    // Before any task serves: a failure to start leaves nothing running.
     let web_addr = web.as_ref().map(|(_, a)| *a);
     let web_task = match web {
         Some((listener, _)) => {
@@ -144,6 +142,9 @@ pub(crate) async fn run(
             match thread {
                 Ok(t) => Some(t),
                 Err(e) => {
+                    if let Some(z) = zmq {
+                        let _ = tokio::task::spawn_blocking(move || z.stop()).await;
+                    }
                     bridge_thread.stop();
                     return Err(GatewayError::Web(e));
                 }
@@ -151,6 +152,9 @@ pub(crate) async fn run(
         }
         None => None,
     };
+    let json_task = tokio::spawn(transport::json::run(json, ctx.clone(), stopped(&stop_tx)));
+    let bridge = ctx.bridge.clone();
+    let reaper = tokio::spawn(command::access::reaper::run(bridge.clone()));
     let hmi_task = tokio::spawn(transport::hmi::run(hmi, ctx, stopped(&stop_tx)));
     ready(Ready {
         json: json_addr,
