@@ -7,7 +7,7 @@
 //! from its vendored definitions into it. Test binaries run in parallel, so the work is done
 //! under an exclusive file lock; a stamp file records a hash of what went in, and a change of
 //! any of it makes the venv again from nothing. Without Python 3.11 and its `venv` module,
-//! cmake, a C/C++ compiler or Python's headers the test is skipped, saying so
+//! cmake, make, a C/C++ compiler or Python's headers the test is skipped, saying so
 //! ([`super::skip`]), or fails when `CI` is set; a pip install or a build that fails fails the
 //! test, with the tool's output.
 //!
@@ -145,14 +145,14 @@ fn python311() -> Result<PathBuf, String> {
     )
 }
 
-/// What building control_msgs needs besides Python: cmake, a C and a C++ compiler, and
-/// `python`'s headers.
+/// What building control_msgs needs besides Python: cmake, make (its default generator), a C
+/// and a C++ compiler, and `python`'s headers.
 fn build_tools(python: &Path) -> Result<(), String> {
-    for tool in ["cmake", "cc", "c++"] {
+    for tool in ["cmake", "make", "cc", "c++"] {
         if super::find_program(tool).is_none() {
             return Err(format!(
-                "{tool} is not on PATH: building control_msgs' type support needs cmake and \
-                 a C/C++ compiler (Debian: apt-get install cmake g++)"
+                "{tool} is not on PATH: building control_msgs' type support needs cmake, \
+                 make and a C/C++ compiler (Debian: apt-get install cmake make g++)"
             ));
         }
     }

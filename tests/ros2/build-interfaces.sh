@@ -11,7 +11,8 @@
 # files to VENV/share, the Python package to its site-packages.
 # SCRATCH: a directory for the build trees (emptied first, so a run starts from nothing).
 #
-# Needs cmake, a C and C++ compiler and Python's headers (Debian: cmake g++ python3-dev).
+# Needs cmake, make, a C and C++ compiler and Python's headers (Debian: cmake make g++
+# python3-dev).
 # Any failure stops the script with the failing tool's output and a non-zero status.
 set -euo pipefail
 
@@ -30,8 +31,8 @@ fail() {
 }
 
 [ -x "$py" ] || fail "$py is not an executable: VENV must be a virtual environment"
-for tool in cmake cc c++; do
-    command -v "$tool" > /dev/null || fail "$tool is not on PATH (Debian: apt-get install cmake g++)"
+for tool in cmake make cc c++; do
+    command -v "$tool" > /dev/null || fail "$tool is not on PATH (Debian: apt-get install cmake make g++)"
 done
 version=$("$py" -c 'import sys; print("%d.%d" % sys.version_info[:2])')
 [ "$version" = 3.11 ] || fail "$py is Python $version: the ROS 2 wheels are for CPython 3.11"
