@@ -122,20 +122,22 @@ pub fn unique_domain_id() -> u32 {
     (std::process::id() + 37 * NEXT.fetch_add(1, Ordering::Relaxed)) % 101 + 1
 }
 
-/// CPython 3.11 (`python3.11`, else `python3` when it is 3.11): the ROS 2 wheels' only Python.
+/// CPython 3.11, the ROS 2 wheels' only Python: the first `python3.11`, else `python3`, on
+/// `PATH` that runs and is 3.11 (a version manager's shim may be first and fail).
 fn python311() -> Result<PathBuf, String> {
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    let dirs: Vec<PathBuf> = std::env::split_paths(&path).collect();
     for name in ["python3.11", "python3"] {
-        let Some(path) = super::find_program(name) else {
-            continue;
-        };
-        let out = Command::new(&path)
-            .args(["-c", "import sys; print('%d.%d' % sys.version_info[:2])"])
-            .output();
-        if let Ok(out) = out
-            && out.status.success()
-            && String::from_utf8_lossy(&out.stdout).trim() == "3.11"
-        {
-            return Ok(path);
+        for candidate in dirs.iter().map(|d| d.join(name)).filter(|p| p.is_file()) {
+            let out = Command::new(&candidate)
+                .args(["-c", "import sys; print('%d.%d' % sys.version_info[:2])"])
+                .output();
+            if let Ok(out) = out
+                && out.status.success()
+                && String::from_utf8_lossy(&out.stdout).trim() == "3.11"
+            {
+                return Ok(candidate);
+            }
         }
     }
     Err(
