@@ -4,6 +4,8 @@
 //! built from the vendored definitions) with a `sensor_msgs/JointState` publisher, and a client
 //! that sends a 2-point goal (feedback for both points, a SUCCESSFUL result naming what the
 //! server got) and an empty one (aborted, INVALID_GOAL), and receives JointState messages.
+//! Both load the type support of the node's other interfaces (String, DiagnosticArray, Trigger,
+//! JointTrajectory) too.
 //!
 //! Without Python 3.11, cmake or a compiler the test is skipped, saying so, or fails when `CI`
 //! is set; a pip install or build that fails fails it.

@@ -13,7 +13,10 @@ It publishes sensor_msgs/JointState on `/selfcheck_TAG/joint_states` at 100 Hz. 
 
 `client` sends a goal of 2 points and checks its feedback and result, sends an empty one and
 checks that it aborts with INVALID_GOAL, checks 20 JointState messages, and prints
-`SELFCHECK OK` (or raises). TAG keeps two runs on one machine apart. Every wait is bounded.
+`SELFCHECK OK` (or raises). Both load the type support of every other interface the MCM's
+node speaks (std_msgs/String, diagnostic_msgs/DiagnosticArray, std_srvs/Trigger,
+trajectory_msgs/JointTrajectory). TAG keeps two runs on one machine apart. Every wait is
+bounded.
 """
 
 import sys
@@ -23,11 +26,15 @@ import time
 import rclpy
 from builtin_interfaces.msg import Duration
 from control_msgs.action import FollowJointTrajectory
+from diagnostic_msgs.msg import DiagnosticArray
 from rclpy.action import ActionClient, ActionServer
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.executors import MultiThreadedExecutor
+from rclpy.type_support import check_for_type_support
 from sensor_msgs.msg import JointState
-from trajectory_msgs.msg import JointTrajectoryPoint
+from std_msgs.msg import String
+from std_srvs.srv import Trigger
+from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 JOINTS = [f"joint_{i}" for i in range(1, 7)]
 WAIT = 20.0  # seconds, for any one wait
@@ -179,6 +186,8 @@ def client(tag):
 def main():
     if len(sys.argv) != 3 or sys.argv[1] not in ("server", "client"):
         sys.exit(f"usage: {sys.argv[0]} server|client TAG")
+    for t in (FollowJointTrajectory, JointState, String, DiagnosticArray, Trigger, JointTrajectory):
+        check_for_type_support(t)
     rclpy.init()
     try:
         (server if sys.argv[1] == "server" else client)(sys.argv[2])
