@@ -6,6 +6,7 @@
 
 pub mod flight;
 pub mod python;
+pub mod ros2;
 
 use mcm_client::launch::SimulatedMcm;
 use mcm_shared::service::sim_state_path;
