@@ -269,3 +269,6 @@ fn refuse_moving(start: &StartState, joints: &Joints) -> Result<(), GoalError> {
         None => Ok(()),
     }
 }
+
+#[cfg(test)]
+mod tests;

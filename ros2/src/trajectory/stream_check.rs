@@ -149,3 +149,6 @@ fn roots(a: f64, b: f64, c: f64) -> [Option<f64>; 2] {
     }
     [Some(q / a), Some(c / q)]
 }
+
+#[cfg(test)]
+mod tests;

@@ -263,3 +263,6 @@ fn per_axis(
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests;
