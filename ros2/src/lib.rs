@@ -5,4 +5,4 @@
 //! build or run it. `docs/ros2.md` describes every interface with its units.
 
 pub mod msgs;
-pub mod urdf;
+pub mod trajectory;
