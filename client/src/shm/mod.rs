@@ -66,6 +66,25 @@ const EVENTS_KEPT: usize = 64;
 /// The lower half of client ids: unique per client object in this process.
 static NEXT_CLIENT: AtomicU32 = AtomicU32::new(1);
 
+/// A command sent with [`ShmClient::submit`], whose reply [`ShmClient::take_reply`] returns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Submitted {
+    id: u64,
+    kind: CommandKind,
+}
+
+impl Submitted {
+    /// The command's kind.
+    pub fn kind(&self) -> CommandKind {
+        self.kind
+    }
+
+    /// Its request id (unique per client).
+    pub fn request_id(&self) -> u64 {
+        self.id
+    }
+}
+
 /// Something the core reported that answers no call of this client.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ShmEvent {
@@ -227,6 +246,35 @@ impl ShmClient {
         self.next_request += 1;
         self.ports.publish(req, self.client_id, id)?;
         Ok(id)
+    }
+
+    /// Send `req` without waiting; its reply is collected as states are read
+    /// ([`ShmClient::wait_state`]) and taken with [`ShmClient::take_reply`]. For a program whose
+    /// loop must not stop at a command: it reads a state every cycle and looks for the reply.
+    /// A reply that never comes (the core stopped, replies overwritten) is the caller's to time
+    /// out, within [`core_reply_within`] of the command; [`ShmClient::forget`] then stops
+    /// keeping it. A `pvt_points` batch is one [`Request::PvtPoints`] chunk here.
+    pub fn submit(&mut self, req: &Request) -> Result<Submitted, SendError> {
+        let mut id = [0u64];
+        let mut pending = std::mem::take(&mut self.pending);
+        let sent = pending.send_each(std::slice::from_ref(req), &mut id, |r| self.send(r));
+        self.pending = pending;
+        sent?;
+        Ok(Submitted {
+            id: id[0],
+            kind: req.kind(),
+        })
+    }
+
+    /// The outcome of a [`ShmClient::submit`]ted command once its reply has been read; `None`
+    /// while it has not. After `Some`, the request is no longer kept.
+    pub fn take_reply(&mut self, s: &Submitted) -> Option<Result<Done, RequestError>> {
+        self.pending.take(s.id).map(|r| outcome(s.kind, &r))
+    }
+
+    /// Stop keeping the reply of a [`ShmClient::submit`]ted command (one given up on).
+    pub fn forget(&mut self, s: &Submitted) {
+        self.pending.forget(&[s.id]);
     }
 
     /// Send `requests` (of `kind`, at most [`MAX_IN_FLIGHT`]) and wait for their replies, as
