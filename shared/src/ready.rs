@@ -63,6 +63,16 @@ pub struct GatewayReady {
     pub zmq: Option<ZmqEndpoints>,
 }
 
+/// `mcm-ros2 ready node=NAME domain=N instance=NAME`: the ROS 2 node (`mcm-ros2`) serves its
+/// topics, services and action as node `NAME` (fully qualified, e.g. `/left/mcm`) on DDS
+/// domain `N`, for the MCM instance `instance`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Ros2Ready {
+    pub node: String,
+    pub domain: u16,
+    pub instance: String,
+}
+
 /// Where the gateway's ZeroMQ sockets are bound.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ZmqEndpoints {
@@ -95,6 +105,44 @@ impl ReadyLine for RtReady {
 
 impl ReadyLine for GatewayReady {
     const PREFIX: &'static str = "mcm-gateway ready";
+}
+
+impl ReadyLine for Ros2Ready {
+    const PREFIX: &'static str = "mcm-ros2 ready";
+}
+
+impl fmt::Display for Ros2Ready {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (prefix, node, domain, instance) =
+            (Self::PREFIX, &self.node, self.domain, &self.instance);
+        write!(
+            f,
+            "{prefix} node={node} domain={domain} instance={instance}"
+        )
+    }
+}
+
+impl FromStr for Ros2Ready {
+    type Err = ReadyError;
+
+    fn from_str(line: &str) -> Result<Self, ReadyError> {
+        let fields = Fields::new(line, after_prefix(line, Self::PREFIX)?);
+        const DOMAIN: &str = "a DDS domain id (0 to 232)";
+        let domain: u16 = fields.parsed("domain", DOMAIN)?;
+        if domain > 232 {
+            return Err(ReadyError::Invalid {
+                key: "domain",
+                value: domain.to_string(),
+                expected: DOMAIN,
+                line: line.to_string(),
+            });
+        }
+        Ok(Ros2Ready {
+            node: fields.text("node")?.to_string(),
+            domain,
+            instance: fields.text("instance")?.to_string(),
+        })
+    }
 }
 
 impl ReadyLine for McmReady {

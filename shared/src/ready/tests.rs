@@ -41,6 +41,18 @@ proptest! {
     }
 
     #[test]
+    fn ros2_lines_round_trip(
+        node in "(/[a-z][a-z0-9_]{0,8}){1,3}",
+        domain in 0u16..=232,
+        instance in instance(),
+    ) {
+        let ready = Ros2Ready { node, domain, instance };
+        let line = ready.to_string();
+        prop_assert!(line.starts_with(Ros2Ready::PREFIX));
+        prop_assert_eq!(line.parse::<Ros2Ready>(), Ok(ready));
+    }
+
+    #[test]
     fn gateway_lines_round_trip(ready in gateway()) {
         let line = ready.to_string();
         prop_assert!(line.starts_with(GatewayReady::PREFIX));
@@ -164,4 +176,15 @@ fn wrong_lines_are_refused_naming_what_is_wrong() {
         .parse()
         .unwrap();
     assert_eq!(g.json.port(), 5);
+}
+
+#[test]
+fn a_ros2_line_with_a_bad_domain_is_refused_naming_it() {
+    let line = "mcm-ros2 ready node=/mcm domain=999 instance=default";
+    let e = line.parse::<Ros2Ready>().unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("`domain=999` is not a DDS domain id"),
+        "{e}"
+    );
 }
