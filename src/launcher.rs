@@ -15,7 +15,7 @@ use mcm_rt_core::cli::LogArgs;
 use mcm_rt_core::signals;
 use mcm_shared::cli::CommonArgs;
 use mcm_shared::config::{BusBackend, RobotConfig};
-use mcm_shared::ready::{GatewayReady, McmReady, ReadyLine, RtReady};
+use mcm_shared::ready::{GatewayReady, McmReady, ReadyLine, Ros2Ready, RtReady};
 use mcm_shared::restart::GATEWAY_RESTART;
 use mcm_shared::service::ServiceNames;
 use std::ffi::OsString;
@@ -32,7 +32,7 @@ use std::time::{Duration, Instant};
     name = "mcm",
     version,
     about,
-    after_help = "Subcommands: `mcm rt --help` and `mcm gateway --help` run one process each.",
+    after_help = "Subcommands: `mcm rt --help`, `mcm gateway --help` and `mcm ros2 --help` run one process each.",
     // An option given twice takes the last value: a harness passes its defaults first (e.g.
     // `mcm_client::launch` passes `--http-port 0`) and a caller's extra arguments override them.
     args_override_self = true
@@ -48,6 +48,14 @@ struct Cli {
     /// without it when the system does not allow it).
     #[arg(long)]
     require_realtime: bool,
+    /// Also run the ROS 2 node (`mcm ros2`, docs/ros2.md): joint states, the robot
+    /// description, FollowJointTrajectory, services and diagnostics over DDS.
+    #[arg(long)]
+    ros2: bool,
+    /// An argument for the ROS 2 node (repeatable), e.g. `--ros2-arg=--namespace=/left`; see
+    /// `mcm ros2 --help`.
+    #[arg(long = "ros2-arg", allow_hyphen_values = true, requires = "ros2")]
+    ros2_args: Vec<OsString>,
 }
 
 /// How long a child may take to say it is ready.
@@ -249,6 +257,21 @@ fn run(cli: Cli) -> Result<(), String> {
     }
     drop(rt_lines);
 
+    let mut ros2 = match cli.ros2 {
+        false => None,
+        true => {
+            let mut args = cli.common.to_args();
+            args.extend(cli.ros2_args.iter().cloned());
+            match Ros2::start(args) {
+                Ok(r) => Some(r),
+                Err(e) => {
+                    rt.stop(RT_STOP_TIMEOUT);
+                    return Err(e);
+                }
+            }
+        }
+    };
+
     let robot = match cfg.bus.backend {
         BusBackend::Sim => format!("simulated {}", cfg.robot.name),
         BusBackend::Socketcan => format!("{} on {}", cfg.robot.name, cfg.bus.interface),
@@ -302,6 +325,9 @@ fn run(cli: Cli) -> Result<(), String> {
                     "mcm-rt exited unexpectedly ({status}); stopping the gateway and the MCM (a dead real-time core is not restarted silently; see its message above)"
                 ));
             }
+            if let Some(r) = ros2.as_mut() {
+                r.supervise();
+            }
             if let Ok(Some(status)) = gw.child.try_wait() {
                 let wait = backoff.next(started.elapsed());
                 eprintln!(
@@ -327,6 +353,10 @@ fn run(cli: Cli) -> Result<(), String> {
             }
         }
     };
+    // The ROS 2 node first: a client of the core, it ends its goals and gives control up.
+    if let Some(mut r) = ros2.take() {
+        r.proc.stop(STOP_TIMEOUT);
+    }
     rt.stop(RT_STOP_TIMEOUT);
     if result.is_ok() {
         eprintln!("mcm: stopped");
@@ -374,6 +404,62 @@ impl Backoff {
         }
         self.restarts = self.restarts.saturating_add(1);
         GATEWAY_RESTART.delay(self.restarts)
+    }
+}
+
+/// The ROS 2 node (`mcm ros2`), restarted when it dies: it is a client of the core like any
+/// other, so its death ends what it drove (the core holds) and nothing else.
+struct Ros2 {
+    proc: Proc,
+    args: Vec<OsString>,
+    /// When it died, if it is dead.
+    died: Option<Instant>,
+}
+
+/// Wait before restarting a ROS 2 node that died.
+const ROS2_RESTART: Duration = Duration::from_secs(2);
+
+impl Ros2 {
+    fn start(args: Vec<OsString>) -> Result<Ros2, String> {
+        let (mut proc, lines) = Proc::spawn("mcm-ros2", &prepend("ros2", &args))?;
+        match wait_ready::<Ros2Ready>(&mut proc, &lines) {
+            Ok(ready) => {
+                println!("{ready}");
+                Ok(Ros2 {
+                    proc,
+                    args,
+                    died: None,
+                })
+            }
+            Err(e) => {
+                proc.stop(STOP_TIMEOUT);
+                Err(e)
+            }
+        }
+    }
+
+    /// Restart the node when it died (after [`ROS2_RESTART`]).
+    fn supervise(&mut self) {
+        match self.died {
+            None => {
+                if let Ok(Some(status)) = self.proc.child.try_wait() {
+                    eprintln!(
+                        "mcm: mcm-ros2 exited unexpectedly ({status}); the core holds what it drove; restarting it in {ROS2_RESTART:?}"
+                    );
+                    self.died = Some(Instant::now());
+                }
+            }
+            Some(t) if t.elapsed() >= ROS2_RESTART => match Ros2::start(self.args.clone()) {
+                Ok(r) => *self = r,
+                Err(e) => {
+                    eprintln!(
+                        "mcm: mcm-ros2 did not start again ({e}); retrying in {ROS2_RESTART:?}"
+                    );
+                    self.died = Some(Instant::now());
+                }
+            },
+            Some(_) => {}
+        }
     }
 }
 

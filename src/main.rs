@@ -2,8 +2,9 @@
 //!
 //! With no arguments (`cargo run --release`) it starts the simulated P-Rob2: the real-time
 //! core and the gateway as two processes, prints where to connect, and stops both on Ctrl-C
-//! or SIGTERM. `mcm rt ...` and `mcm gateway ...` run one process each (the same programs as
-//! `mcm-rt` and `mcm-gateway`); the launcher starts its children that way.
+//! or SIGTERM. `mcm rt ...`, `mcm gateway ...` and `mcm ros2 ...` run one process each (the same
+//! programs as `mcm-rt`, `mcm-gateway` and `mcm-ros2`); the launcher starts its children that way
+//! (the ROS 2 node only with `--ros2`).
 
 mod launcher;
 
@@ -20,6 +21,9 @@ fn main() -> ExitCode {
         Some("gateway") => mcm_gateway::cli::main(
             std::iter::once("mcm-gateway".into()).chain(rest.into_iter().skip(1)),
         ),
+        Some("ros2") => {
+            mcm_ros2::cli::main(std::iter::once("mcm-ros2".into()).chain(rest.into_iter().skip(1)))
+        }
         _ => launcher::main(std::iter::once(program).chain(rest)),
     }
 }

@@ -3,6 +3,21 @@
 //! A co-located shared-memory client of the real-time core (through `mcm-client`) that speaks
 //! ROS 2 over DDS in pure Rust (ros2-client over RustDDS): no ROS installation is needed to
 //! build or run it. `docs/ros2.md` describes every interface with its units.
+//!
+//! - [`node`] sets up DDS and the threads; [`arm`] is the loop that reads the core's state
+//!   every cycle, publishes `/joint_states` and `/diagnostics` ([`convert`]), answers the
+//!   services and drives trajectories ([`driver`], on the PVT stream of [`stream`], planned by
+//!   [`trajectory`]); [`action`] serves `follow_joint_trajectory`.
+//! - [`urdf`] generates the robot description from the configuration.
+//! - [`msgs`] are the ROS 2 messages as serde structs.
 
+pub mod action;
+pub mod arm;
+pub mod cli;
+pub mod convert;
+pub mod driver;
 pub mod msgs;
+pub mod node;
+pub mod stream;
 pub mod trajectory;
+pub mod urdf;
