@@ -157,7 +157,30 @@ impl SimulatedMcm {
         ready_within: Duration,
         echo: Option<&'static str>,
     ) -> Result<SimulatedMcm, LaunchError> {
-        let mut child = Command::new(binary)
+        Self::start_command(
+            Command::new(binary),
+            binary,
+            instance,
+            extra,
+            stderr,
+            ready_within,
+            echo,
+        )
+    }
+
+    /// [`SimulatedMcm::start_echoing`] with the launcher run by `command` (which runs `binary`
+    /// with the arguments added here), e.g. `ip netns exec NAME binary` to run it in a network
+    /// namespace. The command must exec the launcher (its pid is the one signalled).
+    pub fn start_command(
+        mut command: Command,
+        binary: &Path,
+        instance: &str,
+        extra: &[&std::ffi::OsStr],
+        stderr: Stdio,
+        ready_within: Duration,
+        echo: Option<&'static str>,
+    ) -> Result<SimulatedMcm, LaunchError> {
+        let mut child = command
             .args(["--instance", instance, "--bind", "127.0.0.1"])
             .args(["--json-port", "0", "--hmi-port", "0", "--http-port", "0"])
             .args(extra)

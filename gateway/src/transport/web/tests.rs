@@ -77,7 +77,10 @@ async fn the_page_the_model_and_the_records_are_served() {
     assert!(head.contains("content-type: text/html"), "{head}");
     // The pendant's own page: its Hold button is in the markup itself.
     let page = String::from_utf8_lossy(&body);
-    assert!(page.contains("<html") && page.contains("id=\"hold\""), "{page}");
+    assert!(
+        page.contains("<html") && page.contains("id=\"hold\""),
+        "{page}"
+    );
     let (head, _) = get(srv.addr, "/", "accept-encoding: gzip\r\n").await;
     assert!(head.contains("content-encoding: gzip"), "{head}");
 

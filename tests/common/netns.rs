@@ -1,0 +1,97 @@
+//! Private network namespaces for the ROS 2 tests: DDS finds its peers by multicast, which must
+//! not go onto the machine's real network. Each test makes its own namespaces (`ip netns`), so
+//! its DDS traffic stays inside them and no other test's participants are found.
+//!
+//! [`Netns::new`] makes one "host" with loopback up and multicast routed to it;
+//! [`Netns::link`] joins two with a veth pair (each end with an address and the multicast
+//! route), as two computers on one network. A namespace is deleted on drop. Making one needs
+//! root (CAP_SYS_ADMIN) and iproute2's `ip`: without them [`Netns::new`] says why, and the test
+//! is skipped, or fails under `CI`.
+
+use std::ffi::OsStr;
+use std::process::Command;
+use std::sync::atomic::{AtomicU32, Ordering};
+
+static NEXT: AtomicU32 = AtomicU32::new(0);
+
+/// A network namespace this test made.
+pub struct Netns {
+    pub name: String,
+}
+
+fn ip(args: &[&str]) -> Result<(), String> {
+    let out = Command::new("ip")
+        .args(args)
+        .output()
+        .map_err(|e| format!("cannot run `ip` (iproute2): {e}"))?;
+    if out.status.success() {
+        Ok(())
+    } else {
+        Err(format!(
+            "`ip {}` failed ({}): {}",
+            args.join(" "),
+            out.status,
+            String::from_utf8_lossy(&out.stderr).trim()
+        ))
+    }
+}
+
+impl Netns {
+    /// A new namespace `mcm-<pid>-<n>-<tag>` with loopback up and multicast routed to it.
+    pub fn new(tag: &str) -> Result<Netns, String> {
+        let name = format!(
+            "mcm-{}-{}-{tag}",
+            std::process::id(),
+            NEXT.fetch_add(1, Ordering::Relaxed)
+        );
+        ip(&["netns", "add", &name])?;
+        let ns = Netns { name };
+        ns.run(&["link", "set", "lo", "up"])?;
+        ns.run(&["link", "set", "lo", "multicast", "on"])?;
+        ns.run(&["route", "add", "224.0.0.0/4", "dev", "lo"])?;
+        Ok(ns)
+    }
+
+    /// `ip -n NAME args...`.
+    pub fn run(&self, args: &[&str]) -> Result<(), String> {
+        let mut all = vec!["-n", &self.name];
+        all.extend_from_slice(args);
+        ip(&all)
+    }
+
+    /// A command that runs `program` inside this namespace.
+    pub fn command(&self, program: impl AsRef<OsStr>) -> Command {
+        let mut c = Command::new("ip");
+        c.args(["netns", "exec", &self.name]).arg(program);
+        c
+    }
+
+    /// Join `a` (address `10.<net>.0.1/24`) and `b` (`10.<net>.0.2/24`) by a veth pair, with
+    /// multicast routed over it instead of loopback: two hosts on one network. Returns the two
+    /// addresses.
+    pub fn link(a: &Netns, b: &Netns, net: u8) -> Result<(String, String), String> {
+        let n = NEXT.fetch_add(1, Ordering::Relaxed);
+        let (va, vb) = (
+            format!("vm{}a{n}", std::process::id() % 100_000),
+            format!("vm{}b{n}", std::process::id() % 100_000),
+        );
+        ip(&["link", "add", &va, "type", "veth", "peer", "name", &vb])?;
+        ip(&["link", "set", &va, "netns", &a.name])?;
+        ip(&["link", "set", &vb, "netns", &b.name])?;
+        let (addr_a, addr_b) = (format!("10.{net}.0.1"), format!("10.{net}.0.2"));
+        for (ns, dev, addr) in [(a, &va, &addr_a), (b, &vb, &addr_b)] {
+            ns.run(&["addr", "add", &format!("{addr}/24"), "dev", dev])?;
+            ns.run(&["link", "set", dev, "up"])?;
+            ns.run(&["link", "set", dev, "multicast", "on"])?;
+            ns.run(&["route", "replace", "224.0.0.0/4", "dev", dev])?;
+        }
+        Ok((addr_a, addr_b))
+    }
+}
+
+impl Drop for Netns {
+    fn drop(&mut self) {
+        // Deleting the namespace deletes its veth ends (and their peers).
+        let _ = ip(&["netns", "del", &self.name]);
+    }
+}
