@@ -154,3 +154,36 @@ fn the_gateway_unit_is_stopped_with_the_core_and_after_it() {
         "the order is the gateway unit's to give: {core:#?}"
     );
 }
+
+/// The ROS 2 node's unit: a client of the core, started after it (so stopped before it, as the
+/// launcher stops the node first), bound to it, restarted when it dies, and running the
+/// `mcm-ros2` binary the workspace builds.
+#[test]
+fn the_ros2_unit_is_a_client_stopped_before_the_core() {
+    let unit = section("mcm-ros2.service", "Unit");
+    assert_eq!(value(&unit, "BindsTo"), "mcm-rt.service", "{unit:#?}");
+    assert_eq!(value(&unit, "After"), "mcm-rt.service", "{unit:#?}");
+    let service = section("mcm-ros2.service", "Service");
+    assert_eq!(value(&service, "Restart"), "always", "{service:#?}");
+    let exec = value(&service, "ExecStart");
+    assert!(exec.starts_with("/usr/local/bin/mcm-ros2 "), "{exec}");
+    assert!(exec.contains("--instance default"), "{exec}");
+    let urdf = exec
+        .split_whitespace()
+        .skip_while(|w| *w != "--urdf-out")
+        .nth(1)
+        .expect("--urdf-out FILE");
+    let runtime = value(&service, "RuntimeDirectory");
+    assert!(
+        urdf.starts_with(&format!("/run/{runtime}/")),
+        "the URDF goes into the unit's runtime directory: {urdf}"
+    );
+    let manifest = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("ros2/Cargo.toml"),
+    )
+    .expect("ros2/Cargo.toml");
+    assert!(
+        manifest.contains("name = \"mcm-ros2\""),
+        "the unit runs a binary the workspace builds"
+    );
+}

@@ -145,7 +145,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
                 Err(_) if stop.load(Ordering::Relaxed) => break,
                 Err(e) => return Err(e),
             };
-            let stamp = Time::now();
+            let stamp = cycle_stamp(s.t_ns);
             let v = self.joint_states.velocity(&s);
             let _ = self
                 .joint_state_pub
@@ -284,10 +284,24 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
                     last_error: last_error.as_ref(),
                     bus: &self.bus,
                     missed_states: self.client.missed_states(),
+                    start_latency_cycles: self.driver.last_start_latency_cycles(),
                 };
                 let _ = self.diagnostics_pub.publish(diagnostics(&s, &cx, stamp));
             }
         }
         Ok(())
+    }
+}
+
+/// The ROS time (`CLOCK_REALTIME`) of the cycle that started at `t_ns` (`CLOCK_MONOTONIC`):
+/// the joint states are stamped with the cycle that measured them, not with the moment they
+/// were sent.
+fn cycle_stamp(t_ns: u64) -> Time {
+    let now = Time::now();
+    let age_ns = mcm_client::monotonic_ns().saturating_sub(t_ns);
+    let ns = (i64::from(now.sec) * 1_000_000_000 + i64::from(now.nanosec)) - age_ns as i64;
+    Time {
+        sec: ns.div_euclid(1_000_000_000) as i32,
+        nanosec: ns.rem_euclid(1_000_000_000) as u32,
     }
 }

@@ -96,6 +96,8 @@ pub struct Driver<G> {
     in_flight: VecDeque<InFlight>,
     /// Results to pass on.
     events: Vec<Event<G>>,
+    /// Cycles from the newest trajectory's acceptance to the cycle that queued its first points.
+    last_start_latency: Option<u64>,
 }
 
 /// Longest wait for a reply before the driver gives the trajectory up [ns].
@@ -111,6 +113,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
             entering: None,
             in_flight: VecDeque::new(),
             events: Vec::new(),
+            last_start_latency: None,
         }
     }
 
@@ -425,8 +428,11 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                 Some(Ok(_)) => {
                     self.in_flight.pop_front();
                     self.stream.started(s.t_ns);
-                    if let Some(a) = self.active.as_mut() {
-                        a.first_queued_cycle.get_or_insert(s.seq);
+                    if let Some(a) = self.active.as_mut()
+                        && a.first_queued_cycle.is_none()
+                    {
+                        a.first_queued_cycle = Some(s.seq);
+                        self.last_start_latency = Some(s.seq - a.accepted_cycle);
                     }
                 }
                 Some(Err(e)) => {
@@ -535,11 +541,11 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
         self.events.push(Event::Feedback(g, Box::new(fb)));
     }
 
-    /// Cycles from a trajectory's acceptance to the cycle that queued its first points (for the
-    /// log and the benchmark), while it runs.
-    pub fn start_latency_cycles(&self) -> Option<u64> {
-        let a = self.active.as_ref()?;
-        Some(a.first_queued_cycle? - a.accepted_cycle)
+    /// Cycles from the newest trajectory's acceptance (the cycle whose state the arm loop read
+    /// when the goal came) to the cycle that queued its first points: that cycle's reference
+    /// moves toward the first point (`/diagnostics`, for the benchmark).
+    pub fn last_start_latency_cycles(&self) -> Option<u64> {
+        self.last_start_latency
     }
 }
 

@@ -190,6 +190,25 @@ class Arm:
         return r.status, r.result
 
 
+def start(name):
+    """rclpy with a node `name` spun on a thread of its own; returns the node and a function that
+    stops the spinning, joins the thread and shuts rclpy down in that order (a thread of the
+    middleware still running at interpreter exit aborts the process)."""
+    rclpy.init()
+    node = Node(name)
+    ex = SingleThreadedExecutor()
+    ex.add_node(node)
+    spinner = threading.Thread(target=ex.spin, daemon=True)
+    spinner.start()
+
+    def close():
+        ex.shutdown(timeout_sec=WAIT)
+        spinner.join(timeout=WAIT)
+        node.destroy_node()
+        rclpy.shutdown()
+    return node, close
+
+
 def wait_online_and_calibrate(arm):
     def online():
         d = arm.my_diagnostics()
@@ -202,11 +221,7 @@ def wait_online_and_calibrate(arm):
 
 
 def check_single(args):
-    rclpy.init()
-    node = Node("mcm_checks")
-    ex = SingleThreadedExecutor()
-    ex.add_node(node)
-    threading.Thread(target=ex.spin, daemon=True).start()
+    node, close = start("mcm_checks")
     arm = Arm(node, args.namespace, args.prefix)
     json_client = Json(args.json)
     other = Json(args.json)
@@ -401,17 +416,12 @@ def check_single(args):
     r = arm.call("release_control")
     expect(r.success, f"release_control service: {r.message}")
     ok("services", hold=repr(r.message))
-    ex.shutdown()
-    rclpy.shutdown()
+    close()
 
 
 def check_remote(args):
     """From another host: both arms' joint states; one arm moved; the other stays."""
-    rclpy.init()
-    node = Node("mcm_remote_checks")
-    ex = SingleThreadedExecutor()
-    ex.add_node(node)
-    threading.Thread(target=ex.spin, daemon=True).start()
+    node, close = start("mcm_remote_checks")
     arms = {}
     for ns, prefix in zip(args.namespaces.split(","), args.prefixes.split(",")):
         arms[ns] = Arm(node, ns, prefix)
@@ -436,8 +446,7 @@ def check_remote(args):
         after = a.position()
         expect(max(abs(x - y) for x, y in zip(after, b)) < 1e-3, f"the other arm moved: {b} -> {after}")
     ok("remote_goal", namespace=args.move)
-    ex.shutdown()
-    rclpy.shutdown()
+    close()
 
 
 def main():
