@@ -123,6 +123,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
         let mut last_error: Option<SafetyError> = None;
         let mut last_diagnostics = 0u64;
         let mut stale_since: Option<Instant> = None;
+        let mut not_sent = 0u64;
         while !stop.load(Ordering::Relaxed) {
             let s = match self.client.wait_state_timeout(Duration::from_millis(200)) {
                 Ok(s) => {
@@ -147,9 +148,15 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
             };
             let stamp = cycle_stamp(s.t_ns);
             let v = self.joint_states.velocity(&s);
-            let _ = self
+            if self
                 .joint_state_pub
-                .publish(self.joint_states.message(&s, v, stamp));
+                .publish(self.joint_states.message(&s, v, stamp))
+                .is_err()
+            {
+                // A reader that does not acknowledge filled the send window: this state is
+                // not sent (counted in /diagnostics) rather than the loop waiting.
+                not_sent += 1;
+            }
 
             let mut error_now = false;
             while let Some(ev) = self.client.next_event() {
@@ -284,6 +291,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
                     last_error: last_error.as_ref(),
                     bus: &self.bus,
                     missed_states: self.client.missed_states(),
+                    not_sent,
                     start_latency_cycles: self.driver.last_start_latency_cycles(),
                 };
                 let _ = self.diagnostics_pub.publish(diagnostics(&s, &cx, stamp));

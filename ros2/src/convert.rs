@@ -94,6 +94,8 @@ pub struct DiagnosticsContext<'a> {
     pub bus: &'a BusLoad,
     /// `/joint_states` messages not published (states the node was too late for).
     pub missed_states: u64,
+    /// `/joint_states` messages DDS did not take (a full send window).
+    pub not_sent: u64,
     /// [`crate::driver::Driver::last_start_latency_cycles`].
     pub start_latency_cycles: Option<u64>,
 }
@@ -175,6 +177,7 @@ pub fn diagnostics(s: &StateSample, cx: &DiagnosticsContext<'_>, stamp: Time) ->
             (s.flags & STATE_PVT_STARVED != 0).to_string(),
         ),
         kv("joint states missed", cx.missed_states.to_string()),
+        kv("joint states not sent", cx.not_sent.to_string()),
         kv(
             "trajectory start latency [cycles]",
             cx.start_latency_cycles
