@@ -44,6 +44,10 @@ use mcm_shared::NUM_AXES;
 /// from the start state instead (as ros2_control's joint trajectory controller does).
 pub const START_TOLERANCE_RAD: f64 = 0.01;
 
+/// The longest trajectory, from now to its end [s]. A plan is checked at every cycle of its
+/// path in the node's loop before it starts; ten minutes take a few tens of milliseconds.
+pub const MAX_DURATION_S: f64 = 600.0;
+
 /// Where the plan joins the stream (rad, rad/s, axis order): the commanded state at the end of
 /// what is already queued, or the commanded position at rest when nothing is.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

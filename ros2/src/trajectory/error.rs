@@ -134,6 +134,10 @@ pub enum GoalError {
     GoalTime { value: f64 },
     #[error("the PVT spacing dt = {} s is not allowed; it must be a positive finite number", Num(*dt))]
     Dt { dt: f64 },
+    #[error(
+        "the trajectory would end {end:.3} s from now (its stamp plus its last point's time_from_start); at most {max} s"
+    )]
+    TooLong { end: f64, max: f64 },
     #[error("the start state's {quantity} of joint {joint:?} is {value}; it must be finite")]
     Start {
         joint: String,

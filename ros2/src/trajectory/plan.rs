@@ -8,7 +8,7 @@ use super::order::ColumnOrder;
 use super::points::goal_points;
 use super::polynomial::{self, Polynomial};
 use super::quantity::Quantity;
-use super::{Sample, StartState, limits, stream_check, velocities};
+use super::{MAX_DURATION_S, Sample, StartState, limits, stream_check, velocities};
 use crate::msgs::builtin::Time;
 use crate::msgs::trajectory::JointTrajectory;
 use mcm_shared::NUM_AXES;
@@ -71,6 +71,12 @@ impl Plan {
                 stamp: knots::seconds(stamp),
                 last,
                 late: -(offset + last),
+            });
+        }
+        if !(offset + last <= MAX_DURATION_S) {
+            return Err(GoalError::TooLong {
+                end: offset + last,
+                max: MAX_DURATION_S,
             });
         }
         let knots = knots::knots(&points, &start, offset, joints)?;

@@ -254,3 +254,83 @@ proptest! {
             plan.final_state().position.map(f64::to_degrees));
     }
 }
+
+/// Any value a goal may carry, the awkward ones often.
+fn any_value() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        -4.0..4.0f64,
+        Just(f64::NAN),
+        Just(f64::INFINITY),
+        Just(f64::NEG_INFINITY),
+        Just(1e300),
+        Just(-0.0),
+        any::<f64>(),
+    ]
+}
+
+fn any_goal_trajectory() -> impl Strategy<Value = JointTrajectory> {
+    let names = prop::collection::vec(
+        prop_oneof![
+            prop::sample::select(vec![
+                "base", "shoulder", "elbow", "forearm", "wrist", "flange"
+            ])
+            .prop_map(str::to_string),
+            ".{0,8}",
+        ],
+        0..8,
+    );
+    let vector = || prop::collection::vec(any_value(), 0..8);
+    let time = prop_oneof![(0i32..20, any::<u32>()), (any::<i32>(), any::<u32>()),];
+    let points = prop::collection::vec((vector(), vector(), vector(), time), 0..6);
+    let stamp = prop_oneof![Just((0i32, 0u32)), (any::<i32>(), any::<u32>())];
+    (names, points, stamp).prop_map(|(names, points, (sec, nanosec))| {
+        let mut t = traj(
+            points
+                .into_iter()
+                .map(|(p, v, a, (sec, nanosec))| JointTrajectoryPoint {
+                    positions: p,
+                    velocities: v,
+                    accelerations: a,
+                    effort: Vec::new(),
+                    time_from_start: crate::msgs::builtin::Duration { sec, nanosec },
+                })
+                .collect(),
+        );
+        t.joint_names = names;
+        t.header.stamp = Time { sec, nanosec };
+        t
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+    /// A goal is input from the network: whatever it holds (unknown or repeated names, any
+    /// lengths, NaN and infinities, any times and stamps), planning answers Ok or a GoalError
+    /// with a code, and never panics or runs away (a trajectory lasts at most MAX_DURATION_S).
+    #[test]
+    fn any_goal_is_planned_or_refused_never_a_panic(t in any_goal_trajectory()) {
+        match Plan::new(&t, &joints(), at_rest([0.0; 6]), T0, DT) {
+            Ok(plan) => {
+                prop_assert!(plan.duration() <= crate::trajectory::MAX_DURATION_S);
+                if plan.point_count() > 0 {
+                    let p = plan.pvt_point(plan.point_count() - 1);
+                    prop_assert!(p.position_deg.iter().all(|x| x.is_finite()));
+                }
+            }
+            Err(e) => {
+                prop_assert!(e.code() < 0);
+                prop_assert!(!e.to_string().is_empty());
+            }
+        }
+    }
+}
+
+/// A trajectory far longer than MAX_DURATION_S is refused at once, naming its length.
+#[test]
+fn a_trajectory_of_hours_is_refused_before_it_is_sampled() {
+    let t = traj(vec![point(0.0, [0.0; 6]), point(3600.0 * 24.0, [0.1; 6])]);
+    let e = Plan::new(&t, &joints(), at_rest([0.0; 6]), T0, DT).unwrap_err();
+    assert_eq!(e.code(), crate::msgs::control::error_code::INVALID_GOAL);
+    assert!(e.to_string().contains("86400.000 s from now"), "{e}");
+    assert!(e.to_string().contains("at most 600 s"), "{e}");
+}
