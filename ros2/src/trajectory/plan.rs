@@ -73,9 +73,11 @@ impl Plan {
                 late: -(offset + last),
             });
         }
-        if !(offset + last <= MAX_DURATION_S) {
+        // Also refuses a NaN end.
+        let end = offset + last;
+        if end.is_nan() || end > MAX_DURATION_S {
             return Err(GoalError::TooLong {
-                end: offset + last,
+                end,
                 max: MAX_DURATION_S,
             });
         }
