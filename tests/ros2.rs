@@ -192,3 +192,57 @@ fn two_arms_from_another_host() {
     expect_checks(&ok, &["remote_joint_states", "remote_goal"]);
     drop(arms);
 }
+
+/// The pid of the `mcm-ros2` process serving `instance` (its command line is `mcm-ros2 ros2
+/// --instance NAME ...`, as the launcher starts it).
+fn node_pid(instance: &str) -> Option<i32> {
+    std::fs::read_dir("/proc").ok()?.flatten().find_map(|e| {
+        let pid: i32 = e.file_name().to_str()?.parse().ok()?;
+        let cmdline = std::fs::read(e.path().join("cmdline")).ok()?;
+        let args: Vec<&[u8]> = cmdline.split(|b| *b == 0).collect();
+        let is_node = args.first() == Some(&b"mcm-ros2".as_slice())
+            && args
+                .windows(2)
+                .any(|w| w[0] == b"--instance" && w[1] == instance.as_bytes());
+        is_node.then_some(pid)
+    })
+}
+
+/// A node that dies is started again by the launcher, and the core, the gateway and the arm
+/// go on meanwhile: the node is a client like any other.
+#[test]
+fn the_launcher_restarts_a_node_that_dies() {
+    let test = "the_launcher_restarts_a_node_that_dies";
+    let Some(ns) = netns_or_skip(test, "restart") else {
+        return;
+    };
+    let domain = ros2::unique_domain_id();
+    let instance = common::unique_instance("ros2r");
+    let mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let first = node_pid(&instance).expect("the node's process");
+    let rt_pid = mcm.rt_pid;
+    ns.enter()
+        .expect("this thread into the namespace, where the gateway listens");
+    let mut json = common::Client::connect(mcm.json);
+    let before =
+        json.request(r#"{"command":"status","arguments":{"detail":true}}"#)["detail"]["cycle"]
+            .as_u64()
+            .expect("cycle");
+    // SAFETY: kill(2) on a pid this test found to be the node's; no memory is involved.
+    assert_eq!(unsafe { libc::kill(first, libc::SIGKILL) }, 0);
+    let line = mcm
+        .wait_line("mcm-ros2 ready", Duration::from_secs(30))
+        .expect("the node's ready line again");
+    assert!(line.contains(&format!("instance={instance}")), "{line}");
+    let second = node_pid(&instance).expect("the restarted node's process");
+    assert_ne!(first, second, "a new process");
+    let after =
+        json.request(r#"{"command":"status","arguments":{"detail":true}}"#)["detail"]["cycle"]
+            .as_u64()
+            .expect("cycle");
+    assert!(after > before, "the core kept cycling: {before} -> {after}");
+    assert!(
+        std::path::Path::new(&format!("/proc/{rt_pid}")).exists(),
+        "mcm-rt still runs"
+    );
+}

@@ -59,6 +59,23 @@ impl Netns {
         ip(&all)
     }
 
+    /// Move the calling thread into this namespace (for the rest of its life): sockets it makes
+    /// from now on live there, e.g. a TCP client of a gateway bound to the namespace's loopback.
+    pub fn enter(&self) -> Result<(), String> {
+        use std::os::fd::AsRawFd;
+        let path = format!("/var/run/netns/{}", self.name);
+        let f = std::fs::File::open(&path).map_err(|e| format!("cannot open {path}: {e}"))?;
+        // SAFETY: setns(2) with a descriptor this function owns, open for the call; it changes
+        // only the calling thread's network namespace.
+        if unsafe { libc::setns(f.as_raw_fd(), libc::CLONE_NEWNET) } != 0 {
+            return Err(format!(
+                "setns into {path}: {}",
+                std::io::Error::last_os_error()
+            ));
+        }
+        Ok(())
+    }
+
     /// A command that runs `program` inside this namespace.
     pub fn command(&self, program: impl AsRef<OsStr>) -> Command {
         let mut c = Command::new("ip");
