@@ -10,89 +10,18 @@
 mod common;
 
 use common::netns::Netns;
-use common::ros2::{self, Discovery};
+use common::ros2::{self, mcm_in};
 use mcm_client::launch::SimulatedMcm;
-use std::ffi::OsStr;
-use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Child, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// How long the whole script may take (calibration included).
 const SCRIPT_WITHIN: Duration = Duration::from_secs(300);
 
-/// A namespace, or `None` after saying the test is skipped (a failure under CI).
-fn netns_or_skip(test: &str, tag: &str) -> Option<Netns> {
-    match Netns::new(tag) {
-        Ok(n) => Some(n),
-        Err(e) => {
-            common::skip(
-                test,
-                &format!("cannot make a network namespace (needs root and iproute2): {e}"),
-            );
-            None
-        }
-    }
-}
-
-/// Start the MCM with its ROS 2 node inside `ns`.
-fn mcm_in(ns: &Netns, instance: &str, ros2_args: &[String]) -> SimulatedMcm {
-    let binary = Path::new(env!("CARGO_BIN_EXE_mcm"));
-    let mut extra: Vec<String> = vec!["--ros2".into()];
-    extra.extend(ros2_args.iter().map(|a| format!("--ros2-arg={a}")));
-    let extra: Vec<&OsStr> = extra.iter().map(OsStr::new).collect();
-    SimulatedMcm::start_command(
-        ns.command(binary),
-        binary,
-        instance,
-        &extra,
-        Stdio::inherit(),
-        common::WAIT,
-        Some("[mcm] "),
-    )
-    .unwrap_or_else(|e| panic!("start mcm --ros2 in {}: {e}", ns.name))
-}
-
-/// Run `node_checks.py args` in `ns`, echoing its lines; panics with them when it fails or
-/// takes longer than [`SCRIPT_WITHIN`]. Returns its `ok ...` lines.
+/// Run `node_checks.py args` in `ns` ([`ros2::run_in`]); returns its `ok ...` lines.
 fn run_checks(ns: &Netns, py: &Path, domain: u32, args: &[&str]) -> Vec<String> {
-    let mut cmd = ns.command(py);
-    cmd.arg(ros2::dir().join("node_checks.py")).args(args);
-    ros2::set_env(&mut cmd, domain, Discovery::Subnet);
-    let mut child: Child = cmd
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .expect("run node_checks.py");
-    let out = child.stdout.take().expect("piped");
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(out).lines().map_while(Result::ok) {
-            eprintln!("[rclpy] {line}");
-            let _ = tx.send(line);
-        }
-    });
-    let deadline = Instant::now() + SCRIPT_WITHIN;
-    let mut lines = Vec::new();
-    loop {
-        match rx.recv_timeout(Duration::from_millis(200)) {
-            Ok(l) => lines.push(l),
-            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break,
-            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!(
-                "node_checks.py {args:?} took longer than {SCRIPT_WITHIN:?}; its lines: {lines:#?}"
-            );
-        }
-    }
-    let status = child.wait().expect("wait for node_checks.py");
-    assert!(
-        status.success(),
-        "node_checks.py {args:?} failed ({status}); its lines: {lines:#?}"
-    );
+    let script = ros2::dir().join("node_checks.py");
+    let lines = ros2::run_in(ns, py, domain, &script, args, SCRIPT_WITHIN);
     lines.into_iter().filter(|l| l.starts_with("ok ")).collect()
 }
 
@@ -114,7 +43,7 @@ fn rclpy_drives_the_simulated_arm() {
     let Some(py) = ros2::venv_or_skip(test) else {
         return;
     };
-    let Some(ns) = netns_or_skip(test, "one") else {
+    let Some(ns) = Netns::or_skip(test, "one") else {
         return;
     };
     let domain = ros2::unique_domain_id();
@@ -151,10 +80,10 @@ fn two_arms_from_another_host() {
     let Some(py) = ros2::venv_or_skip(test) else {
         return;
     };
-    let Some(robot) = netns_or_skip(test, "robot") else {
+    let Some(robot) = Netns::or_skip(test, "robot") else {
         return;
     };
-    let Some(desk) = netns_or_skip(test, "desk") else {
+    let Some(desk) = Netns::or_skip(test, "desk") else {
         return;
     };
     let net = (std::process::id() % 200) as u8 + 20;
