@@ -11,7 +11,7 @@
 mod common;
 
 use common::netns::Netns;
-use common::ros2::{self, mcm_in};
+use common::ros2::{self, joint_values, mcm_in};
 use common::{Client, six};
 use std::path::Path;
 use std::time::Duration;
@@ -25,28 +25,6 @@ fn example(ns: &Netns, py: &Path, domain: u32, name: &str, args: &[&str]) -> Str
         .join("examples/ros2")
         .join(format!("{name}.py"));
     ros2::run_in(ns, py, domain, &script, args, EXAMPLE_WITHIN).join("\n")
-}
-
-/// The `joint=value` pairs [deg] of the last line of `out` that starts with `prefix`.
-fn joint_values(out: &str, prefix: &str) -> Vec<(String, f64)> {
-    let line = out
-        .lines()
-        .rev()
-        .find(|l| l.starts_with(prefix))
-        .unwrap_or_else(|| panic!("no {prefix:?} line in: {out}"));
-    line[prefix.len()..]
-        .trim_end_matches(" deg")
-        .split_whitespace()
-        .map(|pair| {
-            let (n, v) = pair
-                .split_once('=')
-                .unwrap_or_else(|| panic!("{pair:?} is not joint=value in {line:?}"));
-            let v = v
-                .parse()
-                .unwrap_or_else(|e| panic!("{v:?} in {line:?}: {e}"));
-            (n.to_string(), v)
-        })
-        .collect()
 }
 
 /// Each joint's position printed by `joint_states.py`: (name, rad, deg) of its lines

@@ -9,8 +9,9 @@
 
 mod common;
 
+use common::Client;
 use common::netns::Netns;
-use common::ros2::{self, mcm_in};
+use common::ros2::{self, joint_values, mcm_in};
 use mcm_client::launch::SimulatedMcm;
 use std::path::Path;
 use std::time::Duration;
@@ -120,4 +121,51 @@ fn two_arms_from_another_host() {
     );
     expect_checks(&ok, &["remote_joint_states", "remote_goal"]);
     drop(arms);
+}
+
+/// A second DDS implementation reads the node's joint states: Cyclone DDS's Python binding (no
+/// ROS, `tests/ros2/cyclone_joint_states.py`) against the node's RustDDS, discovering it by
+/// multicast inside the namespace; the positions it decodes are the MCM's.
+#[test]
+fn cyclone_dds_reads_the_joint_states() {
+    let test = "cyclone_dds_reads_the_joint_states";
+    let Some(py) = ros2::venv_or_skip(test) else {
+        return;
+    };
+    let Some(ns) = Netns::or_skip(test, "cyclone") else {
+        return;
+    };
+    let domain = ros2::unique_domain_id();
+    let instance = common::unique_instance("cyclone");
+    let mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let mut json = Client::on(
+        ns.connect(mcm.json)
+            .expect("connect to the JSON port in the ns"),
+    );
+    // At rest with the drives online: the measured positions hold still.
+    json.wait_drives_online();
+    let script = ros2::dir().join("cyclone_joint_states.py");
+    let domain_arg = domain.to_string();
+    let lines = ros2::run_in(
+        &ns,
+        &py,
+        domain,
+        &script,
+        &["--domain", &domain_arg, "--count", "50"],
+        SCRIPT_WITHIN,
+    );
+    let out = lines.join("\n");
+    assert!(out.contains("ok cyclone_joint_states messages="), "{out}");
+    let at = joint_values(&out, "at: ");
+    let measured = common::six(&json.request(r#"{"command":"status"}"#)["axis_states"]["position"]);
+    let names = ["base", "shoulder", "elbow", "forearm", "wrist", "flange"];
+    assert_eq!(at.len(), 6, "{out}");
+    for (i, (n, deg)) in at.iter().enumerate() {
+        assert_eq!(n, names[i], "{out}");
+        assert!(
+            (deg - measured[i]).abs() < 0.01,
+            "{n}: Cyclone DDS read {deg} deg, the MCM measures {} deg",
+            measured[i]
+        );
+    }
 }

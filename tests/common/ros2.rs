@@ -112,6 +112,29 @@ pub fn run_in(
     lines
 }
 
+/// The `joint=value` pairs of the last line of `out` that starts with `prefix` (a script's
+/// `at: base=1.0 shoulder=2.0 ... deg`).
+pub fn joint_values(out: &str, prefix: &str) -> Vec<(String, f64)> {
+    let line = out
+        .lines()
+        .rev()
+        .find(|l| l.starts_with(prefix))
+        .unwrap_or_else(|| panic!("no {prefix:?} line in: {out}"));
+    line[prefix.len()..]
+        .trim_end_matches(" deg")
+        .split_whitespace()
+        .map(|pair| {
+            let (n, v) = pair
+                .split_once('=')
+                .unwrap_or_else(|| panic!("{pair:?} is not joint=value in {line:?}"));
+            let v = v
+                .parse()
+                .unwrap_or_else(|e| panic!("{v:?} in {line:?}: {e}"));
+            (n.to_string(), v)
+        })
+        .collect()
+}
+
 /// `tests/ros2/` of the repository.
 pub fn dir() -> PathBuf {
     super::python::repo_root().join("tests").join("ros2")
@@ -174,6 +197,7 @@ pub fn set_env(cmd: &mut Command, domain_id: u32, discovery: Discovery) -> &mut 
         "FASTRTPS_DEFAULT_PROFILES_FILE",
         "RMW_FASTRTPS_USE_QOS_FROM_XML",
         "ROS_SECURITY_ENABLE",
+        "CYCLONEDDS_URI",
     ] {
         cmd.env_remove(var);
     }
