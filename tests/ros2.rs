@@ -9,90 +9,20 @@
 
 mod common;
 
+use common::Client;
 use common::netns::Netns;
-use common::ros2::{self, Discovery};
+use common::ros2::{self, joint_values, mcm_in};
 use mcm_client::launch::SimulatedMcm;
-use std::ffi::OsStr;
-use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Child, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// How long the whole script may take (calibration included).
 const SCRIPT_WITHIN: Duration = Duration::from_secs(300);
 
-/// A namespace, or `None` after saying the test is skipped (a failure under CI).
-fn netns_or_skip(test: &str, tag: &str) -> Option<Netns> {
-    match Netns::new(tag) {
-        Ok(n) => Some(n),
-        Err(e) => {
-            common::skip(
-                test,
-                &format!("cannot make a network namespace (needs root and iproute2): {e}"),
-            );
-            None
-        }
-    }
-}
-
-/// Start the MCM with its ROS 2 node inside `ns`.
-fn mcm_in(ns: &Netns, instance: &str, ros2_args: &[String]) -> SimulatedMcm {
-    let binary = Path::new(env!("CARGO_BIN_EXE_mcm"));
-    let mut extra: Vec<String> = vec!["--ros2".into()];
-    extra.extend(ros2_args.iter().map(|a| format!("--ros2-arg={a}")));
-    let extra: Vec<&OsStr> = extra.iter().map(OsStr::new).collect();
-    SimulatedMcm::start_command(
-        ns.command(binary),
-        binary,
-        instance,
-        &extra,
-        Stdio::inherit(),
-        common::WAIT,
-        Some("[mcm] "),
-    )
-    .unwrap_or_else(|e| panic!("start mcm --ros2 in {}: {e}", ns.name))
-}
-
-/// Run `node_checks.py args` in `ns`, echoing its lines; panics with them when it fails or
-/// takes longer than [`SCRIPT_WITHIN`]. Returns its `ok ...` lines.
+/// Run `node_checks.py args` in `ns` ([`ros2::run_in`]); returns its `ok ...` lines.
 fn run_checks(ns: &Netns, py: &Path, domain: u32, args: &[&str]) -> Vec<String> {
-    let mut cmd = ns.command(py);
-    cmd.arg(ros2::dir().join("node_checks.py")).args(args);
-    ros2::set_env(&mut cmd, domain, Discovery::Subnet);
-    let mut child: Child = cmd
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .expect("run node_checks.py");
-    let out = child.stdout.take().expect("piped");
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(out).lines().map_while(Result::ok) {
-            eprintln!("[rclpy] {line}");
-            let _ = tx.send(line);
-        }
-    });
-    let deadline = Instant::now() + SCRIPT_WITHIN;
-    let mut lines = Vec::new();
-    loop {
-        match rx.recv_timeout(Duration::from_millis(200)) {
-            Ok(l) => lines.push(l),
-            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break,
-            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!(
-                "node_checks.py {args:?} took longer than {SCRIPT_WITHIN:?}; its lines: {lines:#?}"
-            );
-        }
-    }
-    let status = child.wait().expect("wait for node_checks.py");
-    assert!(
-        status.success(),
-        "node_checks.py {args:?} failed ({status}); its lines: {lines:#?}"
-    );
+    let script = ros2::dir().join("node_checks.py");
+    let lines = ros2::run_in(ns, py, domain, &script, args, SCRIPT_WITHIN);
     lines.into_iter().filter(|l| l.starts_with("ok ")).collect()
 }
 
@@ -114,7 +44,7 @@ fn rclpy_drives_the_simulated_arm() {
     let Some(py) = ros2::venv_or_skip(test) else {
         return;
     };
-    let Some(ns) = netns_or_skip(test, "one") else {
+    let Some(ns) = Netns::or_skip(test, "one") else {
         return;
     };
     let domain = ros2::unique_domain_id();
@@ -151,10 +81,10 @@ fn two_arms_from_another_host() {
     let Some(py) = ros2::venv_or_skip(test) else {
         return;
     };
-    let Some(robot) = netns_or_skip(test, "robot") else {
+    let Some(robot) = Netns::or_skip(test, "robot") else {
         return;
     };
-    let Some(desk) = netns_or_skip(test, "desk") else {
+    let Some(desk) = Netns::or_skip(test, "desk") else {
         return;
     };
     let net = (std::process::id() % 200) as u8 + 20;
@@ -193,6 +123,53 @@ fn two_arms_from_another_host() {
     drop(arms);
 }
 
+/// A second DDS implementation reads the node's joint states: Cyclone DDS's Python binding (no
+/// ROS, `tests/ros2/cyclone_joint_states.py`) against the node's RustDDS, discovering it by
+/// multicast inside the namespace; the positions it decodes are the MCM's.
+#[test]
+fn cyclone_dds_reads_the_joint_states() {
+    let test = "cyclone_dds_reads_the_joint_states";
+    let Some(py) = ros2::venv_or_skip(test) else {
+        return;
+    };
+    let Some(ns) = Netns::or_skip(test, "cyclone") else {
+        return;
+    };
+    let domain = ros2::unique_domain_id();
+    let instance = common::unique_instance("cyclone");
+    let mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let mut json = Client::on(
+        ns.connect(mcm.json)
+            .expect("connect to the JSON port in the ns"),
+    );
+    // At rest with the drives online: the measured positions hold still.
+    json.wait_drives_online();
+    let script = ros2::dir().join("cyclone_joint_states.py");
+    let domain_arg = domain.to_string();
+    let lines = ros2::run_in(
+        &ns,
+        &py,
+        domain,
+        &script,
+        &["--domain", &domain_arg, "--count", "50"],
+        SCRIPT_WITHIN,
+    );
+    let out = lines.join("\n");
+    assert!(out.contains("ok cyclone_joint_states messages="), "{out}");
+    let at = joint_values(&out, "at: ");
+    let measured = common::six(&json.request(r#"{"command":"status"}"#)["axis_states"]["position"]);
+    let names = ["base", "shoulder", "elbow", "forearm", "wrist", "flange"];
+    assert_eq!(at.len(), 6, "{out}");
+    for (i, (n, deg)) in at.iter().enumerate() {
+        assert_eq!(n, names[i], "{out}");
+        assert!(
+            (deg - measured[i]).abs() < 0.01,
+            "{n}: Cyclone DDS read {deg} deg, the MCM measures {} deg",
+            measured[i]
+        );
+    }
+}
+
 /// The pid of the `mcm-ros2` process serving `instance` (its command line is `mcm-ros2 ros2
 /// --instance NAME ...`, as the launcher starts it).
 fn node_pid(instance: &str) -> Option<i32> {
@@ -213,7 +190,7 @@ fn node_pid(instance: &str) -> Option<i32> {
 #[test]
 fn the_launcher_restarts_a_node_that_dies() {
     let test = "the_launcher_restarts_a_node_that_dies";
-    let Some(ns) = netns_or_skip(test, "restart") else {
+    let Some(ns) = Netns::or_skip(test, "restart") else {
         return;
     };
     let domain = ros2::unique_domain_id();
@@ -221,13 +198,16 @@ fn the_launcher_restarts_a_node_that_dies() {
     let mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
     let first = node_pid(&instance).expect("the node's process");
     let rt_pid = mcm.rt_pid;
-    ns.enter()
-        .expect("this thread into the namespace, where the gateway listens");
-    let mut json = common::Client::connect(mcm.json);
-    let before =
+    let mut json = Client::on(
+        ns.connect(mcm.json)
+            .expect("the JSON port, from the namespace"),
+    );
+    let cycle = |json: &mut Client| {
         json.request(r#"{"command":"status","arguments":{"detail":true}}"#)["detail"]["cycle"]
             .as_u64()
-            .expect("cycle");
+            .expect("cycle")
+    };
+    let before = cycle(&mut json);
     // SAFETY: kill(2) on a pid this test found to be the node's; no memory is involved.
     assert_eq!(unsafe { libc::kill(first, libc::SIGKILL) }, 0);
     let line = mcm
@@ -236,10 +216,7 @@ fn the_launcher_restarts_a_node_that_dies() {
     assert!(line.contains(&format!("instance={instance}")), "{line}");
     let second = node_pid(&instance).expect("the restarted node's process");
     assert_ne!(first, second, "a new process");
-    let after =
-        json.request(r#"{"command":"status","arguments":{"detail":true}}"#)["detail"]["cycle"]
-            .as_u64()
-            .expect("cycle");
+    let after = cycle(&mut json);
     assert!(after > before, "the core kept cycling: {before} -> {after}");
     assert!(
         std::path::Path::new(&format!("/proc/{rt_pid}")).exists(),

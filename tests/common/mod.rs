@@ -221,7 +221,11 @@ pub struct Client {
 
 impl Client {
     pub fn connect(addr: SocketAddr) -> Client {
-        let stream = TcpStream::connect(addr).expect("connect");
+        Client::on(TcpStream::connect(addr).expect("connect"))
+    }
+
+    /// A client on a connection made elsewhere (e.g. [`netns::Netns::connect`]).
+    pub fn on(stream: TcpStream) -> Client {
         stream.set_nodelay(true).unwrap();
         stream.set_read_timeout(Some(WAIT)).unwrap();
         let reader = BufReader::new(stream.try_clone().unwrap());

@@ -9,6 +9,8 @@
 //! is skipped, or fails under `CI`.
 
 use std::ffi::OsStr;
+use std::net::{SocketAddr, TcpStream};
+use std::os::fd::AsRawFd;
 use std::process::Command;
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -59,21 +61,37 @@ impl Netns {
         ip(&all)
     }
 
-    /// Move the calling thread into this namespace (for the rest of its life): sockets it makes
-    /// from now on live there, e.g. a TCP client of a gateway bound to the namespace's loopback.
-    pub fn enter(&self) -> Result<(), String> {
-        use std::os::fd::AsRawFd;
-        let path = format!("/var/run/netns/{}", self.name);
-        let f = std::fs::File::open(&path).map_err(|e| format!("cannot open {path}: {e}"))?;
-        // SAFETY: setns(2) with a descriptor this function owns, open for the call; it changes
-        // only the calling thread's network namespace.
-        if unsafe { libc::setns(f.as_raw_fd(), libc::CLONE_NEWNET) } != 0 {
-            return Err(format!(
-                "setns into {path}: {}",
-                std::io::Error::last_os_error()
-            ));
+    /// A namespace, or `None` after saying `test` is skipped (a failure under `CI`) because it
+    /// cannot be made.
+    pub fn or_skip(test: &str, tag: &str) -> Option<Netns> {
+        match Netns::new(tag) {
+            Ok(n) => Some(n),
+            Err(e) => {
+                super::skip(
+                    test,
+                    &format!("cannot make a network namespace (needs root and iproute2): {e}"),
+                );
+                None
+            }
         }
-        Ok(())
+    }
+
+    /// A TCP connection to `addr` made from inside this namespace (e.g. to the JSON port of an
+    /// MCM that runs in it, bound to the namespace's own loopback). A socket stays in the
+    /// namespace it was made in, so the test's threads use it like any other.
+    pub fn connect(&self, addr: SocketAddr) -> std::io::Result<TcpStream> {
+        let file = std::fs::File::open(format!("/run/netns/{}", self.name))?;
+        // A thread of its own enters the namespace: the caller's thread stays where it is.
+        std::thread::spawn(move || {
+            // SAFETY: `file` is an open namespace file for the whole call; setns changes only
+            // this (short-lived) thread's network namespace.
+            if unsafe { libc::setns(file.as_raw_fd(), libc::CLONE_NEWNET) } != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            TcpStream::connect(addr)
+        })
+        .join()
+        .expect("the connecting thread does not panic")
     }
 
     /// A command that runs `program` inside this namespace.

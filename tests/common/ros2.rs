@@ -17,12 +17,17 @@
 //! start with `LD_LIBRARY_PATH` naming the venv's `lib/` and the wheels' `ros_*.libs/`, where
 //! build-interfaces.sh installs control_msgs' libraries too.
 
+use super::netns::Netns;
 use super::python::{FileLock, VenvError, run};
+use mcm_client::launch::SimulatedMcm;
 use std::collections::hash_map::DefaultHasher;
+use std::ffi::OsStr;
 use std::hash::{Hash, Hasher};
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
+use std::time::{Duration, Instant};
 
 /// The files that decide what the venv holds, relative to `tests/ros2/`: a change to any of
 /// them makes the venv again.
@@ -32,6 +37,103 @@ const INPUTS: &[&str] = &[
     "wheel-include-dirs.cmake",
     "interfaces",
 ];
+
+/// Start the MCM (`mcm --ros2`, each of `ros2_args` passed as `--ros2-arg=...`) on the
+/// simulated arm inside `ns`; its JSON port is on the namespace's loopback
+/// ([`Netns::connect`]). Panics when it does not start.
+pub fn mcm_in(ns: &Netns, instance: &str, ros2_args: &[String]) -> SimulatedMcm {
+    let binary = Path::new(env!("CARGO_BIN_EXE_mcm"));
+    let mut extra: Vec<String> = vec!["--ros2".into()];
+    extra.extend(ros2_args.iter().map(|a| format!("--ros2-arg={a}")));
+    let extra: Vec<&OsStr> = extra.iter().map(OsStr::new).collect();
+    SimulatedMcm::start_command(
+        ns.command(binary),
+        binary,
+        instance,
+        &extra,
+        Stdio::inherit(),
+        super::WAIT,
+        Some("[mcm] "),
+    )
+    .unwrap_or_else(|e| panic!("start mcm --ros2 in {}: {e}", ns.name))
+}
+
+/// Run `script args...` with the venv's Python `py` inside `ns`, in the ROS 2 domain `domain`
+/// (multicast discovery: the namespace keeps it in), echoing each line of its stdout as
+/// `[tag] line`. Returns the lines; panics with them when it fails or is not done `within`.
+pub fn run_in(
+    ns: &Netns,
+    py: &Path,
+    domain: u32,
+    script: &Path,
+    args: &[&str],
+    within: Duration,
+) -> Vec<String> {
+    let tag = script.file_name().map_or_else(
+        || script.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let mut cmd = ns.command(py);
+    cmd.arg(script).args(args);
+    set_env(&mut cmd, domain, Discovery::Subnet);
+    let mut child = cmd
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .unwrap_or_else(|e| panic!("run {tag}: {e}"));
+    let out = child.stdout.take().expect("piped");
+    let (tx, rx) = std::sync::mpsc::channel();
+    let echo = tag.clone();
+    std::thread::spawn(move || {
+        for line in BufReader::new(out).lines().map_while(Result::ok) {
+            eprintln!("[{echo}] {line}");
+            let _ = tx.send(line);
+        }
+    });
+    let deadline = Instant::now() + within;
+    let mut lines = Vec::new();
+    loop {
+        match rx.recv_timeout(Duration::from_millis(200)) {
+            Ok(l) => lines.push(l),
+            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break,
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{tag} {args:?} took longer than {within:?}; its lines: {lines:#?}");
+        }
+    }
+    let status = child.wait().expect("wait for the script");
+    assert!(
+        status.success(),
+        "{tag} {args:?} failed ({status}); its lines: {lines:#?}"
+    );
+    lines
+}
+
+/// The `joint=value` pairs of the last line of `out` that starts with `prefix` (a script's
+/// `at: base=1.0 shoulder=2.0 ... deg`).
+pub fn joint_values(out: &str, prefix: &str) -> Vec<(String, f64)> {
+    let line = out
+        .lines()
+        .rev()
+        .find(|l| l.starts_with(prefix))
+        .unwrap_or_else(|| panic!("no {prefix:?} line in: {out}"));
+    line[prefix.len()..]
+        .trim_end_matches(" deg")
+        .split_whitespace()
+        .map(|pair| {
+            let (n, v) = pair
+                .split_once('=')
+                .unwrap_or_else(|| panic!("{pair:?} is not joint=value in {line:?}"));
+            let v = v
+                .parse()
+                .unwrap_or_else(|e| panic!("{v:?} in {line:?}: {e}"));
+            (n.to_string(), v)
+        })
+        .collect()
+}
 
 /// `tests/ros2/` of the repository.
 pub fn dir() -> PathBuf {
@@ -95,6 +197,7 @@ pub fn set_env(cmd: &mut Command, domain_id: u32, discovery: Discovery) -> &mut 
         "FASTRTPS_DEFAULT_PROFILES_FILE",
         "RMW_FASTRTPS_USE_QOS_FROM_XML",
         "ROS_SECURITY_ENABLE",
+        "CYCLONEDDS_URI",
     ] {
         cmd.env_remove(var);
     }
