@@ -68,6 +68,7 @@ fn rclpy_drives_the_simulated_arm() {
             "hold_from_json_client",
             "not_owner",
             "joint_trajectory_topic",
+            "safety_error",
             "services",
         ],
     );

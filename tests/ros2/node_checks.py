@@ -411,6 +411,24 @@ def check_single(args):
     wait_for(lambda: abs(json_client.truth()[0][0] - target[0]) < 0.01, "the arm at the joint_trajectory target")
     ok("joint_trajectory_topic")
 
+    # A safety error of the core (the emergency stop) ends a running goal at once, with the
+    # core's words, and shows in /diagnostics at level ERROR.
+    q0 = arm.position()
+    feedback.clear()
+    h = arm.send(arm.goal([(4.0, [q0[0] + 1.0] + q0[1:], [0.0] * 6)]), on_feedback)
+    wait_for(lambda: len(feedback) > 20, "feedback before the emergency stop")
+    r = other.request("sim", emergency_stop=True)
+    expect(r.get("emergency_stop") is True, f"sim emergency_stop: {r}")
+    status, res = arm.result(h)
+    expect(status == GoalStatus.STATUS_ABORTED and res.error_string.startswith("the MCM stopped the arm:"),
+           f"goal during an emergency stop: {status} {res.error_string!r}")
+    words = res.error_string.removeprefix("the MCM stopped the arm: ")
+    d = wait_for(lambda: (lambda s: s if s and level(s) == 2 and words in s.message else None)(arm.my_diagnostics()),
+                 f"diagnostics at level ERROR saying {words!r}", timeout=5)
+    ok("safety_error", error_string=repr(res.error_string), diagnostics=repr(d.message))
+    other.request("sim", emergency_stop=False)
+    wait_for(lambda: other.request("hold").get("operating_mode") == "HOLD", "HOLD after the emergency stop", step=0.2)
+
     r = arm.call("hold")
     expect(r.success, f"hold service: {r.message}")
     r = arm.call("release_control")
