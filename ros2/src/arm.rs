@@ -163,6 +163,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
                 match ev {
                     ShmEvent::SafetyError(e) => {
                         self.driver.abort(
+                            &mut self.client,
                             error_code::PATH_TOLERANCE_VIOLATED,
                             format!("the MCM stopped the arm: {e}"),
                         );
@@ -171,6 +172,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
                     }
                     ShmEvent::UnreadableSafetyError(e) => {
                         self.driver.abort(
+                            &mut self.client,
                             error_code::PATH_TOLERANCE_VIOLATED,
                             format!(
                                 "the MCM stopped the arm with an error this node cannot read ({e})"
@@ -209,6 +211,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
                     }
                     if *kind == ServiceKind::Hold {
                         self.driver.abort(
+                            &mut self.client,
                             error_code::PATH_TOLERANCE_VIOLATED,
                             "stopped by the hold service".to_string(),
                         );

@@ -130,8 +130,8 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
         }
     }
 
-    /// A new trajectory: preempts the running one, joins the stream where it ends (or starts
-    /// one), or ends at once when it cannot run.
+    /// A new trajectory: joins the stream where it ends (or starts one) and preempts the
+    /// running one; or, when it cannot run, ends at once and leaves the running one alone.
     pub fn start(
         &mut self,
         origin: Origin<G>,
@@ -139,14 +139,6 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
         s: &StateSample,
         client: &mut ShmClient,
     ) {
-        if let Some(old) = self.active.take() {
-            self.finish_with(
-                old.origin,
-                GoalEndStatus::Canceled,
-                error_code::SUCCESSFUL,
-                "preempted by a newer trajectory".to_string(),
-            );
-        }
         if !goal.multi_dof_trajectory.points.is_empty()
             || !goal.multi_dof_trajectory.joint_names.is_empty()
         {
@@ -200,20 +192,25 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
         client: &mut ShmClient,
     ) {
         let dt = self.opts.dt;
-        let (begin_s, start) = match self.stream.join(s.t_ns) {
-            Some((begin, position, velocity)) => (begin, StartState { position, velocity }),
-            None => {
-                self.stream.end();
-                (
-                    0.0,
-                    StartState {
-                        position: crate::convert::rad6(&s.commanded_position),
-                        velocity: [0.0; NUM_AXES],
-                    },
-                )
-            }
+        let joined = self.stream.join(s.t_ns);
+        // When the arm reaches the plan's start: where the queued points end, or (a new stream)
+        // at the start itself.
+        let (begin_s, start, ahead_s) = match joined {
+            Some((begin, position, velocity)) => (
+                begin,
+                StartState { position, velocity },
+                self.stream.ahead_s(s.t_ns),
+            ),
+            None => (
+                0.0,
+                StartState {
+                    position: crate::convert::rad6(&s.commanded_position),
+                    velocity: [0.0; NUM_AXES],
+                },
+                0.0,
+            ),
         };
-        let plan = match Plan::new(traj, &self.joints, start, Time::now(), dt) {
+        let plan = match Plan::new(traj, &self.joints, start, time_after(ahead_s), dt) {
             Ok(p) => p,
             Err(e) => {
                 return self.finish_with(origin, GoalEndStatus::Aborted, e.code(), e.to_string());
@@ -231,6 +228,18 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                     end.velocity[i]
                 ),
             );
+        }
+        // It runs: the running one ends here.
+        if let Some(old) = self.active.take() {
+            self.finish_with(
+                old.origin,
+                GoalEndStatus::Canceled,
+                error_code::SUCCESSFUL,
+                "preempted by a newer trajectory".to_string(),
+            );
+        }
+        if joined.is_none() {
+            self.stream.end();
         }
         if !self.stream.is_alive() && s.mode != Mode::Pvt.to_wire() && self.entering.is_none() {
             match client.submit(&Request::Pvt(Pvt { dt_s: dt })) {
@@ -276,12 +285,12 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
 
     /// End the running trajectory (if any) as `ABORTED` with these words: the arm was stopped
     /// by something else (the hold service, a safety error).
-    pub fn abort(&mut self, code: i32, why: String) {
+    pub fn abort(&mut self, client: &mut ShmClient, code: i32, why: String) {
         if let Some(a) = self.active.take() {
             self.finish_with(a.origin, GoalEndStatus::Aborted, code, why);
         }
         self.stream.end();
-        self.forget_in_flight(None);
+        self.forget_in_flight(client);
     }
 
     /// Send `hold` and forget the stream.
@@ -290,17 +299,15 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
         // state shows HOLD in the next cycle.
         let _ = client.submit(&Request::Hold).map(|sub| client.forget(&sub));
         self.stream.end();
-        self.forget_in_flight(Some(client));
+        self.forget_in_flight(client);
     }
 
-    fn forget_in_flight(&mut self, client: Option<&mut ShmClient>) {
-        if let Some(c) = client {
-            for f in &self.in_flight {
-                c.forget(&f.sub);
-            }
-            if let Some((sub, _)) = self.entering.take() {
-                c.forget(&sub);
-            }
+    fn forget_in_flight(&mut self, client: &mut ShmClient) {
+        for f in &self.in_flight {
+            client.forget(&f.sub);
+        }
+        if let Some((sub, _)) = self.entering.take() {
+            client.forget(&sub);
         }
         self.in_flight.clear();
         self.entering = None;
@@ -340,11 +347,10 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
             return self.feed(s, client);
         }
         if s.mode != Mode::Pvt.to_wire() {
-            return self.abort(error_code::PATH_TOLERANCE_VIOLATED, left_pvt(s));
+            return self.abort(client, error_code::PATH_TOLERANCE_VIOLATED, left_pvt(s));
         }
         if s.flags & STATE_PVT_STARVED != 0 {
-            return self.abort(
-                error_code::PATH_TOLERANCE_VIOLATED,
+            return self.abort(client, error_code::PATH_TOLERANCE_VIOLATED,
                 "the MCM stopped the trajectory: its PVT queue ran dry (the node fell behind the arm); the arm decelerated to a stop".to_string(),
             );
         }
@@ -356,7 +362,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
         {
             let why = format!("path tolerance violated at t = {t:.3} s: {v}");
             self.stop(client, s);
-            return self.abort(error_code::PATH_TOLERANCE_VIOLATED, why);
+            return self.abort(client, error_code::PATH_TOLERANCE_VIOLATED, why);
         }
         let all_sent = a.next_k == a.plan.point_count();
         let goal_check = (all_sent && t >= duration)
@@ -382,7 +388,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                     t - duration
                 );
                 self.stop(client, s);
-                self.abort(error_code::GOAL_TOLERANCE_VIOLATED, why);
+                self.abort(client, error_code::GOAL_TOLERANCE_VIOLATED, why);
             }
             Some(Err(_)) => {}
         }
@@ -406,6 +412,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                         String::new()
                     };
                     self.abort(
+                        client,
                         error_code::INVALID_GOAL,
                         format!("the MCM refused the trajectory: {e}{hint}"),
                     );
@@ -415,6 +422,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                     client.forget(&sub);
                     self.entering = None;
                     self.abort(
+                        client,
                         error_code::INVALID_GOAL,
                         "the MCM did not answer `pvt` within 2 s".to_string(),
                     );
@@ -451,12 +459,13 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                         error_code::PATH_TOLERANCE_VIOLATED
                     };
                     self.stop(client, s);
-                    self.abort(code, why);
+                    self.abort(client, code, why);
                     return false;
                 }
                 None if s.t_ns.saturating_sub(f.sent_ns) > REPLY_WITHIN_NS => {
                     self.stop(client, s);
                     self.abort(
+                        client,
                         error_code::PATH_TOLERANCE_VIOLATED,
                         "the MCM did not answer `pvt_points` within 2 s".to_string(),
                     );
@@ -495,7 +504,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                 Err(e) => {
                     let why = format!("cannot send `pvt_points` to the MCM: {e}");
                     self.stop(client, s);
-                    return self.abort(error_code::PATH_TOLERANCE_VIOLATED, why);
+                    return self.abort(client, error_code::PATH_TOLERANCE_VIOLATED, why);
                 }
             }
             a.next_k += m;
@@ -555,4 +564,14 @@ fn left_pvt(s: &StateSample) -> String {
     format!(
         "the MCM stopped the trajectory: the arm left PVT and is in {mode} (a `hold` from a client, a safety error or a stop)"
     )
+}
+
+/// The ROS time `s` seconds from now.
+fn time_after(s: f64) -> Time {
+    let now = Time::now();
+    let ns = i64::from(now.sec) * 1_000_000_000 + i64::from(now.nanosec) + (s * 1e9) as i64;
+    Time {
+        sec: ns.div_euclid(1_000_000_000) as i32,
+        nanosec: ns.rem_euclid(1_000_000_000) as u32,
+    }
 }

@@ -357,6 +357,11 @@ def check_single(args):
             samples.append((time.monotonic(), v))
     sampler = threading.Thread(target=sample, daemon=True)
     sampler.start()
+    # A goal that cannot run ends at once and leaves the running one alone.
+    bad = arm.send(arm.goal([(1.0, a_target, None)], names=arm.names[:5] + ["nope"]))
+    status, res = arm.result(bad)
+    expect(res.error_code == FollowJointTrajectory.Result.INVALID_JOINTS, f"invalid goal during a goal: {res.error_code}")
+    expect(ha.status == GoalStatus.STATUS_EXECUTING, f"an invalid goal ended the running one (status {ha.status})")
     time.sleep(0.2)  # sampling before the switch (not a synchronisation)
     hb = arm.send(arm.goal([(2.0, b_target, [0.0] * 6)]))
     status_a, res_a = arm.result(ha)

@@ -150,3 +150,48 @@ fn the_goal_check_wants_the_final_position_at_rest() {
         "NaN is never within"
     );
 }
+
+use proptest::prelude::Strategy as _;
+
+proptest::proptest! {
+    /// Tolerances come from the network: any names and values (NaN, infinities, negative
+    /// values, any goal time) are parsed or refused with a code, and the checks never panic on
+    /// what was parsed.
+    #[test]
+    fn any_tolerances_are_parsed_or_refused_never_a_panic(
+        entries in proptest::collection::vec(
+            (
+                proptest::prop_oneof![
+                    proptest::sample::select(vec!["base", "elbow", "flange"]).prop_map(str::to_string),
+                    ".{0,6}",
+                ],
+                proptest::num::f64::ANY,
+                proptest::num::f64::ANY,
+                proptest::num::f64::ANY,
+            ),
+            0..6,
+        ),
+        goal_time in (proptest::prelude::any::<i32>(), proptest::prelude::any::<u32>()),
+        position in proptest::array::uniform6(proptest::num::f64::ANY),
+    ) {
+        let tol: Vec<JointTolerance> = entries
+            .iter()
+            .map(|(name, p, v, a)| JointTolerance { name: name.clone(), position: *p, velocity: *v, acceleration: *a })
+            .collect();
+        let goal = FollowJointTrajectoryGoal {
+            path_tolerance: tol.clone(),
+            goal_tolerance: tol,
+            goal_time_tolerance: Duration { sec: goal_time.0, nanosec: goal_time.1 },
+            ..Default::default()
+        };
+        match parse(&goal) {
+            Ok(t) => {
+                let s = crate::trajectory::Sample::default();
+                let _ = t.check_path(&s, &position, &position);
+                let _ = t.check_goal(&s, &position, &position);
+                proptest::prop_assert!(t.goal_time() >= 0.0);
+            }
+            Err(e) => proptest::prop_assert!(e.code() < 0),
+        }
+    }
+}
