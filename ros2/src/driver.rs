@@ -435,7 +435,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
             match client.take_reply(&f.sub) {
                 Some(Ok(_)) => {
                     self.in_flight.pop_front();
-                    self.stream.started(s.t_ns);
+                    self.stream.started(s.t_ns, s.timing.period_ns);
                     if let Some(a) = self.active.as_mut()
                         && a.first_queued_cycle.is_none()
                     {

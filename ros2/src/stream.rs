@@ -35,10 +35,13 @@ impl Stream {
         self.origin_ns
     }
 
-    /// The first batch was queued in the cycle at `t_ns` (called once per stream).
-    pub fn started(&mut self, t_ns: u64) {
+    /// The first batch was queued in the cycle that started at `t_ns`, of period `period_ns`
+    /// (called once per stream). That cycle already steps the reference one period along the
+    /// stream: its commanded state is the stream's at one period, so the stream's time 0 is
+    /// one period before the cycle.
+    pub fn started(&mut self, t_ns: u64, period_ns: u64) {
         if self.alive && self.origin_ns.is_none() {
-            self.origin_ns = Some(t_ns);
+            self.origin_ns = Some(t_ns.saturating_sub(period_ns));
         }
     }
 
