@@ -118,8 +118,13 @@ class Bench:
         self.node.create_subscription(JointState, f"{ns}/joint_states", self._state, qos)
         self.node.create_subscription(DiagnosticArray, "/diagnostics", self._diag, 10)
         self.action = ActionClient(self.node, FollowJointTrajectory, f"{ns}/follow_joint_trajectory")
-        self.json = Json(args.json)
         self.args = args
+
+    @property
+    def json(self):
+        """A new JSON connection: the gateway closes one that sent nothing for
+        `idle_timeout_s` (300 s by default), as this one would between the window's ends."""
+        return Json(self.args.json)
 
     def _state(self, m):
         t = time.time_ns()
@@ -281,8 +286,7 @@ class Bench:
 
     def goals(self, n, bands_deg):
         self.calibrate()
-        truth = Json(self.args.json)
-        status = Json(self.args.json)
+        truth, status, rest = self.json, self.json, self.json
         sampling = threading.Event()
         stop = threading.Event()
         fe = []  # (cycle, CLOCK_MONOTONIC of the cycle [ns], following_error deg[6], commanded deg[6])
@@ -321,7 +325,7 @@ class Bench:
             for i in range(n):
                 # From rest.
                 end = time.monotonic() + WAIT
-                while max(abs(v) for v in self.json.truth()[1]) >= 1e-3:
+                while max(abs(v) for v in rest.truth()[1]) >= 1e-3:
                     expect(time.monotonic() < end, "the arm at rest before a goal")
                     time.sleep(0.01)
                 self.ex.spin_once(timeout_sec=0.01)
