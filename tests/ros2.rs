@@ -224,3 +224,84 @@ fn the_launcher_restarts_a_node_that_dies() {
         "mcm-rt still runs"
     );
 }
+
+/// A reader that stops (a paused process, SIGSTOP) does not hold up another: the other still
+/// gets every state, counted on the stamps (the robot's cycle times). DDS is reliable here
+/// (rclpy's default), so the node's writer must not wait for the stopped reader.
+#[test]
+fn a_stopped_reader_does_not_hold_up_another() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let test = "a_stopped_reader_does_not_hold_up_another";
+    let Some(py) = ros2::venv_or_skip(test) else {
+        return;
+    };
+    let Some(ns) = Netns::or_skip(test, "stall") else {
+        return;
+    };
+    let domain = ros2::unique_domain_id();
+    let instance = common::unique_instance("ros2s");
+    let _mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let reader = |seconds: &str| {
+        let mut cmd = ns.command(&py);
+        cmd.arg(ros2::dir().join("reader_rate.py")).args([
+            "--period",
+            "0.005",
+            "--window",
+            "2",
+            "--seconds",
+            seconds,
+        ]);
+        ros2::set_env(&mut cmd, domain, ros2::Discovery::Subnet);
+        let mut child = cmd
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("run reader_rate.py");
+        let out = child.stdout.take().expect("piped");
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in BufReader::new(out).lines().map_while(Result::ok) {
+                let _ = tx.send(line);
+            }
+        });
+        (child, rx)
+    };
+    let line = |rx: &std::sync::mpsc::Receiver<String>, what: &str| {
+        rx.recv_timeout(Duration::from_secs(30))
+            .unwrap_or_else(|e| panic!("{what}: {e}"))
+    };
+    let (mut stopped, stopped_lines) = reader("60");
+    let (mut watching, watching_lines) = reader("40");
+    assert_eq!(line(&stopped_lines, "the reader to stop is ready"), "ready");
+    assert_eq!(
+        line(&watching_lines, "the watching reader is ready"),
+        "ready"
+    );
+    // SAFETY: kill(2) on a child of this test.
+    unsafe { libc::kill(stopped.id() as i32, libc::SIGSTOP) };
+    // The first window may have begun before the stop; the next five (10 s) are all after it.
+    let _ = line(&watching_lines, "a first window");
+    let mut windows = Vec::new();
+    for _ in 0..5 {
+        let l = line(&watching_lines, "a window of the watching reader");
+        let num = |key: &str| -> u64 {
+            l.split_whitespace()
+                .find_map(|w| w.strip_prefix(key))
+                .and_then(|v| v.parse().ok())
+                .unwrap_or_else(|| panic!("{key} in {l:?}"))
+        };
+        windows.push((num("received="), num("cycles=")));
+    }
+    // SAFETY: as above.
+    unsafe { libc::kill(stopped.id() as i32, libc::SIGCONT) };
+    let _ = stopped.kill();
+    let _ = watching.kill();
+    let _ = (stopped.wait(), watching.wait());
+    for (received, cycles) in &windows {
+        assert!(
+            *cycles >= 300 && *received as f64 >= 0.95 * *cycles as f64,
+            "with a stopped reader, the other received {received} states over {cycles} cycles: {windows:?}"
+        );
+    }
+}
