@@ -14,7 +14,7 @@ use mcm_gateway::cli::ListenArgs;
 use mcm_rt_core::cli::LogArgs;
 use mcm_rt_core::signals;
 use mcm_shared::cli::CommonArgs;
-use mcm_shared::config::{BusBackend, RobotConfig};
+use mcm_shared::config::BusBackend;
 use mcm_shared::ready::{GatewayReady, McmReady, ReadyLine, Ros2Ready, RtReady};
 use mcm_shared::restart::GATEWAY_RESTART;
 use mcm_shared::service::ServiceNames;
@@ -222,10 +222,7 @@ pub fn main(args: impl IntoIterator<Item = OsString>) -> ExitCode {
 
 fn run(cli: Cli) -> Result<(), String> {
     // Validate what the children will read, so errors show before anything starts.
-    let cfg = match &cli.common.config {
-        Some(p) => RobotConfig::from_file(p).map_err(|e| e.to_string())?,
-        None => RobotConfig::prob2_default(),
-    };
+    let cfg = cli.common.load_config().map_err(|e| e.to_string())?;
     let mut zmq = cfg.gateway.zmq.clone();
     cli.listen.apply_zmq(&mut zmq).map_err(|e| e.to_string())?;
     ServiceNames::new(&cli.common.instance).map_err(|e| e.to_string())?;

@@ -3,7 +3,6 @@
 use crate::{DEFAULT_HMI_PORT, DEFAULT_JSON_PORT, DEFAULT_WEB_PORT, GatewayOptions};
 use clap::Parser;
 use mcm_shared::cli::CommonArgs;
-use mcm_shared::config::RobotConfig;
 use mcm_shared::service::ServiceNames;
 use std::ffi::OsString;
 use std::net::{IpAddr, SocketAddr};
@@ -117,10 +116,7 @@ where
 }
 
 fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let mut config = match &cli.common.config {
-        Some(p) => RobotConfig::from_file(p)?,
-        None => RobotConfig::prob2_default(),
-    };
+    let mut config = cli.common.load_config()?;
     cli.listen.apply_zmq(&mut config.gateway.zmq)?;
     let names = ServiceNames::new(&cli.common.instance)?;
     let opts = GatewayOptions {

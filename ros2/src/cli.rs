@@ -3,7 +3,6 @@
 use crate::node::{Ros2Options, run};
 use clap::Parser;
 use mcm_shared::cli::CommonArgs;
-use mcm_shared::config::RobotConfig;
 use ros2_client::dds::ServiceMapping;
 use std::ffi::OsString;
 use std::net::IpAddr;
@@ -93,15 +92,12 @@ where
     T: Into<OsString> + Clone,
 {
     let cli = Cli::parse_from(args);
-    let config = match &cli.common.config {
-        Some(p) => match RobotConfig::from_file(p) {
-            Ok(c) => c,
-            Err(e) => {
-                eprintln!("mcm-ros2: {e}");
-                return ExitCode::FAILURE;
-            }
-        },
-        None => RobotConfig::prob2_default(),
+    let config = match cli.common.load_config() {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("mcm-ros2: {e}");
+            return ExitCode::FAILURE;
+        }
     };
     let domain_id = match cli.domain_id.map_or_else(domain_from_env, Ok) {
         Ok(d) => d,

@@ -3,7 +3,6 @@
 use crate::runner::{self, RunOptions};
 use clap::Parser;
 use mcm_shared::cli::CommonArgs;
-use mcm_shared::config::RobotConfig;
 use mcm_shared::service::ServiceNames;
 use std::ffi::OsString;
 use std::path::PathBuf;
@@ -48,10 +47,7 @@ where
     T: Into<OsString> + Clone,
 {
     let cli = Cli::parse_from(args);
-    let config = match &cli.common.config {
-        Some(p) => RobotConfig::from_file(p),
-        None => Ok(RobotConfig::prob2_default()),
-    };
+    let config = cli.common.load_config();
     let result = config.map_err(|e| e.to_string()).and_then(|config| {
         let names = ServiceNames::new(&cli.common.instance).map_err(|e| e.to_string())?;
         Ok(RunOptions {

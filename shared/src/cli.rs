@@ -19,6 +19,15 @@ pub struct CommonArgs {
 }
 
 impl CommonArgs {
+    /// The robot configuration these arguments name: `--config`'s file, or the embedded P-Rob2
+    /// configuration without it.
+    pub fn load_config(&self) -> Result<crate::config::RobotConfig, crate::config::ConfigError> {
+        match &self.config {
+            Some(p) => crate::config::RobotConfig::from_file(p),
+            None => Ok(crate::config::RobotConfig::prob2_default()),
+        }
+    }
+
     /// The same arguments as a command line.
     pub fn to_args(&self) -> Vec<OsString> {
         let mut args: Vec<OsString> = vec!["--instance".into(), self.instance.clone().into()];
