@@ -250,7 +250,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
                             .start(Origin::Goal(g), &goal, &s, &mut self.client)
                     }
                     Ok(ToArm::Cancel(g)) => {
-                        if !self.driver.cancel(g, &s, &mut self.client) {
+                        if !self.driver.cancel(g, &mut self.client) {
                             let _ = self.to_action.unbounded_send(Event::Finished(
                                 g,
                                 GoalEndStatus::Canceled,
@@ -308,11 +308,6 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
 /// the joint states are stamped with the cycle that measured them, not with the moment they
 /// were sent.
 fn cycle_stamp(t_ns: u64) -> Time {
-    let now = Time::now();
     let age_ns = mcm_client::monotonic_ns().saturating_sub(t_ns);
-    let ns = (i64::from(now.sec) * 1_000_000_000 + i64::from(now.nanosec)) - age_ns as i64;
-    Time {
-        sec: ns.div_euclid(1_000_000_000) as i32,
-        nanosec: ns.rem_euclid(1_000_000_000) as u32,
-    }
+    Time::from_nanos(Time::now().as_nanos() - age_ns as i64)
 }

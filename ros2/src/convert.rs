@@ -20,11 +20,6 @@ use mcm_shared::sample::{
     STATE_PVT_STARVED, StateSample,
 };
 
-/// Degrees to radians.
-pub fn rad(deg: f64) -> f64 {
-    deg.to_radians()
-}
-
 /// Each of six degrees in radians.
 pub fn rad6(deg: &[f64; NUM_AXES]) -> [f64; NUM_AXES] {
     deg.map(f64::to_radians)
@@ -139,7 +134,7 @@ pub fn diagnostics(s: &StateSample, cx: &DiagnosticsContext<'_>, stamp: Time) ->
     let owner = owner_words(s.owner_client_id, cx.own_client_id);
     let t = &s.timing;
     let us = |ns: u64| format!("{:.1}", ns as f64 / 1e3);
-    let mut values = vec![
+    let values = vec![
         kv("mode", mode),
         kv("all calibrated", all_calibrated.to_string()),
         kv(
@@ -184,7 +179,6 @@ pub fn diagnostics(s: &StateSample, cx: &DiagnosticsContext<'_>, stamp: Time) ->
                 .map_or_else(|| "none yet".to_string(), |c| c.to_string()),
         ),
     ];
-    values.shrink_to_fit();
     DiagnosticArray {
         header: Header {
             stamp,

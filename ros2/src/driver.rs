@@ -174,7 +174,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                     "stopped by an empty joint_trajectory message".to_string(),
                 );
             }
-            return self.stop(client, s);
+            return self.stop(client);
         }
         let goal = FollowJointTrajectoryGoal {
             trajectory: traj.clone(),
@@ -210,7 +210,13 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                 0.0,
             ),
         };
-        let plan = match Plan::new(traj, &self.joints, start, time_after(ahead_s), dt) {
+        let plan = match Plan::new(
+            traj,
+            &self.joints,
+            start,
+            Time::now().plus_secs(ahead_s),
+            dt,
+        ) {
             Ok(p) => p,
             Err(e) => {
                 return self.finish_with(origin, GoalEndStatus::Aborted, e.code(), e.to_string());
@@ -268,7 +274,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
     }
 
     /// Cancel the goal `g` if it runs: the controlled stop of `hold`, and `CANCELED`.
-    pub fn cancel(&mut self, g: G, s: &StateSample, client: &mut ShmClient) -> bool {
+    pub fn cancel(&mut self, g: G, client: &mut ShmClient) -> bool {
         if self.active_goal() != Some(g) {
             return false;
         }
@@ -279,7 +285,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
             error_code::SUCCESSFUL,
             "canceled: the arm made the controlled stop of `hold` and holds".to_string(),
         );
-        self.stop(client, s);
+        self.stop(client);
         true
     }
 
@@ -294,7 +300,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
     }
 
     /// Send `hold` and forget the stream.
-    fn stop(&mut self, client: &mut ShmClient, _s: &StateSample) {
+    fn stop(&mut self, client: &mut ShmClient) {
         // The reply is not waited for: `hold` is never refused for lack of control, and the
         // state shows HOLD in the next cycle.
         let _ = client.submit(&Request::Hold).map(|sub| client.forget(&sub));
@@ -361,7 +367,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
             && let Err(v) = a.tol.check_path(&a.plan.sample(t), &actual, velocity)
         {
             let why = format!("path tolerance violated at t = {t:.3} s: {v}");
-            self.stop(client, s);
+            self.stop(client);
             return self.abort(client, error_code::PATH_TOLERANCE_VIOLATED, why);
         }
         let all_sent = a.next_k == a.plan.point_count();
@@ -387,7 +393,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                     "goal tolerance violated {:.3} s after the trajectory's end: {v}",
                     t - duration
                 );
-                self.stop(client, s);
+                self.stop(client);
                 self.abort(client, error_code::GOAL_TOLERANCE_VIOLATED, why);
             }
             Some(Err(_)) => {}
@@ -458,12 +464,12 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                     } else {
                         error_code::PATH_TOLERANCE_VIOLATED
                     };
-                    self.stop(client, s);
+                    self.stop(client);
                     self.abort(client, code, why);
                     return false;
                 }
                 None if s.t_ns.saturating_sub(f.sent_ns) > REPLY_WITHIN_NS => {
-                    self.stop(client, s);
+                    self.stop(client);
                     self.abort(
                         client,
                         error_code::PATH_TOLERANCE_VIOLATED,
@@ -503,7 +509,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                 }),
                 Err(e) => {
                     let why = format!("cannot send `pvt_points` to the MCM: {e}");
-                    self.stop(client, s);
+                    self.stop(client);
                     return self.abort(client, error_code::PATH_TOLERANCE_VIOLATED, why);
                 }
             }
@@ -564,14 +570,4 @@ fn left_pvt(s: &StateSample) -> String {
     format!(
         "the MCM stopped the trajectory: the arm left PVT and is in {mode} (a `hold` from a client, a safety error or a stop)"
     )
-}
-
-/// The ROS time `s` seconds from now.
-fn time_after(s: f64) -> Time {
-    let now = Time::now();
-    let ns = i64::from(now.sec) * 1_000_000_000 + i64::from(now.nanosec) + (s * 1e9) as i64;
-    Time {
-        sec: ns.div_euclid(1_000_000_000) as i32,
-        nanosec: ns.rem_euclid(1_000_000_000) as u32,
-    }
 }

@@ -51,11 +51,6 @@ impl Stream {
             .map_or(0.0, |o| now_ns.saturating_sub(o) as f64 * 1e-9)
     }
 
-    /// Time from the start to the last point sent [s].
-    pub fn sent_s(&self) -> f64 {
-        self.sent_s
-    }
-
     /// How far the points sent reach ahead of the arm at `now_ns` [s].
     pub fn ahead_s(&self, now_ns: u64) -> f64 {
         self.sent_s - self.elapsed_s(now_ns)
@@ -84,3 +79,6 @@ impl Stream {
         self.last = (position, velocity);
     }
 }
+
+#[cfg(test)]
+mod tests;

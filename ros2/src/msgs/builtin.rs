@@ -20,6 +20,24 @@ impl Time {
             nanosec: d.subsec_nanos(),
         }
     }
+
+    /// Nanoseconds since the epoch.
+    pub fn as_nanos(self) -> i64 {
+        i64::from(self.sec) * 1_000_000_000 + i64::from(self.nanosec)
+    }
+
+    /// From nanoseconds since the epoch (`nanosec` in `0..1e9`, as ROS keeps it).
+    pub fn from_nanos(ns: i64) -> Time {
+        Time {
+            sec: ns.div_euclid(1_000_000_000) as i32,
+            nanosec: ns.rem_euclid(1_000_000_000) as u32,
+        }
+    }
+
+    /// This time shifted by `s` seconds.
+    pub fn plus_secs(self, s: f64) -> Time {
+        Time::from_nanos(self.as_nanos() + (s * 1e9) as i64)
+    }
 }
 
 /// `builtin_interfaces/msg/Duration`. A negative duration has a negative `sec` and a

@@ -90,9 +90,7 @@ pub fn knots(
 
 /// `a - b` in seconds.
 pub fn seconds_between(a: Time, b: Time) -> f64 {
-    let ns = (i64::from(a.sec) - i64::from(b.sec)) * 1_000_000_000 + i64::from(a.nanosec)
-        - i64::from(b.nanosec);
-    ns as f64 * 1e-9
+    (a.as_nanos() - b.as_nanos()) as f64 * 1e-9
 }
 
 /// `t` in seconds since the clock's epoch.
