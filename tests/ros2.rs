@@ -230,8 +230,6 @@ fn the_launcher_restarts_a_node_that_dies() {
 /// (rclpy's default), so the node's writer must not wait for the stopped reader.
 #[test]
 fn a_stopped_reader_does_not_hold_up_another() {
-    use std::io::{BufRead, BufReader};
-    use std::process::Stdio;
     let test = "a_stopped_reader_does_not_hold_up_another";
     let Some(py) = ros2::venv_or_skip(test) else {
         return;
@@ -242,30 +240,16 @@ fn a_stopped_reader_does_not_hold_up_another() {
     let domain = ros2::unique_domain_id();
     let instance = common::unique_instance("ros2s");
     let _mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let script = ros2::dir().join("reader_rate.py");
     let reader = |seconds: &str| {
-        let mut cmd = ns.command(&py);
-        cmd.arg(ros2::dir().join("reader_rate.py")).args([
-            "--period",
-            "0.005",
-            "--window",
-            "2",
-            "--seconds",
-            seconds,
-        ]);
-        ros2::set_env(&mut cmd, domain, ros2::Discovery::Subnet);
-        let mut child = cmd
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .expect("run reader_rate.py");
-        let out = child.stdout.take().expect("piped");
-        let (tx, rx) = std::sync::mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(out).lines().map_while(Result::ok) {
-                let _ = tx.send(line);
-            }
-        });
-        (child, rx)
+        let (_, child, lines) = ros2::spawn_in(
+            &ns,
+            &py,
+            domain,
+            &script,
+            &["--period", "0.005", "--window", "2", "--seconds", seconds],
+        );
+        (child, lines)
     };
     let line = |rx: &std::sync::mpsc::Receiver<String>, what: &str| {
         rx.recv_timeout(Duration::from_secs(30))

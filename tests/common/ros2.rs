@@ -25,7 +25,7 @@ use std::ffi::OsStr;
 use std::hash::{Hash, Hasher};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
@@ -58,17 +58,16 @@ pub fn mcm_in(ns: &Netns, instance: &str, ros2_args: &[String]) -> SimulatedMcm 
     .unwrap_or_else(|e| panic!("start mcm --ros2 in {}: {e}", ns.name))
 }
 
-/// Run `script args...` with the venv's Python `py` inside `ns`, in the ROS 2 domain `domain`
-/// (multicast discovery: the namespace keeps it in), echoing each line of its stdout as
-/// `[tag] line`. Returns the lines; panics with them when it fails or is not done `within`.
-pub fn run_in(
+/// Start `script args...` with the venv's Python `py` inside `ns`, in the ROS 2 domain
+/// `domain`: its name (for messages), the child, and its stdout lines (each also echoed as
+/// `[name] line`) as they come.
+pub fn spawn_in(
     ns: &Netns,
     py: &Path,
     domain: u32,
     script: &Path,
     args: &[&str],
-    within: Duration,
-) -> Vec<String> {
+) -> (String, Child, std::sync::mpsc::Receiver<String>) {
     let tag = script.file_name().map_or_else(
         || script.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
@@ -90,6 +89,21 @@ pub fn run_in(
             let _ = tx.send(line);
         }
     });
+    (tag, child, rx)
+}
+
+/// Run `script args...` with the venv's Python `py` inside `ns`, in the ROS 2 domain `domain`
+/// (multicast discovery: the namespace keeps it in), echoing each line of its stdout as
+/// `[tag] line`. Returns the lines; panics with them when it fails or is not done `within`.
+pub fn run_in(
+    ns: &Netns,
+    py: &Path,
+    domain: u32,
+    script: &Path,
+    args: &[&str],
+    within: Duration,
+) -> Vec<String> {
+    let (tag, mut child, rx) = spawn_in(ns, py, domain, script, args);
     let deadline = Instant::now() + within;
     let mut lines = Vec::new();
     loop {

@@ -362,7 +362,7 @@ def check_single(args):
     status, res = arm.result(bad)
     expect(res.error_code == FollowJointTrajectory.Result.INVALID_JOINTS, f"invalid goal during a goal: {res.error_code}")
     expect(ha.status == GoalStatus.STATUS_EXECUTING, f"an invalid goal ended the running one (status {ha.status})")
-    time.sleep(0.2)  # sampling before the switch (not a synchronisation)
+    wait_for(lambda: len(samples) >= 20, "truth samples before the switch")
     hb = arm.send(arm.goal([(2.0, b_target, [0.0] * 6)]))
     status_a, res_a = arm.result(ha)
     status_b, res_b = arm.result(hb)
