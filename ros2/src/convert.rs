@@ -201,9 +201,9 @@ fn kv(key: &str, value: String) -> KeyValue {
     }
 }
 
-/// Who a client id is, in words: this node, or the program whose process made it (client ids
-/// are `(pid << 32) | n`), e.g. "client id 0x1a2b00000003 of mcm-gateway (pid 6699: a JSON,
-/// telnet, ZeroMQ or browser client of the gateway)".
+/// Who a client id is, in words: this node, or the program whose process made it, e.g.
+/// "client id 0x1a2b00000003 of mcm-gateway (pid 6699: a JSON, telnet, ZeroMQ or browser client
+/// of the gateway; its `status` names the connection)".
 pub fn owner_words(id: u64, own: u64) -> String {
     if id == 0 {
         return "nobody".to_string();
@@ -211,20 +211,11 @@ pub fn owner_words(id: u64, own: u64) -> String {
     if id == own {
         return format!("this ROS 2 node (client id {id:#x})");
     }
-    let pid = id >> 32;
-    let program = std::fs::read(format!("/proc/{pid}/cmdline"))
-        .ok()
-        .and_then(|c| {
-            let arg0 = c.split(|b| *b == 0).next()?.to_vec();
-            let arg0 = String::from_utf8_lossy(&arg0).into_owned();
-            let name = arg0.rsplit('/').next()?.to_string();
-            (!name.is_empty()).then_some(name)
-        });
-    match program.as_deref() {
-        Some("mcm-gateway") => format!(
+    match mcm_client::shm::client_process(id) {
+        Some((pid, p)) if p == "mcm-gateway" => format!(
             "client id {id:#x} of mcm-gateway (pid {pid}: a JSON, telnet, ZeroMQ or browser client of the gateway; its `status` names the connection)"
         ),
-        Some(p) => format!("client id {id:#x} of {p} (pid {pid})"),
-        None => format!("client id {id:#x} (pid {pid}, no longer running)"),
+        Some((pid, p)) => format!("client id {id:#x} of {p} (pid {pid})"),
+        None => format!("client id {id:#x} (pid {}, no longer running)", id >> 32),
     }
 }

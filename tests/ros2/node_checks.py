@@ -393,7 +393,8 @@ def check_single(args):
     ok("hold_from_json_client", error_string=repr(res.error_string))
     # The node keeps control after its goals (as a controller does) until it is told to let go.
     r = other.request("take_control")
-    expect(r.get("error_status") == "ERROR" and "shared-memory client" in r.get("error_message", ""),
+    expect(r.get("error_status") == "ERROR" and "shared-memory client" in r.get("error_message", "")
+           and "of mcm-ros2 (pid" in r.get("error_message", ""),
            f"take_control while the node holds control: {r}")
     r = arm.call("release_control")
     expect(r.success, f"release_control service: {r.message}")

@@ -29,6 +29,7 @@
 //! The ports themselves ([`ports`]: opening the services with the version check, publishing)
 //! and the reply lookup ([`replies`]) are the layer the gateway's bridge uses too.
 
+mod client_id;
 mod control;
 mod error;
 mod pending;
@@ -36,6 +37,7 @@ pub mod ports;
 pub mod replies;
 mod steps;
 
+pub use client_id::client_process;
 pub use control::{ControlEnd, ControlError, ControlOutput, ControlSummary};
 pub use error::{RequestError, WaitError, WaitUntilError};
 pub use ports::{LayoutMismatch, OpenError, SendError, describe};

@@ -63,17 +63,23 @@ impl Clients {
     }
 
     /// The client `id` in words: "JSON client 10.1.2.3:51234", "HMI client 127.0.0.1:40000",
-    /// or, for an id that is not a connection of this gateway, "shared-memory client 0x...".
+    /// or, for an id that is not a connection of this gateway, "shared-memory client 0x..."
+    /// with the program whose process made it, e.g. "... of mcm-ros2 (pid 4242)".
     pub fn who(&self, id: u64) -> String {
         if id == 0 {
             return "nobody".to_string();
         }
         match self.map().get(&id) {
             Some((channel, peer)) => format!("{} {peer}", channel.words()),
-            None => format!(
-                "shared-memory client {id:#x} (not a connection of this gateway; it may also \
-                 be a connection of a gateway that has since restarted)"
-            ),
+            None => match mcm_client::shm::client_process(id) {
+                Some((pid, program)) if program != "mcm-gateway" => {
+                    format!("shared-memory client {id:#x} of {program} (pid {pid})")
+                }
+                _ => format!(
+                    "shared-memory client {id:#x} (not a connection of this gateway; it may also \
+                     be a connection of a gateway that has since restarted)"
+                ),
+            },
         }
     }
 }
