@@ -338,9 +338,12 @@ fn run(cli: Cli) -> Result<(), String> {
         match outcome {
             Ok(true) => {}
             Ok(false) => {
-                // mcm-rt first: its controlled stop shows in the state, and the gateway tells
-                // its clients; then the gateway.
+                // mcm-rt first: its controlled stop shows in the state, and the gateway and the
+                // ROS 2 node tell their clients (a running goal ends with why); then they.
                 rt.stop(RT_STOP_TIMEOUT);
+                if let Some(mut r) = ros2.take() {
+                    r.proc.stop(STOP_TIMEOUT);
+                }
                 gw.stop(STOP_TIMEOUT);
                 break Ok(());
             }
@@ -350,11 +353,10 @@ fn run(cli: Cli) -> Result<(), String> {
             }
         }
     };
-    // The ROS 2 node first: a client of the core, it ends its goals and gives control up.
+    rt.stop(RT_STOP_TIMEOUT);
     if let Some(mut r) = ros2.take() {
         r.proc.stop(STOP_TIMEOUT);
     }
-    rt.stop(RT_STOP_TIMEOUT);
     if result.is_ok() {
         eprintln!("mcm: stopped");
     }

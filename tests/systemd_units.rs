@@ -155,14 +155,19 @@ fn the_gateway_unit_is_stopped_with_the_core_and_after_it() {
     );
 }
 
-/// The ROS 2 node's unit: a client of the core, started after it (so stopped before it, as the
-/// launcher stops the node first), bound to it, restarted when it dies, and running the
-/// `mcm-ros2` binary the workspace builds.
+/// The ROS 2 node's unit: a client of the core, bound to it and ordered before it like the
+/// gateway (so stopped after the core's controlled stop, which ends its goals with words, as
+/// the launcher stops them), restarted when it dies, and running the `mcm-ros2` binary the
+/// workspace builds.
 #[test]
-fn the_ros2_unit_is_a_client_stopped_before_the_core() {
+fn the_ros2_unit_is_a_client_stopped_after_the_core() {
     let unit = section("mcm-ros2.service", "Unit");
     assert_eq!(value(&unit, "BindsTo"), "mcm-rt.service", "{unit:#?}");
-    assert_eq!(value(&unit, "After"), "mcm-rt.service", "{unit:#?}");
+    assert_eq!(value(&unit, "Before"), "mcm-rt.service", "{unit:#?}");
+    assert!(
+        !unit.iter().any(|l| l.starts_with("After=")),
+        "the node must not be ordered after the core: {unit:#?}"
+    );
     let service = section("mcm-ros2.service", "Service");
     assert_eq!(value(&service, "Restart"), "always", "{service:#?}");
     let exec = value(&service, "ExecStart");
