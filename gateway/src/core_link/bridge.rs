@@ -283,6 +283,15 @@ impl Bridge {
             .map_or(0, |s| s.owner_client_id)
     }
 
+    /// Whether the newest state says the core is making its controlled stop before it exits
+    /// (`STATE_SHUTTING_DOWN`).
+    pub fn core_shutting_down(&self) -> bool {
+        self.state
+            .borrow()
+            .as_ref()
+            .is_some_and(|s| s.flags & mcm_shared::sample::STATE_SHUTTING_DOWN != 0)
+    }
+
     /// The newest state; when there is none, the first one that comes within `wait` (the
     /// gateway just started and its bridge has not read the core's first state yet, or the core
     /// is restarting). `None`: still none after `wait`.

@@ -7,8 +7,10 @@
 //! asked to stamp theirs the same way). Every [`CHECK_PERIOD`] the gateway looks at the owner
 //! in the newest state; when its pid is neither this process nor a live process, it sends
 //! `client_gone` on that client's behalf: the ownership ends and what it drove stops in HOLD.
-//! Ids whose upper half is 0 name no process and are never reaped. Runs in the gateway's async
-//! tasks.
+//! Ids whose upper half is 0 name no process and are never reaped. Nor is anything reaped while
+//! the core is shutting down: its controlled stop already ends every owner's motion, and the
+//! clients (the ROS 2 node, the gateway's own) stop with it, so a release would only wait for
+//! a core that is gone. Runs in the gateway's async tasks.
 
 use crate::core_link::bridge::Bridge;
 use mcm_shared::command::Request;
@@ -37,7 +39,7 @@ pub async fn run(bridge: Bridge) {
     loop {
         tick.tick().await;
         let owner = bridge.owner();
-        if orphaned(owner, me, process_alive) {
+        if orphaned(owner, me, process_alive) && !bridge.core_shutting_down() {
             eprintln!(
                 "mcm-gateway: the arm was controlled by client {owner:#x}, whose process \
                  {} is gone; releasing its control (what it drove stops in HOLD)",
