@@ -4,7 +4,8 @@
 //! core and the gateway as two processes, prints where to connect, and stops both on Ctrl-C
 //! or SIGTERM. `mcm rt ...`, `mcm gateway ...` and `mcm ros2 ...` run one process each (the same
 //! programs as `mcm-rt`, `mcm-gateway` and `mcm-ros2`); the launcher starts its children that way
-//! (the ROS 2 node only with `--ros2`).
+//! (the ROS 2 node only with `--ros2`). `mcm virtual-arm ...` is `mcm-virtual-arm`, the simulated
+//! arm on a CAN interface (docs/virtual-arm.md).
 
 mod launcher;
 
@@ -24,6 +25,9 @@ fn main() -> ExitCode {
         Some("ros2") => {
             mcm_ros2::cli::main(std::iter::once("mcm-ros2".into()).chain(rest.into_iter().skip(1)))
         }
+        Some("virtual-arm") => mcm_virtual_arm::cli::main(
+            std::iter::once("mcm-virtual-arm".into()).chain(rest.into_iter().skip(1)),
+        ),
         _ => launcher::main(std::iter::once(program).chain(rest)),
     }
 }

@@ -73,6 +73,15 @@ pub struct Ros2Ready {
     pub instance: String,
 }
 
+/// `mcm-virtual-arm ready interface=NAME control=ADDRESS`: the virtual P-Rob2 (`mcm-virtual-arm`)
+/// answers as the arm's six drives on the CAN interface `NAME`, and takes fault injections and
+/// gives its ground truth (the contract's `sim` command) on the TCP address `control`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct VirtualArmReady {
+    pub interface: String,
+    pub control: SocketAddr,
+}
+
 /// Where the gateway's ZeroMQ sockets are bound.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ZmqEndpoints {
@@ -109,6 +118,29 @@ impl ReadyLine for GatewayReady {
 
 impl ReadyLine for Ros2Ready {
     const PREFIX: &'static str = "mcm-ros2 ready";
+}
+
+impl ReadyLine for VirtualArmReady {
+    const PREFIX: &'static str = "mcm-virtual-arm ready";
+}
+
+impl fmt::Display for VirtualArmReady {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (prefix, interface, control) = (Self::PREFIX, &self.interface, self.control);
+        write!(f, "{prefix} interface={interface} control={control}")
+    }
+}
+
+impl FromStr for VirtualArmReady {
+    type Err = ReadyError;
+
+    fn from_str(line: &str) -> Result<Self, ReadyError> {
+        let fields = Fields::new(line, after_prefix(line, Self::PREFIX)?);
+        Ok(VirtualArmReady {
+            interface: fields.text("interface")?.to_string(),
+            control: fields.parsed("control", "a socket address, e.g. 127.0.0.1:18020")?,
+        })
+    }
 }
 
 impl fmt::Display for Ros2Ready {

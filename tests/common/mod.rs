@@ -8,6 +8,7 @@ pub mod flight;
 pub mod netns;
 pub mod python;
 pub mod ros2;
+pub mod virtual_arm;
 
 use mcm_client::launch::SimulatedMcm;
 use mcm_shared::service::sim_state_path;
@@ -83,6 +84,9 @@ pub struct Mcm {
     pub gateway_pid: i32,
     /// The ZeroMQ endpoints as bound (`--zmq...` given), e.g. `tcp://127.0.0.1:40123`.
     pub zmq: Option<(String, String)>,
+    /// Over SocketCAN (`MCM_TEST_BUS=socketcan`): the virtual arm on the core's interface.
+    /// Declared after `sim`, so that it stops after the MCM.
+    pub arm: Option<virtual_arm::VirtualArm>,
 }
 
 impl Mcm {
@@ -98,6 +102,21 @@ impl Mcm {
 
     /// Start with the instance name `instance` and extra launcher arguments.
     pub fn start_named(instance: &str, extra: &[&str]) -> Mcm {
+        let mut extra: Vec<&str> = extra.to_vec();
+        let arm = virtual_arm::socketcan().then(|| {
+            let at = extra.iter().position(|a| *a == "--config");
+            let text = match at {
+                Some(i) => std::fs::read_to_string(extra[i + 1]).unwrap(),
+                None => mcm_shared::config::PROB2_DEFAULT_TOML.to_string(),
+            };
+            if let Some(i) = at {
+                extra.drain(i..i + 2);
+            }
+            virtual_arm::VirtualArm::start(&text)
+        });
+        if let Some(a) = &arm {
+            extra.extend(["--config", a.config.path()]);
+        }
         let extra: Vec<&std::ffi::OsStr> = extra.iter().map(|a| a.as_ref()).collect();
         let sim = SimulatedMcm::start_echoing(
             env!("CARGO_BIN_EXE_mcm").as_ref(),
@@ -116,6 +135,7 @@ impl Mcm {
             rt_pid: 0,
             gateway_pid: 0,
             zmq: None,
+            arm,
         };
         mcm.take_addresses();
         mcm
@@ -127,6 +147,9 @@ impl Mcm {
         (self.json, self.hmi) = (s.json, s.hmi);
         (self.rt_pid, self.gateway_pid) = (s.rt_pid, s.gateway_pid);
         self.zmq = s.zmq.clone().map(|z| (z.router, z.publish));
+        if let Some(a) = &self.arm {
+            a.serve_clients_of(self.json);
+        }
     }
 
     /// Wait for the launcher's next ready line (after it restarted the gateway) and take the
@@ -217,6 +240,8 @@ pub fn alive(pid: i32) -> bool {
 pub struct Client {
     stream: TcpStream,
     reader: BufReader<TcpStream>,
+    /// The virtual arm that answers `sim` requests, over SocketCAN ([`virtual_arm`]).
+    arm: Option<SocketAddr>,
 }
 
 impl Client {
@@ -229,7 +254,12 @@ impl Client {
         stream.set_nodelay(true).unwrap();
         stream.set_read_timeout(Some(WAIT)).unwrap();
         let reader = BufReader::new(stream.try_clone().unwrap());
-        Client { stream, reader }
+        let arm = stream.peer_addr().ok().and_then(virtual_arm::arm_behind);
+        Client {
+            stream,
+            reader,
+            arm,
+        }
     }
 
     /// Send raw bytes.
@@ -259,8 +289,14 @@ impl Client {
         }
     }
 
-    /// Send one command line and read its result.
+    /// Send one command line and read its result (a `sim` request to the virtual arm, over
+    /// SocketCAN).
     pub fn request(&mut self, json: &str) -> Value {
+        if let Some(arm) = self.arm
+            && virtual_arm::is_sim(json)
+        {
+            return virtual_arm::ask(arm, json);
+        }
         self.send_raw(format!("{json}\n").as_bytes());
         self.recv()
     }
@@ -345,6 +381,8 @@ pub fn is_event(v: &Value) -> bool {
 /// TORQUE_CONTROL session, replies to commands sent without waiting) in `unasked`.
 pub struct EventClient {
     stream: TcpStream,
+    /// The virtual arm that answers `sim` requests, over SocketCAN ([`virtual_arm`]).
+    arm: Option<SocketAddr>,
     lines: mpsc::Receiver<Value>,
     pub events: Vec<Value>,
     /// Events already returned by [`EventClient::wait_event`].
@@ -370,6 +408,7 @@ impl EventClient {
         });
         EventClient {
             stream,
+            arm: virtual_arm::arm_behind(addr),
             lines: rx,
             events: Vec::new(),
             taken: 0,
@@ -379,6 +418,10 @@ impl EventClient {
 
     /// Send one command line without waiting for its result.
     pub fn send(&mut self, json: &str) {
+        assert!(
+            self.arm.is_none() || !virtual_arm::is_sim(json),
+            "over SocketCAN a `sim` request goes to the virtual arm: use `request`, not `send`"
+        );
         self.stream
             .write_all(format!("{json}\n").as_bytes())
             .expect("send a command");
@@ -395,6 +438,11 @@ impl EventClient {
 
     /// Send a command and return its result (spontaneous errors go to `events`).
     pub fn request_within(&mut self, json: &str, wait: Duration) -> Value {
+        if let Some(arm) = self.arm
+            && virtual_arm::is_sim(json)
+        {
+            return virtual_arm::ask(arm, json);
+        }
         self.send(json);
         self.result_within(json, wait)
     }

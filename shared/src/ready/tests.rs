@@ -53,6 +53,18 @@ proptest! {
     }
 
     #[test]
+    fn virtual_arm_lines_round_trip(
+        interface in "[a-z][a-z0-9]{0,14}",
+        port in 1u16..,
+    ) {
+        let control = std::net::SocketAddr::from(([127, 0, 0, 1], port));
+        let ready = VirtualArmReady { interface, control };
+        let line = ready.to_string();
+        prop_assert!(line.starts_with(VirtualArmReady::PREFIX));
+        prop_assert_eq!(line.parse::<VirtualArmReady>(), Ok(ready));
+    }
+
+    #[test]
     fn gateway_lines_round_trip(ready in gateway()) {
         let line = ready.to_string();
         prop_assert!(line.starts_with(GatewayReady::PREFIX));

@@ -1,0 +1,175 @@
+//! The end-to-end tests over a kernel's SocketCAN (`MCM_TEST_BUS=socketcan`, set inside the
+//! test guest, docs/testing.md): every [`crate::common::Mcm`] then gets a CAN interface
+//! of its own (a new `vcan`), a virtual arm on it (`mcm virtual-arm`), and a core with
+//! `bus.backend = "socketcan"` on that interface instead of the in-process simulated bus. The
+//! tests stay as they are: the clients ([`crate::common::Client`],
+//! [`crate::common::EventClient`]) send every `sim` request (fault injection, ground truth) to
+//! the virtual arm's control socket, which answers it as the gateway does on the simulated
+//! robot, and everything else to the gateway.
+
+use mcm_shared::ready::VirtualArmReady;
+use serde_json::Value;
+use std::collections::HashMap;
+use std::io::{BufRead, BufReader, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Mutex, mpsc};
+use std::time::Duration;
+
+/// Whether the MCMs of this test process run over SocketCAN.
+pub fn socketcan() -> bool {
+    std::env::var("MCM_TEST_BUS").is_ok_and(|v| v == "socketcan")
+}
+
+/// Gateway JSON port -> the control address of the virtual arm behind it (by port: a client
+/// may reach the gateway on another of the host's addresses than the one it printed).
+static ARMS: Mutex<Option<HashMap<u16, SocketAddr>>> = Mutex::new(None);
+static INTERFACES: AtomicU32 = AtomicU32::new(0);
+
+/// The virtual arm behind the gateway at `json`, if that MCM runs over SocketCAN.
+pub fn arm_behind(json: SocketAddr) -> Option<SocketAddr> {
+    let arms = ARMS.lock().unwrap_or_else(|e| e.into_inner());
+    arms.as_ref()?.get(&json.port()).copied()
+}
+
+/// Whether `json` (one request line) is a `sim` command.
+pub fn is_sim(json: &str) -> bool {
+    serde_json::from_str::<Value>(json).is_ok_and(|v| v["command"] == "sim")
+}
+
+/// Ask the virtual arm at `control` one request line; its answer.
+pub fn ask(control: SocketAddr, json: &str) -> Value {
+    let mut s = TcpStream::connect(control)
+        .unwrap_or_else(|e| panic!("connect to the virtual arm at {control}: {e}"));
+    s.set_read_timeout(Some(super::WAIT)).unwrap();
+    writeln!(s, "{json}").unwrap();
+    let mut line = String::new();
+    BufReader::new(s)
+        .read_line(&mut line)
+        .unwrap_or_else(|e| panic!("the virtual arm's answer to {json}: {e}"));
+    serde_json::from_str(&line).unwrap_or_else(|e| panic!("{e}: {line:?}"))
+}
+
+fn ip(args: &[&str]) {
+    let out = Command::new("ip")
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| panic!("ip {}: {e}", args.join(" ")));
+    assert!(
+        out.status.success(),
+        "ip {}: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// A virtual arm on a `vcan` interface of its own; dropping it stops the arm and removes the
+/// interface.
+pub struct VirtualArm {
+    child: Child,
+    pub interface: String,
+    pub control: SocketAddr,
+    /// The configuration file the arm and the core read (`bus.backend = "socketcan"`).
+    pub config: super::TempConfig,
+}
+
+impl VirtualArm {
+    /// A new `vcan` interface and a virtual arm on it, configured as `config_text` (a robot
+    /// configuration) says, over which the core will run.
+    pub fn start(config_text: &str) -> VirtualArm {
+        let interface = format!(
+            "mv{}x{}",
+            std::process::id() % 100_000,
+            INTERFACES.fetch_add(1, Ordering::Relaxed)
+        );
+        ip(&["link", "add", "dev", &interface, "type", "vcan"]);
+        ip(&["link", "set", "up", &interface]);
+        let text = over_socketcan(config_text, &interface);
+        let config = super::config_file("vcan", |_| text);
+        let mut child = Command::new(env!("CARGO_BIN_EXE_mcm"))
+            .args(["virtual-arm", "--interface", &interface])
+            .args(["--control", "127.0.0.1:0", "--summary-s", "0"])
+            .args(["--config", config.path()])
+            .stdout(Stdio::piped())
+            .spawn()
+            .unwrap_or_else(|e| panic!("start mcm virtual-arm: {e}"));
+        let stdout = child.stdout.take().unwrap();
+        let (tx, rx) = mpsc::channel();
+        std::thread::spawn(move || {
+            for line in BufReader::new(stdout).lines() {
+                let Ok(line) = line else { break };
+                if let Ok(r) = line.parse::<VirtualArmReady>() {
+                    let _ = tx.send(r);
+                }
+            }
+        });
+        let ready = rx.recv_timeout(super::WAIT).unwrap_or_else(|_| {
+            let _ = child.kill();
+            panic!(
+                "mcm virtual-arm on {interface}: no ready line within {:?}",
+                super::WAIT
+            )
+        });
+        VirtualArm {
+            child,
+            interface,
+            control: ready.control,
+            config,
+        }
+    }
+
+    /// Route the `sim` requests of clients of the gateway at `json` to this arm.
+    pub fn serve_clients_of(&self, json: SocketAddr) {
+        let mut arms = ARMS.lock().unwrap_or_else(|e| e.into_inner());
+        arms.get_or_insert_with(HashMap::new)
+            .insert(json.port(), self.control);
+    }
+}
+
+/// `text` (a robot configuration) with the bus on SocketCAN interface `interface`.
+pub fn over_socketcan(text: &str, interface: &str) -> String {
+    let mut out = String::new();
+    let mut in_bus = false;
+    let (mut backend, mut iface) = (false, false);
+    for line in text.lines() {
+        let key = line.split('=').next().unwrap_or("").trim();
+        if line.starts_with('[') {
+            in_bus = line.trim() == "[bus]";
+        }
+        if in_bus && key == "backend" {
+            out.push_str("backend = \"socketcan\"\n");
+            backend = true;
+        } else if in_bus && key == "interface" {
+            out.push_str(&format!("interface = \"{interface}\"\n"));
+            iface = true;
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    assert!(
+        backend && iface,
+        "no bus.backend and bus.interface in the configuration"
+    );
+    out
+}
+
+impl Drop for VirtualArm {
+    fn drop(&mut self) {
+        // SAFETY: kill(2) with a pid of a child we own and have not reaped.
+        unsafe { libc::kill(self.child.id() as i32, libc::SIGTERM) };
+        let deadline = std::time::Instant::now() + Duration::from_secs(5);
+        while self.child.try_wait().ok().flatten().is_none() {
+            if std::time::Instant::now() > deadline {
+                let _ = self.child.kill();
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let _ = self.child.wait();
+        let _ = Command::new("ip")
+            .args(["link", "del", "dev", &self.interface])
+            .status();
+    }
+}

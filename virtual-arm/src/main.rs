@@ -1,0 +1,3 @@
+fn main() -> std::process::ExitCode {
+    mcm_virtual_arm::cli::main(std::env::args_os())
+}
