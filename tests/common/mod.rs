@@ -114,6 +114,14 @@ impl Mcm {
             }
             virtual_arm::VirtualArm::start(&text)
         });
+        Self::start_on(arm, instance, &extra)
+    }
+
+    /// Start over the virtual arm `arm` (its interface and configuration; none: the in-process
+    /// simulated bus) with the instance name `instance` and extra launcher arguments (without
+    /// `--config` when there is an arm).
+    pub fn start_on(arm: Option<virtual_arm::VirtualArm>, instance: &str, extra: &[&str]) -> Mcm {
+        let mut extra: Vec<&str> = extra.to_vec();
         if let Some(a) = &arm {
             extra.extend(["--config", a.config.path()]);
         }

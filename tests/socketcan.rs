@@ -1,0 +1,339 @@
+//! What only a kernel's CAN shows, over the virtual arm on a `vcan` interface: the frames on the
+//! wire as an independent tool (`candump` of can-utils) records them, and the stop path that
+//! runs only with real drives (`finish_drives` in `rt-core/src/runner.rs`).
+//!
+//! These tests need a kernel with SocketCAN and `vcan`, which the development and CI machines do
+//! not have: they are `#[ignore]`d here and run in the test guest, where
+//! `tests/vm_socketcan.rs` runs this file with `--ignored` and `MCM_TEST_BUS=socketcan` and
+//! checks that every one of them passed.
+
+mod common;
+
+use common::virtual_arm::VirtualArm;
+use common::{Mcm, WAIT, assert_ok, unique_instance};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+const IN_GUEST: &str = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)";
+
+/// One frame of a candump log: its id and data bytes.
+type Frame = (u16, Vec<u8>);
+
+/// The frames of a `candump -L` log (`(time) iface id#data` lines), with their times [s].
+fn read_log(path: &Path) -> Vec<(f64, Frame)> {
+    let text = std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("read the candump log {}: {e}", path.display()));
+    text.lines()
+        .enumerate()
+        .map(|(n, line)| {
+            parse(line).unwrap_or_else(|| {
+                panic!(
+                    "{} line {}: not a candump -L line: {line:?}",
+                    path.display(),
+                    n + 1
+                )
+            })
+        })
+        .collect()
+}
+
+fn parse(line: &str) -> Option<(f64, Frame)> {
+    let mut words = line.split_whitespace();
+    let time = words
+        .next()?
+        .strip_prefix('(')?
+        .strip_suffix(')')?
+        .parse()
+        .ok()?;
+    let _iface = words.next()?;
+    let (id, data) = words.next()?.split_once('#')?;
+    let id = u16::from_str_radix(id, 16).ok().filter(|id| *id <= 0x7FF)?;
+    if data.len() % 2 != 0 || data.len() > 16 || words.next().is_some() {
+        return None;
+    }
+    let bytes = (0..data.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(&data[i..i + 2], 16).ok())
+        .collect::<Option<Vec<u8>>>()?;
+    Some((time, (id, bytes)))
+}
+
+/// The P-Rob2 master's node id (`bus.master_node_id`).
+const MASTER_NODE: u16 = 127;
+/// An id no node uses: the probe that tells candump is recording.
+const PROBE: u16 = 0x7FE;
+
+/// Whether the master sends frames with this id: NMT, SYNC, RPDOs 1 and 2, SDO requests, its
+/// heartbeat. Every other id is a drive's.
+fn from_master(id: u16) -> bool {
+    id == 0x000
+        || id == 0x080
+        || (0x201..=0x27F).contains(&id)
+        || (0x301..=0x37F).contains(&id)
+        || (0x601..=0x67F).contains(&id)
+        || id == 0x700 + MASTER_NODE
+}
+
+/// `candump -L` of can-utils on `iface`, writing to a file; recording once it returns.
+struct Candump {
+    child: Child,
+    path: PathBuf,
+    iface: String,
+}
+
+impl Candump {
+    fn start(iface: &str) -> Candump {
+        let path = std::env::temp_dir().join(format!("{}.candump", unique_instance("kernel")));
+        let file = std::fs::File::create(&path).unwrap();
+        let child = Command::new("candump")
+            .args(["-L", iface])
+            .stdout(file)
+            .stderr(Stdio::inherit())
+            .spawn()
+            .unwrap_or_else(|e| panic!("start candump (can-utils): {e}"));
+        let dump = Candump {
+            child,
+            path,
+            iface: iface.to_string(),
+        };
+        // Probe frames until one shows: candump writes a line per frame.
+        let deadline = Instant::now() + WAIT;
+        loop {
+            let probe = format!("{PROBE:03X}#");
+            let sent = Command::new("cansend")
+                .args([iface, &probe])
+                .status()
+                .unwrap_or_else(|e| panic!("cansend (can-utils): {e}"));
+            assert!(sent.success(), "cansend {iface} {probe}: {sent}");
+            std::thread::sleep(Duration::from_millis(20));
+            if std::fs::read_to_string(&dump.path).is_ok_and(|t| t.contains(&probe)) {
+                return dump;
+            }
+            assert!(
+                Instant::now() < deadline,
+                "candump on {iface} records nothing"
+            );
+        }
+    }
+
+    /// Wait until `done(frames so far)` (bounded), then stop candump; its frames.
+    fn stop_when(
+        mut self,
+        what: &str,
+        done: impl Fn(&[(f64, Frame)]) -> bool,
+    ) -> Vec<(f64, Frame)> {
+        let deadline = Instant::now() + WAIT;
+        while !done(&self.frames()) {
+            assert!(
+                Instant::now() < deadline,
+                "candump on {}: {what} within {WAIT:?}",
+                self.iface
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        // SAFETY: kill(2) with the pid of a child we own and have not reaped.
+        unsafe { libc::kill(self.child.id() as i32, libc::SIGINT) };
+        let _ = self.child.wait();
+        self.frames()
+    }
+
+    /// The frames recorded so far (without the probes; a last line being written is skipped).
+    fn frames(&self) -> Vec<(f64, Frame)> {
+        let text = std::fs::read_to_string(&self.path).unwrap_or_default();
+        let complete = &text[..text.rfind('\n').map_or(0, |i| i + 1)];
+        complete
+            .lines()
+            .map(|l| parse(l).unwrap_or_else(|| panic!("candump wrote {l:?}")))
+            .filter(|(_, (id, _))| *id != PROBE)
+            .collect()
+    }
+}
+
+/// python-can's reader of candump logs (an implementation nobody here wrote) counts the frames.
+fn python_can_count(path: &Path) -> usize {
+    let out = Command::new("python3")
+        .args([
+            "-c",
+            "import can, sys; print(sum(1 for _ in can.CanutilsLogReader(sys.argv[1])))",
+        ])
+        .arg(path)
+        .output()
+        .unwrap_or_else(|e| panic!("python3: {e}"));
+    assert!(
+        out.status.success(),
+        "python-can could not read {}: {}",
+        path.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).trim().parse().unwrap()
+}
+
+fn frames_of(log: &[(f64, Frame)], master: bool) -> Vec<Frame> {
+    log.iter()
+        .filter(|(_, (id, _))| from_master(*id) == master && *id != PROBE)
+        .map(|(_, f)| f.clone())
+        .collect()
+}
+
+/// After the last NMT "enter pre-operational" to all nodes (`000#8000`): every drive's heartbeat
+/// says PRE-OPERATIONAL (0x7F).
+fn all_pre_operational_after_the_stop(log: &[(f64, Frame)]) -> bool {
+    let Some(stop) = log.iter().rposition(|(_, f)| *f == (0x000, vec![0x80, 0])) else {
+        return false;
+    };
+    (1..=6u16).all(|n| {
+        log[stop..]
+            .iter()
+            .any(|(_, (id, d))| *id == 0x700 + n && d == &[0x7F])
+    })
+}
+
+#[test]
+#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
+fn the_kernel_s_candump_agrees_with_the_mcm_s_own_log_frame_for_frame() {
+    assert!(
+        common::virtual_arm::socketcan(),
+        "{IN_GUEST}, with MCM_TEST_BUS=socketcan"
+    );
+    let arm = VirtualArm::start(mcm_shared::config::PROB2_DEFAULT_TOML);
+    let dump = Candump::start(&arm.interface);
+    let own = std::env::temp_dir().join(format!("{}.candump", unique_instance("own")));
+    let instance = unique_instance("candump");
+    let mcm = Mcm::start_on(Some(arm), &instance, &["--candump", own.to_str().unwrap()]);
+    let mut c = mcm.client();
+    c.wait_drives_online();
+    assert_ok(&c.request(r#"{"command":"hold"}"#));
+    // A few seconds of cyclic traffic in HOLD.
+    let s0 = common::time_of(&c.request(r#"{"command":"status","arguments":{"detail":true}}"#));
+    c.wait_status("2 s of the robot's time in HOLD", |s| {
+        common::time_of(s) >= s0 + 2.0
+    });
+    let status = mcm.stop();
+    assert!(status.success(), "launcher exit status {status}");
+    let kernel_path = dump.path.clone();
+    let kernel = dump.stop_when("every drive PRE-OPERATIONAL after the stop", |log| {
+        all_pre_operational_after_the_stop(log)
+    });
+    let mine = read_log(&own);
+
+    // What the master sent: the same frames in the same order.
+    let (k_tx, m_tx) = (frames_of(&kernel, true), frames_of(&mine, true));
+    assert!(m_tx.len() > 1000, "{} frames sent by the MCM", m_tx.len());
+    if let Some(i) = (0..k_tx.len().max(m_tx.len())).find(|&i| k_tx.get(i) != m_tx.get(i)) {
+        panic!(
+            "the master's frame {i} differs: candump {:x?}, the MCM's log {:x?} ({} and {} frames)",
+            k_tx.get(i),
+            m_tx.get(i),
+            k_tx.len(),
+            m_tx.len()
+        );
+    }
+    // What the drives sent: the MCM read them in the order of the wire, up to its stop (the
+    // drives' heartbeats go on after it).
+    let (k_rx, m_rx) = (frames_of(&kernel, false), frames_of(&mine, false));
+    assert!(
+        m_rx.len() > 1000,
+        "{} frames received by the MCM",
+        m_rx.len()
+    );
+    assert!(
+        k_rx.len() >= m_rx.len(),
+        "candump {} < MCM {}",
+        k_rx.len(),
+        m_rx.len()
+    );
+    if let Some(i) = (0..m_rx.len()).find(|&i| k_rx[i] != m_rx[i]) {
+        panic!(
+            "the drives' frame {i} differs: candump {:x?}, the MCM's log {:x?}",
+            k_rx[i], m_rx[i]
+        );
+    }
+    // SYNC at the configured rate, as the kernel stamped it (no bound: the guest is emulated).
+    let syncs: Vec<f64> = kernel
+        .iter()
+        .filter(|(_, (id, _))| *id == 0x080)
+        .map(|(t, _)| *t)
+        .collect();
+    let gaps: Vec<f64> = syncs.windows(2).map(|w| (w[1] - w[0]) * 1e6).collect();
+    let mean = gaps.iter().sum::<f64>() / gaps.len() as f64;
+    let worst = gaps.iter().cloned().fold(0.0, f64::max);
+    eprintln!(
+        "candump: {} frames, {} SYNC, period mean {mean:.1} us, longest {worst:.1} us; the MCM's log: {} frames",
+        kernel.len(),
+        syncs.len(),
+        mine.len()
+    );
+    // python-can reads both logs whole.
+    assert_eq!(
+        python_can_count(&own),
+        mine.len(),
+        "python-can on the MCM's log"
+    );
+    // candump's log also holds the probes, which `frames` leaves out.
+    let probes = std::fs::read_to_string(&kernel_path)
+        .unwrap()
+        .lines()
+        .filter(|l| parse(l).is_some_and(|(_, (id, _))| id == PROBE))
+        .count();
+    assert_eq!(
+        python_can_count(&kernel_path),
+        kernel.len() + probes,
+        "python-can on candump's log"
+    );
+    let _ = std::fs::remove_file(&own);
+    let _ = std::fs::remove_file(&kernel_path);
+}
+
+#[test]
+#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
+fn after_the_controlled_stop_every_drive_is_pre_operational_and_the_master_is_silent() {
+    assert!(
+        common::virtual_arm::socketcan(),
+        "{IN_GUEST}, with MCM_TEST_BUS=socketcan"
+    );
+    let arm = VirtualArm::start(mcm_shared::config::PROB2_DEFAULT_TOML);
+    let dump = Candump::start(&arm.interface);
+    let mcm = Mcm::start_on(Some(arm), &unique_instance("finish"), &[]);
+    let mut c = mcm.client();
+    c.wait_drives_online();
+    assert_ok(&c.request(r#"{"command":"hold"}"#));
+    let status = mcm.stop();
+    assert!(status.success(), "launcher exit status {status}");
+    let log = dump.stop_when("every drive PRE-OPERATIONAL after the stop", |log| {
+        all_pre_operational_after_the_stop(log)
+    });
+    // The master's last frame is the NMT to all nodes, and it sends nothing after it.
+    let last = log
+        .iter()
+        .rev()
+        .find(|(_, (id, _))| from_master(*id))
+        .unwrap();
+    assert_eq!(last.1, (0x000, vec![0x80, 0]), "the master's last frame");
+    // Before it, every drive was disabled: its last RPDO1 no longer enables operation, and its
+    // last TPDO1's statusword is not OPERATION ENABLED.
+    for n in 1..=6u16 {
+        let rpdo = log
+            .iter()
+            .rev()
+            .find(|(_, (id, _))| *id == 0x200 + n)
+            .unwrap();
+        assert_ne!(
+            rpdo.1.1.first(),
+            Some(&0x0F),
+            "node {n}'s last controlword {:x?}",
+            rpdo.1.1
+        );
+        let tpdo = log
+            .iter()
+            .rev()
+            .find(|(_, (id, _))| *id == 0x180 + n)
+            .unwrap();
+        let sw = u16::from_le_bytes([tpdo.1.1[0], tpdo.1.1[1]]);
+        assert_ne!(
+            sw & 0x6F,
+            0x27,
+            "node {n}'s last statusword {sw:#06x} is OPERATION ENABLED"
+        );
+    }
+}
