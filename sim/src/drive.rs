@@ -139,6 +139,19 @@ enum Boot {
     ResetCommunication,
 }
 
+/// What a drive saw go wrong on its bus since power-up: the figures a drive's diagnostics
+/// would give, to judge a bus from the drives' side.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct DriveCounters {
+    /// SYNCs received in OPERATION ENABLED without an RPDO1 (the setpoint) since the last one:
+    /// a setpoint lost or late.
+    pub rpdo1_missing: u64,
+    /// SDO requests answered with an abort.
+    pub sdo_aborts: u64,
+    /// The master's heartbeat missing for longer than the consumer time (0x1016).
+    pub heartbeat_timeouts: u64,
+}
+
 /// One simulated drive.
 #[derive(Debug, Clone)]
 pub struct SimDrive {
@@ -162,6 +175,7 @@ pub struct SimDrive {
     velocity: f64,
     current_a: f64,
     last_setpoint: (f64, f64),
+    counters: DriveCounters,
 }
 
 impl SimDrive {
@@ -187,6 +201,7 @@ impl SimDrive {
             velocity: v,
             current_a: 0.0,
             last_setpoint: (0.0, 0.0),
+            counters: DriveCounters::default(),
         };
         d.boot(Boot::PowerUp, out);
         d.observe(q, v);
@@ -291,6 +306,12 @@ impl SimDrive {
         out.emit(nmt::boot_up_frame(self.p.node_id));
     }
 
+    /// What went wrong on the bus, as this drive saw it, since power-up (kept through a reset
+    /// node or a power cycle: the simulation's diagnostics, not the drive's dictionary).
+    pub fn counters(&self) -> DriveCounters {
+        self.counters
+    }
+
     pub fn node_id(&self) -> u8 {
         self.p.node_id
     }
@@ -351,6 +372,9 @@ impl SimDrive {
             if self.nmt.sdo_allowed() {
                 let mut ctx = objects::SdoContext { drive: self, out };
                 if let Some(resp) = sdo_server::serve(node, f, &mut ctx) {
+                    if resp.payload().first() == Some(&0x80) {
+                        ctx.drive.counters.sdo_aborts += 1;
+                    }
                     ctx.out.emit(resp);
                 }
                 self.emit_events(out);
@@ -399,13 +423,18 @@ impl SimDrive {
         let t = self.sm.boot_complete();
         self.on_transition(t, out);
         if received && self.nmt == NmtState::Operational {
-            for w in self.pdo.take_latched(&self.od).into_iter().flatten() {
+            let latched = self.pdo.take_latched(&self.od);
+            if latched[0].is_none() && self.sm.state() == State::OperationEnabled {
+                self.counters.rpdo1_missing += 1;
+            }
+            for w in latched.into_iter().flatten() {
                 self.apply_pdo(w, out);
             }
         }
         let t = self.sm.reevaluate(!self.safe_torque_off);
         self.on_transition(t, out);
         if self.consumer.expired(self.time_ns) {
+            self.counters.heartbeat_timeouts += 1;
             self.raise_fault(EMCY_HEARTBEAT, out);
         }
         if self.sm.state() == State::OperationEnabled && self.mode() == MODE_CSP {

@@ -10,8 +10,10 @@
 
 use crate::pace::Pace;
 use mcm_bus::{Bus, BusError, Frame};
+use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;
 use mcm_sim::bus::SYNC_ID;
+use mcm_sim::drive::DriveCounters;
 use mcm_sim::{SimBus, SimCommand, SimCommandError, SimControl, SimTruth};
 
 /// What the virtual arm has seen and done since it started.
@@ -72,6 +74,19 @@ impl<W: Bus> VirtualArm<W> {
 
     pub fn counters(&self) -> Counters {
         self.counters
+    }
+
+    /// What the drives saw go wrong on the bus, summed over the six: setpoints (RPDO1) missing
+    /// at a SYNC, SDO aborts, the master's heartbeat timed out.
+    pub fn drive_counters(&self) -> DriveCounters {
+        (0..NUM_AXES)
+            .filter_map(|i| self.sim.drive(i))
+            .map(|d| d.counters())
+            .fold(DriveCounters::default(), |a, c| DriveCounters {
+                rpdo1_missing: a.rpdo1_missing + c.rpdo1_missing,
+                sdo_aborts: a.sdo_aborts + c.sdo_aborts,
+                heartbeat_timeouts: a.heartbeat_timeouts + c.heartbeat_timeouts,
+            })
     }
 
     /// The simulated bus (drives, physics), for inspection.

@@ -137,25 +137,30 @@ fn drive<W: Bus>(
         }
         if summary_ns > 0 && monotonic_ns() >= next_summary {
             next_summary = next_summary.saturating_add(summary_ns);
-            print_counters(&arm.counters(), arm.sim().now_ns());
+            print_counters(&arm);
         }
     }
-    print_counters(&arm.counters(), arm.sim().now_ns());
+    print_counters(&arm);
     let counters = arm.counters();
     (counters, arm.into_wire())
 }
 
-fn print_counters(c: &Counters, sim_ns: u64) {
+fn print_counters<W: Bus>(arm: &VirtualArm<W>) {
+    let (c, d) = (arm.counters(), arm.drive_counters());
     eprintln!(
         "mcm-virtual-arm: arm time {:.3} s; frames in {} out {}; SYNC {}; periods without SYNC {}; \
-         frames lost on send {}; wire errors {}; fault injections {}",
-        sim_ns as f64 * 1e-9,
+         frames lost on send {}; wire errors {}; fault injections {}; as the drives saw it: \
+         setpoints missing at SYNC {}, SDO aborts {}, heartbeat timeouts {}",
+        arm.sim().now_ns() as f64 * 1e-9,
         c.frames_in,
         c.frames_out,
         c.syncs,
         c.periods_without_sync,
         c.tx_dropped,
         c.wire_errors,
-        c.faults
+        c.faults,
+        d.rpdo1_missing,
+        d.sdo_aborts,
+        d.heartbeat_timeouts
     );
 }

@@ -2,7 +2,7 @@
 //! ([`crate::test_master`]) configures the six drives exactly as `docs/drive-profile.md` says,
 //! enables them in CSP and streams targets; the truth of the arm is checked.
 
-use super::SimBus;
+use super::{SYNC_ID, SimBus};
 use crate::test_master::TestMaster;
 use crate::{SimCommand, SimCommandError, SimControl, SimTruth};
 use mcm_shared::command::Axis;
@@ -409,6 +409,16 @@ fn a_disconnected_drive_goes_silent_and_faults_on_the_lost_master_heartbeat() {
         m.nodes[2].emcy.is_empty(),
         "the EMCY was lost on the cut cable"
     );
+    for i in 0..NUM_AXES {
+        let c = bus.drive(i).unwrap().counters();
+        let timeouts = u64::from(i == 2);
+        assert_eq!(
+            (c.heartbeat_timeouts, c.rpdo1_missing, c.sdo_aborts),
+            (timeouts, 0, 0),
+            "node {}: {c:?}",
+            i + 1
+        );
+    }
     assert!(
         m.nodes
             .iter()
@@ -428,6 +438,28 @@ fn a_disconnected_drive_goes_silent_and_faults_on_the_lost_master_heartbeat() {
         bus.drive(2).unwrap().od().raw(crate::od::ERROR_CODE),
         0x8130
     );
+}
+
+#[test]
+fn the_drives_count_a_sync_without_its_setpoint_and_an_aborted_sdo() {
+    let cfg = RobotConfig::prob2_default();
+    let (mut bus, mut m) = enabled(&cfg, false);
+    run(&mut bus, &mut m, 10);
+    assert!(
+        (0..NUM_AXES).all(|i| bus.drive(i).unwrap().counters() == Default::default()),
+        "nothing lost while the master streams"
+    );
+    // A SYNC the master's RPDO1s did not precede: every enabled drive misses its setpoint.
+    bus.send(&Frame::new(SYNC_ID, &[]).unwrap()).unwrap();
+    // An SDO upload of an object node 4 does not have (0x1234:0).
+    bus.send(&Frame::new(0x604, &[0x40, 0x34, 0x12, 0, 0, 0, 0, 0]).unwrap())
+        .unwrap();
+    for i in 0..NUM_AXES {
+        let c = bus.drive(i).unwrap().counters();
+        assert_eq!(c.rpdo1_missing, 1, "node {}: {c:?}", i + 1);
+        assert_eq!(c.sdo_aborts, u64::from(i == 3), "node {}: {c:?}", i + 1);
+        assert_eq!(c.heartbeat_timeouts, 0, "node {}: {c:?}", i + 1);
+    }
 }
 
 #[test]
