@@ -270,6 +270,11 @@ impl Client {
         }
     }
 
+    /// The virtual arm that answers this client's `sim` requests, over SocketCAN.
+    pub fn virtual_arm(&self) -> Option<SocketAddr> {
+        self.arm
+    }
+
     /// Send raw bytes.
     pub fn send_raw(&mut self, bytes: &[u8]) {
         self.stream.write_all(bytes).unwrap();
