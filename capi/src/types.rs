@@ -2,7 +2,9 @@
 //! conversion of the state ([`mcm_state_t`]) runs in the control loop: it copies, never
 //! allocates.
 
-use mcm_client::mcm_shared::sample::{CycleTiming, ErrorRecord, LatencyFigures, StateSample};
+use mcm_client::mcm_shared::sample::{
+    BusCounters, CycleTiming, ErrorRecord, LatencyFigures, StateSample,
+};
 use mcm_client::tcp::{Info, MoveAllResult, Status};
 use std::ffi::c_char;
 
@@ -77,6 +79,21 @@ pub struct mcm_timing_t {
     pub over_budget: u64,
 }
 
+/// Counters of the CAN bus and of the CANopen master since the core started; each counts
+/// something that should not happen.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct mcm_bus_counters_t {
+    /// Frames from configured nodes the master could not decode.
+    pub bad_frames: u64,
+    /// Frames that did not fit the cycle's frame buffer (not sent).
+    pub frames_dropped: u64,
+    /// Master events lost because the event ring was full.
+    pub events_dropped: u64,
+    /// Frames the bus refused to send or failed to receive.
+    pub bus_errors: u64,
+}
+
 /// The newest safety error (or drive error) of the core.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -140,6 +157,8 @@ pub struct mcm_state_t {
     pub reply_head: u64,
     /// The client that controls the arm (0: nobody; compare with `mcm_shm_client_id`).
     pub owner_client_id: u64,
+    /// The bus's and the CANopen master's error counters.
+    pub bus: mcm_bus_counters_t,
 }
 
 fn latency(l: &LatencyFigures) -> mcm_latency_t {
@@ -163,6 +182,15 @@ fn timing(t: &CycleTiming) -> mcm_timing_t {
         work_max_ns: t.work_max_ns,
         work_budget_ns: t.work_budget_ns,
         over_budget: t.over_budget,
+    }
+}
+
+fn bus_counters(b: &BusCounters) -> mcm_bus_counters_t {
+    mcm_bus_counters_t {
+        bad_frames: b.bad_frames,
+        frames_dropped: b.frames_dropped,
+        events_dropped: b.events_dropped,
+        bus_errors: b.bus_errors,
     }
 }
 
@@ -202,6 +230,7 @@ impl From<&StateSample> for mcm_state_t {
             last_error: error_record(&s.last_error),
             reply_head: s.reply_head,
             owner_client_id: s.owner_client_id,
+            bus: bus_counters(&s.bus),
         }
     }
 }

@@ -9,7 +9,9 @@
 //! an error's `unix_ns` is 0. The fields are taken apart without `..`, so that a field added to
 //! the state or a reply does not compile until it is hashed here.
 
-use mcm_shared::sample::{CycleTiming, ErrorRecord, LatencyFigures, Reply, StateSample};
+use mcm_shared::sample::{
+    BusCounters, CycleTiming, ErrorRecord, LatencyFigures, Reply, StateSample,
+};
 
 /// FNV-1a over 64-bit words, with a checkpoint after every cycle.
 #[derive(Debug, Clone)]
@@ -86,6 +88,7 @@ impl RunHash {
             last_error,
             reply_head,
             owner_client_id,
+            bus,
         } = s;
         for w in [*seq, *t_ns, u64::from(*mode), u64::from(*flags)] {
             self.word(w);
@@ -114,6 +117,15 @@ impl RunHash {
             *reply_head,
             *owner_client_id,
         ] {
+            self.word(w);
+        }
+        let BusCounters {
+            bad_frames,
+            frames_dropped,
+            events_dropped,
+            bus_errors,
+        } = bus;
+        for w in [*bad_frames, *frames_dropped, *events_dropped, *bus_errors] {
             self.word(w);
         }
         self.timing(timing);

@@ -313,7 +313,7 @@ function render() {
   const now = performance.now();
   if (!(now - page.slowRenderedAt < 250)) {
     page.slowRenderedAt = now;
-    renderTiming($('#timing'), st.detail?.timing, page.model?.bus);
+    renderTiming($('#timing'), st.detail?.timing, page.model?.bus, st.detail?.bus);
     const l = page.latencies;
     setText($('#latency'), l.length
       ? `p50 ${fmt(percentile(l, 50), 1)} ms, p99 ${fmt(percentile(l, 99), 1)} ms (last ${l.length} frames)`

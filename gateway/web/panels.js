@@ -101,7 +101,7 @@ function dl(el, pairs) {
   }
 }
 
-export function renderTiming(el, timing, bus) {
+export function renderTiming(el, timing, bus, counters) {
   if (!timing) {
     dl(el, [['timing', 'not in the state']]);
     return;
@@ -118,6 +118,12 @@ export function renderTiming(el, timing, bus) {
     ['cycle', `${fmt((timing.period_s || 0) * 1000, 1)} ms${timing.realtime === false ? ', not real-time' : ', real-time'}`,
       timing.realtime === false ? 'warn' : ''],
   ];
+  if (counters) {
+    const lost = counters.bad_frames + counters.frames_dropped + counters.events_dropped + counters.bus_errors;
+    pairs.push(['bus errors',
+      `bad frames ${counters.bad_frames}, dropped ${counters.frames_dropped}, events dropped ${counters.events_dropped}, bus ${counters.bus_errors}`,
+      lost > 0 ? 'bad' : '']);
+  }
   if (bus) {
     pairs.push(['bus load (worst case)', `${pct(bus.worst_case_load)} of ${bus.bitrate / 1000} kbit/s, budget ${pct(bus.load_budget)}`,
       bus.worst_case_load > bus.load_budget ? 'bad' : '']);

@@ -161,6 +161,10 @@ pub fn diagnostics(s: &StateSample, cx: &DiagnosticsContext<'_>, stamp: Time) ->
         kv("work budget [us]", us(t.work_budget_ns)),
         kv("over budget", t.over_budget.to_string()),
         kv("overruns", t.overruns.to_string()),
+        kv("bad frames", s.bus.bad_frames.to_string()),
+        kv("frames dropped", s.bus.frames_dropped.to_string()),
+        kv("events dropped", s.bus.events_dropped.to_string()),
+        kv("bus errors", s.bus.bus_errors.to_string()),
         kv("bus load [%]", format!("{:.1}", cx.bus.load * 100.0)),
         kv(
             "bus load budget [%]",

@@ -135,6 +135,7 @@ impl<B: Bus> Cycle<B> {
                 self.bus_errors += 1;
             }
         }
+        self.controller.note_bus_errors(self.bus_errors);
     }
 }
 

@@ -85,7 +85,7 @@ pub fn setup_current_thread(priority: u8, cpu: usize) -> RtReport {
     };
 
     let fifo_priority = thread_priority::ThreadPriorityValue::try_from(priority)
-        .map_err(|e| format!("priority {priority}: {e}"))
+        .map_err(|e| format!("cycle.priority = {priority}: {e}"))
         .and_then(|value| {
             thread_priority::set_thread_priority_and_policy(
                 thread_priority::thread_native_id(),
@@ -99,19 +99,35 @@ pub fn setup_current_thread(priority: u8, cpu: usize) -> RtReport {
         .map(|()| priority);
 
     // The process's CPUs, not this thread's: it may have been placed as a helper first.
-    let cpus = process_cpus();
-    let pinned_cpu = if !cpus.contains(&cpu) {
-        Err(format!("CPU {cpu} is not available (available: {cpus:?})"))
-    } else if core_affinity::set_for_current(core_affinity::CoreId { id: cpu }) {
-        Ok(cpu)
-    } else {
-        Err(format!("sched_setaffinity to CPU {cpu} failed"))
-    };
+    let pinned_cpu = cpu_available(cpu, process_cpus()).and_then(|()| {
+        if core_affinity::set_for_current(core_affinity::CoreId { id: cpu }) {
+            Ok(cpu)
+        } else {
+            Err(format!(
+                "cycle.cpu = {cpu}: sched_setaffinity to CPU {cpu} failed"
+            ))
+        }
+    });
 
     RtReport {
         memory_locked,
         fifo_priority,
         pinned_cpu,
+    }
+}
+
+/// `cycle.cpu` must be one of the CPUs this process may run on (`available`); the error names
+/// the key, the value and what is allowed. Not a configuration check: the same file may be
+/// written for the robot's computer and run, in simulation, on a smaller one
+/// (`docs/safety.md`, "Bounds"), so only [`crate::preflight::check`] refuses it, when real-time
+/// scheduling is required.
+pub fn cpu_available(cpu: usize, available: &[usize]) -> Result<(), String> {
+    if available.contains(&cpu) {
+        Ok(())
+    } else {
+        Err(format!(
+            "cycle.cpu = {cpu}: CPU {cpu} is not available to this process (available: {available:?})"
+        ))
     }
 }
 

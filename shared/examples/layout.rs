@@ -10,7 +10,8 @@
 use core::mem::{align_of, offset_of, size_of};
 use iceoryx2::prelude::ZeroCopySend;
 use mcm_shared::sample::{
-    CommandSample, CycleTiming, ErrorRecord, LatencyFigures, Reply, ReplyBlock, StateSample,
+    BusCounters, CommandSample, CycleTiming, ErrorRecord, LatencyFigures, Reply, ReplyBlock,
+    StateSample,
 };
 
 /// One struct's layout: its name, the iceoryx2 type name (`None` for a struct that is only
@@ -79,6 +80,11 @@ fn layouts() -> Vec<Layout> {
             ]
         ),
         layout!(
+            BusCounters,
+            None,
+            [bad_frames, frames_dropped, events_dropped, bus_errors]
+        ),
+        layout!(
             StateSample,
             Some(type_name::<StateSample>()),
             [
@@ -103,7 +109,8 @@ fn layouts() -> Vec<Layout> {
                 timing,
                 last_error,
                 reply_head,
-                owner_client_id
+                owner_client_id,
+                bus
             ]
         ),
         layout!(ReplyBlock, Some(type_name::<ReplyBlock>()), [replies]),

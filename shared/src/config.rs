@@ -174,7 +174,9 @@ pub struct BusConfig {
     pub master_heartbeat_ms: u16,
     /// Heartbeat period the drives are configured to produce (0x1017) [ms].
     pub drive_heartbeat_ms: u16,
-    /// Heartbeat consumer timeout per drive [ms]; must exceed `drive_heartbeat_ms`.
+    /// Heartbeat consumer time of both directions [ms]: the master's for each drive's
+    /// heartbeat, and each drive's for the master's (written to 0x1016:1). Must exceed the
+    /// longer of the two heartbeat periods plus one cycle.
     pub heartbeat_timeout_ms: u16,
     /// Timeout of one SDO transaction [ms].
     pub sdo_timeout_ms: u16,
@@ -429,18 +431,30 @@ impl RobotConfig {
         if b.drive_heartbeat_ms == 0 {
             return Err(invalid("bus.drive_heartbeat_ms", 0, "> 0 ms"));
         }
-        if b.heartbeat_timeout_ms <= b.drive_heartbeat_ms {
+        if b.master_heartbeat_ms == 0 {
+            return Err(invalid("bus.master_heartbeat_ms", 0, "> 0 ms"));
+        }
+        // One timeout for both directions; heartbeats are sent and stamped on cycle instants,
+        // so two of them can be up to a producer period plus one cycle apart.
+        let period_us = self.cycle_period_ns() / 1000;
+        let producer_ms = b.drive_heartbeat_ms.max(b.master_heartbeat_ms);
+        let floor_us = u64::from(producer_ms) * 1000 + period_us;
+        if u64::from(b.heartbeat_timeout_ms) * 1000 <= floor_us {
             return Err(invalid(
                 "bus.heartbeat_timeout_ms",
                 b.heartbeat_timeout_ms,
                 format!(
-                    "more than bus.drive_heartbeat_ms ({})",
-                    b.drive_heartbeat_ms
+                    "more than the longer heartbeat period plus one cycle, max(bus.drive_heartbeat_ms = {}, \
+                     bus.master_heartbeat_ms = {}) + {} ms (cycle.rate_hz = {}) = {} ms: it is the consumer \
+                     time of both directions, the master's for each drive and each drive's (0x1016:1) for \
+                     the master",
+                    b.drive_heartbeat_ms,
+                    b.master_heartbeat_ms,
+                    period_us as f64 / 1000.0,
+                    c.rate_hz,
+                    floor_us as f64 / 1000.0
                 ),
             ));
-        }
-        if b.master_heartbeat_ms == 0 {
-            return Err(invalid("bus.master_heartbeat_ms", 0, "> 0 ms"));
         }
         if b.sdo_timeout_ms == 0 {
             return Err(invalid("bus.sdo_timeout_ms", 0, "> 0 ms"));

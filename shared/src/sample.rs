@@ -175,10 +175,25 @@ pub struct CycleTiming {
     pub over_budget: u64,
 }
 
+/// Counters of the CAN bus and of the CANopen master, since `mcm-rt` started. Each counts
+/// something that should not happen: a value above 0 says frames were lost or garbled.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, ZeroCopySend)]
+#[repr(C)]
+pub struct BusCounters {
+    /// Frames from configured nodes the master could not decode (wrong length, bad content).
+    pub bad_frames: u64,
+    /// Frames the master wanted to send that did not fit the cycle's frame buffer (not sent).
+    pub frames_dropped: u64,
+    /// Master events (drive lost, EMCY, ...) lost because the master's event ring was full.
+    pub events_dropped: u64,
+    /// Frames the bus refused to send or failed to receive (interface errors).
+    pub bus_errors: u64,
+}
+
 /// The state of the arm and of the controller, published once per cycle.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("mcm.StateSample.v4")]
+#[type_name("mcm.StateSample.v5")]
 pub struct StateSample {
     /// Cycle counter (increments by one every cycle).
     pub seq: u64,
@@ -222,6 +237,8 @@ pub struct StateSample {
     pub reply_head: u64,
     /// The client that controls the arm's motion (0: none).
     pub owner_client_id: u64,
+    /// The bus's and the CANopen master's error counters.
+    pub bus: BusCounters,
 }
 
 impl Default for StateSample {
@@ -249,6 +266,7 @@ impl Default for StateSample {
             last_error: ErrorRecord::default(),
             reply_head: 0,
             owner_client_id: 0,
+            bus: BusCounters::default(),
         }
     }
 }

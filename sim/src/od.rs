@@ -224,19 +224,19 @@ pub static TABLE: [ObjectDef; LEN] = [
     e(0x603F, 0, U16, Ro, Tx, Fixed(0)),   // error code
     e(0x6040, 0, U16, Rw, Rx, Fixed(0)),   // controlword
     e(0x6041, 0, U16, Ro, Tx, Fixed(0)),   // statusword
-    e(0x605A, 0, I16, Const, No, Fixed(2)), // quick stop option: ramp, then SWITCH ON DISABLED
-    e(0x6060, 0, I8, Rw, Rx, Fixed(0)),    // modes of operation
-    e(0x6061, 0, I8, Ro, Tx, Fixed(0)),    // modes of operation display
-    e(0x6064, 0, I32, Ro, Tx, Fixed(0)),   // position actual [counts]
-    e(0x606C, 0, I32, Ro, Tx, Fixed(0)),   // velocity actual [counts/s]
-    e(0x6071, 0, I16, Rw, Rx, Fixed(0)),   // target torque [per-mille of 0x6076]
+    e(0x605A, 0, I16, Rw, No, Fixed(2)), // quick stop option: only 2 (ramp, then SWITCH ON DISABLED)
+    e(0x6060, 0, I8, Rw, Rx, Fixed(0)),  // modes of operation
+    e(0x6061, 0, I8, Ro, Tx, Fixed(0)),  // modes of operation display
+    e(0x6064, 0, I32, Ro, Tx, Fixed(0)), // position actual [counts]
+    e(0x606C, 0, I32, Ro, Tx, Fixed(0)), // velocity actual [counts/s]
+    e(0x6071, 0, I16, Rw, Rx, Fixed(0)), // target torque [per-mille of 0x6076]
     e(0x6073, 0, U16, Rw, Rx, InitValue::PeakCurrentPermille), // max current [per-mille of 0x6075]
     e(0x6075, 0, U32, Rw, No, InitValue::RatedCurrentMa), // motor rated current [mA]
     e(0x6076, 0, U32, Rw, No, InitValue::RatedTorqueMnm), // motor rated torque [mNm]
-    e(0x6077, 0, I16, Ro, Tx, Fixed(0)),   // torque actual [per-mille of 0x6076]
-    e(0x6078, 0, I16, Ro, Tx, Fixed(0)),   // current actual [per-mille of 0x6075]
-    e(0x607A, 0, I32, Rw, Rx, Fixed(0)),   // target position [counts]
-    e(0x60B2, 0, I16, Rw, Rx, Fixed(0)),   // torque offset [per-mille of 0x6076], CSP feed-forward
+    e(0x6077, 0, I16, Ro, Tx, Fixed(0)), // torque actual [per-mille of 0x6076]
+    e(0x6078, 0, I16, Ro, Tx, Fixed(0)), // current actual [per-mille of 0x6075]
+    e(0x607A, 0, I32, Rw, Rx, Fixed(0)), // target position [counts]
+    e(0x60B2, 0, I16, Rw, Rx, Fixed(0)), // torque offset [per-mille of 0x6076], CSP feed-forward
     e(0x60C2, 0, U8, Const, No, Fixed(2)), // interpolation time period
     e(0x60C2, 1, U8, Rw, No, Fixed(1)),
     e(0x60C2, 2, I8, Rw, No, Fixed(0xFD)),
@@ -269,6 +269,12 @@ pub const CALIBRATION_INDEX: u16 = 0x2100;
 pub const ERROR_CODE: usize = slot(0x603F, 0);
 pub const CONTROLWORD: usize = slot(0x6040, 0);
 pub const STATUSWORD: usize = slot(0x6041, 0);
+/// 0x605A, quick stop option code (i16); the drive supports option 2 only
+/// ([`QUICK_STOP_OPTION_SUPPORTED`]).
+pub const QUICK_STOP_OPTION: usize = slot(0x605A, 0);
+/// The one quick stop option code the simulated drive implements: slow down on the quick-stop
+/// ramp, then SWITCH ON DISABLED (`crate::cia402`).
+pub const QUICK_STOP_OPTION_SUPPORTED: i16 = 2;
 pub const MODES_OF_OPERATION: usize = slot(0x6060, 0);
 pub const MODES_DISPLAY: usize = slot(0x6061, 0);
 pub const POSITION_ACTUAL: usize = slot(0x6064, 0);

@@ -23,7 +23,7 @@ pub fn boot_steps(cfg: &RobotConfig, axis: usize) -> Vec<Step> {
         (
             0x1016,
             1,
-            (u32::from(b.master_node_id) << 16) | (3 * u32::from(b.master_heartbeat_ms)),
+            (u32::from(b.master_node_id) << 16) | u32::from(b.heartbeat_timeout_ms),
             4,
         ),
         (0x1400, 1, 0x8000_0200 + n, 4),
@@ -65,6 +65,7 @@ pub fn boot_steps(cfg: &RobotConfig, axis: usize) -> Vec<Step> {
             4,
         ),
         (0x6073, 0, max_current_permille(cfg, axis) as u32, 2),
+        (0x605A, 0, 2, 2),
         (0x6060, 0, 8, 1),
     ]
 }

@@ -261,6 +261,19 @@ typedef struct mcm_error_record_t {
   double values[4];
 } mcm_error_record_t;
 
+// Counters of the CAN bus and of the CANopen master since the core started; each counts
+// something that should not happen.
+typedef struct mcm_bus_counters_t {
+  // Frames from configured nodes the master could not decode.
+  uint64_t bad_frames;
+  // Frames that did not fit the cycle's frame buffer (not sent).
+  uint64_t frames_dropped;
+  // Master events lost because the event ring was full.
+  uint64_t events_dropped;
+  // Frames the bus refused to send or failed to receive.
+  uint64_t bus_errors;
+} mcm_bus_counters_t;
+
 // The state of one cycle, as the real-time core publishes it (the shared-memory
 // `StateSample`, field for field; units: deg, deg/s, deg/s^2, A, ns).
 typedef struct mcm_state_t {
@@ -304,6 +317,8 @@ typedef struct mcm_state_t {
   uint64_t reply_head;
   // The client that controls the arm (0: nobody; compare with `mcm_shm_client_id`).
   uint64_t owner_client_id;
+  // The bus's and the CANopen master's error counters.
+  struct mcm_bus_counters_t bus;
 } mcm_state_t;
 
 // A `wait_until` condition over shared memory: nonzero when the state shows what is waited

@@ -4,7 +4,7 @@ iceoryx2 compares only a type's name, size and alignment when a peer opens a ser
 its fields, so these structures are pinned to the Rust layouts by a test
 (``tests/python_layout.rs`` runs ``python/tests/test_layout.py`` against the sizes and field
 offsets the Rust compiler computed). Any layout change in Rust bumps the version in the type
-name (``mcm.StateSample.v4``), and this module must follow.
+name (``mcm.StateSample.v5``), and this module must follow.
 
 This module needs only the standard library.
 """
@@ -133,6 +133,18 @@ class CycleTiming(ctypes.Structure):
     ]
 
 
+class BusCounters(ctypes.Structure):
+    """Counters of the CAN bus and of the CANopen master since the core started (each counts
+    something that should not happen)."""
+
+    _fields_ = [
+        ("bad_frames", ctypes.c_uint64),
+        ("frames_dropped", ctypes.c_uint64),
+        ("events_dropped", ctypes.c_uint64),
+        ("bus_errors", ctypes.c_uint64),
+    ]
+
+
 class StateSample(ctypes.Structure):
     """The state of the arm and the controller, published once per cycle (key 0 of the state
     blackboard). Units: degrees, degrees/s, degrees/s^2, amperes; times ``CLOCK_MONOTONIC`` ns
@@ -161,12 +173,13 @@ class StateSample(ctypes.Structure):
         ("last_error", ErrorRecord),
         ("reply_head", ctypes.c_uint64),
         ("owner_client_id", ctypes.c_uint64),
+        ("bus", BusCounters),
     ]
 
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name, equal to the Rust ``#[type_name]``."""
-        return "mcm.StateSample.v4"
+        return "mcm.StateSample.v5"
 
 
 class ReplyBlock(ctypes.Structure):
@@ -187,6 +200,7 @@ STRUCTS: Dict[str, Type[ctypes.Structure]] = {
     "ErrorRecord": ErrorRecord,
     "LatencyFigures": LatencyFigures,
     "CycleTiming": CycleTiming,
+    "BusCounters": BusCounters,
     "StateSample": StateSample,
     "ReplyBlock": ReplyBlock,
 }

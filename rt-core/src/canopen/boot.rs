@@ -23,7 +23,7 @@ use super::sdo::{SdoAbortCode, SdoClient, SdoDone, SdoError, SdoRequest, SdoValu
 use mcm_bus::Frame;
 
 /// Number of SDO operations of the sequence (steps 1..=11).
-pub const BOOT_OPS: usize = 40;
+pub const BOOT_OPS: usize = 41;
 /// Retries of one operation after a timeout or abort (so at most 3 attempts).
 pub const MAX_RETRIES: u8 = 2;
 /// TPDO2's event timer (0x1801:5) [ms], in the contract beside the bus load it enters.
@@ -48,7 +48,7 @@ pub const CALIBRATION_OFFSET_SUB: u8 = 1;
 /// 0x2100:2, the calibration is valid (u8, 0/1).
 pub const CALIBRATION_VALID_SUB: u8 = 2;
 
-/// Step 12, after the 40 operations of [`boot_ops`] and before the NMT start: read whether
+/// Step 12, after the 41 operations of [`boot_ops`] and before the NMT start: read whether
 /// the drive holds a calibration, then (only if it does) the offset.
 pub const CALIBRATION_OPS: [BootOp; 2] = [
     BootOp {
@@ -84,7 +84,9 @@ pub struct BootParams {
     pub axis: usize,
     pub drive_heartbeat_ms: u16,
     pub master_node_id: u8,
-    pub master_heartbeat_ms: u16,
+    /// The drive's consumer time of the master's heartbeat (0x1016:1) [ms]:
+    /// `bus.heartbeat_timeout_ms`, the one heartbeat timeout of both directions.
+    pub master_heartbeat_timeout_ms: u16,
     /// Cycle period T in whole milliseconds (0x60C2:1).
     pub cycle_ms: u8,
     /// 0x6075, motor rated current [mA].
@@ -95,7 +97,7 @@ pub struct BootParams {
     pub max_current_permille: u16,
 }
 
-/// The 40 operations of steps 1..=11, in order.
+/// The 41 operations of steps 1..=11, in order.
 pub fn boot_ops(p: &BootParams) -> [BootOp; BOOT_OPS] {
     let n = u32::from(p.node);
     let a = ObjectAddr::new;
@@ -105,8 +107,8 @@ pub fn boot_ops(p: &BootParams) -> [BootOp; BOOT_OPS] {
         action: BootAction::Write(v),
         what,
     };
-    use SdoValue::{I8, U8, U16, U32};
-    let consumer = (u32::from(p.master_node_id) << 16) | (3 * u32::from(p.master_heartbeat_ms));
+    use SdoValue::{I8, I16, U8, U16, U32};
+    let consumer = (u32::from(p.master_node_id) << 16) | u32::from(p.master_heartbeat_timeout_ms);
     [
         BootOp {
             step: 1,
@@ -301,7 +303,13 @@ pub fn boot_ops(p: &BootParams) -> [BootOp; BOOT_OPS] {
             U16(p.max_current_permille),
             "max current (per-mille of rated)",
         ),
-        // 11. Mode: cyclic synchronous position.
+        // 11. Quick stop reaction, then the mode: cyclic synchronous position.
+        w(
+            11,
+            a(QUICK_STOP_OPTION_CODE, 0),
+            I16(QUICK_STOP_OPTION_DISABLE),
+            "quick stop option code = 2 (quick-stop ramp, then SWITCH ON DISABLED)",
+        ),
         w(
             11,
             a(MODES_OF_OPERATION, 0),

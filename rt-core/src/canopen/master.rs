@@ -211,7 +211,7 @@ impl AxisRt {
             axis: index,
             drive_heartbeat_ms: b.drive_heartbeat_ms,
             master_node_id: b.master_node_id,
-            master_heartbeat_ms: b.master_heartbeat_ms,
+            master_heartbeat_timeout_ms: b.heartbeat_timeout_ms,
             cycle_ms,
             rated_current_ma: rated_ma as u32,
             rated_torque_mnm: rated_torque_mnm as u32,
@@ -295,11 +295,6 @@ impl Master {
             });
         }
         let load = check_config(cfg)?;
-        if u32::from(cfg.bus.master_heartbeat_ms) * 3 > u32::from(u16::MAX) {
-            return Err(MasterSetupError::ConsumerTime {
-                master_heartbeat_ms: cfg.bus.master_heartbeat_ms,
-            });
-        }
         let period_ns = cfg.cycle_period_ns();
         if !period_ns.is_multiple_of(1_000_000) || !(1..=255).contains(&(period_ns / 1_000_000)) {
             return Err(MasterSetupError::CyclePeriod {

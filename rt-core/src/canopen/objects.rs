@@ -49,6 +49,8 @@ pub const TPDO_MAP: u16 = 0x1A00;
 pub const ERROR_CODE: u16 = 0x603F;
 pub const CONTROLWORD: u16 = 0x6040;
 pub const STATUSWORD: u16 = 0x6041;
+/// Quick stop option code (i16): what the drive does on the controlword's quick stop.
+pub const QUICK_STOP_OPTION_CODE: u16 = 0x605A;
 pub const MODES_OF_OPERATION: u16 = 0x6060;
 pub const MODES_OF_OPERATION_DISPLAY: u16 = 0x6061;
 pub const POSITION_ACTUAL: u16 = 0x6064;
@@ -64,6 +66,12 @@ pub const INTERPOLATION_TIME_PERIOD: u16 = 0x60C2;
 
 /// 0x1000 of a CiA 402 servo drive: profile 402 (0x0192), type "servo drive" (0x0002).
 pub const DEVICE_TYPE_CIA402_SERVO: u32 = 0x0002_0192;
+
+/// 0x605A value the master writes at boot: slow down on the quick-stop ramp (0x6085), then
+/// SWITCH ON DISABLED by itself (CiA 402 option 2). The master's state machine relies on it
+/// ([`super::cia402`]: a drive it asks to quick-stop ends disabled, and QUICK STOP ACTIVE is
+/// left through SWITCH ON DISABLED, never by transition 16).
+pub const QUICK_STOP_OPTION_DISABLE: i16 = 2;
 
 /// Bit 31 of a PDO COB-ID entry: the PDO is invalid (disabled).
 pub const PDO_COB_ID_INVALID: u32 = 0x8000_0000;

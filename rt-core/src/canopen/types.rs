@@ -253,11 +253,6 @@ pub enum MasterSetupError {
          whole milliseconds, so the period must be 1..=255 ms"
     )]
     CyclePeriod { rate_hz: u32, period_us: u64 },
-    #[error(
-        "bus.master_heartbeat_ms = {master_heartbeat_ms} gives a drive heartbeat consumer time of \
-         3 x {master_heartbeat_ms} ms, which does not fit the 16-bit field of 0x1016; allowed: <= 21845 ms"
-    )]
-    ConsumerTime { master_heartbeat_ms: u16 },
     #[error("axis[{}].{key} = {value} gives {derived} = {derived_value}, which does not fit {allowed}", axis + 1)]
     AxisValue {
         axis: usize,

@@ -194,6 +194,12 @@ impl Controller {
         self.view.replies.clear();
     }
 
+    /// The bus errors the cycle counted since start (frames not sent or not received), for the
+    /// view ([`CycleView::bus`]).
+    pub fn note_bus_errors(&mut self, bus_errors: u64) {
+        self.view.bus.bus_errors = bus_errors;
+    }
+
     /// Add a reply to this cycle's outbox (also used by the simulator's edge,
     /// [`crate::sim_edge`], for `sim` commands).
     pub fn answer(&mut self, reply: Reply) {
@@ -395,6 +401,9 @@ impl Controller {
         v.pvt_starved = matches!(self.state, State::Pvt { starved: true, .. });
         v.pvt_queued = u32::try_from(self.stream.queued()).unwrap_or(u32::MAX);
         v.owner_client_id = self.owner;
+        v.bus.bad_frames = self.master.bad_frames();
+        v.bus.frames_dropped = self.master.frames_dropped();
+        v.bus.events_dropped = self.master.events_dropped();
         let level = self.i2t.level();
         let derated = self.i2t.derated();
         for (i, f) in fb.iter().enumerate() {

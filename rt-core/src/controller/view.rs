@@ -6,7 +6,7 @@
 use mcm_shared::NUM_AXES;
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::SafetyError;
-use mcm_shared::sample::{REPLIES_PER_CYCLE, Reply};
+use mcm_shared::sample::{BusCounters, REPLIES_PER_CYCLE, Reply};
 
 /// The replies of one cycle, in the order they were given (wire form, `seq` 0: the edge numbers
 /// them when it publishes them). Holds [`REPLIES_PER_CYCLE`]; were more given in one cycle, the
@@ -88,4 +88,7 @@ pub struct CycleView {
     /// The latest safety error reported (`None` since start); its `unix_ns` is 0: the composer
     /// stamps the wall clock of the cycle that reports it.
     pub last_error: Option<SafetyError>,
+    /// The master's counters (bad frames, frames dropped, events dropped) and the bus errors
+    /// that [`crate::cycle::Cycle`] counts, since start.
+    pub bus: BusCounters,
 }

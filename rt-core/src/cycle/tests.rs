@@ -70,6 +70,30 @@ fn a_bus_that_fails_both_ways_counts_each_failure_and_the_controller_still_steps
 }
 
 #[test]
+fn the_counters_reach_the_published_view() {
+    // Two garbled frames of node 1 (a 2-byte TPDO1, a 3-byte EMCY), then a bus that fails.
+    let garbled = [
+        Frame::new(0x181, &[1, 2]).unwrap(),
+        Frame::new(0x081, &[1, 2, 3]).unwrap(),
+    ];
+    let (mut c, period) = cycle(TestBus {
+        rx: garbled.into_iter().collect(),
+        fail_send: true,
+        ..TestBus::default()
+    });
+    c.run(0, &[]);
+    let bus = c.controller().view().bus;
+    assert_eq!(bus.bad_frames, 2);
+    assert_eq!(bus.frames_dropped, 0);
+    assert_eq!(bus.events_dropped, 0);
+    assert!(bus.bus_errors > 0, "the failed sends of this cycle");
+    assert_eq!(bus.bus_errors, c.bus_errors());
+    c.run(period, &[]);
+    assert_eq!(c.controller().view().bus.bus_errors, c.bus_errors());
+    assert_eq!(c.controller().view().bus.bad_frames, 2);
+}
+
+#[test]
 fn a_healthy_bus_counts_no_errors() {
     let (mut c, period) = cycle(TestBus::default());
     for k in 0..20 {
@@ -77,6 +101,10 @@ fn a_healthy_bus_counts_no_errors() {
     }
     assert!(c.bus_mut().sends > 0);
     assert_eq!(c.bus_errors(), 0);
+    assert_eq!(
+        c.controller().view().bus,
+        mcm_shared::sample::BusCounters::default()
+    );
 }
 
 #[test]

@@ -120,3 +120,19 @@ fn replies_are_counted_and_a_new_error_is_stamped_once() {
     assert_eq!(first_reply_seq(&s, &view), 2 + 3 + 1);
     assert_eq!(view.replies.replies()[0].request_id, 103);
 }
+
+#[test]
+fn bus_counters_are_published_as_the_view_has_them() {
+    let view = CycleView {
+        bus: mcm_shared::sample::BusCounters {
+            bad_frames: 3,
+            frames_dropped: 4,
+            events_dropped: 5,
+            bus_errors: 6,
+        },
+        ..CycleView::default()
+    };
+    let mut s = StateSample::default();
+    compose(&mut s, &view, None, &CycleClock::default());
+    assert_eq!(s.bus, view.bus);
+}

@@ -58,3 +58,22 @@ fn report_lists_each_failed_step() {
         "real-time: memory locked, SCHED_FIFO priority 80, pinned to CPU 1"
     );
 }
+
+#[test]
+fn a_missing_cycle_cpu_is_reported_naming_the_key() {
+    assert_eq!(cpu_available(1, &[0, 1]), Ok(()));
+    assert_eq!(
+        cpu_available(99, &[0, 1]).unwrap_err(),
+        "cycle.cpu = 99: CPU 99 is not available to this process (available: [0, 1])"
+    );
+    let r = RtReport {
+        memory_locked: Ok(()),
+        fifo_priority: Ok(80),
+        pinned_cpu: cpu_available(99, &[0, 1]).map(|()| 99),
+    };
+    assert_eq!(
+        r.to_string(),
+        "NOT real-time: not pinned to a CPU: cycle.cpu = 99: CPU 99 is not available to this \
+         process (available: [0, 1])"
+    );
+}

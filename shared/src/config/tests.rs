@@ -18,6 +18,11 @@ type Case = (
 
 const POSITIVE: &str = "a finite value > 0";
 
+const HB_50_50: &str = "more than the longer heartbeat period plus one cycle, \
+    max(bus.drive_heartbeat_ms = 50, bus.master_heartbeat_ms = 50) + 5 ms (cycle.rate_hz = 200) \
+    = 55 ms: it is the consumer time of both directions, the master's for each drive and each \
+    drive's (0x1016:1) for the master";
+
 #[rustfmt::skip]
 const REFUSALS: &[Case] = &[
     // [cycle]
@@ -39,8 +44,20 @@ const REFUSALS: &[Case] = &[
     (|c| c.bus.master_node_id = 0, "bus.master_node_id", "0", "1..=127"),
     (|c| c.bus.master_node_id = 128, "bus.master_node_id", "128", "1..=127"),
     (|c| c.bus.drive_heartbeat_ms = 0, "bus.drive_heartbeat_ms", "0", "> 0 ms"),
-    (|c| c.bus.heartbeat_timeout_ms = 50, "bus.heartbeat_timeout_ms", "50",
-        "more than bus.drive_heartbeat_ms (50)"),
+    (|c| c.bus.heartbeat_timeout_ms = 50, "bus.heartbeat_timeout_ms", "50", HB_50_50),
+    (|c| c.bus.heartbeat_timeout_ms = 55, "bus.heartbeat_timeout_ms", "55", HB_50_50),
+    // A drive consumer time not above the master's heartbeat period would fault the drives.
+    (|c| c.bus.master_heartbeat_ms = 150, "bus.heartbeat_timeout_ms", "150",
+        "more than the longer heartbeat period plus one cycle, max(bus.drive_heartbeat_ms = 50, \
+         bus.master_heartbeat_ms = 150) + 5 ms (cycle.rate_hz = 200) = 155 ms: it is the consumer \
+         time of both directions, the master's for each drive and each drive's (0x1016:1) for \
+         the master"),
+    (|c| { c.cycle.rate_hz = 400; c.bus.heartbeat_timeout_ms = 52; },
+        "bus.heartbeat_timeout_ms", "52",
+        "more than the longer heartbeat period plus one cycle, max(bus.drive_heartbeat_ms = 50, \
+         bus.master_heartbeat_ms = 50) + 2.5 ms (cycle.rate_hz = 400) = 52.5 ms: it is the consumer \
+         time of both directions, the master's for each drive and each drive's (0x1016:1) for \
+         the master"),
     (|c| c.bus.master_heartbeat_ms = 0, "bus.master_heartbeat_ms", "0", "> 0 ms"),
     (|c| c.bus.sdo_timeout_ms = 0, "bus.sdo_timeout_ms", "0", "> 0 ms"),
     (|c| c.bus.boot_timeout_ms = 0, "bus.boot_timeout_ms", "0", "> 0 ms"),
@@ -207,7 +224,10 @@ fn every_refusal_names_key_value_and_allowed_range() {
 const ACCEPTED: &[fn(&mut RobotConfig)] = &[
     |c| { c.cycle.rate_hz = 1000; c.cycle.work_budget_us = Some(1000); },
     // The reaction bound is in time: at 1 Hz one cycle is already a second.
-    |c| { c.cycle.rate_hz = 1; c.safety.reaction_cycles = 1; },
+    // (And the heartbeats, sent on cycle instants, can be a second apart.)
+    |c| { c.cycle.rate_hz = 1; c.safety.reaction_cycles = 1; c.bus.heartbeat_timeout_ms = 1051; },
+    |c| c.bus.heartbeat_timeout_ms = 56,
+    |c| { c.bus.master_heartbeat_ms = 100; c.bus.heartbeat_timeout_ms = 106; },
     |c| c.cycle.work_budget_us = Some(5000),
     |c| c.cycle.work_budget_us = None,
     |c| c.cycle.priority = 99,

@@ -408,6 +408,20 @@ pub struct Ipc {
     pub command_receive_errors: u64,
 }
 
+/// `detail.bus`: the CAN bus's and the CANopen master's error counters since the core
+/// started ([`crate::sample::BusCounters`]); each counts something that should not happen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct BusDetail {
+    /// Frames from configured drives the master could not decode.
+    pub bad_frames: u64,
+    /// Frames that did not fit the cycle's frame buffer (not sent).
+    pub frames_dropped: u64,
+    /// Master events lost because its event ring was full.
+    pub events_dropped: u64,
+    /// Frames the bus refused to send or failed to receive.
+    pub bus_errors: u64,
+}
+
 /// `detail.control`: who controls the arm, and whether it is this connection.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ControlDetail {
@@ -450,6 +464,7 @@ pub struct Detail {
     pub pvt_queue: PvtQueue,
     pub timing: Timing,
     pub ipc: Ipc,
+    pub bus: BusDetail,
     /// Added by the gateway for the connection that asked.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub control: Option<ControlDetail>,
@@ -508,6 +523,12 @@ impl Detail {
             },
             ipc: Ipc {
                 command_receive_errors: state.command_receive_errors,
+            },
+            bus: BusDetail {
+                bad_frames: state.bus.bad_frames,
+                frames_dropped: state.bus.frames_dropped,
+                events_dropped: state.bus.events_dropped,
+                bus_errors: state.bus.bus_errors,
             },
             control: None,
             access: None,

@@ -32,6 +32,9 @@ impl SimDrive {
             od::CONSUMER_HEARTBEAT if raw & 0xFF80_0000 != 0 => {
                 bad("(node id 0..=127 << 16) | time in ms")
             }
+            od::QUICK_STOP_OPTION if raw as u16 as i16 != od::QUICK_STOP_OPTION_SUPPORTED => {
+                bad("2 (quick-stop ramp, then SWITCH ON DISABLED), the only option this drive has")
+            }
             od::CALIBRATION_VALID if raw > 1 => bad("0 (not calibrated) or 1 (valid)"),
             od::RESTORE_DEFAULTS if raw != RESTORE_SIGNATURE => bad("0x64616F6C (\"load\")"),
             od::INTERPOLATION_INDEX if !(-6..=0).contains(&(raw as u8 as i8)) => {

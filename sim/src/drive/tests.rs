@@ -293,6 +293,23 @@ fn every_abort_code() {
         Err(0x0609_0030),
         "above the peak current"
     );
+    // 0x605A: option 2 is the one the drive has; the others are refused and leave it at 2.
+    assert_eq!(r.read(0x605A, 0), Ok(2));
+    assert_eq!(r.write(0x605A, 0, 2, 2), Ok(()));
+    for option in [0u16, 1, 3, 5, 6, 7, 8, (-1i16) as u16] {
+        assert_eq!(
+            r.write(0x605A, 0, u32::from(option), 2),
+            Err(0x0609_0030),
+            "quick stop option {}",
+            option as i16
+        );
+    }
+    assert_eq!(
+        r.write(0x605A, 0, 2, 1),
+        Err(0x0607_0010),
+        "an i16 is 2 bytes"
+    );
+    assert_eq!(r.read(0x605A, 0), Ok(2));
     assert_eq!(
         r.write(0x1400, 2, 0, 1),
         Err(0x0609_0030),

@@ -377,6 +377,14 @@ fn detail_lines(s: &mut String, hardware: Option<&str>, d: &Detail) {
             format!(" {YELLOW}(NOT real-time){RESET}")
         }
     );
+    let b = &d.bus;
+    let lost = b.bad_frames + b.frames_dropped + b.events_dropped + b.bus_errors;
+    let (on, off) = if lost > 0 { (YELLOW, RESET) } else { ("", "") };
+    let _ = writeln!(
+        s,
+        "bus:       {on}bad frames {}, frames dropped {}, events dropped {}, bus errors {}{off}",
+        b.bad_frames, b.frames_dropped, b.events_dropped, b.bus_errors
+    );
 }
 
 /// Notes from the state: emergency stop, uncalibrated axes, the last safety error.

@@ -10,7 +10,7 @@ fn params() -> BootParams {
         axis: 2,
         drive_heartbeat_ms: 50,
         master_node_id: 127,
-        master_heartbeat_ms: 50,
+        master_heartbeat_timeout_ms: 150,
         cycle_ms: 5,
         rated_current_ma: 4000,
         rated_torque_mnm: 480,
@@ -98,7 +98,8 @@ fn sequence_is_exactly_the_drive_profile() {
         "603#23756000A00F0000", // 9. 4000 mA
         "603#23766000E0010000",
         "603#2B736000C4090000", // 10. 2500
-        "603#2F60600008000000", // 11.
+        "603#2B5A600002000000", // 11. 0x605A = 2
+        "603#2F60600008000000", //     0x6060 = 8
         "603#4000210200000000", // 12. read 0x2100:2 (not valid: offset not read)
         "000#0103",             // NMT start
     ];
@@ -106,6 +107,38 @@ fn sequence_is_exactly_the_drive_profile() {
     assert!(drive.nmt_started());
     assert_eq!(drive.object(0x1016, 1), Some((127 << 16) | 150));
     assert_eq!(drive.object(0x6076, 0), Some(480));
+    assert_eq!(drive.object(0x605A, 0), Some(2));
+}
+
+#[test]
+fn a_drive_without_the_quick_stop_option_code_fails_the_boot_naming_it() {
+    // No such object (0x06020000), and a value the drive does not support (0x06090030).
+    for (code, text) in [
+        (
+            0x0602_0000,
+            "SDO abort 0x06020000 (object does not exist in the object dictionary)",
+        ),
+        (
+            0x0609_0030,
+            "SDO abort 0x06090030 (value range of parameter exceeded)",
+        ),
+    ] {
+        let mut drive = FakeDrive::new(3);
+        drive.script(0x605A, 0, Fault::Abort(code), 3);
+        let (_, out) = run(&mut drive, 300);
+        let BootOutput::Failed(err) = out else {
+            panic!("{out:?}")
+        };
+        assert_eq!((err.step, err.attempts), (11, 3));
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "node 3 (axis 3) configuration step 11 (0x605A:0 quick stop option code = 2 \
+                 (quick-stop ramp, then SWITCH ON DISABLED)) failed after 3 attempt(s): {text}"
+            )
+        );
+        assert!(!drive.nmt_started());
+    }
 }
 
 #[test]

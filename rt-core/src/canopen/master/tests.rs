@@ -27,11 +27,14 @@ struct World {
 
 impl World {
     fn new() -> World {
-        let cfg = RobotConfig::prob2_default();
+        World::with_config(&RobotConfig::prob2_default())
+    }
+
+    fn with_config(cfg: &RobotConfig) -> World {
         let drives: Vec<FakeDrive> = (1..=6).map(FakeDrive::new).collect();
         let inbox = drives.iter().map(|d| d.boot_up()).collect();
         World {
-            master: Master::new(&cfg).unwrap(),
+            master: Master::new(cfg).unwrap(),
             drives,
             inbox,
             now: 0,
@@ -854,17 +857,23 @@ fn setup_refuses_250_hz_at_500_kbit() {
 }
 
 #[test]
-fn setup_refuses_a_consumer_time_beyond_16_bits() {
+fn drives_watch_the_master_with_the_one_heartbeat_timeout() {
+    // 0x1016:1 is `bus.heartbeat_timeout_ms`, whatever the master's own heartbeat period.
     let mut cfg = RobotConfig::prob2_default();
-    cfg.bus.master_heartbeat_ms = 30_000;
-    let err = Master::new(&cfg).unwrap_err();
-    assert_eq!(
-        err,
-        MasterSetupError::ConsumerTime {
-            master_heartbeat_ms: 30_000
-        }
-    );
-    assert!(err.to_string().contains("<= 21845 ms"), "{err}");
+    cfg.bus.master_heartbeat_ms = 100;
+    cfg.bus.heartbeat_timeout_ms = 420;
+    cfg.validate().unwrap();
+    let mut w = World::with_config(&cfg);
+    w.run(60, [DriveRequest::Disable; 6]);
+    for d in &w.drives {
+        assert!(d.nmt_started(), "node {}", d.node);
+        assert_eq!(
+            d.object(0x1016, 1),
+            Some((127 << 16) | 420),
+            "node {}",
+            d.node
+        );
+    }
 }
 
 #[test]

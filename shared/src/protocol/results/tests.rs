@@ -61,6 +61,25 @@ fn status_detail_shows_the_receive_errors() {
 }
 
 #[test]
+fn status_detail_shows_the_bus_counters() {
+    let s = StateSample {
+        bus: crate::sample::BusCounters {
+            bad_frames: 1,
+            frames_dropped: 2,
+            events_dropped: 3,
+            bus_errors: 4,
+        },
+        ..StateSample::default()
+    };
+    let bus = &status(&s, true)["detail"]["bus"];
+    assert_eq!(bus["bad_frames"], 1);
+    assert_eq!(bus["frames_dropped"], 2);
+    assert_eq!(bus["events_dropped"], 3);
+    assert_eq!(bus["bus_errors"], 4);
+    assert_eq!(bus.as_object().unwrap().len(), 4);
+}
+
+#[test]
 fn status_detail_shows_the_tail_the_window_and_the_budget() {
     use crate::sample::{CycleTiming, LatencyFigures};
     let timing = CycleTiming {

@@ -88,6 +88,10 @@ fn detailed_status_and_notes() {
     assert!(text.contains("hardware:  drives online 0/6"), "{text}");
     assert!(text.contains("PVT queue: 0 of 0 points"), "{text}");
     assert!(text.contains("cycle:     5.000 ms (200 Hz)"), "{text}");
+    assert!(
+        text.contains("bus:       bad frames 0, frames dropped 0, events dropped 0, bus errors 0"),
+        "{text}"
+    );
     assert!(text.contains("emergency stop PRESSED"), "{text}");
     assert!(text.contains("not calibrated: axis 5 "), "{text}");
     assert!(
@@ -95,6 +99,22 @@ fn detailed_status_and_notes() {
         "{text}"
     );
     assert_eq!(lines[1].len(), lines[3].len(), "{text}");
+}
+
+#[test]
+fn detailed_status_shows_the_bus_counters() {
+    let mut st = state(Mode::Hold);
+    st.bus.bad_frames = 2;
+    st.bus.bus_errors = 7;
+    let text = status(&status_of(&st, true), &cfg(), Some(&st));
+    assert!(
+        text.contains(&format!(
+            "bus:       {YELLOW}bad frames 2, frames dropped 0, events dropped 0, bus errors 7{RESET}"
+        )),
+        "{text}"
+    );
+    let plain = strip_ansi(&status(&status_of(&st, false), &cfg(), Some(&st)));
+    assert!(!plain.contains("bad frames"), "only in the detail: {plain}");
 }
 
 #[test]
