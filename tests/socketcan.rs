@@ -10,7 +10,7 @@
 mod common;
 
 use common::virtual_arm::VirtualArm;
-use common::{Mcm, WAIT, assert_ok, unique_instance};
+use common::{Mcm, WAIT, unique_instance};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -189,6 +189,11 @@ fn all_pre_operational_after_the_stop(log: &[(f64, Frame)]) -> bool {
     })
 }
 
+fn hold(c: &mut common::Client) {
+    let s = c.request(r#"{"command":"hold"}"#);
+    assert_eq!(s["operating_mode"], "HOLD", "{s}");
+}
+
 #[test]
 #[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
 fn the_kernel_s_candump_agrees_with_the_mcm_s_own_log_frame_for_frame() {
@@ -203,7 +208,7 @@ fn the_kernel_s_candump_agrees_with_the_mcm_s_own_log_frame_for_frame() {
     let mcm = Mcm::start_on(Some(arm), &instance, &["--candump", own.to_str().unwrap()]);
     let mut c = mcm.client();
     c.wait_drives_online();
-    assert_ok(&c.request(r#"{"command":"hold"}"#));
+    hold(&mut c);
     // A few seconds of cyclic traffic in HOLD.
     let s0 = common::time_of(&c.request(r#"{"command":"status","arguments":{"detail":true}}"#));
     c.wait_status("2 s of the robot's time in HOLD", |s| {
@@ -297,7 +302,7 @@ fn after_the_controlled_stop_every_drive_is_pre_operational_and_the_master_is_si
     let mcm = Mcm::start_on(Some(arm), &unique_instance("finish"), &[]);
     let mut c = mcm.client();
     c.wait_drives_online();
-    assert_ok(&c.request(r#"{"command":"hold"}"#));
+    hold(&mut c);
     let status = mcm.stop();
     assert!(status.success(), "launcher exit status {status}");
     let log = dump.stop_when("every drive PRE-OPERATIONAL after the stop", |log| {

@@ -127,7 +127,7 @@ impl Mcm {
         }
         let extra: Vec<&std::ffi::OsStr> = extra.iter().map(|a| a.as_ref()).collect();
         let sim = SimulatedMcm::start_echoing(
-            env!("CARGO_BIN_EXE_mcm").as_ref(),
+            &virtual_arm::mcm_binary(),
             instance,
             &extra,
             Stdio::inherit(),

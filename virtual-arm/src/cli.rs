@@ -32,6 +32,10 @@ struct Args {
     /// Periods without SYNC before the arm's time goes on without the master (1 to 1000).
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(1..=1000))]
     sync_grace: u64,
+    /// Run the arm's loop with SCHED_FIFO at this priority (1 to 99; below the MCM's cycle,
+    /// `cycle.priority`, when both share a machine). Default: normal scheduling.
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=99))]
+    fifo_priority: Option<u8>,
     /// Print the counters every this many seconds (0: only at the end).
     #[arg(long, default_value_t = 60)]
     summary_s: u64,
@@ -68,6 +72,7 @@ pub fn main(args: impl IntoIterator<Item = OsString>) -> ExitCode {
         candump: args.candump,
         grace: args.sync_grace,
         summary: Duration::from_secs(args.summary_s),
+        fifo_priority: args.fifo_priority,
     };
     match run(&opts) {
         Ok(_) => ExitCode::SUCCESS,

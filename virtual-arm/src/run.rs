@@ -37,6 +37,9 @@ pub struct Options {
     pub grace: u64,
     /// How often the counters are printed (never when zero).
     pub summary: Duration,
+    /// Run the loop's thread with `SCHED_FIFO` at this priority (1 to 99): on a bench where
+    /// the arm shares its CPUs with the MCM and others, so that it answers a SYNC in time.
+    pub fifo_priority: Option<u8>,
 }
 
 /// Why the virtual arm could not run.
@@ -56,6 +59,27 @@ pub enum RunError {
     Candump(#[from] CandumpError),
     #[error("cannot install the SIGINT/SIGTERM handlers: {0}")]
     Signals(#[source] std::io::Error),
+    #[error(
+        "cannot run with SCHED_FIFO priority {priority}: {reason} (needs root or CAP_SYS_NICE; \
+         allowed: 1 to 99, or no --fifo-priority)"
+    )]
+    Priority { priority: u8, reason: String },
+}
+
+/// Give the calling thread `SCHED_FIFO` at `priority`.
+fn set_fifo(priority: u8) -> Result<(), RunError> {
+    use thread_priority::{
+        RealtimeThreadSchedulePolicy, ThreadPriority, ThreadPriorityValue, ThreadSchedulePolicy,
+        set_thread_priority_and_policy, thread_native_id,
+    };
+    let fail = |reason: String| RunError::Priority { priority, reason };
+    let value = ThreadPriorityValue::try_from(priority).map_err(|e| fail(e.to_string()))?;
+    set_thread_priority_and_policy(
+        thread_native_id(),
+        ThreadPriority::Crossplatform(value),
+        ThreadSchedulePolicy::Realtime(RealtimeThreadSchedulePolicy::Fifo),
+    )
+    .map_err(|e| fail(format!("{e:?}")))
 }
 
 /// Run until SIGINT or SIGTERM; the counters at the end.
@@ -69,6 +93,10 @@ pub fn run(opts: &Options) -> Result<Counters, RunError> {
         e => RunError::Can(e),
     })?;
     let (control, requests) = control::serve(opts.control, opts.config.clone())?;
+    // After the control thread started: only this thread runs real-time.
+    if let Some(p) = opts.fifo_priority {
+        set_fifo(p)?;
+    }
     let ready = VirtualArmReady {
         interface: opts.interface.clone(),
         control,
