@@ -8,6 +8,7 @@ pub mod flight;
 pub mod netns;
 pub mod python;
 pub mod ros2;
+pub mod vm;
 
 use mcm_client::launch::SimulatedMcm;
 use mcm_shared::service::sim_state_path;
