@@ -25,7 +25,9 @@ repo=$(cd "$here/../.." && pwd)
 target=${CARGO_TARGET_DIR:-$repo/target}
 suite=${MCM_VM_SUITE:-trixie}
 mirror=${MCM_VM_MIRROR:-http://deb.debian.org/debian}
-packages=(linux-image-amd64 systemd-sysv udev kmod iproute2 can-utils python3 python3-can
+# dbus: systemctl, systemd-run and the like speak to systemd over it (without it they say
+# they cannot connect, then fall back to systemd's private socket).
+packages=(linux-image-amd64 systemd-sysv udev dbus kmod iproute2 can-utils python3 python3-can
     procps)
 # Free space left in the image for the tests (installing a package, logs), MiB.
 free_mib=768
