@@ -219,7 +219,7 @@ impl Guest {
             ))
             .args(["-netdev", &netdev])
             .args(["-device", "virtio-net-pci,netdev=net0,romfile="])
-            .args(["-chardev"])
+            .arg("-chardev")
             .arg(format!("file,id=con,path={},append=on", log.display()))
             .args(["-serial", "chardev:con"])
             .stdin(Stdio::null())
