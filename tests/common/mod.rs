@@ -9,6 +9,7 @@ pub mod netns;
 pub mod python;
 pub mod ros2;
 pub mod virtual_arm;
+pub mod vm;
 
 use mcm_client::launch::SimulatedMcm;
 use mcm_shared::service::sim_state_path;

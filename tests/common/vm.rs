@@ -1,0 +1,480 @@
+//! A virtual machine for the tests that need a real Linux kernel with SocketCAN (this machine's
+//! has no CAN) or systemd as PID 1: QEMU, software emulation (TCG; KVM hangs under nested
+//! virtualisation on these machines), booting the Debian guest that `scripts/vm/build-guest.sh`
+//! builds and caches under `target/vm/` (docs/testing.md, "The virtual machine").
+//!
+//! [`image`] builds or finds the guest (or says which tool is missing: the test skips, or fails
+//! under `CI`). [`Guest::boot`] starts QEMU on a per-guest qcow2 overlay of the cached image (the
+//! cache never changes) with:
+//! - a host directory shared read-only at [`GUEST_RO`] (9p; tests share the workspace's target
+//!   directory, [`target_dir`], so that the guest runs binaries built on the host:
+//!   [`Guest::guest_path`] names a host file there as the guest sees it);
+//! - a writable directory at [`GUEST_RW`] ([`Guest::results`] on the host), through which the
+//!   guest's agent (`scripts/vm/rootfs/usr/local/sbin/mcm-guest-agent`) takes commands:
+//!   [`Guest::run`] runs a shell script as root in the guest and returns its exit status and
+//!   output, within a bounded wait;
+//! - guest TCP ports forwarded to free loopback ports of the host ([`Guest::host_port`]); QEMU's
+//!   user network with `restrict=on`: the guest reaches nothing outside.
+//!
+//! Every byte the guest prints on its serial console (and QEMU's own messages) goes to a log
+//! file under `target/tmp/`, named in every panic. [`Guest::reboot`] reboots and waits for the
+//! agent of the new boot; [`Guest::shutdown`] powers off; dropping a guest kills QEMU.
+
+use std::fs;
+use std::io::{Read, Write};
+use std::net::TcpListener;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
+
+/// Where the guest mounts the read-only share.
+pub const GUEST_RO: &str = "/mnt/mcm-ro";
+/// Where the guest mounts the writable share ([`Guest::results`] on the host).
+pub const GUEST_RW: &str = "/mnt/mcm-rw";
+
+/// The longest a boot (or a reboot) may take until the agent is ready: software emulation on a
+/// loaded two-core machine.
+pub const BOOT_WAIT: Duration = Duration::from_secs(300);
+/// The longest building the guest may take (from scratch: debootstrap downloads and unpacks
+/// about 200 packages).
+const BUILD_WAIT: Duration = Duration::from_secs(40 * 60);
+/// The longest a power-off may take.
+const SHUTDOWN_WAIT: Duration = Duration::from_secs(120);
+/// How often the host looks at the shared directory.
+const POLL: Duration = Duration::from_millis(50);
+
+/// The built guest: the directory holding `vmlinuz`, `initrd.img` and `rootfs.img`.
+#[derive(Debug, Clone)]
+pub struct Image {
+    pub dir: PathBuf,
+}
+
+/// The workspace's target directory (the parent of `CARGO_TARGET_TMPDIR`).
+pub fn target_dir() -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .parent()
+        .expect("CARGO_TARGET_TMPDIR is target/tmp")
+        .to_path_buf()
+}
+
+/// Build the guest, or find it built (`scripts/vm/build-guest.sh`, cached under
+/// `target/vm/`). `Err` says which tool is missing (the caller skips: `super::skip`); a build
+/// that fails otherwise panics with the script's output.
+pub fn image() -> Result<Image, String> {
+    for tool in ["qemu-system-x86_64", "qemu-img"] {
+        if super::find_program(tool).is_none() {
+            return Err(format!(
+                "{tool} is not installed (Debian: apt-get install qemu-system-x86 qemu-utils; \
+                 .ci/run installs it)"
+            ));
+        }
+    }
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/vm/build-guest.sh");
+    let mut child = Command::new("bash")
+        .arg(&script)
+        .env("CARGO_TARGET_DIR", target_dir())
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot run {}: {e}", script.display()));
+    let stdout = read_all(child.stdout.take().unwrap());
+    let stderr = read_all(child.stderr.take().unwrap());
+    let started = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().expect("wait for the guest build") {
+            break Some(s);
+        }
+        if started.elapsed() > BUILD_WAIT {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    let stdout = stdout.join().unwrap_or_default();
+    let stderr = stderr.join().unwrap_or_default();
+    match status {
+        Some(s) if s.success() => {
+            let dir = PathBuf::from(stdout.lines().last().unwrap_or_default().trim());
+            assert!(
+                dir.join("rootfs.img").is_file(),
+                "{} printed {dir:?}, which has no rootfs.img:\n{stdout}{stderr}",
+                script.display()
+            );
+            if started.elapsed() > Duration::from_secs(5) {
+                // A build happened: say what it cost (shown with --nocapture).
+                eprintln!("{stderr}");
+            }
+            Ok(Image { dir })
+        }
+        // The script's exit status for "a tool (or root) is missing".
+        Some(s) if s.code() == Some(2) => Err(stderr.trim().to_owned()),
+        Some(s) => panic!("{} failed ({s}):\n{stderr}", script.display()),
+        None => panic!(
+            "{} did not finish within {BUILD_WAIT:?}:\n{stderr}",
+            script.display()
+        ),
+    }
+}
+
+fn read_all(mut from: impl Read + Send + 'static) -> std::thread::JoinHandle<String> {
+    std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        let _ = from.read_to_end(&mut bytes);
+        String::from_utf8_lossy(&bytes).into_owned()
+    })
+}
+
+/// What a command run in the guest ended with.
+#[derive(Debug, Clone)]
+pub struct Run {
+    /// The shell's exit status.
+    pub status: i32,
+    /// Its standard output and standard error, interleaved as written.
+    pub output: String,
+}
+
+/// A running guest; dropping it kills QEMU.
+pub struct Guest {
+    qemu: Child,
+    /// This guest's directory under `target/tmp/`: the overlay, the log, the writable share.
+    dir: PathBuf,
+    log: PathBuf,
+    ro: PathBuf,
+    rw: PathBuf,
+    /// (guest port, host port).
+    forwards: Vec<(u16, u16)>,
+    boot_id: String,
+    next_command: u32,
+}
+
+/// A free TCP port on the host's loopback (bound, then released for QEMU to take).
+fn free_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .map(|a| a.port())
+        .expect("a free loopback port")
+}
+
+impl Guest {
+    /// Boot `image` (2 vCPUs, 1 GiB) with `ro_share` shared read-only at [`GUEST_RO`] and each
+    /// of `forward` (guest TCP ports) reachable on the host at [`Guest::host_port`]; returns
+    /// once the guest's agent is ready, or panics after [`BOOT_WAIT`].
+    pub fn boot(tag: &str, image: &Image, ro_share: &Path, forward: &[u16]) -> Guest {
+        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+            .join(format!("vm-{}", super::unique_instance(tag)));
+        let rw = dir.join("rw");
+        fs::create_dir_all(rw.join("agent")).expect("make the guest's directory");
+        let log = dir.join("console.log");
+        let disk = dir.join("disk.qcow2");
+        let out = Command::new("qemu-img")
+            .args(["create", "-q", "-f", "qcow2", "-F", "raw", "-b"])
+            .arg(image.dir.join("rootfs.img"))
+            .arg(&disk)
+            .output()
+            .expect("run qemu-img");
+        assert!(
+            out.status.success(),
+            "qemu-img create of {} failed: {}",
+            disk.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let ro = ro_share
+            .canonicalize()
+            .unwrap_or_else(|e| panic!("the read-only share {}: {e}", ro_share.display()));
+        let forwards: Vec<(u16, u16)> = forward.iter().map(|&g| (g, free_port())).collect();
+        let mut netdev = "user,id=net0,restrict=on".to_owned();
+        for (g, h) in &forwards {
+            netdev.push_str(&format!(",hostfwd=tcp:127.0.0.1:{h}-10.0.2.15:{g}"));
+        }
+        let log_file = fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(&log)
+            .expect("open the guest's log");
+        let mut cmd = Command::new("qemu-system-x86_64");
+        cmd.args(["-nodefaults", "-no-user-config", "-display", "none"])
+            .args(["-machine", "q35", "-accel", "tcg", "-cpu", "max"])
+            .args(["-smp", "2", "-m", "1024"])
+            .arg("-kernel")
+            .arg(image.dir.join("vmlinuz"))
+            .arg("-initrd")
+            .arg(image.dir.join("initrd.img"))
+            .args(["-append", "console=ttyS0,115200 root=/dev/vda rw"])
+            .arg("-drive")
+            .arg(format!(
+                "file={},format=qcow2,if=virtio,cache=unsafe",
+                disk.display()
+            ))
+            .arg("-virtfs")
+            .arg(format!(
+                "local,path={},mount_tag=mcmro,security_model=none,readonly=on,multidevs=remap",
+                ro.display()
+            ))
+            .arg("-virtfs")
+            .arg(format!(
+                "local,path={},mount_tag=mcmrw,security_model=none",
+                rw.display()
+            ))
+            .args(["-netdev", &netdev])
+            .args(["-device", "virtio-net-pci,netdev=net0,romfile="])
+            .arg("-chardev")
+            .arg(format!("file,id=con,path={},append=on", log.display()))
+            .args(["-serial", "chardev:con"])
+            .stdin(Stdio::null())
+            .stdout(log_file.try_clone().unwrap())
+            .stderr(log_file);
+        let qemu = cmd
+            .spawn()
+            .unwrap_or_else(|e| panic!("cannot start qemu-system-x86_64: {e}"));
+        let mut guest = Guest {
+            qemu,
+            dir,
+            log,
+            ro,
+            rw,
+            forwards,
+            boot_id: String::new(),
+            next_command: 0,
+        };
+        let started = Instant::now();
+        guest.wait_boot();
+        eprintln!(
+            "guest {tag}: agent ready {:.1} s after QEMU started; log {}",
+            started.elapsed().as_secs_f64(),
+            guest.log.display()
+        );
+        guest
+    }
+
+    /// The file with everything the guest printed on its console (and QEMU's messages).
+    pub fn log(&self) -> &Path {
+        &self.log
+    }
+
+    /// The host side of the writable share ([`GUEST_RW`] in the guest).
+    pub fn results(&self) -> &Path {
+        &self.rw
+    }
+
+    /// The host port that reaches the guest's TCP port `guest_port` (one of `forward`).
+    pub fn host_port(&self, guest_port: u16) -> u16 {
+        self.forwards
+            .iter()
+            .find(|(g, _)| *g == guest_port)
+            .unwrap_or_else(|| {
+                panic!(
+                    "guest port {guest_port} is not forwarded; forwarded: {:?}",
+                    self.forwards
+                )
+            })
+            .1
+    }
+
+    /// `host_path`, a file in the read-only share, as the guest sees it.
+    pub fn guest_path(&self, host_path: &Path) -> String {
+        let p = host_path
+            .canonicalize()
+            .unwrap_or_else(|e| panic!("{}: {e}", host_path.display()));
+        let rel = p.strip_prefix(&self.ro).unwrap_or_else(|_| {
+            panic!(
+                "{} is not in the read-only share {}",
+                p.display(),
+                self.ro.display()
+            )
+        });
+        format!("{GUEST_RO}/{}", rel.display())
+    }
+
+    /// Panic with `what`, the log's path and its last lines.
+    fn fail(&self, what: &str) -> ! {
+        let text = fs::read(&self.log).unwrap_or_default();
+        let text = String::from_utf8_lossy(&text);
+        let lines: Vec<&str> = text.lines().collect();
+        let tail = lines[lines.len().saturating_sub(40)..].join("\n");
+        panic!(
+            "{what}\nthe guest's console log: {}\nits last lines:\n{tail}",
+            self.log.display()
+        )
+    }
+
+    /// Panics (naming the log) when QEMU has ended.
+    fn check_running(&mut self, while_doing: &str) {
+        if let Some(status) = self.qemu.try_wait().expect("wait for QEMU") {
+            self.fail(&format!("QEMU ended ({status}) while {while_doing}"));
+        }
+    }
+
+    /// Wait until the agent says it is ready in a boot other than the last one seen.
+    fn wait_boot(&mut self) {
+        let started = Instant::now();
+        let boot_file = self.rw.join("agent/boot");
+        loop {
+            self.check_running("waiting for the guest's agent");
+            if let Ok(id) = fs::read_to_string(&boot_file) {
+                let id = id.trim();
+                if !id.is_empty() && id != self.boot_id {
+                    self.boot_id = id.to_owned();
+                    return;
+                }
+            }
+            if started.elapsed() > BOOT_WAIT {
+                self.fail(&format!(
+                    "the guest's agent was not ready within {BOOT_WAIT:?} ({} has no new boot id)",
+                    boot_file.display()
+                ));
+            }
+            std::thread::sleep(POLL);
+        }
+    }
+
+    /// Hand `script` to the agent; returns the command's path without extension.
+    fn submit(&mut self, script: &str) -> PathBuf {
+        self.next_command += 1;
+        let base = self.rw.join(format!("agent/c{}", self.next_command));
+        let tmp = base.with_extension("tmp");
+        let mut f = fs::File::create(&tmp).expect("write a command for the guest");
+        f.write_all(script.as_bytes()).unwrap();
+        drop(f);
+        fs::rename(&tmp, base.with_extension("cmd")).expect("hand the command to the guest");
+        base
+    }
+
+    /// Run `script` with bash as root in the guest (working directory `/`); its exit status and
+    /// output, or `Err` (with the output so far) when it did not end within `wait`. Panics when
+    /// QEMU ends meanwhile.
+    pub fn try_run(&mut self, script: &str, wait: Duration) -> Result<Run, String> {
+        let base = self.submit(script);
+        let started = Instant::now();
+        let status_file = base.with_extension("status");
+        loop {
+            if let Ok(s) = fs::read_to_string(&status_file) {
+                let status = s.trim().parse().unwrap_or_else(|e| {
+                    self.fail(&format!("{}: {e}: {s:?}", status_file.display()))
+                });
+                let output = fs::read(base.with_extension("out")).unwrap_or_default();
+                return Ok(Run {
+                    status,
+                    output: String::from_utf8_lossy(&output).into_owned(),
+                });
+            }
+            self.check_running(&format!("running {script:?}"));
+            if started.elapsed() > wait {
+                let output = fs::read(base.with_extension("out")).unwrap_or_default();
+                let taken = base.with_extension("run").exists();
+                return Err(format!(
+                    "{script:?} did not end within {wait:?} in the guest ({}); its output so far:\n{}",
+                    if taken {
+                        "the agent started it"
+                    } else {
+                        "the agent never took it"
+                    },
+                    String::from_utf8_lossy(&output)
+                ));
+            }
+            std::thread::sleep(POLL);
+        }
+    }
+
+    /// [`Guest::try_run`], panicking (with the log) when the script does not end within `wait`.
+    pub fn run(&mut self, script: &str, wait: Duration) -> Run {
+        self.try_run(script, wait).unwrap_or_else(|e| self.fail(&e))
+    }
+
+    /// [`Guest::run`], panicking (with the output and the log) unless the script exits with 0;
+    /// returns its output.
+    pub fn run_ok(&mut self, script: &str, wait: Duration) -> String {
+        let r = self.run(script, wait);
+        if r.status != 0 {
+            self.fail(&format!(
+                "{script:?} exited with {} in the guest; its output:\n{}",
+                r.status, r.output
+            ));
+        }
+        r.output
+    }
+
+    /// Reboot the guest (`systemctl reboot`) and wait until its agent is ready again, in a new
+    /// boot. The shares and forwarded ports stay.
+    pub fn reboot(&mut self) {
+        self.submit("systemctl reboot");
+        self.wait_boot();
+    }
+
+    /// Power the guest off (`systemctl poweroff`) and wait for QEMU to end; returns QEMU's
+    /// exit status. Panics (with the log) when it does not end within two minutes.
+    pub fn shutdown(mut self) -> ExitStatus {
+        self.submit("systemctl poweroff");
+        let started = Instant::now();
+        loop {
+            if let Some(status) = self.qemu.try_wait().expect("wait for QEMU") {
+                return status;
+            }
+            if started.elapsed() > SHUTDOWN_WAIT {
+                self.fail(&format!(
+                    "the guest did not power off within {SHUTDOWN_WAIT:?}"
+                ));
+            }
+            std::thread::sleep(POLL);
+        }
+    }
+}
+
+/// Kills QEMU if it still runs and removes the overlay disk (the log and the writable share
+/// stay under `target/tmp/`).
+impl Drop for Guest {
+    fn drop(&mut self) {
+        if self.qemu.try_wait().ok().flatten().is_none() {
+            let _ = self.qemu.kill();
+            let _ = self.qemu.wait();
+        }
+        let _ = fs::remove_file(self.dir.join("disk.qcow2"));
+    }
+}
+
+/// The executable of `package`'s library unit tests, built now (`cargo test -p PACKAGE --lib
+/// --no-run`, with the cargo of this test run, in this workspace and target directory) so that
+/// a guest sharing [`target_dir`] can run it. Panics with cargo's output when the build fails.
+pub fn lib_test_binary(package: &str) -> PathBuf {
+    let out = Command::new(env!("CARGO"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("CARGO_TARGET_DIR", target_dir())
+        .args([
+            "test",
+            "-p",
+            package,
+            "--lib",
+            "--no-run",
+            "--message-format=json",
+        ])
+        .stdin(Stdio::null())
+        .output()
+        .expect("run cargo");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "cargo test -p {package} --lib --no-run failed ({}):\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let exe = stdout
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .filter(|v| {
+            v["reason"] == "compiler-artifact"
+                && v["profile"]["test"] == true
+                && v["target"]["kind"]
+                    .as_array()
+                    .is_some_and(|k| k.iter().any(|k| k == "lib"))
+        })
+        .find_map(|v| v["executable"].as_str().map(PathBuf::from))
+        .unwrap_or_else(|| panic!("cargo named no unit-test executable of {package}:\n{stdout}"));
+    assert!(
+        exe.starts_with(target_dir()),
+        "{} is not under the target directory {} that the guest shares",
+        exe.display(),
+        target_dir().display()
+    );
+    exe
+}
