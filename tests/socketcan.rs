@@ -189,7 +189,21 @@ fn all_pre_operational_after_the_stop(log: &[(f64, Frame)]) -> bool {
     })
 }
 
-fn hold(c: &mut common::Client) {
+/// Wait for the drives, then `hold`; a spontaneous line (a safety error) fails the test naming it.
+fn online_and_hold(c: &mut common::Client) {
+    let deadline = Instant::now() + WAIT;
+    loop {
+        let s = c.request(r#"{"command":"status","arguments":{"detail":true}}"#);
+        assert_eq!(s["result_type"], "status", "a spontaneous line while booting: {s}");
+        if s["detail"]["drive_online"]
+            .as_array()
+            .is_some_and(|a| a.iter().all(|x| x == true))
+        {
+            break;
+        }
+        assert!(Instant::now() < deadline, "drives not online: {s}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
     let s = c.request(r#"{"command":"hold"}"#);
     assert_eq!(s["operating_mode"], "HOLD", "{s}");
 }
@@ -207,8 +221,7 @@ fn the_kernel_s_candump_agrees_with_the_mcm_s_own_log_frame_for_frame() {
     let instance = unique_instance("candump");
     let mcm = Mcm::start_on(Some(arm), &instance, &["--candump", own.to_str().unwrap()]);
     let mut c = mcm.client();
-    c.wait_drives_online();
-    hold(&mut c);
+    online_and_hold(&mut c);
     // A few seconds of cyclic traffic in HOLD.
     let s0 = common::time_of(&c.request(r#"{"command":"status","arguments":{"detail":true}}"#));
     c.wait_status("2 s of the robot's time in HOLD", |s| {
@@ -301,8 +314,7 @@ fn after_the_controlled_stop_every_drive_is_pre_operational_and_the_master_is_si
     let dump = Candump::start(&arm.interface);
     let mcm = Mcm::start_on(Some(arm), &unique_instance("finish"), &[]);
     let mut c = mcm.client();
-    c.wait_drives_online();
-    hold(&mut c);
+    online_and_hold(&mut c);
     let status = mcm.stop();
     assert!(status.success(), "launcher exit status {status}");
     let log = dump.stop_when("every drive PRE-OPERATIONAL after the stop", |log| {

@@ -306,9 +306,17 @@ impl Master {
         for (i, a) in cfg.axes.iter().enumerate() {
             built.push(AxisRt::new(i, a, cfg)?);
         }
-        let axes: [AxisRt; NUM_AXES] = built
+        let mut axes: [AxisRt; NUM_AXES] = built
             .try_into()
             .map_err(|v: Vec<AxisRt>| MasterSetupError::AxisCount { got: v.len() })?;
+        // Drives powered before the master started sent their boot-ups to nobody, and after
+        // power-up they send no heartbeat (0x1017 = 0): a drive whose boot-up is not among the
+        // frames of the first cycle is reset (NMT reset communication) in that cycle, rather than
+        // reported missing a boot timeout later. On a real robot that is every start of mcm-rt:
+        // the drives power up with the cabinet, before the computer has booted.
+        for ax in &mut axes {
+            ax.session.reset_pending = true;
+        }
         let feedback = core::array::from_fn(|i| AxisFeedback::new(axes[i].params.node));
         let b = &cfg.bus;
         Ok(Master {

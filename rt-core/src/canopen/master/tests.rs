@@ -599,17 +599,22 @@ fn store_calibration_writes_0x2100_and_a_reboot_reports_it() {
 }
 
 #[test]
-fn missing_drive_is_reported_and_reset_until_it_boots() {
+fn a_drive_without_a_boot_up_is_reset_at_once_then_reported_missing_until_it_boots() {
     let mut w = World::new();
     w.inbox.retain(|f| f.id != 0x706);
     w.drives[5].silent = true; // powered off: listens to nothing useful, sends nothing
-    let cycles = w.run(400, [DriveRequest::Disable; 6]);
+    // Its boot-up is not among the first cycle's frames (it booted before the master started,
+    // or has no power): NMT reset communication at once, not yet reported.
+    let first = w.step([DriveRequest::Disable; 6]);
+    assert!(first.iter().any(|f| f.to_string() == "000#8206"), "{first:?}");
+    assert!(!first.iter().any(|f| f.to_string() == "000#8205"), "node 5 booted");
+    let cycles = w.run(399, [DriveRequest::Disable; 6]);
     assert!(!cycles.concat().iter().any(|f| f.to_string() == "000#8206"));
     assert!(
         !w.take_events()
             .contains(&MasterEvent::Missing { axis: 5, node: 6 })
     );
-    // boot_timeout_ms = 2000: reported in the cycle at 2000 ms, with NMT reset communication.
+    // boot_timeout_ms = 2000 after that reset: reported, with NMT reset communication again.
     let frames = w.step([DriveRequest::Disable; 6]);
     assert!(frames.iter().any(|f| f.to_string() == "000#8206"));
     assert_eq!(w.take_events(), [MasterEvent::Missing { axis: 5, node: 6 }]);
