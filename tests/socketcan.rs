@@ -10,7 +10,8 @@
 mod common;
 
 use common::virtual_arm::VirtualArm;
-use common::{Mcm, WAIT, unique_instance};
+use common::{EventClient, Mcm, WAIT, assert_ok, unique_instance};
+use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -194,7 +195,10 @@ fn online_and_hold(c: &mut common::Client) {
     let deadline = Instant::now() + WAIT;
     loop {
         let s = c.request(r#"{"command":"status","arguments":{"detail":true}}"#);
-        assert_eq!(s["result_type"], "status", "a spontaneous line while booting: {s}");
+        assert_eq!(
+            s["result_type"], "status",
+            "a spontaneous line while booting: {s}"
+        );
         if s["detail"]["drive_online"]
             .as_array()
             .is_some_and(|a| a.iter().all(|x| x == true))
@@ -353,4 +357,160 @@ fn after_the_controlled_stop_every_drive_is_pre_operational_and_the_master_is_si
             "node {n}'s last statusword {sw:#06x} is OPERATION ENABLED"
         );
     }
+}
+
+/// The truth of the virtual arm [deg, deg/s], through the client's routing of `sim`.
+fn truth(c: &mut EventClient) -> ([f64; 6], [f64; 6]) {
+    let r = c.request(r#"{"command":"sim"}"#);
+    assert_eq!(r["result_type"], "sim", "{r}");
+    (
+        common::six(&r["true_position"]),
+        common::six(&r["true_velocity"]),
+    )
+}
+
+fn detail(c: &mut EventClient) -> Value {
+    let s = c.request(r#"{"command":"status","arguments":{"detail":true}}"#);
+    assert_eq!(s["result_type"], "status", "{s}");
+    s
+}
+
+/// Poll the truth until every axis is still (< 0.05 deg/s); the truth then.
+fn at_rest(c: &mut EventClient, what: &str) -> [f64; 6] {
+    arrived(c, what, None)
+}
+
+/// Poll the truth until every axis is still and, with a `target`, within 0.1 deg of it; the
+/// truth then. Panics after [`WAIT`] naming the last truth.
+fn arrived(c: &mut EventClient, what: &str, target: Option<&[f64; 6]>) -> [f64; 6] {
+    let deadline = Instant::now() + WAIT;
+    loop {
+        let (p, v) = truth(c);
+        if common::max_abs(&v) < 0.05 && target.is_none_or(|t| common::max_diff(&p, t) < 0.1) {
+            return p;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "{what}: true position {p:?}, velocity {v:?}; target {target:?}"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
+fn calibration_motion_torque_control_and_an_emergency_stop_over_socketcan() {
+    assert!(
+        common::virtual_arm::socketcan(),
+        "{IN_GUEST}, with MCM_TEST_BUS=socketcan"
+    );
+    let arm = VirtualArm::start(mcm_shared::config::PROB2_DEFAULT_TOML);
+    let mcm = Mcm::start_on(Some(arm), &unique_instance("scenario"), &[]);
+    let mut c = EventClient::connect(mcm.json);
+    let deadline = Instant::now() + WAIT;
+    while !detail(&mut c)["detail"]["drive_online"]
+        .as_array()
+        .is_some_and(|a| a.iter().all(|x| x == true))
+    {
+        assert!(Instant::now() < deadline, "drives not online");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let info = c.request(r#"{"command":"info"}"#);
+    let cycle = info["cycle_time"].as_f64().unwrap();
+
+    // Calibration over the bus: the measured angles equal the virtual arm's true ones.
+    let r = c.request_within(r#"{"command":"calibrate"}"#, Duration::from_secs(180));
+    assert_ok(&r);
+    let truth_now = at_rest(&mut c, "after calibration");
+    let s = detail(&mut c);
+    assert_eq!(s["detail"]["all_calibrated"], true, "{s}");
+    let measured = common::six(&s["detail"]["measured_position"]);
+    let off = common::max_diff(&measured, &truth_now);
+    assert!(
+        off < 0.05,
+        "calibrated {measured:?} vs true {truth_now:?}: {off} deg"
+    );
+
+    // PVT at the cycle's spacing; move_all: every axis arrives on target, as the truth says.
+    let r = c.request(&format!(
+        r#"{{"command":"pvt","arguments":{{"dt":{cycle}}}}}"#
+    ));
+    assert_eq!(r["operating_mode"], "PVT", "{r}");
+    let target = [10.0, -10.0, 20.0, 5.0, -5.0, 15.0];
+    let r = c.request_within(&common::move_all(&target, 0.5), Duration::from_secs(60));
+    assert_ne!(r["error_status"], "ERROR", "move_all: {r}");
+    arrived(&mut c, "move_all", Some(&target));
+
+    // A stream of points: axis 1 from 10 to 15 deg in 1 s, smoothstep.
+    let n = (1.0 / cycle).round() as usize;
+    let point = |k: usize| {
+        let x = k as f64 / n as f64;
+        let mut pos = target;
+        let mut vel = [0.0; 6];
+        pos[0] = 10.0 + 5.0 * x * x * (3.0 - 2.0 * x);
+        vel[0] = 5.0 * 6.0 * x * (1.0 - x) / 1.0;
+        serde_json::json!({"position": pos, "velocity": vel})
+    };
+    for chunk in (1..=n).collect::<Vec<_>>().chunks(10) {
+        let points: Vec<Value> = chunk.iter().map(|&k| point(k)).collect();
+        let r = c.request(
+            &serde_json::json!({"command": "pvt_points", "arguments": {"points": points}})
+                .to_string(),
+        );
+        assert_ok(&r);
+    }
+    let mut end = target;
+    end[0] = 15.0;
+    arrived(&mut c, "the PVT stream", Some(&end));
+    let r = c.request(r#"{"command":"hold"}"#);
+    assert_eq!(r["operating_mode"], "HOLD", "{r}");
+
+    // TORQUE_CONTROL: zero torques for a while hold the arm; silence falls back to HOLD.
+    let r =
+        c.request(r#"{"command":"torque_control","arguments":{"timeout":0.5,"dt_status":0.1}}"#);
+    assert_eq!(r["operating_mode"], "TORQUE_CONTROL", "{r}");
+    for _ in 0..10 {
+        let s = c
+            .next(WAIT)
+            .unwrap_or_else(|| panic!("no status result in TORQUE_CONTROL within {WAIT:?}"));
+        if s["result_type"] == "status" && s["operating_mode"] == "HOLD" {
+            panic!("fell back to HOLD while torques were sent: {s}");
+        }
+        c.send(r#"{"command":"set_torques","arguments":{"torques":[0,0,0,0,0,0]}}"#);
+    }
+    let fell_back = (0..100)
+        .map(|_| c.next(WAIT).expect("a line"))
+        .find(|s| s["result_type"] == "status" && s["operating_mode"] == "HOLD");
+    assert!(
+        fell_back.is_some(),
+        "no fall-back to HOLD after the torques stopped"
+    );
+    let p = at_rest(&mut c, "after TORQUE_CONTROL");
+    assert!(
+        common::max_diff(&p, &end) < 0.5,
+        "the arm moved in TORQUE_CONTROL: {p:?}"
+    );
+
+    // The emergency switch of the virtual arm: the core trips, tells the client, the arm stops.
+    let r = c.request(r#"{"command":"sim","arguments":{"emergency_stop":true}}"#);
+    assert_eq!(r["emergency_stop"], true, "{r}");
+    let e = c.wait_event("emergency stop", WAIT);
+    assert_eq!(e["check"], "emergency_stop", "{e}");
+    at_rest(&mut c, "after the emergency stop");
+    let r = c.request(r#"{"command":"sim","arguments":{"emergency_stop":false}}"#);
+    assert_eq!(r["emergency_stop"], false, "{r}");
+    let deadline = Instant::now() + WAIT;
+    loop {
+        let r = c.request(r#"{"command":"hold"}"#);
+        if r["operating_mode"] == "HOLD" {
+            break;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "hold after the emergency stop: {r}"
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let status = mcm.stop();
+    assert!(status.success(), "launcher exit status {status}");
 }

@@ -18,6 +18,11 @@ use super::objects::EMCY_BASE;
 use core::fmt;
 use mcm_bus::Frame;
 
+/// EMCY code of the drive profile for safe torque off while enabled: the emergency switch
+/// (`docs/drive-profile.md`, "EMCY"). On a real bus it usually arrives before the TPDO1 whose
+/// statusword shows the input (bit 14): the EMCY is sent at once, the TPDO1 at the next SYNC.
+pub const SAFE_TORQUE_OFF: u16 = 0x5441;
+
 /// A decoded emergency message. `axis` is 0-based (0..6); texts print it 1-based.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Emcy {

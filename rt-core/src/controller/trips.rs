@@ -80,7 +80,10 @@ impl Controller {
     /// A drive reports a fault: the emergency stop (which cuts the drives' power) when its
     /// input is active, a drive fault otherwise.
     fn drive_fault(&mut self, axis: usize, code: u16) {
-        if self.master.feedback().iter().any(|f| f.estop) {
+        // The emergency switch: by the statusword's bit 14 or by the drive's own EMCY for it,
+        // whichever the bus brought first.
+        let sto = code == crate::canopen::emcy::SAFE_TORQUE_OFF;
+        if sto || self.master.feedback().iter().any(|f| f.estop) {
             self.estop_seen = true;
             self.trip(Reason::EmergencyStop);
         } else {

@@ -606,8 +606,14 @@ fn a_drive_without_a_boot_up_is_reset_at_once_then_reported_missing_until_it_boo
     // Its boot-up is not among the first cycle's frames (it booted before the master started,
     // or has no power): NMT reset communication at once, not yet reported.
     let first = w.step([DriveRequest::Disable; 6]);
-    assert!(first.iter().any(|f| f.to_string() == "000#8206"), "{first:?}");
-    assert!(!first.iter().any(|f| f.to_string() == "000#8205"), "node 5 booted");
+    assert!(
+        first.iter().any(|f| f.to_string() == "000#8206"),
+        "{first:?}"
+    );
+    assert!(
+        !first.iter().any(|f| f.to_string() == "000#8205"),
+        "node 5 booted"
+    );
     let cycles = w.run(399, [DriveRequest::Disable; 6]);
     assert!(!cycles.concat().iter().any(|f| f.to_string() == "000#8206"));
     assert!(

@@ -309,6 +309,31 @@ fn a_second_hold_while_enabling_supersedes_the_first() {
     assert_eq!(r.mode(), Mode::Hold);
 }
 
+/// As on a real bus (found over SocketCAN): the switch pressed between two cycles, so that the
+/// drives' EMCY 0x5441 comes in a cycle before any TPDO1 shows the input (bit 14). It is the
+/// emergency stop all the same, not a drive fault.
+#[test]
+fn an_emcy_of_safe_torque_off_before_the_statusword_shows_it_is_the_emergency_stop() {
+    use mcm_sim::SimControl;
+    let mut r = Robot::calibrated();
+    assert_eq!(r.mode(), Mode::Hold);
+    let press = SimCommand {
+        emergency_stop: Some(true),
+        ..SimCommand::default()
+    };
+    r.cycle.bus_mut().apply(&press).unwrap();
+    r.step(&[]);
+    let e = r.cycle.controller().view().last_error.expect("a trip");
+    assert_eq!(e.reason, Reason::EmergencyStop, "{e:?}");
+    r.run(5);
+    let e = r.cycle.controller().view().last_error.expect("a trip");
+    assert_eq!(
+        e.reason,
+        Reason::EmergencyStop,
+        "one trip, the emergency stop: {e:?}"
+    );
+}
+
 #[test]
 fn hold_and_calibrate_are_refused_while_the_emergency_stop_is_pressed() {
     let mut r = Robot::new();
