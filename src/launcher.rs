@@ -416,7 +416,8 @@ struct Ros2 {
 }
 
 /// Wait before restarting a ROS 2 node that died.
-const ROS2_RESTART: Duration = Duration::from_secs(2);
+/// (`mcm_shared::restart::ROS2_RESTART`, which deploy/systemd/mcm-ros2.service carries too.)
+const ROS2_RESTART: Duration = mcm_shared::restart::ROS2_RESTART.first;
 
 impl Ros2 {
     fn start(args: Vec<OsString>) -> Result<Ros2, String> {
