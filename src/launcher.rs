@@ -32,7 +32,7 @@ use std::time::{Duration, Instant};
     name = "mcm",
     version,
     about,
-    after_help = "Subcommands: `mcm rt --help`, `mcm gateway --help` and `mcm ros2 --help` run one process each.",
+    after_help = "Subcommands: `mcm rt --help`, `mcm gateway --help` and `mcm ros2 --help` run one process each (so do the links `mcm-rt`, `mcm-gateway` and `mcm-ros2` to this program); `mcm bus-interface --config FILE` prints the CAN interface a configuration's core opens.",
     // An option given twice takes the last value: a harness passes its defaults first (e.g.
     // `mcm_client::launch` passes `--http-port 0`) and a caller's extra arguments override them.
     args_override_self = true
