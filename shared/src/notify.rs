@@ -68,16 +68,16 @@ impl Notifier {
     }
 
     fn send(&self, states: &[NotifyState]) {
-        if let Err(e) = sd_notify::notify(states) {
-            if !self.failed.swap(true, Ordering::Relaxed) {
-                let socket = std::env::var_os("NOTIFY_SOCKET").unwrap_or_default();
-                eprintln!(
-                    "{}: cannot notify systemd through NOTIFY_SOCKET={} ({e}); serving on without \
-                     its notifications (further failures are not repeated)",
-                    self.program,
-                    socket.to_string_lossy()
-                );
-            }
+        if let Err(e) = sd_notify::notify(states)
+            && !self.failed.swap(true, Ordering::Relaxed)
+        {
+            let socket = std::env::var_os("NOTIFY_SOCKET").unwrap_or_default();
+            eprintln!(
+                "{}: cannot notify systemd through NOTIFY_SOCKET={} ({e}); serving on without \
+                 its notifications (further failures are not repeated)",
+                self.program,
+                socket.to_string_lossy()
+            );
         }
     }
 }
