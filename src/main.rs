@@ -5,10 +5,12 @@
 //! or SIGTERM. `mcm rt ...`, `mcm gateway ...` and `mcm ros2 ...` run one process each (the same
 //! programs as `mcm-rt`, `mcm-gateway` and `mcm-ros2`); the launcher starts its children that way
 //! (the ROS 2 node only with `--ros2`). Called by the name `mcm-rt`, `mcm-gateway` or `mcm-ros2`
-//! (a link, as the Debian package installs them) it is that program. `mcm bus-interface --config FILE` names the CAN interface
-//! a configuration's core opens (for the systemd unit's start, [`bus_interface`]).
+//! (a link, as the Debian package installs them) it is that program ([`called_as`]).
+//! `mcm bus-interface --config FILE` names the CAN interface a configuration's core opens (for
+//! the systemd unit's start, [`bus_interface`]).
 
 mod bus_interface;
+mod called_as;
 mod launcher;
 
 use std::process::ExitCode;
@@ -17,18 +19,7 @@ fn main() -> ExitCode {
     let mut args = std::env::args_os();
     let program = args.next().unwrap_or_else(|| "mcm".into());
     let rest: Vec<_> = args.collect();
-    // Run as `mcm-rt`, `mcm-gateway` or `mcm-ros2` (the Debian package's links to this program,
-    // docs/deploy.md): that program, with all the arguments.
-    let called = std::path::Path::new(&program)
-        .file_name()
-        .and_then(|n| n.to_str())
-        .unwrap_or("mcm");
-    match called {
-        "mcm-rt" => return mcm_rt_core::cli::main(std::iter::once(program).chain(rest)),
-        "mcm-gateway" => return mcm_gateway::cli::main(std::iter::once(program).chain(rest)),
-        "mcm-ros2" => return mcm_ros2::cli::main(std::iter::once(program).chain(rest)),
-        _ => {}
-    }
+    let rest = called_as::arguments(&program, rest);
     match rest.first().and_then(|a| a.to_str()) {
         Some("rt") => {
             mcm_rt_core::cli::main(std::iter::once("mcm-rt".into()).chain(rest.into_iter().skip(1)))
