@@ -32,7 +32,7 @@ use std::time::{Duration, Instant};
     name = "mcm",
     version,
     about,
-    after_help = "Subcommands: `mcm rt --help`, `mcm gateway --help` and `mcm ros2 --help` run one process each.",
+    after_help = "Subcommands: `mcm rt --help`, `mcm gateway --help` and `mcm ros2 --help` run one process each (so do the links `mcm-rt`, `mcm-gateway` and `mcm-ros2` to this program); `mcm bus-interface --config FILE` prints the CAN interface a configuration's core opens.",
     // An option given twice takes the last value: a harness passes its defaults first (e.g.
     // `mcm_client::launch` passes `--http-port 0`) and a caller's extra arguments override them.
     args_override_self = true
@@ -416,7 +416,8 @@ struct Ros2 {
 }
 
 /// Wait before restarting a ROS 2 node that died.
-const ROS2_RESTART: Duration = Duration::from_secs(2);
+/// (`mcm_shared::restart::ROS2_RESTART`, which deploy/systemd/mcm-ros2.service carries too.)
+const ROS2_RESTART: Duration = mcm_shared::restart::ROS2_RESTART.first;
 
 impl Ros2 {
     fn start(args: Vec<OsString>) -> Result<Ros2, String> {

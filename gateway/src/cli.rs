@@ -132,8 +132,23 @@ fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         .on_thread_start(crate::core_link::latency::on_thread_start)
         .enable_all()
         .build()?;
+    // systemd's notifications (`Type=notify`, deploy/systemd/mcm-gateway.service): READY=1 once
+    // it listens, STOPPING=1 at a stop signal, the watchdog from a task of the runtime (a
+    // runtime that no longer runs its tasks stops the pings). Nothing without NOTIFY_SOCKET.
+    let notifier = std::sync::Arc::new(mcm_shared::notify::Notifier::from_env("mcm-gateway"));
     rt.block_on(async move {
-        let ready = |r: crate::Ready| {
+        if let Some(every) = notifier.watchdog_every() {
+            let n = notifier.clone();
+            tokio::spawn(async move {
+                let mut tick = tokio::time::interval(every);
+                loop {
+                    tick.tick().await;
+                    n.watchdog();
+                }
+            });
+        }
+        let on_ready = notifier.clone();
+        let ready = move |r: crate::Ready| {
             // The line the launcher reads (`mcm_shared::ready`).
             let line = mcm_shared::ready::GatewayReady {
                 json: r.json,
@@ -144,8 +159,13 @@ fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                     .map(|(router, publish)| mcm_shared::ready::ZmqEndpoints { router, publish }),
             };
             println!("{line}");
+            on_ready.ready(&line.to_string());
         };
-        crate::run(opts, ready, shutdown_signal()).await
+        let shutdown = async move {
+            shutdown_signal().await;
+            notifier.stopping("stopping: telling the clients, then closing the listeners");
+        };
+        crate::run(opts, ready, shutdown).await
     })?;
     Ok(())
 }

@@ -77,6 +77,13 @@ where
         eprintln!("mcm-rt: {e}");
         return ExitCode::FAILURE;
     }
+    // systemd's notifications (`Type=notify`), from a thread of their own placed like this
+    // one; nothing without NOTIFY_SOCKET.
+    let (to_systemd, ready_for_systemd) = std::sync::mpsc::sync_channel::<String>(1);
+    if let Err(e) = crate::systemd_notify::start(ready_for_systemd) {
+        eprintln!("mcm-rt: cannot start the thread that notifies systemd: {e}");
+        return ExitCode::FAILURE;
+    }
     // The line the launcher reads (`mcm_shared::ready`).
     let ready = mcm_shared::ready::RtReady {
         instance: opts.names.instance().to_string(),
@@ -87,6 +94,8 @@ where
             eprintln!("mcm-rt: WARNING: {report}; running anyway (--allow-non-realtime)");
         }
         println!("{ready}");
+        // Before the first cycle; the channel has room for this one line.
+        let _ = to_systemd.try_send(ready.to_string());
     };
     match runner::run(opts, started) {
         Ok(summary) => {

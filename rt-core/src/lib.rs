@@ -29,5 +29,6 @@ pub mod runner;
 pub mod safety;
 pub mod signals;
 pub mod sim_edge;
+pub mod systemd_notify;
 pub mod timing;
 pub mod trajectory;

@@ -35,6 +35,17 @@ use mcm_shared::sample::CommandSample;
 use mcm_shared::service::ServiceNames;
 #[cfg(feature = "sim")]
 use mcm_sim::{SimBus, snapshot};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Cycles run by the real-time loops of this process (`mcm-rt` runs one): the heartbeat that
+/// [`crate::systemd_notify`] reads, outside the cycle, before it pings systemd's watchdog. The
+/// loop adds one per cycle (a relaxed atomic add: no lock, no allocation).
+static CYCLES_RUN: AtomicU64 = AtomicU64::new(0);
+
+/// How many cycles the real-time loops of this process ran so far.
+pub fn cycles_run() -> u64 {
+    CYCLES_RUN.load(Ordering::Relaxed)
+}
 
 /// What the real-time process runs.
 #[derive(Debug, Clone)]
@@ -282,6 +293,7 @@ fn cycle_loop<B: Bus>(edge: &mut Edge<B>) -> (Figures, StopOutcome) {
         edge.cycle(clock::now_ns());
         next = edge.end(clock::now_ns());
         edge.signal_state();
+        CYCLES_RUN.fetch_add(1, Ordering::Relaxed);
         let controller = edge.cycle_mut().parts_mut().0;
         if let Some(outcome) = stop.poll(controller, crate::signals::count(), clock::now_ns()) {
             break outcome;

@@ -18,6 +18,7 @@
 //! - [`cli`]: the command-line arguments the MCM programs share;
 //! - [`ready`]: the ready line each program prints when it serves, and how it is read;
 //! - [`restart`]: how a gateway that dies is restarted (the launcher and the systemd unit);
+//! - [`notify`]: systemd's readiness, stop and watchdog notifications (`Type=notify` units);
 //! - [`units`]: the unit conventions at the boundary (degrees outside, radians inside).
 //! - [`alloc_count`]: a counting global allocator, for the tests that prove a path allocates
 //!   nothing.
@@ -36,6 +37,7 @@ pub mod cli;
 pub mod command;
 pub mod config;
 pub mod mode;
+pub mod notify;
 pub mod protocol;
 pub mod pvt;
 pub mod ranges;

@@ -4,6 +4,9 @@
 //! `RestartSteps=` and `RestartMaxDelaySec=` ([`RestartPolicy::systemd_lines`]; systemd 254 or
 //! later, which computes the same waits; a test checks the unit file).
 //!
+//! The ROS 2 node (`mcm-ros2`) is restarted after a fixed wait, [`ROS2_RESTART`], by the
+//! launcher and by `deploy/systemd/mcm-ros2.service` alike (the same test checks that unit).
+//!
 //! The real-time core is never restarted by either: a dead `mcm-rt` on a robot is not
 //! something to paper over (the launcher stops everything, its unit says `Restart=no`).
 //!
@@ -37,6 +40,15 @@ pub const GATEWAY_RESTART: RestartPolicy = RestartPolicy {
     healthy_run: Duration::from_secs(30),
 };
 
+/// The ROS 2 node's restarts: always 2 s (a node started before the core's services exist
+/// exits, and is started again once they are up).
+pub const ROS2_RESTART: RestartPolicy = RestartPolicy {
+    first: Duration::from_secs(2),
+    steps: 0,
+    max: Duration::from_secs(2),
+    healthy_run: Duration::ZERO,
+};
+
 impl RestartPolicy {
     /// The wait before restart number `n` (1: the first one), in whole milliseconds, by
     /// systemd's formula: `first` for the first, then `first * (max / first) ^ ((n - 1) /
@@ -53,10 +65,15 @@ impl RestartPolicy {
         Duration::from_millis((wait * 1e3).round() as u64)
     }
 
-    /// The lines of a systemd unit's `[Service]` section that give it this policy.
-    pub fn systemd_lines(&self) -> [String; 3] {
-        [
-            format!("RestartSec={}ms", self.first.as_millis()),
+    /// The lines of a systemd unit's `[Service]` section that give it this policy: only
+    /// `RestartSec=` for a fixed wait (`steps` 0 or `first` at `max`).
+    pub fn systemd_lines(&self) -> Vec<String> {
+        let first = format!("RestartSec={}ms", self.first.as_millis());
+        if self.steps == 0 || self.first >= self.max {
+            return vec![first];
+        }
+        vec![
+            first,
             format!("RestartSteps={}", self.steps),
             format!("RestartMaxDelaySec={}ms", self.max.as_millis()),
         ]

@@ -18,3 +18,10 @@ fn the_gateway_waits_double_from_a_tenth_of_a_second_to_the_cap() {
         ]
     );
 }
+
+#[test]
+fn the_ros2_node_waits_the_same_two_seconds_every_time() {
+    let waits: Vec<Duration> = (1..=5).map(|n| ROS2_RESTART.delay(n)).collect();
+    assert_eq!(waits, [Duration::from_secs(2); 5]);
+    assert_eq!(ROS2_RESTART.systemd_lines(), ["RestartSec=2000ms"]);
+}
