@@ -437,24 +437,32 @@ impl Drop for Guest {
 /// --no-run`, with the cargo of this test run, in this workspace and target directory) so that
 /// a guest sharing [`target_dir`] can run it. Panics with cargo's output when the build fails.
 pub fn lib_test_binary(package: &str) -> PathBuf {
+    test_binary(package, &["--lib"], "lib")
+}
+
+/// The executable of the integration test `name` (`tests/NAME.rs`) of this package, built by the
+/// cargo of this test run, as [`lib_test_binary`] builds a unit-test executable.
+pub fn integration_test_binary(name: &str) -> PathBuf {
+    test_binary(env!("CARGO_PKG_NAME"), &["--test", name], "test")
+}
+
+/// The test executable of `package` that `selection` (cargo's target options) builds, whose
+/// target is of `kind`.
+fn test_binary(package: &str, selection: &[&str], kind: &str) -> PathBuf {
     let out = Command::new(env!("CARGO"))
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("CARGO_TARGET_DIR", target_dir())
-        .args([
-            "test",
-            "-p",
-            package,
-            "--lib",
-            "--no-run",
-            "--message-format=json",
-        ])
+        .args(["test", "-p", package])
+        .args(selection)
+        .args(["--no-run", "--message-format=json"])
         .stdin(Stdio::null())
         .output()
         .expect("run cargo");
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
-        "cargo test -p {package} --lib --no-run failed ({}):\n{}",
+        "cargo test -p {package} {} --no-run failed ({}):\n{}",
+        selection.join(" "),
         out.status,
         String::from_utf8_lossy(&out.stderr)
     );
@@ -466,10 +474,10 @@ pub fn lib_test_binary(package: &str) -> PathBuf {
                 && v["profile"]["test"] == true
                 && v["target"]["kind"]
                     .as_array()
-                    .is_some_and(|k| k.iter().any(|k| k == "lib"))
+                    .is_some_and(|k| k.iter().any(|k| k == kind))
         })
         .find_map(|v| v["executable"].as_str().map(PathBuf::from))
-        .unwrap_or_else(|| panic!("cargo named no unit-test executable of {package}:\n{stdout}"));
+        .unwrap_or_else(|| panic!("cargo named no {kind} test executable of {package}:\n{stdout}"));
     assert!(
         exe.starts_with(target_dir()),
         "{} is not under the target directory {} that the guest shares",
