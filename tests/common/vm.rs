@@ -440,8 +440,9 @@ pub fn lib_test_binary(package: &str) -> PathBuf {
     test_binary(package, &["--lib"], "lib")
 }
 
-/// The executable of the integration test `name` (`tests/NAME.rs`) of this package, built by the
-/// cargo of this test run, as [`lib_test_binary`] builds a unit-test executable.
+/// The executable of the integration test `name` (the file of that name in `tests/`) of this
+/// package, built by the cargo of this test run, as [`lib_test_binary`] builds a unit-test
+/// executable.
 pub fn integration_test_binary(name: &str) -> PathBuf {
     test_binary(env!("CARGO_PKG_NAME"), &["--test", name], "test")
 }
