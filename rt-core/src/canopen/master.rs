@@ -575,7 +575,12 @@ impl Master {
     fn refresh(&mut self, i: usize, now_ns: u64) {
         let (ax, fb) = (&self.axes[i], &mut self.feedback[i]);
         let started = ax.link == Link::Operational;
-        fb.online = started && !ax.session.lost() && ax.hb.is_fresh(now_ns);
+        // Online once its position has been measured: between NMT start and the first TPDO1
+        // the feedback still holds no measurement (its position reads 0).
+        fb.online = started
+            && ax.session.tpdo_seen_since_start
+            && !ax.session.lost()
+            && ax.hb.is_fresh(now_ns);
         fb.operational = started
             && (ax.hb.state() == Some(NmtState::Operational) || ax.session.tpdo_seen_since_start);
         fb.enabled = started
