@@ -977,3 +977,24 @@ fn a_lost_tpdo2_after_a_mode_change_is_made_good_by_its_event_timer() {
     assert_eq!(w.fb(5).mode_display, Some(MODE_CSP));
     assert!((0..5).all(|a| w.fb(a).enabled));
 }
+
+/// Online means measured: the first cycle a drive is online, its feedback already holds the
+/// position of a TPDO1 (the fake drives stand at 1000 x node counts), never the 0 it starts
+/// with between NMT start and that first TPDO1 (CI's tests/modes.rs read those zeros).
+#[test]
+fn a_drive_is_online_only_once_a_tpdo1_measured_it() {
+    let mut w = World::new();
+    for _ in 0..200 {
+        w.step([DriveRequest::Disable; 6]);
+        for i in 0..6 {
+            let fb = w.fb(i);
+            if fb.online {
+                assert_ne!(fb.position_rad, 0.0, "axis {i} online unmeasured: {fb:?}");
+            }
+        }
+        if (0..6).all(|i| w.fb(i).online) {
+            return;
+        }
+    }
+    panic!("not every drive online within 200 cycles");
+}
