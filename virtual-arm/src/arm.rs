@@ -94,10 +94,6 @@ impl<W: Bus> VirtualArm<W> {
         &self.sim
     }
 
-    pub fn wire(&self) -> &W {
-        &self.wire
-    }
-
     /// The wire back, when the arm is done.
     pub fn into_wire(self) -> W {
         self.wire
