@@ -77,10 +77,6 @@ fn text(out: &Output) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
-fn cargo() -> Command {
-    Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
-}
-
 /// The package, built once per test process; `None` (after saying so, or failing with CI set)
 /// when a tool is missing.
 fn package(test: &str) -> Option<&'static Path> {
@@ -98,33 +94,9 @@ fn build() -> Result<PathBuf, String> {
     if common::find_program("dpkg-deb").is_none() {
         return Err("dpkg-deb is not installed (Debian's dpkg)".into());
     }
-    let has_cargo_deb = cargo()
-        .args(["deb", "--version"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !has_cargo_deb {
-        return Err("cargo-deb is not installed (cargo install cargo-deb --locked)".into());
-    }
-    let target = work().join("target");
-    let _ = std::fs::remove_dir_all(&target);
-    std::fs::create_dir_all(target.join("release")).unwrap();
-    std::fs::copy(env!("CARGO_BIN_EXE_mcm"), target.join("release/mcm")).unwrap();
-    let deb = work().join("mcm.deb");
-    let _ = std::fs::remove_file(&deb);
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml");
-    run(cargo()
-        .args([
-            "deb",
-            "--no-build",
-            "--fast",
-            "--no-strip",
-            "--manifest-path",
-        ])
-        .arg(&manifest)
-        .arg("--output")
-        .arg(&deb)
-        .env("CARGO_TARGET_DIR", &target));
-    Ok(deb)
+    common::deb::cargo_deb_installed()?;
+    let dir = work().join("build");
+    Ok(common::deb::build(&dir, &[("mcm.deb", None)]).remove(0))
 }
 
 /// The package unpacked into a fresh directory `name` under the test's directory.

@@ -18,7 +18,6 @@ use serde_json::Value;
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::{Duration, Instant};
 
 /// The gateway's JSON protocol port in the guest.
@@ -34,78 +33,38 @@ const UPGRADE_VERSION: &str = "0.1.0-2";
 /// The move's targets [deg].
 const TARGETS: [f64; 6] = [10.0, -10.0, 20.0, 5.0, -5.0, 15.0];
 
-/// The conffile's edits: bus on vcan0 and the emulated timing (`section`, `key`, `value`).
-const EDITS: &[(&str, &str, &str)] = &[
-    ("bus", "backend", "\"socketcan\""),
-    ("bus", "interface", "\"vcan0\""),
-    ("cycle", "rate_hz", "50"),
-    ("cycle", "work_budget_us", "10000"),
-    ("bus", "master_heartbeat_ms", "100"),
-    ("bus", "drive_heartbeat_ms", "100"),
-    ("bus", "heartbeat_timeout_ms", "1000"),
-    ("bus", "sdo_timeout_ms", "200"),
-    ("bus", "max_missed_tpdos", "10"),
-];
+/// The conffile's edits (`section`, `key`, `value`): the bus on vcan0 and the emulated
+/// machine's timing the other guest tests use ([`virtual_arm::EMULATED`]).
+fn edits() -> Vec<(&'static str, &'static str, &'static str)> {
+    let mut e = vec![
+        ("bus", "backend", "\"socketcan\""),
+        ("bus", "interface", "\"vcan0\""),
+    ];
+    e.extend_from_slice(virtual_arm::EMULATED);
+    e
+}
 
 const CONF: &str = "/etc/mcm/prob2.toml";
-
-fn cargo() -> Command {
-    Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
-}
 
 /// The two packages (the manifest's version, then [`UPGRADE_VERSION`]) under the target
 /// directory, or why not (a missing tool).
 fn packages() -> Result<(PathBuf, PathBuf), String> {
-    let has_cargo_deb = cargo()
-        .args(["deb", "--version"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !has_cargo_deb {
-        return Err("cargo-deb is not installed (cargo install cargo-deb --locked)".into());
-    }
-    let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("vm-package");
-    let target = work.join("target");
-    let _ = std::fs::remove_dir_all(&work);
-    std::fs::create_dir_all(target.join("release")).unwrap();
-    std::fs::copy(env!("CARGO_BIN_EXE_mcm"), target.join("release/mcm")).unwrap();
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml");
-    let make = |name: &str, version: Option<&str>| {
-        let deb = work.join(name);
-        let mut cmd = cargo();
-        cmd.args([
-            "deb",
-            "--no-build",
-            "--fast",
-            "--no-strip",
-            "--manifest-path",
-        ])
-        .arg(&manifest)
-        .arg("--output")
-        .arg(&deb)
-        .env("CARGO_TARGET_DIR", &target);
-        if let Some(v) = version {
-            cmd.args(["--deb-version", v]);
-        }
-        let out = cmd
-            .output()
-            .unwrap_or_else(|e| panic!("cannot run {cmd:?}: {e}"));
-        assert!(
-            out.status.success(),
-            "{cmd:?}: {}\n{}",
-            out.status,
-            String::from_utf8_lossy(&out.stderr)
-        );
-        deb
-    };
-    Ok((
-        make("mcm.deb", None),
-        make("mcm-upgrade.deb", Some(UPGRADE_VERSION)),
-    ))
+    common::deb::cargo_deb_installed()?;
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("vm-package");
+    let mut debs = common::deb::build(
+        &dir,
+        &[
+            ("mcm.deb", None),
+            ("mcm-upgrade.deb", Some(UPGRADE_VERSION)),
+        ],
+    );
+    let upgrade = debs.pop().unwrap();
+    Ok((debs.pop().unwrap(), upgrade))
 }
 
-/// A sed script that applies [`EDITS`] within their sections.
+/// A sed script that applies [`edits`] within their sections.
 fn sed_script() -> String {
-    EDITS
+    edits()
         .iter()
         .map(|(section, key, value)| {
             format!("-e '/^\\[{section}\\]/,/^\\[/s/^{key} *=.*/{key} = {value}/'")
@@ -285,11 +244,11 @@ fn the_package_installs_runs_restarts_survives_a_reboot_upgrades_and_purges() {
         &format!(
             "sed -i {} {CONF} && grep -E '^({})' {CONF}",
             sed_script(),
-            EDITS.iter().map(|e| e.1).collect::<Vec<_>>().join("|")
+            edits().iter().map(|e| e.1).collect::<Vec<_>>().join("|")
         ),
         RUN_WAIT,
     );
-    for (_, key, value) in EDITS {
+    for (_, key, value) in edits() {
         assert!(
             edited.lines().any(|l| l == format!("{key} = {value}")),
             "the edit {key} = {value} is not in {CONF}; its lines:\n{edited}"
@@ -440,7 +399,7 @@ fn the_package_installs_runs_restarts_survives_a_reboot_upgrades_and_purges() {
         out.lines().any(|l| l == UPGRADE_VERSION),
         "the installed version is not {UPGRADE_VERSION} after the upgrade:\n{out}"
     );
-    for (_, key, value) in EDITS {
+    for (_, key, value) in edits() {
         assert!(
             out.lines().any(|l| l == format!("{key} = {value}")),
             "the upgrade lost the edit {key} = {value} of {CONF}:\n{out}"

@@ -142,7 +142,7 @@ impl VirtualArm {
 /// guest sets): software emulation on a 2-core host wakes the core up to 10 ms late (p99,
 /// measured; docs/virtual-arm.md), which the P-Rob2's 200 Hz with a 150 ms heartbeat timeout and 3
 /// missed TPDOs cannot absorb. `(section, key, value)`.
-const EMULATED: &[(&str, &str, &str)] = &[
+pub const EMULATED: &[(&str, &str, &str)] = &[
     ("cycle", "rate_hz", "50"),
     ("cycle", "work_budget_us", "10000"),
     ("bus", "master_heartbeat_ms", "100"),
