@@ -39,25 +39,14 @@ fn read_log(path: &Path) -> Vec<(f64, Frame)> {
         .collect()
 }
 
+/// One `candump -L` line through the project's reader of that format
+/// (`mcm_bus::candump::parse_line`); `None` for anything else, a blank or comment line included.
 fn parse(line: &str) -> Option<(f64, Frame)> {
-    let mut words = line.split_whitespace();
-    let time = words
-        .next()?
-        .strip_prefix('(')?
-        .strip_suffix(')')?
-        .parse()
-        .ok()?;
-    let _iface = words.next()?;
-    let (id, data) = words.next()?.split_once('#')?;
-    let id = u16::from_str_radix(id, 16).ok().filter(|id| *id <= 0x7FF)?;
-    if data.len() % 2 != 0 || data.len() > 16 || words.next().is_some() {
-        return None;
-    }
-    let bytes = (0..data.len())
-        .step_by(2)
-        .map(|i| u8::from_str_radix(&data[i..i + 2], 16).ok())
-        .collect::<Option<Vec<u8>>>()?;
-    Some((time, (id, bytes)))
+    let l = mcm_bus::candump::parse_line(line).ok()??;
+    Some((
+        l.t_us as f64 * 1e-6,
+        (l.frame.id, l.frame.payload().to_vec()),
+    ))
 }
 
 /// The P-Rob2 master's node id (`bus.master_node_id`).
