@@ -210,18 +210,38 @@ fn online_and_hold(c: &mut common::Client) {
     assert_eq!(s["operating_mode"], "HOLD", "{s}");
 }
 
-#[test]
-#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
-fn the_kernel_s_candump_agrees_with_the_mcm_s_own_log_frame_for_frame() {
+/// A virtual arm on a vcan of its own; fails outside the guest's SocketCAN mode.
+fn virtual_arm() -> VirtualArm {
     assert!(
         common::virtual_arm::socketcan(),
         "{IN_GUEST}, with MCM_TEST_BUS=socketcan"
     );
-    let arm = VirtualArm::start(mcm_shared::config::PROB2_DEFAULT_TOML);
+    VirtualArm::start(mcm_shared::config::PROB2_DEFAULT_TOML)
+}
+
+/// An MCM over a virtual arm (launcher arguments `extra`), with candump recording the
+/// interface from before the MCM's first frame.
+fn recorded(tag: &str, extra: &[&str]) -> (Mcm, Candump) {
+    let arm = virtual_arm();
     let dump = Candump::start(&arm.interface);
+    (Mcm::start_on(Some(arm), &unique_instance(tag), extra), dump)
+}
+
+/// Stop the MCM (its controlled stop) and candump once every drive says PRE-OPERATIONAL after
+/// the master's last NMT; the frames candump recorded.
+fn stopped(mcm: Mcm, dump: Candump) -> Vec<(f64, Frame)> {
+    let status = mcm.stop();
+    assert!(status.success(), "launcher exit status {status}");
+    dump.stop_when("every drive PRE-OPERATIONAL after the stop", |log| {
+        all_pre_operational_after_the_stop(log)
+    })
+}
+
+#[test]
+#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
+fn the_kernel_s_candump_agrees_with_the_mcm_s_own_log_frame_for_frame() {
     let own = std::env::temp_dir().join(format!("{}.candump", unique_instance("own")));
-    let instance = unique_instance("candump");
-    let mcm = Mcm::start_on(Some(arm), &instance, &["--candump", own.to_str().unwrap()]);
+    let (mcm, dump) = recorded("candump", &["--candump", own.to_str().unwrap()]);
     let mut c = mcm.client();
     online_and_hold(&mut c);
     // A few seconds of cyclic traffic in HOLD.
@@ -229,12 +249,8 @@ fn the_kernel_s_candump_agrees_with_the_mcm_s_own_log_frame_for_frame() {
     c.wait_status("2 s of the robot's time in HOLD", |s| {
         common::time_of(s) >= s0 + 2.0
     });
-    let status = mcm.stop();
-    assert!(status.success(), "launcher exit status {status}");
     let kernel_path = dump.path.clone();
-    let kernel = dump.stop_when("every drive PRE-OPERATIONAL after the stop", |log| {
-        all_pre_operational_after_the_stop(log)
-    });
+    let kernel = stopped(mcm, dump);
     let mine = read_log(&own);
 
     // What the master sent: the same frames in the same order.
@@ -308,20 +324,10 @@ fn the_kernel_s_candump_agrees_with_the_mcm_s_own_log_frame_for_frame() {
 #[test]
 #[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
 fn after_the_controlled_stop_every_drive_is_pre_operational_and_the_master_is_silent() {
-    assert!(
-        common::virtual_arm::socketcan(),
-        "{IN_GUEST}, with MCM_TEST_BUS=socketcan"
-    );
-    let arm = VirtualArm::start(mcm_shared::config::PROB2_DEFAULT_TOML);
-    let dump = Candump::start(&arm.interface);
-    let mcm = Mcm::start_on(Some(arm), &unique_instance("finish"), &[]);
+    let (mcm, dump) = recorded("finish", &[]);
     let mut c = mcm.client();
     online_and_hold(&mut c);
-    let status = mcm.stop();
-    assert!(status.success(), "launcher exit status {status}");
-    let log = dump.stop_when("every drive PRE-OPERATIONAL after the stop", |log| {
-        all_pre_operational_after_the_stop(log)
-    });
+    let log = stopped(mcm, dump);
     // The master's last frame is the NMT to all nodes, and it sends nothing after it.
     let last = log
         .iter()
@@ -409,12 +415,7 @@ fn arrived(c: &mut EventClient, what: &str, target: Option<&[f64; 6]>) -> [f64; 
 #[test]
 #[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
 fn calibration_motion_torque_control_and_an_emergency_stop_over_socketcan() {
-    assert!(
-        common::virtual_arm::socketcan(),
-        "{IN_GUEST}, with MCM_TEST_BUS=socketcan"
-    );
-    let arm = VirtualArm::start(mcm_shared::config::PROB2_DEFAULT_TOML);
-    let mcm = Mcm::start_on(Some(arm), &unique_instance("scenario"), &[]);
+    let mcm = Mcm::start_on(Some(virtual_arm()), &unique_instance("scenario"), &[]);
     let mut c = EventClient::connect(mcm.json);
     let deadline = Instant::now() + WAIT;
     while !detail(&mut c)["detail"]["drive_online"]
