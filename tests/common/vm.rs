@@ -17,9 +17,10 @@
 //!   user network with `restrict=on`: the guest reaches nothing outside.
 //!
 //! Every byte the guest prints on its serial console (and QEMU's own messages) goes to a log
-//! file under `target/tmp/`, named in every panic. [`Guest::reboot`] reboots and waits for the
-//! agent of the new boot; [`Guest::shutdown`] powers off; dropping a guest kills QEMU.
+//! file under `target/tmp/`, named in every panic. [`Guest::reboot`] reboots (a cold boot: QEMU
+//! is started again) and waits for the agent of the new boot; [`Guest::shutdown`] powers off; dropping a guest kills QEMU.
 
+use std::ffi::{OsStr, OsString};
 use std::fs;
 use std::io::{Read, Write};
 use std::net::TcpListener;
@@ -138,6 +139,8 @@ pub struct Run {
 /// A running guest; dropping it kills QEMU.
 pub struct Guest {
     qemu: Child,
+    /// QEMU's arguments, for starting it again after a reboot.
+    qemu_args: Vec<OsString>,
     /// This guest's directory under `target/tmp/`: the overlay, the log, the writable share.
     dir: PathBuf,
     log: PathBuf,
@@ -155,6 +158,22 @@ fn free_port() -> u16 {
         .and_then(|l| l.local_addr())
         .map(|a| a.port())
         .expect("a free loopback port")
+}
+
+/// Start QEMU with `args`, its standard output and error appended to `log`.
+fn spawn_qemu(args: &[OsString], log: &Path) -> Child {
+    let log_file = fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(log)
+        .expect("open the guest's log");
+    Command::new("qemu-system-x86_64")
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(log_file.try_clone().expect("the guest's log, twice"))
+        .stderr(log_file)
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot start qemu-system-x86_64: {e}"))
 }
 
 impl Guest {
@@ -188,48 +207,52 @@ impl Guest {
         for (g, h) in &forwards {
             netdev.push_str(&format!(",hostfwd=tcp:127.0.0.1:{h}-10.0.2.15:{g}"));
         }
-        let log_file = fs::OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(&log)
-            .expect("open the guest's log");
-        let mut cmd = Command::new("qemu-system-x86_64");
-        cmd.args(["-nodefaults", "-no-user-config", "-display", "none"])
-            .args(["-machine", "q35", "-accel", "tcg", "-cpu", "max"])
-            .args(["-smp", "2", "-m", "1024"])
-            .arg("-kernel")
-            .arg(image.dir.join("vmlinuz"))
-            .arg("-initrd")
-            .arg(image.dir.join("initrd.img"))
-            .args(["-append", "console=ttyS0,115200 root=/dev/vda rw"])
-            .arg("-drive")
-            .arg(format!(
-                "file={},format=qcow2,if=virtio,cache=unsafe",
-                disk.display()
-            ))
-            .arg("-virtfs")
-            .arg(format!(
-                "local,path={},mount_tag=mcmro,security_model=none,readonly=on,multidevs=remap",
-                ro.display()
-            ))
-            .arg("-virtfs")
-            .arg(format!(
-                "local,path={},mount_tag=mcmrw,security_model=none",
-                rw.display()
-            ))
-            .args(["-netdev", &netdev])
-            .args(["-device", "virtio-net-pci,netdev=net0,romfile="])
-            .arg("-chardev")
-            .arg(format!("file,id=con,path={},append=on", log.display()))
-            .args(["-serial", "chardev:con"])
-            .stdin(Stdio::null())
-            .stdout(log_file.try_clone().unwrap())
-            .stderr(log_file);
-        let qemu = cmd
-            .spawn()
-            .unwrap_or_else(|e| panic!("cannot start qemu-system-x86_64: {e}"));
+        let mut args: Vec<OsString> = Vec::new();
+        let mut arg = |a: &dyn AsRef<OsStr>| args.push(a.as_ref().to_owned());
+        for a in ["-nodefaults", "-no-user-config", "-display", "none"] {
+            arg(&a);
+        }
+        for a in ["-machine", "q35", "-accel", "tcg", "-cpu", "max"] {
+            arg(&a);
+        }
+        for a in ["-smp", "2", "-m", "1024"] {
+            arg(&a);
+        }
+        // A reboot in the guest ends QEMU; [`Guest::reboot`] starts it again (see there).
+        arg(&"-no-reboot");
+        arg(&"-kernel");
+        arg(&image.dir.join("vmlinuz"));
+        arg(&"-initrd");
+        arg(&image.dir.join("initrd.img"));
+        arg(&"-append");
+        arg(&"console=ttyS0,115200 root=/dev/vda rw");
+        arg(&"-drive");
+        arg(&format!(
+            "file={},format=qcow2,if=virtio,cache=unsafe",
+            disk.display()
+        ));
+        arg(&"-virtfs");
+        arg(&format!(
+            "local,path={},mount_tag=mcmro,security_model=none,readonly=on,multidevs=remap",
+            ro.display()
+        ));
+        arg(&"-virtfs");
+        arg(&format!(
+            "local,path={},mount_tag=mcmrw,security_model=none",
+            rw.display()
+        ));
+        arg(&"-netdev");
+        arg(&netdev);
+        arg(&"-device");
+        arg(&"virtio-net-pci,netdev=net0,romfile=");
+        arg(&"-chardev");
+        arg(&format!("file,id=con,path={},append=on", log.display()));
+        arg(&"-serial");
+        arg(&"chardev:con");
+        let qemu = spawn_qemu(&args, &log);
         let mut guest = Guest {
             qemu,
+            qemu_args: args,
             dir,
             log,
             ro,
@@ -396,16 +419,27 @@ impl Guest {
     }
 
     /// Reboot the guest (`systemctl reboot`) and wait until its agent is ready again, in a new
-    /// boot. The shares and forwarded ports stay.
+    /// boot. The disk, the shares and the forwarded ports stay.
+    ///
+    /// The guest shuts down as for any reboot; QEMU (run with `-no-reboot`) then ends and is
+    /// started again on the same disk, so the second boot is a cold boot like the first. A warm
+    /// reset under software emulation once left the second kernel's timers dead (CI, 2026-11-26:
+    /// "rcu_preempt kthread timer wakeup didn't happen", the agent never came back within
+    /// [`BOOT_WAIT`]); the first boot never showed it. Panics (with the log) when the guest does
+    /// not go down within two minutes or QEMU ends with a failure.
     pub fn reboot(&mut self) {
         self.submit("systemctl reboot");
+        let status = self.wait_qemu_end("reboot");
+        if !status.success() {
+            self.fail(&format!("QEMU ended with {status} on the guest's reboot"));
+        }
+        self.qemu = spawn_qemu(&self.qemu_args, &self.log);
         self.wait_boot();
     }
 
-    /// Power the guest off (`systemctl poweroff`) and wait for QEMU to end; returns QEMU's
-    /// exit status. Panics (with the log) when it does not end within two minutes.
-    pub fn shutdown(mut self) -> ExitStatus {
-        self.submit("systemctl poweroff");
+    /// Wait for QEMU to end after the guest was told to `what`; panics (with the log) after
+    /// [`SHUTDOWN_WAIT`].
+    fn wait_qemu_end(&mut self, what: &str) -> ExitStatus {
         let started = Instant::now();
         loop {
             if let Some(status) = self.qemu.try_wait().expect("wait for QEMU") {
@@ -413,11 +447,18 @@ impl Guest {
             }
             if started.elapsed() > SHUTDOWN_WAIT {
                 self.fail(&format!(
-                    "the guest did not power off within {SHUTDOWN_WAIT:?}"
+                    "the guest did not go down for its {what} within {SHUTDOWN_WAIT:?}"
                 ));
             }
             std::thread::sleep(POLL);
         }
+    }
+
+    /// Power the guest off (`systemctl poweroff`) and wait for QEMU to end; returns QEMU's
+    /// exit status. Panics (with the log) when it does not end within two minutes.
+    pub fn shutdown(mut self) -> ExitStatus {
+        self.submit("systemctl poweroff");
+        self.wait_qemu_end("power-off")
     }
 }
 
