@@ -63,9 +63,8 @@ struct TempConfig(std::path::PathBuf);
 
 impl TempConfig {
     fn new(tag: &str, changes: &[(&str, &str)]) -> TempConfig {
-        let toml =
-            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/deploy/prob2.toml"))
-                .expect("read deploy/prob2.toml");
+        // As embedded (the test guest has the binaries, not the sources).
+        let toml = mcm_shared::config::PROB2_DEFAULT_TOML;
         let mut found = vec![0; changes.len()];
         let toml: String = toml
             .lines()
