@@ -215,6 +215,9 @@ fn spawn<B: Bus + 'static>(
     sim: Option<SimEdge<B>>,
     finish: impl FnOnce(&mut B) + Send + 'static,
 ) -> Result<RunSummary, RunError> {
+    // Signals from here on stop this run, also those that come while it starts up (opening the
+    // bus, the services): the loop's first cycle then begins the controlled stop.
+    let signals_before = crate::signals::count();
     let handle = std::thread::Builder::new()
         .name("mcm-rt-cycle".into())
         .spawn(move || -> Result<RunSummary, RunError> {
@@ -247,7 +250,7 @@ fn spawn<B: Bus + 'static>(
                 report.is_realtime(),
             );
             on_started(&report);
-            let (figures, stop) = cycle_loop(&mut edge);
+            let (figures, stop) = cycle_loop(&mut edge, signals_before);
             eprintln!("mcm-rt: {stop}");
             finish(edge.cycle_mut().bus_mut());
             writer.stop();
@@ -285,8 +288,9 @@ pub fn run_cycle<B: Bus>(
 /// or SIGTERM starts has finished, or a second one ends it ([`StopSequence`], polled once per
 /// cycle): sleep until the deadline, read the clock, run [`Edge::cycle`], read the clock,
 /// [`Edge::end`] gives the next deadline, then [`Edge::signal_state`] wakes the listeners.
-fn cycle_loop<B: Bus>(edge: &mut Edge<B>) -> (Figures, StopOutcome) {
-    let mut stop = StopSequence::new(crate::signals::count());
+/// Signals counted beyond `signals_before` (the count when the run began) stop it.
+fn cycle_loop<B: Bus>(edge: &mut Edge<B>, signals_before: usize) -> (Figures, StopOutcome) {
+    let mut stop = StopSequence::new(signals_before);
     let mut next = edge.start(clock::now_ns());
     let outcome = loop {
         clock::sleep_until_ns(next);

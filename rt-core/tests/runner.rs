@@ -5,27 +5,13 @@
 
 mod common;
 
+use common::{NO_CPU, options};
 use mcm_rt_core::runner::{self, RunError, RunOptions};
-use mcm_shared::config::{BusBackend, RobotConfig};
+use mcm_shared::config::BusBackend;
 use mcm_shared::sample::StateSample;
 use mcm_shared::service::{STATE_KEY, ServiceNames};
 use std::path::PathBuf;
 use std::time::Duration;
-
-/// A CPU no machine has: pinning fails, so the set-up is not real-time on any machine.
-const NO_CPU: usize = 100_000;
-
-fn options(test: &str) -> RunOptions {
-    let mut config = RobotConfig::prob2_default();
-    config.cycle.cpu = NO_CPU;
-    config.safety.flight_recorder_dir = std::env::temp_dir().display().to_string();
-    RunOptions {
-        config,
-        names: ServiceNames::new(&format!("{test}-{}", std::process::id())).unwrap(),
-        allow_non_realtime: true,
-        candump: None,
-    }
-}
 
 fn never_started(report: &mcm_rt_core::realtime::RtReport) {
     panic!("started despite a set-up error: {report}");

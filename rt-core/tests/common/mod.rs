@@ -76,3 +76,21 @@ pub fn stop(mut child: Child) -> (ExitStatus, String) {
         .unwrap();
     (status, err)
 }
+
+/// A CPU no machine has: pinning fails, so the set-up is not real-time on any machine.
+pub const NO_CPU: usize = 100_000;
+
+/// Options for `runner::run` in a test process: the P-Rob2's configuration (simulated), the
+/// cycle pinned to [`NO_CPU`] and allowed to run without real time, the flight recorder in the
+/// temporary directory, an instance of this test's own.
+pub fn options(test: &str) -> mcm_rt_core::runner::RunOptions {
+    let mut config = mcm_shared::config::RobotConfig::prob2_default();
+    config.cycle.cpu = NO_CPU;
+    config.safety.flight_recorder_dir = std::env::temp_dir().display().to_string();
+    mcm_rt_core::runner::RunOptions {
+        config,
+        names: ServiceNames::new(&format!("{test}-{}", std::process::id())).unwrap(),
+        allow_non_realtime: true,
+        candump: None,
+    }
+}
