@@ -406,7 +406,8 @@ fn arrived(c: &mut EventClient, what: &str, target: Option<&[f64; 6]>) -> [f64; 
         }
         assert!(
             Instant::now() < deadline,
-            "{what}: true position {p:?}, velocity {v:?}; target {target:?}"
+            "{what}: true position {p:?}, velocity {v:?}; target {target:?}; errors {:?}",
+            c.events
         );
         std::thread::sleep(Duration::from_millis(50));
     }
@@ -415,7 +416,7 @@ fn arrived(c: &mut EventClient, what: &str, target: Option<&[f64; 6]>) -> [f64; 
 #[test]
 #[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
 fn calibration_motion_torque_control_and_an_emergency_stop_over_socketcan() {
-    let mcm = Mcm::start_on(Some(virtual_arm()), &unique_instance("scenario"), &[]);
+    let mut mcm = Mcm::start_on(Some(virtual_arm()), &unique_instance("scenario"), &[]);
     let mut c = EventClient::connect(mcm.json);
     let deadline = Instant::now() + WAIT;
     while !detail(&mut c)["detail"]["drive_online"]
@@ -521,6 +522,120 @@ fn calibration_motion_torque_control_and_an_emergency_stop_over_socketcan() {
         );
         std::thread::sleep(Duration::from_millis(100));
     }
+    let arm = mcm.arm.take().expect("over the virtual arm");
     let status = mcm.stop();
     assert!(status.success(), "launcher exit status {status}");
+    let counted = arm.stop();
+    eprintln!("{}", counted.line);
+    assert_drives_saw_no_fault(&counted);
+}
+
+/// No setpoint missing at a SYNC, no SDO abort, no heartbeat timeout, as the drives counted,
+/// and nothing lost on the wire.
+fn assert_drives_saw_no_fault(c: &common::virtual_arm::ArmCounters) {
+    assert!(
+        c.setpoints_missing == 0
+            && c.sdo_aborts == 0
+            && c.heartbeat_timeouts == 0
+            && c.frames_lost_on_send == 0
+            && c.wire_errors == 0,
+        "the virtual arm counted faults: {}",
+        c.line
+    );
+}
+
+/// How long [`motion_for_minutes_with_no_pdo_lost_as_the_drives_saw_it`] runs, on the robot's
+/// clock: `MCM_SOAK_S` seconds, 600 by default.
+fn soak_seconds() -> f64 {
+    std::env::var("MCM_SOAK_S").map_or(600.0, |v| {
+        v.parse()
+            .unwrap_or_else(|e| panic!("MCM_SOAK_S = {v:?}: {e}"))
+    })
+}
+
+/// The issue's target for the guest: minutes at the configured rate with the arm moving, and
+/// no lost or late setpoint, no SDO error and no heartbeat timeout as the drives saw them. Not
+/// part of the CI run (10 minutes): `tests/vm_socketcan.rs`'s ignored test runs it in the guest
+/// (`docs/performance.md`, "SocketCAN in the test guest").
+#[test]
+#[ignore = "runs for minutes in the test guest: tests/vm_socketcan.rs, docs/performance.md"]
+fn motion_for_minutes_with_no_pdo_lost_as_the_drives_saw_it() {
+    let seconds = soak_seconds();
+    let mut mcm = Mcm::start_on(Some(virtual_arm()), &unique_instance("soak"), &[]);
+    let mut c = EventClient::connect(mcm.json);
+    let deadline = Instant::now() + WAIT;
+    while !detail(&mut c)["detail"]["drive_online"]
+        .as_array()
+        .is_some_and(|a| a.iter().all(|x| x == true))
+    {
+        assert!(Instant::now() < deadline, "drives not online");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let cycle = c.request(r#"{"command":"info"}"#)["cycle_time"]
+        .as_f64()
+        .unwrap();
+    assert_ok(&c.request_within(r#"{"command":"calibrate"}"#, Duration::from_secs(180)));
+    let r = c.request(&format!(
+        r#"{{"command":"pvt","arguments":{{"dt":{cycle}}}}}"#
+    ));
+    assert_eq!(r["operating_mode"], "PVT", "{r}");
+
+    // Back and forth between two poses, every axis moving, until `seconds` of robot time. At
+    // half speed: at 0.8 the following error of axis 6 passed its 2 deg band at 50 Hz
+    // (docs/performance.md, "SocketCAN in the test guest").
+    let poses = [
+        [30.0, -20.0, 40.0, 45.0, -30.0, 60.0],
+        [-30.0, 20.0, -10.0, -45.0, 30.0, -60.0],
+    ];
+    let start = common::time_of(&detail(&mut c));
+    let mut moves = 0;
+    let mut now = start;
+    while now - start < seconds {
+        let target = poses[moves % 2];
+        let r = c.request_within(&common::move_all(&target, 0.5), Duration::from_secs(60));
+        assert_ne!(r["error_status"], "ERROR", "move_all: {r}");
+        arrived(&mut c, "a move of the soak", Some(&target));
+        moves += 1;
+        assert!(
+            c.events.is_empty(),
+            "an error during the soak: {:?}",
+            c.events
+        );
+        now = common::time_of(&detail(&mut c));
+    }
+
+    let s = detail(&mut c);
+    assert_eq!(s["operating_mode"], "PVT", "{s}");
+    let timing = &s["detail"]["timing"];
+    let bus = &s["detail"]["bus"];
+    eprintln!(
+        "soak: {:.0} s of robot time at {:.0} Hz, {moves} moves; core: {} cycles, wake-up latency \
+         p50 {} us, p99 {} us, p99.9 {} us, max {} us, work max {} us (budget {} us), {} \
+         overruns, {} over budget; bus: {bus}",
+        now - start,
+        1.0 / cycle,
+        timing["cycles"],
+        timing["latency_p50_us"],
+        timing["latency_p99_us"],
+        timing["latency_p99_9_us"],
+        timing["latency_max_us"],
+        timing["work_max_us"],
+        timing["work_budget_us"],
+        timing["overruns"],
+        timing["over_budget"],
+    );
+    for key in [
+        "bad_frames",
+        "bus_errors",
+        "frames_dropped",
+        "events_dropped",
+    ] {
+        assert_eq!(bus[key], 0, "detail.bus.{key}: {bus}");
+    }
+    let arm = mcm.arm.take().expect("over the virtual arm");
+    let status = mcm.stop();
+    assert!(status.success(), "launcher exit status {status}");
+    let counted = arm.stop();
+    eprintln!("soak: {}", counted.line);
+    assert_drives_saw_no_fault(&counted);
 }

@@ -20,8 +20,11 @@ use std::time::Duration;
 
 /// The unit test, by its full name.
 const UNIT_TEST: &str = "socketcan::tests::real_interface_round_trip_when_available";
-/// The tests of `tests/socketcan.rs`, every one of which must pass in the guest.
+/// The tests of `tests/socketcan.rs`, every one of which must pass in the guest, but for
+/// [`SOAK`].
 const E2E_TESTS: usize = 3;
+/// The test of `tests/socketcan.rs` that runs for minutes: not in CI, [`soak_in_the_guest`].
+const SOAK: &str = "motion_for_minutes_with_no_pdo_lost_as_the_drives_saw_it";
 /// The test of `tests/safety.rs` left out over SocketCAN in the guest: at the guest's 50 Hz a
 /// 60 Nm push ends 2.2 deg past the limit, in-process as over SocketCAN (the cycle rate, not
 /// the bus; docs/safety.md, "Braking distance"). The P-Rob2 runs 200 Hz, where it passes.
@@ -29,6 +32,17 @@ const SAFETY_SKIPPED: &str =
     "a_torque_driving_an_axis_towards_its_limit_is_stopped_before_the_limit";
 /// The tests of `tests/safety.rs` that must pass in the guest: all but [`SAFETY_SKIPPED`].
 const SAFETY_TESTS: usize = 6;
+
+/// `output` without the virtual arm's notes of SYNC lost and back, which are many under
+/// emulation; its counters line stays.
+fn without_sync_notes(output: &str) -> Vec<&str> {
+    output
+        .lines()
+        .filter(|l| {
+            !(l.contains("SYNC back after") || l.contains("periods; the arm runs on without it"))
+        })
+        .collect()
+}
 
 #[test]
 fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel() {
@@ -77,7 +91,8 @@ fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel()
         &format!(
             "set -e; mkdir -p {parent}; ln -sfn {share} {target}; cd /tmp; \
              cat {binary} {target}/debug/mcm >/dev/null; \
-             MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} --ignored --test-threads=1",
+             MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} --ignored --test-threads=1 \
+             --skip {SOAK}",
             parent = target.parent().unwrap().display(),
             share = vm::GUEST_RO,
             target = target.display(),
@@ -85,8 +100,7 @@ fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel()
         ),
         Duration::from_secs(900),
     );
-    // The virtual arm's SYNC notes are many; the rest is what matters.
-    let shown: Vec<&str> = run.output.lines().filter(|l| !l.contains("SYNC")).collect();
+    let shown = without_sync_notes(&run.output);
     eprintln!("{}", shown.join("\n"));
     let passed = format!("test result: ok. {E2E_TESTS} passed");
     assert!(
@@ -106,7 +120,7 @@ fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel()
         ),
         Duration::from_secs(900),
     );
-    let shown: Vec<&str> = run.output.lines().filter(|l| !l.contains("SYNC")).collect();
+    let shown = without_sync_notes(&run.output);
     eprintln!("{}", shown.join("\n"));
     let passed = format!("test result: ok. {SAFETY_TESTS} passed");
     assert!(
@@ -116,6 +130,50 @@ fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel()
         shown.join("\n")
     );
 
+    let status = guest.shutdown();
+    assert!(status.success(), "QEMU ended with {status} (log: {log})");
+}
+
+/// The issue's 10-minute target over SocketCAN, by hand (about 13 minutes with the boot):
+/// `cargo test --test vm_socketcan -- --ignored soak_in_the_guest --nocapture`, with
+/// `MCM_SOAK_S` (seconds of robot time, default 600) passed on to the guest. The figures go to
+/// `docs/performance.md`, "SocketCAN in the test guest".
+#[test]
+#[ignore = "10 minutes: by hand, docs/performance.md"]
+fn soak_in_the_guest() {
+    let image = match vm::image() {
+        Ok(image) => image,
+        Err(why) => return common::skip("vm_socketcan soak", &why),
+    };
+    let seconds: f64 = std::env::var("MCM_SOAK_S").map_or(600.0, |v| {
+        v.parse()
+            .unwrap_or_else(|e| panic!("MCM_SOAK_S = {v:?}: {e}"))
+    });
+    let e2e_binary = vm::integration_test_binary("socketcan");
+    let mut guest = vm::Guest::boot("soak", &image, &vm::target_dir(), &[]);
+    let log = guest.log().display().to_string();
+    let target = vm::target_dir();
+    let run = guest.run(
+        &format!(
+            "set -e; mkdir -p {parent}; ln -sfn {share} {target}; cd /tmp; \
+             cat {binary} {target}/debug/mcm >/dev/null; \
+             MCM_SOAK_S={seconds} MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} --ignored \
+             --exact {SOAK} --nocapture",
+            parent = target.parent().unwrap().display(),
+            share = vm::GUEST_RO,
+            target = target.display(),
+            binary = guest.guest_path(&e2e_binary),
+        ),
+        Duration::from_secs_f64(seconds * 3.0 + 600.0),
+    );
+    let shown = without_sync_notes(&run.output);
+    eprintln!("{}", shown.join("\n"));
+    assert!(
+        run.status == 0 && run.output.contains("test result: ok. 1 passed"),
+        "{SOAK} failed in the guest (exit {}):\n{}\n(log: {log})",
+        run.status,
+        shown.join("\n")
+    );
     let status = guest.shutdown();
     assert!(status.success(), "QEMU ended with {status} (log: {log})");
 }

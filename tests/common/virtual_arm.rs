@@ -14,7 +14,7 @@ use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::{Mutex, mpsc};
+use std::sync::{Arc, Mutex, mpsc};
 use std::time::Duration;
 
 /// The `mcm` binary the tests start: `MCM_TEST_BINARY` when set (the test guest runs the
@@ -81,6 +81,52 @@ pub struct VirtualArm {
     pub control: SocketAddr,
     /// The configuration file the arm and the core read (`bus.backend = "socketcan"`).
     pub config: super::TempConfig,
+    /// The last counters line the arm printed on stderr (`mcm-virtual-arm: arm time ...`).
+    counters: Arc<Mutex<Option<String>>>,
+}
+
+/// What the virtual arm counted, from its last counters line (`docs/virtual-arm.md`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArmCounters {
+    /// The whole line, as printed.
+    pub line: String,
+    pub arm_time_s: f64,
+    pub syncs: u64,
+    pub periods_without_sync: u64,
+    pub frames_lost_on_send: u64,
+    pub wire_errors: u64,
+    /// As the drives saw it: a SYNC with no new setpoint (RPDO1) since the last one.
+    pub setpoints_missing: u64,
+    pub sdo_aborts: u64,
+    pub heartbeat_timeouts: u64,
+}
+
+impl ArmCounters {
+    /// Parse a counters line; `None` when it is not one.
+    pub fn parse(line: &str) -> Option<ArmCounters> {
+        let rest = line.strip_prefix("mcm-virtual-arm: arm time ")?;
+        let after = |key: &str| -> Option<&str> {
+            let at = rest.find(key)? + key.len();
+            Some(rest[at..].trim_start())
+        };
+        let number = |key: &str| -> Option<u64> {
+            let v = after(key)?;
+            let end = v.find(|c: char| !c.is_ascii_digit()).unwrap_or(v.len());
+            v[..end].parse().ok()
+        };
+        let time = rest.split_whitespace().next()?.parse().ok()?;
+        Some(ArmCounters {
+            line: line.to_owned(),
+            arm_time_s: time,
+            syncs: number("; SYNC ")?,
+            periods_without_sync: number("periods without SYNC ")?,
+            frames_lost_on_send: number("frames lost on send ")?,
+            wire_errors: number("wire errors ")?,
+            setpoints_missing: number("setpoints missing at SYNC ")?,
+            sdo_aborts: number("SDO aborts ")?,
+            heartbeat_timeouts: number("heartbeat timeouts ")?,
+        })
+    }
 }
 
 impl VirtualArm {
@@ -103,8 +149,22 @@ impl VirtualArm {
             .args(["--fifo-priority", "70"])
             .args(["--config", config.path()])
             .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
             .spawn()
             .unwrap_or_else(|e| panic!("start mcm virtual-arm: {e}"));
+        // Its stderr passed on as it comes, the last counters line kept.
+        let counters = Arc::new(Mutex::new(None));
+        let stderr = child.stderr.take().unwrap();
+        let last = Arc::clone(&counters);
+        std::thread::spawn(move || {
+            for line in BufReader::new(stderr).lines() {
+                let Ok(line) = line else { break };
+                eprintln!("{line}");
+                if line.starts_with("mcm-virtual-arm: arm time ") {
+                    *last.lock().unwrap_or_else(|e| e.into_inner()) = Some(line);
+                }
+            }
+        });
         let stdout = child.stdout.take().unwrap();
         let (tx, rx) = mpsc::channel();
         std::thread::spawn(move || {
@@ -127,6 +187,7 @@ impl VirtualArm {
             interface,
             control: ready.control,
             config,
+            counters,
         }
     }
 
@@ -197,8 +258,12 @@ pub fn over_socketcan(text: &str, interface: &str) -> String {
     out
 }
 
-impl Drop for VirtualArm {
-    fn drop(&mut self) {
+impl VirtualArm {
+    /// Stop the arm (SIGTERM; SIGKILL after 5 s) and wait for it to end.
+    fn end(&mut self) {
+        if self.child.try_wait().ok().flatten().is_some() {
+            return;
+        }
         // SAFETY: kill(2) with a pid of a child we own and have not reaped.
         unsafe { libc::kill(self.child.id() as i32, libc::SIGTERM) };
         let deadline = std::time::Instant::now() + Duration::from_secs(5);
@@ -210,6 +275,39 @@ impl Drop for VirtualArm {
             std::thread::sleep(Duration::from_millis(10));
         }
         let _ = self.child.wait();
+    }
+
+    /// Stop the arm; what it counted, from the counters line it prints when it ends. Panics
+    /// when it printed none within [`super::WAIT`].
+    pub fn stop(mut self) -> ArmCounters {
+        self.end();
+        let deadline = std::time::Instant::now() + super::WAIT;
+        loop {
+            let last = self
+                .counters
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .clone();
+            // The line printed at the end is the last one (the reader thread ends with it).
+            if let Some(line) = last
+                && (Arc::strong_count(&self.counters) == 1 || std::time::Instant::now() > deadline)
+            {
+                return ArmCounters::parse(&line)
+                    .unwrap_or_else(|| panic!("not a counters line: {line:?}"));
+            }
+            assert!(
+                std::time::Instant::now() < deadline,
+                "the virtual arm on {} printed no counters",
+                self.interface
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+}
+
+impl Drop for VirtualArm {
+    fn drop(&mut self) {
+        self.end();
         let _ = Command::new("ip")
             .args(["link", "del", "dev", &self.interface])
             .status();
