@@ -249,6 +249,10 @@ impl Writer {
                 match result {
                     Ok(()) => {
                         self.shared.written.fetch_add(1, Ordering::Relaxed);
+                        // The trip in the log (the journal under systemd), once its file is
+                        // there: the clients were told by the gateway; the operator reads it
+                        // here.
+                        eprintln!("mcm-rt: {}", trip_line(&error, &path));
                     }
                     Err(e) => {
                         eprintln!(
@@ -264,6 +268,16 @@ impl Writer {
             std::thread::sleep(Duration::from_millis(10));
         }
     }
+}
+
+/// A safety trip in words, with the flight recorder's file, as the log shows it.
+fn trip_line(error: &ErrorRecord, path: &Path) -> String {
+    let what = match mcm_shared::reply::SafetyError::decode(error) {
+        Ok(Some(e)) => e.to_string(),
+        Ok(None) => "safety check tripped (no record)".to_string(),
+        Err(e) => format!("safety check tripped, but its record cannot be read ({e})"),
+    };
+    format!("{what}; flight recorder: {}", path.display())
 }
 
 /// Write the file at `path` with `body` so that it appears only complete: into `<path>.tmp`,

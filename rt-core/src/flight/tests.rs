@@ -86,3 +86,20 @@ fn a_file_appears_only_once_it_is_complete() {
     assert!(!dir.join("mcm-t-2-following_error.csv.tmp").exists());
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn a_trip_is_logged_in_words_with_its_file() {
+    use mcm_shared::reply::{Reason, SafetyError};
+    let e = SafetyError {
+        seq: 1,
+        cycle: 7,
+        unix_ns: 0,
+        reason: Reason::EmergencyStop,
+    };
+    let line = trip_line(&e.encode(), Path::new("/tmp/f.csv"));
+    assert!(
+        line.starts_with("safety check tripped: the emergency stop is pressed")
+            && line.ends_with("; flight recorder: /tmp/f.csv"),
+        "{line}"
+    );
+}
