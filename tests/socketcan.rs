@@ -413,21 +413,27 @@ fn arrived(c: &mut EventClient, what: &str, target: Option<&[f64; 6]>) -> [f64; 
     }
 }
 
-#[test]
-#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
-fn calibration_motion_torque_control_and_an_emergency_stop_over_socketcan() {
-    let mut mcm = Mcm::start_on(Some(virtual_arm()), &unique_instance("scenario"), &[]);
-    let mut c = EventClient::connect(mcm.json);
+/// Wait until all six drives are online (within [`WAIT`]); the cycle period [s] `info` gives.
+fn drives_online(c: &mut EventClient) -> f64 {
     let deadline = Instant::now() + WAIT;
-    while !detail(&mut c)["detail"]["drive_online"]
+    while !detail(c)["detail"]["drive_online"]
         .as_array()
         .is_some_and(|a| a.iter().all(|x| x == true))
     {
         assert!(Instant::now() < deadline, "drives not online");
         std::thread::sleep(Duration::from_millis(50));
     }
-    let info = c.request(r#"{"command":"info"}"#);
-    let cycle = info["cycle_time"].as_f64().unwrap();
+    c.request(r#"{"command":"info"}"#)["cycle_time"]
+        .as_f64()
+        .expect("info's cycle_time")
+}
+
+#[test]
+#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
+fn calibration_motion_torque_control_and_an_emergency_stop_over_socketcan() {
+    let mcm = Mcm::start_on(Some(virtual_arm()), &unique_instance("scenario"), &[]);
+    let mut c = EventClient::connect(mcm.json);
+    let cycle = drives_online(&mut c);
 
     // Calibration over the bus: the measured angles equal the virtual arm's true ones.
     let r = c.request_within(r#"{"command":"calibrate"}"#, Duration::from_secs(180));
@@ -522,11 +528,17 @@ fn calibration_motion_torque_control_and_an_emergency_stop_over_socketcan() {
         );
         std::thread::sleep(Duration::from_millis(100));
     }
+    stop_and_check_the_drives_counters(mcm);
+}
+
+/// Stop the MCM (its controlled stop), then its virtual arm; fails when the drives counted a
+/// fault ([`assert_drives_saw_no_fault`]).
+fn stop_and_check_the_drives_counters(mut mcm: Mcm) {
     let arm = mcm.arm.take().expect("over the virtual arm");
     let status = mcm.stop();
     assert!(status.success(), "launcher exit status {status}");
     let counted = arm.stop();
-    eprintln!("{}", counted.line);
+    eprintln!("the virtual arm's counters: {}", counted.line);
     assert_drives_saw_no_fault(&counted);
 }
 
@@ -561,19 +573,9 @@ fn soak_seconds() -> f64 {
 #[ignore = "runs for minutes in the test guest: tests/vm_socketcan.rs, docs/performance.md"]
 fn motion_for_minutes_with_no_pdo_lost_as_the_drives_saw_it() {
     let seconds = soak_seconds();
-    let mut mcm = Mcm::start_on(Some(virtual_arm()), &unique_instance("soak"), &[]);
+    let mcm = Mcm::start_on(Some(virtual_arm()), &unique_instance("soak"), &[]);
     let mut c = EventClient::connect(mcm.json);
-    let deadline = Instant::now() + WAIT;
-    while !detail(&mut c)["detail"]["drive_online"]
-        .as_array()
-        .is_some_and(|a| a.iter().all(|x| x == true))
-    {
-        assert!(Instant::now() < deadline, "drives not online");
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    let cycle = c.request(r#"{"command":"info"}"#)["cycle_time"]
-        .as_f64()
-        .unwrap();
+    let cycle = drives_online(&mut c);
     assert_ok(&c.request_within(r#"{"command":"calibrate"}"#, Duration::from_secs(180)));
     let r = c.request(&format!(
         r#"{{"command":"pvt","arguments":{{"dt":{cycle}}}}}"#
@@ -632,10 +634,5 @@ fn motion_for_minutes_with_no_pdo_lost_as_the_drives_saw_it() {
     ] {
         assert_eq!(bus[key], 0, "detail.bus.{key}: {bus}");
     }
-    let arm = mcm.arm.take().expect("over the virtual arm");
-    let status = mcm.stop();
-    assert!(status.success(), "launcher exit status {status}");
-    let counted = arm.stop();
-    eprintln!("soak: {}", counted.line);
-    assert_drives_saw_no_fault(&counted);
+    stop_and_check_the_drives_counters(mcm);
 }

@@ -44,6 +44,22 @@ fn without_sync_notes(output: &str) -> Vec<&str> {
         .collect()
 }
 
+/// Run `script` (a test binary `what`) in the guest; panics unless it exits with 0 saying that
+/// `tests` passed. Its output is shown without the SYNC notes.
+fn must_pass(guest: &mut vm::Guest, what: &str, script: &str, tests: usize) {
+    let run = guest.run(script, Duration::from_secs(900));
+    let shown = without_sync_notes(&run.output);
+    eprintln!("{}", shown.join("\n"));
+    let passed = format!("test result: ok. {tests} passed");
+    assert!(
+        run.status == 0 && run.output.contains(&passed),
+        "{what} did not pass its {tests} tests in the guest (exit {}):\n{}\n(log: {})",
+        run.status,
+        shown.join("\n"),
+        guest.log().display()
+    );
+}
+
 #[test]
 fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel() {
     let image = match vm::image() {
@@ -87,48 +103,26 @@ fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel()
     // Both are read once first: the first start of a 100 MB binary through 9p under emulation
     // took longer than the tests' 20 s wait for a ready line.
     let target = vm::target_dir();
-    let run = guest.run(
-        &format!(
-            "set -e; mkdir -p {parent}; ln -sfn {share} {target}; cd /tmp; \
+    let script = format!(
+        "set -e; mkdir -p {parent}; ln -sfn {share} {target}; cd /tmp; \
              cat {binary} {target}/debug/mcm >/dev/null; \
              MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} --ignored --test-threads=1 \
              --skip {SOAK}",
-            parent = target.parent().unwrap().display(),
-            share = vm::GUEST_RO,
-            target = target.display(),
-            binary = guest.guest_path(&e2e_binary),
-        ),
-        Duration::from_secs(900),
+        parent = target.parent().unwrap().display(),
+        share = vm::GUEST_RO,
+        target = target.display(),
+        binary = guest.guest_path(&e2e_binary),
     );
-    let shown = without_sync_notes(&run.output);
-    eprintln!("{}", shown.join("\n"));
-    let passed = format!("test result: ok. {E2E_TESTS} passed");
-    assert!(
-        run.status == 0 && run.output.contains(&passed),
-        "tests/socketcan.rs did not pass all {E2E_TESTS} tests in the guest (exit {}):\n{}\n(log: {log})",
-        run.status,
-        shown.join("\n")
-    );
+    must_pass(&mut guest, "tests/socketcan.rs", &script, E2E_TESTS);
 
     // The safety trips of tests/safety.rs over the kernel's CAN: the emergency stop, an
     // obstacle, a silent drive, high current, a power cycle, motion refused uncalibrated.
-    let run = guest.run(
-        &format!(
-            "cd /tmp; MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} --test-threads=1 \
+    let script = format!(
+        "cd /tmp; MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} --test-threads=1 \
              --skip {SAFETY_SKIPPED}",
-            binary = guest.guest_path(&safety_binary),
-        ),
-        Duration::from_secs(900),
+        binary = guest.guest_path(&safety_binary),
     );
-    let shown = without_sync_notes(&run.output);
-    eprintln!("{}", shown.join("\n"));
-    let passed = format!("test result: ok. {SAFETY_TESTS} passed");
-    assert!(
-        run.status == 0 && run.output.contains(&passed),
-        "tests/safety.rs did not pass its {SAFETY_TESTS} tests in the guest (exit {}):\n{}\n(log: {log})",
-        run.status,
-        shown.join("\n")
-    );
+    must_pass(&mut guest, "tests/safety.rs", &script, SAFETY_TESTS);
 
     let status = guest.shutdown();
     assert!(status.success(), "QEMU ended with {status} (log: {log})");
