@@ -3,7 +3,7 @@
 //! `tests/vm_package.rs`.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Output};
 
 fn cargo() -> Command {
     Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
@@ -50,16 +50,23 @@ pub fn build(dir: &Path, packages: &[(&str, Option<&str>)]) -> Vec<PathBuf> {
             if let Some(v) = version {
                 cmd.args(["--deb-version", v]);
             }
-            let out = cmd
-                .output()
-                .unwrap_or_else(|e| panic!("cannot run {cmd:?}: {e}"));
-            assert!(
-                out.status.success(),
-                "{cmd:?}: {}\n{}",
-                out.status,
-                String::from_utf8_lossy(&out.stderr)
-            );
+            run(&mut cmd);
             deb
         })
         .collect()
+}
+
+/// Run `cmd`, panicking with its output unless it succeeds.
+pub fn run(cmd: &mut Command) -> Output {
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {cmd:?}: {e}"));
+    assert!(
+        out.status.success(),
+        "{cmd:?}: {}\nstdout: {}\nstderr: {}",
+        out.status,
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
 }
