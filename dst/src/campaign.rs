@@ -1,5 +1,5 @@
 //! A campaign: many seeds, on several threads, until a budget of simulated time is spent or a
-//! run breaks a per-cycle invariant (a quiet phase that did not end in a usable HOLD is
+//! run breaks a per-cycle invariant (or, keeping going, only the budget; a quiet phase that did not end in a usable HOLD is
 //! collected, and the campaign goes on); what was reached, summed over the runs, and the
 //! "sometimes" assertions (every mode and every kind of fault reached at least once).
 //!
@@ -25,6 +25,8 @@ pub struct CampaignOptions {
     pub run_s: f64,
     pub jobs: usize,
     pub planted: Option<PlantedBug>,
+    /// Go on past a run that breaks a per-cycle invariant (collecting every failing run).
+    pub keep_going: bool,
 }
 
 /// What a campaign did.
@@ -44,8 +46,8 @@ pub struct CampaignReport {
     pub max_work_ns: u64,
     pub bus_frames_hit: u64,
     /// The failing runs, by seed: every quiet phase that failed, and the run that broke a
-    /// per-cycle invariant (the campaign stops at it; with several jobs, the runs under way
-    /// finish first).
+    /// per-cycle invariant (the campaign stops at it unless it keeps going; with several jobs,
+    /// the runs under way finish first).
     pub failures: Vec<RunReport>,
 }
 
@@ -163,7 +165,7 @@ pub fn campaign(opts: &CampaignOptions) -> CampaignReport {
                     o.planted = opts.planted;
                     let r = run(&o);
                     spent_ms.fetch_add((r.simulated_s * 1e3) as u64, Ordering::Relaxed);
-                    if r.violation.as_ref().is_some_and(|v| !v.quiet_phase) {
+                    if !opts.keep_going && r.violation.as_ref().is_some_and(|v| !v.quiet_phase) {
                         stop.store(true, Ordering::Relaxed);
                     }
                     total.lock().expect("no thread panicked").add(&r);

@@ -3,7 +3,7 @@
 
 use crate::run::{PLANTED_BUGS, PlantedBug};
 
-pub const USAGE: &str = "usage: mcm-dst [--seed N | --replay FILE] [--seconds S] [--hours H] [--jobs J] [--first-seed N] [--planted-bug braking|soft-stop] [--shrink-replays R]
+pub const USAGE: &str = "usage: mcm-dst [--seed N | --replay FILE] [--seconds S] [--hours H] [--jobs J] [--first-seed N] [--planted-bug braking|soft-stop] [--shrink-replays R] [--keep-going]
   --seed N        run seed N alone (twice, comparing the hashes of every state) and print what it did;
                   a broken invariant is shrunk to the inputs it needs, written to mcm-dst-seed-N.script
   --replay FILE   replay a script (what --seed writes) for S simulated seconds past its last input
@@ -12,6 +12,8 @@ pub const USAGE: &str = "usage: mcm-dst [--seed N | --replay FILE] [--seconds S]
   --hours H       without --seed: a campaign of H simulated hours over seeds from --first-seed (default 0.1)
   --jobs J        threads of the campaign (default 1; with 1 a campaign is reproducible)
   --first-seed N  the campaign's first seed (default 0)
+  --keep-going    a campaign goes on past a run that breaks a per-cycle invariant and lists
+                  every failing seed at the end (without it, it stops at the first)
   --planted-bug NAME  plant a bug to see the campaign catch it: braking (the braking-distance
                   check never trips) or soft-stop (the stop after a trip brakes at a tenth of
                   the maximum deceleration)";
@@ -29,6 +31,8 @@ pub struct Args {
     pub jobs: usize,
     pub first_seed: u64,
     pub planted: Option<PlantedBug>,
+    /// `--keep-going`: a campaign does not stop at a run that breaks a per-cycle invariant.
+    pub keep_going: bool,
     /// `--help`: print the usage and nothing else.
     pub help: bool,
 }
@@ -44,6 +48,7 @@ impl Default for Args {
             jobs: 1,
             first_seed: 0,
             planted: None,
+            keep_going: false,
             help: false,
         }
     }
@@ -116,6 +121,10 @@ pub fn parse(args: impl IntoIterator<Item = String>) -> Result<Args, ArgError> {
         let option: &'static str = match a.as_str() {
             "-h" | "--help" => {
                 out.help = true;
+                continue;
+            }
+            "--keep-going" => {
+                out.keep_going = true;
                 continue;
             }
             "--seed" => "--seed",

@@ -29,5 +29,6 @@ pub mod script;
 pub mod shrink;
 pub mod stamp;
 pub mod swarm;
+pub mod trace;
 pub mod under_way;
 pub mod world;

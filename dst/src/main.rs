@@ -53,6 +53,7 @@ fn main() -> ExitCode {
         planted,
         replay: replay_file,
         shrink_replays,
+        keep_going,
         ..
     } = args;
     if let Some(file) = replay_file {
@@ -113,6 +114,7 @@ fn main() -> ExitCode {
         run_s: seconds,
         jobs,
         planted,
+        keep_going,
     });
     println!("{}", r.summary());
     let mut ok = true;

@@ -13,6 +13,7 @@ use crate::rng::Rng;
 use crate::script::Script;
 use crate::stamp::{Stamp, calibrate_all};
 use crate::swarm::Swarm;
+use crate::trace::{Trace, mode_name};
 use crate::world::World;
 use mcm_shared::command::{Pvt, Request};
 use mcm_shared::config::RobotConfig;
@@ -175,34 +176,22 @@ pub fn run(opts: &RunOptions) -> RunReport {
     let mut hash = RunHash::default();
     let period_s = cfg.cycle_period_s();
     let chaos_cycles = (opts.seconds / period_s) as u64;
+    let tracer = Trace::from_env();
 
-    let step = |world: &mut World,
-                checker: &mut Checker,
-                hash: &mut RunHash|
-     -> Result<(), Violation> {
-        let before = world.state().mode;
-        world.step();
-        let k = world.cycle_index();
-        let work = Work {
-            allocations: std::mem::take(&mut world.allocations),
-            cpu_ns: world.last_cpu_ns,
+    let step =
+        |world: &mut World, checker: &mut Checker, hash: &mut RunHash| -> Result<(), Violation> {
+            let before = world.state().mode;
+            world.step();
+            let k = world.cycle_index();
+            let work = Work {
+                allocations: std::mem::take(&mut world.allocations),
+                cpu_ns: world.last_cpu_ns,
+            };
+            let s = *world.state();
+            tracer.cycle(k, before, &s);
+            hash.cycle(&s, world.replies());
+            checker.cycle(k, &s, world.replies(), work, world.faults())
         };
-        let s = *world.state();
-        if s.mode != before && trace() {
-            eprintln!(
-                "cycle {k}: mode {} -> {} (last error: code {} axis {} values {:?}), true angles {:?} deg, velocities {:?} deg/s",
-                mode_name(before),
-                mode_name(s.mode),
-                s.last_error.code,
-                s.last_error.axis,
-                s.last_error.values,
-                s.sim_true_position.map(|x| (x * 100.0).round() / 100.0),
-                s.sim_true_velocity.map(|x| (x * 10.0).round() / 10.0),
-            );
-        }
-        hash.cycle(&s, world.replies());
-        checker.cycle(k, &s, world.replies(), work, world.faults())
-    };
 
     let result = (|| -> Result<(), Violation> {
         for _ in 0..chaos_cycles {
@@ -323,11 +312,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
 
 /// Whether `MCM_DST_TRACE` asks for mode changes and the quiet phase's answers on stderr.
 fn trace() -> bool {
-    std::env::var_os("MCM_DST_TRACE").is_some()
-}
-
-fn mode_name(m: u32) -> String {
-    Mode::try_from(m).map_or_else(|_| format!("mode {m}"), |m| m.to_string())
+    Trace::from_env().modes
 }
 
 /// The quiet phase's client: `take_control`, `hold` until HOLD, `calibrate` all axes unless

@@ -24,6 +24,7 @@ use crate::faults::Fault;
 use crate::faulty_bus::BusFaults;
 use crate::invariants::{Checker, Violation, Work};
 use crate::run::{PLANTED_BUGS, PlantedBug, planted_name, seeded};
+use crate::trace::Trace;
 use mcm_shared::sample::{COMMAND_ARGS, CommandSample};
 use std::fmt;
 use std::str::FromStr;
@@ -64,6 +65,7 @@ pub fn replay(script: &Script, cycles: u64) -> Option<Violation> {
     }
     let mut checker = Checker::new(&cfg, world.bus().sim());
     let mut next = 0;
+    let tracer = Trace::from_env();
     for k in 0..cycles {
         while let Some(e) = script.events.get(next).filter(|e| e.cycle == k) {
             match e.input {
@@ -75,6 +77,7 @@ pub fn replay(script: &Script, cycles: u64) -> Option<Violation> {
             }
             next += 1;
         }
+        let before = world.state().mode;
         world.step();
         let work = Work {
             allocations: std::mem::take(&mut world.allocations),
@@ -82,6 +85,7 @@ pub fn replay(script: &Script, cycles: u64) -> Option<Violation> {
         };
         let s = *world.state();
         let k = world.cycle_index();
+        tracer.cycle(k, before, &s);
         if let Err(v) = checker.cycle(k, &s, world.replies(), work, world.faults()) {
             return Some(v);
         }

@@ -47,6 +47,7 @@ fn a_small_campaign_breaks_no_invariant_and_every_run_recovers() {
         run_s: 20.0,
         jobs: 1,
         planted: None,
+        keep_going: false,
     });
     eprintln!("{}", r.summary());
     for f in &r.failures {

@@ -34,6 +34,8 @@ fn the_defaults_and_every_option() {
     );
     assert!(args("--shrink-replays 0").is_err());
     assert!(args("--help").unwrap().help);
+    assert!(args("--hours 2 --keep-going").unwrap().keep_going);
+    assert!(!args("--hours 2").unwrap().keep_going);
 }
 
 #[test]
