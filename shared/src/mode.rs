@@ -169,6 +169,9 @@ wire_enum!(
         NotOwner = 19 => "not_owner",
         /// The MCM is shutting down: the arm is being stopped and its drives disabled.
         ShuttingDown = 20 => "shutting_down",
+        /// Safety check: an axis derated by i2t needs more than its derated current to hold;
+        /// the drives are powered off and the holding brakes hold the arm.
+        Overload = 21 => "overload",
     }
 );
 

@@ -193,6 +193,15 @@ pub enum Reason {
     },
     /// The MCM is shutting down: the arm is being stopped and its drives disabled.
     ShuttingDown,
+    /// An axis derated by i2t (its motor hot) needs more than its derated current to hold
+    /// where it is: its current stood at the derated limit `limit_a` (it was `current_a`).
+    /// The drives are powered off, so that the holding brakes hold the arm while the motor
+    /// cools.
+    Overload {
+        axis: Axis,
+        current_a: f64,
+        limit_a: f64,
+    },
 }
 
 /// The wire form of a reason: its code, axis (0: none) and figures.
@@ -218,6 +227,7 @@ impl Reason {
             | Reason::VelocityLimit { axis, .. }
             | Reason::BrakingDistance { axis, .. }
             | Reason::FollowingError { axis, .. }
+            | Reason::Overload { axis, .. }
             | Reason::CalibrationFailed { axis, .. }
             | Reason::PvtPoint { axis, .. }
             | Reason::Unreachable { axis, .. } => Some(axis),
@@ -346,6 +356,15 @@ impl Reason {
                 RejectCode::FollowingError,
                 a(axis),
                 [error_deg, band_deg, 0.0, 0.0],
+            ),
+            Reason::Overload {
+                axis,
+                current_a,
+                limit_a,
+            } => w(
+                RejectCode::Overload,
+                a(axis),
+                [current_a, limit_a, 0.0, 0.0],
             ),
             Reason::CalibrationFailed { axis, cause } => {
                 let values = match cause {
@@ -509,6 +528,11 @@ impl Reason {
                 axis: need(axis)?,
                 error_deg: v0,
                 band_deg: v1,
+            },
+            RejectCode::Overload => Reason::Overload {
+                axis: need(axis)?,
+                current_a: v0,
+                limit_a: v1,
             },
             RejectCode::CalibrationFailed => Reason::CalibrationFailed {
                 axis: need(axis)?,
@@ -675,6 +699,14 @@ impl fmt::Display for Reason {
             } => write!(
                 f,
                 "following error: axis {axis} is {error_deg:.3} deg away from its commanded position, band {band_deg:.3} deg"
+            ),
+            Reason::Overload {
+                axis,
+                current_a,
+                limit_a,
+            } => write!(
+                f,
+                "overload: axis {axis} needs more than its derated current of {limit_a:.2} A to hold (its motor is hot, i2t; current {current_a:.2} A); the drives are powered off and the brakes hold the arm until a hold, after the motor has cooled"
             ),
             Reason::CalibrationFailed { axis, cause } => match cause {
                 CalibrationFailure::NoStop { searched_deg } => write!(
