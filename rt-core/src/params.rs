@@ -29,6 +29,8 @@ pub struct JointParams {
     pub viscous: [f64; NUM_AXES],
     /// Encoder counts per joint radian (the drives' position unit).
     pub counts_per_rad: [f64; NUM_AXES],
+    /// Whether the joint has a holding brake (engaged while its drive is not enabled).
+    pub brake: [bool; NUM_AXES],
     /// Cycle period [s].
     pub period: f64,
 }
@@ -55,6 +57,7 @@ impl JointParams {
             max_current: per(&|i| a[i].max_current_a),
             viscous: per(&|i| a[i].viscous_friction_nm_s_rad),
             counts_per_rad: per(&|i| a[i].counts_per_rad()),
+            brake: core::array::from_fn(|i| a[i].brake),
             period: cfg.cycle_period_s(),
         }
     }

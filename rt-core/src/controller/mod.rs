@@ -28,6 +28,7 @@ mod commands;
 mod exits;
 mod motion;
 mod moves;
+mod overload;
 mod ownership;
 pub mod planted;
 pub mod release;
@@ -107,6 +108,8 @@ pub struct Controller {
     /// [`calibrate_relax::SearchRelax`]). Not part of [`State`]: the relax outlives the ERROR of a
     /// failed search, the enabling a `hold` starts from there and the arrival in HOLD.
     search_relax: calibrate_relax::SearchRelax,
+    /// The overload check (`overload.rs`): an axis derated by i2t that cannot hold its load.
+    overload: overload::Overload,
     prev_velocity: [f64; NUM_AXES],
     acceleration: [f64; NUM_AXES],
     view: CycleView,
@@ -157,6 +160,7 @@ impl Controller {
             requests: [DriveRequest::Disable; NUM_AXES],
             current_limit: p.max_current,
             search_relax: calibrate_relax::SearchRelax::NONE,
+            overload: overload::Overload::default(),
             prev_velocity: [0.0; NUM_AXES],
             acceleration: [0.0; NUM_AXES],
             p,
@@ -244,6 +248,7 @@ impl Controller {
         self.advance_shutdown();
         self.update_enabling();
         self.check_safety();
+        self.check_overload();
         self.cmd_hist = [self.cmd.position, self.cmd_hist[0]];
         self.advance_motion();
         self.update_i2t();
@@ -316,6 +321,7 @@ impl Controller {
             _ => Before::Off,
         };
         self.master.reset_faults();
+        self.overload.powered_off = false;
         self.hold_here();
         self.state = State::Enabling {
             caller,

@@ -210,7 +210,11 @@ impl Controller {
             let was_position = matches!(self.requests[i], DriveRequest::Position { .. });
             self.requests[i] = match self.state {
                 State::Off => DriveRequest::Disable,
-                State::Error { .. } if !self.master.feedback()[i].enabled => DriveRequest::Disable,
+                State::Error { .. }
+                    if !self.master.feedback()[i].enabled || self.overload_power_off(i) =>
+                {
+                    DriveRequest::Disable
+                }
                 _ => DriveRequest::Position { position_rad: raw },
             };
             // Entering CSP (from RELEASE, TORQUE_CONTROL, or enabling): the loop starts with

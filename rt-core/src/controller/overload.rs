@@ -1,0 +1,104 @@
+//! Overload: an axis that cannot hold its load with the current its hot motor is allowed.
+//!
+//! Runs inside the cycle.
+//!
+//! The i2t protection (`safety/i2t.rs`) derates a hot motor to its derated current. An axis
+//! whose load at rest needs more than that (the shoulder holding the stretched arm and its
+//! payload) can then no longer hold: its current stands at the derated limit and it sags. In
+//! HOLD the following error would trip only once it had sagged by its band, and in ERROR
+//! nothing would react at all. So an axis at rest (HOLD or ERROR, no stop under way) whose
+//! motor is derated and whose current has stood at the derated limit for [`OVERLOAD_S`] trips
+//! [`Reason::Overload`]: ERROR, with the drives of every axis that has a holding brake powered
+//! off, so that the brakes hold the arm and the motors cool. Axes without a brake stay enabled
+//! and hold as ERROR does. The same power off follows any trip once ERROR's stop (and every
+//! relax) has ended while a motor is derated: in ERROR the arm does no work, and a derated
+//! motor holding a load near its rated current never cools (it stays above the release level,
+//! and a calibration's search cannot get the current it needs). A `hold` enables the drives
+//! again (`begin_enabling` ends the power off); a motor still hot trips again within
+//! [`OVERLOAD_S`] if the pose still needs more.
+
+use super::Controller;
+use super::state::State;
+use mcm_shared::NUM_AXES;
+use mcm_shared::command::Axis;
+use mcm_shared::reply::Reason;
+
+/// How long a derated axis's current stands at its limit before the overload trips [s]: a few
+/// cycles, so that one reading at the limit is not taken for a load; short, because the axis
+/// sags from the first cycle at the limit and faster every cycle (the P-Rob2's stretched
+/// shoulder: 0.04 deg in 25 ms, 0.6 deg in 0.1 s).
+pub const OVERLOAD_S: f64 = 0.025;
+
+/// The share of the derated limit at which the current counts as standing at it (the drive's
+/// current loop and its measurement stay a little below the clamp).
+pub const AT_LIMIT: f64 = 0.98;
+
+/// The overload check's state: cycles each axis's current has stood at its derated limit, and
+/// whether the drives are powered off for an overload.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct Overload {
+    at_limit: [u32; NUM_AXES],
+    /// The drives of the axes with a brake are powered off (until an enabling starts).
+    pub powered_off: bool,
+}
+
+/// Cycles of `period_s` the current must stand at the derated limit: [`OVERLOAD_S`], and at
+/// least one.
+fn overload_cycles(period_s: f64) -> u32 {
+    (OVERLOAD_S / period_s).ceil().max(1.0) as u32
+}
+
+impl Controller {
+    /// The overload check, once per cycle before the references are made.
+    pub(super) fn check_overload(&mut self) {
+        let at_rest = matches!(
+            self.state,
+            State::Hold { stop: None } | State::Error { stop: None, .. }
+        );
+        let derated = self.i2t.derated();
+        let limit = self.i2t.max_current();
+        let fb = *self.master.feedback();
+        let need = overload_cycles(self.p.period);
+        let mut tripped = None;
+        for i in 0..NUM_AXES {
+            let at_limit = at_rest
+                && derated[i]
+                && fb[i].enabled
+                && fb[i].current_a.abs() >= AT_LIMIT * limit[i];
+            let n = &mut self.overload.at_limit[i];
+            *n = if at_limit { n.saturating_add(1) } else { 0 };
+            if tripped.is_none() && *n >= need {
+                tripped = Some(Reason::Overload {
+                    axis: Axis::ALL[i],
+                    current_a: fb[i].current_a,
+                    limit_a: limit[i],
+                });
+            }
+        }
+        let Some(reason) = tripped else {
+            let settled = matches!(
+                self.state,
+                State::Error { stop: None, relax } if relax == [0; NUM_AXES]
+            ) && !self.search_relax.any();
+            if settled && derated.iter().any(|d| *d) {
+                self.overload.powered_off = true;
+            }
+            return;
+        };
+        self.overload.at_limit = [0; NUM_AXES];
+        // Its own incident even in an ERROR already reported: the arm is now powered off.
+        self.incident_reported = false;
+        self.trip(reason);
+        if matches!(self.state, State::Error { .. }) {
+            self.overload.powered_off = true;
+        }
+    }
+
+    /// Whether the drive of `axis` is to be powered off for an overload.
+    pub(super) fn overload_power_off(&self, axis: usize) -> bool {
+        self.overload.powered_off && self.p.brake[axis] && matches!(self.state, State::Error { .. })
+    }
+}
+
+#[cfg(test)]
+mod tests;
