@@ -14,6 +14,8 @@ use mcm_sim::bus::SYNC_ID;
 
 /// Frames held back at most (more are delivered at once).
 const DELAYED: usize = 64;
+/// The most SYNCs a delayed frame to the master arrives late.
+pub const MAX_DELAY_SYNCS: usize = 3;
 
 /// What the bus does wrong: probabilities per frame (0: never), and states that last while
 /// they are set.
@@ -183,7 +185,7 @@ impl Bus for FaultyBus {
                 continue;
             }
             if self.rng.chance(faults.delay_rx) {
-                let due = self.syncs + 1 + self.rng.below(3);
+                let due = self.syncs + 1 + self.rng.below(MAX_DELAY_SYNCS as u64);
                 if self.delayed.push_back((due, f)).is_ok() {
                     self.counts.delayed += 1;
                     continue;

@@ -30,7 +30,9 @@
 //!   drive or a drive rebooting acts (the arm is not the controller's to stop then);
 //! - no axis flagged calibrated whose measured angle is further from the true angle than its
 //!   calibration tolerance, plus the motion of the cycles the measurement may lag the truth
-//!   ([`Checker::new`]: two, and the TPDOs the master may miss in a row); not judged for an
+//!   ([`Checker::new`]: two, and the TPDOs the master may miss in a row, and while frames to
+//!   the master are delayed, the [`DELAY_SYNCS`] they may be late); not judged for an axis
+//!   whose drive is not online (the master lost it: its measured angle stands); not judged for an
 //!   axis calibrated while an obstacle or a push acted during the calibration (a stop-based
 //!   calibration cannot tell an obstacle or a hand from its stop) until it is calibrated again;
 //! - no allocation in the cycle's work, and its work within `cycle.work_budget_us` of CPU time
@@ -39,13 +41,14 @@
 //!   that in a debug build, [`DEBUG_SLOWDOWN`]).
 
 use crate::faults::Fault;
+use crate::faulty_bus::MAX_DELAY_SYNCS as DELAY_SYNCS;
 use mcm_rt_core::safety::SafetyParams;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{Axis, Request, Which};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::reply::{Outcome, Response};
-use mcm_shared::sample::{AXIS_CALIBRATED, CommandSample, Reply, StateSample};
+use mcm_shared::sample::{AXIS_CALIBRATED, AXIS_ONLINE, CommandSample, Reply, StateSample};
 use mcm_sim::SimBus;
 use std::collections::{HashMap, VecDeque};
 
@@ -155,7 +158,8 @@ pub struct Checker {
     period_s: f64,
     /// Cycles the measured angle may lag the true one.
     lag_cycles: usize,
-    /// The true speeds of the last `lag_cycles` cycles [deg/s], the newest last.
+    /// The true speeds of the last `lag_cycles` plus [`DELAY_SYNCS`] cycles [deg/s], the
+    /// newest last.
     recent_speeds: VecDeque<[f64; NUM_AXES]>,
     /// Per axis: the deceleration a stop brakes with at least (`braking_efficiency` times the
     /// maximum acceleration) [deg/s^2] and the braking check's latency [s].
@@ -376,13 +380,23 @@ impl Checker {
         }
     }
 
+    /// The fastest true speed of axis `i` over the newest `cycles` cycles [deg/s].
+    fn fastest(&self, i: usize, cycles: usize) -> f64 {
+        self.recent_speeds
+            .iter()
+            .rev()
+            .take(cycles)
+            .map(|v| v[i])
+            .fold(0.0, f64::max)
+    }
+
     fn positions(&mut self, s: &StateSample, mode: Mode, faults: &[Fault]) -> Result<(), String> {
         let outside_help = faults.iter().any(|f| f.moves_the_arm());
         let responsible = matches!(
             mode,
             Mode::Hold | Mode::Pvt | Mode::VelocityControl | Mode::TorqueControl | Mode::Error
         ) && !outside_help;
-        if self.recent_speeds.len() == self.lag_cycles {
+        if self.recent_speeds.len() == self.lag_cycles + DELAY_SYNCS {
             self.recent_speeds.pop_front();
         }
         self.recent_speeds
@@ -390,6 +404,7 @@ impl Checker {
         let fooling = faults
             .iter()
             .any(|f| matches!(f, Fault::Obstacle | Fault::Push));
+        let delayed = faults.contains(&Fault::BusDelay);
         if mode == Mode::Calibration {
             if self.prev_mode != Mode::Calibration {
                 self.attempt_fooled = [false; NUM_AXES];
@@ -427,10 +442,14 @@ impl Checker {
                 ));
             }
             let err = (s.measured_position[i] - q).abs();
-            let speed = self.recent_speeds.iter().map(|v| v[i]).fold(0.0, f64::max);
-            let slack = self.tolerance_deg[i] + self.lag_cycles as f64 * speed * self.period_s;
+            let lag = self.lag_cycles + if delayed { DELAY_SYNCS } else { 0 };
+            let speed = self.fastest(i, lag);
+            let slack = self.tolerance_deg[i] + lag as f64 * speed * self.period_s;
             let fooled = self.fooled[i] || self.attempt_fooled[i];
-            if calibrated && !fooled && err > slack {
+            // A drive the master lost reports nothing: its axis's measured angle stands where
+            // the last report left it, which says nothing about the calibration.
+            let online = s.axis_flags[i] & AXIS_ONLINE != 0;
+            if calibrated && online && !fooled && err > slack {
                 return Err(format!(
                     "axis {}: flagged calibrated, but measured {:.4} deg vs true {q:.4} deg: off by {err:.4} deg, tolerance {slack:.4} deg",
                     i + 1,
@@ -458,7 +477,7 @@ impl Checker {
         // ERROR just entered (the watches of an earlier ERROR ended when it was left).
         if !matches!(self.prev_mode, Mode::Error | Mode::Off) {
             for i in 0..NUM_AXES {
-                let speed = self.recent_speeds.iter().map(|v| v[i]).fold(0.0, f64::max);
+                let speed = self.fastest(i, self.lag_cycles);
                 let v = s.sim_true_velocity[i];
                 if speed < STANDSTILL_DEG_S {
                     continue;

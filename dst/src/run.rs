@@ -19,7 +19,9 @@ use mcm_shared::command::{Pvt, Request};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::reply::{Outcome, Response};
-use mcm_shared::sample::{AXIS_CALIBRATED, AXIS_I2T_DERATED, CommandSample, Reply, StateSample};
+use mcm_shared::sample::{
+    AXIS_CALIBRATED, AXIS_ENABLED, AXIS_I2T_DERATED, CommandSample, Reply, StateSample,
+};
 
 /// Client id of the fault injector's `sim` commands.
 pub const FAULT_CLIENT: u64 = 1;
@@ -333,6 +335,11 @@ struct Recovery {
 /// from `hold` [s].
 const RETRY_AFTER_S: f64 = 1.0;
 
+/// The i2t level below which the quiet phase's client counts the motors cool enough to enable
+/// them again in ERROR (the derating ends below 0.9; from 0.5, a motor holding 1.2 times its
+/// rated current reaches the derating again after some 15 s, a calibration's time).
+const COOL_LEVEL: f64 = 0.5;
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Stage {
     Control,
@@ -360,9 +367,14 @@ impl Recovery {
             return None;
         }
         let calibrated = s.axis_flags.iter().all(|f| f & AXIS_CALIBRATED != 0);
-        // A motor derated by i2t cannot give the search current: let it cool in HOLD first.
+        // In ERROR the MCM powers the arm off while a motor is derated by i2t (the brakes hold
+        // it): let the motors cool before `hold` enables them again, as an operator would (a
+        // derated motor cannot give a calibration's search current).
         let derated = s.axis_flags.iter().any(|f| f & AXIS_I2T_DERATED != 0);
-        if self.stage == Stage::Calibrate && !calibrated && derated {
+        let powered_off = s.axis_flags.iter().all(|f| f & AXIS_ENABLED == 0);
+        let hot = s.i2t.iter().any(|level| *level > COOL_LEVEL);
+        let cooling = derated || (powered_off && hot);
+        if s.mode == Mode::Error.to_wire() && cooling && self.stage == Stage::Hold {
             return None;
         }
         let r = match self.stage {

@@ -5,7 +5,10 @@ use super::*;
 use crate::stamp::calibrate_all;
 use mcm_shared::command::{Calibrate, Direction, Pvt};
 use mcm_shared::reply::{Done, Reason};
-use mcm_shared::sample::AXIS_CALIBRATED;
+use mcm_shared::sample::{AXIS_CALIBRATED, AXIS_ONLINE};
+
+/// An axis calibrated, its drive online.
+const CALIBRATED: u32 = AXIS_CALIBRATED | AXIS_ONLINE;
 
 const CLIENT: u64 = 100;
 
@@ -18,7 +21,7 @@ fn checker() -> Checker {
 fn state(mode: Mode) -> StateSample {
     StateSample {
         mode: mode.to_wire(),
-        axis_flags: [AXIS_CALIBRATED; NUM_AXES],
+        axis_flags: [CALIBRATED; NUM_AXES],
         ..StateSample::default()
     }
 }
@@ -221,7 +224,7 @@ fn a_calibration_an_obstacle_or_a_push_acted_on_is_not_judged_until_calibrated_a
     c.cycle(1, &s, &[], Work::default(), &[Fault::Obstacle])
         .unwrap();
     s.mode = Mode::Hold.to_wire();
-    s.axis_flags = [AXIS_CALIBRATED; 6];
+    s.axis_flags = [CALIBRATED; 6];
     s.measured_position[4] = 14.9; // calibrated against the obstacle
     check(&mut c, 2, &s, &[ok(1, CommandKind::Calibrate)]).unwrap();
     check(&mut c, 3, &s, &[]).unwrap();
@@ -232,7 +235,7 @@ fn a_calibration_an_obstacle_or_a_push_acted_on_is_not_judged_until_calibrated_a
     s.axis_flags = [0; 6];
     check(&mut c, 4, &s, &[]).unwrap();
     s.mode = Mode::Hold.to_wire();
-    s.axis_flags = [AXIS_CALIBRATED; 6];
+    s.axis_flags = [CALIBRATED; 6];
     let aborted = answer(2, CommandKind::Calibrate, Outcome::Failed(Reason::Aborted));
     check(&mut c, 5, &s, &[aborted]).unwrap();
     check(&mut c, 6, &s, &[]).unwrap();
@@ -242,7 +245,7 @@ fn a_calibration_an_obstacle_or_a_push_acted_on_is_not_judged_until_calibrated_a
     s.axis_flags = [0; 6];
     check(&mut c, 7, &s, &[]).unwrap();
     s.mode = Mode::Hold.to_wire();
-    s.axis_flags = [AXIS_CALIBRATED; 6];
+    s.axis_flags = [CALIBRATED; 6];
     check(&mut c, 8, &s, &[ok(3, CommandKind::Calibrate)]).unwrap();
     broken(check(&mut c, 9, &s, &[]), "axis 5: flagged calibrated");
 }
@@ -255,7 +258,7 @@ fn a_failed_attempt_under_an_obstacle_does_not_excuse_the_calibration_it_gives_b
     s.axis_flags = [0; 6];
     check(&mut c, 1, &s, &[]).unwrap();
     s.mode = Mode::Hold.to_wire();
-    s.axis_flags = [AXIS_CALIBRATED; 6];
+    s.axis_flags = [CALIBRATED; 6];
     check(&mut c, 2, &s, &[ok(1, CommandKind::Calibrate)]).unwrap();
     // A second attempt, under an obstacle, that fails: the free-path calibration comes back.
     c.asked(&sample(calibrate_all(), 2), 2);
@@ -264,7 +267,7 @@ fn a_failed_attempt_under_an_obstacle_does_not_excuse_the_calibration_it_gives_b
     c.cycle(3, &s, &[], Work::default(), &[Fault::Obstacle])
         .unwrap();
     s.mode = Mode::Hold.to_wire();
-    s.axis_flags = [AXIS_CALIBRATED; 6];
+    s.axis_flags = [CALIBRATED; 6];
     let aborted = answer(2, CommandKind::Calibrate, Outcome::Failed(Reason::Aborted));
     check(&mut c, 4, &s, &[aborted]).unwrap();
     s.measured_position[4] = 14.9;
@@ -486,4 +489,42 @@ fn a_measurement_may_lag_the_truth_by_the_cycles_of_missed_tpdos_but_not_at_rest
     }
     s.measured_position[0] = tol * 1.1;
     broken(check(&mut c, 10, &s, &[]), "axis 1: flagged calibrated");
+}
+
+/// A checker that has seen the arm in HOLD at cycle 0 (TORQUE_CONTROL is entered from HOLD).
+fn from_hold() -> Checker {
+    let mut c = checker();
+    check(&mut c, 0, &state(Mode::Hold), &[]).unwrap();
+    c
+}
+
+#[test]
+fn a_lost_drive_s_standing_measurement_is_not_judged_and_delayed_frames_lag_longer() {
+    let cfg = RobotConfig::prob2_default();
+    let tol = cfg.axes[0].calibration.tolerance_deg;
+    let lag = 2.0 + f64::from(cfg.bus.max_missed_tpdos);
+    let mut moving = state(Mode::TorqueControl);
+    moving.sim_true_velocity[0] = 100.0;
+    let mut stale = moving;
+    stale.measured_position[0] = tol + 1.1 * lag * 100.0 * 0.005;
+    // Stale by more than the lag allows: a violation while the drive is online...
+    let mut c = from_hold();
+    check(&mut c, 1, &moving, &[]).unwrap();
+    broken(check(&mut c, 2, &stale, &[]), "axis 1: flagged calibrated");
+    // ... and not judged once the master has lost the drive (it reports nothing).
+    let mut c = from_hold();
+    check(&mut c, 1, &moving, &[]).unwrap();
+    stale.axis_flags[0] = AXIS_CALIBRATED;
+    check(&mut c, 2, &stale, &[]).unwrap();
+    // While frames to the master are delayed, they may be late by DELAY_SYNCS cycles more.
+    let mut c = from_hold();
+    for k in 1..10 {
+        check(&mut c, k, &moving, &[]).unwrap();
+    }
+    let late = lag + DELAY_SYNCS as f64;
+    let mut s = moving;
+    s.measured_position[0] = tol + 0.95 * late * 100.0 * c.period_s;
+    let delayed = [Fault::BusDelay];
+    assert!(c.cycle(10, &s, &[], Work::default(), &delayed).is_ok());
+    broken(check(&mut c, 11, &s, &[]), "axis 1: flagged calibrated");
 }
