@@ -1116,37 +1116,51 @@ fn sustained_high_current_derates_the_motor_without_an_error() {
         levels.windows(2).all(|w| w[1] >= w[0]) && levels.len() > 10,
         "the level rises: {levels:?}"
     );
-    // Derating is not an error: when it was seen, no check had tripped (the following error
-    // may trip a moment later, see below).
+    // Derating is not an error: when it was seen, no check had tripped (the overload may trip
+    // a moment later, see below).
     let mode = s["operating_mode"].as_str().unwrap();
     assert!(
-        mode == "HOLD" || c.events.iter().all(|e| e["check"] == "following_error"),
+        mode == "HOLD" || c.events.iter().all(|e| e["check"] == "overload"),
         "{s} {:?}",
         c.events
     );
 
     // With the current limited to the derated current the drive can no longer hold 120 Nm:
-    // the following error trips (expected), then the push goes.
-    let e = c.wait_event("following error after derating", Duration::from_secs(5));
+    // the overload trips (expected) before the axis has sagged by its following-error band,
+    // and the drives are powered off: the holding brakes hold the arm against the push.
+    let e = c.wait_event("overload after derating", Duration::from_secs(5));
+    eprintln!("i2t: after derating: {}", e["error_message"]);
+    assert_event(&e, "overload", Some(AXIS as u64));
+    assert!(
+        e["error_message"].as_str().unwrap().contains(&format!(
+            "cannot hold with its derated current of {derated_a:.2} A"
+        )),
+        "{e}"
+    );
+    let (_, braked) = wait_until(&mut c, "the drives powered off", |s, _| {
+        bools(&s["detail"]["drive_enabled"]) == [false; 6]
+    });
+    observe(&mut c, 0.5, |s, t| {
+        assert_status(s, "ERROR");
+        assert!(
+            (t.position[AXIS - 1] - braked.position[AXIS - 1]).abs() < 0.1,
+            "held by the brake against the push: {t:?}"
+        );
+    });
     sim(
         &mut c,
         Some(json!({"external_torques": [0, 0, 0, 0, 0, 0]})),
     );
-    eprintln!("i2t: after derating: {}", e["error_message"]);
-    assert_event(&e, "following_error", Some(AXIS as u64));
     assert!(
-        e["error_message"]
-            .as_str()
-            .unwrap()
-            .contains(&format!("band {band:.3} deg")),
-        "{e}"
+        (braked.position[AXIS - 1] - start.position[AXIS - 1]).abs() < band,
+        "tripped before the following error could: {braked:?}"
     );
     wait_at_rest(&mut c);
     assert_eq!(c.events.len(), 1, "{:?}", c.events);
 
     // The flight recorder: the level rose through 1 while the current was far above rated;
     // at the trip the current is limited to the derated current.
-    let f = flight(&rig, &e, "following_error");
+    let f = flight(&rig, &e, "overload");
     let n = f.last();
     let i2t = f.column(&format!("i2t_{AXIS}"));
     let current = f.column(&format!("current_a_{AXIS}"));

@@ -706,7 +706,7 @@ impl fmt::Display for Reason {
                 limit_a,
             } => write!(
                 f,
-                "overload: axis {axis} needs more than its derated current of {limit_a:.2} A to hold (its motor is hot, i2t; current {current_a:.2} A); the drives are powered off and the brakes hold the arm until a hold, after the motor has cooled"
+                "overload: axis {axis} cannot hold with its derated current of {limit_a:.2} A (its motor is hot, i2t; current {current_a:.2} A): the drives of the axes with a brake are powered off and the brakes hold the arm; send hold once the motor has cooled"
             ),
             Reason::CalibrationFailed { axis, cause } => match cause {
                 CalibrationFailure::NoStop { searched_deg } => write!(
