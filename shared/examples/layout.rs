@@ -287,6 +287,11 @@ fn reasons() -> Vec<String> {
             error_deg: 2.0561,
             band_deg: 2.0,
         },
+        Reason::Overload {
+            axis: a(2),
+            current_a: 3.9962,
+            limit_a: 4.0,
+        },
         Reason::CalibrationFailed {
             axis: a(3),
             cause: CalibrationFailure::NoStop {

@@ -140,6 +140,7 @@ REJECT_CODES: Dict[int, str] = {
     18: "unreachable",
     19: "not_owner",
     20: "shutting_down",
+    21: "overload",
 }
 
 # The words of an argument refusal (``ArgRefusal``'s), per argument code
@@ -346,6 +347,12 @@ def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
             "value": "%.3f" % v[0],
             "limit": "%.3f" % v[1],
         }
+    if name == "overload":
+        return "overload: axis %(axis)s needs more than its derated current of %(limit)s A to hold (its motor is hot, i2t; current %(current)s A); the drives are powered off and the brakes hold the arm until a hold, after the motor has cooled" % {
+            "axis": str(axis),
+            "current": "%.2f" % v[0],
+            "limit": "%.2f" % v[1],
+        }
     if name == "calibration_failed" and int(v[0]) == 1:
         return "calibration of axis %(axis)s failed: no mechanical stop found within %(searched)s deg; the arm holds where it is" % {
             "axis": str(axis),
@@ -442,6 +449,7 @@ _CODE_FRAGMENTS: Tuple[Tuple[str, str], ...] = (
     ("velocity limit:", "velocity_limit"),
     ("braking distance:", "braking_distance"),
     ("following error:", "following_error"),
+    ("overload:", "overload"),
     ("queue full", "queue_full"),
     ("exceeds the limit", "pvt_point"),
     ("outside the reachable range", "unreachable"),

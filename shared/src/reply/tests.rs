@@ -96,6 +96,11 @@ pub(crate) fn reason() -> impl Strategy<Value = Reason> {
             error_deg: a,
             band_deg: b
         }),
+        (axis(), x(), x()).prop_map(|(axis, a, b)| Reason::Overload {
+            axis,
+            current_a: a,
+            limit_a: b
+        }),
         (axis(), cause).prop_map(|(axis, cause)| Reason::CalibrationFailed { axis, cause }),
         Just(Reason::Aborted),
         x().prop_map(|remaining_s| Reason::Busy { remaining_s }),
@@ -172,7 +177,8 @@ proptest! {
     fn any_reply_decodes_or_names_its_fault(
         kind in prop_oneof![0u32..14, any::<u32>()],
         status in prop_oneof![0u32..4, any::<u32>()],
-        code in prop_oneof![0u32..20, any::<u32>()],
+        // Every known code and the next, unknown one.
+        code in prop_oneof![0u32..=RejectCode::ALL.len() as u32, any::<u32>()],
         axis in prop_oneof![0u32..8, any::<u32>()],
         values in prop::array::uniform8(prop_oneof![any::<f64>(), (0u8..8).prop_map(f64::from)]),
     ) {
@@ -215,6 +221,18 @@ fn words_name_the_values() {
     .to_string();
     assert!(
         s.contains("axis 3") && s.contains("2.500") && s.contains("2.000"),
+        "{s}"
+    );
+    let s = Reason::Overload {
+        axis: Axis::new(2).unwrap(),
+        current_a: 3.9,
+        limit_a: 4.0,
+    }
+    .to_string();
+    assert!(
+        s.starts_with("overload: axis 2 ")
+            && s.contains("derated current of 4.00 A")
+            && s.contains("current 3.90 A"),
         "{s}"
     );
     let s = Reason::PvtPoint {

@@ -33,6 +33,8 @@ const AXIS: u8 = 5;
 enum Fmt {
     /// `{:.3}`
     F3,
+    /// `{:.2}`
+    F2,
     /// `{:.1}`
     F1,
     /// `Num` (12 significant digits)
@@ -79,6 +81,7 @@ fn figure(r: &Reason, key: &str, x: f64, fmt: Fmt) -> Slot {
     let k = wire_slot(r, x);
     let (needle, py) = match fmt {
         Fmt::F3 => (format!("{x:.3}"), format!("\"%.3f\" % v[{k}]")),
+        Fmt::F2 => (format!("{x:.2}"), format!("\"%.2f\" % v[{k}]")),
         Fmt::F1 => (format!("{x:.1}"), format!("\"%.1f\" % v[{k}]")),
         Fmt::Num => (Num(x).to_string(), format!("num(v[{k}])")),
         Fmt::Int => (format!("{}", x as u64), format!("str(int(v[{k}]))")),
@@ -241,6 +244,18 @@ fn cases() -> Vec<Case> {
     ] {
         out.push(case(reason, "", limit));
     }
+    let overload = Reason::Overload {
+        axis: a,
+        current_a: s0,
+        limit_a: s1,
+    };
+    out.push(case(overload, "", |r| {
+        vec![
+            axis_slot(),
+            figure(r, "current", s0, Fmt::F2),
+            figure(r, "limit", s1, Fmt::F2),
+        ]
+    }));
     // Calibration: the cause is the first value.
     for cause in [
         CalibrationFailure::NoStop { searched_deg: s1 },

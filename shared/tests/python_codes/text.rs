@@ -89,6 +89,7 @@ _CODE_FRAGMENTS: Tuple[Tuple[str, str], ...] = (
     ("velocity limit:", "velocity_limit"),
     ("braking distance:", "braking_distance"),
     ("following error:", "following_error"),
+    ("overload:", "overload"),
     ("queue full", "queue_full"),
     ("exceeds the limit", "pvt_point"),
     ("outside the reachable range", "unreachable"),
