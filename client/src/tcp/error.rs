@@ -64,6 +64,7 @@ const CODE_WORDS: &[(&str, RejectCode)] = &[
     ("velocity limit:", RejectCode::VelocityLimit),
     ("braking distance:", RejectCode::BrakingDistance),
     ("following error:", RejectCode::FollowingError),
+    ("overload:", RejectCode::Overload),
     ("calibration of axis", RejectCode::CalibrationFailed),
     ("aborted", RejectCode::Aborted),
     ("a motion is in progress", RejectCode::Busy),

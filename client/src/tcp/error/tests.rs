@@ -153,6 +153,11 @@ fn every_reason_of_the_core_is_read_back_to_its_code() {
             error_deg: 1.0,
             band_deg: 0.5,
         },
+        Reason::Overload {
+            axis: a,
+            current_a: 4.0,
+            limit_a: 4.0,
+        },
         Reason::CalibrationFailed {
             axis: a,
             cause: CalibrationFailure::DriveLost,
@@ -175,6 +180,12 @@ fn every_reason_of_the_core_is_read_back_to_its_code() {
         Reason::NotOwner { owner: 7 },
         Reason::ShuttingDown,
     ];
+    for code in RejectCode::ALL.iter().filter(|&&c| c != RejectCode::None) {
+        assert!(
+            reasons.iter().any(|r| r.code() == *code),
+            "reject code {code} has no reason in this test"
+        );
+    }
     for r in reasons {
         for outcome in [Outcome::Refused(r), Outcome::Failed(r)] {
             let words = core_words(CommandKind::MoveAxis, outcome);
