@@ -57,7 +57,7 @@ pub extern "C" fn mcm_mode_name(mode: u32) -> *const c_char {
 /// e.g. "busy", "none" for 0, "unknown" for a number this library does not know.
 #[unsafe(no_mangle)]
 pub extern "C" fn mcm_reject_name(code: u32) -> *const c_char {
-    static NAMES: [&CStr; 21] = [
+    static NAMES: [&CStr; 22] = [
         c"none",
         c"wrong_mode",
         c"not_calibrated",
@@ -79,6 +79,7 @@ pub extern "C" fn mcm_reject_name(code: u32) -> *const c_char {
         c"unreachable",
         c"not_owner",
         c"shutting_down",
+        c"overload",
     ];
     match RejectCode::try_from(code) {
         Ok(c) => NAMES[c.to_wire() as usize].as_ptr(),
