@@ -5,7 +5,7 @@ const MAX_ERRORS = 20;
 
 const HINTS = {
   following_error: 'an axis could not follow its command: something blocked it, or it is overloaded; remove the cause',
-  overload: 'an axis whose motor is hot (i2t) needed more than its derated current to hold: the drives are off and the brakes hold the arm; let the motor cool',
+  overload: 'an axis whose motor is hot (i2t) could not hold with its derated current: the drives of the braked axes are off and their brakes hold the arm; let the motor cool',
   position_limit: 'a joint went beyond its limit; once held, move it back inside its range',
   velocity_limit: 'a joint moved faster than its limit',
   braking_distance: 'a joint could no longer stop before its limit',

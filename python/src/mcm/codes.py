@@ -348,7 +348,7 @@ def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
             "limit": "%.3f" % v[1],
         }
     if name == "overload":
-        return "overload: axis %(axis)s needs more than its derated current of %(limit)s A to hold (its motor is hot, i2t; current %(current)s A); the drives are powered off and the brakes hold the arm until a hold, after the motor has cooled" % {
+        return "overload: axis %(axis)s cannot hold with its derated current of %(limit)s A (its motor is hot, i2t; current %(current)s A): the drives of the axes with a brake are powered off and the brakes hold the arm; send hold once the motor has cooled" % {
             "axis": str(axis),
             "current": "%.2f" % v[0],
             "limit": "%.2f" % v[1],
