@@ -59,14 +59,15 @@ fn seed_11_another_axis_s_impact_is_not_taken_for_a_stop() {
 /// (`drive_fault`, code 0). Fixed in the boot configuration: TPDO2 has an event timer
 /// (`TPDO2_EVENT_TIMER_MS`, 100 ms), so the mode display is repeated.
 ///
-/// Ignored since the boot configuration gained 0x605A (one SDO more): the seed's run shifted by
-/// a cycle and no longer reaches that world; it now breaks the software-limit invariant at
-/// cycle 8968 (axis 4 1.43 deg beyond -170 deg at 86 deg/s in ERROR, frames duplicated), the
-/// open finding of seed 2 (docs/testing.md). The fix stays covered by the unit tests
-/// `a_lost_tpdo2_after_a_mode_change_is_made_good_by_its_event_timer` (`canopen/master/tests.rs`)
-/// and `an_event_driven_tpdo_is_repeated_when_its_event_timer_runs_out` (`sim/src/pdo/tests.rs`).
+/// Since the boot configuration gained 0x605A (one SDO more) the seed's run is shifted by a
+/// cycle and no longer reaches that world (the fix stays covered by the unit tests
+/// `a_lost_tpdo2_after_a_mode_change_is_made_good_by_its_event_timer` in
+/// `canopen/master/tests.rs` and `an_event_driven_tpdo_is_repeated_when_its_event_timer_runs_out`
+/// in `sim/src/pdo/tests.rs`); it then broke the software-limit invariant at cycle 8968, axis 4
+/// 1.43 deg beyond -170 deg at 86 deg/s: a torque from near the limit, faster than the
+/// measurement shows it. Fixed by judging the commanded torques before they are sent
+/// (`safety::check_braking_accelerating`); fails without it.
 #[test]
-#[ignore = "the boot's new SDO moved seed 3 onto the open finding of seed 2 (docs/testing.md)"]
 fn seed_3_a_lost_mode_display_is_repeated() {
     let r = run(&RunOptions::new(3, 60.0).with_fault_kinds(FOUND_WITH));
     assert_eq!(r.violation, None, "seed 3");
@@ -171,4 +172,32 @@ fn fuzz_a_calibrate_whose_owner_went_while_enabling_is_not_answered_ok() {
     let r = run_script(&script, limits).unwrap_or_else(|v| panic!("{v}"));
     // The calibrate was answered, and not OK: `aborted`.
     assert!(r.answers[2] >= 1, "{r:?}");
+}
+
+/// Seed 168 (twelve fault kinds): TORQUE_CONTROL with the flange at rest at 168.75 deg, 0.25
+/// deg inside the braking check's line (its 170 deg limit less the 1 deg margin); a random
+/// client's torque took it to 251 deg/s within four cycles, before the measurement showed any
+/// motion, and the stop ended 1.13 deg beyond the limit. Fixed in the controller: in
+/// TORQUE_CONTROL the braking check judges the torques about to be sent, with the
+/// acceleration the arm's model says they produce (`safety::check_braking_accelerating`), and
+/// trips before they are sent. Fails without it.
+#[test]
+fn seed_168_a_torque_next_to_a_limit_is_judged_before_it_is_sent() {
+    let r = run(&RunOptions::new(168, 60.0));
+    assert_eq!(r.violation, None, "seed 168");
+    assert!(r.recovery_cycles.is_some(), "seed 168 recovered");
+    assert!(r.max_overrun_deg < 0.5, "{} deg", r.max_overrun_deg);
+}
+
+/// Seed 112 (twelve fault kinds): VELOCITY_CONTROL took the shoulder to 118 deg, where holding
+/// the arm needs 4.8 A; after 20 s in HOLD i2t derated the motor to 4.0 A, the shoulder sagged,
+/// the following error tripped 2 deg later and in ERROR it sank on, 1.01 deg beyond its
+/// 120 deg limit. Fixed in the controller (`controller/overload.rs`): an axis at rest whose
+/// derated current stands at its limit for 25 ms trips `overload`, and ERROR powers a derated
+/// arm off onto its holding brakes. Fails without it.
+#[test]
+fn seed_112_a_derated_shoulder_that_cannot_hold_is_braked() {
+    let r = run(&RunOptions::new(112, 60.0));
+    assert_eq!(r.violation, None, "seed 112");
+    assert!(r.recovery_cycles.is_some(), "seed 112 recovered");
 }

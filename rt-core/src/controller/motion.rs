@@ -157,7 +157,12 @@ impl Controller {
                     self.leave(Exit::Timeout);
                 } else {
                     self.compensate(gravity, &torques);
-                    return;
+                    // The torques about to be sent, judged where they would take each axis
+                    // before a trip could stop it; on a trip they are not sent.
+                    let Err(v) = self.check_commanded_torques() else {
+                        return;
+                    };
+                    self.trip(v.reason());
                 }
             }
         }
@@ -234,6 +239,19 @@ impl Controller {
                 ..JointSample::default()
             };
         }
+    }
+
+    /// The braking check with the accelerations the commanded torques produce, from the
+    /// measured state (`safety::check_braking_accelerating`); skipped when the braking check
+    /// is planted off.
+    fn check_commanded_torques(&self) -> Result<(), crate::safety::Violation> {
+        if self.planted.braking_check_off {
+            return Ok(());
+        }
+        let q = self.measured();
+        let qd = self.measured_velocity();
+        let qdd = self.model.forward_dynamics(&q, &qd, &self.cmd_torque);
+        crate::safety::check_braking_accelerating(&self.safety, &q, &qd, &qdd)
     }
 
     /// Torque requests: the model's gravity (optionally) and part of its friction, plus `extra`.

@@ -26,7 +26,7 @@ use mcm_shared::reply::Reason;
 /// How long a derated axis's current stands at its limit before the overload trips [s]: a few
 /// cycles, so that one reading at the limit is not taken for a load; short, because the axis
 /// sags from the first cycle at the limit and faster every cycle (the P-Rob2's stretched
-/// shoulder: 0.04 deg in 25 ms, 0.6 deg in 0.1 s).
+/// shoulder: 0.06 deg in 25 ms, 0.6 deg in 0.1 s).
 pub const OVERLOAD_S: f64 = 0.025;
 
 /// The share of the derated limit at which the current counts as standing at it (the drive's

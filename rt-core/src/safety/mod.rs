@@ -42,7 +42,9 @@ pub mod i2t;
 pub mod limits;
 mod params;
 
-pub use braking::{braking_distance, check_braking, predicted_stop, velocity_cap};
+pub use braking::{
+    braking_distance, check_braking, check_braking_accelerating, predicted_stop, velocity_cap,
+};
 pub use drive::{DriveInputs, DriveStatus, check_drives};
 pub use following::check_following_error;
 pub use i2t::I2t;

@@ -255,3 +255,54 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn an_accelerating_axis_is_judged_where_it_stops_after_accelerating_for_the_latency() {
+    let p = params();
+    let (axis, hi) = (5, p.q_max[5] - p.margin);
+    let t = p.cycle_s + p.braking_latency_s(axis);
+    let a_b = p.brake_decel[axis];
+    // At rest 0.5 deg before the line: no acceleration, no trip; pushed outwards hard, a trip
+    // naming the stop it predicts; pushed inwards, none.
+    let q = one(axis, hi - 0.5f64.to_radians());
+    let zero = [0.0; 6];
+    assert!(check_braking_accelerating(&p, &q, &zero, &zero).is_ok());
+    let a = 200.0;
+    let e = check_braking_accelerating(&p, &q, &zero, &one(axis, a)).unwrap_err();
+    let v1 = a * t;
+    let stop = q[axis] + 0.5 * a * t * t + v1 * v1 / (2.0 * a_b);
+    assert_eq!((e.check, e.axis), (Check::BrakingDistance, axis));
+    assert!(close(e.value, stop) && close(e.limit, hi), "{e:?}");
+    assert!(check_braking_accelerating(&p, &q, &zero, &one(axis, -a)).is_ok());
+    // The lower limit, mirrored.
+    let lo = p.q_min[axis] + p.margin;
+    let q = one(axis, lo + 0.5f64.to_radians());
+    let e = check_braking_accelerating(&p, &q, &zero, &one(axis, -a)).unwrap_err();
+    assert!(close(e.limit, lo), "{e:?}");
+    // Not finite: a trip.
+    assert!(check_braking_accelerating(&p, &zero, &zero, &one(axis, f64::NAN)).is_err());
+}
+
+proptest! {
+    /// Without acceleration it is the braking check; with one towards the limit it trips
+    /// whenever the braking check does (it never judges an axis pushed outwards more kindly).
+    #[test]
+    fn it_is_the_braking_check_without_acceleration_and_never_kinder_with_one(
+        axis in 0usize..6,
+        frac in -1.2f64..1.2,
+        v in -3.0f64..3.0,
+        a in 0.0f64..500.0,
+    ) {
+        let p = params();
+        let mid = 0.5 * (p.q_max[axis] + p.q_min[axis]);
+        let half = 0.5 * (p.q_max[axis] - p.q_min[axis]);
+        let q = one(axis, mid + frac * half);
+        let qd = one(axis, v);
+        let plain = check_braking(&p, &q, &qd).is_err();
+        prop_assert_eq!(check_braking_accelerating(&p, &q, &qd, &[0.0; 6]).is_err(), plain);
+        let outwards = one(axis, a * v.signum());
+        if plain {
+            prop_assert!(check_braking_accelerating(&p, &q, &qd, &outwards).is_err());
+        }
+    }
+}
