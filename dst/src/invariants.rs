@@ -185,6 +185,8 @@ pub struct Checker {
     /// back, which keeps its own).
     fooled: [bool; NUM_AXES],
     attempt_fooled: [bool; NUM_AXES],
+    /// Each axis flagged calibrated in the last cycle.
+    was_calibrated: [bool; NUM_AXES],
     pub modes_reached: [u64; Mode::ALL.len()],
     pub answers: [u64; 3],
     /// The furthest the true angle went beyond a software limit while the controller was
@@ -224,6 +226,7 @@ impl Checker {
             excused: [true; NUM_AXES],
             fooled: [false; NUM_AXES],
             attempt_fooled: [false; NUM_AXES],
+            was_calibrated: [false; NUM_AXES],
             modes_reached: [0; Mode::ALL.len()],
             answers: [0; 3],
             max_overrun_deg: 0.0,
@@ -309,8 +312,8 @@ impl Checker {
         self.standstill(k, s, mode, faults).or_else(&fail)?;
         self.replies(s, mode, replies).or_else(&fail)?;
         if mode != Mode::Calibration {
-            // The attempt ended: an OK gave its axes its excuse; a failure gave back the
-            // calibration before it, with that one's.
+            // The attempt ended: the end of its searches gave its axes its excuse; a failure
+            // before it gave back the calibration before it, with that one's.
             self.attempt_fooled = [false; NUM_AXES];
         }
         self.overdue(k, mode).or_else(&fail)?;
@@ -412,7 +415,16 @@ impl Checker {
             for f in &mut self.attempt_fooled {
                 *f |= fooling;
             }
+            // The searches ended: the offsets found are in force from now on, whatever the
+            // `calibrate` is answered later (a trip during the move back fails it and keeps
+            // them), and so is the attempt's excuse.
+            for i in 0..NUM_AXES {
+                if s.axis_flags[i] & AXIS_CALIBRATED != 0 && !self.was_calibrated[i] {
+                    self.fooled[i] = self.attempt_fooled[i];
+                }
+            }
         }
+        self.was_calibrated = s.axis_flags.map(|f| f & AXIS_CALIBRATED != 0);
         for i in 0..NUM_AXES {
             let q = s.sim_true_position[i];
             let (lo, hi) = self.stops_deg[i];

@@ -275,6 +275,42 @@ fn a_failed_attempt_under_an_obstacle_does_not_excuse_the_calibration_it_gives_b
 }
 
 #[test]
+fn an_attempt_whose_searches_ended_under_an_obstacle_stays_excused_when_its_move_back_fails() {
+    let mut c = checker();
+    c.asked(&sample(calibrate_all(), 1), 0);
+    let mut s = state(Mode::Calibration);
+    s.axis_flags = [0; 6];
+    c.cycle(1, &s, &[], Work::default(), &[Fault::Obstacle])
+        .unwrap();
+    // Every axis found its stop (one of them the obstacle): the offsets are in force, and the
+    // move back trips (seed 212): the `calibrate` fails, the offsets found stay.
+    s.axis_flags = [CALIBRATED; 6];
+    s.measured_position[1] = -1.5;
+    check(&mut c, 2, &s, &[]).unwrap();
+    s.mode = Mode::Error.to_wire();
+    let tripped = answer(
+        1,
+        CommandKind::Calibrate,
+        Outcome::Failed(Reason::FollowingError {
+            axis: Axis::ALL[1],
+            error_deg: 24.8,
+            band_deg: 2.0,
+        }),
+    );
+    check(&mut c, 3, &s, &[tripped]).unwrap();
+    check(&mut c, 4, &s, &[]).unwrap();
+    // Calibrated again, with no obstacle: judged again.
+    s.mode = Mode::Hold.to_wire();
+    check(&mut c, 5, &s, &[]).unwrap();
+    c.asked(&sample(calibrate_all(), 2), 5);
+    s.mode = Mode::Calibration.to_wire();
+    s.axis_flags = [0; 6];
+    check(&mut c, 6, &s, &[]).unwrap();
+    s.axis_flags = [CALIBRATED; 6];
+    broken(check(&mut c, 7, &s, &[]), "axis 2: flagged calibrated");
+}
+
+#[test]
 fn an_axis_that_brakes_beyond_its_braking_distance_or_too_long_after_a_trip_is_a_violation() {
     // Moving at 90 deg/s in VELOCITY_CONTROL, then a trip.
     let moving = |mode: Mode, q: f64, v: f64| {
