@@ -735,7 +735,7 @@ impl fmt::Display for Reason {
                     tolerance_deg,
                 } => write!(
                     f,
-                    "calibration of axis {axis} failed: its reference was found at {found_deg:.3} deg by its previous calibration, configured at {configured_deg:.3} deg, more than the tolerance {tolerance_deg:.3} deg apart (an obstacle in the way, or the stop is not where the configuration says); the arm holds where it is, its previous calibration is kept"
+                    "calibration of axis {axis} failed: its reference was found at {found_deg:.3} deg by its previous calibration, configured at {configured_deg:.3} deg, more than the tolerance {tolerance_deg:.3} deg apart (an obstacle in the way now or during the previous calibration, or the stop is not where the configuration says); the arm holds where it is, and axis {axis} is no longer calibrated: one of the two calibrations is wrong; remove what may be in the way and calibrate again"
                 ),
                 CalibrationFailure::Blocked { lag_deg, bound_deg } => write!(
                     f,

@@ -375,7 +375,7 @@ def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
             "tolerance": "%.3f" % v[3],
         }
     if name == "calibration_failed" and int(v[0]) == 5:
-        return "calibration of axis %(axis)s failed: its reference was found at %(first)s deg by its previous calibration, configured at %(second)s deg, more than the tolerance %(tolerance)s deg apart (an obstacle in the way, or the stop is not where the configuration says); the arm holds where it is, its previous calibration is kept" % {
+        return "calibration of axis %(axis)s failed: its reference was found at %(first)s deg by its previous calibration, configured at %(second)s deg, more than the tolerance %(tolerance)s deg apart (an obstacle in the way now or during the previous calibration, or the stop is not where the configuration says); the arm holds where it is, and axis %(axis)s is no longer calibrated: one of the two calibrations is wrong; remove what may be in the way and calibrate again" % {
             "axis": str(axis),
             "first": "%.3f" % v[1],
             "second": "%.3f" % v[2],

@@ -27,7 +27,8 @@
 //! off and approaches again, up to [`MAX_APPROACHES`] slow approaches, and then fails with
 //! [`CalibrationFailure::Inconsistent`]. An axis that had a valid calibration must find its
 //! stop or edge, in that calibration's frame, within the tolerance of the configured position,
-//! else [`CalibrationFailure::Implausible`].
+//! else [`CalibrationFailure::Implausible`]; the controller then drops that previous
+//! calibration (one of the two is wrong), so that the next calibration can put it right.
 //!
 //! A search that travels further than the whole axis range plus twice the largest possible
 //! encoder offset without finding its stop fails; the axis then holds where it is.

@@ -60,10 +60,11 @@ enum Link {
     },
 }
 
-/// A write of the stored calibration in progress: 0x2100:1 = `offset`, then 0x2100:2 = 1.
+/// A write of the stored calibration in progress: 0x2100:1 = `offset`, then 0x2100:2 = 1;
+/// with no offset, 0x2100:2 = 0 alone (the stored calibration is no longer valid).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct CalStore {
-    offset: i32,
+    offset: Option<i32>,
     /// Writes acknowledged so far (0 or 1).
     written: u8,
     /// The SDO of write `written` is outstanding.
@@ -108,8 +109,8 @@ struct Session {
     /// Send one fault-reset edge while OPERATION ENABLED (see [`Master::restart_position_loop`]).
     loop_restart: bool,
     cal_store: Option<CalStore>,
-    /// An offset to store once the write in progress is done.
-    cal_queued: Option<i32>,
+    /// A store to do once the write in progress is done (`None` inside: forget the stored one).
+    cal_queued: Option<Option<i32>>,
 }
 
 impl Session {
@@ -429,14 +430,25 @@ impl Master {
     /// otherwise, and for out-of-range axes); a store requested while one is in progress
     /// follows it. Allocates nothing.
     pub fn store_calibration(&mut self, axis: usize, offset_counts: i32) {
+        self.queue_calibration_store(axis, Some(offset_counts));
+    }
+
+    /// Mark the calibration the drive of `axis` holds as no longer valid (0x2100:2 = 0), so
+    /// that a restart of the MCM does not read back a calibration found to be in doubt; as
+    /// [`Master::store_calibration`] otherwise. Allocates nothing.
+    pub fn forget_stored_calibration(&mut self, axis: usize) {
+        self.queue_calibration_store(axis, None);
+    }
+
+    fn queue_calibration_store(&mut self, axis: usize, offset: Option<i32>) {
         if let Some(ax) = self.axes.get_mut(axis)
             && ax.link == Link::Operational
         {
             if ax.session.cal_store.is_some() {
-                ax.session.cal_queued = Some(offset_counts);
+                ax.session.cal_queued = Some(offset);
             } else {
                 ax.session.cal_store = Some(CalStore {
-                    offset: offset_counts,
+                    offset,
                     written: 0,
                     waiting: false,
                 });
@@ -720,7 +732,7 @@ impl Master {
             };
             st.waiting = false;
             match result {
-                Ok(_) if st.written == 1 => {
+                Ok(_) if st.written == 1 || st.offset.is_none() => {
                     ax.session.cal_store = None;
                     self.events.push(MasterEvent::CalibrationStored { axis: i });
                     return;
@@ -734,10 +746,10 @@ impl Master {
                 }
             }
         }
-        let (sub, value) = if st.written == 0 {
-            (CALIBRATION_OFFSET_SUB, SdoValue::I32(st.offset))
-        } else {
-            (CALIBRATION_VALID_SUB, SdoValue::U8(1))
+        let (sub, value) = match st.offset {
+            Some(offset) if st.written == 0 => (CALIBRATION_OFFSET_SUB, SdoValue::I32(offset)),
+            Some(_) => (CALIBRATION_VALID_SUB, SdoValue::U8(1)),
+            None => (CALIBRATION_VALID_SUB, SdoValue::U8(0)),
         };
         if let Ok(f) = ax
             .sdo

@@ -17,7 +17,7 @@ use crate::canopen::AxisFeedback;
 use crate::trajectory::{JointPlan, MovePlan};
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::Axis;
-use mcm_shared::reply::Reason;
+use mcm_shared::reply::{CalibrationFailure, Reason};
 
 /// Velocity factor of the move back to zero after calibration.
 const RETURN_VELOCITY_FACTOR: f64 = 0.5;
@@ -121,6 +121,18 @@ impl Controller {
                         axis: Axis::ALL[i],
                         cause,
                     };
+                    // Found away from where the previous calibration puts it: one of the two
+                    // is wrong, and the controller cannot tell which (an obstacle during
+                    // either). The previous calibration is dropped, so that a later calibration
+                    // can put it right (kept, it would refuse every new one for good).
+                    if matches!(cause, CalibrationFailure::Implausible { .. }) {
+                        cal.forget_previous();
+                        self.master.forget_stored_calibration(i);
+                        self.state = State::Calibration {
+                            caller,
+                            phase: CalPhase::Search { axes },
+                        };
+                    }
                     // ERROR with the controlled stop from the measured state
                     // (`Exit::SearchFailed`): the caller hears of the failure, and the incident
                     // is recorded; every axis keeps its previous calibration.

@@ -998,3 +998,40 @@ fn a_drive_is_online_only_once_a_tpdo1_measured_it() {
     }
     panic!("not every drive online within 200 cycles");
 }
+
+#[test]
+fn a_forgotten_calibration_is_marked_invalid_and_not_reported_after_a_restart() {
+    let mut w = World::booted();
+    w.take_events();
+    w.master.store_calibration(1, 4321);
+    w.master.forget_stored_calibration(1);
+    let before = w.cyclic_allocations;
+    let cycles = w.run(6, [DriveRequest::Disable; 6]);
+    assert_eq!(w.cyclic_allocations, before, "forgetting allocates nothing");
+    let sdo: Vec<String> = cycles
+        .iter()
+        .flatten()
+        .filter(|f| f.id == 0x602)
+        .map(|f| f.to_string())
+        .collect();
+    assert_eq!(
+        sdo,
+        [
+            "602#23002101E1100000", // 0x2100:1 = 4321
+            "602#2F00210201000000", // 0x2100:2 = 1
+            "602#2F00210200000000", // 0x2100:2 = 0: the store queued behind it
+        ]
+    );
+    assert_eq!(w.drives[1].object(0x2100, 2), Some(0));
+    // After a restart of the MCM the drive's calibration is not read back.
+    let replies = w.drives[1].receive(&Frame::new(0x000, &[0x81, 2]).unwrap());
+    w.inbox.extend(replies);
+    w.run(50, [DriveRequest::Disable; 6]);
+    assert!(
+        w.take_events().contains(&MasterEvent::Calibration {
+            axis: 1,
+            offset_counts: None
+        }),
+        "the forgotten calibration is not reported"
+    );
+}
