@@ -931,6 +931,19 @@ impl Master {
                 };
                 (actual, t)
             }
+            // Back to CSP from CST, not yet confirmed: the drive still applies 0x6071, so it
+            // gets the gravity feed-forward there until it switches (a zero would let a
+            // gravity-loaded arm fall while the mode change is lost on the bus: the simulation
+            // tester's seed 577, 32 deg/s within 11 cycles); in CSP the drive ignores it.
+            DriveRequest::Position { .. } if fb.state == State::OperationEnabled => {
+                let t = ax.torque_offset_nm * ax.params.permille_per_joint_nm;
+                let t = if t.is_finite() {
+                    t.round().clamp(-32767.0, 32767.0) as i16
+                } else {
+                    0
+                };
+                (actual, t)
+            }
             _ => (actual, 0),
         };
         ax.last_target_counts = position;

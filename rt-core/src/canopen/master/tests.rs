@@ -940,6 +940,31 @@ fn the_torque_offset_goes_out_in_rpdo2_on_the_axis_turn_and_zero_in_cst() {
     assert_eq!((r.mode, r.torque_offset), (MODE_CST, 0));
 }
 
+/// DST seed 577: a trip switched the drives from CST back to CSP while frames were lost; until
+/// a drive confirms CSP it still applies 0x6071, so the master sends the gravity feed-forward
+/// there (with 0 the shoulder fell at 32 deg/s within 11 cycles). Once CSP is confirmed, the
+/// position setpoints go out as before.
+#[test]
+fn back_to_csp_the_unconfirmed_drive_gets_the_feed_forward_as_its_torque() {
+    let mut w = World::booted();
+    let hold = w.hold_all();
+    w.run(3, hold);
+    w.run(2, [DriveRequest::Torque { torque_nm: 5.0 }; 6]);
+    assert!((0..6).all(|a| w.fb(a).mode_display == Some(MODE_CST)));
+    w.master.set_torque_offset(1, 10.0);
+    // The cycle the change back to CSP goes out: no drive has confirmed it yet (while the
+    // change is lost on the bus, every cycle is such a cycle).
+    let hold = w.hold_all();
+    let frames = w.step(hold);
+    let r = rpdo1_of(&frames, 2).expect("an RPDO1 to drive 2");
+    // 10 Nm joint = 193 per mille of the rated motor torque (see the test above).
+    assert_eq!(r.target_torque, 193, "{r:?}");
+    w.run(3, hold);
+    assert!(w.fb(1).enabled && w.fb(1).mode_display == Some(MODE_CSP));
+    let r = rpdo1_of(&w.step(hold), 2).expect("an RPDO1 to drive 2");
+    assert_eq!(r.target_torque, 0, "in CSP the feed-forward goes in RPDO2");
+}
+
 /// DST seed 3: a trip switched the drives back to CSP during a bus loss and drive 6's TPDO2
 /// with the new mode display was lost. The drive does not change its mode again, so without a
 /// repeat the master never confirms CSP and the axis never counts as enabled. TPDO2's event
