@@ -16,6 +16,10 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
+/// How often a run over its CPU budget is run again to tell the machine's noise from the
+/// controller's work (a real overrun comes back at the same cycle).
+const MAX_RERUNS: usize = 2;
+
 /// What to run.
 #[derive(Debug, Clone, Copy)]
 pub struct CampaignOptions {
@@ -180,15 +184,27 @@ pub fn campaign(opts: &CampaignOptions) -> CampaignReport {
                         .as_ref()
                         .filter(|v| invariant_of(&v.message) == "CPU time")
                         .cloned();
-                    if let Some(first) = over_budget {
+                    // Over budget in another cycle when run again is the machine's too: up to
+                    // three runs in all.
+                    let mut seen = Vec::new();
+                    let mut over_budget = over_budget;
+                    while let Some(v) = over_budget.take() {
+                        if seen.contains(&v) || seen.len() == MAX_RERUNS {
+                            break;
+                        }
                         let again = run(&o);
-                        if again.violation.as_ref() != Some(&first) {
-                            total
-                                .lock()
-                                .expect("no thread panicked")
-                                .budget_noise
-                                .push((seed, first.to_string()));
-                            r = again;
+                        seen.push(v);
+                        over_budget = again
+                            .violation
+                            .as_ref()
+                            .filter(|v| invariant_of(&v.message) == "CPU time")
+                            .cloned();
+                        r = again;
+                    }
+                    if !seen.is_empty() && r.violation.as_ref().is_none_or(|v| !seen.contains(v)) {
+                        let mut t = total.lock().expect("no thread panicked");
+                        for v in &seen {
+                            t.budget_noise.push((seed, v.to_string()));
                         }
                     }
                     spent_ms.fetch_add((r.simulated_s * 1e3) as u64, Ordering::Relaxed);

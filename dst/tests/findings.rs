@@ -216,14 +216,28 @@ fn seed_242_an_implausible_reference_drops_the_calibration_in_doubt() {
     assert!(r.recovery_cycles.is_some(), "seed 242 recovered");
 }
 
+/// Seed 577 (twelve fault kinds): a trip switched the drives from CST back to CSP while frames
+/// were lost; until a drive confirmed CSP it still applied its target torque, which the master
+/// sent as 0, and the shoulder fell at 32 deg/s within 11 cycles, beyond its braking
+/// distance. Fixed in the master: until CSP is confirmed, the target torque is the gravity
+/// feed-forward. Fails without it.
+#[test]
+fn seed_577_a_drive_not_yet_back_in_csp_holds_against_gravity() {
+    let r = run(&RunOptions::new(577, 60.0));
+    assert_eq!(r.violation, None, "seed 577");
+    assert!(r.recovery_cycles.is_some(), "seed 577 recovered");
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the
 /// controller's to keep inside its limits; seeds 154, 175 and 254, a lost drive's standing
-/// measurement and frames delayed by up to three SYNCs are not a wrong calibration.
+/// measurement and frames delayed by up to three SYNCs are not a wrong calibration; seeds 108
+/// and 519, an axis that comes into HOLD at speed from a calibration search cut short next to
+/// a limit is owed its stop.
 #[test]
-fn the_checker_s_findings_seeds_212_124_154_175_254() {
-    for seed in [212, 124, 154, 175, 254] {
+fn the_checker_s_findings_seeds_212_124_154_175_254_108_519() {
+    for seed in [212, 124, 154, 175, 254, 108, 519] {
         let r = run(&RunOptions::new(seed, 60.0));
         assert_eq!(r.violation, None, "seed {seed}");
     }

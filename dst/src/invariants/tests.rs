@@ -204,6 +204,23 @@ fn a_software_limit_overrun_is_a_violation_while_the_controller_is_responsible()
     check(&mut c, 2, &s, &[ok(1, CommandKind::Calibrate)]).unwrap();
     s.sim_true_position[0] = hi + 5.0;
     check(&mut c, 3, &s, &[]).unwrap();
+    // A calibration search cut short at speed just inside a limit (seeds 108, 519): the axis
+    // is owed its stop; once at rest inside, the limit is the controller's again.
+    let mut c = checker();
+    let mut s = state(Mode::Calibration);
+    over(&mut s, hi - 0.5);
+    s.sim_true_velocity[0] = 30.0;
+    check(&mut c, 1, &s, &[]).unwrap();
+    s.mode = Mode::Hold.to_wire();
+    check(&mut c, 2, &s, &[]).unwrap();
+    over(&mut s, hi + LIMIT_OVERRUN_DEG + 1.0);
+    s.sim_true_velocity[0] = 5.0;
+    check(&mut c, 3, &s, &[]).unwrap();
+    over(&mut s, hi - 0.5);
+    s.sim_true_velocity[0] = 0.0;
+    check(&mut c, 4, &s, &[]).unwrap();
+    over(&mut s, hi + LIMIT_OVERRUN_DEG + 0.01);
+    broken(check(&mut c, 5, &s, &[]), "beyond the software limits");
 }
 
 #[test]
