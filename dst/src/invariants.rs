@@ -31,7 +31,9 @@
 //!   [`STANDSTILL_SLACK_DEG`]; and within the time that takes plus [`STANDSTILL_SLACK_S`]
 //!   ([`Stopping`]); judged while the mode stays ERROR (a client's `hold` commands the arm
 //!   again) and not while a push, an obstacle, a power cycle, an emergency stop, a silent
-//!   drive or a drive rebooting acts (the arm is not the controller's to stop then);
+//!   drive or a drive rebooting acts (the arm is not the controller's to stop then), nor while
+//!   an axis whose calibration an obstacle or a push fooled is measured off the truth (the
+//!   controller's picture of the arm, its gravity compensation included, is wrong: seed 1171);
 //! - no axis flagged calibrated whose measured angle is further from the true angle than its
 //!   calibration tolerance, plus the motion of the cycles the measurement may lag the truth
 //!   ([`Checker::new`]: two, and the TPDOs the master may miss in a row, and while frames to
@@ -191,6 +193,10 @@ pub struct Checker {
     attempt_fooled: [bool; NUM_AXES],
     /// Each axis flagged calibrated in the last cycle.
     was_calibrated: [bool; NUM_AXES],
+    /// An axis whose calibration an obstacle or a push fooled is measured off the truth by
+    /// more than its tolerance in this cycle: the controller's picture of the arm is wrong
+    /// (its gravity compensation of every axis too), so the stops it makes are not judged.
+    fooled_off: bool,
     pub modes_reached: [u64; Mode::ALL.len()],
     pub answers: [u64; 3],
     /// The furthest the true angle went beyond a software limit while the controller was
@@ -231,6 +237,7 @@ impl Checker {
             fooled: [false; NUM_AXES],
             attempt_fooled: [false; NUM_AXES],
             was_calibrated: [false; NUM_AXES],
+            fooled_off: false,
             modes_reached: [0; Mode::ALL.len()],
             answers: [0; 3],
             max_overrun_deg: 0.0,
@@ -412,6 +419,7 @@ impl Checker {
             .iter()
             .any(|f| matches!(f, Fault::Obstacle | Fault::Push));
         let delayed = faults.contains(&Fault::BusDelay);
+        self.fooled_off = false;
         if mode == Mode::Calibration {
             if self.prev_mode != Mode::Calibration {
                 self.attempt_fooled = [false; NUM_AXES];
@@ -474,6 +482,9 @@ impl Checker {
             // A drive the master lost reports nothing: its axis's measured angle stands where
             // the last report left it, which says nothing about the calibration.
             let online = s.axis_flags[i] & AXIS_ONLINE != 0;
+            if calibrated && fooled && err > slack {
+                self.fooled_off = true;
+            }
             if calibrated && online && !fooled && err > slack {
                 return Err(format!(
                     "axis {}: flagged calibrated, but measured {:.4} deg vs true {q:.4} deg: off by {err:.4} deg, tolerance {slack:.4} deg",
@@ -495,7 +506,7 @@ impl Checker {
         faults: &[Fault],
     ) -> Result<(), String> {
         // A client's `hold` out of ERROR, and what follows it, commands the arm again.
-        if mode != Mode::Error || faults.iter().any(|f| f.moves_the_arm()) {
+        if mode != Mode::Error || faults.iter().any(|f| f.moves_the_arm()) || self.fooled_off {
             self.stopping = [None; NUM_AXES];
             return Ok(());
         }

@@ -234,10 +234,12 @@ fn seed_577_a_drive_not_yet_back_in_csp_holds_against_gravity() {
 /// controller's to keep inside its limits; seeds 154, 175 and 254, a lost drive's standing
 /// measurement and frames delayed by up to three SYNCs are not a wrong calibration; seeds 108
 /// and 519, an axis that comes into HOLD at speed from a calibration search cut short next to
-/// a limit is owed its stop.
+/// a limit is owed its stop; seed 1171, while an axis calibrated under an obstacle is measured
+/// 110 deg off the truth, the stops the controller makes are not judged (its gravity
+/// compensation of every axis is wrong too).
 #[test]
-fn the_checker_s_findings_seeds_212_124_154_175_254_108_519() {
-    for seed in [212, 124, 154, 175, 254, 108, 519] {
+fn the_checker_s_findings_seeds_212_124_154_175_254_108_519_1171() {
+    for seed in [212, 124, 154, 175, 254, 108, 519, 1171] {
         let r = run(&RunOptions::new(seed, 60.0));
         assert_eq!(r.violation, None, "seed {seed}");
     }
