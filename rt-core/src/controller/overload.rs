@@ -100,5 +100,6 @@ impl Controller {
     }
 }
 
-#[cfg(test)]
+// Scenario tests on the whole simulated robot.
+#[cfg(all(test, feature = "sim"))]
 mod tests;
