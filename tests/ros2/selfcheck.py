@@ -109,11 +109,17 @@ def server(tag):
         target=lambda: (sys.stdin.read(), stdin_closed.set()), daemon=True
     ).start()
     print("READY", flush=True)
-    threading.Thread(target=executor.spin, daemon=True).start()
+    spinner = threading.Thread(target=executor.spin, daemon=True)
+    spinner.start()
     stdin_closed.wait(SERVER_LIFETIME)
+    # Stop the executor and wait for its thread before destroying what it spins: destroying
+    # entities under a spinning executor, or exiting with its thread still in rclpy's C++
+    # code, aborted the process at exit now and then ("terminate called without an active
+    # exception", SIGABRT).
+    executor.shutdown(timeout_sec=WAIT)
+    spinner.join(WAIT)
     node.destroy_timer(timer)
     action.destroy()
-    executor.shutdown()
     node.destroy_node()
     print(f"SERVED goals={len(goals)} joint_states={published[0]}", flush=True)
 
