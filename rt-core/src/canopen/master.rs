@@ -87,6 +87,19 @@ struct AxisParams {
     max_step_counts: f64,
 }
 
+impl AxisParams {
+    /// A joint torque [Nm] as the drive's per-mille of its rated motor torque (0x6071, the
+    /// torque offset 0x60B2), rounded and clamped to i16; 0 for a torque that is not finite.
+    fn torque_permille(&self, torque_nm: f64) -> i16 {
+        let t = torque_nm * self.permille_per_joint_nm;
+        if t.is_finite() {
+            t.round().clamp(-32767.0, 32767.0) as i16
+        } else {
+            0
+        }
+    }
+}
+
 /// What the master knows of one drive since it last booted: `Default` is "just booted".
 #[derive(Debug, Clone)]
 struct Session {
@@ -844,8 +857,7 @@ impl Master {
                 .clamp(0.0, f64::from(ax.params.max_current_permille))
         };
         let offset = if ax.session.commanded_mode == MODE_CSP {
-            let t = ax.torque_offset_nm * ax.params.permille_per_joint_nm;
-            t.round().clamp(-32767.0, 32767.0) as i16
+            ax.params.torque_permille(ax.torque_offset_nm)
         } else {
             0
         };
@@ -923,26 +935,14 @@ impl Master {
             // CST: in CSP the drive ignores 0x6071, and the moment it switches it already has
             // the right torque (a zero there would let a gravity-loaded arm sag).
             DriveRequest::Torque { torque_nm } if fb.state == State::OperationEnabled => {
-                let t = torque_nm * ax.params.permille_per_joint_nm;
-                let t = if t.is_finite() {
-                    t.round().clamp(-32767.0, 32767.0) as i16
-                } else {
-                    0
-                };
-                (actual, t)
+                (actual, ax.params.torque_permille(torque_nm))
             }
             // Back to CSP from CST, not yet confirmed: the drive still applies 0x6071, so it
             // gets the gravity feed-forward there until it switches (a zero would let a
             // gravity-loaded arm fall while the mode change is lost on the bus: the simulation
             // tester's seed 577, 32 deg/s within 11 cycles); in CSP the drive ignores it.
             DriveRequest::Position { .. } if fb.state == State::OperationEnabled => {
-                let t = ax.torque_offset_nm * ax.params.permille_per_joint_nm;
-                let t = if t.is_finite() {
-                    t.round().clamp(-32767.0, 32767.0) as i16
-                } else {
-                    0
-                };
-                (actual, t)
+                (actual, ax.params.torque_permille(ax.torque_offset_nm))
             }
             _ => (actual, 0),
         };
