@@ -123,3 +123,51 @@ fn bad_input_gives_finite_output() {
         }
     }
 }
+
+/// The solution of the box-constrained problem is unique for a positive definite `w`: the
+/// previous step's split (kept when it satisfies the conditions) and the Gauss-Seidel sweeps
+/// (when it does not) must reach it from any warm start. Checked against the conditions
+/// themselves and between a warm start from the solution, from zero and from the far bounds.
+mod any_warm_start {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn spd(entries: &[f64], diag: &[f64]) -> Matrix6<f64> {
+        let l = Matrix6::from_iterator(entries.iter().copied());
+        let d = Matrix6::from_diagonal(&Vector6::from_iterator(diag.iter().copied()));
+        (l * l.transpose() + d) * 0.01
+    }
+
+    proptest! {
+        #[test]
+        fn reaches_the_one_solution(
+            entries in prop::collection::vec(-1.0f64..1.0, 36),
+            diag in prop::collection::vec(0.05f64..2.0, 6),
+            v_free in prop::collection::vec(-0.2f64..0.2, 6),
+            bound in prop::collection::vec(0.0f64..8.0, 6),
+            start in prop::collection::vec(-10.0f64..10.0, 6),
+        ) {
+            let w = spd(&entries, &diag);
+            let v_free = Vector6::from_iterator(v_free);
+            let bound = Vector6::from_iterator(bound);
+            let mut warm = Vector6::from_iterator(start);
+            let v = solve_friction(&w, &v_free, &bound, &mut warm);
+            for i in 0..6 {
+                let (l, b) = (warm[i], bound[i]);
+                prop_assert!(l.abs() <= b, "λ{i} = {l} beyond its bound {b}");
+                if b > 0.0 && l == b {
+                    prop_assert!(v[i] <= 1e-12, "λ{i} = +F but v{i} = {}", v[i]);
+                } else if b > 0.0 && l == -b {
+                    prop_assert!(v[i] >= -1e-12, "λ{i} = -F but v{i} = {}", v[i]);
+                } else if b > 0.0 {
+                    prop_assert!(v[i].abs() <= 1e-12, "λ{i} inside but v{i} = {}", v[i]);
+                }
+            }
+            for other in [Vector6::zeros(), bound, -bound, warm] {
+                let mut lambda = other;
+                let v2 = solve_friction(&w, &v_free, &bound, &mut lambda);
+                prop_assert!((v2 - v).amax() <= 1e-9, "from {other}: v {v2} against {v}");
+            }
+        }
+    }
+}
