@@ -45,8 +45,17 @@ pub struct Link {
 impl Link {
     /// Rotation and origin of frame i expressed in frame i−1 for joint angle `q`.
     pub fn local_transform(&self, q: f64) -> (Matrix3<f64>, Vector3<f64>) {
+        self.local_transform_twisted(q, self.alpha.sin_cos())
+    }
+
+    /// [`Link::local_transform`] with the sine and cosine of the twist already known (the
+    /// model keeps them: the kinematics run several times a cycle in the simulation).
+    fn local_transform_twisted(
+        &self,
+        q: f64,
+        (sa, ca): (f64, f64),
+    ) -> (Matrix3<f64>, Vector3<f64>) {
         let (st, ct) = (q + self.offset).sin_cos();
-        let (sa, ca) = self.alpha.sin_cos();
         #[rustfmt::skip]
         let r = Matrix3::new(
             ct, -st * ca,  st * sa,
@@ -88,6 +97,8 @@ pub(super) struct Kinematics {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArmModel {
     links: [Link; N],
+    /// Sine and cosine of each link's twist `alpha`.
+    twist: [(f64, f64); N],
     tool_mass: f64,
     tool_com: Vector3<f64>,
     /// Bodies used by the dynamics: links 1..5 as configured, link 6 with the tool lumped in.
@@ -233,6 +244,7 @@ impl ArmModel {
         }
         let mut model = ArmModel {
             links,
+            twist: links.map(|l| l.alpha.sin_cos()),
             tool_mass: 0.0,
             tool_com: Vector3::zeros(),
             bodies: [Inertial {
@@ -322,7 +334,7 @@ impl ArmModel {
         for (i, qi) in q.iter().enumerate() {
             k.axis[i] = r.column(2).into_owned();
             k.joint_origin[i] = o;
-            let (rl, ol) = self.links[i].local_transform(*qi);
+            let (rl, ol) = self.links[i].local_transform_twisted(*qi, self.twist[i]);
             o += r * ol;
             r *= rl;
             let b = &self.bodies[i];
@@ -348,8 +360,8 @@ impl ArmModel {
     pub fn flange_pose(&self, q: &[f64; N]) -> Isometry3<f64> {
         let mut r = Matrix3::identity();
         let mut o = Vector3::zeros();
-        for (l, qi) in self.links.iter().zip(q) {
-            let (rl, ol) = l.local_transform(*qi);
+        for ((l, twist), qi) in self.links.iter().zip(&self.twist).zip(q) {
+            let (rl, ol) = l.local_transform_twisted(*qi, *twist);
             o += r * ol;
             r *= rl;
         }

@@ -65,6 +65,36 @@ pub struct PdoEngine {
     /// The drive's clock [ns] when each event-driven TPDO was last sent.
     sent_at_ns: [u64; NUM_TPDO],
     force_event: [bool; NUM_TPDO],
+    tx_slots: [SlotMemo; NUM_TPDO],
+    rx_slots: [SlotMemo; NUM_RPDO],
+}
+
+/// The slots one PDO's mapping entries resolve to, remembered by entry value: resolving an
+/// entry searches the dictionary, and a PDO is packed or unpacked every cycle with the same
+/// mapping. A cache of a pure function ([`mapped_slot`]), not state: any two compare equal.
+#[derive(Debug, Clone, Copy, Default)]
+struct SlotMemo {
+    /// (entry value, its slot); the default entry 0 resolves to no slot, as `mapped_slot` says.
+    known: [(u32, Option<usize>); MAX_ENTRIES],
+}
+
+impl PartialEq for SlotMemo {
+    fn eq(&self, _: &SlotMemo) -> bool {
+        true
+    }
+}
+
+impl Eq for SlotMemo {}
+
+impl SlotMemo {
+    /// `mapped_slot(entry, dir)` for mapping entry `k` (1-based).
+    fn slot(&mut self, k: usize, entry: u32, dir: Mappable) -> Option<usize> {
+        let known = &mut self.known[k - 1];
+        if known.0 != entry {
+            *known = (entry, mapped_slot(entry, dir));
+        }
+        known.1
+    }
 }
 
 const COB_ID_INVALID: u32 = 1 << 31;
@@ -190,11 +220,11 @@ pub fn check_write(od: &Od, operational: bool, slot: usize, value: u32) -> Resul
     Ok(())
 }
 
-fn unpack(od: &Od, map: usize, data: &[u8]) -> Option<PdoWrites> {
+fn unpack(od: &Od, map: usize, data: &[u8], memo: &mut SlotMemo) -> Option<PdoWrites> {
     let mut w = PdoWrites::default();
     let mut at = 0;
     for k in 1..=(od.raw(map) as usize).min(MAX_ENTRIES) {
-        let slot = mapped_slot(od.raw(map + k), Mappable::Rx)?;
+        let slot = memo.slot(k, od.raw(map + k), Mappable::Rx)?;
         let n = usize::from(Od::def(slot).dtype.size());
         let bytes = data.get(at..at + n)?;
         let mut raw = [0u8; 4];
@@ -206,14 +236,14 @@ fn unpack(od: &Od, map: usize, data: &[u8]) -> Option<PdoWrites> {
     Some(w)
 }
 
-fn pack(od: &Od, map: usize, id: u16) -> Frame {
+fn pack(od: &Od, map: usize, id: u16, memo: &mut SlotMemo) -> Frame {
     let mut f = Frame {
         id,
         len: 0,
         data: [0; 8],
     };
     for k in 1..=(od.raw(map) as usize).min(MAX_ENTRIES) {
-        let Some(slot) = mapped_slot(od.raw(map + k), Mappable::Tx) else {
+        let Some(slot) = memo.slot(k, od.raw(map + k), Mappable::Tx) else {
             continue;
         };
         let n = usize::from(Od::def(slot).dtype.size());
@@ -264,7 +294,8 @@ impl PdoEngine {
             if valid(od, comm.cob_id) != Some(frame.id) {
                 continue;
             }
-            let Some(writes) = unpack(od, od::RPDO_MAP[i], frame.payload()) else {
+            let Some(writes) = unpack(od, od::RPDO_MAP[i], frame.payload(), &mut self.rx_slots[i])
+            else {
                 return RxOutcome::TooShort;
             };
             if is_sync_type(od.raw(comm.transmission)) {
@@ -281,7 +312,7 @@ impl PdoEngine {
         let mut out = [None; NUM_RPDO];
         for (i, o) in out.iter_mut().enumerate() {
             if let Some(data) = self.latch[i].take() {
-                *o = unpack(od, od::RPDO_MAP[i], &data);
+                *o = unpack(od, od::RPDO_MAP[i], &data, &mut self.rx_slots[i]);
             }
         }
         out
@@ -302,7 +333,7 @@ impl PdoEngine {
             self.sync_count[i] = self.sync_count[i].saturating_add(1);
             if u32::from(self.sync_count[i]) >= t {
                 self.sync_count[i] = 0;
-                *o = Some(pack(od, od::TPDO_MAP[i], id));
+                *o = Some(pack(od, od::TPDO_MAP[i], id, &mut self.tx_slots[i]));
             }
         }
         out
@@ -322,7 +353,7 @@ impl PdoEngine {
             if t != 254 && t != 255 {
                 continue;
             }
-            let f = pack(od, od::TPDO_MAP[i], id);
+            let f = pack(od, od::TPDO_MAP[i], id, &mut self.tx_slots[i]);
             let timer_ns = u64::from(od.raw(od::TPDO_EVENT_TIMER[i])) * 1_000_000;
             let timer_out = timer_ns > 0 && now_ns >= self.sent_at_ns[i].saturating_add(timer_ns);
             if self.force_event[i] || self.last_event[i] != Some(f) || timer_out {
