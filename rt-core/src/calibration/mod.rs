@@ -308,6 +308,14 @@ impl AxisCalibration {
         }
     }
 
+    /// Whether this search may have pressed the axis into its mechanical stop: it is moving
+    /// towards the stop or backing off from it. An axis still settling before its first
+    /// approach (or before its slow one, after backing off) has not been driven into the stop
+    /// by the search.
+    pub fn may_press_its_stop(&self) -> bool {
+        matches!(self.phase, Phase::Search { .. } | Phase::Backoff { .. })
+    }
+
     /// The axis's drive rebooted (its encoder reference may be gone): its previous calibration
     /// is no longer valid.
     pub fn forget_previous(&mut self) {

@@ -416,6 +416,15 @@ impl Master {
         }
     }
 
+    /// Whether the master gave up on drive `axis`: its configuration failed [`CONFIG_RETRIES`]
+    /// times after the first, and it stays down until it boots by itself or
+    /// [`Master::reset_node`] is called. Out-of-range axes: `false`.
+    pub fn gave_up(&self, axis: usize) -> bool {
+        self.axes
+            .get(axis)
+            .is_some_and(|ax| ax.link == Link::Failed { retry_at_ns: None })
+    }
+
     /// Reset the communication of one drive (NMT `82`) in the next cycle: it boots again and
     /// is reconfigured. The master does so by itself after a `ConfigFailed`, up to
     /// [`CONFIG_RETRIES`] times in a row; this is for more. Out-of-range axes are ignored.

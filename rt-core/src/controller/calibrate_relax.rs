@@ -17,8 +17,12 @@ impl Controller {
             return;
         };
         for (i, cal) in axes.iter().enumerate() {
-            if let Some(direction) = cal.and_then(|c| c.stop_direction()) {
-                self.search_relax.start(i, direction);
+            let Some(cal) = cal else {
+                continue;
+            };
+            if let Some(direction) = cal.stop_direction() {
+                self.search_relax
+                    .start(i, direction, cal.may_press_its_stop());
             }
         }
     }
@@ -59,8 +63,12 @@ const RELAX_BAND_RAD: f64 = 0.5 * core::f64::consts::PI / 180.0;
 /// reaching its contact current. For [`RELAX_CYCLES`] such an axis's reference follows its
 /// measured position, but only on the side away from its stop and by at most
 /// [`RELAX_BAND_RAD`] from where the relax began (an axis its weight pulls elsewhere stays
-/// held there), its drive's loop restarted at the start and at the end; then it holds where it
-/// came to rest. The relax waits for any stop under way, goes on through ERROR, an enabling
+/// held there); then it holds where it came to rest. The drive's loop of an axis the search
+/// was driving towards its stop or backing off from restarts at the start and at the end of
+/// its relax, so that a loop wound up against the stop stops pressing. An axis still settling
+/// before its approach keeps its loop: its integral carries the axis's weight (an uncalibrated
+/// axis gets no gravity feed-forward), and clearing it let a stretched shoulder sag (seeds 808
+/// and 961 of the simulation tester). The relax waits for any stop under way, goes on through ERROR, an enabling
 /// and HOLD, and ends in any other mode (`motion.rs`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct SearchRelax {
@@ -70,6 +78,8 @@ pub(super) struct SearchRelax {
     toward_stop: [f64; NUM_AXES],
     /// The raw position where each axis's relax began [rad].
     from: [f64; NUM_AXES],
+    /// Whether each axis's drive loop restarts at the start and the end of its relax.
+    restart: [bool; NUM_AXES],
 }
 
 impl SearchRelax {
@@ -77,11 +87,13 @@ impl SearchRelax {
         left: [0; NUM_AXES],
         toward_stop: [0.0; NUM_AXES],
         from: [0.0; NUM_AXES],
+        restart: [false; NUM_AXES],
     };
 
-    fn start(&mut self, axis: usize, toward_stop: f64) {
+    fn start(&mut self, axis: usize, toward_stop: f64, restart: bool) {
         self.left[axis] = RELAX_CYCLES;
         self.toward_stop[axis] = toward_stop;
+        self.restart[axis] = restart;
     }
 
     /// An axis relaxes.
@@ -110,6 +122,7 @@ impl SearchRelax {
         let back = -self.toward_stop[axis] * (raw - self.from[axis]);
         let allowed = back.clamp(0.0, RELAX_BAND_RAD);
         let shift = -self.toward_stop[axis] * (allowed - back);
-        Some((shift, left == RELAX_CYCLES || left == 1))
+        let edge = left == RELAX_CYCLES || left == 1;
+        Some((shift, self.restart[axis] && edge))
     }
 }

@@ -113,11 +113,24 @@ impl Controller {
         }
     }
 
+    /// Refuse a command that would enable the drives, for `reason` (from `enable_blocker`). A
+    /// lost drive the master gave up configuring is reset and tried again: the drive may be
+    /// back (its cable, its power), and a user who repeats the command once it is must not
+    /// find it refused for good (seed 1583 of the simulation tester).
+    fn refuse_enabling(&mut self, c: Caller, reason: Reason) {
+        for axis in 0..NUM_AXES {
+            if self.lost[axis] && self.master.gave_up(axis) {
+                self.master.reset_node(axis);
+            }
+        }
+        self.refuse(c, reason);
+    }
+
     fn on_hold(&mut self, c: Caller) {
         match self.state {
             State::Off | State::Error { .. } | State::Enabling { .. } => {
                 if let Some(reason) = self.enable_blocker() {
-                    return self.refuse(c, reason);
+                    return self.refuse_enabling(c, reason);
                 }
                 self.begin_enabling(c, After::Hold);
             }
@@ -152,7 +165,7 @@ impl Controller {
         });
         if matches!(self.state, State::Off) {
             if let Some(reason) = self.enable_blocker() {
-                return self.refuse(c, reason);
+                return self.refuse_enabling(c, reason);
             }
             self.begin_enabling(c, After::Calibrate(settings));
         } else {

@@ -814,8 +814,11 @@ fn a_configuration_that_keeps_failing_is_retried_a_bounded_number_of_times() {
         1 + usize::from(CONFIG_RETRIES)
     );
     assert!(!w.fb(1).online);
+    assert!(w.master.gave_up(1), "the master gave up on axis 2");
+    assert!(!w.master.gave_up(0), "axis 1 is up");
     // An explicit reset_node starts the count again.
     w.master.reset_node(1);
+    assert!(!w.master.gave_up(1), "axis 2 is tried again");
     let frames = w.run(2_000, [DriveRequest::Disable; 6]);
     let resets = frames
         .concat()

@@ -360,3 +360,30 @@ fn an_elbow_search_aborted_while_axis_3_presses_its_stop_stops_pressing() {
     // against its weight, axis 3 out of its stop.
     aborted_while_axis_3_presses(Which::Elbow);
 }
+
+/// A calibration aborted while the shoulder, stretched out and not yet calibrated, still
+/// settles before its approach: its drive keeps its loop, whose integral carries the arm's
+/// weight (an uncalibrated axis gets no gravity feed-forward), and the arm does not sag. Seeds
+/// 808 and 961 of the simulation tester: the loop restarted and the shoulder sagged 0.8 deg
+/// after a trip.
+#[test]
+fn a_search_aborted_before_its_approach_keeps_a_stretched_shoulder_up() {
+    let mut cfg = mcm_shared::config::RobotConfig::prob2_default();
+    cfg.sim.initial_position_deg = [0.0, 95.0, 0.0, 0.0, 0.0, 0.0];
+    let mut r = Robot::with_config(&cfg);
+    assert_eq!(r.ok(Request::Hold, 400), mcm_shared::reply::Done::Ack);
+    r.run(200);
+    let shoulder = Which::Axis(Axis::new(2).unwrap());
+    send(
+        &mut r,
+        calibrate(shoulder, Direction::Positive, Direction::Positive),
+        7301,
+    );
+    r.run(10);
+    assert_eq!(r.mode(), Mode::Calibration);
+    let before = r.truth();
+    send(&mut r, Request::Hold, 7302);
+    assert_eq!(r.mode(), Mode::Hold);
+    let sag = r.largest_drift(before, 400);
+    assert!(sag < 0.05, "the shoulder sagged {sag} deg after the abort");
+}
