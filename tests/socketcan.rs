@@ -542,13 +542,14 @@ fn stop_and_check_the_drives_counters(mut mcm: Mcm) {
     assert_drives_saw_no_fault(&counted);
 }
 
-/// No setpoint missing at a SYNC, no SDO abort, no heartbeat timeout, as the drives counted,
+/// No setpoint missing at a SYNC, no SDO abort, no heartbeat timeout or SYNC loss, as the drives counted,
 /// and nothing lost on the wire.
 fn assert_drives_saw_no_fault(c: &common::virtual_arm::ArmCounters) {
     assert!(
         c.setpoints_missing == 0
             && c.sdo_aborts == 0
             && c.heartbeat_timeouts == 0
+            && c.sync_losses == 0
             && c.frames_lost_on_send == 0
             && c.wire_errors == 0,
         "the virtual arm counted faults: {}",

@@ -33,6 +33,15 @@ use mcm_shared::config::{AxisConfig, RobotConfig};
 pub const EMCY_BASE: u16 = 0x080;
 /// EMCY code and error register: master heartbeat lost.
 pub const EMCY_HEARTBEAT: (u16, u8) = (0x8130, 0x11);
+/// EMCY code and error register: no SYNC (so no setpoint applied) for [`SYNC_LOSS_PERIODS`]
+/// while enabled: RPDO timeout, a communication error.
+pub const EMCY_SYNC_LOSS: (u16, u8) = (0x8250, 0x11);
+/// Periods in OPERATION ENABLED without a SYNC after which the drive faults (0.3 s at 200 Hz).
+/// Without SYNC a drive applies no setpoint (its RPDO1 is latched until the next SYNC), so the
+/// master can neither move nor disable it; faulting powers the motor off onto its brake, as a
+/// lost master heartbeat does. Longer than the master heartbeat's consumer time (0.15 s), so a
+/// cut cable faults on the heartbeat first.
+pub const SYNC_LOSS_PERIODS: u32 = 60;
 /// EMCY code and error register: safe torque off (emergency stop) while enabled.
 pub const EMCY_SAFE_TORQUE_OFF: (u16, u8) = (0x5441, 0x05);
 /// Modes of operation.
@@ -150,6 +159,8 @@ pub struct DriveCounters {
     pub sdo_aborts: u64,
     /// The master's heartbeat missing for longer than the consumer time (0x1016).
     pub heartbeat_timeouts: u64,
+    /// Faults for want of SYNC while enabled ([`SYNC_LOSS_PERIODS`]).
+    pub sync_losses: u64,
 }
 
 /// One simulated drive.
@@ -176,6 +187,8 @@ pub struct SimDrive {
     current_a: f64,
     last_setpoint: (f64, f64),
     counters: DriveCounters,
+    /// Periods in OPERATION ENABLED since the last SYNC received.
+    without_sync: u32,
 }
 
 impl SimDrive {
@@ -202,6 +215,7 @@ impl SimDrive {
             current_a: 0.0,
             last_setpoint: (0.0, 0.0),
             counters: DriveCounters::default(),
+            without_sync: 0,
         };
         d.boot(Boot::PowerUp, out);
         d.observe(q, v);
@@ -436,6 +450,16 @@ impl SimDrive {
         if self.consumer.expired(self.time_ns) {
             self.counters.heartbeat_timeouts += 1;
             self.raise_fault(EMCY_HEARTBEAT, out);
+        }
+        if received || self.sm.state() != State::OperationEnabled {
+            self.without_sync = 0;
+        } else {
+            self.without_sync += 1;
+            if self.without_sync >= SYNC_LOSS_PERIODS {
+                self.without_sync = 0;
+                self.counters.sync_losses += 1;
+                self.raise_fault(EMCY_SYNC_LOSS, out);
+            }
         }
         if self.sm.state() == State::OperationEnabled && self.mode() == MODE_CSP {
             let target = f64::from(self.od.i32(od::TARGET_POSITION)) / self.p.counts_per_rad;

@@ -99,6 +99,8 @@ pub struct ArmCounters {
     pub setpoints_missing: u64,
     pub sdo_aborts: u64,
     pub heartbeat_timeouts: u64,
+    /// Drives faulted for want of SYNC while enabled.
+    pub sync_losses: u64,
 }
 
 impl ArmCounters {
@@ -125,6 +127,7 @@ impl ArmCounters {
             setpoints_missing: number("setpoints missing at SYNC ")?,
             sdo_aborts: number("SDO aborts ")?,
             heartbeat_timeouts: number("heartbeat timeouts ")?,
+            sync_losses: number("SYNC losses ")?,
         })
     }
 }

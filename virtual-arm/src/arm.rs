@@ -86,6 +86,7 @@ impl<W: Bus> VirtualArm<W> {
                 rpdo1_missing: a.rpdo1_missing + c.rpdo1_missing,
                 sdo_aborts: a.sdo_aborts + c.sdo_aborts,
                 heartbeat_timeouts: a.heartbeat_timeouts + c.heartbeat_timeouts,
+                sync_losses: a.sync_losses + c.sync_losses,
             })
     }
 

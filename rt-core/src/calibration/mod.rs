@@ -308,12 +308,12 @@ impl AxisCalibration {
         }
     }
 
-    /// Whether this search may have pressed the axis into its mechanical stop: it is moving
-    /// towards the stop or backing off from it. An axis still settling before its first
-    /// approach (or before its slow one, after backing off) has not been driven into the stop
-    /// by the search.
+    /// Whether this search may have pressed the axis into its mechanical stop: it moved
+    /// towards the stop, backed off from it, or ended (a reference found implausible leaves
+    /// the axis pressed into its stop). Only an axis still settling before its first approach
+    /// (or before its slow one, after backing off) has not been driven into the stop by it.
     pub fn may_press_its_stop(&self) -> bool {
-        matches!(self.phase, Phase::Search { .. } | Phase::Backoff { .. })
+        !matches!(self.phase, Phase::Settle { .. })
     }
 
     /// The axis's drive rebooted (its encoder reference may be gone): its previous calibration

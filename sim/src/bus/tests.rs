@@ -3,6 +3,8 @@
 //! enables them in CSP and streams targets; the truth of the arm is checked.
 
 use super::{SYNC_ID, SimBus};
+use crate::cia402::State;
+use crate::drive::{EMCY_BASE, EMCY_SYNC_LOSS, SYNC_LOSS_PERIODS};
 use crate::test_master::TestMaster;
 use crate::{SimCommand, SimCommandError, SimControl, SimTruth};
 use mcm_shared::command::Axis;
@@ -825,7 +827,9 @@ fn without_sync_time_and_physics_go_on_the_drives_hold_their_setpoint_and_send_n
     let t0 = bus.now_ns();
     let tpdos: Vec<u64> = m.nodes.iter().map(|n| n.tpdos).collect();
     let heard = m.received.len();
-    let truths: Vec<SimTruth> = (0..100)
+    // Fewer periods than a drive waits before it faults for want of SYNC (the test below).
+    let periods = SYNC_LOSS_PERIODS - 5;
+    let truths: Vec<SimTruth> = (0..periods)
         .map(|_| {
             m.run_cycle(&mut SyncLost(&mut bus));
             bus.truth()
@@ -833,7 +837,7 @@ fn without_sync_time_and_physics_go_on_the_drives_hold_their_setpoint_and_send_n
         .collect();
     assert_eq!(
         bus.now_ns() - t0,
-        100 * cfg.cycle_period_ns(),
+        u64::from(periods) * cfg.cycle_period_ns(),
         "time goes on"
     );
     for (i, n) in m.nodes.iter().enumerate() {
@@ -847,7 +851,7 @@ fn without_sync_time_and_physics_go_on_the_drives_hold_their_setpoint_and_send_n
             .iter()
             .filter(|f| f.id == 0x700 + u16::from(n.node))
             .count();
-        assert!(heartbeats >= 9, "node {}: {heartbeats} heartbeats", n.node);
+        assert!(heartbeats >= 5, "node {}: {heartbeats} heartbeats", n.node);
         assert!(n.is_enabled(), "node {}", n.node);
     }
     // The new target never arrived: axis 1 holds the last one it had.
@@ -885,6 +889,48 @@ fn without_sync_time_and_physics_go_on_the_drives_hold_their_setpoint_and_send_n
         at / DEG,
         reached / DEG
     );
+}
+
+/// Without SYNC an enabled drive applies no setpoint, so the master can neither move nor disable
+/// it: after [`SYNC_LOSS_PERIODS`] periods it faults by itself (EMCY 0x8250, RPDO timeout) and
+/// its motor goes off onto its brake, not one period earlier.
+#[test]
+fn an_enabled_drive_without_sync_faults_onto_its_brake() {
+    let cfg = cfg_at([0.0, 30.0, -60.0, 0.0, 45.0, 0.0]);
+    let (mut bus, mut m) = enabled(&cfg, true);
+    run(&mut bus, &mut m, 40);
+    let heard = m.received.len();
+    for _ in 0..SYNC_LOSS_PERIODS - 1 {
+        m.run_cycle(&mut SyncLost(&mut bus));
+    }
+    assert!(
+        (0..NUM_AXES).all(|i| bus.drive(i).unwrap().state() == State::OperationEnabled),
+        "still enabled"
+    );
+    for _ in 0..3 {
+        m.run_cycle(&mut SyncLost(&mut bus));
+    }
+    for (i, n) in m.nodes.iter().enumerate() {
+        let d = bus.drive(i).unwrap();
+        assert_eq!(d.state(), State::Fault, "node {} faulted", n.node);
+        assert_eq!(d.counters().sync_losses, 1, "node {}", n.node);
+        assert_eq!(
+            d.brake_engaged(),
+            cfg.axes[i].brake,
+            "node {}: its brake",
+            n.node
+        );
+        let emcy = from_node(&m.received[heard..], n.node)
+            .into_iter()
+            .find(|f| f.id == EMCY_BASE + u16::from(n.node))
+            .unwrap_or_else(|| panic!("node {}: no EMCY", n.node));
+        assert_eq!(
+            u16::from_le_bytes([emcy.data[0], emcy.data[1]]),
+            EMCY_SYNC_LOSS.0,
+            "node {}",
+            n.node
+        );
+    }
 }
 
 /// A CiA 301 event timer runs on the drive's clock: TPDO2 with its event timer set (as the
