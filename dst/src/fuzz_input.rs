@@ -91,7 +91,14 @@ pub fn run_script(script: &Script, limits: Limits) -> Result<ScriptReport, Viola
                 0
             },
         };
-        checker.cycle(k, world.state(), world.replies(), work, world.faults())
+        checker.cycle(
+            k,
+            world.state(),
+            world.replies(),
+            world.served(),
+            work,
+            world.faults(),
+        )
     };
     'steps: for step in &script.steps {
         if let Some(b) = step.bus {

@@ -19,9 +19,15 @@
 //!   ([`Checker::left_unanswered`]; a run that does not get there ends with commands that
 //!   may still be within their bound, which the per-cycle bound judged up to then);
 //! - an OK to `pvt`, `release`, `torque_control`, `velocity_control` is published with its
-//!   mode (or ERROR: a trip in the same cycle), and an OK to `calibrate` (given when the
-//!   calibration ends) with every axis it covered flagged calibrated, unless a later command
-//!   of that cycle changed the mode again;
+//!   mode, and an OK to `hold` with HOLD (or ERROR: a trip in the same cycle; a `hold` also
+//!   CALIBRATION when a `calibrate` served after it in the cycle started one), and an OK to
+//!   `calibrate` (given when the calibration ends) with every axis it covered flagged
+//!   calibrated, unless a later command of that cycle changed the mode again;
+//! - a refusal says what was so, in the state published before the cycle or after it: the
+//!   mode a `wrong_mode` names was the mode, the axis a `not_calibrated` names was not flagged
+//!   calibrated, the emergency stop an `emergency_stop` names was pressed; and a motion command
+//!   refused did not enter its mode (not judged where another command of the cycle changed
+//!   the mode);
 //! - only legal mode transitions: the motion modes entered from HOLD only, CALIBRATION from
 //!   OFF or HOLD only, OFF never entered again once left;
 //! - after a trip (the mode ERROR entered), every axis that was moving at standstill within its
@@ -53,8 +59,10 @@ use mcm_shared::NUM_AXES;
 use mcm_shared::command::{Axis, Request, Which};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
-use mcm_shared::reply::{Outcome, Response};
-use mcm_shared::sample::{AXIS_CALIBRATED, AXIS_ONLINE, CommandSample, Reply, StateSample};
+use mcm_shared::reply::{Outcome, Reason, Response};
+use mcm_shared::sample::{
+    AXIS_CALIBRATED, AXIS_ONLINE, CommandSample, Reply, STATE_ESTOP, StateSample,
+};
 use mcm_sim::SimBus;
 use std::collections::{HashMap, VecDeque};
 
@@ -181,6 +189,10 @@ pub struct Checker {
     pub max_work_ns: u64,
     asked: HashMap<(u64, u64), Asked>,
     prev_mode: Mode,
+    /// The previous cycle's `flags` and `axis_flags`: a refusal was decided on the state
+    /// between the two published ones.
+    prev_flags: u32,
+    prev_axis_flags: [u32; NUM_AXES],
     left_off: bool,
     /// Per axis: the controller is not (yet again) responsible for its limits.
     excused: [bool; NUM_AXES],
@@ -232,6 +244,8 @@ impl Checker {
             max_work_ns: 0,
             asked: HashMap::new(),
             prev_mode: Mode::Off,
+            prev_flags: 0,
+            prev_axis_flags: [0; NUM_AXES],
             left_off: false,
             excused: [true; NUM_AXES],
             fooled: [false; NUM_AXES],
@@ -286,6 +300,7 @@ impl Checker {
         k: u64,
         s: &StateSample,
         replies: &[Reply],
+        served: &[CommandSample],
         work: Work,
         faults: &[Fault],
     ) -> Result<(), Violation> {
@@ -321,7 +336,7 @@ impl Checker {
         self.transition(mode).or_else(&fail)?;
         self.positions(s, mode, faults).or_else(&fail)?;
         self.standstill(k, s, mode, faults).or_else(&fail)?;
-        self.replies(s, mode, replies).or_else(&fail)?;
+        self.replies(s, mode, replies, served).or_else(&fail)?;
         if mode != Mode::Calibration {
             // The attempt ended: the end of its searches gave its axes its excuse; a failure
             // before it gave back the calibration before it, with that one's.
@@ -329,6 +344,8 @@ impl Checker {
         }
         self.overdue(k, mode).or_else(&fail)?;
         self.prev_mode = mode;
+        self.prev_flags = s.flags;
+        self.prev_axis_flags = s.axis_flags;
         Ok(())
     }
 
@@ -571,7 +588,13 @@ impl Checker {
         Ok(())
     }
 
-    fn replies(&mut self, s: &StateSample, mode: Mode, replies: &[Reply]) -> Result<(), String> {
+    fn replies(
+        &mut self,
+        s: &StateSample,
+        mode: Mode,
+        replies: &[Reply],
+        served: &[CommandSample],
+    ) -> Result<(), String> {
         for (n, r) in replies.iter().enumerate() {
             let Some(asked) = self.asked.remove(&(r.client_id, r.request_id)) else {
                 return Err(format!(
@@ -608,6 +631,10 @@ impl Checker {
                 Outcome::Failed(_) => 2,
             };
             self.answers[slot] += 1;
+            if let Outcome::Refused(reason) = resp.outcome {
+                self.refusal_true(s, mode, replies, n, resp.kind, reason)
+                    .map_err(|e| format!("client {} request {}: {e}", r.client_id, r.request_id))?;
+            }
             let Outcome::Done(done) = resp.outcome else {
                 continue;
             };
@@ -657,11 +684,16 @@ impl Checker {
                 }
             }
             let entered = match resp.kind {
-                CommandKind::Pvt => Some(Mode::Pvt),
-                CommandKind::Release => Some(Mode::Release),
-                CommandKind::TorqueControl => Some(Mode::TorqueControl),
-                CommandKind::VelocityControl => Some(Mode::VelocityControl),
-                _ => None,
+                // A `calibrate` served later in the cycle (answered when it ends) may have
+                // started a calibration from that HOLD; one running before must have stopped.
+                CommandKind::Hold
+                    if mode == Mode::Calibration
+                        && calibrate_served_after(served, r.client_id, r.request_id) =>
+                {
+                    None
+                }
+                CommandKind::Hold => Some(Mode::Hold),
+                kind => mode_entered_by(kind),
             };
             if let Some(want) = entered
                 && mode != want
@@ -674,6 +706,86 @@ impl Checker {
             }
         }
         Ok(())
+    }
+}
+
+impl Checker {
+    /// A refusal says what was so: the mode it names was the mode, the axis it names not
+    /// calibrated, the emergency stop pressed (in the state published before the cycle or
+    /// after it: the command was decided between the two), and a command refused did not
+    /// enter its mode. Not judged where another command of the cycle changed the mode.
+    fn refusal_true(
+        &self,
+        s: &StateSample,
+        mode: Mode,
+        replies: &[Reply],
+        n: usize,
+        kind: CommandKind,
+        reason: Reason,
+    ) -> Result<(), String> {
+        let others_changed_mode = replies.iter().enumerate().any(|(m, x)| {
+            m != n
+                && x.status == 0
+                && CommandKind::try_from(x.kind).is_ok_and(|k| {
+                    k.is_stop() || k == CommandKind::Calibrate || mode_entered_by(k).is_some()
+                })
+        });
+        let calibrated = |flags: &[u32; NUM_AXES], a: Axis| flags[a.index()] & AXIS_CALIBRATED != 0;
+        match reason {
+            Reason::WrongMode { mode: named }
+                if !others_changed_mode && named != mode && named != self.prev_mode =>
+            {
+                return Err(format!(
+                    "{kind} refused as not allowed in {named}, but the mode was {} before the cycle and {mode} after it",
+                    self.prev_mode
+                ));
+            }
+            Reason::NotCalibrated { axis }
+                if calibrated(&self.prev_axis_flags, axis) && calibrated(&s.axis_flags, axis) =>
+            {
+                return Err(format!(
+                    "{kind} refused as axis {axis} not calibrated, but it was flagged calibrated before the cycle and after it"
+                ));
+            }
+            Reason::EmergencyStop if (self.prev_flags | s.flags) & STATE_ESTOP == 0 => {
+                return Err(format!(
+                    "{kind} refused for the emergency stop, but it was not pressed before the cycle nor after it"
+                ));
+            }
+            _ => {}
+        }
+        if let Some(want) = mode_entered_by(kind)
+            && mode == want
+            && self.prev_mode != want
+            && !others_changed_mode
+        {
+            return Err(format!(
+                "{kind} refused ({reason}), but the mode went from {} to {want}",
+                self.prev_mode
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Whether a `calibrate` was served after request `request_id` of client `client_id` in the
+/// cycle that served `served`.
+fn calibrate_served_after(served: &[CommandSample], client_id: u64, request_id: u64) -> bool {
+    served
+        .iter()
+        .skip_while(|c| (c.client_id, c.request_id) != (client_id, request_id))
+        .skip(1)
+        .any(|c| c.kind == CommandKind::Calibrate.to_wire())
+}
+
+/// The mode a motion command enters when answered OK.
+fn mode_entered_by(kind: CommandKind) -> Option<Mode> {
+    match kind {
+        CommandKind::Pvt => Some(Mode::Pvt),
+        CommandKind::Release => Some(Mode::Release),
+        CommandKind::TorqueControl => Some(Mode::TorqueControl),
+        CommandKind::VelocityControl => Some(Mode::VelocityControl),
+        _ => None,
     }
 }
 

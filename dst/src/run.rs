@@ -192,7 +192,7 @@ pub fn run(opts: &RunOptions) -> RunReport {
             let s = *world.state();
             tracer.cycle(k, before, &s);
             hash.cycle(&s, world.replies());
-            checker.cycle(k, &s, world.replies(), work, world.faults())
+            checker.cycle(k, &s, world.replies(), world.served(), work, world.faults())
         };
 
     let result = (|| -> Result<(), Violation> {

@@ -86,7 +86,8 @@ pub fn replay(script: &Script, cycles: u64) -> Option<Violation> {
         let s = *world.state();
         let k = world.cycle_index();
         tracer.cycle(k, before, &s);
-        if let Err(v) = checker.cycle(k, &s, world.replies(), work, world.faults()) {
+        if let Err(v) = checker.cycle(k, &s, world.replies(), world.served(), work, world.faults())
+        {
             return Some(v);
         }
     }

@@ -19,6 +19,7 @@ use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::alloc_count;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::sample::{CommandSample, Reply, StateSample};
+use mcm_shared::service::COMMANDS_PER_CYCLE;
 use mcm_sim::SimBus;
 use std::collections::VecDeque;
 
@@ -41,6 +42,9 @@ pub struct World {
     under_way: UnderWay,
     bus_faults: BusFaults,
     faults: Vec<Fault>,
+    /// The commands the last cycle served, in the order it served them.
+    served: [CommandSample; COMMANDS_PER_CYCLE],
+    served_len: usize,
 }
 
 impl World {
@@ -61,6 +65,8 @@ impl World {
             under_way: UnderWay::default(),
             bus_faults: BusFaults::default(),
             faults: Vec::new(),
+            served: [CommandSample::default(); COMMANDS_PER_CYCLE],
+            served_len: 0,
         }
     }
 
@@ -113,12 +119,15 @@ impl World {
         }
         let now_ns = self.k * self.period_ns;
         let (robot, intake) = (&mut self.robot, &mut self.intake);
+        let (served, served_len) = (&mut self.served, &mut self.served_len);
         self.faults.clear();
         self.under_way.faults(&self.bus_faults, &mut self.faults);
         let started = thread_cpu_ns();
         let ((), counts) = alloc_count::count(|| {
             intake.received(n);
             let commands = intake.next_cycle();
+            *served_len = commands.len().min(COMMANDS_PER_CYCLE);
+            served[..*served_len].copy_from_slice(&commands[..*served_len]);
             robot.run(now_ns, commands);
         });
         self.last_cpu_ns = thread_cpu_ns().saturating_sub(started);
@@ -129,6 +138,12 @@ impl World {
 
     pub fn state(&self) -> &StateSample {
         self.robot.state()
+    }
+
+    /// The commands the last cycle served, in the order it served them (answered in that
+    /// cycle or, a `calibrate`, when its calibration ends).
+    pub fn served(&self) -> &[CommandSample] {
+        &self.served[..self.served_len]
     }
 
     /// The replies of the last cycle.

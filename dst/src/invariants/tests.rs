@@ -5,7 +5,7 @@ use super::*;
 use crate::stamp::calibrate_all;
 use mcm_shared::command::{Calibrate, Direction, Pvt};
 use mcm_shared::reply::{Done, Reason};
-use mcm_shared::sample::{AXIS_CALIBRATED, AXIS_ONLINE};
+use mcm_shared::sample::{AXIS_CALIBRATED, AXIS_ONLINE, STATE_ESTOP};
 
 /// An axis calibrated, its drive online.
 const CALIBRATED: u32 = AXIS_CALIBRATED | AXIS_ONLINE;
@@ -48,11 +48,23 @@ fn ok(request_id: u64, kind: CommandKind) -> Reply {
 
 /// Cycle `k` with no faults and no allocation; the violation's message, if any.
 fn check(c: &mut Checker, k: u64, s: &StateSample, replies: &[Reply]) -> Result<(), String> {
-    c.cycle(k, s, replies, Work::default(), &[]).map_err(|v| {
-        assert_eq!(v.cycle, k);
-        assert!(!v.quiet_phase);
-        v.message
-    })
+    check_served(c, k, s, replies, &[])
+}
+
+/// [`check`] with the commands the cycle served, in order.
+fn check_served(
+    c: &mut Checker,
+    k: u64,
+    s: &StateSample,
+    replies: &[Reply],
+    served: &[CommandSample],
+) -> Result<(), String> {
+    c.cycle(k, s, replies, served, Work::default(), &[])
+        .map_err(|v| {
+            assert_eq!(v.cycle, k);
+            assert!(!v.quiet_phase);
+            v.message
+        })
 }
 
 fn broken(r: Result<(), String>, what: &str) {
@@ -71,12 +83,12 @@ fn a_cycle_over_its_cpu_budget_is_a_violation() {
         allocations: 0,
         cpu_ns: budget_ns,
     };
-    assert!(c.cycle(1, &s, &[], within, &[]).is_ok());
+    assert!(c.cycle(1, &s, &[], &[], within, &[]).is_ok());
     let over = Work {
         allocations: 0,
         cpu_ns: budget_ns + 1000,
     };
-    let e = c.cycle(2, &s, &[], over, &[]).unwrap_err();
+    let e = c.cycle(2, &s, &[], &[], over, &[]).unwrap_err();
     let words = format!("more than its budget of {} us", budget_ns / 1000);
     assert!(e.message.contains(&words), "{e}");
     assert_eq!(c.max_work_ns, budget_ns + 1000);
@@ -86,12 +98,12 @@ fn a_cycle_over_its_cpu_budget_is_a_violation() {
 fn an_allocation_in_the_cycle_is_a_violation() {
     let mut c = checker();
     let s = state(Mode::Hold);
-    assert!(c.cycle(1, &s, &[], Work::default(), &[]).is_ok());
+    assert!(c.cycle(1, &s, &[], &[], Work::default(), &[]).is_ok());
     let work = Work {
         allocations: 3,
         cpu_ns: 0,
     };
-    let e = c.cycle(2, &s, &[], work, &[]).unwrap_err();
+    let e = c.cycle(2, &s, &[], &[], work, &[]).unwrap_err();
     assert!(e.message.contains("allocated 3 times"), "{e}");
 }
 
@@ -189,7 +201,7 @@ fn a_software_limit_overrun_is_a_violation_while_the_controller_is_responsible()
     let mut s = state(Mode::Hold);
     check(&mut c, 1, &s, &[]).unwrap();
     over(&mut s, hi + 5.0);
-    c.cycle(2, &s, &[], Work::default(), &[Fault::Push])
+    c.cycle(2, &s, &[], &[], Work::default(), &[Fault::Push])
         .unwrap();
     check(&mut c, 3, &s, &[]).unwrap();
     over(&mut s, hi);
@@ -246,7 +258,7 @@ fn a_calibration_an_obstacle_or_a_push_acted_on_is_not_judged_until_calibrated_a
     c.asked(&cal, 0);
     let mut s = state(Mode::Calibration);
     s.axis_flags = [0; 6];
-    c.cycle(1, &s, &[], Work::default(), &[Fault::Obstacle])
+    c.cycle(1, &s, &[], &[], Work::default(), &[Fault::Obstacle])
         .unwrap();
     s.mode = Mode::Hold.to_wire();
     s.axis_flags = [CALIBRATED; 6];
@@ -289,7 +301,7 @@ fn a_failed_attempt_under_an_obstacle_does_not_excuse_the_calibration_it_gives_b
     c.asked(&sample(calibrate_all(), 2), 2);
     s.mode = Mode::Calibration.to_wire();
     s.axis_flags = [0; 6];
-    c.cycle(3, &s, &[], Work::default(), &[Fault::Obstacle])
+    c.cycle(3, &s, &[], &[], Work::default(), &[Fault::Obstacle])
         .unwrap();
     s.mode = Mode::Hold.to_wire();
     s.axis_flags = [CALIBRATED; 6];
@@ -466,6 +478,90 @@ fn an_ok_that_enters_a_mode_is_published_with_that_mode() {
 }
 
 #[test]
+fn a_refusal_says_what_was_so() {
+    let pvt = Request::Pvt(Pvt { dt_s: 0.01 });
+    let refused = |reason| answer(1, CommandKind::Pvt, Outcome::Refused(reason));
+    let run = |before: StateSample, after: StateSample, reason| {
+        let mut c = checker();
+        c.asked(&sample(pvt, 1), 0);
+        check(&mut c, 1, &state(Mode::Hold), &[])?;
+        check(&mut c, 2, &before, &[])?;
+        check(&mut c, 3, &after, &[refused(reason)])
+    };
+    let hold = state(Mode::Hold);
+    let wrong = |mode| Reason::WrongMode { mode };
+    run(
+        state(Mode::Release),
+        state(Mode::Release),
+        wrong(Mode::Release),
+    )
+    .unwrap();
+    broken(
+        run(hold, hold, wrong(Mode::Pvt)),
+        "pvt refused as not allowed in PVT, but the mode was HOLD before the cycle and HOLD after it",
+    );
+    let axis2 = Reason::NotCalibrated { axis: Axis::ALL[1] };
+    let mut uncalibrated = hold;
+    uncalibrated.axis_flags[1] = AXIS_ONLINE;
+    run(hold, uncalibrated, axis2).unwrap();
+    run(uncalibrated, hold, axis2).unwrap();
+    broken(
+        run(hold, hold, axis2),
+        "refused as axis 2 not calibrated, but it was flagged calibrated",
+    );
+    let mut pressed = hold;
+    pressed.flags = STATE_ESTOP;
+    run(hold, pressed, Reason::EmergencyStop).unwrap();
+    broken(
+        run(hold, hold, Reason::EmergencyStop),
+        "refused for the emergency stop, but it was not pressed",
+    );
+    // Refused, yet the mode it asks for entered.
+    broken(
+        run(hold, state(Mode::Pvt), Reason::Busy { remaining_s: 1.0 }),
+        "but the mode went from HOLD to PVT",
+    );
+}
+
+#[test]
+fn an_ok_to_hold_ends_a_calibration() {
+    let all = Request::Calibrate(Calibrate {
+        which: Which::All,
+        elbow_direction: Direction::Positive,
+        wrist_direction: Direction::Positive,
+        force_mechanical_stop: false,
+    });
+    let start = |c: &mut Checker| {
+        c.asked(&sample(all, 1), 0);
+        check(c, 1, &state(Mode::Hold), &[]).unwrap();
+        check(c, 2, &state(Mode::Calibration), &[]).unwrap();
+        c.asked(&sample(Request::Hold, 2), 2);
+    };
+    let mut c = checker();
+    start(&mut c);
+    let aborted = answer(1, CommandKind::Calibrate, Outcome::Failed(Reason::Aborted));
+    let replies = [aborted, ok(2, CommandKind::Hold)];
+    check(&mut c, 3, &state(Mode::Hold), &replies).unwrap();
+    let mut c = checker();
+    start(&mut c);
+    broken(
+        check(
+            &mut c,
+            3,
+            &state(Mode::Calibration),
+            &[ok(2, CommandKind::Hold)],
+        ),
+        "hold of client 100 request 2 answered OK (Ack) but the mode is CALIBRATION, not HOLD",
+    );
+    // A `calibrate` served after the `hold` in the same cycle starts a new calibration.
+    let mut c = checker();
+    start(&mut c);
+    c.asked(&sample(all, 3), 2);
+    let served = [sample(Request::Hold, 2), sample(all, 3)];
+    check_served(&mut c, 3, &state(Mode::Calibration), &replies, &served).unwrap();
+}
+
+#[test]
 fn an_ok_to_calibrate_needs_every_axis_it_covered_flagged_calibrated() {
     let wrist = Request::Calibrate(Calibrate {
         which: Which::Wrist,
@@ -569,7 +665,7 @@ fn calibrating_under_an_obstacle() -> (Checker, StateSample) {
     c.asked(&sample(calibrate_all(), 1), 0);
     let mut s = state(Mode::Calibration);
     s.axis_flags = [0; 6];
-    c.cycle(1, &s, &[], Work::default(), &[Fault::Obstacle])
+    c.cycle(1, &s, &[], &[], Work::default(), &[Fault::Obstacle])
         .unwrap();
     (c, s)
 }
@@ -608,6 +704,6 @@ fn a_lost_drive_s_standing_measurement_is_not_judged_and_delayed_frames_lag_long
     let mut s = moving;
     s.measured_position[0] = tol + 0.95 * late * 100.0 * c.period_s;
     let delayed = [Fault::BusDelay];
-    assert!(c.cycle(10, &s, &[], Work::default(), &delayed).is_ok());
+    assert!(c.cycle(10, &s, &[], &[], Work::default(), &delayed).is_ok());
     broken(check(&mut c, 11, &s, &[]), "axis 1: flagged calibrated");
 }
