@@ -65,11 +65,12 @@ const RELAX_BAND_RAD: f64 = 0.5 * core::f64::consts::PI / 180.0;
 /// [`RELAX_BAND_RAD`] from where the relax began (an axis its weight pulls elsewhere stays
 /// held there); then it holds where it came to rest. The drive's loop of an axis the search
 /// drove towards its stop (moving, backing off, or ended there) restarts at the start and at
-/// the end of its relax, so that a loop wound up against the stop stops pressing. An axis still settling
-/// before its approach keeps its loop: its integral carries the axis's weight (an uncalibrated
-/// axis gets no gravity feed-forward), and clearing it let a stretched shoulder sag (seeds 808
-/// and 961 of the simulation tester). The relax waits for any stop under way, goes on through ERROR, an enabling
-/// and HOLD, and ends in any other mode (`motion.rs`).
+/// the end of its relax, so that a loop wound up against the stop stops pressing. An axis
+/// still settling before its approach keeps its loop: its integral carries the axis's weight
+/// (an uncalibrated axis gets no gravity feed-forward), and clearing it let a stretched
+/// shoulder sag (seeds 808 and 961 of the simulation tester). The relax waits for any stop
+/// under way, goes on through ERROR, an enabling and HOLD, and ends in any other mode
+/// (`motion.rs`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct SearchRelax {
     /// Cycles left per axis (0: not relaxing).
