@@ -320,8 +320,8 @@ pub extern "C" fn mcm_last_error() -> *const c_char {
         .unwrap_or(c"".as_ptr())
 }
 
-/// The MCM's reject code of the last failed call on the calling thread (0: none, else a
-/// `mcm_reject_t` value, e.g. 16 busy). Real-time safe.
+/// The MCM's reject code of the last failed call on the calling thread (0: none, else a code
+/// `mcm_reject_name` names, e.g. 16 busy). Real-time safe.
 #[unsafe(no_mangle)]
 pub extern "C" fn mcm_last_reject() -> u32 {
     THREAD_ERROR.try_with(|e| e.borrow().1).unwrap_or(0)

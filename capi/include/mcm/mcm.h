@@ -451,8 +451,8 @@ extern "C" {
 // on this thread. Real-time safe.
 const char *mcm_last_error(void);
 
-// The MCM's reject code of the last failed call on the calling thread (0: none, else a
-// `mcm_reject_t` value, e.g. 16 busy). Real-time safe.
+// The MCM's reject code of the last failed call on the calling thread (0: none, else a code
+// `mcm_reject_name` names, e.g. 16 busy). Real-time safe.
 uint32_t mcm_last_reject(void);
 
 // Open the services of the MCM instance `instance` ("default" unless the MCM was started with
