@@ -133,7 +133,7 @@ fn mcm_gateway_main(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         .enable_all()
         .build()?;
     // systemd's notifications (`Type=notify`, deploy/systemd/mcm-gateway.service): READY=1 once
-    // it listens, STOPPING=1 at a stop signal, the watchdog from a task of the runtime (a
+    // it listens and has the core's first state (or `READY_STATE_WAIT` passed), STOPPING=1 at a stop signal, the watchdog from a task of the runtime (a
     // runtime that no longer runs its tasks stops the pings). Nothing without NOTIFY_SOCKET.
     let notifier = std::sync::Arc::new(mcm_shared::notify::Notifier::from_env("mcm-gateway"));
     rt.block_on(async move {

@@ -93,6 +93,9 @@ async fn bind(addr: SocketAddr) -> Result<(tokio::net::TcpListener, SocketAddr),
     Ok((listener, local))
 }
 
+/// How long the gateway waits for the core's first state before it says it is ready anyway.
+pub const READY_STATE_WAIT: std::time::Duration = std::time::Duration::from_secs(2);
+
 /// Run the gateway until `shutdown` resolves. `ready` is called once with the bound addresses
 /// of the JSON and the HMI listeners and the ZeroMQ endpoints.
 pub(crate) async fn run(
@@ -156,6 +159,12 @@ pub(crate) async fn run(
     let bridge = ctx.bridge.clone();
     let reaper = tokio::spawn(command::access::reaper::run(bridge.clone()));
     let hmi_task = tokio::spawn(transport::hmi::run(hmi, ctx, stopped(&stop_tx)));
+    // Ready once the bridge holds the core's first state, so that a client's first `status`
+    // right after the ready line finds it: on a slow machine opening the core's services took
+    // longer than the `status` grace (`command::STATE_GRACE`), and a test's first `status`
+    // was told the core was not running. Without a core (the gateway started alone), ready
+    // after `READY_STATE_WAIT`; the listeners already serve meanwhile.
+    let _ = bridge.state_within(READY_STATE_WAIT).await;
     ready(Ready {
         json: json_addr,
         hmi: hmi_addr,
