@@ -21,15 +21,22 @@ fn run(o: &RunOptions) -> RunReport {
     run_judged(o).0
 }
 
+/// The seed's run (as [`run`] judges it) breaks no invariant and its quiet phase brings the
+/// arm back to a usable calibrated HOLD; its report, for further checks.
+fn assert_recovers(o: RunOptions) -> RunReport {
+    let r = run(&o);
+    assert_eq!(r.violation, None, "seed {}", o.seed);
+    assert!(r.recovery_cycles.is_some(), "seed {} recovered", o.seed);
+    r
+}
+
 /// Seed 6: drive 5's cable was out while the master configured it at start-up; its
 /// configuration failed (SDO timeouts) and the master left it down for good, so the quiet
 /// phase's `hold` was refused (`drive_disconnected`) for 300 s. Fixed in the master: a failed
 /// configuration is retried a boot timeout later (`CONFIG_RETRIES`).
 #[test]
 fn seed_6_a_drive_whose_configuration_failed_is_configured_again() {
-    let r = run(&RunOptions::new(6, 20.0).with_fault_kinds(FOUND_WITH));
-    assert_eq!(r.violation, None, "seed 6");
-    assert!(r.recovery_cycles.is_some(), "seed 6 recovered");
+    assert_recovers(RunOptions::new(6, 20.0).with_fault_kinds(FOUND_WITH));
 }
 
 /// Seed 1003 (and 1010): drive 1 was lost (its cable out) while the drives were power cycled;
@@ -40,9 +47,7 @@ fn seed_6_a_drive_whose_configuration_failed_is_configured_again() {
 #[test]
 fn seed_1003_a_drive_lost_through_a_power_cycle_is_reset() {
     for seed in [1003, 1010] {
-        let r = run(&RunOptions::new(seed, 20.0).with_fault_kinds(FOUND_WITH));
-        assert_eq!(r.violation, None, "seed {seed}");
-        assert!(r.recovery_cycles.is_some(), "seed {seed} recovered");
+        assert_recovers(RunOptions::new(seed, 20.0).with_fault_kinds(FOUND_WITH));
     }
 }
 
@@ -55,9 +60,7 @@ fn seed_1003_a_drive_lost_through_a_power_cycle_is_reset() {
 /// slow approach too).
 #[test]
 fn seed_11_another_axis_s_impact_is_not_taken_for_a_stop() {
-    let r = run(&RunOptions::new(11, 60.0).with_fault_kinds(FOUND_WITH));
-    assert_eq!(r.violation, None, "seed 11");
-    assert!(r.recovery_cycles.is_some(), "seed 11 recovered");
+    assert_recovers(RunOptions::new(11, 60.0).with_fault_kinds(FOUND_WITH));
 }
 
 /// Seed 3: a trip switched the drives back to CSP while 10 % of the frames were lost; drive
@@ -76,9 +79,7 @@ fn seed_11_another_axis_s_impact_is_not_taken_for_a_stop() {
 /// (`safety::check_braking_accelerating`); fails without it.
 #[test]
 fn seed_3_a_lost_mode_display_is_repeated() {
-    let r = run(&RunOptions::new(3, 60.0).with_fault_kinds(FOUND_WITH));
-    assert_eq!(r.violation, None, "seed 3");
-    assert!(r.recovery_cycles.is_some(), "seed 3 recovered");
+    assert_recovers(RunOptions::new(3, 60.0).with_fault_kinds(FOUND_WITH));
 }
 
 /// Seed 28, shrunk to its 19 inputs: axis 1, held by an obstacle and derated by i2t, was
@@ -137,9 +138,7 @@ const TWELVE_KINDS: usize = 12;
 /// enabling and HOLD, and holds where it comes to rest.
 #[test]
 fn seed_1_an_axis_whose_search_ended_in_its_stop_stops_pressing() {
-    let r = run(&RunOptions::new(1, 60.0).with_fault_kinds(TWELVE_KINDS));
-    assert_eq!(r.violation, None, "seed 1");
-    assert!(r.recovery_cycles.is_some(), "seed 1 recovered");
+    assert_recovers(RunOptions::new(1, 60.0).with_fault_kinds(TWELVE_KINDS));
 }
 
 /// Found by the fuzz target (seed 0's robot, one step): a `calibrate` out of OFF, then its
@@ -190,9 +189,7 @@ fn fuzz_a_calibrate_whose_owner_went_while_enabling_is_not_answered_ok() {
 /// trips before they are sent. Fails without it.
 #[test]
 fn seed_168_a_torque_next_to_a_limit_is_judged_before_it_is_sent() {
-    let r = run(&RunOptions::new(168, 60.0));
-    assert_eq!(r.violation, None, "seed 168");
-    assert!(r.recovery_cycles.is_some(), "seed 168 recovered");
+    let r = assert_recovers(RunOptions::new(168, 60.0));
     assert!(r.max_overrun_deg < 0.5, "{} deg", r.max_overrun_deg);
 }
 
@@ -204,9 +201,7 @@ fn seed_168_a_torque_next_to_a_limit_is_judged_before_it_is_sent() {
 /// arm off onto its holding brakes. Fails without it.
 #[test]
 fn seed_112_a_derated_shoulder_that_cannot_hold_is_braked() {
-    let r = run(&RunOptions::new(112, 60.0));
-    assert_eq!(r.violation, None, "seed 112");
-    assert!(r.recovery_cycles.is_some(), "seed 112 recovered");
+    assert_recovers(RunOptions::new(112, 60.0));
 }
 
 /// Seed 242 (twelve fault kinds): axis 3 was calibrated with an obstacle in the way (0.73 deg
@@ -218,9 +213,7 @@ fn seed_112_a_derated_shoulder_that_cannot_hold_is_braked() {
 /// it right. Fails without it.
 #[test]
 fn seed_242_an_implausible_reference_drops_the_calibration_in_doubt() {
-    let r = run(&RunOptions::new(242, 60.0));
-    assert_eq!(r.violation, None, "seed 242");
-    assert!(r.recovery_cycles.is_some(), "seed 242 recovered");
+    assert_recovers(RunOptions::new(242, 60.0));
 }
 
 /// Seed 577 (twelve fault kinds): a trip switched the drives from CST back to CSP while frames
@@ -230,9 +223,7 @@ fn seed_242_an_implausible_reference_drops_the_calibration_in_doubt() {
 /// feed-forward. Fails without it.
 #[test]
 fn seed_577_a_drive_not_yet_back_in_csp_holds_against_gravity() {
-    let r = run(&RunOptions::new(577, 60.0));
-    assert_eq!(r.violation, None, "seed 577");
-    assert!(r.recovery_cycles.is_some(), "seed 577 recovered");
+    assert_recovers(RunOptions::new(577, 60.0));
 }
 
 /// Seeds 808, 961, 1413 and 1616 (twelve fault kinds): a calibration ended by a trip (a lost
@@ -245,9 +236,7 @@ fn seed_577_a_drive_not_yet_back_in_csp_holds_against_gravity() {
 #[test]
 fn seeds_808_961_1413_1616_a_settling_axis_keeps_its_loop_when_the_search_ends() {
     for seed in [808, 961, 1413, 1616] {
-        let r = run(&RunOptions::new(seed, 60.0));
-        assert_eq!(r.violation, None, "seed {seed}");
-        assert!(r.recovery_cycles.is_some(), "seed {seed} recovered");
+        assert_recovers(RunOptions::new(seed, 60.0));
     }
 }
 
@@ -258,9 +247,7 @@ fn seeds_808_961_1413_1616_a_settling_axis_keeps_its_loop_when_the_search_ends()
 /// gave up on resets that drive, so that the command repeated succeeds. Fails without it.
 #[test]
 fn seed_1583_a_hold_refused_for_a_drive_given_up_tries_it_again() {
-    let r = run(&RunOptions::new(1583, 60.0));
-    assert_eq!(r.violation, None, "seed 1583");
-    assert!(r.recovery_cycles.is_some(), "seed 1583 recovered");
+    assert_recovers(RunOptions::new(1583, 60.0));
 }
 
 /// Seed 38 (twelve fault kinds): with the SYNC stuck for seconds in ERROR, no drive applied a
@@ -271,9 +258,7 @@ fn seed_1583_a_hold_refused_for_a_drive_given_up_tries_it_again() {
 /// faults (EMCY 0x8250) and powers its motor off onto its brake. Fails without it.
 #[test]
 fn seed_38_an_enabled_drive_without_sync_faults_onto_its_brake() {
-    let r = run(&RunOptions::new(38, 60.0));
-    assert_eq!(r.violation, None, "seed 38");
-    assert!(r.recovery_cycles.is_some(), "seed 38 recovered");
+    assert_recovers(RunOptions::new(38, 60.0));
 }
 
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
