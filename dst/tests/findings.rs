@@ -261,6 +261,20 @@ fn seed_38_an_enabled_drive_without_sync_faults_onto_its_brake() {
     assert_recovers(RunOptions::new(38, 60.0));
 }
 
+/// Seeds 6960 and 33240 (the month's campaign): the drives were power cycled in the cycle a
+/// calibration stored its offsets; the second write (0x2100:2 = 1, valid) reached the drives
+/// after they rebooted, before the master heard their boot-ups, so they held "valid" beside
+/// the power-up default offset 0, and the master read that back: every axis flagged
+/// calibrated, axis 1 8.1 deg (16.2 deg) off. Fixed in the master (`canopen/master.rs`,
+/// `StoreTrust`): a drive that reboots before a TPDO confirmed the writes has its stored
+/// calibration cleared at its next boot, not read back. Fails without it.
+#[test]
+fn seeds_6960_33240_a_calibration_store_cut_by_a_power_cycle_is_not_read_back() {
+    for seed in [6960, 33240] {
+        assert_recovers(RunOptions::new(seed, 60.0));
+    }
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the

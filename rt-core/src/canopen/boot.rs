@@ -11,6 +11,10 @@
 //! object) counts as not calibrated; a timeout is retried and fails the boot like any step.
 //! The result is [`BootSequence::calibration`], valid once the sequence is done.
 //!
+//! Started with [`StoredCalibration::Clear`] (the master wrote 0x2100 shortly before the drive
+//! rebooted, so a write may have reached the drive after its reboot, against a new encoder
+//! reference), step 12 writes 0x2100:2 = 0 instead of reading: the drive is not calibrated.
+//!
 //! Runs inside the cycle (only while the node is not operational): the operation list is a
 //! fixed array built once from the configuration; `poll` allocates nothing.
 //!
@@ -50,7 +54,9 @@ pub const CALIBRATION_VALID_SUB: u8 = 2;
 
 /// Step 12, after the 41 operations of [`boot_ops`] and before the NMT start: read whether
 /// the drive holds a calibration, then (only if it does) the offset.
-pub const CALIBRATION_OPS: [BootOp; 2] = [
+/// With [`StoredCalibration::Clear`], step 12 is the third operation alone: mark the stored
+/// calibration invalid.
+pub const CALIBRATION_OPS: [BootOp; 3] = [
     BootOp {
         step: 12,
         addr: ObjectAddr::new(CALIBRATION, CALIBRATION_VALID_SUB),
@@ -63,7 +69,23 @@ pub const CALIBRATION_OPS: [BootOp; 2] = [
         action: BootAction::Upload,
         what: "stored calibration offset",
     },
+    BootOp {
+        step: 12,
+        addr: ObjectAddr::new(CALIBRATION, CALIBRATION_VALID_SUB),
+        action: BootAction::Write(SdoValue::U8(0)),
+        what: "stored calibration cleared (a store was cut short by the drive's reboot)",
+    },
 ];
+
+/// What step 12 does with the calibration the drive holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StoredCalibration {
+    /// Read it (0x2100:2, then 0x2100:1): the drive is calibrated if it holds one.
+    Read,
+    /// Mark it invalid (0x2100:2 = 0): the drive is not calibrated. For a drive that rebooted
+    /// while a write of 0x2100 was under way or not yet confirmed.
+    Clear,
+}
 
 /// One SDO operation of the sequence.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -384,6 +406,7 @@ pub struct BootSequence {
     next: usize,
     failures: u8,
     phase: Phase,
+    stored: StoredCalibration,
     calibration: Option<i32>,
 }
 
@@ -396,6 +419,7 @@ impl BootSequence {
             next: 0,
             failures: 0,
             phase: Phase::Idle,
+            stored: StoredCalibration::Read,
             calibration: None,
         }
     }
@@ -417,10 +441,11 @@ impl BootSequence {
         &self.ops
     }
 
-    /// (Re)start from step 1, e.g. after a boot-up.
-    pub fn start(&mut self) {
+    /// (Re)start from step 1, e.g. after a boot-up; `stored`: what step 12 does.
+    pub fn start(&mut self, stored: StoredCalibration) {
         self.next = 0;
         self.failures = 0;
+        self.stored = stored;
         self.calibration = None;
         self.phase = Phase::Running { waiting: false };
     }
@@ -434,8 +459,8 @@ impl BootSequence {
         matches!(self.phase, Phase::Running { .. })
     }
 
-    /// Index of the current operation (0..BOOT_OPS, then up to 2 more for the calibration
-    /// reads), for progress displays.
+    /// Index of the current operation (0..BOOT_OPS, then up to 3 more for the stored
+    /// calibration), for progress displays.
     pub fn progress(&self) -> usize {
         self.next
     }
@@ -481,7 +506,7 @@ impl BootSequence {
                 },
                 Ok(SdoDone::Written(_)) => None,
                 // A drive without the stored calibration object: not calibrated.
-                Err(SdoError::Aborted { .. }) if op.action == BootAction::Upload => None,
+                Err(SdoError::Aborted { .. }) if op.addr.index == CALIBRATION => None,
                 Err(SdoError::Timeout { timeout_ms, .. }) => {
                     Some(BootCause::Timeout { timeout_ms })
                 }
@@ -504,9 +529,12 @@ impl BootSequence {
                         self.calibration = value.map(|v| v as i32);
                         true
                     }
-                    _ => false,
+                    n => n == valid + 2,
                 };
                 self.next += 1;
+                if self.next == valid && self.stored == StoredCalibration::Clear {
+                    self.next = valid + 2;
+                }
                 if done {
                     self.next = 0;
                     self.phase = Phase::Idle;

@@ -28,7 +28,7 @@
 
 use super::boot::{
     BootOutput, BootParams, BootSequence, CALIBRATION, CALIBRATION_OFFSET_SUB,
-    CALIBRATION_VALID_SUB,
+    CALIBRATION_VALID_SUB, StoredCalibration,
 };
 use super::busload::{BusLoad, check_config};
 use super::cia402::{ControlWord, State, StatusWord, Target, next_controlword};
@@ -156,6 +156,26 @@ impl Default for Session {
     }
 }
 
+/// Whether the calibration the drive holds (0x2100) can be read back at its next boot, as far
+/// as the master's own writes of it go. Kept across [`AxisRt::forget`].
+///
+/// A write the master sent may reach the drive after a reboot it has not heard of yet (its
+/// boot-up is on its way, or lost): the drive then holds an offset, or a valid flag, taken
+/// against the encoder reference it had before, and would read back as calibrated, off by
+/// whatever the new reference differs. So a write counts as confirmed only once a TPDO comes
+/// after its answer: a drive that rebooted sends none before it is configured again.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum StoreTrust {
+    /// No write of 0x2100 unconfirmed.
+    Settled,
+    /// A write of 0x2100 is outstanding.
+    Writing,
+    /// The writes are answered (or failed); no TPDO since.
+    Written,
+    /// The drive's session ended while `Writing` or `Written`: its next boot clears 0x2100.
+    InDoubt,
+}
+
 /// Runtime state of one drive.
 #[derive(Debug, Clone)]
 struct AxisRt {
@@ -175,6 +195,7 @@ struct AxisRt {
     torque_offset_nm: f64,
     /// Configurations failed in a row (see [`CONFIG_RETRIES`]).
     config_failures: u8,
+    cal_trust: StoreTrust,
 }
 
 impl AxisRt {
@@ -259,17 +280,23 @@ impl AxisRt {
             last_target_counts: 0,
             torque_offset_nm: 0.0,
             config_failures: 0,
+            cal_trust: StoreTrust::Settled,
         })
     }
 
     /// Back to "just booted": configuration state and feedback forgotten.
     ///
-    /// Kept: `link` (every caller sets it next), `config_failures`, `started_ns` (read only while
+    /// A write of the stored calibration not yet confirmed puts it in doubt ([`StoreTrust`]).
+    ///
+    /// Kept: `link` (every caller sets it next), `config_failures`, `cal_trust`, `started_ns` (read only while
     /// operational, and set when the drive becomes so), `last_pos_counts` and `last_target_counts`
     /// (the setpoint holds the last known position until new feedback comes, so nothing jumps),
     /// `last_emcy_code` (a `Fault` event names the drive's last EMCY, whenever it came); in the
     /// feedback the position and the last EMCY.
     fn forget(&mut self, fb: &mut AxisFeedback) {
+        if matches!(self.cal_trust, StoreTrust::Writing | StoreTrust::Written) {
+            self.cal_trust = StoreTrust::InDoubt;
+        }
         self.sdo.cancel();
         self.boot.stop();
         self.hb.reset();
@@ -541,7 +568,10 @@ impl Master {
         self.events.push(MasterEvent::Booted { axis: i });
         ax.forget(fb);
         ax.link = Link::Configuring;
-        ax.boot.start();
+        ax.boot.start(match ax.cal_trust {
+            StoreTrust::InDoubt => StoredCalibration::Clear,
+            _ => StoredCalibration::Read,
+        });
     }
 
     fn on_heartbeat(&mut self, i: usize, now_ns: u64, state: NmtState) {
@@ -595,6 +625,9 @@ impl Master {
         ax.last_pos_counts = t.position;
         ax.session.tpdo_this_cycle = true;
         ax.session.tpdo_seen_since_start = true;
+        if ax.cal_trust == StoreTrust::Written && ax.session.cal_store.is_none() {
+            ax.cal_trust = StoreTrust::Settled;
+        }
         fb.state = state;
         fb.statusword = t.statusword;
         fb.estop = sw.emergency_stop();
@@ -688,6 +721,9 @@ impl Master {
                     BootOutput::Done(f) => {
                         ax.link = Link::Operational;
                         ax.config_failures = 0;
+                        if ax.cal_trust == StoreTrust::InDoubt {
+                            ax.cal_trust = StoreTrust::Settled;
+                        }
                         ax.started_ns = now_ns;
                         ax.hb.arm(now_ns);
                         ax.session.missed = 0;
@@ -753,6 +789,7 @@ impl Master {
                 },
             };
             st.waiting = false;
+            ax.cal_trust = StoreTrust::Written;
             match result {
                 Ok(_) if st.written == 1 || st.offset.is_none() => {
                     ax.session.cal_store = None;
@@ -778,6 +815,7 @@ impl Master {
             .write(now_ns, ObjectAddr::new(CALIBRATION, sub), value)
         {
             st.waiting = true;
+            self.axes[i].cal_trust = StoreTrust::Writing;
             push_counted(out, f, &mut self.frames_dropped);
         }
         self.axes[i].session.cal_store = Some(st);

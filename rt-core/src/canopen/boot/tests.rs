@@ -23,7 +23,7 @@ fn params() -> BootParams {
 fn run(drive: &mut FakeDrive, cycles: usize) -> (Vec<Frame>, BootOutput) {
     let mut seq = BootSequence::new(&params());
     let mut sdo = SdoClient::new(3, 50 * MS);
-    seq.start();
+    seq.start(StoredCalibration::Read);
     let mut sent = Vec::new();
     let mut inbox: Vec<Frame> = Vec::new();
     for k in 0..cycles {
@@ -148,7 +148,7 @@ fn stored_calibration_is_read_before_the_nmt_start() {
     drive.set_object(0x2100, 2, 1);
     let mut seq = BootSequence::new(&params());
     let mut sdo = SdoClient::new(3, 50 * MS);
-    seq.start();
+    seq.start(StoredCalibration::Read);
     let mut sent = Vec::new();
     let mut inbox: Vec<Frame> = Vec::new();
     for k in 0..200 {

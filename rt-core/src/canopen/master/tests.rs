@@ -1063,3 +1063,62 @@ fn a_forgotten_calibration_is_marked_invalid_and_not_reported_after_a_restart() 
         "the forgotten calibration is not reported"
     );
 }
+
+/// A drive that rebooted while its calibration was being stored: the second write (0x2100:2 =
+/// 1) reached the new boot, whose 0x2100:1 is the power-up default, before the master heard the
+/// boot-up. Read back, that would be a calibration against an encoder reference that is gone
+/// (the simulation tester's seeds 6960 and 33240); the master clears it instead.
+#[test]
+fn a_calibration_store_cut_by_a_reboot_is_cleared_not_read_back() {
+    let mut w = World::booted();
+    w.take_events();
+    w.master.store_calibration(1, 4321);
+    w.step([DriveRequest::Disable; 6]); // 0x2100:1 = 4321 to the drive that is up
+    // Its power fails once it answered: a new drive is booting, its boot-up not yet sent.
+    w.drives[1] = FakeDrive::new(2);
+    w.step([DriveRequest::Disable; 6]); // the answer; 0x2100:2 = 1 to the new drive
+    assert_eq!(
+        w.drives[1].object(0x2100, 2),
+        Some(1),
+        "the write reached it"
+    );
+    // Its boot-up came before its answer to that write.
+    w.inbox.insert(0, w.drives[1].boot_up());
+    let before = w.cyclic_allocations;
+    let cycles = w.run(60, [DriveRequest::Disable; 6]);
+    assert_eq!(w.cyclic_allocations, before, "clearing allocates nothing");
+    let events = w.take_events();
+    assert!(
+        events.contains(&MasterEvent::Calibration {
+            axis: 1,
+            offset_counts: None
+        }),
+        "{events:?}"
+    );
+    assert_eq!(
+        w.drives[1].object(0x2100, 2),
+        Some(0),
+        "cleared in the drive"
+    );
+    let reads_of_the_stored_calibration = cycles
+        .iter()
+        .flatten()
+        .filter(|f| f.id == 0x602 && f.data[0] == 0x40 && f.data[1..3] == [0x00, 0x21])
+        .count();
+    assert_eq!(reads_of_the_stored_calibration, 0, "nothing read back");
+
+    // Once cleared, the next boot (an NMT reset: the drive keeps 0x2100) reads it again.
+    w.master.store_calibration(1, -77);
+    w.run(4, [DriveRequest::Disable; 6]);
+    let replies = w.drives[1].receive(&Frame::new(0x000, &[0x81, 2]).unwrap());
+    w.inbox.extend(replies);
+    w.run(60, [DriveRequest::Disable; 6]);
+    let events = w.take_events();
+    assert!(
+        events.contains(&MasterEvent::Calibration {
+            axis: 1,
+            offset_counts: Some(-77)
+        }),
+        "a store confirmed by a TPDO is read back after a reset: {events:?}"
+    );
+}
