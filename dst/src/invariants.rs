@@ -29,7 +29,8 @@
 //!   refused did not enter its mode (not judged where another command of the cycle changed
 //!   the mode);
 //! - only legal mode transitions: the motion modes entered from HOLD only, CALIBRATION from
-//!   OFF or HOLD only, OFF never entered again once left;
+//!   OFF or HOLD only, OFF never entered again once left; two in one cycle through HOLD (a
+//!   `hold` answered OK, then the command entering the mode served after it) are legal;
 //! - after a trip (the mode ERROR entered), every axis that was moving at standstill within its
 //!   braking distance as the braking check computes it (`docs/safety.md`, "Braking distance":
 //!   the speed times the reaction latency, plus `v^2 / (2 braking_efficiency a_max)`), from the
@@ -333,7 +334,7 @@ impl Checker {
             return fail(format!("unknown mode {}", s.mode));
         };
         self.modes_reached[mode as usize] += 1;
-        self.transition(mode).or_else(&fail)?;
+        self.transition(mode, replies, served).or_else(&fail)?;
         self.positions(s, mode, faults).or_else(&fail)?;
         self.standstill(k, s, mode, faults).or_else(&fail)?;
         self.replies(s, mode, replies, served).or_else(&fail)?;
@@ -388,7 +389,15 @@ impl Checker {
         })
     }
 
-    fn transition(&mut self, mode: Mode) -> Result<(), String> {
+    /// The mode published after the cycle against the one before: a legal transition, or two
+    /// through HOLD, a `hold` answered OK in the cycle and the command entering `mode` served
+    /// after it (the mode in between is never published).
+    fn transition(
+        &mut self,
+        mode: Mode,
+        replies: &[Reply],
+        served: &[CommandSample],
+    ) -> Result<(), String> {
         let from = self.prev_mode;
         if mode == from {
             return Ok(());
@@ -400,7 +409,7 @@ impl Checker {
             Mode::Release | Mode::TorqueControl | Mode::Pvt | Mode::VelocityControl => {
                 from == Mode::Hold
             }
-        };
+        } || entered_through_hold(mode, replies, served);
         if from == Mode::Off {
             self.left_off = true;
         }
@@ -776,6 +785,24 @@ fn calibrate_served_after(served: &[CommandSample], client_id: u64, request_id: 
         .skip_while(|c| (c.client_id, c.request_id) != (client_id, request_id))
         .skip(1)
         .any(|c| c.kind == CommandKind::Calibrate.to_wire())
+}
+
+/// Whether a `hold` answered OK in this cycle was served before a command entering `mode`.
+fn entered_through_hold(mode: Mode, replies: &[Reply], served: &[CommandSample]) -> bool {
+    replies
+        .iter()
+        .filter(|r| r.status == 0 && r.kind == CommandKind::Hold.to_wire())
+        .any(|hold| {
+            served
+                .iter()
+                .skip_while(|c| (c.client_id, c.request_id) != (hold.client_id, hold.request_id))
+                .skip(1)
+                .filter_map(|c| CommandKind::try_from(c.kind).ok())
+                .any(|k| {
+                    mode_entered_by(k) == Some(mode)
+                        || k == CommandKind::Calibrate && mode == Mode::Calibration
+                })
+        })
 }
 
 /// The mode a motion command enters when answered OK.

@@ -167,6 +167,29 @@ fn illegal_mode_transitions_are_violations_and_legal_ones_are_not() {
     }
 }
 
+/// Seed 4848: a `hold` and a `pvt` served in the same cycle take RELEASE through HOLD to PVT,
+/// and only RELEASE and PVT are published.
+#[test]
+fn two_transitions_through_hold_in_one_cycle_are_legal_in_that_order_only() {
+    let pvt = Request::Pvt(Pvt { dt_s: 0.01 });
+    let replies = [ok(1, CommandKind::Hold), ok(2, CommandKind::Pvt)];
+    let run = |served: &[CommandSample], replies: &[Reply]| {
+        let mut c = checker();
+        c.asked(&sample(Request::Hold, 1), 1);
+        c.asked(&sample(pvt, 2), 1);
+        check(&mut c, 1, &state(Mode::Hold), &[]).unwrap();
+        check(&mut c, 2, &state(Mode::Release), &[]).unwrap();
+        check_served(&mut c, 3, &state(Mode::Pvt), replies, served)
+    };
+    let (hold, pvt) = (sample(Request::Hold, 1), sample(pvt, 2));
+    run(&[hold, pvt], &replies).unwrap();
+    let illegal = "illegal mode transition RELEASE -> PVT";
+    broken(run(&[pvt, hold], &[replies[1], replies[0]]), illegal);
+    broken(run(&[pvt], &replies[1..]), illegal);
+    let refused = answer(1, CommandKind::Hold, Outcome::Refused(Reason::ShuttingDown));
+    broken(run(&[hold, pvt], &[refused, replies[1]]), illegal);
+}
+
 #[test]
 fn a_true_angle_beyond_the_mechanical_stop_is_a_violation() {
     let cfg = RobotConfig::prob2_default();
