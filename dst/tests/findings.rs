@@ -275,6 +275,17 @@ fn seeds_6960_33240_a_calibration_store_cut_by_a_power_cycle_is_not_read_back() 
     }
 }
 
+/// Seed 11677 (the month's campaign): an obstacle held axis 2 through its calibration search,
+/// which took it for the stop, 46 deg off; once it was gone, the move back to zero ran
+/// unwatched, the axis's gravity feed-forward computed for the wrong angle: it ran ahead of
+/// the move, 115 deg at 458 deg/s, into its mechanical stop (127 deg). Fixed in the controller
+/// (`safety::ActiveChecks::for_calibration_return`): the following error is checked during
+/// that move, and trips at 57 deg/s. Fails without it.
+#[test]
+fn seed_11677_the_move_back_to_zero_trips_its_following_error() {
+    assert_recovers(RunOptions::new(11677, 60.0));
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the

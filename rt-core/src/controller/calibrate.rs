@@ -159,7 +159,12 @@ impl Controller {
                     .round()
                     .clamp(f64::from(i32::MIN), f64::from(i32::MAX));
                 self.master.store_calibration(i, counts as i32);
+                // The commanded positions (this cycle's and the two the following error is
+                // judged against) move into the joint frame with the offset.
                 self.cmd.position[i] -= offset;
+                for h in &mut self.cmd_hist {
+                    h[i] -= offset;
+                }
             }
         }
         let start = self.cmd.position;

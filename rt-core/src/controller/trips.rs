@@ -6,7 +6,7 @@
 
 use super::Controller;
 use super::exits::Exit;
-use super::state::State;
+use super::state::{CalPhase, State};
 use crate::canopen::MasterEvent;
 use crate::safety::{self, ActiveChecks};
 use mcm_shared::NUM_AXES;
@@ -104,19 +104,31 @@ impl Controller {
         }
         self.estop_seen = estop;
         let mode = self.mode();
-        if matches!(self.state, State::Enabling { .. })
-            || !matches!(
-                mode,
-                Mode::Hold
-                    | Mode::Pvt
-                    | Mode::Release
-                    | Mode::TorqueControl
-                    | Mode::VelocityControl
-            )
+        let returning = matches!(
+            self.state,
+            State::Calibration {
+                phase: CalPhase::Return(_),
+                ..
+            }
+        );
+        if !returning
+            && (matches!(self.state, State::Enabling { .. })
+                || !matches!(
+                    mode,
+                    Mode::Hold
+                        | Mode::Pvt
+                        | Mode::Release
+                        | Mode::TorqueControl
+                        | Mode::VelocityControl
+                ))
         {
             return;
         }
-        let active = ActiveChecks::for_mode(mode);
+        let active = if returning {
+            ActiveChecks::for_calibration_return()
+        } else {
+            ActiveChecks::for_mode(mode)
+        };
         let q = self.measured();
         let qd = self.measured_velocity();
         let mut result = Ok(());

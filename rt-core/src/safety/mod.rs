@@ -186,7 +186,8 @@ pub struct ActiveChecks {
 
 impl ActiveChecks {
     /// The checks the manual prescribes for `mode`. OFF, ERROR and CALIBRATION monitor the
-    /// drives only (positions are raw encoder values during calibration).
+    /// drives only (positions are raw encoder values during a calibration's searches; its move
+    /// back: [`ActiveChecks::for_calibration_return`]).
     pub fn for_mode(mode: Mode) -> ActiveChecks {
         let motion = matches!(
             mode,
@@ -197,6 +198,22 @@ impl ActiveChecks {
             limits: motion,
             braking: motion,
             following: matches!(mode, Mode::Hold | Mode::Pvt | Mode::VelocityControl),
+        }
+    }
+
+    /// The checks of a calibration's move back to zero, a planned move whose axes are all
+    /// calibrated by then (the offsets the searches found are in force): the following error.
+    /// Without it an axis whose calibration an obstacle fooled, its gravity feed-forward
+    /// computed for the wrong angle, ran away from that move unwatched. Not the position
+    /// limits: an axis calibrated against its stop starts the move beyond its software limit,
+    /// and the move was planned to end inside them; nor the velocity limit or the braking
+    /// distance, which an axis that follows its plan cannot break.
+    pub fn for_calibration_return() -> ActiveChecks {
+        ActiveChecks {
+            drives: true,
+            limits: false,
+            braking: false,
+            following: true,
         }
     }
 }

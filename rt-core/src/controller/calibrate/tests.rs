@@ -387,3 +387,49 @@ fn a_search_aborted_before_its_approach_keeps_a_stretched_shoulder_up() {
     let sag = r.largest_drift(before, 400);
     assert!(sag < 0.05, "the shoulder sagged {sag} deg after the abort");
 }
+
+/// The move back to zero at the end of a calibration is watched like any planned move: an
+/// axis held off it trips its following error, and the calibration fails with it. (Before, no
+/// check watched the move: the simulation tester's seed 11677, an axis whose calibration an
+/// obstacle fooled 46 deg off, ran away from the move, its gravity feed-forward computed for
+/// the wrong angle, 115 deg ahead of it at 458 deg/s into its mechanical stop.)
+#[test]
+fn an_axis_held_off_the_move_back_to_zero_trips_its_following_error() {
+    use crate::controller::state::{CalPhase, State};
+    use mcm_shared::command::SimCommand;
+    let mut r = Robot::calibrated();
+    let axis_2 = Axis::new(2).unwrap();
+    send(
+        &mut r,
+        calibrate(
+            Which::Axis(axis_2),
+            Direction::Positive,
+            Direction::Positive,
+        ),
+        7001,
+    );
+    r.run_until("the move back to zero", 20_000, |r| {
+        matches!(
+            r.cycle.controller().state,
+            State::Calibration {
+                phase: CalPhase::Return(_),
+                ..
+            }
+        )
+    });
+    r.run(40);
+    let block = Request::Sim(SimCommand {
+        block_axis: Some(axis_2),
+        ..SimCommand::default()
+    });
+    assert!(matches!(r.command(block, 10).outcome, Outcome::Done(_)));
+    r.run_until("the calibration answered", 100, |r| {
+        reply_to(r, 7001).is_some()
+    });
+    let answer = reply_to(&r, 7001).unwrap();
+    let Outcome::Failed(Reason::FollowingError { axis, .. }) = answer.outcome else {
+        panic!("{answer:?}")
+    };
+    assert_eq!(axis, axis_2);
+    assert_eq!(r.mode(), Mode::Error);
+}
