@@ -286,6 +286,19 @@ fn seed_11677_the_move_back_to_zero_trips_its_following_error() {
     assert_recovers(RunOptions::new(11677, 60.0));
 }
 
+/// Seeds 20562 and 16017 (the month's campaign): a shoulder whose motor i2t had derated could
+/// not hold the arm near its limit; the overload powered the arm off onto its brakes, and a
+/// client's `hold` enabled it again 7 cycles later, still derated: it sagged from its brake
+/// until a check tripped, a little further each time, 1 deg past its limit. Fixed in the
+/// controller (`controller/overload.rs`, `overload_blocker`): while the arm is powered off and
+/// a braked axis's motor is derated, `hold` is refused with `overload`. Fail without it.
+#[test]
+fn seeds_20562_16017_a_derated_arm_on_its_brakes_is_not_enabled_again() {
+    for seed in [20562, 16017] {
+        assert_recovers(RunOptions::new(seed, 60.0));
+    }
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the

@@ -291,12 +291,16 @@ impl Controller {
         self.reply(to, Outcome::Failed(reason));
     }
 
-    /// A reason the drives cannot be enabled now: emergency stop, or a drive the master gave
-    /// up on (a drive still booting is waited for).
+    /// A reason the drives cannot be enabled now: emergency stop, a drive the master gave
+    /// up on (a drive still booting is waited for), or an arm powered off onto its brakes whose
+    /// motor is still derated (`overload.rs`).
     fn enable_blocker(&self) -> Option<Reason> {
         let fb = self.master.feedback();
         if fb.iter().any(|f| f.estop) {
             return Some(Reason::EmergencyStop);
+        }
+        if let Some(hot) = self.overload_blocker() {
+            return Some(hot);
         }
         self.lost
             .iter()

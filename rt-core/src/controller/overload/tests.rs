@@ -87,6 +87,17 @@ fn a_derated_axis_that_cannot_hold_trips_overload_and_the_brakes_hold_the_arm() 
     // Every braked drive is powered off within a few cycles; the brakes hold the arm.
     r.run_until("the drives are powered off", 20, powered_off);
     assert!(powered_off(&r), "every drive powered off");
+    // While the motor is derated, `hold` is refused with the overload: enabled again, the
+    // shoulder could hold no more than before, and would sag from its brake again.
+    assert!(derated(&r));
+    let Reason::Overload { axis, limit_a, .. } = r.refused(Request::Hold, 10) else {
+        panic!("hold not refused with an overload")
+    };
+    assert_eq!((axis, limit_a), (Axis::ALL[SHOULDER], derated_a));
+    assert!(
+        powered_off(&r),
+        "the refused hold left the arm on its brakes"
+    );
     let at_trip = r.truth();
     let drift = r.largest_drift(at_trip, 10 * 200);
     assert!(drift < 0.2, "the arm moved {drift:.3} deg on the brakes");
