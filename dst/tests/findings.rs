@@ -299,6 +299,16 @@ fn seeds_20562_16017_a_derated_arm_on_its_brakes_is_not_enabled_again() {
     }
 }
 
+/// Seed 3951 (the month's campaign): a trip ended a calibration while the stretched shoulder,
+/// holding its weight in its loop's integral, was 0.01 deg into its fast search; the relax
+/// restarted its loop, and it sagged 0.81 deg against 0.80 allowed. Fixed in the calibration
+/// (`AxisCalibration::may_press_its_stop`): an axis in its fast search presses its stop only
+/// once its current pushes beyond its baseline. Fails without it.
+#[test]
+fn seed_3951_a_search_in_free_air_keeps_its_loop_when_it_ends() {
+    assert_recovers(RunOptions::new(3951, 60.0));
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the
