@@ -35,10 +35,12 @@
 //!   braking distance as the braking check computes it (`docs/safety.md`, "Braking distance":
 //!   the speed times the reaction latency, plus `v^2 / (2 braking_efficiency a_max)`), from the
 //!   fastest true speed of the cycles the measurement lags, plus the lag's own travel and
-//!   [`STANDSTILL_SLACK_DEG`]; and within the time that takes plus [`STANDSTILL_SLACK_S`]
+//!   [`STANDSTILL_SLACK_DEG`] (plus [`SEARCH_RELAX_DEG`] for an axis springing back out of
+//!   the mechanical stop a search pressed it into); and within the time that takes plus [`STANDSTILL_SLACK_S`]
 //!   ([`Stopping`]); judged while the mode stays ERROR (a client's `hold` commands the arm
 //!   again) and not while a push, an obstacle, a power cycle, an emergency stop, a silent
-//!   drive or a drive rebooting acts (the arm is not the controller's to stop then), nor while
+//!   drive or a drive rebooting acts (the arm is not the controller's to stop then; while the
+//!   SYNC is stuck, its drive's SYNC watchdog's time is added at the speed of the moment), nor while
 //!   an axis whose calibration an obstacle or a push fooled is measured off the truth (the
 //!   controller's picture of the arm, its gravity compensation included, is wrong: seed 1171);
 //! - no axis flagged calibrated whose measured angle is further from the true angle than its
@@ -65,6 +67,7 @@ use mcm_shared::sample::{
     AXIS_CALIBRATED, AXIS_ONLINE, CommandSample, Reply, STATE_ESTOP, StateSample,
 };
 use mcm_sim::SimBus;
+use mcm_sim::drive::SYNC_LOSS_PERIODS;
 use std::collections::{HashMap, VecDeque};
 
 /// How far the stops' spring may give [deg]. Not derived at run time; the P-Rob2's figures
@@ -78,6 +81,10 @@ use std::collections::{HashMap, VecDeque};
 pub const STOP_PENETRATION_DEG: f64 = 2.0;
 /// How far past a software limit the controller may let an axis go [deg].
 pub const LIMIT_OVERRUN_DEG: f64 = 1.0;
+/// How far an axis whose calibration search pressed it into its mechanical stop may spring
+/// back out of it after a trip, beyond its braking distance [deg]: the band of the controller's
+/// relax (`controller/calibrate_relax.rs`, `RELAX_BAND_RAD`).
+pub const SEARCH_RELAX_DEG: f64 = 0.5;
 /// Travel allowed after a trip beyond the braking distance [deg]: the drive's position loop
 /// lags the stop's reference by up to the following error of the moment.
 pub const STANDSTILL_SLACK_DEG: f64 = 0.5;
@@ -105,6 +112,8 @@ struct Stopping {
     travelled_deg: f64,
     /// The last cycle by which the axis must be at standstill.
     due: u64,
+    /// The allowance has been extended for a stuck SYNC.
+    sync_waited: bool,
 }
 
 /// Cycles a command may wait for its turn in the intake. A run has fewer senders (at most 4
@@ -487,7 +496,11 @@ impl Checker {
             // The controller takes over an axis once it is inside and at rest: one that comes
             // in from a motion the controller was not responsible for (a calibration search
             // cut short at 30 deg/s next to a limit: seeds 108, 519) is owed its stop first.
-            let at_rest = s.sim_true_velocity[i].abs() < STANDSTILL_DEG_S;
+            // At rest over the cycles the measurement lags, not in one sample: the stop's first
+            // set-point (the measured position, behind the true one) can halt an axis for an
+            // instant before the stop's ramp takes it on (seed 25469: 0.00 deg/s for one cycle
+            // between -30 and -27 deg/s).
+            let at_rest = self.fastest(i, self.lag_cycles) < STANDSTILL_DEG_S;
             if inside && responsible && trusted && at_rest {
                 self.excused[i] = false;
             }
@@ -547,14 +560,25 @@ impl Checker {
                 let lag_s = self.lag_cycles as f64 * self.period_s;
                 let latency_s = self.braking_latency_s[i] + lag_s;
                 let a = self.brake_decel_deg[i];
+                let direction = if v < 0.0 { -1.0 } else { 1.0 };
+                // An axis a calibration search pressed into its mechanical stop springs back out
+                // of it as its search ends: the controller's relax lets it, by up to its band
+                // (seed 3718: axis 3 0.3 deg deep in its stop, out at up to 18 deg/s, 0.57 deg
+                // travelled).
+                let q = s.sim_true_position[i];
+                let (lo, hi) = self.stops_deg[i];
+                let springing_out = (q < lo && direction > 0.0) || (q > hi && direction < 0.0);
+                let relax_deg = if springing_out { SEARCH_RELAX_DEG } else { 0.0 };
                 self.stopping[i] = Some(Stopping {
                     cycle: k,
-                    from_deg: s.sim_true_position[i],
-                    direction: if v < 0.0 { -1.0 } else { 1.0 },
+                    from_deg: q,
+                    direction,
                     speed,
                     allowed_deg: speed * latency_s
                         + speed * speed / (2.0 * a)
-                        + STANDSTILL_SLACK_DEG,
+                        + STANDSTILL_SLACK_DEG
+                        + relax_deg,
+                    sync_waited: false,
                     travelled_deg: 0.0,
                     due: k
                         + ((latency_s + speed / a + STANDSTILL_SLACK_S) / self.period_s).ceil()
@@ -562,10 +586,20 @@ impl Checker {
                 });
             }
         }
+        let sync_stuck = faults.contains(&Fault::SyncStuck);
         for i in 0..NUM_AXES {
             let Some(st) = self.stopping[i].as_mut() else {
                 continue;
             };
+            // Without SYNC no drive applies a set-point, the controller's stop and power off
+            // included: the drive's own SYNC watchdog stops the axis (seed 1413: a derated
+            // shoulder the overload powered off, still falling until its drive faulted).
+            if sync_stuck && !st.sync_waited {
+                st.sync_waited = true;
+                let watchdog_s = f64::from(SYNC_LOSS_PERIODS) * self.period_s;
+                st.allowed_deg += s.sim_true_velocity[i].abs().max(st.speed) * watchdog_s;
+                st.due += SYNC_LOSS_PERIODS as u64;
+            }
             let travel = (s.sim_true_position[i] - st.from_deg) * st.direction;
             st.travelled_deg = st.travelled_deg.max(travel);
             if st.travelled_deg > st.allowed_deg {

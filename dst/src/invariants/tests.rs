@@ -248,14 +248,26 @@ fn a_software_limit_overrun_is_a_violation_while_the_controller_is_responsible()
     check(&mut c, 1, &s, &[]).unwrap();
     s.mode = Mode::Hold.to_wire();
     check(&mut c, 2, &s, &[]).unwrap();
+    // One sample at rest inside, mid-stop, is not the end of the stop (seed 25469: the stop's
+    // first set-point halted the axis for an instant).
+    over(&mut s, hi - 0.2);
+    s.sim_true_velocity[0] = 0.0;
+    check(&mut c, 3, &s, &[]).unwrap();
     over(&mut s, hi + LIMIT_OVERRUN_DEG + 1.0);
     s.sim_true_velocity[0] = 5.0;
-    check(&mut c, 3, &s, &[]).unwrap();
+    check(&mut c, 4, &s, &[]).unwrap();
+    // At rest inside for the cycles the measurement lags: the limit is the controller's again.
     over(&mut s, hi - 0.5);
     s.sim_true_velocity[0] = 0.0;
-    check(&mut c, 4, &s, &[]).unwrap();
+    let rest = c.lag_cycles as u64;
+    for k in 5..5 + rest {
+        check(&mut c, k, &s, &[]).unwrap();
+    }
     over(&mut s, hi + LIMIT_OVERRUN_DEG + 0.01);
-    broken(check(&mut c, 5, &s, &[]), "beyond the software limits");
+    broken(
+        check(&mut c, 5 + rest, &s, &[]),
+        "beyond the software limits",
+    );
 }
 
 #[test]
@@ -416,6 +428,60 @@ fn an_axis_that_brakes_beyond_its_braking_distance_or_too_long_after_a_trip_is_a
     check(&mut c, 4, &s, &[]).unwrap();
     s.sim_true_position[0] = 60.0;
     check(&mut c, 5, &s, &[]).unwrap();
+}
+
+/// Seed 3718: an axis a calibration search pressed 0.3 deg into its stop springs back out of
+/// it after a trip, by up to the relax's band, beyond its braking distance; into the stop, or
+/// further out, is still judged.
+#[test]
+fn an_axis_springing_out_of_the_stop_a_search_pressed_it_into_is_allowed_the_relax() {
+    let lo = checker().stops_deg[2].0;
+    let at = |mode: Mode, q: f64, v: f64| {
+        let mut s = state(mode);
+        s.axis_flags[2] = AXIS_ONLINE;
+        s.sim_true_position[2] = q;
+        s.measured_position[2] = q;
+        s.sim_true_velocity[2] = v;
+        s
+    };
+    let run = |to: f64| {
+        let mut c = checker();
+        check(&mut c, 1, &at(Mode::Calibration, lo - 0.3, 0.0), &[])?;
+        check(&mut c, 2, &at(Mode::Error, lo - 0.3, 1.0), &[])?;
+        check(&mut c, 3, &at(Mode::Error, to, 0.0), &[])
+    };
+    run(lo + 0.4).unwrap();
+    broken(run(lo + 0.9), "travelled since the trip");
+    // Moving deeper into the stop at the trip: no relax owed.
+    let mut c = checker();
+    check(&mut c, 1, &at(Mode::Calibration, lo - 0.3, 0.0), &[]).unwrap();
+    check(&mut c, 2, &at(Mode::Error, lo - 0.3, -1.0), &[]).unwrap();
+    broken(
+        check(&mut c, 3, &at(Mode::Error, lo - 1.0, 0.0), &[]),
+        "travelled since the trip",
+    );
+}
+
+/// Seed 1413: while the SYNC is stuck no drive applies the controller's stop; the drive's own
+/// SYNC watchdog stops the axis, and its time is allowed at the speed of the moment.
+#[test]
+fn a_stop_under_a_stuck_sync_is_allowed_the_drives_sync_watchdog() {
+    let falling = |q: f64, v: f64| {
+        let mut s = state(Mode::Error);
+        s.sim_true_position[1] = q;
+        s.measured_position[1] = q;
+        s.sim_true_velocity[1] = v;
+        s
+    };
+    let run = |faults: &[Fault]| {
+        let mut c = checker();
+        check(&mut c, 1, &state(Mode::Hold), &[])?;
+        check(&mut c, 2, &falling(0.0, -10.0), &[])?;
+        c.cycle(3, &falling(-3.0, -12.0), &[], &[], Work::default(), faults)
+            .map_err(|v| v.message)
+    };
+    run(&[Fault::SyncStuck]).unwrap();
+    broken(run(&[]), "travelled since the trip");
 }
 
 #[test]
