@@ -309,6 +309,17 @@ fn seed_3951_a_search_in_free_air_keeps_its_loop_when_it_ends() {
     assert_recovers(RunOptions::new(3951, 60.0));
 }
 
+/// Seed 4080 (the month's campaign): while the wrist calibrated, the shoulder, not covered and
+/// its motor derated, could not hold the arm and sagged 21 deg with no check watching; the
+/// move back to zero then tripped its following error, and the derated shoulder, relaxed, sank
+/// past its braking distance. Fixed in the controller (`controller/trips.rs`,
+/// `check_held_while_searching`): the following error of the axes a calibration does not cover
+/// is checked while its searches run. Fails without it.
+#[test]
+fn seed_4080_the_axes_a_calibration_does_not_cover_are_watched() {
+    assert_recovers(RunOptions::new(4080, 60.0));
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the

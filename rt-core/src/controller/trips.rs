@@ -7,6 +7,7 @@
 use super::Controller;
 use super::exits::Exit;
 use super::state::{CalPhase, State};
+use crate::calibration::AxisCalibration;
 use crate::canopen::MasterEvent;
 use crate::safety::{self, ActiveChecks};
 use mcm_shared::NUM_AXES;
@@ -104,6 +105,9 @@ impl Controller {
         }
         self.estop_seen = estop;
         let mode = self.mode();
+        if let Some(searches) = self.searches() {
+            return self.check_held_while_searching(&searches);
+        }
         let returning = matches!(
             self.state,
             State::Calibration {
@@ -147,6 +151,22 @@ impl Controller {
                 .and_then(|()| safety::check_following_error(&self.safety, &self.cmd_hist[1], &q));
         }
         if let Err(v) = result {
+            self.trip(v.reason());
+        }
+    }
+
+    /// During a calibration's searches the axes it does not cover hold where they are, in
+    /// their own frame (their offsets do not change): their following error is checked, as in
+    /// HOLD. Before, nothing watched them (the simulation tester's seed 4080: a shoulder its
+    /// derated motor could not hold sagged 21 deg while the wrist calibrated). The searching
+    /// axes are watched by their searches (`calibration::lead`).
+    fn check_held_while_searching(&mut self, searches: &[Option<AxisCalibration>; NUM_AXES]) {
+        let q = self.measured();
+        let held: [f64; NUM_AXES] = core::array::from_fn(|i| match searches[i] {
+            Some(_) => q[i],
+            None => self.cmd_hist[1][i],
+        });
+        if let Err(v) = safety::check_following_error(&self.safety, &held, &q) {
             self.trip(v.reason());
         }
     }

@@ -451,3 +451,43 @@ fn an_axis_held_off_the_move_back_to_zero_trips_its_following_error() {
     assert_eq!(axis, axis_2);
     assert_eq!(r.mode(), Mode::Error);
 }
+
+/// The axes a calibration does not cover hold where they are while its searches run, and their
+/// following error is checked as in HOLD: one pushed off trips, and the calibration fails with
+/// it. (Before, nothing watched them: the simulation tester's seed 4080, a shoulder its derated
+/// motor could not hold sagged 21 deg while the wrist calibrated.)
+#[test]
+fn an_axis_pushed_off_while_another_calibrates_trips_its_following_error() {
+    use crate::controller::state::{CalPhase, State};
+    use mcm_shared::command::SimCommand;
+    let mut r = Robot::calibrated();
+    send(
+        &mut r,
+        calibrate(Which::Wrist, Direction::Positive, Direction::Positive),
+        7401,
+    );
+    r.run_until("the wrist's searches", 400, |r| {
+        matches!(
+            r.cycle.controller().state,
+            State::Calibration {
+                phase: CalPhase::Search { .. },
+                ..
+            }
+        )
+    });
+    // More than axis 1's drive can hold against (10 A x 0.12 Nm/A x 120 x 0.9: 130 Nm).
+    let push = Request::Sim(SimCommand {
+        external_torques_nm: Some([600.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+        ..SimCommand::default()
+    });
+    assert!(matches!(r.command(push, 10).outcome, Outcome::Done(_)));
+    r.run_until("the calibration answered", 200, |r| {
+        reply_to(r, 7401).is_some()
+    });
+    let answer = reply_to(&r, 7401).unwrap();
+    let Outcome::Failed(Reason::FollowingError { axis, .. }) = answer.outcome else {
+        panic!("{answer:?}")
+    };
+    assert_eq!(axis, Axis::new(1).unwrap());
+    assert_eq!(r.mode(), Mode::Error);
+}
