@@ -320,6 +320,20 @@ fn seed_4080_the_axes_a_calibration_does_not_cover_are_watched() {
     assert_recovers(RunOptions::new(4080, 60.0));
 }
 
+/// Seed 5204 (a 48-hour survey after the month): a calibration limited the stretched
+/// shoulder's drive to 4 A; a trip raised the limit again, but the one RPDO2 that carried it
+/// was lost to a bus fault, and nothing repeats or confirms a current limit: the drive held
+/// the arm with 4 A through ERROR, and it sank past its braking distance. Fixed in the master
+/// (`RPDO2_REPEATS`): a new mode or current limit is sent again in the next 2 cycles. Seeds
+/// 12275 and 12806 of the month's campaign (an axis past its software limit after frames were
+/// lost: 1.014 and 1.041 deg) pass with it too. All three fail without it.
+#[test]
+fn seeds_5204_12275_12806_a_new_rpdo2_is_repeated() {
+    for seed in [5204, 12275, 12806] {
+        assert_recovers(RunOptions::new(seed, 60.0));
+    }
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the

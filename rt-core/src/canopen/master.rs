@@ -42,7 +42,7 @@ use super::types::EventRing;
 pub use super::types::{
     AxisFeedback, CONFIG_RETRIES, DriveRequest, EVENT_CAPACITY, FAULT_RESET_EDGES,
     FRAME_BUF_CAPACITY, FrameBuf, LostReason, MODE_CSP, MODE_CST, MODE_RESEND_CYCLES, MasterEvent,
-    MasterSetupError,
+    MasterSetupError, RPDO2_REPEATS,
 };
 use mcm_bus::Frame;
 use mcm_shared::NUM_AXES;
@@ -118,6 +118,8 @@ struct Session {
     commanded_mode: i8,
     rpdo2_sent: Option<Rpdo2>,
     rpdo2_age: u16,
+    /// Repeats of the last urgent RPDO2 still to send ([`RPDO2_REPEATS`]).
+    rpdo2_repeats: u8,
     fault_reset_edges: u8,
     /// Send one fault-reset edge while OPERATION ENABLED (see [`Master::restart_position_loop`]).
     loop_restart: bool,
@@ -148,6 +150,7 @@ impl Default for Session {
             commanded_mode: MODE_CSP,
             rpdo2_sent: None,
             rpdo2_age: 0,
+            rpdo2_repeats: 0,
             fault_reset_edges: 0,
             loop_restart: false,
             cal_store: None,
@@ -922,6 +925,9 @@ impl Master {
                 || p.max_current_permille != rpdo2.max_current_permille
                 || (p.torque_offset != rpdo2.torque_offset && rpdo2.mode != MODE_CSP)
         });
+        if urgent {
+            ax.session.rpdo2_repeats = RPDO2_REPEATS;
+        }
         if urgent
             || (turn && ax.session.rpdo2_sent != Some(rpdo2))
             || (!confirmed && ax.session.rpdo2_age >= MODE_RESEND_CYCLES)
@@ -929,6 +935,14 @@ impl Master {
             frames[0] = Some(rpdo2.encode(ax.params.node));
             ax.session.rpdo2_sent = Some(rpdo2);
             ax.session.rpdo2_age = 0;
+        } else if ax.session.rpdo2_repeats > 0 {
+            // A mode or current limit changed: sent again in the next cycles, as nothing
+            // confirms a current limit (seed 5204 of the simulation tester: the drive of a
+            // stretched shoulder kept a calibration's 4 A limit through ERROR when the frame
+            // that raised it was lost, and the arm sank).
+            ax.session.rpdo2_repeats -= 1;
+            frames[0] = Some(rpdo2.encode(ax.params.node));
+            ax.session.rpdo2_age = ax.session.rpdo2_age.saturating_add(1);
         } else {
             ax.session.rpdo2_age = ax.session.rpdo2_age.saturating_add(1);
         }

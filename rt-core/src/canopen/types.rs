@@ -23,6 +23,11 @@ pub const MODE_CSP: i8 = 8;
 pub const MODE_CST: i8 = 10;
 /// RPDO2 is repeated every this many cycles while 0x6061 has not confirmed the mode.
 pub const MODE_RESEND_CYCLES: u16 = 20;
+/// An RPDO2 with a new mode or current limit is sent again in this many following cycles:
+/// the drive confirms a mode (0x6061 in TPDO2) but not a current limit, and a lost frame must
+/// not leave a drive at an old limit (a calibration's reduced current, holding an arm it
+/// cannot). Event-driven, like the frame it repeats: not in the periodic bus load.
+pub const RPDO2_REPEATS: u8 = 2;
 /// Fault-reset edges sent per [`Master::reset_faults`] call to a drive that stays in FAULT.
 pub const FAULT_RESET_EDGES: u8 = 3;
 /// Times in a row the master resets and configures again a drive whose configuration failed

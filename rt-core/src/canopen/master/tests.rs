@@ -262,7 +262,14 @@ fn mode_switch_sends_the_torque_at_once_and_keeps_the_position_at_actual() {
     assert_eq!(w.fb(1).mode_display, Some(MODE_CST));
     // 10 Nm joint / (120 * 0.9) = 0.0926 Nm motor of 0.48 Nm rated = 192.9 per-mille.
     assert_eq!(rpdo1_of(&c1, 2).unwrap().target_torque, 193);
-    assert_eq!(rpdo2_of(&c1, 2), None, "RPDO2 only on change");
+    // RPDO2 on a change, and again in the next RPDO2_REPEATS cycles, then no more.
+    assert_eq!(rpdo2_of(&c1, 2), rpdo2_of(&c0, 2), "repeated");
+    let c1 = w.run(usize::from(RPDO2_REPEATS), reqs);
+    assert_eq!(
+        rpdo2_of(c1.last().unwrap(), 2),
+        None,
+        "RPDO2 only on change"
+    );
     // Back to position: target = actual until confirmed.
     reqs[1] = DriveRequest::Position { position_rad: 5.0 };
     let c2 = w.step(reqs);
@@ -294,6 +301,23 @@ fn current_limit_changes_send_rpdo2() {
     w.max_current[0] = f64::NAN;
     let frames = w.step([DriveRequest::Disable; 6]);
     assert_eq!(rpdo2_of(&frames, 1).unwrap().max_current_permille, 0);
+}
+
+/// A new current limit is sent again in the next [`RPDO2_REPEATS`] cycles: nothing confirms
+/// a current limit, and a drive whose one frame was lost would keep its old limit (seed 5204
+/// of the simulation tester: a calibration's 4 A through ERROR, the stretched arm sinking).
+#[test]
+fn a_new_current_limit_is_repeated_so_that_one_lost_frame_does_not_keep_the_old_one() {
+    let mut w = World::booted();
+    w.run(10, [DriveRequest::Disable; 6]);
+    w.max_current[0] = 3.0;
+    let frames = w.run(usize::from(RPDO2_REPEATS) + 2, [DriveRequest::Disable; 6]);
+    let limits: Vec<Option<u16>> = frames
+        .iter()
+        .map(|f| rpdo2_of(f, 1).map(|r| r.max_current_permille))
+        .collect();
+    // The change and its two repeats (RPDO2_REPEATS), then nothing until the next change.
+    assert_eq!(limits, [Some(750), Some(750), Some(750), None]);
 }
 
 #[test]
