@@ -334,6 +334,20 @@ fn seeds_5204_12275_12806_a_new_rpdo2_is_repeated() {
     }
 }
 
+/// Seeds 8041 and 8220 (a 48-hour survey after the month): a shoulder whose motor was derated
+/// sagged off its hold while other axes calibrated and tripped its following error; the relax
+/// after that trip restarted its loop, clearing the integral that carried what its derated
+/// current could of the arm, and it fell past its braking distance (12 and 27 deg/s). Fixed
+/// in the controller (`controller/trips.rs`, `relax_after`): an axis whose motor is derated is
+/// not relaxed. 8041 fails without it (8220's run no longer reaches its world without the fix
+/// of 8041's).
+#[test]
+fn seeds_8041_8220_a_derated_axis_is_not_relaxed_after_its_following_error() {
+    for seed in [8041, 8220] {
+        assert_recovers(RunOptions::new(seed, 60.0));
+    }
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the

@@ -158,7 +158,7 @@ impl Controller {
         match why {
             Exit::Trip(reason) => State::Error {
                 stop: self.quick_stop(),
-                relax: super::trips::relax_after(reason),
+                relax: super::trips::relax_after(reason, &self.i2t.derated()),
             },
             Exit::SearchFailed(_) => State::error(self.stop_motion()),
             Exit::Hold | Exit::OwnerGone | Exit::Shutdown | Exit::Timeout => State::Hold {

@@ -21,10 +21,16 @@ pub(super) const RELAX_CYCLES: u8 = 20;
 
 /// The axes that relax in the ERROR a trip for `reason` leads to: after a following error, the
 /// drive's loop wound up against whatever held the axis; the axis relaxes and holds where it
-/// comes to rest, so that it stops pressing.
-pub(super) fn relax_after(reason: Reason) -> [u8; NUM_AXES] {
+/// comes to rest, so that it stops pressing. Not an axis whose motor is `derated`: what held
+/// it back is more likely its own load, more than its derated current carries, and restarting
+/// its loop would clear the integral that carries what it can (the simulation tester's seed
+/// 8041: a derated shoulder that sagged 2 deg off its hold, relaxed, fell at 12 deg/s); the
+/// overload check powers such an arm off onto its brakes instead (`overload.rs`).
+pub(super) fn relax_after(reason: Reason, derated: &[bool; NUM_AXES]) -> [u8; NUM_AXES] {
     let mut relax = [0; NUM_AXES];
-    if let Reason::FollowingError { axis, .. } = reason {
+    if let Reason::FollowingError { axis, .. } = reason
+        && !derated[axis.index()]
+    {
         relax[axis.index()] = RELAX_CYCLES;
     }
     relax
