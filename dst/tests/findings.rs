@@ -348,6 +348,16 @@ fn seeds_8041_8220_a_derated_axis_is_not_relaxed_after_its_following_error() {
     }
 }
 
+/// Seed 9272 (a third 48-hour survey): a derated shoulder whose calibration search failed
+/// (`blocked`) fell at up to 31 deg/s in ERROR while its stop and the search's relax ran; the
+/// overload check, and the power off after a trip, waited for them. Fixed in the controller
+/// (`controller/overload.rs`): in ERROR the overload check also runs during the stop and the
+/// relaxes. Fails without it.
+#[test]
+fn seed_9272_a_derated_axis_falling_in_error_trips_the_overload() {
+    assert_recovers(RunOptions::new(9272, 60.0));
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the
