@@ -1088,9 +1088,9 @@ fn a_forgotten_calibration_is_marked_invalid_and_not_reported_after_a_restart() 
     );
 }
 
-/// A drive that rebooted while its calibration was being stored: the second write (0x2100:2 =
-/// 1) reached the new boot, whose 0x2100:1 is the power-up default, before the master heard the
-/// boot-up. Read back, that would be a calibration against an encoder reference that is gone
+/// A drive that rebooted while its calibration was being stored: the second write, 0x2100:2
+/// set to 1, reached the new boot, whose 0x2100:1 is the power-up default, before the master
+/// heard the boot-up. Read back, that would be a calibration against an encoder reference that is gone
 /// (the simulation tester's seeds 6960 and 33240); the master clears it instead.
 #[test]
 fn a_calibration_store_cut_by_a_reboot_is_cleared_not_read_back() {
