@@ -358,6 +358,16 @@ fn seed_9272_a_derated_axis_falling_in_error_trips_the_overload() {
     assert_recovers(RunOptions::new(9272, 60.0));
 }
 
+/// Seed 24005 (the week at the end of session 14): a derated shoulder stood at its current
+/// limit through calibration after calibration of other axes, where the overload check did
+/// not run; when a drive was lost with the SYNC stuck, it fell until its drive's SYNC watchdog
+/// acted, 2.30 deg against 2.27 allowed. Fixed in the controller (`controller/overload.rs`):
+/// the overload check watches the axes a calibration does not cover. Fails without it.
+#[test]
+fn seed_24005_the_overload_watches_the_axes_a_calibration_does_not_cover() {
+    assert_recovers(RunOptions::new(24005, 60.0));
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the

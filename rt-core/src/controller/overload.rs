@@ -57,13 +57,18 @@ impl Controller {
         // derated shoulder fell at up to 31 deg/s while ERROR's stop and the relax of its
         // failed calibration search ran, before the power off that waits for them).
         let at_rest = matches!(self.state, State::Hold { stop: None } | State::Error { .. });
+        // During a calibration's searches, the axes it does not cover hold where they are (the
+        // simulation tester's seed 24005: a derated shoulder stood at its limit through
+        // calibration after calibration while other axes searched).
+        let searches = self.searches();
+        let held = |i: usize| searches.is_some_and(|s| s[i].is_none());
         let derated = self.i2t.derated();
         let limit = self.i2t.max_current();
         let fb = *self.master.feedback();
         let need = overload_cycles(self.p.period);
         let mut tripped = None;
         for i in 0..NUM_AXES {
-            let at_limit = at_rest
+            let at_limit = (at_rest || held(i))
                 && derated[i]
                 && fb[i].enabled
                 && fb[i].current_a.abs() >= AT_LIMIT * limit[i];
