@@ -436,19 +436,34 @@ fn an_axis_held_off_the_move_back_to_zero_trips_its_following_error() {
         )
     });
     r.run(40);
-    let block = Request::Sim(SimCommand {
+    let block = SimCommand {
         block_axis: Some(axis_2),
         ..SimCommand::default()
+    };
+    fails_with_following_error(&mut r, block, 7001, 100, axis_2);
+}
+
+/// `fault` (a `sim` command) makes the calibration answered as request `id` fail with the
+/// following error of `axis` within `cycles`, in ERROR.
+fn fails_with_following_error(
+    r: &mut Robot,
+    fault: mcm_shared::command::SimCommand,
+    id: u64,
+    cycles: u64,
+    axis: Axis,
+) {
+    assert!(matches!(
+        r.command(Request::Sim(fault), 10).outcome,
+        Outcome::Done(_)
+    ));
+    r.run_until("the calibration answered", cycles, |r| {
+        reply_to(r, id).is_some()
     });
-    assert!(matches!(r.command(block, 10).outcome, Outcome::Done(_)));
-    r.run_until("the calibration answered", 100, |r| {
-        reply_to(r, 7001).is_some()
-    });
-    let answer = reply_to(&r, 7001).unwrap();
-    let Outcome::Failed(Reason::FollowingError { axis, .. }) = answer.outcome else {
+    let answer = reply_to(r, id).unwrap();
+    let Outcome::Failed(Reason::FollowingError { axis: tripped, .. }) = answer.outcome else {
         panic!("{answer:?}")
     };
-    assert_eq!(axis, axis_2);
+    assert_eq!(tripped, axis);
     assert_eq!(r.mode(), Mode::Error);
 }
 
@@ -476,18 +491,9 @@ fn an_axis_pushed_off_while_another_calibrates_trips_its_following_error() {
         )
     });
     // More than axis 1's drive can hold against (10 A x 0.12 Nm/A x 120 x 0.9: 130 Nm).
-    let push = Request::Sim(SimCommand {
+    let push = SimCommand {
         external_torques_nm: Some([600.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
         ..SimCommand::default()
-    });
-    assert!(matches!(r.command(push, 10).outcome, Outcome::Done(_)));
-    r.run_until("the calibration answered", 200, |r| {
-        reply_to(r, 7401).is_some()
-    });
-    let answer = reply_to(&r, 7401).unwrap();
-    let Outcome::Failed(Reason::FollowingError { axis, .. }) = answer.outcome else {
-        panic!("{answer:?}")
     };
-    assert_eq!(axis, Axis::new(1).unwrap());
-    assert_eq!(r.mode(), Mode::Error);
+    fails_with_following_error(&mut r, push, 7401, 200, Axis::new(1).unwrap());
 }
