@@ -193,8 +193,30 @@ pub fn run_judged(o: &RunOptions) -> (RunReport, Vec<Violation>) {
     (r, seen)
 }
 
+/// Where a campaign stands after one more run, for [`campaign_with`]'s observer.
+#[derive(Debug, Clone, Copy)]
+pub struct Progress {
+    /// Runs finished so far, this one included.
+    pub runs: u64,
+    /// Simulated seconds spent so far, this run included.
+    pub simulated_s: f64,
+    /// Wall-clock seconds since the campaign began.
+    pub wall_s: f64,
+}
+
 /// Run the campaign.
 pub fn campaign(opts: &CampaignOptions) -> CampaignReport {
+    campaign_with(opts, |_, _| {})
+}
+
+/// Run the campaign, telling `observe` of every finished run (its report, judged as in the
+/// campaign's own report) and where the campaign stands: a long campaign can show failing
+/// seeds as they come, not only at its end. Called from the campaign's threads, one run at a
+/// time.
+pub fn campaign_with(
+    opts: &CampaignOptions,
+    observe: impl Fn(&RunReport, Progress) + Sync,
+) -> CampaignReport {
     let next = AtomicU64::new(opts.first_seed);
     let spent_ms = AtomicU64::new(0);
     let stop = AtomicBool::new(false);
@@ -220,7 +242,14 @@ pub fn campaign(opts: &CampaignOptions) -> CampaignReport {
                     if !opts.keep_going && r.violation.as_ref().is_some_and(|v| !v.quiet_phase) {
                         stop.store(true, Ordering::Relaxed);
                     }
-                    total.lock().expect("no thread panicked").add(&r);
+                    let mut t = total.lock().expect("no thread panicked");
+                    t.add(&r);
+                    let progress = Progress {
+                        runs: t.runs,
+                        simulated_s: t.simulated_s,
+                        wall_s: t0.elapsed().as_secs_f64(),
+                    };
+                    observe(&r, progress);
                 }
             });
         }

@@ -1,7 +1,7 @@
 //! `mcm-dst`: run one seed (`--seed N`, replayed bit for bit) or a campaign over many seeds
 //! (`--hours H --jobs J`). See `docs/testing.md`, "Deterministic simulation testing".
 
-use mcm_dst::campaign::{CampaignOptions, campaign};
+use mcm_dst::campaign::{CampaignOptions, campaign_with};
 use mcm_dst::cli;
 use mcm_dst::hash::first_divergence;
 use mcm_dst::run::{RunOptions, planted_name, run};
@@ -108,13 +108,30 @@ fn main() -> ExitCode {
         };
     }
     let budget_s = hours * 3600.0;
-    let r = campaign(&CampaignOptions {
+    // While it runs, a campaign says on stderr each failing run as it comes and where it
+    // stands every twentieth of its budget: a long campaign cut short still tells.
+    let steps_shown = std::sync::atomic::AtomicU64::new(0);
+    let options = CampaignOptions {
         first_seed,
         budget_s,
         run_s: seconds,
         jobs,
         planted,
         keep_going,
+    };
+    let r = campaign_with(&options, |run, at| {
+        if let Some(v) = &run.violation {
+            eprintln!("failing run, seed {}: {v}", run.seed);
+        }
+        let step = (at.simulated_s / budget_s * PROGRESS_STEPS as f64) as u64;
+        if step > steps_shown.fetch_max(step, std::sync::atomic::Ordering::Relaxed) {
+            eprintln!(
+                "campaign: {:.1} of {hours} simulated h, {} runs, {:.0} s wall",
+                at.simulated_s / 3600.0,
+                at.runs,
+                at.wall_s
+            );
+        }
     });
     println!("{}", r.summary());
     let mut ok = true;
@@ -142,6 +159,9 @@ fn main() -> ExitCode {
         ExitCode::FAILURE
     }
 }
+
+/// How many progress lines a campaign prints on its way (one every twentieth of its budget).
+const PROGRESS_STEPS: u64 = 20;
 
 /// Shrink the failing run's script and write what is left to `mcm-dst-seed-N.script`.
 fn write_shrunk(script: &Script, v: &mcm_dst::invariants::Violation, max_replays: u32) {

@@ -3,10 +3,11 @@
 //! HOLD (one job: the same seeds every time). Debug build (the workspace's dev profile); the
 //! figures are in `docs/testing.md`, "Deterministic simulation testing".
 
-use mcm_dst::campaign::{CampaignOptions, campaign};
+use mcm_dst::campaign::{CampaignOptions, campaign_with};
 use mcm_dst::hash::first_divergence;
 use mcm_dst::run::{RunOptions, run};
 use mcm_shared::alloc_count::CountingAlloc;
+use std::sync::Mutex;
 
 // The allocation invariant needs the counting allocator to see anything.
 #[global_allocator]
@@ -41,15 +42,34 @@ fn the_allocation_check_sees_an_allocation() {
 
 #[test]
 fn a_small_campaign_breaks_no_invariant_and_every_run_recovers() {
-    let r = campaign(&CampaignOptions {
+    // (seed, runs so far, simulated s so far) as the observer saw each run.
+    let seen = Mutex::new(Vec::new());
+    let options = CampaignOptions {
         first_seed: 1_000,
         budget_s: 600.0,
         run_s: 20.0,
         jobs: 1,
         planted: None,
         keep_going: false,
+    };
+    let r = campaign_with(&options, |run, at| {
+        seen.lock()
+            .unwrap()
+            .push((run.seed, at.runs, at.simulated_s));
     });
     eprintln!("{}", r.summary());
+    let seen = seen.into_inner().unwrap();
+    let expected: Vec<(u64, u64)> = (0..r.runs).map(|k| (1_000 + k, k + 1)).collect();
+    let got: Vec<(u64, u64)> = seen.iter().map(|&(seed, runs, _)| (seed, runs)).collect();
+    assert_eq!(
+        got, expected,
+        "the observer sees every run, in order with one job"
+    );
+    assert_eq!(
+        seen.last().map(|s| s.2),
+        Some(r.simulated_s),
+        "the last progress is the report's"
+    );
     for f in &r.failures {
         let v = f.violation.as_ref().expect("a failure");
         eprintln!("seed {}: {v}", f.seed);
