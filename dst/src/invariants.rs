@@ -770,7 +770,11 @@ impl Checker {
             m != n
                 && x.status == 0
                 && CommandKind::try_from(x.kind).is_ok_and(|k| {
-                    k.is_stop() || k == CommandKind::Calibrate || mode_entered_by(k).is_some()
+                    // `release_control` by the owner brings what it drove to HOLD (seed 14363).
+                    k.is_stop()
+                        || k == CommandKind::Calibrate
+                        || k == CommandKind::ReleaseControl
+                        || mode_entered_by(k).is_some()
                 })
         });
         let calibrated = |flags: &[u32; NUM_AXES], a: Axis| flags[a.index()] & AXIS_CALIBRATED != 0;

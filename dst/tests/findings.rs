@@ -380,11 +380,13 @@ fn seed_24005_the_overload_watches_the_axes_a_calibration_does_not_cover() {
 /// cycle take RELEASE through HOLD to PVT, and HOLD is never published; seeds 25469 and 6528,
 /// one sample at rest in the middle of a stop is not its end; seed 3718, an axis a search
 /// pressed into its stop springs back out of it; seed 1413 (after the fixes of this month's
-/// seeds changed its run), a stuck SYNC leaves the stop to the drive's SYNC watchdog.
+/// seeds changed its run), a stuck SYNC leaves the stop to the drive's SYNC watchdog; seed
+/// 14363 (the month of session 15), the owner's `release_control` served first in a cycle
+/// brings its calibration to HOLD, and another client's command is refused in HOLD.
 #[test]
 fn the_checker_s_findings() {
     for seed in [
-        212, 124, 154, 175, 254, 108, 519, 1171, 4848, 25469, 6528, 3718, 1413,
+        212, 124, 154, 175, 254, 108, 519, 1171, 4848, 25469, 6528, 3718, 1413, 14363,
     ] {
         let r = run(&RunOptions::new(seed, 60.0));
         assert_eq!(r.violation, None, "seed {seed}");

@@ -613,6 +613,33 @@ fn a_refusal_says_what_was_so() {
 }
 
 #[test]
+fn a_release_of_control_served_first_may_change_the_mode_a_refusal_names() {
+    // Seed 14363: the owner's `release_control` took CALIBRATION to HOLD, another client's
+    // `move_all` was then refused in HOLD, and a trip took HOLD to ERROR, all in one cycle.
+    let pvt = Request::Pvt(Pvt { dt_s: 0.01 });
+    let run = |first: Request| {
+        let mut c = checker();
+        c.asked(&sample(first, 1), 0);
+        c.asked(&sample(pvt, 2), 0);
+        check(&mut c, 1, &state(Mode::Calibration), &[])?;
+        let replies = [
+            ok(1, first.kind()),
+            answer(
+                2,
+                CommandKind::Pvt,
+                Outcome::Refused(Reason::WrongMode { mode: Mode::Hold }),
+            ),
+        ];
+        check(&mut c, 2, &state(Mode::Error), &replies)
+    };
+    run(Request::ReleaseControl).unwrap();
+    broken(
+        run(Request::TakeControl),
+        "refused as not allowed in HOLD, but the mode was CALIBRATION before the cycle and ERROR after it",
+    );
+}
+
+#[test]
 fn an_ok_to_hold_ends_a_calibration() {
     let all = Request::Calibrate(Calibrate {
         which: Which::All,
