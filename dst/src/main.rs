@@ -9,6 +9,7 @@ use mcm_dst::script::{Script, replay};
 use mcm_dst::shrink::{invariant_of, shrink};
 use mcm_shared::alloc_count::CountingAlloc;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 #[global_allocator]
 static GLOBAL: CountingAlloc = CountingAlloc;
@@ -110,7 +111,7 @@ fn main() -> ExitCode {
     let budget_s = hours * 3600.0;
     // While it runs, a campaign says on stderr each failing run as it comes and where it
     // stands every twentieth of its budget: a long campaign cut short still tells.
-    let steps_shown = std::sync::atomic::AtomicU64::new(0);
+    let steps_shown = AtomicU64::new(0);
     let options = CampaignOptions {
         first_seed,
         budget_s,
@@ -123,8 +124,8 @@ fn main() -> ExitCode {
         if let Some(v) = &run.violation {
             eprintln!("failing run, seed {}: {v}", run.seed);
         }
-        let step = (at.simulated_s / budget_s * PROGRESS_STEPS as f64) as u64;
-        if step > steps_shown.fetch_max(step, std::sync::atomic::Ordering::Relaxed) {
+        let step = ((at.simulated_s / budget_s * PROGRESS_STEPS as f64) as u64).min(PROGRESS_STEPS);
+        if step > steps_shown.fetch_max(step, Ordering::Relaxed) {
             eprintln!(
                 "campaign: {:.1} of {hours} simulated h, {} runs, {:.0} s wall",
                 at.simulated_s / 3600.0,
