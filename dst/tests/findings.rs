@@ -368,6 +368,17 @@ fn seed_24005_the_overload_watches_the_axes_a_calibration_does_not_cover() {
     assert_recovers(RunOptions::new(24005, 60.0));
 }
 
+/// Seed 32797 (the month at session 14's controller): the elbow rested on its stop, and every
+/// calibration of the recovery (about thirty) failed `blocked` against it: its drive kept a
+/// slow search's current limit of 3.58 A (0.22 A above what held the elbow there) because the
+/// RPDO2 that raised it to 10 A and both its repeats were lost, and the master sent nothing
+/// while its own value stayed the same, so no contact could show. Fixed in the master: every
+/// drive's RPDO2 is sent again on its axis's turn, changed or not. Fails without it.
+#[test]
+fn seed_32797_a_current_limit_lost_with_its_repeats_is_restated() {
+    assert_recovers(RunOptions::new(32797, 60.0));
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the

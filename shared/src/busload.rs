@@ -3,11 +3,12 @@
 //! Frame length (classic CAN, 11-bit id, `s` data bytes, worst-case bit stuffing, Davis et
 //! al. 2007): `bits(s) = 47 + 8 s + floor((33 + 8 s) / 4)`, i.e. 55 bits for SYNC, 65 for a
 //! heartbeat, 135 for an 8-byte PDO. Per cycle the MCM sends SYNC and, per axis, RPDO1 and
-//! TPDO1 (8 bytes each); heartbeats (every drive at `bus.drive_heartbeat_ms`, the master at
+//! TPDO1 (8 bytes each), and one RPDO2 (5 bytes: each drive's mode, current limit and
+//! feed-forward restated on its axis's turn, one axis a cycle); heartbeats (every drive at `bus.drive_heartbeat_ms`, the master at
 //! `bus.master_heartbeat_ms`) and the repeats of each drive's TPDO2 (1 byte, event timer
-//! [`TPDO2_EVENT_TIMER_MS`]) are added as rates. The event-driven frames (RPDO2, TPDO2 on a
-//! change), EMCY and SDO are not periodic and are left out: the budget is what leaves room for
-//! them.
+//! [`TPDO2_EVENT_TIMER_MS`]) are added as rates. The event-driven frames (an RPDO2 on a change
+//! and its repeats, TPDO2 on a change), EMCY and SDO are not periodic and are left out: the
+//! budget is what leaves room for them.
 //!
 //! In the contract because both sides use it: `mcm-rt` checks it once at start-up (not in the
 //! cycle), the gateway shows it on the browser pendant.
@@ -41,6 +42,8 @@ pub const fn frame_bits_unstuffed(len: u8) -> u32 {
 /// Bytes of the cyclic PDOs (RPDO1 and TPDO1 of the MCM drive profile).
 pub const CYCLIC_RPDO_BYTES: u8 = 8;
 pub const CYCLIC_TPDO_BYTES: u8 = 8;
+/// Bytes of RPDO2 (mode, current limit, torque feed-forward), one of which goes out every cycle.
+pub const RPDO2_BYTES: u8 = 5;
 
 /// The computed load and every number that went into it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -48,8 +51,10 @@ pub struct BusLoad {
     pub axes: u32,
     pub rpdo_bits: u32,
     pub tpdo_bits: u32,
+    /// The one RPDO2 of each cycle.
+    pub rpdo2_bits: u32,
     pub sync_bits: u32,
-    /// `axes * (rpdo_bits + tpdo_bits) + sync_bits`.
+    /// `axes * (rpdo_bits + tpdo_bits) + rpdo2_bits + sync_bits`.
     pub bits_per_cycle: u32,
     pub rate_hz: u32,
     pub bitrate: u32,
@@ -83,8 +88,9 @@ impl BusLoad {
     ) -> BusLoad {
         let rpdo_bits = frame_bits_worst_case(CYCLIC_RPDO_BYTES);
         let tpdo_bits = frame_bits_worst_case(CYCLIC_TPDO_BYTES);
+        let rpdo2_bits = frame_bits_worst_case(RPDO2_BYTES);
         let sync_bits = frame_bits_worst_case(0);
-        let bits_per_cycle = axes * (rpdo_bits + tpdo_bits) + sync_bits;
+        let bits_per_cycle = axes * (rpdo_bits + tpdo_bits) + rpdo2_bits + sync_bits;
         let hb_bits = f64::from(frame_bits_worst_case(1));
         let per_s = |ms: u16| if ms == 0 { 0.0 } else { 1000.0 / f64::from(ms) };
         let heartbeat_bits_per_s =
@@ -99,6 +105,7 @@ impl BusLoad {
             axes,
             rpdo_bits,
             tpdo_bits,
+            rpdo2_bits,
             sync_bits,
             bits_per_cycle,
             rate_hz,
@@ -154,12 +161,12 @@ pub fn check_config(cfg: &RobotConfig) -> Result<BusLoad, BusLoadError> {
 pub enum BusLoadError {
     #[error(
         "worst-case bus load {:.1} % exceeds bus.load_budget {:.1} %: per cycle {} bits \
-         ({} axes x (RPDO1 {} + TPDO1 {} bits) + SYNC {} bits) = {:.0} us at {} bit/s, \
+         ({} axes x (RPDO1 {} + TPDO1 {} bits) + RPDO2 {} bits + SYNC {} bits) = {:.0} us at {} bit/s, \
          x cycle.rate_hz {} = {:.0} bit/s, plus heartbeats {:.0} bit/s ({} producers x {} bits), \
          plus TPDO2 repeats {:.0} bit/s ({} drives x {} bits every {} ms); \
          allowed: cycle.rate_hz <= {:.0} Hz at this bit rate, or a higher bus.bitrate",
         .0.load * 100.0, .0.budget * 100.0, .0.bits_per_cycle, .0.axes, .0.rpdo_bits, .0.tpdo_bits,
-        .0.sync_bits, .0.cycle_bus_time_us(), .0.bitrate, .0.rate_hz,
+        .0.rpdo2_bits, .0.sync_bits, .0.cycle_bus_time_us(), .0.bitrate, .0.rate_hz,
         f64::from(.0.bits_per_cycle) * f64::from(.0.rate_hz), .0.heartbeat_bits_per_s,
         .0.heartbeat_producers, frame_bits_worst_case(1), .0.tpdo2_bits_per_s, .0.axes,
         frame_bits_worst_case(1), .0.tpdo2_period_ms, .0.max_rate_hz.floor()

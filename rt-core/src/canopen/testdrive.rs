@@ -45,6 +45,8 @@ pub struct FakeDrive {
     pub refuse_fault_reset: bool,
     /// Skip heartbeats (but keep TPDOs).
     pub mute_heartbeat: bool,
+    /// Lose every RPDO2 sent to it (the bus lost them).
+    pub deaf_rpdo2: bool,
     time_ms: u64,
     period_ms: u64,
     next_hb_ms: u64,
@@ -70,6 +72,7 @@ impl FakeDrive {
             estop: false,
             refuse_fault_reset: false,
             mute_heartbeat: false,
+            deaf_rpdo2: false,
             time_ms: 0,
             period_ms: 5,
             next_hb_ms: 0,
@@ -160,7 +163,7 @@ impl FakeDrive {
                 self.rpdo1 = Rpdo1::decode(f).ok();
             }
             Service::Rpdo { pdo: 2, node }
-                if node == self.node && self.nmt == NmtState::Operational =>
+                if node == self.node && self.nmt == NmtState::Operational && !self.deaf_rpdo2 =>
             {
                 if let Ok(r) = Rpdo2::decode(f) {
                     self.objects

@@ -262,14 +262,17 @@ fn mode_switch_sends_the_torque_at_once_and_keeps_the_position_at_actual() {
     assert_eq!(w.fb(1).mode_display, Some(MODE_CST));
     // 10 Nm joint / (120 * 0.9) = 0.0926 Nm motor of 0.48 Nm rated = 192.9 per-mille.
     assert_eq!(rpdo1_of(&c1, 2).unwrap().target_torque, 193);
-    // RPDO2 on a change, and again in the next RPDO2_REPEATS cycles, then no more.
+    // RPDO2 on a change, and again in the next RPDO2_REPEATS cycles (a repeat that falls on
+    // the axis's turn waits a cycle), then only on the axis's turn, once in six cycles.
     assert_eq!(rpdo2_of(&c1, 2), rpdo2_of(&c0, 2), "repeated");
-    let c1 = w.run(usize::from(RPDO2_REPEATS), reqs);
-    assert_eq!(
-        rpdo2_of(c1.last().unwrap(), 2),
-        None,
-        "RPDO2 only on change"
-    );
+    w.run(usize::from(RPDO2_REPEATS) + 1, reqs);
+    let turns: Vec<Option<Rpdo2>> = w
+        .run(NUM_AXES, reqs)
+        .iter()
+        .map(|f| rpdo2_of(f, 2))
+        .filter(Option::is_some)
+        .collect();
+    assert_eq!(turns, [rpdo2_of(&c0, 2)], "restated once on its turn");
     // Back to position: target = actual until confirmed.
     reqs[1] = DriveRequest::Position { position_rad: 5.0 };
     let c2 = w.step(reqs);
@@ -309,15 +312,44 @@ fn current_limit_changes_send_rpdo2() {
 #[test]
 fn a_new_current_limit_is_repeated_so_that_one_lost_frame_does_not_keep_the_old_one() {
     let mut w = World::booted();
-    w.run(10, [DriveRequest::Disable; 6]);
+    // Drive 1's turn is the cycle after the change: the repeats alone are seen below.
+    while (w.now / T) % NUM_AXES as u64 != 5 {
+        w.step([DriveRequest::Disable; 6]);
+    }
     w.max_current[0] = 3.0;
-    let frames = w.run(usize::from(RPDO2_REPEATS) + 2, [DriveRequest::Disable; 6]);
+    let frames = w.run(usize::from(RPDO2_REPEATS) + 1, [DriveRequest::Disable; 6]);
     let limits: Vec<Option<u16>> = frames
         .iter()
         .map(|f| rpdo2_of(f, 1).map(|r| r.max_current_permille))
         .collect();
-    // The change and its two repeats (RPDO2_REPEATS), then nothing until the next change.
-    assert_eq!(limits, [Some(750), Some(750), Some(750), None]);
+    // The change and its two repeats (RPDO2_REPEATS), the first of them on the axis's turn.
+    assert_eq!(limits, [Some(750), Some(750), Some(750)]);
+}
+
+/// Every drive's RPDO2 (mode, current limit, feed-forward) is sent again on its axis's turn,
+/// one axis a cycle, changed or not: a drive that lost a change and all its repeats has it
+/// within six cycles (seed 32797 of the simulation tester: the elbow's drive kept a slow
+/// search's 3.58 A through thirty calibrations, and every search failed `blocked` against
+/// its stop, its current capped at 0.22 A above its holding current).
+#[test]
+fn a_current_limit_lost_with_its_repeats_is_restated_on_the_axis_s_turn() {
+    let mut w = World::booted();
+    w.run(10, [DriveRequest::Disable; 6]);
+    w.drives[2].deaf_rpdo2 = true;
+    w.max_current[2] = 3.0;
+    w.run(usize::from(RPDO2_REPEATS) + 1, [DriveRequest::Disable; 6]);
+    assert_eq!(
+        w.drives[2].object(0x6073, 0),
+        Some(1000),
+        "the change was lost"
+    );
+    w.drives[2].deaf_rpdo2 = false;
+    let mut cycles = 0;
+    while w.drives[2].object(0x6073, 0) != Some(750) {
+        w.step([DriveRequest::Disable; 6]);
+        cycles += 1;
+        assert!(cycles <= NUM_AXES, "not restated within {NUM_AXES} cycles");
+    }
 }
 
 #[test]
@@ -882,7 +914,7 @@ fn setup_refuses_250_hz_at_500_kbit() {
     cfg.cycle.rate_hz = 250;
     let err = Master::new(&cfg).unwrap_err();
     assert!(matches!(err, MasterSetupError::BusLoad(_)));
-    assert!(err.to_string().contains("86.4 %"), "{err}");
+    assert!(err.to_string().contains("91.6 %"), "{err}");
     cfg.bus.bitrate = 1_000_000;
     assert!(Master::new(&cfg).is_ok());
     cfg.cycle.rate_hz = 400; // 2.5 ms is not a whole number of ms
@@ -944,22 +976,20 @@ fn the_torque_offset_goes_out_in_rpdo2_on_the_axis_turn_and_zero_in_cst() {
     let hold = w.hold_all();
     w.run(12, hold);
     w.master.set_torque_offset(1, 10.0);
-    // One axis a cycle: axis 2's new feed-forward goes out within six cycles, once.
+    // One axis a cycle: axis 2's new feed-forward goes out on its turn, once in six cycles.
     let mut sent = Vec::new();
     for _ in 0..12 {
         if let Some(r) = rpdo2_of(&w.step(hold), 2) {
             sent.push(r);
         }
     }
-    assert_eq!(
-        sent,
-        [Rpdo2 {
-            mode: MODE_CSP,
-            max_current_permille: 1000,
-            // 10 Nm joint / (120 * 0.9) = 0.0926 Nm motor of 0.48 Nm rated
-            torque_offset: 193,
-        }]
-    );
+    let r = Rpdo2 {
+        mode: MODE_CSP,
+        max_current_permille: 1000,
+        // 10 Nm joint / (120 * 0.9) = 0.0926 Nm motor of 0.48 Nm rated
+        torque_offset: 193,
+    };
+    assert_eq!(sent, [r, r]);
     // In CST the offset is 0 (the torque is all in 0x6071), sent with the mode change.
     let mut reqs = hold;
     reqs[1] = DriveRequest::Torque { torque_nm: 1.0 };
