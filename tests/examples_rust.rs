@@ -5,44 +5,23 @@
 mod common;
 
 use common::{Mcm, number_after};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Stdio};
-use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 /// Longest run of one example (the first one calibrates: about 12 s).
 const EXAMPLE_TIMEOUT: Duration = Duration::from_secs(90);
 
-/// The directory of this test's build profile (`target/debug`), where cargo puts binaries.
-fn profile_dir() -> PathBuf {
-    let exe = std::env::current_exe().expect("the test's path");
-    // target/<profile>/deps/examples_rust-<hash>
-    exe.parent()
-        .and_then(Path::parent)
-        .expect("target/<profile>")
-        .to_path_buf()
-}
-
-/// The examples' binaries, built once per test run with this test's profile: cargo builds a
-/// package's binaries for its own integration tests only, and these belong to `mcm-client`.
+/// An example's binary (a binary of `mcm-client`), as the test command built it for the
+/// client's own integration tests (`common::built`).
 fn example(name: &str) -> PathBuf {
-    static BUILT: OnceLock<()> = OnceLock::new();
-    let dir = profile_dir();
-    BUILT.get_or_init(|| {
-        let mut cargo = Command::new(env!("CARGO"));
-        cargo.args(["build", "-p", "mcm-client", "--bins"]);
-        if dir.file_name().is_some_and(|n| n == "release") {
-            cargo.arg("--release");
-        }
-        let target = dir.parent().expect("the target directory");
-        let status = cargo
-            .env("CARGO_TARGET_DIR", target)
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .status()
-            .expect("run cargo build -p mcm-client --bins");
-        assert!(status.success(), "building the examples failed: {status}");
-    });
-    dir.join(name)
+    common::built::Executable {
+        name,
+        kind: "bin",
+        test: false,
+        manifest: "client/Cargo.toml",
+    }
+    .path()
 }
 
 /// Run an example to its end (bounded); its stdout, after checking it succeeded.

@@ -74,7 +74,7 @@ fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel()
         Ok(image) => image,
         Err(why) => return common::skip("vm_socketcan", &why),
     };
-    let test_binary = vm::lib_test_binary("mcm-bus");
+    let test_binary = vm::lib_test_binary("mcm-bus", "bus");
     let e2e_binary = vm::integration_test_binary("socketcan");
     let safety_binary = vm::integration_test_binary("safety");
     let mut guest = vm::Guest::boot("socketcan", &image, &vm::target_dir(), &[]);

@@ -4,6 +4,7 @@
 
 #![allow(dead_code)]
 
+pub mod built;
 pub mod deb;
 pub mod flight;
 pub mod netns;

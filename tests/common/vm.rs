@@ -52,10 +52,7 @@ pub struct Image {
 
 /// The workspace's target directory (the parent of `CARGO_TARGET_TMPDIR`).
 pub fn target_dir() -> PathBuf {
-    Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .parent()
-        .expect("CARGO_TARGET_TMPDIR is target/tmp")
-        .to_path_buf()
+    super::built::target_dir()
 }
 
 /// Build the guest, or find it built (`scripts/vm/build-guest.sh`, cached under
@@ -437,6 +434,26 @@ impl Guest {
         self.wait_boot();
     }
 
+    /// After [`Guest::reboot`]: the boot is another than `boot_id` ([`check_the_guest`]'s), it
+    /// completed, and vcan0 is up again; panics with what differs and the log.
+    pub fn check_rebooted(&mut self, boot_id: &str) {
+        let out = self.run_ok(
+            "systemctl is-system-running --wait; ip -br link show vcan0; \
+             cat /proc/sys/kernel/random/boot_id",
+            Duration::from_secs(120),
+        );
+        let lines: Vec<&str> = out.lines().collect();
+        assert!(
+            lines.first() == Some(&"running")
+                && lines
+                    .get(1)
+                    .is_some_and(|l| l.starts_with("vcan0") && l.contains("UP"))
+                && lines.get(2).is_some_and(|id| *id != boot_id),
+            "after the reboot (boot id before: {boot_id}): {out}\n(log: {})",
+            self.log().display()
+        );
+    }
+
     /// Wait for QEMU to end after the guest was told to `what`; panics (with the log) after
     /// [`SHUTDOWN_WAIT`].
     fn wait_qemu_end(&mut self, what: &str) -> ExitStatus {
@@ -474,52 +491,122 @@ impl Drop for Guest {
     }
 }
 
-/// The executable of `package`'s library unit tests, built now (`cargo test -p PACKAGE --lib
-/// --no-run`, with the cargo of this test run, in this workspace and target directory) so that
-/// a guest sharing [`target_dir`] can run it. Panics with cargo's output when the build fails.
-pub fn lib_test_binary(package: &str) -> PathBuf {
-    test_binary(package, &["--lib"], "lib")
+/// What the tests that run the MCM in a guest rely on, checked in `guest` (booted with
+/// [`target_dir`] as its read-only share); panics with what differs and the log:
+/// - systemd is PID 1, the boot completed (`running`), vcan0 is up;
+/// - the read-only share reads a file the host wrote and refuses writes, and what the guest
+///   writes to [`GUEST_RW`] reaches the host;
+/// - the guest reaches nothing of the host's (QEMU's `restrict=on`): without it, 10.0.2.2 would
+///   be the host's loopback, where a listener of this test waits.
+///
+/// Returns the boot's id, for [`Guest::check_rebooted`].
+pub fn check_the_guest(guest: &mut Guest) -> String {
+    const WAIT: Duration = Duration::from_secs(120);
+    let log = guest.log().display().to_string();
+    let out = guest.run_ok(
+        "cat /proc/1/comm; systemctl is-system-running --wait; ip -br link show vcan0; \
+         cat /proc/sys/kernel/random/boot_id",
+        WAIT,
+    );
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(
+        lines.first(),
+        Some(&"systemd"),
+        "PID 1: {out}\n(log: {log})"
+    );
+    assert_eq!(
+        lines.get(1),
+        Some(&"running"),
+        "the boot: {out}\n(log: {log})"
+    );
+    assert!(
+        lines
+            .get(2)
+            .is_some_and(|l| l.starts_with("vcan0") && l.contains("UP")),
+        "vcan0: {out}\n(log: {log})"
+    );
+    let boot_id = lines.get(3).unwrap_or(&"").to_string();
+
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(super::unique_instance("vm-ro"));
+    fs::create_dir_all(&dir).unwrap();
+    let token = format!("from the host {}\n", std::process::id());
+    fs::write(dir.join("shared.txt"), &token).unwrap();
+    let ro = guest.guest_path(&dir);
+    let out = guest.run(
+        &format!(
+            "cat {ro}/shared.txt && echo from the guest >{GUEST_RW}/guest.txt && ! touch {ro}/x"
+        ),
+        WAIT,
+    );
+    assert_eq!(out.status, 0, "the shares: {}\n(log: {log})", out.output);
+    assert!(
+        out.output.starts_with(&token),
+        "the read-only share: {}",
+        out.output
+    );
+    assert_eq!(
+        fs::read_to_string(guest.results().join("guest.txt")).unwrap(),
+        "from the guest\n"
+    );
+    assert!(
+        !dir.join("x").exists(),
+        "the guest wrote into the read-only share"
+    );
+    let _ = fs::remove_dir_all(&dir);
+
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    listener.set_nonblocking(true).unwrap();
+    let port = listener.local_addr().unwrap().port();
+    let out = guest.run(
+        &format!(
+            "python3 -c 'import socket; socket.create_connection((\"10.0.2.2\", {port}), timeout=5)' \
+             && echo REACHED"
+        ),
+        WAIT,
+    );
+    assert!(
+        out.status != 0 && !out.output.contains("REACHED"),
+        "the guest reached the host's 127.0.0.1:{port}: {}\n(log: {log})",
+        out.output
+    );
+    assert!(
+        listener.accept().is_err(),
+        "the host's listener got a connection from the guest"
+    );
+    boot_id
+}
+
+/// The executable of `package`'s library unit tests (in the directory `dir` of the workspace),
+/// as `cargo test --workspace` (the test command) built it ([`super::built`]), so that a guest
+/// sharing [`target_dir`] can run it.
+pub fn lib_test_binary(package: &str, dir: &str) -> PathBuf {
+    shared_path(
+        super::built::Executable {
+            name: &package.replace('-', "_"),
+            kind: "lib",
+            test: true,
+            manifest: &format!("{dir}/Cargo.toml"),
+        }
+        .path(),
+    )
 }
 
 /// The executable of the integration test `name` (the file of that name in `tests/`) of this
-/// package, built by the cargo of this test run, as [`lib_test_binary`] builds a unit-test
-/// executable.
+/// package, as [`lib_test_binary`] finds a unit-test executable.
 pub fn integration_test_binary(name: &str) -> PathBuf {
-    test_binary(env!("CARGO_PKG_NAME"), &["--test", name], "test")
+    shared_path(
+        super::built::Executable {
+            name,
+            kind: "test",
+            test: true,
+            manifest: "Cargo.toml",
+        }
+        .path(),
+    )
 }
 
-/// The test executable of `package` that `selection` (cargo's target options) builds, whose
-/// target is of `kind`.
-fn test_binary(package: &str, selection: &[&str], kind: &str) -> PathBuf {
-    let out = Command::new(env!("CARGO"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .env("CARGO_TARGET_DIR", target_dir())
-        .args(["test", "-p", package])
-        .args(selection)
-        .args(["--no-run", "--message-format=json"])
-        .stdin(Stdio::null())
-        .output()
-        .expect("run cargo");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "cargo test -p {package} {} --no-run failed ({}):\n{}",
-        selection.join(" "),
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let exe = stdout
-        .lines()
-        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
-        .filter(|v| {
-            v["reason"] == "compiler-artifact"
-                && v["profile"]["test"] == true
-                && v["target"]["kind"]
-                    .as_array()
-                    .is_some_and(|k| k.iter().any(|k| k == kind))
-        })
-        .find_map(|v| v["executable"].as_str().map(PathBuf::from))
-        .unwrap_or_else(|| panic!("cargo named no {kind} test executable of {package}:\n{stdout}"));
+/// `exe`, after checking that it is under the target directory the guest shares.
+fn shared_path(exe: PathBuf) -> PathBuf {
     assert!(
         exe.starts_with(target_dir()),
         "{} is not under the target directory {} that the guest shares",
