@@ -18,7 +18,13 @@ pub const LATER_CYCLES: u64 = 200;
 /// The invariant a violation's message is about (the words that name it), so that a shrunk
 /// run is held to the same failure, not any failure.
 pub fn invariant_of(message: &str) -> &'static str {
-    const INVARIANTS: [&str; 16] = [
+    const INVARIANTS: [&str; 20] = [
+        // A refusal that says what was not so (first: the reason it quotes may contain the
+        // words of another invariant, "flagged calibrated", "beyond the software limits").
+        "refused as not allowed in",
+        "refused as axis",
+        "refused for the emergency stop",
+        "but the mode went from",
         "beyond the mechanical stops",
         "beyond the software limits",
         // Before "flagged calibrated": an OK to `calibrate` with an axis not flagged says both.
