@@ -1,7 +1,11 @@
-//! Both transports against the real simulated MCM (the `mcm` launcher of this workspace, built
-//! here from the current sources, started with a unique instance on free ports): ownership between
+//! Both transports against the real simulated MCM (the `mcm` launcher of this workspace, as the
+//! test command built it, started with a unique instance on free ports): ownership between
 //! shared-memory clients and its release on drop, events kept apart from results, safety
 //! errors on both transports, the control loop's clean ends, VELOCITY_CONTROL on both.
+
+#[path = "../../tests/common/built.rs"]
+#[allow(dead_code)]
+mod built;
 
 use mcm_client::Mode;
 use mcm_client::launch::SimulatedMcm;
@@ -10,39 +14,22 @@ use mcm_client::tcp::{Error, ErrorKind, Event, TcpClient, TorqueOptions, Velocit
 use mcm_shared::command::{Axis, Calibrate, SimCommand, TorqueControl, VelocityControl, Which};
 use mcm_shared::mode::RejectCode;
 use mcm_shared::reply::Reason;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::sync::OnceLock;
+use std::path::PathBuf;
+use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 const WAIT: Duration = Duration::from_secs(20);
 
-/// The workspace's `mcm` binary in this test's profile, built by cargo once per test run (cargo
-/// builds a package's binaries only for that package's own tests, and `mcm` is the root
-/// package's): always built, so a binary left from older sources is never what is tested.
+/// The workspace's `mcm` launcher (the root package's binary), as the test command built it for
+/// the root package's own tests (`built`, shared with the root package's tests).
 fn mcm_binary() -> PathBuf {
-    static BUILT: OnceLock<PathBuf> = OnceLock::new();
-    BUILT
-        .get_or_init(|| {
-            let exe = std::env::current_exe().unwrap();
-            // target/<profile>/deps/live-<hash>
-            let dir = exe.parent().and_then(Path::parent).unwrap().to_path_buf();
-            let mut cargo = Command::new(env!("CARGO"));
-            cargo.args(["build", "-p", "mcm", "--bin", "mcm"]);
-            if dir.file_name().is_some_and(|n| n == "release") {
-                cargo.arg("--release");
-            }
-            let status = cargo
-                .env("CARGO_TARGET_DIR", dir.parent().unwrap())
-                .current_dir(env!("CARGO_MANIFEST_DIR"))
-                .status()
-                .expect("run cargo build -p mcm");
-            assert!(status.success(), "cargo build -p mcm --bin mcm: {status}");
-            let bin = dir.join("mcm");
-            assert!(bin.is_file(), "cargo built no {}", bin.display());
-            bin
-        })
-        .clone()
+    built::Executable {
+        name: "mcm",
+        kind: "bin",
+        test: false,
+        manifest: "../Cargo.toml",
+    }
+    .path()
 }
 
 fn start(tag: &str) -> SimulatedMcm {

@@ -1,6 +1,7 @@
 //! The executables `cargo test --workspace` (the test command) built, found by cargo's own
-//! account of them, for the tests that run one that is not this package's binary: a test
-//! executable run in the guest (`vm.rs`), the client's examples (`tests/examples_rust.rs`).
+//! account of them, for the tests that run one that is not their package's binary: a test
+//! executable run in the guest (`vm.rs`), the client's examples (`tests/examples_rust.rs`),
+//! the launcher `mcm` for the client's own tests (`client/tests/live.rs` includes this file).
 //!
 //! Asking cargo for the one target alone (`-p`, `--test`, `--bins`) would unify the features
 //! of its dependencies differently from the whole workspace: cargo would build another copy of
@@ -66,7 +67,8 @@ fn executables() -> &'static [Value] {
 
 /// Which executable: its target's `name` and `kind` (`bin`, `lib`, `test`), whether it is the
 /// test harness's build of it (`test`), and the package whose manifest is `manifest`
-/// (relative to the workspace: `Cargo.toml`, `client/Cargo.toml`).
+/// (relative to the manifest of the package this test belongs to: `Cargo.toml`,
+/// `client/Cargo.toml`, `../Cargo.toml`).
 pub struct Executable<'a> {
     pub name: &'a str,
     pub kind: &'a str,
@@ -76,13 +78,16 @@ pub struct Executable<'a> {
 
 impl Executable<'_> {
     fn is(&self, artifact: &Value) -> bool {
-        let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join(self.manifest);
+        let canonical = |p: &Path| p.canonicalize().unwrap_or_else(|_| p.to_path_buf());
+        let manifest = canonical(&Path::new(env!("CARGO_MANIFEST_DIR")).join(self.manifest));
         artifact["target"]["name"] == self.name
             && artifact["target"]["kind"]
                 .as_array()
                 .is_some_and(|k| k.iter().any(|k| k == self.kind))
             && artifact["profile"]["test"] == self.test
-            && artifact["manifest_path"].as_str().map(Path::new) == Some(manifest.as_path())
+            && artifact["manifest_path"]
+                .as_str()
+                .is_some_and(|m| canonical(Path::new(m)) == manifest)
     }
 
     /// Its path, as the test command built it; panics when cargo named none such.
