@@ -41,8 +41,8 @@ use super::sdo::{SdoClient, SdoDone, SdoError, SdoValue};
 use super::types::EventRing;
 pub use super::types::{
     AxisFeedback, CONFIG_RETRIES, DriveRequest, EVENT_CAPACITY, FAULT_RESET_EDGES,
-    FRAME_BUF_CAPACITY, FrameBuf, LostReason, MODE_CSP, MODE_CST, MODE_RESEND_CYCLES, MasterEvent,
-    MasterSetupError, RPDO2_REPEATS,
+    FRAME_BUF_CAPACITY, FrameBuf, LostReason, MODE_CSP, MODE_CST, MasterEvent, MasterSetupError,
+    RPDO2_REPEATS,
 };
 use mcm_bus::Frame;
 use mcm_shared::NUM_AXES;
@@ -117,7 +117,6 @@ struct Session {
     prev_cw: ControlWord,
     commanded_mode: i8,
     rpdo2_sent: Option<Rpdo2>,
-    rpdo2_age: u16,
     /// Repeats of the last urgent RPDO2 still to send ([`RPDO2_REPEATS`]).
     rpdo2_repeats: u8,
     fault_reset_edges: u8,
@@ -149,7 +148,6 @@ impl Default for Session {
             prev_cw: ControlWord(0),
             commanded_mode: MODE_CSP,
             rpdo2_sent: None,
-            rpdo2_age: 0,
             rpdo2_repeats: 0,
             fault_reset_edges: 0,
             loop_restart: false,
@@ -918,36 +916,30 @@ impl Master {
         };
         let confirmed = fb.mode_display == Some(ax.session.commanded_mode);
         let mut frames = [None, None];
-        // Every drive's RPDO2 goes out again on its axis's turn (one axis a cycle, so one
-        // RPDO2 a cycle, counted in the bus load), changed or not: nothing confirms a current
-        // limit or a feed-forward, and a drive that lost a change and all its repeats would
-        // keep the old value as long as the master's stayed the same (seed 32797 of the
-        // simulation tester: the elbow's drive kept a slow search's 3.58 A through thirty
-        // calibrations, each of which then failed `blocked` against the stop). A new
-        // feed-forward alone waits for the turn.
+        // RPDO2 goes out at once when the mode or the current limit changes, and again in the
+        // next RPDO2_REPEATS cycles: nothing confirms a current limit (seed 5204 of the
+        // simulation tester: the drive of a stretched shoulder kept a calibration's 4 A through
+        // ERROR when the frame that raised it was lost, and the arm sank). And every drive's
+        // RPDO2 goes out on its axis's turn, one axis a cycle (one RPDO2 a cycle, counted in the
+        // bus load), changed or not: a drive that lost a change and all its repeats has it again
+        // within six cycles (seed 32797: the elbow's drive kept a slow search's 3.58 A through
+        // thirty calibrations, each of which failed `blocked` against the stop), a mode 0x6061
+        // has not confirmed is restated, and a new feed-forward alone waits for the turn.
         let turn = (now_ns / period_ns.max(1)) % NUM_AXES as u64 == i as u64;
         let urgent = ax.session.rpdo2_sent.is_none_or(|p| {
             p.mode != rpdo2.mode
                 || p.max_current_permille != rpdo2.max_current_permille
                 || (p.torque_offset != rpdo2.torque_offset && rpdo2.mode != MODE_CSP)
         });
+        let repeat = !urgent && ax.session.rpdo2_repeats > 0;
         if urgent {
             ax.session.rpdo2_repeats = RPDO2_REPEATS;
+        } else if repeat {
+            ax.session.rpdo2_repeats -= 1;
         }
-        if urgent || turn || (!confirmed && ax.session.rpdo2_age >= MODE_RESEND_CYCLES) {
+        if urgent || repeat || turn {
             frames[0] = Some(rpdo2.encode(ax.params.node));
             ax.session.rpdo2_sent = Some(rpdo2);
-            ax.session.rpdo2_age = 0;
-        } else if ax.session.rpdo2_repeats > 0 {
-            // A mode or current limit changed: sent again in the next cycles, as nothing
-            // confirms a current limit (seed 5204 of the simulation tester: the drive of a
-            // stretched shoulder kept a calibration's 4 A limit through ERROR when the frame
-            // that raised it was lost, and the arm sank).
-            ax.session.rpdo2_repeats -= 1;
-            frames[0] = Some(rpdo2.encode(ax.params.node));
-            ax.session.rpdo2_age = ax.session.rpdo2_age.saturating_add(1);
-        } else {
-            ax.session.rpdo2_age = ax.session.rpdo2_age.saturating_add(1);
         }
         // Controlword: one hop towards the target, fault-reset edges when asked for.
         if !fb.state.is_fault() {

@@ -21,8 +21,6 @@ pub const EVENT_CAPACITY: usize = 64;
 /// Modes of operation used by the MCM.
 pub const MODE_CSP: i8 = 8;
 pub const MODE_CST: i8 = 10;
-/// RPDO2 is repeated every this many cycles while 0x6061 has not confirmed the mode.
-pub const MODE_RESEND_CYCLES: u16 = 20;
 /// An RPDO2 with a new mode or current limit is sent again in this many following cycles:
 /// the drive confirms a mode (0x6061 in TPDO2) but not a current limit, and a lost frame must
 /// not leave a drive at an old limit (a calibration's reduced current, holding an arm it

@@ -262,10 +262,14 @@ fn mode_switch_sends_the_torque_at_once_and_keeps_the_position_at_actual() {
     assert_eq!(w.fb(1).mode_display, Some(MODE_CST));
     // 10 Nm joint / (120 * 0.9) = 0.0926 Nm motor of 0.48 Nm rated = 192.9 per-mille.
     assert_eq!(rpdo1_of(&c1, 2).unwrap().target_torque, 193);
-    // RPDO2 on a change, and again in the next RPDO2_REPEATS cycles (a repeat that falls on
-    // the axis's turn waits a cycle), then only on the axis's turn, once in six cycles.
+    // RPDO2 on a change, and again in the next RPDO2_REPEATS cycles, then only on the axis's
+    // turn, once in six cycles.
     assert_eq!(rpdo2_of(&c1, 2), rpdo2_of(&c0, 2), "repeated");
-    w.run(usize::from(RPDO2_REPEATS) + 1, reqs);
+    let rest = w.run(usize::from(RPDO2_REPEATS) - 1, reqs);
+    assert!(
+        rest.iter().all(|f| rpdo2_of(f, 2) == rpdo2_of(&c0, 2)),
+        "repeated"
+    );
     let turns: Vec<Option<Rpdo2>> = w
         .run(NUM_AXES, reqs)
         .iter()
@@ -312,18 +316,19 @@ fn current_limit_changes_send_rpdo2() {
 #[test]
 fn a_new_current_limit_is_repeated_so_that_one_lost_frame_does_not_keep_the_old_one() {
     let mut w = World::booted();
-    // Drive 1's turn is the cycle after the change: the repeats alone are seen below.
-    while (w.now / T) % NUM_AXES as u64 != 5 {
+    // The change two cycles before drive 1's turn (a cycle index divisible by 6): the turn
+    // falls on the second repeat, and the cycle after the repeats is not a turn.
+    while (w.now / T) % NUM_AXES as u64 != NUM_AXES as u64 - 2 {
         w.step([DriveRequest::Disable; 6]);
     }
     w.max_current[0] = 3.0;
-    let frames = w.run(usize::from(RPDO2_REPEATS) + 1, [DriveRequest::Disable; 6]);
+    let frames = w.run(usize::from(RPDO2_REPEATS) + 2, [DriveRequest::Disable; 6]);
     let limits: Vec<Option<u16>> = frames
         .iter()
         .map(|f| rpdo2_of(f, 1).map(|r| r.max_current_permille))
         .collect();
-    // The change and its two repeats (RPDO2_REPEATS), the first of them on the axis's turn.
-    assert_eq!(limits, [Some(750), Some(750), Some(750)]);
+    // The change and its two repeats (RPDO2_REPEATS), then nothing until the axis's turn.
+    assert_eq!(limits, [Some(750), Some(750), Some(750), None]);
 }
 
 /// Every drive's RPDO2 (mode, current limit, feed-forward) is sent again on its axis's turn,
@@ -349,6 +354,30 @@ fn a_current_limit_lost_with_its_repeats_is_restated_on_the_axis_s_turn() {
         w.step([DriveRequest::Disable; 6]);
         cycles += 1;
         assert!(cycles <= NUM_AXES, "not restated within {NUM_AXES} cycles");
+    }
+}
+
+/// A mode change lost with its repeats is restated on the axis's turn too, until the drive's
+/// mode display confirms it.
+#[test]
+fn a_mode_lost_with_its_repeats_is_restated_until_confirmed() {
+    let mut w = World::booted();
+    let hold = w.hold_all();
+    w.run(5, hold);
+    w.drives[2].deaf_rpdo2 = true;
+    let mut reqs = hold;
+    reqs[2] = DriveRequest::Torque { torque_nm: 1.0 };
+    w.run(usize::from(RPDO2_REPEATS) + 1, reqs);
+    assert_eq!(w.drives[2].mode, MODE_CSP, "the change was lost");
+    w.drives[2].deaf_rpdo2 = false;
+    let mut cycles = 0;
+    while w.fb(2).mode_display != Some(MODE_CST) {
+        w.step(reqs);
+        cycles += 1;
+        assert!(
+            cycles <= NUM_AXES + 1,
+            "not restated within {NUM_AXES} cycles"
+        );
     }
 }
 
