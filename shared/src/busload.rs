@@ -4,8 +4,9 @@
 //! al. 2007): `bits(s) = 47 + 8 s + floor((33 + 8 s) / 4)`, i.e. 55 bits for SYNC, 65 for a
 //! heartbeat, 135 for an 8-byte PDO. Per cycle the MCM sends SYNC and, per axis, RPDO1 and
 //! TPDO1 (8 bytes each), and one RPDO2 (5 bytes: each drive's mode, current limit and
-//! feed-forward restated on its axis's turn, one axis a cycle); heartbeats (every drive at `bus.drive_heartbeat_ms`, the master at
-//! `bus.master_heartbeat_ms`) and the repeats of each drive's TPDO2 (1 byte, event timer
+//! feed-forward restated on its axis's turn, one axis a cycle); heartbeats (every drive at
+//! `bus.drive_heartbeat_ms`, the master at `bus.master_heartbeat_ms`) and the repeats of each
+//! drive's TPDO2 (1 byte, event timer
 //! [`TPDO2_EVENT_TIMER_MS`]) are added as rates. The event-driven frames (an RPDO2 on a change
 //! and its repeats, TPDO2 on a change), EMCY and SDO are not periodic and are left out: the
 //! budget is what leaves room for them.
@@ -39,7 +40,8 @@ pub const fn frame_bits_unstuffed(len: u8) -> u32 {
     47 + 8 * len as u32
 }
 
-/// Bytes of the cyclic PDOs (RPDO1 and TPDO1 of the MCM drive profile).
+/// Bytes of the cyclic PDOs (RPDO1 and TPDO1 of the MCM drive profile; the core's PDO types
+/// take their lengths from here).
 pub const CYCLIC_RPDO_BYTES: u8 = 8;
 pub const CYCLIC_TPDO_BYTES: u8 = 8;
 /// Bytes of RPDO2 (mode, current limit, torque feed-forward), one of which goes out every cycle.
@@ -161,8 +163,9 @@ pub fn check_config(cfg: &RobotConfig) -> Result<BusLoad, BusLoadError> {
 pub enum BusLoadError {
     #[error(
         "worst-case bus load {:.1} % exceeds bus.load_budget {:.1} %: per cycle {} bits \
-         ({} axes x (RPDO1 {} + TPDO1 {} bits) + RPDO2 {} bits + SYNC {} bits) = {:.0} us at {} bit/s, \
-         x cycle.rate_hz {} = {:.0} bit/s, plus heartbeats {:.0} bit/s ({} producers x {} bits), \
+         ({} axes x (RPDO1 {} + TPDO1 {} bits) + RPDO2 {} bits + SYNC {} bits) = {:.0} us at \
+         {} bit/s, x cycle.rate_hz {} = {:.0} bit/s, plus heartbeats {:.0} bit/s \
+         ({} producers x {} bits), \
          plus TPDO2 repeats {:.0} bit/s ({} drives x {} bits every {} ms); \
          allowed: cycle.rate_hz <= {:.0} Hz at this bit rate, or a higher bus.bitrate",
         .0.load * 100.0, .0.budget * 100.0, .0.bits_per_cycle, .0.axes, .0.rpdo_bits, .0.tpdo_bits,

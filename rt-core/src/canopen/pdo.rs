@@ -18,6 +18,8 @@
 
 use super::objects::{rpdo_id, tpdo_id};
 use mcm_bus::Frame;
+// The lengths the bus-load budget counts (`mcm_shared::busload`) are these PDOs' lengths.
+use mcm_shared::busload::{CYCLIC_RPDO_BYTES, CYCLIC_TPDO_BYTES, RPDO2_BYTES};
 
 /// A PDO frame had the wrong length.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -53,7 +55,7 @@ pub struct Rpdo1 {
 }
 
 impl Rpdo1 {
-    pub const LEN: u8 = 8;
+    pub const LEN: u8 = CYCLIC_RPDO_BYTES;
 
     pub fn encode(&self, node: u8) -> Frame {
         let mut data = [0u8; 8];
@@ -88,7 +90,7 @@ pub struct Rpdo2 {
 }
 
 impl Rpdo2 {
-    pub const LEN: u8 = 5;
+    pub const LEN: u8 = RPDO2_BYTES;
 
     pub fn encode(&self, node: u8) -> Frame {
         let [c0, c1] = self.max_current_permille.to_le_bytes();
@@ -120,7 +122,7 @@ pub struct Tpdo1 {
 }
 
 impl Tpdo1 {
-    pub const LEN: u8 = 8;
+    pub const LEN: u8 = CYCLIC_TPDO_BYTES;
 
     pub fn encode(&self, node: u8) -> Frame {
         let mut data = [0u8; 8];
