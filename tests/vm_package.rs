@@ -1,7 +1,7 @@
 //! The Debian package (docs/deploy.md, "The Debian package") installed and run in the test guest
 //! (tests/common/vm.rs: Debian 13, systemd as PID 1, vcan0 up at boot, QEMU software emulation).
 //! First the guest itself, what the guest tests rely on (`vm::check_the_guest`: systemd, vcan0,
-//! the shares, no way to the host), and after the reboot below a new boot with vcan0 up again.
+//! the shares, no way to the host), and after the reboot below a completed boot with vcan0 up.
 //! The package is made as tests/deb_package.rs makes it (`cargo deb --no-build` around this test
 //! build's `mcm`), twice (the second with a higher version, for the upgrade), under the target
 //! directory that the guest sees read-only. In the guest, as root: install it; point the
@@ -223,7 +223,7 @@ fn the_package_installs_runs_restarts_survives_a_reboot_upgrades_and_purges() {
     let upgrade_in_guest = guest.guest_path(&upgrade);
 
     // The guest itself: what this test and vm_socketcan rely on.
-    let boot_id = vm::check_the_guest(&mut guest);
+    vm::check_the_guest(&mut guest);
 
     // Install: starts nothing.
     let install_started = Instant::now();
@@ -383,7 +383,7 @@ fn the_package_installs_runs_restarts_survives_a_reboot_upgrades_and_purges() {
     // Reboot: the enabled MCM comes back by itself.
     let reboot_started = Instant::now();
     guest.reboot();
-    guest.check_rebooted(&boot_id);
+    guest.check_rebooted();
     guest.run_ok(&start_arm(), RUN_WAIT);
     guest.run_ok(
         &wait_active(&["mcm-rt", "mcm-gateway", "mcm.target"], 120),

@@ -50,10 +50,8 @@ pub struct Image {
     pub dir: PathBuf,
 }
 
-/// The workspace's target directory (the parent of `CARGO_TARGET_TMPDIR`).
-pub fn target_dir() -> PathBuf {
-    super::built::target_dir()
-}
+/// The workspace's target directory, which the guest shares.
+pub use super::built::target_dir;
 
 /// Build the guest, or find it built (`scripts/vm/build-guest.sh`, cached under
 /// `target/vm/`). `Err` says which tool is missing (the caller skips: `super::skip`); a build
@@ -434,22 +432,14 @@ impl Guest {
         self.wait_boot();
     }
 
-    /// After [`Guest::reboot`]: the boot is another than `boot_id` ([`check_the_guest`]'s), it
-    /// completed, and vcan0 is up again; panics with what differs and the log.
-    pub fn check_rebooted(&mut self, boot_id: &str) {
-        let out = self.run_ok(
-            "systemctl is-system-running --wait; ip -br link show vcan0; \
-             cat /proc/sys/kernel/random/boot_id",
-            Duration::from_secs(120),
-        );
-        let lines: Vec<&str> = out.lines().collect();
+    /// After [`Guest::reboot`] (which waits for the agent of a new boot, by its boot id): the
+    /// boot completed and vcan0 is up again; panics with what differs and the log.
+    pub fn check_rebooted(&mut self) {
+        let boot = Boot::of(self);
         assert!(
-            lines.first() == Some(&"running")
-                && lines
-                    .get(1)
-                    .is_some_and(|l| l.starts_with("vcan0") && l.contains("UP"))
-                && lines.get(2).is_some_and(|id| *id != boot_id),
-            "after the reboot (boot id before: {boot_id}): {out}\n(log: {})",
+            boot.running && boot.vcan0_up,
+            "after the reboot, the boot completed and vcan0 up: {}\n(log: {})",
+            boot.said,
             self.log().display()
         );
     }
@@ -498,34 +488,15 @@ impl Drop for Guest {
 ///   writes to [`GUEST_RW`] reaches the host;
 /// - the guest reaches nothing of the host's (QEMU's `restrict=on`): without it, 10.0.2.2 would
 ///   be the host's loopback, where a listener of this test waits.
-///
-/// Returns the boot's id, for [`Guest::check_rebooted`].
-pub fn check_the_guest(guest: &mut Guest) -> String {
+pub fn check_the_guest(guest: &mut Guest) {
     const WAIT: Duration = Duration::from_secs(120);
     let log = guest.log().display().to_string();
-    let out = guest.run_ok(
-        "cat /proc/1/comm; systemctl is-system-running --wait; ip -br link show vcan0; \
-         cat /proc/sys/kernel/random/boot_id",
-        WAIT,
-    );
-    let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(
-        lines.first(),
-        Some(&"systemd"),
-        "PID 1: {out}\n(log: {log})"
-    );
-    assert_eq!(
-        lines.get(1),
-        Some(&"running"),
-        "the boot: {out}\n(log: {log})"
-    );
+    let boot = Boot::of(guest);
     assert!(
-        lines
-            .get(2)
-            .is_some_and(|l| l.starts_with("vcan0") && l.contains("UP")),
-        "vcan0: {out}\n(log: {log})"
+        boot.pid1 == "systemd" && boot.running && boot.vcan0_up,
+        "PID 1 systemd, the boot completed, vcan0 up: {}\n(log: {log})",
+        boot.said
     );
-    let boot_id = lines.get(3).unwrap_or(&"").to_string();
 
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(super::unique_instance("vm-ro"));
     fs::create_dir_all(&dir).unwrap();
@@ -573,7 +544,32 @@ pub fn check_the_guest(guest: &mut Guest) -> String {
         listener.accept().is_err(),
         "the host's listener got a connection from the guest"
     );
-    boot_id
+}
+
+/// What a boot is: PID 1's name, whether systemd says the boot completed (`running`, waited
+/// for), whether vcan0 is up; and the guest's words for them.
+struct Boot {
+    pid1: String,
+    running: bool,
+    vcan0_up: bool,
+    said: String,
+}
+
+impl Boot {
+    fn of(guest: &mut Guest) -> Boot {
+        let said = guest.run_ok(
+            "cat /proc/1/comm; systemctl is-system-running --wait; ip -br link show vcan0",
+            Duration::from_secs(120),
+        );
+        let lines: Vec<&str> = said.lines().collect();
+        let line = |i: usize| lines.get(i).copied().unwrap_or("").to_string();
+        Boot {
+            pid1: line(0),
+            running: line(1) == "running",
+            vcan0_up: line(2).starts_with("vcan0") && line(2).contains("UP"),
+            said: said.clone(),
+        }
+    }
 }
 
 /// The executable of `package`'s library unit tests (in the directory `dir` of the workspace),
