@@ -3,7 +3,7 @@
 # table (one row per crate) ready to paste into docs/testing.md.
 #
 #   scripts/coverage.sh            # every member crate's unit, property and tests/ tests
-#   scripts/coverage.sh --e2e      # also the root package's end-to-end tests (tests/*.rs)
+#   scripts/coverage.sh --e2e      # also the root package's end-to-end tests (tests/)
 #   scripts/coverage.sh --html     # also an HTML report, in $CARGO_TARGET_DIR/llvm-cov/html
 #   scripts/coverage.sh --doctests # also the doc tests (needs a nightly toolchain)
 #

@@ -2,7 +2,7 @@
 //! (tests/common/vm.rs: Debian 13, systemd as PID 1, vcan0 up at boot, QEMU software emulation).
 //! First the guest itself, what the guest tests rely on (`vm::check_the_guest`: systemd, vcan0,
 //! the shares, no way to the host), and after the reboot below a completed boot with vcan0 up.
-//! The package is made as tests/deb_package.rs makes it (`cargo deb --no-build` around this test
+//! The package is made as tests/end_to_end/deb_package.rs makes it (`cargo deb --no-build` around this test
 //! build's `mcm`), twice (the second with a higher version, for the upgrade), under the target
 //! directory that the guest sees read-only. In the guest, as root: install it; point the
 //! conffile at vcan0 with the emulated timing (tests/common/virtual_arm.rs, `EMULATED`); start

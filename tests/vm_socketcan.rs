@@ -6,11 +6,12 @@
 //! shared into the guest; the test must report that it ran and passed (`--exact`: 1 passed, and
 //! not the line it prints when it skips).
 //!
-//! Then, in the same guest, the MCM itself over that kernel's CAN: `tests/socketcan.rs` (its
-//! tests are ignored where there is no vcan) with `--ignored`, `MCM_TEST_BUS=socketcan` (each MCM
+//! Then, in the same guest, the MCM itself over that kernel's CAN: the end-to-end executable's
+//! `socketcan::` tests (`tests/end_to_end/socketcan.rs`, ignored where there is no vcan) with
+//! `--ignored`, `MCM_TEST_BUS=socketcan` (each MCM
 //! over a vcan of its own with the virtual arm on it, tests/common/virtual_arm.rs) and
 //! `MCM_TEST_EMULATED=1` (the cycle rate and bus timing emulation can hold). Every one of its
-//! tests must pass. Then `tests/safety.rs` the same way: its trips over SocketCAN, two tests
+//! tests must pass. Then its `safety::` tests (`tests/end_to_end/safety.rs`) the same way: its trips over SocketCAN, two tests
 //! left out ([`SAFETY_SKIPPED`]).
 
 mod common;
@@ -20,12 +21,13 @@ use std::time::Duration;
 
 /// The unit test, by its full name.
 const UNIT_TEST: &str = "socketcan::tests::real_interface_round_trip_when_available";
-/// The tests of `tests/socketcan.rs`, every one of which must pass in the guest, but for
-/// [`SOAK`].
+/// The tests of `tests/end_to_end/socketcan.rs`, every one of which must pass in the guest,
+/// but for [`SOAK`].
 const E2E_TESTS: usize = 3;
-/// The test of `tests/socketcan.rs` that runs for minutes: not in CI, [`soak_in_the_guest`].
-const SOAK: &str = "motion_for_minutes_with_no_pdo_lost_as_the_drives_saw_it";
-/// The tests of `tests/safety.rs` left out over SocketCAN in the guest (docs/testing.md, "The
+/// The test of `tests/end_to_end/socketcan.rs` that runs for minutes: not in CI,
+/// [`soak_in_the_guest`].
+const SOAK: &str = "socketcan::motion_for_minutes_with_no_pdo_lost_as_the_drives_saw_it";
+/// The tests of `tests/end_to_end/safety.rs` left out over SocketCAN in the guest (docs/testing.md, "The
 /// MCM over SocketCAN in the guest"):
 /// - the push towards the limit: at the guest's 50 Hz a 60 Nm push ends 2.2 deg past the limit,
 ///   in-process as over SocketCAN (the cycle rate, not the bus; docs/safety.md, "Braking
@@ -35,10 +37,10 @@ const SOAK: &str = "motion_for_minutes_with_no_pdo_lost_as_the_drives_saw_it";
 ///   for 0.2 s of the core's clock (the virtual arm, a process of its own on the emulated
 ///   machine, can pause that long).
 const SAFETY_SKIPPED: [&str; 2] = [
-    "a_torque_driving_an_axis_towards_its_limit_is_stopped_before_the_limit",
-    "an_obstacle_trips_the_following_error_and_nothing_moves_afterwards",
+    "safety::a_torque_driving_an_axis_towards_its_limit_is_stopped_before_the_limit",
+    "safety::an_obstacle_trips_the_following_error_and_nothing_moves_afterwards",
 ];
-/// The tests of `tests/safety.rs` that must pass in the guest: all but [`SAFETY_SKIPPED`].
+/// The tests of `tests/end_to_end/safety.rs` that must pass in the guest: all but [`SAFETY_SKIPPED`].
 const SAFETY_TESTS: usize = 5;
 
 /// `output` without the virtual arm's notes of SYNC lost and back, which are many under
@@ -75,8 +77,7 @@ fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel()
         Err(why) => return common::skip("vm_socketcan", &why),
     };
     let test_binary = vm::lib_test_binary("mcm-bus", "bus");
-    let e2e_binary = vm::integration_test_binary("socketcan");
-    let safety_binary = vm::integration_test_binary("safety");
+    let e2e_binary = vm::integration_test_binary("end_to_end");
     let mut guest = vm::Guest::boot("socketcan", &image, &vm::target_dir(), &[]);
     let log = guest.log().display().to_string();
 
@@ -114,25 +115,35 @@ fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel()
     let script = format!(
         "set -e; mkdir -p {parent}; ln -sfn {share} {target}; cd /tmp; \
              cat {binary} {target}/debug/mcm >/dev/null; \
-             MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} --ignored --test-threads=1 \
-             --skip {SOAK}",
+             MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} socketcan:: --ignored \
+             --test-threads=1 --skip {SOAK}",
         parent = target.parent().unwrap().display(),
         share = vm::GUEST_RO,
         target = target.display(),
         binary = guest.guest_path(&e2e_binary),
     );
-    must_pass(&mut guest, "tests/socketcan.rs", &script, E2E_TESTS);
+    must_pass(
+        &mut guest,
+        "tests/end_to_end/socketcan.rs",
+        &script,
+        E2E_TESTS,
+    );
 
-    // The safety trips of tests/safety.rs over the kernel's CAN: the emergency stop, a silent
+    // The safety trips of tests/end_to_end/safety.rs over the kernel's CAN: the emergency stop, a silent
     // drive, high current, a power cycle, motion refused uncalibrated.
     let script = format!(
-        "cd /tmp; MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} --test-threads=1 \
-             --skip {} --skip {}",
+        "cd /tmp; MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} safety:: \
+             --test-threads=1 --skip {} --skip {}",
         SAFETY_SKIPPED[0],
         SAFETY_SKIPPED[1],
-        binary = guest.guest_path(&safety_binary),
+        binary = guest.guest_path(&e2e_binary),
     );
-    must_pass(&mut guest, "tests/safety.rs", &script, SAFETY_TESTS);
+    must_pass(
+        &mut guest,
+        "tests/end_to_end/safety.rs",
+        &script,
+        SAFETY_TESTS,
+    );
 
     let status = guest.shutdown();
     assert!(status.success(), "QEMU ended with {status} (log: {log})");
@@ -153,7 +164,7 @@ fn soak_in_the_guest() {
         v.parse()
             .unwrap_or_else(|e| panic!("MCM_SOAK_S = {v:?}: {e}"))
     });
-    let e2e_binary = vm::integration_test_binary("socketcan");
+    let e2e_binary = vm::integration_test_binary("end_to_end");
     let mut guest = vm::Guest::boot("soak", &image, &vm::target_dir(), &[]);
     let log = guest.log().display().to_string();
     let target = vm::target_dir();

@@ -1,4 +1,4 @@
-"""Checks of the MCM's ZeroMQ interface with pyzmq, run by tests/zmq.rs against a calibrated
+"""Checks of the MCM's ZeroMQ interface with pyzmq, run by tests/end_to_end/zmq.rs against a calibrated
 simulated arm (not an example): one reply per request and an ERROR result for garbage; each
 peer is a client of its own (a second peer's motion is refused while the first owns, and its
 `hold` is not); a peer whose connection closes loses control; a safety error appears on the

@@ -1,4 +1,4 @@
-"""What a ZeroMQ subscriber hears when mcm-rt is killed, run by tests/zmq.rs (not an example).
+"""What a ZeroMQ subscriber hears when mcm-rt is killed, run by tests/end_to_end/zmq.rs (not an example).
 Subscribes to `state` and `error`, prints `subscribed` once a state arrived (the subscription is
 through), then prints every `error` message as `error: JSON` until the gateway's own last one
 (`the MCM is shutting down ...`). Exits non-zero with the reason when nothing comes within 20 s.

@@ -27,7 +27,7 @@
 //! accessors) neither lock nor block on success, and the reads allocate nothing; sending a
 //! command (`set_torques`, `set_velocities`, each answer of the loop) makes one small
 //! allocation inside iceoryx2 0.10's publisher (its loan), none of this library's own
-//! (`tests/capi_realtime.rs` counts them). Everything else may allocate and block.
+//! (`tests/end_to_end/capi_realtime.rs` counts them). Everything else may allocate and block.
 
 #![allow(non_camel_case_types)]
 // The C functions check their pointers; the caller's promise is the header's documentation.

@@ -1,7 +1,7 @@
 """The ctypes structures against the Rust layouts.
 
 The truth comes from the Rust compiler: ``cargo run -p mcm-shared --example layout`` prints it
-as JSON, and ``tests/python_layout.rs`` (run by ``cargo test --workspace``) writes it to a
+as JSON, and ``tests/end_to_end/python_layout.rs`` (run by ``cargo test --workspace``) writes it to a
 file named by the environment variable ``MCM_LAYOUT_JSON`` before running this test. Without
 that variable the test is skipped, saying so (a failure instead when ``CI`` is set).
 """
@@ -18,7 +18,7 @@ from . import needs
 _PATH = os.environ.get("MCM_LAYOUT_JSON")
 
 
-@needs.env("MCM_LAYOUT_JSON", "run `cargo test --test python_layout`")
+@needs.env("MCM_LAYOUT_JSON", "run `cargo test --test end_to_end python_layout::`")
 class LayoutMatchesRust(unittest.TestCase):
     @classmethod
     def setUpClass(cls) -> None:

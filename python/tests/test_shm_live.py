@@ -1,5 +1,5 @@
 """The shared-memory client against a running MCM (simulated), named by the environment
-variable ``MCM_INSTANCE`` (``tests/examples_python.rs`` starts one and sets it). Skipped,
+variable ``MCM_INSTANCE`` (``tests/end_to_end/examples_python.rs`` starts one and sets it). Skipped,
 saying so, without it; a failure instead when ``CI`` is set."""
 
 import math
@@ -21,7 +21,7 @@ WAIT_S = 20.0
 STOP_S = 0.5
 
 
-@needs.env("MCM_INSTANCE", "run `cargo test --test examples_python`")
+@needs.env("MCM_INSTANCE", "run `cargo test --test end_to_end examples_python::`")
 class ShmLive(unittest.TestCase):
     def setUp(self) -> None:
         self.a = mcm.ShmClient(str(INSTANCE))

@@ -1,7 +1,7 @@
 //! Prints the layouts of the shared-memory samples as JSON: for each struct its iceoryx2 type
 //! name, size, alignment and the offset of every field, as the Rust compiler laid them out.
 //! Clients in other languages check their mirrors against it (the Python package's ctypes
-//! structures: `tests/python_layout.rs` includes this file and runs the Python check).
+//! structures: `tests/end_to_end/python_layout.rs` includes this file and runs the Python check).
 //!
 //! ```sh
 //! cargo run -p mcm-shared --example layout
@@ -406,7 +406,7 @@ fn argument_refusals() -> Vec<mcm_shared::reply::Reason> {
         .collect()
 }
 
-#[allow(dead_code)] // unused where `tests/python_layout.rs` includes this file as a module
+#[allow(dead_code)] // unused where `tests/end_to_end/python_layout.rs` includes this file as a module
 fn main() {
     println!("{}", layout_json());
 }

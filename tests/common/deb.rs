@@ -1,5 +1,5 @@
 //! The Debian package as the tests make it: cargo-deb around the `mcm` cargo built for this
-//! test run (`--no-build`: no release build), for `tests/deb_package.rs` and
+//! test run (`--no-build`: no release build), for `tests/end_to_end/deb_package.rs` and
 //! `tests/vm_package.rs`.
 
 use std::path::{Path, PathBuf};
@@ -26,6 +26,7 @@ pub fn cargo_deb_installed() -> Result<(), String> {
 /// a version of `None` is the manifest's. Their paths, in order; panics with cargo-deb's output
 /// when it fails.
 pub fn build(dir: &Path, packages: &[(&str, Option<&str>)]) -> Vec<PathBuf> {
+    super::machine::share();
     let target = dir.join("target");
     let _ = std::fs::remove_dir_all(dir);
     std::fs::create_dir_all(target.join("release")).unwrap();

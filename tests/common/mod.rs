@@ -7,6 +7,7 @@
 pub mod built;
 pub mod deb;
 pub mod flight;
+pub mod machine;
 pub mod netns;
 pub mod python;
 pub mod ros2;
@@ -65,8 +66,10 @@ pub fn number_after(text: &str, before: &str) -> f64 {
         .unwrap_or_else(|e| panic!("{before:?}: {e} in {text}"))
 }
 
-/// A unique instance name for this test process.
+/// A unique instance name for this test process. The test shares the machine from here on
+/// ([`machine::share`]): an instance name is the start of an MCM.
 pub fn unique_instance(tag: &str) -> String {
+    machine::share();
     format!(
         "t{}-{}-{}",
         std::process::id(),
@@ -105,6 +108,7 @@ impl Mcm {
 
     /// Start with the instance name `instance` and extra launcher arguments.
     pub fn start_named(instance: &str, extra: &[&str]) -> Mcm {
+        machine::share();
         let mut extra: Vec<&str> = extra.to_vec();
         let arm = virtual_arm::socketcan().then(|| {
             let at = extra.iter().position(|a| *a == "--config");
@@ -124,6 +128,7 @@ impl Mcm {
     /// simulated bus) with the instance name `instance` and extra launcher arguments (without
     /// `--config` when there is an arm).
     pub fn start_on(arm: Option<virtual_arm::VirtualArm>, instance: &str, extra: &[&str]) -> Mcm {
+        machine::share();
         let mut extra: Vec<&str> = extra.to_vec();
         if let Some(a) = &arm {
             extra.extend(["--config", a.config.path()]);

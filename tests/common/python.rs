@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Packages installed next to the `mcm` package (the flight-recorder plot needs matplotlib;
-/// the ZeroMQ tests and example, `tests/zmq.rs`, need pyzmq).
+/// the ZeroMQ tests and example, `tests/end_to_end/zmq.rs`, need pyzmq).
 const EXTRA_PACKAGES: &[&str] = &["matplotlib", "pyzmq"];
 
 /// The repository's root.
@@ -48,6 +48,8 @@ pub fn missing<T>(test: &str, why: &str) -> Option<T> {
 /// The virtual environment's Python ([`venv`]); `None` after saying the test is skipped when
 /// Python is missing (a failure under `CI`); panics, with pip's output, when making it failed.
 pub fn venv_or_skip(test: &str) -> Option<PathBuf> {
+    // Making the venv (pip) loads the machine; the test then starts an MCM.
+    super::machine::share();
     match venv() {
         Ok(py) => Some(py),
         Err(VenvError::Missing(why)) => missing(test, &why),

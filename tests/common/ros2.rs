@@ -42,6 +42,7 @@ const INPUTS: &[&str] = &[
 /// simulated arm inside `ns`; its JSON port is on the namespace's loopback
 /// ([`Netns::connect`]). Panics when it does not start.
 pub fn mcm_in(ns: &Netns, instance: &str, ros2_args: &[String]) -> SimulatedMcm {
+    super::machine::share();
     let binary = Path::new(env!("CARGO_BIN_EXE_mcm"));
     let mut extra: Vec<String> = vec!["--ros2".into()];
     extra.extend(ros2_args.iter().map(|a| format!("--ros2-arg={a}")));
@@ -170,6 +171,8 @@ pub enum Discovery {
 /// a tool is missing (a failure under `CI`); panics, with the tool's output, when making it
 /// failed.
 pub fn venv_or_skip(test: &str) -> Option<PathBuf> {
+    // Making the venv (pip, a type-support build) loads the machine.
+    super::machine::share();
     match venv() {
         Ok(py) => Some(py),
         Err(VenvError::Missing(why)) => {

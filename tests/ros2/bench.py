@@ -7,7 +7,7 @@ rclpy needs, and cleans up:
     nice -n 10 tests/ros2/bench.sh --seconds 600 --goals 20 # the same at low priority
     tests/ros2/bench.sh --seconds 30 --goals 5              # a short try
 
-By hand, as root (what bench.sh does; PY is the venv of tests/ros2.rs,
+By hand, as root (what bench.sh does; PY is the venv of tests/end_to_end/ros2.rs,
 target/tmp/ros2-venv/bin/python; N a free namespace name, D a domain id 1..=101):
 
     ip netns add N; ip -n N link set lo up; ip -n N link set lo multicast on

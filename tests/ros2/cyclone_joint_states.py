@@ -1,6 +1,6 @@
 """Read the MCM node's /joint_states with a second DDS implementation, Cyclone DDS (its Python
 binding, no ROS): the node's RustDDS and a DDS that is neither it nor Fast DDS agree on the
-wire (discovery, the topic and type names ROS 2 uses, CDR). Run by tests/ros2.rs.
+wire (discovery, the topic and type names ROS 2 uses, CDR). Run by tests/end_to_end/ros2.rs.
 
     python cyclone_joint_states.py --domain N [--namespace /] [--count 20]
 

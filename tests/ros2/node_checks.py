@@ -1,4 +1,4 @@
-"""Checks of the MCM's ROS 2 node with real ROS 2 (rclpy, Fast DDS), run by tests/ros2.rs.
+"""Checks of the MCM's ROS 2 node with real ROS 2 (rclpy, Fast DDS), run by tests/end_to_end/ros2.rs.
 
     python node_checks.py single --json 127.0.0.1:PORT [--namespace /] [--prefix ""]
     python node_checks.py remote --namespaces /left,/right --prefixes left_,right_ --move /right

@@ -1,5 +1,5 @@
 """A /joint_states subscriber (rclpy, reliable, the default QoS) that says what it receives,
-judged on the robot's clock: tests/ros2.rs runs two, stops one (SIGSTOP) and reads the other.
+judged on the robot's clock: tests/end_to_end/ros2.rs runs two, stops one (SIGSTOP) and reads the other.
 
     python reader_rate.py --period 0.005 --window 2 --seconds 30
 

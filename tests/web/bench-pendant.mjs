@@ -6,7 +6,7 @@
 //   - with pages: each page's display latency (`window.mcmPendant.latencies`: Date.now() minus
 //     the cycle's `cycle_unix_ms` when a frame is shown), p50/p99/max over all pages.
 //
-// From the repository's root, after `cargo test --test web` has installed the node packages
+// From the repository's root, after `cargo test --test end_to_end web::` has installed the node packages
 // beside a copy of these scripts in target/tmp/web-node:
 //   cargo build --release
 //   cp tests/web/*.mjs target/tmp/web-node/

@@ -1,4 +1,4 @@
-// Shared by the browser tests of the pendant (run by tests/web.rs): Chromium through
+// Shared by the browser tests of the pendant (run by tests/end_to_end/web.rs): Chromium through
 // playwright-core, a JSON-protocol client for the simulation's truth, bounded waits, the
 // screenshots for docs/web.md and the arm's forward kinematics.
 //
@@ -16,7 +16,7 @@ import { setTimeout as delay } from 'node:timers/promises';
 
 export function env(name) {
   const v = process.env[name];
-  if (!v) throw new Error(`${name} is not set: run these scripts through tests/web.rs (cargo test --test web)`);
+  if (!v) throw new Error(`${name} is not set: run these scripts through tests/end_to_end/web.rs (cargo test --test end_to_end web::)`);
   return v;
 }
 

@@ -5,7 +5,7 @@
 // when the tab is closed, an injected fault appears with its words and its flight record
 // plots, and the page reconnects after the gateway is killed and restarted. Claims about the
 // arm are checked on the simulation's truth (`sim`), times on the robot's clock.
-// Run by tests/web.rs; see lib.mjs for the environment it passes.
+// Run by tests/end_to_end/web.rs; see lib.mjs for the environment it passes.
 
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';

@@ -3,7 +3,7 @@
 // jog key and the protocol's motion commands sent over the page's own WebSocket move nothing
 // on the simulation's truth, and `hold` from a key still works. The arm is calibrated (the
 // MCM was restarted with the calibration its drives kept), so only the access rule stops it.
-// Run by tests/web.rs; see lib.mjs for the environment it passes.
+// Run by tests/end_to_end/web.rs; see lib.mjs for the environment it passes.
 
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';

@@ -2,7 +2,7 @@
 
 iceoryx2 compares only a type's name, size and alignment when a peer opens a service, never
 its fields, so these structures are pinned to the Rust layouts by a test
-(``tests/python_layout.rs`` runs ``python/tests/test_layout.py`` against the sizes and field
+(``tests/end_to_end/python_layout.rs`` runs ``python/tests/test_layout.py`` against the sizes and field
 offsets the Rust compiler computed). Any layout change in Rust bumps the version in the type
 name (``mcm.StateSample.v5``), and this module must follow.
 

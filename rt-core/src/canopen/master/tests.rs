@@ -1091,7 +1091,7 @@ fn a_lost_tpdo2_after_a_mode_change_is_made_good_by_its_event_timer() {
 
 /// Online means measured: the first cycle a drive is online, its feedback already holds the
 /// position of a TPDO1 (the fake drives stand at 1000 x node counts), never the 0 it starts
-/// with between NMT start and that first TPDO1 (CI's tests/modes.rs read those zeros).
+/// with between NMT start and that first TPDO1 (CI's tests/end_to_end/modes.rs read those zeros).
 #[test]
 fn a_drive_is_online_only_once_a_tpdo1_measured_it() {
     let mut w = World::new();

@@ -9,7 +9,7 @@
 //! Real processes (the `mcm` launcher, `mcm-rt`, `mcm-gateway`), unique instance names and
 //! free ports; every wait is bounded.
 
-mod common;
+use crate::common;
 
 use common::{WAIT, alive, config_file, unique_instance};
 use mcm_shared::ready::{McmReady, ReadyLine};

@@ -6,7 +6,7 @@
 //! Times are the robot's (`axis_states.time`); every wait is bounded; the short pauses only
 //! pace polls or stand for a terminal's key auto-repeat.
 
-mod common;
+use crate::common;
 
 use common::{Client, WAIT, assert_error, assert_ok, assert_status, calibrated, six, time_of};
 use std::io::{Read, Write};

@@ -16,7 +16,7 @@
 //! the `time` of status results (`CLOCK_MONOTONIC` of the cycle) and the `t_s` and `cycle`
 //! columns of the flight recorder.
 
-mod common;
+use crate::common;
 
 use common::flight::Flight;
 use common::{

@@ -8,7 +8,7 @@
 //! Every wait is bounded; there are no fixed sleeps used as synchronisation (the short pauses
 //! in polling loops only pace the polls).
 
-mod common;
+use crate::common;
 
 use common::{
     Client, Mcm, WAIT, assert_error, assert_ok, assert_status, calibrated, max_abs, max_diff,
@@ -360,7 +360,7 @@ fn move_axis_moves_only_its_axis_and_hold_stops() {
     assert_status(&c.request(r#"{"command":"pvt"}"#), "PVT");
     let start = wait_at_rest(&mut c).position;
 
-    // (Moves sent while this one runs re-plan: tests/replan.rs.)
+    // (Moves sent while this one runs re-plan: tests/end_to_end/replan.rs.)
     assert_ok(&c.request(&move_axis(2, 15.0, 0.5)));
 
     let mut target = start;

@@ -18,7 +18,7 @@
 //! (file-locked; again when `package-lock.json` changes). With
 //! `MCM_WEB_SCREENSHOTS=1` the scripts write the screenshots of `docs/web.md` to `docs/web/`.
 
-mod common;
+use crate::common;
 
 use common::python::{FileLock, repo_root, run};
 use common::{Mcm, alive, assert_ok, config_file, find_program, skip, unique_instance};
@@ -285,6 +285,7 @@ fn the_pendant_in_chromium_against_the_simulated_arm() {
     let Some(tools) = tools_or_skip(test) else {
         return;
     };
+    common::machine::share();
     node_modules(&tools).unwrap_or_else(|e| panic!("{test}: npm ci in tests/web: {e}"));
     let instance = unique_instance("web");
     let port = free_port();

@@ -6,15 +6,16 @@
 //! its JSON to a file and runs `python/tests/test_layout.py` with the system's `python3`
 //! (standard library only, no virtual environment needed).
 
-mod common;
+use crate::common;
 
-#[path = "../shared/examples/layout.rs"]
+#[path = "../../shared/examples/layout.rs"]
 mod layout;
 
 use common::python;
 
 #[test]
 fn python_ctypes_structures_match_the_rust_layouts() {
+    common::machine::share();
     let Some(py) =
         python::system_python().map_or_else(|e| python::missing("python_layout", &e), Some)
     else {

@@ -5,7 +5,7 @@
 //! of the timeout; the core only while its cycle runs), and says `STOPPING=1` at SIGTERM before
 //! it exits. Every wait is bounded.
 
-mod common;
+use crate::common;
 
 use std::os::unix::net::UnixDatagram;
 use std::path::PathBuf;

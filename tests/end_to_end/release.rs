@@ -5,7 +5,7 @@
 //! Every wait is bounded; the short pauses in polling loops only pace the polls. Robot times are
 //! the `time` of status results.
 
-mod common;
+use crate::common;
 
 use common::{
     EventClient, Mcm, WAIT, assert_ok, assert_status, config_file, is_event, max_diff, six, time_of,

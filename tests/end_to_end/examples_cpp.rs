@@ -9,7 +9,7 @@
 //! without them the test says it is skipped, except when `CI` is set, where it fails (`.ci/run`
 //! installs cmake, make and g++).
 
-mod common;
+use crate::common;
 
 use common::{Mcm, find_program, number_after};
 use std::path::{Path, PathBuf};
@@ -151,6 +151,8 @@ fn build_examples(lib_dir: &Path) -> PathBuf {
 
 #[test]
 fn cpp_examples_build_with_cmake_and_run_against_the_simulated_arm() {
+    // The build loads the machine before the MCM starts.
+    common::machine::share();
     let missing: Vec<&str> = ["cmake", "make", "c++", "cc"]
         .into_iter()
         .filter(|p| find_program(p).is_none())

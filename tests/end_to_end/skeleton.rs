@@ -1,7 +1,7 @@
 //! End to end: the walking skeleton. Starts the real launcher (mcm-rt + mcm-gateway) and speaks
 //! the JSON protocol over TCP.
 
-mod common;
+use crate::common;
 
 use common::{Client, Mcm, alive, assert_error};
 use serde_json::Value;

@@ -8,9 +8,9 @@
 //! `Type=notify` with a watchdog, everything is part of `mcm.target`, the programs are the
 //! package's (`/usr/bin`), the CAN interface's networkd file agrees with the configuration, and
 //! `deploy/wait-for-bus` waits for the interface the configuration names. Reads the files of
-//! `deploy/`; tests/deb_package.rs checks the package built from them.
+//! `deploy/`; tests/end_to_end/deb_package.rs checks the package built from them.
 
-mod common;
+use crate::common;
 
 use mcm_shared::restart::{GATEWAY_RESTART, ROS2_RESTART};
 use std::time::Duration;

@@ -9,7 +9,7 @@
 //! `systemd-analyze` and units are taken from bookworm-backports, unpacked under target/ (not
 //! installed). A missing tool (cargo-deb, dpkg-deb) skips, or fails with CI set.
 
-mod common;
+use crate::common;
 
 use common::deb::run;
 use std::path::{Path, PathBuf};

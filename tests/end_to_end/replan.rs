@@ -9,7 +9,7 @@
 //! arrival is checked against the simulation's ground truth (`sim` `true_position`), and the
 //! mode stays PVT throughout (no safety trip).
 
-mod common;
+use crate::common;
 
 use common::{
     Client, Mcm, WAIT, assert_ok, assert_status, calibrated, max_abs, move_all, move_axis, six,

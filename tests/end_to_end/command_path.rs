@@ -5,7 +5,7 @@
 //! Times are the robot's (`axis_states.time` of status results). Every wait is bounded; the
 //! one fixed pause is the stall itself (the gateway stopped for 1 s), not a synchronisation.
 
-mod common;
+use crate::common;
 
 use common::{Client, Mcm, WAIT, assert_ok, assert_status, config_file, is_error, time_of};
 use std::sync::Arc;

@@ -5,7 +5,7 @@
 //! refused while `hold` still works; with a shared secret, take_control needs `authenticate`.
 //! Every wait is bounded; times are read from the robot's state, not from the wall clock.
 
-mod common;
+use crate::common;
 
 use common::{
     Client, Mcm, TempConfig, assert_error, assert_ok, assert_status, config_file, max_abs, six,

@@ -4,7 +4,7 @@
 //! configuration selecting a SocketCAN interface that cannot be opened makes the launcher stop
 //! with a message naming it.
 
-mod common;
+use crate::common;
 
 use common::flight::Flight;
 use common::{Client, Mcm, WAIT, unique_instance};

@@ -10,7 +10,7 @@
 //! Without Python 3.11, cmake or a compiler the test is skipped, saying so, or fails when `CI`
 //! is set; a pip install or build that fails fails it.
 
-mod common;
+use crate::common;
 
 use common::ros2::{self, Discovery};
 use std::io::{BufRead, BufReader, Read};

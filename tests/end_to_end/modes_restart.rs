@@ -2,7 +2,7 @@
 //! their power. The launcher is stopped (SIGTERM; mcm-rt saves the simulated robot) and started
 //! again with the same instance name; the drives report the calibration they kept.
 
-mod common;
+use crate::common;
 
 use common::{Client, Mcm};
 use mcm_shared::service::sim_state_path;

@@ -3,7 +3,7 @@
 //! server echo, CR NUL line ends, DEL for backspace) and as `nc` does (no negotiation at all).
 //! Every wait is bounded: read until the expected text appears or [`WAIT`] passes.
 
-mod common;
+use crate::common;
 
 use common::{Mcm, WAIT};
 use std::io::{Read, Write};

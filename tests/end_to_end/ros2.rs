@@ -7,7 +7,7 @@
 //! control_msgs built from its real definitions); this file starts the MCM and the script in
 //! the namespaces and fails with the script's output.
 
-mod common;
+use crate::common;
 
 use common::Client;
 use common::netns::Netns;

@@ -7,7 +7,7 @@
 //! which need only be numbers. A failure names the example by its line and heading, and shows
 //! the reply received.
 
-mod common;
+use crate::common;
 
 use common::{Client, Mcm, assert_ok};
 use serde_json::Value;

@@ -6,7 +6,7 @@
 //! says on stderr that it is skipped and why, and passes, except when `CI` is set, where it
 //! fails (`common::skip`).
 
-mod common;
+use crate::common;
 
 use common::{Mcm, WAIT, find_program, unique_instance};
 use std::path::PathBuf;

@@ -8,7 +8,7 @@
 //! ([`mcm_shared::alloc_count`]) counts the allocations of the test thread only, while the C
 //! functions run through the `mcm_c` library as a C program would call them.
 
-mod common;
+use crate::common;
 
 use common::Mcm;
 use mcm_c::*;

@@ -7,7 +7,7 @@
 //! `tests/vm_socketcan.rs` runs this file with `--ignored` and `MCM_TEST_BUS=socketcan` and
 //! checks that every one of them passed.
 
-mod common;
+use crate::common;
 
 use common::virtual_arm::VirtualArm;
 use common::{EventClient, Mcm, WAIT, assert_ok, unique_instance};

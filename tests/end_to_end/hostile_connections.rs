@@ -4,7 +4,7 @@
 //! one-line reason. And one line that used to panic the connection task is answered with an
 //! ERROR on each port, the connection staying alive. Every wait is bounded.
 
-mod common;
+use crate::common;
 
 use common::{Mcm, WAIT, assert_status};
 use serde_json::Value;
