@@ -53,7 +53,7 @@ mod web;
 mod zmq;
 
 /// How many tests run at once unless `--test-threads` or `RUST_TEST_THREADS` says otherwise.
-pub const THREADS: &std::ffi::CStr = c"6";
+pub const THREADS: &std::ffi::CStr = c"4";
 
 /// Before `main` (the test harness reads `RUST_TEST_THREADS` when it starts): [`THREADS`] when
 /// the environment does not choose. Only libc, as life before `main` requires.
