@@ -21,7 +21,6 @@ use std::time::{Duration, Instant};
 /// The longest a test waits for its turn: the longest test of the executable and then some.
 pub const WAIT: Duration = Duration::from_secs(15 * 60);
 
-#[derive(Default)]
 struct State {
     /// Threads sharing the machine.
     sharing: usize,
