@@ -379,15 +379,15 @@ fn seed_32797_a_current_limit_lost_with_its_repeats_is_restated() {
     assert_recovers(RunOptions::new(32797, 60.0));
 }
 
-/// Seed 8030 (the month's first half in session 17), open: a derated shoulder sank behind its
-/// reference and tripped its following error; ERROR's quick stop starts from the measured
-/// position 2 deg below the drive's target, the master slews the target there at the axis's top
-/// speed, and the drive, taking the slew as a velocity reference, drove the shoulder down to
-/// 21 deg/s before the overload braked it (0.737 deg after the trip, 0.682 allowed).
-/// `docs/testing.md`, the month of session 17.
+/// Seed 8030 (the month's first half in session 17): a derated shoulder sank behind its
+/// reference through HOLD's stop at its current limit and tripped its following error; ERROR's
+/// quick stop starts from the measured position 2 deg below the drive's target, the master
+/// slews the target there at the axis's top speed, and the drive, taking the slew as a velocity
+/// reference, drove the shoulder down to 21 deg/s before the overload braked it (0.737 deg
+/// after the trip, 0.682 allowed). Fixed in the overload: the time at the limit counts wherever
+/// the drives follow a reference, so the overload trips in the trip's cycle. Fails without it.
 #[test]
-#[ignore = "open finding: a stop's re-seed reaches the drive as a move (docs/testing.md)"]
-fn seed_8030_a_stop_from_the_measured_position_does_not_drive_the_axis() {
+fn seed_8030_a_derated_axis_at_its_limit_before_a_trip_is_overloaded_at_once() {
     assert_recovers(RunOptions::new(8030, 60.0));
 }
 

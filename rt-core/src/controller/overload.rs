@@ -11,7 +11,10 @@
 //! motor is derated and whose current has stood at the derated limit for [`OVERLOAD_S`] trips
 //! [`Reason::Overload`]: ERROR, with the drives of every axis that has a holding brake powered
 //! off, so that the brakes hold the arm and the motors cool. Axes without a brake stay enabled
-//! and hold as ERROR does. The same power off follows any trip once ERROR's stop (and every
+//! and hold as ERROR does. The time at the limit is counted also where the drive follows a
+//! reference without the check (HOLD's stop, a move, VELOCITY_CONTROL), so that an axis that
+//! stood at its limit before a trip is overloaded in the trip's own cycle. The same power off
+//! follows any trip once ERROR's stop (and every
 //! relax) has ended while a motor is derated: in ERROR the arm does no work, and a derated
 //! motor holding a load near its rated current never cools (it stays above the release level,
 //! and a calibration's search cannot get the current it needs). A `hold` enables the drives
@@ -57,6 +60,26 @@ impl Controller {
         // derated shoulder fell at up to 31 deg/s while ERROR's stop and the relax of its
         // failed calibration search ran, before the power off that waits for them).
         let at_rest = matches!(self.state, State::Hold { stop: None } | State::Error { .. });
+        // Where the drive follows a position reference (HOLD and its stop, a move, VELOCITY
+        // CONTROL), a derated axis whose current stands at its limit cannot follow it: its time
+        // at the limit is counted there too, and carried into ERROR or a HOLD at rest, where it
+        // trips. An axis that stood at its limit through HOLD's stop or a move before a trip is
+        // overloaded at once in ERROR, before ERROR's stop can drive it (the simulation
+        // tester's seed 8030: a derated shoulder sinking through HOLD's stop tripped its
+        // following error; the stop from its measured position, 2 deg below the drive's
+        // target, reached the drive as a move down at the axis's top speed, and the shoulder
+        // fell at 21 deg/s until the overload's own 25 ms had passed). Not counted: an axis a
+        // calibration searches with, or that relaxes after its search, whose current at the
+        // limit is the search pressing on purpose.
+        let follows = matches!(
+            self.state,
+            State::Hold { .. } | State::Error { .. } | State::Pvt { .. } | State::Velocity { .. }
+        );
+        // The relax after a search waits for a stop under way (`calibrate_relax.rs`).
+        let relaxes = !matches!(
+            self.state,
+            State::Hold { stop: Some(_) } | State::Error { stop: Some(_), .. }
+        );
         // During a calibration's searches, the axes it does not cover hold where they are (the
         // simulation tester's seed 24005: a derated shoulder stood at its limit through
         // calibration after calibration while other axes searched).
@@ -68,13 +91,14 @@ impl Controller {
         let need = overload_cycles(self.p.period);
         let mut tripped = None;
         for i in 0..NUM_AXES {
-            let at_limit = (at_rest || held(i))
+            let watched = at_rest || held(i);
+            let at_limit = (watched || (follows && !(relaxes && self.search_relax.relaxing(i))))
                 && derated[i]
                 && fb[i].enabled
                 && fb[i].current_a.abs() >= AT_LIMIT * limit[i];
             let n = &mut self.overload.at_limit[i];
             *n = if at_limit { n.saturating_add(1) } else { 0 };
-            if tripped.is_none() && *n >= need {
+            if tripped.is_none() && watched && *n >= need {
                 tripped = Some(Reason::Overload {
                     axis: Axis::ALL[i],
                     current_a: fb[i].current_a,

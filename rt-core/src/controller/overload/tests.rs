@@ -173,3 +173,37 @@ fn after_any_trip_a_derated_motor_is_powered_off_once_error_has_stopped() {
         e.reason
     );
 }
+
+/// The simulation tester's seed 8030, its kind: a derated shoulder that stood at its limit
+/// while its drive followed a reference (PVT standing at the stretched pose, where the
+/// overload's at-rest check does not run) sank behind it until its following error tripped.
+/// Its time at the limit was counted, so the overload follows at once in ERROR: ERROR's stop
+/// from the measured position, 2 deg below the drive's target, does not get to drive it down.
+#[test]
+fn an_axis_at_its_limit_before_a_trip_is_overloaded_at_once_in_error() {
+    let cfg = RobotConfig::prob2_default();
+    let mut r = Robot::with_config(&cfg);
+    r.calibrate_all();
+    r.ok(Request::Pvt(Pvt { dt_s: 0.01 }), 100);
+    r.ok(move_axis(2, STRETCHED_DEG), 4_000);
+    r.run_until("the move ends", 4_000, |r| {
+        (r.truth()[SHOULDER] - STRETCHED_DEG).abs() < 0.1 && r.at_rest()
+    });
+    assert_eq!(r.mode(), Mode::Pvt);
+    r.run_until("a trip", 60 * 200, |r| r.mode() == Mode::Error);
+    // PVT has no overload check of its own: what tripped was the following error, once the
+    // shoulder had sunk by its band; the overload followed in the same cycle.
+    let sunk = (r.truth()[SHOULDER] - STRETCHED_DEG).abs();
+    assert!(sunk > 1.5, "tripped after the shoulder sank {sunk:.3} deg");
+    assert!(derated(&r), "the shoulder's motor is derated");
+    let e = last_error(&r);
+    assert!(
+        matches!(e.reason, Reason::Overload { axis, .. } if axis == Axis::ALL[SHOULDER]),
+        "the cycle of the trip: {:?}, not the shoulder's overload",
+        e.reason
+    );
+    let at_trip = r.truth();
+    r.run_until("the drives are powered off", 20, powered_off);
+    let fell = r.largest_drift(at_trip, 200);
+    assert!(fell < 0.3, "the shoulder fell {fell:.3} deg after the trip");
+}
