@@ -1,17 +1,17 @@
 //! The Debian package (docs/deploy.md, "The Debian package") installed and run in the test guest
 //! (tests/common/vm.rs: Debian 13, systemd as PID 1, vcan0 up at boot, QEMU software emulation).
-//! First the guest itself, what the guest tests rely on (`vm::check_the_guest`: systemd, vcan0,
-//! the shares, no way to the host), and after the reboot below a completed boot with vcan0 up.
-//! The package is made as tests/end_to_end/deb_package.rs makes it (`cargo deb --no-build` around this test
-//! build's `mcm`), twice (the second with a higher version, for the upgrade), under the target
-//! directory that the guest sees read-only. In the guest, as root: install it; point the
-//! conffile at vcan0 with the emulated timing (tests/common/virtual_arm.rs, `EMULATED`); start
-//! the virtual arm (a transient unit); `systemctl enable --now mcm.target`. From the host,
-//! through forwarded ports: drives online, calibrate, a move, reached on the arm's truth. Then:
-//! the gateway killed with SIGKILL is started again by systemd while the core holds the arm;
-//! `systemctl stop mcm.target` ends with the core's controlled stop (its journal line); a
-//! reboot brings the enabled MCM back by itself; the upgrade keeps the edited conffile; purge
-//! leaves nothing behind. A missing tool (QEMU, cargo-deb) skips, or fails with CI set.
+//! First the guest itself, what the guest tests rely on (`vm::check_the_guest`: systemd, vcan0, the
+//! shares, no way to the host), and after the reboot below a completed boot with vcan0 up. The
+//! package is made as tests/end_to_end/deb_package.rs makes it (`cargo deb --no-build` around this
+//! test build's `mcm`), twice (the second with a higher version, for the upgrade), under the target
+//! directory that the guest sees read-only. In the guest, as root: install it; point the conffile
+//! at vcan0 with the emulated timing (tests/common/virtual_arm.rs, `EMULATED`); start the virtual
+//! arm (a transient unit); `systemctl enable --now mcm.target`. From the host, through forwarded
+//! ports: drives online, calibrate, a move, reached on the arm's truth. Then: the gateway killed
+//! with SIGKILL is started again by systemd while the core holds the arm; `systemctl stop
+//! mcm.target` ends with the core's controlled stop (its journal line); a reboot brings the enabled
+//! MCM back by itself; the upgrade keeps the edited conffile; purge leaves nothing behind. A
+//! missing tool (QEMU, cargo-deb) skips, or fails with CI set.
 
 mod common;
 

@@ -8,11 +8,11 @@
 //!
 //! Then, in the same guest, the MCM itself over that kernel's CAN: the end-to-end executable's
 //! `socketcan::` tests (`tests/end_to_end/socketcan.rs`, ignored where there is no vcan) with
-//! `--ignored`, `MCM_TEST_BUS=socketcan` (each MCM
-//! over a vcan of its own with the virtual arm on it, tests/common/virtual_arm.rs) and
-//! `MCM_TEST_EMULATED=1` (the cycle rate and bus timing emulation can hold). Every one of its
-//! tests must pass. Then its `safety::` tests (`tests/end_to_end/safety.rs`) the same way: its trips over SocketCAN, two tests
-//! left out ([`SAFETY_SKIPPED`]).
+//! `--ignored`, `MCM_TEST_BUS=socketcan` (each MCM over a vcan of its own with the virtual arm on
+//! it, tests/common/virtual_arm.rs) and `MCM_TEST_EMULATED=1` (the cycle rate and bus timing
+//! emulation can hold). Every one of its tests must pass. Then its `safety::` tests
+//! (`tests/end_to_end/safety.rs`) the same way: its trips over SocketCAN, two tests left out
+//! ([`SAFETY_SKIPPED`]).
 
 mod common;
 
@@ -27,8 +27,8 @@ const E2E_TESTS: usize = 3;
 /// The test of `tests/end_to_end/socketcan.rs` that runs for minutes: not in CI,
 /// [`soak_in_the_guest`].
 const SOAK: &str = "socketcan::motion_for_minutes_with_no_pdo_lost_as_the_drives_saw_it";
-/// The tests of `tests/end_to_end/safety.rs` left out over SocketCAN in the guest (docs/testing.md, "The
-/// MCM over SocketCAN in the guest"):
+/// The tests of `tests/end_to_end/safety.rs` left out over SocketCAN in the guest (docs/testing.md,
+/// "The MCM over SocketCAN in the guest"):
 /// - the push towards the limit: at the guest's 50 Hz a 60 Nm push ends 2.2 deg past the limit,
 ///   in-process as over SocketCAN (the cycle rate, not the bus; docs/safety.md, "Braking
 ///   distance"). The P-Rob2 runs 200 Hz, where it passes;
@@ -40,7 +40,8 @@ const SAFETY_SKIPPED: [&str; 2] = [
     "safety::a_torque_driving_an_axis_towards_its_limit_is_stopped_before_the_limit",
     "safety::an_obstacle_trips_the_following_error_and_nothing_moves_afterwards",
 ];
-/// The tests of `tests/end_to_end/safety.rs` that must pass in the guest: all but [`SAFETY_SKIPPED`].
+/// The tests of `tests/end_to_end/safety.rs` that must pass in the guest: all but
+/// [`SAFETY_SKIPPED`].
 const SAFETY_TESTS: usize = 5;
 
 /// `output` without the virtual arm's notes of SYNC lost and back, which are many under
@@ -129,8 +130,8 @@ fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel()
         E2E_TESTS,
     );
 
-    // The safety trips of tests/end_to_end/safety.rs over the kernel's CAN: the emergency stop, a silent
-    // drive, high current, a power cycle, motion refused uncalibrated.
+    // The safety trips of tests/end_to_end/safety.rs over the kernel's CAN: the emergency stop, a
+    // silent drive, high current, a power cycle, motion refused uncalibrated.
     let script = format!(
         "cd /tmp; MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} safety:: \
              --test-threads=1 --skip {} --skip {}",

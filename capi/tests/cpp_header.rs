@@ -1,8 +1,8 @@
-//! `include/mcm/mcm.hpp` compiles with every method of its one command set instantiated for
-//! both handles (`tests/cpp/methods.cpp`), with and without exceptions, warnings as errors.
-//! The examples (`tests/end_to_end/examples_cpp.rs` of the workspace) use only some methods; a template
-//! member no example calls is checked here. Needs a C++17 compiler (`c++`); without one the
-//! test says it is skipped, except when `CI` is set, where it fails.
+//! `include/mcm/mcm.hpp` compiles with every method of its one command set instantiated for both
+//! handles (`tests/cpp/methods.cpp`), with and without exceptions, warnings as errors. The examples
+//! (`tests/end_to_end/examples_cpp.rs` of the workspace) use only some methods; a template member
+//! no example calls is checked here. Needs a C++17 compiler (`c++`); without one the test says it
+//! is skipped, except when `CI` is set, where it fails.
 
 mod common;
 

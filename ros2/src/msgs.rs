@@ -1,11 +1,11 @@
 //! The ROS 2 messages the node speaks, as serde structs.
 //!
 //! ros2-client bundles no message packages: a message is a plain struct whose fields follow the
-//! `.msg` definition in order and type (that order and those types decide the CDR encoding on
-//! the wire), and whose DDS type name is `pkg::msg::dds_::Name_`. Each module here names the
-//! ROS 2 package it mirrors; the definitions are those of ROS 2 Kilted (control_msgs 6.x).
-//! `tests/end_to_end/ros2.rs` checks them against the real ROS 2 type support: rclpy (PyPI wheels) talks
-//! to the node with every one of them.
+//! `.msg` definition in order and type (that order and those types decide the CDR encoding on the
+//! wire), and whose DDS type name is `pkg::msg::dds_::Name_`. Each module here names the ROS 2
+//! package it mirrors; the definitions are those of ROS 2 Kilted (control_msgs 6.x).
+//! `tests/end_to_end/ros2.rs` checks them against the real ROS 2 type support: rclpy (PyPI wheels)
+//! talks to the node with every one of them.
 
 pub mod builtin;
 pub mod control;

@@ -1,7 +1,7 @@
-//! The executables `cargo test --workspace` (the test command) built, found by cargo's own
-//! account of them, for the tests that run one that is not their package's binary: a test
-//! executable run in the guest (`vm.rs`), the client's examples (`tests/end_to_end/examples_rust.rs`),
-//! the launcher `mcm` for the client's own tests (`client/tests/live.rs` includes this file).
+//! The executables `cargo test --workspace` (the test command) built, found by cargo's own account
+//! of them, for the tests that run one that is not their package's binary: a test executable run in
+//! the guest (`vm.rs`), the client's examples (`tests/end_to_end/examples_rust.rs`), the launcher
+//! `mcm` for the client's own tests (`client/tests/live.rs` includes this file).
 //!
 //! Asking cargo for the one target alone (`-p`, `--test`, `--bins`) would unify the features
 //! of its dependencies differently from the whole workspace: cargo would build another copy of

@@ -561,13 +561,14 @@ impl Boot {
             "cat /proc/1/comm; systemctl is-system-running --wait; ip -br link show vcan0",
             Duration::from_secs(120),
         );
-        let lines: Vec<&str> = said.lines().collect();
-        let line = |i: usize| lines.get(i).copied().unwrap_or("").to_string();
+        let line = |i: usize| said.lines().nth(i).unwrap_or("");
+        let (pid1, running) = (line(0).to_string(), line(1) == "running");
+        let vcan0_up = line(2).starts_with("vcan0") && line(2).contains("UP");
         Boot {
-            pid1: line(0),
-            running: line(1) == "running",
-            vcan0_up: line(2).starts_with("vcan0") && line(2).contains("UP"),
-            said: said.clone(),
+            pid1,
+            running,
+            vcan0_up,
+            said,
         }
     }
 }

@@ -2,11 +2,11 @@
 //! on the simulated arm, their output checked against the MCM's JSON view and the simulation's
 //! ground truth (`sim`).
 //!
-//! Like `tests/end_to_end/ros2.rs`: the venv of `common::ros2` (rclpy from PyPI, control_msgs built into
-//! it), the MCM and the examples inside a private network namespace of this test (DDS's
-//! multicast stays in it), a domain of its own. The test's JSON client connects from inside
-//! the namespace ([`Netns::connect`]). Without the tools the test is skipped, saying so, or
-//! fails when `CI` is set.
+//! Like `tests/end_to_end/ros2.rs`: the venv of `common::ros2` (rclpy from PyPI, control_msgs built
+//! into it), the MCM and the examples inside a private network namespace of this test (DDS's
+//! multicast stays in it), a domain of its own. The test's JSON client connects from inside the
+//! namespace ([`Netns::connect`]). Without the tools the test is skipped, saying so, or fails when
+//! `CI` is set.
 
 use crate::common;
 

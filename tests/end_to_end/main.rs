@@ -10,7 +10,8 @@
 //! `--test-threads N` or `RUST_TEST_THREADS` chooses otherwise.
 //!
 //! One executable and not one per subject: each executable compiles `common` and links the whole
-//! workspace again (32 of them took 105 s of a fresh build on two cores).
+//! workspace again (the 36 test executables of `tests/` took 105 s to build from scratch on two
+//! cores; this one and the four below take 21 s).
 //!
 //! The end-to-end tests that need the machine to themselves have their executables of their own
 //! and run alone: `tests/calibration_stress.rs` (it loads every CPU on purpose),

@@ -8,9 +8,9 @@
 #   tests/ros2/bench.sh [--mcm PATH] [--python PATH] [--domain N] [bench.py arguments...]
 #   tests/ros2/bench.sh --seconds 600 --goals 20
 #
-# --mcm: the launcher (default target/release/mcm); --python: the venv that tests/end_to_end/ros2.rs makes
-# (default target/tmp/ros2-venv/bin/python; `cargo test --test end_to_end ros2::` makes it); --domain: the
-# ROS domain id, 1..=101 (default from the process id). The rest goes to bench.py
+# --mcm: the launcher (default target/release/mcm); --python: the venv that tests/end_to_end/ros2.rs
+# makes (default target/tmp/ros2-venv/bin/python; `cargo test --test end_to_end ros2::` makes it);
+# --domain: the ROS domain id, 1..=101 (default from the process id). The rest goes to bench.py
 # (`--seconds`, `--goals`, `--config`: see its docstring). Run it under `nice -n 10` to keep the
 # node and the subscriber at low priority (the core's cycle thread is SCHED_FIFO either way).
 set -euo pipefail

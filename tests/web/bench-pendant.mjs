@@ -6,13 +6,13 @@
 //   - with pages: each page's display latency (`window.mcmPendant.latencies`: Date.now() minus
 //     the cycle's `cycle_unix_ms` when a frame is shown), p50/p99/max over all pages.
 //
-// From the repository's root, after `cargo test --test end_to_end web::` has installed the node packages
-// beside a copy of these scripts in target/tmp/web-node:
+// From the repository's root, after `cargo test --test end_to_end web::` has installed the node
+// packages beside a copy of these scripts in target/tmp/web-node:
 //   cargo build --release
 //   cp tests/web/*.mjs target/tmp/web-node/
-//   node target/tmp/web-node/bench-pendant.mjs [--mcm target/release/mcm] [--pages 10] [--seconds 60] [--moving]
-// --moving: the arm is calibrated first and axis 1 sweeps back and forth (velocity control,
-// 30 deg/s) through every measurement, so that the pages draw a moving arm.
+// node target/tmp/web-node/bench-pendant.mjs [--mcm target/release/mcm] [--pages 10] [--seconds 60]
+// [--moving] --moving: the arm is calibrated first and axis 1 sweeps back and forth (velocity
+// control, 30 deg/s) through every measurement, so that the pages draw a moving arm.
 
 import { spawn, execFileSync } from 'node:child_process';
 import { readFileSync, rmSync } from 'node:fs';

@@ -433,7 +433,8 @@ def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
 # Fragments of the gateway's refusal words, in the order they are tried, and the reject code
 # each stands for. The JSON protocol's ERROR results carry words only (and `check` for safety
 # errors); the TCP client gives the code it recognises here, or None. The layout check
-# (`tests/end_to_end/python_layout.rs`) reads every reason's words from the core back through this table.
+# (`tests/end_to_end/python_layout.rs`) reads every reason's words from the core back through this
+# table.
 _CODE_FRAGMENTS: Tuple[Tuple[str, str], ...] = (
     ("no reply from the real-time core", "outcome_unknown"),
     ("safety check tripped", "safety"),

@@ -102,11 +102,6 @@ impl SearchRelax {
         self.left.iter().any(|&c| c > 0)
     }
 
-    /// `axis` relaxes.
-    pub fn relaxing(&self, axis: usize) -> bool {
-        self.left[axis] > 0
-    }
-
     /// The relax ends (a mode with a motion of its own, OFF).
     pub fn end(&mut self) {
         self.left = [0; NUM_AXES];

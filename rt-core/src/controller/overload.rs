@@ -6,15 +6,14 @@
 //! whose load at rest needs more than that (the shoulder holding the stretched arm and its
 //! payload) can then no longer hold: its current stands at the derated limit and it sags. In
 //! HOLD the following error would trip only once it had sagged by its band, and in ERROR
-//! nothing would react at all. So an axis at rest in HOLD (no stop under way), or in ERROR
-//! (its stop or a relax under way too), whose
-//! motor is derated and whose current has stood at the derated limit for [`OVERLOAD_S`] trips
-//! [`Reason::Overload`]: ERROR, with the drives of every axis that has a holding brake powered
-//! off, so that the brakes hold the arm and the motors cool. Axes without a brake stay enabled
-//! and hold as ERROR does. The time at the limit is counted also where the drive follows a
-//! reference without the check (HOLD's stop, a move, VELOCITY_CONTROL), so that an axis that
-//! stood at its limit before a trip is overloaded in the trip's own cycle. The same power off
-//! follows any trip once ERROR's stop (and every
+//! nothing would react at all. So an axis at rest in HOLD (no stop under way), or in ERROR (its
+//! stop or a relax under way too), whose motor is derated and whose current has stood at the
+//! derated limit for [`OVERLOAD_S`] trips [`Reason::Overload`]: ERROR, with the drives of every
+//! axis that has a holding brake powered off, so that the brakes hold the arm and the motors
+//! cool. Axes without a brake stay enabled and hold as ERROR does. The time at the limit is
+//! counted also where the drive follows a reference without the check (HOLD's stop, a move,
+//! VELOCITY_CONTROL), so that an axis that stood at its limit before a trip is overloaded in
+//! the trip's own cycle. The same power off follows any trip once ERROR's stop (and every
 //! relax) has ended while a motor is derated: in ERROR the arm does no work, and a derated
 //! motor holding a load near its rated current never cools (it stays above the release level,
 //! and a calibration's search cannot get the current it needs). A `hold` enables the drives
@@ -60,7 +59,7 @@ impl Controller {
         // derated shoulder fell at up to 31 deg/s while ERROR's stop and the relax of its
         // failed calibration search ran, before the power off that waits for them).
         let at_rest = matches!(self.state, State::Hold { stop: None } | State::Error { .. });
-        // Where the drive follows a position reference (HOLD and its stop, a move, VELOCITY
+        // Where the drive follows a moving position reference (HOLD's stop, a move, VELOCITY
         // CONTROL), a derated axis whose current stands at its limit cannot follow it: its time
         // at the limit is counted there too, and carried into ERROR or a HOLD at rest, where it
         // trips. An axis that stood at its limit through HOLD's stop or a move before a trip is
@@ -68,17 +67,11 @@ impl Controller {
         // tester's seed 8030: a derated shoulder sinking through HOLD's stop tripped its
         // following error; the stop from its measured position, 2 deg below the drive's
         // target, reached the drive as a move down at the axis's top speed, and the shoulder
-        // fell at 21 deg/s until the overload's own 25 ms had passed). Not counted: an axis a
-        // calibration searches with, or that relaxes after its search, whose current at the
-        // limit is the search pressing on purpose.
+        // fell at 21 deg/s until the overload's own 25 ms had passed). Not in CALIBRATION: a
+        // search presses at its limit on purpose (the axes it does not cover are `held`).
         let follows = matches!(
             self.state,
-            State::Hold { .. } | State::Error { .. } | State::Pvt { .. } | State::Velocity { .. }
-        );
-        // The relax after a search waits for a stop under way (`calibrate_relax.rs`).
-        let relaxes = !matches!(
-            self.state,
-            State::Hold { stop: Some(_) } | State::Error { stop: Some(_), .. }
+            State::Hold { stop: Some(_) } | State::Pvt { .. } | State::Velocity { .. }
         );
         // During a calibration's searches, the axes it does not cover hold where they are (the
         // simulation tester's seed 24005: a derated shoulder stood at its limit through
@@ -92,7 +85,7 @@ impl Controller {
         let mut tripped = None;
         for i in 0..NUM_AXES {
             let watched = at_rest || held(i);
-            let at_limit = (watched || (follows && !(relaxes && self.search_relax.relaxing(i))))
+            let at_limit = (watched || follows)
                 && derated[i]
                 && fb[i].enabled
                 && fb[i].current_a.abs() >= AT_LIMIT * limit[i];

@@ -8,10 +8,10 @@
 //!
 //! The words are not copied: each reason is rendered by Rust with sentinel figures (axis 5,
 //! 11.123456789, ...), and the rendering of each figure is replaced by a placeholder the Python
-//! side fills from the reason's wire form (`code`, `axis`, `values`) in the same format. A
-//! figure whose rendering is not found (Rust's words changed their format) fails here.
-//! `tests/end_to_end/python_layout.rs` then checks the generated `reason_text` against Rust's words for
-//! sample reasons of every kind.
+//! side fills from the reason's wire form (`code`, `axis`, `values`) in the same format. A figure
+//! whose rendering is not found (Rust's words changed their format) fails here.
+//! `tests/end_to_end/python_layout.rs` then checks the generated `reason_text` against Rust's words
+//! for sample reasons of every kind.
 
 mod text;
 
