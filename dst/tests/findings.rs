@@ -385,9 +385,10 @@ fn seed_32797_a_current_limit_lost_with_its_repeats_is_restated() {
 /// slews the target there at the axis's top speed, and the drive, taking the slew as a velocity
 /// reference, drove the shoulder down to 21 deg/s before the overload braked it (0.737 deg
 /// after the trip, 0.682 allowed). Fixed in the overload: the time at the limit counts wherever
-/// the drives follow a reference, so the overload trips in the trip's cycle. Fails without it.
+/// the drives follow a moving reference, so the overload trips in the cycle after the trip.
+/// Fails without it.
 #[test]
-fn seed_8030_a_derated_axis_at_its_limit_before_a_trip_is_overloaded_at_once() {
+fn seed_8030_a_derated_axis_at_its_limit_before_a_trip_is_overloaded_the_cycle_after() {
     assert_recovers(RunOptions::new(8030, 60.0));
 }
 

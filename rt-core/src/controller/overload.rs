@@ -13,7 +13,7 @@
 //! cool. Axes without a brake stay enabled and hold as ERROR does. The time at the limit is
 //! counted also where the drive follows a reference without the check (HOLD's stop, a move,
 //! VELOCITY_CONTROL), so that an axis that stood at its limit before a trip is overloaded in
-//! the trip's own cycle. The same power off follows any trip once ERROR's stop (and every
+//! the next cycle (the trip's own record goes out first). The same power off follows any trip once ERROR's stop (and every
 //! relax) has ended while a motor is derated: in ERROR the arm does no work, and a derated
 //! motor holding a load near its rated current never cools (it stays above the release level,
 //! and a calibration's search cannot get the current it needs). A `hold` enables the drives
@@ -63,7 +63,7 @@ impl Controller {
         // CONTROL), a derated axis whose current stands at its limit cannot follow it: its time
         // at the limit is counted there too, and carried into ERROR or a HOLD at rest, where it
         // trips. An axis that stood at its limit through HOLD's stop or a move before a trip is
-        // overloaded at once in ERROR, before ERROR's stop can drive it (the simulation
+        // overloaded the cycle after, in ERROR, before ERROR's stop can drive it (the simulation
         // tester's seed 8030: a derated shoulder sinking through HOLD's stop tripped its
         // following error; the stop from its measured position, 2 deg below the drive's
         // target, reached the drive as a move down at the axis's top speed, and the shoulder
@@ -109,6 +109,12 @@ impl Controller {
             }
             return;
         };
+        // One error record a cycle (the state carries the newest): a trip reported in this very
+        // cycle, such as the following error of an axis that sank behind its reference, goes
+        // out first, and the overload, its count kept, trips in the next cycle.
+        if self.view.last_error.is_some_and(|e| e.cycle == self.cycle) {
+            return;
+        }
         self.overload.at_limit = [0; NUM_AXES];
         // Its own incident even in an ERROR already reported: the arm is now powered off.
         self.incident_reported = false;
