@@ -392,11 +392,12 @@ fn seed_8030_a_derated_axis_at_its_limit_before_a_trip_is_overloaded_the_cycle_a
     assert_recovers(RunOptions::new(8030, 60.0));
 }
 
-/// Seed 8320 (the same campaign), open: a derated shoulder falling with the SYNC stuck, where
-/// ERROR's power off cannot reach its drive (2.286 deg after the trip, 2.205 allowed).
-/// `docs/testing.md`, the month of session 17.
+/// Seed 8320 (the same campaign): a derated shoulder falling with the SYNC stuck, where
+/// ERROR's power off, a controlword that waits for a SYNC, could not reach its drive (2.286 deg
+/// after the trip, 2.205 allowed). Fixed: ERROR powers off a lost drive of an axis with a
+/// brake, and the master delivers that by NMT stop, on which the drive disables its voltage at
+/// once (0x6007 = 2). Fails without it.
 #[test]
-#[ignore = "open finding: a drive the SYNC cannot reach is not powered off (docs/testing.md)"]
 fn seed_8320_a_derated_shoulder_is_powered_off_while_the_sync_is_stuck() {
     assert_recovers(RunOptions::new(8320, 60.0));
 }

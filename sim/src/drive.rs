@@ -36,6 +36,9 @@ pub const EMCY_HEARTBEAT: (u16, u8) = (0x8130, 0x11);
 /// EMCY code and error register: no SYNC (so no setpoint applied) for [`SYNC_LOSS_PERIODS`]
 /// while enabled: RPDO timeout, a communication error.
 pub const EMCY_SYNC_LOSS: (u16, u8) = (0x8250, 0x11);
+/// EMCY code and error register: the connection to the master aborted (its NMT stop) with the
+/// abort connection option 1 (fault). Recorded in 0x603F; no EMCY goes out while STOPPED.
+pub const EMCY_ABORT_CONNECTION: (u16, u8) = (0x8100, 0x11);
 /// Periods in OPERATION ENABLED without a SYNC after which the drive faults (0.3 s at 200 Hz).
 /// Without SYNC a drive applies no setpoint (its RPDO1 is latched until the next SYNC), so the
 /// master can neither move nor disable it; faulting powers the motor off onto its brake, as a
@@ -161,6 +164,8 @@ pub struct DriveCounters {
     pub heartbeat_timeouts: u64,
     /// Faults for want of SYNC while enabled ([`SYNC_LOSS_PERIODS`]).
     pub sync_losses: u64,
+    /// NMT stops while OPERATIONAL, each met with the abort connection reaction (0x6007).
+    pub connection_aborts: u64,
 }
 
 /// One simulated drive.
@@ -412,8 +417,12 @@ impl SimDrive {
             }
             NmtCommand::Start => {}
             NmtCommand::Stop => {
+                let was_operational = self.nmt == NmtState::Operational;
                 self.nmt = NmtState::Stopped;
                 self.pdo.stop();
+                if was_operational {
+                    self.abort_connection(out);
+                }
             }
             NmtCommand::EnterPreOperational => {
                 self.nmt = NmtState::PreOperational;
@@ -422,6 +431,23 @@ impl SimDrive {
             NmtCommand::ResetNode => self.boot(Boot::ResetNode, out),
             NmtCommand::ResetCommunication => self.boot(Boot::ResetCommunication, out),
         }
+    }
+
+    /// The master cut the connection (NMT stop while OPERATIONAL): the reaction its abort
+    /// connection option code 0x6007 selects (CiA 402), at once, SYNC or not. A master that no
+    /// longer reaches the drive by SYNC can still power it off this way.
+    fn abort_connection(&mut self, out: &mut dyn FrameSink) {
+        self.counters.connection_aborts += 1;
+        let t = match self.od.i32(od::ABORT_CONNECTION_OPTION) {
+            1 => {
+                self.raise_fault(EMCY_ABORT_CONNECTION, out);
+                return;
+            }
+            2 => self.sm.write_controlword(0, !self.safe_torque_off),
+            3 => self.sm.write_controlword(0x0002, !self.safe_torque_off),
+            _ => None,
+        };
+        self.on_transition(t, out);
     }
 
     /// A SYNC period begins: SYNC received (`received`), or a period of the drive's own clock

@@ -150,7 +150,7 @@ const fn map(index: u16, sub: u8) -> ObjectDef {
 }
 
 /// Number of objects (index:sub pairs) in the dictionary.
-pub const LEN: usize = 87;
+pub const LEN: usize = 88;
 
 /// The table, sorted by (index, sub).
 pub static TABLE: [ObjectDef; LEN] = [
@@ -221,6 +221,7 @@ pub static TABLE: [ObjectDef; LEN] = [
     e(0x2100, 0, U8, Const, No, Fixed(2)), // stored calibration (volatile, kept until power-off)
     e(0x2100, 1, I32, Rw, No, Fixed(0)),   // calibration offset [counts at joint angle 0]
     e(0x2100, 2, U8, Rw, No, Fixed(0)),    // calibration valid (0/1)
+    e(0x6007, 0, I16, Rw, No, Fixed(1)),   // abort connection option code: 1 (fault) at power-up
     e(0x603F, 0, U16, Ro, Tx, Fixed(0)),   // error code
     e(0x6040, 0, U16, Rw, Rx, Fixed(0)),   // controlword
     e(0x6041, 0, U16, Ro, Tx, Fixed(0)),   // statusword
@@ -267,6 +268,10 @@ pub const CALIBRATION_VALID: usize = slot(0x2100, 2);
 /// Index of the stored calibration, which no NMT reset touches.
 pub const CALIBRATION_INDEX: u16 = 0x2100;
 pub const ERROR_CODE: usize = slot(0x603F, 0);
+/// 0x6007, abort connection option code (i16): what the drive does when its connection to the
+/// master is cut by the master's NMT stop (`SimDrive::on_frame`): 0 nothing, 1 fault, 2 disable
+/// voltage (SWITCH ON DISABLED, the brake engaged), 3 quick stop. 1 at power-up.
+pub const ABORT_CONNECTION_OPTION: usize = slot(0x6007, 0);
 pub const CONTROLWORD: usize = slot(0x6040, 0);
 pub const STATUSWORD: usize = slot(0x6041, 0);
 /// 0x605A, quick stop option code (i16); the drive supports option 2 only

@@ -66,6 +66,7 @@ pub fn boot_steps(cfg: &RobotConfig, axis: usize) -> Vec<Step> {
         ),
         (0x6073, 0, max_current_permille(cfg, axis) as u32, 2),
         (0x605A, 0, 2, 2),
+        (0x6007, 0, 2, 2),
         (0x6060, 0, 8, 1),
     ]
 }

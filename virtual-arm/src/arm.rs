@@ -87,6 +87,7 @@ impl<W: Bus> VirtualArm<W> {
                 sdo_aborts: a.sdo_aborts + c.sdo_aborts,
                 heartbeat_timeouts: a.heartbeat_timeouts + c.heartbeat_timeouts,
                 sync_losses: a.sync_losses + c.sync_losses,
+                connection_aborts: a.connection_aborts + c.connection_aborts,
             })
     }
 

@@ -27,7 +27,7 @@ use super::sdo::{SdoAbortCode, SdoClient, SdoDone, SdoError, SdoRequest, SdoValu
 use mcm_bus::Frame;
 
 /// Number of SDO operations of the sequence (steps 1..=11).
-pub const BOOT_OPS: usize = 41;
+pub const BOOT_OPS: usize = 42;
 /// Retries of one operation after a timeout or abort (so at most 3 attempts).
 pub const MAX_RETRIES: u8 = 2;
 /// TPDO2's event timer (0x1801:5) [ms], in the contract beside the bus load it enters.
@@ -52,7 +52,7 @@ pub const CALIBRATION_OFFSET_SUB: u8 = 1;
 /// 0x2100:2, the calibration is valid (u8, 0/1).
 pub const CALIBRATION_VALID_SUB: u8 = 2;
 
-/// Step 12, after the 41 operations of [`boot_ops`] and before the NMT start: read whether
+/// Step 12, after the 42 operations of [`boot_ops`] and before the NMT start: read whether
 /// the drive holds a calibration, then (only if it does) the offset.
 /// With [`StoredCalibration::Clear`], step 12 is the third operation alone: mark the stored
 /// calibration invalid.
@@ -119,7 +119,7 @@ pub struct BootParams {
     pub max_current_permille: u16,
 }
 
-/// The 41 operations of steps 1..=11, in order.
+/// The 42 operations of steps 1..=11, in order.
 pub fn boot_ops(p: &BootParams) -> [BootOp; BOOT_OPS] {
     let n = u32::from(p.node);
     let a = ObjectAddr::new;
@@ -325,12 +325,19 @@ pub fn boot_ops(p: &BootParams) -> [BootOp; BOOT_OPS] {
             U16(p.max_current_permille),
             "max current (per-mille of rated)",
         ),
-        // 11. Quick stop reaction, then the mode: cyclic synchronous position.
+        // 11. Quick stop and abort connection reactions, then the mode: cyclic synchronous
+        // position.
         w(
             11,
             a(QUICK_STOP_OPTION_CODE, 0),
             I16(QUICK_STOP_OPTION_DISABLE),
             "quick stop option code = 2 (quick-stop ramp, then SWITCH ON DISABLED)",
+        ),
+        w(
+            11,
+            a(ABORT_CONNECTION_OPTION_CODE, 0),
+            I16(ABORT_CONNECTION_DISABLE_VOLTAGE),
+            "abort connection option code = 2 (disable voltage on the master's NMT stop)",
         ),
         w(
             11,

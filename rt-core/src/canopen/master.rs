@@ -48,6 +48,9 @@ use mcm_bus::Frame;
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::{AxisConfig, RobotConfig};
 
+/// Cycles between the NMT stops sent to a lost drive asked to power off ([`Master::cut_off`]).
+pub const NMT_STOP_REPEAT_CYCLES: u64 = 4;
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Link {
     WaitingBootUp,
@@ -110,6 +113,9 @@ struct Session {
     /// Since when the drive counts as lost [ns] (`None`: not lost); a drive lost and silent
     /// for a boot timeout is reset.
     lost_since_ns: Option<u64>,
+    /// When the last NMT stop went to the drive, lost and asked to power off [ns] (see
+    /// [`Master::cut_off`]).
+    stop_sent_ns: Option<u64>,
     tpdo_this_cycle: bool,
     tpdo_seen_since_start: bool,
     missed: u16,
@@ -141,6 +147,7 @@ impl Default for Session {
             reset_pending: false,
             reset_sent: false,
             lost_since_ns: None,
+            stop_sent_ns: None,
             tpdo_this_cycle: false,
             tpdo_seen_since_start: false,
             missed: 0,
@@ -755,6 +762,7 @@ impl Master {
             }
             Link::Operational => {
                 self.supervise(i, now_ns);
+                self.cut_off(i, now_ns, req, out);
                 self.setpoints(i, now_ns, req, max_current_a, out);
                 self.store_step(i, now_ns, out);
             }
@@ -872,6 +880,34 @@ impl Master {
         {
             self.reset_again(i);
         }
+    }
+
+    /// A lost drive (its TPDOs missed, or its heartbeat) asked to power off: the disabling
+    /// controlword of RPDO1 needs a SYNC to take effect, and the drive may get none (the SYNC
+    /// stuck, its receive path broken), so the power off also goes by NMT stop, which a drive
+    /// acts on at once: its abort connection reaction (0x6007 = 2, step 11 of the boot) disables
+    /// its voltage and its brake holds. Sent again every [`NMT_STOP_REPEAT_CYCLES`] while the
+    /// drive stays lost and the request stands (an NMT frame can be lost too). The drive's next
+    /// heartbeat then says STOPPED, and the master resets and configures it again as any drive
+    /// that left OPERATIONAL (`on_heartbeat`); one that sends no heartbeat is reset a boot
+    /// timeout after it was lost (`supervise`).
+    fn cut_off(&mut self, i: usize, now_ns: u64, req: DriveRequest, out: &mut FrameBuf) {
+        let repeat_ns = self.period_ns * NMT_STOP_REPEAT_CYCLES;
+        let ax = &mut self.axes[i];
+        if !ax.session.lost() || req != DriveRequest::Disable {
+            ax.session.stop_sent_ns = None;
+            return;
+        }
+        if ax
+            .session
+            .stop_sent_ns
+            .is_some_and(|t| now_ns.saturating_sub(t) < repeat_ns)
+        {
+            return;
+        }
+        ax.session.stop_sent_ns = Some(now_ns);
+        let f = nmt_frame(NmtCommand::Stop, ax.params.node);
+        self.push(out, f);
     }
 
     fn setpoints(

@@ -51,6 +51,7 @@ pub const CONTROLWORD: u16 = 0x6040;
 pub const STATUSWORD: u16 = 0x6041;
 /// Quick stop option code (i16): what the drive does on the controlword's quick stop.
 pub const QUICK_STOP_OPTION_CODE: u16 = 0x605A;
+pub const ABORT_CONNECTION_OPTION_CODE: u16 = 0x6007;
 pub const MODES_OF_OPERATION: u16 = 0x6060;
 pub const MODES_OF_OPERATION_DISPLAY: u16 = 0x6061;
 pub const POSITION_ACTUAL: u16 = 0x6064;
@@ -72,6 +73,12 @@ pub const DEVICE_TYPE_CIA402_SERVO: u32 = 0x0002_0192;
 /// ([`super::cia402`]: a drive it asks to quick-stop ends disabled, and QUICK STOP ACTIVE is
 /// left through SWITCH ON DISABLED, never by transition 16).
 pub const QUICK_STOP_OPTION_DISABLE: i16 = 2;
+
+/// 0x6007 value the master writes at boot: when the master cuts the connection (its NMT stop),
+/// the drive disables its voltage (SWITCH ON DISABLED: no current, the brake engaged), SYNC or
+/// not (CiA 402 option 2). The master powers off a drive it can no longer reach by SYNC and
+/// PDOs this way ([`super::master::Master::cycle`]).
+pub const ABORT_CONNECTION_DISABLE_VOLTAGE: i16 = 2;
 
 /// Bit 31 of a PDO COB-ID entry: the PDO is invalid (disabled).
 pub const PDO_COB_ID_INVALID: u32 = 0x8000_0000;

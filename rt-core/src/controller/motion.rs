@@ -216,7 +216,9 @@ impl Controller {
             self.requests[i] = match self.state {
                 State::Off => DriveRequest::Disable,
                 State::Error { .. }
-                    if !self.master.feedback()[i].enabled || self.overload_power_off(i) =>
+                    if !self.master.feedback()[i].enabled
+                        || self.overload_power_off(i)
+                        || self.lost_power_off(i) =>
                 {
                     DriveRequest::Disable
                 }

@@ -35,6 +35,9 @@ impl SimDrive {
             od::QUICK_STOP_OPTION if raw as u16 as i16 != od::QUICK_STOP_OPTION_SUPPORTED => {
                 bad("2 (quick-stop ramp, then SWITCH ON DISABLED), the only option this drive has")
             }
+            od::ABORT_CONNECTION_OPTION if !(0..=3).contains(&(raw as u16 as i16)) => {
+                bad("0 (no action), 1 (fault), 2 (disable voltage) or 3 (quick stop)")
+            }
             od::CALIBRATION_VALID if raw > 1 => bad("0 (not calibrated) or 1 (valid)"),
             od::RESTORE_DEFAULTS if raw != RESTORE_SIGNATURE => bad("0x64616F6C (\"load\")"),
             od::INTERPOLATION_INDEX if !(-6..=0).contains(&(raw as u8 as i8)) => {

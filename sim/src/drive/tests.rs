@@ -576,6 +576,50 @@ fn quick_stop_decelerates_then_switch_on_disabled() {
     assert!(r.v.abs() < 0.05, "{}", r.v);
 }
 
+/// The master's NMT stop cuts the connection of an enabled drive: it reacts as 0x6007 says,
+/// at once, with no SYNC after it (the master may get none through), and the reaction is its
+/// own: the RPDO1 latched before the stop is not applied afterwards. Power-up value 1 (fault);
+/// option 0 does nothing; NMT stop outside OPERATIONAL is no abort of a connection.
+#[test]
+fn nmt_stop_while_operational_reacts_as_the_abort_connection_option_says() {
+    // (option, state at once, state a SYNC later: the quick stop of a joint at rest ends
+    // within its first period, in SWITCH ON DISABLED as 0x605A = 2 says).
+    for (option, state, later) in [
+        (None, State::Fault, State::Fault),
+        (Some(0), State::OperationEnabled, State::OperationEnabled),
+        (Some(1), State::Fault, State::Fault),
+        (Some(2), State::SwitchOnDisabled, State::SwitchOnDisabled),
+        (Some(3), State::QuickStopActive, State::SwitchOnDisabled),
+    ] {
+        let mut r = Rig::new();
+        if let Some(o) = option {
+            assert_eq!(r.write(0x6007, 0, o, 2), Ok(()), "option {o}");
+        }
+        r.enable();
+        r.rpdo1(0x0F, r.position(), 0);
+        r.send(0x000, &[0x02, NODE]);
+        assert_eq!(r.d.state(), state, "option {option:?}");
+        assert_eq!(
+            r.d.brake_engaged(),
+            !state.is_enabled(),
+            "option {option:?}"
+        );
+        assert_eq!(r.d.counters().connection_aborts, 1);
+        r.sync();
+        assert_eq!(r.d.state(), later, "option {option:?}, a SYNC later");
+        // Stopped again: no second abort.
+        r.send(0x000, &[0x02, NODE]);
+        assert_eq!(r.d.counters().connection_aborts, 1);
+    }
+    let mut r = Rig::new();
+    for bad in [4u32, 0xFFFF] {
+        assert_eq!(r.write(0x6007, 0, bad, 2), Err(0x0609_0030), "option {bad}");
+    }
+    assert_eq!(r.read(0x6007, 0), Ok(1));
+    r.send(0x000, &[0x02, NODE]); // PRE-OPERATIONAL
+    assert_eq!(r.d.counters().connection_aborts, 0);
+}
+
 #[test]
 fn emergency_stop_faults_an_enabled_drive_and_blocks_enabling() {
     let mut r = Rig::new();

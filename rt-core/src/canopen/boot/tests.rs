@@ -99,6 +99,7 @@ fn sequence_is_exactly_the_drive_profile() {
         "603#23766000E0010000",
         "603#2B736000C4090000", // 10. 2500
         "603#2B5A600002000000", // 11. 0x605A = 2
+        "603#2B07600002000000", //     0x6007 = 2
         "603#2F60600008000000", //     0x6060 = 8
         "603#4000210200000000", // 12. read 0x2100:2 (not valid: offset not read)
         "000#0103",             // NMT start
@@ -108,6 +109,7 @@ fn sequence_is_exactly_the_drive_profile() {
     assert_eq!(drive.object(0x1016, 1), Some((127 << 16) | 150));
     assert_eq!(drive.object(0x6076, 0), Some(480));
     assert_eq!(drive.object(0x605A, 0), Some(2));
+    assert_eq!(drive.object(0x6007, 0), Some(2));
 }
 
 #[test]
