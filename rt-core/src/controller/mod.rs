@@ -187,6 +187,11 @@ impl Controller {
         self.master.feedback()
     }
 
+    /// What the last step asked of each drive.
+    pub fn requests(&self) -> &[DriveRequest; NUM_AXES] {
+        &self.requests
+    }
+
     /// Calibration offsets (joint = raw - offset) [rad].
     pub fn offsets(&self) -> [Option<f64>; NUM_AXES] {
         self.offsets

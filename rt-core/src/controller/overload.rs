@@ -150,18 +150,6 @@ impl Controller {
     pub(super) fn overload_power_off(&self, axis: usize) -> bool {
         self.overload.powered_off && self.p.brake[axis] && matches!(self.state, State::Error { .. })
     }
-
-    /// Whether ERROR powers off the drive of `axis` because the master lost it: the axis has a
-    /// holding brake, and its drive sends no TPDOs (or no heartbeat), so nothing tells whether it
-    /// holds. The master delivers the power off by NMT stop where SYNC and PDOs no longer reach
-    /// the drive (`Master::cycle`); the brake holds the axis whatever its drive could still do
-    /// (the simulation tester's seed 8320: with the SYNC stuck, a derated shoulder sank at its
-    /// limit through ERROR until its drive's own SYNC watchdog would have acted, 0.3 s later).
-    /// Axes without a brake stay enabled: their drives hold the last setpoint until their own
-    /// watchdog acts, which beats letting them fall.
-    pub(super) fn lost_power_off(&self, axis: usize) -> bool {
-        self.lost[axis] && self.p.brake[axis] && matches!(self.state, State::Error { .. })
-    }
 }
 
 // Scenario tests on the whole simulated robot.

@@ -526,3 +526,59 @@ fn an_undecodable_sim_sample_is_refused_by_the_controller_like_any_other() {
     );
     assert_eq!(r.cycle.state().reply_head, 1);
 }
+
+/// ERROR powers off a drive the master lost when its axis has a brake (`lost_power_off`), and
+/// only that one: the others hold. The master sends it NMT stop while it stays lost, which
+/// reaches it once its cable is back, and it aborts its connection (0x6007 = 2); it is then
+/// reset and configured again, and `hold` works. With no brakes the lost drive is asked to
+/// hold, as the others.
+#[test]
+fn error_powers_off_a_lost_drive_only_where_its_axis_has_a_brake() {
+    use crate::canopen::DriveRequest;
+    use mcm_sim::SimControl;
+    for brake in [true, false] {
+        let mut cfg = RobotConfig::prob2_default();
+        for a in &mut cfg.axes {
+            a.brake = brake;
+        }
+        let mut r = Robot::with_config(&cfg);
+        r.ok(Request::Hold, 400);
+        let sim = |disconnect: bool| SimCommand {
+            disconnect_axis: disconnect.then_some(Axis::ALL[2]),
+            reconnect_axis: (!disconnect).then_some(Axis::ALL[2]),
+            ..SimCommand::default()
+        };
+        r.cycle.bus_mut().apply(&sim(true)).unwrap();
+        r.run_until("the trip", 100, |r| r.mode() == Mode::Error);
+        r.run(40);
+        let off = r
+            .cycle
+            .controller()
+            .requests()
+            .map(|q| q == DriveRequest::Disable);
+        assert_eq!(
+            off,
+            [false, false, brake, false, false, false],
+            "brakes {brake}"
+        );
+        r.cycle.bus_mut().apply(&sim(false)).unwrap();
+        r.run(100);
+        if brake {
+            let aborts = r
+                .cycle
+                .bus_mut()
+                .drive(2)
+                .unwrap()
+                .counters()
+                .connection_aborts;
+            assert!(
+                aborts > 0,
+                "the NMT stop reached the drive once it was back"
+            );
+        }
+        r.run_until("axis 3 online again", 1000, |r| {
+            r.cycle.controller().feedback()[2].online
+        });
+        r.ok(Request::Hold, 1000);
+    }
+}

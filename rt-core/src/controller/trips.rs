@@ -1,6 +1,6 @@
 //! Drive events from the CANopen master and the per-cycle safety checks, and what a trip does:
-//! ERROR, the quick stop, the failure of a calibration or enabling under way, and one error
-//! record per incident.
+//! ERROR, the quick stop, the power off of a lost drive, the failure of a calibration or
+//! enabling under way, and one error record per incident.
 //!
 //! Runs inside the cycle.
 
@@ -82,6 +82,18 @@ impl Controller {
             // Storing failed: the calibration holds until the MCM restarts (nothing to stop).
             MasterEvent::CalibrationStored { .. } | MasterEvent::CalibrationStoreFailed { .. } => {}
         }
+    }
+
+    /// Whether ERROR powers off the drive of `axis` because the master lost it: the axis has a
+    /// holding brake, and its drive sends no TPDOs (or no heartbeat), so nothing tells whether it
+    /// holds. The master delivers the power off by NMT stop where SYNC and PDOs no longer reach
+    /// the drive (`Master::cut_off`); the brake holds the axis whatever its drive could still do
+    /// (the simulation tester's seed 8320: with the SYNC stuck, a derated shoulder sank at its
+    /// limit through ERROR until its drive's own SYNC watchdog would have acted, 0.3 s later).
+    /// Axes without a brake stay enabled: their drives hold the last setpoint until their own
+    /// watchdog acts, which beats letting them fall.
+    pub(super) fn lost_power_off(&self, axis: usize) -> bool {
+        self.lost[axis] && self.p.brake[axis] && matches!(self.state, State::Error { .. })
     }
 
     /// A drive reports a fault: the emergency stop (which cuts the drives' power) when its
