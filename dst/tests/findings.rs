@@ -402,6 +402,33 @@ fn seed_8320_a_derated_shoulder_is_powered_off_while_the_sync_is_stuck() {
     assert_recovers(RunOptions::new(8320, 60.0));
 }
 
+/// Seed 15159 (the month on 2ded6ff), open: ERROR's stop started from a measured velocity
+/// three times the true one (-90 deg/s against -30), so the stop's reference ran ahead and the
+/// drive drove the searching shoulder to 93 deg/s before it braked (5.891 deg after the trip,
+/// 5.881 allowed). The master estimates a drive's velocity from its TPDOs' arrival; the faulty
+/// bus delays a frame by one to three SYNCs but lets the frames after it that it does not
+/// delay overtake it, so a stale position comes after newer ones. Whether that reordering is a
+/// fault to model (a CAN bus and SocketCAN's receive queue keep one sender's frames of one
+/// COB-ID in order) or the master must survive it is the open question.
+/// `docs/testing.md`, the month on 2ded6ff.
+#[test]
+#[ignore = "open finding: ERROR's stop from a velocity estimate that delayed TPDOs spoil (docs/testing.md)"]
+fn seed_15159_a_stop_from_a_spoilt_velocity_estimate_does_not_speed_the_arm_up() {
+    assert_recovers(RunOptions::new(15159, 60.0));
+}
+
+/// Seed 25122 (the month on 2ded6ff), open: a derated wrist (axis 5, 2 A) that a calibration
+/// search held against its mechanical stop (`blocked`) left it at up to 56 deg/s in the cycles
+/// after the trip, its own current still towards the stop, while ERROR stopped the axes around
+/// it (2 to 4 at 8 to 16 deg/s): 0.793 deg after the trip, 0.745 allowed. Not yet known whether
+/// the stop of the other axes threw it (the checker allows each axis its own braking only) or
+/// something in the drive's loop did. `docs/testing.md`, the month on 2ded6ff.
+#[test]
+#[ignore = "open finding: a derated wrist leaves its stop after a trip (docs/testing.md)"]
+fn seed_25122_a_derated_wrist_at_its_stop_stays_within_its_allowance_after_a_trip() {
+    assert_recovers(RunOptions::new(25122, 60.0));
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the
