@@ -420,9 +420,10 @@ fn seed_15159_a_stop_from_a_spoilt_velocity_estimate_does_not_speed_the_arm_up()
 /// Seed 25122 (the month on 2ded6ff), open: a derated wrist (axis 5, 2 A) that a calibration
 /// search held against its mechanical stop (`blocked`) left it at up to 56 deg/s in the cycles
 /// after the trip, its own current still towards the stop, while ERROR stopped the axes around
-/// it (2 to 4 at 8 to 16 deg/s): 0.793 deg after the trip, 0.745 allowed. Not yet known whether
-/// the stop of the other axes threw it (the checker allows each axis its own braking only) or
-/// something in the drive's loop did. `docs/testing.md`, the month on 2ded6ff.
+/// it (2 to 4 at 8 to 16 deg/s): 0.793 deg after the trip, 0.745 allowed. Likely the stop's
+/// reference, re-seeded at the measured position 3.2 deg from the drive's target, reaching the
+/// drive (not relaxed, being derated) as a slew at the axis's top speed. `docs/testing.md`, the
+/// month on 2ded6ff.
 #[test]
 #[ignore = "open finding: a derated wrist leaves its stop after a trip (docs/testing.md)"]
 fn seed_25122_a_derated_wrist_at_its_stop_stays_within_its_allowance_after_a_trip() {
