@@ -178,7 +178,8 @@ fn print_counters<W: Bus>(arm: &VirtualArm<W>) {
     eprintln!(
         "mcm-virtual-arm: arm time {:.3} s; frames in {} out {}; SYNC {}; periods without SYNC {}; \
          frames lost on send {}; wire errors {}; fault injections {}; as the drives saw it: \
-         setpoints missing at SYNC {}, SDO aborts {}, heartbeat timeouts {}, SYNC losses {}",
+         setpoints missing at SYNC {}, SDO aborts {}, heartbeat timeouts {}, SYNC losses {}, \
+         connection aborts {}",
         arm.sim().now_ns() as f64 * 1e-9,
         c.frames_in,
         c.frames_out,
@@ -190,6 +191,7 @@ fn print_counters<W: Bus>(arm: &VirtualArm<W>) {
         d.rpdo1_missing,
         d.sdo_aborts,
         d.heartbeat_timeouts,
-        d.sync_losses
+        d.sync_losses,
+        d.connection_aborts
     );
 }

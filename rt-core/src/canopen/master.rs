@@ -48,7 +48,7 @@ use mcm_bus::Frame;
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::{AxisConfig, RobotConfig};
 
-/// Cycles between the NMT stops sent to a lost drive asked to power off ([`Master::cut_off`]).
+/// Cycles between the NMT stops sent to a lost drive asked to power off (`Master::cut_off`).
 pub const NMT_STOP_REPEAT_CYCLES: u64 = 4;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

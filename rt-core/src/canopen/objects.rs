@@ -51,6 +51,7 @@ pub const CONTROLWORD: u16 = 0x6040;
 pub const STATUSWORD: u16 = 0x6041;
 /// Quick stop option code (i16): what the drive does on the controlword's quick stop.
 pub const QUICK_STOP_OPTION_CODE: u16 = 0x605A;
+/// Abort connection option code (i16): what the drive does when the master cuts the connection.
 pub const ABORT_CONNECTION_OPTION_CODE: u16 = 0x6007;
 pub const MODES_OF_OPERATION: u16 = 0x6060;
 pub const MODES_OF_OPERATION_DISPLAY: u16 = 0x6061;
@@ -76,8 +77,8 @@ pub const QUICK_STOP_OPTION_DISABLE: i16 = 2;
 
 /// 0x6007 value the master writes at boot: when the master cuts the connection (its NMT stop),
 /// the drive disables its voltage (SWITCH ON DISABLED: no current, the brake engaged), SYNC or
-/// not (CiA 402 option 2). The master powers off a drive it can no longer reach by SYNC and
-/// PDOs this way ([`super::master::Master::cycle`]).
+/// not (CiA 402 option 2). The master powers off a lost drive this way, one that SYNC and
+/// PDOs may no longer reach (`Master::cut_off`, called from [`super::master::Master::cycle`]).
 pub const ABORT_CONNECTION_DISABLE_VOLTAGE: i16 = 2;
 
 /// Bit 31 of a PDO COB-ID entry: the PDO is invalid (disabled).
