@@ -12,8 +12,10 @@ use mcm_bus::{Bus, BusError, Frame};
 use mcm_sim::SimBus;
 use mcm_sim::bus::SYNC_ID;
 
-/// Frames held back at most (more are delivered at once).
-const DELAYED: usize = 64;
+/// Frames held back at most. A frame that would wait behind a delayed one of its COB-ID when
+/// the queue is full is lost (a receive queue's overrun); one the bus would delay is delivered
+/// at once.
+const DELAYED: usize = 128;
 /// The most SYNCs a delayed frame to the master arrives late.
 pub const MAX_DELAY_SYNCS: usize = 3;
 
@@ -36,7 +38,9 @@ pub struct BusFaults {
     pub duplicate_rx: f64,
     /// A frame to the master arrives one to three SYNCs late. The delayed frames keep their
     /// order: one due earlier than the frame delayed before it waits for that one, which is
-    /// still at most three SYNCs after its own delay began.
+    /// still at most three SYNCs after its own delay began. The frames of one COB-ID keep
+    /// their order too, as on a real bus (a node sends them in turn) and in SocketCAN's receive
+    /// queue: a frame whose COB-ID has a delayed frame pending waits behind it.
     pub delay_rx: f64,
     /// The heartbeats (0x700 + node) of this node are lost.
     pub lose_heartbeats_of: Option<u8>,
@@ -168,6 +172,14 @@ impl Bus for FaultyBus {
             let Some(f) = self.sim.recv(deadline_ns)? else {
                 return Ok(None);
             };
+            if self.delayed.iter().any(|(_, d)| d.id == f.id) {
+                // Due now, but after the earlier frame of its COB-ID still held back (also
+                // once the faults are over).
+                if self.delayed.push_back((self.syncs, f)).is_err() {
+                    self.counts.lost_rx += 1;
+                }
+                continue;
+            }
             let faults = self.faults;
             if !faults.any() {
                 return Ok(Some(f));

@@ -148,3 +148,43 @@ fn a_rebooting_drive_is_heard_booting_and_the_master_configures_it_again() {
         );
     }
 }
+
+#[test]
+fn delayed_frames_keep_the_order_of_their_cob_id_as_a_real_bus_and_socketcan_do() {
+    let cfg = RobotConfig::prob2_default();
+    let node = cfg.axes[0].node_id;
+    let mut bus = FaultyBus::new(SimBus::new(&cfg), Rng::new(7));
+    let sync = Frame::new(SYNC_ID, &[]).expect("a valid frame");
+    let mut answers = Vec::new();
+    let mut take = |bus: &mut FaultyBus| {
+        while let Some(f) = bus.recv(0).expect("the simulated bus does not fail") {
+            if f.id == 0x580 + u16::from(node) {
+                // An abort (no such object) naming the index asked for: a tag per frame.
+                answers.push(u16::from_le_bytes([f.data[1], f.data[2]]));
+            }
+        }
+    };
+    bus.faults.delay_rx = 0.3;
+    const ASKED: u16 = 300;
+    for k in 0..ASKED {
+        let [i0, i1] = (0x2000 + k).to_le_bytes();
+        let upload = Frame::new(0x600 + u16::from(node), &[0x40, i0, i1, 0, 0, 0, 0, 0])
+            .expect("a valid frame");
+        bus.send(&upload).expect("the simulated bus does not fail");
+        bus.send(&sync).expect("the simulated bus does not fail");
+        take(&mut bus);
+    }
+    // Faults off: what is still held back arrives, still in order behind its COB-ID.
+    bus.faults = BusFaults::default();
+    for _ in 0..=MAX_DELAY_SYNCS {
+        bus.send(&sync).expect("the simulated bus does not fail");
+        take(&mut bus);
+    }
+    assert!(bus.counts.delayed > 20, "{:?}", bus.counts);
+    assert_eq!(bus.counts.lost_rx, 0, "none lost to a full queue");
+    let asked: Vec<u16> = (0..ASKED).map(|k| 0x2000 + k).collect();
+    assert_eq!(
+        answers, asked,
+        "the answers of node {node} in the order asked"
+    );
+}
