@@ -402,31 +402,27 @@ fn seed_8320_a_derated_shoulder_is_powered_off_while_the_sync_is_stuck() {
     assert_recovers(RunOptions::new(8320, 60.0));
 }
 
-/// Seed 15159 (the month on 2ded6ff), open: ERROR's stop started from a measured velocity
-/// three times the true one (-90 deg/s against -30), so the stop's reference ran ahead and the
+/// Seed 15159 (the month on 2ded6ff): ERROR's stop started from a measured velocity three
+/// times the true one (-90 deg/s against -30), so the stop's reference ran ahead and the
 /// drive drove the searching shoulder to 93 deg/s before it braked (5.891 deg after the trip,
 /// 5.881 allowed). The master estimates a drive's velocity from its TPDOs' arrival; the faulty
-/// bus delays a frame by one to three SYNCs but lets the frames after it that it does not
-/// delay overtake it, so a stale position comes after newer ones. Whether that reordering is a
-/// fault to model (a CAN bus and SocketCAN's receive queue keep one sender's frames of one
-/// COB-ID in order) or the master must survive it is the open question.
-/// `docs/testing.md`, the month on 2ded6ff.
+/// bus delayed a frame by one to three SYNCs but let the later frames of the same COB-ID
+/// overtake it, so a stale position came after newer ones: what neither a CAN bus (a node
+/// sends its frames in turn) nor SocketCAN's receive queue does. Fixed in the harness: a
+/// frame whose COB-ID has a delayed frame pending waits behind it. Fails without it.
 #[test]
-#[ignore = "open finding: ERROR's stop from a velocity estimate that delayed TPDOs spoil (docs/testing.md)"]
-fn seed_15159_a_stop_from_a_spoilt_velocity_estimate_does_not_speed_the_arm_up() {
+fn seed_15159_delayed_frames_keep_their_order_and_the_stop_its_velocity() {
     assert_recovers(RunOptions::new(15159, 60.0));
 }
 
-/// Seed 25122 (the month on 2ded6ff), open: a derated wrist (axis 5, 2 A) that a calibration
-/// search held against its mechanical stop (`blocked`) left it at up to 56 deg/s in the cycles
-/// after the trip, its own current still towards the stop, while ERROR stopped the axes around
-/// it (2 to 4 at 8 to 16 deg/s): 0.793 deg after the trip, 0.745 allowed. Likely the stop's
-/// reference, re-seeded at the measured position 3.2 deg from the drive's target, reaching the
-/// drive (not relaxed, being derated) as a slew at the axis's top speed. `docs/testing.md`, the
-/// month on 2ded6ff.
+/// Seed 25122 (the month on 2ded6ff): a derated wrist (axis 5, 2 A) that a calibration search
+/// held 3.2 deg behind its target against its mechanical stop (`blocked`) left it at up to
+/// 56 deg/s after the failure (0.793 deg, 0.745 allowed). The failure re-seeded the reference
+/// at the measured position in its cycle, but the relax restarted the drive's loop only a cycle
+/// later: for one period the drive took the step back as a velocity reference. Fixed: the
+/// loop restarts with the re-seed (`controller/calibrate_relax.rs`). Fails without it.
 #[test]
-#[ignore = "open finding: a derated wrist leaves its stop after a trip (docs/testing.md)"]
-fn seed_25122_a_derated_wrist_at_its_stop_stays_within_its_allowance_after_a_trip() {
+fn seed_25122_a_failed_search_restarts_the_loop_with_the_stop_that_re_seeds_it() {
     assert_recovers(RunOptions::new(25122, 60.0));
 }
 

@@ -166,6 +166,9 @@ pub struct DriveCounters {
     pub sync_losses: u64,
     /// NMT stops while OPERATIONAL, each met with the abort connection reaction (0x6007).
     pub connection_aborts: u64,
+    /// Restarts of the CSP loop where the joint stands (a fault-reset edge while OPERATION
+    /// ENABLED, the MCM drive profile).
+    pub loop_restarts: u64,
 }
 
 /// One simulated drive.
@@ -751,6 +754,7 @@ impl SimDrive {
             let edge = cw & 0x80 != 0 && prev_cw & 0x80 == 0;
             if edge && t.is_none() && was == State::OperationEnabled && self.mode() == MODE_CSP {
                 self.start_mode();
+                self.counters.loop_restarts += 1;
             }
             self.on_transition(t, out);
         }

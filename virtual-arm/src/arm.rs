@@ -89,6 +89,7 @@ impl<W: Bus> VirtualArm<W> {
                 heartbeat_timeouts: a.heartbeat_timeouts + c.heartbeat_timeouts,
                 sync_losses: a.sync_losses + c.sync_losses,
                 connection_aborts: a.connection_aborts + c.connection_aborts,
+                loop_restarts: a.loop_restarts + c.loop_restarts,
             })
     }
 

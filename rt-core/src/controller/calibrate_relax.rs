@@ -21,8 +21,17 @@ impl Controller {
                 continue;
             };
             if let Some(direction) = cal.stop_direction() {
-                self.search_relax
-                    .start(i, direction, cal.may_press_its_stop());
+                let restart = cal.may_press_its_stop();
+                self.search_relax.start(i, direction, restart);
+                if restart {
+                    // The stop that follows re-seeds the reference at the measured position in
+                    // this very cycle, while the relax's own restart comes a cycle later (a
+                    // search that fails in the cycle's motion) or once that stop is over. Sent
+                    // without a restart, the step back by the search's lead (up to 3 deg) is a
+                    // velocity reference to the drive for a period, which kicks the axis off
+                    // its stop (seed 25122 of the simulation tester: a derated wrist, 56 deg/s).
+                    self.master.restart_position_loop(i);
+                }
             }
         }
     }
