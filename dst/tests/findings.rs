@@ -426,6 +426,16 @@ fn seed_25122_a_failed_search_restarts_the_loop_with_the_stop_that_re_seeds_it()
     assert_recovers(RunOptions::new(25122, 60.0));
 }
 
+/// Seed 27000 (the month on 05bdc40): an elbow in its slow approach, 1.5 deg short of its stop
+/// and held there against its weight by its loop's integral, had that loop restarted when a
+/// trip ended the search, and sagged 0.67 deg (0.662 allowed). Fixed: in the slow approach, as
+/// in the fast search, a loop restarts only where the current pushes beyond the baseline
+/// (`AxisCalibration::may_press_its_stop`). Fails without it.
+#[test]
+fn seed_27000_a_slow_approach_in_free_air_keeps_its_loop_when_it_ends() {
+    assert_recovers(RunOptions::new(27000, 60.0));
+}
+
 /// The checker's own findings, each a run it failed wrongly: seed 212, the offsets a
 /// calibration's searches found under an obstacle stay (and stay excused) when its move back
 /// trips; seed 124, an axis whose calibration an obstacle fooled 34 deg off is not the

@@ -309,26 +309,23 @@ impl AxisCalibration {
     }
 
     /// Whether this search may have pressed the axis into its mechanical stop: it backed off
-    /// from it, approaches it slowly, ended (a reference found implausible leaves the axis
-    /// pressed into its stop), or in its fast search its current pushes beyond the baseline
-    /// in the search direction by the fast contact's share of the search current (a contact
-    /// not yet confirmed). An axis still settling, or in its fast search in free air, has not
-    /// been driven into the stop: its loop's integral carries its weight (seed 3951 of the
-    /// simulation tester: a shoulder 0.01 deg into its fast search sagged 0.81 deg once that
-    /// integral was cleared).
+    /// from it, ended (a reference found implausible leaves the axis pressed into its stop),
+    /// or in its fast search or slow approach its current pushes beyond the baseline in the
+    /// search direction by that contact's share of the search current (a contact not yet
+    /// confirmed). An axis still settling, or searching in free air, has not been driven into
+    /// the stop: its loop's integral carries its weight (seed 3951 of the simulation tester: a
+    /// shoulder 0.01 deg into its fast search sagged 0.81 deg once that integral was cleared;
+    /// seed 27000: an elbow 1.5 deg short of its stop in its slow approach, 0.67 deg).
     pub fn may_press_its_stop(&self) -> bool {
         match self.phase {
             Phase::Settle { .. } => false,
             Phase::Search {
-                search:
-                    Search {
-                        slow: false,
-                        direction,
-                    },
+                search: Search { slow, direction },
                 ..
             } => {
+                let share = if slow { SLOW_CONTACT.0 } else { FAST_CONTACT.0 };
                 (self.prev.current - self.detector.baseline()) * direction
-                    >= FAST_CONTACT.0 * self.s.search_current
+                    >= share * self.s.search_current
             }
             _ => true,
         }
