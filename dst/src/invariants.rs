@@ -185,6 +185,8 @@ pub struct Checker {
     /// The true speeds of the last `lag_cycles` plus [`DELAY_SYNCS`] cycles [deg/s], the
     /// newest last.
     recent_speeds: VecDeque<[f64; NUM_AXES]>,
+    /// The true angles of the cycle before [deg].
+    prev_true_deg: [f64; NUM_AXES],
     /// Per axis: the deceleration a stop brakes with at least (`braking_efficiency` times the
     /// maximum acceleration) [deg/s^2] and the braking check's latency [s].
     brake_decel_deg: [f64; NUM_AXES],
@@ -246,6 +248,7 @@ impl Checker {
             // it declares the drive lost.
             lag_cycles: 2 + usize::from(cfg.bus.max_missed_tpdos),
             recent_speeds: VecDeque::new(),
+            prev_true_deg: [0.0; NUM_AXES],
             brake_decel_deg: core::array::from_fn(|i| safety.brake_decel[i].to_degrees()),
             braking_latency_s: core::array::from_fn(|i| safety.braking_latency_s(i)),
             stopping: [None; NUM_AXES],
@@ -354,6 +357,7 @@ impl Checker {
         }
         self.overdue(k, mode).or_else(&fail)?;
         self.prev_mode = mode;
+        self.prev_true_deg = s.sim_true_position;
         self.prev_flags = s.flags;
         self.prev_axis_flags = s.axis_flags;
         Ok(())
@@ -565,9 +569,14 @@ impl Checker {
                 // of it as its search ends: the controller's relax lets it, by up to its band
                 // (seed 3718: axis 3 0.3 deg deep in its stop, out at up to 18 deg/s, 0.57 deg
                 // travelled).
+                // In its stop in the cycle before the trip's, too: the trip's cycle restarts a
+                // pressing axis's loop, and it may be out by the end of it (seed 33109: a wrist
+                // 0.012 deg deep, out by 0.001 deg in the trip's sample).
                 let q = s.sim_true_position[i];
                 let (lo, hi) = self.stops_deg[i];
-                let springing_out = (q < lo && direction > 0.0) || (q > hi && direction < 0.0);
+                let was = self.prev_true_deg[i];
+                let springing_out =
+                    (q.min(was) < lo && direction > 0.0) || (q.max(was) > hi && direction < 0.0);
                 let relax_deg = if springing_out { SEARCH_RELAX_DEG } else { 0.0 };
                 self.stopping[i] = Some(Stopping {
                     cycle: k,

@@ -450,11 +450,13 @@ fn seed_27000_a_slow_approach_in_free_air_keeps_its_loop_when_it_ends() {
 /// pressed into its stop springs back out of it; seed 1413 (after the fixes of this month's
 /// seeds changed its run), a stuck SYNC leaves the stop to the drive's SYNC watchdog; seed
 /// 14363 (the month of session 15), the owner's `release_control` served first in a cycle
-/// brings its calibration to HOLD, and another client's command is refused in HOLD.
+/// brings its calibration to HOLD, and another client's command is refused in HOLD; seed
+/// 33109 (the month on 05bdc40), an axis pressed into its stop in the cycle before the trip's
+/// springs out of it, though the restart in the trip's cycle has it out by that cycle's end.
 #[test]
 fn the_checker_s_findings() {
     for seed in [
-        212, 124, 154, 175, 254, 108, 519, 1171, 4848, 25469, 6528, 3718, 1413, 14363,
+        212, 124, 154, 175, 254, 108, 519, 1171, 4848, 25469, 6528, 3718, 1413, 14363, 33109,
     ] {
         let r = run(&RunOptions::new(seed, 60.0));
         assert_eq!(r.violation, None, "seed {seed}");
