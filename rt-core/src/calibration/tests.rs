@@ -461,3 +461,47 @@ fn a_blocked_axis_whose_current_cannot_show_it_fails_and_stays_where_it_is() {
         assert_eq!(input.position, obstacle);
     }
 }
+
+#[test]
+fn a_search_presses_its_stop_only_where_its_current_shows_it_fast_or_slow() {
+    // A wall at 1 rad; the axis follows the target answered two cycles late and carries its
+    // weight with 0.3 A (the baseline) in free air.
+    let s = settings(Method::Stop {
+        direction: 1.0,
+        stop: 2.0,
+    });
+    let wall = 1.0;
+    let mut c = AxisCalibration::start(s, AxisInput::default(), None);
+    let mut sent = [0.0f64; 2];
+    let (mut free, mut pressing) = ([false; 2], [false; 2]);
+    for _ in 0..200_000 {
+        let position = sent[1].min(wall);
+        let current = 0.3 + 3000.0 * (sent[1] - wall).max(0.0);
+        let (out, _) = step_noting_contact(&mut c, position, current);
+        if let Phase::Search { search, .. } = c.phase {
+            let slow = usize::from(search.slow);
+            if position < wall - 0.01 {
+                assert!(
+                    !c.may_press_its_stop(),
+                    "in free air at {position} rad, slow: {}",
+                    search.slow
+                );
+                free[slow] = true;
+            } else if current > 0.3 + 0.5 * s.search_current {
+                assert!(c.may_press_its_stop(), "pushing with {current} A");
+                pressing[slow] = true;
+            }
+        }
+        if let Phase::Backoff { .. } = c.phase {
+            assert!(c.may_press_its_stop(), "backing off from the stop");
+        }
+        sent = [c.target(), sent[0]];
+        if out != Outcome::Running {
+            assert!(matches!(out, Outcome::Found { .. }), "{out:?}");
+            assert_eq!(free, [true; 2], "both searches seen in free air");
+            assert_eq!(pressing, [true; 2], "both searches seen pressing");
+            return;
+        }
+    }
+    panic!("did not finish");
+}
