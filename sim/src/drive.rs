@@ -152,7 +152,8 @@ enum Boot {
 }
 
 /// What a drive saw go wrong on its bus since power-up: the figures a drive's diagnostics
-/// would give, to judge a bus from the drives' side.
+/// would give, to judge a bus from the drives' side; and, not a fault, the loop restarts it
+/// was asked for.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct DriveCounters {
     /// SYNCs received in OPERATION ENABLED without an RPDO1 (the setpoint) since the last one:

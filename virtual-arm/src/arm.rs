@@ -78,7 +78,8 @@ impl<W: Bus> VirtualArm<W> {
 
     /// What the drives saw go wrong on the bus, summed over the six: setpoints (RPDO1) missing
     /// at a SYNC, SDO aborts, the master's heartbeat timed out, faults for want of SYNC, and the
-    /// master's NMT stops met with the abort connection reaction (0x6007).
+    /// master's NMT stops met with the abort connection reaction (0x6007); and the loop restarts
+    /// the master asked for (not printed: not a fault).
     pub fn drive_counters(&self) -> DriveCounters {
         (0..NUM_AXES)
             .filter_map(|i| self.sim.drive(i))
