@@ -1,21 +1,17 @@
 //! The Debian package (docs/deploy.md, "The Debian package") installed and run in the test guest
 //! (tests/common/vm.rs: Debian 13, systemd as PID 1, vcan0 up at boot, QEMU software emulation).
-//! First the guest itself, what the guest tests rely on (`vm::check_the_guest`: systemd, vcan0, the
-//! shares, no way to the host), and after the reboot below a completed boot with vcan0 up. The
-//! package is made as tests/end_to_end/deb_package.rs makes it (`cargo deb --no-build` around this
-//! test build's `mcm`), twice (the second with a higher version, for the upgrade), under the target
-//! directory that the guest sees read-only. In the guest, as root: install it; point the conffile
-//! at vcan0 with the emulated timing (tests/common/virtual_arm.rs, `EMULATED`); start the virtual
-//! arm (a transient unit); `systemctl enable --now mcm.target`. From the host, through forwarded
-//! ports: drives online, calibrate, a move, reached on the arm's truth. Then: the gateway killed
-//! with SIGKILL is started again by systemd while the core holds the arm; `systemctl stop
-//! mcm.target` ends with the core's controlled stop (its journal line); a reboot brings the enabled
-//! MCM back by itself; the upgrade keeps the edited conffile; purge leaves nothing behind. A
-//! missing tool (QEMU, cargo-deb) skips, or fails with CI set.
+//! The package is made as tests/end_to_end/deb_package.rs makes it (`cargo deb --no-build` around
+//! this test build's `mcm`), twice (the second with a higher version, for the upgrade), under the
+//! target directory that the guest sees read-only. In the guest, as root: install it; point the
+//! conffile at vcan0 with the emulated timing (tests/common/virtual_arm.rs, `EMULATED`); start the
+//! virtual arm (a transient unit); `systemctl enable --now mcm.target`. From the host, through
+//! forwarded ports: drives online, calibrate, a move, reached on the arm's truth. Then: the
+//! gateway killed with SIGKILL is started again by systemd while the core holds the arm;
+//! `systemctl stop mcm.target` ends with the core's controlled stop (its journal line); a reboot
+//! brings the enabled MCM back by itself (a completed boot with vcan0 up); the upgrade keeps the
+//! edited conffile; purge leaves nothing behind.
 
-mod common;
-
-use common::{virtual_arm, vm};
+use crate::common::{self, virtual_arm, vm};
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpStream};
@@ -26,6 +22,8 @@ use std::time::{Duration, Instant};
 const JSON_PORT: u16 = 18010;
 /// The virtual arm's control port in the guest.
 const ARM_PORT: u16 = 18020;
+/// The guest ports this part needs forwarded to the host.
+pub const FORWARDED: [u16; 2] = [JSON_PORT, ARM_PORT];
 /// The longest one command in the guest may take (it bounds its own waits below this).
 const RUN_WAIT: Duration = Duration::from_secs(240);
 /// The longest the host waits for the MCM to answer, for the drives, for a move.
@@ -50,7 +48,7 @@ const CONF: &str = "/etc/mcm/prob2.toml";
 
 /// The two packages (the manifest's version, then [`UPGRADE_VERSION`]) under the target
 /// directory, or why not (a missing tool).
-fn packages() -> Result<(PathBuf, PathBuf), String> {
+pub fn packages() -> Result<(PathBuf, PathBuf), String> {
     common::deb::cargo_deb_installed()?;
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("vm-package");
     let mut debs = common::deb::build(
@@ -205,25 +203,14 @@ fn main_pid(out: &str) -> u32 {
         .unwrap_or_else(|e| panic!("MainPID from {out:?}: {e}"))
 }
 
-#[test]
-fn the_package_installs_runs_restarts_survives_a_reboot_upgrades_and_purges() {
-    let image = match vm::image() {
-        Ok(image) => image,
-        Err(why) => return common::skip("vm_package", &why),
-    };
-    let (deb, upgrade) = match packages() {
-        Ok(debs) => debs,
-        Err(why) => return common::skip("vm_package", &why),
-    };
-    let mut guest = vm::Guest::boot("package", &image, &vm::target_dir(), &[JSON_PORT, ARM_PORT]);
+/// Install, run, restart, stop, reboot, upgrade and purge the packages `(deb, upgrade)` of
+/// [`packages`] in `guest` (booted with [`FORWARDED`]).
+pub fn run(guest: &mut vm::Guest, (deb, upgrade): &(PathBuf, PathBuf)) {
     let log = guest.log().display().to_string();
     let json: SocketAddr = ([127, 0, 0, 1], guest.host_port(JSON_PORT)).into();
     let arm: SocketAddr = ([127, 0, 0, 1], guest.host_port(ARM_PORT)).into();
-    let deb_in_guest = guest.guest_path(&deb);
-    let upgrade_in_guest = guest.guest_path(&upgrade);
-
-    // The guest itself: what this test and vm_socketcan rely on.
-    vm::check_the_guest(&mut guest);
+    let deb_in_guest = guest.guest_path(deb);
+    let upgrade_in_guest = guest.guest_path(upgrade);
 
     // Install: starts nothing.
     let install_started = Instant::now();
@@ -325,7 +312,7 @@ fn the_package_installs_runs_restarts_survives_a_reboot_upgrades_and_purges() {
         assert_eq!(v.len(), 2, "MainPIDs: {out}");
         (v[0], v[1])
     };
-    let (core, gateway) = pids(&mut guest);
+    let (core, gateway) = pids(guest);
     assert!(
         core > 0 && gateway > 0,
         "MainPIDs: core {core}, gateway {gateway}"
@@ -341,7 +328,7 @@ fn the_package_installs_runs_restarts_survives_a_reboot_upgrades_and_purges() {
         RUN_WAIT,
     );
     eprintln!("{}", out.trim());
-    let (core_after, _) = pids(&mut guest);
+    let (core_after, _) = pids(guest);
     assert_eq!(
         core_after, core,
         "the core's MainPID changed when the gateway was killed: {core} -> {core_after}"
@@ -438,7 +425,4 @@ fn the_package_installs_runs_restarts_survives_a_reboot_upgrades_and_purges() {
         "purge left something behind:\n{}",
         out.output
     );
-
-    let status = guest.shutdown();
-    assert!(status.success(), "QEMU ended with {status} (log: {log})");
 }

@@ -1,6 +1,5 @@
-//! The SocketCAN backend through a real kernel: the host's kernel has no CAN, so this boots the
-//! test guest (tests/common/vm.rs: Debian's kernel with vcan, in QEMU) and runs there the unit
-//! test of `bus/src/socketcan/tests.rs` that talks to a real interface, with
+//! The SocketCAN backend through a real kernel: the host's kernel has no CAN, so this runs in the
+//! test guest (tests/common/vm.rs: Debian's kernel with vcan, in QEMU) the unit test of `bus/src/socketcan/tests.rs` that talks to a real interface, with
 //! `MCM_TEST_CAN_IFACE=vcan0`: frames both ways between two sockets, skipped frames, the
 //! deadline of `recv`, a burst of non-blocking sends. The test binary is built on the host and
 //! shared into the guest; the test must report that it ran and passed (`--exact`: 1 passed, and
@@ -14,9 +13,7 @@
 //! (`tests/end_to_end/safety.rs`) the same way: its trips over SocketCAN, two tests left out
 //! ([`SAFETY_SKIPPED`]).
 
-mod common;
-
-use common::vm;
+use crate::common::{self, vm};
 use std::time::Duration;
 
 /// The unit test, by its full name.
@@ -71,15 +68,11 @@ fn must_pass(guest: &mut vm::Guest, what: &str, script: &str, tests: usize) {
     );
 }
 
-#[test]
-fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel() {
-    let image = match vm::image() {
-        Ok(image) => image,
-        Err(why) => return common::skip("vm_socketcan", &why),
-    };
+/// The SocketCAN backend's unit test, then the end-to-end tests of the MCM over the kernel's CAN,
+/// in `guest`.
+pub fn run(guest: &mut vm::Guest) {
     let test_binary = vm::lib_test_binary("mcm-bus", "bus");
     let e2e_binary = vm::integration_test_binary("end_to_end");
-    let mut guest = vm::Guest::boot("socketcan", &image, &vm::target_dir(), &[]);
     let log = guest.log().display().to_string();
 
     // systemd-networkd made vcan0 at boot and brought it up.
@@ -124,7 +117,7 @@ fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel()
         binary = guest.guest_path(&e2e_binary),
     );
     must_pass(
-        &mut guest,
+        guest,
         "tests/end_to_end/socketcan.rs",
         &script,
         E2E_TESTS,
@@ -140,18 +133,15 @@ fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel()
         binary = guest.guest_path(&e2e_binary),
     );
     must_pass(
-        &mut guest,
+        guest,
         "tests/end_to_end/safety.rs",
         &script,
         SAFETY_TESTS,
     );
-
-    let status = guest.shutdown();
-    assert!(status.success(), "QEMU ended with {status} (log: {log})");
 }
 
 /// The 10-minute target over SocketCAN, by hand (about 13 minutes with the boot):
-/// `cargo test --test vm_socketcan -- --ignored soak_in_the_guest --nocapture`, with
+/// `cargo test --test vm -- --ignored soak_in_the_guest --nocapture`, with
 /// `MCM_SOAK_S` (seconds of robot time, default 600) passed on to the guest. The figures go to
 /// `docs/performance.md`, "SocketCAN in the test guest".
 #[test]
@@ -159,7 +149,7 @@ fn the_socketcan_backend_and_the_mcm_over_it_pass_their_tests_on_a_real_kernel()
 fn soak_in_the_guest() {
     let image = match vm::image() {
         Ok(image) => image,
-        Err(why) => return common::skip("vm_socketcan soak", &why),
+        Err(why) => return common::skip("vm soak", &why),
     };
     let seconds: f64 = std::env::var("MCM_SOAK_S").map_or(600.0, |v| {
         v.parse()
