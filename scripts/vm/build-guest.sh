@@ -1,17 +1,19 @@
 #!/usr/bin/env bash
-# Builds the test guest of tests/vm_*.rs (tests/common/vm.rs boots it with QEMU): a Debian
+# Builds the test guest of tests/vm/ (tests/common/vm.rs boots it with QEMU): a Debian
 # root file system made with debootstrap from Debian's package registry, with Debian's stock
 # kernel (it has SocketCAN: can, can-raw, can-dev, vcan), systemd as PID 1, vcan0 up at boot,
 # can-utils, python3 with python-can, and the agent that runs the host's commands
 # (scripts/vm/rootfs/ is copied over the file system as it is).
 #
-# Output, in $CARGO_TARGET_DIR/vm/guest-KEY/ (target/vm/ without CARGO_TARGET_DIR): vmlinuz,
-# initrd.img (both from the guest's /boot, the initrd made by Debian's package in the chroot),
-# rootfs.img (raw ext4, made without mounting: mkfs.ext4 -d) and build-info.txt (time, sizes).
-# KEY is a hash of this script, rootfs/, the suite and the package list: an edit of any of them
-# builds a new guest (and removes the old ones); otherwise a rerun only prints the directory.
-# The last line printed on stdout is always that directory. The .deb files are kept in
-# target/vm/debs/ for the next build.
+# Output, in the cache directory $MCM_VM_CACHE (default ~/.cache/mcm/vm, or
+# $XDG_CACHE_HOME/mcm/vm), as guest-KEY/: vmlinuz, initrd.img (both from the guest's /boot, the
+# initrd made by Debian's package in the chroot), rootfs.img (raw ext4, made without mounting:
+# mkfs.ext4 -d) and build-info.txt (time, sizes). KEY is a hash of this script, rootfs/, the
+# suite and the package list: an edit of any of them builds a new guest; otherwise a rerun only
+# prints the directory. The last line printed on stdout is always that directory. The cache is
+# outside the work tree, so that a new clone or `cargo clean` does not build the guest again
+# (a minute and a half on an idle 2-core machine, up to five under load); guests of other keys
+# not used for a week are removed. The .deb files are kept in debs/ there for the next build.
 #
 # Needs root (debootstrap, and files owned by root in the image), debootstrap, mkfs.ext4 and the
 # network to Debian's registry. Boot by hand: docs/testing.md ("The virtual machine").
@@ -21,8 +23,6 @@
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
-repo=$(cd "$here/../.." && pwd)
-target=${CARGO_TARGET_DIR:-$repo/target}
 suite=${MCM_VM_SUITE:-trixie}
 mirror=${MCM_VM_MIRROR:-http://deb.debian.org/debian}
 # dbus: systemctl, systemd-run and the like speak to systemd over it (without it they say
@@ -44,7 +44,7 @@ key=$(
         echo "$suite $mirror ${packages[*]}"
     } | sha256sum | cut -c1-16
 )
-vm=$target/vm
+vm=${MCM_VM_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/mcm/vm}
 out=$vm/guest-$key
 mkdir -p "$vm"
 
@@ -53,6 +53,8 @@ exec 9>"$vm/build.lock"
 flock 9
 
 if [ -f "$out/build-info.txt" ]; then
+    # Used now: its age below counts from here.
+    touch "$out/build-info.txt"
     echo "$out"
     exit 0
 fi
@@ -157,8 +159,10 @@ finished=$(date +%s)
 mv "$work/info.tmp" "$work/build-info.txt"
 rm -rf "$out"
 mv "$work" "$out"
-# Older guests (other keys) are not used any more.
-find "$vm" -mindepth 1 -maxdepth 1 -name 'guest-*' ! -name "guest-$key" -exec rm -rf {} +
+# Guests of other keys (other versions of this script or rootfs/, maybe another checkout's) not
+# used for a week.
+find "$vm" -mindepth 2 -maxdepth 2 -path "$vm/guest-*/build-info.txt" -mtime +7 \
+    ! -path "$out/*" -printf '%h\0' | xargs -0 -r rm -rf
 log "built in $((finished - started)) s: $out"
 sed 's/^/build-guest:   /' "$out/build-info.txt" >&2
 echo "$out"
