@@ -174,6 +174,9 @@ fn free_port() -> u16 {
         .expect("a free loopback port")
 }
 
+/// QEMU's accelerator: software emulation, both vCPUs on one host thread (see [`Guest::boot`]).
+pub const ACCEL: &str = "tcg,thread=single";
+
 /// The emulator [`Guest::boot`] runs.
 pub const QEMU: &str = "qemu-system-x86_64";
 
@@ -249,7 +252,9 @@ impl Guest {
         // time and lets a vCPU run only after the map change is applied for it. The guest still
         // has two CPUs (the MCM pins its cycle thread to CPU 1), at the cost of one host core
         // for both: docs/testing.md, "The virtual machine", has the figures.
-        for a in ["-machine", "q35", "-accel", "tcg,thread=single", "-cpu", "max"] {
+        // `MCM_VM_ACCEL=tcg` chooses QEMU's default again, to compare by hand.
+        let accel = std::env::var("MCM_VM_ACCEL").unwrap_or_else(|_| ACCEL.to_owned());
+        for a in ["-machine", "q35", "-accel", &accel, "-cpu", "max"] {
             arg(&a);
         }
         for a in ["-smp", "2", "-m", "1024"] {

@@ -29,7 +29,7 @@ for a in "$@"; do
 done
 n=$(( $(cat "$rw/starts" 2>/dev/null || echo 0) + 1 ))
 echo "$n" >"$rw/starts"
-abort() {{ echo "{ASSERTION}" >&2; kill -ABRT $$; }}
+abort() {{ cat "$0.words" >&2; kill -ABRT $$; }}
 case " {at_start} " in *" $n "*) abort;; esac
 echo "boot-$n" >"$rw/agent/boot"
 while sleep 0.05; do
@@ -47,6 +47,7 @@ done
     );
     let program = dir.join("qemu-stand-in");
     fs::write(&program, script).unwrap();
+    fs::write(dir.join("qemu-stand-in.words"), format!("{ASSERTION}\n")).unwrap();
     fs::set_permissions(&program, fs::Permissions::from_mode(0o755)).unwrap();
     let image = dir.join("image");
     fs::create_dir_all(&image).unwrap();
