@@ -108,7 +108,7 @@ tr -d '-' </proc/sys/kernel/random/uuid >"$root/etc/machine-id"
 # Root logs in on the serial console without a password: a test guest only.
 chroot "$root" passwd -d root >/dev/null
 chroot "$root" systemctl enable --quiet systemd-networkd.service \
-    systemd-networkd-wait-online.service mcm-guest-agent.service
+    systemd-networkd-wait-online.service mcm-guest-agent.service mcm-guest-cpus.service
 # Timers that would only load the guest (no network to update from anyway).
 chroot "$root" systemctl mask --quiet apt-daily.timer apt-daily-upgrade.timer \
     dpkg-db-backup.timer fstrim.timer e2scrub_all.timer

@@ -174,8 +174,24 @@ fn free_port() -> u16 {
         .expect("a free loopback port")
 }
 
-/// QEMU's accelerator: software emulation, both vCPUs on one host thread (see [`Guest::boot`]).
-pub const ACCEL: &str = "tcg,thread=single";
+/// QEMU's accelerator: software emulation, a host thread per vCPU (QEMU's default on x86).
+pub const ACCEL: &str = "tcg";
+
+/// The guest kernel's command line. `maxcpus=1`: the second CPU stays offline while the kernel
+/// probes and enables the PCI devices, and the guest brings it online once udev has settled
+/// (`scripts/vm/rootfs/etc/systemd/system/mcm-guest-cpus.service`). With two vCPUs running
+/// then, a vCPU's access to a device races QEMU's update of the memory map when the other
+/// reprograms a PCI BAR, and QEMU 10.0.2 aborted in the second boot's PCI probe
+/// ("iotlb_to_section: Assertion `section_index < d->map.sections_nb' failed", upstream QEMU
+/// issue 1921, only with more than one vCPU under multi-threaded TCG) when the machine's cores
+/// were busy. Running both vCPUs on one host thread (`tcg,thread=single`) avoids it too, but
+/// its round-robin slices of 100 ms starved the MCM's bus exchanges between the two CPUs:
+/// the drives timed out at boot in the SocketCAN tests. docs/testing.md, "The virtual
+/// machine", has the figures.
+const KERNEL_CMDLINE: &str = "console=ttyS0,115200 root=/dev/vda rw maxcpus=1";
+
+/// The guest's CPUs (`-smp`), all online once it has booted.
+const CPUS: &str = "2";
 
 /// The emulator [`Guest::boot`] runs.
 pub const QEMU: &str = "qemu-system-x86_64";
@@ -243,21 +259,12 @@ impl Guest {
         for a in ["-nodefaults", "-no-user-config", "-display", "none"] {
             arg(&a);
         }
-        // One host thread for both vCPUs (round-robin TCG). With a thread per vCPU (QEMU's
-        // default for x86 guests on x86 hosts), a vCPU that reprograms a PCI BAR while the other
-        // runs races QEMU's own bookkeeping of the memory map: QEMU 10.0.2 aborted in the
-        // second boot's PCI probe ("iotlb_to_section: Assertion `section_index <
-        // d->map.sections_nb' failed", upstream QEMU issue 1921, only with more than one vCPU),
-        // twice in CI-like runs with the machine's cores busy. Round-robin runs one vCPU at a
-        // time and lets a vCPU run only after the map change is applied for it. The guest still
-        // has two CPUs (the MCM pins its cycle thread to CPU 1), at the cost of one host core
-        // for both: docs/testing.md, "The virtual machine", has the figures.
-        // `MCM_VM_ACCEL=tcg` chooses QEMU's default again, to compare by hand.
+        // `MCM_VM_ACCEL` chooses another accelerator by hand (e.g. `tcg,thread=single`).
         let accel = std::env::var("MCM_VM_ACCEL").unwrap_or_else(|_| ACCEL.to_owned());
         for a in ["-machine", "q35", "-accel", &accel, "-cpu", "max"] {
             arg(&a);
         }
-        for a in ["-smp", "2", "-m", "1024"] {
+        for a in ["-smp", CPUS, "-m", "1024"] {
             arg(&a);
         }
         // A reboot in the guest ends QEMU; [`Guest::reboot`] starts it again (see there).
@@ -267,7 +274,8 @@ impl Guest {
         arg(&"-initrd");
         arg(&image.dir.join("initrd.img"));
         arg(&"-append");
-        arg(&"console=ttyS0,115200 root=/dev/vda rw");
+        // `MCM_VM_CMDLINE` replaces it by hand (e.g. without `maxcpus=1`, to compare).
+        arg(&std::env::var("MCM_VM_CMDLINE").unwrap_or_else(|_| KERNEL_CMDLINE.to_owned()));
         arg(&"-drive");
         arg(&format!(
             "file={},format=qcow2,if=virtio,cache=unsafe",
@@ -558,8 +566,8 @@ impl Guest {
     pub fn check_rebooted(&mut self) {
         let boot = Boot::of(self);
         assert!(
-            boot.running && boot.vcan0_up,
-            "after the reboot, the boot completed and vcan0 up: {}\n(log: {})",
+            boot.running && boot.vcan0_up && boot.cpus == CPUS,
+            "after the reboot, the boot completed, vcan0 up, {CPUS} CPUs online: {}\n(log: {})",
             boot.said,
             self.log().display()
         );
@@ -614,8 +622,8 @@ pub fn check_the_guest(guest: &mut Guest) {
     let log = guest.log().display().to_string();
     let boot = Boot::of(guest);
     assert!(
-        boot.pid1 == "systemd" && boot.running && boot.vcan0_up,
-        "PID 1 systemd, the boot completed, vcan0 up: {}\n(log: {log})",
+        boot.pid1 == "systemd" && boot.running && boot.vcan0_up && boot.cpus == CPUS,
+        "PID 1 systemd, the boot completed, vcan0 up, {CPUS} CPUs online: {}\n(log: {log})",
         boot.said
     );
 
@@ -668,18 +676,19 @@ pub fn check_the_guest(guest: &mut Guest) {
 }
 
 /// What a boot is: PID 1's name, whether systemd says the boot completed (`running`, waited
-/// for), whether vcan0 is up; and the guest's words for them.
+/// for), whether vcan0 is up, how many CPUs are online; and the guest's words for them.
 struct Boot {
     pid1: String,
     running: bool,
     vcan0_up: bool,
+    cpus: String,
     said: String,
 }
 
 impl Boot {
     fn of(guest: &mut Guest) -> Boot {
         let said = guest.run_ok(
-            "cat /proc/1/comm; systemctl is-system-running --wait; ip -br link show vcan0",
+            "cat /proc/1/comm; systemctl is-system-running --wait; ip -br link show vcan0; nproc",
             Duration::from_secs(120),
         );
         let line = |i: usize| said.lines().nth(i).unwrap_or("");
@@ -689,6 +698,7 @@ impl Boot {
             pid1,
             running,
             vcan0_up,
+            cpus: line(3).to_string(),
             said,
         }
     }

@@ -6,12 +6,13 @@
 //! executable runs alone, as cargo runs every test executable.
 //!
 //! In order, in the same guest:
-//! 1. the guest itself, what the parts rely on (`vm::check_the_guest`: systemd, vcan0, the
-//!    shares, no way to the host);
+//! 1. the guest itself, what the parts rely on (`vm::check_the_guest`: systemd, vcan0, both
+//!    CPUs online, the shares, no way to the host);
 //! 2. [`socketcan`]: the SocketCAN backend's unit test and the MCM's end-to-end tests over the
-//!    kernel's CAN with the virtual arm;
-//! 3. [`package`]: the Debian package installed, run under systemd, restarted, stopped, rebooted
-//!    (a cold boot), upgraded and purged.
+//!    kernel's CAN with the virtual arm, in the guest as built (the kernel's real-time
+//!    throttling on, as on any fresh machine; the package below turns it off);
+//! 3. [`package`]: the Debian package installed, run under systemd, restarted, stopped,
+//!    rebooted (a cold boot), upgraded and purged (nothing left behind).
 //!
 //! Beside it, the harness's answer to QEMU crashing, with a stand-in for QEMU ([`emulator_crash`]).
 //! By hand, ignored in the test run: `socketcan::soak_in_the_guest` (ten minutes of motion over
@@ -29,7 +30,7 @@ mod socketcan;
 use common::vm;
 
 #[test]
-fn in_one_guest_socketcan_the_mcm_over_it_and_the_debian_package_under_systemd() {
+fn in_one_guest_socketcan_the_mcm_over_it_then_the_debian_package_under_systemd() {
     let image = match vm::image() {
         Ok(image) => image,
         Err(why) => return common::skip("vm", &why),

@@ -138,6 +138,11 @@ pub fn run(guest: &mut vm::Guest) {
         &script,
         SAFETY_TESTS,
     );
+
+    // The MCMs above ran as root and made the flight recorder's directory of the embedded
+    // configuration, `/tmp/mcm-flight-recorder`, owned by root. The Debian package tested next
+    // in this guest runs its core as the user `mcm`, which must make that directory itself.
+    guest.run_ok("rm -rf /tmp/mcm-flight-recorder", Duration::from_secs(60));
 }
 
 /// The 10-minute target over SocketCAN, by hand (about 13 minutes with the boot):
