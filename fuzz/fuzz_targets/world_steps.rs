@@ -14,4 +14,6 @@ use mcm_shared::alloc_count::CountingAlloc;
 #[global_allocator]
 static GLOBAL: CountingAlloc = CountingAlloc;
 
-fuzz_target!(|input: mcm_fuzz::Input| mcm_fuzz::run(&input));
+fuzz_target!(|input: mcm_fuzz::Input| {
+    mcm_fuzz::run(&input);
+});

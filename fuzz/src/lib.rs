@@ -15,7 +15,7 @@ use arbitrary::Arbitrary;
 use mcm_dst::clients::Limits as Ranges;
 use mcm_dst::faults::PUSH_MAX_NM;
 use mcm_dst::faulty_bus::BusFaults;
-use mcm_dst::fuzz_input::{Limits, SCRIPT_CLIENTS, Script, Step, run_script};
+use mcm_dst::fuzz_input::{Limits, SCRIPT_CLIENTS, Script, ScriptReport, Step, run_script};
 use mcm_dst::rng::Rng;
 use mcm_dst::run::config;
 use mcm_shared::NUM_AXES;
@@ -386,17 +386,15 @@ fn script(input: &Input) -> Script {
 }
 
 /// Run `input` through the world, checking every cycle; panics with the first broken invariant
-/// (the crash libFuzzer keeps).
-pub fn run(input: &Input) {
+/// (the crash libFuzzer keeps). Returns what the run did.
+pub fn run(input: &Input) -> ScriptReport {
     let limits = Limits {
         max_cycles: MAX_CYCLES,
         // The sanitizer and the coverage counters make the cycle's work several times slower
         // than the builds its budget is for.
         cpu_budget: false,
     };
-    if let Err(v) = run_script(&script(input), limits) {
-        panic!("invariant broken: {v}");
-    }
+    run_script(&script(input), limits).unwrap_or_else(|v| panic!("invariant broken: {v}"))
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
 //! The Debian package as the tests make it: cargo-deb around the `mcm` cargo built for this
 //! test run (`--no-build`: no release build), for `tests/end_to_end/deb_package.rs` and
-//! `tests/vm_package.rs`.
+//! `tests/vm/package.rs`.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -32,8 +32,8 @@ use std::ffi::{OsStr, OsString};
 use std::fs;
 use std::io::{Read, Write};
 use std::net::TcpListener;
-use std::path::{Path, PathBuf};
 use std::os::unix::process::ExitStatusExt;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
@@ -62,11 +62,11 @@ pub struct Image {
 /// The workspace's target directory, which the guest shares.
 pub use super::built::target_dir;
 
-/// Build the guest, or find it built (`scripts/vm/build-guest.sh`, cached in
-/// `~/.cache/mcm/vm/` or `$MCM_VM_CACHE`). `Err` says which tool is missing (the caller skips: `super::skip`); a build
-/// that fails otherwise panics with the script's output.
+/// Build the guest, or find it built (`scripts/vm/build-guest.sh`, cached in `~/.cache/mcm/vm/`
+/// or `$MCM_VM_CACHE`). `Err` says which tool is missing (the caller skips: `super::skip`); a
+/// build that fails otherwise panics with the script's output.
 pub fn image() -> Result<Image, String> {
-    for tool in ["qemu-system-x86_64", "qemu-img"] {
+    for tool in [QEMU, "qemu-img"] {
         if super::find_program(tool).is_none() {
             return Err(format!(
                 "{tool} is not installed (Debian: apt-get install qemu-system-x86 qemu-utils; \
@@ -178,16 +178,10 @@ fn free_port() -> u16 {
 pub const ACCEL: &str = "tcg";
 
 /// The guest kernel's command line. `maxcpus=1`: the second CPU stays offline while the kernel
-/// probes and enables the PCI devices, and the guest brings it online once udev has settled
-/// (`scripts/vm/rootfs/etc/systemd/system/mcm-guest-cpus.service`). With two vCPUs running
-/// then, a vCPU's access to a device races QEMU's update of the memory map when the other
-/// reprograms a PCI BAR, and QEMU 10.0.2 aborted in the second boot's PCI probe
-/// ("iotlb_to_section: Assertion `section_index < d->map.sections_nb' failed", upstream QEMU
-/// issue 1921, only with more than one vCPU under multi-threaded TCG) when the machine's cores
-/// were busy. Running both vCPUs on one host thread (`tcg,thread=single`) avoids it too, but
-/// its round-robin slices of 100 ms starved the MCM's bus exchanges between the two CPUs:
-/// the drives timed out at boot in the SocketCAN tests. docs/testing.md, "The virtual
-/// machine", has the figures.
+/// probes and enables the PCI devices, where two running vCPUs can make QEMU's multi-threaded
+/// TCG abort (docs/testing.md, "QEMU's abort on a boot, and how the guest avoids it"); the guest
+/// brings it online once udev has settled
+/// (`scripts/vm/rootfs/etc/systemd/system/mcm-guest-cpus.service`).
 const KERNEL_CMDLINE: &str = "console=ttyS0,115200 root=/dev/vda rw maxcpus=1";
 
 /// The guest's CPUs (`-smp`), all online once it has booted.

@@ -14,9 +14,9 @@
 //! cores; this one and the four below take 21 s).
 //!
 //! The end-to-end tests that need the machine to themselves have their executables of their own
-//! and run alone: `tests/calibration_stress.rs` (it loads every CPU on purpose),
-//! `tests/vm_package.rs` and `tests/vm_socketcan.rs` (a guest under software emulation, with
-//! the MCM's timing inside it), `tests/builds.rs` (`cargo check`s).
+//! and run alone: `tests/calibration_stress.rs` (it loads every CPU on purpose), `tests/vm/`
+//! (one guest under software emulation, with the MCM's timing inside it), `tests/builds.rs`
+//! (a `cargo check`).
 
 #[path = "../common/mod.rs"]
 mod common;

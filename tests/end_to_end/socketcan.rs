@@ -4,7 +4,7 @@
 //!
 //! These tests need a kernel with SocketCAN and `vcan`, which the development and CI machines do
 //! not have: they are `#[ignore]`d here and run in the test guest, where
-//! `tests/vm_socketcan.rs` runs this file with `--ignored` and `MCM_TEST_BUS=socketcan` and
+//! `tests/vm/socketcan.rs` runs this file with `--ignored` and `MCM_TEST_BUS=socketcan` and
 //! checks that every one of them passed.
 
 use crate::common;
@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-const IN_GUEST: &str = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)";
+const IN_GUEST: &str = "needs a kernel with vcan: runs in the test guest (tests/vm/socketcan.rs)";
 
 /// One frame of a candump log: its id and data bytes.
 type Frame = (u16, Vec<u8>);
@@ -238,7 +238,7 @@ fn stopped(mcm: Mcm, dump: Candump) -> Vec<(f64, Frame)> {
 }
 
 #[test]
-#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
+#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm/socketcan.rs)"]
 fn the_kernel_s_candump_agrees_with_the_mcm_s_own_log_frame_for_frame() {
     let own = std::env::temp_dir().join(format!("{}.candump", unique_instance("own")));
     let (mcm, dump) = recorded("candump", &["--candump", own.to_str().unwrap()]);
@@ -322,7 +322,7 @@ fn the_kernel_s_candump_agrees_with_the_mcm_s_own_log_frame_for_frame() {
 }
 
 #[test]
-#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
+#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm/socketcan.rs)"]
 fn after_the_controlled_stop_every_drive_is_pre_operational_and_the_master_is_silent() {
     let (mcm, dump) = recorded("finish", &[]);
     let mut c = mcm.client();
@@ -429,7 +429,7 @@ fn drives_online(c: &mut EventClient) -> f64 {
 }
 
 #[test]
-#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm_socketcan.rs)"]
+#[ignore = "needs a kernel with vcan: runs in the test guest (tests/vm/socketcan.rs)"]
 fn calibration_motion_torque_control_and_an_emergency_stop_over_socketcan() {
     let mcm = Mcm::start_on(Some(virtual_arm()), &unique_instance("scenario"), &[]);
     let mut c = EventClient::connect(mcm.json);
@@ -568,10 +568,10 @@ fn soak_seconds() -> f64 {
 
 /// The target for the guest: minutes at the configured rate with the arm moving, and
 /// no lost or late setpoint, no SDO error and no heartbeat timeout as the drives saw them. Not
-/// part of the CI run (10 minutes): `tests/vm_socketcan.rs`'s ignored test runs it in the guest
+/// part of the CI run (10 minutes): `tests/vm/socketcan.rs`'s ignored test runs it in the guest
 /// (`docs/performance.md`, "SocketCAN in the test guest").
 #[test]
-#[ignore = "runs for minutes in the test guest: tests/vm_socketcan.rs, docs/performance.md"]
+#[ignore = "runs for minutes in the test guest: tests/vm/socketcan.rs, docs/performance.md"]
 fn motion_for_minutes_with_no_pdo_lost_as_the_drives_saw_it() {
     let seconds = soak_seconds();
     let mcm = Mcm::start_on(Some(virtual_arm()), &unique_instance("soak"), &[]);

@@ -89,7 +89,7 @@ fn opening_a_missing_interface_names_it_and_the_os_error() {
 }
 
 /// Talks to a real interface only when `MCM_TEST_CAN_IFACE` names one (e.g. `vcan0`; the bus must
-/// be quiet: nothing else sends on it). The host's kernel has no CAN: `tests/vm_socketcan.rs`
+/// be quiet: nothing else sends on it). The host's kernel has no CAN: `tests/vm/socketcan.rs`
 /// runs this test in a virtual machine with `vcan0`, and checks that it passed (not skipped).
 #[test]
 fn real_interface_round_trip_when_available() {
