@@ -12,20 +12,27 @@ use mcm_shared::alloc_count::CountingAlloc;
 #[global_allocator]
 static GLOBAL: CountingAlloc = CountingAlloc;
 
+/// Inputs are drawn until the world has run this many cycles (a few steps each).
+const CYCLES: u64 = 2_000;
+/// At most this many inputs.
+const INPUTS: usize = 200;
+
 #[test]
 fn inputs_from_arbitrary_bytes_run_with_no_invariant_broken() {
     let mut rng = Rng::new(0x5eed);
-    let (mut cycles, mut answers) = (0, 0);
-    for _ in 0..6 {
-        let bytes: Vec<u8> = (0..2048).map(|_| rng.next_u64() as u8).collect();
+    let (mut inputs, mut cycles, mut answers) = (0, 0, 0);
+    while cycles < CYCLES && inputs < INPUTS {
+        let bytes: Vec<u8> = (0..4096).map(|_| rng.next_u64() as u8).collect();
         let input = Input::arbitrary_take_rest(Unstructured::new(&bytes))
             .expect("arbitrary makes an input of any bytes");
         let report = run(&input);
+        inputs += 1;
         cycles += report.cycles;
         answers += report.answers.iter().sum::<u64>();
     }
     assert!(
-        cycles >= 100 && answers >= 10,
-        "the inputs drove the world {cycles} cycles and got {answers} answers: too little to test anything"
+        cycles >= CYCLES && answers >= 10,
+        "{inputs} inputs drove the world {cycles} cycles and got {answers} answers: too little to \
+         test anything"
     );
 }
