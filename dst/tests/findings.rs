@@ -279,7 +279,7 @@ fn seeds_6960_33240_a_calibration_store_cut_by_a_power_cycle_is_not_read_back() 
 /// which took it for the stop, 46 deg off; once it was gone, the move back to zero ran
 /// unwatched, the axis's gravity feed-forward computed for the wrong angle: it ran ahead of
 /// the move, 115 deg at 458 deg/s, into its mechanical stop (127 deg). Fixed in the controller
-/// (`safety::ActiveChecks::for_calibration_return`): the following error is checked during
+/// (`safety/following.rs`, `FollowingError::runs`): the following error is checked during
 /// that move, and trips at 57 deg/s. Fails without it.
 #[test]
 fn seed_11677_the_move_back_to_zero_trips_its_following_error() {
@@ -312,8 +312,8 @@ fn seed_3951_a_search_in_free_air_keeps_its_loop_when_it_ends() {
 /// Seed 4080 (the month's campaign): while the wrist calibrated, the shoulder, not covered and
 /// its motor derated, could not hold the arm and sagged 21 deg with no check watching; the
 /// move back to zero then tripped its following error, and the derated shoulder, relaxed, sank
-/// past its braking distance. Fixed in the controller (`controller/trips.rs`,
-/// `check_held_while_searching`): the following error of the axes a calibration does not cover
+/// past its braking distance. Fixed in the controller (`controller/trips.rs`, `check_safety`,
+/// and `safety/following.rs`): the following error of the axes a calibration does not cover
 /// is checked while its searches run. Fails without it.
 #[test]
 fn seed_4080_the_axes_a_calibration_does_not_cover_are_watched() {

@@ -42,7 +42,7 @@ use crate::calibration::AxisSettings;
 use crate::canopen::{AxisFeedback, DriveRequest, FrameBuf, Master};
 use crate::params::JointParams;
 use crate::pvt::PvtStream;
-use crate::safety::{I2t, SafetyParams};
+use crate::safety::{CycleChecks, I2t, SafetyParams};
 use crate::trajectory::JointSample;
 use mcm_dynamics::ArmModel;
 use mcm_shared::NUM_AXES;
@@ -75,6 +75,8 @@ pub struct Controller {
     model: ArmModel,
     i2t: I2t,
     safety: SafetyParams,
+    /// The per-cycle safety checks with their parameters (`trips.rs` runs them).
+    checks: CycleChecks,
     /// RELEASE's soft speed limit (`release.rs`).
     release: release::ReleaseParams,
     /// The torque feed-forward sent to each drive's position loop [Nm] (`motion.rs`).
@@ -137,6 +139,7 @@ impl Controller {
             model: ArmModel::from_config(cfg),
             i2t: I2t::new(&SafetyParams::from_config(cfg)),
             safety: SafetyParams::from_config(cfg),
+            checks: CycleChecks::from_config(cfg),
             release: release::ReleaseParams::from_config(cfg),
             feed_forward: [0.0; NUM_AXES],
             estop_seen: false,

@@ -1,15 +1,15 @@
-//! Drive events from the CANopen master and the per-cycle safety checks, and what a trip does:
-//! ERROR, the quick stop, the power off of a lost drive, the failure of a calibration or
-//! enabling under way, and one error record per incident.
+//! Drive events from the CANopen master, the emergency stop's press, the per-cycle safety
+//! checks (`safety::CycleChecks`, run in their order on the cycle's measured state), and what a
+//! trip does: ERROR, the quick stop, the power off of a lost drive, the failure of a calibration
+//! or enabling under way, and one error record per incident.
 //!
 //! Runs inside the cycle.
 
 use super::Controller;
 use super::exits::Exit;
 use super::state::{CalPhase, State};
-use crate::calibration::AxisCalibration;
 use crate::canopen::MasterEvent;
-use crate::safety::{self, ActiveChecks};
+use crate::safety::{Calibrating, Check, CycleInputs, Situation};
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::Axis;
 use mcm_shared::mode::Mode;
@@ -113,8 +113,9 @@ impl Controller {
         }
     }
 
-    /// The checks of the manual's "Safety checks" evaluated every cycle (drive connections
-    /// come as master events).
+    /// The checks of the manual's "Safety checks" evaluated every cycle: the emergency stop's
+    /// press, then the per-cycle checks (`safety::CycleChecks`) on the measured state (drive
+    /// connections and faults come as master events).
     pub(super) fn check_safety(&mut self) {
         let estop = self.master.feedback().iter().any(|f| f.estop);
         if estop && !self.estop_seen {
@@ -122,69 +123,44 @@ impl Controller {
             self.trip(Reason::EmergencyStop);
         }
         self.estop_seen = estop;
-        let mode = self.mode();
-        if let Some(searches) = self.searches() {
-            return self.check_held_while_searching(&searches);
-        }
-        let returning = matches!(
-            self.state,
+        let searches = self.searches();
+        let calibrating = match self.state {
+            State::Calibration {
+                phase: CalPhase::Search { .. },
+                ..
+            } => Calibrating::Searching,
             State::Calibration {
                 phase: CalPhase::Return(_),
                 ..
-            }
-        );
-        if !returning
-            && (matches!(self.state, State::Enabling { .. })
-                || !matches!(
-                    mode,
-                    Mode::Hold
-                        | Mode::Pvt
-                        | Mode::Release
-                        | Mode::TorqueControl
-                        | Mode::VelocityControl
-                ))
-        {
-            return;
-        }
-        let active = if returning {
-            ActiveChecks::for_calibration_return()
-        } else {
-            ActiveChecks::for_mode(mode)
+            } => Calibrating::Returning,
+            _ => Calibrating::No,
+        };
+        let now = Situation {
+            mode: self.mode(),
+            calibrating,
+            planned_motion: self.state.planned_motion(),
+            disabled: self
+                .planted
+                .braking_check_off
+                .then_some(Check::BrakingDistance),
         };
         let q = self.measured();
         let qd = self.measured_velocity();
-        let mut result = Ok(());
-        if active.limits {
-            result = result
-                .and_then(|()| safety::check_position_limits_returning(&self.safety, &q, &qd))
-                .and_then(|()| safety::check_velocity_limits(&self.safety, &qd));
-        }
-        // A planned move or stop is validated when planned: it ends inside the reachable range
-        // at the deceleration it plans with; the braking check watches everything else.
-        if active.braking && !self.state.planned_motion() && !self.planted.braking_check_off {
-            result = result.and_then(|()| safety::check_braking(&self.safety, &q, &qd));
-        }
-        if active.following {
-            result = result
-                .and_then(|()| safety::check_following_error(&self.safety, &self.cmd_hist[1], &q));
-        }
-        if let Err(v) = result {
-            self.trip(v.reason());
-        }
-    }
-
-    /// During a calibration's searches the axes it does not cover hold where they are, in
-    /// their own frame (their offsets do not change): their following error is checked, as in
-    /// HOLD. Before, nothing watched them (the simulation tester's seed 4080: a shoulder its
-    /// derated motor could not hold sagged 21 deg while the wrist calibrated). The searching
-    /// axes are watched by their searches (`calibration::lead`).
-    fn check_held_while_searching(&mut self, searches: &[Option<AxisCalibration>; NUM_AXES]) {
-        let q = self.measured();
-        let held: [f64; NUM_AXES] = core::array::from_fn(|i| match searches[i] {
-            Some(_) => q[i],
-            None => self.cmd_hist[1][i],
+        // The axes a calibration's searches cover are watched by their searches: their own
+        // measured position stands for their command.
+        let commanded: [f64; NUM_AXES] = core::array::from_fn(|i| {
+            if searches.as_ref().is_some_and(|axes| axes[i].is_some()) {
+                q[i]
+            } else {
+                self.cmd_hist[1][i]
+            }
         });
-        if let Err(v) = safety::check_following_error(&self.safety, &held, &q) {
+        let inputs = CycleInputs {
+            position: &q,
+            velocity: &qd,
+            commanded: &commanded,
+        };
+        if let Err(v) = self.checks.run(&now, &inputs) {
             self.trip(v.reason());
         }
     }

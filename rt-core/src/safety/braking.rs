@@ -1,7 +1,17 @@
 //! The dynamic limit check (`docs/safety.md`, "Braking distance"): stop an axis that could no
-//! longer stop before its limit, and the preventive velocity cap that keeps the check from firing.
+//! longer stop before its limit ([`BrakingDistance`], the third per-cycle check: in the modes
+//! with a motion other than a planned one, except while a planned move or stop runs, which was
+//! validated when planned), and the preventive velocity cap that keeps the check from firing.
+//! A torque command is judged with the acceleration it produces before it is sent
+//! ([`check_braking_accelerating`], `controller/motion.rs`).
 //!
 //! Runs inside the cycle (pure, allocation-free, panic-free).
+//!
+//! Parameters ([`SafetyParams`]): `q_min`, `q_max`, `margin` (`safety.limit_margin_deg`),
+//! `reaction_s` (`safety.reaction_cycles`), `brake_decel` (`safety.braking_efficiency` x
+//! `axis.max_acceleration_deg_s2`), `stop_jerk`; their bounds are
+//! `mcm_shared::config::LIMIT_MARGIN_MAX_DEG`, `REACTION_MAX_S`, `BRAKING_EFFICIENCY_MIN` and
+//! `ACCELERATION_MAX_DEG_S2`.
 //!
 //! For an axis moving toward `q_max` at `v > 0` (mirrored for `q_min`):
 //! ```text
@@ -24,8 +34,28 @@
 //! assert!((braking_distance(90.0, 180.0, 0.0) - 22.5).abs() < 1e-12);
 //! ```
 
-use super::{Check, SafetyParams, Violation};
+use super::{Check, CycleCheck, CycleInputs, SafetyParams, Situation, Violation};
 use mcm_shared::NUM_AXES;
+
+/// The braking-distance check on the measured state ([`check_braking`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BrakingDistance;
+
+impl CycleCheck for BrakingDistance {
+    const ID: Check = Check::BrakingDistance;
+
+    fn runs(&self, now: &Situation) -> bool {
+        now.free_motion_mode() && !now.planned_motion
+    }
+
+    fn verdict(
+        &mut self,
+        params: &SafetyParams,
+        inputs: &CycleInputs<'_>,
+    ) -> Result<(), Violation> {
+        check_braking(params, inputs.position, inputs.velocity)
+    }
+}
 
 /// Slack kept by [`velocity_cap`] below the margin line [rad], so that moving exactly at the
 /// cap never trips [`check_braking`] through rounding. (1e-9 rad = 6e-8 deg.)

@@ -1,11 +1,25 @@
-//! The safety parameters, converted once from the robot configuration to SI units.
+//! The safety figures several users share, converted once from the robot configuration to SI
+//! units: the position limits and the stop model (margin, latency, deceleration) that the
+//! position-limit and braking checks, the velocity cap and the planners read, and the motors'
+//! figures of the i2t model. A check's own figures live with the check
+//! ([`super::VelocityLimits::trip`], [`super::FollowingError::band`]).
 //!
 //! Built outside the cycle (at start, after the configuration was validated); read inside it.
 
 use mcm_shared::NUM_AXES;
-use mcm_shared::config::RobotConfig;
+use mcm_shared::config::{AxisConfig, RobotConfig};
 
-/// Everything the safety checks need, in SI units (rad, rad/s, rad/s^2, s, A).
+/// One figure per axis of a configuration: `figure` of each configured axis, `missing` for an
+/// axis missing from an unvalidated configuration (a fail-safe value).
+pub(super) fn per_axis(
+    cfg: &RobotConfig,
+    missing: f64,
+    figure: impl Fn(&AxisConfig) -> f64,
+) -> [f64; NUM_AXES] {
+    core::array::from_fn(|i| cfg.axes.get(i).map_or(missing, &figure))
+}
+
+/// The shared safety figures in SI units (rad, rad/s, rad/s^2, s, A).
 ///
 /// Built by [`SafetyParams::from_config`] from a validated configuration. Fields are public so
 /// that tests and tools can vary one value; inside the controller treat them as read-only.
@@ -23,8 +37,6 @@ pub struct SafetyParams {
     pub q_max: [f64; NUM_AXES],
     /// Nominal maximum velocity [rad/s] (the velocity cap never exceeds it).
     pub v_max: [f64; NUM_AXES],
-    /// Velocity above which the velocity check trips: `overspeed_factor * v_max` [rad/s].
-    pub v_trip: [f64; NUM_AXES],
     /// Maximum acceleration [rad/s^2].
     pub a_max: [f64; NUM_AXES],
     /// Deceleration assumed for a stop: `braking_efficiency * a_max` [rad/s^2].
@@ -32,8 +44,6 @@ pub struct SafetyParams {
     /// Jerk of the stop profile [rad/s^3]; `INFINITY` = second-order stop (constant
     /// deceleration from the first instant), the default. See [`Self::with_jerk_limited_stop`].
     pub stop_jerk: [f64; NUM_AXES],
-    /// Following error band [rad].
-    pub following_band: [f64; NUM_AXES],
     /// i2t reference (rated continuous) current [A].
     pub rated_current: [f64; NUM_AXES],
     /// Peak motor current [A] (the current limit when not derated).
@@ -42,8 +52,6 @@ pub struct SafetyParams {
     pub derated_current: [f64; NUM_AXES],
     /// Thermal time constant of the i2t model [s].
     pub i2t_tau: [f64; NUM_AXES],
-    /// Consecutive missed TPDOs after which a drive counts as disconnected.
-    pub max_missed_tpdos: u16,
 }
 
 impl SafetyParams {
@@ -59,25 +67,20 @@ impl SafetyParams {
             q_min: [0.0; NUM_AXES],
             q_max: [0.0; NUM_AXES],
             v_max: [0.0; NUM_AXES],
-            v_trip: [0.0; NUM_AXES],
             a_max: [0.0; NUM_AXES],
             brake_decel: [0.0; NUM_AXES],
             stop_jerk: [f64::INFINITY; NUM_AXES],
-            following_band: [0.0; NUM_AXES],
             rated_current: [0.0; NUM_AXES],
             max_current: [0.0; NUM_AXES],
             derated_current: [0.0; NUM_AXES],
             i2t_tau: [0.0; NUM_AXES],
-            max_missed_tpdos: cfg.bus.max_missed_tpdos,
         };
         for (i, a) in cfg.axes.iter().take(NUM_AXES).enumerate() {
             p.q_min[i] = a.min_deg.to_radians();
             p.q_max[i] = a.max_deg.to_radians();
             p.v_max[i] = a.max_velocity_deg_s.to_radians();
-            p.v_trip[i] = s.overspeed_factor * p.v_max[i];
             p.a_max[i] = a.max_acceleration_deg_s2.to_radians();
             p.brake_decel[i] = s.braking_efficiency * p.a_max[i];
-            p.following_band[i] = a.following_error_deg.to_radians();
             p.rated_current[i] = a.rated_current_a;
             p.max_current[i] = a.max_current_a;
             p.derated_current[i] = a.i2t_derated_current_a;

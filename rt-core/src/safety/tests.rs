@@ -1,36 +1,33 @@
 use super::*;
-use mcm_shared::config::RobotConfig;
+use mcm_shared::mode::Mode;
 
 fn params() -> SafetyParams {
     SafetyParams::from_config(&RobotConfig::prob2_default())
 }
 
-#[test]
-fn reject_codes_are_distinct_and_named() {
-    let all = [
-        Check::PositionLimit,
-        Check::VelocityLimit,
-        Check::BrakingDistance,
-        Check::FollowingError,
-        Check::EmergencyStop,
-        Check::DriveDisconnected,
-        Check::DriveFault,
-        Check::NotCalibrated,
-    ];
-    for (i, a) in all.iter().enumerate() {
-        for b in &all[i + 1..] {
-            assert_ne!(a.reject_code(), b.reject_code(), "{a:?} {b:?}");
-        }
-    }
-    assert_eq!(
-        Check::BrakingDistance.reject_code(),
-        RejectCode::BrakingDistance
-    );
-    assert_eq!(
-        Check::NotCalibrated.reject_code(),
-        RejectCode::NotCalibrated
-    );
+fn checks() -> CycleChecks {
+    CycleChecks::from_config(&RobotConfig::prob2_default())
 }
+
+fn in_mode(mode: Mode) -> Situation {
+    Situation {
+        mode,
+        calibrating: Calibrating::No,
+        planned_motion: false,
+        disabled: None,
+    }
+}
+
+const ALL_MODES: [Mode; 8] = [
+    Mode::Off,
+    Mode::Error,
+    Mode::Calibration,
+    Mode::Hold,
+    Mode::Pvt,
+    Mode::Release,
+    Mode::TorqueControl,
+    Mode::VelocityControl,
+];
 
 #[test]
 fn violation_message_names_check_axis_value_and_limit() {
@@ -55,100 +52,144 @@ fn violation_message_names_check_axis_value_and_limit() {
     assert_eq!(axis.number(), 3);
     assert!((error_deg - 0.05f64.to_degrees()).abs() < 1e-12);
     assert!((band_deg - 0.03f64.to_degrees()).abs() < 1e-12);
-    let f = Violation {
-        check: Check::DriveFault,
-        axis: 0,
-        value: 33088.0,
-        limit: 0.0,
+    let v = Violation {
+        check: Check::VelocityLimit,
+        axis: 5,
+        value: -2.0,
+        limit: -1.5,
     };
     assert_eq!(
-        f.reason(),
-        Reason::DriveFault {
-            axis: Axis::new(1),
-            code: 33088
+        v.reason(),
+        Reason::VelocityLimit {
+            axis: Axis::ALL[5],
+            velocity_deg_s: rad_to_deg(-2.0),
+            limit_deg_s: rad_to_deg(-1.5),
         }
     );
 }
 
+/// Which check runs in which mode: the manual's table (`docs/safety.md`, "Which checks run in
+/// which mode").
 #[test]
 fn mode_table_follows_the_manual() {
-    let hold = ActiveChecks::for_mode(Mode::Hold);
-    assert!(hold.drives && hold.following && !hold.limits && !hold.braking);
-    let pvt = ActiveChecks::for_mode(Mode::Pvt);
-    assert!(pvt.drives && pvt.following && pvt.limits && pvt.braking);
-    for m in [Mode::Release, Mode::TorqueControl] {
-        let a = ActiveChecks::for_mode(m);
-        assert!(a.drives && a.limits && a.braking && !a.following, "{m}");
-        assert!(requires_calibration(m));
+    let c = checks();
+    for mode in ALL_MODES {
+        let now = in_mode(mode);
+        let motion = matches!(
+            mode,
+            Mode::Release | Mode::TorqueControl | Mode::Pvt | Mode::VelocityControl
+        );
+        let following = matches!(mode, Mode::Hold | Mode::Pvt | Mode::VelocityControl);
+        assert_eq!(c.position.runs(&now), motion, "{mode}");
+        assert_eq!(c.velocity.runs(&now), motion, "{mode}");
+        assert_eq!(c.braking.runs(&now), motion, "{mode}");
+        assert_eq!(c.following.runs(&now), following, "{mode}");
+        // A planned move or stop was validated when planned: no braking check.
+        let planned = Situation {
+            planned_motion: true,
+            ..now
+        };
+        assert!(!c.braking.runs(&planned), "{mode}");
+        assert_eq!(c.position.runs(&planned), motion, "{mode}");
     }
-    for m in [Mode::Off, Mode::Error, Mode::Calibration] {
-        let a = ActiveChecks::for_mode(m);
-        assert!(a.drives && !a.limits && !a.braking && !a.following, "{m}");
-        assert!(!requires_calibration(m));
+    // A calibration's searches and its move back to zero: the following error only.
+    for calibrating in [Calibrating::Searching, Calibrating::Returning] {
+        let now = Situation {
+            calibrating,
+            ..in_mode(Mode::Calibration)
+        };
+        assert!(c.following.runs(&now), "{calibrating:?}");
+        assert!(!c.position.runs(&now) && !c.velocity.runs(&now) && !c.braking.runs(&now));
     }
-    assert!(requires_calibration(Mode::Pvt) && !requires_calibration(Mode::Hold));
 }
 
 #[test]
-fn calibration_check_names_first_uncalibrated_axis() {
-    assert_eq!(check_calibrated(&[true; 6]), Ok(()));
-    for axis in 0..6 {
-        let mut c = [true; 6];
-        c[axis] = false;
-        let v = check_calibrated(&c).unwrap_err();
-        assert_eq!((v.check, v.axis), (Check::NotCalibrated, axis));
-    }
-}
-
-#[test]
-fn check_cycle_runs_only_active_checks_in_order() {
+fn the_checks_run_in_order_and_the_first_violation_is_reported() {
+    let mut c = checks();
     let p = params();
+    // Axis 4 beyond its limit moving further out, too fast, its stop beyond the limit, and
+    // far from its command: every check would trip.
     let mut q = [0.0; 6];
-    q[3] = p.q_max[3] + 0.01; // beyond the limit
-    let qd = [0.0; 6];
-    let cmd = q;
-    let drives = DriveInputs::all_ok();
+    q[3] = p.q_max[3] + 0.01;
+    let mut qd = [0.0; 6];
+    qd[3] = 2.0 * c.velocity.trip[3];
+    let cmd = [0.0; 6];
     let inputs = CycleInputs {
         position: &q,
         velocity: &qd,
         commanded: &cmd,
-        drives: &drives,
     };
-    // HOLD: limits not checked.
+    let pvt = in_mode(Mode::Pvt);
     assert_eq!(
-        check_cycle(&p, ActiveChecks::for_mode(Mode::Hold), &inputs),
-        Ok(())
+        c.run(&pvt, &inputs).unwrap_err().check,
+        Check::PositionLimit
     );
-    let v = check_cycle(&p, ActiveChecks::for_mode(Mode::Pvt), &inputs).unwrap_err();
-    assert_eq!((v.check, v.axis), (Check::PositionLimit, 3));
-    // Drives come first.
-    let estop = DriveInputs {
-        emergency_stop: true,
-        ..drives
-    };
+    // Take the causes away one at a time: each next check in the order reports (at rest
+    // beyond its limit the axis may move back, so only its following error is left).
+    let at_rest = [0.0; 6];
+    let mut slower = [0.0; 6];
+    slower[3] = c.velocity.trip[3] - 1e-3;
+    let mut inside = q;
+    inside[3] = p.q_max[3] - p.margin;
+    for (position, velocity, check) in [
+        (&q, &qd, Check::PositionLimit),
+        (&inside, &qd, Check::VelocityLimit),
+        (&inside, &slower, Check::BrakingDistance),
+        (&q, &at_rest, Check::FollowingError),
+    ] {
+        let inputs = CycleInputs {
+            position,
+            velocity,
+            commanded: &cmd,
+        };
+        assert_eq!(c.run(&pvt, &inputs).unwrap_err().check, check);
+    }
+    // HOLD: only the following error runs.
+    let hold = in_mode(Mode::Hold);
+    assert_eq!(
+        c.run(&hold, &inputs).unwrap_err().check,
+        Check::FollowingError
+    );
+    // OFF and ERROR: none.
+    for mode in [Mode::Off, Mode::Error] {
+        assert_eq!(c.run(&in_mode(mode), &inputs), Ok(()), "{mode}");
+    }
+    // The tester's planted bug switches the braking check off, and only that one.
     let inputs = CycleInputs {
-        drives: &estop,
-        ..inputs
+        position: &inside,
+        velocity: &slower,
+        commanded: &inside,
     };
-    let v = check_cycle(&p, ActiveChecks::for_mode(Mode::Pvt), &inputs).unwrap_err();
-    assert_eq!(v.check, Check::EmergencyStop);
+    let planted = Situation {
+        disabled: Some(Check::BrakingDistance),
+        ..pvt
+    };
+    assert_eq!(
+        c.run(&pvt, &inputs).unwrap_err().check,
+        Check::BrakingDistance
+    );
+    assert_eq!(c.run(&planted, &inputs), Ok(()));
 }
 
 #[test]
 fn nan_position_trips_every_mode_that_reads_it() {
-    let p = params();
+    let mut c = checks();
     let mut q = [0.0; 6];
     q[5] = f64::NAN;
     let zero = [0.0; 6];
-    let drives = DriveInputs::all_ok();
     let inputs = CycleInputs {
         position: &q,
         velocity: &zero,
         commanded: &zero,
-        drives: &drives,
     };
-    for m in [Mode::Hold, Mode::Release, Mode::TorqueControl, Mode::Pvt] {
-        let v = check_cycle(&p, ActiveChecks::for_mode(m), &inputs).unwrap_err();
+    for m in [
+        Mode::Hold,
+        Mode::Release,
+        Mode::TorqueControl,
+        Mode::Pvt,
+        Mode::VelocityControl,
+    ] {
+        let v = c.run(&in_mode(m), &inputs).unwrap_err();
         assert_eq!(v.axis, 5, "{m}");
     }
 }

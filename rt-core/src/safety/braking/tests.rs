@@ -8,6 +8,11 @@ fn params() -> SafetyParams {
     SafetyParams::from_config(&RobotConfig::prob2_default())
 }
 
+/// The velocity check's trip velocities [rad/s].
+fn v_trip() -> [f64; 6] {
+    crate::safety::VelocityLimits::from_config(&RobotConfig::prob2_default()).trip
+}
+
 fn one(axis: usize, x: f64) -> [f64; 6] {
     let mut a = [0.0; 6];
     a[axis] = x;
@@ -192,12 +197,13 @@ fn simulate_stop(p: &SafetyParams, q0: [f64; 6], v: [f64; 6]) -> Result<[f64; 6]
 
 fn start_state() -> impl Strategy<Value = ([f64; 6], [f64; 6])> {
     let p = params();
+    let v_trip = v_trip();
     prop::array::uniform6((0.0f64..=1.0, 0.05f64..=1.0, any::<bool>())).prop_map(move |axes| {
         let mut q = [0.0; 6];
         let mut v = [0.0; 6];
         for (i, (f, vf, neg)) in axes.into_iter().enumerate() {
             q[i] = p.q_min[i] + f * (p.q_max[i] - p.q_min[i]);
-            v[i] = if neg { -vf } else { vf } * p.v_trip[i];
+            v[i] = if neg { -vf } else { vf } * v_trip[i];
         }
         (q, v)
     })
@@ -229,12 +235,13 @@ proptest! {
         axis in 0usize..6, offset_deg in -10.0f64..5.0, vf in 0.0f64..=1.0, upper in any::<bool>()
     ) {
         let p = params();
+        let v_trip = v_trip();
         let off = offset_deg.to_radians();
         // From 10 deg inside up to 5 deg beyond the limit, moving back at up to v_trip.
         let (q, v) = if upper {
-            (p.q_max[axis] + off, -vf * p.v_trip[axis])
+            (p.q_max[axis] + off, -vf * v_trip[axis])
         } else {
-            (p.q_min[axis] - off, vf * p.v_trip[axis])
+            (p.q_min[axis] - off, vf * v_trip[axis])
         };
         prop_assert_eq!(check_braking(&p, &one(axis, q), &one(axis, v)), Ok(()));
     }
