@@ -1,9 +1,10 @@
-//! The clients of a run: several at once, each sending random commands of every kind but `sim`
-//! (the fault injector's, [`crate::faults`]) and `client_gone` (sent when it disconnects, then
-//! a new connection with a new id), valid and invalid, at its own random cadence, taking and
-//! losing control, streaming `pvt_points`, `set_torques` and `set_velocities`, and sending
-//! `hold` at random moments; besides, garbage samples of any kind number from 0 to 19 (these
-//! two included), with wild arguments.
+//! The clients of a run: several at once, each sending random commands of every kind that
+//! [`requests::Sender`] gives the clients (all but `sim`, the fault injector's,
+//! [`crate::faults`], and `client_gone`, sent when a client disconnects, then a new connection
+//! with a new id), valid and invalid, at its own random cadence, taking and losing control,
+//! streaming `pvt_points`, `set_torques` and `set_velocities`, and sending `hold` at random
+//! moments; besides, garbage samples of any kind number from 0 to two beyond the last known
+//! (those two kinds included), with wild arguments.
 //!
 //! A client reads the published state as a real one does, and pursues a goal (a mode) most of
 //! the time, so that every mode is reached: from HOLD it sends what enters its goal, in the
@@ -18,10 +19,16 @@ use mcm_shared::command::{
     SetVelocities, TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
-use mcm_shared::mode::Mode;
+use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::sample::{
     AXIS_CALIBRATED, COMMAND_ARGS, CommandSample, PVT_POINTS_PER_COMMAND, StateSample,
 };
+use requests::{Draw, draw};
+
+pub mod requests;
+
+/// Kind numbers of garbage samples: from 0 (no kind) to two beyond the last known.
+const GARBAGE_KINDS: u64 = CommandKind::ALL[CommandKind::ALL.len() - 1].to_wire() as u64 + 3;
 
 /// Client ids of the random clients start here; the fault injector and the quiet phase's
 /// client have their own below.
@@ -203,42 +210,9 @@ impl Client {
 
     /// Any command, its arguments drawn wide (some refused); or a sample that does not decode.
     fn random(&mut self, s: &StateSample, lim: &Limits, rng: &mut Rng) -> Option<CommandSample> {
-        let r = match rng.below(18) {
-            0 => Request::Status,
-            1 => Request::Hold,
-            2 => Request::Info,
-            3 => Request::Calibrate(calibrate(rng)),
-            4 => Request::Release,
-            5 => Request::TorqueControl(TorqueControl {
-                timeout_s: rng.pick(&[None, Some(0.01), Some(1.0)]),
-                gravity_compensation: rng.chance(0.5),
-            }),
-            6 => Request::Pvt(Pvt {
-                dt_s: rng.pick(&[0.0, 0.001, 0.005, 0.1, 1.0, 2.0]),
-            }),
-            7 => {
-                let mut m = move_axis(lim, rng);
-                m.target_deg += rng.pick(&[0.0, 0.0, 200.0, -200.0]);
-                m.velocity_factor = rng.pick(&[m.velocity_factor, 0.0, 1.0, 1.5]);
-                Request::MoveAxis(m)
-            }
-            8 => Request::MoveAll(move_all(lim, rng)),
-            9 => Request::PvtPoints(self.pvt_chunk(s, rng)),
-            10 => Request::SetTorques(SetTorques {
-                torques_nm: core::array::from_fn(|_| rng.range(-20.0, 20.0)),
-            }),
-            11 => Request::TakeControl,
-            12 => Request::ReleaseControl,
-            13 => Request::VelocityControl(VelocityControl {
-                timeout_s: rng.pick(&[None, Some(0.01), Some(2.0)]),
-            }),
-            14 => Request::SetVelocities(SetVelocities {
-                velocities_deg_s: core::array::from_fn(|i| {
-                    rng.range(-1.2, 1.2) * lim.max_velocity[i]
-                }),
-            }),
-            15 => Request::Status,
-            _ => return Some(self.garbage(rng)),
+        let r = match draw(rng) {
+            Draw::Kind(kind) => self.random_request(kind, s, lim, rng)?,
+            Draw::Garbage => return Some(self.garbage(rng)),
         };
         Some(self.request(r))
     }
@@ -253,7 +227,7 @@ impl Client {
             0
         };
         let mut sample = CommandSample {
-            kind: rng.below(20) as u32,
+            kind: rng.below(GARBAGE_KINDS) as u32,
             flags,
             ..CommandSample::default()
         };

@@ -1,8 +1,10 @@
 //! Coverage-guided search over the deterministic simulation tester's world: libFuzzer's bytes
 //! become, through `arbitrary`, a robot (the simulator's seed, hence its encoder offsets, and
-//! a start pose within the software limits) and steps of cycles, each with commands of every
-//! kind from four clients (valid and invalid arguments, samples that do not decode,
-//! `take_control`/`release_control`/`client_gone`, `sim` fault injections) and bus faults.
+//! a start pose within the software limits) and steps of cycles, each with commands from four
+//! clients and bus faults. The commands are of every kind of `CommandKind::ALL`, each as
+//! likely, with valid and invalid arguments drawn by [`Cmd::of_kind`] (a `match` over the kind,
+//! so a new command does not compile until its arguments are drawn), and samples that do not
+//! decode.
 //! `mcm_dst::fuzz_input::run_script` runs them through the world and checks every cycle with
 //! the run's invariants; a broken one panics with its message (the crash libFuzzer keeps).
 //!
@@ -11,7 +13,7 @@
 //! testing"). A library, so that the workspace's test run compiles it and runs it on a few
 //! inputs (`tests.rs`) on stable, without the fuzzer.
 
-use arbitrary::Arbitrary;
+use arbitrary::{Arbitrary, Unstructured};
 use mcm_dst::clients::Limits as Ranges;
 use mcm_dst::faults::PUSH_MAX_NM;
 use mcm_dst::faulty_bus::BusFaults;
@@ -24,12 +26,15 @@ use mcm_shared::command::{
     SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
+use mcm_shared::mode::CommandKind;
 use mcm_shared::sample::{COMMAND_ARGS, CommandSample, PVT_POINTS_PER_COMMAND};
 
 /// Cycles of one input at most (100 simulated s at 200 Hz), so that each input is quick.
 const MAX_CYCLES: u64 = 20_000;
 /// Cycles of one step at most.
 const MAX_STEP_CYCLES: u8 = 200;
+/// Kind numbers of raw samples: from 0 (no kind) to six beyond the last known.
+const RAW_KINDS: u32 = CommandKind::ALL[CommandKind::ALL.len() - 1].to_wire() + 7;
 /// The chances per frame a bus fault may have: the fault schedule's (`dst/src/faults.rs`),
 /// which the checker's lag allowances were set for.
 const BUS_CHANCES: [f64; 3] = [0.001, 0.01, 0.1];
@@ -130,7 +135,8 @@ struct SimIn {
     power_cycle: bool,
 }
 
-#[derive(Debug, Clone, Arbitrary)]
+/// One command: a kind of `CommandKind::ALL` with its arguments, or a raw sample.
+#[derive(Debug, Clone)]
 enum Cmd {
     Status,
     Hold,
@@ -158,8 +164,10 @@ enum Cmd {
         targets: [Num; NUM_AXES],
         velocity_factor: Num,
     },
+    /// A chunk of one point and up to three more.
     PvtPoints {
-        points: Vec<([Num; NUM_AXES], [Num; NUM_AXES])>,
+        first: PointIn,
+        more: Vec<PointIn>,
         last: bool,
     },
     SetTorques([Num; NUM_AXES]),
@@ -177,6 +185,71 @@ enum Cmd {
         flags: u32,
         args: Vec<(u8, Wild)>,
     },
+}
+
+/// A PVT point: six positions and six velocities.
+type PointIn = ([Num; NUM_AXES], [Num; NUM_AXES]);
+
+impl<'a> Arbitrary<'a> for Cmd {
+    /// A kind of `CommandKind::ALL` or a raw sample, each as likely; then its arguments.
+    fn arbitrary(u: &mut Unstructured<'a>) -> arbitrary::Result<Cmd> {
+        match CommandKind::ALL.get(u.choose_index(CommandKind::ALL.len() + 1)?) {
+            Some(kind) => Cmd::of_kind(*kind, u),
+            None => Ok(Cmd::Raw {
+                kind: u.arbitrary()?,
+                flags: u.arbitrary()?,
+                args: u.arbitrary()?,
+            }),
+        }
+    }
+}
+
+impl Cmd {
+    /// A command of `kind`, its arguments from `u`.
+    fn of_kind(kind: CommandKind, u: &mut Unstructured<'_>) -> arbitrary::Result<Cmd> {
+        Ok(match kind {
+            CommandKind::Status => Cmd::Status,
+            CommandKind::Hold => Cmd::Hold,
+            CommandKind::Info => Cmd::Info,
+            CommandKind::Calibrate => Cmd::Calibrate {
+                which: u.arbitrary()?,
+                elbow_negative: u.arbitrary()?,
+                wrist_negative: u.arbitrary()?,
+                force_mechanical_stop: u.arbitrary()?,
+            },
+            CommandKind::Release => Cmd::Release,
+            CommandKind::TorqueControl => Cmd::TorqueControl {
+                timeout_s: u.arbitrary()?,
+                gravity_compensation: u.arbitrary()?,
+            },
+            CommandKind::Pvt => Cmd::Pvt {
+                dt_s: u.arbitrary()?,
+            },
+            CommandKind::MoveAxis => Cmd::MoveAxis {
+                axis: u.arbitrary()?,
+                target: u.arbitrary()?,
+                velocity_factor: u.arbitrary()?,
+            },
+            CommandKind::MoveAll => Cmd::MoveAll {
+                targets: u.arbitrary()?,
+                velocity_factor: u.arbitrary()?,
+            },
+            CommandKind::PvtPoints => Cmd::PvtPoints {
+                first: u.arbitrary()?,
+                more: u.arbitrary()?,
+                last: u.arbitrary()?,
+            },
+            CommandKind::SetTorques => Cmd::SetTorques(u.arbitrary()?),
+            CommandKind::Sim => Cmd::Sim(u.arbitrary()?),
+            CommandKind::TakeControl => Cmd::TakeControl,
+            CommandKind::ReleaseControl => Cmd::ReleaseControl,
+            CommandKind::ClientGone => Cmd::ClientGone,
+            CommandKind::VelocityControl => Cmd::VelocityControl {
+                timeout_s: u.arbitrary()?,
+            },
+            CommandKind::SetVelocities => Cmd::SetVelocities(u.arbitrary()?),
+        })
+    }
 }
 
 #[derive(Debug, Clone, Copy, Arbitrary)]
@@ -286,19 +359,16 @@ impl Cmd {
                 targets_deg: six(targets, &r.min_deg, &r.max_deg),
                 velocity_factor: velocity_factor.within(0.0, 1.0),
             }),
-            Cmd::PvtPoints { points, last } => {
-                let points: Vec<PvtPoint> = points
-                    .iter()
+            Cmd::PvtPoints { first, more, last } => {
+                let points: Vec<PvtPoint> = core::iter::once(first)
+                    .chain(more)
                     .take(PVT_POINTS_PER_COMMAND)
                     .map(|(p, v)| PvtPoint {
                         position_deg: six(p, &r.min_deg, &r.max_deg),
                         velocity_deg_s: six(v, &neg(&r.max_velocity), &r.max_velocity),
                     })
                     .collect();
-                match PvtChunk::new(&points, *last) {
-                    Some(chunk) => Request::PvtPoints(chunk),
-                    None => Request::Status, // no points: nothing to stream
-                }
+                Request::PvtPoints(PvtChunk::new(&points, *last).expect("1 to 4 points"))
             }
             Cmd::SetTorques(t) => Request::SetTorques(SetTorques {
                 torques_nm: six(t, &neg(&r.max_torque), &r.max_torque),
@@ -332,7 +402,7 @@ impl Cmd {
 /// invariants' stop penetration was set for.
 fn raw(kind: u8, flags: u32, args: &[(u8, Wild)]) -> CommandSample {
     let mut s = CommandSample {
-        kind: u32::from(kind % 24),
+        kind: u32::from(kind) % RAW_KINDS,
         flags,
         ..CommandSample::default()
     };

@@ -6,12 +6,14 @@ file named by the environment variable ``MCM_LAYOUT_JSON`` before running this t
 that variable the test is skipped, saying so (a failure instead when ``CI`` is set).
 """
 
+import inspect
 import json
 import os
 import re
 import unittest
 
-from mcm import codes, layout
+from mcm import codes, layout, wire
+from mcm.types import PvtPoint
 
 from . import needs
 
@@ -54,6 +56,34 @@ class LayoutMatchesRust(unittest.TestCase):
         for name, value in self.rust["constants"].items():
             with self.subTest(constant=name):
                 self.assertEqual(getattr(layout, name), value)
+
+    def test_commands_encode_as_rust_encodes_them(self) -> None:
+        # Each command as a client writes it in JSON, every argument given, through the function
+        # of `wire` of the same name (its keyword arguments are the protocol's names): the
+        # samples Rust's `Request::encode` gives.
+        kinds = set()
+        for c in self.rust["commands"]:
+            name, args = c["json"]["command"], c["json"].get("arguments", {})
+            kinds.add(name)
+            if name == "pvt_points":
+                got = wire.pvt_chunks([PvtPoint(p["position"], p["velocity"]) for p in args["points"]])
+            elif hasattr(wire, name):
+                f = getattr(wire, name)
+                params = inspect.signature(f).parameters
+                got = [f(**{k: v for k, v in args.items() if k in params})]
+            else:
+                self.assertEqual(args, {}, "%s has arguments but no function in wire" % name)
+                got = [wire.sample(name)]
+            with self.subTest(command=c["json"]):
+                self.assertEqual(
+                    [[s.kind, s.flags, list(s.args)] for s in got],
+                    c["samples"],
+                )
+        self.assertEqual(
+            kinds,
+            {k for k in codes.KINDS if k != "client_gone"},
+            "every command of the protocol that travels in a sample is encoded",
+        )
 
     def test_reply_locations(self) -> None:
         for seq, key, slot in self.rust["reply_locations"]:

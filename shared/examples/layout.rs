@@ -145,7 +145,8 @@ fn codes_json() -> String {
 
 /// The layouts as one JSON object: `{"structs": {NAME: {"type_name", "size", "align",
 /// "fields": {FIELD: OFFSET}}}, "constants": {...}, "reply_locations": [...], "reasons":
-/// [...]}` and the wire codes of [`codes_json`]. Field order is declaration order.
+/// [...], "commands": [...]}` and the wire codes of [`codes_json`]. Field order is declaration
+/// order.
 pub fn layout_json() -> String {
     use mcm_shared::sample as s;
     use mcm_shared::service as v;
@@ -213,11 +214,12 @@ pub fn layout_json() -> String {
         })
         .collect();
     format!(
-        "{{\"structs\": {{{}}}, \"constants\": {{{}}}, \"reply_locations\": [{}], \"reasons\": [{}], {}}}",
+        "{{\"structs\": {{{}}}, \"constants\": {{{}}}, \"reply_locations\": [{}], \"reasons\": [{}], \"commands\": [{}], {}}}",
         structs.join(", "),
         constants.join(", "),
         locations.join(", "),
         reasons().join(", "),
+        encoded_commands().join(", "),
         codes_json()
     )
 }
@@ -404,6 +406,73 @@ fn argument_refusals() -> Vec<mcm_shared::reply::Reason> {
             })
         })
         .collect()
+}
+
+/// Commands of every kind the protocol sends to the core, with and without their optional
+/// arguments, as a client writes them in JSON (`Command::to_json`, every argument given) and the
+/// samples Rust encodes them into (`Command::requests`, `Request::encode`): `{"json": {...},
+/// "samples": [[kind, flags, [args]], ...]}`, so that a client's port of the encoding (the
+/// Python package's `wire.py`) can be checked.
+fn encoded_commands() -> Vec<String> {
+    use mcm_shared::config::RobotConfig;
+    use mcm_shared::protocol::Command;
+    let cfg = RobotConfig::prob2_default();
+    let point = |k: f64| {
+        format!(
+            r#"{{"position":[{k},{k},{k},{k},{k},{k}],"velocity":[-{k},-{k},-{k},-{k},-{k},-{k}]}}"#
+        )
+    };
+    let nine: Vec<String> = (1..=9).map(|k| point(f64::from(k))).collect();
+    let pvt_points = format!(
+        r#"{{"command":"pvt_points","arguments":{{"points":[{}]}}}}"#,
+        nine.join(",")
+    );
+    [
+        r#"{"command":"status"}"#,
+        r#"{"command":"info"}"#,
+        r#"{"command":"hold"}"#,
+        r#"{"command":"calibrate"}"#,
+        r#"{"command":"calibrate","arguments":{"which":"WRIST","elbow_direction":-1,"force_mechanical_stop":true}}"#,
+        r#"{"command":"calibrate","arguments":{"which":3,"wrist_direction":-1}}"#,
+        r#"{"command":"calibrate","arguments":{"which":"ELBOW"}}"#,
+        r#"{"command":"release"}"#,
+        r#"{"command":"torque_control"}"#,
+        r#"{"command":"torque_control","arguments":{"timeout":-1,"gravity_compensation":false}}"#,
+        r#"{"command":"set_torques","arguments":{"torques":[1,-2,0.5,0,0,-0.25]}}"#,
+        r#"{"command":"velocity_control","arguments":{"timeout":0.5}}"#,
+        r#"{"command":"velocity_control","arguments":{"timeout":-1}}"#,
+        r#"{"command":"set_velocities","arguments":{"velocities":[10,0,0,0,0,-5.5]}}"#,
+        r#"{"command":"pvt"}"#,
+        r#"{"command":"pvt","arguments":{"dt":0.02}}"#,
+        r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":30}}"#,
+        r#"{"command":"move_axis","arguments":{"axis_index":6,"target_position":-12.5,"velocity_factor":0.5}}"#,
+        r#"{"command":"move_all","arguments":{"target_positions":[1,2,3,4,5,6]}}"#,
+        r#"{"command":"move_all","arguments":{"target_positions":[0,-20,30,0,45,0],"velocity_factor":0.25}}"#,
+        pvt_points.as_str(),
+        r#"{"command":"sim","arguments":{"emergency_stop":true,"block_axis":2,"external_torques":[0,5,0,0,0,0],"power_cycle":true}}"#,
+        r#"{"command":"sim","arguments":{"emergency_stop":false,"disconnect_axis":1,"reconnect_axis":3,"unblock_axis":6}}"#,
+        r#"{"command":"take_control"}"#,
+        r#"{"command":"release_control"}"#,
+    ]
+    .iter()
+    .map(|text| {
+        let cmd = Command::from_json(text, &cfg).unwrap_or_else(|e| panic!("{text}: {e}"));
+        let samples: Vec<String> = cmd
+            .requests()
+            .iter()
+            .map(|r| {
+                let s = r.encode();
+                let args: Vec<String> = s.args.iter().map(|a| format!("{a:?}")).collect();
+                format!("[{}, {}, [{}]]", s.kind, s.flags, args.join(", "))
+            })
+            .collect();
+        format!(
+            "{{\"json\": {}, \"samples\": [{}]}}",
+            cmd.to_json(),
+            samples.join(", ")
+        )
+    })
+    .collect()
 }
 
 #[allow(dead_code)] // unused where `tests/end_to_end/python_layout.rs` includes this file as a module

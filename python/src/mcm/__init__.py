@@ -10,7 +10,7 @@
 'HOLD'
 """
 
-from . import codes, layout, wire
+from . import codes, encoding, layout, wire
 from .errors import (
     CommandError,
     ConnectionLost,

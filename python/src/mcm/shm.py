@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 from . import codes, wire
+from . import encoding as enc
 from .errors import CommandError, McmTimeout, OutcomeUnknown, ShmUnavailable
 from .layout import (
     PVT_POINTS_PER_COMMAND,
@@ -327,7 +328,7 @@ class ShmClient:
         """Enter HOLD (stops any motion; clears errors and powers the drives from OFF/ERROR)."""
         self.request(wire.sample("hold"))
 
-    def calibrate(self, which: Union[str, int] = "ALL", elbow_direction: int = 1,
+    def calibrate(self, which: Union[str, int] = enc.DEFAULT_WHICH, elbow_direction: int = 1,
                   wrist_direction: int = 1, force_mechanical_stop: bool = False) -> None:
         """Home the axes; returns when the calibration has finished."""
         self.request(wire.calibrate(which, elbow_direction, wrist_direction, force_mechanical_stop), timeout=600.0)
@@ -336,7 +337,9 @@ class ShmClient:
         """Enter RELEASE."""
         self.request(wire.sample("release"))
 
-    def torque_control(self, timeout: Optional[float] = 1.0, gravity_compensation: bool = True) -> None:
+    def torque_control(
+        self, timeout: Optional[float] = enc.DEFAULT_MODE_TIMEOUT, gravity_compensation: bool = True
+    ) -> None:
         """Enter TORQUE_CONTROL (``timeout`` None: no timeout)."""
         self.request(wire.torque_control(timeout, gravity_compensation))
 
@@ -344,7 +347,7 @@ class ShmClient:
         """Send six torques [Nm] without waiting; returns the request id."""
         return self.send(wire.set_torques(torques))
 
-    def velocity_control(self, timeout: Optional[float] = 1.0) -> None:
+    def velocity_control(self, timeout: Optional[float] = enc.DEFAULT_MODE_TIMEOUT) -> None:
         """Enter VELOCITY_CONTROL (``timeout`` None: no timeout; every axis starts at target
         velocity 0). Without a ``set_velocities`` for ``timeout`` seconds the arm stops in HOLD."""
         self.request(wire.velocity_control(timeout))
@@ -354,15 +357,19 @@ class ShmClient:
         is read with :meth:`wait_reply`)."""
         return self.send(wire.set_velocities(velocities))
 
-    def pvt(self, dt: float = 0.01) -> None:
+    def pvt(self, dt: float = enc.DEFAULT_PVT_DT) -> None:
         """Enter PVT mode with point spacing ``dt`` [s]."""
         self.request(wire.pvt(dt))
 
-    def move_axis(self, axis_index: int, target_position: float, velocity_factor: float = 0.33333) -> None:
+    def move_axis(
+        self, axis_index: int, target_position: float, velocity_factor: float = enc.DEFAULT_VELOCITY_FACTOR
+    ) -> None:
         """Move one axis; returns as the motion starts."""
         self.request(wire.move_axis(axis_index, target_position, velocity_factor))
 
-    def move_all(self, target_positions: Sequence[float], velocity_factor: float = 0.33333) -> MoveAllResult:
+    def move_all(
+        self, target_positions: Sequence[float], velocity_factor: float = enc.DEFAULT_VELOCITY_FACTOR
+    ) -> MoveAllResult:
         """Move all axes together; returns the planned move."""
         a = self.request(wire.move_all(target_positions, velocity_factor))
         assert a.move_all is not None

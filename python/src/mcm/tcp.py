@@ -29,6 +29,7 @@ import time
 from typing import Any, Callable, Deque, Dict, List, Optional, Sequence, Union
 
 from . import codes
+from . import encoding as enc
 from .errors import CommandError, ConnectionLost, McmTimeout, OutcomeUnknown, ProtocolError
 from .types import (
     CommandErrorEvent,
@@ -331,7 +332,7 @@ class Client:
 
     def calibrate(
         self,
-        which: Union[str, int] = "ALL",
+        which: Union[str, int] = enc.DEFAULT_WHICH,
         elbow_direction: int = 1,
         wrist_direction: int = 1,
         force_mechanical_stop: bool = False,

@@ -1,13 +1,16 @@
 """Requests into :class:`~mcm.layout.CommandSample` and replies out of
 :class:`~mcm.layout.Reply`: the Python port of ``Request::encode`` (``shared/src/command.rs``)
-and ``Response::decode`` (``shared/src/reply.rs``). Standard library only; the core checks
-every sample again and refuses a malformed one naming the field."""
+and ``Response::decode`` (``shared/src/reply.rs``). Where each argument goes, the values some
+travel as and the defaults come from :mod:`mcm.encoding`, generated from the Rust contract.
+Standard library only; the core checks every sample again and refuses a malformed one naming
+the field."""
 
 import math
 from dataclasses import dataclass
-from typing import List, Optional, Sequence, Union
+from typing import Dict, List, Optional, Sequence, Union
 
 from . import codes
+from . import encoding as enc
 from .errors import CommandError
 from .layout import (
     CALIBRATE_FLAG_FORCE_STOP,
@@ -21,7 +24,7 @@ from .layout import (
 )
 from .types import MoveAllResult, PvtPoint
 
-_WHICH = {"ALL": 0.0, "ELBOW": 7.0, "WRIST": 8.0}
+Value = Union[float, Sequence[float]]
 
 
 def _six(values: Sequence[float], name: str) -> List[float]:
@@ -37,6 +40,14 @@ def _axis(n: int, name: str) -> float:
     return float(n)
 
 
+def _timeout(timeout: Optional[float]) -> float:
+    """A mode's ``timeout`` as it travels: None or negative is no timeout; 0 is refused."""
+    t = enc.NO_TIMEOUT if timeout is None or timeout < 0 else float(timeout)
+    if t == 0.0 or not math.isfinite(t):
+        raise ValueError("timeout = %r is not allowed; expected a finite number other than 0" % timeout)
+    return t
+
+
 def sample(kind: str, flags: int = 0, args: Sequence[float] = ()) -> CommandSample:
     """A command sample of ``kind`` (ids 0, for the sender to stamp)."""
     s = CommandSample()
@@ -47,64 +58,95 @@ def sample(kind: str, flags: int = 0, args: Sequence[float] = ()) -> CommandSamp
     return s
 
 
+def _put(s: CommandSample, kind: str, name: str, value: Value) -> None:
+    """Argument ``name`` of ``kind`` into its place (``encoding.ARGS``)."""
+    at = enc.ARGS[kind][name]
+    values = [value] if isinstance(value, (int, float)) else list(value)
+    for i, v in enumerate(values):
+        s.args[at + i] = float(v)
+
+
+def command(kind: str, flags: int = 0, **args: Value) -> CommandSample:
+    """A command sample of ``kind`` with its arguments by protocol name, each in its place."""
+    s = sample(kind, flags)
+    for name, value in args.items():
+        _put(s, kind, name, value)
+    return s
+
+
 def calibrate(
-    which: Union[str, int] = "ALL",
+    which: Union[str, int] = enc.DEFAULT_WHICH,
     elbow_direction: int = 1,
     wrist_direction: int = 1,
     force_mechanical_stop: bool = False,
 ) -> CommandSample:
     """``calibrate``: which is ALL, ELBOW, WRIST or an axis 1..6."""
-    code = _WHICH.get(which) if isinstance(which, str) else _axis(which, "which")
+    code = enc.CALIBRATE_WHICH.get(which) if isinstance(which, str) else _axis(which, "which")
     if code is None:
-        raise ValueError("which = %r is not allowed; expected ALL, ELBOW, WRIST or 1 to 6" % which)
+        raise ValueError(
+            "which = %r is not allowed; expected %s or 1 to 6" % (which, ", ".join(enc.CALIBRATE_WHICH))
+        )
     for name, d in (("elbow_direction", elbow_direction), ("wrist_direction", wrist_direction)):
-        if d not in (1, -1):
+        if d not in enc.DIRECTIONS:
             raise ValueError("%s = %r is not allowed; expected 1 or -1" % (name, d))
-    flags = CALIBRATE_FLAG_FORCE_STOP if force_mechanical_stop else 0
-    return sample("calibrate", flags, [code, float(elbow_direction), float(wrist_direction)])
+    return command(
+        "calibrate",
+        CALIBRATE_FLAG_FORCE_STOP if force_mechanical_stop else 0,
+        which=code,
+        elbow_direction=elbow_direction,
+        wrist_direction=wrist_direction,
+    )
 
 
-def torque_control(timeout: Optional[float] = 1.0, gravity_compensation: bool = True) -> CommandSample:
+def torque_control(
+    timeout: Optional[float] = enc.DEFAULT_MODE_TIMEOUT, gravity_compensation: bool = True
+) -> CommandSample:
     """``torque_control``; ``timeout`` None or negative: no timeout."""
-    t = -1.0 if timeout is None or timeout < 0 else float(timeout)
-    if t == 0.0:
-        raise ValueError("timeout = 0 is not allowed; expected a finite number other than 0")
-    return sample("torque_control", 0 if gravity_compensation else TORQUE_FLAG_NO_GRAVITY, [t])
+    flags = 0 if gravity_compensation else TORQUE_FLAG_NO_GRAVITY
+    return command("torque_control", flags, timeout=_timeout(timeout))
 
 
-def velocity_control(timeout: Optional[float] = 1.0) -> CommandSample:
+def velocity_control(timeout: Optional[float] = enc.DEFAULT_MODE_TIMEOUT) -> CommandSample:
     """``velocity_control``; ``timeout`` None or negative: no timeout."""
-    t = -1.0 if timeout is None or timeout < 0 else float(timeout)
-    if t == 0.0 or not math.isfinite(t):
-        raise ValueError("timeout = %r is not allowed; expected a finite number other than 0" % timeout)
-    return sample("velocity_control", 0, [t])
+    return command("velocity_control", timeout=_timeout(timeout))
 
 
 def set_velocities(velocities: Sequence[float]) -> CommandSample:
     """``set_velocities`` [deg/s] (the core checks each against its axis's maximum)."""
-    return sample("set_velocities", 0, _six(velocities, "velocities"))
+    return command("set_velocities", velocities=_six(velocities, "velocities"))
 
 
-def pvt(dt: float = 0.01) -> CommandSample:
+def pvt(dt: float = enc.DEFAULT_PVT_DT) -> CommandSample:
     """``pvt`` with point spacing ``dt`` [s]."""
-    return sample("pvt", 0, [float(dt)])
+    return command("pvt", dt=float(dt))
 
 
-def move_axis(axis_index: int, target_position: float, velocity_factor: float = 0.33333) -> CommandSample:
+def move_axis(
+    axis_index: int, target_position: float, velocity_factor: float = enc.DEFAULT_VELOCITY_FACTOR
+) -> CommandSample:
     """``move_axis``."""
-    return sample(
-        "move_axis", 0, [_axis(axis_index, "axis_index"), float(target_position), float(velocity_factor)]
+    return command(
+        "move_axis",
+        axis_index=_axis(axis_index, "axis_index"),
+        target_position=float(target_position),
+        velocity_factor=float(velocity_factor),
     )
 
 
-def move_all(target_positions: Sequence[float], velocity_factor: float = 0.33333) -> CommandSample:
+def move_all(
+    target_positions: Sequence[float], velocity_factor: float = enc.DEFAULT_VELOCITY_FACTOR
+) -> CommandSample:
     """``move_all``."""
-    return sample("move_all", 0, _six(target_positions, "target_positions") + [float(velocity_factor)])
+    return command(
+        "move_all",
+        target_positions=_six(target_positions, "target_positions"),
+        velocity_factor=float(velocity_factor),
+    )
 
 
 def set_torques(torques: Sequence[float]) -> CommandSample:
     """``set_torques`` [Nm]."""
-    return sample("set_torques", 0, _six(torques, "torques"))
+    return command("set_torques", torques=_six(torques, "torques"))
 
 
 def pvt_chunks(points: Sequence[PvtPoint]) -> List[CommandSample]:
@@ -115,10 +157,15 @@ def pvt_chunks(points: Sequence[PvtPoint]) -> List[CommandSample]:
     for at in range(0, len(points), PVT_POINTS_PER_COMMAND):
         chunk = points[at : at + PVT_POINTS_PER_COMMAND]
         last = at + PVT_POINTS_PER_COMMAND >= len(points)
-        args: List[float] = []
-        for p in chunk:
-            args += _six(p.position, "points.position") + _six(p.velocity, "points.velocity")
-        out.append(sample("pvt_points", len(chunk) | (PVT_FLAG_LAST if last else 0), args))
+        s = sample("pvt_points", len(chunk) | (PVT_FLAG_LAST if last else 0))
+        for j, p in enumerate(chunk):
+            for start, values in (
+                (enc.PVT_POINT_POSITION, _six(p.position, "points.position")),
+                (enc.PVT_POINT_VELOCITY, _six(p.velocity, "points.velocity")),
+            ):
+                for i, v in enumerate(values):
+                    s.args[enc.PVT_POINT_ARGS * j + start + i] = v
+        out.append(s)
     return out
 
 
@@ -132,29 +179,23 @@ def sim(
     power_cycle: bool = False,
 ) -> CommandSample:
     """``sim``: fields left None change nothing."""
-    s = sample("sim")
+    given: Dict[str, Value] = {}
     if emergency_stop is not None:
-        s.args[0] = 1.0 if emergency_stop else 0.0
-        s.flags |= 1
-    for bit, (name, axis) in enumerate(
-        (
-            ("disconnect_axis", disconnect_axis),
-            ("reconnect_axis", reconnect_axis),
-            ("block_axis", block_axis),
-            ("unblock_axis", unblock_axis),
-        ),
-        start=1,
+        given["emergency_stop"] = enc.EMERGENCY_STOP[bool(emergency_stop)]
+    for name, axis in (
+        ("disconnect_axis", disconnect_axis),
+        ("reconnect_axis", reconnect_axis),
+        ("block_axis", block_axis),
+        ("unblock_axis", unblock_axis),
     ):
         if axis is not None:
-            s.args[bit] = _axis(axis, name)
-            s.flags |= 1 << bit
+            given[name] = _axis(axis, name)
     if external_torques is not None:
-        for i, t in enumerate(_six(external_torques, "external_torques")):
-            s.args[5 + i] = t
-        s.flags |= 1 << 5
-    if power_cycle:
-        s.flags |= SIM_FLAG_POWER_CYCLE
-    return s
+        given["external_torques"] = _six(external_torques, "external_torques")
+    flags = SIM_FLAG_POWER_CYCLE if power_cycle else 0
+    for name in given:
+        flags |= enc.SIM_FLAGS[name]
+    return command("sim", flags, **given)
 
 
 @dataclass
@@ -178,9 +219,12 @@ def decode_reply(r: Reply) -> Answer:
         a = Answer(command, r.request_id, r.cycle)
         v = list(r.values)
         if command == "move_all":
-            a.move_all = MoveAllResult(v[:NUM_AXES], int(v[NUM_AXES]), v[NUM_AXES + 1])
+            m = enc.MOVE_ALL_VALUES
+            at = m["velocities_deg_s"]
+            a.move_all = MoveAllResult(v[at : at + NUM_AXES], int(v[m["longest"]]), v[m["duration_s"]])
         elif command == "info":
-            a.num_axes, a.period_s = int(v[0]), v[1]
+            i = enc.INFO_VALUES
+            a.num_axes, a.period_s = int(v[i["num_axes"]]), v[i["period_s"]]
         return a
     outcome = "failed" if r.status == codes.REPLY_FAILED else "refused"
     text = codes.reason_text(r.code, r.axis, list(r.values)[:4])

@@ -12,7 +12,11 @@
 //! whose rendering is not found (Rust's words changed their format) fails here.
 //! `tests/end_to_end/python_layout.rs` then checks the generated `reason_text` against Rust's words
 //! for sample reasons of every kind.
+//!
+//! `python/src/mcm/encoding.py` is generated the same way, and checked the same way: where the
+//! samples carry each argument and answer ([`encoding`]).
 
+mod encoding;
 mod text;
 
 use mcm_shared::command::Axis;
@@ -571,25 +575,38 @@ fn render() -> String {
     out
 }
 
-#[test]
-fn the_checked_in_codes_py_is_what_the_contract_generates() {
-    let generated = render();
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../python/src/mcm/codes.py");
+/// Compare `python/src/mcm/<file>` with what the contract generates (writing it first under
+/// `MCM_UPDATE_PYTHON`).
+fn check_generated(file: &str, generated: &str) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../python/src/mcm")
+        .join(file);
     if std::env::var_os("MCM_UPDATE_PYTHON").is_some() {
         // Under CI the file is compared, never written: a CI run that set both would check a
         // file it had just written.
         assert!(
             std::env::var_os("CI").is_none(),
-            "MCM_UPDATE_PYTHON is set together with CI: CI compares python/src/mcm/codes.py, it never writes it"
+            "MCM_UPDATE_PYTHON is set together with CI: CI compares python/src/mcm/{file}, it never writes it"
         );
-        std::fs::write(&path, &generated).expect("write python/src/mcm/codes.py");
+        std::fs::write(&path, generated)
+            .unwrap_or_else(|e| panic!("write {}: {e}", path.display()));
     }
     let checked_in = std::fs::read_to_string(&path).unwrap_or_default();
     assert!(
         checked_in == generated,
-        "python/src/mcm/codes.py differs from what the contract generates; regenerate it with \
+        "python/src/mcm/{file} differs from what the contract generates; regenerate it with \
          `MCM_UPDATE_PYTHON=1 cargo test -p mcm-shared --test python_codes` and commit it"
     );
+}
+
+#[test]
+fn the_checked_in_codes_py_is_what_the_contract_generates() {
+    check_generated("codes.py", &render());
+}
+
+#[test]
+fn the_checked_in_encoding_py_is_what_the_contract_generates() {
+    check_generated("encoding.py", &encoding::render());
 }
 
 #[test]

@@ -1,0 +1,129 @@
+//! The command kinds of a run and who sends each: the clients draw every kind of
+//! `CommandKind::ALL` but those another sender has, each with its arguments drawn here. Both are
+//! a `match` over `CommandKind`, so a new command does not compile until it says who sends it
+//! and how its arguments are drawn, and from then on the clients draw it.
+
+use super::{Client, Limits, calibrate, move_all, move_axis};
+use crate::rng::Rng;
+use mcm_shared::command::{
+    Pvt, Request, SetTorques, SetVelocities, TorqueControl, VelocityControl,
+};
+use mcm_shared::mode::CommandKind;
+use mcm_shared::sample::StateSample;
+
+/// Who sends a command kind in a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sender {
+    /// The clients, among their random draws ([`draw`]).
+    Clients,
+    /// The fault injector ([`crate::faults`]), never a client.
+    FaultInjector,
+    /// A client as it disconnects ([`Client::gone`]).
+    Disconnecting,
+}
+
+impl Sender {
+    /// Who sends `kind`.
+    pub const fn of(kind: CommandKind) -> Sender {
+        match kind {
+            CommandKind::Status
+            | CommandKind::Hold
+            | CommandKind::Info
+            | CommandKind::Calibrate
+            | CommandKind::Release
+            | CommandKind::TorqueControl
+            | CommandKind::Pvt
+            | CommandKind::MoveAxis
+            | CommandKind::MoveAll
+            | CommandKind::PvtPoints
+            | CommandKind::SetTorques
+            | CommandKind::TakeControl
+            | CommandKind::ReleaseControl
+            | CommandKind::VelocityControl
+            | CommandKind::SetVelocities => Sender::Clients,
+            CommandKind::Sim => Sender::FaultInjector,
+            CommandKind::ClientGone => Sender::Disconnecting,
+        }
+    }
+}
+
+/// The kinds the clients draw, in the order of `CommandKind::ALL`.
+pub fn drawn_kinds() -> impl Iterator<Item = CommandKind> {
+    CommandKind::ALL
+        .iter()
+        .copied()
+        .filter(|k| Sender::of(*k) == Sender::Clients)
+}
+
+/// What a random draw sends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Draw {
+    Kind(CommandKind),
+    /// A sample that may not decode (`Client::garbage`).
+    Garbage,
+}
+
+/// Draws besides one per kind of [`drawn_kinds`]: one more `status` (the read a real client
+/// sends most), and two garbage samples.
+const EXTRA_STATUS: usize = 1;
+const GARBAGE: usize = 2;
+
+/// One random draw: a kind of [`drawn_kinds`], or garbage.
+pub fn draw(rng: &mut Rng) -> Draw {
+    let kinds = drawn_kinds().count();
+    let i = rng.below((kinds + EXTRA_STATUS + GARBAGE) as u64) as usize;
+    match drawn_kinds().nth(i) {
+        Some(kind) => Draw::Kind(kind),
+        None if i < kinds + EXTRA_STATUS => Draw::Kind(CommandKind::Status),
+        None => Draw::Garbage,
+    }
+}
+
+impl Client {
+    /// A request of `kind`, its arguments drawn wide (some refused); `None` for a kind that
+    /// another [`Sender`] sends.
+    pub(super) fn random_request(
+        &mut self,
+        kind: CommandKind,
+        s: &StateSample,
+        lim: &Limits,
+        rng: &mut Rng,
+    ) -> Option<Request> {
+        Some(match kind {
+            CommandKind::Status => Request::Status,
+            CommandKind::Hold => Request::Hold,
+            CommandKind::Info => Request::Info,
+            CommandKind::Calibrate => Request::Calibrate(calibrate(rng)),
+            CommandKind::Release => Request::Release,
+            CommandKind::TorqueControl => Request::TorqueControl(TorqueControl {
+                timeout_s: rng.pick(&[None, Some(0.01), Some(1.0)]),
+                gravity_compensation: rng.chance(0.5),
+            }),
+            CommandKind::Pvt => Request::Pvt(Pvt {
+                dt_s: rng.pick(&[0.0, 0.001, 0.005, 0.1, 1.0, 2.0]),
+            }),
+            CommandKind::MoveAxis => {
+                let mut m = move_axis(lim, rng);
+                m.target_deg += rng.pick(&[0.0, 0.0, 200.0, -200.0]);
+                m.velocity_factor = rng.pick(&[m.velocity_factor, 0.0, 1.0, 1.5]);
+                Request::MoveAxis(m)
+            }
+            CommandKind::MoveAll => Request::MoveAll(move_all(lim, rng)),
+            CommandKind::PvtPoints => Request::PvtPoints(self.pvt_chunk(s, rng)),
+            CommandKind::SetTorques => Request::SetTorques(SetTorques {
+                torques_nm: core::array::from_fn(|_| rng.range(-20.0, 20.0)),
+            }),
+            CommandKind::TakeControl => Request::TakeControl,
+            CommandKind::ReleaseControl => Request::ReleaseControl,
+            CommandKind::VelocityControl => Request::VelocityControl(VelocityControl {
+                timeout_s: rng.pick(&[None, Some(0.01), Some(2.0)]),
+            }),
+            CommandKind::SetVelocities => Request::SetVelocities(SetVelocities {
+                velocities_deg_s: core::array::from_fn(|i| {
+                    rng.range(-1.2, 1.2) * lim.max_velocity[i]
+                }),
+            }),
+            CommandKind::Sim | CommandKind::ClientGone => return None,
+        })
+    }
+}
