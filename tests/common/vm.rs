@@ -32,8 +32,8 @@ use std::ffi::{OsStr, OsString};
 use std::fs;
 use std::io::{Read, Write};
 use std::net::TcpListener;
-use std::path::{Path, PathBuf};
 use std::os::unix::process::ExitStatusExt;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
@@ -249,7 +249,14 @@ impl Guest {
         // time and lets a vCPU run only after the map change is applied for it. The guest still
         // has two CPUs (the MCM pins its cycle thread to CPU 1), at the cost of one host core
         // for both: docs/testing.md, "The virtual machine", has the figures.
-        for a in ["-machine", "q35", "-accel", "tcg,thread=single", "-cpu", "max"] {
+        for a in [
+            "-machine",
+            "q35",
+            "-accel",
+            "tcg,thread=single",
+            "-cpu",
+            "max",
+        ] {
             arg(&a);
         }
         for a in ["-smp", "2", "-m", "1024"] {

@@ -116,12 +116,7 @@ pub fn run(guest: &mut vm::Guest) {
         target = target.display(),
         binary = guest.guest_path(&e2e_binary),
     );
-    must_pass(
-        guest,
-        "tests/end_to_end/socketcan.rs",
-        &script,
-        E2E_TESTS,
-    );
+    must_pass(guest, "tests/end_to_end/socketcan.rs", &script, E2E_TESTS);
 
     // The safety trips of tests/end_to_end/safety.rs over the kernel's CAN: the emergency stop, a
     // silent drive, high current, a power cycle, motion refused uncalibrated.
@@ -132,12 +127,7 @@ pub fn run(guest: &mut vm::Guest) {
         SAFETY_SKIPPED[1],
         binary = guest.guest_path(&e2e_binary),
     );
-    must_pass(
-        guest,
-        "tests/end_to_end/safety.rs",
-        &script,
-        SAFETY_TESTS,
-    );
+    must_pass(guest, "tests/end_to_end/safety.rs", &script, SAFETY_TESTS);
 }
 
 /// The 10-minute target over SocketCAN, by hand (about 13 minutes with the boot):
