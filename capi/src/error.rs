@@ -98,7 +98,7 @@ impl From<TcpError> for Fail {
                     ErrorKind::OutcomeUnknown => MCM_ERR_OUTCOME_UNKNOWN,
                     ErrorKind::Invalid => MCM_ERR_INVALID,
                 },
-                m.code.map_or(0, |c| c.to_wire()),
+                m.code.map_or(0, crate::code::number),
             ),
             TcpError::Connect { .. } => (MCM_ERR_CONNECT, 0),
             TcpError::Io { .. } => (MCM_ERR_IO, 0),
@@ -320,8 +320,8 @@ pub extern "C" fn mcm_last_error() -> *const c_char {
         .unwrap_or(c"".as_ptr())
 }
 
-/// The MCM's reject code of the last failed call on the calling thread (0: none, else a code
-/// `mcm_reject_name` names, e.g. 16 busy). Real-time safe.
+/// The MCM's error code of the last failed call on the calling thread (an `mcm_error_code_t`:
+/// 0 none, else a code `mcm_error_code_name` names, e.g. 16 busy). Real-time safe.
 #[unsafe(no_mangle)]
 pub extern "C" fn mcm_last_reject() -> u32 {
     THREAD_ERROR.try_with(|e| e.borrow().1).unwrap_or(0)

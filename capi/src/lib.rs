@@ -17,7 +17,8 @@
 //! - A failed call keeps its message (the MCM's own words where the MCM answered) in the handle
 //!   (`mcm_tcp_last_error`, `mcm_shm_last_error`) and in the calling thread
 //!   (`mcm_last_error`, also for the connect functions, which have no handle yet), with the
-//!   MCM's reject code (`mcm_*_last_reject`). A successful call leaves them as they were, so
+//!   MCM's error code (`mcm_*_last_reject`, an `mcm_error_code_t`). A successful call leaves
+//!   them as they were, so
 //!   that it does not allocate.
 //! - A handle is used by one thread at a time; a shared-memory handle only on the thread that
 //!   created it (iceoryx2's ports are bound to their thread).
@@ -33,6 +34,7 @@
 // The C functions check their pointers; the caller's promise is the header's documentation.
 #![allow(clippy::missing_safety_doc)]
 
+mod code;
 mod convert;
 mod error;
 mod shm;
@@ -43,6 +45,7 @@ mod types;
 #[rustfmt::skip]
 mod commands;
 
+pub use code::*;
 pub use commands::*;
 pub use error::*;
 pub use shm::*;

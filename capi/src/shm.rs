@@ -79,7 +79,8 @@ pub unsafe extern "C" fn mcm_shm_last_error(client: *const mcm_shm_client_t) -> 
     }
 }
 
-/// The MCM's reject code of the last failed call on this handle (0: none). Real-time safe.
+/// The MCM's error code of the last failed call on this handle (an `mcm_error_code_t`, 0:
+/// none). Real-time safe.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_shm_last_reject(client: *const mcm_shm_client_t) -> u32 {
     // SAFETY: NULL or a live handle.

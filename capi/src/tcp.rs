@@ -73,8 +73,8 @@ pub unsafe extern "C" fn mcm_tcp_last_error(client: *const mcm_tcp_client_t) -> 
     }
 }
 
-/// The MCM's reject code of the last failed call on this handle (0: none or not recognised
-/// from the MCM's words). Real-time safe.
+/// The MCM's error code of the last failed call on this handle (an `mcm_error_code_t`, 0:
+/// none or a code this library does not know). Real-time safe.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_tcp_last_reject(client: *const mcm_tcp_client_t) -> u32 {
     // SAFETY: NULL or a live handle.
@@ -131,7 +131,7 @@ pub unsafe extern "C" fn mcm_tcp_next_event(
                 }
                 Event::CommandError(m) => {
                     ev.kind = MCM_EVENT_COMMAND_ERROR;
-                    ev.code = m.code.map_or(0, |c| c.to_wire());
+                    ev.code = m.code.map_or(0, crate::code::number);
                     m.message
                 }
                 Event::Notice(n) => n,

@@ -1,7 +1,7 @@
 //! Names of the codes as static C strings (real-time safe: no allocation).
 
 use crate::error::mcm_error_t::{self, *};
-use mcm_client::{Mode, RejectCode};
+use mcm_client::Mode;
 use std::ffi::{CStr, c_char};
 
 /// The name of a result code, e.g. "MCM_ERR_REFUSED" (a static string).
@@ -53,38 +53,12 @@ pub extern "C" fn mcm_mode_name(mode: u32) -> *const c_char {
     }
 }
 
-/// The name of a reject code (`mcm_*_last_reject`, events, `mcm_state_t.last_error.code`),
-/// e.g. "busy", "none" for 0, "unknown" for a number this library does not know.
+/// The name of an error code (`mcm_*_last_reject`, events, `mcm_state_t.last_error.code`):
+/// the same as `mcm_error_code_name`, e.g. "busy", "none" for 0, "unknown" for a number this
+/// library does not know (a static string).
 #[unsafe(no_mangle)]
 pub extern "C" fn mcm_reject_name(code: u32) -> *const c_char {
-    static NAMES: [&CStr; 22] = [
-        c"none",
-        c"wrong_mode",
-        c"not_calibrated",
-        c"emergency_stop",
-        c"drive_disconnected",
-        c"drive_fault",
-        c"out_of_range",
-        c"not_available",
-        c"not_simulated",
-        c"queue_full",
-        c"position_limit",
-        c"velocity_limit",
-        c"braking_distance",
-        c"following_error",
-        c"calibration_failed",
-        c"aborted",
-        c"busy",
-        c"pvt_point",
-        c"unreachable",
-        c"not_owner",
-        c"shutting_down",
-        c"overload",
-    ];
-    match RejectCode::try_from(code) {
-        Ok(c) => NAMES[c.to_wire() as usize].as_ptr(),
-        Err(_) => c"unknown".as_ptr(),
-    }
+    crate::code::mcm_error_code_name(code)
 }
 
 #[cfg(test)]

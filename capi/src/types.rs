@@ -501,7 +501,7 @@ pub const MCM_EVENT_NOTICE: u32 = 4;
 pub struct mcm_event_t {
     /// `MCM_EVENT_*`.
     pub kind: u32,
-    /// Reject code (`mcm_reject_name`), 0: none.
+    /// Error code (`mcm_error_code_t`, `mcm_error_code_name`), 0: none.
     pub code: u32,
     /// Axis 1 to 6, 0: none.
     pub axis: u32,

@@ -30,6 +30,7 @@ pub mod tcp;
 pub use mcm_shared;
 pub use mcm_shared::NUM_AXES;
 pub use mcm_shared::command::{Axis, Direction, PvtPoint, SimCommand, Which};
+pub use mcm_shared::error_code::ErrorCode;
 pub use mcm_shared::mode::{Mode, RejectCode};
 
 /// `CLOCK_MONOTONIC` now [ns], the clock of `StateSample::t_ns`.

@@ -16,6 +16,7 @@ pub(crate) mod result;
 
 use crate::core_link::bridge::{Bridge, BridgeError};
 use mcm_shared::config::RobotConfig;
+use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::protocol::results::{Answer, Info, MoveAllResult, SimResult};
 use mcm_shared::protocol::{Command, Success};
@@ -119,6 +120,7 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
     }
     if let Command::Authenticate(_) = cmd {
         return Outcome::only(Answer::error(
+            ErrorCode::InternalError,
             "authenticate: answered by the connection's access rules (crate::command::access::run_command), \
              not by the real-time core"
                 .to_string(),
@@ -130,7 +132,7 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
         .await;
     let (response, state) = match answer {
         Ok(a) => a,
-        Err(e) => return Outcome::only(Answer::error(bridge_message(cmd.name(), &e))),
+        Err(e) => return Outcome::only(bridge_error(cmd.name(), &e)),
     };
     let done = match response.outcome {
         reply::Outcome::Done(done) => done,
@@ -176,10 +178,7 @@ async fn status(ctx: &Context, detail: bool) -> Outcome {
             state: Some(state),
             mode_session: None,
         },
-        None => Outcome::only(Answer::error(bridge_message(
-            "status",
-            &ctx.bridge.unavailable(),
-        ))),
+        None => Outcome::only(bridge_error("status", &ctx.bridge.unavailable())),
     }
 }
 
@@ -187,11 +186,14 @@ async fn status(ctx: &Context, detail: bool) -> Outcome {
 /// ([`mcm_shared::protocol::CommandDef::success`]).
 fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Option<Answer> {
     let mismatch = |other: &Done| {
-        Answer::error(format!(
-            "{}: the real-time core's answer carries no figures ({other:?}); mcm-rt and the \
+        Answer::error(
+            ErrorCode::VersionMismatch,
+            format!(
+                "{}: the real-time core's answer carries no figures ({other:?}); mcm-rt and the \
              gateway are from different MCM versions: rebuild both from the same version",
-            cmd.name()
-        ))
+                cmd.name()
+            ),
+        )
     };
     Some(match cmd.def().success {
         Success::Nothing => return None,
@@ -213,6 +215,11 @@ fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Op
         },
         Success::Sim => Answer::Sim(SimResult::from_state(state)),
     })
+}
+
+/// The ERROR result of a request the bridge could not complete ([`bridge_message`]).
+pub fn bridge_error(command: &str, e: &BridgeError) -> Answer {
+    Answer::error(e.code(), bridge_message(command, e))
 }
 
 /// The error text of a request the bridge could not complete: "failed" only when the command

@@ -1,18 +1,10 @@
 // The errors list `#errors`: safety errors with the protocol's words and what to do, refused
 // commands and notices; the newest first, the current safety error marked until it is cleared.
+// What to do comes from the error's code (`error_code`, the contract's table in `codes.js`).
+
+import { ERROR_CODES } from './codes.js';
 
 const MAX_ERRORS = 20;
-
-const HINTS = {
-  following_error: 'an axis could not follow its command: something blocked it, or it is overloaded; remove the cause',
-  overload: 'an axis whose motor is hot (i2t) could not hold with its derated current: the drives of the braked axes are off and their brakes hold the arm; let the motor cool',
-  position_limit: 'a joint went beyond its limit; once held, move it back inside its range',
-  velocity_limit: 'a joint moved faster than its limit',
-  braking_distance: 'a joint could no longer stop before its limit',
-  drive_disconnected: 'a drive does not answer on the bus: check its cable and power',
-  drive_fault: 'a drive reported a fault',
-  emergency_stop: 'the emergency stop was pressed: release it first',
-};
 
 export function addError(msg, command) {
   const ul = document.querySelector('#errors');
@@ -34,15 +26,22 @@ export function addError(msg, command) {
     if (command) li.dataset.command = command;
     head.textContent = `${time}  ${command ? `${command} refused or failed` : 'notice'}`;
   }
+  if (msg.error_code) {
+    li.dataset.code = msg.error_code;
+    head.textContent += ` [${msg.error_code}]`;
+  }
   const text = document.createElement('div');
   text.className = 'message';
   text.textContent = msg.error_message || JSON.stringify(msg);
   li.append(head, text);
-  if (msg.check !== undefined) {
+  const remedy = ERROR_CODES[msg.error_code]?.remedy;
+  if (msg.check !== undefined || remedy) {
     const todo = document.createElement('div');
     todo.className = 'todo';
-    const hint = HINTS[msg.check] ? `${HINTS[msg.check]}; ` : '';
-    todo.textContent = `What to do: ${hint}once the cause is gone, press Hold to clear the error (the protocol's \`hold\`).`;
+    const hold = msg.check !== undefined
+      ? 'Once the cause is gone, press Hold to clear the error (the protocol\'s `hold`).'
+      : undefined;
+    todo.textContent = ['What to do:', remedy, hold].filter(Boolean).join(' ');
     li.appendChild(todo);
   }
   ul.prepend(li);

@@ -2,9 +2,9 @@
 // time and matches each reply to it (the protocol has no request ids: replies come in the
 // order of the commands), and tells spontaneous results and state frames apart.
 
+import { ERROR_CODES } from './codes.js';
+
 const RECONNECT_MS = 1000;
-// Generic ERROR results that no command asked for: the core or the gateway stopping.
-const NOTICE_PREFIXES = ['mcm-rt ', 'the MCM is shutting down'];
 
 export function wsUrl(path) {
   const proto = location.protocol === 'https:' ? 'wss:' : 'ws:';
@@ -17,7 +17,9 @@ export function spontaneousKind(msg, inFlight) {
   if (msg.result_type === 'generic' && msg.error_status === 'ERROR') {
     const text = String(msg.error_message || '');
     if (text.startsWith('set_velocities')) return 'set_velocities';
-    if (NOTICE_PREFIXES.some((p) => text.startsWith(p))) return 'notice';
+    // Generic ERROR results that no command asked for: the core or the gateway stopping, a
+    // timeout or an eviction of this connection.
+    if (ERROR_CODES[msg.error_code]?.spontaneous) return 'notice';
   }
   if (msg.result_type === 'status') {
     if (!inFlight) return 'status';

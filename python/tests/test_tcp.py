@@ -11,6 +11,7 @@ from .fake_mcm import OK, FakeMcm, error, status
 SAFETY = error(
     "safety check tripped: following error: axis 2 is 2.056 deg away from its commanded position, "
     "band 2.000 deg; mode is now ERROR; flight recorder: /tmp/x.csv",
+    error_code="following_error",
     check="following_error",
     axis=2,
     flight_recorder="/tmp/x.csv",
@@ -55,7 +56,7 @@ class TcpClient(unittest.TestCase):
 
     def test_an_error_result_raises_with_command_message_and_code(self) -> None:
         msg = "move_all refused: a motion is in progress (0.845 s left); wait until it ends, or send `hold` to stop it"
-        c = self.connect(lambda cmd: [error(msg)])
+        c = self.connect(lambda cmd: [error(msg, error_code="busy")])
         with self.assertRaises(mcm.CommandError) as e:
             c.move_all([0] * 6)
         self.assertEqual((e.exception.command, e.exception.code, e.exception.outcome), ("move_all", "busy", "refused"))
@@ -63,8 +64,10 @@ class TcpClient(unittest.TestCase):
 
     def test_failed_and_unknown_outcomes_are_told_apart(self) -> None:
         replies = iter([
-            error("calibrate failed: calibration of axis 3 failed: no mechanical stop found within 310.0 deg; the arm holds where it is"),
-            error("move_axis: no reply from the real-time core within 5 s: the command may or may not have been executed; check the state"),
+            error("calibrate failed: calibration of axis 3 failed: no mechanical stop found within 310.0 deg; the arm holds where it is",
+                  error_code="calibration_failed"),
+            error("move_axis: no reply from the real-time core within 5 s: the command may or may not have been executed; check the state",
+                  error_code="outcome_unknown"),
         ])
         c = self.connect(lambda cmd: [next(replies)])
         with self.assertRaises(mcm.CommandError) as e:
@@ -72,7 +75,7 @@ class TcpClient(unittest.TestCase):
         self.assertEqual((e.exception.outcome, e.exception.code), ("failed", "calibration_failed"))
         with self.assertRaises(mcm.OutcomeUnknown) as u:
             c.move_axis(1, 2)
-        self.assertEqual(u.exception.outcome, "unknown")
+        self.assertEqual((u.exception.outcome, u.exception.code), ("unknown", codes.ErrorCode.OUTCOME_UNKNOWN))
 
     def test_spontaneous_safety_errors_are_kept_apart_from_results(self) -> None:
         c = self.connect(lambda cmd: [SAFETY, status("ERROR")])
@@ -90,7 +93,8 @@ class TcpClient(unittest.TestCase):
                 return [status("TORQUE_CONTROL", 1.0), status("TORQUE_CONTROL", 1.005)]
             if cmd["command"] == "set_torques":
                 if cmd["arguments"]["torques"][0] > 100:
-                    return [error("set_torques refused: axis 1: value 200 is outside the allowed range [-129.6, 129.6]")]
+                    return [error("set_torques refused: axis 1: value 200 is outside the allowed range [-129.6, 129.6]",
+                                  error_code="out_of_range")]
                 return [status("TORQUE_CONTROL", 1.01)]
             if cmd["command"] == "hold":
                 return [status("TORQUE_CONTROL", 1.015), status("HOLD", 1.02)]
@@ -119,7 +123,7 @@ class TcpClient(unittest.TestCase):
                 return [status("VELOCITY_CONTROL", 2.0), status("VELOCITY_CONTROL", 2.005)]
             if cmd["command"] == "set_velocities":
                 if cmd["arguments"]["velocities"][3] > 150:
-                    return [error(refusal)]
+                    return [error(refusal, error_code="out_of_range")]
                 return [status("VELOCITY_CONTROL", 2.01)]
             if cmd["command"] == "hold":
                 return [status("VELOCITY_CONTROL", 2.015), status("HOLD", 2.02)]
@@ -140,7 +144,7 @@ class TcpClient(unittest.TestCase):
         with self.assertRaises(mcm.CommandError) as e:
             c.set_velocities([0] * 6)
         self.assertEqual((e.exception.command, e.exception.code, e.exception.outcome),
-                         ("set_velocities", "invalid_argument", "invalid"))
+                         ("set_velocities", "out_of_range", "invalid"))
         self.assertEqual(e.exception.message, refusal)
         with self.assertRaises(ValueError):
             c.set_velocities([0] * 5)
@@ -264,17 +268,19 @@ class TcpClient(unittest.TestCase):
 
 
 class Codes(unittest.TestCase):
-    def test_words_of_the_protocol_examples_map_to_codes(self) -> None:
-        cases = {
-            "move_axis refused: the arm is controlled by JSON client 10.1.2.3:51234 (client id 0x1a2b00000003); only ...": "not_owner",
-            "hold refused: the emergency stop is pressed; release it, then send `hold`": "emergency_stop",
-            "pvt_points refused: point 2: axis 1 velocity 96.512 deg/s exceeds the limit 90.000 deg/s; nothing was queued": "pvt_point",
-            "move_axis: argument \"axis_index\" = 9 is not allowed; expected an axis number from 1 to 6": "invalid_argument",
-            "release refused: not allowed in mode OFF": "wrong_mode",
-            "something new": None,
-        }
-        for message, code in cases.items():
-            self.assertEqual(codes.code_from_message(message), code, message)
+    def test_the_code_is_read_not_the_words(self) -> None:
+        # A program decides on the code: words reworded (or in another language) change nothing.
+        self.assertEqual(codes.error_code(error("move_axis refused: quelqu'un d'autre", error_code="not_owner")),
+                         codes.ErrorCode.NOT_OWNER)
+        self.assertEqual(codes.ErrorCode.NOT_OWNER, "not_owner")
+        self.assertIsNone(codes.error_code(error("a code of a newer MCM", error_code="something_new")))
+        self.assertIsNone(codes.error_code(error("no code")))
+
+    def test_notices_are_spontaneous_and_refusals_are_not(self) -> None:
+        self.assertIn(codes.ErrorCode.GATEWAY_STOPPING, codes.SPONTANEOUS)
+        self.assertIn(codes.ErrorCode.IDLE_TIMEOUT, codes.SPONTANEOUS)
+        self.assertNotIn(codes.ErrorCode.SHUTTING_DOWN, codes.SPONTANEOUS)
+        self.assertNotIn(codes.ErrorCode.NOT_OWNER, codes.SPONTANEOUS)
 
 
 if __name__ == "__main__":

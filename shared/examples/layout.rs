@@ -397,13 +397,15 @@ fn argument_refusals() -> Vec<mcm_shared::reply::Reason> {
         .map(|(k, spec)| {
             let axis = (spec.arg.per_axis_array() || k % 3 == 0)
                 .then(|| Axis::new((k % 6) as u8 + 1).expect("axis 1..6"));
-            mcm_shared::reply::Reason::InvalidArgument(ArgRefusal {
-                arg: spec.arg,
-                axis,
-                value: if k % 2 == 0 { 1e-320 } else { 200.5 },
-                min: -169.00000000000003,
-                max: 0.125 * k as f64 + 1.0,
-            })
+            mcm_shared::reply::Reason::InvalidArgument {
+                refusal: ArgRefusal {
+                    arg: spec.arg,
+                    axis,
+                    value: if k % 2 == 0 { 1e-320 } else { 200.5 },
+                    min: -169.00000000000003,
+                    max: 0.125 * k as f64 + 1.0,
+                },
+            }
         })
         .collect()
 }

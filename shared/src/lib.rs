@@ -11,6 +11,7 @@
 //!   writing, help, what it answers) and the typed results;
 //! - [`reply`]: the typed responses, refusal reasons and safety errors, and their encoding;
 //! - [`mode`]: the operating modes and the wire codes of command kinds and reasons;
+//! - [`error_code`]: every error code of every interface (`error_code`), defined once;
 //! - [`config`]: the robot configuration file;
 //! - [`pvt`]: the per-point checks of `pvt_points` the gateway and the core share;
 //! - [`ranges`]: the allowed range of every numeric argument and the words of a refusal,
@@ -36,6 +37,7 @@ pub mod busload;
 pub mod cli;
 pub mod command;
 pub mod config;
+pub mod error_code;
 pub mod mode;
 pub mod notify;
 pub mod protocol;

@@ -51,6 +51,11 @@ macro_rules! wire_enum {
         }
     };
 }
+pub(crate) use wire_enum;
+
+/// Why a command was refused or failed, or which safety check tripped: defined with every
+/// other error code in [`crate::error_code`].
+pub use crate::error_code::RejectCode;
 
 wire_enum!(
     /// The operating mode, as reported in `operating_mode`.
@@ -123,58 +128,6 @@ wire_enum!(
     }
 );
 
-wire_enum!(
-    /// Why a command was refused or failed, or which safety check tripped: the code on the
-    /// wire. [`crate::reply::Reason`] is the typed form with its figures; `Reason::to_wire`
-    /// and `Reason::from_wire` alone define what a reply's `axis` and `values` carry.
-    RejectCode, "reject code" {
-        None = 0 => "none",
-        /// Not allowed in the current mode.
-        WrongMode = 1 => "wrong_mode",
-        /// An axis is not calibrated.
-        NotCalibrated = 2 => "not_calibrated",
-        /// The emergency stop is pressed.
-        EmergencyStop = 3 => "emergency_stop",
-        /// A drive does not answer on the bus.
-        DriveDisconnected = 4 => "drive_disconnected",
-        /// A drive is in fault.
-        DriveFault = 5 => "drive_fault",
-        /// A value outside its allowed range.
-        OutOfRange = 6 => "out_of_range",
-        /// The command exists in the manual but this build does not implement it yet.
-        NotAvailable = 7 => "not_available",
-        /// The command needs the simulated robot.
-        NotSimulated = 8 => "not_simulated",
-        /// The PVT queue cannot take the batch.
-        QueueFull = 9 => "queue_full",
-        /// Safety check: a joint beyond its position limit.
-        PositionLimit = 10 => "position_limit",
-        /// Safety check: a joint faster than its velocity limit.
-        VelocityLimit = 11 => "velocity_limit",
-        /// Safety check: a joint that could no longer stop before its limit.
-        BrakingDistance = 12 => "braking_distance",
-        /// Safety check: a joint too far from its commanded position.
-        FollowingError = 13 => "following_error",
-        /// A calibration could not find its reference.
-        CalibrationFailed = 14 => "calibration_failed",
-        /// The command was superseded or the mode left before it finished.
-        Aborted = 15 => "aborted",
-        /// A motion is in progress.
-        Busy = 16 => "busy",
-        /// A PVT point breaks a limit.
-        PvtPoint = 17 => "pvt_point",
-        /// The requested position is outside the reachable range.
-        Unreachable = 18 => "unreachable",
-        /// Another client controls the arm's motion.
-        NotOwner = 19 => "not_owner",
-        /// The MCM is shutting down: the arm is being stopped and its drives disabled.
-        ShuttingDown = 20 => "shutting_down",
-        /// Safety check: an axis derated by i2t needs more than its derated current to hold;
-        /// the drives are powered off and the holding brakes hold the arm.
-        Overload = 21 => "overload",
-    }
-);
-
 impl CommandKind {
     /// Whether the command stops the arm (`hold`, and `client_gone`, which stops what a gone
     /// owner drove): stops go out ahead of other clients' commands, in the gateway and in the
@@ -208,13 +161,6 @@ impl CommandKind {
                 | CommandKind::VelocityControl
                 | CommandKind::SetVelocities
         )
-    }
-}
-
-#[allow(clippy::derivable_impls)] // the wire_enum! macro derives no Default
-impl Default for RejectCode {
-    fn default() -> Self {
-        RejectCode::None
     }
 }
 

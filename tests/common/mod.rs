@@ -512,6 +512,23 @@ impl EventClient {
         self.events[self.taken - 1].clone()
     }
 
+    /// Every line until the server closes the connection; panics when it is still open
+    /// after `wait`.
+    pub fn until_closed(&mut self, wait: Duration) -> Vec<Value> {
+        let deadline = Instant::now() + wait;
+        let mut got = Vec::new();
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.lines.recv_timeout(left) {
+                Ok(v) => got.push(v),
+                Err(mpsc::RecvTimeoutError::Disconnected) => return got,
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    panic!("the connection is still open after {wait:?}: {got:?}")
+                }
+            }
+        }
+    }
+
     /// Every line that arrives within `window` (nothing is asked meanwhile).
     pub fn gather(&mut self, window: Duration) -> Vec<Value> {
         let deadline = Instant::now() + window;

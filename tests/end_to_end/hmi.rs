@@ -486,7 +486,7 @@ fn a_telnet_session_negotiates_helps_shows_tables_and_refuses_helpfully() {
     // A wrong argument: what is wrong, what is allowed, the usage and where to read more.
     let e = t.run("move_axis 9 0", b"\r\0", "OFF");
     for w in [
-        "error: move_axis: argument \"axis_index\" = 9 is not allowed",
+        "error [out_of_range]: move_axis: argument \"axis_index\" = 9 is not allowed",
         "1 to 6",
         "usage: move_axis <axis_index> <target_position> [velocity_factor]",
         "`help move_axis`",
@@ -497,14 +497,16 @@ fn a_telnet_session_negotiates_helps_shows_tables_and_refuses_helpfully() {
     // A typo gets a suggestion.
     let e = t.run("stauts", b"\r\0", "OFF");
     assert!(
-        e.contains("error: unknown command \"stauts\" (did you mean \"status\"?)"),
+        e.contains(
+            "error [unknown_command]: unknown command \"stauts\" (did you mean \"status\"?)"
+        ),
         "{e}"
     );
 
     // A command the robot refuses in this mode says why and how to get there.
     let e = t.run("release", b"\r\0", "OFF");
     assert!(
-        e.contains("error: ") && e.contains("OFF") && e.contains("hint: "),
+        e.contains("error [wrong_mode]: ") && e.contains("OFF") && e.contains("hint: "),
         "{e}"
     );
 

@@ -197,6 +197,8 @@ struct Conn {
     reader: BufReader<TcpStream>,
     /// Every spontaneous ERROR notice seen, in order.
     notices: Vec<String>,
+    /// The `error_code` of each notice.
+    codes: Vec<String>,
 }
 
 /// The words of the gateway's notices about the MCM's own life.
@@ -216,6 +218,7 @@ impl Conn {
             stream,
             reader,
             notices: Vec::new(),
+            codes: Vec::new(),
         }
     }
 
@@ -235,8 +238,7 @@ impl Conn {
         loop {
             let v = self.line()?;
             if is_notice(&v) {
-                self.notices
-                    .push(v["error_message"].as_str().unwrap().to_string());
+                self.keep(&v);
                 continue;
             }
             return Some(v);
@@ -251,10 +253,20 @@ impl Conn {
     fn drain(&mut self) {
         while let Some(v) = self.line() {
             if is_notice(&v) {
-                self.notices
-                    .push(v["error_message"].as_str().unwrap().to_string());
+                self.keep(&v);
             }
         }
+    }
+
+    fn keep(&mut self, notice: &Value) {
+        self.notices
+            .push(notice["error_message"].as_str().unwrap().to_string());
+        self.codes.push(
+            notice["error_code"]
+                .as_str()
+                .unwrap_or("(none)")
+                .to_string(),
+        );
     }
 }
 
@@ -389,13 +401,20 @@ fn sigterm_while_moving_stops_the_arm_disables_the_drives_and_tells_every_client
                 .is_some_and(|n| n.starts_with("the MCM is shutting down")),
             "{n:?}"
         );
+        let codes = &conn.codes;
+        assert!(codes.iter().any(|c| c == "core_stopping"), "{codes:?}");
+        assert_eq!(
+            codes[codes.len() - 2..],
+            ["core_stopped", "gateway_stopping"],
+            "{n:?}"
+        );
     }
     let hmi_text = hmi_text.join().unwrap();
     let stopping = hmi_text
-        .find("ERROR: mcm-rt is shutting down")
+        .find("ERROR [core_stopping]: mcm-rt is shutting down")
         .expect(&hmi_text);
     let bye = hmi_text
-        .rfind("ERROR: the MCM is shutting down")
+        .rfind("ERROR [gateway_stopping]: the MCM is shutting down")
         .expect(&hmi_text);
     assert!(stopping < bye, "{hmi_text}");
 }
@@ -439,6 +458,12 @@ fn kill_9_of_mcm_rt_tells_clients_the_core_stopped_before_the_launcher_stops_the
     assert!(
         !n.iter().any(|m| m.starts_with("mcm-rt is shutting down")),
         "mcm-rt was killed, not asked to stop: {n:?}"
+    );
+    let codes = &c.codes;
+    assert_eq!(
+        codes[codes.len() - 2..],
+        ["core_vanished", "gateway_stopping"],
+        "{n:?}"
     );
 }
 

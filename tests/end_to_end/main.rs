@@ -27,6 +27,7 @@ mod command_path;
 mod deb_package;
 mod doc_references;
 mod drive_bus;
+mod error_codes;
 mod examples_cpp;
 mod examples_python;
 mod examples_ros2;

@@ -1,8 +1,7 @@
 //! The Python package's ctypes structures (`python/src/mcm/layout.py`) against the Rust
 //! layouts of the shared-memory samples: sizes, alignments, field offsets, iceoryx2 type names
-//! (with their layout versions), constants, reply locations, the words of every refusal reason
-//! and those words read back to their codes (as the TCP client reads them), and the samples
-//! `python/src/mcm/wire.py` encodes commands of every kind into. The truth is what
+//! (with their layout versions), constants, reply locations, the words of every refusal reason,
+//! and the samples `python/src/mcm/wire.py` encodes commands of every kind into. The truth is what
 //! `cargo run -p mcm-shared --example layout` prints; this test includes that example, writes
 //! its JSON to a file and runs `python/tests/test_layout.py` with the system's `python3`
 //! (standard library only, no virtual environment needed).

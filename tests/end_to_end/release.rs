@@ -110,6 +110,10 @@ impl Arm for EventClient {
 fn assert_event(e: &Value, check: &str, axis: Option<u64>, words: &[&str]) {
     assert!(is_event(e), "not a spontaneous error: {e}");
     assert_eq!(e["check"], check, "{e}");
+    assert_eq!(
+        e["error_code"], check,
+        "a safety error's code is its check: {e}"
+    );
     assert_eq!(e["axis"].as_u64(), axis, "{e}");
     let msg = e["error_message"].as_str().unwrap_or_default();
     for w in words {

@@ -152,4 +152,13 @@ fn a_pyzmq_client_subscribes_commands_and_sees_errors() {
         said[said.len() - 1].starts_with("the MCM is shutting down"),
         "{said:?}"
     );
+    let codes: Vec<&str> = errors
+        .iter()
+        .map(|e| e["error_code"].as_str().unwrap_or("(none)"))
+        .collect();
+    assert_eq!(
+        codes[codes.len() - 2..],
+        ["core_vanished", "gateway_stopping"],
+        "ZeroMQ carries the codes: {said:?}"
+    );
 }

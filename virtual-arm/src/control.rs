@@ -14,6 +14,7 @@
 //! is the test bench's own (docs/virtual-arm.md).
 
 use mcm_shared::config::RobotConfig;
+use mcm_shared::error_code::ErrorCode;
 use mcm_shared::protocol::Command;
 use mcm_shared::protocol::results::{Answer, SimResult, six};
 use mcm_shared::units::rad_to_deg6;
@@ -79,9 +80,12 @@ fn accept(listener: TcpListener, tx: Sender<Request>, cfg: Arc<RobotConfig>) {
         let Ok(mut stream) = stream else { continue };
         if open.fetch_add(1, Ordering::SeqCst) >= MAX_CONNECTIONS {
             open.fetch_sub(1, Ordering::SeqCst);
-            let line = Answer::error(format!(
-                "mcm-virtual-arm: {MAX_CONNECTIONS} control connections are open already; allowed: at most {MAX_CONNECTIONS}"
-            ));
+            let line = Answer::error(
+                ErrorCode::TooManyConnections,
+                format!(
+                    "mcm-virtual-arm: {MAX_CONNECTIONS} control connections are open already; allowed: at most {MAX_CONNECTIONS}"
+                ),
+            );
             let _ = writeln!(stream, "{}", line.to_value());
             continue;
         }
@@ -115,9 +119,10 @@ fn connection(stream: TcpStream, tx: &Sender<Request>, cfg: &RobotConfig) {
             Ok(_) => {}
         }
         if line.len() > MAX_LINE {
-            let e = Answer::error(format!(
-                "request line longer than {MAX_LINE} bytes; allowed: at most {MAX_LINE}"
-            ));
+            let e = Answer::error(
+                ErrorCode::LineTooLong,
+                format!("request line longer than {MAX_LINE} bytes; allowed: at most {MAX_LINE}"),
+            );
             let _ = writeln!(out, "{}", e.to_value());
             return;
         }
@@ -137,13 +142,16 @@ pub fn answer(text: &str, tx: &Sender<Request>, cfg: &RobotConfig) -> Answer {
     let command = match Command::from_json(text, cfg) {
         Ok(Command::Sim(c)) => c,
         Ok(other) => {
-            return Answer::error(format!(
-                "mcm-virtual-arm answers only `sim` (fault injection and ground truth), not `{}`; \
+            return Answer::error(
+                ErrorCode::UnknownCommand,
+                format!(
+                    "mcm-virtual-arm answers only `sim` (fault injection and ground truth), not `{}`; \
                  send it to the MCM's gateway",
-                other.name()
-            ));
+                    other.name()
+                ),
+            );
         }
-        Err(e) => return Answer::error(e.to_string()),
+        Err(e) => return Answer::error(e.code(), e.to_string()),
     };
     let (answer_tx, answer_rx) = sync_channel(1);
     let request = Request {
@@ -151,15 +159,21 @@ pub fn answer(text: &str, tx: &Sender<Request>, cfg: &RobotConfig) -> Answer {
         answer: answer_tx,
     };
     if tx.send(request).is_err() {
-        return Answer::error("mcm-virtual-arm is stopping");
+        return Answer::error(ErrorCode::ShuttingDown, "mcm-virtual-arm is stopping");
     }
     match answer_rx.recv_timeout(ANSWER_WAIT) {
         Ok(Ok(truth)) => Answer::Sim(sim_result(&truth)),
-        Ok(Err(e)) => Answer::error(e.to_string()),
-        Err(_) => Answer::error(format!(
-            "mcm-virtual-arm did not answer within {} s",
-            ANSWER_WAIT.as_secs()
-        )),
+        Ok(Err(e)) => {
+            let words = e.to_string();
+            Answer::error(mcm_shared::reply::Reason::from(e).error_code(), words)
+        }
+        Err(_) => Answer::error(
+            ErrorCode::OutcomeUnknown,
+            format!(
+                "mcm-virtual-arm did not answer within {} s",
+                ANSWER_WAIT.as_secs()
+            ),
+        ),
     }
 }
 

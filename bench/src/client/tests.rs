@@ -2,7 +2,7 @@ use super::*;
 
 #[test]
 fn classifies_results() {
-    let e = Answer::error("x");
+    let e = Answer::error(mcm_shared::error_code::ErrorCode::Busy, "x");
     let ok = Answer::ok();
     let state = mcm_shared::sample::StateSample {
         t_ns: 1_500_000_000,

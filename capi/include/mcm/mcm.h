@@ -164,6 +164,70 @@ typedef enum mcm_error_t {
   MCM_ERR_PANIC = 20,
 } mcm_error_t;
 
+// The MCM's code of a failed call (`mcm_*_last_reject`), of an event and of
+// `mcm_state_t.last_error` (a check): the protocol's `error_code`, as a number.
+enum mcm_error_code_t
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // No code (a call that did not fail, or a failure the MCM did not answer).
+  MCM_CODE_NONE = 0,
+  MCM_CODE_WRONG_MODE = 1,
+  MCM_CODE_NOT_CALIBRATED = 2,
+  MCM_CODE_EMERGENCY_STOP = 3,
+  MCM_CODE_DRIVE_DISCONNECTED = 4,
+  MCM_CODE_DRIVE_FAULT = 5,
+  MCM_CODE_OUT_OF_RANGE = 6,
+  MCM_CODE_NOT_AVAILABLE = 7,
+  MCM_CODE_NOT_SIMULATED = 8,
+  MCM_CODE_QUEUE_FULL = 9,
+  MCM_CODE_POSITION_LIMIT = 10,
+  MCM_CODE_VELOCITY_LIMIT = 11,
+  MCM_CODE_BRAKING_DISTANCE = 12,
+  MCM_CODE_FOLLOWING_ERROR = 13,
+  MCM_CODE_CALIBRATION_FAILED = 14,
+  MCM_CODE_ABORTED = 15,
+  MCM_CODE_BUSY = 16,
+  MCM_CODE_PVT_POINT = 17,
+  MCM_CODE_UNREACHABLE = 18,
+  MCM_CODE_NOT_OWNER = 19,
+  MCM_CODE_SHUTTING_DOWN = 20,
+  MCM_CODE_OVERLOAD = 21,
+  MCM_CODE_INVALID_JSON = 100,
+  MCM_CODE_INVALID_COMMAND = 101,
+  MCM_CODE_UNKNOWN_COMMAND = 102,
+  MCM_CODE_UNKNOWN_ARGUMENT = 103,
+  MCM_CODE_MISSING_ARGUMENT = 104,
+  MCM_CODE_INVALID_ARGUMENT = 105,
+  MCM_CODE_LINE_TOO_LONG = 106,
+  MCM_CODE_LINE_TIMEOUT = 107,
+  MCM_CODE_IDLE_TIMEOUT = 108,
+  MCM_CODE_EVICTED = 109,
+  MCM_CODE_TOO_MANY_CONNECTIONS = 110,
+  MCM_CODE_TOO_MANY_REQUESTS = 111,
+  MCM_CODE_NETWORK_REFUSED = 112,
+  MCM_CODE_NOT_AUTHENTICATED = 113,
+  MCM_CODE_WRONG_SECRET = 114,
+  MCM_CODE_REMOTE_SIM_REFUSED = 115,
+  MCM_CODE_CORE_UNAVAILABLE = 116,
+  MCM_CODE_OUTCOME_UNKNOWN = 117,
+  MCM_CODE_VERSION_MISMATCH = 118,
+  MCM_CODE_CORE_STOPPING = 119,
+  MCM_CODE_CORE_STOPPED = 120,
+  MCM_CODE_CORE_VANISHED = 121,
+  MCM_CODE_GATEWAY_STOPPING = 122,
+  MCM_CODE_EVENTS_LOST = 123,
+  MCM_CODE_INTERNAL_ERROR = 124,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum mcm_error_code_t mcm_error_code_t;
+#else
+typedef uint32_t mcm_error_code_t;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // A client of the MCM's shared-memory services (opaque; `mcm_shm_connect`,
 // `mcm_shm_close`). Bound to the thread that created it.
 typedef struct mcm_shm_client_t mcm_shm_client_t;
@@ -206,7 +270,7 @@ typedef struct mcm_status_t {
 typedef struct mcm_event_t {
   // `MCM_EVENT_*`.
   uint32_t kind;
-  // Reject code (`mcm_reject_name`), 0: none.
+  // Error code (`mcm_error_code_t`, `mcm_error_code_name`), 0: none.
   uint32_t code;
   // Axis 1 to 6, 0: none.
   uint32_t axis;
@@ -446,13 +510,18 @@ typedef struct mcm_shm_info_t {
 extern "C" {
 #endif // __cplusplus
 
+// The name of the code numbered `code` (`mcm_error_code_t`, `mcm_*_last_reject`, events,
+// `mcm_state_t.last_error.code`), e.g. "busy", "not_owner", "invalid_json"; "none" for 0,
+// "unknown" for a number this library does not know (a static string). Real-time safe.
+const char *mcm_error_code_name(uint32_t code);
+
 // The message of the last failed call on the calling thread (any function, also the connect
 // functions), or "" when none failed yet. The pointer stays valid until the next failing call
 // on this thread. Real-time safe.
 const char *mcm_last_error(void);
 
-// The MCM's reject code of the last failed call on the calling thread (0: none, else a code
-// `mcm_reject_name` names, e.g. 16 busy). Real-time safe.
+// The MCM's error code of the last failed call on the calling thread (an `mcm_error_code_t`:
+// 0 none, else a code `mcm_error_code_name` names, e.g. 16 busy). Real-time safe.
 uint32_t mcm_last_reject(void);
 
 // Open the services of the MCM instance `instance` ("default" unless the MCM was started with
@@ -467,7 +536,8 @@ void mcm_shm_close(struct mcm_shm_client_t *client);
 // The message of the last failed call on this handle ("" when none failed). Real-time safe.
 const char *mcm_shm_last_error(const struct mcm_shm_client_t *client);
 
-// The MCM's reject code of the last failed call on this handle (0: none). Real-time safe.
+// The MCM's error code of the last failed call on this handle (an `mcm_error_code_t`, 0:
+// none). Real-time safe.
 uint32_t mcm_shm_last_reject(const struct mcm_shm_client_t *client);
 
 // The oldest event not taken yet (safety errors and refusals seen while reading states);
@@ -504,8 +574,8 @@ void mcm_tcp_close(struct mcm_tcp_client_t *client);
 // the next failing call on it. Real-time safe.
 const char *mcm_tcp_last_error(const struct mcm_tcp_client_t *client);
 
-// The MCM's reject code of the last failed call on this handle (0: none or not recognised
-// from the MCM's words). Real-time safe.
+// The MCM's error code of the last failed call on this handle (an `mcm_error_code_t`, 0:
+// none or a code this library does not know). Real-time safe.
 uint32_t mcm_tcp_last_reject(const struct mcm_tcp_client_t *client);
 
 // The next spontaneous message (safety errors, status events of a session, refusals of
@@ -526,8 +596,9 @@ const char *mcm_error_name(enum mcm_error_t code);
 // "UNKNOWN" for a number this library does not know (a static string).
 const char *mcm_mode_name(uint32_t mode);
 
-// The name of a reject code (`mcm_*_last_reject`, events, `mcm_state_t.last_error.code`),
-// e.g. "busy", "none" for 0, "unknown" for a number this library does not know.
+// The name of an error code (`mcm_*_last_reject`, events, `mcm_state_t.last_error.code`):
+// the same as `mcm_error_code_name`, e.g. "busy", "none" for 0, "unknown" for a number this
+// library does not know (a static string).
 const char *mcm_reject_name(uint32_t code);
 
 // The protocol's defaults: timeout 1 s, no status events, gravity compensated.

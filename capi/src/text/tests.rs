@@ -1,4 +1,5 @@
 use super::*;
+use mcm_client::RejectCode;
 
 fn text(p: *const c_char) -> &'static str {
     // SAFETY: the functions above return static NUL-terminated strings.

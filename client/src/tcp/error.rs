@@ -1,10 +1,8 @@
 //! Errors of the TCP client: the MCM's own refusals ([`McmError`]) and what can go wrong on the
 //! way ([`Error`]).
 
-use mcm_shared::mode::RejectCode;
-use mcm_shared::protocol::results::ReadError;
-use mcm_shared::ranges::Arg;
-use mcm_shared::reply::Reason;
+use mcm_shared::error_code::ErrorCode;
+use mcm_shared::protocol::results::{Generic, ReadError};
 use std::time::Duration;
 
 /// How the MCM answered a command it did not do.
@@ -15,93 +13,46 @@ pub enum ErrorKind {
     /// Accepted, then failed while running (`<command> failed: ...`, e.g. a calibration).
     Failed,
     /// Sent to the real-time core, but no answer came: it may or may not have been executed;
-    /// read the state (`<command>: no reply ...`). Never "failed".
+    /// read the state (`error_code` `outcome_unknown`). Never "failed".
     OutcomeUnknown,
     /// The gateway refused the line itself (arguments, access rules, unknown command).
     Invalid,
 }
 
-/// The MCM's answer to a command it did not do: the command, the MCM's words, how it ended and,
-/// where the words name one, the reject code (`RejectCode::as_str` names it; `Reason`'s
-/// `Display` in `mcm_shared::reply` gives the same words the MCM uses).
+/// The MCM's answer to a command it did not do: the command, its `error_code`, the MCM's
+/// words and how it ended.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{message}")]
 pub struct McmError {
     /// The command it answers (`move_axis`, ...).
     pub command: String,
     pub kind: ErrorKind,
-    /// The reject code, read from the words (the JSON protocol carries words only); `None`
-    /// when they name no code of [`RejectCode`]. A value of a numeric argument outside its
-    /// range has the code the core gives it (`unreachable` for a target position,
-    /// `out_of_range` otherwise), whichever side refused it: the words are the same.
-    pub code: Option<RejectCode>,
-    /// The MCM's `error_message`, unchanged.
+    /// The MCM's `error_code` (`mcm_shared::error_code`): what a program decides on. `None`
+    /// only for a code this version does not know (a newer MCM), or an MCM too old to send
+    /// one. A value of a numeric argument outside its range has the code the core gives it
+    /// (`unreachable` for a target position, `out_of_range` otherwise), whichever side
+    /// refused it.
+    pub code: Option<ErrorCode>,
+    /// The MCM's `error_message`, unchanged (for people).
     pub message: String,
-}
-
-/// Phrases of the MCM's words (`Reason`'s `Display`) that name each reject code.
-const CODE_WORDS: &[(&str, RejectCode)] = &[
-    ("not allowed in mode", RejectCode::WrongMode),
-    ("is not calibrated", RejectCode::NotCalibrated),
-    ("the emergency stop is pressed", RejectCode::EmergencyStop),
-    ("does not answer on the bus", RejectCode::DriveDisconnected),
-    ("do not answer on the bus", RejectCode::DriveDisconnected),
-    ("is in fault", RejectCode::DriveFault),
-    ("outside the reachable range", RejectCode::Unreachable),
-    (
-        " deg is not allowed; expected a number from",
-        RejectCode::Unreachable,
-    ),
-    ("is not allowed; expected", RejectCode::OutOfRange),
-    ("outside the allowed range", RejectCode::OutOfRange),
-    ("not available yet", RejectCode::NotAvailable),
-    (
-        "only available when the simulated robot",
-        RejectCode::NotSimulated,
-    ),
-    ("queue full", RejectCode::QueueFull),
-    ("position limit:", RejectCode::PositionLimit),
-    ("velocity limit:", RejectCode::VelocityLimit),
-    ("braking distance:", RejectCode::BrakingDistance),
-    ("following error:", RejectCode::FollowingError),
-    ("overload:", RejectCode::Overload),
-    ("calibration of axis", RejectCode::CalibrationFailed),
-    ("aborted", RejectCode::Aborted),
-    ("a motion is in progress", RejectCode::Busy),
-    ("exceeds the limit", RejectCode::PvtPoint),
-    ("controls the arm", RejectCode::NotOwner),
-    ("the arm is controlled by", RejectCode::NotOwner),
-    ("is shutting down", RejectCode::ShuttingDown),
-];
-
-/// The numeric argument a refusal names (`: argument "target_positions[2]" = ...` after the
-/// command), if it is one of [`mcm_shared::ranges`].
-fn refused_argument(rest: &str) -> Option<Arg> {
-    let name = rest.strip_prefix(": argument \"")?;
-    let end = name.find(['"', '['])?;
-    Arg::by_name(&name[..end])
 }
 
 impl McmError {
     /// Read a `generic` ERROR result that answers `command`.
-    pub fn from_message(command: &str, message: &str) -> McmError {
+    pub fn from_generic(command: &str, g: &Generic) -> McmError {
+        let code = g.code();
+        let message = g.message();
         let rest = message.strip_prefix(command).unwrap_or(message);
-        let kind = if rest.starts_with(" refused:") {
-            ErrorKind::Refused
-        } else if rest.starts_with(" failed:") {
-            ErrorKind::Failed
-        } else if rest.contains("may or may not have been executed") {
-            ErrorKind::OutcomeUnknown
-        } else {
-            ErrorKind::Invalid
-        };
-        let code = match kind {
-            ErrorKind::Refused | ErrorKind::Failed => CODE_WORDS
-                .iter()
-                .find(|(words, _)| rest.contains(words))
-                .map(|(_, code)| *code),
-            ErrorKind::Invalid => refused_argument(rest).map(Reason::argument_code),
-            ErrorKind::OutcomeUnknown => None,
+        let kind = match code {
+            Some(ErrorCode::OutcomeUnknown) => ErrorKind::OutcomeUnknown,
+            Some(c) if c.reject_code().is_none() && c != ErrorCode::CoreUnavailable => {
+                ErrorKind::Invalid
+            }
+            // The core's reasons: the protocol words them `<command> refused: ...` or
+            // `<command> failed: ...` (a value out of range: `<command>: argument ...`).
+            _ if rest.starts_with(" refused:") => ErrorKind::Refused,
+            _ if rest.starts_with(" failed:") => ErrorKind::Failed,
+            _ => ErrorKind::Invalid,
         };
         McmError {
             command: command.to_string(),

@@ -309,8 +309,8 @@ impl TcpClient {
                     self.queue(e);
                     continue;
                 }
-                Line::Error(message) => {
-                    return Err(McmError::from_message(command, &message).into());
+                Line::Error(g) => {
+                    return Err(McmError::from_generic(command, &g).into());
                 }
                 Line::Status(s) => {
                     let tick = self.ticks.is_some()
@@ -584,7 +584,7 @@ impl TcpClient {
             let event = match wire::parse(&line) {
                 Ok(Line::Event(e)) => e,
                 Ok(Line::Status(s)) => Event::Status(s),
-                Ok(Line::Error(m)) => Event::Notice(m),
+                Ok(Line::Error(g)) => Event::Notice(g.message().to_string()),
                 // A result no call waits for (a timed-out call closed its connection, so
                 // not its late result): its words.
                 Ok(Line::Ok | Line::Other(..)) | Err(_) => Event::Notice(line),

@@ -17,7 +17,9 @@ fn status(mode: &str, t: f64) -> String {
 fn refusal_line(json: &str) -> String {
     let cfg = mcm_shared::config::RobotConfig::prob2_default();
     let e = Command::from_json(json, &cfg).unwrap_err();
-    Answer::error(e.to_string()).to_value().to_string()
+    Answer::error(e.code(), e.to_string())
+        .to_value()
+        .to_string()
 }
 
 /// The result line the gateway writes for the core's refusal of a `kind` request.
@@ -115,7 +117,7 @@ fn ticks_and_errors_between_results_become_events() {
     }
     assert_eq!(events.len(), 4, "{events:#?}");
     assert!(
-        matches!(&events[0], Event::CommandError(e) if e.code == Some(mcm_shared::mode::RejectCode::OutOfRange))
+        matches!(&events[0], Event::CommandError(e) if e.code == Some(mcm_shared::error_code::ErrorCode::OutOfRange))
     );
     assert!(matches!(&events[1], Event::Status(s) if s.time() == 1.1));
     assert!(matches!(&events[2], Event::Status(s) if s.time() == 1.2));
@@ -140,7 +142,7 @@ fn refusals_carry_command_words_and_code() {
     let m = e.mcm().expect("the MCM's error");
     assert_eq!(m.command, "move_all");
     assert_eq!(m.kind, ErrorKind::Refused);
-    assert_eq!(m.code, Some(mcm_shared::mode::RejectCode::WrongMode));
+    assert_eq!(m.code, Some(mcm_shared::error_code::ErrorCode::WrongMode));
     assert_eq!(e.to_string(), "move_all refused: not allowed in mode HOLD");
 }
 

@@ -3,22 +3,10 @@
 
 use super::error::{McmError, ProtocolProblem};
 use super::types::{Event, Status};
-use mcm_shared::protocol::results::Answer;
+use mcm_shared::error_code::ErrorCode;
+use mcm_shared::protocol::results::{Answer, Generic};
 use mcm_shared::protocol::{self, Success};
 use serde_json::Value;
-
-/// Beginnings of the spontaneous notices about the MCM's life and this connection
-/// (`docs/protocol.md`, "Shutdown notices" and "Connections"): they answer no command.
-const NOTICES: &[&str] = &[
-    "mcm-rt is shutting down",
-    "mcm-rt stopped",
-    "the MCM is shutting down",
-    "idle timeout:",
-    "line timeout:",
-    "connection closed",
-    "connection refused",
-    "the client took no result line",
-];
 
 /// Whether `command` answers nothing on success (its refusals come later, as events).
 pub(crate) fn answers_nothing(command: &str) -> bool {
@@ -30,8 +18,8 @@ pub(crate) fn answers_nothing(command: &str) -> bool {
 pub(crate) enum Line {
     /// `generic` OK.
     Ok,
-    /// `generic` ERROR that may answer a command: its words.
-    Error(String),
+    /// `generic` ERROR that may answer a command.
+    Error(Generic),
     Status(Box<Status>),
     /// Another result (`initialization`, `move_all`, `sim`).
     Other(Answer),
@@ -51,7 +39,9 @@ pub(crate) fn parse(line: &str) -> Result<Line, ProtocolProblem> {
         return Ok(Line::Ok);
     }
     let message = g.message().to_string();
-    if g.check.is_some() {
+    // A spontaneous safety error names its check and always its flight-recorder file (also
+    // one whose record this version cannot read: no check then).
+    if g.check.is_some() || g.flight_recorder.is_some() {
         return Ok(Line::Event(Event::SafetyError {
             check: g.check_code(),
             axis: g.axis,
@@ -59,9 +49,8 @@ pub(crate) fn parse(line: &str) -> Result<Line, ProtocolProblem> {
             flight_recorder: g.flight_recorder,
         }));
     }
-    if message.starts_with("safety check tripped")
-        || message.contains("safety errors were not delivered")
-    {
+    let code = g.code();
+    if code == Some(ErrorCode::EventsLost) {
         return Ok(Line::Event(Event::SafetyError {
             check: None,
             axis: None,
@@ -69,17 +58,18 @@ pub(crate) fn parse(line: &str) -> Result<Line, ProtocolProblem> {
             flight_recorder: None,
         }));
     }
-    if NOTICES.iter().any(|n| message.starts_with(n)) {
+    if code.is_some_and(ErrorCode::is_spontaneous) {
         return Ok(Line::Event(Event::Notice(message)));
     }
+    // The protocol words a refusal `<command> refused: ...` (or `<command>: ...`).
     let command = message.split([' ', ':']).next().unwrap_or_default();
     if answers_nothing(command) {
         // No result on success: a refusal is an event.
-        return Ok(Line::Event(Event::CommandError(McmError::from_message(
-            command, &message,
+        return Ok(Line::Event(Event::CommandError(McmError::from_generic(
+            command, &g,
         ))));
     }
-    Ok(Line::Error(message))
+    Ok(Line::Error(g))
 }
 
 #[cfg(test)]

@@ -3,13 +3,14 @@
 //! results themselves.
 
 use crate::core_link::bridge::SafetyEvent;
+use mcm_shared::error_code::ErrorCode;
 use mcm_shared::protocol::results::{Answer, Generic, Status};
 use mcm_shared::sample::StateSample;
 use serde_json::Value;
 
-/// A generic ERROR result with a message.
-pub fn error(message: impl Into<String>) -> Value {
-    Answer::error(message).to_value()
+/// A generic ERROR result with its code and words.
+pub fn error(code: ErrorCode, message: impl Into<String>) -> Value {
+    Answer::error(code, message).to_value()
 }
 
 /// The status of `state` as the result of `command` (`status`, or a command answered with the
@@ -18,7 +19,7 @@ pub fn error(message: impl Into<String>) -> Value {
 pub fn status_answer(command: &str, state: &StateSample, detail: bool) -> Answer {
     match Status::from_state(state, detail) {
         Ok(s) => Answer::Status(Box::new(s)),
-        Err(e) => Answer::error(format!("{command}: {e}")),
+        Err(e) => Answer::error(ErrorCode::VersionMismatch, format!("{command}: {e}")),
     }
 }
 

@@ -1,5 +1,10 @@
 use super::*;
+use crate::command::access::{Access, Channel, Client, run_command};
 use crate::core_link::bridge::NoReply;
+use crate::core_link::lifecycle::Notice;
+use mcm_shared::command::DecodeError;
+use mcm_shared::config::Cidr;
+use mcm_shared::protocol::Command;
 
 /// A state this version cannot read (a core of another MCM version) answers `hold` with an
 /// ERROR that names `hold`, not `status`.
@@ -57,4 +62,122 @@ fn a_request_never_published_failed() {
         "hold failed: the real-time core (mcm-rt, instance `r1`) is not running or not \
          answering"
     );
+}
+
+// The gateway's own refusals carry their `error_code`, one level below the end-to-end test
+// `tests/end_to_end/error_codes.rs` (which names, for each code it cannot provoke from outside,
+// the test that checks it): the access rules, a core that does not run, a request whose answer
+// never came or cannot be read, the notices about the core's life.
+
+fn code(answer: &Option<Answer>) -> Option<ErrorCode> {
+    match answer {
+        Some(Answer::Generic(g)) if !g.is_ok() => g.code(),
+        other => panic!("not an ERROR: {other:?}"),
+    }
+}
+
+fn parse_in(ctx: &Context, json: &str) -> Command {
+    Command::from_json(json, &ctx.cfg).expect("a valid command")
+}
+
+const MOVE: &str = r#"{"command":"move_axis","arguments":{"axis_index":1,"target_position":10}}"#;
+
+/// Motion from outside the allowed networks, before the secret, with a wrong secret, `sim`
+/// from afar; and a command the core does not answer because it does not run.
+#[tokio::test]
+async fn the_access_rules_and_an_absent_core_refuse_with_their_codes() {
+    let (mut ctx, thread, _) =
+        crate::test_support::offline_context("codes", RobotConfig::prob2_default());
+    let only_lan = vec![Cidr::parse("192.168.0.0/16").expect("a network")];
+    let secret = crate::command::access::sha256::digest(b"right");
+    ctx.access = Arc::new(Access::new(Some(only_lan), Some(secret), false));
+    let far = Client::new(
+        &ctx.clients,
+        &ctx.bridge,
+        Channel::Json,
+        "10.0.0.9:4000".parse().unwrap(),
+    );
+    let near = Client::new(
+        &ctx.clients,
+        &ctx.bridge,
+        Channel::Json,
+        "192.168.1.2:4000".parse().unwrap(),
+    );
+    let run = |client: &Client, json: &str| {
+        let (ctx, client, cmd) = (ctx.clone(), client.clone(), parse_in(&ctx, json));
+        async move { run_command(&ctx, &client, &cmd).await.result }
+    };
+    let cases = [
+        (&far, MOVE, ErrorCode::NetworkRefused),
+        (&near, MOVE, ErrorCode::NotAuthenticated),
+        (
+            &near,
+            r#"{"command":"authenticate","arguments":{"secret":"wrong"}}"#,
+            ErrorCode::WrongSecret,
+        ),
+        (
+            &far,
+            r#"{"command":"sim","arguments":{"emergency_stop":false}}"#,
+            ErrorCode::RemoteSimRefused,
+        ),
+        (&far, r#"{"command":"status"}"#, ErrorCode::CoreUnavailable),
+        (&far, r#"{"command":"hold"}"#, ErrorCode::CoreUnavailable),
+    ];
+    for (client, json, expected) in cases {
+        assert_eq!(code(&run(client, json).await), Some(expected), "{json}");
+    }
+    // `authenticate` is the access rules' to answer: reaching `execute` is a fault.
+    let auth = parse_in(
+        &ctx,
+        r#"{"command":"authenticate","arguments":{"secret":"x"}}"#,
+    );
+    let out = execute(&ctx, near.id, &auth).await;
+    assert_eq!(code(&out.result), Some(ErrorCode::InternalError));
+    thread.stop();
+}
+
+/// A request the bridge could not complete: the code says whether it may have been executed.
+#[test]
+fn a_request_the_bridge_could_not_complete_has_its_code() {
+    let cases = [
+        (
+            BridgeError::RtNotRunning {
+                instance: "r1".into(),
+            },
+            ErrorCode::CoreUnavailable,
+        ),
+        (
+            BridgeError::OutcomeUnknown(NoReply::Timeout { seconds: 5.0 }),
+            ErrorCode::OutcomeUnknown,
+        ),
+        (
+            BridgeError::OutcomeUnknown(NoReply::CoreRestarted),
+            ErrorCode::OutcomeUnknown,
+        ),
+        (
+            BridgeError::Undecodable(DecodeError::UnknownKind(99)),
+            ErrorCode::VersionMismatch,
+        ),
+        (BridgeError::NoRequest, ErrorCode::InternalError),
+        (BridgeError::ShuttingDown, ErrorCode::ShuttingDown),
+    ];
+    for (e, expected) in cases {
+        assert_eq!(code(&Some(bridge_error("hold", &e))), Some(expected), "{e}");
+    }
+}
+
+/// The notices about the MCM's life, as every channel sends them.
+#[test]
+fn the_notices_have_their_codes() {
+    let cases = [
+        (Notice::RtStopping, "core_stopping"),
+        (Notice::RtStopped, "core_stopped"),
+        (Notice::RtVanished, "core_vanished"),
+        (Notice::GatewayStopping, "gateway_stopping"),
+    ];
+    for (n, expected) in cases {
+        let v = n.result();
+        assert_eq!(v["error_code"], expected, "{v}");
+        assert_eq!(v["error_message"], n.text(), "{v}");
+    }
 }

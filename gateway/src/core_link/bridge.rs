@@ -99,6 +99,22 @@ pub enum BridgeError {
 }
 
 impl BridgeError {
+    /// Its `error_code` ([`mcm_shared::error_code`]).
+    pub fn code(&self) -> mcm_shared::error_code::ErrorCode {
+        use mcm_shared::error_code::ErrorCode;
+        match self {
+            BridgeError::RtNotRunning { .. } | BridgeError::Publish(_) => {
+                ErrorCode::CoreUnavailable
+            }
+            BridgeError::IncompatibleLayout { .. } | BridgeError::Undecodable(_) => {
+                ErrorCode::VersionMismatch
+            }
+            BridgeError::OutcomeUnknown(_) => ErrorCode::OutcomeUnknown,
+            BridgeError::NoRequest => ErrorCode::InternalError,
+            BridgeError::ShuttingDown => ErrorCode::ShuttingDown,
+        }
+    }
+
     /// Whether the command surely was not executed (so "failed" may be said).
     pub fn surely_not_executed(&self) -> bool {
         !matches!(

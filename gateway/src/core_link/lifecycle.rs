@@ -61,9 +61,20 @@ impl Notice {
         }
     }
 
+    /// Its `error_code`.
+    pub fn code(self) -> mcm_shared::error_code::ErrorCode {
+        use mcm_shared::error_code::ErrorCode;
+        match self {
+            Notice::RtStopping => ErrorCode::CoreStopping,
+            Notice::GatewayStopping => ErrorCode::GatewayStopping,
+            Notice::RtStopped => ErrorCode::CoreStopped,
+            Notice::RtVanished => ErrorCode::CoreVanished,
+        }
+    }
+
     /// As the JSON/TCP port and ZeroMQ send it: a `generic` ERROR result.
     pub fn result(self) -> Value {
-        crate::command::result::error(self.text())
+        crate::command::result::error(self.code(), self.text())
     }
 }
 

@@ -8,6 +8,7 @@ pub(crate) mod framing;
 
 use crate::command::Context;
 use crate::transport::server::{self, Port};
+use mcm_shared::error_code::ErrorCode;
 use std::future::Future;
 use tokio::net::TcpListener;
 
@@ -20,14 +21,19 @@ pub async fn run(listener: TcpListener, ctx: Context, shutdown: impl Future) {
 /// The JSON port: refusals as a generic ERROR result line.
 pub const JSON_PORT: Port = Port {
     what: "JSON connection",
-    refusal: json_line,
+    refusal: refusal_line,
     is_local: server::admission::is_loopback,
 };
 
-/// A generic ERROR result line with `message`.
-pub fn json_line(message: &str) -> String {
+/// The line that refuses a connection the port has no room for.
+fn refusal_line(message: &str) -> String {
+    json_line(ErrorCode::TooManyConnections, message)
+}
+
+/// A generic ERROR result line with its `code` and `message`.
+pub fn json_line(code: ErrorCode, message: &str) -> String {
     format!(
         "{}\n",
-        mcm_shared::protocol::json::to_ascii(&crate::command::result::error(message))
+        mcm_shared::protocol::json::to_ascii(&crate::command::result::error(code, message))
     )
 }

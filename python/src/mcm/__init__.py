@@ -11,6 +11,7 @@
 """
 
 from . import codes, encoding, layout, wire
+from .codes import ErrorCode
 from .errors import (
     CommandError,
     ConnectionLost,
@@ -67,6 +68,7 @@ __all__ = [
     "StatusDetail",
     "StatusEvent",
     "CommandError",
+    "ErrorCode",
     "ConnectionLost",
     "McmError",
     "McmTimeout",

@@ -13,9 +13,10 @@ class CommandError(McmError):
     Attributes:
         command: the command's protocol name (``"move_axis"``).
         message: the MCM's own words (the JSON ``error_message``).
-        code: the reject code (``"busy"``, ``"not_owner"``, ``"wrong_mode"``, ...); over TCP it
-            is recognised from the words (None when not recognised), over shared memory it is
-            the core's code.
+        code: the error code, an :class:`mcm.codes.ErrorCode` (a ``str``: ``"busy"``,
+            ``"not_owner"``, ``"wrong_mode"``, ...): over TCP the result's ``error_code`` (None
+            for a code this version does not know), over shared memory the core's code. Decide
+            on it, never on the words.
         outcome: ``"refused"`` (nothing changed), ``"failed"`` (accepted, then failed),
             ``"unknown"`` (no reply came: the command may or may not have run), or
             ``"invalid"`` (the gateway refused the arguments).

@@ -51,14 +51,24 @@ Event = Union[SafetyErrorEvent, StatusEvent, CommandErrorEvent]
 
 # Spontaneous ERROR results without a `check` field: the MCM stopping, or the gateway
 # closing this connection.
-_NOTICE_PREFIXES = (
-    "mcm-rt is shutting down",
-    "mcm-rt stopped",
-    "the MCM is shutting down",
-    "idle timeout",
-    "line timeout",
-    "connection closed to make room",
-)
+
+# The codes of the real-time core's reasons (the gateway's own are the others).
+_CORE_CODES = frozenset(codes.REJECT_CODES.values())
+
+
+def _outcome(command: str, message: str, code: Optional[str]) -> str:
+    """How a command ended that the MCM did not do: ``"invalid"`` when the gateway refused
+    the line itself (by its code), else as the protocol words the core's answer
+    (``<command> failed: ...``, ``<command> refused: ...``; an argument out of range
+    ``<command>: argument ...``)."""
+    if code is not None and code not in _CORE_CODES and code != codes.ErrorCode.CORE_UNAVAILABLE:
+        return "invalid"
+    if message.startswith(command + " failed: "):
+        return "failed"
+    if message.startswith(command + " refused: "):
+        return "refused"
+    return "invalid"
+
 
 # Commands whose result on success is a status result.
 _STATUS_RESULT = frozenset(c for c, t in codes.RESULT_TYPES.items() if t == "status")
@@ -226,7 +236,8 @@ class Client:
         """File `v` as an event when it is not the result of the command `expecting`."""
         if _is_error(v):
             msg = str(v.get("error_message", ""))
-            if "check" in v or msg.startswith(_NOTICE_PREFIXES):
+            code = codes.error_code(v)
+            if "check" in v or code in codes.SPONTANEOUS:
                 self._events.append(SafetyErrorEvent.from_json(v))
                 if "check" in v:
                     self._session = None
@@ -234,7 +245,7 @@ class Client:
             # Commands without a result on success: their refusals are events.
             for name in codes.NO_RESULT:
                 if msg.startswith(name) and msg[len(name) : len(name) + 1] in (" ", ":") and expecting != name:
-                    self._events.append(CommandErrorEvent(name, msg))
+                    self._events.append(CommandErrorEvent(name, msg, code))
                     return True
             return False
         if v.get("result_type") == "status" and self._session is not None:
@@ -290,16 +301,10 @@ class Client:
                 continue
             if _is_error(v):
                 message = str(v.get("error_message", ""))
-                code = codes.code_from_message(message)
-                if code == "outcome_unknown":
+                code = codes.error_code(v)
+                if code == codes.ErrorCode.OUTCOME_UNKNOWN:
                     raise OutcomeUnknown(command, message, code, "unknown")
-                if " failed: " in message and message.startswith(command):
-                    outcome = "failed"
-                elif code == "invalid_argument":
-                    outcome = "invalid"
-                else:
-                    outcome = "refused"
-                raise CommandError(command, message, code, outcome)
+                raise CommandError(command, message, code, _outcome(command, message, code))
             if command in _SESSIONS and v.get("operating_mode") == _SESSIONS[command]:
                 self._session = _SESSIONS[command]
             return v
@@ -396,9 +401,7 @@ class Client:
         for i, e in enumerate(self._events):
             if isinstance(e, CommandErrorEvent) and e.command == command:
                 del self._events[i]
-                code = codes.code_from_message(e.message)
-                outcome = "invalid" if code == "invalid_argument" else "refused"
-                raise CommandError(command, e.message, code, outcome)
+                raise CommandError(command, e.message, e.code, _outcome(command, e.message, e.code))
 
     def pvt(self, dt: Optional[float] = None) -> Status:
         """Enter PVT mode; ``dt`` is the spacing of the ``pvt_points`` points [s]."""

@@ -232,3 +232,6 @@ class CommandErrorEvent:
 
     command: str
     message: str
+    #: Its ``error_code`` (:class:`mcm.codes.ErrorCode`); None for a code this version does
+    #: not know.
+    code: Optional[str] = None

@@ -228,9 +228,10 @@ def decode_reply(r: Reply) -> Answer:
         return a
     outcome = "failed" if r.status == codes.REPLY_FAILED else "refused"
     text = codes.reason_text(r.code, r.axis, list(r.values)[:4])
+    name = codes.REJECT_CODES.get(r.code, str(r.code))
     raise CommandError(
         command,
         "%s %s: %s" % (command, outcome, text),
-        codes.REJECT_CODES.get(r.code, str(r.code)),
+        codes.error_code({"error_code": name}) or name,
         outcome,
     )

@@ -64,7 +64,7 @@ impl Controller {
                 // `dt` from one cycle period on: the range the gateway checks too.
                 let dt = Arg::Dt;
                 if let Err(e) = dt.check(pvt.dt_s, (self.p.period, Pvt::MAX_DT_S), None) {
-                    return self.refuse(c, Reason::InvalidArgument(e));
+                    return self.refuse(c, Reason::InvalidArgument { refusal: e });
                 }
                 if self.check_motion_mode_entry(c) {
                     self.stream.reset(pvt.dt_s);
@@ -196,7 +196,7 @@ impl Controller {
         for (i, tau) in t.torques_nm.iter().copied().enumerate() {
             let peak = self.p.peak_torque[i];
             if let Err(e) = Arg::Torques.check(tau, (-peak, peak), Some(Axis::ALL[i])) {
-                return self.refuse(c, Reason::InvalidArgument(e));
+                return self.refuse(c, Reason::InvalidArgument { refusal: e });
             }
         }
         self.state = State::Torque {

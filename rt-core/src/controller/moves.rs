@@ -33,13 +33,15 @@ const POSITION_RESOLUTION_RAD: f64 = 1e-9;
 /// that still fails names it).
 fn factor_refused(factor: f64) -> Reason {
     let (min, max) = Arg::VelocityFactor.fixed_bounds();
-    Reason::InvalidArgument(ArgRefusal {
-        arg: Arg::VelocityFactor,
-        axis: None,
-        value: factor,
-        min,
-        max,
-    })
+    Reason::InvalidArgument {
+        refusal: ArgRefusal {
+            arg: Arg::VelocityFactor,
+            axis: None,
+            value: factor,
+            min,
+            max,
+        },
+    }
 }
 
 impl Controller {

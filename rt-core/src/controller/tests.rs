@@ -495,13 +495,15 @@ fn assert_axis_7_refused(r: &Robot, id: u64, arg: Arg) {
     assert_eq!((reply.client_id, reply.request_id), (9, id));
     assert_eq!(
         reply.outcome,
-        Outcome::Refused(Reason::InvalidArgument(ArgRefusal {
-            arg,
-            axis: None,
-            value: 7.0,
-            min: 1.0,
-            max: 6.0
-        }))
+        Outcome::Refused(Reason::InvalidArgument {
+            refusal: ArgRefusal {
+                arg,
+                axis: None,
+                value: 7.0,
+                min: 1.0,
+                max: 6.0
+            }
+        })
     );
 }
 

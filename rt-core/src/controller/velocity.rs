@@ -71,7 +71,7 @@ impl Controller {
             let max_deg_s = self.p.max_velocity_deg_s[i];
             let bounds = (-max_deg_s, max_deg_s);
             if let Err(e) = Arg::Velocities.check(deg_s, bounds, Some(Axis::ALL[i])) {
-                return self.refuse(c, Reason::InvalidArgument(e));
+                return self.refuse(c, Reason::InvalidArgument { refusal: e });
             }
             let max = self.p.limits[i].velocity;
             target[i] = deg_to_rad(deg_s).clamp(-max, max);

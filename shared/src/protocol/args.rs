@@ -5,7 +5,9 @@ use super::json::{json_kind, shown};
 use super::spec::CommandDef;
 use crate::command::Axis;
 use crate::config::RobotConfig;
+use crate::error_code::ErrorCode;
 use crate::ranges::{Arg, Num, Shape};
+use crate::reply::Reason;
 use serde_json::{Map, Value};
 
 /// Why a command line was refused before it reached the robot.
@@ -60,6 +62,39 @@ pub enum CommandError {
         value: String,
         expected: String,
     },
+    /// A number of a protocol argument ([`crate::ranges`]) outside its range: worded as
+    /// [`CommandError::Invalid`], with the code the real-time core gives the same value
+    /// ([`Reason::argument_code`]: `unreachable` for a target position, else `out_of_range`).
+    #[error("{command}: argument \"{argument}\" = {value} is not allowed; expected {expected}")]
+    OutOfRange {
+        command: &'static str,
+        argument: String,
+        value: String,
+        expected: String,
+        arg: Arg,
+    },
+}
+
+impl CommandError {
+    /// Its `error_code` ([`crate::error_code`]).
+    pub fn code(&self) -> ErrorCode {
+        match self {
+            CommandError::Framing(_)
+            | CommandError::Json(_)
+            | CommandError::DuplicateKey { .. } => ErrorCode::InvalidJson,
+            CommandError::MissingCommand
+            | CommandError::CommandNotString { .. }
+            | CommandError::UnknownField { .. }
+            | CommandError::ArgumentsNotObject { .. } => ErrorCode::InvalidCommand,
+            CommandError::UnknownCommand { .. } => ErrorCode::UnknownCommand,
+            CommandError::UnknownArgument { .. } => ErrorCode::UnknownArgument,
+            CommandError::Missing { .. } => ErrorCode::MissingArgument,
+            CommandError::Invalid { .. } => ErrorCode::InvalidArgument,
+            CommandError::OutOfRange { arg, .. } => Reason::argument_code(*arg)
+                .error_code()
+                .unwrap_or(ErrorCode::OutOfRange),
+        }
+    }
 }
 
 /// The `arguments` of one command.
@@ -257,7 +292,13 @@ fn ranged_value(
     if arg.accepts(x, bounds) {
         Ok(x)
     } else {
-        Err(args.invalid_value(name, Num(x), expected()))
+        Err(CommandError::OutOfRange {
+            command: args.command,
+            argument: name.to_string(),
+            value: Num(x).to_string(),
+            expected: expected(),
+            arg,
+        })
     }
 }
 

@@ -14,6 +14,7 @@
 use crate::NUM_AXES;
 use crate::command::DecodeError;
 use crate::config::RobotConfig;
+use crate::error_code::ErrorCode;
 use crate::mode::{CommandKind, Mode, RejectCode};
 use crate::reply::{InfoReply, MoveAllPlan, Outcome, SafetyError};
 use crate::sample::{
@@ -73,9 +74,9 @@ impl Answer {
         }
     }
 
-    /// An ERROR with `message`.
-    pub fn error(message: impl Into<String>) -> Answer {
-        Answer::Generic(Generic::error(message))
+    /// An ERROR with its `code` and `message`.
+    pub fn error(code: ErrorCode, message: impl Into<String>) -> Answer {
+        Answer::Generic(Generic::error(code, message))
     }
 
     /// `generic` OK.
@@ -132,11 +133,16 @@ pub enum ErrorStatus {
     Error,
 }
 
-/// A `generic` result: OK, or an ERROR with its words. A spontaneous safety error adds the
-/// check, the axis and the flight-recorder file.
+/// A `generic` result: OK, or an ERROR with its code and its words. A spontaneous safety error
+/// adds the check, the axis and the flight-recorder file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Generic {
     pub error_status: ErrorStatus,
+    /// The code of an ERROR ([`ErrorCode::as_str`]): what a program reads, never the words.
+    /// Kept as the text received, so that a code of a newer MCM version still reads
+    /// ([`Generic::code`] is `None` for it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_code: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error_message: Option<String>,
     /// The safety check that tripped ([`RejectCode::as_str`]).
@@ -155,6 +161,7 @@ impl Generic {
     pub fn ok() -> Generic {
         Generic {
             error_status: ErrorStatus::Ok,
+            error_code: None,
             error_message: None,
             check: None,
             axis: None,
@@ -162,13 +169,19 @@ impl Generic {
         }
     }
 
-    /// An ERROR with a message.
-    pub fn error(message: impl Into<String>) -> Generic {
+    /// An ERROR with its code and its words.
+    pub fn error(code: ErrorCode, message: impl Into<String>) -> Generic {
         Generic {
             error_status: ErrorStatus::Error,
+            error_code: Some(code.as_str().to_string()),
             error_message: Some(message.into()),
             ..Generic::ok()
         }
+    }
+
+    /// The code of an ERROR, when this version knows it (`None` for OK).
+    pub fn code(&self) -> Option<ErrorCode> {
+        ErrorCode::from_name(self.error_code.as_deref()?)
     }
 
     /// Whether it is OK.
@@ -197,25 +210,32 @@ impl Generic {
     pub fn reply_error(kind: CommandKind, outcome: &Outcome) -> Generic {
         match outcome {
             Outcome::Done(_) => Generic::ok(),
-            refused_or_failed => Generic::error(refused_or_failed.words(kind).to_string()),
+            Outcome::Refused(reason) | Outcome::Failed(reason) => {
+                Generic::error(reason.error_code(), outcome.words(kind).to_string())
+            }
         }
     }
 
-    /// A safety error in words (without the mode and the flight-recorder file).
+    /// A safety error in words (without the mode and the flight-recorder file); its
+    /// `error_code` is its `check`.
     pub fn safety_error(e: &SafetyError) -> Generic {
+        let code = e.reason.error_code();
         Generic {
-            check: Some(e.reason.code().as_str().to_string()),
+            check: Some(code.as_str().to_string()),
             axis: e.reason.axis().map(|a| a.number()),
-            ..Generic::error(e.to_string())
+            ..Generic::error(code, e.to_string())
         }
     }
 
     /// A safety error whose record this version cannot read (a core of another MCM version).
     pub fn unreadable_safety_error(e: &DecodeError) -> Generic {
-        Generic::error(format!(
-            "safety check tripped, but its record cannot be read ({e}); mcm-rt and the gateway \
+        Generic::error(
+            ErrorCode::VersionMismatch,
+            format!(
+                "safety check tripped, but its record cannot be read ({e}); mcm-rt and the gateway \
              are from different MCM versions: rebuild both from the same version"
-        ))
+            ),
+        )
     }
 
     /// The safety error a state reports in words; `None` when there was none since start.

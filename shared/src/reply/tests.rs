@@ -1,4 +1,5 @@
 use super::*;
+use crate::mode::{Mode, RejectCode};
 use proptest::prelude::*;
 
 fn axis() -> impl Strategy<Value = Axis> {
@@ -64,13 +65,15 @@ pub(crate) fn reason() -> impl Strategy<Value = Reason> {
             x()
         )
             .prop_map(|(spec, axis, value, min, max)| {
-                Reason::InvalidArgument(crate::ranges::ArgRefusal {
-                    arg: spec.arg,
-                    axis,
-                    value,
-                    min,
-                    max,
-                })
+                Reason::InvalidArgument {
+                    refusal: crate::ranges::ArgRefusal {
+                        arg: spec.arg,
+                        axis,
+                        value,
+                        min,
+                        max,
+                    },
+                }
             }),
         Just(Reason::NotAvailable),
         Just(Reason::NotSimulated),

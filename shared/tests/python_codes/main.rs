@@ -1,8 +1,9 @@
 //! The Python package's `python/src/mcm/codes.py` is generated from the contract: the wire
 //! codes (`mcm_shared::mode`), the protocol's commands (`mcm_shared::protocol::COMMANDS`: their
 //! names, the result each answers on success, those that answer nothing, those that need
-//! control), the numeric arguments (`mcm_shared::ranges::ARGS`) and the words of every refusal
-//! (`Reason`'s and `ArgRefusal`'s `Display` in `mcm_shared::reply` and `mcm_shared::ranges`).
+//! control), the numeric arguments (`mcm_shared::ranges::ARGS`), the words of every refusal
+//! (`Reason`'s and `ArgRefusal`'s `Display` in `mcm_shared::reply` and `mcm_shared::ranges`) and
+//! every error code (`mcm_shared::error_code::ErrorCode`, the Python `ErrorCode` enum).
 //! This test fails when the checked-in file differs from what it generates now;
 //! `MCM_UPDATE_PYTHON=1 cargo test -p mcm-shared --test python_codes` writes it anew.
 //!
@@ -20,13 +21,14 @@ mod encoding;
 mod text;
 
 use mcm_shared::command::Axis;
+use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
 use mcm_shared::protocol::{COMMANDS, Success};
 use mcm_shared::ranges::{ARGS, ArgRefusal, Num};
 use mcm_shared::reply::{CalibrationFailure, PvtQuantity, Reason};
 use std::fmt::Write;
 use std::path::Path;
-use text::{FRAGMENTS, FUNCTIONS, PRELUDE};
+use text::{FUNCTIONS, PRELUDE};
 
 /// Sentinel figures: distinct, and no rendering of one is part of another's.
 const S: [f64; 4] = [11.123456789, 22.234567891, 33.345678912, 44.456789123];
@@ -571,8 +573,44 @@ fn render() -> String {
     out.push_str("\n\n");
     out.push_str(&reason_text());
     out.push_str("\n\n");
-    out.push_str(FRAGMENTS);
+    out.push_str(&error_codes());
     out
+}
+
+/// Every error code ([`ErrorCode`]) as a Python enum of the same names, the spontaneous ones,
+/// and the reading of a result's code.
+fn error_codes() -> String {
+    let mut s = String::from(
+        "class ErrorCode(str, Enum):\n    \
+         \"\"\"The ``error_code`` of an ERROR result (``shared/src/error_code.rs``; the list with \
+         what\n    each means and what to do: ``docs/protocol.md``, \"Error codes\"): what a \
+         program decides on,\n    never the words. A ``str``: \
+         ``ErrorCode.BUSY == \"busy\"``.\"\"\"\n\n",
+    );
+    for c in ErrorCode::ALL {
+        let _ = writeln!(
+            s,
+            "    {} = {}",
+            c.as_str().to_uppercase(),
+            py_str(c.as_str())
+        );
+    }
+    s.push_str(
+        "\n\n#: The codes of ERROR results that answer no command (notices about the MCM's life, \
+         the\n#: connection's timeouts, lost events); a safety error names its ``check`` besides.\n\
+         SPONTANEOUS: FrozenSet[ErrorCode] = frozenset({\n",
+    );
+    for c in ErrorCode::ALL.iter().filter(|c| c.is_spontaneous()) {
+        let _ = writeln!(s, "    ErrorCode.{},", c.as_str().to_uppercase());
+    }
+    s.push_str(
+        "})\n\n\ndef error_code(result: Dict[str, Any]) -> Optional[ErrorCode]:\n    \
+         \"\"\"The ``error_code`` of an ERROR result; None when it has none, or one this version \
+         does not\n    know (a newer MCM).\"\"\"\n    \
+         try:\n        return ErrorCode(result.get(\"error_code\"))\n    \
+         except ValueError:\n        return None\n",
+    );
+    s
 }
 
 /// Compare `python/src/mcm/<file>` with what the contract generates (writing it first under

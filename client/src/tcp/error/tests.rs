@@ -2,34 +2,35 @@ use super::*;
 use mcm_shared::command::Axis;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
+use mcm_shared::mode::RejectCode;
 use mcm_shared::protocol::Command;
 use mcm_shared::protocol::results::Generic;
+use mcm_shared::reply::Reason;
 use mcm_shared::reply::{CalibrationFailure, Outcome};
 
-/// The gateway's words for the core's `outcome` of a `kind` request.
-fn core_words(kind: CommandKind, outcome: Outcome) -> String {
-    Generic::reply_error(kind, &outcome).message().to_string()
+/// The gateway's ERROR result for the core's `outcome` of a `kind` request.
+fn core_error(kind: CommandKind, outcome: Outcome) -> Generic {
+    Generic::reply_error(kind, &outcome)
 }
 
-/// The gateway's words for a command line it refuses itself.
-fn refusal_of(json: &str) -> String {
-    Command::from_json(json, &RobotConfig::prob2_default())
-        .unwrap_err()
-        .to_string()
+/// The gateway's ERROR result for a command line it refuses itself.
+fn refusal_of(json: &str) -> Generic {
+    let e = Command::from_json(json, &RobotConfig::prob2_default()).unwrap_err();
+    Generic::error(e.code(), e.to_string())
 }
 
 #[test]
 fn refusals_failures_and_unknown_outcomes_are_told_apart_with_their_code() {
-    let busy = core_words(
+    let busy = core_error(
         CommandKind::MoveAll,
         Outcome::Refused(Reason::Busy { remaining_s: 0.845 }),
     );
-    let e = McmError::from_message("move_all", &busy);
+    let e = McmError::from_generic("move_all", &busy);
     assert_eq!(
         (e.kind, e.code),
-        (ErrorKind::Refused, Some(RejectCode::Busy))
+        (ErrorKind::Refused, Some(ErrorCode::Busy))
     );
-    let failed = core_words(
+    let failed = core_error(
         CommandKind::Calibrate,
         Outcome::Failed(Reason::CalibrationFailed {
             axis: Axis::new(3).unwrap(),
@@ -38,37 +39,55 @@ fn refusals_failures_and_unknown_outcomes_are_told_apart_with_their_code() {
             },
         }),
     );
-    let e = McmError::from_message("calibrate", &failed);
+    let e = McmError::from_generic("calibrate", &failed);
     assert_eq!(
         (e.kind, e.code),
-        (ErrorKind::Failed, Some(RejectCode::CalibrationFailed))
+        (ErrorKind::Failed, Some(ErrorCode::CalibrationFailed))
     );
-    // The gateway's words when the core's reply does not come (gateway/src/command.rs,
-    // `bridge_message`, pinned by its own test).
-    let e = McmError::from_message(
-        "move_axis",
+    let unknown_outcome = Generic::error(
+        ErrorCode::OutcomeUnknown,
         "move_axis: no reply from the real-time core within 5 s: the command may or may not have been executed; check the state",
     );
-    assert_eq!((e.kind, e.code), (ErrorKind::OutcomeUnknown, None));
-    let bad_axis =
-        refusal_of(r#"{"command":"move_axis","arguments":{"axis_index":9,"target_position":0}}"#);
-    let e = McmError::from_message("move_axis", &bad_axis);
+    let e = McmError::from_generic("move_axis", &unknown_outcome);
     assert_eq!(
         (e.kind, e.code),
-        (ErrorKind::Invalid, Some(RejectCode::OutOfRange)),
-        "{bad_axis}"
+        (ErrorKind::OutcomeUnknown, Some(ErrorCode::OutcomeUnknown))
+    );
+    let bad_axis =
+        refusal_of(r#"{"command":"move_axis","arguments":{"axis_index":9,"target_position":0}}"#);
+    let e = McmError::from_generic("move_axis", &bad_axis);
+    assert_eq!(
+        (e.kind, e.code),
+        (ErrorKind::Invalid, Some(ErrorCode::OutOfRange)),
+        "{bad_axis:?}"
     );
     let unknown = refusal_of(r#"{"command":"move_axis","arguments":{"speed":1}}"#);
-    let e = McmError::from_message("move_axis", &unknown);
-    assert_eq!((e.kind, e.code), (ErrorKind::Invalid, None), "{unknown}");
-    // The gateway's own words for a refusal to a client that does not control the arm
-    // (gateway/src/command/access/mod.rs, `reply_error`).
-    let e = McmError::from_message(
-        "move_axis",
-        "move_axis refused: the arm is controlled by JSON client 10.1.2.3:51234 (client id 0x1a2b00000003); only `hold`, `status` and `info` are open to others until it sends `release_control` or disconnects",
+    let e = McmError::from_generic("move_axis", &unknown);
+    assert_eq!(
+        (e.kind, e.code),
+        (ErrorKind::Invalid, Some(ErrorCode::UnknownArgument)),
+        "{unknown:?}"
     );
-    assert_eq!(e.code, Some(RejectCode::NotOwner));
     assert_eq!(e.to_string(), e.message, "the MCM's words, unchanged");
+}
+
+/// A program decides on the code: words reworded (or in another language) change nothing.
+#[test]
+fn the_code_is_read_not_the_words() {
+    let g = Generic::error(ErrorCode::NotOwner, "move_axis refused: quelqu'un d'autre");
+    let e = McmError::from_generic("move_axis", &g);
+    assert_eq!(
+        (e.kind, e.code),
+        (ErrorKind::Refused, Some(ErrorCode::NotOwner))
+    );
+    let g = Generic::error(
+        ErrorCode::WrongMode,
+        "move_axis refused: controlled by someone",
+    );
+    assert_eq!(
+        McmError::from_generic("move_axis", &g).code,
+        Some(ErrorCode::WrongMode)
+    );
 }
 
 /// A target out of reach reads the same whichever side refused it: the gateway, parsing it,
@@ -78,7 +97,7 @@ fn an_unreachable_target_is_read_as_unreachable_from_either_side() {
     let gateway =
         refusal_of(r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":400}}"#);
     let (min_deg, max_deg) = mcm_shared::ranges::reachable_deg(&RobotConfig::prob2_default(), 1);
-    let core = core_words(
+    let core = core_error(
         CommandKind::MoveAxis,
         Outcome::Refused(Reason::Unreachable {
             axis: Axis::new(2).unwrap(),
@@ -88,11 +107,11 @@ fn an_unreachable_target_is_read_as_unreachable_from_either_side() {
         }),
     );
     assert_eq!(gateway, core);
-    let e = McmError::from_message("move_axis", &core);
+    let e = McmError::from_generic("move_axis", &core);
     assert_eq!(
         (e.kind, e.code),
-        (ErrorKind::Invalid, Some(RejectCode::Unreachable)),
-        "{core}"
+        (ErrorKind::Invalid, Some(ErrorCode::Unreachable)),
+        "{core:?}"
     );
 }
 
@@ -110,13 +129,15 @@ fn every_reason_of_the_core_is_read_back_to_its_code() {
             axis: a,
             also: 0b1_0001,
         },
-        Reason::InvalidArgument(mcm_shared::ranges::ArgRefusal {
-            arg: mcm_shared::ranges::Arg::VelocityFactor,
-            axis: None,
-            value: 2.0,
-            min: 0.001,
-            max: 1.0,
-        }),
+        Reason::InvalidArgument {
+            refusal: mcm_shared::ranges::ArgRefusal {
+                arg: mcm_shared::ranges::Arg::VelocityFactor,
+                axis: None,
+                value: 2.0,
+                min: 0.001,
+                max: 1.0,
+            },
+        },
         Reason::DriveFault {
             axis: Some(a),
             code: 0x2310,
@@ -188,9 +209,9 @@ fn every_reason_of_the_core_is_read_back_to_its_code() {
     }
     for r in reasons {
         for outcome in [Outcome::Refused(r), Outcome::Failed(r)] {
-            let words = core_words(CommandKind::MoveAxis, outcome);
-            let e = McmError::from_message("move_axis", &words);
-            assert_eq!(e.code, Some(r.code()), "{words}");
+            let g = core_error(CommandKind::MoveAxis, outcome);
+            let e = McmError::from_generic("move_axis", &g);
+            assert_eq!(e.code, Some(r.error_code()), "{g:?}");
         }
     }
 }

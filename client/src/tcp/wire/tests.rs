@@ -62,7 +62,7 @@ fn spontaneous_lines_are_events_never_results() {
     assert_eq!(check, Some(RejectCode::DriveDisconnected));
     assert_eq!(axis, Some(2));
     assert_eq!(flight_recorder.as_deref(), Some("/tmp/x.csv"));
-    let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_message":"mcm-rt is shutting down: the arm is being stopped"}"#).unwrap();
+    let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_code":"core_stopping","error_message":"mcm-rt is shutting down: the arm is being stopped"}"#).unwrap();
     assert!(matches!(l, Line::Event(Event::Notice(_))), "{l:?}");
     let l = parse(&refused_in_hold(CommandKind::SetTorques)).unwrap();
     let Line::Event(Event::CommandError(e)) = l else {
@@ -70,12 +70,15 @@ fn spontaneous_lines_are_events_never_results() {
     };
     assert_eq!(
         (e.command.as_str(), e.code),
-        ("set_torques", Some(RejectCode::WrongMode))
+        (
+            "set_torques",
+            Some(mcm_shared::error_code::ErrorCode::WrongMode)
+        )
     );
     let cfg = mcm_shared::config::RobotConfig::prob2_default();
     let torques = r#"{"command":"set_torques","arguments":{"torques":[10000,0,0,0,0,0]}}"#;
     let refused = mcm_shared::protocol::Command::from_json(torques, &cfg).unwrap_err();
-    let l = parse(&line(Generic::error(refused.to_string()))).unwrap();
+    let l = parse(&line(Generic::error(refused.code(), refused.to_string()))).unwrap();
     assert!(
         matches!(&l, Line::Event(Event::CommandError(e)) if e.kind == crate::tcp::ErrorKind::Invalid),
         "{l:?}"

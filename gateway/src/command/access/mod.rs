@@ -26,6 +26,7 @@ pub use clients::{Channel, Client, Clients};
 
 use crate::command::{self, Context, Outcome};
 use mcm_shared::config::{AccessConfig, Cidr, ConfigError};
+use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::protocol::results::{AccessDetail, Answer, ControlDetail, Generic};
 use mcm_shared::protocol::{Command, Secret};
@@ -94,6 +95,17 @@ impl Refusal {
         Refusal::RemoteSim,
         Refusal::NotOwner,
     ];
+
+    /// Its `error_code`.
+    pub fn code(self) -> ErrorCode {
+        match self {
+            Refusal::Network => ErrorCode::NetworkRefused,
+            Refusal::NotAuthenticated => ErrorCode::NotAuthenticated,
+            Refusal::WrongSecret => ErrorCode::WrongSecret,
+            Refusal::RemoteSim => ErrorCode::RemoteSimRefused,
+            Refusal::NotOwner => ErrorCode::NotOwner,
+        }
+    }
 
     fn key(self) -> &'static str {
         match self {
@@ -264,12 +276,15 @@ pub fn reply_error(ctx: &Context, kind: CommandKind, outcome: &reply::Outcome) -
     match outcome {
         reply::Outcome::Refused(Reason::NotOwner { owner }) => {
             ctx.access.count(Refusal::NotOwner);
-            Generic::error(format!(
-                "{kind} refused: the arm is controlled by {} (client id {owner:#x}); only \
-                 `hold`, `status` and `info` are open to others until it sends \
-                 `release_control` or disconnects",
-                ctx.clients.who(*owner)
-            ))
+            Generic::error(
+                Refusal::NotOwner.code(),
+                format!(
+                    "{kind} refused: the arm is controlled by {} (client id {owner:#x}); only \
+                     `hold`, `status` and `info` are open to others until it sends \
+                     `release_control` or disconnects",
+                    ctx.clients.who(*owner)
+                ),
+            )
         }
         other => Generic::reply_error(kind, other),
     }
@@ -297,11 +312,10 @@ pub async fn run_command(ctx: &Context, client: &Client, cmd: &Command) -> Outco
         .decide(needs, client.peer.ip(), client.authenticated())
     {
         ctx.access.count(r);
-        return only(Answer::error(ctx.access.refusal_text(
-            cmd.name(),
-            r,
-            client.peer.ip(),
-        )));
+        return only(Answer::error(
+            r.code(),
+            ctx.access.refusal_text(cmd.name(), r, client.peer.ip()),
+        ));
     }
     if needs == Need::Motion {
         client.may_own();
@@ -324,11 +338,11 @@ async fn authenticate(ctx: &Context, client: &Client, secret: &Secret) -> Outcom
     }
     ctx.access.count(Refusal::WrongSecret);
     tokio::time::sleep(WRONG_SECRET_DELAY).await;
-    only(Answer::error(ctx.access.refusal_text(
-        "authenticate",
-        Refusal::WrongSecret,
-        client.peer.ip(),
-    )))
+    only(Answer::error(
+        Refusal::WrongSecret.code(),
+        ctx.access
+            .refusal_text("authenticate", Refusal::WrongSecret, client.peer.ip()),
+    ))
 }
 
 /// Who controls the arm, for people: the HMI's status view adds this line.

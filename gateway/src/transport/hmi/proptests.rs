@@ -35,7 +35,7 @@ fn session_path(bytes: &[u8], echo_agreed: bool, max_bytes: usize) -> (usize, us
                 Ok(Line::Help(Some(t))) => help::topic(&t, &cfg),
                 Ok(Line::Help(None)) => help::overview(),
                 Ok(_) => String::new(),
-                Err(LineError::Json(e)) => render::pretty(&result::error(e.to_string())),
+                Err(LineError::Json(e)) => render::pretty(&result::error(e.code(), e.to_string())),
                 Err(e) => render::line_error(&e),
             },
         };

@@ -10,6 +10,7 @@
 
 use super::words::LineError;
 use mcm_shared::config::RobotConfig;
+use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::Mode;
 use mcm_shared::protocol;
 use mcm_shared::protocol::results::{
@@ -153,21 +154,33 @@ pub fn answer(command: &str, v: &Answer, cfg: &RobotConfig, state: Option<&State
             let words = protocol::find(command).map_or("", |d| d.ok_words);
             format!("{GREEN}OK{RESET}{words}\n")
         }
-        Answer::Generic(g) => error(command, g.message(), state),
+        Answer::Generic(g) => error(command, g, state),
     }
 }
 
-/// An error of `command` with a hint on how to fix it.
-pub fn error(command: &str, message: &str, state: Option<&StateSample>) -> String {
-    let mut s = format!("{RED}error:{RESET} {}\n", visible(message));
+/// The start of an error line: `error` and its code in brackets (`error [wrong_mode]:`).
+fn error_head(code: Option<&str>) -> String {
+    match code {
+        Some(c) => format!("{RED}error [{}]:{RESET}", visible(c)),
+        None => format!("{RED}error:{RESET}"),
+    }
+}
+
+/// An ERROR result `g` of `command`, with its code and a hint on how to fix it.
+pub fn error(command: &str, g: &Generic, state: Option<&StateSample>) -> String {
+    let mut s = format!(
+        "{} {}\n",
+        error_head(g.error_code.as_deref()),
+        visible(g.message())
+    );
     let spec = protocol::find(command);
-    let hint = if message.contains("is not running") {
+    let hint = if g.code() == Some(ErrorCode::CoreUnavailable) {
         Some(
             "the real-time core (mcm-rt) is not running: start it (the `mcm` launcher starts both \
              processes), then try again"
                 .to_string(),
         )
-    } else if message.contains("not allowed in mode")
+    } else if g.code() == Some(ErrorCode::WrongMode)
         && let Some(spec) = spec
     {
         let now = state.map(mode_name).unwrap_or("unknown");
@@ -181,7 +194,7 @@ pub fn error(command: &str, message: &str, state: Option<&StateSample>) -> Strin
             spec.modes,
             capitalise(&how)
         ))
-    } else if message.contains("no reply from the real-time core") {
+    } else if g.code() == Some(ErrorCode::OutcomeUnknown) {
         Some("the real-time core did not answer in time; `status` shows whether it runs".into())
     } else {
         None
@@ -202,7 +215,11 @@ fn capitalise(s: &str) -> String {
 
 /// A line the parser refused, with the usage of its command.
 pub fn line_error(e: &LineError) -> String {
-    let mut s = format!("{RED}error:{RESET} {}\n", visible(&e.to_string()));
+    let mut s = format!(
+        "{} {}\n",
+        error_head(Some(e.code().as_str())),
+        visible(&e.to_string())
+    );
     if let Some(spec) = e.command() {
         let _ = writeln!(
             s,
@@ -216,8 +233,8 @@ pub fn line_error(e: &LineError) -> String {
 
 /// A notice about the MCM's own life (`crate::core_link::lifecycle::Notice`): the words the
 /// JSON/TCP and ZeroMQ clients get as a `generic` ERROR result, as an ERROR line.
-pub fn notice(text: &str) -> String {
-    format!("{RED}ERROR: {text}{RESET}\n")
+pub fn notice(code: ErrorCode, text: &str) -> String {
+    format!("{RED}ERROR [{code}]: {text}{RESET}\n")
 }
 
 /// A spontaneous safety error ([`Generic::safety_event`]).

@@ -141,7 +141,7 @@ pub async fn serve(
             // gateway's own last line: the words every channel gets.
             let mut bye = b"\r\n\x1b[?25h".to_vec();
             for n in session.core.last_words() {
-                terminal_text(&render::notice(n.text()), &mut bye);
+                terminal_text(&render::notice(n.code(), n.text()), &mut bye);
             }
             let write = session.wr.write_all(&bye);
             let _ = tokio::time::timeout(FAREWELL_TIMEOUT, write).await;
@@ -252,7 +252,7 @@ impl Session {
             match event {
                 Event::Read(n) => self.received(n?),
                 Event::Error(e) => self.interject(e),
-                Event::Core(n) => self.interject_text(&render::notice(n.text())),
+                Event::Core(n) => self.interject_text(&render::notice(n.code(), n.text())),
                 Event::Tick => self.refresh_prompt(),
                 Event::Expired(kind) => {
                     let why = kind.message(&self.ctx.cfg.gateway.connections, true);
@@ -467,7 +467,9 @@ impl Session {
                     return Ok(Flow::Quit);
                 }
             }
-            Err(LineError::Json(e)) => self.say(&render::pretty(&result::error(e.to_string()))),
+            Err(LineError::Json(e)) => {
+                self.say(&render::pretty(&result::error(e.code(), e.to_string())))
+            }
             Err(e) => self.say(&render::line_error(&e)),
         }
         Ok(Flow::Continue)

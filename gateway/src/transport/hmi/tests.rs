@@ -215,7 +215,7 @@ async fn telnet_session() {
     let text = c.command("move_axis 9 0").await;
     assert!(
         text.contains(
-            "error: move_axis: argument \"axis_index\" = 9 is not allowed; expected an axis number from 1 to 6"
+            "error [out_of_range]: move_axis: argument \"axis_index\" = 9 is not allowed; expected an axis number from 1 to 6"
         ),
         "{text}"
     );
@@ -232,7 +232,7 @@ async fn telnet_session() {
 
     let text = c.command("status").await;
     assert!(
-        text.contains("error: status failed: the real-time core"),
+        text.contains("error [core_unavailable]: status failed: the real-time core"),
         "{text}"
     );
     assert!(
@@ -318,7 +318,7 @@ async fn nc_session_ctrl_d_and_shutdown() {
         assert!(text.contains("shutting down"), "{text}");
         let words = crate::core_link::lifecycle::Notice::GatewayStopping.text();
         assert!(
-            strip_ansi(&text).contains(&format!("ERROR: {words}\r\n")),
+            strip_ansi(&text).contains(&format!("ERROR [gateway_stopping]: {words}\r\n")),
             "{text}"
         );
     };
@@ -345,7 +345,7 @@ async fn jog_without_a_core_says_why_and_keeps_the_session() {
     c.send(TELNET_HELLO).await;
     let text = c.command("jog 2").await;
     assert!(
-        text.contains("error: velocity_control failed: the real-time core"),
+        text.contains("error [core_unavailable]: velocity_control failed: the real-time core"),
         "{text}"
     );
     assert!(!text.contains("jogging axis"), "{text}");

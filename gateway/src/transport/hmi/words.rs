@@ -115,6 +115,25 @@ fn did_you_mean(s: Option<&'static str>) -> String {
 
 impl LineError {
     /// The protocol command the error is about, when it is one (for a usage hint).
+    /// Its `error_code` (the HMI shows it in brackets): the code of the same mistake in a JSON
+    /// command where there is one.
+    pub fn code(&self) -> mcm_shared::error_code::ErrorCode {
+        use mcm_shared::error_code::ErrorCode;
+        match self {
+            LineError::UnknownCommand { .. } => ErrorCode::UnknownCommand,
+            LineError::NoCommand { .. }
+            | LineError::UnterminatedQuote { .. }
+            | LineError::Unbalanced { .. } => ErrorCode::InvalidCommand,
+            LineError::UnknownArgument { .. } => ErrorCode::UnknownArgument,
+            LineError::Duplicate { .. }
+            | LineError::TooMany { .. }
+            | LineError::NotSix { .. }
+            | LineError::BadJson { .. }
+            | LineError::Session { .. } => ErrorCode::InvalidArgument,
+            LineError::Rejected { error, .. } | LineError::Json(error) => error.code(),
+        }
+    }
+
     pub fn command(&self) -> Option<&'static CommandDef> {
         match self {
             LineError::UnknownArgument { command, .. }

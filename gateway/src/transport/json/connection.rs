@@ -21,6 +21,7 @@ use crate::transport::server::admission::Slot;
 use crate::transport::server::timeouts::{WRITE_TIMEOUT, deadline};
 use crate::transport::shutdown::Shutdown;
 use mcm_shared::config::RobotConfig;
+use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::Mode;
 use mcm_shared::protocol::Command;
 use mcm_shared::sample::StateSample;
@@ -123,6 +124,7 @@ pub async fn decide(frame: Frame, cfg: &std::sync::Arc<RobotConfig>) -> Step {
         .await
         .unwrap_or_else(|| {
             Step::Reply(result::error(
+                ErrorCode::InternalError,
                 "the command could not be parsed; nothing was done",
             ))
         })
@@ -131,13 +133,16 @@ pub async fn decide(frame: Frame, cfg: &std::sync::Arc<RobotConfig>) -> Step {
 /// Decide what to do with one frame; never panics, whatever the bytes were.
 pub fn step(frame: Frame, cfg: &RobotConfig) -> Step {
     match frame {
-        Frame::Oversize => Step::Close(result::error(format!(
-            "command longer than the limit of {MAX_COMMAND_BYTES} bytes; closing the connection"
-        ))),
-        Frame::Invalid { reason } => Step::Reply(result::error(reason)),
+        Frame::Oversize => Step::Close(result::error(
+            ErrorCode::LineTooLong,
+            format!(
+                "command longer than the limit of {MAX_COMMAND_BYTES} bytes; closing the connection"
+            ),
+        )),
+        Frame::Invalid { reason } => Step::Reply(result::error(ErrorCode::InvalidJson, reason)),
         Frame::Object(text) => match Command::from_json(&text, cfg) {
             Ok(cmd) => Step::Run(cmd),
-            Err(e) => Step::Reply(result::error(e.to_string())),
+            Err(e) => Step::Reply(result::error(e.code(), e.to_string())),
         },
     }
 }
@@ -212,7 +217,7 @@ where
                     out = &mut fut => break out,
                     e = errors.recv() => forward_error(&mut wr, e).await?,
                     // Only during a `sleep`, which does not protect from eviction.
-                    why = slot.evicted() => return say_goodbye(&mut rd, &mut wr, &why).await,
+                    why = slot.evicted() => return say_goodbye(&mut rd, &mut wr, ErrorCode::Evicted, &why).await,
                     () = shutdown.recv() => return goodbye(&mut wr, &mut core).await,
                 }
             };
@@ -278,10 +283,10 @@ where
                 }
             }
             () = async { tokio::time::sleep_until(expiry.as_ref().expect("guarded").0).await }, if expiry.is_some() => {
-                let why = expiry.map(|e| e.1.message(limits, false)).unwrap_or_default();
-                return say_goodbye(&mut rd, &mut wr, &why).await;
+                let (code, why) = expiry.map_or((ErrorCode::IdleTimeout, String::new()), |e| (e.1.code(), e.1.message(limits, false)));
+                return say_goodbye(&mut rd, &mut wr, code, &why).await;
             }
-            why = slot.evicted() => return say_goodbye(&mut rd, &mut wr, &why).await,
+            why = slot.evicted() => return say_goodbye(&mut rd, &mut wr, ErrorCode::Evicted, &why).await,
             () = shutdown.recv() => return goodbye(&mut wr, &mut core).await,
         }
     }
@@ -311,17 +316,17 @@ async fn forward_error<W: AsyncWrite + Unpin>(
 ) -> std::io::Result<()> {
     match e {
         Ok(ev) => send(wr, &result::safety_event(&ev)).await,
-        Err(RecvError::Lagged(n)) => {
-            send(
-                wr,
-                &result::error(format!(
-                    "{n} safety errors were not delivered to this slow connection"
-                )),
-            )
-            .await
-        }
+        Err(RecvError::Lagged(n)) => send(wr, &events_lost(n)).await,
         Err(RecvError::Closed) => Ok(()),
     }
+}
+
+/// The ERROR telling a connection that `n` safety errors were not delivered to it.
+pub(crate) fn events_lost(n: u64) -> Value {
+    result::error(
+        ErrorCode::EventsLost,
+        format!("{n} safety errors were not delivered to this slow connection"),
+    )
 }
 
 /// Write one result line (pure ASCII: non-ASCII characters as `\uXXXX`); a client that does
@@ -346,14 +351,15 @@ pub async fn send<W: AsyncWrite + Unpin>(wr: &mut BufWriter<W>, v: &Value) -> st
         })
 }
 
-/// End the connection with one ERROR line saying `why` (see
+/// End the connection with one ERROR line saying `why`, of `code` (see
 /// [`crate::transport::server::farewell`]).
 async fn say_goodbye<R: AsyncRead + Unpin, W: AsyncWrite + Unpin>(
     rd: &mut R,
     wr: &mut BufWriter<W>,
+    code: ErrorCode,
     why: &str,
 ) -> std::io::Result<()> {
-    let line = super::json_line(why);
+    let line = super::json_line(code, why);
     crate::transport::server::farewell(rd, wr, line.as_bytes()).await;
     Ok(())
 }

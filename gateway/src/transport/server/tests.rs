@@ -220,6 +220,7 @@ impl Client {
         let v = self.line().await;
         let msg = error_message(&v);
         assert!(msg.starts_with(prefix), "{msg}");
+        assert_eq!(v["error_code"], "evicted", "{v}");
         assert_eq!(self.rest().await, "");
     }
 }
@@ -251,6 +252,7 @@ async fn idle_connections_are_closed_but_a_long_command_is_not_idle() {
         msg.starts_with("idle timeout: no command for 0.4 s (gateway.connections.idle_timeout_s)"),
         "{msg}"
     );
+    assert_eq!(v["error_code"], "idle_timeout", "{v}");
     assert_eq!(c.rest().await, "", "closed after the one line");
     s.shutdown().await;
 }
@@ -288,6 +290,7 @@ async fn slowloris_is_cut_by_the_line_timeout() {
         error_message(&v).starts_with("line timeout: a command line was started but not completed within 0.5 s (gateway.connections.line_timeout_s)"),
         "{v}"
     );
+    assert_eq!(v["error_code"], "line_timeout", "{v}");
     drip.abort();
     s.shutdown().await;
 }
@@ -329,6 +332,7 @@ async fn a_busy_peer_at_its_cap_is_refused_with_a_reason() {
         error_message(&v).contains("none of them is idle; try again later"),
         "{v}"
     );
+    assert_eq!(v["error_code"], "too_many_connections", "{v}");
     assert_eq!(
         a.request(NOOP).await["error_status"],
         "OK",

@@ -21,6 +21,14 @@ pub enum Expiry {
 }
 
 impl Expiry {
+    /// Its `error_code`.
+    pub fn code(self) -> mcm_shared::error_code::ErrorCode {
+        match self {
+            Expiry::Idle => mcm_shared::error_code::ErrorCode::IdleTimeout,
+            Expiry::Line => mcm_shared::error_code::ErrorCode::LineTimeout,
+        }
+    }
+
     /// The reason given to the client, naming the timeout, its value and its key.
     pub fn message(self, limits: &ConnectionLimits, hmi: bool) -> String {
         let (who, key, value) = match (self, hmi) {

@@ -164,6 +164,7 @@ async fn the_socket_carries_the_json_protocol_one_result_per_command() {
     let r = next(&mut ws).await;
     assert_eq!(r["error_status"], "ERROR", "{r}");
     assert!(r["error_message"].as_str().unwrap().contains("fly"), "{r}");
+    assert_eq!(r["error_code"], "unknown_command", "{r}");
     ws.send(Message::binary(vec![0xff, 0x00, 0x7b]))
         .await
         .unwrap();
@@ -215,6 +216,7 @@ async fn an_over_long_command_is_answered_then_the_socket_closes() {
         r["error_message"].as_str().unwrap().contains("longer than"),
         "{r}"
     );
+    assert_eq!(r["error_code"], "line_too_long", "{r}");
     let end = tokio::time::timeout(WAIT, async {
         loop {
             match ws.next().await {
@@ -245,6 +247,7 @@ async fn an_idle_page_makes_room_and_is_told_why() {
             .contains("to make room"),
         "{r}"
     );
+    assert_eq!(r["error_code"], "evicted", "{r}");
     srv.stop().await;
 }
 
@@ -315,5 +318,49 @@ fn the_vendored_files_match_their_recorded_checksums() {
     assert_eq!(
         present, checked,
         "every vendored file is listed in VERSIONS"
+    );
+}
+
+const CODES_JS: &str = "web/codes.js";
+
+/// `gateway/web/codes.js`, the pendant's list of error codes, as the contract's table
+/// ([`mcm_shared::error_code`]) gives it.
+fn codes_js() -> String {
+    use mcm_shared::error_code::ErrorCode;
+    let text = |s: &str| serde_json::to_string(s).expect("a string");
+    let mut js = String::from(
+        "// The error codes (`error_code` of every ERROR result): what each means and what to do.\n\
+         // GENERATED from shared/src/error_code.rs by gateway/src/transport/web/tests.rs; do not\n\
+         // edit by hand: `MCM_UPDATE_WEB=1 cargo test -p mcm-gateway --lib web::tests` writes it anew.\n\n\
+         export const ERROR_CODES = {\n",
+    );
+    for c in ErrorCode::ALL {
+        js.push_str(&format!(
+            "  {}: {{ meaning: {}, remedy: {}, spontaneous: {} }},\n",
+            c.as_str(),
+            text(c.meaning()),
+            text(c.remedy()),
+            c.is_spontaneous()
+        ));
+    }
+    js.push_str("};\n");
+    js
+}
+
+/// The pendant shows what to do about an error from the contract's table, never from a list
+/// of its own.
+#[test]
+fn the_pendants_error_codes_are_the_contracts() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(CODES_JS);
+    let want = codes_js();
+    let have = std::fs::read_to_string(&path).unwrap_or_default();
+    if have != want && std::env::var_os("MCM_UPDATE_WEB").is_some() {
+        std::fs::write(&path, &want).expect("write gateway/web/codes.js");
+        return;
+    }
+    assert!(
+        have == want,
+        "gateway/{CODES_JS} differs from the error codes of shared/src/error_code.rs; \
+         `MCM_UPDATE_WEB=1 cargo test -p mcm-gateway --lib web::tests` writes it anew"
     );
 }

@@ -171,14 +171,14 @@ async fn run(
         let (topic, v) = tokio::select! {
             s = states.recv() => match s {
                 Ok(s) => state_message(&s),
-                Err(RecvError::Lagged(n)) => ("error", result::error(format!(
+                Err(RecvError::Lagged(n)) => ("error", result::error(mcm_shared::error_code::ErrorCode::EventsLost, format!(
                     "{n} states were not published on ZeroMQ: the publisher fell behind the cycle"
                 ))),
                 Err(RecvError::Closed) => break,
             },
             e = errors.recv() => match e {
                 Ok(ev) => ("error", result::safety_event(&ev)),
-                Err(RecvError::Lagged(n)) => ("error", result::error(format!(
+                Err(RecvError::Lagged(n)) => ("error", result::error(mcm_shared::error_code::ErrorCode::EventsLost, format!(
                     "{n} safety errors were not published on ZeroMQ: the publisher fell behind"
                 ))),
                 Err(RecvError::Closed) => break,

@@ -19,6 +19,7 @@ use super::peer::{self, Outbox};
 use crate::command::Context;
 use crate::command::access::{Channel, Client};
 use crate::command::result;
+use mcm_shared::error_code::ErrorCode;
 use std::collections::HashMap;
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::sync::Arc;
@@ -60,6 +61,28 @@ pub(super) struct Router {
 
 /// The peer's address from a message's metadata: the connection's descriptor names it fully;
 /// else the `Peer-Address` property (its IP only); else an unspecified address.
+/// The reply to a new peer when `max` peers are served already.
+fn peers_full(max: usize) -> serde_json::Value {
+    result::error(
+        ErrorCode::TooManyConnections,
+        format!(
+            "the gateway serves at most {max} ZeroMQ peers at once (gateway.zmq.max_peers); \
+             try again when one has gone"
+        ),
+    )
+}
+
+/// The reply to a request of a peer whose [`QUEUE_PER_PEER`] requests wait already.
+fn queue_full() -> serde_json::Value {
+    result::error(
+        ErrorCode::TooManyRequests,
+        format!(
+            "{QUEUE_PER_PEER} requests of this ZeroMQ peer already wait for their replies; \
+             send the next one after a reply; nothing was done"
+        ),
+    )
+}
+
 fn peer_address(msg: &mut zmq::Message) -> (SocketAddr, Option<i32>) {
     let fd = msg.gets("__fd").and_then(|s| s.parse::<i32>().ok());
     if let Some(addr) = fd.and_then(addr_of_fd) {
@@ -170,12 +193,8 @@ impl Router {
         let id = req.envelope[0].clone();
         if !peers.contains_key(&id) {
             if peers.len() >= self.max_peers {
-                let why = format!(
-                    "the gateway serves at most {} ZeroMQ peers at once (gateway.zmq.max_peers); \
-                     try again when one has gone",
-                    self.max_peers
-                );
-                self.send(req.reply(mcm_shared::protocol::json::to_ascii(&result::error(why))));
+                let line = mcm_shared::protocol::json::to_ascii(&peers_full(self.max_peers));
+                self.send(req.reply(line));
                 return;
             }
             peers.insert(id.clone(), self.new_peer(addr));
@@ -187,11 +206,7 @@ impl Router {
             let req = match e {
                 mpsc::error::TrySendError::Full(r) | mpsc::error::TrySendError::Closed(r) => r,
             };
-            let why = format!(
-                "{QUEUE_PER_PEER} requests of this ZeroMQ peer already wait for their replies; \
-                 send the next one after a reply; nothing was done"
-            );
-            self.send(req.reply(mcm_shared::protocol::json::to_ascii(&result::error(why))));
+            self.send(req.reply(mcm_shared::protocol::json::to_ascii(&queue_full())));
         }
     }
 
@@ -214,3 +229,6 @@ impl Router {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

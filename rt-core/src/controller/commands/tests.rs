@@ -142,13 +142,15 @@ fn a_torque_beyond_the_peak_is_refused_whole_naming_axis_and_limit() {
     t[2] = peak + 1.0;
     assert_eq!(
         r.refused(set_torques(t), 5),
-        Reason::InvalidArgument(mcm_shared::ranges::ArgRefusal {
-            arg: mcm_shared::ranges::Arg::Torques,
-            axis: Some(Axis::ALL[2]),
-            value: peak + 1.0,
-            min: -peak,
-            max: peak,
-        })
+        Reason::InvalidArgument {
+            refusal: mcm_shared::ranges::ArgRefusal {
+                arg: mcm_shared::ranges::Arg::Torques,
+                axis: Some(Axis::ALL[2]),
+                value: peak + 1.0,
+                min: -peak,
+                max: peak,
+            }
+        }
     );
     let crate::controller::state::State::Torque { torques, .. } = r.cycle.controller().state else {
         panic!("still in torque control: {:?}", r.mode())

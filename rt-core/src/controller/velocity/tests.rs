@@ -130,13 +130,15 @@ fn refusals_name_mode_axis_value_and_range() {
     let reason = r.refused(set_velocities([0.0, 0.0, 0.0, 151.0, 0.0, 0.0]), 5);
     assert_eq!(
         reason,
-        Reason::InvalidArgument(ArgRefusal {
-            arg: Arg::Velocities,
-            axis: Axis::new(4),
-            value: 151.0,
-            min: -150.0,
-            max: 150.0
-        })
+        Reason::InvalidArgument {
+            refusal: ArgRefusal {
+                arg: Arg::Velocities,
+                axis: Axis::new(4),
+                value: 151.0,
+                min: -150.0,
+                max: 150.0
+            }
+        }
     );
     // The words of the gateway's refusal of the same value (one table of ranges).
     assert_eq!(

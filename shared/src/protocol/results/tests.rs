@@ -155,13 +155,19 @@ fn safety_errors_name_the_check_and_the_axis() {
         (v["check"].as_str(), v["axis"].as_u64()),
         (Some("following_error"), Some(3))
     );
+    assert_eq!(
+        v["error_code"], v["check"],
+        "a safety error's code is its check"
+    );
     assert_eq!(last_error(&e.encode()), Some(v));
     assert_eq!(last_error(&ErrorRecord::default()), None);
     let unknown = ErrorRecord {
         code: 99,
         ..e.encode()
     };
-    let text = last_error(&unknown).unwrap()["error_message"].to_string();
+    let unreadable = last_error(&unknown).unwrap();
+    assert_eq!(unreadable["error_code"], "version_mismatch");
+    let text = unreadable["error_message"].to_string();
     assert!(
         text.contains("cannot be read (reject code 99 is not known") && !text.contains("no error"),
         "{text}"
@@ -210,7 +216,7 @@ fn one_of_each() -> Vec<Answer> {
     };
     let each = vec![
         Answer::ok(),
-        Answer::error("move_all refused: x"),
+        Answer::error(ErrorCode::Busy, "move_all refused: x"),
         Answer::Status(Box::new(Status::from_state(&state, false).unwrap())),
         Answer::Initialization(Info::new(&RobotConfig::prob2_default(), &info, true)),
         Answer::MoveAll(MoveAllResult {
@@ -273,7 +279,7 @@ fn every_result_type_is_the_one_a_success_names() {
     }
     let types: std::collections::BTreeSet<_> = each.iter().map(Answer::result_type).collect();
     assert_eq!(named, types, "every result_type is answered by one Success");
-    assert!(!Success::Ok.answers(&Answer::error("x")));
+    assert!(!Success::Ok.answers(&Answer::error(ErrorCode::Busy, "x")));
 }
 
 /// A line that is no result of this version is refused naming what is wrong and the value.
@@ -316,4 +322,25 @@ fn a_state_in_an_unknown_mode_names_the_mode_and_the_known_ones() {
         "{text}"
     );
     assert!(text.contains("0 OFF, 1 ERROR"), "{text}");
+}
+
+proptest::proptest! {
+    /// Every reason of the core, refused, failed or tripped, reaches a client with its code:
+    /// the code of the reason (a safety error's `error_code` equal to its `check`), which a
+    /// client reads back as the same code.
+    #[test]
+    fn every_reason_carries_its_code(reason in crate::reply::tests::reason()) {
+        let name = reason.code().as_str();
+        for outcome in [Outcome::Refused(reason), Outcome::Failed(reason)] {
+            let v = reply_error(CommandKind::MoveAxis, &outcome);
+            proptest::prop_assert_eq!(v["error_code"].as_str(), Some(name));
+            let back = Answer::from_value(&v).unwrap();
+            let Answer::Generic(g) = back else { panic!("{v}") };
+            proptest::prop_assert_eq!(g.code(), Some(reason.error_code()));
+        }
+        let e = SafetyError { seq: 1, cycle: 1, unix_ns: 0, reason };
+        let v = safety_error(&e);
+        proptest::prop_assert_eq!(v["error_code"].as_str(), Some(name));
+        proptest::prop_assert_eq!(&v["error_code"], &v["check"]);
+    }
 }

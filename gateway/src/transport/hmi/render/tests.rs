@@ -177,14 +177,17 @@ fn info_and_sim_tables() {
 #[test]
 fn errors_say_how_to_fix_them() {
     let st = state(Mode::Hold);
-    let msg = "move_axis refused: not allowed in mode HOLD";
-    let text = strip_ansi(&error("move_axis", msg, Some(&st)));
+    let msg = Generic::error(
+        ErrorCode::WrongMode,
+        "move_axis refused: not allowed in mode HOLD",
+    );
+    let text = strip_ansi(&error("move_axis", &msg, Some(&st)));
     assert_eq!(
         text,
-        "error: move_axis refused: not allowed in mode HOLD\n  hint: `move_axis` is accepted in PVT; \
+        "error [wrong_mode]: move_axis refused: not allowed in mode HOLD\n  hint: `move_axis` is accepted in PVT; \
          the mode is HOLD. Enter PVT mode first: `pvt`.\n"
     );
-    let text = strip_ansi(&error("move_axis", msg, Some(&state(Mode::Release))));
+    let text = strip_ansi(&error("move_axis", &msg, Some(&state(Mode::Release))));
     assert!(
         text.ends_with("the mode is RELEASE. Enter PVT mode first: `hold`, then `pvt`.\n"),
         "{text}"
@@ -192,6 +195,7 @@ fn errors_say_how_to_fix_them() {
     let text = strip_ansi(&answer(
         "status",
         &Answer::error(
+            ErrorCode::CoreUnavailable,
             "status failed: the real-time core (mcm-rt, instance `x`) is not running or not answering",
         ),
         &cfg(),
@@ -210,7 +214,9 @@ fn line_errors_show_the_usage() {
     let e = super::super::words::parse_line("move_axis 1", &cfg()).unwrap_err();
     let text = strip_ansi(&line_error(&e));
     assert!(
-        text.starts_with("error: move_axis: missing argument \"target_position\""),
+        text.starts_with(
+            "error [missing_argument]: move_axis: missing argument \"target_position\""
+        ),
         "{text}"
     );
     assert!(

@@ -9,7 +9,7 @@ use crate::transport::hmi::jog::{
 use crate::transport::hmi::render;
 use mcm_shared::command::{self, Axis, SetVelocities};
 use mcm_shared::mode::Mode;
-use mcm_shared::protocol::results::Answer;
+use mcm_shared::protocol::results::{Answer, Generic};
 use mcm_shared::protocol::{Command, Hold, VelocityControl};
 use std::io;
 use tokio::io::AsyncReadExt;
@@ -73,12 +73,12 @@ impl Session {
         Ok(Flow::Continue)
     }
 
-    /// Run `cmd` for this session; the error message when it was not done.
-    async fn jog_command(&mut self, cmd: &Command) -> Option<String> {
+    /// Run `cmd` for this session; the ERROR result when it was not done.
+    async fn jog_command(&mut self, cmd: &Command) -> Option<Generic> {
         let (ctx, client) = (self.ctx.clone(), self.client.clone());
         let out = crate::command::access::run_command(&ctx, &client, cmd).await;
         match out.result? {
-            Answer::Generic(g) if !g.is_ok() => Some(g.message().to_string()),
+            Answer::Generic(g) if !g.is_ok() => Some(g),
             _ => None,
         }
     }
@@ -97,7 +97,7 @@ impl Session {
                         velocities_deg_s: velocities(axis, speed, direction),
                     });
                     if let Some(e) = self.jog_command(&set).await {
-                        return Ok(End::Lost(e));
+                        return Ok(End::Lost(e.message().to_string()));
                     }
                     let Some(s) = self.ctx.bridge.latest_state() else {
                         return Ok(End::Lost("the real-time core publishes no state".into()));

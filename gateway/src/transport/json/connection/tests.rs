@@ -96,6 +96,16 @@ fn the_oversize_reply_names_the_limit() {
         panic!("oversize closes")
     };
     assert!(v["error_message"].as_str().unwrap().contains("65536 bytes"));
+    assert_eq!(v["error_code"], "line_too_long", "{v}");
+    let Step::Reply(v) = step(
+        Frame::Invalid {
+            reason: "not JSON".into(),
+        },
+        &cfg,
+    ) else {
+        panic!("a line that is no object is answered")
+    };
+    assert_eq!(v["error_code"], "invalid_json", "{v}");
 }
 
 /// Feed `input` in reads of `chunk` bytes; each frame must give one ASCII result (an ERROR,
@@ -320,4 +330,14 @@ fn a_mode_session_reports_leaving_its_mode_at_once() {
         assert_eq!(s.on_state(&at(200, mode)), SessionStep::Status);
         assert_eq!(s.on_state(&at(201, Mode::Error)), SessionStep::Left);
     }
+}
+
+#[test]
+fn lost_events_are_told_with_their_code() {
+    let v = events_lost(3);
+    assert_eq!(v["error_code"], "events_lost", "{v}");
+    assert_eq!(
+        v["error_message"],
+        "3 safety errors were not delivered to this slow connection"
+    );
 }
