@@ -10,7 +10,8 @@
 //!    CPUs online, the shares, no way to the host);
 //! 2. [`socketcan`]: the SocketCAN backend's unit test and the MCM's end-to-end tests over the
 //!    kernel's CAN with the virtual arm, in the guest as built (the kernel's real-time
-//!    throttling on, as on any fresh machine; the package below turns it off);
+//!    throttling on, as on any fresh machine; the package below turns it off); it removes what
+//!    its MCMs, run as root, left in `/tmp` and `/dev/shm`;
 //! 3. [`package`]: the Debian package installed, run under systemd, restarted, stopped,
 //!    rebooted (a cold boot), upgraded and purged (nothing left behind).
 //!

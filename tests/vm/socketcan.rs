@@ -129,10 +129,15 @@ pub fn run(guest: &mut vm::Guest) {
     );
     must_pass(guest, "tests/end_to_end/safety.rs", &script, SAFETY_TESTS);
 
-    // The MCMs above ran as root and made the flight recorder's directory of the embedded
-    // configuration, `/tmp/mcm-flight-recorder`, owned by root. The Debian package tested next
-    // in this guest runs its core as the user `mcm`, which must make that directory itself.
-    guest.run_ok("rm -rf /tmp/mcm-flight-recorder", Duration::from_secs(60));
+    // The MCMs above ran as root and made, owned by root, the flight recorder's directory of
+    // the embedded configuration (`/tmp/mcm-flight-recorder`) and iceoryx2's directories of
+    // nodes and services (`/tmp/iceoryx2`, with their shared memory in `/dev/shm`). The Debian
+    // package tested next in this guest runs its core as the user `mcm`, which must make them
+    // itself: without this its core could not create its iceoryx2 node.
+    guest.run_ok(
+        "rm -rf /tmp/mcm-flight-recorder /tmp/iceoryx2 /dev/shm/iox2_*",
+        Duration::from_secs(60),
+    );
 }
 
 /// The 10-minute target over SocketCAN, by hand (about 13 minutes with the boot):
