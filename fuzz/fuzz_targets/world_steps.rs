@@ -2,7 +2,7 @@
 //! steps of commands and bus faults), which `mcm_fuzz::run` drives through the deterministic
 //! simulation tester's world, checking every cycle.
 //!
-//! `cargo +nightly fuzz run world_steps -- -max_total_time=120` (`docs/testing.md`,
+//! `cargo +nightly fuzz run --features libfuzzer world_steps -- -max_total_time=120` (`docs/testing.md`,
 //! "Deterministic simulation testing").
 
 #![no_main]

@@ -9,8 +9,8 @@
 //! the run's invariants; a broken one panics with its message (the crash libFuzzer keeps).
 //!
 //! The fuzz target `fuzz_targets/world_steps.rs` feeds it libFuzzer's bytes: `cargo +nightly fuzz
-//! run world_steps -- -max_total_time=120` (`docs/testing.md`, "Deterministic simulation
-//! testing"). A library, so that the workspace's test run compiles it and runs it on a few
+//! run --features libfuzzer world_steps -- -max_total_time=120` (`docs/testing.md`,
+//! "Deterministic simulation testing"). A library, so that the workspace's test run compiles it and runs it on a few
 //! inputs (`tests.rs`) on stable, without the fuzzer.
 
 use arbitrary::{Arbitrary, Unstructured};
