@@ -40,9 +40,9 @@
 //!   ([`Stopping`]); judged while the mode stays ERROR (a client's `hold` commands the arm
 //!   again) and not while a push, an obstacle, a power cycle, an emergency stop, a silent
 //!   drive or a drive rebooting acts (the arm is not the controller's to stop then; while the
-//!   SYNC is stuck, its drive's SYNC watchdog's time is added at the speed of the moment), nor while
-//!   an axis whose calibration an obstacle or a push fooled is measured off the truth (the
-//!   controller's picture of the arm, its gravity compensation included, is wrong: seed 1171);
+//!   SYNC is stuck, its drive's SYNC watchdog's time is added at the speed of the moment), nor
+//!   while an axis whose calibration an obstacle or a push fooled is measured off the truth
+//!   (the controller's picture of the arm, its gravity compensation included, is wrong);
 //! - no axis flagged calibrated whose measured angle is further from the true angle than its
 //!   calibration tolerance, plus the motion of the cycles the measurement may lag the truth
 //!   ([`Checker::new`]: two, and the TPDOs the master may miss in a row, and while frames to
@@ -77,7 +77,7 @@ use std::collections::{HashMap, VecDeque};
 /// up to 0.6 deg; hit at the overspeed limit (1.1 x 90 deg/s) with the arm stretched (up to
 /// 4.6 kg m^2 on axes 1 and 2) it gives up to 1.5 deg more (undamped, `v·sqrt(I/k)`). 2 deg
 /// is about their sum. A push on an unpowered axis is held to no speed limit and may go
-/// deeper (`docs/testing.md`, findings).
+/// deeper (`docs/findings.md`, "Open").
 pub const STOP_PENETRATION_DEG: f64 = 2.0;
 /// How far past a software limit the controller may let an axis go [deg].
 pub const LIMIT_OVERRUN_DEG: f64 = 1.0;
@@ -489,9 +489,8 @@ impl Checker {
             let (lo, hi) = self.limits_deg[i];
             let inside = (lo..=hi).contains(&q);
             // A calibration an obstacle or a push fooled puts the axis where the controller
-            // cannot know it is: its limits are not the controller's to keep (seed 124: axis 5
-            // calibrated 34 deg off drove at 75 deg/s through its limit it measured 34 deg
-            // away).
+            // cannot know it is: its limits are not the controller's to keep (it measures the
+            // axis as far from a limit as the calibration is off).
             let fooled = self.fooled[i] || self.attempt_fooled[i];
             let trusted = calibrated && !fooled;
             if !responsible || !trusted {
@@ -499,11 +498,10 @@ impl Checker {
             }
             // The controller takes over an axis once it is inside and at rest: one that comes
             // in from a motion the controller was not responsible for (a calibration search
-            // cut short at 30 deg/s next to a limit: seeds 108, 519) is owed its stop first.
+            // cut short at 30 deg/s next to a limit) is owed its stop first.
             // At rest over the cycles the measurement lags, not in one sample: the stop's first
             // set-point (the measured position, behind the true one) can halt an axis for an
-            // instant before the stop's ramp takes it on (seed 25469: 0.00 deg/s for one cycle
-            // between -30 and -27 deg/s).
+            // instant before the stop's ramp takes it on.
             let at_rest = self.fastest(i, self.lag_cycles) < STANDSTILL_DEG_S;
             if inside && responsible && trusted && at_rest {
                 self.excused[i] = false;
@@ -566,12 +564,9 @@ impl Checker {
                 let a = self.brake_decel_deg[i];
                 let direction = if v < 0.0 { -1.0 } else { 1.0 };
                 // An axis a calibration search pressed into its mechanical stop springs back out
-                // of it as its search ends: the controller's relax lets it, by up to its band
-                // (seed 3718: axis 3 0.3 deg deep in its stop, out at up to 18 deg/s, 0.57 deg
-                // travelled).
+                // of it as its search ends: the controller's relax lets it, by up to its band.
                 // In its stop in the cycle before the trip's, too: the trip's cycle restarts a
-                // pressing axis's loop, and it may be out by the end of it (seed 33109: a wrist
-                // 0.012 deg deep, out by 0.001 deg in the trip's sample).
+                // pressing axis's loop, and it may be out by the end of it.
                 let q = s.sim_true_position[i];
                 let (lo, hi) = self.stops_deg[i];
                 let was = self.prev_true_deg[i];
@@ -601,8 +596,7 @@ impl Checker {
                 continue;
             };
             // Without SYNC no drive applies a set-point, the controller's stop and power off
-            // included: the drive's own SYNC watchdog stops the axis (seed 1413: a derated
-            // shoulder the overload powered off, still falling until its drive faulted).
+            // included: the drive's own SYNC watchdog stops the axis.
             if sync_stuck && !st.sync_waited {
                 st.sync_waited = true;
                 let watchdog_s = f64::from(SYNC_LOSS_PERIODS) * self.period_s;
@@ -779,7 +773,7 @@ impl Checker {
             m != n
                 && x.status == 0
                 && CommandKind::try_from(x.kind).is_ok_and(|k| {
-                    // `release_control` by the owner brings what it drove to HOLD (seed 14363).
+                    // `release_control` by the owner brings what it drove to HOLD.
                     k.is_stop()
                         || k == CommandKind::Calibrate
                         || k == CommandKind::ReleaseControl

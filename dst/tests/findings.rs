@@ -1,6 +1,6 @@
 //! Findings of the deterministic simulation, each replayed from its seed: the run must now
-//! end in a usable calibrated HOLD with no invariant broken. See `docs/testing.md`,
-//! "Deterministic simulation testing", findings.
+//! end in a usable calibrated HOLD with no invariant broken. The table of
+//! findings, with each fix's commit: `docs/findings.md`.
 
 use mcm_dst::campaign::run_judged;
 use mcm_dst::run::{RunOptions, RunReport};

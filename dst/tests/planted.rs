@@ -27,7 +27,7 @@ const BROKEN_BY_A_SOFT_STOP: [&str; 3] = [
 fn a_soft_stop_after_a_trip_is_caught_and_shrunk() {
     // Seeds in order, as a one-job campaign runs them, within a budget of simulated time; a
     // run that breaks an invariant also without the bug is a finding of its own
-    // (`docs/testing.md`), not the bug caught: it is passed over.
+    // (`docs/findings.md`), not the bug caught: it is passed over.
     let budget_s = 3600.0;
     let mut spent_s = 0.0;
     let mut passed_over = Vec::new();

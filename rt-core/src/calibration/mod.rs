@@ -313,9 +313,8 @@ impl AxisCalibration {
     /// or in its fast search or slow approach its current pushes beyond the baseline in the
     /// search direction by that contact's share of the search current (a contact not yet
     /// confirmed). An axis still settling, or searching in free air, has not been driven into
-    /// the stop: its loop's integral carries its weight (seed 3951 of the simulation tester: a
-    /// shoulder 0.01 deg into its fast search sagged 0.81 deg once that integral was cleared;
-    /// seed 27000: an elbow 1.5 deg short of its stop in its slow approach, 0.67 deg).
+    /// the stop: its loop's integral carries its weight, and restarting that loop would let the
+    /// axis sag.
     pub fn may_press_its_stop(&self) -> bool {
         match self.phase {
             Phase::Settle { .. } => false,

@@ -953,14 +953,13 @@ impl Master {
         let confirmed = fb.mode_display == Some(ax.session.commanded_mode);
         let mut frames = [None, None];
         // RPDO2 goes out at once when the mode or the current limit changes, and again in the
-        // next RPDO2_REPEATS cycles: nothing confirms a current limit (seed 5204 of the
-        // simulation tester: the drive of a stretched shoulder kept a calibration's 4 A through
-        // ERROR when the frame that raised it was lost, and the arm sank). And every drive's
-        // RPDO2 goes out on its axis's turn, one axis a cycle (one RPDO2 a cycle, counted in the
-        // bus load), changed or not: a drive that lost a change and all its repeats has it again
-        // within six cycles (seed 32797: the elbow's drive kept a slow search's 3.58 A through
-        // thirty calibrations, each of which failed `blocked` against the stop), a mode 0x6061
-        // has not confirmed is restated, and a new feed-forward alone waits for the turn.
+        // next RPDO2_REPEATS cycles: nothing confirms a current limit, and a drive that missed
+        // a raised limit would hold a loaded axis with a lowered one, which may not carry it.
+        // And every drive's RPDO2 goes out on its axis's turn, one axis a cycle (one RPDO2 a
+        // cycle, counted in the bus load), changed or not: a drive that lost a change and all
+        // its repeats has it again within six cycles (a search's lowered limit kept by the drive
+        // would hide every contact from the calibration), a mode 0x6061 has not confirmed is
+        // restated, and a new feed-forward alone waits for the turn.
         let turn = (now_ns / period_ns.max(1)) % NUM_AXES as u64 == i as u64;
         let urgent = ax.session.rpdo2_sent.is_none_or(|p| {
             p.mode != rpdo2.mode
@@ -1031,8 +1030,8 @@ impl Master {
             }
             // Back to CSP from CST, not yet confirmed: the drive still applies 0x6071, so it
             // gets the gravity feed-forward there until it switches (a zero would let a
-            // gravity-loaded arm fall while the mode change is lost on the bus: the simulation
-            // tester's seed 577, 32 deg/s within 11 cycles); in CSP the drive ignores it.
+            // gravity-loaded arm fall while the mode change is lost on the bus); in CSP the
+            // drive ignores it.
             DriveRequest::Position { .. } if fb.state == State::OperationEnabled => {
                 (actual, ax.params.torque_permille(ax.torque_offset_nm))
             }

@@ -29,7 +29,7 @@ impl Controller {
                     // search that fails in the cycle's motion) or once that stop is over. Sent
                     // without a restart, the step back by the search's lead (up to 3 deg) is a
                     // velocity reference to the drive for a period, which kicks the axis off
-                    // its stop (seed 25122 of the simulation tester: a derated wrist, 56 deg/s).
+                    // its stop.
                     self.master.restart_position_loop(i);
                 }
             }
@@ -76,10 +76,9 @@ const RELAX_BAND_RAD: f64 = 0.5 * core::f64::consts::PI / 180.0;
 /// drove towards its stop (moving, backing off, or ended there) restarts at the start and at
 /// the end of its relax, so that a loop wound up against the stop stops pressing. An axis
 /// still settling before its approach keeps its loop: its integral carries the axis's weight
-/// (an uncalibrated axis gets no gravity feed-forward), and clearing it let a stretched
-/// shoulder sag (seeds 808 and 961 of the simulation tester). The relax waits for any stop
-/// under way, goes on through ERROR, an enabling and HOLD, and ends in any other mode
-/// (`motion.rs`).
+/// (an uncalibrated axis gets no gravity feed-forward), and clearing it would let the axis
+/// sag. The relax waits for any stop under way, goes on through ERROR, an enabling and HOLD,
+/// and ends in any other mode (`motion.rs`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct SearchRelax {
     /// Cycles left per axis (0: not relaxing).

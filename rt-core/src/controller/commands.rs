@@ -116,7 +116,7 @@ impl Controller {
     /// Refuse a command that would enable the drives, for `reason` (from `enable_blocker`). A
     /// lost drive the master gave up configuring is reset and tried again: the drive may be
     /// back (its cable, its power), and a user who repeats the command once it is must not
-    /// find it refused for good (seed 1583 of the simulation tester).
+    /// find it refused for good.
     fn refuse_enabling(&mut self, c: Caller, reason: Reason) {
         for axis in 0..NUM_AXES {
             if self.lost[axis] && self.master.gave_up(axis) {

@@ -29,10 +29,10 @@
 //!   search ERROR with that controlled stop from the measured state: the axis that failed
 //!   stands (it was blocked, or its search ended), but the others may still search at full
 //!   speed, and a reference commanded at the measured position with no stop would leave each
-//!   drive's position loop to brake it as hard and as far as it happens to (seed 318 of the
-//!   simulation: 3.9 deg at 22 deg/s, beyond the braking distance). Only a calibration search
-//!   fails so: a failed search anywhere else is taken as a trip (and is a bug, which a debug
-//!   build asserts).
+//!   drive's position loop to brake it as hard and as far as it happens to, not within the
+//!   braking distance the safety checks count on. Only a calibration search fails so: a
+//!   failed search anywhere else is taken as a trip (and is a bug, which a debug build
+//!   asserts).
 //!
 //! The PVT queue is left as it is: entering PVT again empties it.
 

@@ -64,27 +64,24 @@ impl Controller {
     /// The overload check, once per cycle before the references are made.
     pub(super) fn check_overload(&mut self) {
         // In ERROR also while its stop or a relax runs: a derated axis whose current stands at
-        // its limit there is falling, not braking (the simulation tester's seed 9272: a
-        // derated shoulder fell at up to 31 deg/s while ERROR's stop and the relax of its
-        // failed calibration search ran, before the power off that waits for them).
+        // its limit there is falling, not braking, and the power off after a trip waits for
+        // the stop and the relaxes.
         let at_rest = matches!(self.state, State::Hold { stop: None } | State::Error { .. });
         // Where the drive follows a moving position reference (HOLD's stop, a move, VELOCITY
         // CONTROL), a derated axis whose current stands at its limit cannot follow it: its time
         // at the limit is counted there too, and carried into ERROR or a HOLD at rest, where it
         // trips. An axis that stood at its limit through HOLD's stop or a move before a trip is
-        // overloaded the cycle after, in ERROR, before ERROR's stop can drive it (the simulation
-        // tester's seed 8030: a derated shoulder sinking through HOLD's stop tripped its
-        // following error; the stop from its measured position, 2 deg below the drive's
-        // target, reached the drive as a move down at the axis's top speed, and the shoulder
-        // fell at 21 deg/s until the overload's own 25 ms had passed). Not in CALIBRATION: a
-        // search presses at its limit on purpose (the axes it does not cover are `held`).
+        // overloaded the cycle after, in ERROR, before ERROR's stop can drive it: that stop
+        // starts from the measured position, which for a sagging axis lies below the drive's
+        // target, and reaches the drive as a move towards it at up to the axis's top speed.
+        // Not in CALIBRATION: a search presses at its limit on purpose (the axes it does not
+        // cover are `held`).
         let follows = matches!(
             self.state,
             State::Hold { stop: Some(_) } | State::Pvt { .. } | State::Velocity { .. }
         );
-        // During a calibration's searches, the axes it does not cover hold where they are (the
-        // simulation tester's seed 24005: a derated shoulder stood at its limit through
-        // calibration after calibration while other axes searched).
+        // During a calibration's searches, the axes it does not cover hold where they are, and
+        // one whose derated current cannot hold it is overloaded as it would be in HOLD.
         let searches = self.searches();
         let held = |i: usize| searches.is_some_and(|s| s[i].is_none());
         let derated = self.i2t.derated();
@@ -150,9 +147,8 @@ impl Controller {
     /// overload, or a trip while a motor was derated) and the motor of an axis with a brake is
     /// still derated. Enabled again, that axis could hold no more than before: it would sag
     /// from its brake again until a check trips, a little further each time a client repeats
-    /// `hold` (the simulation tester's seed 20562: a shoulder near its limit, held by a client
-    /// that re-enabled it 7 cycles after each trip, went 1 deg past the limit). The derating
-    /// ends once the motor has cooled below the i2t release level.
+    /// `hold`, until it passes its limit. The derating ends once the motor has cooled below
+    /// the i2t release level.
     pub(super) fn overload_blocker(&self) -> Option<Reason> {
         if !self.overload.powered_off || !matches!(self.state, State::Error { .. }) {
             return None;

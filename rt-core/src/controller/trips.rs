@@ -23,9 +23,8 @@ pub(super) const RELAX_CYCLES: u8 = 20;
 /// drive's loop wound up against whatever held the axis; the axis relaxes and holds where it
 /// comes to rest, so that it stops pressing. Not an axis whose motor is `derated`: what held
 /// it back is more likely its own load, more than its derated current carries, and restarting
-/// its loop would clear the integral that carries what it can (the simulation tester's seed
-/// 8041: a derated shoulder that sagged 2 deg off its hold, relaxed, fell at 12 deg/s); the
-/// overload check powers such an arm off onto its brakes instead (`overload.rs`).
+/// its loop would clear the integral that carries what it can, and it would fall; the overload
+/// check powers such an arm off onto its brakes instead (`overload.rs`).
 pub(super) fn relax_after(reason: Reason, derated: &[bool; NUM_AXES]) -> [u8; NUM_AXES] {
     let mut relax = [0; NUM_AXES];
     if let Reason::FollowingError { axis, .. } = reason
@@ -88,10 +87,9 @@ impl Controller {
     /// holding brake, and its drive sends no TPDOs (or no heartbeat), so nothing tells whether it
     /// holds. The master delivers the power off by NMT stop where SYNC and PDOs no longer reach
     /// the drive (`Master::cut_off`); the brake holds the axis whatever its drive could still do
-    /// (the simulation tester's seed 8320: with the SYNC stuck, a derated shoulder sank at its
-    /// limit through ERROR until its drive's own SYNC watchdog would have acted, 0.3 s later).
-    /// Axes without a brake stay enabled: their drives hold the last setpoint until their own
-    /// watchdog acts, which beats letting them fall.
+    /// (a derated axis would otherwise sink until its drive's own SYNC watchdog acts, if it has
+    /// one). Axes without a brake stay enabled: their drives hold the last setpoint until their
+    /// own watchdog acts, which beats letting them fall.
     pub(super) fn lost_power_off(&self, axis: usize) -> bool {
         self.lost[axis] && self.p.brake[axis] && matches!(self.state, State::Error { .. })
     }
