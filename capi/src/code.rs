@@ -18,7 +18,9 @@ use std::ffi::c_char;
 /// The first number of the gateway's own codes.
 const GATEWAY_FROM: u32 = 100;
 
-/// The C number of `code`.
+/// The C number of `code`. C programs are compiled against these numbers (the enum of
+/// `code/c_enum.rs` is generated from them): a new gateway code goes at the end of the table,
+/// where it renumbers none of the others.
 pub(crate) fn number(code: ErrorCode) -> u32 {
     match code.reject_code() {
         Some(r) => r.to_wire(),
