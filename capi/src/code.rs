@@ -1,72 +1,26 @@
 //! The MCM's error codes in C (`docs/protocol.md`, "Error codes"): `mcm_error_code_t` names
 //! every code of `mcm_shared::error_code` with its number, and [`mcm_error_code_name`] its name.
 //! The number of a reason of the real-time core is its shared-memory number (1 to 99); the
-//! gateway's own codes are numbered from 100 in the order of the table. The enum is written
-//! here for cbindgen; its test checks it, in the generated header, against the table.
+//! gateway's own codes are numbered from 100 in the order of the table ([`number`]). The enum
+//! is generated from the table and [`number`] into `code/c_enum.rs` (cbindgen reads source and
+//! does not expand macros); its test fails while that file is stale:
+//! `MCM_UPDATE_CAPI=1 cargo test -p mcm-capi --lib code::tests` writes it anew.
 //! Real-time safe: no allocation.
 
+// Generated (the test `code::tests`): the C enum of the codes.
+#[rustfmt::skip]
+mod c_enum;
+
+pub use c_enum::mcm_error_code_t;
 use mcm_client::ErrorCode;
 use std::ffi::c_char;
-
-/// The MCM's code of a failed call (`mcm_*_last_reject`), of an event and of
-/// `mcm_state_t.last_error` (a check): the protocol's `error_code`, as a number.
-#[repr(u32)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum mcm_error_code_t {
-    /// No code (a call that did not fail, or a failure the MCM did not answer).
-    MCM_CODE_NONE = 0,
-    MCM_CODE_WRONG_MODE = 1,
-    MCM_CODE_NOT_CALIBRATED = 2,
-    MCM_CODE_EMERGENCY_STOP = 3,
-    MCM_CODE_DRIVE_DISCONNECTED = 4,
-    MCM_CODE_DRIVE_FAULT = 5,
-    MCM_CODE_OUT_OF_RANGE = 6,
-    MCM_CODE_NOT_AVAILABLE = 7,
-    MCM_CODE_NOT_SIMULATED = 8,
-    MCM_CODE_QUEUE_FULL = 9,
-    MCM_CODE_POSITION_LIMIT = 10,
-    MCM_CODE_VELOCITY_LIMIT = 11,
-    MCM_CODE_BRAKING_DISTANCE = 12,
-    MCM_CODE_FOLLOWING_ERROR = 13,
-    MCM_CODE_CALIBRATION_FAILED = 14,
-    MCM_CODE_ABORTED = 15,
-    MCM_CODE_BUSY = 16,
-    MCM_CODE_PVT_POINT = 17,
-    MCM_CODE_UNREACHABLE = 18,
-    MCM_CODE_NOT_OWNER = 19,
-    MCM_CODE_SHUTTING_DOWN = 20,
-    MCM_CODE_OVERLOAD = 21,
-    MCM_CODE_INVALID_JSON = 100,
-    MCM_CODE_INVALID_COMMAND = 101,
-    MCM_CODE_UNKNOWN_COMMAND = 102,
-    MCM_CODE_UNKNOWN_ARGUMENT = 103,
-    MCM_CODE_MISSING_ARGUMENT = 104,
-    MCM_CODE_INVALID_ARGUMENT = 105,
-    MCM_CODE_LINE_TOO_LONG = 106,
-    MCM_CODE_LINE_TIMEOUT = 107,
-    MCM_CODE_IDLE_TIMEOUT = 108,
-    MCM_CODE_EVICTED = 109,
-    MCM_CODE_TOO_MANY_CONNECTIONS = 110,
-    MCM_CODE_TOO_MANY_REQUESTS = 111,
-    MCM_CODE_NETWORK_REFUSED = 112,
-    MCM_CODE_NOT_AUTHENTICATED = 113,
-    MCM_CODE_WRONG_SECRET = 114,
-    MCM_CODE_REMOTE_SIM_REFUSED = 115,
-    MCM_CODE_CORE_UNAVAILABLE = 116,
-    MCM_CODE_OUTCOME_UNKNOWN = 117,
-    MCM_CODE_VERSION_MISMATCH = 118,
-    MCM_CODE_CORE_STOPPING = 119,
-    MCM_CODE_CORE_STOPPED = 120,
-    MCM_CODE_CORE_VANISHED = 121,
-    MCM_CODE_GATEWAY_STOPPING = 122,
-    MCM_CODE_EVENTS_LOST = 123,
-    MCM_CODE_INTERNAL_ERROR = 124,
-}
 
 /// The first number of the gateway's own codes.
 const GATEWAY_FROM: u32 = 100;
 
-/// The C number of `code`.
+/// The C number of `code`. C programs are compiled against these numbers (the enum of
+/// `code/c_enum.rs` is generated from them): a new gateway code goes at the end of the table,
+/// where it renumbers none of the others.
 pub(crate) fn number(code: ErrorCode) -> u32 {
     match code.reject_code() {
         Some(r) => r.to_wire(),
