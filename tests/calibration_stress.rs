@@ -149,6 +149,12 @@ fn an_obstacle_in_the_way_of_a_recalibration_fails_it_with_both_positions() {
             "axis 3 is no longer calibrated",
         ],
     );
+    // It ran, then failed: its `outcome` says so, not its words.
+    assert_eq!(
+        (r["command"].as_str(), r["outcome"].as_str()),
+        (Some("calibrate"), Some("failed")),
+        "{r}"
+    );
     let msg = r["error_message"].as_str().unwrap();
     let found: f64 = msg
         .split("found at ")

@@ -18,7 +18,7 @@ use crate::core_link::bridge::{Bridge, BridgeError};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::CommandKind;
-use mcm_shared::protocol::results::{Answer, Info, MoveAllResult, SimResult};
+use mcm_shared::protocol::results::{Answer, ErrorOutcome, Info, MoveAllResult, SimResult};
 use mcm_shared::protocol::{Command, Success};
 use mcm_shared::reply::{self, Done};
 use mcm_shared::sample::{STATE_SIMULATED, StateSample};
@@ -119,7 +119,8 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
         _ => {}
     }
     if let Command::Authenticate(_) = cmd {
-        return Outcome::only(Answer::error(
+        return Outcome::only(Answer::answer_error(
+            ErrorOutcome::Invalid,
             ErrorCode::InternalError,
             "authenticate: answered by the connection's access rules (crate::command::access::run_command), \
              not by the real-time core"
@@ -185,8 +186,10 @@ async fn status(ctx: &Context, detail: bool) -> Outcome {
 /// The result of `cmd` done by the core, as its definition says it answers
 /// ([`mcm_shared::protocol::CommandDef::success`]).
 fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Option<Answer> {
+    // Done, but its figures do not read: what it did is for the state to tell.
     let mismatch = |other: &Done| {
-        Answer::error(
+        Answer::answer_error(
+            ErrorOutcome::Unknown,
             ErrorCode::VersionMismatch,
             format!(
                 "{}: the real-time core's answer carries no figures ({other:?}); mcm-rt and the \
@@ -217,9 +220,15 @@ fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Op
     })
 }
 
-/// The ERROR result of a request the bridge could not complete ([`bridge_message`]).
+/// The ERROR result of a request the bridge could not complete ([`bridge_message`]): `failed`
+/// only when the command surely was not executed, else `unknown`.
 pub fn bridge_error(command: &str, e: &BridgeError) -> Answer {
-    Answer::error(e.code(), bridge_message(command, e))
+    let outcome = if e.surely_not_executed() {
+        ErrorOutcome::Failed
+    } else {
+        ErrorOutcome::Unknown
+    };
+    Answer::answer_error(outcome, e.code(), bridge_message(command, e))
 }
 
 /// The error text of a request the bridge could not complete: "failed" only when the command

@@ -65,7 +65,9 @@ const conn = new Connection({
     } else if (kind === 'status') {
       if (msg.operating_mode !== 'VELOCITY_CONTROL') jog.sessionEnded();
     } else {
-      addError(msg); // set_velocities refusals, notices of the core or the gateway stopping
+      // A set_velocities refusal names its `command`; notices of the core or the gateway
+      // stopping name none.
+      addError(msg, msg.command);
       if (kind === 'set_velocities') jog.stop('refused');
     }
   },

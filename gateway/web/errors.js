@@ -24,7 +24,9 @@ export function addError(msg, command) {
   } else {
     li.classList.add(command ? 'refused' : 'notice');
     if (command) li.dataset.command = command;
-    head.textContent = `${time}  ${command ? `${command} refused or failed` : 'notice'}`;
+    // `outcome`: refused, failed, invalid or unknown (may or may not have run).
+    const outcome = msg.outcome ? `${command}: ${msg.outcome}` : `${command} refused or failed`;
+    head.textContent = `${time}  ${command ? outcome : 'notice'}`;
   }
   if (msg.error_code) {
     li.dataset.code = msg.error_code;

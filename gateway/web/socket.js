@@ -15,8 +15,8 @@ export function wsUrl(path) {
 export function spontaneousKind(msg, inFlight) {
   if (msg.check !== undefined) return 'safety';
   if (msg.result_type === 'generic' && msg.error_status === 'ERROR') {
-    const text = String(msg.error_message || '');
-    if (text.startsWith('set_velocities')) return 'set_velocities';
+    // `set_velocities` answers nothing on success: its refusal names it in `command`.
+    if (msg.command === 'set_velocities') return 'set_velocities';
     // Generic ERROR results that no command asked for: the core or the gateway stopping, a
     // timeout or an eviction of this connection.
     if (ERROR_CODES[msg.error_code]?.spontaneous) return 'notice';

@@ -56,7 +56,7 @@ class TcpClient(unittest.TestCase):
 
     def test_an_error_result_raises_with_command_message_and_code(self) -> None:
         msg = "move_all refused: a motion is in progress (0.845 s left); wait until it ends, or send `hold` to stop it"
-        c = self.connect(lambda cmd: [error(msg, error_code="busy")])
+        c = self.connect(lambda cmd: [error(msg, error_code="busy", command="move_all", outcome="refused")])
         with self.assertRaises(mcm.CommandError) as e:
             c.move_all([0] * 6)
         self.assertEqual((e.exception.command, e.exception.code, e.exception.outcome), ("move_all", "busy", "refused"))
@@ -65,9 +65,9 @@ class TcpClient(unittest.TestCase):
     def test_failed_and_unknown_outcomes_are_told_apart(self) -> None:
         replies = iter([
             error("calibrate failed: calibration of axis 3 failed: no mechanical stop found within 310.0 deg; the arm holds where it is",
-                  error_code="calibration_failed"),
+                  error_code="calibration_failed", command="calibrate", outcome="failed"),
             error("move_axis: no reply from the real-time core within 5 s: the command may or may not have been executed; check the state",
-                  error_code="outcome_unknown"),
+                  error_code="outcome_unknown", command="move_axis", outcome="unknown"),
         ])
         c = self.connect(lambda cmd: [next(replies)])
         with self.assertRaises(mcm.CommandError) as e:
@@ -94,7 +94,7 @@ class TcpClient(unittest.TestCase):
             if cmd["command"] == "set_torques":
                 if cmd["arguments"]["torques"][0] > 100:
                     return [error("set_torques refused: axis 1: value 200 is outside the allowed range [-129.6, 129.6]",
-                                  error_code="out_of_range")]
+                                  error_code="out_of_range", command="set_torques", outcome="refused")]
                 return [status("TORQUE_CONTROL", 1.01)]
             if cmd["command"] == "hold":
                 return [status("TORQUE_CONTROL", 1.015), status("HOLD", 1.02)]
@@ -110,7 +110,8 @@ class TcpClient(unittest.TestCase):
         self.assertEqual(c.status().axis_states.time[0], 1.0)
         with self.assertRaises(mcm.CommandError) as e:
             c.set_torques([0] * 6)
-        self.assertEqual((e.exception.command, e.exception.code), ("set_torques", "out_of_range"))
+        self.assertEqual((e.exception.command, e.exception.code, e.exception.outcome),
+                         ("set_torques", "out_of_range", "refused"))
         # `hold` ends the session: its result is the status not in TORQUE_CONTROL.
         self.assertEqual(c.hold().operating_mode, "HOLD")
 
@@ -123,7 +124,7 @@ class TcpClient(unittest.TestCase):
                 return [status("VELOCITY_CONTROL", 2.0), status("VELOCITY_CONTROL", 2.005)]
             if cmd["command"] == "set_velocities":
                 if cmd["arguments"]["velocities"][3] > 150:
-                    return [error(refusal, error_code="out_of_range")]
+                    return [error(refusal, error_code="out_of_range", command="set_velocities", outcome="invalid")]
                 return [status("VELOCITY_CONTROL", 2.01)]
             if cmd["command"] == "hold":
                 return [status("VELOCITY_CONTROL", 2.015), status("HOLD", 2.02)]
@@ -267,6 +268,34 @@ class TcpClient(unittest.TestCase):
         self.assertIn("127.0.0.1:%d" % port, str(e.exception))
 
 
+    def test_the_outcome_and_command_are_read_not_the_words(self) -> None:
+        # Reworded refusals: the result's `outcome` and `command` decide, never its words.
+        def h(cmd):
+            if cmd["command"] == "set_torques":
+                return [error("Drehmoment abgelehnt", error_code="wrong_mode", command="set_torques", outcome="refused")]
+            if cmd["command"] == "calibrate":
+                return [error("move_axis refused: reworded", error_code="calibration_failed", command="calibrate",
+                              outcome="failed")]
+            if cmd["command"] == "move_axis":
+                # An MCM too old to send the fields: words that say "refused" make no refusal.
+                return [error("move_axis refused: not allowed in mode OFF", error_code="wrong_mode")]
+            return [status("HOLD", 1.0)]
+
+        c = self.connect(h)
+        c.set_torques([0] * 6)
+        self.assertEqual(c.status().operating_mode, "HOLD")
+        [ev] = c.events()
+        self.assertIsInstance(ev, mcm.CommandErrorEvent)
+        self.assertEqual((ev.command, ev.code, ev.outcome), ("set_torques", "wrong_mode", "refused"))
+        with self.assertRaises(mcm.CommandError) as e:
+            c.calibrate()
+        self.assertEqual((e.exception.command, e.exception.outcome), ("calibrate", "failed"))
+        with self.assertRaises(mcm.CommandError) as e:
+            c.move_axis(1, 2)
+        self.assertEqual((e.exception.command, e.exception.code, e.exception.outcome),
+                         ("move_axis", "wrong_mode", "invalid"))
+
+
 class Codes(unittest.TestCase):
     def test_the_code_is_read_not_the_words(self) -> None:
         # A program decides on the code: words reworded (or in another language) change nothing.
@@ -275,6 +304,12 @@ class Codes(unittest.TestCase):
         self.assertEqual(codes.ErrorCode.NOT_OWNER, "not_owner")
         self.assertIsNone(codes.error_code(error("a code of a newer MCM", error_code="something_new")))
         self.assertIsNone(codes.error_code(error("no code")))
+
+    def test_the_outcome_is_read_by_its_wire_name(self) -> None:
+        self.assertEqual([o.value for o in codes.Outcome], ["refused", "failed", "invalid", "unknown"])
+        self.assertEqual(codes.outcome(error("x", outcome="failed")), codes.Outcome.FAILED)
+        self.assertIsNone(codes.outcome(error("an outcome of a newer MCM", outcome="postponed")))
+        self.assertIsNone(codes.outcome(error("move_axis refused: no outcome")))
 
     def test_notices_are_spontaneous_and_refusals_are_not(self) -> None:
         self.assertIn(codes.ErrorCode.GATEWAY_STOPPING, codes.SPONTANEOUS)

@@ -1,7 +1,8 @@
 //! Every refusal the protocol has carries its `error_code` (`docs/protocol.md`, "Error codes"),
 //! end to end with the real processes on the simulated arm: each code a client can provoke
-//! from outside is provoked here and its `error_code` checked, a safety error's equal to its
-//! `check`. [`where_checked`] decides, for every code of `mcm_shared::error_code` (the compiler
+//! from outside is provoked here and its `error_code` checked, with the `command` it answers
+//! and its `outcome` (refused, failed, invalid); a safety error's code equal to its `check`, and
+//! no spontaneous error naming a command or an outcome. [`where_checked`] decides, for every code of `mcm_shared::error_code` (the compiler
 //! refuses a new code until it is decided), whether it is provoked here or, when it cannot be
 //! from outside (real hardware, a fault of the gateway, a race with a shutdown, another
 //! configuration), which test one level lower checks it; the test fails when what it provoked
@@ -11,6 +12,7 @@ use crate::common;
 
 use common::{Client, EventClient, Mcm, WAIT, assert_ok};
 use mcm_shared::error_code::ErrorCode;
+use mcm_shared::protocol::results::ErrorOutcome::{self, Failed, Invalid, Refused};
 use serde_json::Value;
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
@@ -79,10 +81,30 @@ impl Seen {
         self.0.insert(code.as_str());
     }
 
+    /// `v` is an ERROR of `code` that answers `command` (`None`: a line that names no known
+    /// command) and ended as `outcome`.
+    fn answer(&mut self, v: &Value, code: ErrorCode, command: Option<&str>, outcome: ErrorOutcome) {
+        assert_eq!(v.get("command").and_then(Value::as_str), command, "{v}");
+        assert_eq!(v["outcome"], outcome.as_str(), "{v}");
+        self.check(v, code);
+    }
+
+    /// `v` is the core's refusal of `command` (nothing changed), of `code`.
+    fn refused(&mut self, v: &Value, code: ErrorCode, command: &str) {
+        self.answer(v, code, Some(command), Refused);
+    }
+
+    /// `v` is a spontaneous ERROR of `code`: it answers no command.
+    fn notice(&mut self, v: &Value, code: ErrorCode) {
+        assert!(v.get("command").is_none(), "{v}");
+        assert!(v.get("outcome").is_none(), "{v}");
+        self.check(v, code);
+    }
+
     /// `v` is a spontaneous safety error of `code`: its `error_code` is its `check`.
     fn trip(&mut self, v: &Value, code: ErrorCode) {
         assert_eq!(v["check"], code.as_str(), "{v}");
-        self.check(v, code);
+        self.notice(v, code);
     }
 }
 
@@ -128,53 +150,57 @@ fn every_refusal_a_client_can_provoke_carries_its_code() {
     let mut a = EventClient::connect(mcm.json);
     let mut b = EventClient::connect(mcm.json);
 
-    // Lines the gateway's parser refuses.
+    // Lines the gateway's parser refuses: `invalid`, naming the command the line names.
     let parser = [
-        ("hello", ErrorCode::InvalidJson),
-        (r#"{"arguments":{}}"#, ErrorCode::InvalidCommand),
-        (r#"{"command":"stauts"}"#, ErrorCode::UnknownCommand),
+        ("hello", ErrorCode::InvalidJson, None),
+        (r#"{"arguments":{}}"#, ErrorCode::InvalidCommand, None),
+        (r#"{"command":"stauts"}"#, ErrorCode::UnknownCommand, None),
         (
             r#"{"command":"status","arguments":{"bogus":1}}"#,
             ErrorCode::UnknownArgument,
+            Some("status"),
         ),
         (
             r#"{"command":"move_axis","arguments":{"axis_index":1}}"#,
             ErrorCode::MissingArgument,
+            Some("move_axis"),
         ),
         (
             r#"{"command":"status","arguments":{"detail":"yes"}}"#,
             ErrorCode::InvalidArgument,
+            Some("status"),
         ),
         (
             r#"{"command":"move_axis","arguments":{"axis_index":9,"target_position":0}}"#,
             ErrorCode::OutOfRange,
+            Some("move_axis"),
         ),
         (
             r#"{"command":"move_axis","arguments":{"axis_index":1,"target_position":175}}"#,
             ErrorCode::Unreachable,
+            Some("move_axis"),
         ),
     ];
-    for (line, code) in parser {
+    for (line, code, command) in parser {
         let v = a.request(line);
-        seen.check(&v, code);
+        seen.answer(&v, code, command, Invalid);
     }
 
-    // Control and modes, in OFF.
+    // Control and modes, in OFF: the core refuses.
     wait_drives_online(&mut a);
     assert_ok(&a.request(r#"{"command":"take_control"}"#));
-    seen.check(&b.request(MOVE_1), ErrorCode::NotOwner);
-    seen.check(&a.request(MOVE_1), ErrorCode::WrongMode);
+    seen.refused(&b.request(MOVE_1), ErrorCode::NotOwner, "move_axis");
+    seen.refused(&a.request(MOVE_1), ErrorCode::WrongMode, "move_axis");
     hold(&mut a);
-    seen.check(&a.request(r#"{"command":"pvt"}"#), ErrorCode::NotCalibrated);
+    let pvt = a.request(r#"{"command":"pvt"}"#);
+    seen.refused(&pvt, ErrorCode::NotCalibrated, "pvt");
 
     // Safety checks: the emergency stop, a drive lost.
     sim(&mut a, r#"{"emergency_stop":true}"#);
     let e = a.wait_event("emergency stop", WAIT);
     seen.trip(&e, ErrorCode::EmergencyStop);
-    seen.check(
-        &a.request(r#"{"command":"hold"}"#),
-        ErrorCode::EmergencyStop,
-    );
+    let held = a.request(r#"{"command":"hold"}"#);
+    seen.refused(&held, ErrorCode::EmergencyStop, "hold");
     sim(&mut a, r#"{"emergency_stop":false}"#);
     hold(&mut a);
     sim(&mut a, r#"{"disconnect_axis":2}"#);
@@ -193,8 +219,9 @@ fn every_refusal_a_client_can_provoke_carries_its_code() {
         std::thread::sleep(Duration::from_millis(10));
     }
     assert_eq!(b.request(r#"{"command":"hold"}"#)["result_type"], "status");
+    // It ran, then failed: `failed`.
     let aborted = a.result_within(r#"{"command":"calibrate"}"#, WAIT);
-    seen.check(&aborted, ErrorCode::Aborted);
+    seen.answer(&aborted, ErrorCode::Aborted, Some("calibrate"), Failed);
 
     // Calibrated, in PVT: a batch during a move, an obstacle in the way of a move.
     hold(&mut a);
@@ -202,11 +229,11 @@ fn every_refusal_a_client_can_provoke_carries_its_code() {
     assert_ok(&calibrate);
     assert_eq!(a.request(r#"{"command":"pvt"}"#)["result_type"], "status");
     let too_fast = r#"{"command":"pvt_points","arguments":{"points":[{"position":[0,0,0,0,0,0],"velocity":[0,0,0,0,0,0]},{"position":[1,0,0,0,0,0],"velocity":[96.512,0,0,0,0,0]}]}}"#;
-    seen.check(&a.request(too_fast), ErrorCode::PvtPoint);
+    seen.refused(&a.request(too_fast), ErrorCode::PvtPoint, "pvt_points");
     let long_move = r#"{"command":"move_axis","arguments":{"axis_index":1,"target_position":60,"velocity_factor":0.05}}"#;
     assert_ok(&a.request(long_move));
     let batch = r#"{"command":"pvt_points","arguments":{"points":[{"position":[0,0,0,0,0,0],"velocity":[0,0,0,0,0,0]}]}}"#;
-    seen.check(&a.request(batch), ErrorCode::Busy);
+    seen.refused(&a.request(batch), ErrorCode::Busy, "pvt_points");
     sim(&mut a, r#"{"block_axis":1}"#);
     let e = a.wait_event("following error", WAIT);
     seen.trip(&e, ErrorCode::FollowingError);
@@ -215,7 +242,7 @@ fn every_refusal_a_client_can_provoke_carries_its_code() {
     // A line longer than the limit closes its connection.
     let mut c = Client::connect(mcm.json);
     c.send_raw(&vec![b'x'; mcm_shared::protocol::MAX_COMMAND_BYTES + 1]);
-    seen.check(&c.recv(), ErrorCode::LineTooLong);
+    seen.answer(&c.recv(), ErrorCode::LineTooLong, None, Invalid);
     assert!(c.closed(), "the connection is closed after a line too long");
 
     // The MCM stops: its notices, in order, the gateway's last.
@@ -238,7 +265,7 @@ fn every_refusal_a_client_can_provoke_carries_its_code() {
     );
     for v in &notices {
         let code = ErrorCode::from_name(v["error_code"].as_str().unwrap()).unwrap();
-        seen.check(v, code);
+        seen.notice(v, code);
     }
 
     for c in ErrorCode::ALL {

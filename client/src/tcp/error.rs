@@ -2,21 +2,36 @@
 //! way ([`Error`]).
 
 use mcm_shared::error_code::ErrorCode;
-use mcm_shared::protocol::results::{Generic, ReadError};
+use mcm_shared::protocol::results::{ErrorOutcome, Generic, ReadError};
 use std::time::Duration;
 
-/// How the MCM answered a command it did not do.
+/// How the MCM answered a command it did not do: the result's `outcome`
+/// ([`ErrorOutcome`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ErrorKind {
-    /// Refused: nothing changed (`<command> refused: ...`).
+    /// The real-time core refused it: nothing changed (`refused`).
     Refused,
-    /// Accepted, then failed while running (`<command> failed: ...`, e.g. a calibration).
+    /// Accepted, then failed while running, e.g. a calibration; or it could not be handed to
+    /// the real-time core (`failed`).
     Failed,
-    /// Sent to the real-time core, but no answer came: it may or may not have been executed;
-    /// read the state (`error_code` `outcome_unknown`). Never "failed".
+    /// Sent to the real-time core, but its answer never came or cannot be read: it may or may
+    /// not have been executed; read the state (`unknown`). Never "failed".
     OutcomeUnknown,
-    /// The gateway refused the line itself (arguments, access rules, unknown command).
+    /// The gateway refused the line itself: arguments, access rules, unknown command
+    /// (`invalid`); also an outcome this version does not know, or an MCM too old to send
+    /// one.
     Invalid,
+}
+
+impl From<Option<ErrorOutcome>> for ErrorKind {
+    fn from(outcome: Option<ErrorOutcome>) -> ErrorKind {
+        match outcome {
+            Some(ErrorOutcome::Refused) => ErrorKind::Refused,
+            Some(ErrorOutcome::Failed) => ErrorKind::Failed,
+            Some(ErrorOutcome::Unknown) => ErrorKind::OutcomeUnknown,
+            Some(ErrorOutcome::Invalid) | None => ErrorKind::Invalid,
+        }
+    }
 }
 
 /// The MCM's answer to a command it did not do: the command, its `error_code`, the MCM's
@@ -24,8 +39,10 @@ pub enum ErrorKind {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{message}")]
 pub struct McmError {
-    /// The command it answers (`move_axis`, ...).
+    /// The command it answers (`move_axis`, ...): the result's `command`; the command sent,
+    /// from an MCM too old to name it.
     pub command: String,
+    /// How the command ended: the result's `outcome`.
     pub kind: ErrorKind,
     /// The MCM's `error_code` (`mcm_shared::error_code`): what a program decides on. `None`
     /// only for a code this version does not know (a newer MCM), or an MCM too old to send
@@ -38,27 +55,14 @@ pub struct McmError {
 }
 
 impl McmError {
-    /// Read a `generic` ERROR result that answers `command`.
-    pub fn from_generic(command: &str, g: &Generic) -> McmError {
-        let code = g.code();
-        let message = g.message();
-        let rest = message.strip_prefix(command).unwrap_or(message);
-        let kind = match code {
-            Some(ErrorCode::OutcomeUnknown) => ErrorKind::OutcomeUnknown,
-            Some(c) if c.reject_code().is_none() && c != ErrorCode::CoreUnavailable => {
-                ErrorKind::Invalid
-            }
-            // The core's reasons: the protocol words them `<command> refused: ...` or
-            // `<command> failed: ...` (a value out of range: `<command>: argument ...`).
-            _ if rest.starts_with(" refused:") => ErrorKind::Refused,
-            _ if rest.starts_with(" failed:") => ErrorKind::Failed,
-            _ => ErrorKind::Invalid,
-        };
+    /// Read a `generic` ERROR result that answers the command `sent`: its `command`,
+    /// `outcome` and `error_code`, never its words.
+    pub fn from_generic(sent: &str, g: &Generic) -> McmError {
         McmError {
-            command: command.to_string(),
-            kind,
-            code,
-            message: message.to_string(),
+            command: g.command.as_deref().unwrap_or(sent).to_string(),
+            kind: ErrorKind::from(g.outcome()),
+            code: g.code(),
+            message: g.message().to_string(),
         }
     }
 }

@@ -352,7 +352,7 @@ impl TcpClient {
     fn call_typed<T>(
         &mut self,
         cmd: impl Into<Command>,
-        typed: impl FnOnce(Answer) -> Result<T, Answer>,
+        typed: impl FnOnce(Answer) -> Result<T, Box<Answer>>,
     ) -> Result<T, Error> {
         let cmd = cmd.into();
         let answer = self.call(&cmd, None)?;
@@ -400,7 +400,7 @@ impl TcpClient {
     pub fn info(&mut self) -> Result<Info, Error> {
         self.call_typed(protocol::Info, |a| match a {
             Answer::Initialization(i) => Ok(i),
-            other => Err(other),
+            other => Err(Box::new(other)),
         })
     }
 
@@ -507,7 +507,7 @@ impl TcpClient {
         };
         self.call_typed(cmd, |a| match a {
             Answer::MoveAll(m) => Ok(m),
-            other => Err(other),
+            other => Err(Box::new(other)),
         })
     }
 
@@ -568,7 +568,7 @@ impl TcpClient {
     pub fn sim(&mut self, c: SimCommand) -> Result<SimResult, Error> {
         self.call_typed(c, |a| match a {
             Answer::Sim(r) => Ok(r),
-            other => Err(other),
+            other => Err(Box::new(other)),
         })
     }
 

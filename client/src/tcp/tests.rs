@@ -17,7 +17,7 @@ fn status(mode: &str, t: f64) -> String {
 fn refusal_line(json: &str) -> String {
     let cfg = mcm_shared::config::RobotConfig::prob2_default();
     let e = Command::from_json(json, &cfg).unwrap_err();
-    Answer::error(e.code(), e.to_string())
+    Answer::Generic(mcm_shared::protocol::results::Generic::invalid_line(&e))
         .to_value()
         .to_string()
 }
@@ -29,7 +29,9 @@ fn core_refusal_line(
 ) -> String {
     let outcome = mcm_shared::reply::Outcome::Refused(reason);
     let g = mcm_shared::protocol::results::Generic::reply_error(kind, &outcome);
-    Answer::Generic(g).to_value().to_string()
+    Answer::Generic(g.answering(kind.as_str()))
+        .to_value()
+        .to_string()
 }
 
 /// A server that answers the n-th line it reads with `script[n]` (several lines, or none),

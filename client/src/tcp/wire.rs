@@ -61,9 +61,7 @@ pub(crate) fn parse(line: &str) -> Result<Line, ProtocolProblem> {
     if code.is_some_and(ErrorCode::is_spontaneous) {
         return Ok(Line::Event(Event::Notice(message)));
     }
-    // The protocol words a refusal `<command> refused: ...` (or `<command>: ...`).
-    let command = message.split([' ', ':']).next().unwrap_or_default();
-    if answers_nothing(command) {
+    if let Some(command) = g.command.as_deref().filter(|c| answers_nothing(c)) {
         // No result on success: a refusal is an event.
         return Ok(Line::Event(Event::CommandError(McmError::from_generic(
             command, &g,

@@ -4,7 +4,8 @@
 
 use crate::core_link::bridge::SafetyEvent;
 use mcm_shared::error_code::ErrorCode;
-use mcm_shared::protocol::results::{Answer, Generic, Status};
+use mcm_shared::protocol::CommandError;
+use mcm_shared::protocol::results::{Answer, ErrorOutcome, Generic, Status};
 use mcm_shared::sample::StateSample;
 use serde_json::Value;
 
@@ -13,20 +14,38 @@ pub fn error(code: ErrorCode, message: impl Into<String>) -> Value {
     Answer::error(code, message).to_value()
 }
 
+/// A generic ERROR result answering a request that ended as `outcome`.
+pub fn answer_error(outcome: ErrorOutcome, code: ErrorCode, message: impl Into<String>) -> Value {
+    Answer::answer_error(outcome, code, message).to_value()
+}
+
+/// The ERROR of a line refused before it became a command (outcome `invalid`).
+pub fn invalid_line(e: &CommandError) -> Value {
+    Answer::Generic(Generic::invalid_line(e)).to_value()
+}
+
 /// The status of `state` as the result of `command` (`status`, or a command answered with the
 /// status of its cycle: `hold`, `release`, ...); an ERROR naming `command` when the state is
-/// from another MCM version.
+/// from another MCM version (outcome `unknown`: the command was done, its state cannot be
+/// read).
 pub fn status_answer(command: &str, state: &StateSample, detail: bool) -> Answer {
     match Status::from_state(state, detail) {
         Ok(s) => Answer::Status(Box::new(s)),
-        Err(e) => Answer::error(ErrorCode::VersionMismatch, format!("{command}: {e}")),
+        Err(e) => Answer::answer_error(
+            ErrorOutcome::Unknown,
+            ErrorCode::VersionMismatch,
+            format!("{command}: {e}"),
+        ),
     }
 }
 
 /// A spontaneous status result of `state` (a control mode's session, the ZeroMQ `state`
-/// topic).
+/// topic); an ERROR that answers no command when the state is from another MCM version.
 pub fn status(state: &StateSample, detail: bool) -> Value {
-    status_answer("status", state, detail).to_value()
+    match Status::from_state(state, detail) {
+        Ok(s) => Answer::Status(Box::new(s)).to_value(),
+        Err(e) => error(ErrorCode::VersionMismatch, format!("status: {e}")),
+    }
 }
 
 /// The spontaneous ERROR sent to every client when a safety check trips: the check, the axis,

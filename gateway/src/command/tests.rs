@@ -181,3 +181,98 @@ fn the_notices_have_their_codes() {
         assert_eq!(v["error_message"], n.text(), "{v}");
     }
 }
+
+/// The `outcome` and `command` of an ERROR `answer`.
+fn ended(answer: &Option<Answer>) -> (Option<ErrorOutcome>, Option<&str>) {
+    match answer {
+        Some(Answer::Generic(g)) if !g.is_ok() => (g.outcome(), g.command.as_deref()),
+        other => panic!("not an ERROR: {other:?}"),
+    }
+}
+
+/// Every ERROR that answers a command says how it ended, whatever its words: the core's
+/// refusal and failure, the gateway's own refusal, a request whose answer never came or
+/// cannot be read, a core that does not run; and names the command it answers.
+#[tokio::test]
+async fn errors_answering_a_command_say_how_it_ended_and_name_it() {
+    use mcm_shared::command::Axis;
+    use mcm_shared::reply::{CalibrationFailure, Reason};
+    let (mut ctx, thread, _) =
+        crate::test_support::offline_context("ended", RobotConfig::prob2_default());
+    let core = |kind, outcome| {
+        let g = crate::command::access::reply_error(&ctx, kind, &outcome);
+        Some(Answer::Generic(g))
+    };
+    let busy = reply::Outcome::Refused(Reason::Busy { remaining_s: 1.0 });
+    let not_owner = reply::Outcome::Refused(Reason::NotOwner { owner: 7 });
+    let no_stop = reply::Outcome::Failed(Reason::CalibrationFailed {
+        axis: Axis::new(3).unwrap(),
+        cause: CalibrationFailure::NoStop {
+            searched_deg: 310.0,
+        },
+    });
+    let cases = [
+        (core(CommandKind::MoveAxis, busy), ErrorOutcome::Refused),
+        (
+            core(CommandKind::SetTorques, not_owner),
+            ErrorOutcome::Refused,
+        ),
+        (core(CommandKind::Calibrate, no_stop), ErrorOutcome::Failed),
+        (
+            Some(bridge_error(
+                "hold",
+                &BridgeError::OutcomeUnknown(NoReply::Timeout { seconds: 5.0 }),
+            )),
+            ErrorOutcome::Unknown,
+        ),
+        (
+            Some(bridge_error(
+                "hold",
+                &BridgeError::Undecodable(DecodeError::UnknownKind(99)),
+            )),
+            ErrorOutcome::Unknown,
+        ),
+        (
+            Some(bridge_error(
+                "hold",
+                &BridgeError::RtNotRunning {
+                    instance: "r1".into(),
+                },
+            )),
+            ErrorOutcome::Failed,
+        ),
+    ];
+    for (answer, outcome) in cases {
+        assert_eq!(ended(&answer).0, Some(outcome), "{answer:?}");
+    }
+    let state = StateSample {
+        mode: 99,
+        ..StateSample::default()
+    };
+    let hold = Command::Hold(mcm_shared::protocol::Hold);
+    let unreadable = success(&ctx, &hold, &Done::Ack, &state);
+    assert_eq!(ended(&unreadable).0, Some(ErrorOutcome::Unknown));
+
+    // Through the access rules, as every channel runs a command: the command is named.
+    let only_lan = vec![Cidr::parse("192.168.0.0/16").expect("a network")];
+    ctx.access = Arc::new(Access::new(Some(only_lan), None, false));
+    let far = Client::new(
+        &ctx.clients,
+        &ctx.bridge,
+        Channel::Json,
+        "10.0.0.9:4000".parse().unwrap(),
+    );
+    let torques = r#"{"command":"set_torques","arguments":{"torques":[0,0,0,0,0,0]}}"#;
+    let out = run_command(&ctx, &far, &parse_in(&ctx, torques)).await;
+    assert_eq!(
+        ended(&out.result),
+        (Some(ErrorOutcome::Invalid), Some("set_torques"))
+    );
+    let out = run_command(&ctx, &far, &parse_in(&ctx, r#"{"command":"status"}"#)).await;
+    assert_eq!(code(&out.result), Some(ErrorCode::CoreUnavailable));
+    assert_eq!(
+        ended(&out.result),
+        (Some(ErrorOutcome::Failed), Some("status"))
+    );
+    thread.stop();
+}

@@ -49,25 +49,13 @@ DEFAULT_PORT = 18010
 
 Event = Union[SafetyErrorEvent, StatusEvent, CommandErrorEvent]
 
-# Spontaneous ERROR results without a `check` field: the MCM stopping, or the gateway
-# closing this connection.
 
-# The codes of the real-time core's reasons (the gateway's own are the others).
-_CORE_CODES = frozenset(codes.REJECT_CODES.values())
-
-
-def _outcome(command: str, message: str, code: Optional[str]) -> str:
-    """How a command ended that the MCM did not do: ``"invalid"`` when the gateway refused
-    the line itself (by its code), else as the protocol words the core's answer
-    (``<command> failed: ...``, ``<command> refused: ...``; an argument out of range
-    ``<command>: argument ...``)."""
-    if code is not None and code not in _CORE_CODES and code != codes.ErrorCode.CORE_UNAVAILABLE:
-        return "invalid"
-    if message.startswith(command + " failed: "):
-        return "failed"
-    if message.startswith(command + " refused: "):
-        return "refused"
-    return "invalid"
+def _outcome(v: Dict[str, Any]) -> str:
+    """How a command ended that the MCM did not do: the ERROR result's ``outcome``
+    (:class:`mcm.codes.Outcome`), never read from its words; ``"invalid"`` from an MCM too old
+    to send one."""
+    outcome = codes.outcome(v)
+    return outcome.value if outcome is not None else codes.Outcome.INVALID.value
 
 
 # Commands whose result on success is a status result.
@@ -243,10 +231,10 @@ class Client:
                     self._session = None
                 return True
             # Commands without a result on success: their refusals are events.
-            for name in codes.NO_RESULT:
-                if msg.startswith(name) and msg[len(name) : len(name) + 1] in (" ", ":") and expecting != name:
-                    self._events.append(CommandErrorEvent(name, msg, code))
-                    return True
+            name = v.get("command")
+            if name in codes.NO_RESULT and expecting != name:
+                self._events.append(CommandErrorEvent(str(name), msg, code, _outcome(v)))
+                return True
             return False
         if v.get("result_type") == "status" and self._session is not None:
             mode = v.get("operating_mode")
@@ -302,9 +290,11 @@ class Client:
             if _is_error(v):
                 message = str(v.get("error_message", ""))
                 code = codes.error_code(v)
-                if code == codes.ErrorCode.OUTCOME_UNKNOWN:
-                    raise OutcomeUnknown(command, message, code, "unknown")
-                raise CommandError(command, message, code, _outcome(command, message, code))
+                outcome = _outcome(v)
+                name = str(v.get("command", command))
+                if outcome == codes.Outcome.UNKNOWN:
+                    raise OutcomeUnknown(name, message, code, outcome)
+                raise CommandError(name, message, code, outcome)
             if command in _SESSIONS and v.get("operating_mode") == _SESSIONS[command]:
                 self._session = _SESSIONS[command]
             return v
@@ -401,7 +391,7 @@ class Client:
         for i, e in enumerate(self._events):
             if isinstance(e, CommandErrorEvent) and e.command == command:
                 del self._events[i]
-                raise CommandError(command, e.message, e.code, _outcome(command, e.message, e.code))
+                raise CommandError(command, e.message, e.code, e.outcome)
 
     def pvt(self, dt: Optional[float] = None) -> Status:
         """Enter PVT mode; ``dt`` is the spacing of the ``pvt_points`` points [s]."""

@@ -235,3 +235,6 @@ class CommandErrorEvent:
     #: Its ``error_code`` (:class:`mcm.codes.ErrorCode`); None for a code this version does
     #: not know.
     code: Optional[str] = None
+    #: How it ended, the result's ``outcome`` (:class:`mcm.codes.Outcome`: ``"refused"``,
+    #: ``"invalid"``, ...).
+    outcome: str = "invalid"

@@ -95,6 +95,24 @@ impl CommandError {
                 .unwrap_or(ErrorCode::OutOfRange),
         }
     }
+
+    /// The known command the refused line names; `None` for a line that names none.
+    pub fn command(&self) -> Option<&'static str> {
+        match self {
+            CommandError::Framing(_)
+            | CommandError::Json(_)
+            | CommandError::DuplicateKey { .. }
+            | CommandError::MissingCommand
+            | CommandError::CommandNotString { .. }
+            | CommandError::UnknownCommand { .. } => None,
+            CommandError::UnknownField { command, .. }
+            | CommandError::ArgumentsNotObject { command, .. }
+            | CommandError::UnknownArgument { command, .. }
+            | CommandError::Missing { command, .. }
+            | CommandError::Invalid { command, .. }
+            | CommandError::OutOfRange { command, .. } => Some(command),
+        }
+    }
 }
 
 /// The `arguments` of one command.

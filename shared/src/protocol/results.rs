@@ -16,6 +16,7 @@ use crate::command::DecodeError;
 use crate::config::RobotConfig;
 use crate::error_code::ErrorCode;
 use crate::mode::{CommandKind, Mode, RejectCode};
+use crate::protocol::CommandError;
 use crate::reply::{InfoReply, MoveAllPlan, Outcome, SafetyError};
 use crate::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord,
@@ -25,6 +26,9 @@ use crate::sample::{
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::collections::BTreeMap;
+
+mod outcome;
+pub use outcome::ErrorOutcome;
 
 /// Six values, one per axis.
 pub type Six = [f64; NUM_AXES];
@@ -77,6 +81,24 @@ impl Answer {
     /// An ERROR with its `code` and `message`.
     pub fn error(code: ErrorCode, message: impl Into<String>) -> Answer {
         Answer::Generic(Generic::error(code, message))
+    }
+
+    /// An ERROR answering a command that ended as `outcome` ([`Generic::answer_error`]).
+    pub fn answer_error(
+        outcome: ErrorOutcome,
+        code: ErrorCode,
+        message: impl Into<String>,
+    ) -> Answer {
+        Answer::Generic(Generic::answer_error(outcome, code, message))
+    }
+
+    /// This result as the answer to `command` (the name as sent): an ERROR names it in
+    /// `command`; any other result is unchanged.
+    pub fn answering(self, command: &str) -> Answer {
+        match self {
+            Answer::Generic(g) => Answer::Generic(g.answering(command)),
+            other => other,
+        }
     }
 
     /// `generic` OK.
@@ -133,8 +155,9 @@ pub enum ErrorStatus {
     Error,
 }
 
-/// A `generic` result: OK, or an ERROR with its code and its words. A spontaneous safety error
-/// adds the check, the axis and the flight-recorder file.
+/// A `generic` result: OK, or an ERROR with its code and its words. An ERROR that answers a
+/// command names the command and how it ended; a spontaneous safety error adds the check, the
+/// axis and the flight-recorder file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Generic {
     pub error_status: ErrorStatus,
@@ -145,6 +168,18 @@ pub struct Generic {
     pub error_code: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error_message: Option<String>,
+    /// The command an ERROR answers, by the name it was sent with (`set_torques`); absent for a
+    /// spontaneous error and for a line that names no known command.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub command: Option<String>,
+    /// How the command an ERROR answers ended; absent for a spontaneous error. An outcome of
+    /// a newer MCM version reads as `None`.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "ErrorOutcome::read"
+    )]
+    pub outcome: Option<ErrorOutcome>,
     /// The safety check that tripped ([`RejectCode::as_str`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub check: Option<String>,
@@ -163,6 +198,8 @@ impl Generic {
             error_status: ErrorStatus::Ok,
             error_code: None,
             error_message: None,
+            command: None,
+            outcome: None,
             check: None,
             axis: None,
             flight_recorder: None,
@@ -179,9 +216,47 @@ impl Generic {
         }
     }
 
+    /// An ERROR answering a command that ended as `outcome`, with its code and its words
+    /// ([`Generic::answering`] names the command).
+    pub fn answer_error(
+        outcome: ErrorOutcome,
+        code: ErrorCode,
+        message: impl Into<String>,
+    ) -> Generic {
+        Generic {
+            outcome: Some(outcome),
+            ..Generic::error(code, message)
+        }
+    }
+
+    /// This result as the answer to `command` (the name as sent): an ERROR names it; OK is
+    /// unchanged.
+    pub fn answering(mut self, command: &str) -> Generic {
+        if !self.is_ok() {
+            self.command = Some(command.to_string());
+        }
+        self
+    }
+
+    /// The ERROR of a line refused before it became a command: outcome `invalid`, and the
+    /// command it names when it names a known one.
+    pub fn invalid_line(e: &CommandError) -> Generic {
+        let g = Generic::answer_error(ErrorOutcome::Invalid, e.code(), e.to_string());
+        match e.command() {
+            Some(name) => g.answering(name),
+            None => g,
+        }
+    }
+
     /// The code of an ERROR, when this version knows it (`None` for OK).
     pub fn code(&self) -> Option<ErrorCode> {
         ErrorCode::from_name(self.error_code.as_deref()?)
+    }
+
+    /// How the command an ERROR answers ended, when the result says it in a way this version
+    /// knows (`None` for OK, for a spontaneous error, and for an MCM too old to send it).
+    pub fn outcome(&self) -> Option<ErrorOutcome> {
+        self.outcome
     }
 
     /// Whether it is OK.
@@ -203,17 +278,18 @@ impl Generic {
             .find(|c| c.as_str() == check)
     }
 
-    /// The words for a refused or failed command of `kind`, prefixed with the command name (a
-    /// command that was done is [`Generic::ok`]). A value of an argument outside its range
-    /// reads exactly as the gateway's own refusal of it (`move_axis: argument
-    /// "target_position" = 175 is not allowed; expected ...`), whichever side refused.
+    /// The words for a refused or failed command of `kind`, prefixed with the command name,
+    /// and its `outcome` (a command that was done is [`Generic::ok`]). A value of an argument
+    /// outside its range reads exactly as the gateway's own refusal of it (`move_axis:
+    /// argument "target_position" = 175 is not allowed; expected ...`), whichever side
+    /// refused; `outcome` tells which.
     pub fn reply_error(kind: CommandKind, outcome: &Outcome) -> Generic {
-        match outcome {
-            Outcome::Done(_) => Generic::ok(),
-            Outcome::Refused(reason) | Outcome::Failed(reason) => {
-                Generic::error(reason.error_code(), outcome.words(kind).to_string())
-            }
-        }
+        let (ended, reason) = match outcome {
+            Outcome::Done(_) => return Generic::ok(),
+            Outcome::Refused(reason) => (ErrorOutcome::Refused, reason),
+            Outcome::Failed(reason) => (ErrorOutcome::Failed, reason),
+        };
+        Generic::answer_error(ended, reason.error_code(), outcome.words(kind).to_string())
     }
 
     /// A safety error in words (without the mode and the flight-recorder file); its

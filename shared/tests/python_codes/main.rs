@@ -3,7 +3,9 @@
 //! names, the result each answers on success, those that answer nothing, those that need
 //! control), the numeric arguments (`mcm_shared::ranges::ARGS`), the words of every refusal
 //! (`Reason`'s and `ArgRefusal`'s `Display` in `mcm_shared::reply` and `mcm_shared::ranges`) and
-//! every error code (`mcm_shared::error_code::ErrorCode`, the Python `ErrorCode` enum).
+//! every error code (`mcm_shared::error_code::ErrorCode`, the Python `ErrorCode` enum) and the
+//! `outcome` of an ERROR result (`mcm_shared::protocol::results::ErrorOutcome`, the Python
+//! `Outcome` enum).
 //! This test fails when the checked-in file differs from what it generates now;
 //! `MCM_UPDATE_PYTHON=1 cargo test -p mcm-shared --test python_codes` writes it anew.
 //!
@@ -23,6 +25,7 @@ mod text;
 use mcm_shared::command::Axis;
 use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
+use mcm_shared::protocol::results::ErrorOutcome;
 use mcm_shared::protocol::{COMMANDS, Success};
 use mcm_shared::ranges::{ARGS, ArgRefusal, Num};
 use mcm_shared::reply::{CalibrationFailure, PvtQuantity, Reason};
@@ -518,7 +521,7 @@ fn commands() -> String {
     let _ = write!(
         out,
         "\n#: Commands that answer nothing on success (``Success::Nothing``): a refusal comes \
-         later,\n#: as an ERROR whose words start with the command's name.\n\
+         later,\n#: as an ERROR whose ``command`` names the command.\n\
          NO_RESULT: Tuple[str, ...] = (\n{})\n\n",
         str_rows(nothing.map(|c| c.name), "    ")
     );
@@ -574,7 +577,37 @@ fn render() -> String {
     out.push_str(&reason_text());
     out.push_str("\n\n");
     out.push_str(&error_codes());
+    out.push_str("\n\n");
+    out.push_str(&outcomes());
     out
+}
+
+/// Every `outcome` of an ERROR result ([`ErrorOutcome`]) as a Python enum of the same names,
+/// and the reading of a result's outcome.
+fn outcomes() -> String {
+    let mut s = String::from(
+        "class Outcome(str, Enum):\n    \
+         \"\"\"The ``outcome`` of an ERROR result that answers a command \
+         (``shared/src/protocol/results/outcome.rs``):\n    how the command ended, never read \
+         from the words. A ``str``: ``Outcome.REFUSED == \"refused\"``.\"\"\"\n\n",
+    );
+    for o in ErrorOutcome::ALL {
+        let _ = writeln!(s, "    #: {}", o.meaning());
+        let _ = writeln!(
+            s,
+            "    {} = {}",
+            o.as_str().to_uppercase(),
+            py_str(o.as_str())
+        );
+    }
+    s.push_str(
+        "\n\ndef outcome(result: Dict[str, Any]) -> Optional[Outcome]:\n    \
+         \"\"\"The ``outcome`` of an ERROR result; None when it has none (a spontaneous error, \
+         an MCM too\n    old to send it) or one this version does not know (a newer MCM).\"\"\"\n    \
+         try:\n        return Outcome(result.get(\"outcome\"))\n    \
+         except ValueError:\n        return None\n",
+    );
+    s
 }
 
 /// Every error code ([`ErrorCode`]) as a Python enum of the same names, the spontaneous ones,

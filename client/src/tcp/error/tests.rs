@@ -4,19 +4,19 @@ use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::mode::RejectCode;
 use mcm_shared::protocol::Command;
-use mcm_shared::protocol::results::Generic;
+use mcm_shared::protocol::results::{ErrorOutcome, Generic};
 use mcm_shared::reply::Reason;
 use mcm_shared::reply::{CalibrationFailure, Outcome};
 
 /// The gateway's ERROR result for the core's `outcome` of a `kind` request.
 fn core_error(kind: CommandKind, outcome: Outcome) -> Generic {
-    Generic::reply_error(kind, &outcome)
+    Generic::reply_error(kind, &outcome).answering(kind.as_str())
 }
 
 /// The gateway's ERROR result for a command line it refuses itself.
 fn refusal_of(json: &str) -> Generic {
     let e = Command::from_json(json, &RobotConfig::prob2_default()).unwrap_err();
-    Generic::error(e.code(), e.to_string())
+    Generic::invalid_line(&e)
 }
 
 #[test]
@@ -44,7 +44,8 @@ fn refusals_failures_and_unknown_outcomes_are_told_apart_with_their_code() {
         (e.kind, e.code),
         (ErrorKind::Failed, Some(ErrorCode::CalibrationFailed))
     );
-    let unknown_outcome = Generic::error(
+    let unknown_outcome = Generic::answer_error(
+        ErrorOutcome::Unknown,
         ErrorCode::OutcomeUnknown,
         "move_axis: no reply from the real-time core within 5 s: the command may or may not have been executed; check the state",
     );
@@ -71,27 +72,52 @@ fn refusals_failures_and_unknown_outcomes_are_told_apart_with_their_code() {
     assert_eq!(e.to_string(), e.message, "the MCM's words, unchanged");
 }
 
-/// A program decides on the code: words reworded (or in another language) change nothing.
+/// A program decides on the code, the outcome and the command: words reworded (or in another
+/// language) change nothing.
 #[test]
-fn the_code_is_read_not_the_words() {
-    let g = Generic::error(ErrorCode::NotOwner, "move_axis refused: quelqu'un d'autre");
-    let e = McmError::from_generic("move_axis", &g);
-    assert_eq!(
-        (e.kind, e.code),
-        (ErrorKind::Refused, Some(ErrorCode::NotOwner))
+fn the_code_outcome_and_command_are_read_not_the_words() {
+    let reworded = |g: Generic, words: &str| Generic {
+        error_message: Some(words.to_string()),
+        ..g
+    };
+    let refused = core_error(
+        CommandKind::MoveAxis,
+        Outcome::Refused(Reason::NotOwner { owner: 7 }),
     );
-    let g = Generic::error(
-        ErrorCode::WrongMode,
-        "move_axis refused: controlled by someone",
-    );
+    let e = McmError::from_generic("move_axis", &reworded(refused, "déplacement refusé"));
     assert_eq!(
-        McmError::from_generic("move_axis", &g).code,
-        Some(ErrorCode::WrongMode)
+        (e.command.as_str(), e.kind, e.code),
+        ("move_axis", ErrorKind::Refused, Some(ErrorCode::NotOwner))
+    );
+    let failed = core_error(
+        CommandKind::Calibrate,
+        Outcome::Failed(Reason::CalibrationFailed {
+            axis: Axis::new(3).unwrap(),
+            cause: CalibrationFailure::DriveLost,
+        }),
+    );
+    let e = McmError::from_generic("calibrate", &reworded(failed, "move_axis refused: x"));
+    assert_eq!(
+        (e.command.as_str(), e.kind, e.code),
+        (
+            "calibrate",
+            ErrorKind::Failed,
+            Some(ErrorCode::CalibrationFailed)
+        )
+    );
+    // Words that say "refused" make no refusal: without `outcome` (an MCM too old to send
+    // it) the kind is `Invalid`, the command the one sent.
+    let old = Generic::error(ErrorCode::WrongMode, "move_axis refused: not allowed");
+    let e = McmError::from_generic("move_axis", &old);
+    assert_eq!(
+        (e.command.as_str(), e.kind, e.code),
+        ("move_axis", ErrorKind::Invalid, Some(ErrorCode::WrongMode))
     );
 }
 
 /// A target out of reach reads the same whichever side refused it: the gateway, parsing it,
-/// or the core; either way it is the `unreachable` code.
+/// or the core; either way it is the `unreachable` code, and nothing changed (`outcome` says
+/// which side refused it).
 #[test]
 fn an_unreachable_target_is_read_as_unreachable_from_either_side() {
     let gateway =
@@ -106,12 +132,21 @@ fn an_unreachable_target_is_read_as_unreachable_from_either_side() {
             max_deg,
         }),
     );
-    assert_eq!(gateway, core);
+    assert_eq!(
+        (gateway.message(), gateway.code()),
+        (core.message(), core.code())
+    );
     let e = McmError::from_generic("move_axis", &core);
     assert_eq!(
         (e.kind, e.code),
-        (ErrorKind::Invalid, Some(ErrorCode::Unreachable)),
+        (ErrorKind::Refused, Some(ErrorCode::Unreachable)),
         "{core:?}"
+    );
+    let e = McmError::from_generic("move_axis", &gateway);
+    assert_eq!(
+        (e.kind, e.code),
+        (ErrorKind::Invalid, Some(ErrorCode::Unreachable)),
+        "{gateway:?}"
     );
 }
 

@@ -31,10 +31,10 @@ fn line(g: Generic) -> String {
     Answer::Generic(g).to_value().to_string()
 }
 
-/// The gateway's words for the core's refusal of a `kind` request in HOLD.
-fn refused_in_hold(kind: CommandKind) -> String {
+/// The gateway's ERROR result for the core's refusal of a `kind` request in HOLD.
+fn refused_in_hold(kind: CommandKind) -> Generic {
     let outcome = Outcome::Refused(Reason::WrongMode { mode: Mode::Hold });
-    line(Generic::reply_error(kind, &outcome))
+    Generic::reply_error(kind, &outcome).answering(kind.as_str())
 }
 
 #[test]
@@ -64,7 +64,7 @@ fn spontaneous_lines_are_events_never_results() {
     assert_eq!(flight_recorder.as_deref(), Some("/tmp/x.csv"));
     let l = parse(r#"{"result_type":"generic","error_status":"ERROR","error_code":"core_stopping","error_message":"mcm-rt is shutting down: the arm is being stopped"}"#).unwrap();
     assert!(matches!(l, Line::Event(Event::Notice(_))), "{l:?}");
-    let l = parse(&refused_in_hold(CommandKind::SetTorques)).unwrap();
+    let l = parse(&line(refused_in_hold(CommandKind::SetTorques))).unwrap();
     let Line::Event(Event::CommandError(e)) = l else {
         panic!("{l:?}")
     };
@@ -78,12 +78,38 @@ fn spontaneous_lines_are_events_never_results() {
     let cfg = mcm_shared::config::RobotConfig::prob2_default();
     let torques = r#"{"command":"set_torques","arguments":{"torques":[10000,0,0,0,0,0]}}"#;
     let refused = mcm_shared::protocol::Command::from_json(torques, &cfg).unwrap_err();
-    let l = parse(&line(Generic::error(refused.code(), refused.to_string()))).unwrap();
+    let l = parse(&line(Generic::invalid_line(&refused))).unwrap();
     assert!(
         matches!(&l, Line::Event(Event::CommandError(e)) if e.kind == crate::tcp::ErrorKind::Invalid),
         "{l:?}"
     );
-    let l = parse(&refused_in_hold(CommandKind::MoveAxis)).unwrap();
+    let l = parse(&line(refused_in_hold(CommandKind::MoveAxis))).unwrap();
+    assert!(matches!(l, Line::Error(_)), "{l:?}");
+}
+
+/// The refusal of a command that answers nothing on success is told by its `command`, never
+/// by its words.
+#[test]
+fn a_refusal_without_a_result_is_known_by_its_command_not_its_words() {
+    let reworded = Generic {
+        error_message: Some("Drehmomente abgelehnt".into()),
+        ..refused_in_hold(CommandKind::SetVelocities)
+    };
+    let l = parse(&line(reworded)).unwrap();
+    let Line::Event(Event::CommandError(e)) = l else {
+        panic!("{l:?}")
+    };
+    assert_eq!(
+        (e.command.as_str(), e.kind),
+        ("set_velocities", crate::tcp::ErrorKind::Refused)
+    );
+    // Words that start with the command's name name no command.
+    let unnamed = Generic {
+        command: None,
+        ..refused_in_hold(CommandKind::SetTorques)
+    };
+    assert!(unnamed.message().starts_with("set_torques refused"));
+    let l = parse(&line(unnamed)).unwrap();
     assert!(matches!(l, Line::Error(_)), "{l:?}");
 }
 

@@ -28,7 +28,7 @@ use crate::command::{self, Context, Outcome};
 use mcm_shared::config::{AccessConfig, Cidr, ConfigError};
 use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::CommandKind;
-use mcm_shared::protocol::results::{AccessDetail, Answer, ControlDetail, Generic};
+use mcm_shared::protocol::results::{AccessDetail, Answer, ControlDetail, ErrorOutcome, Generic};
 use mcm_shared::protocol::{Command, Secret};
 use mcm_shared::reply::{self, Reason};
 use std::net::IpAddr;
@@ -276,7 +276,8 @@ pub fn reply_error(ctx: &Context, kind: CommandKind, outcome: &reply::Outcome) -
     match outcome {
         reply::Outcome::Refused(Reason::NotOwner { owner }) => {
             ctx.access.count(Refusal::NotOwner);
-            Generic::error(
+            Generic::answer_error(
+                ErrorOutcome::Refused,
                 Refusal::NotOwner.code(),
                 format!(
                     "{kind} refused: the arm is controlled by {} (client id {owner:#x}); only \
@@ -300,8 +301,14 @@ fn only(result: Answer) -> Outcome {
 
 /// Execute `cmd` for the connection `client` under the access rules: `authenticate` here,
 /// refusals here, everything else through [`command::execute`]; `status` detail gains
-/// `detail.control` and `detail.access`.
+/// `detail.control` and `detail.access`. An ERROR result names `cmd` (`command`).
 pub async fn run_command(ctx: &Context, client: &Client, cmd: &Command) -> Outcome {
+    let mut out = run(ctx, client, cmd).await;
+    out.result = out.result.map(|r| r.answering(cmd.name()));
+    out
+}
+
+async fn run(ctx: &Context, client: &Client, cmd: &Command) -> Outcome {
     if let Command::Authenticate(a) = cmd {
         let secret = &a.secret;
         return authenticate(ctx, client, secret).await;
@@ -312,7 +319,8 @@ pub async fn run_command(ctx: &Context, client: &Client, cmd: &Command) -> Outco
         .decide(needs, client.peer.ip(), client.authenticated())
     {
         ctx.access.count(r);
-        return only(Answer::error(
+        return only(Answer::answer_error(
+            ErrorOutcome::Invalid,
             r.code(),
             ctx.access.refusal_text(cmd.name(), r, client.peer.ip()),
         ));
@@ -338,7 +346,8 @@ async fn authenticate(ctx: &Context, client: &Client, secret: &Secret) -> Outcom
     }
     ctx.access.count(Refusal::WrongSecret);
     tokio::time::sleep(WRONG_SECRET_DELAY).await;
-    only(Answer::error(
+    only(Answer::answer_error(
+        ErrorOutcome::Invalid,
         Refusal::WrongSecret.code(),
         ctx.access
             .refusal_text("authenticate", Refusal::WrongSecret, client.peer.ip()),

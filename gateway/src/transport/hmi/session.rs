@@ -467,9 +467,7 @@ impl Session {
                     return Ok(Flow::Quit);
                 }
             }
-            Err(LineError::Json(e)) => {
-                self.say(&render::pretty(&result::error(e.code(), e.to_string())))
-            }
+            Err(LineError::Json(e)) => self.say(&render::pretty(&result::invalid_line(&e))),
             Err(e) => self.say(&render::line_error(&e)),
         }
         Ok(Flow::Continue)

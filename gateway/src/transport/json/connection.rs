@@ -24,6 +24,7 @@ use mcm_shared::config::RobotConfig;
 use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::Mode;
 use mcm_shared::protocol::Command;
+use mcm_shared::protocol::results::ErrorOutcome;
 use mcm_shared::sample::StateSample;
 use serde_json::Value;
 use std::net::SocketAddr;
@@ -123,7 +124,8 @@ pub async fn decide(frame: Frame, cfg: &std::sync::Arc<RobotConfig>) -> Step {
     crate::transport::heavy::parse(len, move || step(frame, &cfg))
         .await
         .unwrap_or_else(|| {
-            Step::Reply(result::error(
+            Step::Reply(result::answer_error(
+                ErrorOutcome::Invalid,
                 ErrorCode::InternalError,
                 "the command could not be parsed; nothing was done",
             ))
@@ -133,16 +135,21 @@ pub async fn decide(frame: Frame, cfg: &std::sync::Arc<RobotConfig>) -> Step {
 /// Decide what to do with one frame; never panics, whatever the bytes were.
 pub fn step(frame: Frame, cfg: &RobotConfig) -> Step {
     match frame {
-        Frame::Oversize => Step::Close(result::error(
+        Frame::Oversize => Step::Close(result::answer_error(
+            ErrorOutcome::Invalid,
             ErrorCode::LineTooLong,
             format!(
                 "command longer than the limit of {MAX_COMMAND_BYTES} bytes; closing the connection"
             ),
         )),
-        Frame::Invalid { reason } => Step::Reply(result::error(ErrorCode::InvalidJson, reason)),
+        Frame::Invalid { reason } => Step::Reply(result::answer_error(
+            ErrorOutcome::Invalid,
+            ErrorCode::InvalidJson,
+            reason,
+        )),
         Frame::Object(text) => match Command::from_json(&text, cfg) {
             Ok(cmd) => Step::Run(cmd),
-            Err(e) => Step::Reply(result::error(e.code(), e.to_string())),
+            Err(e) => Step::Reply(result::invalid_line(&e)),
         },
     }
 }

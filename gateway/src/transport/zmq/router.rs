@@ -20,6 +20,7 @@ use crate::command::Context;
 use crate::command::access::{Channel, Client};
 use crate::command::result;
 use mcm_shared::error_code::ErrorCode;
+use mcm_shared::protocol::results::ErrorOutcome;
 use std::collections::HashMap;
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::sync::Arc;
@@ -63,7 +64,8 @@ pub(super) struct Router {
 /// else the `Peer-Address` property (its IP only); else an unspecified address.
 /// The reply to a new peer when `max` peers are served already.
 fn peers_full(max: usize) -> serde_json::Value {
-    result::error(
+    result::answer_error(
+        ErrorOutcome::Invalid,
         ErrorCode::TooManyConnections,
         format!(
             "the gateway serves at most {max} ZeroMQ peers at once (gateway.zmq.max_peers); \
@@ -74,7 +76,8 @@ fn peers_full(max: usize) -> serde_json::Value {
 
 /// The reply to a request of a peer whose [`QUEUE_PER_PEER`] requests wait already.
 fn queue_full() -> serde_json::Value {
-    result::error(
+    result::answer_error(
+        ErrorOutcome::Invalid,
         ErrorCode::TooManyRequests,
         format!(
             "{QUEUE_PER_PEER} requests of this ZeroMQ peer already wait for their replies; \

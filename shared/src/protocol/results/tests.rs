@@ -123,6 +123,10 @@ fn reply_errors_are_words() {
         reply_error(CommandKind::Release, &refused)["error_message"],
         "release refused: not allowed in mode OFF"
     );
+    assert_eq!(
+        reply_error(CommandKind::Release, &refused)["outcome"],
+        "refused"
+    );
     let failed = Outcome::Failed(Reason::CalibrationFailed {
         axis: Axis::new(2).unwrap(),
         cause: CalibrationFailure::DriveLost,
@@ -131,6 +135,68 @@ fn reply_errors_are_words() {
         reply_error(CommandKind::Calibrate, &failed)["error_message"],
         "calibrate failed: calibration of axis 2 failed: its drive stopped answering"
     );
+    assert_eq!(
+        reply_error(CommandKind::Calibrate, &failed)["outcome"],
+        "failed"
+    );
+}
+
+#[test]
+fn every_outcome_reads_back_by_its_wire_name() {
+    let names: Vec<&str> = ErrorOutcome::ALL.iter().map(|o| o.as_str()).collect();
+    assert_eq!(names, ["refused", "failed", "invalid", "unknown"]);
+    for o in ErrorOutcome::ALL {
+        assert_eq!(ErrorOutcome::from_name(o.as_str()), Some(o));
+        assert_eq!(o.to_string(), o.as_str());
+        let g = Generic::answer_error(o, ErrorCode::Busy, "x").answering("set_torques");
+        let v = Answer::Generic(g.clone()).to_value();
+        assert_eq!(v["outcome"], o.as_str(), "{v}");
+        assert_eq!(v["command"], "set_torques", "{v}");
+        let Answer::Generic(back) = Answer::from_value(&v).unwrap() else {
+            panic!("{v}")
+        };
+        assert_eq!(back, g);
+        assert_eq!(back.outcome(), Some(o));
+    }
+    // An outcome of a newer MCM version reads, as no outcome this version knows.
+    let v = json!({"result_type":"generic","error_status":"ERROR","outcome":"postponed"});
+    let Answer::Generic(g) = Answer::from_value(&v).unwrap() else {
+        panic!("{v}")
+    };
+    assert_eq!(g.outcome(), None);
+    assert_eq!(ErrorOutcome::from_name("Refused"), None);
+}
+
+/// `docs/protocol.md` lists every outcome with its meaning as [`ErrorOutcome::meaning`] words
+/// it.
+#[test]
+fn the_protocol_document_lists_every_outcome() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/protocol.md");
+    let doc = std::fs::read_to_string(&path).expect("docs/protocol.md");
+    for o in ErrorOutcome::ALL {
+        let row = format!("| `{}` | {} |", o.as_str(), o.meaning());
+        assert!(doc.contains(&row), "docs/protocol.md lacks the row {row}");
+    }
+}
+
+#[test]
+fn a_line_refused_before_it_became_a_command_names_the_command_it_names() {
+    let cfg = RobotConfig::prob2_default();
+    let refused = |line: &str| {
+        let e = crate::protocol::Command::from_json(line, &cfg).unwrap_err();
+        Answer::Generic(Generic::invalid_line(&e)).to_value()
+    };
+    let v = refused(r#"{"command":"set_torques","arguments":{"torques":[1,2]}}"#);
+    assert_eq!(v["command"], "set_torques", "{v}");
+    assert_eq!(v["outcome"], "invalid", "{v}");
+    for line in [r#"{"command":"stauts"}"#, "{\"arguments\":{}}", "[1]"] {
+        let v = refused(line);
+        assert!(v.get("command").is_none(), "{line}: {v}");
+        assert_eq!(v["outcome"], "invalid", "{line}: {v}");
+    }
+    // OK answers nothing more.
+    let ok = Answer::ok().answering("hold").to_value();
+    assert_eq!(ok, json!({"result_type":"generic","error_status":"OK"}));
 }
 
 #[test]
@@ -331,16 +397,22 @@ proptest::proptest! {
     #[test]
     fn every_reason_carries_its_code(reason in crate::reply::tests::reason()) {
         let name = reason.code().as_str();
-        for outcome in [Outcome::Refused(reason), Outcome::Failed(reason)] {
+        for (outcome, ended) in [
+            (Outcome::Refused(reason), ErrorOutcome::Refused),
+            (Outcome::Failed(reason), ErrorOutcome::Failed),
+        ] {
             let v = reply_error(CommandKind::MoveAxis, &outcome);
             proptest::prop_assert_eq!(v["error_code"].as_str(), Some(name));
+            proptest::prop_assert_eq!(v["outcome"].as_str(), Some(ended.as_str()));
             let back = Answer::from_value(&v).unwrap();
             let Answer::Generic(g) = back else { panic!("{v}") };
             proptest::prop_assert_eq!(g.code(), Some(reason.error_code()));
+            proptest::prop_assert_eq!(g.outcome(), Some(ended));
         }
         let e = SafetyError { seq: 1, cycle: 1, unix_ns: 0, reason };
         let v = safety_error(&e);
         proptest::prop_assert_eq!(v["error_code"].as_str(), Some(name));
         proptest::prop_assert_eq!(&v["error_code"], &v["check"]);
+        proptest::prop_assert!(v.get("outcome").is_none() && v.get("command").is_none(), "{}", v);
     }
 }

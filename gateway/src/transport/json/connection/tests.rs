@@ -108,6 +108,34 @@ fn the_oversize_reply_names_the_limit() {
     assert_eq!(v["error_code"], "invalid_json", "{v}");
 }
 
+/// A line refused before it became a command is `invalid`, and names the command it names
+/// (a refusal of `set_velocities`, sent without waiting, is known by it); a line that names
+/// no known command names none.
+#[test]
+fn a_refused_line_is_invalid_and_names_the_command_it_names() {
+    let cfg = RobotConfig::prob2_default();
+    let ended = |step: Step| match step {
+        Step::Reply(v) | Step::Close(v) => (v["outcome"].clone(), v.get("command").cloned()),
+        Step::Run(cmd) => panic!("{cmd:?} runs"),
+    };
+    let line = r#"{"command":"set_velocities","arguments":{"velocities":[1]}}"#;
+    assert_eq!(
+        ended(step(Frame::Object(line.into()), &cfg)),
+        ("invalid".into(), Some("set_velocities".into()))
+    );
+    let unnamed = [
+        Frame::Object(r#"{"command":"stauts"}"#.into()),
+        Frame::Object(r#"{"arguments":{}}"#.into()),
+        Frame::Invalid {
+            reason: "not JSON".into(),
+        },
+        Frame::Oversize,
+    ];
+    for frame in unnamed {
+        assert_eq!(ended(step(frame, &cfg)), ("invalid".into(), None));
+    }
+}
+
 /// Feed `input` in reads of `chunk` bytes; each frame must give one ASCII result (an ERROR,
 /// or a command to execute). Returns the steps.
 fn run_path(input: &[u8], chunk: usize) -> Vec<Step> {
