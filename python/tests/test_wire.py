@@ -5,7 +5,7 @@ import time
 import unittest
 
 import mcm
-from mcm import codes, layout, wire
+from mcm import codes, encoding, layout, wire
 
 
 class Encode(unittest.TestCase):
@@ -60,6 +60,12 @@ class Encode(unittest.TestCase):
             wire.torque_control(0)
         with self.assertRaises(ValueError):
             wire.pvt_chunks([])
+        p = mcm.PvtPoint([0.0] * 6, [0.0] * 6)
+        most = encoding.MAX_POINTS_PER_BATCH
+        self.assertEqual(len(wire.pvt_chunks([p] * most)), -(-most // layout.PVT_POINTS_PER_COMMAND))
+        with self.assertRaises(ValueError) as e:
+            wire.pvt_chunks([p] * (encoding.MAX_POINTS_PER_BATCH + 1))
+        self.assertIn("expected 1 to 1000 points, got 1001", str(e.exception))
 
 
 class Decode(unittest.TestCase):

@@ -79,10 +79,12 @@ SIM_FLAGS: Dict[str, int] = {
 
 #: ``pvt_points``: the arguments one point takes, where its six positions and its six
 #: velocities start (from ``PVT_POINT_ARGS * j`` for point ``j``); ``CommandSample.flags`` is the
-#: number of points, with ``layout.PVT_FLAG_LAST`` on the sample that closes the batch.
+#: number of points, with ``layout.PVT_FLAG_LAST`` on the sample that closes the batch. A batch
+#: has 1 to ``MAX_POINTS_PER_BATCH`` points.
 PVT_POINT_ARGS = 12
 PVT_POINT_POSITION = 0
 PVT_POINT_VELOCITY = 6
+MAX_POINTS_PER_BATCH = 1000
 
 #: Where ``Reply.values`` hold the figures of an ``info`` and of a ``move_all`` that
 #: succeeded (``Response::encode``): the index of each, or of the first of six.

@@ -151,8 +151,10 @@ def set_torques(torques: Sequence[float]) -> CommandSample:
 
 def pvt_chunks(points: Sequence[PvtPoint]) -> List[CommandSample]:
     """A ``pvt_points`` batch as samples of up to four points, the last marked."""
-    if not points:
-        raise ValueError("pvt_points: expected 1 to 1000 points, got none")
+    if not 1 <= len(points) <= enc.MAX_POINTS_PER_BATCH:
+        raise ValueError(
+            "pvt_points: expected 1 to %d points, got %d" % (enc.MAX_POINTS_PER_BATCH, len(points))
+        )
     out = []
     for at in range(0, len(points), PVT_POINTS_PER_COMMAND):
         chunk = points[at : at + PVT_POINTS_PER_COMMAND]

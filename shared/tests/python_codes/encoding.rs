@@ -432,11 +432,14 @@ fn pvt_points() -> String {
     format!(
         "#: ``pvt_points``: the arguments one point takes, where its six positions and its six
 #: velocities start (from ``PVT_POINT_ARGS * j`` for point ``j``); ``CommandSample.flags`` is the
-#: number of points, with ``layout.PVT_FLAG_LAST`` on the sample that closes the batch.
+#: number of points, with ``layout.PVT_FLAG_LAST`` on the sample that closes the batch. A batch
+#: has 1 to ``MAX_POINTS_PER_BATCH`` points.
 PVT_POINT_ARGS = {stride}
 PVT_POINT_POSITION = {position}
 PVT_POINT_VELOCITY = {velocity}
-"
+MAX_POINTS_PER_BATCH = {max}
+",
+        max = protocol::MAX_POINTS_PER_BATCH,
     )
 }
 
