@@ -2,23 +2,23 @@
 //!
 //! Runs inside the cycle.
 //!
-//! The i2t protection (`safety/i2t.rs`) derates a hot motor to its derated current. An axis whose
-//! load at rest needs more than that (the shoulder holding the stretched arm and its payload) can
-//! then no longer hold: its current stands at the derated limit and it sags. In HOLD the following
-//! error would trip only once it had sagged by its band, and in ERROR nothing would react at all.
-//! So an axis at rest in HOLD (no stop under way), or in ERROR (its stop or a relax under way too),
-//! whose motor is derated and whose current has stood at the derated limit for [`OVERLOAD_S`] (once
-//! the drive reports with that limit) trips [`Reason::Overload`]: ERROR, with the drives of every
-//! axis that has a holding brake powered off, so that the brakes hold the arm and the motors cool.
-//! Axes without a brake stay enabled and hold as ERROR does. The time at the limit is counted also
-//! where the drive follows a reference without the check (HOLD's stop, a move, VELOCITY_CONTROL),
-//! so that an axis that stood at its limit before a trip is overloaded in the next cycle (the
-//! trip's own record goes out first). The same power off follows any trip once ERROR's stop (and
-//! every relax) has ended while a motor is derated: in ERROR the arm does no work, and a derated
-//! motor holding a load near its rated current never cools (it stays above the release level, and a
-//! calibration's search cannot get the current it needs). A `hold` enables the drives again
-//! (`begin_enabling` ends the power off); a motor still hot trips again within [`OVERLOAD_S`] if
-//! the pose still needs more.
+//! The i2t protection (`safety/i2t.rs`) derates a hot motor to its derated current. An axis
+//! whose load at rest needs more than that (the shoulder holding the stretched arm and its
+//! payload) can then no longer hold: its current stands at the derated limit and it sags. In
+//! HOLD the following error would trip only once it had sagged by its band, and in ERROR
+//! nothing would react at all. So an axis at rest in HOLD (no stop under way), or in ERROR (its
+//! stop or a relax under way too), whose motor is derated and whose current has stood at the
+//! derated limit for [`OVERLOAD_S`] (in the drive's reports measured with that limit) trips
+//! [`Reason::Overload`]: ERROR, with the drives of every axis that has a holding brake powered
+//! off, so that the brakes hold the arm and the motors cool. Axes without a brake stay enabled and hold as ERROR does. The time at the limit is
+//! counted also where the drive follows a reference without the check (HOLD's stop, a move,
+//! VELOCITY_CONTROL), so that an axis that stood at its limit before a trip is overloaded in
+//! the next cycle (the trip's own record goes out first). The same power off follows any trip once ERROR's stop (and every
+//! relax) has ended while a motor is derated: in ERROR the arm does no work, and a derated
+//! motor holding a load near its rated current never cools (it stays above the release level,
+//! and a calibration's search cannot get the current it needs). A `hold` enables the drives
+//! again (`begin_enabling` ends the power off); a motor still hot trips again within
+//! [`OVERLOAD_S`] if the pose still needs more.
 
 use super::Controller;
 use super::state::State;
@@ -39,13 +39,13 @@ pub const AT_LIMIT: f64 = 0.98;
 /// The drive's readings after a motor was derated that were measured before the drive had the
 /// derated limit: the limit goes out at the end of the cycle that derates, the drive applies it
 /// at the next SYNC and reports, at that SYNC, the current of the period before (above the new
-/// limit). Such a reading, and its repeats in cycles without a new report, is not the current
-/// standing at the limit.
+/// limit). Such a reading is not the current standing at the limit. (A report that comes a
+/// cycle late is not counted twice: only a cycle's new report counts.)
 pub const BEFORE_THE_LIMIT: u16 = 1;
 
-/// The overload check's state: cycles each axis's current has stood at its derated limit, the
-/// drive's reports since it was derated, and whether the drives are powered off for an
-/// overload.
+/// The overload check's state: the drive's readings each axis's current has stood at its
+/// derated limit, the readings since it was derated, and whether the drives are powered off
+/// for an overload.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(super) struct Overload {
     at_limit: [u32; NUM_AXES],
@@ -54,8 +54,8 @@ pub(super) struct Overload {
     pub powered_off: bool,
 }
 
-/// Cycles of `period_s` the current must stand at the derated limit: [`OVERLOAD_S`], and at
-/// least one.
+/// Readings (one a cycle of `period_s` on a healthy bus) the current must stand at the derated
+/// limit: [`OVERLOAD_S`], and at least one.
 fn overload_cycles(period_s: f64) -> u32 {
     (OVERLOAD_S / period_s).ceil().max(1.0) as u32
 }
@@ -91,13 +91,14 @@ impl Controller {
         let mut tripped = None;
         for i in 0..NUM_AXES {
             let watched = at_rest || held(i);
-            // The time at the limit counts once the drive has reported with the derated limit
-            // ([`BEFORE_THE_LIMIT`]): its report from before, repeated in the cycles in which
-            // no new one comes, is not the current standing at the limit.
+            // Only a reading of this cycle counts (a drive's report that did not come repeats
+            // the last one, which is not a second reading at the limit), and only once the
+            // drive measured with the derated limit ([`BEFORE_THE_LIMIT`]).
+            let fresh = fb[i].tpdo_age_cycles == 0;
             let readings = &mut self.overload.derated_readings[i];
             if !derated[i] {
                 *readings = 0;
-            } else if fb[i].tpdo_age_cycles == 0 {
+            } else if fresh {
                 *readings = readings.saturating_add(1);
             }
             let limited = *readings > BEFORE_THE_LIMIT;
@@ -105,7 +106,7 @@ impl Controller {
             let n = &mut self.overload.at_limit[i];
             if !counted {
                 *n = 0;
-            } else if limited {
+            } else if fresh && limited {
                 let at_limit = fb[i].current_a.abs() >= AT_LIMIT * limit[i];
                 *n = if at_limit { n.saturating_add(1) } else { 0 };
             }
