@@ -8,9 +8,9 @@
 //! HOLD the following error would trip only once it had sagged by its band, and in ERROR
 //! nothing would react at all. So an axis at rest in HOLD (no stop under way), or in ERROR (its
 //! stop or a relax under way too), whose motor is derated and whose current has stood at the
-//! derated limit for [`OVERLOAD_S`] (in the drive's reports measured with that limit) trips
-//! [`Reason::Overload`]: ERROR, with the drives of every axis that has a holding brake powered
-//! off, so that the brakes hold the arm and the motors cool. Axes without a brake stay enabled and hold as ERROR does. The time at the limit is
+//! derated limit for [`OVERLOAD_S`] trips [`Reason::Overload`]: ERROR, with the drives of every
+//! axis that has a holding brake powered off, so that the brakes hold the arm and the motors
+//! cool. Axes without a brake stay enabled and hold as ERROR does. The time at the limit is
 //! counted also where the drive follows a reference without the check (HOLD's stop, a move,
 //! VELOCITY_CONTROL), so that an axis that stood at its limit before a trip is overloaded in
 //! the next cycle (the trip's own record goes out first). The same power off follows any trip once ERROR's stop (and every
@@ -36,26 +36,17 @@ pub const OVERLOAD_S: f64 = 0.025;
 /// current loop and its measurement stay a little below the clamp).
 pub const AT_LIMIT: f64 = 0.98;
 
-/// The drive's readings after a motor was derated that were measured before the drive had the
-/// derated limit: the limit goes out at the end of the cycle that derates, the drive applies it
-/// at the next SYNC and reports, at that SYNC, the current of the period before (above the new
-/// limit). Such a reading is not the current standing at the limit. (A report that comes a
-/// cycle late is not counted twice: only a cycle's new report counts.)
-pub const BEFORE_THE_LIMIT: u16 = 1;
-
-/// The overload check's state: the drive's readings each axis's current has stood at its
-/// derated limit, the readings since it was derated, and whether the drives are powered off
-/// for an overload.
+/// The overload check's state: cycles each axis's current has stood at its derated limit, and
+/// whether the drives are powered off for an overload.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(super) struct Overload {
     at_limit: [u32; NUM_AXES],
-    derated_readings: [u16; NUM_AXES],
     /// The drives of the axes with a brake are powered off (until an enabling starts).
     pub powered_off: bool,
 }
 
-/// Readings (one a cycle of `period_s` on a healthy bus) the current must stand at the derated
-/// limit: [`OVERLOAD_S`], and at least one.
+/// Cycles of `period_s` the current must stand at the derated limit: [`OVERLOAD_S`], and at
+/// least one.
 fn overload_cycles(period_s: f64) -> u32 {
     (OVERLOAD_S / period_s).ceil().max(1.0) as u32
 }
@@ -91,25 +82,12 @@ impl Controller {
         let mut tripped = None;
         for i in 0..NUM_AXES {
             let watched = at_rest || held(i);
-            // Only a reading of this cycle counts (a drive's report that did not come repeats
-            // the last one, which is not a second reading at the limit), and only once the
-            // drive measured with the derated limit ([`BEFORE_THE_LIMIT`]).
-            let fresh = fb[i].tpdo_age_cycles == 0;
-            let readings = &mut self.overload.derated_readings[i];
-            if !derated[i] {
-                *readings = 0;
-            } else if fresh {
-                *readings = readings.saturating_add(1);
-            }
-            let limited = *readings > BEFORE_THE_LIMIT;
-            let counted = (watched || follows) && derated[i] && fb[i].enabled;
+            let at_limit = (watched || follows)
+                && derated[i]
+                && fb[i].enabled
+                && fb[i].current_a.abs() >= AT_LIMIT * limit[i];
             let n = &mut self.overload.at_limit[i];
-            if !counted {
-                *n = 0;
-            } else if fresh && limited {
-                let at_limit = fb[i].current_a.abs() >= AT_LIMIT * limit[i];
-                *n = if at_limit { n.saturating_add(1) } else { 0 };
-            }
+            *n = if at_limit { n.saturating_add(1) } else { 0 };
             if tripped.is_none() && watched && *n >= need {
                 tripped = Some(Reason::Overload {
                     axis: Axis::ALL[i],

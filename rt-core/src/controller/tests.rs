@@ -13,10 +13,8 @@ use mcm_shared::reply::{Done, Outcome, Reason, Response};
 use mcm_shared::sample::CommandSample;
 use mcm_sim::SimBus;
 
-/// The whole simulated robot over `B`: the simulator's bus itself, or a test's bus around it
-/// ([`Robot::over`]).
-pub(crate) struct Robot<B: mcm_bus::Bus = SimBus> {
-    pub cycle: SimCycle<B>,
+pub(crate) struct Robot {
+    pub cycle: SimCycle,
     pub k: u64,
     pub period: u64,
     next_request: u64,
@@ -30,22 +28,8 @@ impl Robot {
     }
 
     pub fn with_config(cfg: &RobotConfig) -> Robot {
-        Robot::over(cfg, SimBus::new(cfg), |b| b)
-    }
-
-    /// A calibrated robot in HOLD.
-    pub fn calibrated() -> Robot {
-        let mut r = Robot::new();
-        r.calibrate_all();
-        r
-    }
-}
-
-impl<B: mcm_bus::Bus> Robot<B> {
-    /// The robot over `bus`, a bus with the simulated robot inside that `sim` reaches.
-    pub fn over(cfg: &RobotConfig, bus: B, sim: crate::sim_edge::SimAccess<B>) -> Robot<B> {
         let mut r = Robot {
-            cycle: SimCycle::over(cfg, bus, sim).unwrap(),
+            cycle: SimCycle::new(cfg, SimBus::new(cfg)).unwrap(),
             k: 0,
             period: cfg.cycle_period_ns(),
             next_request: 1,
@@ -69,7 +53,7 @@ impl<B: mcm_bus::Bus> Robot<B> {
         }
     }
 
-    pub fn run_until(&mut self, what: &str, max_cycles: u64, done: impl Fn(&Self) -> bool) {
+    pub fn run_until(&mut self, what: &str, max_cycles: u64, done: impl Fn(&Robot) -> bool) {
         for _ in 0..max_cycles {
             if done(self) {
                 return;
@@ -134,6 +118,13 @@ impl<B: mcm_bus::Bus> Robot<B> {
     /// The simulation's true joint angles [deg].
     pub fn truth(&self) -> [f64; 6] {
         self.cycle.state().sim_true_position
+    }
+
+    /// A calibrated robot in HOLD.
+    pub fn calibrated() -> Robot {
+        let mut r = Robot::new();
+        r.calibrate_all();
+        r
     }
 
     /// The fastest true joint speed [deg/s].

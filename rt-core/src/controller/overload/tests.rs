@@ -8,7 +8,6 @@ use mcm_shared::command::{Axis, Pvt, Request};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::Reason;
-use mcm_sim::SimBus;
 
 /// Axis 2 (index 1) at 90 deg: the arm stretched out horizontally.
 const SHOULDER: usize = 1;
@@ -16,14 +15,9 @@ const STRETCHED_DEG: f64 = 90.0;
 
 /// A calibrated robot holding the stretched arm, and the true angle it holds.
 fn holding_stretched(cfg: &RobotConfig) -> (Robot, f64) {
-    stretched(Robot::with_config(cfg))
-}
-
-/// `r` calibrated, holding the stretched arm, and the true angle it holds.
-fn stretched<B: mcm_bus::Bus>(mut r: Robot<B>) -> (Robot<B>, f64) {
+    let mut r = Robot::with_config(cfg);
     r.calibrate_all();
-    // 20 ms: the shortest dt at 50 Hz too.
-    r.ok(Request::Pvt(Pvt { dt_s: 0.02 }), 100);
+    r.ok(Request::Pvt(Pvt { dt_s: 0.01 }), 100);
     r.ok(move_axis(2, STRETCHED_DEG), 4_000);
     r.run_until("the move ends", 4_000, |r| {
         (r.truth()[SHOULDER] - STRETCHED_DEG).abs() < 0.1 && r.at_rest()
@@ -48,7 +42,7 @@ fn hold_until_it_trips(r: &mut Robot, held: f64) -> f64 {
 }
 
 /// The reason of the last error record.
-fn last_error<B: mcm_bus::Bus>(r: &Robot<B>) -> mcm_shared::reply::SafetyError {
+fn last_error(r: &Robot) -> mcm_shared::reply::SafetyError {
     r.cycle
         .controller()
         .view()
@@ -61,7 +55,7 @@ fn powered_off(r: &Robot) -> bool {
     r.cycle.controller().feedback().iter().all(|f| !f.enabled)
 }
 
-fn derated<B: mcm_bus::Bus>(r: &Robot<B>) -> bool {
+fn derated(r: &Robot) -> bool {
     r.cycle.state().i2t[SHOULDER] > 0.0
         && r.cycle.state().axis_flags[SHOULDER] & mcm_shared::sample::AXIS_I2T_DERATED != 0
 }
@@ -219,59 +213,4 @@ fn an_axis_at_its_limit_before_a_trip_is_overloaded_the_cycle_after() {
     r.run_until("the drives are powered off", 20, powered_off);
     let fell = r.largest_drift(at_trip, 200);
     assert!(fell < 0.3, "the shoulder fell {fell:.3} deg after the trip");
-}
-
-/// The simulator's bus, on which the next `lose` SYNCs are lost on the wire: the drives' period
-/// passes without one (no RPDO applied, no TPDO sent), as when a loaded host or bus delays the
-/// master's cycle.
-struct LosingSync {
-    sim: SimBus,
-    lose: u32,
-}
-
-impl mcm_bus::Bus for LosingSync {
-    fn send(&mut self, frame: &mcm_bus::Frame) -> Result<(), mcm_bus::BusError> {
-        if frame.id == mcm_sim::bus::SYNC_ID && self.lose > 0 {
-            self.lose -= 1;
-            self.sim.period_without_sync();
-            return Ok(());
-        }
-        self.sim.send(frame)
-    }
-
-    fn recv(&mut self, deadline_ns: u64) -> Result<Option<mcm_bus::Frame>, mcm_bus::BusError> {
-        self.sim.recv(deadline_ns)
-    }
-}
-
-#[test]
-fn readings_from_before_the_derated_limit_or_repeated_do_not_count() {
-    // At 50 Hz the overload needs two readings at the limit. The drive reports, at the SYNC
-    // that brings it the derated limit, the current of the period before (above the limit);
-    // when the next SYNC is lost, the master has no new report and that reading stays. Counted
-    // twice, it tripped the overload with the current of the drive before the derating.
-    let mut cfg = RobotConfig::prob2_default();
-    cfg.cycle.rate_hz = 50;
-    assert_eq!(overload_cycles(0.02), 2);
-    let bus = LosingSync {
-        sim: SimBus::new(&cfg),
-        lose: 0,
-    };
-    let (mut r, _) = stretched(Robot::over(&cfg, bus, |b| &mut b.sim));
-    r.run_until("the shoulder derated", 60 * 50, derated);
-    r.cycle.bus_mut().lose = 1;
-    r.run_until("the overload", 50, |r| r.mode() != Mode::Hold);
-    let Reason::Overload {
-        axis,
-        current_a,
-        limit_a,
-    } = last_error(&r).reason
-    else {
-        panic!("tripped {:?}, not an overload", last_error(&r).reason);
-    };
-    assert_eq!(axis, Axis::ALL[SHOULDER]);
-    assert!(
-        current_a.abs() <= limit_a * 1.02,
-        "{current_a:.2} A at the trip, above the derated limit {limit_a:.2} A"
-    );
 }
