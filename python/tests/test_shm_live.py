@@ -90,15 +90,39 @@ class ShmLive(unittest.TestCase):
         self.wait_until("client_gone ending the ownership", lambda s: s.owner_client_id == 0, 0.05)
 
     def test_pvt_points_stream_through_the_control_loop(self) -> None:
+        # The loop sends one point per state it sees, three ahead: each state it misses takes
+        # one point from the core's queue for good, and after three the stream runs dry, the
+        # core stops the axes and refuses the next points (busy while the stop runs, then as too
+        # sudden a start from rest), as it must. That is this process kept off the CPU by the machine's load, not the MCM,
+        # when the states the loop saw show those misses: then the stream is run again from
+        # rest, at most three times. A busy refusal without them fails the test.
+        for attempt in range(3):
+            late = self._stream_a_ramp_on_axis_6()
+            if late is None:
+                return
+            print("attempt %d: %s; again" % (attempt + 1, late))
+        self.fail("the PVT stream ran dry in each of 3 attempts: %s" % late)
+
+    def _stream_a_ramp_on_axis_6(self) -> Any:
+        """Stream axis 6 to +1 deg and check it; None when done, or why the stream ran dry
+        because this process missed states."""
         self.a.hold()
         if not self.a.state().flags & mcm.layout.STATE_ALL_CALIBRATED:
             self.a.calibrate()
+        # A stop that a `hold` began carries on into PVT and makes points wait: let any end
+        # (a stop from the ramp's 5 deg/s takes hundredths of a second of robot time).
+        t0 = self.a.state().t_ns
+        self.wait_until("0.5 s of robot time after hold", lambda s: s.t_ns - t0 >= STOP_S * 1e9, 1.0)
         self.a.pvt(0.005)  # one point per cycle
         start = list(self.a.state().commanded_position)
         k = [0]
+        seen = {"seq": None, "missed": 0}
 
         def ramp(s):
             # Axis 6 to +1 deg in 0.3 s (half a cosine, at rest at both ends), a point per state.
+            if seen["seq"] is not None:
+                seen["missed"] += max(0, s.seq - seen["seq"] - 1)
+            seen["seq"] = s.seq
             k[0] += 1
             if k[0] > 60:
                 return None
@@ -109,7 +133,12 @@ class ShmLive(unittest.TestCase):
             vel[5] = 0.5 * w * math.sin(w * t)
             return mcm.PvtPoint(pos, vel)
 
-        stats = self.a.control(ramp)
+        try:
+            stats = self.a.control(ramp)
+        except mcm.CommandError as e:
+            if e.command == "pvt_points" and seen["missed"] >= 3:
+                return "the loop missed %d states, then %s" % (seen["missed"], e)
+            raise
         self.assertEqual(stats.cycles, 60)
         # The first three points went out as one batch: 58 answers, all applied.
         self.assertEqual(stats.next_cycle + stats.late, 58, stats)
@@ -119,6 +148,7 @@ class ShmLive(unittest.TestCase):
             lambda s: abs(s.commanded_position[5] - (start[5] + 1.0)) <= 1e-6,
             0.05,
         )
+        return None
 
     def test_velocity_control_moves_an_axis_through_the_control_loop(self) -> None:
         self.a.hold()
