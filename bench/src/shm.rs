@@ -10,7 +10,7 @@
 use crate::error::BenchError;
 use crate::loopmatch::{Answer, LEVELS_NM, Observation, classify, level_of, tally};
 use crate::torque::{LoopOutcome, median};
-use iceoryx2::port::listener::Listener;
+use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::prelude::ipc;
 use mcm_client::shm::ports::{CorePorts, Peer};
 use mcm_shared::command::{Request, SetTorques, TorqueControl};
@@ -95,10 +95,12 @@ impl ShmClient {
                 return Err(self.err(format!("no state after cycle {seq} within {WAIT:?}")));
             }
             match &self.listener {
-                Some(l) => {
-                    l.timed_wait(|_| {}, left.min(Duration::from_millis(20)))
-                        .map_err(|e| self.err(format!("wait for the state event: {e:?}")))?;
-                }
+                // A wait cut short by a signal (the process stopped and continued) ends like a
+                // wake-up: the state is read again and the wait resumes with the time left.
+                Some(l) => match l.timed_wait(|_| {}, left.min(Duration::from_millis(20))) {
+                    Ok(_) | Err(ListenerWaitError::InterruptSignal) => {}
+                    Err(e) => return Err(self.err(format!("wait for the state event: {e:?}"))),
+                },
                 None => std::thread::sleep(POLL),
             }
         }

@@ -12,10 +12,12 @@
 //!
 //! What they share: [`server`] accepts the TCP connections of the JSON, HMI and web ports within the
 //! limits of `[gateway.connections]` and stops them on [`shutdown`]; [`heavy`] parses long
-//! lines off the async workers, for every transport.
+//! lines off the async workers, for every transport; [`http_line`] recognises HTTP sent to the
+//! JSON and HMI ports, which close such a connection.
 
 pub(crate) mod heavy;
 pub(crate) mod hmi;
+pub(crate) mod http_line;
 pub(crate) mod json;
 pub(crate) mod server;
 pub(crate) mod shutdown;

@@ -4,6 +4,10 @@ saying so, without it; a failure instead when ``CI`` is set."""
 
 import math
 import os
+import signal
+import subprocess
+import sys
+import threading
 import time
 import unittest
 from typing import Any, Callable, List
@@ -52,6 +56,51 @@ class ShmLive(unittest.TestCase):
         # Blocking on the event, not spinning: 50 states take about 50 cycles (5 ms each).
         gaps = sum(b - a - 1 for a, b in zip([first.seq] + seqs, seqs))
         self.assertLess(gaps, 25, "states missed while nothing else ran: %s" % seqs)
+
+    def test_wait_state_goes_on_through_signals(self) -> None:
+        """A wait cut short by a signal is waited again: under a stream of signals with a
+        (no-op) handler, and while another process stops and continues this one 20 times,
+        every ``wait_state`` returns the next state."""
+        main = threading.get_ident()
+        old = signal.signal(signal.SIGUSR1, lambda *_: None)
+        self.addCleanup(signal.signal, signal.SIGUSR1, old)
+        stop = threading.Event()
+        sent = [0]
+
+        def signals() -> None:
+            while not stop.is_set():
+                signal.pthread_kill(main, signal.SIGUSR1)
+                sent[0] += 1
+                stop.wait(0.0005)  # paces the signals
+
+        sender = threading.Thread(target=signals, daemon=True)
+        sender.start()
+        try:
+            seqs = [self.a.wait_state(timeout=WAIT_S).seq for _ in range(100)]
+        finally:
+            stop.set()
+            sender.join()
+        self.assertTrue(all(b > a for a, b in zip(seqs, seqs[1:])), seqs)
+        self.assertGreater(sent[0], 50)
+
+        # The pauses only pace the stops; the waits below end when the other process does.
+        stopper = (
+            "import os, signal, sys, time\n"
+            "pid = int(sys.argv[1])\n"
+            "for _ in range(20):\n"
+            "    os.kill(pid, signal.SIGSTOP); time.sleep(0.02)\n"
+            "    os.kill(pid, signal.SIGCONT); time.sleep(0.02)\n"
+        )
+        child = subprocess.Popen([sys.executable, "-c", stopper, str(os.getpid())])
+        self.addCleanup(child.wait)
+        deadline = time.monotonic() + WAIT_S
+        last = self.a.wait_state(timeout=WAIT_S).seq
+        while child.poll() is None:
+            self.assertLess(time.monotonic(), deadline, "the stops did not end within %.0f s" % WAIT_S)
+            s = self.a.wait_state(timeout=WAIT_S)
+            self.assertGreater(s.seq, last)
+            last = s.seq
+        self.assertEqual(child.returncode, 0)
 
     def test_ids_and_replies_belong_to_each_client(self) -> None:
         b = mcm.ShmClient(str(INSTANCE))

@@ -3,8 +3,9 @@
 //! disables the drives before anything exits, and every client is told; `kill -9` of the
 //! launcher does not orphan its children; `kill -9` of `mcm-rt` reaches clients as the core
 //! vanishing, before the launcher stops the gateway; a gateway that keeps dying is restarted
-//! with a back-off while `mcm-rt` keeps the arm; a configuration that switches a safety check
-//! off is refused at start, naming the key.
+//! with a back-off while `mcm-rt` keeps the arm; the gateway stopped and continued 20 times
+//! keeps serving; a configuration that switches a safety check off is refused at start, naming
+//! the key.
 //!
 //! Real processes (the `mcm` launcher, `mcm-rt`, `mcm-gateway`), unique instance names and
 //! free ports; every wait is bounded.
@@ -429,6 +430,76 @@ fn kill_9_of_the_launcher_takes_mcm_rt_and_the_gateway_with_it() {
     wait_gone(rt, "mcm-rt");
     // mcm-rt stopped in order (its controlled stop), not killed.
     l.wait_log("controlled stop took");
+}
+
+/// Whether `pid` is stopped (`T` in `/proc/<pid>/stat`).
+fn stopped(pid: i32) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|s| {
+        s.rsplit(')')
+            .next()
+            .unwrap_or("")
+            .trim_start()
+            .starts_with('T')
+    })
+}
+
+/// Wait (bounded) until `pid` is stopped (`want`) or runs again.
+fn wait_stopped(pid: i32, want: bool) {
+    let deadline = Instant::now() + WAIT;
+    while stopped(pid) != want {
+        assert!(
+            Instant::now() < deadline,
+            "pid {pid} not {} within {WAIT:?}",
+            if want { "stopped" } else { "continued" }
+        );
+        std::thread::sleep(Duration::from_millis(1));
+    }
+}
+
+/// Stopped and continued 20 times (Ctrl-Z and `fg`, a debugger), the gateway goes on: the same
+/// process keeps serving a client's `status` with the core's newest cycles, and its wait for
+/// the core's state event logs no failure.
+#[test]
+fn the_gateway_stopped_and_continued_20_times_keeps_serving() {
+    let l = Launcher::start("stop-cont");
+    let mut c = Conn::connect(l.json);
+    wait_drives_online(&mut c);
+    let gw = l.gateway_pid;
+    for round in 0..20 {
+        let before = c.request(DETAIL)["detail"]["cycle"]
+            .as_u64()
+            .expect("cycle");
+        // SAFETY: the gateway this test's launcher started.
+        unsafe { libc::kill(gw, libc::SIGSTOP) };
+        wait_stopped(gw, true);
+        // SAFETY: as above.
+        unsafe { libc::kill(gw, libc::SIGCONT) };
+        wait_stopped(gw, false);
+        let deadline = Instant::now() + WAIT;
+        loop {
+            let s = c.request(DETAIL);
+            assert_eq!(s["result_type"], "status", "round {round}: {s}");
+            if s["detail"]["cycle"].as_u64().expect("cycle") > before {
+                break;
+            }
+            assert!(
+                Instant::now() < deadline,
+                "round {round}: no cycle after {before} within {WAIT:?}: {s}"
+            );
+        }
+    }
+    assert!(!gone(gw), "the gateway exited");
+    let restarted = l
+        .stdout
+        .try_iter()
+        .find(|line| line.starts_with(McmReady::PREFIX));
+    assert_eq!(restarted, None, "the launcher restarted the gateway");
+    let log = l.log.lock().unwrap();
+    assert!(
+        !log.iter().any(|line| line.contains("mcm-gateway")
+            && (line.contains("cannot wait") || line.contains("exited"))),
+        "{log:#?}"
+    );
 }
 
 #[test]

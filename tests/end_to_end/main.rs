@@ -24,6 +24,7 @@ mod common;
 mod argument_texts;
 mod capi_realtime;
 mod command_path;
+mod cross_protocol;
 mod deb_package;
 mod doc_references;
 mod drive_bus;

@@ -187,6 +187,7 @@ fn run_script(tools: &Tools, script: &'static str, mcm: &Mcm, port: u16) -> Scri
         .current_dir(run_dir())
         .env("MCM_WEB_URL", format!("http://127.0.0.1:{port}/"))
         .env("MCM_JSON", mcm.json.to_string())
+        .env("MCM_HMI", mcm.hmi.to_string())
         .env("MCM_GATEWAY_PID", mcm.gateway_pid.to_string())
         .env("MCM_CHROMIUM", &tools.chromium)
         .env_remove("MCM_SCREENSHOT_DIR")
@@ -318,5 +319,29 @@ fn the_pendant_in_chromium_against_the_simulated_arm() {
         failed.is_empty(),
         "browser tests failed: {} (their output is above)",
         failed.join(", ")
+    );
+}
+
+/// HTTP sent by a page of any origin to the JSON and telnet HMI ports runs nothing
+/// (`tests/web/cross_protocol.test.mjs`; over raw sockets: `cross_protocol::`). The drives are
+/// online first, so that a `calibrate` that got through would start.
+#[test]
+fn cross_protocol_requests_from_a_page_in_chromium() {
+    let test = "cross_protocol_requests_from_a_page_in_chromium";
+    let Some(tools) = tools_or_skip(test) else {
+        return;
+    };
+    node_modules(&tools).unwrap_or_else(|e| panic!("{test}: npm ci in tests/web: {e}"));
+    let instance = unique_instance("web-cross");
+    let port = free_port();
+    let mcm = start(&instance, port, &[]);
+    mcm.client().wait_drives_online();
+    let run = run_script(&tools, "cross_protocol.test.mjs", &mcm, port);
+    report(&run);
+    drop(mcm);
+    assert!(
+        run.passed,
+        "browser test failed: {} (its output is above)",
+        run.script
     );
 }

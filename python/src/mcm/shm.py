@@ -196,6 +196,7 @@ class ShmClient:
         ev = self._node.service_builder(iox.ServiceName.new("mcm/%s/state-ready" % self.instance)).event().open()
         self._event_service = ev
         self._listener = ev.listener_builder().create()
+        self._wait_error = iox.ListenerWaitError
         cmd_name = "mcm/%s/command" % self.instance
         try:
             cmd = self._node.service_builder(iox.ServiceName.new(cmd_name)).publish_subscribe(CommandSample).open()
@@ -238,7 +239,18 @@ class ShmClient:
                 raise McmTimeout(
                     "no new state from MCM instance %r within %.3f s (is mcm-rt running?)" % (self.instance, timeout)
                 )
+            self._wait_event(left)
+
+    def _wait_event(self, left: float) -> None:
+        """Block on the state event for at most ``left`` seconds. A wait cut short by a signal
+        (the process stopped and continued, e.g. Ctrl-Z and ``fg``, or any signal handler) ends
+        like a wake-up: the caller reads the state and waits again with the time left. Any
+        other failure is raised."""
+        try:
             self._listener.timed_wait(self._duration.from_secs_f64(left))
+        except self._wait_error as e:
+            if e.args[:1] != ("InterruptSignal",):
+                raise
 
     def _block(self, key: int) -> ReplyBlock:
         e = self._reply_entries.get(key)

@@ -7,7 +7,7 @@
 //! longer than [`SILENT_AFTER`] (the core stopped or restarted), the listener is dropped and the
 //! service opened again, so a restarted core's new service is picked up.
 
-use iceoryx2::port::listener::Listener;
+use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::prelude::*;
 use mcm_client::shm::OpenError;
 use mcm_client::shm::ports::{open_node, open_state_event};
@@ -113,7 +113,8 @@ impl StateEvent {
                 self.last_event = Instant::now();
                 self.live = true;
             }
-            Ok(_) => {}
+            // Cut short by a signal: what is pending stays readable for the next poll.
+            Ok(_) | Err(ListenerWaitError::InterruptSignal) => {}
             Err(_) => {
                 self.close();
             }

@@ -33,7 +33,7 @@ mod keys;
 mod render;
 pub(crate) mod session;
 mod telnet;
-mod words;
+pub(crate) mod words;
 
 use crate::command::Context;
 use crate::transport::server::Port;

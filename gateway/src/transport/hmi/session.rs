@@ -11,6 +11,9 @@
 //! session is evicted (`crate::transport::server::admission`). Each ends the session with one
 //! line saying why.
 //!
+//! A session whose first line is HTTP ([`crate::transport::http_line`]) ends at once, without
+//! executing anything.
+//!
 //! Memory per session is bounded: the line ([`super::MAX_LINE_BYTES`]), the history, the
 //! type-ahead while a command runs ([`MAX_PENDING`]) and the output buffer (flushed after
 //! every batch of input, and written with back-pressure).
@@ -23,6 +26,7 @@ use crate::command::Context;
 use crate::command::access::{Channel, Client, run_command};
 use crate::command::result;
 use crate::core_link::lifecycle::{CoreWatch, Notice};
+use crate::transport::http_line;
 use crate::transport::server::FAREWELL_TIMEOUT;
 use crate::transport::server::admission::Slot;
 use crate::transport::server::timeouts::{Expiry, WRITE_TIMEOUT, deadline};
@@ -172,6 +176,10 @@ struct Session {
     slot: Slot,
     /// When the line being typed began (its first byte was read).
     line_start: Option<Instant>,
+    /// The peer's address, for the log.
+    peer: SocketAddr,
+    /// A line that is not blank was entered: the next one is not the session's first.
+    first_line_seen: bool,
 }
 
 impl Session {
@@ -199,6 +207,8 @@ impl Session {
             shown_prompt: String::new(),
             slot,
             line_start: None,
+            peer,
+            first_line_seen: false,
         }
     }
 
@@ -390,6 +400,12 @@ impl Session {
                 self.line_start = None;
                 if !text.trim().is_empty() {
                     self.slot.touch();
+                    if !std::mem::replace(&mut self.first_line_seen, true)
+                        && let Some(kind) = http_line::classify(text.as_bytes())
+                    {
+                        http_line::log_refused(Channel::Hmi.words(), self.peer, kind);
+                        return Ok(Flow::Quit);
+                    }
                 }
                 if self.line(&text).await? == Flow::Quit {
                     return Ok(Flow::Quit);

@@ -354,7 +354,12 @@ pub fn parse_line(text: &str, cfg: &RobotConfig) -> Result<Line, LineError> {
         }
         "jog" => return parse_jog(rest, cfg),
         "quit" | "exit" => return Ok(Line::Quit),
-        "clear" => return Ok(Line::Clear),
+        "clear" => {
+            return match rest {
+                [] => Ok(Line::Clear),
+                _ => Err(session_error("clear", "clear takes no words: `clear`")),
+            };
+        }
         _ => {}
     }
     let Some(spec) = protocol::find(&word) else {

@@ -15,6 +15,7 @@ use crate::command::Context;
 use crate::command::access::{Channel, Client, run_command};
 use crate::command::result;
 use crate::core_link::lifecycle::CoreWatch;
+use crate::transport::http_line::HttpLine;
 use crate::transport::json::framing::{Decoder, Frame, MAX_COMMAND_BYTES};
 use crate::transport::server::FAREWELL_TIMEOUT;
 use crate::transport::server::admission::Slot;
@@ -112,6 +113,9 @@ pub enum Step {
     Reply(Value),
     /// Too long: send this ERROR result and close the connection.
     Close(Value),
+    /// The connection's first line is HTTP (a browser sent it): close the connection without
+    /// executing anything and without a word.
+    Foreign(HttpLine),
 }
 
 /// [`step`], a long frame parsed in the heavy lane ([`crate::transport::heavy`]).
@@ -147,6 +151,7 @@ pub fn step(frame: Frame, cfg: &RobotConfig) -> Step {
             ErrorCode::InvalidJson,
             reason,
         )),
+        Frame::Http(kind) => Step::Foreign(kind),
         Frame::Object(text) => match Command::from_json(&text, cfg) {
             Ok(cmd) => Step::Run(cmd),
             Err(e) => Step::Reply(result::invalid_line(&e)),
@@ -206,6 +211,10 @@ where
                 Step::Reply(v) => {
                     send(&mut wr, &v).await?;
                     continue;
+                }
+                Step::Foreign(kind) => {
+                    crate::transport::http_line::log_refused(channel.words(), peer, kind);
+                    return Ok(());
                 }
                 Step::Close(v) => {
                     // The client may still be sending its long line: drain it so that the

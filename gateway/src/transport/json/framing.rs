@@ -7,8 +7,11 @@
 //! [`Frame::Invalid`] and decoding resumes after that line. The limit is exact: an object (from
 //! `{` to its `}`), or a line that is not one (without its line end), of [`MAX_COMMAND_BYTES`]
 //! bytes is taken; one byte more is [`Frame::Oversize`] as soon as that byte arrives; the
-//! connection is then closed, so the memory a connection holds stays bounded.
+//! connection is then closed, so the memory a connection holds stays bounded. A first line
+//! (blank lines aside) that is an HTTP request line or header is [`Frame::Http`]
+//! ([`crate::transport::http_line`]): the connection is closed without executing anything.
 
+use crate::transport::http_line::{self, HttpLine};
 use mcm_shared::protocol::json::json_kind;
 
 /// Longest command accepted (64 KiB): the contract's limit.
@@ -23,6 +26,8 @@ pub enum Frame {
     Invalid { reason: String },
     /// A command longer than [`MAX_COMMAND_BYTES`].
     Oversize,
+    /// The connection's first line is HTTP, not a command.
+    Http(HttpLine),
 }
 
 /// Incremental decoder. Feed bytes with [`Decoder::extend`], take frames with
@@ -38,6 +43,8 @@ pub struct Decoder {
     non_ascii: Option<(usize, u8)>,
     /// Discarding the rest of a bad line up to its newline.
     skipping_line: bool,
+    /// A frame was taken already: the next line is not the connection's first.
+    framed: bool,
 }
 
 fn excerpt(bytes: &[u8]) -> String {
@@ -76,6 +83,12 @@ impl Decoder {
 
     /// The next complete frame, or `None` if more bytes are needed.
     pub fn next_frame(&mut self) -> Option<Frame> {
+        let frame = self.take_frame();
+        self.framed |= frame.is_some();
+        frame
+    }
+
+    fn take_frame(&mut self) -> Option<Frame> {
         if self.skipping_line {
             match self.buf.iter().position(|&b| b == b'\n') {
                 Some(nl) => {
@@ -109,9 +122,14 @@ impl Decoder {
             return match window.iter().position(|&b| b == b'\n') {
                 Some(nl) => {
                     let line = &self.buf[..nl];
-                    let reason = describe_non_object(line);
+                    let frame = match http_line::classify(line) {
+                        Some(kind) if !self.framed => Frame::Http(kind),
+                        _ => Frame::Invalid {
+                            reason: describe_non_object(line),
+                        },
+                    };
                     self.reset_scan(nl + 1);
-                    Some(Frame::Invalid { reason })
+                    Some(frame)
                 }
                 None if window.len() > MAX_COMMAND_BYTES => {
                     self.reset_scan(MAX_COMMAND_BYTES + 1);

@@ -10,9 +10,11 @@
 use super::message::{self, Request};
 use crate::command::Context;
 use crate::command::access::{Client, run_command};
+use crate::command::result;
 use crate::core_link::bridge::doorbell::Doorbell;
 use crate::transport::json::connection::{Step, decide};
-use mcm_shared::protocol::results::Answer;
+use mcm_shared::error_code::ErrorCode;
+use mcm_shared::protocol::results::{Answer, ErrorOutcome};
 use serde_json::Value;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -45,6 +47,16 @@ pub async fn answer(ctx: &Context, client: &Client, body: &[u8]) -> Value {
             .unwrap_or_else(Answer::ok)
             .to_value(),
         Step::Reply(v) | Step::Close(v) => v,
+        // A message has no connection to close: refused like any line that is not a command.
+        Step::Foreign(kind) => result::answer_error(
+            ErrorOutcome::Invalid,
+            ErrorCode::InvalidJson,
+            format!(
+                "the message is {}, not a JSON command like {{\"command\":\"status\"}}; \
+                 nothing was done",
+                kind.words()
+            ),
+        ),
     }
 }
 

@@ -344,3 +344,16 @@ fn positions_and_a_short_name_make_one_command() {
         }
     );
 }
+
+#[test]
+fn clear_takes_no_words() {
+    assert_eq!(parse_line("clear", &cfg()), Ok(Line::Clear));
+    // Nor can `clear / HTTP/1.1` be taken for a session's first line of HTTP.
+    assert!(matches!(
+        parse_line("clear / HTTP/1.1", &cfg()),
+        Err(LineError::Session {
+            command: "clear",
+            ..
+        })
+    ));
+}

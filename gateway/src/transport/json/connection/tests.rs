@@ -117,6 +117,7 @@ fn a_refused_line_is_invalid_and_names_the_command_it_names() {
     let ended = |step: Step| match step {
         Step::Reply(v) | Step::Close(v) => (v["outcome"].clone(), v.get("command").cloned()),
         Step::Run(cmd) => panic!("{cmd:?} runs"),
+        Step::Foreign(kind) => panic!("{kind:?} closes without a word"),
     };
     let line = r#"{"command":"set_velocities","arguments":{"velocities":[1]}}"#;
     assert_eq!(

@@ -185,3 +185,29 @@ fn an_object_is_taken_when_complete_and_the_next_waits_for_its_end() {
     assert_eq!(d.next_frame(), None);
     assert_eq!(d.buffered(), 0, "the line end is consumed");
 }
+
+#[test]
+fn an_http_first_line_is_one_http_frame_before_its_body() {
+    let request = b"POST / HTTP/1.1\r\nHost: robot:18010\r\nContent-Type: text/plain\r\n\r\n\n{\"command\":\"calibrate\"}\n";
+    assert_eq!(frames(request)[0], Frame::Http(HttpLine::Request));
+    // A header first (a request line too long to frame is cut, the next line is a header).
+    assert_eq!(
+        frames(b"\r\nHost: robot\r\n{\"command\":\"release\"}\n")[0],
+        Frame::Http(HttpLine::Header)
+    );
+}
+
+#[test]
+fn http_lines_after_the_first_frame_are_invalid_lines() {
+    let got = frames(b"{\"command\":\"status\"}\nPOST / HTTP/1.1\r\nHost: robot\r\n");
+    assert_eq!(got[0], obj("{\"command\":\"status\"}"));
+    assert!(
+        got[1..].iter().all(|f| matches!(f, Frame::Invalid { .. })),
+        "{got:?}"
+    );
+    let got = frames(b"hello\nHost: robot\n");
+    assert!(
+        got.iter().all(|f| matches!(f, Frame::Invalid { .. })),
+        "{got:?}"
+    );
+}
