@@ -56,9 +56,17 @@ impl Server {
 
 /// One raw HTTP/1.1 GET (`connection: close`): the response's head and body.
 async fn get(addr: SocketAddr, path: &str, extra: &str) -> (String, Vec<u8>) {
+    raw(
+        addr,
+        &format!("GET {path} HTTP/1.1\r\nhost: {addr}\r\nconnection: close\r\n{extra}\r\n"),
+    )
+    .await
+}
+
+/// Send `request` as it is; the response's head (lower case) and body, to the connection's end.
+async fn raw(addr: SocketAddr, request: &str) -> (String, Vec<u8>) {
     let mut s = TcpStream::connect(addr).await.unwrap();
-    let req = format!("GET {path} HTTP/1.1\r\nhost: x\r\nconnection: close\r\n{extra}\r\n");
-    s.write_all(req.as_bytes()).await.unwrap();
+    s.write_all(request.as_bytes()).await.unwrap();
     let mut bytes = Vec::new();
     tokio::time::timeout(WAIT, s.read_to_end(&mut bytes))
         .await
@@ -363,4 +371,94 @@ fn the_pendants_error_codes_are_the_contracts() {
         "gateway/{CODES_JS} differs from the error codes of shared/src/error_code.rs; \
          `MCM_UPDATE_WEB=1 cargo test -p mcm-gateway --lib web::tests` writes it anew"
     );
+}
+
+/// The head (lower case) of the response to `request`, read up to its blank line: the
+/// connection may stay open after it (a WebSocket).
+async fn head_of(addr: SocketAddr, request: &str) -> String {
+    let mut s = TcpStream::connect(addr).await.unwrap();
+    s.write_all(request.as_bytes()).await.unwrap();
+    let mut bytes = Vec::new();
+    let mut buf = [0u8; 4096];
+    tokio::time::timeout(WAIT, async {
+        while !bytes.windows(4).any(|w| w == b"\r\n\r\n") {
+            let n = s.read(&mut buf).await.unwrap();
+            assert!(n > 0, "closed before a response: {bytes:?}");
+            bytes.extend_from_slice(&buf[..n]);
+        }
+    })
+    .await
+    .expect("a response within the wait");
+    String::from_utf8_lossy(&bytes).to_lowercase()
+}
+
+/// A WebSocket upgrade of `/ws` addressed to `host` from a page of `origin`.
+fn upgrade_request(host: &str, origin: &str) -> String {
+    format!(
+        "GET /ws HTTP/1.1\r\nhost: {host}\r\norigin: {origin}\r\nconnection: upgrade\r\n\
+         upgrade: websocket\r\nsec-websocket-version: 13\r\n\
+         sec-websocket-key: dGhlIHNhbXBsZSBub25jZQ==\r\n\r\n"
+    )
+}
+
+#[tokio::test]
+async fn a_request_for_another_host_is_refused_on_every_route() {
+    let mut cfg = RobotConfig::prob2_default();
+    cfg.gateway.web.allowed_hosts = vec!["robot-7.cell.example".into()];
+    let srv = start(cfg).await;
+    let port = srv.addr.port();
+    // What a browser sends after DNS rebinding: the attacker's name in both headers.
+    let evil = format!("evil.example:{port}");
+    let origin = format!("http://{evil}");
+    for path in [
+        "/",
+        "/app.js",
+        "/api/model",
+        "/api/connections",
+        "/api/flight-records",
+    ] {
+        let (head, body) = raw(
+            srv.addr,
+            &format!(
+                "GET {path} HTTP/1.1\r\nhost: {evil}\r\norigin: {origin}\r\nconnection: close\r\n\r\n"
+            ),
+        )
+        .await;
+        assert!(head.starts_with("http/1.1 421"), "{path}: {head}");
+        let body = String::from_utf8_lossy(&body);
+        assert!(
+            body.contains(&evil) && body.contains("[gateway.web] allowed_hosts"),
+            "{path}: {body}"
+        );
+    }
+    let head = head_of(srv.addr, &upgrade_request(&evil, &origin)).await;
+    assert!(head.starts_with("http/1.1 421"), "/ws: {head}");
+    assert!(!head.contains("upgrade: websocket"), "/ws: {head}");
+    // HTTP/1.0 without Host.
+    let (head, body) = raw(srv.addr, "GET /api/model HTTP/1.0\r\n\r\n").await;
+    assert!(head.contains(" 421 "), "no Host: {head}");
+    assert!(
+        String::from_utf8_lossy(&body).contains("no Host header"),
+        "{body:?}"
+    );
+
+    for host in [
+        "localhost".to_string(),
+        format!("localhost:{port}"),
+        format!("127.0.0.1:{port}"),
+        format!("robot-7.cell.example:{port}"),
+    ] {
+        let (head, _) = raw(
+            srv.addr,
+            &format!("GET /api/model HTTP/1.1\r\nhost: {host}\r\nconnection: close\r\n\r\n"),
+        )
+        .await;
+        assert!(head.starts_with("http/1.1 200"), "{host}: {head}");
+        let head = head_of(srv.addr, &upgrade_request(&host, &format!("http://{host}"))).await;
+        assert!(head.starts_with("http/1.1 101"), "{host}: {head}");
+        // The origin check stays: an own name with another page's origin is refused.
+        let head = head_of(srv.addr, &upgrade_request(&host, &origin)).await;
+        assert!(head.starts_with("http/1.1 403"), "{host}: {head}");
+    }
+    srv.stop().await;
 }
