@@ -20,10 +20,12 @@
 //! (`crate::core_link::latency`) that this thread does not ask for.
 
 mod api;
+mod arrivals;
 mod assets;
 pub(crate) mod frames;
 mod http;
 mod own_names;
+mod pipe;
 mod socket;
 
 use crate::command::Context;

@@ -2,6 +2,7 @@
 //! page's WebSocket to [`super::socket`] on the same connection (so that it keeps its slot in
 //! the port's table and stops with the server).
 
+use super::arrivals::Arrivals;
 use super::frames::Frames;
 use super::own_names::OwnNames;
 use super::{api, assets, socket};
@@ -197,12 +198,16 @@ pub async fn serve(
         upgrade: Arc::new(Mutex::new(Some(tx))),
     };
     let app = routes.router.clone().layer(Extension(conn));
+    let arrivals = Arrivals::default();
     let limits = &ctx.cfg.gateway.connections;
     let mut http = Box::pin(
         hyper::server::conn::http1::Builder::new()
             .timer(TokioTimer::new())
             .header_read_timeout(Duration::from_secs_f64(limits.line_timeout_s))
-            .serve_connection(TokioIo::new(stream), TowerToHyperService::new(app))
+            .serve_connection(
+                TokioIo::new(arrivals.watch(stream)),
+                TowerToHyperService::new(app),
+            )
             .with_upgrades(),
     );
     let life = tokio::time::sleep(Duration::from_secs_f64(limits.idle_timeout_s));
@@ -222,7 +227,10 @@ pub async fn serve(
     // request took it: then the upgraded socket arrives.
     drop(http);
     match rx.await {
-        Ok(ws) => socket::session(ws, peer, ctx, shutdown, slot, routes.frames.clone()).await,
+        Ok(ws) => {
+            let frames = routes.frames.clone();
+            socket::session(ws, peer, ctx, shutdown, slot, frames, arrivals).await
+        }
         Err(_) => Ok(()),
     }
 }

@@ -462,3 +462,110 @@ async fn a_request_for_another_host_is_refused_on_every_route() {
     }
     srv.stop().await;
 }
+
+/// One WebSocket frame from the server (unmasked): its opcode and payload.
+async fn read_frame(s: &mut (impl tokio::io::AsyncRead + Unpin)) -> (u8, Vec<u8>) {
+    let mut head = [0u8; 2];
+    s.read_exact(&mut head).await.unwrap();
+    let len = match head[1] & 0x7f {
+        126 => u64::from(s.read_u16().await.unwrap()),
+        127 => s.read_u64().await.unwrap(),
+        n => u64::from(n),
+    };
+    let mut payload = vec![0u8; len as usize];
+    s.read_exact(&mut payload).await.unwrap();
+    (head[0] & 0x0f, payload)
+}
+
+#[tokio::test]
+async fn a_message_trickled_in_is_cut_like_a_slow_line() {
+    let mut cfg = RobotConfig::prob2_default();
+    cfg.gateway.connections.line_timeout_s = 0.5;
+    let srv = start(cfg).await;
+    let mut s = TcpStream::connect(srv.addr).await.unwrap();
+    let host = srv.addr.to_string();
+    s.write_all(upgrade_request(&host, &format!("http://{host}")).as_bytes())
+        .await
+        .unwrap();
+    let mut head = Vec::new();
+    while !head.ends_with(b"\r\n\r\n") {
+        head.push(s.read_u8().await.unwrap());
+    }
+    assert!(head.starts_with(b"HTTP/1.1 101"), "{head:?}");
+    // A masked text frame of `{"command":"status"}`, one byte every 100 ms: 2.6 s in all.
+    let payload = br#"{"command":"status"}"#;
+    let mask = [1u8, 2, 3, 4];
+    let mut frame = vec![0x81, 0x80 | payload.len() as u8];
+    frame.extend_from_slice(&mask);
+    frame.extend(payload.iter().enumerate().map(|(i, b)| b ^ mask[i % 4]));
+    let (mut rd, mut wr) = s.into_split();
+    let trickle = tokio::spawn(async move {
+        for b in frame {
+            if wr.write_all(&[b]).await.is_err() {
+                return;
+            }
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        }
+    });
+    let started = tokio::time::Instant::now();
+    // The line-timeout ERROR, then a close with 1008 (policy): within a bound, not after the
+    // whole frame arrived.
+    let (text, close) = tokio::time::timeout(WAIT, async {
+        let mut text = None;
+        loop {
+            match read_frame(&mut rd).await {
+                (0x1, t) => text = Some(String::from_utf8(t).unwrap()),
+                (0x8, c) => return (text, c),
+                other => panic!("unexpected frame {other:?}"),
+            }
+        }
+    })
+    .await
+    .expect("the socket is closed within the wait");
+    let took = started.elapsed();
+    let text = text.expect("a text message before the close");
+    let r: Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(r["error_code"], "line_timeout", "{r}");
+    assert!(
+        r["error_message"]
+            .as_str()
+            .unwrap()
+            .contains("gateway.connections.line_timeout_s"),
+        "{r}"
+    );
+    assert_eq!(u16::from_be_bytes([close[0], close[1]]), 1008);
+    assert!(
+        !trickle.is_finished() && took < Duration::from_millis(2500),
+        "cut {took:?} after the first byte, before the frame was complete"
+    );
+    trickle.abort();
+    srv.stop().await;
+}
+
+#[tokio::test]
+async fn a_flood_of_holds_gets_one_answer_each_in_order() {
+    const SENT: usize = 5_000;
+    let srv = start(RobotConfig::prob2_default()).await;
+    let mut ws = ws(srv.addr).await;
+    for _ in 0..SENT {
+        ws.feed(Message::text("{\"command\":\"hold\"}"))
+            .await
+            .unwrap();
+    }
+    ws.send(Message::text(
+        "{\"command\":\"sleep\",\"arguments\":{\"duration\":0.01}}",
+    ))
+    .await
+    .unwrap();
+    for i in 0..SENT {
+        let r = next(&mut ws).await;
+        let m = r["error_message"].as_str().unwrap_or_default();
+        assert!(
+            m.starts_with("hold failed") && m.contains("not running"),
+            "{i}: {r}"
+        );
+    }
+    let r = next(&mut ws).await;
+    assert_eq!(r["error_status"], "OK", "the sleep's own answer: {r}");
+    srv.stop().await;
+}
