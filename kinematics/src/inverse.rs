@@ -64,7 +64,7 @@ pub struct Branch {
     /// (axis 3 to the wrist centre), about axis 3. For the P-Rob2 reaching forward,
     /// `Negative` is the elbow up.
     pub elbow: Side,
-    /// The sign of sin θ5 (θ5 = q5 + offset5): `Negative` is the wrist flipped.
+    /// The sign of sin θ5 (θ5 = q5 + offset5).
     pub wrist: Side,
 }
 
