@@ -149,6 +149,41 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Near each singularity (within 1e-6 rad of it, or exactly on it) there are solutions
+    /// and every one reaches the pose, though the joints the singularity frees are
+    /// ill-conditioned there.
+    #[test]
+    fn near_singular_poses_are_solved(
+        unit in unit6(),
+        which in 0..3usize,
+        near in prop::sample::select(vec![0.0, 1e-12, -1e-9, 1e-6]),
+        tcp in tcp_strategy(),
+    ) {
+        let mut k = prob2();
+        k.set_tcp(tcp).unwrap();
+        let mut q = inside(&k, unit);
+        match which {
+            0 => q[4] = near,
+            1 => q[2] = near,
+            _ => {
+                // The wrist centre (nearly) on axis 1: the forearm back over it.
+                let up = q[1] + PI / 2.0;
+                let c = (0.35 * up.cos() / -0.305).clamp(-1.0, 1.0);
+                q[2] = c.acos() - up + near;
+            }
+        }
+        prop_assume!(k.ranges().iter().zip(&q).all(|(r, v)| (r.min..=r.max).contains(v)));
+        let target = k.tcp_pose(&q);
+        let sols = k.inverse(&target, &q).unwrap();
+        assert_all_reach(&k, &target, &sols);
+        let (dp, dr) = pose_error(&k.tcp_pose(&sols[0].q), &target);
+        prop_assert!(dp < 1e-9 && dr < 1e-9);
+    }
+}
+
 #[test]
 fn branches_are_named_as_documented() {
     let k = prob2();
