@@ -3,17 +3,17 @@
 use nalgebra::{Matrix3, Vector3};
 
 /// A link in standard DH form: frame i = frame i−1 · Rz(θ) · Tz(d) · Tx(a) · Rx(α), with the
-/// joint angle θ = q + offset.
+/// joint angle θ = q + offset. Read-only once made (it keeps sin α and cos α).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Dh {
     /// Offset along z of frame i−1 [m].
-    pub d: f64,
+    pub(crate) d: f64,
     /// Length along x of frame i [m].
-    pub a: f64,
+    pub(crate) a: f64,
     /// Twist about x of frame i [rad].
-    pub alpha: f64,
+    pub(crate) alpha: f64,
     /// Joint offset: θ = q + offset [rad].
-    pub offset: f64,
+    pub(crate) offset: f64,
     /// sin α and cos α, kept: the kinematics run several times a cycle.
     sin_alpha: f64,
     cos_alpha: f64,
@@ -59,6 +59,26 @@ impl Dh {
             0.0,      sa,       ca,
         );
         r
+    }
+
+    /// Offset along z of frame i−1 [m].
+    pub fn d(&self) -> f64 {
+        self.d
+    }
+
+    /// Length along x of frame i [m].
+    pub fn a(&self) -> f64 {
+        self.a
+    }
+
+    /// Twist about x of frame i [rad].
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
+
+    /// Joint offset: θ = q + offset [rad].
+    pub fn offset(&self) -> f64 {
+        self.offset
     }
 
     /// sin α.
