@@ -50,7 +50,13 @@ pub fn missing<T>(test: &str, why: &str) -> Option<T> {
 pub fn venv_or_skip(test: &str) -> Option<PathBuf> {
     // Making the venv (pip) loads the machine; the test then starts an MCM.
     super::machine::share();
-    match venv() {
+    or_skip(test, venv())
+}
+
+/// The venv's Python; `None` after saying the test is skipped when it is [`VenvError::Missing`]
+/// (a failure under `CI`); panics when making it failed.
+fn or_skip(test: &str, venv: Result<PathBuf, VenvError>) -> Option<PathBuf> {
+    match venv {
         Ok(py) => Some(py),
         Err(VenvError::Missing(why)) => missing(test, &why),
         Err(VenvError::Failed(why)) => panic!("{test}: {why}"),
@@ -204,8 +210,71 @@ impl Drop for FileLock {
 
 /// The virtual environment's Python, with `./python[shm]` and the extra packages installed.
 pub fn venv() -> Result<PathBuf, VenvError> {
+    let root = repo_root();
+    let mut h = DefaultHasher::new();
+    EXTRA_PACKAGES.hash(&mut h);
+    sources_hash(&root.join("python"), &mut h);
+    stamped_venv("python-venv", "mcm-installed.stamp", h.finish(), |pip| {
+        pip(&["./python[shm]"])
+            .and_then(|_| pip(EXTRA_PACKAGES))
+            // The same version again: pip keeps an installed package whose version did not
+            // change.
+            .and_then(|_| pip(&["--force-reinstall", "--no-deps", "./python"]))
+            .map(|_| ())
+            .map_err(|e| format!("pip could not install the mcm package: {e}"))
+    })
+}
+
+/// The Python of a virtual environment with the packages of `requirements` (a requirements
+/// file, relative to the repository's root) installed: `name` under the target directory,
+/// made once and again when the file changes. Without a network (pip cannot reach the
+/// package index) the venv is [`VenvError::Missing`]: the test is skipped, or fails under CI.
+pub fn requirements_venv(name: &str, requirements: &str) -> Result<PathBuf, VenvError> {
+    let path = repo_root().join(requirements);
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| VenvError::Failed(format!("cannot read {}: {e}", path.display())))?;
+    let mut h = DefaultHasher::new();
+    text.hash(&mut h);
+    let mut offline = false;
+    let made = stamped_venv(name, "requirements.stamp", h.finish(), |pip| {
+        pip(&["-r", requirements]).map(|_| ()).map_err(|e| {
+            offline = NO_NETWORK.iter().any(|m| e.contains(m));
+            format!("pip could not install {requirements}: {e}")
+        })
+    });
+    match made {
+        Err(VenvError::Failed(why)) if offline => Err(VenvError::Missing(format!(
+            "no network to install the test's Python packages: {why}"
+        ))),
+        other => other,
+    }
+}
+
+/// What pip says when it cannot reach the package index.
+const NO_NETWORK: &[&str] = &[
+    "Failed to establish a new connection",
+    "Temporary failure in name resolution",
+    "Network is unreachable",
+];
+
+/// The [`venv_or_skip`] of [`requirements_venv`].
+pub fn requirements_venv_or_skip(test: &str, name: &str, requirements: &str) -> Option<PathBuf> {
+    super::machine::share();
+    or_skip(test, requirements_venv(name, requirements))
+}
+
+/// A virtual environment `name` in `CARGO_TARGET_TMPDIR`, made under an exclusive file lock
+/// (test binaries run in parallel); `install` is given pip (`pip install ARGS`, run in the
+/// repository's root) and runs when the stamp file `stamp` does not hold `hash`, which is
+/// written after it succeeded.
+fn stamped_venv(
+    name: &str,
+    stamp: &str,
+    hash: u64,
+    install: impl FnOnce(&dyn Fn(&[&str]) -> Result<Output, String>) -> Result<(), String>,
+) -> Result<PathBuf, VenvError> {
     let python = system_python().map_err(VenvError::Missing)?;
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("python-venv");
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
     std::fs::create_dir_all(dir.parent().expect("the venv has a parent"))
         .map_err(|e| VenvError::Failed(format!("cannot create {}: {e}", dir.display())))?;
     let _lock = FileLock::take(&dir.with_extension("lock")).map_err(VenvError::Failed)?;
@@ -219,15 +288,12 @@ pub fn venv() -> Result<PathBuf, VenvError> {
             ))
         })?;
     }
-    let root = repo_root();
-    let mut h = DefaultHasher::new();
-    EXTRA_PACKAGES.hash(&mut h);
-    sources_hash(&root.join("python"), &mut h);
-    let stamp = dir.join("mcm-installed.stamp");
-    let want = format!("{:x}", h.finish());
+    let stamp = dir.join(stamp);
+    let want = format!("{hash:x}");
     if std::fs::read_to_string(&stamp).ok().as_deref() == Some(want.as_str()) {
         return Ok(venv_python);
     }
+    let root = repo_root();
     let pip = |args: &[&str]| {
         run(Command::new(&venv_python)
             .args([
@@ -240,11 +306,7 @@ pub fn venv() -> Result<PathBuf, VenvError> {
             .args(args)
             .current_dir(&root))
     };
-    pip(&["./python[shm]"])
-        .and_then(|_| pip(EXTRA_PACKAGES))
-        // The same version again: pip keeps an installed package whose version did not change.
-        .and_then(|_| pip(&["--force-reinstall", "--no-deps", "./python"]))
-        .map_err(|e| VenvError::Failed(format!("pip could not install the mcm package: {e}")))?;
+    install(&pip).map_err(VenvError::Failed)?;
     std::fs::write(&stamp, want)
         .map_err(|e| VenvError::Failed(format!("cannot write {}: {e}", stamp.display())))?;
     Ok(venv_python)

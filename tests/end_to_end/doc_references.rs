@@ -18,6 +18,7 @@ const ROOTS: &[&str] = &[
     "bus/",
     "sim/",
     "dynamics/",
+    "kinematics/",
     "src/",
     "tests/",
     "bench/",

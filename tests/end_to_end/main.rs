@@ -38,6 +38,7 @@ mod hmi_tmux;
 mod hostile_connections;
 mod hostile_lifecycle;
 mod hostile_ownership;
+mod kinematics_pinocchio;
 mod modes;
 mod modes_restart;
 mod protocol_examples;
