@@ -263,7 +263,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
                             .start(Origin::Goal(g), &goal, &s, &mut self.client)
                     }
                     Ok(ToArm::Cancel(g)) => {
-                        if !self.driver.cancel(g, &mut self.client) {
+                        if !self.driver.cancel(g, &s, &mut self.client) {
                             let _ = self.to_action.unbounded_send(Event::Finished(
                                 g,
                                 GoalEndStatus::Canceled,
