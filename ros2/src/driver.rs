@@ -139,6 +139,9 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
         s: &StateSample,
         client: &mut ShmClient,
     ) {
+        if let Err(e) = crate::trajectory::check_size(goal) {
+            return self.finish_with(origin, GoalEndStatus::Aborted, e.code(), e.to_string());
+        }
         if !goal.multi_dof_trajectory.points.is_empty()
             || !goal.multi_dof_trajectory.joint_names.is_empty()
         {
@@ -148,7 +151,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                 error_code::INVALID_JOINTS,
                 format!(
                     "the goal has a multi-DOF trajectory (joints {:?}); this arm has only the revolute joints {}",
-                    goal.multi_dof_trajectory.joint_names,
+                    &goal.multi_dof_trajectory.joint_names[..],
                     self.joints.known()
                 ),
             );
@@ -532,10 +535,10 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
         let point = |p: [f64; NUM_AXES],
                      v: Option<[f64; NUM_AXES]>,
                      acc: Option<[f64; NUM_AXES]>| JointTrajectoryPoint {
-            positions: p.to_vec(),
-            velocities: v.map(|v| v.to_vec()).unwrap_or_default(),
-            accelerations: acc.map(|v| v.to_vec()).unwrap_or_default(),
-            effort: Vec::new(),
+            positions: p.to_vec().into(),
+            velocities: v.map(|v| v.to_vec().into()).unwrap_or_default(),
+            accelerations: acc.map(|v| v.to_vec().into()).unwrap_or_default(),
+            effort: Default::default(),
             time_from_start: crate::msgs::builtin::Duration::from_secs_f64(t.max(0.0)),
         };
         let error: [f64; NUM_AXES] = std::array::from_fn(|i| d.position[i] - actual_q[i]);
