@@ -302,3 +302,41 @@ fn velocity_control_moves_an_axis_towards_its_velocity_on_both_transports() {
     })
     .unwrap();
 }
+
+/// A signal that interrupts the wait for the next state (a handled signal here; a stop and
+/// continue alike) is no error: the wait goes on for the time left.
+#[test]
+fn an_interrupted_wait_for_the_state_goes_on() {
+    extern "C" fn nothing(_: libc::c_int) {}
+    let mcm = start("eintr");
+    // SAFETY: a handler that does nothing, installed without SA_RESTART so that the waiting
+    // thread's blocking call returns EINTR; sigaction's struct is zeroed, then filled.
+    unsafe {
+        let mut act: libc::sigaction = std::mem::zeroed();
+        act.sa_sigaction = nothing as extern "C" fn(libc::c_int) as usize;
+        libc::sigemptyset(&mut act.sa_mask);
+        assert_eq!(
+            libc::sigaction(libc::SIGUSR1, &act, std::ptr::null_mut()),
+            0
+        );
+    }
+    let instance = mcm.instance.clone();
+    let (tid_tx, tid) = std::sync::mpsc::channel();
+    let waiter = std::thread::spawn(move || {
+        let mut c = ShmClient::connect(&instance).expect("connect");
+        // SAFETY: pthread_self has no preconditions.
+        tid_tx
+            .send(unsafe { libc::pthread_self() })
+            .expect("the test waits");
+        (0..20)
+            .map(|_| c.wait_state_timeout(Duration::from_secs(2)))
+            .find_map(Result::err)
+    });
+    let tid = tid.recv().expect("the waiting thread's id");
+    while !waiter.is_finished() {
+        // SAFETY: the thread is not joined yet, so its id is valid; SIGUSR1 is handled.
+        unsafe { libc::pthread_kill(tid, libc::SIGUSR1) };
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    assert_eq!(waiter.join().expect("the waiter"), None::<WaitError>);
+}

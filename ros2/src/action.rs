@@ -82,7 +82,8 @@ pub async fn serve(
 
 /// Send a goal's result once its client asks for it (at most [`RESULT_KEPT`]). Waits in
 /// slices of a second: a result request read by another goal's wait is kept by the server
-/// and found by the next slice.
+/// and found by the next slice. A result nobody asked for is dropped with its goal (the server
+/// keeps every goal until its end).
 async fn send_result(
     server: &Server,
     h: Handle,
@@ -101,4 +102,5 @@ async fn send_result(
             () = timer => {}
         }
     }
+    let _ = server.abort_executing_goal(h).await;
 }

@@ -8,6 +8,7 @@
 //! for it either: a late node only misses states (counted in `/diagnostics`).
 
 use crate::convert::{DiagnosticsContext, JointStates, diagnostics};
+use crate::dds_threads::{DdsEnded, DdsThreads};
 use crate::driver::{Driver, Event, Origin};
 use crate::msgs::builtin::Time;
 use crate::msgs::control::{FollowJointTrajectoryGoal, error_code};
@@ -114,11 +115,22 @@ pub struct Arm<G> {
     pub bus: BusLoad,
     /// Diagnostics every this many cycles (and at once on a safety error).
     pub diagnostics_every: u64,
+    /// DDS's threads, checked with the diagnostics.
+    pub dds: DdsThreads,
+}
+
+/// Why the arm loop ended.
+#[derive(Debug, thiserror::Error)]
+pub enum ArmError {
+    #[error("the MCM's state stopped coming: {0}")]
+    State(#[from] WaitError),
+    #[error(transparent)]
+    Dds(#[from] DdsEnded),
 }
 
 impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
     /// Run until `stop` is set, or the core is gone (an error).
-    pub fn run(mut self, stop: &AtomicBool) -> Result<(), WaitError> {
+    pub fn run(mut self, stop: &AtomicBool) -> Result<(), ArmError> {
         let mut calls: Vec<Call> = Vec::new();
         let mut last_error: Option<SafetyError> = None;
         let mut last_diagnostics = 0u64;
@@ -138,13 +150,14 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
                         return Err(WaitError::Timeout {
                             waited: since.elapsed(),
                             last_seq: self.client.latest().seq,
-                        });
+                        }
+                        .into());
                     }
                     continue;
                 }
-                // A stop signal interrupts the wait: that is the stop, not an error.
+                // Stopping anyway: a wait that fails then is no error.
                 Err(_) if stop.load(Ordering::Relaxed) => break,
-                Err(e) => return Err(e),
+                Err(e) => return Err(e.into()),
             };
             let stamp = cycle_stamp(s.t_ns);
             let v = self.joint_states.velocity(&s);
@@ -250,7 +263,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
                             .start(Origin::Goal(g), &goal, &s, &mut self.client)
                     }
                     Ok(ToArm::Cancel(g)) => {
-                        if !self.driver.cancel(g, &mut self.client) {
+                        if !self.driver.cancel(g, &s, &mut self.client) {
                             let _ = self.to_action.unbounded_send(Event::Finished(
                                 g,
                                 GoalEndStatus::Canceled,
@@ -288,6 +301,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Arm<G> {
 
             if error_now || s.seq >= last_diagnostics + self.diagnostics_every {
                 last_diagnostics = s.seq;
+                self.dds.check()?;
                 let cx = DiagnosticsContext {
                     hardware_id: &self.hardware_id,
                     own_client_id: self.client.client_id(),

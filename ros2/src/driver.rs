@@ -139,6 +139,9 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
         s: &StateSample,
         client: &mut ShmClient,
     ) {
+        if let Err(e) = crate::trajectory::check_size(goal) {
+            return self.finish_with(origin, GoalEndStatus::Aborted, e.code(), e.to_string());
+        }
         if !goal.multi_dof_trajectory.points.is_empty()
             || !goal.multi_dof_trajectory.joint_names.is_empty()
         {
@@ -148,7 +151,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                 error_code::INVALID_JOINTS,
                 format!(
                     "the goal has a multi-DOF trajectory (joints {:?}); this arm has only the revolute joints {}",
-                    goal.multi_dof_trajectory.joint_names,
+                    &goal.multi_dof_trajectory.joint_names[..],
                     self.joints.known()
                 ),
             );
@@ -174,7 +177,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                     "stopped by an empty joint_trajectory message".to_string(),
                 );
             }
-            return self.stop(client);
+            return self.stop(s, client);
         }
         let goal = FollowJointTrajectoryGoal {
             trajectory: traj.clone(),
@@ -274,7 +277,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
     }
 
     /// Cancel the goal `g` if it runs: the controlled stop of `hold`, and `CANCELED`.
-    pub fn cancel(&mut self, g: G, client: &mut ShmClient) -> bool {
+    pub fn cancel(&mut self, g: G, s: &StateSample, client: &mut ShmClient) -> bool {
         if self.active_goal() != Some(g) {
             return false;
         }
@@ -285,7 +288,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
             error_code::SUCCESSFUL,
             "canceled: the arm made the controlled stop of `hold` and holds".to_string(),
         );
-        self.stop(client);
+        self.stop(s, client);
         true
     }
 
@@ -299,11 +302,15 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
         self.forget_in_flight(client);
     }
 
-    /// Send `hold` and forget the stream.
-    fn stop(&mut self, client: &mut ShmClient) {
+    /// Stop what the node drives (`hold`) and forget the stream. Only while the node controls
+    /// the arm: otherwise its motion commands were refused and the motion (if any) is another
+    /// client's, which a refused goal must not change (`hold` is open to every client).
+    fn stop(&mut self, s: &StateSample, client: &mut ShmClient) {
         // The reply is not waited for: `hold` is never refused for lack of control, and the
         // state shows HOLD in the next cycle.
-        let _ = client.submit(&Request::Hold).map(|sub| client.forget(&sub));
+        if s.owner_client_id == client.client_id() {
+            let _ = client.submit(&Request::Hold).map(|sub| client.forget(&sub));
+        }
         self.stream.end();
         self.forget_in_flight(client);
     }
@@ -367,7 +374,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
             && let Err(v) = a.tol.check_path(&a.plan.sample(t), &actual, velocity)
         {
             let why = format!("path tolerance violated at t = {t:.3} s: {v}");
-            self.stop(client);
+            self.stop(s, client);
             return self.abort(client, error_code::PATH_TOLERANCE_VIOLATED, why);
         }
         let all_sent = a.next_k == a.plan.point_count();
@@ -393,7 +400,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                     "goal tolerance violated {:.3} s after the trajectory's end: {v}",
                     t - duration
                 );
-                self.stop(client);
+                self.stop(s, client);
                 self.abort(client, error_code::GOAL_TOLERANCE_VIOLATED, why);
             }
             Some(Err(_)) => {}
@@ -407,16 +414,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                 Some(Ok(_)) => self.entering = None,
                 Some(Err(e)) => {
                     self.entering = None;
-                    let hint = if s.flags & STATE_ALL_CALIBRATED == 0 {
-                        " (the arm is not calibrated: call the calibrate service first)".to_string()
-                    } else if s.owner_client_id != 0 && s.owner_client_id != client.client_id() {
-                        format!(
-                            " (control is held by {})",
-                            crate::convert::owner_words(s.owner_client_id, client.client_id())
-                        )
-                    } else {
-                        String::new()
-                    };
+                    let hint = refusal_hint(s, client.client_id());
                     self.abort(
                         client,
                         error_code::INVALID_GOAL,
@@ -457,19 +455,22 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                     let why = if s.mode != Mode::Pvt.to_wire() && !first {
                         left_pvt(s)
                     } else {
-                        format!("the MCM refused the trajectory's points: {e}")
+                        format!(
+                            "the MCM refused the trajectory's points: {e}{}",
+                            refusal_hint(s, client.client_id())
+                        )
                     };
                     let code = if first {
                         error_code::INVALID_GOAL
                     } else {
                         error_code::PATH_TOLERANCE_VIOLATED
                     };
-                    self.stop(client);
+                    self.stop(s, client);
                     self.abort(client, code, why);
                     return false;
                 }
                 None if s.t_ns.saturating_sub(f.sent_ns) > REPLY_WITHIN_NS => {
-                    self.stop(client);
+                    self.stop(s, client);
                     self.abort(
                         client,
                         error_code::PATH_TOLERANCE_VIOLATED,
@@ -509,7 +510,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
                 }),
                 Err(e) => {
                     let why = format!("cannot send `pvt_points` to the MCM: {e}");
-                    self.stop(client);
+                    self.stop(s, client);
                     return self.abort(client, error_code::PATH_TOLERANCE_VIOLATED, why);
                 }
             }
@@ -534,10 +535,10 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
         let point = |p: [f64; NUM_AXES],
                      v: Option<[f64; NUM_AXES]>,
                      acc: Option<[f64; NUM_AXES]>| JointTrajectoryPoint {
-            positions: p.to_vec(),
-            velocities: v.map(|v| v.to_vec()).unwrap_or_default(),
-            accelerations: acc.map(|v| v.to_vec()).unwrap_or_default(),
-            effort: Vec::new(),
+            positions: p.to_vec().into(),
+            velocities: v.map(|v| v.to_vec().into()).unwrap_or_default(),
+            accelerations: acc.map(|v| v.to_vec().into()).unwrap_or_default(),
+            effort: Default::default(),
             time_from_start: crate::msgs::builtin::Duration::from_secs_f64(t.max(0.0)),
         };
         let error: [f64; NUM_AXES] = std::array::from_fn(|i| d.position[i] - actual_q[i]);
@@ -561,6 +562,21 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Driver<G> {
     /// moves toward the first point (`/diagnostics`, for the benchmark).
     pub fn last_start_latency_cycles(&self) -> Option<u64> {
         self.last_start_latency
+    }
+}
+
+/// What the node knows of why the core refused a trajectory's command: not calibrated, or
+/// another client controls the arm (empty when neither).
+fn refusal_hint(s: &StateSample, own_client_id: u64) -> String {
+    if s.flags & STATE_ALL_CALIBRATED == 0 {
+        " (the arm is not calibrated: call the calibrate service first)".to_string()
+    } else if s.owner_client_id != 0 && s.owner_client_id != own_client_id {
+        format!(
+            " (control is held by {})",
+            crate::convert::owner_words(s.owner_client_id, own_client_id)
+        )
+    } else {
+        String::new()
     }
 }
 

@@ -10,11 +10,13 @@
 //!   [`trajectory`]); [`action`] serves `follow_joint_trajectory`.
 //! - [`urdf`] generates the robot description from the configuration.
 //! - [`msgs`] are the ROS 2 messages as serde structs.
+//! - [`dds_threads`] tells whether DDS still runs in the process.
 
 pub mod action;
 pub mod arm;
 pub mod cli;
 pub mod convert;
+pub mod dds_threads;
 pub mod driver;
 pub mod msgs;
 pub mod node;

@@ -7,6 +7,7 @@
 //! `tests/end_to_end/ros2.rs` checks them against the real ROS 2 type support: rclpy (PyPI wheels)
 //! talks to the node with every one of them.
 
+pub mod bounded;
 pub mod builtin;
 pub mod control;
 pub mod diagnostic;

@@ -6,12 +6,12 @@
 //! like any other, and the core never waits for it.
 
 use crate::action;
-use crate::arm::{Arm, ServiceKind, Services, ToArm};
+use crate::arm::{Arm, ArmError, ServiceKind, Services, ToArm};
 use crate::convert::JointStates;
 use crate::driver::{Driver, DriverOptions};
 use crate::msgs::std_msgs::StringMsg;
 use crate::trajectory::{Joints, ToleranceDefaults};
-use mcm_client::shm::{OpenError, RequestError, ShmClient, WaitError};
+use mcm_client::shm::{OpenError, RequestError, ShmClient};
 use mcm_shared::config::RobotConfig;
 use ros2_client::action::ActionServerQosPolicies;
 use ros2_client::dds::rustdds::DomainParticipantBuilder;
@@ -67,8 +67,8 @@ pub enum Ros2Error {
     Urdf(String),
     #[error("the configuration does not suit the ROS 2 node: {0}")]
     Config(String),
-    #[error("the MCM's state stopped coming: {0}")]
-    State(WaitError),
+    #[error(transparent)]
+    Arm(#[from] ArmError),
     #[error("cannot start the action server's thread: {0}")]
     Thread(std::io::Error),
 }
@@ -111,6 +111,7 @@ pub fn run(opts: Ros2Options, stop: &AtomicBool) -> Result<(), Ros2Error> {
         builder = builder.with_only_networks(opts.dds_interfaces.iter().copied());
     }
     let participant = builder.build().map_err(|e| de(&e))?;
+    let dds = crate::dds_threads::DdsThreads::find();
     let context = Context::from_domain_participant(participant).map_err(|e| de(&e))?;
     let name_err = |what: &'static str, value: &str| {
         let value = value.to_string();
@@ -265,6 +266,7 @@ pub fn run(opts: Ros2Options, stop: &AtomicBool) -> Result<(), Ros2Error> {
         ),
         bus,
         diagnostics_every: ((1.0 / dt).round() as u64).max(1),
+        dds,
     };
     let ready = mcm_shared::ready::Ros2Ready {
         node: if ns.ends_with('/') {
@@ -276,7 +278,7 @@ pub fn run(opts: Ros2Options, stop: &AtomicBool) -> Result<(), Ros2Error> {
         instance: opts.instance.clone(),
     };
     println!("{ready}");
-    arm.run(stop).map_err(Ros2Error::State)?;
+    arm.run(stop)?;
     drop(node);
     Ok(())
 }

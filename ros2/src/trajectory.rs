@@ -27,6 +27,7 @@ mod plan;
 mod points;
 mod polynomial;
 mod quantity;
+mod size;
 mod stream_check;
 mod tolerances;
 mod velocities;
@@ -35,6 +36,7 @@ pub use error::GoalError;
 pub use joints::{AxisCountError, AxisLimits, Joints};
 pub use plan::Plan;
 pub use quantity::Quantity;
+pub use size::{MAX_JOINTS, MAX_POINTS, check_size};
 pub use tolerances::{Bounds, Phase, ToleranceDefaults, Tolerances, Violation};
 
 use mcm_shared::NUM_AXES;

@@ -42,7 +42,7 @@ pub use control::{ControlEnd, ControlError, ControlOutput, ControlSummary};
 pub use error::{RequestError, WaitError, WaitUntilError};
 pub use ports::{LayoutMismatch, OpenError, SendError, describe};
 
-use iceoryx2::port::listener::Listener;
+use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::prelude::ipc;
 use mcm_shared::command::{
     Calibrate, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques, SetVelocities,
@@ -191,13 +191,18 @@ impl ShmClient {
                 });
             }
             // Wakes on the core's notification after its next publish (or a pending one: the
-            // loop then reads the state again and waits once more).
-            self.listener
-                .timed_wait(|_| {}, left)
-                .map_err(|source| WaitError::Listener {
-                    service: self.ports.names().state_event(),
-                    source,
-                })?;
+            // loop then reads the state again and waits once more). A signal that interrupts
+            // the wait (a stop and continue, a handled signal) is no error: the loop reads the
+            // state and waits again for the time left.
+            match self.listener.timed_wait(|_| {}, left) {
+                Ok(_) | Err(ListenerWaitError::InterruptSignal) => {}
+                Err(source) => {
+                    return Err(WaitError::Listener {
+                        service: self.ports.names().state_event(),
+                        source,
+                    });
+                }
+            }
         }
     }
 

@@ -1,11 +1,13 @@
 //! `control_msgs`: the `FollowJointTrajectory` action of ros2_control's joint trajectory
 //! controller (control_msgs 6.x, ROS 2 Kilted: the feedback carries the point `index`).
 
+use super::bounded::Bounded;
 use super::builtin::Duration;
 use super::std_msgs::Header;
 use super::trajectory::{
     JointTrajectory, JointTrajectoryPoint, MultiDofJointTrajectory, MultiDofJointTrajectoryPoint,
 };
+use crate::trajectory::MAX_JOINTS;
 use serde::{Deserialize, Serialize};
 
 /// `control_msgs/msg/JointTolerance`: 0 = the default, -1 = no limit.
@@ -32,10 +34,10 @@ pub struct JointComponentTolerance {
 pub struct FollowJointTrajectoryGoal {
     pub trajectory: JointTrajectory,
     pub multi_dof_trajectory: MultiDofJointTrajectory,
-    pub path_tolerance: Vec<JointTolerance>,
-    pub component_path_tolerance: Vec<JointComponentTolerance>,
-    pub goal_tolerance: Vec<JointTolerance>,
-    pub component_goal_tolerance: Vec<JointComponentTolerance>,
+    pub path_tolerance: Bounded<JointTolerance, MAX_JOINTS>,
+    pub component_path_tolerance: Bounded<JointComponentTolerance, MAX_JOINTS>,
+    pub goal_tolerance: Bounded<JointTolerance, MAX_JOINTS>,
+    pub component_goal_tolerance: Bounded<JointComponentTolerance, MAX_JOINTS>,
     pub goal_time_tolerance: Duration,
 }
 

@@ -1,17 +1,20 @@
 //! `trajectory_msgs`: joint trajectories (and the multi-DOF ones, which the action carries but
 //! this arm has no joint for).
 
+use super::bounded::Bounded;
 use super::builtin::Duration;
 use super::std_msgs::Header;
+use crate::trajectory::{MAX_JOINTS, MAX_POINTS};
 use serde::{Deserialize, Serialize};
 
-/// `trajectory_msgs/msg/JointTrajectoryPoint`: each vector empty or one value per joint.
+/// `trajectory_msgs/msg/JointTrajectoryPoint`: each vector empty or one value per joint. Every
+/// sequence a peer sends is [`Bounded`]: read, but kept only up to the node's limits.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct JointTrajectoryPoint {
-    pub positions: Vec<f64>,
-    pub velocities: Vec<f64>,
-    pub accelerations: Vec<f64>,
-    pub effort: Vec<f64>,
+    pub positions: Bounded<f64, MAX_JOINTS>,
+    pub velocities: Bounded<f64, MAX_JOINTS>,
+    pub accelerations: Bounded<f64, MAX_JOINTS>,
+    pub effort: Bounded<f64, MAX_JOINTS>,
     pub time_from_start: Duration,
 }
 
@@ -19,8 +22,8 @@ pub struct JointTrajectoryPoint {
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct JointTrajectory {
     pub header: Header,
-    pub joint_names: Vec<String>,
-    pub points: Vec<JointTrajectoryPoint>,
+    pub joint_names: Bounded<String, MAX_JOINTS>,
+    pub points: Bounded<JointTrajectoryPoint, MAX_POINTS>,
 }
 
 /// `geometry_msgs/msg/Vector3`.
@@ -63,10 +66,11 @@ pub struct MultiDofJointTrajectoryPoint {
     pub time_from_start: Duration,
 }
 
-/// `trajectory_msgs/msg/MultiDOFJointTrajectory`.
+/// `trajectory_msgs/msg/MultiDOFJointTrajectory`. The arm has no multi-DOF joint: a goal with
+/// any is refused, so none of its points is kept.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct MultiDofJointTrajectory {
     pub header: Header,
-    pub joint_names: Vec<String>,
-    pub points: Vec<MultiDofJointTrajectoryPoint>,
+    pub joint_names: Bounded<String, MAX_JOINTS>,
+    pub points: Bounded<MultiDofJointTrajectoryPoint, 0>,
 }

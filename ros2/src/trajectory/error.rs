@@ -30,6 +30,12 @@ pub enum GoalError {
     },
     #[error("the trajectory has no points; it needs at least one")]
     NoPoints,
+    #[error("{field} has {len} entries; allowed: at most {max} (docs/ros2.md, limits)")]
+    Oversize {
+        field: String,
+        len: usize,
+        max: usize,
+    },
     #[error("point {index}: time_from_start {} s is negative; it must be 0 or more", Num(*time))]
     NegativeTime { index: usize, time: f64 },
     #[error(

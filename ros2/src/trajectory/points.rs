@@ -26,6 +26,7 @@ pub fn goal_points(
     order: &ColumnOrder,
     joints: &Joints,
 ) -> Result<Vec<GoalPoint>, GoalError> {
+    super::size::check_trajectory_size(traj)?;
     if traj.points.is_empty() {
         return Err(GoalError::NoPoints);
     }

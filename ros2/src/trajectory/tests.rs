@@ -32,7 +32,7 @@ pub(super) fn loose_joints() -> Joints {
 
 pub(super) fn point(t: f64, positions: [f64; 6]) -> JointTrajectoryPoint {
     JointTrajectoryPoint {
-        positions: positions.to_vec(),
+        positions: positions.to_vec().into(),
         time_from_start: Duration::from_secs_f64(t),
         ..Default::default()
     }
@@ -40,7 +40,7 @@ pub(super) fn point(t: f64, positions: [f64; 6]) -> JointTrajectoryPoint {
 
 pub(super) fn point_pv(t: f64, positions: [f64; 6], velocities: [f64; 6]) -> JointTrajectoryPoint {
     JointTrajectoryPoint {
-        velocities: velocities.to_vec(),
+        velocities: velocities.to_vec().into(),
         ..point(t, positions)
     }
 }
@@ -48,8 +48,8 @@ pub(super) fn point_pv(t: f64, positions: [f64; 6], velocities: [f64; 6]) -> Joi
 /// A trajectory naming the joints in axis order, stamped 0 ("start now").
 pub(super) fn traj(points: Vec<JointTrajectoryPoint>) -> JointTrajectory {
     JointTrajectory {
-        joint_names: joints().names().to_vec(),
-        points,
+        joint_names: joints().names().to_vec().into(),
+        points: points.into(),
         ..Default::default()
     }
 }
@@ -169,14 +169,14 @@ fn vectors_must_have_one_value_per_joint() {
         "point 1: positions has 5 values; it must have one per joint (6)"
     );
     let mut t = easy();
-    t.points[2].velocities = vec![0.0; 3];
+    t.points[2].velocities = vec![0.0; 3].into();
     let e = refusal(&t, at_rest([0.0; 6]));
     assert!(
         e.to_string()
             .contains("velocities has 3 values; it must have none or one per joint")
     );
     let mut t = easy();
-    t.points[2].accelerations = vec![0.0; 7];
+    t.points[2].accelerations = vec![0.0; 7].into();
     assert!(matches!(
         refusal(&t, at_rest([0.0; 6])),
         GoalError::Length {
@@ -199,7 +199,7 @@ fn values_must_be_finite() {
         "point 1: positions of joint \"elbow\" is NaN; every value must be finite"
     );
     let mut t = easy();
-    t.points[2].velocities = vec![0.0, 0.0, 0.0, f64::INFINITY, 0.0, 0.0];
+    t.points[2].velocities = vec![0.0, 0.0, 0.0, f64::INFINITY, 0.0, 0.0].into();
     assert!(
         refusal(&t, at_rest([0.0; 6]))
             .to_string()

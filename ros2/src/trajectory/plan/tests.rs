@@ -27,7 +27,11 @@ fn moveit(with_acc: bool) -> JointTrajectory {
                 let t = k as f64 * 0.1;
                 let (p, v, a) = smooth(t);
                 JointTrajectoryPoint {
-                    accelerations: if with_acc { a.to_vec() } else { vec![] },
+                    accelerations: if with_acc {
+                        a.to_vec().into()
+                    } else {
+                        vec![].into()
+                    },
                     ..point_pv(t, p, v)
                 }
             })
@@ -68,8 +72,8 @@ fn a_moveit_trajectory_is_reproduced_at_its_knots_and_is_c1() {
     assert_eq!(plan.duration(), T_END);
     for (k, tk) in times(&t).into_iter().enumerate() {
         let s = plan.sample(tk);
-        assert_eq!(s.position.to_vec(), t.points[k].positions, "point {k}");
-        assert_eq!(s.velocity.to_vec(), t.points[k].velocities, "point {k}");
+        assert_eq!(s.position[..], t.points[k].positions[..], "point {k}");
+        assert_eq!(s.velocity[..], t.points[k].velocities[..], "point {k}");
     }
     let inner = &times(&t)[1..20];
     // A step would be of the order of the velocity change over 0.1 s (~0.05 rad/s).
@@ -114,7 +118,7 @@ fn accelerations_make_it_quintic_and_continuous_in_acceleration() {
 fn a_position_only_trajectory_has_a_continuous_velocity() {
     let mut t = moveit(false);
     for p in &mut t.points {
-        p.velocities.clear();
+        p.velocities = Default::default();
     }
     let plan = Plan::new(&t, &joints(), at_rest([0.0; 6]), T0, DT).unwrap();
     let step = largest_velocity_step(&plan, &times(&t)[1..20]);
@@ -288,15 +292,15 @@ fn any_goal_trajectory() -> impl Strategy<Value = JointTrajectory> {
             points
                 .into_iter()
                 .map(|(p, v, a, (sec, nanosec))| JointTrajectoryPoint {
-                    positions: p,
-                    velocities: v,
-                    accelerations: a,
-                    effort: Vec::new(),
+                    positions: p.into(),
+                    velocities: v.into(),
+                    accelerations: a.into(),
+                    effort: Default::default(),
                     time_from_start: crate::msgs::builtin::Duration { sec, nanosec },
                 })
                 .collect(),
         );
-        t.joint_names = names;
+        t.joint_names = names.into();
         t.header.stamp = Time { sec, nanosec };
         t
     })

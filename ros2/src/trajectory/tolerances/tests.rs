@@ -19,8 +19,8 @@ fn parse(goal: &FollowJointTrajectoryGoal) -> Result<Tolerances, GoalError> {
 #[test]
 fn zero_is_the_default_minus_one_no_limit_and_a_value_that_bound() {
     let goal = FollowJointTrajectoryGoal {
-        path_tolerance: vec![tolerance("elbow", 0.0, -1.0), tolerance("wrist", -1.0, 0.2)],
-        goal_tolerance: vec![tolerance("flange", 0.002, 0.0)],
+        path_tolerance: vec![tolerance("elbow", 0.0, -1.0), tolerance("wrist", -1.0, 0.2)].into(),
+        goal_tolerance: vec![tolerance("flange", 0.002, 0.0)].into(),
         ..Default::default()
     };
     let t = parse(&goal).unwrap();
@@ -62,7 +62,7 @@ fn the_goal_time_tolerance_is_taken_or_refused() {
 #[test]
 fn a_tolerance_of_an_unknown_joint_is_invalid_joints() {
     let goal = FollowJointTrajectoryGoal {
-        goal_tolerance: vec![tolerance("knee", 0.1, 0.0)],
+        goal_tolerance: vec![tolerance("knee", 0.1, 0.0)].into(),
         ..Default::default()
     };
     let e = parse(&goal).unwrap_err();
@@ -76,7 +76,8 @@ fn a_tolerance_of_an_unknown_joint_is_invalid_joints() {
         component_path_tolerance: vec![JointComponentTolerance {
             joint_name: "base".into(),
             ..Default::default()
-        }],
+        }]
+        .into(),
         ..Default::default()
     };
     assert_eq!(parse(&goal).unwrap_err().code(), error_code::INVALID_JOINTS);
@@ -86,7 +87,7 @@ fn a_tolerance_of_an_unknown_joint_is_invalid_joints() {
 fn a_negative_tolerance_other_than_minus_one_is_invalid() {
     for bad in [-0.5, -2.0, f64::NAN, f64::INFINITY] {
         let goal = FollowJointTrajectoryGoal {
-            path_tolerance: vec![tolerance("shoulder", 0.0, bad)],
+            path_tolerance: vec![tolerance("shoulder", 0.0, bad)].into(),
             ..Default::default()
         };
         let e = parse(&goal).unwrap_err();
@@ -179,8 +180,8 @@ proptest::proptest! {
             .map(|(name, p, v, a)| JointTolerance { name: name.clone(), position: *p, velocity: *v, acceleration: *a })
             .collect();
         let goal = FollowJointTrajectoryGoal {
-            path_tolerance: tol.clone(),
-            goal_tolerance: tol,
+            path_tolerance: tol.clone().into(),
+            goal_tolerance: tol.into(),
             goal_time_tolerance: Duration { sec: goal_time.0, nanosec: goal_time.1 },
             ..Default::default()
         };
