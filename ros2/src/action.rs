@@ -2,8 +2,11 @@
 //! is async): it accepts goals and cancel requests and hands them to the arm loop, and passes
 //! the arm loop's feedback and results back to the clients.
 //!
-//! Every goal is accepted and handed on; one that cannot run ends at once `ABORTED` with its
-//! error code and the reason in `error_string` (a rejected goal could not say why).
+//! Every goal is accepted and handed on while the node holds fewer than [`MAX_GOALS`]; one that
+//! cannot run ends at once `ABORTED` with its error code and the reason in `error_string`. A
+//! goal that comes when [`MAX_GOALS`] are held is rejected (a ROS rejection carries no words:
+//! the reason goes to stderr, once per run of rejections), so a burst of goals costs a bounded
+//! amount of memory and every goal of it is answered.
 
 use crate::arm::ToArm;
 use crate::driver::Event;
@@ -30,6 +33,53 @@ type Handle = ExecutingGoalHandle<FollowJointTrajectoryGoal>;
 /// How long a finished goal's result waits for the client to ask for it.
 const RESULT_KEPT: Duration = Duration::from_secs(60);
 
+/// Most goals the node holds at once: running, handed to the arm loop, or ended with a result
+/// its client has not fetched yet (for at most [`RESULT_KEPT`]). More are rejected.
+pub const MAX_GOALS: usize = 100;
+
+/// History depth of the goal service: how many goal requests DDS keeps before the node reads
+/// them, and how many answers it keeps until their clients acknowledge them. RustDDS keeps
+/// that many received goals (at least 64) even once read, so it is sized by the goals held,
+/// not by the largest burst: a burst is read as it comes, its goals beyond [`MAX_GOALS`]
+/// rejected at once.
+pub const GOAL_REQUESTS_DEPTH: usize = MAX_GOALS;
+
+/// History depth of the result and cancel services (requests of a few bytes): a result request
+/// for each goal held comes as soon as it is accepted and waits until the goal ends, so these
+/// keep many times [`MAX_GOALS`] (RustDDS keeps at most 64 samples of a topic when the depth is
+/// smaller, or `KEEP_ALL`).
+pub const REQUESTS_DEPTH: usize = 1024;
+const _: () = assert!(
+    REQUESTS_DEPTH >= 2 * MAX_GOALS,
+    "a result request for each goal held, and as many again"
+);
+
+/// Counts a run of rejected goals, for a log line at its first and at its end.
+#[derive(Debug, Default)]
+pub struct Rejections {
+    run: u64,
+}
+
+impl Rejections {
+    /// A goal rejected with `held` goals held: the reason, for the first of a run.
+    pub fn rejected(&mut self, held: usize) -> Option<String> {
+        self.run += 1;
+        (self.run == 1).then(|| {
+            format!(
+                "goal rejected: the node holds {held} goals (running, or ended with a result not \
+                 fetched yet); allowed: at most {MAX_GOALS} (docs/ros2.md, limits); more \
+                 rejections follow until one of them ends"
+            )
+        })
+    }
+
+    /// A goal accepted: how many were rejected before it, when any were.
+    pub fn accepted(&mut self) -> Option<String> {
+        let run = std::mem::take(&mut self.run);
+        (run > 0).then(|| format!("accepting goals again after rejecting {run}"))
+    }
+}
+
 /// Serve until the arm loop ends (its event channel closes).
 pub async fn serve(
     server: Server,
@@ -38,10 +88,22 @@ pub async fn serve(
 ) {
     let mut running: BTreeMap<GoalId, Handle> = BTreeMap::new();
     let mut results = FuturesUnordered::new();
+    let mut rejections = Rejections::default();
     loop {
         futures::select! {
             new = server.receive_new_goal().fuse() => {
                 let Ok(new) = new else { continue };
+                let held = running.len() + results.len();
+                if held >= MAX_GOALS {
+                    if let Some(why) = rejections.rejected(held) {
+                        eprintln!("mcm-ros2: {why}");
+                    }
+                    let _ = server.reject_goal(new).await;
+                    continue;
+                }
+                if let Some(again) = rejections.accepted() {
+                    eprintln!("mcm-ros2: {again}");
+                }
                 let Some(goal) = server.get_new_goal(new.clone()) else { continue };
                 let id = new.goal_id();
                 let Ok(accepted) = server.accept_goal(new).await else { continue };
@@ -104,3 +166,6 @@ async fn send_result(
     }
     let _ = server.abort_executing_goal(h).await;
 }
+
+#[cfg(test)]
+mod tests;

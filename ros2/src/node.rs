@@ -92,6 +92,29 @@ fn loop_qos(depth: usize) -> QosProfile {
         .history(History::KeepLast { depth })
 }
 
+/// The action's services keep the requests of a burst and their answers
+/// ([`action::GOAL_REQUESTS_DEPTH`], [`action::REQUESTS_DEPTH`]); no publish of the action
+/// server waits for a client to acknowledge: an answer or a status that does not fit is dropped
+/// rather than holding up the answers to every other goal. The goal statuses supersede each
+/// other, and feedback is sent every 20 ms.
+fn action_qos() -> ActionServerQosPolicies {
+    let service = |depth| {
+        QosProfile::publisher_default()
+            .durability(Durability::Volatile)
+            .reliability(Reliability::Reliable {
+                when_full: WhenFull::Fail,
+            })
+            .history(History::KeepLast { depth })
+    };
+    ActionServerQosPolicies {
+        goal_service: service(action::GOAL_REQUESTS_DEPTH),
+        result_service: service(action::REQUESTS_DEPTH),
+        cancel_service: service(action::REQUESTS_DEPTH),
+        feedback_publisher: loop_qos(100),
+        status_publisher: loop_qos(16).durability(Durability::TransientLocal),
+    }
+}
+
 /// History of `/joint_states`: about 5 s of cycles at 200 Hz.
 const JOINT_STATES_DEPTH: usize = 1000;
 
@@ -202,15 +225,7 @@ pub fn run(opts: Ros2Options, stop: &AtomicBool) -> Result<(), Ros2Error> {
         servers.push((kind, server));
     }
 
-    let action_qos = ActionServerQosPolicies {
-        goal_service: service_qos.clone().history(History::KeepLast { depth: 1 }),
-        result_service: service_qos.clone().history(History::KeepLast { depth: 1 }),
-        cancel_service: service_qos.clone().history(History::KeepLast { depth: 1 }),
-        feedback_publisher: service_qos.clone().history(History::KeepLast { depth: 1 }),
-        status_publisher: QosProfile::publisher_default()
-            .history(History::KeepLast { depth: 1 })
-            .durability(Durability::TransientLocal),
-    };
+    let action_qos = action_qos();
     let action_server = action::Server::new(
         node.create_action_server(
             opts.service_mapping,

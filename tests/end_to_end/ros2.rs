@@ -442,3 +442,41 @@ fn oversize_goals_are_refused_naming_the_limit() {
         "{words}"
     );
 }
+
+/// How many goals [`a_burst_of_goals_is_answered`] sends at once: 1,000 with
+/// `MCM_ROS2_BURST=1000` (the figure in docs/ros2.md), fewer in the suite.
+fn burst_goals() -> u32 {
+    std::env::var("MCM_ROS2_BURST")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(300)
+}
+
+/// A burst of goals sent at once by a client that keeps all its requests: the node answers
+/// every goal (accepts it, or rejects it when its queue of goals is full) and ends every
+/// accepted one with a result (docs/ros2.md, limits), and a JSON client's `hold` goes through
+/// meanwhile.
+#[test]
+fn a_burst_of_goals_is_answered() {
+    let test = "a_burst_of_goals_is_answered";
+    let Some(py) = ros2::venv_or_skip(test) else {
+        return;
+    };
+    let Some(ns) = Netns::or_skip(test, "burst") else {
+        return;
+    };
+    let domain = ros2::unique_domain_id();
+    let instance = common::unique_instance("ros2burst");
+    let mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let count = burst_goals().to_string();
+    // A JSON client's `hold`s, timed before and during the burst (docs/performance.md).
+    let lines = run_abuse_check(
+        &ns,
+        &py,
+        domain,
+        "burst",
+        &mcm.json.to_string(),
+        &["--count", &count, "--holds", "200"],
+    );
+    expect_checks(&lines, &["holds_idle", "holds_during_burst", "burst"]);
+}
