@@ -11,11 +11,13 @@ exists (the test stops and continues the node meanwhile): every goal must be ans
 with a result. `refused_goal` checks that a goal refused because a JSON client controls the arm
 leaves that client's move alone. `big_goals` prints `ready`, then sends N goals of P points each
 one after the other (no calibration: the node refuses them for their size), printing `goal I` as
-each ends; the test reads the node's memory meanwhile. `burst` calibrates, then sends N goals at once from a
-client that keeps all its requests (rclpy's default history of 10 drops most of a burst before
-the node sees it): every goal must be answered, and every accepted one end with a result. With `--json`, it also times H `hold`s of a JSON client (send to reply, `holds`, in
-a process of its own) before the burst and from its start. Each check prints `ok <name> <figures>`; the first failure
-raises (exit 1) with what was expected and what came. Every wait is bounded.
+each ends; the test reads the node's memory meanwhile. `burst` calibrates, then sends N goals at
+once from a client that keeps all its requests (rclpy's default history of 10 drops most of a
+burst before the node sees it): every goal must be answered, and every accepted one end with a
+result; with `--json` it also times H `hold`s of a JSON client (`holds`, in a process of its
+own, send to reply) before the burst and from its start. Each check prints
+`ok <name> <figures>`; the first failure raises (exit 1) with what was expected and what came.
+Every wait is bounded.
 """
 
 import argparse
@@ -147,7 +149,12 @@ def timed_holds(args):
 
 
 def holds_line(proc, when):
-    out, _ = proc.communicate(timeout=120)
+    """Wait for the `holds` process and print its figures as `ok holds_<when> ...`."""
+    try:
+        out, _ = proc.communicate(timeout=120)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        raise Failure(f"the holds {when} were not done within 120 s")
     lines = [l for l in out.splitlines() if l.startswith("ok holds")]
     expect(proc.returncode == 0 and lines, f"the holds {when}: {out!r}")
     print(lines[0].replace("ok holds", f"ok holds_{when}"), flush=True)
