@@ -733,6 +733,8 @@ impl Discovery {
       );
       match self.poll.poll(&mut events, Some(poll_timeout)) {
         Ok(_) => (),
+        // A signal (e.g. SIGSTOP/SIGCONT) interrupted the wait: only a wake-up.
+        Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
         Err(e) => {
           error!("Failed in waiting of poll in discovery. {e:?}");
           return;
