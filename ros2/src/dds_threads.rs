@@ -1,8 +1,7 @@
-//! Whether DDS still runs in this process: RustDDS's threads (its participant's event loop and
-//! discovery) end when their `epoll_wait` fails, and Linux fails it with `EINTR` when the
-//! process is stopped and continued (`kill -STOP`/`-CONT`, Ctrl-Z, a debugger). A node whose
-//! DDS ended neither hears goals nor answers them: it ends with this error, and the launcher (or
-//! systemd) starts it again.
+//! Whether DDS still runs in this process: RustDDS ends its threads (its participant's event
+//! loop and discovery) when their wait for the network fails for any reason but an interruption
+//! by a signal (`vendor/rustdds/MCM-PATCHES.md`). A node whose DDS ended neither hears goals nor
+//! answers them: it ends with this error, and the launcher (or systemd) starts it again.
 
 use std::path::Path;
 
@@ -15,7 +14,7 @@ pub struct DdsThreads {
 /// DDS's threads ended.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error(
-    "DDS stopped in this process: {ended} of RustDDS's {total} threads ended (RustDDS ends them when the process is stopped and continued, e.g. by kill -STOP/-CONT or Ctrl-Z)"
+    "DDS stopped in this process: {ended} of RustDDS's {total} threads ended (RustDDS ends them when its wait for the network fails)"
 )]
 pub struct DdsEnded {
     pub ended: usize,

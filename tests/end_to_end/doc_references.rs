@@ -43,7 +43,8 @@ fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
         let name = e.file_name();
         let name = name.to_string_lossy();
         if p.is_dir() {
-            if name != "target" && !name.starts_with('.') || name == ".ci" {
+            // vendor/ holds other projects' sources as published, citing their own files.
+            if name != "target" && name != "vendor" && !name.starts_with('.') || name == ".ci" {
                 sources(&p, out);
             }
         } else if name.ends_with(".rs") || name.ends_with(".md") {

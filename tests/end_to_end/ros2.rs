@@ -338,11 +338,10 @@ fn stop_cycles() -> u32 {
 }
 
 /// A node stopped and continued (Ctrl-Z, a debugger, `kill -STOP`/`-CONT`) during goals goes
-/// on: the same process answers every goal and ends each with a result. Ignored until RustDDS
-/// goes on after an interrupted `epoll_wait` (docs/ros2.md, "Stopped and continued"): the
-/// node's own wait on the core does, but RustDDS's threads end, and the node with them.
+/// on: the same process answers every goal and ends each with a result. Linux interrupts every
+/// wait of a stopped process when it continues: the node's wait on the core and RustDDS's waits
+/// for the network (patched, vendor/rustdds/MCM-PATCHES.md) go on.
 #[test]
-#[ignore = "RustDDS 0.15.1 ends its threads when the process is stopped and continued (docs/ros2.md)"]
 fn the_node_survives_stop_and_continue() {
     let test = "the_node_survives_stop_and_continue";
     let Some(py) = ros2::venv_or_skip(test) else {
@@ -371,9 +370,13 @@ fn the_node_survives_stop_and_continue() {
     line_within(&lines, |l| l == "calibrated", SCRIPT_WITHIN)
         .unwrap_or_else(|seen| panic!("the script did not get to its goals: {seen:#?}"));
     let cycles = stop_cycles();
-    for _ in 0..cycles {
+    for cycle in 0..cycles {
         // SAFETY: kill(2) on the node's pid, found above; no memory is involved.
-        assert_eq!(unsafe { libc::kill(pid, libc::SIGSTOP) }, 0, "SIGSTOP");
+        assert_eq!(
+            unsafe { libc::kill(pid, libc::SIGSTOP) },
+            0,
+            "the node (pid {pid}) exited after {cycle} stop/continue cycles"
+        );
         // How long the node stays stopped and runs between stops: the pace of the abuse.
         std::thread::sleep(Duration::from_millis(100));
         // SAFETY: as above.
