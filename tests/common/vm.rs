@@ -32,7 +32,7 @@ use std::ffi::{OsStr, OsString};
 use std::fs;
 use std::io::{Read, Write};
 use std::net::TcpListener;
-use std::os::unix::process::ExitStatusExt;
+use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
@@ -190,20 +190,55 @@ const CPUS: &str = "2";
 /// The emulator [`Guest::boot`] runs.
 pub const QEMU: &str = "qemu-system-x86_64";
 
+/// The weight QEMU's session is given against the host's other sessions (`nice` of its
+/// autogroup, `sched(7)`), where the test runs as root.
+const QEMU_AUTOGROUP_NICE: &str = "-10";
+
 /// Start `program` (QEMU) with `args`, its standard output and error appended to `log`.
+///
+/// QEMU runs in a session of its own whose autogroup weighs more than the others: with Linux's
+/// autogroups (`/proc/sys/kernel/sched_autogroup_enabled`) every session gets an equal share
+/// of the CPUs whatever its processes' `nice`, so that other work on the host (a build in
+/// another terminal) would take the emulated CPUs' time and the guest's MCM would miss its
+/// drives' reports. Without root the weight stays as it is (said once in the log). Out of the
+/// terminal's process group, QEMU would outlive a Ctrl-C of the tests: it is killed when the
+/// test's thread that started it ends (`PR_SET_PDEATHSIG`; a [`Guest`] lives in one test's
+/// thread).
 fn spawn_qemu(program: &OsStr, args: &[OsString], log: &Path) -> Child {
     let log_file = fs::OpenOptions::new()
         .create(true)
         .append(true)
         .open(log)
         .expect("open the guest's log");
-    Command::new(program)
-        .args(args)
+    let mut cmd = Command::new(program);
+    cmd.args(args)
         .stdin(Stdio::null())
         .stdout(log_file.try_clone().expect("the guest's log, twice"))
-        .stderr(log_file)
+        .stderr(log_file.try_clone().expect("the guest's log, three times"));
+    // SAFETY: `setsid` and `prctl` are async-signal-safe system calls that touch no memory of
+    // the parent; they run in the child between fork and exec, as `pre_exec` requires.
+    unsafe {
+        cmd.pre_exec(|| {
+            if libc::setsid() == -1
+                || libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL as libc::c_ulong) == -1
+            {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    let child = cmd
         .spawn()
-        .unwrap_or_else(|e| panic!("cannot start {}: {e}", program.display()))
+        .unwrap_or_else(|e| panic!("cannot start {}: {e}", program.display()));
+    let autogroup = format!("/proc/{}/autogroup", child.id());
+    if let Err(e) = fs::write(&autogroup, QEMU_AUTOGROUP_NICE) {
+        let mut log_file = log_file;
+        let _ = writeln!(
+            log_file,
+            "[harness] QEMU's session keeps the default CPU weight ({autogroup}: {e})"
+        );
+    }
+    child
 }
 
 impl Guest {
