@@ -23,6 +23,9 @@ WAIT_S = 20.0
 #: The controlled stop of axis 3 from the loop's 6 to 8 deg/s to rest, on the robot's clock [s]
 #: (measured: 0.045 s; at 180 deg/s^2 it takes 0.04 s), with room to spare.
 STOP_S = 0.5
+#: Points the PVT test's loop sends ahead of the core (``control``'s ``pvt_lookahead``): as many
+#: missed states run its stream dry.
+LOOKAHEAD = 3
 
 
 @needs.env("MCM_INSTANCE", "run `cargo test --test end_to_end examples_python::`")
@@ -139,12 +142,13 @@ class ShmLive(unittest.TestCase):
         self.wait_until("client_gone ending the ownership", lambda s: s.owner_client_id == 0, 0.05)
 
     def test_pvt_points_stream_through_the_control_loop(self) -> None:
-        # The loop sends one point per state it sees, three ahead: each state it misses takes
-        # one point from the core's queue for good, and after three the stream runs dry, the
-        # core stops the axes and refuses the next points (busy while the stop runs, then as too
-        # sudden a start from rest), as it must. That is this process kept off the CPU by the machine's load, not the MCM,
-        # when the states the loop saw show those misses: then the stream is run again from
-        # rest, at most three times. A busy refusal without them fails the test.
+        # The loop sends one point per state it sees, LOOKAHEAD ahead: each state it misses
+        # takes one point from the core's queue for good, and after LOOKAHEAD the stream runs
+        # dry, the core stops the axes and refuses the next points (busy while the stop runs,
+        # then as too sudden a start from rest), as it must. That is this process kept off the
+        # CPU by the machine's load, not the MCM, when the states the loop saw show those
+        # misses: then the stream is run again from rest, at most three times. A refusal
+        # without them fails the test.
         for attempt in range(3):
             late = self._stream_a_ramp_on_axis_6()
             if late is None:
@@ -183,14 +187,14 @@ class ShmLive(unittest.TestCase):
             return mcm.PvtPoint(pos, vel)
 
         try:
-            stats = self.a.control(ramp)
+            stats = self.a.control(ramp, pvt_lookahead=LOOKAHEAD)
         except mcm.CommandError as e:
-            if e.command == "pvt_points" and seen["missed"] >= 3:
+            if e.command == "pvt_points" and seen["missed"] >= LOOKAHEAD:
                 return "the loop missed %d states, then %s" % (seen["missed"], e)
             raise
         self.assertEqual(stats.cycles, 60)
-        # The first three points went out as one batch: 58 answers, all applied.
-        self.assertEqual(stats.next_cycle + stats.late, 58, stats)
+        # The first LOOKAHEAD points went out as one batch, the others one by one: all applied.
+        self.assertEqual(stats.next_cycle + stats.late, 60 - LOOKAHEAD + 1, stats)
         # control() returned when the core's queue was empty: the last point is in force.
         self.wait_until(
             "axis 6 commanded at +1 deg",

@@ -1189,7 +1189,7 @@ fn sustained_high_current_derates_the_motor_without_an_error() {
         "at the derated limit {derated_a} A or above at the trip: {} A",
         current[n]
     );
-    let cycles_in_overload = f64::from(rig.cfg.cycle.rate_hz) * 0.025;
+    let cycles_in_overload = f64::from(rig.cfg.cycle.rate_hz) * mcm_rt_core::controller::OVERLOAD_S;
     if cycles_in_overload >= 3.0 {
         assert!(
             current[n].abs() <= derated_a * 1.05,

@@ -52,6 +52,7 @@ use mcm_shared::mode::Mode;
 use mcm_shared::reply::{self, Done, Outcome, Reason, Response};
 use mcm_shared::sample::{CommandSample, Reply};
 pub use motion::QUICK_STOP_FACTOR;
+pub use overload::OVERLOAD_S;
 pub use shutdown_sequence::{
     SHUTDOWN_HOLD_NS, SHUTDOWN_MIN_BOUND_NS, ShutdownPhase, ShutdownResult, ShutdownStatus,
     TimedOutPhase,

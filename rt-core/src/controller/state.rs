@@ -166,7 +166,7 @@ pub(crate) enum State {
     Error {
         stop: Option<Stopping>,
         /// Cycles left in which an axis that tripped its following error follows its measured
-        /// position, its drive's loop restarted at the start and the end (`trips.rs`), so
+        /// position, its drive's loop restarted at the start (`trips.rs`), so
         /// that it does not press into what held it. They end with the mode.
         relax: [u8; NUM_AXES],
     },

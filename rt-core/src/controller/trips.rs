@@ -208,8 +208,10 @@ impl Controller {
     }
 
     /// In ERROR, an axis that tripped its following error follows its measured position for
-    /// [`RELAX_CYCLES`], its drive's loop restarted at the start and at the end: a loop wound
-    /// up against an obstacle stops pressing, and the axis holds where it came to rest.
+    /// [`RELAX_CYCLES`], its drive's loop restarted at the start: a loop wound up against an
+    /// obstacle stops pressing, and the axis holds where it came to rest. Not restarted again
+    /// at the end: that would drop what the integral carries against the obstacle's spring,
+    /// and the loop would creep the axis back to its reference later.
     pub(super) fn relax_tripped_axes(&mut self, relax: &mut [u8; NUM_AXES]) {
         let measured = self.measured();
         for (i, &at) in measured.iter().enumerate() {
@@ -220,7 +222,7 @@ impl Controller {
             self.cmd.position[i] = at;
             self.cmd.velocity[i] = 0.0;
             self.cmd.acceleration[i] = 0.0;
-            if left == RELAX_CYCLES || left == 1 {
+            if left == RELAX_CYCLES {
                 self.master.restart_position_loop(i);
             }
             relax[i] = left - 1;

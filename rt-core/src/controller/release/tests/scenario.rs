@@ -2,6 +2,7 @@
 //! see `controller/tests.rs`): pushes of increasing torque against the simulation's truth.
 
 use crate::controller::tests::Robot;
+use crate::controller::trips::RELAX_CYCLES;
 use mcm_shared::command::{Axis, MoveAxis, Pvt, Request, SimCommand};
 use mcm_shared::mode::Mode;
 use mcm_shared::reply::Reason;
@@ -138,7 +139,16 @@ fn no_wound_up_current_after_a_following_error_trip_against_an_obstacle() {
         "{:?}",
         e.reason
     );
-    r.run(600); // 3 s
+    // The axis springs back off the obstacle while its loop follows it, then holds there: the
+    // loop is not restarted again at the end of the relax, which would drop what its integral
+    // carries against the obstacle's spring and let the loop creep back to its position later.
+    r.run(u64::from(RELAX_CYCLES) + 10);
+    let relaxed = r.truth();
+    let crept = r.largest_drift(relaxed, 590); // 3 s after the trip
+    assert!(
+        crept < 0.002,
+        "the axis holds where it relaxed to: it crept {crept:.4} deg from {relaxed:?}"
+    );
     let current = r.cycle.controller().feedback()[0].current_a;
     let stands = r.truth();
     eprintln!("obstacle: 3 s after the trip the drive of axis 1 draws {current:.2} A");
