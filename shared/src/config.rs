@@ -739,9 +739,7 @@ impl AxisConfig {
 mod bounds;
 mod gateway;
 pub use bounds::*;
-pub use gateway::{
-    AccessConfig, Cidr, ConnectionLimits, GatewayConfig, HostName, WebConfig, ZmqConfig,
-};
+pub use gateway::{AccessConfig, Cidr, ConnectionLimits, GatewayConfig, WebConfig, ZmqConfig};
 
 #[cfg(test)]
 mod tests;
