@@ -635,8 +635,10 @@ impl Reader {
 
     // A fragment of a sample already received (a repair that crossed our
     // ACKNACK) would start a new assembly buffer of the whole sample's size,
-    // kept until FRAGMENT_ASSEMBLY_TIMEOUT.
+    // kept until FRAGMENT_ASSEMBLY_TIMEOUT. The participant reader accepts
+    // duplicates, as in `process_received_data`.
     if !self.like_stateless
+      && self.my_guid.entity_id != EntityId::SPDP_BUILTIN_PARTICIPANT_READER
       && self
         .matched_writer(writer_guid)
         .is_some_and(|wp| wp.should_ignore_change(seq_num))
