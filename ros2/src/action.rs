@@ -39,9 +39,9 @@ pub const MAX_GOALS: usize = 100;
 
 /// History depth of the goal service: how many goal requests DDS keeps before the node reads
 /// them, and how many answers it keeps until their clients acknowledge them. RustDDS keeps
-/// that many received goals (at least 64) even once read, so it is sized by the goals held,
-/// not by the largest burst: a burst is read as it comes, its goals beyond [`MAX_GOALS`]
-/// rejected at once.
+/// that many received goals (at least 64) even once read, without their data (patched,
+/// vendor/rustdds/MCM-PATCHES.md); it is sized by the goals held, not by the largest burst: a
+/// burst is read as it comes, its goals beyond [`MAX_GOALS`] rejected at once.
 pub const GOAL_REQUESTS_DEPTH: usize = MAX_GOALS;
 
 /// History depth of the result and cancel services (requests of a few bytes): a result request
@@ -105,6 +105,10 @@ pub async fn serve(
                     eprintln!("mcm-ros2: {again}");
                 }
                 let Some(goal) = server.get_new_goal(new.clone()) else { continue };
+                if crate::trajectory::check_size(&goal).is_err() {
+                    // The arm loop refuses it; what receiving it took is free now.
+                    crate::allocator::give_back();
+                }
                 let id = new.goal_id();
                 let Ok(accepted) = server.accept_goal(new).await else { continue };
                 let Ok(executing) = server.start_executing_goal(accepted).await else { continue };

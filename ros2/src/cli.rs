@@ -92,6 +92,7 @@ where
     T: Into<OsString> + Clone,
 {
     let cli = Cli::parse_from(args);
+    crate::allocator::init();
     let config = match cli.common.load_config() {
         Ok(c) => c,
         Err(e) => {

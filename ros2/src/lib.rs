@@ -11,8 +11,10 @@
 //! - [`urdf`] generates the robot description from the configuration.
 //! - [`msgs`] are the ROS 2 messages as serde structs.
 //! - [`dds_threads`] tells whether DDS still runs in the process.
+//! - [`allocator`] gives back the memory of large received samples.
 
 pub mod action;
+pub mod allocator;
 pub mod arm;
 pub mod cli;
 pub mod convert;

@@ -633,6 +633,20 @@ impl Reader {
       write_options_b = write_options_b.related_sample_identity(related_sample_identity);
     }
 
+    // A fragment of a sample already received (a repair that crossed our
+    // ACKNACK) would start a new assembly buffer of the whole sample's size,
+    // kept until FRAGMENT_ASSEMBLY_TIMEOUT. The participant reader accepts
+    // duplicates, as in `process_received_data`.
+    if !self.like_stateless
+      && self.my_guid.entity_id != EntityId::SPDP_BUILTIN_PARTICIPANT_READER
+      && self
+        .matched_writer(writer_guid)
+        .is_some_and(|wp| wp.should_ignore_change(seq_num))
+    {
+      trace!("handle_datafrag_msg already have seq={seq_num:?}");
+      return;
+    }
+
     // Feed to fragment assembler ...
     let writer_seq_num = datafrag.writer_sn; // for borrow checker
     let completed_dds_data = self
@@ -1487,6 +1501,8 @@ impl fmt::Debug for Reader {
 mod tests {
   use std::sync::RwLock;
 
+  use bytes::Bytes;
+
   use crate::{
     dds::{qos::policy::Reliability, statusevents::sync_status_channel, typedesc::TypeDesc},
     polling::{new_shared_timer, wake_channel, LoopWaker},
@@ -1687,6 +1703,89 @@ mod tests {
     assert_eq!(
       cc_from_cache, &cc_locally_built,
       "The content of the cache change in the topic cache not as expected"
+    );
+  }
+
+  // A fragment of a sample the reader already has (a repair that crossed its
+  // ACKNACK) starts no new assembly buffer: that would take the whole sample's
+  // size until FRAGMENT_ASSEMBLY_TIMEOUT.
+  #[test]
+  fn reader_ignores_fragments_of_a_received_sample() {
+    let dds_cache = Arc::new(RwLock::new(DDSCache::new()));
+    let topic_name = "test_name";
+    let qos_policy = QosPolicies::qos_none();
+    let topic_cache_handle = dds_cache.write().unwrap().add_new_topic(
+      topic_name.to_string(),
+      TypeDesc::new("test_type".to_string()),
+      &qos_policy,
+    );
+    let (notification_sender, _notification_receiver) =
+      crate::mio_source::notification_channel(100);
+    let (_notification_event_source, notification_event_sender) =
+      mio_source::make_poll_channel().unwrap();
+    let (status_sender, _status_receiver) = sync_status_channel::<DataReaderStatus>(4).unwrap();
+    let (participant_status_sender, _participant_status_receiver) =
+      sync_status_channel(16).unwrap();
+    let (_reader_command_sender, reader_command_receiver) =
+      wake_channel::<ReaderCommand>(10, &LoopWaker::new());
+    let reader_guid = GUID::dummy_test_guid(EntityKind::READER_NO_KEY_USER_DEFINED);
+    let reader_ing = ReaderIngredients {
+      guid: reader_guid,
+      notification_sender,
+      status_sender,
+      topic_name: topic_name.to_string(),
+      topic_cache_handle: topic_cache_handle.clone(),
+      like_stateless: false,
+      qos_policy,
+      data_reader_command_receiver: reader_command_receiver,
+      data_reader_waker: Arc::new(Mutex::new(None)),
+      poll_event_sender: notification_event_sender,
+      security_plugins: None,
+      discovery_notify: None,
+    };
+    let mut reader = Reader::new(
+      reader_ing,
+      Rc::new(UDPSender::new(0).unwrap()),
+      new_shared_timer(),
+      participant_status_sender,
+    );
+    let writer_guid = GUID::dummy_test_guid(EntityKind::WRITER_NO_KEY_USER_DEFINED);
+    let mr_state = MessageReceiverState {
+      source_guid_prefix: writer_guid.prefix,
+      ..Default::default()
+    };
+    reader.matched_writer_add(
+      writer_guid,
+      EntityId::UNKNOWN,
+      mr_state.unicast_reply_locator_list.to_vec(),
+      mr_state.multicast_reply_locator_list.to_vec(),
+      &QosPolicies::qos_none(),
+    );
+
+    // A sample of 8 bytes (a CDR header and 4 bytes) in 2 fragments of 4.
+    let sn = SequenceNumber::new(1);
+    let fragment = |number: u32, bytes: &[u8]| DataFrag {
+      reader_id: reader_guid.entity_id,
+      writer_id: writer_guid.entity_id,
+      writer_sn: sn,
+      fragment_starting_num: FragmentNumber::new(number),
+      fragments_in_submessage: 1,
+      fragment_size: 4,
+      data_size: 8,
+      serialized_payload: Bytes::copy_from_slice(bytes),
+      ..Default::default()
+    };
+    let flags = BitFlags::<DATAFRAG_Flags>::empty();
+    reader.handle_datafrag_msg(&fragment(1, &[0, 1, 0, 0]), flags, &mr_state);
+    assert!(reader.is_frag_partially_received(writer_guid, sn));
+    reader.handle_datafrag_msg(&fragment(2, &[1, 2, 3, 4]), flags, &mr_state);
+    assert!(!reader.is_frag_partially_received(writer_guid, sn));
+
+    // The first fragment again
+    reader.handle_datafrag_msg(&fragment(1, &[0, 1, 0, 0]), flags, &mr_state);
+    assert!(
+      !reader.is_frag_partially_received(writer_guid, sn),
+      "a fragment of a received sample started an assembly buffer"
     );
   }
 

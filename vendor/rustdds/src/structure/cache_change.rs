@@ -1,3 +1,4 @@
+use bytes::Bytes;
 #[allow(unused_imports)]
 use log::{debug, error, info, trace, warn};
 
@@ -19,6 +20,9 @@ pub struct CacheChange {
   pub sequence_number: SequenceNumber,
   pub write_options: WriteOptions,
   pub data_value: DDSData,
+  // The only local DataReader took this sample, and its payload was dropped
+  // (see `TopicCache::taken_by_local_reader`). A DataReader created later skips it.
+  pub(crate) payload_dropped: bool,
 }
 
 #[cfg(test)]
@@ -43,11 +47,20 @@ impl CacheChange {
       sequence_number,
       write_options,
       data_value,
+      payload_dropped: false,
     }
   }
 
   pub(crate) fn reallocate(&mut self) {
     self.data_value.reallocate();
+  }
+
+  // Release the payload's memory, keeping the rest of the change.
+  pub(crate) fn drop_payload(&mut self) {
+    if let DDSData::Data { serialized_payload } = &mut self.data_value {
+      serialized_payload.value = Bytes::new();
+    }
+    self.payload_dropped = true;
   }
 
   // Not needed?

@@ -154,6 +154,11 @@ pub(crate) struct TopicCache {
   // Therefore, data before the marker SN can be handed off to a Reliable DataReader.
   // Initially, we consider the marker for each Writer (GUID) to be SequenceNumber::new(1)
   received_reliably_before: BTreeMap<GUID, SequenceNumber>,
+
+  // How many local DataReaders read this topic. A sample taken when there is
+  // only one is not read again, so its payload is dropped (see
+  // `taken_by_local_reader`).
+  local_readers: usize,
 }
 
 impl TopicCache {
@@ -170,6 +175,7 @@ impl TopicCache {
       last_added_instant: Timestamp::ZERO,
       sequence_numbers: BTreeMap::new(),
       received_reliably_before: BTreeMap::new(),
+      local_readers: 0,
     };
 
     new_self.update_keep_limits(topic_qos);
@@ -294,6 +300,27 @@ impl TopicCache {
       gave_up = true;
     }
     gave_up
+  }
+
+  pub(crate) fn add_local_reader(&mut self) {
+    self.local_readers += 1;
+  }
+
+  pub(crate) fn remove_local_reader(&mut self) {
+    self.local_readers = self.local_readers.saturating_sub(1);
+  }
+
+  // A local DataReader took the sample at `instant`. When it is the only local
+  // DataReader of the topic, nobody reads the payload again: drop it, so that
+  // the History depth of large samples (e.g. 100 service requests of 12 MB
+  // each) does not keep their memory. The change itself stays, so that its
+  // SequenceNumber still discards duplicates and counts for reliability.
+  pub(crate) fn taken_by_local_reader(&mut self, instant: Timestamp) {
+    if self.local_readers == 1 {
+      if let Some(cc) = self.changes.get_mut(&instant) {
+        cc.drop_payload();
+      }
+    }
   }
 
   pub fn get_change(&self, instant: &Timestamp) -> Option<&CacheChange> {
@@ -802,6 +829,48 @@ mod tests {
       SequenceNumber::new(201)
     );
     assert!(topic_cache.changes.len() <= topic_cache.max_keep_samples as usize + 1);
+  }
+
+  // A sample taken by the topic's only local DataReader keeps no payload, but
+  // its SequenceNumber still discards a duplicate. With two DataReaders the
+  // payload stays for the other one.
+  #[test]
+  fn taken_sample_drops_its_payload_when_one_reader() {
+    let size = 1024 * 1024;
+    for (readers, kept) in [(1, 0), (2, size)] {
+      let mut topic_cache = keep_all_topic_cache();
+      for _ in 0..readers {
+        topic_cache.add_local_reader();
+      }
+      let writer = user_writer();
+      let sample = || {
+        CacheChange::new(
+          writer,
+          SequenceNumber::new(1),
+          WriteOptions::default(),
+          DDSData::new(SerializedPayload::new(
+            RepresentationIdentifier::CDR_LE,
+            vec![0; size],
+          )),
+        )
+      };
+      topic_cache.add_change(&Timestamp::now(), sample());
+      topic_cache.mark_reliably_received_before(writer, SequenceNumber::new(2));
+      let (instant, _) = topic_cache
+        .get_changes_in_range_reliable(&BTreeMap::new())
+        .next()
+        .expect("the sample");
+      topic_cache.taken_by_local_reader(instant);
+
+      let payload = |tc: &TopicCache| {
+        tc.get_change(&instant)
+          .map(|cc| cc.data_value.payload_size() - 4)
+      };
+      assert_eq!(payload(&topic_cache), Some(kept), "{readers} reader(s)");
+      topic_cache.add_change(&Timestamp::now(), sample());
+      assert_eq!(topic_cache.changes.len(), 1, "{readers} reader(s)");
+      assert_eq!(payload(&topic_cache), Some(kept), "{readers} reader(s)");
+    }
   }
 
   #[test]

@@ -120,6 +120,10 @@ where
   DA: DeserializerAdapter<D>,
 {
   fn drop(&mut self) {
+    if let Ok(mut topic_cache) = self.topic_cache.lock() {
+      topic_cache.remove_local_reader();
+    }
+
     // Tell dp_event_loop
     self.my_subscriber.remove_reader(self.my_guid);
 
@@ -178,6 +182,7 @@ where
         ),
       });
     }
+    topic_cache.lock().unwrap().add_local_reader();
 
     Ok(Self {
       my_subscriber: subscriber,
@@ -348,7 +353,7 @@ where
       Some(policy::Reliability::Reliable { .. })
     );
 
-    let topic_cache = self.acquire_the_topic_cache_guard();
+    let mut topic_cache = self.acquire_the_topic_cache_guard();
 
     let mut read_state_ref = self.read_state.lock().unwrap();
     let latest_instant = read_state_ref.latest_instant;
@@ -363,19 +368,24 @@ where
         None => return Ok(None), // no more data available right now
         Some((ts, cc)) => (ts, cc),
       };
+      if cc.payload_dropped {
+        // taken before this DataReader existed
+        continue;
+      }
 
       let result = self.deserialize_with(timestamp, cc, hash_to_key_map, decoder.clone());
 
       if let Err(ReadError::UnknownKey { .. }) = result {
         // ignore unknown key hash, continue looping
       } else {
-        // explicitly drop the cache changes to update the reader state
-        drop(changes);
-
         // return with this result
         // make copies of guid and SN to calm down borrow checker.
         let writer_guid = cc.writer_guid;
         let sequence_number = cc.sequence_number;
+
+        // explicitly drop the cache changes to update the reader state
+        drop(changes);
+        topic_cache.taken_by_local_reader(timestamp);
         // Advance read pointer, error or not, because otherwise
         // the SimpleDatareader is stuck.
         read_state_ref.latest_instant = max(latest_instant, timestamp);
