@@ -739,7 +739,9 @@ impl AxisConfig {
 mod bounds;
 mod gateway;
 pub use bounds::*;
-pub use gateway::{AccessConfig, Cidr, ConnectionLimits, GatewayConfig, WebConfig, ZmqConfig};
+pub use gateway::{
+    AccessConfig, Cidr, ConnectionLimits, GatewayConfig, HostName, WebConfig, ZmqConfig,
+};
 
 #[cfg(test)]
 mod tests;

@@ -180,15 +180,20 @@ struct ScriptRun {
 /// Run `tests/web/<script>` with node's test runner against `mcm`, whose page is on `port`;
 /// killed (with the browser it started: its own process group) after [`SCRIPT_LIMIT`].
 fn run_script(tools: &Tools, script: &'static str, mcm: &Mcm, port: u16) -> ScriptRun {
-    let started = Instant::now();
-    copy_sources(&[".mjs"]).unwrap_or_else(|e| panic!("{e}"));
     let mut cmd = Command::new(&tools.node);
-    cmd.args(["--test", "--test-reporter=spec", script])
-        .current_dir(run_dir())
-        .env("MCM_WEB_URL", format!("http://127.0.0.1:{port}/"))
+    cmd.env("MCM_WEB_URL", format!("http://127.0.0.1:{port}/"))
         .env("MCM_JSON", mcm.json.to_string())
         .env("MCM_HMI", mcm.hmi.to_string())
-        .env("MCM_GATEWAY_PID", mcm.gateway_pid.to_string())
+        .env("MCM_GATEWAY_PID", mcm.gateway_pid.to_string());
+    run_node(cmd, tools, script)
+}
+
+/// [`run_script`] with `cmd`, which runs node with the environment the script needs.
+fn run_node(mut cmd: Command, tools: &Tools, script: &'static str) -> ScriptRun {
+    let started = Instant::now();
+    copy_sources(&[".mjs"]).unwrap_or_else(|e| panic!("{e}"));
+    cmd.args(["--test", "--test-reporter=spec", script])
+        .current_dir(run_dir())
         .env("MCM_CHROMIUM", &tools.chromium)
         .env_remove("MCM_SCREENSHOT_DIR")
         .stdin(Stdio::null())
@@ -202,7 +207,7 @@ fn run_script(tools: &Tools, script: &'static str, mcm: &Mcm, port: u16) -> Scri
     }
     let mut child = cmd
         .spawn()
-        .unwrap_or_else(|e| panic!("cannot run {}: {e}", tools.node.display()));
+        .unwrap_or_else(|e| panic!("cannot run {:?}: {e}", cmd.get_program()));
     let out = drain(child.stdout.take().unwrap());
     let err = drain(child.stderr.take().unwrap());
     let deadline = started + SCRIPT_LIMIT;
@@ -343,5 +348,69 @@ fn cross_protocol_requests_from_a_page_in_chromium() {
         run.passed,
         "browser test failed: {} (its output is above)",
         run.script
+    );
+}
+
+/// The hosts file of a network namespace (`ip netns exec` mounts `/etc/netns/NAME/hosts` over
+/// `/etc/hosts`); its directory is removed on drop.
+struct NetnsHosts(PathBuf);
+
+impl NetnsHosts {
+    fn write(ns: &common::netns::Netns, hosts: &str) -> NetnsHosts {
+        let dir = PathBuf::from("/etc/netns").join(&ns.name);
+        std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+        let made = NetnsHosts(dir);
+        std::fs::write(made.0.join("hosts"), hosts).expect("write the namespace's hosts file");
+        made
+    }
+}
+
+impl Drop for NetnsHosts {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// DNS rebinding (docs/security.md): in a namespace whose hosts file maps `evil.example` to
+/// the robot, a page from `http://evil.example:PORT/` runs nothing on it
+/// (`tests/web/rebinding.test.mjs`), while the pendant by the robot's address still works.
+#[test]
+fn a_rebound_name_runs_nothing_in_chromium() {
+    let test = "a_rebound_name_runs_nothing_in_chromium";
+    let Some(tools) = tools_or_skip(test) else {
+        return;
+    };
+    let Some(ns) = common::netns::Netns::or_skip(test, "rebind") else {
+        return;
+    };
+    let _hosts = NetnsHosts::write(
+        &ns,
+        "127.0.0.1 localhost\n::1 localhost\n127.0.0.1 evil.example\n",
+    );
+    node_modules(&tools).unwrap_or_else(|e| panic!("{test}: npm ci in tests/web: {e}"));
+    let instance = unique_instance("rebind");
+    let binary = std::path::Path::new(env!("CARGO_BIN_EXE_mcm"));
+    let mcm = mcm_client::launch::SimulatedMcm::start_command(
+        ns.command(binary),
+        binary,
+        &instance,
+        &[],
+        Stdio::inherit(),
+        common::WAIT,
+        Some("[mcm] "),
+    )
+    .unwrap_or_else(|e| panic!("start mcm in {}: {e}", ns.name));
+    let port = mcm.web.expect("the pendant is on by default").port();
+    let mut cmd = ns.command(&tools.node);
+    cmd.env("MCM_WEB_URL", format!("http://evil.example:{port}/"))
+        .env("MCM_OWN_URL", format!("http://127.0.0.1:{port}/"))
+        .env("MCM_JSON", mcm.json.to_string())
+        .env("MCM_GATEWAY_PID", mcm.gateway_pid.to_string());
+    let rebinding = run_node(cmd, &tools, "rebinding.test.mjs");
+    report(&rebinding);
+    drop(mcm);
+    assert!(
+        rebinding.passed,
+        "tests/web/rebinding.test.mjs failed (its output is above)"
     );
 }

@@ -68,6 +68,29 @@ fn must_pass(guest: &mut vm::Guest, what: &str, script: &str, tests: usize) {
     );
 }
 
+/// Where the end-to-end test binary runs from in the guest ([`local_binaries`]).
+const GUEST_E2E: &str = "/tmp/mcm-end-to-end";
+
+/// A script that gives the guest local copies of the test binary `e2e` (at [`GUEST_E2E`]) and of
+/// `mcm`, the binary the tests start by the path cargo compiled into them, under the host's
+/// target directory: that path becomes a local directory whose other entries link to the share.
+///
+/// Run from the 9p share (mounted without a cache), the processes read the pages of their code
+/// through 9p as they need them, which under emulation can take seconds: the guest's virtual arm
+/// then missed most of the master's SYNCs, and the MCM lost its drives.
+fn local_binaries(guest: &vm::Guest, e2e: &std::path::Path) -> String {
+    let target = vm::target_dir();
+    format!(
+        "set -e; mkdir -p {target}/debug; \
+         for e in {share}/*; do [ \"${{e##*/}}\" = debug ] || ln -sfn \"$e\" {target}/; done; \
+         for e in {share}/debug/*; do [ \"${{e##*/}}\" = mcm ] || ln -sfn \"$e\" {target}/debug/; done; \
+         cp {share}/debug/mcm {target}/debug/mcm; cp {binary} {GUEST_E2E}",
+        share = vm::GUEST_RO,
+        target = target.display(),
+        binary = guest.guest_path(e2e),
+    )
+}
+
 /// The SocketCAN backend's unit test, then the end-to-end tests of the MCM over the kernel's CAN,
 /// in `guest`.
 pub fn run(guest: &mut vm::Guest) {
@@ -101,31 +124,23 @@ pub fn run(guest: &mut vm::Guest) {
         run.output
     );
 
-    // The MCM over the kernel's CAN. The test binary starts `mcm` by the path cargo compiled
-    // into it, under the host's target directory: the same path in the guest leads to the share.
-    // Both are read once first: the first start of a 100 MB binary through 9p under emulation
-    // took longer than the tests' 20 s wait for a ready line.
-    let target = vm::target_dir();
+    // The MCM over the kernel's CAN, its binaries copied out of the share first.
+    guest.run_ok(
+        &local_binaries(guest, &e2e_binary),
+        Duration::from_secs(300),
+    );
     let script = format!(
-        "set -e; mkdir -p {parent}; ln -sfn {share} {target}; cd /tmp; \
-             cat {binary} {target}/debug/mcm >/dev/null; \
-             MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} socketcan:: --ignored \
-             --test-threads=1 --skip {SOAK}",
-        parent = target.parent().unwrap().display(),
-        share = vm::GUEST_RO,
-        target = target.display(),
-        binary = guest.guest_path(&e2e_binary),
+        "cd /tmp; MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {GUEST_E2E} socketcan:: --ignored \
+             --test-threads=1 --skip {SOAK}"
     );
     must_pass(guest, "tests/end_to_end/socketcan.rs", &script, E2E_TESTS);
 
     // The safety trips of tests/end_to_end/safety.rs over the kernel's CAN: the emergency stop, a
     // silent drive, high current, a power cycle, motion refused uncalibrated.
     let script = format!(
-        "cd /tmp; MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} safety:: \
+        "cd /tmp; MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {GUEST_E2E} safety:: \
              --test-threads=1 --skip {} --skip {}",
-        SAFETY_SKIPPED[0],
-        SAFETY_SKIPPED[1],
-        binary = guest.guest_path(&e2e_binary),
+        SAFETY_SKIPPED[0], SAFETY_SKIPPED[1],
     );
     must_pass(guest, "tests/end_to_end/safety.rs", &script, SAFETY_TESTS);
 
@@ -158,17 +173,14 @@ fn soak_in_the_guest() {
     let e2e_binary = vm::integration_test_binary("end_to_end");
     let mut guest = vm::Guest::boot("soak", &image, &vm::target_dir(), &[]);
     let log = guest.log().display().to_string();
-    let target = vm::target_dir();
+    guest.run_ok(
+        &local_binaries(&guest, &e2e_binary),
+        Duration::from_secs(300),
+    );
     let run = guest.run(
         &format!(
-            "set -e; mkdir -p {parent}; ln -sfn {share} {target}; cd /tmp; \
-             cat {binary} {target}/debug/mcm >/dev/null; \
-             MCM_SOAK_S={seconds} MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {binary} --ignored \
-             --exact {SOAK} --nocapture",
-            parent = target.parent().unwrap().display(),
-            share = vm::GUEST_RO,
-            target = target.display(),
-            binary = guest.guest_path(&e2e_binary),
+            "cd /tmp; MCM_SOAK_S={seconds} MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 \
+             {GUEST_E2E} --ignored --exact {SOAK} --nocapture"
         ),
         Duration::from_secs_f64(seconds * 3.0 + 600.0),
     );

@@ -21,14 +21,15 @@ export function env(name) {
 }
 
 /// Chromium as root on a closed network: no sandbox, no GPU, none of the background
-/// connections it would otherwise open (docs/web.md, "Tests").
-export async function launchBrowser() {
+/// connections it would otherwise open (docs/web.md, "Tests"); `extraArgs` added.
+export async function launchBrowser(extraArgs = []) {
   return chromium.launch({
     executablePath: env('MCM_CHROMIUM'),
     headless: true,
     args: [
       '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
       '--disable-background-networking', '--disable-component-update', '--disable-sync',
+      ...extraArgs,
     ],
   });
 }

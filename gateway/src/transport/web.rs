@@ -4,7 +4,8 @@
 //! Connections are accepted and admitted by [`crate::transport::server`] like those of the JSON
 //! and HMI ports (per-peer cap `[gateway.web] max_per_peer`, total and loopback reserve of
 //! `[gateway.connections]`, eviction of the longest-idle one, never the one that controls the
-//! arm). Each admitted connection speaks HTTP/1.1 ([`http`]); the routes are:
+//! arm). Each admitted connection speaks HTTP/1.1 ([`http`]) and is answered only when it
+//! addresses one of the robot's own names ([`own_names`]); the routes are:
 //! - `/` and the page's files ([`assets`], embedded in the binary);
 //! - `/api/model` and `/api/flight-records[/NAME]` ([`api`]);
 //! - `/ws`: the page's WebSocket ([`socket`]): the JSON protocol's commands in, their results
@@ -19,9 +20,12 @@
 //! (`crate::core_link::latency`) that this thread does not ask for.
 
 mod api;
+mod arrivals;
 mod assets;
 pub(crate) mod frames;
 mod http;
+mod own_names;
+mod pipe;
 mod socket;
 
 use crate::command::Context;
@@ -66,7 +70,14 @@ pub async fn run(listener: TcpListener, ctx: Context, instance: String, shutdown
     let mut limits = ctx.cfg.gateway.connections.clone();
     limits.max_per_peer = ctx.cfg.gateway.web.max_per_peer;
     let frames = frames::Frames::start(&ctx);
-    let routes = http::Routes::new(&ctx, &instance, frames);
+    let bound = match listener.local_addr() {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("mcm-gateway: the browser pendant cannot tell its own address: {e}");
+            return;
+        }
+    };
+    let routes = http::Routes::new(&ctx, &instance, frames, bound);
     server::run_limited(
         listener,
         ctx,

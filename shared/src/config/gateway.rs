@@ -31,7 +31,7 @@ pub mod zmq;
 pub use zmq::ZmqConfig;
 
 pub mod web;
-pub use web::WebConfig;
+pub use web::{HostName, WebConfig};
 
 impl GatewayConfig {
     /// Check every value of the section; the first problem found names its key.

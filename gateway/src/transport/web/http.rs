@@ -2,15 +2,18 @@
 //! page's WebSocket to [`super::socket`] on the same connection (so that it keeps its slot in
 //! the port's table and stops with the server).
 
+use super::arrivals::Arrivals;
 use super::frames::Frames;
+use super::own_names::OwnNames;
 use super::{api, assets, socket};
 use crate::command::Context;
 use crate::transport::server::FAREWELL_TIMEOUT;
 use crate::transport::server::admission::Slot;
 use crate::transport::shutdown::Shutdown;
 use axum::extract::ws::{WebSocket, WebSocketUpgrade};
-use axum::extract::{Path as UrlPath, State};
+use axum::extract::{Path as UrlPath, Request, State};
 use axum::http::{StatusCode, header};
+use axum::middleware::{Next, from_fn_with_state};
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use axum::{Extension, Json, Router};
@@ -38,8 +41,8 @@ pub struct Routes {
 }
 
 impl Routes {
-    /// The routes of the gateway `ctx` of MCM instance `instance`.
-    pub fn new(ctx: &Context, instance: &str, frames: Frames) -> Routes {
+    /// The routes of the gateway `ctx` of MCM instance `instance`, on a port bound to `bound`.
+    pub fn new(ctx: &Context, instance: &str, frames: Frames, bound: SocketAddr) -> Routes {
         let web = Arc::new(Web {
             ctx: ctx.clone(),
             instance: instance.to_string(),
@@ -54,8 +57,23 @@ impl Routes {
             .fallback(assets::serve)
             .layer(tower_http::compression::CompressionLayer::new())
             .with_state(web);
-        let router = Router::new().route("/ws", get(upgrade)).merge(compressed);
+        // Validated when the configuration was read.
+        let configured = ctx.cfg.gateway.web.hosts().unwrap_or_default();
+        let names = Arc::new(OwnNames::new(configured, bound.ip()));
+        let router = Router::new()
+            .route("/ws", get(upgrade))
+            .merge(compressed)
+            .layer(from_fn_with_state(names, own_names_only));
         Routes { router, frames }
+    }
+}
+
+/// Every route: only a request addressed to one of the robot's own names is served; any
+/// other gets 421 with the reason (a WebSocket is then not upgraded).
+async fn own_names_only(State(names): State<Arc<OwnNames>>, req: Request, next: Next) -> Response {
+    match names.check(req.headers(), req.uri()) {
+        Ok(()) => next.run(req).await,
+        Err(why) => (StatusCode::MISDIRECTED_REQUEST, format!("{why}\n")).into_response(),
     }
 }
 
@@ -112,7 +130,8 @@ async fn record(State(web): State<Arc<Web>>, UrlPath(name): UrlPath<String>) -> 
 /// always sends `Origin`, and it must be this server (`Host`), so that a page from elsewhere
 /// that an operator's browser happens to show cannot drive the arm through the operator's
 /// network position (cross-site WebSocket hijacking). A request without `Origin` is not from a
-/// browser page (a program, which could connect to the JSON port as well).
+/// browser page (a program, which could connect to the JSON port as well). `Host` itself is one
+/// of the robot's own names ([`super::own_names`]), so the origin is one too.
 pub fn same_origin(headers: &axum::http::HeaderMap) -> Result<(), String> {
     let Some(origin) = headers.get(header::ORIGIN) else {
         return Ok(());
@@ -179,12 +198,16 @@ pub async fn serve(
         upgrade: Arc::new(Mutex::new(Some(tx))),
     };
     let app = routes.router.clone().layer(Extension(conn));
+    let arrivals = Arrivals::default();
     let limits = &ctx.cfg.gateway.connections;
     let mut http = Box::pin(
         hyper::server::conn::http1::Builder::new()
             .timer(TokioTimer::new())
             .header_read_timeout(Duration::from_secs_f64(limits.line_timeout_s))
-            .serve_connection(TokioIo::new(stream), TowerToHyperService::new(app))
+            .serve_connection(
+                TokioIo::new(arrivals.watch(stream)),
+                TowerToHyperService::new(app),
+            )
             .with_upgrades(),
     );
     let life = tokio::time::sleep(Duration::from_secs_f64(limits.idle_timeout_s));
@@ -204,7 +227,10 @@ pub async fn serve(
     // request took it: then the upgraded socket arrives.
     drop(http);
     match rx.await {
-        Ok(ws) => socket::session(ws, peer, ctx, shutdown, slot, routes.frames.clone()).await,
+        Ok(ws) => {
+            let frames = routes.frames.clone();
+            socket::session(ws, peer, ctx, shutdown, slot, frames, arrivals).await
+        }
         Err(_) => Ok(()),
     }
 }

@@ -56,9 +56,17 @@ impl Server {
 
 /// One raw HTTP/1.1 GET (`connection: close`): the response's head and body.
 async fn get(addr: SocketAddr, path: &str, extra: &str) -> (String, Vec<u8>) {
+    raw(
+        addr,
+        &format!("GET {path} HTTP/1.1\r\nhost: {addr}\r\nconnection: close\r\n{extra}\r\n"),
+    )
+    .await
+}
+
+/// Send `request` as it is; the response's head (lower case) and body, to the connection's end.
+async fn raw(addr: SocketAddr, request: &str) -> (String, Vec<u8>) {
     let mut s = TcpStream::connect(addr).await.unwrap();
-    let req = format!("GET {path} HTTP/1.1\r\nhost: x\r\nconnection: close\r\n{extra}\r\n");
-    s.write_all(req.as_bytes()).await.unwrap();
+    s.write_all(request.as_bytes()).await.unwrap();
     let mut bytes = Vec::new();
     tokio::time::timeout(WAIT, s.read_to_end(&mut bytes))
         .await
@@ -363,4 +371,201 @@ fn the_pendants_error_codes_are_the_contracts() {
         "gateway/{CODES_JS} differs from the error codes of shared/src/error_code.rs; \
          `MCM_UPDATE_WEB=1 cargo test -p mcm-gateway --lib web::tests` writes it anew"
     );
+}
+
+/// The head (lower case) of the response to `request`, read up to its blank line: the
+/// connection may stay open after it (a WebSocket).
+async fn head_of(addr: SocketAddr, request: &str) -> String {
+    let mut s = TcpStream::connect(addr).await.unwrap();
+    s.write_all(request.as_bytes()).await.unwrap();
+    let mut bytes = Vec::new();
+    let mut buf = [0u8; 4096];
+    tokio::time::timeout(WAIT, async {
+        while !bytes.windows(4).any(|w| w == b"\r\n\r\n") {
+            let n = s.read(&mut buf).await.unwrap();
+            assert!(n > 0, "closed before a response: {bytes:?}");
+            bytes.extend_from_slice(&buf[..n]);
+        }
+    })
+    .await
+    .expect("a response within the wait");
+    String::from_utf8_lossy(&bytes).to_lowercase()
+}
+
+/// A WebSocket upgrade of `/ws` addressed to `host` from a page of `origin`.
+fn upgrade_request(host: &str, origin: &str) -> String {
+    format!(
+        "GET /ws HTTP/1.1\r\nhost: {host}\r\norigin: {origin}\r\nconnection: upgrade\r\n\
+         upgrade: websocket\r\nsec-websocket-version: 13\r\n\
+         sec-websocket-key: dGhlIHNhbXBsZSBub25jZQ==\r\n\r\n"
+    )
+}
+
+#[tokio::test]
+async fn a_request_for_another_host_is_refused_on_every_route() {
+    let mut cfg = RobotConfig::prob2_default();
+    cfg.gateway.web.allowed_hosts = vec!["robot-7.cell.example".into()];
+    let srv = start(cfg).await;
+    let port = srv.addr.port();
+    // What a browser sends after DNS rebinding: the attacker's name in both headers.
+    let evil = format!("evil.example:{port}");
+    let origin = format!("http://{evil}");
+    for path in [
+        "/",
+        "/app.js",
+        "/api/model",
+        "/api/connections",
+        "/api/flight-records",
+    ] {
+        let (head, body) = raw(
+            srv.addr,
+            &format!(
+                "GET {path} HTTP/1.1\r\nhost: {evil}\r\norigin: {origin}\r\nconnection: close\r\n\r\n"
+            ),
+        )
+        .await;
+        assert!(head.starts_with("http/1.1 421"), "{path}: {head}");
+        let body = String::from_utf8_lossy(&body);
+        assert!(
+            body.contains(&evil) && body.contains("[gateway.web] allowed_hosts"),
+            "{path}: {body}"
+        );
+    }
+    let head = head_of(srv.addr, &upgrade_request(&evil, &origin)).await;
+    assert!(head.starts_with("http/1.1 421"), "/ws: {head}");
+    assert!(!head.contains("upgrade: websocket"), "/ws: {head}");
+    // HTTP/1.0 without Host.
+    let (head, body) = raw(srv.addr, "GET /api/model HTTP/1.0\r\n\r\n").await;
+    assert!(head.contains(" 421 "), "no Host: {head}");
+    assert!(
+        String::from_utf8_lossy(&body).contains("no Host header"),
+        "{body:?}"
+    );
+
+    for host in [
+        "localhost".to_string(),
+        format!("localhost:{port}"),
+        format!("127.0.0.1:{port}"),
+        format!("robot-7.cell.example:{port}"),
+    ] {
+        let (head, _) = raw(
+            srv.addr,
+            &format!("GET /api/model HTTP/1.1\r\nhost: {host}\r\nconnection: close\r\n\r\n"),
+        )
+        .await;
+        assert!(head.starts_with("http/1.1 200"), "{host}: {head}");
+        let head = head_of(srv.addr, &upgrade_request(&host, &format!("http://{host}"))).await;
+        assert!(head.starts_with("http/1.1 101"), "{host}: {head}");
+        // The origin check stays: an own name with another page's origin is refused.
+        let head = head_of(srv.addr, &upgrade_request(&host, &origin)).await;
+        assert!(head.starts_with("http/1.1 403"), "{host}: {head}");
+    }
+    srv.stop().await;
+}
+
+/// One WebSocket frame from the server (unmasked): its opcode and payload.
+async fn read_frame(s: &mut (impl tokio::io::AsyncRead + Unpin)) -> (u8, Vec<u8>) {
+    let mut head = [0u8; 2];
+    s.read_exact(&mut head).await.unwrap();
+    let len = match head[1] & 0x7f {
+        126 => u64::from(s.read_u16().await.unwrap()),
+        127 => s.read_u64().await.unwrap(),
+        n => u64::from(n),
+    };
+    let mut payload = vec![0u8; len as usize];
+    s.read_exact(&mut payload).await.unwrap();
+    (head[0] & 0x0f, payload)
+}
+
+#[tokio::test]
+async fn a_message_trickled_in_is_cut_like_a_slow_line() {
+    let mut cfg = RobotConfig::prob2_default();
+    cfg.gateway.connections.line_timeout_s = 0.5;
+    let srv = start(cfg).await;
+    let mut s = TcpStream::connect(srv.addr).await.unwrap();
+    let host = srv.addr.to_string();
+    s.write_all(upgrade_request(&host, &format!("http://{host}")).as_bytes())
+        .await
+        .unwrap();
+    let mut head = Vec::new();
+    while !head.ends_with(b"\r\n\r\n") {
+        head.push(s.read_u8().await.unwrap());
+    }
+    assert!(head.starts_with(b"HTTP/1.1 101"), "{head:?}");
+    // A masked text frame of `{"command":"status"}`, one byte every 100 ms: 2.6 s in all.
+    let payload = br#"{"command":"status"}"#;
+    let mask = [1u8, 2, 3, 4];
+    let mut frame = vec![0x81, 0x80 | payload.len() as u8];
+    frame.extend_from_slice(&mask);
+    frame.extend(payload.iter().enumerate().map(|(i, b)| b ^ mask[i % 4]));
+    let (mut rd, mut wr) = s.into_split();
+    let trickle = tokio::spawn(async move {
+        for b in frame {
+            if wr.write_all(&[b]).await.is_err() {
+                return;
+            }
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        }
+    });
+    let started = tokio::time::Instant::now();
+    // The line-timeout ERROR, then a close with 1008 (policy): within a bound, not after the
+    // whole frame arrived.
+    let (text, close) = tokio::time::timeout(WAIT, async {
+        let mut text = None;
+        loop {
+            match read_frame(&mut rd).await {
+                (0x1, t) => text = Some(String::from_utf8(t).unwrap()),
+                (0x8, c) => return (text, c),
+                other => panic!("unexpected frame {other:?}"),
+            }
+        }
+    })
+    .await
+    .expect("the socket is closed within the wait");
+    let took = started.elapsed();
+    let text = text.expect("a text message before the close");
+    let r: Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(r["error_code"], "line_timeout", "{r}");
+    assert!(
+        r["error_message"]
+            .as_str()
+            .unwrap()
+            .contains("gateway.connections.line_timeout_s"),
+        "{r}"
+    );
+    assert_eq!(u16::from_be_bytes([close[0], close[1]]), 1008);
+    assert!(
+        !trickle.is_finished() && took < Duration::from_millis(2500),
+        "cut {took:?} after the first byte, before the frame was complete"
+    );
+    trickle.abort();
+    srv.stop().await;
+}
+
+#[tokio::test]
+async fn a_flood_of_holds_gets_one_answer_each_in_order() {
+    const SENT: usize = 5_000;
+    let srv = start(RobotConfig::prob2_default()).await;
+    let mut ws = ws(srv.addr).await;
+    for _ in 0..SENT {
+        ws.feed(Message::text("{\"command\":\"hold\"}"))
+            .await
+            .unwrap();
+    }
+    ws.send(Message::text(
+        "{\"command\":\"sleep\",\"arguments\":{\"duration\":0.01}}",
+    ))
+    .await
+    .unwrap();
+    for i in 0..SENT {
+        let r = next(&mut ws).await;
+        let m = r["error_message"].as_str().unwrap_or_default();
+        assert!(
+            m.starts_with("hold failed") && m.contains("not running"),
+            "{i}: {r}"
+        );
+    }
+    let r = next(&mut ws).await;
+    assert_eq!(r["error_status"], "OK", "the sleep's own answer: {r}");
+    srv.stop().await;
 }

@@ -25,7 +25,8 @@ pub struct ConnectionLimits {
     /// connection that runs a command (e.g. `calibrate`), holds a torque session or shows
     /// the HMI's `watch` is not idle.
     pub idle_timeout_s: f64,
-    /// A JSON line that was started must be complete within this long (default 10 s).
+    /// A JSON line that was started, or a message on the pendant's WebSocket, must be complete
+    /// within this long (default 10 s).
     pub line_timeout_s: f64,
     /// The same for a line typed at the text HMI (default 120 s: people type slowly).
     pub hmi_line_timeout_s: f64,

@@ -1,9 +1,13 @@
 //! `[gateway.web]`: the browser pendant (docs/web.md). The gateway serves a page and a
 //! WebSocket on its own port (default 18014, the launcher's `--http-port`), with the same bind
 //! address and access rules as the JSON port. On by default; `enabled = false` switches it off.
+//! It answers only requests addressed to one of the robot's own names ([`WebConfig::hosts`]).
 
 use super::super::{ConfigError, invalid};
 use serde::Deserialize;
+
+mod host;
+pub use host::HostName;
 
 /// Fewest and most state frames per second a page may be sent.
 pub const RATE_HZ_RANGE: std::ops::RangeInclusive<u32> = 1..=100;
@@ -24,6 +28,11 @@ pub struct WebConfig {
     /// operator's machine may show several pages. The port's total and the loopback reserve
     /// are those of `[gateway.connections]`.
     pub max_per_peer: usize,
+    /// The names the pendant is reached by besides `localhost`, the loopback addresses and the
+    /// machine's own addresses (default none): DNS names of the robot, or the name a reverse
+    /// proxy forwards in `Host`. A request whose `Host` is none of them is refused (DNS
+    /// rebinding, docs/security.md).
+    pub allowed_hosts: Vec<String>,
 }
 
 impl Default for WebConfig {
@@ -32,6 +41,7 @@ impl Default for WebConfig {
             enabled: true,
             rate_hz: 30,
             max_per_peer: 64,
+            allowed_hosts: Vec::new(),
         }
     }
 }
@@ -57,7 +67,27 @@ impl WebConfig {
                 format!("1..={MAX_PER_PEER_LIMIT} connections"),
             ));
         }
-        Ok(())
+        self.hosts().map(|_| ())
+    }
+
+    /// The configured `allowed_hosts`, each a DNS name or an IP address.
+    pub fn hosts(&self) -> Result<Vec<HostName>, ConfigError> {
+        self.allowed_hosts
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                HostName::parse(s).map_err(|why| {
+                    invalid(
+                        format!("gateway.web.allowed_hosts[{i}]"),
+                        format!("{s:?}"),
+                        format!(
+                            "a DNS name or an IP address without scheme or port, e.g. \
+                             \"robot-7.cell.example\" or \"10.17.0.5\" ({why})"
+                        ),
+                    )
+                })
+            })
+            .collect()
     }
 }
 

@@ -40,3 +40,27 @@ fn bad_values_name_key_value_and_what_is_allowed() {
     }
     assert!(with("port = 80").unwrap_err().to_string().contains("port"));
 }
+
+#[test]
+fn allowed_hosts_are_names_or_addresses() {
+    let cfg =
+        with("allowed_hosts = [\"Robot-7.cell.example\", \"10.17.0.5\", \"[fd00::5]\"]").unwrap();
+    assert_eq!(
+        cfg.gateway.web.hosts().unwrap(),
+        vec![
+            HostName::Name("robot-7.cell.example".into()),
+            HostName::Addr("10.17.0.5".parse().unwrap()),
+            HostName::Addr("fd00::5".parse().unwrap()),
+        ]
+    );
+    assert_eq!(WebConfig::default().hosts(), Ok(vec![]));
+    let e = with("allowed_hosts = [\"robot.example\", \"http://robot.example:80\"]")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("gateway.web.allowed_hosts[1]")
+            && e.contains("http://robot.example:80")
+            && e.contains("without scheme or port"),
+        "{e}"
+    );
+}
