@@ -79,10 +79,7 @@ const RUNS: &[&str] = &[
 
 #[test]
 fn every_calibration_is_true_while_other_processes_load_every_cpu() {
-    let reps: usize = std::env::var("MCM_CALIB_STRESS_REPS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(1);
+    let reps: usize = common::env_or("MCM_CALIB_STRESS_REPS", 1);
     let mcm = Mcm::start("calib-stress");
     let mut c = mcm.client();
     c.wait_drives_online();

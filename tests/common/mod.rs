@@ -29,6 +29,18 @@ static COUNTER: AtomicU32 = AtomicU32::new(0);
 /// How long any single wait may take before the test fails.
 pub const WAIT: Duration = Duration::from_secs(20);
 
+/// The value of the environment variable `name` (a test's count or duration set by hand), or
+/// `default` when it is not set; a value that does not parse fails the test naming it.
+pub fn env_or<T>(name: &str, default: T) -> T
+where
+    T: std::str::FromStr,
+    T::Err: std::fmt::Display,
+{
+    std::env::var(name).map_or(default, |v| {
+        v.parse().unwrap_or_else(|e| panic!("{name} = {v:?}: {e}"))
+    })
+}
+
 /// Say that `test` is skipped because `why` (with what would make it run), or fail when the
 /// environment variable `CI` is set: CI must run every test. The message goes straight to
 /// stderr, past the test harness's output capture, so it shows also when the test passes

@@ -331,10 +331,7 @@ fn line_within(
 /// How many times [`the_node_survives_stop_and_continue`] stops the node: 100 with
 /// `MCM_ROS2_STOP_CYCLES=100` (the figure in docs/ros2.md), fewer in the suite.
 fn stop_cycles() -> u32 {
-    std::env::var("MCM_ROS2_STOP_CYCLES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(20)
+    common::env_or("MCM_ROS2_STOP_CYCLES", 20)
 }
 
 /// A node stopped and continued (Ctrl-Z, a debugger, `kill -STOP`/`-CONT`) during goals goes
@@ -417,10 +414,7 @@ fn a_refused_goal_leaves_the_owners_move_alone() {
 /// How many 100,000-point goals [`oversize_goals_are_refused_naming_the_limit`] sends: 100
 /// (the target of docs/ros2.md, about 40 s), or `MCM_ROS2_BIG_GOALS`.
 fn big_goals() -> u32 {
-    std::env::var("MCM_ROS2_BIG_GOALS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(100)
+    common::env_or("MCM_ROS2_BIG_GOALS", 100)
 }
 
 /// How far the node's resident memory may rise above its idle figure under a flood of
@@ -508,10 +502,7 @@ fn oversize_goals_are_refused_naming_the_limit() {
 /// How many goals [`a_burst_of_goals_is_answered`] sends at once: 1,000 with
 /// `MCM_ROS2_BURST=1000` (the figure in docs/ros2.md), fewer in the suite.
 fn burst_goals() -> u32 {
-    std::env::var("MCM_ROS2_BURST")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(300)
+    common::env_or("MCM_ROS2_BURST", 300)
 }
 
 /// A burst of goals sent at once by a client that keeps all its requests: the node answers

@@ -560,10 +560,7 @@ fn assert_drives_saw_no_fault(c: &common::virtual_arm::ArmCounters) {
 /// How long [`motion_for_minutes_with_no_pdo_lost_as_the_drives_saw_it`] runs, on the robot's
 /// clock: `MCM_SOAK_S` seconds, 600 by default.
 fn soak_seconds() -> f64 {
-    std::env::var("MCM_SOAK_S").map_or(600.0, |v| {
-        v.parse()
-            .unwrap_or_else(|e| panic!("MCM_SOAK_S = {v:?}: {e}"))
-    })
+    common::env_or("MCM_SOAK_S", 600.0)
 }
 
 /// The target for the guest: minutes at the configured rate with the arm moving, and

@@ -17,10 +17,7 @@ fn reboots_in_a_row() {
         Ok(image) => image,
         Err(why) => return common::skip("vm reboots", &why),
     };
-    let reboots: u32 = std::env::var("MCM_VM_REBOOTS").map_or(REBOOTS, |v| {
-        v.parse()
-            .unwrap_or_else(|e| panic!("MCM_VM_REBOOTS = {v:?}: {e}"))
-    });
+    let reboots: u32 = common::env_or("MCM_VM_REBOOTS", REBOOTS);
     let mut guest = vm::Guest::boot("reboots", &image, &vm::target_dir(), &[]);
     let mut took: Vec<Duration> = Vec::new();
     for i in 1..=reboots {

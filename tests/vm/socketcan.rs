@@ -166,10 +166,7 @@ fn soak_in_the_guest() {
         Ok(image) => image,
         Err(why) => return common::skip("vm soak", &why),
     };
-    let seconds: f64 = std::env::var("MCM_SOAK_S").map_or(600.0, |v| {
-        v.parse()
-            .unwrap_or_else(|e| panic!("MCM_SOAK_S = {v:?}: {e}"))
-    });
+    let seconds: f64 = common::env_or("MCM_SOAK_S", 600.0);
     let e2e_binary = vm::integration_test_binary("end_to_end");
     let mut guest = vm::Guest::boot("soak", &image, &vm::target_dir(), &[]);
     let log = guest.log().display().to_string();
