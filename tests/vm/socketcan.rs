@@ -75,9 +75,10 @@ const GUEST_E2E: &str = "/tmp/mcm-end-to-end";
 /// `mcm`, the binary the tests start by the path cargo compiled into them, under the host's
 /// target directory: that path becomes a local directory whose other entries link to the share.
 ///
-/// Run from the 9p share (mounted without a cache), the processes read the pages of their code
-/// through 9p as they need them, which under emulation can take seconds: the guest's virtual arm
-/// then missed most of the master's SYNCs, and the MCM lost its drives.
+/// Run from the 9p share (mounted without a cache), the processes page their code in through 9p
+/// under emulation. With one build of the workspace the guest's virtual arm then missed most of
+/// the master's SYNCs and the MCM lost its drives in 5 runs of 5; with local copies it passed.
+/// Why that build and not others is not known.
 fn local_binaries(guest: &vm::Guest, e2e: &std::path::Path) -> String {
     let target = vm::target_dir();
     format!(
