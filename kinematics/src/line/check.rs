@@ -94,7 +94,6 @@ pub(super) fn walk(plan: &mut LinePlan, start: &[f64; N]) -> Result<Bounds, Line
     let per_knot = ((wanted / KNOTS as f64).ceil() as usize).clamp(1, MAX_INTERVALS / KNOTS);
     let n = per_knot * KNOTS;
     let h = 1.0 / n as f64;
-    let spacing_mm = 1000.0 * length * h;
     let centre_step = h * (length + angle * kin.wrist_centre_from_tcp());
     let mut bounds = Bounds::default();
     let mut prev: Option<Point> = None;
@@ -130,7 +129,7 @@ pub(super) fn walk(plan: &mut LinePlan, start: &[f64; N]) -> Result<Bounds, Line
             reach,
         };
         if let Some(p) = &prev {
-            between(&kin, p, &here, h, centre_step, window, &margins, spacing_mm)?;
+            between(&kin, p, &here, h, centre_step, window, &margins)?;
             let change = (rate - p.rate) / h;
             for i in 0..N {
                 bounds.curvature[i] = bounds.curvature[i].max(change[i].abs());
@@ -150,7 +149,7 @@ pub(super) fn walk(plan: &mut LinePlan, start: &[f64; N]) -> Result<Bounds, Line
                 at,
                 axis: i + 1,
                 step_deg: (q[i] - knot[i]).to_degrees(),
-                spacing_mm: spacing_mm * per_knot as f64,
+                within: h * per_knot as f64,
                 allowed_deg: 90.0,
             });
         }
@@ -171,7 +170,6 @@ pub(super) fn walk(plan: &mut LinePlan, start: &[f64; N]) -> Result<Bounds, Line
 }
 
 /// The checks between two neighbouring points `a` and `b` (the module's doc).
-#[allow(clippy::too_many_arguments)]
 fn between(
     kin: &Kinematics,
     a: &Point,
@@ -180,7 +178,6 @@ fn between(
     centre_step: f64,
     (reach_min, reach_max): (f64, f64),
     margins: &SingularityMargins,
-    spacing_mm: f64,
 ) -> Result<(), LineError> {
     let lipschitz = |i: usize| a.rate[i].abs().max(b.rate[i].abs()) + (b.rate[i] - a.rate[i]).abs();
     for i in 0..N {
@@ -190,7 +187,7 @@ fn between(
                 at: b.at,
                 axis: i + 1,
                 step_deg: step.to_degrees(),
-                spacing_mm,
+                within: h,
                 allowed_deg: (2.0 * l).to_degrees(),
             });
         }
@@ -324,6 +321,6 @@ pub(super) mod between_for_test {
     ) -> Result<(), LineError> {
         let margins = SingularityMargins::DEFAULT;
         let window = kin.elbow_reach(&a.q, margins.elbow_rad).1;
-        between(kin, a, b, h, centre_step, window, &margins, 1.0)
+        between(kin, a, b, h, centre_step, window, &margins)
     }
 }

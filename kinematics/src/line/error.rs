@@ -123,11 +123,11 @@ pub enum LineError {
     },
     /// The start's branch cannot follow the line continuously: an axis would jump.
     #[error(
-        "unreachable at {at}: axis {axis} would jump by {} deg within {} mm of the path, \
+        "unreachable at {at}: axis {axis} would jump by {} deg within {} % of the path, \
          where its rate allows at most {} deg; the arm cannot follow the line there in the \
          start's configuration",
         Num(*.step_deg),
-        Num(*.spacing_mm),
+        Num(*.within * 100.0),
         Num(*.allowed_deg)
     )]
     JointJump {
@@ -135,7 +135,8 @@ pub enum LineError {
         /// 1-based.
         axis: usize,
         step_deg: f64,
-        spacing_mm: f64,
+        /// The share of the path the step is made in (0 to 1).
+        within: f64,
         allowed_deg: f64,
     },
 }

@@ -502,6 +502,11 @@ fn what_lies_between_two_points_is_checked() {
     q[3] += D(90.0);
     let err = ok(&between_for_test::point(&kin, &q, [0.1; N])).unwrap_err();
     assert!(matches!(err, LineError::JointJump { axis: 4, .. }), "{err}");
+    assert!(
+        err.to_string()
+            .contains("axis 4 would jump by 90 deg within 0.09765625 % of the path"),
+        "{err}"
+    );
     // Axis 1 at its bound, turning there fast: the overshoot is refused.
     let mut at_max = REACHING;
     at_max[0] = kin.ranges()[0].max;
