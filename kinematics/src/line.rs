@@ -12,19 +12,22 @@
 //! shortest arc). Its derivative along s is one constant twist ξ = (p₁ − p₀, R₀w): the TCP's
 //! velocity is ξ·ds/dt.
 //!
-//! **The check** (module `check`): the path is sampled every [`STEP_M`] (1 mm) of TCP travel and
-//! every [`STEP_DEG`] (0.5°) of turn, whichever gives more points, in a multiple of
-//! [`KNOTS`] intervals, at most [`MAX_INTERVALS`] (so the spacing is 1 mm up to a 2.048 m
+//! **The check** (module `check`): the path is sampled every [`STEP_M`] (1 mm) of TCP
+//! travel and every [`STEP_DEG`] (0.5°) of turn, whichever gives more points, in a multiple
+//! of [`KNOTS`] intervals, at most [`MAX_INTERVALS`] (so the spacing is 1 mm up to a 2.048 m
 //! path). At each point the inverse kinematics of the start's [`Branch`], continued from the
-//! previous point; each axis within its reachable range; each singularity measure outside its
-//! margin ([`crate::SingularityMargins::DEFAULT`]); the joint rates dq/ds = J⁻¹ξ. Between two points
-//! the path is checked from those rates, so what lies between the samples is covered too
-//! (the module `check` says how). The first failure is the error, naming where.
+//! previous point; each axis within its reachable range; the joint rates dq/ds = J⁻¹ξ.
+//! Between two points, from the values and rates at both ends: no jump, no axis turning
+//! beyond its range, each singularity measure at least its margin
+//! ([`crate::SingularityMargins::DEFAULT`]) all the way (the module `check` says how). The
+//! first failure is the error, naming where.
 //!
-//! **The time law** (module `scaling`): s(t) is a jerk-limited double-S (a trapezoid when no axis
-//! has a jerk limit) whose bounds keep the TCP's speed and acceleration within the request,
-//! its angular speed and acceleration within the request divided by [`ROTATION_RADIUS_M`],
-//! and every axis within its velocity, acceleration and jerk limits all along the path.
+//! **The time law** (module `scaling`): s(t) is a jerk-limited double-S (a trapezoid when no
+//! axis has a jerk limit) whose bounds keep the TCP's speed and acceleration within the
+//! request, its angular speed and acceleration within the request divided by
+//! [`ROTATION_RADIUS_M`], and every axis within its velocity, acceleration and jerk limits all
+//! along the path. The bounds hold for the whole path, so its most demanding point (near a
+//! singularity or the edge of the reach) sets the pace all along.
 
 mod check;
 mod error;
