@@ -22,7 +22,7 @@ use crate::limits::{AxisRange, Miss, travel_time};
 use crate::{Kinematics, N};
 use mcm_shared::ranges::Num;
 use nalgebra::{Isometry3, Matrix3, Vector3};
-use std::f64::consts::PI;
+use std::f64::consts::{PI, TAU};
 
 /// The most solutions a pose has: shoulder, elbow and wrist each on one of two sides.
 pub const MAX_SOLUTIONS: usize = 8;
@@ -130,6 +130,14 @@ fn finite(what: &'static str, values: &[f64]) -> Result<(), IkError> {
     }
 }
 
+/// What the solution needs of a flange pose, and the seed as joint angles θ.
+struct Target {
+    centre: Vector3<f64>,
+    axis6: Vector3<f64>,
+    r6: Matrix3<f64>,
+    theta_seed: [f64; N],
+}
+
 /// The solutions found so far, and the nearest miss of those dropped.
 struct Found {
     solutions: Solutions,
@@ -152,29 +160,7 @@ impl Kinematics {
         flange: &Isometry3<f64>,
         seed: &[f64; N],
     ) -> Result<Solutions, IkError> {
-        let p6 = flange.translation.vector;
-        finite("target position", p6.as_slice())?;
-        finite("target orientation", flange.rotation.coords.as_slice())?;
-        finite("seed", seed)?;
-        let sh = &self.shape;
-        let r6 = flange.rotation.to_rotation_matrix().into_inner();
-        let centre = p6 - r6 * sh.wrist_offset;
-        let axis6 = r6 * sh.axis6;
-        let theta_seed: [f64; N] = core::array::from_fn(|i| seed[i] + self.links[i].offset);
-
-        // Axis 1: the wrist centre at distance `lateral` beside the arm's plane.
-        let r = centre.x.hypot(centre.y);
-        let e = sh.lateral;
-        if r < e.abs() - REACH_TOLERANCE_M {
-            return Err(IkError::InsideShoulderOffset {
-                distance_m: r,
-                offset_m: e.abs(),
-            });
-        }
-        let u = (r * r - e * e).max(0.0).sqrt();
-        let psi = centre.y.atan2(centre.x);
-        let shoulder_free = r < FREE_JOINT;
-
+        let t = self.wrist_target(flange, seed)?;
         let mut found = Found {
             solutions: Solutions::new(),
             candidates: 0,
@@ -182,49 +168,40 @@ impl Kinematics {
         };
         let mut reach_error = None;
         for shoulder in [Side::Positive, Side::Negative] {
-            let us = shoulder.sign() * u;
-            let th1 = if shoulder_free {
-                theta_seed[0] + if shoulder == Side::Negative { PI } else { 0.0 }
-            } else {
-                psi - e.atan2(us)
-            };
-            // The wrist centre in the plane of axes 2 and 3 (frame 1's x-y).
-            let x = us - sh.a1;
-            let y = sh.s1 * (centre.z - sh.d1);
-            let dist = x.hypot(y);
-            let (a2, l) = (sh.a2, sh.forearm);
-            let (min, max) = ((a2.abs() - l).abs(), a2.abs() + l);
-            if dist > max + REACH_TOLERANCE_M || dist < min - REACH_TOLERANCE_M {
-                reach_error.get_or_insert(IkError::OutOfReach {
-                    distance_m: dist,
-                    min_m: min,
-                    max_m: max,
-                });
-                continue;
-            }
-            let c = ((dist * dist - a2 * a2 - l * l) / (2.0 * a2 * l)).clamp(-1.0, 1.0);
-            let phi_abs = c.acos();
             for elbow in [Side::Positive, Side::Negative] {
-                let phi = elbow.sign() * phi_abs;
-                let th2 = if dist < FREE_JOINT {
-                    theta_seed[1]
-                } else {
-                    y.atan2(x) - (l * phi.sin()).atan2(a2 + l * phi.cos())
+                let arm = match self.arm_angles(&t, shoulder, elbow) {
+                    Ok(arm) => arm,
+                    Err(e) => {
+                        reach_error.get_or_insert(e);
+                        continue;
+                    }
                 };
-                let th3 = phi - sh.forearm_angle;
-                let r3 = self.links[0].rotation_at_theta(th1)
-                    * self.links[1].rotation_at_theta(th2)
-                    * self.links[2].rotation_at_theta(th3);
-                self.wrist(
-                    [th1, th2, th3],
-                    &r3,
-                    &axis6,
-                    &r6,
-                    (shoulder, elbow),
-                    &theta_seed,
-                    seed,
-                    &mut found,
-                );
+                let r3 = self.rotation3(&arm);
+                for wrist in [Side::Positive, Side::Negative] {
+                    let theta = self.wrist_angles(arm, &r3, &t, wrist);
+                    found.candidates += 1;
+                    let branch = Branch {
+                        shoulder,
+                        elbow,
+                        wrist,
+                    };
+                    match self.fit(&theta, seed) {
+                        Ok(q) => {
+                            let same = |s: &Solution| {
+                                s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < SAME_RAD)
+                            };
+                            if !found.solutions.iter().any(same) {
+                                // At most 8 candidates: the storage never overflows.
+                                let _ = found.solutions.push(Solution { q, branch });
+                            }
+                        }
+                        Err(miss) => {
+                            if found.nearest_miss.is_none_or(|m| miss.by < m.by) {
+                                found.nearest_miss = Some(miss);
+                            }
+                        }
+                    }
+                }
             }
         }
         if let (0, Some(e)) = (found.candidates, reach_error) {
@@ -249,61 +226,139 @@ impl Kinematics {
         Ok(found.solutions)
     }
 
-    /// Axes 4, 5 and 6 for the arm's branch `arm` (θ1..θ3, frame 3's rotation `r3`): both
-    /// wrist branches, added to `found`.
-    #[allow(clippy::too_many_arguments)]
-    fn wrist(
+    /// The one solution of `branch` that puts the TCP at `target`, each joint value moved by
+    /// whole turns nearest the seed's and **not** checked against the axes' ranges (the caller
+    /// decides what a value outside them means). What a path of poses follows continuously:
+    /// away from singularities the solution of a branch changes smoothly with the pose.
+    /// Allocation-free and panic-free.
+    pub fn inverse_branch(
         &self,
-        arm: [f64; 3],
-        r3: &Matrix3<f64>,
-        axis6: &Vector3<f64>,
-        r6: &Matrix3<f64>,
-        (shoulder, elbow): (Side, Side),
-        theta_seed: &[f64; N],
+        target: &Isometry3<f64>,
+        branch: Branch,
         seed: &[f64; N],
-        found: &mut Found,
-    ) {
+    ) -> Result<[f64; N], IkError> {
+        let t = self.wrist_target(&(target * self.tcp_inverse), seed)?;
+        let arm = self.arm_angles(&t, branch.shoulder, branch.elbow)?;
+        let theta = self.wrist_angles(arm, &self.rotation3(&arm), &t, branch.wrist);
+        Ok(core::array::from_fn(|i| {
+            let v = theta[i] - self.links[i].offset;
+            v + TAU * ((seed[i] - v) / TAU).round()
+        }))
+    }
+
+    /// Which branch the configuration `q` [rad] is on: the [`Branch`] the inverse kinematics
+    /// gives it. At a singularity (a side's measure exactly 0) that side is `Positive`.
+    pub fn branch(&self, q: &[f64; N]) -> Branch {
+        let sh = &self.shape;
+        let f = self.frames(q);
+        let c = f.origin[3];
+        let th1 = q[0] + self.links[0].offset;
+        // The wrist centre along x of the arm's plane (`u` of the solution, signed).
+        let us = th1.cos() * c.x + th1.sin() * c.y;
+        let phi = q[2] + self.links[2].offset + sh.forearm_angle;
+        let th5 = q[4] + self.links[4].offset;
+        let side = |v: f64| {
+            if v < 0.0 {
+                Side::Negative
+            } else {
+                Side::Positive
+            }
+        };
+        Branch {
+            shoulder: side(us),
+            elbow: side(phi.sin()),
+            wrist: side(th5.sin()),
+        }
+    }
+
+    /// The wrist centre, axis 6's direction and the flange's rotation for a flange pose.
+    fn wrist_target(&self, flange: &Isometry3<f64>, seed: &[f64; N]) -> Result<Target, IkError> {
+        let p6 = flange.translation.vector;
+        finite("target position", p6.as_slice())?;
+        finite("target orientation", flange.rotation.coords.as_slice())?;
+        finite("seed", seed)?;
+        let sh = &self.shape;
+        let r6 = flange.rotation.to_rotation_matrix().into_inner();
+        let centre = p6 - r6 * sh.wrist_offset;
+        // Axis 1: the wrist centre at distance `lateral` beside the arm's plane.
+        let r = centre.x.hypot(centre.y);
+        if r < sh.lateral.abs() - REACH_TOLERANCE_M {
+            return Err(IkError::InsideShoulderOffset {
+                distance_m: r,
+                offset_m: sh.lateral.abs(),
+            });
+        }
+        Ok(Target {
+            centre,
+            axis6: r6 * sh.axis6,
+            r6,
+            theta_seed: core::array::from_fn(|i| seed[i] + self.links[i].offset),
+        })
+    }
+
+    /// θ1, θ2, θ3 of one shoulder and elbow branch, or why the wrist centre is out of reach.
+    fn arm_angles(&self, t: &Target, shoulder: Side, elbow: Side) -> Result<[f64; 3], IkError> {
+        let sh = &self.shape;
+        let c = t.centre;
+        let r = c.x.hypot(c.y);
+        let e = sh.lateral;
+        let us = shoulder.sign() * (r * r - e * e).max(0.0).sqrt();
+        let th1 = if r < FREE_JOINT {
+            t.theta_seed[0] + if shoulder == Side::Negative { PI } else { 0.0 }
+        } else {
+            c.y.atan2(c.x) - e.atan2(us)
+        };
+        // The wrist centre in the plane of axes 2 and 3 (frame 1's x-y).
+        let x = us - sh.a1;
+        let y = sh.s1 * (c.z - sh.d1);
+        let dist = x.hypot(y);
+        let (a2, l) = (sh.a2, sh.forearm);
+        let (min, max) = ((a2.abs() - l).abs(), a2.abs() + l);
+        if dist > max + REACH_TOLERANCE_M || dist < min - REACH_TOLERANCE_M {
+            return Err(IkError::OutOfReach {
+                distance_m: dist,
+                min_m: min,
+                max_m: max,
+            });
+        }
+        let cos = ((dist * dist - a2 * a2 - l * l) / (2.0 * a2 * l)).clamp(-1.0, 1.0);
+        let phi = elbow.sign() * cos.acos();
+        let th2 = if dist < FREE_JOINT {
+            t.theta_seed[1]
+        } else {
+            y.atan2(x) - (l * phi.sin()).atan2(a2 + l * phi.cos())
+        };
+        Ok([th1, th2, phi - sh.forearm_angle])
+    }
+
+    /// Frame 3's rotation for θ1, θ2, θ3.
+    fn rotation3(&self, arm: &[f64; 3]) -> Matrix3<f64> {
+        self.links[0].rotation_at_theta(arm[0])
+            * self.links[1].rotation_at_theta(arm[1])
+            * self.links[2].rotation_at_theta(arm[2])
+    }
+
+    /// All six angles θ for the arm's angles `arm` (frame 3's rotation `r3`) and one wrist
+    /// branch.
+    fn wrist_angles(&self, arm: [f64; 3], r3: &Matrix3<f64>, t: &Target, wrist: Side) -> [f64; N] {
         let sh = &self.shape;
         // Axis 6 seen from frame 3 is Rz(θ4) (s5 sin θ5, 0, ·): θ4 points along it.
-        let w = r3.transpose() * axis6;
+        let w = r3.transpose() * t.axis6;
         let th4_base = if w.x.hypot(w.y) < FREE_JOINT {
-            theta_seed[3]
+            t.theta_seed[3]
         } else {
             (sh.s5 * w.y).atan2(sh.s5 * w.x)
         };
-        for wrist in [Side::Positive, Side::Negative] {
-            let th4 = th4_base + if wrist == Side::Negative { PI } else { 0.0 };
-            let r4 = r3 * self.links[3].rotation_at_theta(th4);
-            // Axis 6 seen from frame 4: Rz(θ5) Rx(α5) z = (s5 sin θ5, −s5 cos θ5, ·).
-            let v = r4.transpose() * axis6;
-            let th5 = (sh.s5 * v.x).atan2(-sh.s5 * v.y);
-            let r5 = r4 * self.links[4].rotation_at_theta(th5);
-            // Rz(θ6) = R5ᵀ R6 Rx(α6)ᵀ.
-            let n = r5.transpose() * r6 * sh.unturn6;
-            let th6 = n[(1, 0)].atan2(n[(0, 0)]);
-            let theta = [arm[0], arm[1], arm[2], th4, th5, th6];
-            found.candidates += 1;
-            let branch = Branch {
-                shoulder,
-                elbow,
-                wrist,
-            };
-            match self.fit(&theta, seed) {
-                Ok(q) => {
-                    let same =
-                        |s: &Solution| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < SAME_RAD);
-                    if !found.solutions.iter().any(same) {
-                        // At most 8 candidates: the storage never overflows.
-                        let _ = found.solutions.push(Solution { q, branch });
-                    }
-                }
-                Err(miss) => {
-                    if found.nearest_miss.is_none_or(|m| miss.by < m.by) {
-                        found.nearest_miss = Some(miss);
-                    }
-                }
-            }
-        }
+        let th4 = th4_base + if wrist == Side::Negative { PI } else { 0.0 };
+        let r4 = r3 * self.links[3].rotation_at_theta(th4);
+        // Axis 6 seen from frame 4: Rz(θ5) Rx(α5) z = (s5 sin θ5, −s5 cos θ5, ·).
+        let v = r4.transpose() * t.axis6;
+        let th5 = (sh.s5 * v.x).atan2(-sh.s5 * v.y);
+        let r5 = r4 * self.links[4].rotation_at_theta(th5);
+        // Rz(θ6) = R5ᵀ R6 Rx(α6)ᵀ.
+        let n = r5.transpose() * t.r6 * sh.unturn6;
+        let th6 = n[(1, 0)].atan2(n[(0, 0)]);
+        [arm[0], arm[1], arm[2], th4, th5, th6]
     }
 
     /// Joint values from the angles θ: the offsets taken off, each moved into its range nearest

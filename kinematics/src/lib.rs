@@ -11,7 +11,9 @@
 //!   [`MAX_SOLUTIONS`]: shoulder, elbow and wrist each on one side or the other) within the
 //!   axes' reachable ranges, the nearest to a seed first;
 //! - [`Kinematics::singularities`]: how near the wrist, elbow and shoulder singularities a
-//!   configuration is, and [`SingularityMargins`] to call it near.
+//!   configuration is, and [`SingularityMargins`] to call it near;
+//! - [`LinePlan`]: the TCP on a straight line (`move_linear`), the whole path checked before
+//!   anything moves, time-scaled within the axes' limits ([`line`]).
 //!
 //! Frames: the base frame is DH frame 0 (z up, along axis 1), the flange frame DH frame 6,
 //! the TCP frame the flange frame times [`Kinematics::tcp`]. Units: metres and radians (the
@@ -48,12 +50,14 @@ mod dh;
 mod forward;
 mod inverse;
 mod limits;
+pub mod line;
 pub mod shape;
 mod singularity;
 
 pub use dh::Dh;
 pub use inverse::{Branch, IkError, MAX_SOLUTIONS, Side, Solution, Solutions};
 pub use limits::{AxisRange, LIMIT_TOLERANCE_RAD, travel_time};
+pub use line::{JointLimits, LineError, LinePlan, LineSample, LineTarget};
 pub use shape::KinematicsError;
 pub use singularity::{Near, Singularities, SingularityMargins};
 

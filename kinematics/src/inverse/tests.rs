@@ -122,6 +122,32 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Every solution's branch is the one `branch` names for its configuration, and
+    /// `inverse_branch` of that branch gives the solution back (up to whole turns, continued
+    /// from a seed nearby), on arms of every supported shape.
+    #[test]
+    fn each_branch_is_named_and_solved_alone(k in arm_strategy(true), unit in unit6(), seed_unit in unit6()) {
+        let q: [f64; N] = core::array::from_fn(|i| -PI + 2.0 * PI * unit[i]);
+        prop_assume!(!k.singularities(&q).near(&SingularityMarginsTiny::M).any());
+        let target = k.tcp_pose(&q);
+        let seed: [f64; N] = core::array::from_fn(|i| -PI + 2.0 * PI * seed_unit[i]);
+        let Ok(sols) = k.inverse(&target, &seed) else {
+            return Ok(());
+        };
+        for s in &sols {
+            prop_assert_eq!(k.branch(&s.q), s.branch, "{:?}", s);
+            let near: [f64; N] = core::array::from_fn(|i| s.q[i] + 0.3 * (seed_unit[i] - 0.5));
+            let alone = k.inverse_branch(&target, s.branch, &near).unwrap();
+            for (a, b) in alone.iter().zip(&s.q) {
+                prop_assert!((a - b).abs() < 1e-9, "{:?} vs {:?}", alone, s.q);
+            }
+        }
+    }
+}
+
 /// Margins small enough that only near-exact singularities are skipped.
 struct SingularityMarginsTiny;
 impl SingularityMarginsTiny {
