@@ -148,6 +148,8 @@ fn prob2_15cm_line_at_a_quarter_metre_per_second() {
     assert!(seen.peak_speed > 0.24, "{seen:?}");
     assert!(plan.duration() < 1.1, "{}", plan.duration());
     assert_eq!(plan.branch(), kin.branch(&start));
+    // Its pace changes little along it: one segment, one double-S.
+    assert_eq!(plan.profile.segments(), 1);
 }
 
 #[test]
