@@ -15,7 +15,8 @@
 //! the largest at most its V whose two ramps fit its length. A ramp from v₀ to v₁ takes
 //! T = |Δv|/A + A/J (or 2√(|Δv|/J) when it does not reach A) and covers (v₀ + v₁)·T/2.
 //! Planning and sampling are allocation-free; sampling finds the segment by a binary search
-//! (at most log₂ [`MAX_SEGMENTS`] + 1 steps).
+//! (at most log₂ [`MAX_SEGMENTS`] + 1 steps). One segment entered and left at rest is the
+//! double-S of `mcm-rt-core`'s joint moves (`trajectory::profile`) over the segment's length.
 
 /// The most segments a path's time law has.
 pub const MAX_SEGMENTS: usize = 64;
