@@ -22,12 +22,15 @@
 //! ([`crate::SingularityMargins::DEFAULT`]) all the way (the module `check` says how). The
 //! first failure is the error, naming where.
 //!
-//! **The time law** (module `scaling`): s(t) is a jerk-limited double-S (a trapezoid when no
-//! axis has a jerk limit) whose bounds keep the TCP's speed and acceleration within the
-//! request, its angular speed and acceleration within the request divided by
-//! [`ROTATION_RADIUS_M`], and every axis within its velocity, acceleration and jerk limits all
-//! along the path. The bounds hold for the whole path, so its most demanding point (near a
-//! singularity or the edge of the reach) sets the pace all along.
+//! **The time law** (modules `scaling` and `profile`): for each checked interval the largest
+//! ds/dt, d²s/dt² and d³s/dt³ that keep the TCP's speed and acceleration within the request,
+//! its angular speed and acceleration within the request divided by [`ROTATION_RADIUS_M`],
+//! and every axis within its velocity, acceleration and jerk limits there; the intervals
+//! gathered into at most [`MAX_SEGMENTS`] segments, each with the smallest bounds of its
+//! intervals; s(t) crosses each segment with a jerk-limited ramp (a constant acceleration
+//! when no axis has a jerk limit) to a cruise and a ramp to the next segment's speed, the
+//! speeds where segments meet from a backward and a forward pass. So the pace follows the
+//! path: slow only where the path is demanding (near a singularity or the edge of the reach).
 
 mod check;
 mod error;
@@ -39,7 +42,9 @@ pub use error::{LineError, PathPoint, Singularity};
 use crate::{Branch, Kinematics, N};
 use mcm_shared::config::RobotConfig;
 use nalgebra::{Isometry3, Matrix6, UnitQuaternion, Vector3, Vector6};
+pub use profile::MAX_SEGMENTS;
 use profile::PathProfile;
+use scaling::Pace;
 
 /// The largest TCP travel between two checked points of the path [m].
 pub const STEP_M: f64 = 0.001;
@@ -129,9 +134,10 @@ pub struct LineSample {
     pub qdot: [f64; N],
 }
 
-/// A planned, checked straight-line move. Plain data (`Copy`, no heap, about 4 KB): the
-/// kinematics it was planned with (the TCP included), the path, the time law and the joint
-/// values at [`KNOTS`] + 1 points of the path.
+/// A planned, checked straight-line move. Plain data (`Copy`, no heap, about 13 KB): the
+/// kinematics it was planned with (the TCP included), the path, the time law (how each of at
+/// most [`MAX_SEGMENTS`] segments is crossed) and the joint values at [`KNOTS`] + 1 points of
+/// the path.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LinePlan {
     kin: Kinematics,
@@ -149,8 +155,9 @@ pub struct LinePlan {
 
 impl LinePlan {
     /// Plan the line from the configuration `start` [rad] (the arm at rest) to `target`,
-    /// within the axes' `limits`, the singularity margins [`crate::SingularityMargins::DEFAULT`]: the
-    /// whole path checked and time-scaled (the module's doc). Refused with a [`LineError`] naming what and where; nothing is planned
+    /// within the axes' `limits`, the singularity margins
+    /// [`crate::SingularityMargins::DEFAULT`]: the whole path checked and time-scaled (the
+    /// module's doc). Refused with a [`LineError`] naming what and where; nothing is planned
     /// then. Allocation-free; at most [`MAX_INTERVALS`] + 1 points checked.
     pub fn plan(
         kin: &Kinematics,
@@ -200,8 +207,10 @@ impl LinePlan {
             knots: [*start; KNOTS + 1],
             joint_target: *start,
         };
-        let bounds = check::walk(&mut plan, start)?;
-        plan.profile = scaling::profile(&bounds, limits, velocity, acceleration, &plan.twist);
+        let twist = plan.twist;
+        plan.profile = check::walk(&mut plan, start, |h| {
+            Pace::new(limits, velocity, acceleration, &twist, h)
+        })?;
         Ok(plan)
     }
 
@@ -238,8 +247,9 @@ impl LinePlan {
     /// The joint values and velocities `t` seconds after the start: the inverse kinematics of
     /// the plan's branch at the pose of s(t), continued from the nearest of the plan's
     /// [`KNOTS`] + 1 stored points; the velocities J⁻¹·ξ·ds/dt. Before the start the start, from
-    /// the end on exactly [`LinePlan::joint_target`] at rest. Allocation-free, a fixed amount
-    /// of work (one branch of the inverse kinematics, one 6×6 solve).
+    /// the end on exactly [`LinePlan::joint_target`] at rest. Allocation-free, a bounded amount
+    /// of work (a binary search of the time law's segments, one branch of the inverse
+    /// kinematics, one 6×6 solve).
     ///
     /// The planner checked the inverse kinematics at every point of the path, so it does not
     /// fail here; should rounding make it fail, the joint values are interpolated between the

@@ -25,10 +25,13 @@
 //!   stretched arm (5° there is 0.6 mm of reach on the P-Rob2), is checked in reach, not in
 //!   angle.
 //!
-//! The time law's bounds: the largest |dq/ds|, |d²q/ds²| (differences of the rates) and
-//! |d³q/ds³| (differences of those) over the points, each raised by what the next derivative
-//! allows over half an interval (the third derivative by 25 %).
+//! The time law's bounds, per interval: the largest |dq/ds| at its ends, |d²q/ds²| (the
+//! differences of the rates over it and the interval before) and |d³q/ds³| (the difference of
+//! those), each raised by what the next derivative allows over half an interval (the third
+//! derivative by 25 %); [`Pace`] takes them in order along the path.
 
+use super::profile::PathProfile;
+use super::scaling::Pace;
 use super::{
     KNOTS, LineError, LinePlan, MAX_INTERVALS, PathPoint, STEP_DEG, STEP_M, Singularity,
     joint_rates,
@@ -38,7 +41,7 @@ use crate::{Kinematics, N, Singularities, SingularityMargins};
 use nalgebra::{Point3, Vector6};
 use std::f64::consts::FRAC_PI_2;
 
-/// The largest |dq/ds|, |d²q/ds²|, |d³q/ds³| of each axis along the path (s from 0 to 1).
+/// The largest |dq/ds|, |d²q/ds²|, |d³q/ds³| of each axis over an interval of the path.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct Bounds {
     pub rate: [f64; N],
@@ -84,8 +87,13 @@ impl Kinematics {
 }
 
 /// Walk the path of `plan` from `start`: check it, store the knots and the joint target, and
-/// return the bounds of the joint derivatives along s.
-pub(super) fn walk(plan: &mut LinePlan, start: &[f64; N]) -> Result<Bounds, LineError> {
+/// return the time law of the pace `pace_for(h)` gives for intervals h long (the zero law
+/// when it gives none) with the bounds of the joint derivatives over each interval.
+pub(super) fn walk(
+    plan: &mut LinePlan,
+    start: &[f64; N],
+    pace_for: impl FnOnce(f64) -> Option<Pace>,
+) -> Result<PathProfile, LineError> {
     let kin = plan.kin;
     let margins = SingularityMargins::DEFAULT;
     let length = plan.twist.fixed_rows::<3>(0).norm();
@@ -95,7 +103,7 @@ pub(super) fn walk(plan: &mut LinePlan, start: &[f64; N]) -> Result<Bounds, Line
     let n = per_knot * KNOTS;
     let h = 1.0 / n as f64;
     let centre_step = h * (length + angle * kin.wrist_centre_from_tcp());
-    let mut bounds = Bounds::default();
+    let mut pace = pace_for(h);
     let mut prev: Option<Point> = None;
     let mut prev_change: Vector6<f64> = Vector6::zeros();
     for k in 0..=n {
@@ -131,12 +139,18 @@ pub(super) fn walk(plan: &mut LinePlan, start: &[f64; N]) -> Result<Bounds, Line
         if let Some(p) = &prev {
             between(&kin, p, &here, h, centre_step, window, &margins)?;
             let change = (rate - p.rate) / h;
+            let mut bounds = Bounds::default();
             for i in 0..N {
-                bounds.curvature[i] = bounds.curvature[i].max(change[i].abs());
-                if k > 1 {
-                    let third = ((change[i] - prev_change[i]) / h).abs();
-                    bounds.third[i] = bounds.third[i].max(third);
-                }
+                let (third, before) = match k {
+                    1 => (0.0, 0.0),
+                    _ => ((change[i] - prev_change[i]).abs() / h, prev_change[i].abs()),
+                };
+                bounds.third[i] = 1.25 * third;
+                bounds.curvature[i] = change[i].abs().max(before) + third * h / 2.0;
+                bounds.rate[i] = rate[i].abs().max(p.rate[i].abs()) + bounds.curvature[i] * h / 2.0;
+            }
+            if let Some(pace) = &mut pace {
+                pace.push(&bounds);
             }
             prev_change = change;
         }
@@ -153,20 +167,12 @@ pub(super) fn walk(plan: &mut LinePlan, start: &[f64; N]) -> Result<Bounds, Line
                 allowed_deg: 90.0,
             });
         }
-        for (b, r) in bounds.rate.iter_mut().zip(rate.iter()) {
-            *b = b.max(r.abs());
-        }
         prev = Some(here);
     }
     if let Some(p) = prev {
         plan.joint_target = p.q;
     }
-    for i in 0..N {
-        bounds.rate[i] += bounds.curvature[i] * h / 2.0;
-        bounds.curvature[i] += bounds.third[i] * h / 2.0;
-        bounds.third[i] *= 1.25;
-    }
-    Ok(bounds)
+    Ok(pace.map(Pace::profile).unwrap_or_default())
 }
 
 /// The checks between two neighbouring points `a` and `b` (the module's doc).

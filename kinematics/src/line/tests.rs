@@ -148,6 +148,8 @@ fn prob2_15cm_line_at_a_quarter_metre_per_second() {
     assert!(seen.peak_speed > 0.24, "{seen:?}");
     assert!(plan.duration() < 1.1, "{}", plan.duration());
     assert_eq!(plan.branch(), kin.branch(&start));
+    // Its pace changes little along it: one segment, one double-S.
+    assert_eq!(plan.profile.segments(), 1);
 }
 
 #[test]
@@ -570,7 +572,12 @@ fn the_time_law_keeps_its_bounds_and_ends_at_one() {
         (5.0, 50.0, Some(20.0), None),
         (5.0, 2.0, None, None),
     ] {
-        let p = profile::PathProfile::new(v, a, j);
+        let p = profile::PathProfile::new(&[profile::Segment {
+            length: 1.0,
+            v,
+            a,
+            j: j.unwrap_or(f64::INFINITY),
+        }]);
         if let Some(d) = duration {
             assert!((p.duration() - d).abs() < 1e-12, "{p:?}");
         }
@@ -590,4 +597,99 @@ fn the_time_law_keeps_its_bounds_and_ends_at_one() {
             last = now;
         }
     }
+}
+
+/// The benchmark's 1 m line (`benches/line.rs`): the P-Rob2 with a 15 cm TCP pointing down,
+/// y from −0.5 to 0.5 m at x = 0.4 m, z = 0.1 m, at 0.25 m/s. Its ends bring the wrist centre
+/// near the edge of the reach, where the axes turn fastest per metre.
+fn benchmark_line() -> (Kinematics, [f64; N], LineTarget) {
+    let mut kin = prob2();
+    kin.set_tcp(Isometry3::translation(0.0, 0.0, 0.15)).unwrap();
+    let down = UnitQuaternion::from_euler_angles(std::f64::consts::PI, 0.0, 0.0);
+    let from = Isometry3::from_parts(Vector3::new(0.4, -0.5, 0.1).into(), down);
+    let seed = [-0.9, -0.3, -1.6, 0.0, -1.2, 0.0];
+    let start = kin.inverse(&from, &seed).unwrap()[0].q;
+    let target = LineTarget {
+        velocity: Some(0.25),
+        ..to(Vector3::new(0.4, 0.5, 0.1))
+    };
+    (kin, start, target)
+}
+
+/// The pace follows the path: the line is slow only near its hard ends, so it takes far less
+/// than one pace for the whole path (the smallest bounds of every segment) would, reaches the
+/// requested speed in the middle, and every sample, at the hard ends too, stays within the
+/// limits; the law itself keeps each segment's bounds.
+#[test]
+fn the_pace_follows_the_path_near_the_edge_of_the_reach() {
+    let (kin, start, target) = benchmark_line();
+    let plan = LinePlan::plan(&kin, &limits(), &start, &target).unwrap();
+    let uniform = plan.profile.uniform().duration();
+    assert!(
+        plan.duration() < uniform / 3.0,
+        "{} s, one pace: {uniform} s",
+        plan.duration()
+    );
+    let seen = check_samples(&kin, &start, &target, &plan);
+    assert!(seen.peak_speed > 0.24, "{seen:?}");
+    // Near the ends the axes set a pace far below the request's (0.25 per unit s, the line
+    // 1 m long), the law follows it there, and the samples there are within the limits
+    // (`check_samples`).
+    let (end, middle) = (plan.profile.segment_at(0.01), plan.profile.segment_at(0.5));
+    assert!(end.v < 0.5 * middle.v, "{end:?} {middle:?}");
+    assert!(middle.v > 0.96 * 0.25, "{middle:?}");
+    check_law(&plan.profile);
+}
+
+/// Sample a law finely: s monotonic from 0 to exactly 1, ṡ, s̈ and s⃛ (differences) within
+/// the bounds of the segment each sample is in.
+fn check_law(p: &profile::PathProfile) {
+    assert_eq!(p.sample(p.duration()), (1.0, 0.0, 0.0));
+    let steps = 200_000;
+    let dt = p.duration() / steps as f64;
+    let mut last = p.sample(0.0);
+    for k in 1..=steps {
+        let now = p.sample(k as f64 * dt);
+        let seg = p.segment_at(now.0);
+        let before = p.segment_at(last.0);
+        let (v, a) = (seg.v.max(before.v), seg.a.max(before.a));
+        assert!(now.0 >= last.0, "{k}: s back from {} to {}", last.0, now.0);
+        assert!(now.1 <= v * (1.0 + 1e-9), "{k}: {now:?} over {seg:?}");
+        assert!(now.2.abs() <= a * (1.0 + 1e-9), "{k}: {now:?} over {seg:?}");
+        assert!(
+            (now.0 - last.0 - (now.1 + last.1) / 2.0 * dt).abs() <= a * dt * dt,
+            "{k}: {now:?} after {last:?}"
+        );
+        let j = seg.j.max(before.j);
+        assert!(
+            (now.2 - last.2).abs() <= j * dt * (1.0 + 1e-6),
+            "{k}: {now:?} after {last:?}"
+        );
+        last = now;
+    }
+}
+
+/// A path whose pace changes at every interval, back and forth by a factor of up to 100, is
+/// gathered into at most `MAX_SEGMENTS` segments whose law keeps their bounds.
+#[test]
+fn a_restless_pace_fits_the_segments() {
+    let lim = limits();
+    let twist = Vector6::new(1.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    let h = 1.0 / MAX_INTERVALS as f64;
+    let mut pace = scaling::Pace::new(&lim, 1.0, 10.0, &twist, h).unwrap();
+    for k in 0..MAX_INTERVALS {
+        let rate = 0.1 + 10.0 * (k as f64 * 0.37).sin().abs();
+        pace.push(&check::Bounds {
+            rate: [rate; N],
+            curvature: [1.0; N],
+            third: [10.0; N],
+        });
+    }
+    let law = pace.profile();
+    assert!(
+        law.segments() > 1 && law.segments() <= profile::MAX_SEGMENTS,
+        "{}",
+        law.segments()
+    );
+    check_law(&law);
 }
