@@ -38,13 +38,13 @@ const INPUTS: &[&str] = &[
     "interfaces",
 ];
 
-/// Start the MCM (`mcm --ros2`, each of `ros2_args` passed as `--ros2-arg=...`) on the
-/// simulated arm inside `ns`; its JSON port is on the namespace's loopback
-/// ([`Netns::connect`]). Panics when it does not start.
+/// Start the MCM (`mcm --ros2`, serving Kilted's peers as the venv's rclpy is Kilted's, each of
+/// `ros2_args` passed as `--ros2-arg=...`) on the simulated arm inside `ns`; its JSON port is on
+/// the namespace's loopback ([`Netns::connect`]). Panics when it does not start.
 pub fn mcm_in(ns: &Netns, instance: &str, ros2_args: &[String]) -> SimulatedMcm {
     super::machine::share();
     let binary = Path::new(env!("CARGO_BIN_EXE_mcm"));
-    let mut extra: Vec<String> = vec!["--ros2".into()];
+    let mut extra: Vec<String> = vec!["--ros2".into(), "--ros2-arg=--ros-distro=kilted".into()];
     extra.extend(ros2_args.iter().map(|a| format!("--ros2-arg={a}")));
     let extra: Vec<&OsStr> = extra.iter().map(OsStr::new).collect();
     SimulatedMcm::start_command(
