@@ -323,8 +323,22 @@ def check_single(args):
     # the feedback and the `sim` reply (at most a few cycles at up to ~0.5 rad/s).
     worst = max(errors) if errors else float("nan")
     expect(errors and worst < 0.05, f"truth vs desired during the goal: worst {worst} rad over {len(errors)} samples")
+    # Every feedback decoded whole, up to the goal's end: nothing multi-DOF (the node sends
+    # none; the feedback of another distribution's layout decodes as garbage there, or not at all).
+    last = pts[-1][0]
+    expect(max(fb_times) > last - 0.2, f"feedback up to the goal's end at {last} s: the last at {max(fb_times):.3f} s")
+    garbled = [f for _, f in feedback if f.multi_dof_joint_names or f.multi_dof_desired.transforms
+               or f.multi_dof_actual.transforms or f.multi_dof_error.transforms]
+    expect(not garbled, f"{len(garbled)} of {len(feedback)} feedback messages have multi-DOF entries: {garbled[:1]}")
+    # control_msgs 6.x (Kilted) has the point being executed, `index`: from the first of the
+    # goal's 3 points past the middle one, never going back; 5.x (Jazzy) has no such field.
+    indices = [f.index for _, f in feedback] if hasattr(feedback[0][1], "index") else None
+    if indices is not None:
+        expect(indices == sorted(indices) and indices[0] == 0 and 1 <= indices[-1] <= len(pts) - 1,
+               f"feedback index from 0 to 1 or {len(pts) - 1}, never going back: {indices}")
     ok("follow_joint_trajectory", final_error_rad=f"{final:.2e}", feedback_per_s=f"{rate:.0f}",
-       worst_tracking_rad=f"{worst:.4f}", samples=len(errors))
+       worst_tracking_rad=f"{worst:.4f}", samples=len(errors),
+       feedback_index="absent" if indices is None else f"{indices[0]}..{indices[-1]}")
 
     # Cancel: a controlled stop, then HOLD.
     q0 = arm.position()
