@@ -185,6 +185,22 @@ class Arm:
         expect(handle.accepted, "the goal was rejected (the node accepts every goal and ends bad ones with a code)")
         return handle
 
+    def wait_feedback(self, handle, feedback, n, what):
+        """Wait for more than `n` messages in `feedback`, the running goal `handle`'s; a failure
+        says how many came and how the goal ended, if it did."""
+        end = time.monotonic() + WAIT
+        while len(feedback) <= n:
+            if time.monotonic() > end:
+                r = handle.get_result_async()
+                try:
+                    wait_for(r.done, "the goal's result", timeout=5)
+                    how = f"the goal ended: status {r.result().status} {r.result().result.error_string!r}"
+                except Failure:
+                    how = "the goal has no result within 5 s more"
+                raise Failure(f"{what}: {len(feedback)} feedback messages within {WAIT} s, wanted more "
+                              f"than {n}; {how}")
+            time.sleep(0.01)
+
     def result(self, handle, timeout=WAIT):
         r = wait_future(handle.get_result_async(), "goal result", timeout)
         return r.status, r.result
@@ -345,7 +361,7 @@ def check_single(args):
     far = [q0[0] - 1.0] + q0[1:]
     feedback.clear()
     h = arm.send(arm.goal([(4.0, far, [0.0] * 6)]), on_feedback)
-    wait_for(lambda: len(feedback) > 20, "feedback before the cancel")
+    arm.wait_feedback(h, feedback, 20, "feedback before the cancel")
     wait_future(h.cancel_goal_async(), "cancel response")
     status, res = arm.result(h)
     expect(status == GoalStatus.STATUS_CANCELED, f"canceled goal: status {status} {res.error_string!r}")
@@ -361,7 +377,7 @@ def check_single(args):
     b_target = [q0[0] + 0.2, q0[1] + 0.2] + q0[2:]
     feedback.clear()
     ha = arm.send(arm.goal([(3.0, a_target, [0.0] * 6)]), on_feedback)
-    wait_for(lambda: len(feedback) > 30, "the first goal under way")
+    arm.wait_feedback(ha, feedback, 30, "the first goal under way")
     samples = []
     stop_sampling = threading.Event()
 
@@ -400,7 +416,7 @@ def check_single(args):
     q0 = arm.position()
     feedback.clear()
     h = arm.send(arm.goal([(4.0, [q0[0] + 1.0] + q0[1:], [0.0] * 6)]), on_feedback)
-    wait_for(lambda: len(feedback) > 20, "feedback before the other client's hold")
+    arm.wait_feedback(h, feedback, 20, "feedback before the other client's hold")
     expect(other.request("hold").get("operating_mode") == "HOLD", "hold from the JSON client")
     status, res = arm.result(h)
     expect(status == GoalStatus.STATUS_ABORTED, f"goal after another client's hold: {status} {res.error_string!r}")
@@ -436,7 +452,7 @@ def check_single(args):
     q0 = arm.position()
     feedback.clear()
     h = arm.send(arm.goal([(4.0, [q0[0] + 1.0] + q0[1:], [0.0] * 6)]), on_feedback)
-    wait_for(lambda: len(feedback) > 20, "feedback before the emergency stop")
+    arm.wait_feedback(h, feedback, 20, "feedback before the emergency stop")
     r = other.request("sim", emergency_stop=True)
     expect(r.get("emergency_stop") is True, f"sim emergency_stop: {r}")
     status, res = arm.result(h)
