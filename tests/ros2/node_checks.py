@@ -332,6 +332,7 @@ def check_single(args):
     final = max(abs(q_true[i] - target[i]) for i in range(6))
     expect(final < 0.01, f"final truth {q_true} vs target {target}: {final} rad")
     fb_times = [f.desired.time_from_start.sec + f.desired.time_from_start.nanosec * 1e-9 for _, f in feedback]
+    expect(fb_times, "no feedback of the goal came (none this rclpy's control_msgs decodes)")
     span = max(fb_times) - min(fb_times)
     rate = (len(fb_times) - 1) / span if span > 0 else 0
     expect(rate >= 10, f"feedback at {rate:.1f} per second of trajectory time")
