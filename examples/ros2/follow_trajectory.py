@@ -85,7 +85,9 @@ def on_feedback(msg):
     if t - last_print[0] >= args.feedback_every:
         last_print[0] = t
         worst = max((abs(e) for e in f.error.positions), default=0.0)
-        print(f"  feedback t={t:.2f} s: point {f.index}, largest error {math.degrees(worst):.3f} deg")
+        # The point being executed: control_msgs 6.x (Kilted, Lyrical) only, not Jazzy's 5.x.
+        point = f"point {f.index}, " if hasattr(f, "index") else ""
+        print(f"  feedback t={t:.2f} s: {point}largest error {math.degrees(worst):.3f} deg")
 
 
 def run(g):

@@ -1,6 +1,7 @@
 //! The `follow_joint_trajectory` action server, on its own thread (ros2-client's action server
 //! is async): it accepts goals and cancel requests and hands them to the arm loop, and passes
-//! the arm loop's feedback and results back to the clients.
+//! the arm loop's feedback (in the served distribution's layout) and results back to the
+//! clients.
 //!
 //! Every goal is accepted and handed on while the node holds fewer than [`MAX_GOALS`]; one that
 //! cannot run ends at once `ABORTED` with its error code and the reason in `error_string`. A
@@ -9,9 +10,10 @@
 //! amount of memory and every goal of it is answered.
 
 use crate::arm::ToArm;
+use crate::distro::RosDistro;
 use crate::driver::Event;
 use crate::msgs::control::{
-    FollowJointTrajectoryFeedback, FollowJointTrajectoryGoal, FollowJointTrajectoryResult,
+    FeedbackOnWire, FollowJointTrajectoryGoal, FollowJointTrajectoryResult,
 };
 use futures::channel::mpsc::UnboundedReceiver;
 use futures::stream::FuturesUnordered;
@@ -23,11 +25,8 @@ use std::sync::mpsc::Sender;
 use std::time::Duration;
 
 /// The action server's type.
-pub type Server = AsyncActionServer<
-    FollowJointTrajectoryGoal,
-    FollowJointTrajectoryResult,
-    FollowJointTrajectoryFeedback,
->;
+pub type Server =
+    AsyncActionServer<FollowJointTrajectoryGoal, FollowJointTrajectoryResult, FeedbackOnWire>;
 type Handle = ExecutingGoalHandle<FollowJointTrajectoryGoal>;
 
 /// How long a finished goal's result waits for the client to ask for it.
@@ -80,9 +79,10 @@ impl Rejections {
     }
 }
 
-/// Serve until the arm loop ends (its event channel closes).
+/// Serve the peers of `distro` until the arm loop ends (its event channel closes).
 pub async fn serve(
     server: Server,
+    distro: RosDistro,
     to_arm: Sender<ToArm<GoalId>>,
     mut from_arm: UnboundedReceiver<Event<GoalId>>,
 ) {
@@ -130,7 +130,8 @@ pub async fn serve(
             ev = from_arm.next() => match ev {
                 Some(Event::Feedback(id, fb)) => {
                     if let Some(h) = running.get(&id) {
-                        let _ = server.publish_feedback(h.clone(), *fb).await;
+                        let fb = FeedbackOnWire { distro, feedback: *fb };
+                        let _ = server.publish_feedback(h.clone(), fb).await;
                     }
                 }
                 Some(Event::Finished(id, status, result)) => {

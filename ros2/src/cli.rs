@@ -1,5 +1,6 @@
 //! `mcm-ros2`'s command line (also `mcm ros2 ...`, which the launcher starts).
 
+use crate::distro::RosDistro;
 use crate::node::{Ros2Options, run};
 use clap::Parser;
 use mcm_shared::cli::CommonArgs;
@@ -47,6 +48,11 @@ pub struct Cli {
     /// RTI Connext) or `cyclone` (Cyclone DDS).
     #[arg(long, default_value = "enhanced", value_parser = parse_mapping)]
     pub service_mapping: ServiceMapping,
+    /// The ROS 2 distribution of the peers: jazzy, kilted or lyrical (the layout of
+    /// FollowJointTrajectory's feedback). The environment's ROS_DISTRO when omitted and it
+    /// names one of them, else jazzy.
+    #[arg(long)]
+    pub ros_distro: Option<RosDistro>,
 }
 
 fn parse_lead(s: &str) -> Result<f64, String> {
@@ -107,6 +113,14 @@ where
             return ExitCode::FAILURE;
         }
     };
+    let distro = cli.ros_distro.unwrap_or_else(|| {
+        let (distro, unused) = RosDistro::from_env(std::env::var("ROS_DISTRO").ok().as_deref());
+        if let Some(e) = unused {
+            eprintln!("mcm-ros2: ROS_DISTRO: {e}; serving {distro}");
+        }
+        distro
+    });
+    eprintln!("mcm-ros2: serving ROS 2 {distro}'s peers");
     let stop = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGINT] {
         if let Err(e) = signal_hook::flag::register(sig, Arc::clone(&stop)) {
@@ -125,6 +139,7 @@ where
         dds_interfaces: cli.dds_interfaces,
         lead_s: cli.lead,
         service_mapping: cli.service_mapping,
+        distro,
     };
     match run(opts, &stop) {
         Ok(()) => ExitCode::SUCCESS,
@@ -134,3 +149,6 @@ where
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -9,7 +9,8 @@
 //!   services and drives trajectories ([`driver`], on the PVT stream of [`stream`], planned by
 //!   [`trajectory`]); [`action`] serves `follow_joint_trajectory`.
 //! - [`urdf`] generates the robot description from the configuration.
-//! - [`msgs`] are the ROS 2 messages as serde structs.
+//! - [`msgs`] are the ROS 2 messages as serde structs; [`distro`] is the distribution served
+//!   and what differs between them.
 //! - [`dds_threads`] tells whether DDS still runs in the process.
 //! - [`allocator`] gives back the memory of large received samples.
 
@@ -19,6 +20,7 @@ pub mod arm;
 pub mod cli;
 pub mod convert;
 pub mod dds_threads;
+pub mod distro;
 pub mod driver;
 pub mod msgs;
 pub mod node;

@@ -3,7 +3,8 @@
 //! ros2-client bundles no message packages: a message is a plain struct whose fields follow the
 //! `.msg` definition in order and type (that order and those types decide the CDR encoding on the
 //! wire), and whose DDS type name is `pkg::msg::dds_::Name_`. Each module here names the ROS 2
-//! package it mirrors; the definitions are those of ROS 2 Kilted (control_msgs 6.x).
+//! package it mirrors; the definitions are the same in every distribution served but for
+//! control_msgs' feedback, sent in the served distribution's layout ([`crate::distro`]).
 //! `tests/end_to_end/ros2.rs` checks them against the real ROS 2 type support: rclpy (PyPI wheels)
 //! talks to the node with every one of them.
 
@@ -27,7 +28,7 @@ messages!(
     trajectory::JointTrajectory,
     control::FollowJointTrajectoryGoal,
     control::FollowJointTrajectoryResult,
-    control::FollowJointTrajectoryFeedback,
+    control::FeedbackOnWire,
     diagnostic::DiagnosticArray,
     std_srvs::TriggerRequest,
     std_srvs::TriggerResponse,

@@ -8,6 +8,7 @@
 use crate::action;
 use crate::arm::{Arm, ArmError, ServiceKind, Services, ToArm};
 use crate::convert::JointStates;
+use crate::distro::RosDistro;
 use crate::driver::{Driver, DriverOptions};
 use crate::msgs::std_msgs::StringMsg;
 use crate::trajectory::{Joints, ToleranceDefaults};
@@ -44,6 +45,8 @@ pub struct Ros2Options {
     /// How far points are queued ahead of the arm [s].
     pub lead_s: f64,
     pub service_mapping: ServiceMapping,
+    /// The distribution whose peers the node serves (the feedback's layout).
+    pub distro: RosDistro,
 }
 
 /// Why the node stopped.
@@ -237,6 +240,7 @@ pub fn run(opts: Ros2Options, stop: &AtomicBool) -> Result<(), Ros2Error> {
     );
     let spinner = node.spinner().map_err(|e| de(&e))?;
 
+    let distro = opts.distro;
     let (to_arm, from_action) = std::sync::mpsc::channel::<ToArm<_>>();
     let (to_action, from_arm) = futures::channel::mpsc::unbounded();
     std::thread::Builder::new()
@@ -245,7 +249,7 @@ pub fn run(opts: Ros2Options, stop: &AtomicBool) -> Result<(), Ros2Error> {
             futures::executor::block_on(async move {
                 let spin = spinner.spin();
                 futures::pin_mut!(spin);
-                let serve = action::serve(action_server, to_arm, from_arm);
+                let serve = action::serve(action_server, distro, to_arm, from_arm);
                 futures::pin_mut!(serve);
                 futures::future::select(spin, serve).await;
             })

@@ -1,9 +1,12 @@
-//! Real ROS 2 for the tests of the MCM's ROS 2 interface: rclpy with Fast DDS from PyPI.
+//! Real ROS 2 for the tests of the MCM's ROS 2 interface: rclpy with Fast DDS from PyPI, of
+//! each distribution in [`Distro`].
 //!
-//! [`venv`] makes one virtual environment under the target directory (`ros2-venv` in
-//! `CARGO_TARGET_TMPDIR`), once: CPython 3.11 (the ROS 2 Kilted wheels exist for it only),
-//! `tests/ros2/requirements.txt` (rclpy, rmw_fastrtps_cpp, the message packages, the rosidl
-//! generators), then `tests/ros2/build-interfaces.sh`, which builds control_msgs (not on PyPI)
+//! [`venv`] makes one virtual environment per distribution under the target directory
+//! (`ros2-venv` for Kilted, `ros2-jazzy-venv` for Jazzy, in `CARGO_TARGET_TMPDIR`), once:
+//! CPython 3.11 (the ROS 2 wheels exist for it only), the distribution's requirements
+//! (`tests/ros2/requirements.txt`, `tests/ros2/jazzy/requirements.txt`: rclpy,
+//! rmw_fastrtps_cpp, the message packages, the rosidl generators), then
+//! `tests/ros2/build-interfaces.sh`, which builds the distribution's control_msgs (not on PyPI)
 //! from its vendored definitions into it. Test binaries run in parallel, so the work is done
 //! under an exclusive file lock; a stamp file records a hash of what went in, and a change of
 //! any of it makes the venv again from nothing. Without Python 3.11 and its `venv` module,
@@ -29,22 +32,64 @@ use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
-/// The files that decide what the venv holds, relative to `tests/ros2/`: a change to any of
-/// them makes the venv again.
-const INPUTS: &[&str] = &[
-    "requirements.txt",
-    "build-interfaces.sh",
-    "wheel-include-dirs.cmake",
-    "interfaces",
-];
+/// A ROS 2 distribution the tests have rclpy of (PyPI's wheels): its venv and the node's
+/// `--ros-distro`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Distro {
+    /// PyPI's `ros-jazzy-*` wheels, control_msgs 5.8.0 (`tests/ros2/jazzy/`).
+    Jazzy,
+    /// PyPI's `ros-*` wheels (Kilted), control_msgs 6.8.0.
+    Kilted,
+}
 
-/// Start the MCM (`mcm --ros2`, each of `ros2_args` passed as `--ros2-arg=...`) on the
-/// simulated arm inside `ns`; its JSON port is on the namespace's loopback
-/// ([`Netns::connect`]). Panics when it does not start.
-pub fn mcm_in(ns: &Netns, instance: &str, ros2_args: &[String]) -> SimulatedMcm {
+impl Distro {
+    /// Its name, as `--ros-distro` and `ROS_DISTRO` spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Distro::Jazzy => "jazzy",
+            Distro::Kilted => "kilted",
+        }
+    }
+
+    /// The venv's directory in `CARGO_TARGET_TMPDIR`.
+    fn venv_name(self) -> &'static str {
+        match self {
+            Distro::Jazzy => "ros2-jazzy-venv",
+            Distro::Kilted => "ros2-venv",
+        }
+    }
+
+    /// Its requirements file and its vendored interfaces, relative to `tests/ros2/`.
+    fn files(self) -> [&'static str; 2] {
+        match self {
+            Distro::Jazzy => ["jazzy/requirements.txt", "jazzy/interfaces"],
+            Distro::Kilted => ["requirements.txt", "interfaces"],
+        }
+    }
+
+    /// The files that decide what the venv holds, relative to `tests/ros2/`: a change to any
+    /// of them makes the venv again.
+    fn inputs(self) -> [&'static str; 4] {
+        let [requirements, interfaces] = self.files();
+        [
+            requirements,
+            "build-interfaces.sh",
+            "wheel-include-dirs.cmake",
+            interfaces,
+        ]
+    }
+}
+
+/// Start the MCM (`mcm --ros2`, serving `distro`'s peers, each of `ros2_args` passed as
+/// `--ros2-arg=...`) on the simulated arm inside `ns`; its JSON port is on the namespace's
+/// loopback ([`Netns::connect`]). Panics when it does not start.
+pub fn mcm_in(ns: &Netns, instance: &str, distro: Distro, ros2_args: &[String]) -> SimulatedMcm {
     super::machine::share();
     let binary = Path::new(env!("CARGO_BIN_EXE_mcm"));
-    let mut extra: Vec<String> = vec!["--ros2".into()];
+    let mut extra: Vec<String> = vec![
+        "--ros2".into(),
+        format!("--ros2-arg=--ros-distro={}", distro.name()),
+    ];
     extra.extend(ros2_args.iter().map(|a| format!("--ros2-arg={a}")));
     let extra: Vec<&OsStr> = extra.iter().map(OsStr::new).collect();
     SimulatedMcm::start_command(
@@ -167,13 +212,13 @@ pub enum Discovery {
     Subnet,
 }
 
-/// The virtual environment's Python ([`venv`]); `None` after saying the test is skipped when
-/// a tool is missing (a failure under `CI`); panics, with the tool's output, when making it
-/// failed.
-pub fn venv_or_skip(test: &str) -> Option<PathBuf> {
+/// The Python of `distro`'s virtual environment ([`venv`]); `None` after saying the test is
+/// skipped when a tool is missing (a failure under `CI`); panics, with the tool's output, when
+/// making it failed.
+pub fn venv_or_skip(test: &str, distro: Distro) -> Option<PathBuf> {
     // Making the venv (pip, a type-support build) loads the machine.
     super::machine::share();
-    match venv() {
+    match venv(distro) {
         Ok(py) => Some(py),
         Err(VenvError::Missing(why)) => {
             super::skip(test, &why);
@@ -261,7 +306,7 @@ fn python311() -> Result<PathBuf, String> {
         }
     }
     Err(
-        "no CPython 3.11 (python3.11, or python3 being 3.11): PyPI's ROS 2 Kilted wheels are \
+        "no CPython 3.11 (python3.11, or python3 being 3.11): PyPI's ROS 2 wheels are \
          for CPython 3.11 only (Debian 12: apt-get install python3-venv python3-dev)"
             .to_string(),
     )
@@ -304,17 +349,18 @@ fn hash_tree(path: &Path, h: &mut DefaultHasher) {
     }
 }
 
-/// The virtual environment's Python, with `tests/ros2/requirements.txt` and control_msgs
+/// The Python of `distro`'s virtual environment, with its requirements and control_msgs
 /// installed.
-pub fn venv() -> Result<PathBuf, VenvError> {
+pub fn venv(distro: Distro) -> Result<PathBuf, VenvError> {
     let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
-    let venv = tmp.join("ros2-venv");
+    let venv = tmp.join(distro.venv_name());
+    let [requirements, interfaces] = distro.files();
     std::fs::create_dir_all(&tmp)
         .map_err(|e| VenvError::Failed(format!("cannot create {}: {e}", tmp.display())))?;
     let _lock = FileLock::take(&venv.with_extension("lock")).map_err(VenvError::Failed)?;
     let venv_python = venv.join("bin").join("python");
     let mut h = DefaultHasher::new();
-    for input in INPUTS {
+    for input in distro.inputs() {
         hash_tree(&dir().join(input), &mut h);
     }
     let want = format!("{:x}", h.finish());
@@ -346,15 +392,21 @@ pub fn venv() -> Result<PathBuf, VenvError> {
     };
     run(Command::new(&venv_python)
         .args(["-m", "pip", "install", "--disable-pip-version-check", "-r"])
-        .arg(dir().join("requirements.txt")))
-    .map_err(|e| fail("pip could not install tests/ros2/requirements.txt", e))?;
+        .arg(dir().join(requirements)))
+    .map_err(|e| {
+        fail(
+            &format!("pip could not install tests/ros2/{requirements}"),
+            e,
+        )
+    })?;
     run(Command::new("bash")
         .arg(dir().join("build-interfaces.sh"))
         .arg(&venv)
-        .arg(tmp.join("ros2-interfaces-build")))
+        .arg(tmp.join(format!("{}-interfaces-build", distro.venv_name())))
+        .arg(dir().join(interfaces)))
     .map_err(|e| {
         fail(
-            "tests/ros2/build-interfaces.sh could not build control_msgs",
+            &format!("tests/ros2/build-interfaces.sh could not build tests/ros2/{interfaces}"),
             e,
         )
     })?;

@@ -11,7 +11,7 @@
 use crate::common;
 
 use common::netns::Netns;
-use common::ros2::{self, joint_values, mcm_in};
+use common::ros2::{self, Distro, joint_values, mcm_in};
 use common::{Client, six};
 use std::path::Path;
 use std::time::Duration;
@@ -43,7 +43,7 @@ fn printed_positions(out: &str) -> Vec<(String, f64, f64)> {
 #[test]
 fn ros2_examples_drive_the_simulated_arm() {
     let test = "ros2_examples_drive_the_simulated_arm";
-    let Some(py) = ros2::venv_or_skip(test) else {
+    let Some(py) = ros2::venv_or_skip(test, Distro::Kilted) else {
         return;
     };
     let Some(ns) = Netns::or_skip(test, "examples") else {
@@ -52,12 +52,13 @@ fn ros2_examples_drive_the_simulated_arm() {
     let domain = ros2::unique_domain_id();
     let d = format!("--domain-id={domain}");
     let instance = common::unique_instance("ros2ex");
-    let mcm = mcm_in(&ns, &instance, std::slice::from_ref(&d));
+    let mcm = mcm_in(&ns, &instance, Distro::Kilted, std::slice::from_ref(&d));
     // A second arm in the same domain under /left: the examples' --namespace and --instance
     // pick one of the two.
     let left = mcm_in(
         &ns,
         &common::unique_instance("ros2ex-left"),
+        Distro::Kilted,
         &[d, "--namespace=/left".into(), "--joint-prefix=left_".into()],
     );
     let mut json = Client::on(

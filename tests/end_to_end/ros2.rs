@@ -11,7 +11,7 @@ use crate::common;
 
 use common::Client;
 use common::netns::Netns;
-use common::ros2::{self, joint_values, mcm_in};
+use common::ros2::{self, Distro, joint_values, mcm_in};
 use mcm_client::launch::SimulatedMcm;
 use std::path::Path;
 use std::time::Duration;
@@ -35,13 +35,25 @@ fn expect_checks(lines: &[String], names: &[&str]) {
     }
 }
 
-/// One arm, seen by rclpy: joint states against the truth, the URDF, the services, the
-/// diagnostics, goals (shuffled joints, invalid ones, before calibration, cancel, preemption,
-/// another client's hold and control), and the streaming topic.
+/// One arm, seen by rclpy of Kilted: joint states against the truth, the URDF, the services,
+/// the diagnostics, goals (shuffled joints, invalid ones, before calibration, cancel,
+/// preemption, another client's hold and control), and the streaming topic; the feedback
+/// decoded by control_msgs 6.8.0, with its point `index`.
 #[test]
 fn rclpy_drives_the_simulated_arm() {
-    let test = "rclpy_drives_the_simulated_arm";
-    let Some(py) = ros2::venv_or_skip(test) else {
+    rclpy_of_drives_the_simulated_arm("rclpy_drives_the_simulated_arm", Distro::Kilted);
+}
+
+/// The same checks with rclpy of Jazzy (PyPI's `ros-jazzy-*` wheels) against the node started
+/// with `--ros-distro jazzy`: the feedback decoded by Jazzy's own control_msgs (5.8.0, without
+/// `index`).
+#[test]
+fn rclpy_of_jazzy_drives_the_simulated_arm() {
+    rclpy_of_drives_the_simulated_arm("rclpy_of_jazzy_drives_the_simulated_arm", Distro::Jazzy);
+}
+
+fn rclpy_of_drives_the_simulated_arm(test: &str, distro: Distro) {
+    let Some(py) = ros2::venv_or_skip(test, distro) else {
         return;
     };
     let Some(ns) = Netns::or_skip(test, "one") else {
@@ -49,7 +61,7 @@ fn rclpy_drives_the_simulated_arm() {
     };
     let domain = ros2::unique_domain_id();
     let instance = common::unique_instance("ros2");
-    let mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let mcm = mcm_in(&ns, &instance, distro, &[format!("--domain-id={domain}")]);
     let json = mcm.json.to_string();
     let ok = run_checks(&ns, &py, domain, &["single", "--json", &json]);
     expect_checks(
@@ -72,6 +84,16 @@ fn rclpy_drives_the_simulated_arm() {
             "services",
         ],
     );
+    // The client's control_msgs is the distribution's: 6.x has the feedback's point index.
+    let fjt = ok
+        .iter()
+        .find(|l| l.starts_with("ok follow_joint_trajectory"))
+        .expect("checked above");
+    let want = match distro {
+        Distro::Jazzy => "feedback_index=absent",
+        Distro::Kilted => "feedback_index=0..",
+    };
+    assert!(fjt.contains(want), "{distro:?}: want {want} in {fjt:?}");
 }
 
 /// Two arms under `/left` and `/right` on one host, driven from another host (a second
@@ -79,7 +101,7 @@ fn rclpy_drives_the_simulated_arm() {
 #[test]
 fn two_arms_from_another_host() {
     let test = "two_arms_from_another_host";
-    let Some(py) = ros2::venv_or_skip(test) else {
+    let Some(py) = ros2::venv_or_skip(test, Distro::Kilted) else {
         return;
     };
     let Some(robot) = Netns::or_skip(test, "robot") else {
@@ -97,6 +119,7 @@ fn two_arms_from_another_host() {
             mcm_in(
                 &robot,
                 &common::unique_instance(side),
+                Distro::Kilted,
                 &[
                     format!("--domain-id={domain}"),
                     format!("--namespace=/{side}"),
@@ -130,7 +153,7 @@ fn two_arms_from_another_host() {
 #[test]
 fn cyclone_dds_reads_the_joint_states() {
     let test = "cyclone_dds_reads_the_joint_states";
-    let Some(py) = ros2::venv_or_skip(test) else {
+    let Some(py) = ros2::venv_or_skip(test, Distro::Kilted) else {
         return;
     };
     let Some(ns) = Netns::or_skip(test, "cyclone") else {
@@ -138,7 +161,12 @@ fn cyclone_dds_reads_the_joint_states() {
     };
     let domain = ros2::unique_domain_id();
     let instance = common::unique_instance("cyclone");
-    let mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let mcm = mcm_in(
+        &ns,
+        &instance,
+        Distro::Kilted,
+        &[format!("--domain-id={domain}")],
+    );
     let mut json = Client::on(
         ns.connect(mcm.json)
             .expect("connect to the JSON port in the ns"),
@@ -196,7 +224,12 @@ fn the_launcher_restarts_a_node_that_dies() {
     };
     let domain = ros2::unique_domain_id();
     let instance = common::unique_instance("ros2r");
-    let mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let mcm = mcm_in(
+        &ns,
+        &instance,
+        Distro::Kilted,
+        &[format!("--domain-id={domain}")],
+    );
     let first = node_pid(&instance).expect("the node's process");
     let rt_pid = mcm.rt_pid;
     let mut json = Client::on(
@@ -231,7 +264,7 @@ fn the_launcher_restarts_a_node_that_dies() {
 #[test]
 fn a_stopped_reader_does_not_hold_up_another() {
     let test = "a_stopped_reader_does_not_hold_up_another";
-    let Some(py) = ros2::venv_or_skip(test) else {
+    let Some(py) = ros2::venv_or_skip(test, Distro::Kilted) else {
         return;
     };
     let Some(ns) = Netns::or_skip(test, "stall") else {
@@ -239,7 +272,12 @@ fn a_stopped_reader_does_not_hold_up_another() {
     };
     let domain = ros2::unique_domain_id();
     let instance = common::unique_instance("ros2s");
-    let _mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let _mcm = mcm_in(
+        &ns,
+        &instance,
+        Distro::Kilted,
+        &[format!("--domain-id={domain}")],
+    );
     let script = ros2::dir().join("reader_rate.py");
     let reader = |seconds: &str| {
         let (_, child, lines) = ros2::spawn_in(
@@ -341,7 +379,7 @@ fn stop_cycles() -> u32 {
 #[test]
 fn the_node_survives_stop_and_continue() {
     let test = "the_node_survives_stop_and_continue";
-    let Some(py) = ros2::venv_or_skip(test) else {
+    let Some(py) = ros2::venv_or_skip(test, Distro::Kilted) else {
         return;
     };
     let Some(ns) = Netns::or_skip(test, "stopcont") else {
@@ -349,7 +387,12 @@ fn the_node_survives_stop_and_continue() {
     };
     let domain = ros2::unique_domain_id();
     let instance = common::unique_instance("ros2sc");
-    let mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let mcm = mcm_in(
+        &ns,
+        &instance,
+        Distro::Kilted,
+        &[format!("--domain-id={domain}")],
+    );
     let pid = node_pid(&instance).expect("the node's process");
     let until =
         std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{instance}.done"));
@@ -398,7 +441,7 @@ fn the_node_survives_stop_and_continue() {
 #[test]
 fn a_refused_goal_leaves_the_owners_move_alone() {
     let test = "a_refused_goal_leaves_the_owners_move_alone";
-    let Some(py) = ros2::venv_or_skip(test) else {
+    let Some(py) = ros2::venv_or_skip(test, Distro::Kilted) else {
         return;
     };
     let Some(ns) = Netns::or_skip(test, "refused") else {
@@ -406,7 +449,12 @@ fn a_refused_goal_leaves_the_owners_move_alone() {
     };
     let domain = ros2::unique_domain_id();
     let instance = common::unique_instance("ros2rf");
-    let mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let mcm = mcm_in(
+        &ns,
+        &instance,
+        Distro::Kilted,
+        &[format!("--domain-id={domain}")],
+    );
     let lines = run_abuse_check(&ns, &py, domain, "refused_goal", &mcm.json.to_string(), &[]);
     expect_checks(&lines, &["refused_goal"]);
 }
@@ -439,7 +487,7 @@ fn rss_kb(pid: i32) -> u64 {
 #[test]
 fn oversize_goals_are_refused_naming_the_limit() {
     let test = "oversize_goals_are_refused_naming_the_limit";
-    let Some(py) = ros2::venv_or_skip(test) else {
+    let Some(py) = ros2::venv_or_skip(test, Distro::Kilted) else {
         return;
     };
     let Some(ns) = Netns::or_skip(test, "oversize") else {
@@ -447,7 +495,12 @@ fn oversize_goals_are_refused_naming_the_limit() {
     };
     let domain = ros2::unique_domain_id();
     let instance = common::unique_instance("ros2big");
-    let _mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let _mcm = mcm_in(
+        &ns,
+        &instance,
+        Distro::Kilted,
+        &[format!("--domain-id={domain}")],
+    );
     let pid = node_pid(&instance).expect("the node's process");
     let script = ros2::dir().join("abuse_checks.py");
     let count = big_goals();
@@ -512,7 +565,7 @@ fn burst_goals() -> u32 {
 #[test]
 fn a_burst_of_goals_is_answered() {
     let test = "a_burst_of_goals_is_answered";
-    let Some(py) = ros2::venv_or_skip(test) else {
+    let Some(py) = ros2::venv_or_skip(test, Distro::Kilted) else {
         return;
     };
     let Some(ns) = Netns::or_skip(test, "burst") else {
@@ -520,7 +573,12 @@ fn a_burst_of_goals_is_answered() {
     };
     let domain = ros2::unique_domain_id();
     let instance = common::unique_instance("ros2burst");
-    let mcm = mcm_in(&ns, &instance, &[format!("--domain-id={domain}")]);
+    let mcm = mcm_in(
+        &ns,
+        &instance,
+        Distro::Kilted,
+        &[format!("--domain-id={domain}")],
+    );
     let count = burst_goals().to_string();
     // A JSON client's `hold`s, timed before and during the burst (docs/performance.md).
     let lines = run_abuse_check(

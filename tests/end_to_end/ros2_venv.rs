@@ -12,7 +12,7 @@
 
 use crate::common;
 
-use common::ros2::{self, Discovery};
+use common::ros2::{self, Discovery, Distro};
 use std::io::{BufRead, BufReader, Read};
 use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::mpsc;
@@ -89,7 +89,10 @@ fn spawn(cmd: &mut Command, prefix: &'static str) -> (Killed, ChildStdin, mpsc::
 
 #[test]
 fn rclpy_action_and_topic_between_two_processes() {
-    let Some(py) = ros2::venv_or_skip("rclpy_action_and_topic_between_two_processes") else {
+    let Some(py) = ros2::venv_or_skip(
+        "rclpy_action_and_topic_between_two_processes",
+        Distro::Kilted,
+    ) else {
         return;
     };
     let script = ros2::dir().join("selfcheck.py");

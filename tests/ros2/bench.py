@@ -13,7 +13,8 @@ target/tmp/ros2-venv/bin/python; N a free namespace name, D a domain id 1..=101)
     ip netns add N; ip -n N link set lo up; ip -n N link set lo multicast on
     ip -n N route add 224.0.0.0/4 dev lo
     ip netns exec N target/release/mcm --instance bench1 --bind 127.0.0.1 --json-port 0 \\
-        --hmi-port 0 --http-port 0 --ros2 --ros2-arg=--domain-id=D &    # note json=ADDR
+        --hmi-port 0 --http-port 0 --ros2 --ros2-arg=--domain-id=D \\
+        --ros2-arg=--ros-distro=kilted &    # note json=ADDR
     ip netns exec N env RMW_IMPLEMENTATION=rmw_fastrtps_cpp ROS_DOMAIN_ID=D PYTHONUNBUFFERED=1 \\
         PY tests/ros2/bench.py --json ADDR --seconds 600 --goals 20
     kill %1; ip netns del N

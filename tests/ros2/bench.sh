@@ -57,7 +57,8 @@ ip -n "$ns" link set lo multicast on
 ip -n "$ns" route add 224.0.0.0/4 dev lo
 
 ip netns exec "$ns" "$mcm" --instance "$instance" --bind 127.0.0.1 --json-port 0 --hmi-port 0 \
-    --http-port 0 --ros2 --ros2-arg=--domain-id="$domain" >"$log/mcm.out" 2>&1 &
+    --http-port 0 --ros2 --ros2-arg=--domain-id="$domain" --ros2-arg=--ros-distro=kilted \
+    >"$log/mcm.out" 2>&1 &
 mcm_pid=$!
 json=
 for _ in $(seq 600); do

@@ -1,28 +1,31 @@
 #!/usr/bin/env bash
 # Generate and build the ROS 2 interface packages that PyPI lacks (control_msgs, vendored in
 # interfaces/) with the real rosidl generators and ament_cmake of the ROS 2 wheels, and install
-# them into a virtual environment made from requirements.txt:
+# them into a virtual environment made from requirements.txt (Kilted) or jazzy/requirements.txt:
 #
-#   tests/ros2/build-interfaces.sh VENV SCRATCH
+#   tests/ros2/build-interfaces.sh VENV SCRATCH [INTERFACES]
 #
 # VENV: the virtual environment (its python is CPython 3.11 with requirements.txt installed);
 # it is also the install prefix, as the wheels make it one: libraries go to VENV/lib (which the
 # wheels' bootstrap puts on LD_LIBRARY_PATH when its python starts), the ament index and CMake
 # files to VENV/share, the Python package to its site-packages.
 # SCRATCH: a directory for the build trees (emptied first, so a run starts from nothing).
+# INTERFACES: the directory of the vendored packages, the distribution's: tests/ros2/interfaces
+# (control_msgs 6.8.0, Kilted; the default) or tests/ros2/jazzy/interfaces (5.8.0, Jazzy).
 #
 # Needs cmake, make, a C and C++ compiler and Python's headers (Debian: cmake make g++
 # python3-dev).
 # Any failure stops the script with the failing tool's output and a non-zero status.
 set -euo pipefail
 
-if [ $# -ne 2 ]; then
-    echo "usage: $0 VENV SCRATCH" >&2
+if [ $# -ne 2 ] && [ $# -ne 3 ]; then
+    echo "usage: $0 VENV SCRATCH [INTERFACES]" >&2
     exit 2
 fi
 venv=$(realpath "$1")
 scratch=$2
 here=$(cd "$(dirname "$0")" && pwd)
+interfaces=$(realpath "${3:-$here/interfaces}")
 py="$venv/bin/python"
 
 fail() {
@@ -59,7 +62,7 @@ for package in control_msgs; do
             fail "$package: '$*' failed (its output is above)"
         fi
     }
-    step cmake -S "$here/interfaces/$package" -B "$build" \
+    step cmake -S "$interfaces/$package" -B "$build" \
         -DCMAKE_BUILD_TYPE=Release \
         -DCMAKE_PREFIX_PATH="$venv" \
         -DCMAKE_INSTALL_PREFIX="$venv" \

@@ -185,6 +185,22 @@ class Arm:
         expect(handle.accepted, "the goal was rejected (the node accepts every goal and ends bad ones with a code)")
         return handle
 
+    def wait_feedback(self, handle, feedback, n, what):
+        """Wait for more than `n` messages in `feedback`, the running goal `handle`'s; a failure
+        says how many came and how the goal ended, if it did."""
+        end = time.monotonic() + WAIT
+        while len(feedback) <= n:
+            if time.monotonic() > end:
+                r = handle.get_result_async()
+                try:
+                    wait_for(r.done, "the goal's result", timeout=5)
+                    how = f"the goal ended: status {r.result().status} {r.result().result.error_string!r}"
+                except Failure:
+                    how = "the goal has no result within 5 s more"
+                raise Failure(f"{what}: {len(feedback)} feedback messages within {WAIT} s, wanted more "
+                              f"than {n}; {how}")
+            time.sleep(0.01)
+
     def result(self, handle, timeout=WAIT):
         r = wait_future(handle.get_result_async(), "goal result", timeout)
         return r.status, r.result
@@ -316,6 +332,7 @@ def check_single(args):
     final = max(abs(q_true[i] - target[i]) for i in range(6))
     expect(final < 0.01, f"final truth {q_true} vs target {target}: {final} rad")
     fb_times = [f.desired.time_from_start.sec + f.desired.time_from_start.nanosec * 1e-9 for _, f in feedback]
+    expect(fb_times, "no feedback of the goal came (none this rclpy's control_msgs decodes)")
     span = max(fb_times) - min(fb_times)
     rate = (len(fb_times) - 1) / span if span > 0 else 0
     expect(rate >= 10, f"feedback at {rate:.1f} per second of trajectory time")
@@ -323,15 +340,29 @@ def check_single(args):
     # the feedback and the `sim` reply (at most a few cycles at up to ~0.5 rad/s).
     worst = max(errors) if errors else float("nan")
     expect(errors and worst < 0.05, f"truth vs desired during the goal: worst {worst} rad over {len(errors)} samples")
+    # Every feedback decoded whole, up to the goal's end: nothing multi-DOF (the node sends
+    # none; the feedback of another distribution's layout decodes as garbage there, or not at all).
+    last = pts[-1][0]
+    expect(max(fb_times) > last - 0.2, f"feedback up to the goal's end at {last} s: the last at {max(fb_times):.3f} s")
+    garbled = [f for _, f in feedback if f.multi_dof_joint_names or f.multi_dof_desired.transforms
+               or f.multi_dof_actual.transforms or f.multi_dof_error.transforms]
+    expect(not garbled, f"{len(garbled)} of {len(feedback)} feedback messages have multi-DOF entries: {garbled[:1]}")
+    # control_msgs 6.x (Kilted) has the point being executed, `index`: from the first of the
+    # goal's 3 points past the middle one, never going back; 5.x (Jazzy) has no such field.
+    indices = [f.index for _, f in feedback] if hasattr(feedback[0][1], "index") else None
+    if indices is not None:
+        expect(indices == sorted(indices) and indices[0] == 0 and 1 <= indices[-1] <= len(pts) - 1,
+               f"feedback index from 0 to 1 or {len(pts) - 1}, never going back: {indices}")
     ok("follow_joint_trajectory", final_error_rad=f"{final:.2e}", feedback_per_s=f"{rate:.0f}",
-       worst_tracking_rad=f"{worst:.4f}", samples=len(errors))
+       worst_tracking_rad=f"{worst:.4f}", samples=len(errors),
+       feedback_index="absent" if indices is None else f"{indices[0]}..{indices[-1]}")
 
     # Cancel: a controlled stop, then HOLD.
     q0 = arm.position()
     far = [q0[0] - 1.0] + q0[1:]
     feedback.clear()
     h = arm.send(arm.goal([(4.0, far, [0.0] * 6)]), on_feedback)
-    wait_for(lambda: len(feedback) > 20, "feedback before the cancel")
+    arm.wait_feedback(h, feedback, 20, "feedback before the cancel")
     wait_future(h.cancel_goal_async(), "cancel response")
     status, res = arm.result(h)
     expect(status == GoalStatus.STATUS_CANCELED, f"canceled goal: status {status} {res.error_string!r}")
@@ -347,7 +378,7 @@ def check_single(args):
     b_target = [q0[0] + 0.2, q0[1] + 0.2] + q0[2:]
     feedback.clear()
     ha = arm.send(arm.goal([(3.0, a_target, [0.0] * 6)]), on_feedback)
-    wait_for(lambda: len(feedback) > 30, "the first goal under way")
+    arm.wait_feedback(ha, feedback, 30, "the first goal under way")
     samples = []
     stop_sampling = threading.Event()
 
@@ -386,7 +417,7 @@ def check_single(args):
     q0 = arm.position()
     feedback.clear()
     h = arm.send(arm.goal([(4.0, [q0[0] + 1.0] + q0[1:], [0.0] * 6)]), on_feedback)
-    wait_for(lambda: len(feedback) > 20, "feedback before the other client's hold")
+    arm.wait_feedback(h, feedback, 20, "feedback before the other client's hold")
     expect(other.request("hold").get("operating_mode") == "HOLD", "hold from the JSON client")
     status, res = arm.result(h)
     expect(status == GoalStatus.STATUS_ABORTED, f"goal after another client's hold: {status} {res.error_string!r}")
@@ -422,7 +453,7 @@ def check_single(args):
     q0 = arm.position()
     feedback.clear()
     h = arm.send(arm.goal([(4.0, [q0[0] + 1.0] + q0[1:], [0.0] * 6)]), on_feedback)
-    wait_for(lambda: len(feedback) > 20, "feedback before the emergency stop")
+    arm.wait_feedback(h, feedback, 20, "feedback before the emergency stop")
     r = other.request("sim", emergency_stop=True)
     expect(r.get("emergency_stop") is True, f"sim emergency_stop: {r}")
     status, res = arm.result(h)
