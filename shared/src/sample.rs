@@ -293,6 +293,13 @@ impl Default for StateSample {
     }
 }
 
+impl StateSample {
+    /// The TCP's state, when the sample has one ([`STATE_CARTESIAN`]: every axis calibrated).
+    pub fn tcp_state(&self) -> Option<&TcpState> {
+        (self.flags & STATE_CARTESIAN != 0).then_some(&self.cartesian)
+    }
+}
+
 /// One block of replies, the value of a reply key of the state blackboard.
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend)]
 #[repr(C)]

@@ -10,7 +10,7 @@ This module needs only the standard library.
 """
 
 import ctypes
-from typing import Dict, Tuple, Type
+from typing import Dict, Optional, Tuple, Type
 
 NUM_AXES = 6
 #: Arguments in one command sample.
@@ -191,6 +191,10 @@ class StateSample(ctypes.Structure):
         ("bus", BusCounters),
         ("cartesian", TcpState),
     ]
+
+    def tcp_state(self) -> Optional[TcpState]:
+        """The TCP's state, or ``None`` until every axis is calibrated (``STATE_CARTESIAN``)."""
+        return self.cartesian if self.flags & STATE_CARTESIAN else None
 
     @staticmethod
     def type_name() -> str:
