@@ -3,9 +3,9 @@
 //! allocates.
 
 use mcm_client::mcm_shared::sample::{
-    BusCounters, CycleTiming, ErrorRecord, LatencyFigures, StateSample,
+    BusCounters, CycleTiming, ErrorRecord, LatencyFigures, StateSample, TcpState,
 };
-use mcm_client::tcp::{Info, MoveAllResult, Status};
+use mcm_client::tcp::{CartesianState, Info, MoveAllResult, Status};
 use std::ffi::c_char;
 
 /// Axes of the arm (every per-axis array has this length; index 0 is axis 1).
@@ -25,6 +25,9 @@ pub const MCM_STATE_NOT_REALTIME: u32 = 1 << 4;
 pub const MCM_STATE_SIM_ESTOP: u32 = 1 << 5;
 /// `mcm_state_t.flags`: the MCM is shutting down (every command but `status` is refused).
 pub const MCM_STATE_SHUTTING_DOWN: u32 = 1 << 6;
+/// `mcm_state_t.flags`: `cartesian` holds the TCP's state (every axis is calibrated); zeros
+/// when clear.
+pub const MCM_STATE_CARTESIAN: u32 = 1 << 7;
 /// `mcm_state_t.axis_flags[i]`: the axis is calibrated.
 pub const MCM_AXIS_CALIBRATED: u32 = 1;
 /// `mcm_state_t.axis_flags[i]`: the drive answers on the bus.
@@ -112,6 +115,21 @@ pub struct mcm_error_record_t {
     pub values: [f64; 4],
 }
 
+/// The TCP's pose and velocity in the base frame (docs/cartesian.md), from the same axis
+/// values as the state or status it comes with.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct mcm_tcp_state_t {
+    /// The TCP's origin [m].
+    pub position: [f64; 3],
+    /// The TCP frame's orientation, a unit quaternion [x, y, z, w] (w >= 0).
+    pub orientation: [f64; 4],
+    /// [m/s]
+    pub linear_velocity: [f64; 3],
+    /// [deg/s]
+    pub angular_velocity: [f64; 3],
+}
+
 /// The state of one cycle, as the real-time core publishes it (the shared-memory
 /// `StateSample`, field for field; units: deg, deg/s, deg/s^2, A, ns).
 #[repr(C)]
@@ -159,6 +177,8 @@ pub struct mcm_state_t {
     pub owner_client_id: u64,
     /// The bus's and the CANopen master's error counters.
     pub bus: mcm_bus_counters_t,
+    /// The TCP's state, when `flags` has `MCM_STATE_CARTESIAN`.
+    pub cartesian: mcm_tcp_state_t,
 }
 
 fn latency(l: &LatencyFigures) -> mcm_latency_t {
@@ -191,6 +211,26 @@ fn bus_counters(b: &BusCounters) -> mcm_bus_counters_t {
         frames_dropped: b.frames_dropped,
         events_dropped: b.events_dropped,
         bus_errors: b.bus_errors,
+    }
+}
+
+fn tcp_state(t: &TcpState) -> mcm_tcp_state_t {
+    mcm_tcp_state_t {
+        position: t.position,
+        orientation: t.orientation,
+        linear_velocity: t.linear_velocity,
+        angular_velocity: t.angular_velocity,
+    }
+}
+
+impl From<&CartesianState> for mcm_tcp_state_t {
+    fn from(t: &CartesianState) -> mcm_tcp_state_t {
+        mcm_tcp_state_t {
+            position: t.position,
+            orientation: t.orientation,
+            linear_velocity: t.linear_velocity,
+            angular_velocity: t.angular_velocity,
+        }
     }
 }
 
@@ -231,6 +271,7 @@ impl From<&StateSample> for mcm_state_t {
             reply_head: s.reply_head,
             owner_client_id: s.owner_client_id,
             bus: bus_counters(&s.bus),
+            cartesian: tcp_state(&s.cartesian),
         }
     }
 }
@@ -252,6 +293,10 @@ pub struct mcm_status_t {
     pub acceleration: [f64; MCM_NUM_AXES],
     /// [A]
     pub current: [f64; MCM_NUM_AXES],
+    /// `cartesian` is set (every axis is calibrated); false: it is zero.
+    pub has_cartesian: bool,
+    /// The TCP's state (`cartesian_state`).
+    pub cartesian: mcm_tcp_state_t,
     /// The fields below are set (by `mcm_tcp_status_detail`); false: they are zero.
     pub has_detail: bool,
     /// Cycle counter.
@@ -280,6 +325,10 @@ impl From<&Status> for mcm_status_t {
             current: a.current,
             ..Default::default()
         };
+        if let Some(c) = &s.cartesian_state {
+            out.has_cartesian = true;
+            out.cartesian = c.into();
+        }
         if let Some(d) = &s.detail {
             out.has_detail = true;
             out.cycle = d.cycle;

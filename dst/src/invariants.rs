@@ -50,6 +50,9 @@
 //!   whose drive is not online (the master lost it: its measured angle stands); not judged for an
 //!   axis calibrated while an obstacle or a push acted during the calibration (a stop-based
 //!   calibration cannot tell an obstacle or a hand from its stop) until it is calibrated again;
+//! - with every axis calibrated, the TCP's state (`cartesian_state`) is the forward kinematics
+//!   of the axis positions the same sample reports, and its velocity the Jacobian times the
+//!   axis velocities it reports (1e-9 m, 1e-9 rad, [`tcp`]); absent before;
 //! - no allocation in the cycle's work, and its work within `cycle.work_budget_us` of CPU time
 //!   (measured on the thread's CPU clock, which a preemption does not advance; it includes the
 //!   simulated drives' and physics' share, so the controller's own work is less; ten times
@@ -69,6 +72,8 @@ use mcm_shared::sample::{
 use mcm_sim::SimBus;
 use mcm_sim::drive::SYNC_LOSS_PERIODS;
 use std::collections::{HashMap, VecDeque};
+
+pub mod tcp;
 
 /// How far the stops' spring may give [deg]. Not derived at run time; the P-Rob2's figures
 /// (`deploy/prob2.toml`, the stops' `sim.stop_stiffness_nm_rad` 20 000 Nm/rad): pressed by
@@ -227,6 +232,8 @@ pub struct Checker {
     /// responsible for it [deg] (0: never beyond): how close the run came to breaking
     /// [`LIMIT_OVERRUN_DEG`].
     pub max_overrun_deg: f64,
+    /// The kinematics the TCP's state is checked against.
+    tcp: tcp::TcpCheck,
 }
 
 impl Checker {
@@ -268,6 +275,7 @@ impl Checker {
             modes_reached: [0; Mode::ALL.len()],
             answers: [0; 3],
             max_overrun_deg: 0.0,
+            tcp: tcp::TcpCheck::new(cfg),
         }
     }
 
@@ -346,6 +354,7 @@ impl Checker {
             return fail(format!("unknown mode {}", s.mode));
         };
         self.modes_reached[mode as usize] += 1;
+        self.tcp.check(s).or_else(&fail)?;
         self.transition(mode, replies, served).or_else(&fail)?;
         self.positions(s, mode, faults).or_else(&fail)?;
         self.standstill(k, s, mode, faults).or_else(&fail)?;
@@ -874,6 +883,17 @@ fn non_finite(s: &StateSample) -> Option<String> {
     for (name, a) in arrays {
         if let Some(i) = a.iter().position(|x| !x.is_finite()) {
             return Some(format!("{name}[axis {}] = {}", i + 1, a[i]));
+        }
+    }
+    let c = &s.cartesian;
+    for (name, a) in [
+        ("cartesian.position", &c.position[..]),
+        ("cartesian.orientation", &c.orientation[..]),
+        ("cartesian.linear_velocity", &c.linear_velocity[..]),
+        ("cartesian.angular_velocity", &c.angular_velocity[..]),
+    ] {
+        if let Some(i) = a.iter().position(|x| !x.is_finite()) {
+            return Some(format!("{name}[{i}] = {}", a[i]));
         }
     }
     let v = &s.last_error.values;

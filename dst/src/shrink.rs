@@ -18,7 +18,7 @@ pub const LATER_CYCLES: u64 = 200;
 /// The invariant a violation's message is about (the words that name it), so that a shrunk
 /// run is held to the same failure, not any failure.
 pub fn invariant_of(message: &str) -> &'static str {
-    const INVARIANTS: [&str; 20] = [
+    const INVARIANTS: [&str; 21] = [
         // A refusal that says what was not so (first: the reason it quotes may contain the
         // words of another invariant, "flagged calibrated", "beyond the software limits").
         "refused as not allowed in",
@@ -32,6 +32,7 @@ pub fn invariant_of(message: &str) -> &'static str {
         "answered OK",
         "flagged calibrated",
         "travelled since the trip",
+        "cartesian_state",
         "its stop should have ended",
         "allocated",
         "CPU time",

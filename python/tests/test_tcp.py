@@ -53,6 +53,18 @@ class TcpClient(unittest.TestCase):
         assert s.detail is not None
         self.assertEqual((s.detail.cycle, s.detail.all_calibrated, s.detail.pvt_queue["queued"]), (7, True, 2))
         self.assertEqual(self.fake.received[0]["arguments"], {"detail": True})
+        self.assertIsNone(s.cartesian_state)
+
+    def test_the_cartesian_state_is_typed(self) -> None:
+        tcp = {"position": [0.1, 0.0, 0.9], "orientation": [0.0, 0.0, 0.0, 1.0],
+               "linear_velocity": [0.0, 0.02, 0.0], "angular_velocity": [0.0, 0.0, 15.0]}
+        c = self.connect(lambda cmd: [dict(status("HOLD"), cartesian_state=tcp)])
+        s = c.status()
+        assert s.cartesian_state is not None
+        self.assertEqual(s.cartesian_state.position, [0.1, 0.0, 0.9])
+        self.assertEqual(s.cartesian_state.orientation, [0.0, 0.0, 0.0, 1.0])
+        self.assertEqual(s.cartesian_state.linear_velocity, [0.0, 0.02, 0.0])
+        self.assertEqual(s.cartesian_state.angular_velocity, [0.0, 0.0, 15.0])
 
     def test_an_error_result_raises_with_command_message_and_code(self) -> None:
         msg = "move_all refused: a motion is in progress (0.845 s left); wait until it ends, or send `hold` to stop it"

@@ -11,6 +11,9 @@
 //!   system calls, so this is an upper bound of the controller's share.
 //! - `dynamics/gravity_torques`, `dynamics/forward_dynamics`: the arm model's per-call
 //!   functions (RNEA; mass matrix + RNEA + Cholesky solve).
+//! - `cartesian/compose`: the TCP's state the cycle adds to the sample once calibrated
+//!   ([`Cartesian::compose`]: forward kinematics, Jacobian times the axis velocities, the
+//!   conversions), for a moving configuration of the P-Rob2.
 //! - `canopen/master_hold`: the CANopen master alone, `handle_frame` for one cycle's received
 //!   frames plus `cycle` (RPDOs, SYNC), replaying frames recorded from the simulated drives in
 //!   HOLD.
@@ -21,10 +24,11 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use mcm_bus::{Bus, Frame};
 use mcm_dynamics::ArmModel;
 use mcm_rt_core::canopen::{DriveRequest, FrameBuf, Master};
+use mcm_rt_core::cartesian::Cartesian;
 use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
-use mcm_shared::sample::CommandSample;
+use mcm_shared::sample::{CommandSample, STATE_ALL_CALIBRATED, STATE_CARTESIAN, StateSample};
 use mcm_sim::SimBus;
 use std::hint::black_box;
 use std::time::Duration;
@@ -156,11 +160,25 @@ fn master_alone(c: &mut Criterion) {
     );
 }
 
+fn cartesian(c: &mut Criterion) {
+    let cartesian = Cartesian::from_config(&RobotConfig::prob2_default()).unwrap();
+    let mut s = StateSample {
+        flags: STATE_ALL_CALIBRATED,
+        position: [17.0, 68.0, -40.0, 23.0, 51.0, -11.0],
+        velocity: [30.0, -17.0, 45.0, -57.0, 11.0, 86.0],
+        ..StateSample::default()
+    };
+    c.bench_function("cartesian/compose", |b| {
+        b.iter(|| cartesian.compose(black_box(&mut s)))
+    });
+    assert_ne!(s.flags & STATE_CARTESIAN, 0, "composed");
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default()
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(3));
-    targets = cycle_in_hold, dynamics, master_alone
+    targets = cycle_in_hold, dynamics, cartesian, master_alone
 }
 criterion_main!(benches);

@@ -21,6 +21,7 @@
 //! ```
 
 use crate::canopen::{FrameBuf, Master, MasterSetupError};
+use crate::cartesian::{Cartesian, CartesianSetupError};
 use crate::controller::{Controller, CycleView};
 use mcm_bus::{Bus, Frame};
 use mcm_shared::config::RobotConfig;
@@ -29,6 +30,15 @@ use mcm_shared::sample::{CommandSample, StateSample};
 /// Frames read per cycle at most; more stay queued for the next cycle.
 pub const RX_PER_CYCLE: usize = 128;
 pub use mcm_shared::service::COMMANDS_PER_CYCLE;
+
+/// Why the cycle cannot run with this configuration.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CycleSetupError {
+    #[error(transparent)]
+    Master(#[from] MasterSetupError),
+    #[error(transparent)]
+    Cartesian(#[from] CartesianSetupError),
+}
 
 /// The controller and its bus.
 pub struct Cycle<B: Bus> {
@@ -41,12 +51,16 @@ pub struct Cycle<B: Bus> {
     bus_errors: u64,
     /// The published state, composed after each step (kept for its reply ring).
     state: StateSample,
+    /// The kinematics the state's TCP is composed with.
+    cartesian: Cartesian,
 }
 
 impl<B: Bus> Cycle<B> {
-    /// Build the CANopen master (which checks the bus load) and the controller over `bus`.
-    pub fn new(cfg: &RobotConfig, bus: B) -> Result<Self, MasterSetupError> {
+    /// Build the CANopen master (which checks the bus load), the controller over `bus` and the
+    /// kinematics of the state's TCP (which refuse an arm they cannot handle).
+    pub fn new(cfg: &RobotConfig, bus: B) -> Result<Self, CycleSetupError> {
         let master = Master::new(cfg)?;
+        let cartesian = Cartesian::from_config(cfg)?;
         Ok(Self {
             controller: Controller::new(cfg, master),
             bus,
@@ -55,6 +69,7 @@ impl<B: Bus> Cycle<B> {
             tx: FrameBuf::new(),
             bus_errors: 0,
             state: StateSample::default(),
+            cartesian,
         })
     }
 
@@ -73,9 +88,16 @@ impl<B: Bus> Cycle<B> {
         self.controller.view().replies.replies()
     }
 
-    /// The controller's view of the last step and the state sample to compose from it.
-    pub fn publish_parts(&mut self) -> (&CycleView, &mut StateSample) {
-        (self.controller.view(), &mut self.state)
+    /// The controller's view of the last step, the state sample to compose from it and the
+    /// kinematics of its TCP.
+    pub fn publish_parts(&mut self) -> (&CycleView, &mut StateSample, &Cartesian) {
+        (self.controller.view(), &mut self.state, &self.cartesian)
+    }
+
+    /// The kinematics of the state's TCP, to set the active tool's TCP
+    /// ([`Cartesian::set_tcp`]) between cycles.
+    pub fn cartesian_mut(&mut self) -> &mut Cartesian {
+        &mut self.cartesian
     }
 
     pub fn bus_mut(&mut self) -> &mut B {

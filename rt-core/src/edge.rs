@@ -152,7 +152,7 @@ impl<B: Bus> Edge<B> {
         );
         self.k += 1;
         let last_command = commands.last().map_or(0, |c| c.kind);
-        let (view, s) = self.cycle.publish_parts();
+        let (view, s, _) = self.cycle.publish_parts();
         let first_reply = crate::publish::first_reply_seq(s, view);
         self.ipc
             .publish_replies(first_reply, s.seq, view.replies.replies());

@@ -10,6 +10,7 @@
 
 pub mod calibration;
 pub mod canopen;
+pub mod cartesian;
 pub mod cli;
 pub mod clock;
 pub mod controller;

@@ -2,6 +2,9 @@
 //! the cycle (SI units, [`CycleView`]), the simulation's truth (`None` with real drives) and
 //! the cycle's timing ([`CycleClock`]). Degrees are produced here, and only here, for the state.
 //!
+//! The TCP's state is composed last, from the axis values just written
+//! ([`crate::cartesian::Cartesian::compose`]).
+//!
 //! Runs inside the cycle: writes into a sample the caller owns, no allocation. The sample persists
 //! from cycle to cycle: `reply_head` counts every reply since start (the replies of this cycle are
 //! numbered up to it and published by the edge, [`crate::ipc::RtIpc::publish_replies`]), and the
@@ -9,6 +12,7 @@
 //! cycle's wall clock.
 //!
 //! ```
+//! use mcm_rt_core::cartesian::Cartesian;
 //! use mcm_rt_core::controller::CycleView;
 //! use mcm_rt_core::publish::{CycleClock, compose};
 //! use mcm_shared::mode::Mode;
@@ -16,12 +20,15 @@
 //! let mut view = CycleView { cycle: 3, mode: Mode::Hold, ..CycleView::default() };
 //! view.axes[1].measured_position = core::f64::consts::FRAC_PI_2;
 //! let mut s = StateSample::default();
-//! compose(&mut s, &view, None, &CycleClock::virtual_time(15_000_000, 5_000_000));
+//! let cartesian = Cartesian::from_config(&mcm_shared::config::RobotConfig::prob2_default())?;
+//! compose(&mut s, &view, None, &CycleClock::virtual_time(15_000_000, 5_000_000), &cartesian);
 //! assert_eq!((s.seq, s.t_ns, s.mode), (3, 15_000_000, Mode::Hold.to_wire()));
 //! assert!((s.measured_position[1] - 90.0).abs() < 1e-12);
 //! assert_eq!(s.flags & STATE_SIMULATED, 0);
+//! # Ok::<(), mcm_rt_core::cartesian::CartesianSetupError>(())
 //! ```
 
+use crate::cartesian::Cartesian;
 use crate::controller::CycleView;
 use mcm_shared::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, CycleTiming,
@@ -64,8 +71,15 @@ impl CycleClock {
 
 /// Compose `s` for this cycle from the controller's `view`, the simulation's `truth` (yielded
 /// by the simulator's edge, [`crate::sim_edge`]; `None` for real drives: the truth fields
-/// zero, `STATE_SIMULATED` and `STATE_SIM_ESTOP` clear) and the cycle's `clock`.
-pub fn compose(s: &mut StateSample, view: &CycleView, truth: Option<SimTruth>, clock: &CycleClock) {
+/// zero, `STATE_SIMULATED` and `STATE_SIM_ESTOP` clear), the cycle's `clock`, and the TCP's
+/// state from the axis values with `cartesian`.
+pub fn compose(
+    s: &mut StateSample,
+    view: &CycleView,
+    truth: Option<SimTruth>,
+    clock: &CycleClock,
+    cartesian: &Cartesian,
+) {
     s.seq = view.cycle;
     s.t_ns = clock.t_ns;
     s.mode = view.mode.to_wire();
@@ -108,6 +122,7 @@ pub fn compose(s: &mut StateSample, view: &CycleView, truth: Option<SimTruth>, c
         s.last_error.unix_ns = clock.unix_ns;
     }
     s.reply_head += view.replies.dropped() + view.replies.replies().len() as u64;
+    cartesian.compose(s);
 }
 
 /// The sequence number of the first of this cycle's replies, once [`compose`] counted them.

@@ -62,7 +62,7 @@ pub struct RunOptions {
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
     #[error("{0}")]
-    MasterSetup(#[from] crate::canopen::MasterSetupError),
+    Setup(#[from] crate::cycle::CycleSetupError),
     #[error("{0}")]
     Ipc(#[from] IpcSetupError),
     #[error(
@@ -280,8 +280,8 @@ pub fn run_cycle<B: Bus>(
             None
         }
     };
-    let (view, state) = cycle.publish_parts();
-    publish::compose(state, view, truth, clock);
+    let (view, state, cartesian) = cycle.publish_parts();
+    publish::compose(state, view, truth, clock, cartesian);
 }
 
 /// Run the edge's cycles on absolute deadlines until the controlled stop that the first SIGINT

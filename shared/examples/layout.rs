@@ -11,7 +11,7 @@ use core::mem::{align_of, offset_of, size_of};
 use iceoryx2::prelude::ZeroCopySend;
 use mcm_shared::sample::{
     BusCounters, CommandSample, CycleTiming, ErrorRecord, LatencyFigures, Reply, ReplyBlock,
-    StateSample,
+    StateSample, TcpState,
 };
 
 /// One struct's layout: its name, the iceoryx2 type name (`None` for a struct that is only
@@ -85,6 +85,11 @@ fn layouts() -> Vec<Layout> {
             [bad_frames, frames_dropped, events_dropped, bus_errors]
         ),
         layout!(
+            TcpState,
+            None,
+            [position, orientation, linear_velocity, angular_velocity]
+        ),
+        layout!(
             StateSample,
             Some(type_name::<StateSample>()),
             [
@@ -110,7 +115,8 @@ fn layouts() -> Vec<Layout> {
                 last_error,
                 reply_head,
                 owner_client_id,
-                bus
+                bus,
+                cartesian
             ]
         ),
         layout!(ReplyBlock, Some(type_name::<ReplyBlock>()), [replies]),
@@ -197,6 +203,7 @@ pub fn layout_json() -> String {
         ("STATE_NOT_REALTIME", u64::from(s::STATE_NOT_REALTIME)),
         ("STATE_SIM_ESTOP", u64::from(s::STATE_SIM_ESTOP)),
         ("STATE_SHUTTING_DOWN", u64::from(s::STATE_SHUTTING_DOWN)),
+        ("STATE_CARTESIAN", u64::from(s::STATE_CARTESIAN)),
         ("AXIS_CALIBRATED", u64::from(s::AXIS_CALIBRATED)),
         ("AXIS_ONLINE", u64::from(s::AXIS_ONLINE)),
         ("AXIS_ENABLED", u64::from(s::AXIS_ENABLED)),

@@ -58,6 +58,9 @@ pub const STATE_SIM_ESTOP: u32 = 1 << 5;
 /// `StateSample::flags`: the MCM is shutting down (stopping the arm, then disabling the drives);
 /// every command but `status` is refused with `shutting_down`.
 pub const STATE_SHUTTING_DOWN: u32 = 1 << 6;
+/// `StateSample::flags`: `cartesian` holds the TCP's state (every axis is calibrated); when
+/// clear, `cartesian` is all zeros and means nothing.
+pub const STATE_CARTESIAN: u32 = 1 << 7;
 
 /// `StateSample::axis_flags`: the axis is calibrated.
 pub const AXIS_CALIBRATED: u32 = 1;
@@ -190,10 +193,26 @@ pub struct BusCounters {
     pub bus_errors: u64,
 }
 
+/// The TCP's pose and velocity in the base frame, from the forward kinematics and the Jacobian
+/// of the sample's own `position` and `velocity` (`docs/cartesian.md`). Valid when
+/// [`STATE_CARTESIAN`] is set.
+#[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+pub struct TcpState {
+    /// The TCP's origin [m].
+    pub position: [f64; 3],
+    /// The TCP frame's orientation, a unit quaternion `[x, y, z, w]` with `w >= 0`.
+    pub orientation: [f64; 4],
+    /// The velocity of the TCP's origin [m/s].
+    pub linear_velocity: [f64; 3],
+    /// The TCP frame's angular velocity [deg/s].
+    pub angular_velocity: [f64; 3],
+}
+
 /// The state of the arm and of the controller, published once per cycle.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("mcm.StateSample.v5")]
+#[type_name("mcm.StateSample.v6")]
 pub struct StateSample {
     /// Cycle counter (increments by one every cycle).
     pub seq: u64,
@@ -239,6 +258,8 @@ pub struct StateSample {
     pub owner_client_id: u64,
     /// The bus's and the CANopen master's error counters.
     pub bus: BusCounters,
+    /// The TCP's state, when `flags` has [`STATE_CARTESIAN`].
+    pub cartesian: TcpState,
 }
 
 impl Default for StateSample {
@@ -267,7 +288,15 @@ impl Default for StateSample {
             reply_head: 0,
             owner_client_id: 0,
             bus: BusCounters::default(),
+            cartesian: TcpState::default(),
         }
+    }
+}
+
+impl StateSample {
+    /// The TCP's state, when the sample has one ([`STATE_CARTESIAN`]: every axis calibrated).
+    pub fn tcp_state(&self) -> Option<&TcpState> {
+        (self.flags & STATE_CARTESIAN != 0).then_some(&self.cartesian)
     }
 }
 

@@ -53,6 +53,10 @@
 // `mcm_state_t.flags`: the MCM is shutting down (every command but `status` is refused).
 #define MCM_STATE_SHUTTING_DOWN (1 << 6)
 
+// `mcm_state_t.flags`: `cartesian` holds the TCP's state (every axis is calibrated); zeros
+// when clear.
+#define MCM_STATE_CARTESIAN (1 << 7)
+
 // `mcm_state_t.axis_flags[i]`: the axis is calibrated.
 #define MCM_AXIS_CALIBRATED 1
 
@@ -235,6 +239,19 @@ typedef struct mcm_shm_client_t mcm_shm_client_t;
 // A connection to the MCM's JSON port (opaque; `mcm_tcp_connect`, `mcm_tcp_close`).
 typedef struct mcm_tcp_client_t mcm_tcp_client_t;
 
+// The TCP's pose and velocity in the base frame (docs/cartesian.md), from the same axis
+// values as the state or status it comes with.
+typedef struct mcm_tcp_state_t {
+  // The TCP's origin [m].
+  double position[3];
+  // The TCP frame's orientation, a unit quaternion [x, y, z, w] (w >= 0).
+  double orientation[4];
+  // [m/s]
+  double linear_velocity[3];
+  // [deg/s]
+  double angular_velocity[3];
+} mcm_tcp_state_t;
+
 // The answer to `status` over TCP (and to `hold`, `release`, `pvt`, `torque_control`,
 // `velocity_control`; the status events of a torque or velocity session).
 typedef struct mcm_status_t {
@@ -250,6 +267,10 @@ typedef struct mcm_status_t {
   double acceleration[MCM_NUM_AXES];
   // [A]
   double current[MCM_NUM_AXES];
+  // `cartesian` is set (every axis is calibrated); false: it is zero.
+  bool has_cartesian;
+  // The TCP's state (`cartesian_state`).
+  struct mcm_tcp_state_t cartesian;
   // The fields below are set (by `mcm_tcp_status_detail`); false: they are zero.
   bool has_detail;
   // Cycle counter.
@@ -383,6 +404,8 @@ typedef struct mcm_state_t {
   uint64_t owner_client_id;
   // The bus's and the CANopen master's error counters.
   struct mcm_bus_counters_t bus;
+  // The TCP's state, when `flags` has `MCM_STATE_CARTESIAN`.
+  struct mcm_tcp_state_t cartesian;
 } mcm_state_t;
 
 // A `wait_until` condition over shared memory: nonzero when the state shows what is waited

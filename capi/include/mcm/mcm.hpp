@@ -35,6 +35,7 @@ namespace mcm {
 
 using State = mcm_state_t;
 using Status = mcm_status_t;
+using TcpState = mcm_tcp_state_t;
 using Info = mcm_info_t;
 using ShmInfo = mcm_shm_info_t;
 using MoveAllResult = mcm_move_all_result_t;

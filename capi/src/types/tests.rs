@@ -46,6 +46,7 @@ fn flags_and_modes_are_the_contracts() {
         (MCM_STATE_NOT_REALTIME, c::STATE_NOT_REALTIME),
         (MCM_STATE_SIM_ESTOP, c::STATE_SIM_ESTOP),
         (MCM_STATE_SHUTTING_DOWN, c::STATE_SHUTTING_DOWN),
+        (MCM_STATE_CARTESIAN, c::STATE_CARTESIAN),
         (MCM_AXIS_CALIBRATED, c::AXIS_CALIBRATED),
         (MCM_AXIS_ONLINE, c::AXIS_ONLINE),
         (MCM_AXIS_ENABLED, c::AXIS_ENABLED),
@@ -76,4 +77,28 @@ fn strings_are_cut_to_fit_and_terminated() {
     let mut buf = [1 as c_char; 4];
     fill(&mut buf, "P-Rob2");
     assert_eq!(buf, [b'P' as c_char, b'-' as c_char, b'R' as c_char, 0]);
+}
+
+#[test]
+fn the_status_carries_the_tcp_once_calibrated() {
+    use mcm_client::mcm_shared::sample::{STATE_ALL_CALIBRATED, STATE_CARTESIAN, TcpState};
+    let tcp = TcpState {
+        position: [0.1, 0.2, 0.9],
+        orientation: [0.0, 0.0, 0.6, 0.8],
+        linear_velocity: [0.01, 0.0, 0.0],
+        angular_velocity: [0.0, 0.0, 5.0],
+    };
+    let mut s = StateSample {
+        cartesian: tcp,
+        ..StateSample::default()
+    };
+    let read = |s: &StateSample| mcm_status_t::from(&Status::from_state(s, false).unwrap());
+    let before = read(&s);
+    assert!(!before.has_cartesian);
+    assert_eq!(before.cartesian, mcm_tcp_state_t::default());
+    s.flags = STATE_ALL_CALIBRATED | STATE_CARTESIAN;
+    let after = read(&s);
+    assert!(after.has_cartesian);
+    assert_eq!(after.cartesian, tcp_state(&tcp));
+    assert_eq!(after.cartesian.orientation, [0.0, 0.0, 0.6, 0.8]);
 }

@@ -32,8 +32,8 @@ mod wire;
 
 pub use error::{Error, ErrorKind, McmError, ProtocolProblem};
 pub use types::{
-    AxisInfo, AxisStates, Calibrate, Detail, Event, Info, MoveAllResult, PvtQueue, SimResult, Six,
-    Status, TorqueOptions, VelocityOptions,
+    AxisInfo, AxisStates, Calibrate, CartesianState, Detail, Event, Info, MoveAllResult, PvtQueue,
+    SimResult, Six, Status, TorqueOptions, VelocityOptions,
 };
 
 use mcm_shared::command::{

@@ -12,7 +12,7 @@ fn every_field_of_the_state_and_of_a_reply_changes_the_hash() {
     let r = Reply::default();
     let base = hash_of(&s, &[r]);
     type Change = fn(&mut StateSample, &mut Reply);
-    let changes: [(&str, Change); 32] = [
+    let changes: [(&str, Change); 36] = [
         ("seq", |s, _| s.seq = 1),
         ("t_ns", |s, _| s.t_ns = 1),
         ("mode", |s, _| s.mode = 1),
@@ -43,6 +43,16 @@ fn every_field_of_the_state_and_of_a_reply_changes_the_hash() {
         ("last_error.values", |s, _| s.last_error.values[3] = 1.0),
         ("reply_head", |s, _| s.reply_head = 1),
         ("owner_client_id", |s, _| s.owner_client_id = 1),
+        ("cartesian.position", |s, _| s.cartesian.position[2] = 1.0),
+        ("cartesian.orientation", |s, _| {
+            s.cartesian.orientation[3] = 1.0
+        }),
+        ("cartesian.linear_velocity", |s, _| {
+            s.cartesian.linear_velocity[0] = 1.0
+        }),
+        ("cartesian.angular_velocity", |s, _| {
+            s.cartesian.angular_velocity[1] = 1.0
+        }),
         ("reply.seq", |_, r| r.seq = 1),
         ("reply.cycle", |_, r| r.cycle = 1),
         ("reply.kind", |_, r| r.kind = 1),

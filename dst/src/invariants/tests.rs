@@ -5,7 +5,9 @@ use super::*;
 use crate::stamp::calibrate_all;
 use mcm_shared::command::{Calibrate, Direction, Pvt};
 use mcm_shared::reply::{Done, Reason};
-use mcm_shared::sample::{AXIS_CALIBRATED, AXIS_ONLINE, STATE_ESTOP};
+use mcm_shared::sample::{
+    AXIS_CALIBRATED, AXIS_ONLINE, STATE_ALL_CALIBRATED, STATE_CARTESIAN, STATE_ESTOP,
+};
 
 /// An axis calibrated, its drive online.
 const CALIBRATED: u32 = AXIS_CALIBRATED | AXIS_ONLINE;
@@ -822,4 +824,71 @@ fn a_lost_drive_s_standing_measurement_is_not_judged_and_delayed_frames_lag_long
     let delayed = [Fault::BusDelay];
     assert!(c.cycle(10, &s, &[], &[], Work::default(), &delayed).is_ok());
     broken(check(&mut c, 11, &s, &[]), "axis 1: flagged calibrated");
+}
+
+/// A change that breaks a correct sample.
+type Defect = fn(&mut StateSample);
+
+#[test]
+fn a_tcp_state_off_the_kinematics_of_the_reported_axes_is_a_violation() {
+    let cfg = RobotConfig::prob2_default();
+    let core = mcm_rt_core::cartesian::Cartesian::from_config(&cfg).unwrap();
+    let moving = || {
+        let mut s = state(Mode::Hold);
+        s.flags = STATE_ALL_CALIBRATED;
+        s.position = [10.0, -40.0, 70.0, 20.0, -60.0, 130.0];
+        s.velocity = [15.0, -10.0, 25.0, 40.0, -30.0, 60.0];
+        s.measured_position = s.position.map(|p| p + 0.01);
+        s.sim_true_position = s.measured_position;
+        core.compose(&mut s);
+        s
+    };
+    let mut c = checker();
+    check(&mut c, 1, &moving(), &[]).unwrap();
+    // The same rotation written as -q is the same orientation.
+    let mut s = moving();
+    s.cartesian.orientation = s.cartesian.orientation.map(|x| -x);
+    check(&mut c, 2, &s, &[]).unwrap();
+    let cases: [(&str, Defect); 6] = [
+        ("cartesian_state position", |s| {
+            s.cartesian.position[0] += 1e-6
+        }),
+        ("cartesian_state orientation", |s| {
+            let o = &mut s.cartesian.orientation;
+            (o[0], o[1]) = (o[1], o[0]);
+        }),
+        ("cartesian_state linear_velocity", |s| {
+            s.cartesian.linear_velocity = [0.0; 3];
+        }),
+        ("cartesian_state angular_velocity", |s| {
+            s.cartesian.angular_velocity = s.cartesian.angular_velocity.map(f64::to_radians);
+        }),
+        // From the measured angles rather than the reported ones.
+        ("cartesian_state position", |s| {
+            let core =
+                mcm_rt_core::cartesian::Cartesian::from_config(&RobotConfig::prob2_default())
+                    .unwrap();
+            s.cartesian = core.tcp_state(&s.measured_position, &s.velocity);
+        }),
+        ("cartesian_state absent with every axis calibrated", |s| {
+            s.flags &= !STATE_CARTESIAN;
+        }),
+    ];
+    for (k, (what, defect)) in cases.iter().enumerate() {
+        let mut s = moving();
+        defect(&mut s);
+        broken(check(&mut checker(), k as u64 + 3, &s, &[]), what);
+    }
+}
+
+#[test]
+fn a_tcp_state_before_every_axis_is_calibrated_is_a_violation() {
+    let mut c = checker();
+    let mut s = state(Mode::Hold);
+    check(&mut c, 1, &s, &[]).unwrap();
+    s.flags = STATE_CARTESIAN;
+    broken(check(&mut c, 2, &s, &[]), "cartesian_state present");
+    let mut s = state(Mode::Hold);
+    s.cartesian.position[2] = 1.0;
+    broken(check(&mut checker(), 1, &s, &[]), "cartesian_state present");
 }

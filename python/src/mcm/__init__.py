@@ -25,6 +25,7 @@ from .tcp import DEFAULT_HOST, DEFAULT_PORT, Client
 from .types import (
     AxisInfo,
     AxisStates,
+    CartesianState,
     CommandErrorEvent,
     Info,
     MoveAllResult,
@@ -58,6 +59,7 @@ __all__ = [
     "DEFAULT_PORT",
     "AxisInfo",
     "AxisStates",
+    "CartesianState",
     "CommandErrorEvent",
     "Info",
     "MoveAllResult",

@@ -4,13 +4,13 @@ iceoryx2 compares only a type's name, size and alignment when a peer opens a ser
 its fields, so these structures are pinned to the Rust layouts by a test
 (``tests/end_to_end/python_layout.rs`` runs ``python/tests/test_layout.py`` against the sizes and field
 offsets the Rust compiler computed). Any layout change in Rust bumps the version in the type
-name (``mcm.StateSample.v5``), and this module must follow.
+name (``mcm.StateSample.v6``), and this module must follow.
 
 This module needs only the standard library.
 """
 
 import ctypes
-from typing import Dict, Tuple, Type
+from typing import Dict, Optional, Tuple, Type
 
 NUM_AXES = 6
 #: Arguments in one command sample.
@@ -48,6 +48,8 @@ STATE_PVT_STARVED = 1 << 3
 STATE_NOT_REALTIME = 1 << 4
 STATE_SIM_ESTOP = 1 << 5
 STATE_SHUTTING_DOWN = 1 << 6
+#: ``StateSample.cartesian`` holds the TCP's state (every axis calibrated); zeros when clear.
+STATE_CARTESIAN = 1 << 7
 
 #: ``StateSample.axis_flags`` bits.
 AXIS_CALIBRATED = 1
@@ -145,6 +147,19 @@ class BusCounters(ctypes.Structure):
     ]
 
 
+class TcpState(ctypes.Structure):
+    """The TCP's pose and velocity in the base frame (valid when ``StateSample.flags`` has
+    ``STATE_CARTESIAN``): position [m], orientation a unit quaternion ``[x, y, z, w]`` with
+    ``w >= 0``, linear velocity [m/s], angular velocity [deg/s]."""
+
+    _fields_ = [
+        ("position", ctypes.c_double * 3),
+        ("orientation", ctypes.c_double * 4),
+        ("linear_velocity", ctypes.c_double * 3),
+        ("angular_velocity", ctypes.c_double * 3),
+    ]
+
+
 class StateSample(ctypes.Structure):
     """The state of the arm and the controller, published once per cycle (key 0 of the state
     blackboard). Units: degrees, degrees/s, degrees/s^2, amperes; times ``CLOCK_MONOTONIC`` ns
@@ -174,12 +189,17 @@ class StateSample(ctypes.Structure):
         ("reply_head", ctypes.c_uint64),
         ("owner_client_id", ctypes.c_uint64),
         ("bus", BusCounters),
+        ("cartesian", TcpState),
     ]
+
+    def tcp_state(self) -> Optional[TcpState]:
+        """The TCP's state, or ``None`` until every axis is calibrated (``STATE_CARTESIAN``)."""
+        return self.cartesian if self.flags & STATE_CARTESIAN else None
 
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name, equal to the Rust ``#[type_name]``."""
-        return "mcm.StateSample.v5"
+        return "mcm.StateSample.v6"
 
 
 class ReplyBlock(ctypes.Structure):
@@ -201,6 +221,7 @@ STRUCTS: Dict[str, Type[ctypes.Structure]] = {
     "LatencyFigures": LatencyFigures,
     "CycleTiming": CycleTiming,
     "BusCounters": BusCounters,
+    "TcpState": TcpState,
     "StateSample": StateSample,
     "ReplyBlock": ReplyBlock,
 }

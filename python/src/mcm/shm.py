@@ -4,7 +4,7 @@ the official ``iceoryx2`` package, exactly version 0.10.0 like the MCM itself).
 It opens the services of one MCM instance (``shared/src/service.rs``):
 
 - ``mcm/<i>/state``: a blackboard with key type ``u32``: key 0 the :class:`~mcm.layout.StateSample`
-  (``mcm.StateSample.v5``), keys 1 to 512 the :class:`~mcm.layout.ReplyBlock` s
+  (``mcm.StateSample.v6``), keys 1 to 512 the :class:`~mcm.layout.ReplyBlock` s
   (``mcm.ReplyBlock.v1``) holding the core's answers;
 - ``mcm/<i>/state-ready``: the event mcm-rt notifies (id 1) after every new state, so
   :meth:`ShmClient.wait_state` blocks until the next cycle instead of spinning;

@@ -33,6 +33,35 @@ class AxisStates:
         )
 
 
+def _floats(v: Any, n: int, name: str) -> List[float]:
+    if not isinstance(v, list) or len(v) != n:
+        from .errors import ProtocolError
+
+        raise ProtocolError("expected %d numbers in %r, got %r" % (n, name, v))
+    return [float(x) for x in v]
+
+
+@dataclass
+class CartesianState:
+    """``cartesian_state`` of a status: the TCP in the base frame, from the same axis values as
+    ``axis_states`` (``docs/cartesian.md``): position [m], orientation a unit quaternion
+    ``[x, y, z, w]`` (``w >= 0``), linear velocity [m/s], angular velocity [deg/s]."""
+
+    position: List[float]
+    orientation: List[float]
+    linear_velocity: List[float]
+    angular_velocity: List[float]
+
+    @classmethod
+    def from_json(cls, v: Dict[str, Any]) -> "CartesianState":
+        return cls(
+            position=_floats(v.get("position"), 3, "position"),
+            orientation=_floats(v.get("orientation"), 4, "orientation"),
+            linear_velocity=_floats(v.get("linear_velocity"), 3, "linear_velocity"),
+            angular_velocity=_floats(v.get("angular_velocity"), 3, "angular_velocity"),
+        )
+
+
 @dataclass
 class StatusDetail:
     """The ``detail`` object of ``status`` with ``detail: true``."""
@@ -76,11 +105,13 @@ class StatusDetail:
 
 @dataclass
 class Status:
-    """A ``status`` result: the operating mode and the axis states (with ``detail``: also
-    ``hardware_status`` and :class:`StatusDetail`)."""
+    """A ``status`` result: the operating mode and the axis states, the TCP's
+    :class:`CartesianState` once every axis is calibrated (``None`` before), and with ``detail``
+    also ``hardware_status`` and :class:`StatusDetail`."""
 
     operating_mode: str
     axis_states: AxisStates
+    cartesian_state: Optional[CartesianState] = None
     hardware_status: Optional[str] = None
     detail: Optional[StatusDetail] = None
     raw: Dict[str, Any] = field(default_factory=dict, repr=False)
@@ -88,9 +119,11 @@ class Status:
     @classmethod
     def from_json(cls, v: Dict[str, Any]) -> "Status":
         d = v.get("detail")
+        c = v.get("cartesian_state")
         return cls(
             operating_mode=str(v.get("operating_mode")),
             axis_states=AxisStates.from_json(v.get("axis_states", {})),
+            cartesian_state=CartesianState.from_json(c) if isinstance(c, dict) else None,
             hardware_status=v.get("hardware_status"),
             detail=StatusDetail.from_json(d) if isinstance(d, dict) else None,
             raw=v,

@@ -4,6 +4,11 @@ use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::reply::{Done, Outcome, Reason, Response, SafetyError};
 use mcm_shared::sample::REPLIES_PER_CYCLE;
 
+/// The kinematics of the P-Rob2, as the core builds them at start.
+fn prob2() -> Cartesian {
+    Cartesian::from_config(&mcm_shared::config::RobotConfig::prob2_default()).unwrap()
+}
+
 fn ack(request_id: u64) -> mcm_shared::sample::Reply {
     Response {
         client_id: 1,
@@ -23,11 +28,11 @@ fn truth_sets_the_sim_fields_and_none_clears_them() {
         velocity: [-1.0; 6],
         emergency_stop: true,
     };
-    compose(&mut s, &view, Some(truth), &CycleClock::default());
+    compose(&mut s, &view, Some(truth), &CycleClock::default(), &prob2());
     assert_eq!(s.flags, STATE_SIMULATED | STATE_SIM_ESTOP);
     assert!((s.sim_true_position[5] - 0.5f64.to_degrees()).abs() < 1e-12);
     assert!((s.sim_true_velocity[0] + 1f64.to_degrees()).abs() < 1e-12);
-    compose(&mut s, &view, None, &CycleClock::default());
+    compose(&mut s, &view, None, &CycleClock::default(), &prob2());
     assert_eq!(s.flags, 0);
     assert_eq!(s.sim_true_position, [0.0; 6]);
     assert_eq!(s.sim_true_velocity, [0.0; 6]);
@@ -62,7 +67,7 @@ fn timing_and_flags_come_from_the_clock_and_the_view() {
         ..CycleClock::default()
     };
     let mut s = StateSample::default();
-    compose(&mut s, &view, None, &clock);
+    compose(&mut s, &view, None, &clock, &prob2());
     assert_eq!(s.t_ns, 42);
     assert_eq!(
         s.flags,
@@ -97,7 +102,7 @@ fn replies_are_counted_and_a_new_error_is_stamped_once() {
         unix_ns: 1000,
         ..CycleClock::default()
     };
-    compose(&mut s, &view, None, &clock);
+    compose(&mut s, &view, None, &clock, &prob2());
     assert_eq!(s.reply_head, 2);
     assert_eq!(first_reply_seq(&s, &view), 1);
     assert_eq!((s.last_error.seq, s.last_error.unix_ns), (1, 1000));
@@ -107,7 +112,7 @@ fn replies_are_counted_and_a_new_error_is_stamped_once() {
         unix_ns: 2000,
         ..CycleClock::default()
     };
-    compose(&mut s, &view, None, &later);
+    compose(&mut s, &view, None, &later, &prob2());
     assert_eq!(s.reply_head, 2);
     assert_eq!(s.last_error.unix_ns, 1000);
     // More replies than a cycle may give: the head counts them all, the kept ones are the
@@ -115,7 +120,7 @@ fn replies_are_counted_and_a_new_error_is_stamped_once() {
     for n in 0..REPLIES_PER_CYCLE as u64 + 3 {
         view.replies.push(ack(100 + n));
     }
-    compose(&mut s, &view, None, &later);
+    compose(&mut s, &view, None, &later, &prob2());
     assert_eq!(s.reply_head, 2 + REPLIES_PER_CYCLE as u64 + 3);
     assert_eq!(first_reply_seq(&s, &view), 2 + 3 + 1);
     assert_eq!(view.replies.replies()[0].request_id, 103);
@@ -133,6 +138,6 @@ fn bus_counters_are_published_as_the_view_has_them() {
         ..CycleView::default()
     };
     let mut s = StateSample::default();
-    compose(&mut s, &view, None, &CycleClock::default());
+    compose(&mut s, &view, None, &CycleClock::default(), &prob2());
     assert_eq!(s.bus, view.bus);
 }

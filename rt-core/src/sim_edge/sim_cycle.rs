@@ -4,9 +4,8 @@
 //! Runs inside the cycle (`SimCycle::run` in virtual time, for the tests and the benchmarks).
 
 use super::SimEdge;
-use crate::canopen::MasterSetupError;
 use crate::controller::Controller;
-use crate::cycle::Cycle;
+use crate::cycle::{Cycle, CycleSetupError};
 use crate::publish::CycleClock;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::sample::{CommandSample, StateSample};
@@ -43,7 +42,7 @@ pub struct SimCycle<B: mcm_bus::Bus = SimBus> {
 
 impl SimCycle {
     /// The controller over `bus`, with the edge (see [`Cycle::new`]).
-    pub fn new(cfg: &RobotConfig, bus: SimBus) -> Result<Self, MasterSetupError> {
+    pub fn new(cfg: &RobotConfig, bus: SimBus) -> Result<Self, CycleSetupError> {
         Self::over(cfg, bus, |b| b)
     }
 }
@@ -55,7 +54,7 @@ impl<B: mcm_bus::Bus> SimCycle<B> {
         cfg: &RobotConfig,
         bus: B,
         sim: super::SimAccess<B>,
-    ) -> Result<Self, MasterSetupError> {
+    ) -> Result<Self, CycleSetupError> {
         Ok(Self {
             cycle: Box::new(Cycle::new(cfg, bus)?),
             edge: SimEdge::new(sim),

@@ -37,8 +37,8 @@ use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{Mode, RejectCode};
 use mcm_shared::reply::{Outcome, Response};
 use mcm_shared::sample::{
-    AXIS_ONLINE, CommandSample, ReplyEntries, STATE_ALL_CALIBRATED, STATE_SIMULATED, StateSample,
-    flight_recorder_file, open_reply_entries, read_reply,
+    AXIS_ONLINE, CommandSample, ReplyEntries, STATE_ALL_CALIBRATED, STATE_CARTESIAN,
+    STATE_SIMULATED, StateSample, flight_recorder_file, open_reply_entries, read_reply,
 };
 use mcm_shared::service::{STATE_EVENT_ID, STATE_KEY, ServiceNames};
 use mcm_sim::SimBus;
@@ -290,7 +290,14 @@ fn pvt(rig: &mut Rig) {
             5,
         );
         // The second one re-plans each axis from its commanded state (online planner).
-        rig.run_until("moving", 200, |s| s.velocity.iter().any(|v| v.abs() > 1.0));
+        let s = rig.run_until("moving", 200, |s| s.velocity.iter().any(|v| v.abs() > 1.0));
+        // The TCP's state is composed in the measured cycles too.
+        assert_ne!(s.flags & STATE_CARTESIAN, 0, "the TCP's state is published");
+        assert!(
+            s.cartesian.linear_velocity.iter().any(|v| v.abs() > 1e-3),
+            "the TCP moves: {:?}",
+            s.cartesian
+        );
     }
     let s = rig.run_until("move_all arrived", 4_000, |s| {
         max_diff(&s.sim_true_position, &target) < 0.05 && s.velocity.iter().all(|v| *v == 0.0)

@@ -21,7 +21,7 @@ use crate::reply::{InfoReply, MoveAllPlan, Outcome, SafetyError};
 use crate::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord,
     STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, STATE_SHUTTING_DOWN,
-    STATE_SIM_ESTOP, StateSample,
+    STATE_SIM_ESTOP, StateSample, TcpState,
 };
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -369,6 +369,32 @@ pub struct AxisStates {
     pub current: Six,
 }
 
+/// `cartesian_state` of a `status` result: the TCP in the base frame, from the same axis values
+/// as its `axis_states` (`docs/cartesian.md`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CartesianState {
+    /// The TCP's origin [m].
+    pub position: [f64; 3],
+    /// The TCP frame's orientation, a unit quaternion `[x, y, z, w]` (`w >= 0`).
+    pub orientation: [f64; 4],
+    /// [m/s]
+    pub linear_velocity: [f64; 3],
+    /// [deg/s]
+    pub angular_velocity: [f64; 3],
+}
+
+impl From<&TcpState> for CartesianState {
+    /// The sample's TCP state, rounded like every figure of the results.
+    fn from(t: &TcpState) -> CartesianState {
+        CartesianState {
+            position: t.position.map(round),
+            orientation: t.orientation.map(round),
+            linear_velocity: t.linear_velocity.map(round),
+            angular_velocity: t.angular_velocity.map(round),
+        }
+    }
+}
+
 /// A `status` result: the answer to `status`, `hold`, `release`, `pvt`, `torque_control`,
 /// `velocity_control`, and the spontaneous status of a TORQUE_CONTROL or VELOCITY_CONTROL
 /// session.
@@ -377,6 +403,9 @@ pub struct Status {
     #[serde(rename = "operating_mode", with = "mode_word")]
     pub mode: Mode,
     pub axis_states: AxisStates,
+    /// The TCP's state, once every axis is calibrated (absent before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cartesian_state: Option<CartesianState>,
     /// With `detail`: the drives, the emergency stop and the calibration in words.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hardware_status: Option<String>,
@@ -406,6 +435,7 @@ impl Status {
                 acceleration: six(&state.acceleration),
                 current: six(&state.current),
             },
+            cartesian_state: state.tcp_state().map(CartesianState::from),
             hardware_status: detail.then(|| hardware_status(state)),
             detail: detail.then(|| Detail::from_state(state)),
         })

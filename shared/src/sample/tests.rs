@@ -64,16 +64,23 @@ fn state_sample_layout_is_pinned() {
         (offset_of!(StateSample, reply_head), 752),
         (offset_of!(StateSample, owner_client_id), 760),
         (offset_of!(StateSample, bus), 768),
+        (offset_of!(StateSample, cartesian), 800),
     ];
     for (i, (got, want)) in expected.iter().enumerate() {
         assert_eq!(got, want, "field #{i} moved");
     }
-    assert_eq!(size_of::<StateSample>(), 800);
+    assert_eq!(size_of::<StateSample>(), 904);
     assert_eq!(size_of::<BusCounters>(), 32);
     assert_eq!(offset_of!(BusCounters, bad_frames), 0);
     assert_eq!(offset_of!(BusCounters, frames_dropped), 8);
     assert_eq!(offset_of!(BusCounters, events_dropped), 16);
     assert_eq!(offset_of!(BusCounters, bus_errors), 24);
+    assert_eq!(size_of::<TcpState>(), 104);
+    assert_eq!(align_of::<TcpState>(), 8);
+    assert_eq!(offset_of!(TcpState, position), 0);
+    assert_eq!(offset_of!(TcpState, orientation), 24);
+    assert_eq!(offset_of!(TcpState, linear_velocity), 56);
+    assert_eq!(offset_of!(TcpState, angular_velocity), 80);
 }
 
 #[test]

@@ -49,6 +49,37 @@ fn status_has_the_manual_fields() {
 }
 
 #[test]
+fn status_has_the_cartesian_state_only_when_the_sample_has_one() {
+    let tcp = TcpState {
+        position: [0.1, -0.2, 0.812_345_678],
+        orientation: [0.0, 0.6, 0.0, 0.8],
+        linear_velocity: [0.01, 0.0, -0.02],
+        angular_velocity: [0.0, 12.5, 0.0],
+    };
+    let mut s = StateSample {
+        flags: STATE_ALL_CALIBRATED,
+        cartesian: tcp,
+        ..StateSample::default()
+    };
+    assert!(status(&s, false).get("cartesian_state").is_none());
+    s.flags |= crate::sample::STATE_CARTESIAN;
+    let v = status(&s, false);
+    assert_eq!(
+        v["cartesian_state"],
+        json!({
+            "position": [0.1, -0.2, 0.812346],
+            "orientation": [0.0, 0.6, 0.0, 0.8],
+            "linear_velocity": [0.01, 0.0, -0.02],
+            "angular_velocity": [0.0, 12.5, 0.0],
+        })
+    );
+    let Answer::Status(read) = Answer::from_value(&v).unwrap() else {
+        panic!("not a status: {v}");
+    };
+    assert_eq!(read.cartesian_state, Some(CartesianState::from(&tcp)));
+}
+
+#[test]
 fn status_detail_shows_the_receive_errors() {
     let s = StateSample {
         command_receive_errors: 3,

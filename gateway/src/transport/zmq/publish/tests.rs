@@ -116,3 +116,37 @@ fn a_state_that_is_no_status_goes_to_the_error_topic() {
     let message = v["error_message"].as_str().unwrap_or_default();
     assert!(message.contains("different MCM versions"), "{v}");
 }
+
+/// The `state` topic carries the TCP's state once every axis is calibrated, as `status` does,
+/// and none before.
+#[test]
+fn the_state_topic_carries_the_cartesian_state_once_calibrated() {
+    use mcm_shared::sample::{STATE_ALL_CALIBRATED, STATE_CARTESIAN, TcpState};
+    let mut s = StateSample {
+        seq: 9,
+        cartesian: TcpState {
+            position: [0.3, -0.1, 0.7],
+            orientation: [0.0, 0.0, 0.0, 1.0],
+            linear_velocity: [0.05, 0.0, 0.0],
+            angular_velocity: [0.0, 0.0, -20.0],
+        },
+        ..StateSample::default()
+    };
+    let (topic, v) = state_message(&s);
+    assert_eq!(topic, "state");
+    assert!(v.get("cartesian_state").is_none(), "{v}");
+    s.flags = STATE_ALL_CALIBRATED | STATE_CARTESIAN;
+    let (topic, v) = state_message(&s);
+    assert_eq!(topic, "state");
+    assert_eq!(
+        v["cartesian_state"],
+        serde_json::json!({
+            "position": [0.3, -0.1, 0.7],
+            "orientation": [0.0, 0.0, 0.0, 1.0],
+            "linear_velocity": [0.05, 0.0, 0.0],
+            "angular_velocity": [0.0, 0.0, -20.0],
+        }),
+        "{v}"
+    );
+    assert_eq!(v["cycle"], 9);
+}
