@@ -5,8 +5,10 @@
 use mcm_shared::mode::RejectCode;
 
 pub use mcm_shared::command::Calibrate;
+pub use mcm_shared::protocol::Pose;
 pub use mcm_shared::protocol::results::{
-    AxisInfo, AxisStates, Detail, Info, MoveAllResult, PvtQueue, SimResult, Six, Status,
+    AxisInfo, AxisStates, Detail, Info, InverseKinematicsResult, MoveAllResult, PvtQueue,
+    SimResult, Six, Status,
 };
 
 /// Options of `torque_control`.
