@@ -17,6 +17,10 @@
 //! to all. `docs/clients.md` explains both transports, the timing contract and every field of
 //! the shared-memory samples.
 //!
+//! The arm's kinematics (forward kinematics of the TCP, its Jacobian, every inverse kinematics
+//! solution) are [`mcm_kinematics`], the ones the MCM uses: a client computes a pose for
+//! `move_to_pose`, or checks where a joint position puts the TCP, with the same code.
+//!
 //! Why blocking: a controller's loop is sequential (read the state, compute, send), and the
 //! real-time work is done by the MCM; a blocking client needs no runtime, adds no thread, and
 //! its calls are easy to bound with timeouts. A program that already runs tokio can call it
@@ -27,6 +31,7 @@ pub mod placement;
 pub mod shm;
 pub mod tcp;
 
+pub use mcm_kinematics;
 pub use mcm_shared;
 pub use mcm_shared::NUM_AXES;
 pub use mcm_shared::command::{Axis, Direction, PvtPoint, SimCommand, Which};

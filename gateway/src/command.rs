@@ -1,5 +1,6 @@
 //! Executing one parsed command: through the bridge to the real-time core (or locally, for
-//! `sleep`), and turning the reply into the protocol's result. Shared by every transport (the
+//! `sleep` and the Cartesian commands of [`cartesian`]), and turning the reply into the
+//! protocol's result. Shared by every transport (the
 //! JSON channel, the text HMI, ZeroMQ), so all behave the same.
 //!
 //! `status` reads the bridge's newest state and never waits for a cycle; a `pvt_points` batch
@@ -12,6 +13,7 @@
 //! results as the JSON values the transports send.
 
 pub(crate) mod access;
+pub(crate) mod cartesian;
 pub(crate) mod result;
 
 use crate::core_link::bridge::{Bridge, BridgeError};
@@ -40,6 +42,9 @@ pub struct Context {
     pub clients: crate::command::access::Clients,
     /// The limits a `pvt_points` batch is checked against before it is sent (from `cfg`).
     pub pvt_limits: mcm_shared::pvt::PointLimits,
+    /// The arm's kinematics (from `cfg`, the TCP on the flange), or why the configured arm
+    /// has none ([`cartesian`] refuses its commands with it).
+    pub kinematics: Result<mcm_kinematics::Kinematics, mcm_kinematics::KinematicsError>,
 }
 
 impl Context {
@@ -53,6 +58,7 @@ impl Context {
     ) -> Context {
         Context {
             pvt_limits: mcm_shared::pvt::PointLimits::from_config(&cfg),
+            kinematics: mcm_kinematics::Kinematics::from_config(&cfg),
             cfg,
             bridge,
             access: Arc::new(access),
@@ -92,28 +98,16 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
             return Outcome::only(Answer::ok());
         }
         Command::Status(s) => return status(ctx, s.detail).await,
+        Command::InverseKinematics(ik) => return cartesian::inverse_kinematics(ctx, ik).await,
+        Command::MoveToPose(m) => return cartesian::move_to_pose(ctx, client_id, m).await,
         Command::PvtPoints(p) => {
-            let state = ctx.bridge.latest_state();
             // Checked in the core's order: control of the arm first, then the batch.
-            let owner = state.as_ref().map_or(0, |s| s.owner_client_id);
-            let checked = if !CommandKind::may_control(owner, client_id) {
-                Err(reply::Reason::NotOwner { owner })
-            } else {
-                state
-                    .as_ref()
-                    .map_or(Ok(()), |s| p.check(&ctx.pvt_limits, s))
-            };
-            if let (Some(state), Err(reason)) = (state, checked) {
-                let refused = reply::Outcome::Refused(reason);
-                return Outcome {
-                    result: Some(Answer::Generic(crate::command::access::reply_error(
-                        ctx,
-                        CommandKind::PvtPoints,
-                        &refused,
-                    ))),
-                    state: Some(state),
-                    mode_session: None,
-                };
+            if let Some(state) = ctx.bridge.latest_state() {
+                let checked = control_of_the_arm(&state, client_id)
+                    .and_then(|()| p.check(&ctx.pvt_limits, &state));
+                if let Err(reason) = checked {
+                    return refused(ctx, CommandKind::PvtPoints, reason, state);
+                }
             }
         }
         _ => {}
@@ -127,6 +121,39 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
                 .to_string(),
         ));
     }
+    through_core(ctx, client_id, cmd).await
+}
+
+/// Whether the client `client_id` may move the arm, as the core decides it from `state`.
+fn control_of_the_arm(state: &StateSample, client_id: u64) -> Result<(), reply::Reason> {
+    let owner = state.owner_client_id;
+    if CommandKind::may_control(owner, client_id) {
+        Ok(())
+    } else {
+        Err(reply::Reason::NotOwner { owner })
+    }
+}
+
+/// A request of `kind` refused by the gateway before it was sent, for `reason`, in the words
+/// and with the code the core gives the same refusal.
+fn refused(
+    ctx: &Context,
+    kind: CommandKind,
+    reason: reply::Reason,
+    state: Box<StateSample>,
+) -> Outcome {
+    let refused = reply::Outcome::Refused(reason);
+    Outcome {
+        result: Some(Answer::Generic(crate::command::access::reply_error(
+            ctx, kind, &refused,
+        ))),
+        state: Some(state),
+        mode_session: None,
+    }
+}
+
+/// `cmd` sent to the core, and its answer as the command's result.
+async fn through_core(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
     let answer = ctx
         .bridge
         .request(client_id, cmd.requests(), cmd.reply_within())
@@ -141,8 +168,8 @@ pub async fn execute(ctx: &Context, client_id: u64, cmd: &Command) -> Outcome {
             return Outcome {
                 result: Some(Answer::Generic(crate::command::access::reply_error(
                     ctx,
-                    // Every command sent to the core has its kind (sleep and authenticate
-                    // returned above).
+                    // Every command sent to the core has its kind (the gateway's own
+                    // commands returned before).
                     cmd.def().kind.unwrap_or(response.kind),
                     &refused_or_failed,
                 ))),
@@ -217,6 +244,8 @@ fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Op
             other => mismatch(other),
         },
         Success::Sim => Answer::Sim(SimResult::from_state(state)),
+        // Answered by the gateway ([`cartesian`]), never after the core's reply.
+        Success::InverseKinematics => mismatch(done),
     })
 }
 

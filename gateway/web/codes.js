@@ -20,7 +20,7 @@ export const ERROR_CODES = {
   aborted: { meaning: "The command was superseded by another command or a mode change before it finished.", remedy: "Nothing, if that was intended; otherwise send it again.", spontaneous: false },
   busy: { meaning: "A motion is in progress.", remedy: "Wait until it ends, or send `hold` to stop it.", spontaneous: false },
   pvt_point: { meaning: "A PVT point breaks a position, velocity or acceleration limit; nothing was queued.", remedy: "Correct the point the error names and send the batch again.", spontaneous: false },
-  unreachable: { meaning: "A target position is outside the reachable range (the limits less the safety margin).", remedy: "Send a target within the range the error names.", spontaneous: false },
+  unreachable: { meaning: "A target position is outside the reachable range (the limits less the safety margin), or no joint position within it puts the TCP at a Cartesian pose (the error says why).", remedy: "Send a target within the range the error names, or a pose the arm reaches.", spontaneous: false },
   not_owner: { meaning: "Another client controls the arm; only `hold` and state reads are open to others.", remedy: "Wait until it sends `release_control` or disconnects, then `take_control`.", spontaneous: false },
   shutting_down: { meaning: "The MCM is shutting down: the arm is being stopped and its drives disabled.", remedy: "Nothing to do; connect again once the MCM runs again.", spontaneous: false },
   overload: { meaning: "Safety check: an axis derated by i2t (its motor hot) cannot hold; the drives of the braked axes are powered off and the brakes hold the arm.", remedy: "Let the motor cool, then `hold` (refused with `overload` until the derating has ended).", spontaneous: false },

@@ -43,6 +43,24 @@ class TcpClient(unittest.TestCase):
         # An argument left out is left to the MCM's default.
         self.assertEqual(self.fake.received[1]["arguments"], {"axis_index": 1, "target_position": 30})
 
+    def test_a_pose_is_sent_in_metres_and_a_quaternion(self) -> None:
+        def h(cmd):
+            if cmd["command"] == "inverse_kinematics":
+                return [{"result_type": "inverse_kinematics", "solutions": [[1, 2, 3, 4, 5, 6], [6, 5, 4, 3, 2, 1]]}]
+            return [{"result_type": "move_all", "velocities": [1, 2, 3, 0, 0, 0], "longest": 3,
+                     "max_time_to_target": 1.25}]
+
+        c = self.connect(h)
+        r = c.inverse_kinematics([0.4, 0, 0.5], [0, 1, 0, 0], seed=[0, 10, 20, 0, 0, 0])
+        self.assertEqual(r.solutions, [[1.0, 2.0, 3.0, 4.0, 5.0, 6.0], [6.0, 5.0, 4.0, 3.0, 2.0, 1.0]])
+        self.assertEqual(c.move_to_pose([0.4, 0, 0.5], [0, 1, 0, 0]).longest, 3)
+        self.assertEqual(self.fake.received[0], {"command": "inverse_kinematics", "arguments": {
+            "position": [0.4, 0.0, 0.5], "orientation": [0.0, 1.0, 0.0, 0.0],
+            "seed": [0.0, 10.0, 20.0, 0.0, 0.0, 0.0]}})
+        # The velocity factor left out is left to the MCM's default.
+        self.assertEqual(self.fake.received[1], {"command": "move_to_pose", "arguments": {
+            "position": [0.4, 0.0, 0.5], "orientation": [0.0, 1.0, 0.0, 0.0]}})
+
     def test_status_result_is_typed(self) -> None:
         c = self.connect(lambda cmd: [dict(status("PVT", 3.5), hardware_status="ok", detail={
             "cycle": 7, "all_calibrated": True, "pvt_queue": {"queued": 2}})])

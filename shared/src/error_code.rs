@@ -159,8 +159,8 @@ error_codes! {
             "A PVT point breaks a position, velocity or acceleration limit; nothing was queued.",
             "Correct the point the error names and send the batch again.";
         Unreachable = 18, "unreachable",
-            "A target position is outside the reachable range (the limits less the safety margin).",
-            "Send a target within the range the error names.";
+            "A target position is outside the reachable range (the limits less the safety margin), or no joint position within it puts the TCP at a Cartesian pose (the error says why).",
+            "Send a target within the range the error names, or a pose the arm reaches.";
         NotOwner = 19, "not_owner",
             "Another client controls the arm; only `hold` and state reads are open to others.",
             "Wait until it sends `release_control` or disconnects, then `take_control`.";

@@ -7,7 +7,7 @@
 use crate::common;
 
 use common::{assert_ok, assert_status, max_abs, move_all, six};
-use mcm_rt_core::cartesian::mcm_kinematics::Kinematics;
+use mcm_kinematics::Kinematics;
 use mcm_shared::config::RobotConfig;
 use serde_json::Value;
 

@@ -23,6 +23,7 @@ mod common;
 
 mod argument_texts;
 mod capi_realtime;
+mod cartesian;
 mod cartesian_state;
 mod command_path;
 mod cross_protocol;

@@ -32,8 +32,8 @@ mod wire;
 
 pub use error::{Error, ErrorKind, McmError, ProtocolProblem};
 pub use types::{
-    AxisInfo, AxisStates, Calibrate, CartesianState, Detail, Event, Info, MoveAllResult, PvtQueue,
-    SimResult, Six, Status, TorqueOptions, VelocityOptions,
+    AxisInfo, AxisStates, Calibrate, CartesianState, Detail, Event, Info, InverseKinematicsResult,
+    MoveAllResult, Pose, PvtQueue, SimResult, Six, Status, TorqueOptions, VelocityOptions,
 };
 
 use mcm_shared::command::{
@@ -507,6 +507,38 @@ impl TcpClient {
         };
         self.call_typed(cmd, |a| match a {
             Answer::MoveAll(m) => Ok(m),
+            other => Err(Box::new(other)),
+        })
+    }
+
+    /// Move the TCP to `pose` (base frame: position [m], orientation a unit quaternion
+    /// `[x, y, z, w]`): a joint move, as [`TcpClient::move_all`], to the inverse kinematics'
+    /// solution nearest the present position (PVT mode); the move the MCM planned.
+    pub fn move_to_pose(
+        &mut self,
+        pose: Pose,
+        velocity_factor: f64,
+    ) -> Result<MoveAllResult, Error> {
+        let cmd = protocol::MoveToPose {
+            pose,
+            velocity_factor,
+        };
+        self.call_typed(cmd, |a| match a {
+            Answer::MoveAll(m) => Ok(m),
+            other => Err(Box::new(other)),
+        })
+    }
+
+    /// Every joint configuration [deg] that puts the TCP at `pose`, each within the axis
+    /// limits, the nearest to `seed_deg` (`None`: the present position) first. Nothing moves.
+    pub fn inverse_kinematics(
+        &mut self,
+        pose: Pose,
+        seed_deg: Option<Six>,
+    ) -> Result<InverseKinematicsResult, Error> {
+        let cmd = protocol::InverseKinematics { pose, seed_deg };
+        self.call_typed(cmd, |a| match a {
+            Answer::InverseKinematics(r) => Ok(r),
             other => Err(Box::new(other)),
         })
     }

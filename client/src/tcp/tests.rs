@@ -522,3 +522,41 @@ fn pvt_points_are_cut_into_lines_within_the_limit_of_a_command() {
         sent[0].len()
     );
 }
+
+/// The Cartesian calls send the pose as the contract writes it and read their typed results.
+#[test]
+fn a_pose_is_sent_as_written_and_the_solutions_are_read() {
+    let ik = r#"{"result_type":"inverse_kinematics","solutions":[[1,2,3,4,5,6],[6,5,4,3,2,1]]}"#;
+    let move_all = r#"{"result_type":"move_all","velocities":[1,2,3,4,5,6],"longest":3,"max_time_to_target":1.5}"#;
+    let (addr, seen) = server(vec![vec![ik.into()], vec![move_all.into()]]);
+    let mut c = TcpClient::connect(&addr).unwrap();
+    let pose = Pose {
+        position: [0.4, 0.0, 0.5],
+        orientation: [0.0, 1.0, 0.0, 0.0],
+    };
+    let r = c.inverse_kinematics(pose, Some([0.0; 6])).unwrap();
+    assert_eq!(
+        r.solutions,
+        [
+            [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
+            [6.0, 5.0, 4.0, 3.0, 2.0, 1.0]
+        ]
+    );
+    assert_eq!(c.move_to_pose(pose, 0.5).unwrap().longest, 3);
+    let sent: Vec<Value> = seen
+        .try_iter()
+        .map(|l| serde_json::from_str(&l).unwrap())
+        .collect();
+    assert_eq!(
+        sent[0],
+        json!({"command": "inverse_kinematics", "arguments": {
+            "position": [0.4, 0.0, 0.5], "orientation": [0.0, 1.0, 0.0, 0.0],
+            "seed": [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]}})
+    );
+    assert_eq!(
+        sent[1],
+        json!({"command": "move_to_pose", "arguments": {
+            "position": [0.4, 0.0, 0.5], "orientation": [0.0, 1.0, 0.0, 0.0],
+            "velocity_factor": 0.5}})
+    );
+}

@@ -62,12 +62,14 @@ COMMANDS: Tuple[str, ...] = (
     "pvt",
     "move_axis",
     "move_all",
+    "move_to_pose",
     "pvt_points",
     "sleep",
     "sim",
     "take_control",
     "release_control",
     "authenticate",
+    "inverse_kinematics",
 )
 
 #: The ``result_type`` of each command's result on success (``CommandDef::success``);
@@ -85,12 +87,14 @@ RESULT_TYPES: Dict[str, Optional[str]] = {
     "pvt": "status",
     "move_axis": "generic",
     "move_all": "move_all",
+    "move_to_pose": "move_all",
     "pvt_points": "generic",
     "sleep": "generic",
     "sim": "sim",
     "take_control": "generic",
     "release_control": "generic",
     "authenticate": "generic",
+    "inverse_kinematics": "inverse_kinematics",
 }
 
 #: Commands that answer nothing on success (``Success::Nothing``): a refusal comes later,
@@ -112,6 +116,7 @@ NEEDS_CONTROL = frozenset(
         "pvt",
         "move_axis",
         "move_all",
+        "move_to_pose",
         "pvt_points",
     ]
 )

@@ -34,6 +34,7 @@ from .errors import CommandError, ConnectionLost, McmTimeout, OutcomeUnknown, Pr
 from .types import (
     CommandErrorEvent,
     Info,
+    InverseKinematicsResult,
     MoveAllResult,
     PvtPoint,
     SafetyErrorEvent,
@@ -413,6 +414,38 @@ class Client:
         targets = [float(x) for x in target_positions]
         args = _given(target_positions=targets, velocity_factor=velocity_factor)
         return MoveAllResult.from_json(self._expect("move_all", args))
+
+    def move_to_pose(
+        self,
+        position: Sequence[float],
+        orientation: Sequence[float],
+        velocity_factor: Optional[float] = None,
+    ) -> MoveAllResult:
+        """Move the TCP to ``position`` [m] and ``orientation`` (a unit quaternion x, y, z, w)
+        in the base frame: a joint move, as ``move_all``, to the inverse kinematics' solution
+        nearest the present position (PVT mode)."""
+        args = _given(
+            position=[float(x) for x in position],
+            orientation=[float(x) for x in orientation],
+            velocity_factor=velocity_factor,
+        )
+        return MoveAllResult.from_json(self._expect("move_to_pose", args))
+
+    def inverse_kinematics(
+        self,
+        position: Sequence[float],
+        orientation: Sequence[float],
+        seed: Optional[Sequence[float]] = None,
+    ) -> InverseKinematicsResult:
+        """Every joint configuration [deg] that puts the TCP at ``position`` [m] and
+        ``orientation`` (a unit quaternion x, y, z, w), the nearest to ``seed`` [deg] (default:
+        the present position) first. Nothing moves."""
+        args = _given(
+            position=[float(x) for x in position],
+            orientation=[float(x) for x in orientation],
+            seed=[float(x) for x in seed] if seed is not None else None,
+        )
+        return InverseKinematicsResult.from_json(self._expect("inverse_kinematics", args))
 
     def pvt_points(self, points: Sequence[Union[PvtPoint, Dict[str, Any]]]) -> None:
         """Queue 1 to 1000 points (all or none)."""

@@ -151,6 +151,24 @@ class MoveAllResult:
 
 
 @dataclass
+class InverseKinematicsResult:
+    """An ``inverse_kinematics`` result: every joint configuration [deg] that puts the TCP at
+    the pose, each within the axis limits, the nearest to the seed first."""
+
+    solutions: List[Six]
+    raw: Dict[str, Any] = field(default_factory=dict, repr=False)
+
+    @classmethod
+    def from_json(cls, v: Dict[str, Any]) -> "InverseKinematicsResult":
+        solutions = v.get("solutions")
+        if not isinstance(solutions, list):
+            from .errors import ProtocolError
+
+            raise ProtocolError("expected a list of solutions in 'solutions', got %r" % (solutions,))
+        return cls(solutions=[_six(q, "solutions") for q in solutions], raw=v)
+
+
+@dataclass
 class AxisInfo:
     """One axis of an ``info`` result: its limits."""
 

@@ -328,11 +328,22 @@ pub fn six_numbers(
     v: &Value,
     what: &str,
 ) -> Result<[f64; 6], CommandError> {
+    numbers(args, name, v, what)
+}
+
+/// `N` finite numbers from `v` (`what` says what they are, for the refusal); their ranges are
+/// the caller's to check.
+pub fn numbers<const N: usize>(
+    args: &Args<'_>,
+    name: &str,
+    v: &Value,
+    what: &str,
+) -> Result<[f64; N], CommandError> {
     let arr = v
         .as_array()
-        .filter(|a| a.len() == 6)
-        .ok_or_else(|| args.invalid(name, v, format!("an array of 6 {what}")))?;
-    let mut out = [0.0; 6];
+        .filter(|a| a.len() == N)
+        .ok_or_else(|| args.invalid(name, v, format!("an array of {N} {what}")))?;
+    let mut out = [0.0; N];
     for (i, x) in arr.iter().enumerate() {
         out[i] = x.as_f64().filter(|n| n.is_finite()).ok_or_else(|| {
             args.invalid(&format!("{name}[{i}]"), x, format!("a number ({what})"))

@@ -36,6 +36,7 @@
 pub mod args;
 pub mod cmd;
 pub mod json;
+pub mod pose;
 pub mod results;
 pub mod spec;
 pub mod wait;
@@ -45,7 +46,9 @@ pub use cmd::authenticate::{Authenticate, Secret};
 pub use cmd::calibrate::DEFAULT_WHICH;
 pub use cmd::hold::Hold;
 pub use cmd::info::Info;
+pub use cmd::inverse_kinematics::InverseKinematics;
 pub use cmd::move_axis::DEFAULT_VELOCITY_FACTOR;
+pub use cmd::move_to_pose::MoveToPose;
 pub use cmd::pvt::DEFAULT_PVT_DT;
 pub use cmd::pvt_points::{MAX_POINTS_PER_BATCH, PvtPoints};
 pub use cmd::release::Release;
@@ -55,6 +58,7 @@ pub use cmd::status::Status;
 pub use cmd::take_control::TakeControl;
 pub use cmd::torque_control::{DEFAULT_MODE_TIMEOUT, TorqueControl};
 pub use cmd::velocity_control::VelocityControl;
+pub use pose::Pose;
 pub use spec::{ArgDef, CommandDef, Group, Kind, Success};
 pub use wait::{CALIBRATION_TIMEOUT, REPLY_TIMEOUT, core_reply_within};
 
@@ -162,12 +166,14 @@ commands! {
     Pvt(Pvt),
     MoveAxis(MoveAxis),
     MoveAll(MoveAll),
+    MoveToPose(MoveToPose),
     PvtPoints(PvtPoints),
     Sleep(Sleep),
     Sim(SimCommand),
     TakeControl(TakeControl),
     ReleaseControl(ReleaseControl),
     Authenticate(Authenticate),
+    InverseKinematics(InverseKinematics),
 }
 
 /// The command called `name` (any case).

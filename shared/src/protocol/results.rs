@@ -44,6 +44,7 @@ pub enum Answer {
     Initialization(Info),
     MoveAll(MoveAllResult),
     Sim(SimResult),
+    InverseKinematics(InverseKinematicsResult),
 }
 
 impl Answer {
@@ -75,6 +76,7 @@ impl Answer {
             Answer::Initialization(_) => "initialization",
             Answer::MoveAll(_) => "move_all",
             Answer::Sim(_) => "sim",
+            Answer::InverseKinematics(_) => "inverse_kinematics",
         }
     }
 
@@ -739,6 +741,23 @@ impl From<&MoveAllPlan> for MoveAllResult {
             velocities: six(&plan.velocities_deg_s),
             longest: plan.longest.number(),
             max_time_to_target: round(plan.duration_s),
+        }
+    }
+}
+
+/// The `inverse_kinematics` result: every joint configuration that puts the TCP at the pose,
+/// each within the axes' reachable ranges, the nearest to the seed first.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InverseKinematicsResult {
+    /// Joint angles [deg], six per solution.
+    pub solutions: Vec<Six>,
+}
+
+impl InverseKinematicsResult {
+    /// The result of `solutions` [deg], in their order, rounded as every figure is.
+    pub fn new(solutions: impl IntoIterator<Item = Six>) -> InverseKinematicsResult {
+        InverseKinematicsResult {
+            solutions: solutions.into_iter().map(|q| six(&q)).collect(),
         }
     }
 }

@@ -23,6 +23,8 @@ pub enum Success {
     MoveAll,
     /// The `sim` result.
     Sim,
+    /// The `inverse_kinematics` result.
+    InverseKinematics,
 }
 
 impl Success {
@@ -36,6 +38,7 @@ impl Success {
             Success::Initialization => Some("initialization"),
             Success::MoveAll => Some("move_all"),
             Success::Sim => Some("sim"),
+            Success::InverseKinematics => Some("inverse_kinematics"),
         }
     }
 
@@ -99,6 +102,11 @@ pub enum Kind {
     Bool,
     /// Six numbers, one per axis: six words, `a,b,c,d,e,f`, or a JSON array.
     Six,
+    /// A Cartesian position: three numbers [m] (`x,y,z`), written as [`Kind::Six`] is.
+    Position,
+    /// An orientation: the four numbers of a unit quaternion (`x,y,z,w`), written as
+    /// [`Kind::Six`] is.
+    Orientation,
     /// `ALL`, `ELBOW`, `WRIST` or an axis number.
     Which,
     /// `1` or `-1`.
@@ -117,10 +125,29 @@ impl Kind {
             Kind::Axis => "1..6",
             Kind::Bool => "true|false",
             Kind::Six => "a,b,c,d,e,f",
+            Kind::Position => "x,y,z",
+            Kind::Orientation => "x,y,z,w",
             Kind::Which => "ALL|ELBOW|WRIST|1..6",
             Kind::Direction => "1|-1",
             Kind::Points => "[...]",
             Kind::Text => "TEXT",
+        }
+    }
+
+    /// For a kind of several numbers ([`Kind::Six`], [`Kind::Position`],
+    /// [`Kind::Orientation`]): how many, and what they are in words; `None` for the others.
+    pub const fn numbers(self) -> Option<(usize, &'static str)> {
+        match self {
+            Kind::Six => Some((6, "one per axis")),
+            Kind::Position => Some((3, "x, y, z in metres")),
+            Kind::Orientation => Some((4, "a quaternion x, y, z, w")),
+            Kind::Number
+            | Kind::Axis
+            | Kind::Bool
+            | Kind::Which
+            | Kind::Direction
+            | Kind::Points
+            | Kind::Text => None,
         }
     }
 }
@@ -150,6 +177,10 @@ pub struct CommandDef {
     /// The wire kind that carries it to the real-time core; `None` for the commands the
     /// gateway executes itself (`sleep`, `authenticate`).
     pub kind: Option<CommandKind>,
+    /// For a command the gateway executes itself (`kind` is `None`): the kind of the request
+    /// it sends the core to do it (`move_to_pose` sends a `move_all`), whose rule on control of
+    /// the arm it follows; `None` for every other command.
+    pub sends: Option<CommandKind>,
     /// What it answers on success.
     pub success: Success,
     /// The group `help` lists it in.
@@ -189,11 +220,11 @@ impl CommandDef {
     }
 
     /// Whether only the client that controls the arm may send it
-    /// ([`CommandKind::needs_control`]).
+    /// ([`CommandKind::needs_control`] of its kind, or of the kind it [`CommandDef::sends`]).
     pub const fn needs_control(&self) -> bool {
-        match self.kind {
-            Some(k) => k.needs_control(),
-            None => false,
+        match (self.kind, self.sends) {
+            (Some(k), _) | (None, Some(k)) => k.needs_control(),
+            (None, None) => false,
         }
     }
 
@@ -215,7 +246,10 @@ impl CommandDef {
         for a in self.args {
             s.push(' ');
             match (a.positional, a.default.is_empty()) {
-                (true, true) if a.kind == Kind::Six => s.push_str(&format!("<{} x6>", a.name)),
+                (true, true) if a.kind.numbers().is_some() => {
+                    let n = a.kind.numbers().map_or(0, |(n, _)| n);
+                    s.push_str(&format!("<{} x{n}>", a.name))
+                }
                 (true, true) => s.push_str(&format!("<{}>", a.name)),
                 (true, false) => s.push_str(&format!("[{}]", a.name)),
                 (false, _) => s.push_str(&format!("[{}={}]", a.name, a.kind.placeholder())),

@@ -472,6 +472,30 @@ fn every_command_reads_back_as_written() {
             secret: Secret("s3cret words".into()),
         }
         .into(),
+        MoveToPose {
+            pose: Pose {
+                position: [0.4, -0.1, 0.5],
+                orientation: [0.0, 1.0, 0.0, 0.0],
+            },
+            velocity_factor: 0.5,
+        }
+        .into(),
+        InverseKinematics {
+            pose: Pose {
+                position: [0.3, 0.2, 0.25],
+                orientation: [0.5, -0.5, 0.5, 0.5],
+            },
+            seed_deg: Some([0.0, 10.0, 20.0, 0.0, -5.0, 370.0]),
+        }
+        .into(),
+        InverseKinematics {
+            pose: Pose {
+                position: [0.3, 0.2, 0.25],
+                orientation: [0.0, 0.0, 0.0, 1.0],
+            },
+            seed_deg: None,
+        }
+        .into(),
     ];
     let mut seen = std::collections::BTreeSet::new();
     for c in &commands {
@@ -583,6 +607,9 @@ fn every_default_shown_is_the_default_parsed() {
         "authenticate" => json!({"secret": "s"}),
         "move_all" => json!({"target_positions": zeros}),
         "move_axis" => json!({"axis_index": 1, "target_position": 0}),
+        "move_to_pose" | "inverse_kinematics" => {
+            json!({"position": [0.4, 0, 0.5], "orientation": [0, 0, 0, 1]})
+        }
         "pvt_points" => json!({"points": [{"position": zeros, "velocity": zeros}]}),
         "set_torques" => json!({"torques": zeros}),
         "set_velocities" => json!({"velocities": zeros}),
@@ -606,5 +633,5 @@ fn every_default_shown_is_the_default_parsed() {
             checked.push(format!("{}.{}", d.name, a.name));
         }
     }
-    assert_eq!(checked.len(), 14, "{checked:?}");
+    assert_eq!(checked.len(), 15, "{checked:?}");
 }

@@ -142,6 +142,20 @@ fn what_each_command_needs() {
         )),
         Need::Sim
     );
+    // Executed by the gateway: a pose to move to is motion, a pose to solve is not.
+    let pose = r#""position":[0.4,0,0.5],"orientation":[0,0,0,1]"#;
+    assert_eq!(
+        need(&parse(&format!(
+            r#"{{"command":"move_to_pose","arguments":{{{pose}}}}}"#
+        ))),
+        Need::Motion
+    );
+    assert_eq!(
+        need(&parse(&format!(
+            r#"{{"command":"inverse_kinematics","arguments":{{{pose}}}}}"#
+        ))),
+        Need::Open
+    );
 }
 
 #[test]

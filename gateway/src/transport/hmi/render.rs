@@ -9,12 +9,13 @@
 //! sequence, not even one of the HMI's own colours.
 
 use super::words::LineError;
+use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::Mode;
 use mcm_shared::protocol;
 use mcm_shared::protocol::results::{
-    Answer, Detail, Generic, Info, MoveAllResult, SimResult, Status,
+    Answer, Detail, Generic, Info, InverseKinematicsResult, MoveAllResult, SimResult, Status,
 };
 use mcm_shared::sample::{
     AXIS_CALIBRATED, STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_PVT_STARVED, StateSample,
@@ -150,6 +151,7 @@ pub fn answer(command: &str, v: &Answer, cfg: &RobotConfig, state: Option<&State
         Answer::MoveAll(m) => move_all(m, cfg),
         Answer::Initialization(i) => info(i),
         Answer::Sim(r) => sim(r, cfg),
+        Answer::InverseKinematics(r) => inverse_kinematics(r),
         Answer::Generic(g) if g.is_ok() => {
             let words = protocol::find(command).map_or("", |d| d.ok_words);
             format!("{GREEN}OK{RESET}{words}\n")
@@ -455,6 +457,33 @@ pub fn move_all(v: &MoveAllResult, cfg: &RobotConfig) -> String {
             axis_name(cfg, i),
             num(*vel, 11, 3)
         );
+    }
+    s
+}
+
+/// The inverse_kinematics result: one row per solution, the nearest to the seed first, one
+/// column per axis.
+pub fn inverse_kinematics(v: &InverseKinematicsResult) -> String {
+    let n = v.solutions.len();
+    let mut s = format!(
+        "{GREEN}OK{RESET} - {n} solution{} within the axis limits, the nearest to the seed first\n",
+        if n == 1 { "" } else { "s" }
+    );
+    let _ = write!(s, "{:>8}", "solution");
+    for i in 1..=NUM_AXES {
+        let _ = write!(s, " {:>9}", format!("axis {i}"));
+    }
+    let _ = write!(s, "\n{:>8}", "");
+    for _ in 0..NUM_AXES {
+        let _ = write!(s, " {:>9}", "deg");
+    }
+    s.push('\n');
+    for (k, q) in v.solutions.iter().enumerate() {
+        let _ = write!(s, "{:>8}", k + 1);
+        for x in q {
+            let _ = write!(s, " {}", num(*x, 9, 3));
+        }
+        s.push('\n');
     }
     s
 }

@@ -7,7 +7,8 @@
 //! `velocity_factor` too). Values: numbers, `true`/`false`, words; `"..."` or `'...'` quote a
 //! value (a quoted value is always a string, except a quoted JSON array for `pvt_points` and
 //! six-value arguments); `[...]` and `{...}` are JSON and may contain spaces. Six values
-//! (`move_all`, `set_torques`) are six words, `a,b,c,d,e,f` or a JSON array. A bare boolean
+//! (`move_all`, `set_torques`) are six words, `a,b,c,d,e,f` or a JSON array; so are a pose's
+//! position (three) and orientation (four). A bare boolean
 //! argument name means `true` (`status detail`). The words become a JSON `arguments` object
 //! that [`Command::parse`] validates, exactly as for the JSON channel. A line starting with `{`
 //! is a JSON command ([`Command::from_json`]).
@@ -83,10 +84,13 @@ pub enum LineError {
         takes: String,
         got: usize,
     },
-    #[error("{command}: \"{argument}\" needs 6 numbers, one per axis, got {got}")]
-    NotSix {
+    #[error("{command}: \"{argument}\" needs {needs} numbers, {what}, got {got}")]
+    TooFewNumbers {
         command: &'static str,
         argument: &'static str,
+        needs: usize,
+        /// What they are ([`Kind::numbers`]).
+        what: &'static str,
         got: usize,
     },
     #[error("{command}: argument \"{argument}\" is not valid JSON ({reason})")]
@@ -127,7 +131,7 @@ impl LineError {
             LineError::UnknownArgument { .. } => ErrorCode::UnknownArgument,
             LineError::Duplicate { .. }
             | LineError::TooMany { .. }
-            | LineError::NotSix { .. }
+            | LineError::TooFewNumbers { .. }
             | LineError::BadJson { .. }
             | LineError::Session { .. } => ErrorCode::InvalidArgument,
             LineError::Rejected { error, .. } | LineError::Json(error) => error.code(),
@@ -139,7 +143,7 @@ impl LineError {
             LineError::UnknownArgument { command, .. }
             | LineError::Duplicate { command, .. }
             | LineError::TooMany { command, .. }
-            | LineError::NotSix { command, .. }
+            | LineError::TooFewNumbers { command, .. }
             | LineError::BadJson { command, .. }
             | LineError::Rejected { command, .. } => protocol::find(command),
             _ => None,
@@ -459,25 +463,30 @@ pub fn arguments(spec: &'static CommandDef, tokens: &[Token]) -> Result<Value, L
             });
         };
         next += 1;
-        if a.kind == Kind::Six && t.form == Form::Plain && !t.value.contains(',') {
-            let mut six = Vec::new();
-            while six.len() < 6
+        if let Some((needs, what)) = a.kind.numbers()
+            && t.form == Form::Plain
+            && !t.value.contains(',')
+        {
+            let mut numbers = Vec::new();
+            while numbers.len() < needs
                 && let Some(t) = tokens.get(i)
                 && t.name.is_none()
                 && t.form == Form::Plain
             {
-                six.push(word(&t.value, Kind::Number));
+                numbers.push(word(&t.value, Kind::Number));
                 i += 1;
                 by_position += 1;
             }
-            if six.len() < 6 {
-                return Err(LineError::NotSix {
+            if numbers.len() < needs {
+                return Err(LineError::TooFewNumbers {
                     command: spec.name,
                     argument: a.name,
-                    got: six.len(),
+                    needs,
+                    what,
+                    got: numbers.len(),
                 });
             }
-            insert(&mut map, a, Value::Array(six))?;
+            insert(&mut map, a, Value::Array(numbers))?;
             continue;
         }
         insert(&mut map, a, value(spec, a, t)?)?;
@@ -513,7 +522,7 @@ fn value(spec: &CommandDef, a: &'static ArgDef, t: &Token) -> Result<Value, Line
     match t.form {
         Form::Bracketed => json(&t.value),
         Form::Quoted
-            if matches!(a.kind, Kind::Six | Kind::Points)
+            if (a.kind.numbers().is_some() || a.kind == Kind::Points)
                 && t.value.trim_start().starts_with('[') =>
         {
             json(&t.value)
@@ -523,13 +532,13 @@ fn value(spec: &CommandDef, a: &'static ArgDef, t: &Token) -> Result<Value, Line
     }
 }
 
-/// The JSON value of an unquoted word: a number, a boolean, six comma-separated numbers, or
-/// else a string (which the command parser then refuses with the allowed values).
+/// The JSON value of an unquoted word: a number, a boolean, comma-separated numbers (for a
+/// kind of several numbers), or else a string (which the command parser then refuses with the allowed values).
 fn word(w: &str, kind: Kind) -> Value {
     if kind == Kind::Text {
         return Value::String(w.to_string());
     }
-    if kind == Kind::Six && w.contains(',') {
+    if kind.numbers().is_some() && w.contains(',') {
         return Value::Array(w.split(',').map(|p| word(p.trim(), Kind::Number)).collect());
     }
     match (w.to_ascii_lowercase().as_str(), kind) {

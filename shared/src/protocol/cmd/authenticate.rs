@@ -29,6 +29,7 @@ impl Definition for Authenticate {
     const DEF: CommandDef = CommandDef {
         name: "authenticate",
         kind: None,
+        sends: None,
         success: Success::Ok,
         group: Group::Control,
         ok_words: "",

@@ -58,6 +58,7 @@ impl Definition for Calibrate {
     const DEF: CommandDef = CommandDef {
         name: "calibrate",
         kind: Some(CommandKind::Calibrate),
+        sends: None,
         success: Success::Ok,
         group: Group::OffAndHold,
         ok_words: " - calibration finished",

@@ -12,6 +12,7 @@ impl Definition for Hold {
     const DEF: CommandDef = CommandDef {
         name: "hold",
         kind: Some(CommandKind::Hold),
+        sends: None,
         success: Success::Status,
         group: Group::EveryMode,
         ok_words: "",

@@ -11,6 +11,7 @@ impl Definition for Info {
     const DEF: CommandDef = CommandDef {
         name: "info",
         kind: Some(CommandKind::Info),
+        sends: None,
         success: Success::Initialization,
         group: Group::EveryMode,
         ok_words: "",

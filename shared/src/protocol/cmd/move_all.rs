@@ -11,6 +11,7 @@ impl Definition for MoveAll {
     const DEF: CommandDef = CommandDef {
         name: "move_all",
         kind: Some(CommandKind::MoveAll),
+        sends: None,
         success: Success::MoveAll,
         group: Group::Pvt,
         ok_words: "",

@@ -21,6 +21,7 @@ impl Definition for MoveAxis {
     const DEF: CommandDef = CommandDef {
         name: "move_axis",
         kind: Some(CommandKind::MoveAxis),
+        sends: None,
         success: Success::Ok,
         group: Group::Pvt,
         ok_words: " - the axis is moving (`watch` follows it)",

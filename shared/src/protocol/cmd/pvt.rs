@@ -12,6 +12,7 @@ impl Definition for Pvt {
     const DEF: CommandDef = CommandDef {
         name: "pvt",
         kind: Some(CommandKind::Pvt),
+        sends: None,
         success: Success::Status,
         group: Group::ModeChange,
         ok_words: "",

@@ -32,6 +32,7 @@ impl Definition for PvtPoints {
     const DEF: CommandDef = CommandDef {
         name: "pvt_points",
         kind: Some(CommandKind::PvtPoints),
+        sends: None,
         success: Success::Ok,
         group: Group::Pvt,
         ok_words: " - points queued",

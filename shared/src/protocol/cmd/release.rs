@@ -11,6 +11,7 @@ impl Definition for Release {
     const DEF: CommandDef = CommandDef {
         name: "release",
         kind: Some(CommandKind::Release),
+        sends: None,
         success: Success::Status,
         group: Group::ModeChange,
         ok_words: "",

@@ -13,6 +13,7 @@ impl Definition for ReleaseControl {
     const DEF: CommandDef = CommandDef {
         name: "release_control",
         kind: Some(CommandKind::ReleaseControl),
+        sends: None,
         success: Success::Ok,
         group: Group::Control,
         ok_words: "",

@@ -8,6 +8,7 @@ impl Definition for SetTorques {
     const DEF: CommandDef = CommandDef {
         name: "set_torques",
         kind: Some(CommandKind::SetTorques),
+        sends: None,
         success: Success::Nothing,
         group: Group::TorqueControl,
         ok_words: " - torques set",

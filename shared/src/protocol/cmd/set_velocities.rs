@@ -9,6 +9,7 @@ impl Definition for SetVelocities {
     const DEF: CommandDef = CommandDef {
         name: "set_velocities",
         kind: Some(CommandKind::SetVelocities),
+        sends: None,
         success: Success::Nothing,
         group: Group::VelocityControl,
         ok_words: " - velocities set",

@@ -9,6 +9,7 @@ impl Definition for SimCommand {
     const DEF: CommandDef = CommandDef {
         name: "sim",
         kind: Some(CommandKind::Sim),
+        sends: None,
         success: Success::Sim,
         group: Group::EveryMode,
         ok_words: "",

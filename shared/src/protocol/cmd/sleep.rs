@@ -14,6 +14,7 @@ impl Definition for Sleep {
     const DEF: CommandDef = CommandDef {
         name: "sleep",
         kind: None,
+        sends: None,
         success: Success::Ok,
         group: Group::EveryMode,
         ok_words: "",

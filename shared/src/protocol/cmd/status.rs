@@ -15,6 +15,7 @@ impl Definition for Status {
     const DEF: CommandDef = CommandDef {
         name: "status",
         kind: Some(CommandKind::Status),
+        sends: None,
         success: Success::Status,
         group: Group::EveryMode,
         ok_words: "",

@@ -13,6 +13,7 @@ impl Definition for TakeControl {
     const DEF: CommandDef = CommandDef {
         name: "take_control",
         kind: Some(CommandKind::TakeControl),
+        sends: None,
         success: Success::Ok,
         group: Group::Control,
         ok_words: "",

@@ -41,6 +41,7 @@ impl Definition for TorqueControl {
     const DEF: CommandDef = CommandDef {
         name: "torque_control",
         kind: Some(CommandKind::TorqueControl),
+        sends: None,
         success: Success::Status,
         group: Group::ModeChange,
         ok_words: "",

@@ -19,6 +19,7 @@ impl Definition for VelocityControl {
     const DEF: CommandDef = CommandDef {
         name: "velocity_control",
         kind: Some(CommandKind::VelocityControl),
+        sends: None,
         success: Success::Status,
         group: Group::ModeChange,
         ok_words: "",

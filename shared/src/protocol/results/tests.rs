@@ -322,6 +322,7 @@ fn one_of_each() -> Vec<Answer> {
             max_time_to_target: 0.5,
         }),
         Answer::Sim(SimResult::from_state(&state)),
+        Answer::InverseKinematics(InverseKinematicsResult::new([[1.0; 6], [2.0; 6]])),
     ];
     for a in &each {
         match a {
@@ -329,7 +330,8 @@ fn one_of_each() -> Vec<Answer> {
             | Answer::Status(_)
             | Answer::Initialization(_)
             | Answer::MoveAll(_)
-            | Answer::Sim(_) => {}
+            | Answer::Sim(_)
+            | Answer::InverseKinematics(_) => {}
         }
     }
     each
@@ -352,6 +354,7 @@ fn every_result_type_is_the_one_a_success_names() {
         Success::Initialization,
         Success::MoveAll,
         Success::Sim,
+        Success::InverseKinematics,
     ];
     let mut named = std::collections::BTreeSet::new();
     for s in successes {
@@ -361,7 +364,8 @@ fn every_result_type_is_the_one_a_success_names() {
             | Success::Nothing
             | Success::Initialization
             | Success::MoveAll
-            | Success::Sim => {}
+            | Success::Sim
+            | Success::InverseKinematics => {}
         }
         let answering: Vec<&Answer> = each.iter().filter(|a| s.answers(a)).collect();
         match s.result_type() {

@@ -283,3 +283,35 @@ fn an_ok_result_names_what_was_done() {
     assert!(text.contains("calibration finished"), "{text}");
     assert!(text.contains("OK"), "{text}");
 }
+
+#[test]
+fn inverse_kinematics_table() {
+    let r = mcm_shared::protocol::results::InverseKinematicsResult::new([
+        [20.0, 30.0, 60.0, -40.0, 50.0, 10.0],
+        [20.0, 95.5, -60.0, 140.0, -50.0, -170.0],
+    ]);
+    let text = strip_ansi(&answer(
+        "inverse_kinematics",
+        &Answer::InverseKinematics(r),
+        &cfg(),
+        None,
+    ));
+    assert!(
+        text.starts_with(
+            "OK - 2 solutions within the axis limits, the nearest to the seed first\n"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains("solution    axis 1    axis 2    axis 3    axis 4    axis 5    axis 6\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("       1    20.000    30.000    60.000   -40.000    50.000    10.000\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("       2    20.000    95.500   -60.000   140.000   -50.000  -170.000\n"),
+        "{text}"
+    );
+}

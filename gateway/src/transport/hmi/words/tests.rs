@@ -357,3 +357,43 @@ fn clear_takes_no_words() {
         })
     ));
 }
+
+/// A pose is typed as three and four numbers by position, or comma-separated by name.
+#[test]
+fn a_pose_is_typed_as_three_and_four_numbers() {
+    use mcm_shared::protocol::{InverseKinematics, MoveToPose, Pose};
+    let pose = Pose {
+        position: [0.4, 0.0, 0.5],
+        orientation: [0.0, 1.0, 0.0, 0.0],
+    };
+    let expected = Command::InverseKinematics(InverseKinematics {
+        pose,
+        seed_deg: None,
+    });
+    assert_eq!(cmd("inverse_kinematics 0.4 0 0.5 0 1 0 0"), expected);
+    assert_eq!(
+        cmd("inverse_kinematics pos=0.4,0,0.5 orient=0,1,0,0"),
+        expected
+    );
+    let Command::InverseKinematics(ik) =
+        cmd("inverse_kinematics 0.4 0 0.5 0 1 0 0 seed=1,2,3,4,5,6")
+    else {
+        panic!()
+    };
+    assert_eq!(ik.seed_deg, Some([1.0, 2.0, 3.0, 4.0, 5.0, 6.0]));
+    assert_eq!(
+        cmd("move_to_pose 0.4 0 0.5 0 1 0 0 0.5"),
+        Command::MoveToPose(MoveToPose {
+            pose,
+            velocity_factor: 0.5
+        })
+    );
+    assert_eq!(
+        err("move_to_pose 0.4 0 0.5 0 1").to_string(),
+        "move_to_pose: \"orientation\" needs 4 numbers, a quaternion x, y, z, w, got 2"
+    );
+    assert_eq!(
+        err("inverse_kinematics 0.4 0").to_string(),
+        "inverse_kinematics: \"position\" needs 3 numbers, x, y, z in metres, got 2"
+    );
+}

@@ -1,0 +1,89 @@
+//! A Cartesian pose as the commands take it (`inverse_kinematics`, `move_to_pose`): the TCP's
+//! `position` [m] and `orientation` (a unit quaternion `[x, y, z, w]`) in the base frame
+//! (`docs/cartesian.md`). A quaternion whose norm is within [`UNIT_TOLERANCE`] of 1 is
+//! normalised; any other is refused, naming its norm. Not used inside the real-time cycle.
+
+use super::args::numbers;
+use super::spec::{ArgDef, Kind, arg};
+use super::{Args, CommandError};
+use serde_json::{Map, Value};
+
+/// How far from 1 a quaternion's norm may be for it to be taken as a unit quaternion (and
+/// normalised).
+pub const UNIT_TOLERANCE: f64 = 1e-3;
+
+/// The `position` argument.
+pub(crate) const POSITION: ArgDef = arg(
+    "position",
+    "pos",
+    Kind::Position,
+    true,
+    "",
+    "the TCP's position in the base frame: x, y, z [m]",
+);
+
+/// The `orientation` argument.
+pub(crate) const ORIENTATION: ArgDef = arg(
+    "orientation",
+    "orient",
+    Kind::Orientation,
+    true,
+    "",
+    "the TCP's orientation in the base frame: a unit quaternion x, y, z, w (normalised when \
+     its norm is within 0.001 of 1)",
+);
+
+/// A TCP pose in the base frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    /// [m]
+    pub position: [f64; 3],
+    /// A unit quaternion `[x, y, z, w]`.
+    pub orientation: [f64; 4],
+}
+
+impl Pose {
+    /// The pose of a command's `position` and `orientation` arguments (both required).
+    pub fn parse(args: &Args<'_>) -> Result<Pose, CommandError> {
+        let (_, position) = required::<3>(args, POSITION.name, "coordinates x, y, z [m]")?;
+        let (raw, q) = required::<4>(args, ORIENTATION.name, "quaternion components x, y, z, w")?;
+        let norm = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if (norm - 1.0).abs() > UNIT_TOLERANCE {
+            return Err(args.invalid(
+                ORIENTATION.name,
+                raw,
+                format!(
+                    "a unit quaternion [x, y, z, w]: its norm is {}, not within {UNIT_TOLERANCE} \
+                     of 1",
+                    crate::ranges::Num(norm)
+                ),
+            ));
+        }
+        let orientation = if norm == 1.0 { q } else { q.map(|x| x / norm) };
+        Ok(Pose {
+            position,
+            orientation,
+        })
+    }
+
+    /// Its `position` and `orientation` into a command's `arguments`.
+    pub fn insert_into(&self, m: &mut Map<String, Value>) {
+        m.insert(POSITION.name.into(), self.position.to_vec().into());
+        m.insert(ORIENTATION.name.into(), self.orientation.to_vec().into());
+    }
+}
+
+/// The required argument `name` of `N` numbers (`what` they are), as given and as read.
+fn required<'a, const N: usize>(
+    args: &Args<'a>,
+    name: &'static str,
+    what: &str,
+) -> Result<(&'a Value, [f64; N]), CommandError> {
+    let raw = args
+        .raw(name)
+        .ok_or_else(|| args.missing(name, &format!("an array of {N} {what}")))?;
+    Ok((raw, numbers(args, name, raw, what)?))
+}
+
+#[cfg(test)]
+mod tests;
