@@ -500,6 +500,8 @@ proptest! {
         cfg.arm.tool = mcm_shared::config::ToolConfig {
             mass: tool_mass,
             com: tool_com,
+            tcp: None,
+            inertia: None,
         };
         let f = Fixture::new(cfg, "");
         assert_kinematics(&f, "", &q);
