@@ -484,6 +484,23 @@ impl From<&mcm_pvt_point_t> for mcm_client::PvtPoint {
     }
 }
 
+/// A tool as `set_tool` takes it: the TCP in the flange frame, the load.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct mcm_tool_t {
+    /// The TCP's position in the flange frame [m].
+    pub tcp_position: [f64; 3],
+    /// The TCP's orientation in the flange frame, a unit quaternion `[x, y, z, w]`.
+    pub tcp_orientation: [f64; 4],
+    /// [kg], from 0 to 5.
+    pub mass: f64,
+    /// In the flange frame [m].
+    pub center_of_mass: [f64; 3],
+    /// `[ixx, iyy, izz, ixy, ixz, iyz]` about the centre of mass [kg m^2]; zeros: a point
+    /// mass.
+    pub inertia: [f64; 6],
+}
+
 /// `mcm_event_t.kind`: a status of this connection's torque or velocity session (TCP).
 pub const MCM_EVENT_STATUS: u32 = 1;
 /// `mcm_event_t.kind`: a safety check tripped (`code` names it, `axis` the axis).

@@ -499,6 +499,21 @@ typedef struct mcm_pvt_point_t {
   double velocity[MCM_NUM_AXES];
 } mcm_pvt_point_t;
 
+// A tool as `set_tool` takes it: the TCP in the flange frame, the load.
+typedef struct mcm_tool_t {
+  // The TCP's position in the flange frame [m].
+  double tcp_position[3];
+  // The TCP's orientation in the flange frame, a unit quaternion `[x, y, z, w]`.
+  double tcp_orientation[4];
+  // [kg], from 0 to 5.
+  double mass;
+  // In the flange frame [m].
+  double center_of_mass[3];
+  // `[ixx, iyy, izz, ixy, ixz, iyz]` about the centre of mass [kg m^2]; zeros: a point
+  // mass.
+  double inertia[6];
+} mcm_tool_t;
+
 // The answer to `info` over shared memory.
 typedef struct mcm_shm_info_t {
   uint32_t num_axes;
@@ -667,6 +682,10 @@ enum mcm_error_t mcm_tcp_move_all(struct mcm_tcp_client_t *client, const double 
 // queued).
 enum mcm_error_t mcm_tcp_pvt_points(struct mcm_tcp_client_t *client, const struct mcm_pvt_point_t *points, size_t count);
 
+// Set the tool the arm carries (its TCP and load), from the next cycle; in HOLD, or PVT at
+// standstill. A tool outside its checks is refused here (`MCM_ERR_ARGUMENT`).
+enum mcm_error_t mcm_tcp_set_tool(struct mcm_tcp_client_t *client, const struct mcm_tool_t *tool);
+
 // Take control of the arm's motion (refused while another client controls it).
 enum mcm_error_t mcm_tcp_take_control(struct mcm_tcp_client_t *client);
 
@@ -741,6 +760,10 @@ enum mcm_error_t mcm_shm_move_all(struct mcm_shm_client_t *client, const double 
 // Queue `count` PVT points, spaced by `pvt`'s `dt`. 1 to 1000 points, queued whole or not at
 // all.
 enum mcm_error_t mcm_shm_pvt_points(struct mcm_shm_client_t *client, const struct mcm_pvt_point_t *points, size_t count);
+
+// Set the tool the arm carries (its TCP and load), from the next cycle; in HOLD, or PVT at
+// standstill. A tool outside its checks is refused here (`MCM_ERR_ARGUMENT`).
+enum mcm_error_t mcm_shm_set_tool(struct mcm_shm_client_t *client, const struct mcm_tool_t *tool);
 
 // Take control of the arm's motion (refused while another client controls it).
 enum mcm_error_t mcm_shm_take_control(struct mcm_shm_client_t *client);

@@ -44,6 +44,7 @@ KINDS: Dict[str, int] = {
     "client_gone": 15,
     "velocity_control": 16,
     "set_velocities": 17,
+    "set_tool": 18,
 }
 KIND_NAMES: Dict[int, str] = {v: k for k, v in KINDS.items()}
 
@@ -68,6 +69,7 @@ COMMANDS: Tuple[str, ...] = (
     "take_control",
     "release_control",
     "authenticate",
+    "set_tool",
 )
 
 #: The ``result_type`` of each command's result on success (``CommandDef::success``);
@@ -91,6 +93,7 @@ RESULT_TYPES: Dict[str, Optional[str]] = {
     "take_control": "generic",
     "release_control": "generic",
     "authenticate": "generic",
+    "set_tool": "generic",
 }
 
 #: Commands that answer nothing on success (``Success::Nothing``): a refusal comes later,
@@ -113,6 +116,7 @@ NEEDS_CONTROL = frozenset(
         "move_axis",
         "move_all",
         "pvt_points",
+        "set_tool",
     ]
 )
 

@@ -51,6 +51,12 @@ ARGS: Dict[str, Dict[str, int]] = {
     "set_velocities": {
         "velocities": 0,
     },
+    "set_tool": {
+        "tcp": 0,
+        "mass": 7,
+        "center_of_mass": 8,
+        "inertia": 11,
+    },
 }
 
 #: ``calibrate``'s ``which``: the value of each group (one axis travels as its number).

@@ -20,7 +20,8 @@
 //! `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client controls the
 //! arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a cycle reports),
 //! `shutdown_sequence.rs` (the controlled stop and disable when `mcm-rt` is asked to stop),
-//! `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft speed limit).
+//! `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft speed limit),
+//! `tool.rs` (the active tool, `set_tool`).
 
 mod calibrate;
 mod calibrate_relax;
@@ -34,6 +35,7 @@ pub mod planted;
 pub mod release;
 mod shutdown_sequence;
 mod state;
+mod tool;
 mod trips;
 mod velocity;
 mod view;

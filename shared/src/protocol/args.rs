@@ -73,6 +73,12 @@ pub enum CommandError {
         expected: String,
         arg: Arg,
     },
+    /// A tool that is not allowed ([`crate::tool::Tool::new`], the core's own check).
+    #[error("{command}: {error}")]
+    Tool {
+        command: &'static str,
+        error: crate::tool::ToolError,
+    },
 }
 
 impl CommandError {
@@ -90,6 +96,7 @@ impl CommandError {
             CommandError::UnknownArgument { .. } => ErrorCode::UnknownArgument,
             CommandError::Missing { .. } => ErrorCode::MissingArgument,
             CommandError::Invalid { .. } => ErrorCode::InvalidArgument,
+            CommandError::Tool { .. } => ErrorCode::OutOfRange,
             CommandError::OutOfRange { arg, .. } => Reason::argument_code(*arg)
                 .error_code()
                 .unwrap_or(ErrorCode::OutOfRange),
@@ -110,7 +117,8 @@ impl CommandError {
             | CommandError::UnknownArgument { command, .. }
             | CommandError::Missing { command, .. }
             | CommandError::Invalid { command, .. }
-            | CommandError::OutOfRange { command, .. } => Some(command),
+            | CommandError::OutOfRange { command, .. }
+            | CommandError::Tool { command, .. } => Some(command),
         }
     }
 }
@@ -328,11 +336,22 @@ pub fn six_numbers(
     v: &Value,
     what: &str,
 ) -> Result<[f64; 6], CommandError> {
+    numbers(args, name, v, what)
+}
+
+/// `K` finite numbers from `v` (`what` says what they are, for the refusal); their ranges are
+/// the caller's to check.
+pub fn numbers<const K: usize>(
+    args: &Args<'_>,
+    name: &str,
+    v: &Value,
+    what: &str,
+) -> Result<[f64; K], CommandError> {
     let arr = v
         .as_array()
-        .filter(|a| a.len() == 6)
-        .ok_or_else(|| args.invalid(name, v, format!("an array of 6 {what}")))?;
-    let mut out = [0.0; 6];
+        .filter(|a| a.len() == K)
+        .ok_or_else(|| args.invalid(name, v, format!("an array of {K} {what}")))?;
+    let mut out = [0.0; K];
     for (i, x) in arr.iter().enumerate() {
         out[i] = x.as_f64().filter(|n| n.is_finite()).ok_or_else(|| {
             args.invalid(&format!("{name}[{i}]"), x, format!("a number ({what})"))

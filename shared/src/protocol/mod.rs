@@ -59,7 +59,7 @@ pub use spec::{ArgDef, CommandDef, Group, Kind, Success};
 pub use wait::{CALIBRATION_TIMEOUT, REPLY_TIMEOUT, core_reply_within};
 
 use crate::command::{
-    Calibrate, MoveAll, MoveAxis, Pvt, Request, SetTorques, SetVelocities, SimCommand,
+    Calibrate, MoveAll, MoveAxis, Pvt, Request, SetTool, SetTorques, SetVelocities, SimCommand,
 };
 use crate::config::RobotConfig;
 use json::json_kind;
@@ -168,6 +168,7 @@ commands! {
     TakeControl(TakeControl),
     ReleaseControl(ReleaseControl),
     Authenticate(Authenticate),
+    SetTool(SetTool),
 }
 
 /// The command called `name` (any case).

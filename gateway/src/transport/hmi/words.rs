@@ -513,8 +513,8 @@ fn value(spec: &CommandDef, a: &'static ArgDef, t: &Token) -> Result<Value, Line
     match t.form {
         Form::Bracketed => json(&t.value),
         Form::Quoted
-            if matches!(a.kind, Kind::Six | Kind::Points)
-                && t.value.trim_start().starts_with('[') =>
+            if matches!(a.kind, Kind::Six | Kind::Points | Kind::Json)
+                && t.value.trim_start().starts_with(['[', '{']) =>
         {
             json(&t.value)
         }
