@@ -159,6 +159,8 @@ pub struct mcm_state_t {
     pub owner_client_id: u64,
     /// The bus's and the CANopen master's error counters.
     pub bus: mcm_bus_counters_t,
+    /// The active tool (`set_tool`; the configuration's at start).
+    pub tool: mcm_tool_t,
 }
 
 fn latency(l: &LatencyFigures) -> mcm_latency_t {
@@ -231,6 +233,13 @@ impl From<&StateSample> for mcm_state_t {
             reply_head: s.reply_head,
             owner_client_id: s.owner_client_id,
             bus: bus_counters(&s.bus),
+            tool: mcm_tool_t {
+                tcp_position: s.tool.tcp_position,
+                tcp_orientation: s.tool.tcp_orientation,
+                mass: s.tool.mass,
+                center_of_mass: s.tool.center_of_mass,
+                inertia: s.tool.inertia,
+            },
         }
     }
 }

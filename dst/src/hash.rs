@@ -10,7 +10,7 @@
 //! the state or a reply does not compile until it is hashed here.
 
 use mcm_shared::sample::{
-    BusCounters, CycleTiming, ErrorRecord, LatencyFigures, Reply, StateSample,
+    BusCounters, CycleTiming, ErrorRecord, LatencyFigures, Reply, StateSample, ToolState,
 };
 
 /// FNV-1a over 64-bit words, with a checkpoint after every cycle.
@@ -89,6 +89,7 @@ impl RunHash {
             reply_head,
             owner_client_id,
             bus,
+            tool,
         } = s;
         for w in [*seq, *t_ns, u64::from(*mode), u64::from(*flags)] {
             self.word(w);
@@ -130,6 +131,18 @@ impl RunHash {
         }
         self.timing(timing);
         self.error(last_error);
+        let ToolState {
+            tcp_position,
+            tcp_orientation,
+            mass,
+            center_of_mass,
+            inertia,
+        } = tool;
+        self.floats(tcp_position);
+        self.floats(tcp_orientation);
+        self.floats(&[*mass]);
+        self.floats(center_of_mass);
+        self.floats(inertia);
     }
 
     fn timing(&mut self, t: &CycleTiming) {

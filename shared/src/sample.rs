@@ -15,6 +15,7 @@
 //! position.
 
 use crate::NUM_AXES;
+use crate::tool::{Tcp, Tool};
 use iceoryx2::port::reader::{EntryHandle, EntryHandleError, Reader};
 use iceoryx2::prelude::{ZeroCopySend, ipc};
 
@@ -190,10 +191,50 @@ pub struct BusCounters {
     pub bus_errors: u64,
 }
 
+/// The active tool ([`crate::tool::Tool`]) in a state sample: TCP [m, unit quaternion
+/// `[x, y, z, w]`] in the flange frame, mass [kg], centre of mass [m], inertia
+/// `[ixx, iyy, izz, ixy, ixz, iyz]` [kg m^2] about the centre of mass.
+#[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+pub struct ToolState {
+    pub tcp_position: [f64; 3],
+    pub tcp_orientation: [f64; 4],
+    pub mass: f64,
+    pub center_of_mass: [f64; 3],
+    pub inertia: [f64; 6],
+}
+
+impl From<&Tool> for ToolState {
+    fn from(t: &Tool) -> ToolState {
+        ToolState {
+            tcp_position: t.tcp.position,
+            tcp_orientation: t.tcp.orientation,
+            mass: t.mass,
+            center_of_mass: t.center_of_mass,
+            inertia: t.inertia,
+        }
+    }
+}
+
+impl From<&ToolState> for Tool {
+    /// The tool as the core reports it (checked by the core when it took it).
+    fn from(t: &ToolState) -> Tool {
+        Tool {
+            tcp: Tcp {
+                position: t.tcp_position,
+                orientation: t.tcp_orientation,
+            },
+            mass: t.mass,
+            center_of_mass: t.center_of_mass,
+            inertia: t.inertia,
+        }
+    }
+}
+
 /// The state of the arm and of the controller, published once per cycle.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("mcm.StateSample.v5")]
+#[type_name("mcm.StateSample.v6")]
 pub struct StateSample {
     /// Cycle counter (increments by one every cycle).
     pub seq: u64,
@@ -239,6 +280,8 @@ pub struct StateSample {
     pub owner_client_id: u64,
     /// The bus's and the CANopen master's error counters.
     pub bus: BusCounters,
+    /// The active tool (`set_tool`; the configuration's `[arm.tool]` at start).
+    pub tool: ToolState,
 }
 
 impl Default for StateSample {
@@ -267,6 +310,7 @@ impl Default for StateSample {
             reply_head: 0,
             owner_client_id: 0,
             bus: BusCounters::default(),
+            tool: ToolState::default(),
         }
     }
 }

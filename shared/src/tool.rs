@@ -29,7 +29,7 @@ pub const MAX_REACH_M: f64 = 0.5;
 pub const ORIENTATION_TOLERANCE: f64 = 1e-3;
 
 /// The TCP: the tool frame as a transform of the flange frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Tcp {
     /// [m], flange frame.
     pub position: [f64; 3],
@@ -45,8 +45,9 @@ impl Tcp {
     };
 }
 
-/// A tool, checked ([`Tool::new`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A tool, checked ([`Tool::new`]). Its JSON is what `set_tool` takes and `status`
+/// `detail.tool` shows.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Tool {
     pub tcp: Tcp,
     /// [kg], from 0 to [`MAX_MASS_KG`].
@@ -225,6 +226,13 @@ fn physical_inertia(i: &[f64; 6]) -> Result<(), ToolError> {
     match minors.iter().find(|(m, tol)| *m < -tol) {
         Some(&(value, _)) => Err(ToolError::Inertia { value }),
         None => Ok(()),
+    }
+}
+
+impl Default for Tool {
+    /// [`Tool::NONE`].
+    fn default() -> Tool {
+        Tool::NONE
     }
 }
 

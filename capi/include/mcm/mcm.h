@@ -338,6 +338,21 @@ typedef struct mcm_bus_counters_t {
   uint64_t bus_errors;
 } mcm_bus_counters_t;
 
+// A tool as `set_tool` takes it: the TCP in the flange frame, the load.
+typedef struct mcm_tool_t {
+  // The TCP's position in the flange frame [m].
+  double tcp_position[3];
+  // The TCP's orientation in the flange frame, a unit quaternion `[x, y, z, w]`.
+  double tcp_orientation[4];
+  // [kg], from 0 to 5.
+  double mass;
+  // In the flange frame [m].
+  double center_of_mass[3];
+  // `[ixx, iyy, izz, ixy, ixz, iyz]` about the centre of mass [kg m^2]; zeros: a point
+  // mass.
+  double inertia[6];
+} mcm_tool_t;
+
 // The state of one cycle, as the real-time core publishes it (the shared-memory
 // `StateSample`, field for field; units: deg, deg/s, deg/s^2, A, ns).
 typedef struct mcm_state_t {
@@ -383,6 +398,8 @@ typedef struct mcm_state_t {
   uint64_t owner_client_id;
   // The bus's and the CANopen master's error counters.
   struct mcm_bus_counters_t bus;
+  // The active tool (`set_tool`; the configuration's at start).
+  struct mcm_tool_t tool;
 } mcm_state_t;
 
 // A `wait_until` condition over shared memory: nonzero when the state shows what is waited
@@ -498,21 +515,6 @@ typedef struct mcm_pvt_point_t {
   // [deg/s]
   double velocity[MCM_NUM_AXES];
 } mcm_pvt_point_t;
-
-// A tool as `set_tool` takes it: the TCP in the flange frame, the load.
-typedef struct mcm_tool_t {
-  // The TCP's position in the flange frame [m].
-  double tcp_position[3];
-  // The TCP's orientation in the flange frame, a unit quaternion `[x, y, z, w]`.
-  double tcp_orientation[4];
-  // [kg], from 0 to 5.
-  double mass;
-  // In the flange frame [m].
-  double center_of_mass[3];
-  // `[ixx, iyy, izz, ixy, ixz, iyz]` about the centre of mass [kg m^2]; zeros: a point
-  // mass.
-  double inertia[6];
-} mcm_tool_t;
 
 // The answer to `info` over shared memory.
 typedef struct mcm_shm_info_t {

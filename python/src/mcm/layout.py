@@ -4,7 +4,7 @@ iceoryx2 compares only a type's name, size and alignment when a peer opens a ser
 its fields, so these structures are pinned to the Rust layouts by a test
 (``tests/end_to_end/python_layout.rs`` runs ``python/tests/test_layout.py`` against the sizes and field
 offsets the Rust compiler computed). Any layout change in Rust bumps the version in the type
-name (``mcm.StateSample.v5``), and this module must follow.
+name (``mcm.StateSample.v6``), and this module must follow.
 
 This module needs only the standard library.
 """
@@ -145,6 +145,20 @@ class BusCounters(ctypes.Structure):
     ]
 
 
+class ToolState(ctypes.Structure):
+    """The active tool: the TCP in the flange frame [m, unit quaternion x, y, z, w], the mass
+    [kg], the centre of mass [m] and the inertia [ixx, iyy, izz, ixy, ixz, iyz] [kg m^2] about
+    it."""
+
+    _fields_ = [
+        ("tcp_position", ctypes.c_double * 3),
+        ("tcp_orientation", ctypes.c_double * 4),
+        ("mass", ctypes.c_double),
+        ("center_of_mass", ctypes.c_double * 3),
+        ("inertia", ctypes.c_double * 6),
+    ]
+
+
 class StateSample(ctypes.Structure):
     """The state of the arm and the controller, published once per cycle (key 0 of the state
     blackboard). Units: degrees, degrees/s, degrees/s^2, amperes; times ``CLOCK_MONOTONIC`` ns
@@ -174,12 +188,13 @@ class StateSample(ctypes.Structure):
         ("reply_head", ctypes.c_uint64),
         ("owner_client_id", ctypes.c_uint64),
         ("bus", BusCounters),
+        ("tool", ToolState),
     ]
 
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name, equal to the Rust ``#[type_name]``."""
-        return "mcm.StateSample.v5"
+        return "mcm.StateSample.v6"
 
 
 class ReplyBlock(ctypes.Structure):
@@ -201,6 +216,7 @@ STRUCTS: Dict[str, Type[ctypes.Structure]] = {
     "LatencyFigures": LatencyFigures,
     "CycleTiming": CycleTiming,
     "BusCounters": BusCounters,
+    "ToolState": ToolState,
     "StateSample": StateSample,
     "ReplyBlock": ReplyBlock,
 }

@@ -422,6 +422,7 @@ impl Controller {
         v.pvt_starved = matches!(self.state, State::Pvt { starved: true, .. });
         v.pvt_queued = u32::try_from(self.stream.queued()).unwrap_or(u32::MAX);
         v.owner_client_id = self.owner;
+        v.tool = *self.model.tool();
         v.bus.bad_frames = self.master.bad_frames();
         v.bus.frames_dropped = self.master.frames_dropped();
         v.bus.events_dropped = self.master.events_dropped();

@@ -27,6 +27,7 @@ fn the_configured_tool_is_active_at_start() {
     let r = Robot::new();
     let configured = RobotConfig::prob2_default().arm.tool.active();
     assert_eq!(r.cycle.controller().tool(), &configured);
+    assert_eq!(Tool::from(&r.cycle.state().tool), configured);
 }
 
 #[test]
@@ -69,6 +70,8 @@ fn set_tool_is_refused_outside_hold_and_a_pvt_standstill() {
     });
     assert_eq!(r.ok(set_tool(heavy()), 5), Done::Ack);
     assert_eq!(r.cycle.controller().tool(), &heavy());
+    // The state sample of that cycle reports it.
+    assert_eq!(Tool::from(&r.cycle.state().tool), heavy());
 }
 
 #[test]

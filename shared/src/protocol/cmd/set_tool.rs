@@ -1,7 +1,7 @@
 //! `set_tool`: the tool the arm carries (its TCP and its load), from the next cycle, for every
 //! use of the arm's model in the real-time core. Checked by [`Tool::new`], the check the core
 //! and the configuration's `[arm.tool]` use; a refusal is `out_of_range` naming the value.
-//! [`tool_json`] writes a tool as `set_tool` takes it (`status` `detail.tool` too).
+//! [`tool_json`] writes a tool as `set_tool` takes it, as `status` `detail.tool` shows it.
 
 use super::prelude::*;
 use crate::command::SetTool;
@@ -116,15 +116,10 @@ impl Definition for SetTool {
 }
 
 /// A tool as `set_tool` takes it: `{"tcp":{"position","orientation"},"mass","center_of_mass",
-/// "inertia"}` (the inertia zeros for a point mass).
+/// "inertia"}` (the inertia zeros for a point mass); [`Tool`]'s own JSON.
 pub fn tool_json(tool: &Tool) -> Map<String, Value> {
-    let mut tcp = Map::new();
-    tcp.insert("position".into(), tool.tcp.position.to_vec().into());
-    tcp.insert("orientation".into(), tool.tcp.orientation.to_vec().into());
-    let mut m = Map::new();
-    m.insert("tcp".into(), tcp.into());
-    m.insert("mass".into(), tool.mass.into());
-    m.insert("center_of_mass".into(), tool.center_of_mass.to_vec().into());
-    m.insert("inertia".into(), tool.inertia.to_vec().into());
-    m
+    match serde_json::to_value(tool) {
+        Ok(Value::Object(m)) => m,
+        _ => Map::new(),
+    }
 }
