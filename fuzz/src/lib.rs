@@ -398,6 +398,9 @@ impl Cmd {
                 unblock_axis: s.unblock_axis.map(axis),
                 external_torques_nm: s.external_torques.map(|t| t.map(TorqueIn::value)),
                 power_cycle: s.power_cycle,
+                // The true load changes only the simulated arm's physics; a field more in
+                // `SimIn` would give every kept input another meaning.
+                true_tool: None,
             }),
             Cmd::TakeControl => Request::TakeControl,
             Cmd::ReleaseControl => Request::ReleaseControl,

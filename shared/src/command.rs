@@ -42,8 +42,11 @@ use core::fmt;
 /// `CommandSample::flags` of `PvtPoints`: bits 0..7 hold the number of points in the sample.
 const PVT_COUNT_MASK: u32 = 0xFF;
 /// `CommandSample::flags` of `Sim`: bit n says `args[n]` is present (bit 5 covers all six
-/// external torques in `args[5..11]`).
-const SIM_FIELDS: u32 = 0b11_1111;
+/// external torques in `args[5..11]`, bit 6 the true tool's mass and centre of mass in
+/// `args[11..15]`).
+const SIM_FIELDS: u32 = 0b111_1111;
+/// Where a `sim` sample carries the true tool: its mass, then its centre of mass.
+const SIM_TRUE_TOOL: usize = 11;
 /// Arguments a PVT point takes in a sample: six positions, then six velocities.
 const PVT_POINT_ARGS: usize = 2 * NUM_AXES;
 
@@ -340,6 +343,17 @@ pub struct SimCommand {
     pub external_torques_nm: Option<[f64; NUM_AXES]>,
     /// Switch the drives' power off and on (they lose their calibration).
     pub power_cycle: bool,
+    /// The load the simulated arm really carries (its mass and centre of mass; the TCP and
+    /// inertia of a [`Tool`] made by [`SimCommand::true_tool`]), whatever `set_tool` says.
+    pub true_tool: Option<Tool>,
+}
+
+impl SimCommand {
+    /// The true load of `true_tool`: `mass` [kg] at `center_of_mass` [m, flange frame], checked
+    /// as a tool's load is ([`Tool::new`]).
+    pub fn true_tool(mass: f64, center_of_mass: [f64; 3]) -> Result<Tool, ToolError> {
+        Tool::new(Tcp::FLANGE, mass, center_of_mass, None)
+    }
 }
 
 /// A command to the real-time core, typed.
@@ -677,6 +691,11 @@ impl Request {
                     a[5..5 + NUM_AXES].copy_from_slice(&t);
                     s.flags |= 1 << 5;
                 }
+                if let Some(t) = c.true_tool {
+                    a[SIM_TRUE_TOOL] = t.mass;
+                    a[SIM_TRUE_TOOL + 1..SIM_TRUE_TOOL + 4].copy_from_slice(&t.center_of_mass);
+                    s.flags |= 1 << 6;
+                }
                 if c.power_cycle {
                     s.flags |= SIM_FLAG_POWER_CYCLE;
                 }
@@ -863,6 +882,14 @@ impl Request {
                         None
                     },
                     power_cycle: s.flags & SIM_FLAG_POWER_CYCLE != 0,
+                    true_tool: if has(6) {
+                        let at = SIM_TRUE_TOOL;
+                        let com = [a[at + 1], a[at + 2], a[at + 3]];
+                        let tool = SimCommand::true_tool(a[at], com).map_err(|e| d.tool(e))?;
+                        Some(tool)
+                    } else {
+                        None
+                    },
                 })
             }
         })

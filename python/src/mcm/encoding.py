@@ -44,6 +44,7 @@ ARGS: Dict[str, Dict[str, int]] = {
         "block_axis": 3,
         "unblock_axis": 4,
         "external_torques": 5,
+        "true_tool": 11,
     },
     "velocity_control": {
         "timeout": 0,
@@ -81,6 +82,7 @@ SIM_FLAGS: Dict[str, int] = {
     "block_axis": 8,
     "unblock_axis": 16,
     "external_torques": 32,
+    "true_tool": 64,
 }
 
 #: ``pvt_points``: the arguments one point takes, where its six positions and its six

@@ -43,9 +43,10 @@ fn sim() -> impl Strategy<Value = SimCommand> {
         prop::array::uniform4(prop::option::of(axis())),
         prop::option::of(prop::array::uniform6(-1000.0f64..=1000.0)),
         any::<bool>(),
+        prop::option::of((0.0f64..=5.0, prop::array::uniform3(-0.25f64..0.25))),
     )
         .prop_map(
-            |(emergency_stop, axes, external_torques_nm, power_cycle)| SimCommand {
+            |(emergency_stop, axes, external_torques_nm, power_cycle, load)| SimCommand {
                 emergency_stop,
                 disconnect_axis: axes[0],
                 reconnect_axis: axes[1],
@@ -53,6 +54,7 @@ fn sim() -> impl Strategy<Value = SimCommand> {
                 unblock_axis: axes[3],
                 external_torques_nm,
                 power_cycle,
+                true_tool: load.map(|(m, c)| SimCommand::true_tool(m, c).unwrap()),
             },
         )
 }

@@ -477,6 +477,7 @@ fn every_command_reads_back_as_written() {
             unblock_axis: Some(axis(4)),
             external_torques_nm: Some([0.0, 5.0, 0.0, 0.0, 0.0, -1.0]),
             power_cycle: true,
+            true_tool: Some(SimCommand::true_tool(2.0, [0.0, 0.0, 0.06]).unwrap()),
         }
         .into(),
         TakeControl.into(),

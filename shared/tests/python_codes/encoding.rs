@@ -122,6 +122,14 @@ fn sim_probes() -> Vec<Probe> {
             "external_torques",
             &torques,
         ),
+        sim(
+            SimCommand {
+                true_tool: Some(SimCommand::true_tool(X1, [0.031, 0.032, 0.033]).unwrap()),
+                ..none
+            },
+            "true_tool",
+            &[X1, 0.031, 0.032, 0.033],
+        ),
     ]
 }
 
