@@ -250,6 +250,20 @@ pub unsafe extern "C" fn mcm_tcp_pvt_points(client: *mut mcm_tcp_client_t, point
     }
 }
 
+/// Set the tool the arm carries (its TCP and load), from the next cycle; in HOLD, or PVT at
+/// standstill. A tool outside its checks is refused here (`MCM_ERR_ARGUMENT`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn mcm_tcp_set_tool(client: *mut mcm_tcp_client_t, tool: *const mcm_tool_t) -> mcm_error_t {
+    const F: &str = "mcm_tcp_set_tool";
+    // SAFETY: the header's contract.
+    unsafe {
+        call(F, client, |h| {
+            h.client.set_tool(convert::tool(tool, F)?)?;
+            Ok(())
+        })
+    }
+}
+
 /// Take control of the arm's motion (refused while another client controls it).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_tcp_take_control(client: *mut mcm_tcp_client_t) -> mcm_error_t {
@@ -544,6 +558,20 @@ pub unsafe extern "C" fn mcm_shm_pvt_points(client: *mut mcm_shm_client_t, point
     unsafe {
         call(F, client, |h| {
             h.client.pvt_points(&convert::points(points, count, F)?)?;
+            Ok(())
+        })
+    }
+}
+
+/// Set the tool the arm carries (its TCP and load), from the next cycle; in HOLD, or PVT at
+/// standstill. A tool outside its checks is refused here (`MCM_ERR_ARGUMENT`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn mcm_shm_set_tool(client: *mut mcm_shm_client_t, tool: *const mcm_tool_t) -> mcm_error_t {
+    const F: &str = "mcm_shm_set_tool";
+    // SAFETY: the header's contract.
+    unsafe {
+        call(F, client, |h| {
+            h.client.set_tool(convert::tool(tool, F)?)?;
             Ok(())
         })
     }

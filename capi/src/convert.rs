@@ -3,8 +3,11 @@
 //! the value and what is allowed.
 
 use crate::error::{Fail, mcm_error_t::MCM_ERR_ARGUMENT};
-use crate::types::{MCM_NUM_AXES, mcm_calibrate_t, mcm_control_options_t, mcm_pvt_point_t};
+use crate::types::{
+    MCM_NUM_AXES, mcm_calibrate_t, mcm_control_options_t, mcm_pvt_point_t, mcm_tool_t,
+};
 use mcm_client::mcm_shared::command::{Calibrate, TorqueControl, VelocityControl};
+use mcm_client::mcm_shared::tool::{Tcp, Tool};
 use mcm_client::tcp::{TorqueOptions, VelocityOptions};
 use mcm_client::{Axis, Direction, PvtPoint, Which};
 use std::ffi::{CStr, c_char};
@@ -204,6 +207,25 @@ pub(crate) unsafe fn points(
     // SAFETY: not NULL, `count` readable points (the caller's promise).
     let pts = unsafe { std::slice::from_raw_parts(p, count) };
     Ok(pts.iter().map(PvtPoint::from).collect())
+}
+
+/// The tool `p` points to, checked as the MCM checks it (`Tool::new`).
+///
+/// # Safety
+/// `p` is NULL or points to a readable `mcm_tool_t`.
+pub(crate) unsafe fn tool(p: *const mcm_tool_t, function: &str) -> Result<Tool, Fail> {
+    // SAFETY: the caller's promise.
+    let t = unsafe { p.as_ref() }.ok_or_else(|| Fail::null(function, "tool"))?;
+    let tcp = Tcp {
+        position: t.tcp_position,
+        orientation: t.tcp_orientation,
+    };
+    Tool::new(tcp, t.mass, t.center_of_mass, Some(t.inertia)).map_err(|e| {
+        Fail::new(
+            MCM_ERR_ARGUMENT,
+            format!("{function}: argument `tool`: {e}"),
+        )
+    })
 }
 
 /// An axis number as the JSON protocol's: the MCM words a wrong axis itself

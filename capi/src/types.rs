@@ -179,6 +179,8 @@ pub struct mcm_state_t {
     pub bus: mcm_bus_counters_t,
     /// The TCP's state, when `flags` has `MCM_STATE_CARTESIAN`.
     pub cartesian: mcm_tcp_state_t,
+    /// The active tool (`set_tool`; the configuration's at start).
+    pub tool: mcm_tool_t,
 }
 
 fn latency(l: &LatencyFigures) -> mcm_latency_t {
@@ -272,6 +274,13 @@ impl From<&StateSample> for mcm_state_t {
             owner_client_id: s.owner_client_id,
             bus: bus_counters(&s.bus),
             cartesian: tcp_state(&s.cartesian),
+            tool: mcm_tool_t {
+                tcp_position: s.tool.tcp_position,
+                tcp_orientation: s.tool.tcp_orientation,
+                mass: s.tool.mass,
+                center_of_mass: s.tool.center_of_mass,
+                inertia: s.tool.inertia,
+            },
         }
     }
 }
@@ -531,6 +540,23 @@ impl From<&mcm_pvt_point_t> for mcm_client::PvtPoint {
             velocity_deg_s: p.velocity,
         }
     }
+}
+
+/// A tool as `set_tool` takes it: the TCP in the flange frame, the load.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct mcm_tool_t {
+    /// The TCP's position in the flange frame [m].
+    pub tcp_position: [f64; 3],
+    /// The TCP's orientation in the flange frame, a unit quaternion `[x, y, z, w]`.
+    pub tcp_orientation: [f64; 4],
+    /// [kg], from 0 to 5.
+    pub mass: f64,
+    /// In the flange frame [m].
+    pub center_of_mass: [f64; 3],
+    /// `[ixx, iyy, izz, ixy, ixz, iyz]` about the centre of mass [kg m^2]; zeros: a point
+    /// mass.
+    pub inertia: [f64; 6],
 }
 
 /// `mcm_event_t.kind`: a status of this connection's torque or velocity session (TCP).

@@ -99,7 +99,7 @@ fn a_state_entry_of_another_version_is_named_with_what_the_client_expects() {
         mismatch.to_string(),
         "its state entry (key 0) is of another type, size or alignment"
     );
-    assert_eq!(expected, "`mcm.StateSample.v6`, 904 bytes, alignment 8");
+    assert_eq!(expected, "`mcm.StateSample.v7`, 1040 bytes, alignment 8");
     assert!(
         e.to_string()
             .contains("build the client from the same MCM version"),

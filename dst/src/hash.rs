@@ -10,7 +10,7 @@
 //! the state or a reply does not compile until it is hashed here.
 
 use mcm_shared::sample::{
-    BusCounters, CycleTiming, ErrorRecord, LatencyFigures, Reply, StateSample, TcpState,
+    BusCounters, CycleTiming, ErrorRecord, LatencyFigures, Reply, StateSample, TcpState, ToolState,
 };
 
 /// FNV-1a over 64-bit words, with a checkpoint after every cycle.
@@ -90,6 +90,7 @@ impl RunHash {
             owner_client_id,
             bus,
             cartesian,
+            tool,
         } = s;
         for w in [*seq, *t_ns, u64::from(*mode), u64::from(*flags)] {
             self.word(w);
@@ -145,6 +146,18 @@ impl RunHash {
         ] {
             self.floats(a);
         }
+        let ToolState {
+            tcp_position,
+            tcp_orientation,
+            mass,
+            center_of_mass,
+            inertia,
+        } = tool;
+        self.floats(tcp_position);
+        self.floats(tcp_orientation);
+        self.floats(&[*mass]);
+        self.floats(center_of_mass);
+        self.floats(inertia);
     }
 
     fn timing(&mut self, t: &CycleTiming) {

@@ -4,9 +4,10 @@
 //! Runs inside the cycle: everything except [`ArmModel::from_config`] /
 //! [`ArmModel::try_from_config`] is allocation-free and panic-free (fixed-size nalgebra types).
 //!
-//! The tool (gripper + payload, `[arm.tool]`) is a point mass in frame 6; it is lumped into
-//! link 6 (combined mass, centre of mass and inertia by the parallel-axis theorem), so the
-//! dynamics see six rigid bodies. [`ArmModel::set_tool`] changes the payload at run time.
+//! The tool (gripper + payload, `[arm.tool]` at start) is a body fixed to frame 6: a mass at
+//! its centre of mass, with its own inertia (zero for a point mass). It is lumped into link 6
+//! (combined mass, centre of mass and inertia by the parallel-axis theorem), so the dynamics
+//! see six rigid bodies. [`ArmModel::set_tool`] changes it at run time.
 //!
 //! ```
 //! use mcm_dynamics::ArmModel;
@@ -19,6 +20,7 @@ use super::DynamicsError;
 use super::friction::JointFriction;
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;
+use mcm_shared::tool::Tool;
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3, Vector6};
 
 const N: usize = NUM_AXES;
@@ -99,8 +101,8 @@ pub struct ArmModel {
     links: [Link; N],
     /// Sine and cosine of each link's twist `alpha`.
     twist: [(f64, f64); N],
-    tool_mass: f64,
-    tool_com: Vector3<f64>,
+    /// The tool lumped into body 6.
+    tool: Tool,
     /// Bodies used by the dynamics: links 1..5 as configured, link 6 with the tool lumped in.
     pub(super) bodies: [Inertial; N],
     pub(super) gravity: Vector3<f64>,
@@ -195,16 +197,11 @@ impl ArmModel {
                 inertia: Matrix3::from_diagonal(&Vector3::from(l.inertia)),
             };
         }
-        let t = &arm.tool;
-        check(
-            || "arm.tool.mass".into(),
-            t.mass,
-            t.mass >= 0.0,
-            "a finite mass >= 0 kg",
-        )?;
-        for v in t.com {
-            check(|| "arm.tool.com".into(), v, true, "finite coordinates [m]")?;
-        }
+        let tool = arm.tool.tool().map_err(|e| DynamicsError::Invalid {
+            key: format!("arm.tool.{}", e.field()),
+            value: e.value(),
+            allowed: e.allowed(),
+        })?;
         for v in arm.gravity {
             check(
                 || "arm.gravity".into(),
@@ -245,8 +242,7 @@ impl ArmModel {
         let mut model = ArmModel {
             links,
             twist: links.map(|l| l.alpha.sin_cos()),
-            tool_mass: 0.0,
-            tool_com: Vector3::zeros(),
+            tool: Tool::NONE,
             bodies: [Inertial {
                 mass: 0.0,
                 com: Vector3::zeros(),
@@ -263,22 +259,27 @@ impl ArmModel {
                 inertia: l.inertia,
             };
         }
-        model.set_tool(t.mass, Vector3::from(t.com));
+        model.set_tool(&tool);
         Ok(model)
     }
 
-    /// Replace the tool (gripper + payload): point mass `mass` [kg] at `com` in frame 6 [m].
-    /// A non-finite or negative mass, or a non-finite position, is ignored (tool unchanged).
-    /// Allocation-free; may be called in the cycle.
-    pub fn set_tool(&mut self, mass: f64, com: Vector3<f64>) {
-        if !(mass.is_finite() && mass >= 0.0 && com.iter().all(|v| v.is_finite())) {
-            return;
-        }
-        self.tool_mass = mass;
-        self.tool_com = com;
+    /// Replace the tool (gripper + payload): its mass at its centre of mass in frame 6, with
+    /// its inertia about that point (a [`Tool`] is checked when it is made: finite, mass ≥ 0,
+    /// a physical inertia). Its TCP does not enter the dynamics. Allocation-free; may be
+    /// called in the cycle.
+    pub fn set_tool(&mut self, tool: &Tool) {
+        self.tool = *tool;
+        let com = Vector3::from(tool.center_of_mass);
+        let [ixx, iyy, izz, ixy, ixz, iyz] = tool.inertia;
+        #[rustfmt::skip]
+        let inertia = Matrix3::new(
+            ixx, ixy, ixz,
+            ixy, iyy, iyz,
+            ixz, iyz, izz,
+        );
         let l = &self.links[N - 1];
-        let m = l.mass + mass;
-        let c = (l.com * l.mass + com * mass) / m;
+        let m = l.mass + tool.mass;
+        let c = (l.com * l.mass + com * tool.mass) / m;
         // Parallel-axis theorem: inertia of a point mass at offset r is m (|r|² I − r rᵀ).
         let shift = |mass: f64, r: Vector3<f64>| {
             (Matrix3::identity() * r.norm_squared() - r * r.transpose()) * mass
@@ -286,13 +287,13 @@ impl ArmModel {
         self.bodies[N - 1] = Inertial {
             mass: m,
             com: c,
-            inertia: l.inertia + shift(l.mass, l.com - c) + shift(mass, com - c),
+            inertia: l.inertia + shift(l.mass, l.com - c) + inertia + shift(tool.mass, com - c),
         };
     }
 
-    /// The tool: (mass [kg], centre of mass in frame 6 [m]).
-    pub fn tool(&self) -> (f64, Vector3<f64>) {
-        (self.tool_mass, self.tool_com)
+    /// The tool lumped into body 6.
+    pub fn tool(&self) -> &Tool {
+        &self.tool
     }
 
     /// Link `i` (0-based) as configured, `None` for i ≥ 6.

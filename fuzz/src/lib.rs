@@ -22,12 +22,13 @@ use mcm_dst::rng::Rng;
 use mcm_dst::run::config;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques,
-    SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
+    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTool,
+    SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::sample::{COMMAND_ARGS, CommandSample, PVT_POINTS_PER_COMMAND};
+use mcm_shared::tool::{MAX_MASS_KG, Tcp, Tool};
 
 /// Cycles of one input at most (100 simulated s at 200 Hz), so that each input is quick.
 const MAX_CYCLES: u64 = 20_000;
@@ -179,6 +180,15 @@ enum Cmd {
         timeout_s: Option<Num>,
     },
     SetVelocities([Num; NUM_AXES]),
+    /// `set_tool`: the TCP's position and turn about the flange's z axis, the mass, the centre
+    /// of mass and the principal moments of inertia.
+    SetTool {
+        tcp: [Num; 3],
+        turn: Num,
+        mass: Num,
+        center_of_mass: [Num; 3],
+        moments: [Num; 3],
+    },
     /// A sample of any kind number, flags and arguments (most do not decode).
     Raw {
         kind: u8,
@@ -248,6 +258,13 @@ impl Cmd {
                 timeout_s: u.arbitrary()?,
             },
             CommandKind::SetVelocities => Cmd::SetVelocities(u.arbitrary()?),
+            CommandKind::SetTool => Cmd::SetTool {
+                tcp: u.arbitrary()?,
+                turn: u.arbitrary()?,
+                mass: u.arbitrary()?,
+                center_of_mass: u.arbitrary()?,
+                moments: u.arbitrary()?,
+            },
         })
     }
 }
@@ -381,6 +398,9 @@ impl Cmd {
                 unblock_axis: s.unblock_axis.map(axis),
                 external_torques_nm: s.external_torques.map(|t| t.map(TorqueIn::value)),
                 power_cycle: s.power_cycle,
+                // The true load changes only the simulated arm's physics; a field more in
+                // `SimIn` would give every kept input another meaning.
+                true_tool: None,
             }),
             Cmd::TakeControl => Request::TakeControl,
             Cmd::ReleaseControl => Request::ReleaseControl,
@@ -391,6 +411,27 @@ impl Cmd {
             Cmd::SetVelocities(v) => Request::SetVelocities(SetVelocities {
                 velocities_deg_s: six(v, &neg(&r.max_velocity), &r.max_velocity),
             }),
+            Cmd::SetTool {
+                tcp,
+                turn,
+                mass,
+                center_of_mass,
+                moments,
+            } => {
+                let near = |v: &[Num; 3]| v.map(|x| x.within(-0.3, 0.3));
+                let half_turn = turn.within(-1.6, 1.6);
+                let tcp = Tcp {
+                    position: near(tcp),
+                    orientation: [0.0, 0.0, half_turn.sin(), half_turn.cos()],
+                };
+                let [ixx, iyy, izz] = moments.map(|x| x.within(0.0, 0.05));
+                let inertia = Some([ixx, iyy, izz, 0.0, 0.0, 0.0]);
+                let m = mass.within(0.0, MAX_MASS_KG);
+                // A tool its checks refuse is no request: those values reach the core in raw
+                // samples.
+                let tool = Tool::new(tcp, m, near(center_of_mass), inertia).unwrap_or(Tool::NONE);
+                Request::SetTool(SetTool { tool })
+            }
             Cmd::Raw { kind, flags, args } => return raw(*kind, *flags, args),
         };
         request.encode()

@@ -64,7 +64,8 @@ pub use singularity::{Near, Singularities, SingularityMargins};
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::ranges::reachable_deg;
-use nalgebra::Isometry3;
+use mcm_shared::tool::Tcp;
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use shape::Shape;
 
 const N: usize = NUM_AXES;
@@ -89,6 +90,17 @@ pub enum TcpError {
     NotFinite { what: &'static str, value: f64 },
     #[error("the TCP's orientation quaternion has norm {norm}; it needs a unit quaternion")]
     NotUnit { norm: f64 },
+}
+
+/// The transform of a tool's TCP as the protocol and the configuration give it
+/// ([`Tcp`]: position [m] and quaternion `[x, y, z, w]` in the flange frame), for
+/// [`Kinematics::set_tcp`] (which refuses it if the quaternion is not of unit norm).
+pub fn tcp_transform(tcp: &Tcp) -> Isometry3<f64> {
+    let [x, y, z, w] = tcp.orientation;
+    Isometry3::from_parts(
+        Translation3::from(tcp.position),
+        UnitQuaternion::new_unchecked(Quaternion::new(w, x, y, z)),
+    )
 }
 
 impl Kinematics {

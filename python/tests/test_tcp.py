@@ -63,13 +63,14 @@ class TcpClient(unittest.TestCase):
 
     def test_status_result_is_typed(self) -> None:
         c = self.connect(lambda cmd: [dict(status("PVT", 3.5), hardware_status="ok", detail={
-            "cycle": 7, "all_calibrated": True, "pvt_queue": {"queued": 2}})])
+            "cycle": 7, "all_calibrated": True, "pvt_queue": {"queued": 2}, "tool": {"mass": 2.0}})])
         s = c.status(detail=True)
         self.assertEqual(s.operating_mode, "PVT")
         self.assertEqual(s.axis_states.time, [3.5] * 6)
         self.assertEqual(s.hardware_status, "ok")
         assert s.detail is not None
         self.assertEqual((s.detail.cycle, s.detail.all_calibrated, s.detail.pvt_queue["queued"]), (7, True, 2))
+        self.assertEqual(s.detail.tool["mass"], 2.0)
         self.assertEqual(self.fake.received[0]["arguments"], {"detail": True})
         self.assertIsNone(s.cartesian_state)
 
@@ -83,6 +84,19 @@ class TcpClient(unittest.TestCase):
         self.assertEqual(s.cartesian_state.orientation, [0.0, 0.0, 0.0, 1.0])
         self.assertEqual(s.cartesian_state.linear_velocity, [0.0, 0.02, 0.0])
         self.assertEqual(s.cartesian_state.angular_velocity, [0.0, 0.0, 15.0])
+
+    def test_set_tool_sends_the_tool_as_the_protocol_takes_it(self) -> None:
+        c = self.connect(lambda cmd: [{"result_type": "generic", "error_status": "OK"}])
+        c.set_tool(2.0, [0, 0, 0.06], tcp_position=[0, 0, 0.15])
+        self.assertEqual(self.fake.received[0]["command"], "set_tool")
+        self.assertEqual(
+            self.fake.received[0]["arguments"],
+            {
+                "tcp": {"position": [0.0, 0.0, 0.15], "orientation": [0.0, 0.0, 0.0, 1.0]},
+                "mass": 2.0,
+                "center_of_mass": [0.0, 0.0, 0.06],
+            },
+        )
 
     def test_an_error_result_raises_with_command_message_and_code(self) -> None:
         msg = "move_all refused: a motion is in progress (0.845 s left); wait until it ends, or send `hold` to stop it"

@@ -13,8 +13,8 @@
 //! - `{prefix}flange`: DH frame 6, the MCM's flange (`ArmModel::flange_pose`, the frame of the
 //!   MCM's Cartesian poses). It is not ROS-Industrial's `flange` (x out of the flange).
 //! - `{prefix}tool0`: the same frame as `flange`: z along the last axis, out of the flange
-//!   (the P-Rob2's d6 > 0), as ROS-Industrial's `tool0` wants. The configuration has no tool
-//!   frame (its `[arm.tool]` is a mass, not a TCP), so nothing offsets it.
+//!   (the P-Rob2's d6 > 0), as ROS-Industrial's `tool0` wants. The TCP of `[arm.tool]` (and of
+//!   `set_tool`) is not in the description: nothing offsets `tool0`.
 //!
 //! # Joints
 //! Revolute joints named `{prefix}` + the axis's `name` (the names of `/joint_states`), axis z,
@@ -26,8 +26,9 @@
 //!
 //! # Inertials
 //! Each link's mass, centre of mass and principal inertia, moved from its DH frame into the
-//! URDF link frame. The tool (`[arm.tool]`, a point mass in frame 6) is lumped into `link_6`
-//! as `ArmModel` lumps it (combined mass, centre of mass, parallel-axis theorem).
+//! URDF link frame. The configured tool (`[arm.tool]`: its mass at its centre of mass in frame
+//! 6, with its inertia) is lumped into `link_6` as `ArmModel` lumps it (combined mass, centre of
+//! mass, parallel-axis theorem).
 //!
 //! # Geometry
 //! Schematic: cylinders along the DH lengths d and a and one around each joint axis, so that
@@ -35,7 +36,7 @@
 //! elements are the same cylinders and are no safety envelope.
 
 use mcm_shared::NUM_AXES;
-use mcm_shared::config::{LinkConfig, RobotConfig};
+use mcm_shared::config::{LinkConfig, RobotConfig, ToolConfig};
 use nalgebra::{Matrix3, Vector3};
 use std::path::{Path, PathBuf};
 
@@ -195,7 +196,7 @@ pub fn generate(cfg: &RobotConfig, opts: &UrdfOptions) -> Result<String, UrdfErr
             &[next.xyz, next.rpy].concat(),
         )?;
         let (mass, com, inertia) = if n == NUM_AXES {
-            lumped_with_tool(link, cfg.arm.tool.mass, Vector3::from(cfg.arm.tool.com))
+            lumped_with_tool(link, &cfg.arm.tool)
         } else {
             (
                 link.mass,
@@ -386,13 +387,20 @@ fn dh_rotation(l: &LinkConfig) -> Matrix3<f64> {
     r
 }
 
-/// Link `l` with the tool (point mass `tool_mass` at `tool_com`, both in the link's DH frame)
-/// lumped in, as `ArmModel::set_tool` does: (mass, centre of mass, inertia about it).
-fn lumped_with_tool(
-    l: &LinkConfig,
-    tool_mass: f64,
-    tool_com: Vector3<f64>,
-) -> (f64, Vector3<f64>, Matrix3<f64>) {
+/// Link `l` with the tool (its mass at its centre of mass, with its own inertia, in the link's
+/// DH frame) lumped in, as `ArmModel::set_tool` does: (mass, centre of mass, inertia about it).
+/// The values as configured, unchecked: a value that is not finite is refused where the
+/// inertial is written.
+fn lumped_with_tool(l: &LinkConfig, tool: &ToolConfig) -> (f64, Vector3<f64>, Matrix3<f64>) {
+    let tool_mass = tool.mass;
+    let tool_com = Vector3::from(tool.com);
+    let [ixx, iyy, izz, ixy, ixz, iyz] = tool.inertia.unwrap_or([0.0; 6]);
+    #[rustfmt::skip]
+    let tool_inertia = Matrix3::new(
+        ixx, ixy, ixz,
+        ixy, iyy, iyz,
+        ixz, iyz, izz,
+    );
     let c_link = Vector3::from(l.com);
     let m = l.mass + tool_mass;
     let c = (c_link * l.mass + tool_com * tool_mass) / m;
@@ -402,6 +410,7 @@ fn lumped_with_tool(
     };
     let inertia = Matrix3::from_diagonal(&Vector3::from(l.inertia))
         + shift(l.mass, c_link - c)
+        + tool_inertia
         + shift(tool_mass, tool_com - c);
     (m, c, inertia)
 }

@@ -26,12 +26,13 @@
 /// axis values beside it.
 pub use mcm_kinematics;
 
-use mcm_kinematics::{Kinematics, KinematicsError, TcpError};
+use mcm_kinematics::{Kinematics, KinematicsError, TcpError, tcp_transform};
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::sample::{STATE_ALL_CALIBRATED, STATE_CARTESIAN, StateSample, TcpState};
+use mcm_shared::tool::Tcp;
 use mcm_shared::units::{deg_to_rad6, rad_to_deg};
-use nalgebra::{Isometry3, Vector6};
+use nalgebra::Vector6;
 
 /// Why the core cannot compute the TCP's state for this configuration.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -48,6 +49,8 @@ pub enum CartesianSetupError {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Cartesian {
     kin: Kinematics,
+    /// The TCP `kin` has, as the tool gives it (to see when the active tool's changes).
+    tcp: Tcp,
 }
 
 impl Cartesian {
@@ -57,17 +60,24 @@ impl Cartesian {
     pub fn from_config(cfg: &RobotConfig) -> Result<Cartesian, CartesianSetupError> {
         let mut c = Cartesian {
             kin: Kinematics::from_config(cfg)?,
+            tcp: Tcp::FLANGE,
         };
-        // The configuration's tool (`[arm.tool]`) has no TCP transform: its TCP is the flange.
-        c.set_tcp(Isometry3::identity())?;
+        c.follow_tool(&cfg.arm.tool.active().tcp)?;
         Ok(c)
     }
 
-    /// Make `tcp` (the TCP's pose in the flange frame) the TCP of every following sample: the
-    /// one place the core's TCP is set. Refused, the TCP unchanged, when not finite or its
-    /// quaternion not of unit norm. Allocation-free.
-    pub fn set_tcp(&mut self, tcp: Isometry3<f64>) -> Result<(), TcpError> {
-        self.kin.set_tcp(tcp)
+    /// The one place the core's TCP is set: make the active tool's `tcp` the TCP of every
+    /// following sample, if it is not already (the cycle calls this with the controller's
+    /// tool before each sample is composed, so a sample's `cartesian` is computed with the
+    /// tool the same sample reports). Refused, the
+    /// TCP unchanged, when not a transform; the controller's tools are checked when they are
+    /// taken (`mcm_shared::tool::Tool::new`), so it is not. Allocation-free.
+    pub fn follow_tool(&mut self, tcp: &Tcp) -> Result<(), TcpError> {
+        if *tcp != self.tcp {
+            self.kin.set_tcp(tcp_transform(tcp))?;
+            self.tcp = *tcp;
+        }
+        Ok(())
     }
 
     /// The kinematics in use.

@@ -89,15 +89,13 @@ impl<B: Bus> Cycle<B> {
     }
 
     /// The controller's view of the last step, the state sample to compose from it and the
-    /// kinematics of its TCP.
+    /// kinematics of its TCP, which follow the controller's active tool (`set_tool`).
     pub fn publish_parts(&mut self) -> (&CycleView, &mut StateSample, &Cartesian) {
+        // A tool the controller holds was checked when it was taken, so its TCP is a transform
+        // and never refused here; were it refused, the sample's `cartesian` would not be the
+        // kinematics of the `tool` it reports, which the simulation tester checks every cycle.
+        let _ = self.cartesian.follow_tool(&self.controller.tool().tcp);
         (self.controller.view(), &mut self.state, &self.cartesian)
-    }
-
-    /// The kinematics of the state's TCP, to set the active tool's TCP
-    /// ([`Cartesian::set_tcp`]) between cycles.
-    pub fn cartesian_mut(&mut self) -> &mut Cartesian {
-        &mut self.cartesian
     }
 
     pub fn bus_mut(&mut self) -> &mut B {

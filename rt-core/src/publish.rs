@@ -113,6 +113,7 @@ pub fn compose(
     s.pvt_capacity = view.pvt_capacity;
     s.owner_client_id = view.owner_client_id;
     s.bus = view.bus;
+    s.tool = (&view.tool).into();
     s.command_receive_errors = clock.command_receive_errors;
     s.timing = clock.timing;
     if let Some(e) = view.last_error

@@ -64,7 +64,7 @@ fn a_stale_state_service_of_another_version_is_named_as_such() {
         .add::<OldStateSample>(STATE_KEY, OldStateSample::default())
         .create()
         .unwrap();
-    let err = refused_as_incompatible(&names, &names.state(), "mcm.StateSample.v6");
+    let err = refused_as_incompatible(&names, &names.state(), "mcm.StateSample.v7");
     assert!(
         matches!(
             err,

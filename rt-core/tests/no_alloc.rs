@@ -15,10 +15,11 @@
 
 use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::alloc_count::{self, CountingAlloc};
-use mcm_shared::command::{Request, SimCommand};
+use mcm_shared::command::{Request, SetTool, SimCommand};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::sample::{CommandSample, StateSample};
+use mcm_shared::tool::Tool;
 use mcm_sim::SimBus;
 
 mod common;
@@ -81,23 +82,41 @@ fn external_torques(request_id: u64, torques: [f64; 6]) -> CommandSample {
     c
 }
 
+/// A `set_tool` command.
+fn set_tool(request_id: u64, tool: Tool) -> CommandSample {
+    let mut c = Request::SetTool(SetTool { tool }).encode();
+    (c.client_id, c.request_id) = (CLIENT, request_id);
+    c
+}
+
 /// The simulated robot in virtual time, with a command counter.
 struct Robot {
     cycle: SimCycle,
     period_ns: u64,
     k: u64,
     next_request: u64,
+    /// The tools `set_tool` alternates: the configured one, and 1 kg more 5 cm to the side.
+    tools: [Tool; 2],
 }
 
 impl Robot {
     fn new() -> Robot {
         let cfg = RobotConfig::prob2_default();
         let cycle = SimCycle::new(&cfg, SimBus::new(&cfg)).expect("the P-Rob2 config is valid");
+        let configured = cfg.arm.tool.active();
+        let heavier = Tool::new(
+            configured.tcp,
+            configured.mass + 1.0,
+            [0.05, 0.0, 0.08],
+            None,
+        )
+        .expect("a valid tool");
         Robot {
             cycle,
             period_ns: cfg.cycle_period_ns(),
             k: 0,
             next_request: 1,
+            tools: [configured, heavier],
         }
     }
 
@@ -139,8 +158,9 @@ impl Robot {
         }
     }
 
-    /// The commands of cycle `i` of the measured scenario: status, hold and info every few
-    /// cycles, and once a push on the joints (and its release) through `sim`.
+    /// The commands of cycle `i` of the measured scenario: status, hold, info and `set_tool`
+    /// (a heavier tool and back) every few cycles, and once a push on the joints (and its
+    /// release) through `sim`.
     fn scenario_commands(&mut self, i: u64, push: [f64; 6], out: &mut [CommandSample; 4]) -> usize {
         let mut kinds = [None; 4];
         let mut n = 0;
@@ -156,6 +176,11 @@ impl Robot {
         }
         for (slot, kind) in out.iter_mut().zip(kinds.iter().flatten()) {
             *slot = command(*kind, self.request_id());
+        }
+        if i.is_multiple_of(13) {
+            let tool = self.tools[((i / 13) % 2) as usize];
+            out[n] = set_tool(self.request_id(), tool);
+            n += 1;
         }
         // A hand pushes on the joints for 1000 cycles (5 s), then lets go.
         let torques = match i {
@@ -195,6 +220,8 @@ fn the_whole_cycle_allocates_nothing() {
         state.reply_head - replies_before
     );
     assert_eq!(last_mode, Mode::Hold.to_wire(), "still holding");
+    // The last `set_tool` (cycle 1989, the 153rd: the heavier tool) was taken.
+    assert_eq!(robot.cycle.controller().tool(), &robot.tools[1]);
     assert_eq!(
         (allocs, bytes),
         (0, 0),

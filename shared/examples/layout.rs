@@ -11,7 +11,7 @@ use core::mem::{align_of, offset_of, size_of};
 use iceoryx2::prelude::ZeroCopySend;
 use mcm_shared::sample::{
     BusCounters, CommandSample, CycleTiming, ErrorRecord, LatencyFigures, Reply, ReplyBlock,
-    StateSample, TcpState,
+    StateSample, TcpState, ToolState,
 };
 
 /// One struct's layout: its name, the iceoryx2 type name (`None` for a struct that is only
@@ -90,6 +90,11 @@ fn layouts() -> Vec<Layout> {
             [position, orientation, linear_velocity, angular_velocity]
         ),
         layout!(
+            ToolState,
+            None,
+            [tcp_position, tcp_orientation, mass, center_of_mass, inertia]
+        ),
+        layout!(
             StateSample,
             Some(type_name::<StateSample>()),
             [
@@ -116,7 +121,8 @@ fn layouts() -> Vec<Layout> {
                 reply_head,
                 owner_client_id,
                 bus,
-                cartesian
+                cartesian,
+                tool
             ]
         ),
         layout!(ReplyBlock, Some(type_name::<ReplyBlock>()), [replies]),
@@ -451,6 +457,8 @@ fn encoded_commands() -> Vec<String> {
         r#"{"command":"velocity_control","arguments":{"timeout":0.5}}"#,
         r#"{"command":"velocity_control","arguments":{"timeout":-1}}"#,
         r#"{"command":"set_velocities","arguments":{"velocities":[10,0,0,0,0,-5.5]}}"#,
+        r#"{"command":"set_tool","arguments":{"tcp":{"position":[0,0.01,0.15],"orientation":[0.5,-0.5,0.5,0.5]},"mass":2,"center_of_mass":[0,0,0.06]}}"#,
+        r#"{"command":"set_tool","arguments":{"tcp":{"position":[0,0,0],"orientation":[0,0,0,1]},"mass":0.5,"center_of_mass":[0.01,0,0],"inertia":[0.01,0.02,0.025,0.001,0,-0.002]}}"#,
         r#"{"command":"pvt"}"#,
         r#"{"command":"pvt","arguments":{"dt":0.02}}"#,
         r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":30}}"#,

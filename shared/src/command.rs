@@ -36,13 +36,17 @@ use crate::sample::{
     CALIBRATE_FLAG_FORCE_STOP, COMMAND_ARGS, CommandSample, PVT_FLAG_LAST, PVT_POINTS_PER_COMMAND,
     SIM_FLAG_POWER_CYCLE, TORQUE_FLAG_NO_GRAVITY,
 };
+use crate::tool::{Tcp, Tool, ToolError};
 use core::fmt;
 
 /// `CommandSample::flags` of `PvtPoints`: bits 0..7 hold the number of points in the sample.
 const PVT_COUNT_MASK: u32 = 0xFF;
 /// `CommandSample::flags` of `Sim`: bit n says `args[n]` is present (bit 5 covers all six
-/// external torques in `args[5..11]`).
-const SIM_FIELDS: u32 = 0b11_1111;
+/// external torques in `args[5..11]`, bit 6 the true tool's mass and centre of mass in
+/// `args[11..15]`).
+const SIM_FIELDS: u32 = 0b111_1111;
+/// Where a `sim` sample carries the true tool: its mass, then its centre of mass.
+const SIM_TRUE_TOOL: usize = 11;
 /// Arguments a PVT point takes in a sample: six positions, then six velocities.
 const PVT_POINT_ARGS: usize = 2 * NUM_AXES;
 
@@ -225,6 +229,16 @@ pub struct SetVelocities {
     pub velocities_deg_s: [f64; NUM_AXES],
 }
 
+/// `set_tool`: the tool the arm carries from the next cycle (checked by [`Tool::new`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SetTool {
+    pub tool: Tool,
+}
+
+/// Where a `set_tool` sample carries the tool: TCP position, orientation, mass, centre of
+/// mass, inertia.
+const TOOL_ARGS: [usize; 6] = [0, 3, 7, 8, 11, 17];
+
 /// `pvt`: enter PVT mode with this spacing of streamed points.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pvt {
@@ -329,6 +343,17 @@ pub struct SimCommand {
     pub external_torques_nm: Option<[f64; NUM_AXES]>,
     /// Switch the drives' power off and on (they lose their calibration).
     pub power_cycle: bool,
+    /// The load the simulated arm really carries (its mass and centre of mass; the TCP and
+    /// inertia of a [`Tool`] made by [`SimCommand::true_tool`]), whatever `set_tool` says.
+    pub true_tool: Option<Tool>,
+}
+
+impl SimCommand {
+    /// The true load of `true_tool`: `mass` [kg] at `center_of_mass` [m, flange frame], checked
+    /// as a tool's load is ([`Tool::new`]).
+    pub fn true_tool(mass: f64, center_of_mass: [f64; 3]) -> Result<Tool, ToolError> {
+        Tool::new(Tcp::FLANGE, mass, center_of_mass, None)
+    }
 }
 
 /// A command to the real-time core, typed.
@@ -358,6 +383,7 @@ pub enum Request {
     ClientGone,
     VelocityControl(VelocityControl),
     SetVelocities(SetVelocities),
+    SetTool(SetTool),
 }
 
 /// What a value may be, in a [`DecodeError`].
@@ -533,6 +559,27 @@ impl Decoder<'_> {
         Err(self.invalid(field, x, allowed))
     }
 
+    /// A tool that [`Tool::new`] refused, as the field, the value and what is allowed.
+    fn tool(&self, e: ToolError) -> DecodeError {
+        let f = e.field();
+        let allowed = match e {
+            ToolError::Mass { .. } => {
+                let (min, max) = e.bounds();
+                Allowed::Range { min, max }
+            }
+            ToolError::NotFinite { .. } => Allowed::Finite,
+            _ => Allowed::OneOf(e.allowed()),
+        };
+        self.invalid(
+            Field {
+                name: f.name,
+                index: f.index,
+            },
+            e.value(),
+            allowed,
+        )
+    }
+
     fn velocity_factor(&self, x: f64) -> Result<f64, DecodeError> {
         self.ranged(Arg::VelocityFactor, Field::named("velocity_factor"), x)
     }
@@ -559,6 +606,7 @@ impl Request {
             Request::ClientGone => CommandKind::ClientGone,
             Request::VelocityControl(_) => CommandKind::VelocityControl,
             Request::SetVelocities(_) => CommandKind::SetVelocities,
+            Request::SetTool(_) => CommandKind::SetTool,
         }
     }
 
@@ -613,6 +661,14 @@ impl Request {
             Request::SetTorques(t) => a[..NUM_AXES].copy_from_slice(&t.torques_nm),
             Request::VelocityControl(v) => a[0] = v.timeout_s.unwrap_or(-1.0),
             Request::SetVelocities(v) => a[..NUM_AXES].copy_from_slice(&v.velocities_deg_s),
+            Request::SetTool(SetTool { tool: t }) => {
+                let [p, o, m, c, i, end] = TOOL_ARGS;
+                a[p..o].copy_from_slice(&t.tcp.position);
+                a[o..m].copy_from_slice(&t.tcp.orientation);
+                a[m] = t.mass;
+                a[c..i].copy_from_slice(&t.center_of_mass);
+                a[i..end].copy_from_slice(&t.inertia);
+            }
             Request::Sim(c) => {
                 let mut set = |bit: usize, value: f64| {
                     a[bit] = value;
@@ -634,6 +690,11 @@ impl Request {
                 if let Some(t) = c.external_torques_nm {
                     a[5..5 + NUM_AXES].copy_from_slice(&t);
                     s.flags |= 1 << 5;
+                }
+                if let Some(t) = c.true_tool {
+                    a[SIM_TRUE_TOOL] = t.mass;
+                    a[SIM_TRUE_TOOL + 1..SIM_TRUE_TOOL + 4].copy_from_slice(&t.center_of_mass);
+                    s.flags |= 1 << 6;
                 }
                 if c.power_cycle {
                     s.flags |= SIM_FLAG_POWER_CYCLE;
@@ -709,6 +770,19 @@ impl Request {
                 Request::SetVelocities(SetVelocities {
                     velocities_deg_s: d.finite6("velocities", 0)?,
                 })
+            }
+            CommandKind::SetTool => {
+                d.flags(0)?;
+                let [p, o, m, c, i, end] = TOOL_ARGS;
+                let tcp = Tcp {
+                    position: [a[p], a[p + 1], a[p + 2]],
+                    orientation: [a[o], a[o + 1], a[o + 2], a[o + 3]],
+                };
+                let mut inertia = [0.0; 6];
+                inertia.copy_from_slice(&a[i..end]);
+                let tool = Tool::new(tcp, a[m], [a[c], a[c + 1], a[c + 2]], Some(inertia))
+                    .map_err(|e| d.tool(e))?;
+                Request::SetTool(SetTool { tool })
             }
             CommandKind::Pvt => {
                 d.flags(0)?;
@@ -808,6 +882,14 @@ impl Request {
                         None
                     },
                     power_cycle: s.flags & SIM_FLAG_POWER_CYCLE != 0,
+                    true_tool: if has(6) {
+                        let at = SIM_TRUE_TOOL;
+                        let com = [a[at + 1], a[at + 2], a[at + 3]];
+                        let tool = SimCommand::true_tool(a[at], com).map_err(|e| d.tool(e))?;
+                        Some(tool)
+                    } else {
+                        None
+                    },
                 })
             }
         })

@@ -12,6 +12,8 @@
 //! ```
 
 use crate::NUM_AXES;
+use crate::ranges::Num;
+use crate::tool::{Tcp, Tool, ToolError, ToolField};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -326,12 +328,46 @@ pub struct LinkConfig {
     pub inertia: [f64; 3],
 }
 
-/// Gripper plus payload, lumped at one point of the last frame.
+/// The tool at start (gripper plus payload, and its TCP): the active tool until `set_tool`.
+/// Checked by [`crate::tool::Tool::new`], as `set_tool` is.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ToolConfig {
+    /// [kg]
     pub mass: f64,
+    /// Centre of mass in the flange frame (DH frame 6) [m].
     pub com: [f64; 3],
+    /// The TCP as a transform of the flange frame; absent: on the flange.
+    #[serde(default)]
+    pub tcp: Option<TcpConfig>,
+    /// `[ixx, iyy, izz, ixy, ixz, iyz]` about the centre of mass [kg m^2]; absent: a point mass.
+    #[serde(default)]
+    pub inertia: Option<[f64; 6]>,
+}
+
+/// `[arm.tool.tcp]`: the TCP's position [m] and orientation (unit quaternion `[x, y, z, w]`)
+/// in the flange frame.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TcpConfig {
+    pub position: [f64; 3],
+    pub orientation: [f64; 4],
+}
+
+impl ToolConfig {
+    /// The tool this table configures, checked as `set_tool` checks it.
+    pub fn tool(&self) -> Result<Tool, ToolError> {
+        let tcp = self.tcp.map_or(Tcp::FLANGE, |t| Tcp {
+            position: t.position,
+            orientation: t.orientation,
+        });
+        Tool::new(tcp, self.mass, self.com, self.inertia)
+    }
+
+    /// The configured tool; the configuration was validated, so it is valid.
+    pub fn active(&self) -> Tool {
+        self.tool().unwrap_or(Tool::NONE)
+    }
 }
 
 /// The simulated robot.
@@ -531,18 +567,17 @@ impl RobotConfig {
                 ));
             }
         }
-        if !finite_ge(self.arm.tool.mass, 0.0) {
+        if let Err(e) = self.arm.tool.tool() {
+            let field = e.field();
+            let name = match field.name {
+                ToolField::CENTER_OF_MASS => "com",
+                name => name,
+            };
+            let index = field.index.map(|i| format!("[{i}]")).unwrap_or_default();
             return Err(invalid(
-                "arm.tool.mass",
-                self.arm.tool.mass,
-                "a finite value >= 0 kg",
-            ));
-        }
-        if !self.arm.tool.com.iter().all(|v| v.is_finite()) {
-            return Err(invalid(
-                "arm.tool.com",
-                format!("{:?}", self.arm.tool.com),
-                "three finite values (m)",
+                format!("arm.tool.{name}{index}"),
+                Num(e.value()),
+                e.allowed(),
             ));
         }
         let sim = &self.sim;

@@ -20,6 +20,7 @@
 //! - [`ready`]: the ready line each program prints when it serves, and how it is read;
 //! - [`restart`]: how a gateway that dies is restarted (the launcher and the systemd unit);
 //! - [`notify`]: systemd's readiness, stop and watchdog notifications (`Type=notify` units);
+//! - [`tool`]: the tool the arm carries (TCP and load), checked in one place;
 //! - [`units`]: the unit conventions at the boundary (degrees outside, radians inside).
 //! - [`alloc_count`]: a counting global allocator, for the tests that prove a path allocates
 //!   nothing.
@@ -49,6 +50,7 @@ pub mod restart;
 pub mod sample;
 pub mod service;
 pub mod simulator;
+pub mod tool;
 pub mod units;
 
 /// Number of axes of the arm. The samples are sized for exactly this many.

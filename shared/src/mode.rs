@@ -113,6 +113,8 @@ wire_enum!(
         VelocityControl = 16 => "velocity_control",
         /// The joint velocities in VELOCITY_CONTROL.
         SetVelocities = 17 => "set_velocities",
+        /// The tool the arm carries (TCP and load), from the next cycle.
+        SetTool = 18 => "set_tool",
     }
 );
 
@@ -160,6 +162,7 @@ impl CommandKind {
                 | CommandKind::SetTorques
                 | CommandKind::VelocityControl
                 | CommandKind::SetVelocities
+                | CommandKind::SetTool
         )
     }
 }

@@ -15,6 +15,7 @@
 //! position.
 
 use crate::NUM_AXES;
+use crate::tool::{Tcp, Tool};
 use iceoryx2::port::reader::{EntryHandle, EntryHandleError, Reader};
 use iceoryx2::prelude::{ZeroCopySend, ipc};
 
@@ -209,10 +210,57 @@ pub struct TcpState {
     pub angular_velocity: [f64; 3],
 }
 
+/// The active tool ([`crate::tool::Tool`]) in a state sample: TCP [m, unit quaternion
+/// `[x, y, z, w]`] in the flange frame, mass [kg], centre of mass [m], inertia
+/// `[ixx, iyy, izz, ixy, ixz, iyz]` [kg m^2] about the centre of mass.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[repr(C)]
+pub struct ToolState {
+    pub tcp_position: [f64; 3],
+    pub tcp_orientation: [f64; 4],
+    pub mass: f64,
+    pub center_of_mass: [f64; 3],
+    pub inertia: [f64; 6],
+}
+
+impl Default for ToolState {
+    /// No tool ([`Tool::NONE`]): the TCP on the flange, its quaternion of unit norm.
+    fn default() -> ToolState {
+        ToolState::from(&Tool::NONE)
+    }
+}
+
+impl From<&Tool> for ToolState {
+    fn from(t: &Tool) -> ToolState {
+        ToolState {
+            tcp_position: t.tcp.position,
+            tcp_orientation: t.tcp.orientation,
+            mass: t.mass,
+            center_of_mass: t.center_of_mass,
+            inertia: t.inertia,
+        }
+    }
+}
+
+impl From<&ToolState> for Tool {
+    /// The tool as the core reports it (checked by the core when it took it).
+    fn from(t: &ToolState) -> Tool {
+        Tool {
+            tcp: Tcp {
+                position: t.tcp_position,
+                orientation: t.tcp_orientation,
+            },
+            mass: t.mass,
+            center_of_mass: t.center_of_mass,
+            inertia: t.inertia,
+        }
+    }
+}
+
 /// The state of the arm and of the controller, published once per cycle.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("mcm.StateSample.v6")]
+#[type_name("mcm.StateSample.v7")]
 pub struct StateSample {
     /// Cycle counter (increments by one every cycle).
     pub seq: u64,
@@ -260,6 +308,8 @@ pub struct StateSample {
     pub bus: BusCounters,
     /// The TCP's state, when `flags` has [`STATE_CARTESIAN`].
     pub cartesian: TcpState,
+    /// The active tool (`set_tool`; the configuration's `[arm.tool]` at start).
+    pub tool: ToolState,
 }
 
 impl Default for StateSample {
@@ -289,6 +339,7 @@ impl Default for StateSample {
             owner_client_id: 0,
             bus: BusCounters::default(),
             cartesian: TcpState::default(),
+            tool: ToolState::default(),
         }
     }
 }

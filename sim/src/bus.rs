@@ -397,6 +397,9 @@ impl SimControl for SimBus {
         if let Some(tau) = cmd.external_torques_nm {
             self.arm.set_external_torques(tau);
         }
+        if let Some(t) = cmd.true_tool {
+            self.arm.model_mut().set_tool(&t);
+        }
         if cmd.power_cycle {
             for (i, d) in self.drives.iter_mut().enumerate() {
                 d.power_cycle(sink(&mut self.rx, &mut Discard, self.connected[i]));

@@ -117,3 +117,61 @@ fn status_carries_the_tcp_of_its_own_axis_values_once_calibrated() {
         check_against_kinematics(&kin, &s);
     }
 }
+
+/// `set_tool` moves the TCP: from the next cycle the core's `cartesian_state` is the TCP of
+/// the new tool, and the gateway's `inverse_kinematics` solves for it (the present pose with
+/// that TCP gives back the present position first).
+#[test]
+fn the_tcp_follows_set_tool_in_the_state_and_in_inverse_kinematics() {
+    let tcp_position = [0.02, 0.0, 0.15];
+    // 90 degrees about the flange's z axis.
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let tcp_orientation = [0.0, 0.0, h, h];
+    let mut kin = Kinematics::from_config(&RobotConfig::prob2_default()).unwrap();
+    kin.set_tcp(mcm_kinematics::tcp_transform(&mcm_shared::tool::Tcp {
+        position: tcp_position,
+        orientation: tcp_orientation,
+    }))
+    .unwrap();
+
+    let mcm = common::Mcm::start("cartesian-tool");
+    let mut c = mcm.client();
+    c.wait_drives_online();
+    assert_ok(&c.request(r#"{"command":"calibrate"}"#));
+    assert_status(&c.request(r#"{"command":"pvt"}"#), "PVT");
+    let target = [20.0, -20.0, 50.0, 10.0, -30.0, 40.0];
+    assert_eq!(
+        c.request(&move_all(&target, 1.0))["result_type"],
+        "move_all"
+    );
+    c.wait_status("the arm at the target", |s| {
+        distance(&six(&s["axis_states"]["position"]), &target) < 1e-6
+            && max_abs(&six(&s["axis_states"]["velocity"])) == 0.0
+    });
+
+    let set = serde_json::json!({"command": "set_tool", "arguments": {
+        "tcp": {"position": tcp_position, "orientation": tcp_orientation},
+        "mass": 3.8, "center_of_mass": [0.0, 0.0, 0.08]}});
+    assert_ok(&c.request(&set.to_string()));
+    let s = c.request(r#"{"command":"status","arguments":{"detail":true}}"#);
+    assert_eq!(
+        s["detail"]["tool"]["tcp"]["position"],
+        serde_json::json!(tcp_position),
+        "detail.tool: {s}"
+    );
+    let (position, _) = check_against_kinematics(&kin, &s);
+
+    let o = &s["cartesian_state"]["orientation"];
+    let ik = c.request(
+        &serde_json::json!({"command": "inverse_kinematics", "arguments": {
+            "position": position, "orientation": o}})
+        .to_string(),
+    );
+    assert_eq!(ik["result_type"], "inverse_kinematics", "{ik}");
+    let first: [f64; 6] = numbers(&ik["solutions"][0]);
+    // The reported figures are rounded to 6 decimals: the pose, and so the solution, to ~1e-4 deg.
+    assert!(
+        distance(&first, &target) < 1e-3,
+        "the present position first: {first:?}, target {target:?}: {ik}"
+    );
+}

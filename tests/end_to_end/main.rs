@@ -54,6 +54,7 @@ mod sd_notify;
 mod skeleton;
 mod socketcan;
 mod systemd_units;
+mod tool;
 mod velocity;
 mod web;
 mod zmq;

@@ -20,7 +20,7 @@ const POLL_PAUSE: Duration = Duration::from_millis(5);
 
 /// What these tests ask of the simulated arm, over a connection that keeps spontaneous safety
 /// errors apart from replies.
-trait Arm {
+pub(crate) trait Arm {
     fn detail(&mut self) -> Value;
     fn sim(&mut self, args: Value) -> ([f64; 6], [f64; 6]);
     fn truth(&mut self) -> ([f64; 6], [f64; 6]);

@@ -359,6 +359,21 @@ typedef struct mcm_bus_counters_t {
   uint64_t bus_errors;
 } mcm_bus_counters_t;
 
+// A tool as `set_tool` takes it: the TCP in the flange frame, the load.
+typedef struct mcm_tool_t {
+  // The TCP's position in the flange frame [m].
+  double tcp_position[3];
+  // The TCP's orientation in the flange frame, a unit quaternion `[x, y, z, w]`.
+  double tcp_orientation[4];
+  // [kg], from 0 to 5.
+  double mass;
+  // In the flange frame [m].
+  double center_of_mass[3];
+  // `[ixx, iyy, izz, ixy, ixz, iyz]` about the centre of mass [kg m^2]; zeros: a point
+  // mass.
+  double inertia[6];
+} mcm_tool_t;
+
 // The state of one cycle, as the real-time core publishes it (the shared-memory
 // `StateSample`, field for field; units: deg, deg/s, deg/s^2, A, ns).
 typedef struct mcm_state_t {
@@ -406,6 +421,8 @@ typedef struct mcm_state_t {
   struct mcm_bus_counters_t bus;
   // The TCP's state, when `flags` has `MCM_STATE_CARTESIAN`.
   struct mcm_tcp_state_t cartesian;
+  // The active tool (`set_tool`; the configuration's at start).
+  struct mcm_tool_t tool;
 } mcm_state_t;
 
 // A `wait_until` condition over shared memory: nonzero when the state shows what is waited
@@ -690,6 +707,10 @@ enum mcm_error_t mcm_tcp_move_all(struct mcm_tcp_client_t *client, const double 
 // queued).
 enum mcm_error_t mcm_tcp_pvt_points(struct mcm_tcp_client_t *client, const struct mcm_pvt_point_t *points, size_t count);
 
+// Set the tool the arm carries (its TCP and load), from the next cycle; in HOLD, or PVT at
+// standstill. A tool outside its checks is refused here (`MCM_ERR_ARGUMENT`).
+enum mcm_error_t mcm_tcp_set_tool(struct mcm_tcp_client_t *client, const struct mcm_tool_t *tool);
+
 // Take control of the arm's motion (refused while another client controls it).
 enum mcm_error_t mcm_tcp_take_control(struct mcm_tcp_client_t *client);
 
@@ -764,6 +785,10 @@ enum mcm_error_t mcm_shm_move_all(struct mcm_shm_client_t *client, const double 
 // Queue `count` PVT points, spaced by `pvt`'s `dt`. 1 to 1000 points, queued whole or not at
 // all.
 enum mcm_error_t mcm_shm_pvt_points(struct mcm_shm_client_t *client, const struct mcm_pvt_point_t *points, size_t count);
+
+// Set the tool the arm carries (its TCP and load), from the next cycle; in HOLD, or PVT at
+// standstill. A tool outside its checks is refused here (`MCM_ERR_ARGUMENT`).
+enum mcm_error_t mcm_shm_set_tool(struct mcm_shm_client_t *client, const struct mcm_tool_t *tool);
 
 // Take control of the arm's motion (refused while another client controls it).
 enum mcm_error_t mcm_shm_take_control(struct mcm_shm_client_t *client);

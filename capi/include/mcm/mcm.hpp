@@ -277,6 +277,8 @@ public:
     Result<void> pvt_points(const std::vector<PvtPoint>& points) {
         return done(MCM_HPP_FN(pvt_points)(h(), points.data(), points.size()));
     }
+    /// The tool the arm carries (TCP and load), from the next cycle.
+    Result<void> set_tool(const mcm_tool_t& tool) { return done(MCM_HPP_FN(set_tool)(h(), &tool)); }
     Result<void> take_control() { return done(MCM_HPP_FN(take_control)(h())); }
     Result<void> release_control() { return done(MCM_HPP_FN(release_control)(h())); }
     /// Read the state until pred(state) holds, at most timeout_s.

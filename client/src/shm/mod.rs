@@ -45,14 +45,15 @@ pub use ports::{LayoutMismatch, OpenError, SendError, describe};
 use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::prelude::ipc;
 use mcm_shared::command::{
-    Calibrate, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques, SetVelocities,
-    SimCommand, TorqueControl, VelocityControl,
+    Calibrate, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTool, SetTorques,
+    SetVelocities, SimCommand, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
 use mcm_shared::protocol::core_reply_within;
 use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Outcome, Response, SafetyError};
 use mcm_shared::sample::StateSample;
 use mcm_shared::service::{COMMAND_BUFFER, ServiceNames};
+use mcm_shared::tool::Tool;
 use ports::{CorePorts, Peer};
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -420,6 +421,11 @@ impl ShmClient {
         let id = self.send(&Request::SetVelocities(SetVelocities { velocities_deg_s }))?;
         self.tracker.sent(id, 0);
         Ok(())
+    }
+
+    /// Set the tool the arm carries (its TCP and load), from the next cycle.
+    pub fn set_tool(&mut self, tool: Tool) -> Result<(), RequestError> {
+        self.ack(Request::SetTool(SetTool { tool }))
     }
 
     /// Move one axis (OK as the motion starts).

@@ -37,11 +37,12 @@ pub use types::{
 };
 
 use mcm_shared::command::{
-    MoveAll, MoveAxis, Pvt, PvtPoint, SetTorques, SetVelocities, SimCommand,
+    MoveAll, MoveAxis, Pvt, PvtPoint, SetTool, SetTorques, SetVelocities, SimCommand,
 };
 use mcm_shared::mode::Mode;
 use mcm_shared::protocol::results::Answer;
 use mcm_shared::protocol::{self, Command};
+use mcm_shared::tool::Tool;
 use std::collections::VecDeque;
 use std::io::{ErrorKind as IoKind, Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
@@ -466,6 +467,12 @@ impl TcpClient {
     /// [`Event::CommandError`].
     pub fn set_velocities(&mut self, velocities_deg_s: Six) -> Result<(), Error> {
         self.command(SetVelocities { velocities_deg_s }).map(|_| ())
+    }
+
+    /// Set the tool the arm carries (its TCP and load; build it with [`Tool::new`]), from the
+    /// next cycle; in HOLD, or PVT at standstill.
+    pub fn set_tool(&mut self, tool: Tool) -> Result<(), Error> {
+        self.call_ok(SetTool { tool })
     }
 
     /// Move one axis (1..6) to `target_deg` at `velocity_factor` (0, 1] of its limits; OK as

@@ -6,10 +6,11 @@
 use super::{Client, Limits, calibrate, move_all, move_axis};
 use crate::rng::Rng;
 use mcm_shared::command::{
-    Pvt, Request, SetTorques, SetVelocities, TorqueControl, VelocityControl,
+    Pvt, Request, SetTool, SetTorques, SetVelocities, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
 use mcm_shared::sample::StateSample;
+use mcm_shared::tool::{MAX_MASS_KG, Tcp, Tool};
 
 /// Who sends a command kind in a run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -40,7 +41,8 @@ impl Sender {
             | CommandKind::TakeControl
             | CommandKind::ReleaseControl
             | CommandKind::VelocityControl
-            | CommandKind::SetVelocities => Sender::Clients,
+            | CommandKind::SetVelocities
+            | CommandKind::SetTool => Sender::Clients,
             CommandKind::Sim => Sender::FaultInjector,
             CommandKind::ClientGone => Sender::Disconnecting,
         }
@@ -123,7 +125,25 @@ impl Client {
                     rng.range(-1.2, 1.2) * lim.max_velocity[i]
                 }),
             }),
+            CommandKind::SetTool => Request::SetTool(SetTool {
+                tool: random_tool(rng),
+            }),
             CommandKind::Sim | CommandKind::ClientGone => return None,
         })
     }
+}
+
+/// A tool within its checks (a tool that is not allowed does not make a `Request`; garbage
+/// samples send such values): up to the heaviest, its centre of mass and TCP within 10 cm of
+/// the flange, the TCP turned about the flange's z axis.
+fn random_tool(rng: &mut Rng) -> Tool {
+    let near = |rng: &mut Rng| -> [f64; 3] { core::array::from_fn(|_| rng.range(-0.1, 0.1)) };
+    let half_turn = rng.range(-1.5, 1.5);
+    let tcp = Tcp {
+        position: near(rng),
+        orientation: [0.0, 0.0, half_turn.sin(), half_turn.cos()],
+    };
+    let mass = rng.range(0.0, MAX_MASS_KG);
+    let com = near(rng);
+    Tool::new(tcp, mass, com, None).unwrap_or(Tool::NONE)
 }

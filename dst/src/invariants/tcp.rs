@@ -4,11 +4,13 @@
 //! [`ORIENTATION_RAD`]) and, for its velocity, the geometric Jacobian there times the axis
 //! velocities the sample reports (within [`LINEAR_M_S`] and [`ANGULAR_DEG_S`]); before, it is
 //! absent (`STATE_CARTESIAN` clear, every value zero). The tester computes it with
-//! `mcm-kinematics` from the configuration, not with the core's own code.
+//! `mcm-kinematics` from the configuration and the TCP of the tool the sample reports, not
+//! with the core's own code.
 
-use mcm_kinematics::{Kinematics, KinematicsError};
+use mcm_kinematics::{Kinematics, KinematicsError, tcp_transform};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::sample::{STATE_ALL_CALIBRATED, STATE_CARTESIAN, StateSample, TcpState};
+use mcm_shared::tool::Tool;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector6};
 
 /// How far the reported TCP position may be from the forward kinematics [m].
@@ -26,7 +28,7 @@ pub struct TcpCheck {
 }
 
 impl TcpCheck {
-    /// The check of a run under `cfg`, with the configuration's TCP (the flange).
+    /// The check of a run under `cfg` (the TCP: the one each sample reports in its `tool`).
     pub fn new(cfg: &RobotConfig) -> TcpCheck {
         TcpCheck {
             kin: Kinematics::from_config(cfg),
@@ -52,9 +54,12 @@ impl TcpCheck {
                 s.position
             ));
         }
-        let kin = self.kin.as_ref().map_err(|e| {
+        let mut kin = *self.kin.as_ref().map_err(|e| {
             format!("cartesian_state published for an arm the kinematics refuse: {e}")
         })?;
+        // The TCP of the tool the same sample reports (`set_tool`'s, or the configuration's).
+        kin.set_tcp(tcp_transform(&Tool::from(&s.tool).tcp))
+            .map_err(|e| format!("the sample's tool {:?}: {e}", s.tool))?;
         let q = s.position.map(f64::to_radians);
         let pose = kin.tcp_pose(&q);
         let twist = kin.tcp_jacobian(&q) * Vector6::from(s.velocity.map(f64::to_radians));

@@ -47,11 +47,36 @@ fn tool_is_lumped_into_link_6() {
     assert!((b.com.z - 0.296 / 4.2).abs() < 1e-12);
     assert!((m.total_mass() - 16.7).abs() < 1e-9, "{}", m.total_mass());
     let mut light = m.clone();
-    light.set_tool(0.0, Vector3::zeros());
+    light.set_tool(&Tool::NONE);
     assert_eq!(light.bodies[5].mass, 0.4);
     assert!((light.bodies[5].inertia - m.links[5].inertia).norm() < 1e-15);
-    light.set_tool(f64::NAN, Vector3::zeros());
-    assert_eq!(light.tool().0, 0.0, "a NaN mass is ignored");
+    assert_eq!(light.tool(), &Tool::NONE);
+}
+
+/// A tool's own inertia adds `ωᵀ I ω / 2` to the kinetic energy, `ω` the flange's angular
+/// velocity: the mass matrix grows by `Aᵀ R I Rᵀ A` (A: the joint axes, R: the flange's
+/// rotation), whatever the tool's mass and centre of mass.
+#[test]
+fn a_tool_inertia_is_added_to_body_6() {
+    let point = model();
+    let mut solid = point.clone();
+    let t = *point.tool();
+    let inertia = [0.02, 0.03, 0.04, 0.005, -0.002, 0.001];
+    solid.set_tool(&Tool::new(t.tcp, t.mass, t.center_of_mass, Some(inertia)).unwrap());
+    assert_eq!(solid.tool().inertia, inertia);
+    let q = [0.3, -0.7, 1.1, 0.4, -0.9, 2.0];
+    let k = point.kinematics(&q);
+    let [ixx, iyy, izz, ixy, ixz, iyz] = inertia;
+    let i = Matrix3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
+    let r = k.rot[5];
+    let a = nalgebra::Matrix3x6::from_columns(&k.axis);
+    let expected = a.transpose() * r * i * r.transpose() * a;
+    let grown = solid.mass_matrix(&q) - point.mass_matrix(&q);
+    assert!((grown - expected).norm() < 1e-12, "{grown} vs {expected}");
+    assert!(expected.norm() > 1e-3);
+    // Gravity does not see an inertia.
+    let g = |m: &ArmModel| Vector6::from(m.gravity_torques(&q));
+    assert!((g(&solid) - g(&point)).norm() < 1e-12);
 }
 
 #[test]

@@ -8,7 +8,7 @@
 //! ([`active_tcp`]). Runs in the gateway's async tasks, never in the cycle.
 
 use super::{Context, Outcome, STATE_GRACE, bridge_error};
-use mcm_kinematics::{IkError, Kinematics, KinematicsError, TcpError};
+use mcm_kinematics::{IkError, Kinematics, KinematicsError, TcpError, tcp_transform};
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{Axis, MoveAll};
 use mcm_shared::config::RobotConfig;
@@ -19,13 +19,18 @@ use mcm_shared::protocol::{Command, InverseKinematics, MoveToPose, Pose};
 use mcm_shared::ranges::Num;
 use mcm_shared::reply::Reason;
 use mcm_shared::sample::{AXIS_CALIBRATED, StateSample};
+use mcm_shared::tool::Tool;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 
-/// The TCP of the active tool: its pose in the flange frame. The configured tool's, whose TCP
-/// is on the flange (the configuration's `[arm.tool]` has no `tcp`). `state` is the newest
-/// state, when there is one.
-pub(crate) fn active_tcp(_cfg: &RobotConfig, _state: Option<&StateSample>) -> Isometry3<f64> {
-    Isometry3::identity()
+/// The TCP of the active tool: its pose in the flange frame. The tool the core reports in
+/// `state`, the newest state (`set_tool`'s, or the configuration's from start); the
+/// configured tool's when there is no state yet (the core starts with it).
+pub(crate) fn active_tcp(cfg: &RobotConfig, state: Option<&StateSample>) -> Isometry3<f64> {
+    let tcp = match state {
+        Some(s) => Tool::from(&s.tool).tcp,
+        None => cfg.arm.tool.active().tcp,
+    };
+    tcp_transform(&tcp)
 }
 
 /// `inverse_kinematics`: every solution, the nearest to the seed first. Without a seed, the

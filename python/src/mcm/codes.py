@@ -44,6 +44,7 @@ KINDS: Dict[str, int] = {
     "client_gone": 15,
     "velocity_control": 16,
     "set_velocities": 17,
+    "set_tool": 18,
 }
 KIND_NAMES: Dict[int, str] = {v: k for k, v in KINDS.items()}
 
@@ -70,6 +71,7 @@ COMMANDS: Tuple[str, ...] = (
     "release_control",
     "authenticate",
     "inverse_kinematics",
+    "set_tool",
 )
 
 #: The ``result_type`` of each command's result on success (``CommandDef::success``);
@@ -95,6 +97,7 @@ RESULT_TYPES: Dict[str, Optional[str]] = {
     "release_control": "generic",
     "authenticate": "generic",
     "inverse_kinematics": "inverse_kinematics",
+    "set_tool": "generic",
 }
 
 #: Commands that answer nothing on success (``Success::Nothing``): a refusal comes later,
@@ -118,6 +121,7 @@ NEEDS_CONTROL = frozenset(
         "move_all",
         "move_to_pose",
         "pvt_points",
+        "set_tool",
     ]
 )
 

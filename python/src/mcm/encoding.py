@@ -44,12 +44,19 @@ ARGS: Dict[str, Dict[str, int]] = {
         "block_axis": 3,
         "unblock_axis": 4,
         "external_torques": 5,
+        "true_tool": 11,
     },
     "velocity_control": {
         "timeout": 0,
     },
     "set_velocities": {
         "velocities": 0,
+    },
+    "set_tool": {
+        "tcp": 0,
+        "mass": 7,
+        "center_of_mass": 8,
+        "inertia": 11,
     },
 }
 
@@ -75,6 +82,7 @@ SIM_FLAGS: Dict[str, int] = {
     "block_axis": 8,
     "unblock_axis": 16,
     "external_torques": 32,
+    "true_tool": 64,
 }
 
 #: ``pvt_points``: the arguments one point takes, where its six positions and its six

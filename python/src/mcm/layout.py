@@ -4,7 +4,7 @@ iceoryx2 compares only a type's name, size and alignment when a peer opens a ser
 its fields, so these structures are pinned to the Rust layouts by a test
 (``tests/end_to_end/python_layout.rs`` runs ``python/tests/test_layout.py`` against the sizes and field
 offsets the Rust compiler computed). Any layout change in Rust bumps the version in the type
-name (``mcm.StateSample.v6``), and this module must follow.
+name (``mcm.StateSample.v7``), and this module must follow.
 
 This module needs only the standard library.
 """
@@ -160,6 +160,20 @@ class TcpState(ctypes.Structure):
     ]
 
 
+class ToolState(ctypes.Structure):
+    """The active tool: the TCP in the flange frame [m, unit quaternion x, y, z, w], the mass
+    [kg], the centre of mass [m] and the inertia [ixx, iyy, izz, ixy, ixz, iyz] [kg m^2] about
+    it."""
+
+    _fields_ = [
+        ("tcp_position", ctypes.c_double * 3),
+        ("tcp_orientation", ctypes.c_double * 4),
+        ("mass", ctypes.c_double),
+        ("center_of_mass", ctypes.c_double * 3),
+        ("inertia", ctypes.c_double * 6),
+    ]
+
+
 class StateSample(ctypes.Structure):
     """The state of the arm and the controller, published once per cycle (key 0 of the state
     blackboard). Units: degrees, degrees/s, degrees/s^2, amperes; times ``CLOCK_MONOTONIC`` ns
@@ -190,6 +204,7 @@ class StateSample(ctypes.Structure):
         ("owner_client_id", ctypes.c_uint64),
         ("bus", BusCounters),
         ("cartesian", TcpState),
+        ("tool", ToolState),
     ]
 
     def tcp_state(self) -> Optional[TcpState]:
@@ -199,7 +214,7 @@ class StateSample(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name, equal to the Rust ``#[type_name]``."""
-        return "mcm.StateSample.v6"
+        return "mcm.StateSample.v7"
 
 
 class ReplyBlock(ctypes.Structure):
@@ -222,6 +237,7 @@ STRUCTS: Dict[str, Type[ctypes.Structure]] = {
     "CycleTiming": CycleTiming,
     "BusCounters": BusCounters,
     "TcpState": TcpState,
+    "ToolState": ToolState,
     "StateSample": StateSample,
     "ReplyBlock": ReplyBlock,
 }

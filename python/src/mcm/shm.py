@@ -4,7 +4,7 @@ the official ``iceoryx2`` package, exactly version 0.10.0 like the MCM itself).
 It opens the services of one MCM instance (``shared/src/service.rs``):
 
 - ``mcm/<i>/state``: a blackboard with key type ``u32``: key 0 the :class:`~mcm.layout.StateSample`
-  (``mcm.StateSample.v6``), keys 1 to 512 the :class:`~mcm.layout.ReplyBlock` s
+  (``mcm.StateSample.v7``), keys 1 to 512 the :class:`~mcm.layout.ReplyBlock` s
   (``mcm.ReplyBlock.v1``) holding the core's answers;
 - ``mcm/<i>/state-ready``: the event mcm-rt notifies (id 1) after every new state, so
   :meth:`ShmClient.wait_state` blocks until the next cycle instead of spinning;
@@ -368,6 +368,18 @@ class ShmClient:
         """Send six joint velocities [deg/s] without waiting; returns the request id (a refusal
         is read with :meth:`wait_reply`)."""
         return self.send(wire.set_velocities(velocities))
+
+    def set_tool(
+        self,
+        mass: float,
+        center_of_mass: Sequence[float],
+        tcp_position: Sequence[float] = (0.0, 0.0, 0.0),
+        tcp_orientation: Sequence[float] = (0.0, 0.0, 0.0, 1.0),
+        inertia: Optional[Sequence[float]] = None,
+    ) -> None:
+        """Set the tool the arm carries (as :meth:`mcm.Client.set_tool`), from the next cycle."""
+        tcp = {"position": list(tcp_position), "orientation": list(tcp_orientation)}
+        self.request(wire.set_tool(tcp, mass, center_of_mass, inertia))
 
     def pvt(self, dt: float = enc.DEFAULT_PVT_DT) -> None:
         """Enter PVT mode with point spacing ``dt`` [s]."""

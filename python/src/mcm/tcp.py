@@ -387,6 +387,31 @@ class Client:
             raise ValueError("set_velocities: expected six velocities, got %d" % len(values))
         self.command("set_velocities", {"velocities": values})
 
+    def set_tool(
+        self,
+        mass: float,
+        center_of_mass: Sequence[float],
+        tcp_position: Sequence[float] = (0.0, 0.0, 0.0),
+        tcp_orientation: Sequence[float] = (0.0, 0.0, 0.0, 1.0),
+        inertia: Optional[Sequence[float]] = None,
+    ) -> None:
+        """Set the tool the arm carries, from the next cycle (in HOLD, or PVT at standstill):
+        its ``mass`` [kg], ``center_of_mass`` [m] in the flange frame, the TCP's position [m]
+        and orientation (unit quaternion ``[x, y, z, w]``) in the flange frame (default: on the
+        flange), and optionally its ``inertia`` ``[ixx, iyy, izz, ixy, ixz, iyz]`` [kg m²]
+        about the centre of mass (default: a point mass)."""
+        arguments: Dict[str, Any] = {
+            "tcp": {
+                "position": [float(v) for v in tcp_position],
+                "orientation": [float(v) for v in tcp_orientation],
+            },
+            "mass": float(mass),
+            "center_of_mass": [float(v) for v in center_of_mass],
+        }
+        if inertia is not None:
+            arguments["inertia"] = [float(v) for v in inertia]
+        self._expect("set_tool", arguments)
+
     def _raise_refusal(self, command: str) -> None:
         """Raise the first queued refusal of `command` (one without a result on success)."""
         for i, e in enumerate(self._events):

@@ -81,6 +81,9 @@ class StatusDetail:
     timing: Dict[str, Any]
     control: Optional[Dict[str, Any]]
     raw: Dict[str, Any] = field(repr=False)
+    #: The active tool, as ``set_tool`` takes it: ``tcp`` ``{"position", "orientation"}``,
+    #: ``mass``, ``center_of_mass``, ``inertia``.
+    tool: Dict[str, Any] = field(default_factory=dict)
 
     @classmethod
     def from_json(cls, v: Dict[str, Any]) -> "StatusDetail":
@@ -100,6 +103,7 @@ class StatusDetail:
             timing=dict(v.get("timing", {})),
             control=v.get("control"),
             raw=v,
+            tool=dict(v.get("tool", {})),
         )
 
 

@@ -116,6 +116,30 @@ def set_velocities(velocities: Sequence[float]) -> CommandSample:
     return command("set_velocities", velocities=_six(velocities, "velocities"))
 
 
+def set_tool(
+    tcp: Dict[str, Sequence[float]],
+    mass: float,
+    center_of_mass: Sequence[float],
+    inertia: Optional[Sequence[float]] = None,
+) -> CommandSample:
+    """``set_tool``: ``tcp`` ``{"position": [3 m], "orientation": [x, y, z, w]}`` in the flange
+    frame, ``mass`` [kg], ``center_of_mass`` [m], ``inertia`` ``[ixx, iyy, izz, ixy, ixz, iyz]``
+    [kg m²] (None: a point mass). The core checks the values as the gateway does."""
+    position, orientation = list(tcp["position"]), list(tcp["orientation"])
+    if len(position) != 3 or len(orientation) != 4 or len(center_of_mass) != 3:
+        raise ValueError("set_tool: tcp.position and center_of_mass take 3 numbers, tcp.orientation 4")
+    moments = [0.0] * 6 if inertia is None else list(inertia)
+    if len(moments) != 6:
+        raise ValueError("set_tool: inertia takes 6 numbers, got %d" % len(moments))
+    return command(
+        "set_tool",
+        tcp=position + orientation,
+        mass=mass,
+        center_of_mass=center_of_mass,
+        inertia=moments,
+    )
+
+
 def pvt(dt: float = enc.DEFAULT_PVT_DT) -> CommandSample:
     """``pvt`` with point spacing ``dt`` [s]."""
     return command("pvt", dt=float(dt))

@@ -492,6 +492,7 @@ proptest! {
         links in prop::array::uniform6(any_link()),
         tool_mass in 0.0..5.0f64,
         tool_com in prop::array::uniform3(-0.2..0.2f64),
+        tool_moment in 0.0..0.05f64,
         q in prop::array::uniform6(-3.2..3.2f64),
         qd in prop::array::uniform6(-3.0..3.0f64),
     ) {
@@ -500,6 +501,8 @@ proptest! {
         cfg.arm.tool = mcm_shared::config::ToolConfig {
             mass: tool_mass,
             com: tool_com,
+            tcp: None,
+            inertia: Some([tool_moment, tool_moment, tool_moment, 0.0, 0.0, 0.0]),
         };
         let f = Fixture::new(cfg, "");
         assert_kinematics(&f, "", &q);

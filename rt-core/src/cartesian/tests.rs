@@ -1,6 +1,6 @@
 use super::*;
 use mcm_shared::sample::STATE_ESTOP;
-use nalgebra::{Translation3, UnitQuaternion, Vector3};
+use nalgebra::{UnitQuaternion, Vector3};
 
 fn prob2() -> Cartesian {
     Cartesian::from_config(&RobotConfig::prob2_default()).unwrap()
@@ -41,7 +41,11 @@ fn the_p_rob2_at_zero_stands_upright_with_its_flange_up() {
 #[test]
 fn the_tcp_set_is_the_tcp_reported() {
     let mut c = prob2();
-    c.set_tcp(Translation3::new(0.0, 0.0, 0.15).into()).unwrap();
+    c.follow_tool(&Tcp {
+        position: [0.0, 0.0, 0.15],
+        orientation: [0.0, 0.0, 0.0, 1.0],
+    })
+    .unwrap();
     let mut s = calibrated_at([0.0; 6], [0.0; 6]);
     c.compose(&mut s);
     let p = Vector3::from(s.cartesian.position);

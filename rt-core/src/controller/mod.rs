@@ -20,7 +20,8 @@
 //! `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client controls the
 //! arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a cycle reports),
 //! `shutdown_sequence.rs` (the controlled stop and disable when `mcm-rt` is asked to stop),
-//! `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft speed limit).
+//! `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft speed limit),
+//! `tool.rs` (the active tool, `set_tool`).
 
 mod calibrate;
 mod calibrate_relax;
@@ -34,6 +35,7 @@ pub mod planted;
 pub mod release;
 mod shutdown_sequence;
 mod state;
+mod tool;
 mod trips;
 mod velocity;
 mod view;
@@ -420,6 +422,7 @@ impl Controller {
         v.pvt_starved = matches!(self.state, State::Pvt { starved: true, .. });
         v.pvt_queued = u32::try_from(self.stream.queued()).unwrap_or(u32::MAX);
         v.owner_client_id = self.owner;
+        v.tool = *self.model.tool();
         v.bus.bad_frames = self.master.bad_frames();
         v.bus.frames_dropped = self.master.frames_dropped();
         v.bus.events_dropped = self.master.events_dropped();

@@ -91,4 +91,6 @@ pub struct CycleView {
     /// The master's counters (bad frames, frames dropped, events dropped) and the bus errors
     /// that [`crate::cycle::Cycle`] counts, since start.
     pub bus: BusCounters,
+    /// The active tool.
+    pub tool: mcm_shared::tool::Tool,
 }

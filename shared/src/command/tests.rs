@@ -43,9 +43,10 @@ fn sim() -> impl Strategy<Value = SimCommand> {
         prop::array::uniform4(prop::option::of(axis())),
         prop::option::of(prop::array::uniform6(-1000.0f64..=1000.0)),
         any::<bool>(),
+        prop::option::of((0.0f64..=5.0, prop::array::uniform3(-0.25f64..0.25))),
     )
         .prop_map(
-            |(emergency_stop, axes, external_torques_nm, power_cycle)| SimCommand {
+            |(emergency_stop, axes, external_torques_nm, power_cycle, load)| SimCommand {
                 emergency_stop,
                 disconnect_axis: axes[0],
                 reconnect_axis: axes[1],
@@ -53,6 +54,7 @@ fn sim() -> impl Strategy<Value = SimCommand> {
                 unblock_axis: axes[3],
                 external_torques_nm,
                 power_cycle,
+                true_tool: load.map(|(m, c)| SimCommand::true_tool(m, c).unwrap()),
             },
         )
 }
@@ -107,7 +109,34 @@ pub(crate) fn request() -> impl Strategy<Value = Request> {
         six().prop_map(|velocities_deg_s| Request::SetVelocities(SetVelocities {
             velocities_deg_s
         })),
+        tool().prop_map(|tool| Request::SetTool(SetTool { tool })),
     ]
+}
+
+/// A valid tool (orientations whose norm is exactly 1, so that normalising keeps them).
+fn tool() -> impl Strategy<Value = crate::tool::Tool> {
+    let coordinate = || prop::array::uniform3(-0.25f64..0.25);
+    let orientation = prop::sample::select(vec![
+        [0.0, 0.0, 0.0, 1.0],
+        [1.0, 0.0, 0.0, 0.0],
+        [0.5, 0.5, 0.5, 0.5],
+        [-0.5, -0.5, 0.5, 0.5],
+    ]);
+    (
+        coordinate(),
+        orientation,
+        0.0f64..=5.0,
+        coordinate(),
+        0.0f64..0.1,
+    )
+        .prop_map(|(position, orientation, mass, center_of_mass, moment)| {
+            let tcp = crate::tool::Tcp {
+                position,
+                orientation,
+            };
+            let inertia = [moment, moment, moment, 0.0, 0.0, 0.0];
+            crate::tool::Tool::new(tcp, mass, center_of_mass, Some(inertia)).unwrap()
+        })
 }
 
 fn any_sample() -> impl Strategy<Value = CommandSample> {
@@ -288,6 +317,29 @@ fn velocity_control_timeout_and_velocities() {
     };
     assert_eq!(field.to_string(), "velocities[3]");
     assert_eq!(field.axis(), Axis::new(4));
+}
+
+#[test]
+fn a_tool_that_is_no_tool_does_not_decode() {
+    let mut args = [0.0; 17];
+    args[6] = 1.0; // orientation w
+    args[7] = 6.0; // mass
+    let e = Request::decode(&sample(CommandKind::SetTool, &args, 0)).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "set_tool: mass = 6 is not allowed; allowed: from 0 to 5"
+    );
+    args[7] = 1.0;
+    args[6] = 2.0;
+    let e = Request::decode(&sample(CommandKind::SetTool, &args, 0)).unwrap_err();
+    assert!(
+        e.to_string().contains("tcp.orientation = 2 is not allowed"),
+        "{e}"
+    );
+    args[6] = 1.0;
+    args[9] = f64::NAN;
+    let e = Request::decode(&sample(CommandKind::SetTool, &args, 0)).unwrap_err();
+    assert!(e.to_string().contains("center_of_mass[1] = NaN"), "{e}");
 }
 
 #[test]

@@ -179,9 +179,16 @@ const REFUSALS: &[Case] = &[
         "three values > 0 kg m^2"),
     (|c| c.arm.links[5].com = [0.0, f64::NAN, 0.0], "arm.link[6].com", "[0.0, NaN, 0.0]",
         "three finite values (m)"),
-    (|c| c.arm.tool.mass = -0.1, "arm.tool.mass", "-0.1", "a finite value >= 0 kg"),
-    (|c| c.arm.tool.com = [f64::INFINITY, 0.0, 0.0], "arm.tool.com", "[inf, 0.0, 0.0]",
-        "three finite values (m)"),
+    (|c| c.arm.tool.mass = -0.1, "arm.tool.mass", "-0.1", "a mass from 0 to 5 kg"),
+    (|c| c.arm.tool.com = [f64::INFINITY, 0.0, 0.0], "arm.tool.com[0]", "inf",
+        "a finite number"),
+    (|c| c.arm.tool.com = [0.0, 0.0, 0.6], "arm.tool.com", "0.6",
+        "at most 0.5 m from the flange"),
+    (|c| c.arm.tool.tcp = Some(TcpConfig { position: [0.0; 3], orientation: [0.0, 0.0, 0.5, 1.0] }),
+        "arm.tool.tcp.orientation", "1.11803398875",
+        "a unit quaternion [x, y, z, w] (norm 1 within 0.001)"),
+    (|c| c.arm.tool.inertia = Some([0.01, 0.01, 0.03, 0.0, 0.0, 0.0]), "arm.tool.inertia", "-0.005",
+        "a physical inertia (positive semi-definite, triangle inequality)"),
     // [sim]
     (|c| c.sim.physics_step_us = 0, "sim.physics_step_us", "0",
         "> 0 and a divisor of the cycle period (5000 us)"),
@@ -389,4 +396,23 @@ fn the_work_budget_defaults_to_half_the_period() {
     c.cycle.work_budget_us = None;
     c.cycle.rate_hz = 250;
     assert_eq!(c.work_budget_ns(), 2_000_000);
+}
+
+#[test]
+fn the_tool_table_takes_a_tcp_and_an_inertia_and_defaults_to_the_flange() {
+    let default = RobotConfig::prob2_default();
+    let tool = default.arm.tool.active();
+    assert_eq!(tool.tcp, crate::tool::Tcp::FLANGE);
+    assert_eq!(tool.inertia, [0.0; 6]);
+    assert_eq!((tool.mass, tool.center_of_mass), (3.8, [0.0, 0.0, 0.08]));
+
+    let text = PROB2_DEFAULT_TOML.replace(
+        "com = [0.0, 0.0, 0.08]    #",
+        "com = [0.0, 0.0, 0.08]\ninertia = [0.004, 0.004, 0.002, 0.0, 0.0, 0.0]\n\
+         tcp = { position = [0.0, 0.0, 0.15], orientation = [0.0, 0.0, 0.0, 1.0] }\n#",
+    );
+    let cfg = RobotConfig::from_toml_str(&text).unwrap();
+    let tool = cfg.arm.tool.active();
+    assert_eq!(tool.tcp.position, [0.0, 0.0, 0.15]);
+    assert_eq!(tool.inertia, [0.004, 0.004, 0.002, 0.0, 0.0, 0.0]);
 }

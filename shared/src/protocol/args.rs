@@ -73,6 +73,12 @@ pub enum CommandError {
         expected: String,
         arg: Arg,
     },
+    /// A tool that is not allowed ([`crate::tool::Tool::new`], the core's own check).
+    #[error("{command}: {error}")]
+    Tool {
+        command: &'static str,
+        error: crate::tool::ToolError,
+    },
 }
 
 impl CommandError {
@@ -90,6 +96,7 @@ impl CommandError {
             CommandError::UnknownArgument { .. } => ErrorCode::UnknownArgument,
             CommandError::Missing { .. } => ErrorCode::MissingArgument,
             CommandError::Invalid { .. } => ErrorCode::InvalidArgument,
+            CommandError::Tool { .. } => ErrorCode::OutOfRange,
             CommandError::OutOfRange { arg, .. } => Reason::argument_code(*arg)
                 .error_code()
                 .unwrap_or(ErrorCode::OutOfRange),
@@ -110,7 +117,8 @@ impl CommandError {
             | CommandError::UnknownArgument { command, .. }
             | CommandError::Missing { command, .. }
             | CommandError::Invalid { command, .. }
-            | CommandError::OutOfRange { command, .. } => Some(command),
+            | CommandError::OutOfRange { command, .. }
+            | CommandError::Tool { command, .. } => Some(command),
         }
     }
 }

@@ -63,7 +63,7 @@ pub use spec::{ArgDef, CommandDef, Group, Kind, Success};
 pub use wait::{CALIBRATION_TIMEOUT, REPLY_TIMEOUT, core_reply_within};
 
 use crate::command::{
-    Calibrate, MoveAll, MoveAxis, Pvt, Request, SetTorques, SetVelocities, SimCommand,
+    Calibrate, MoveAll, MoveAxis, Pvt, Request, SetTool, SetTorques, SetVelocities, SimCommand,
 };
 use crate::config::RobotConfig;
 use json::json_kind;
@@ -174,6 +174,7 @@ commands! {
     ReleaseControl(ReleaseControl),
     Authenticate(Authenticate),
     InverseKinematics(InverseKinematics),
+    SetTool(SetTool),
 }
 
 /// The command called `name` (any case).

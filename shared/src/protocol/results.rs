@@ -593,6 +593,8 @@ pub struct Detail {
     pub timing: Timing,
     pub ipc: Ipc,
     pub bus: BusDetail,
+    /// The active tool, as `set_tool` takes it.
+    pub tool: crate::tool::Tool,
     /// Added by the gateway for the connection that asked.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub control: Option<ControlDetail>,
@@ -658,6 +660,7 @@ impl Detail {
                 events_dropped: state.bus.events_dropped,
                 bus_errors: state.bus.bus_errors,
             },
+            tool: crate::tool::Tool::from(&state.tool),
             control: None,
             access: None,
         }

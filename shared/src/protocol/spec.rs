@@ -64,11 +64,12 @@ pub enum Group {
     Pvt,
     TorqueControl,
     VelocityControl,
+    Tool,
 }
 
 impl Group {
     /// Every group, in the order `help` lists them.
-    pub const ALL: [Group; 7] = [
+    pub const ALL: [Group; 8] = [
         Group::EveryMode,
         Group::Control,
         Group::OffAndHold,
@@ -76,6 +77,7 @@ impl Group {
         Group::Pvt,
         Group::TorqueControl,
         Group::VelocityControl,
+        Group::Tool,
     ];
 
     /// The heading `help` gives the group.
@@ -88,6 +90,7 @@ impl Group {
             Group::Pvt => "In PVT",
             Group::TorqueControl => "In TORQUE_CONTROL",
             Group::VelocityControl => "In VELOCITY_CONTROL",
+            Group::Tool => "In HOLD, or PVT at standstill: the tool",
         }
     }
 }
@@ -115,6 +118,8 @@ pub enum Kind {
     Points,
     /// A word taken as text, whatever it looks like (the shared secret).
     Text,
+    /// A JSON object or array of numbers (bracketed or quoted), e.g. a tool's `tcp`.
+    Json,
 }
 
 impl Kind {
@@ -131,6 +136,7 @@ impl Kind {
             Kind::Direction => "1|-1",
             Kind::Points => "[...]",
             Kind::Text => "TEXT",
+            Kind::Json => "{...}",
         }
     }
 
@@ -147,7 +153,8 @@ impl Kind {
             | Kind::Which
             | Kind::Direction
             | Kind::Points
-            | Kind::Text => None,
+            | Kind::Text
+            | Kind::Json => None,
         }
     }
 }

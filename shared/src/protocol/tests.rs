@@ -435,6 +435,19 @@ fn every_command_reads_back_as_written() {
             velocities_deg_s: [0.0, 10.0, -5.0, 0.0, 1.0, 0.0],
         }
         .into(),
+        crate::command::SetTool {
+            tool: crate::tool::Tool::new(
+                crate::tool::Tcp {
+                    position: [0.0, 0.01, 0.15],
+                    orientation: [0.5, 0.5, 0.5, 0.5],
+                },
+                2.0,
+                [0.0, 0.0, 0.06],
+                Some([0.01, 0.02, 0.025, 0.001, 0.0, -0.002]),
+            )
+            .unwrap(),
+        }
+        .into(),
         Pvt { dt_s: 0.02 }.into(),
         MoveAxis {
             axis: axis(3),
@@ -464,6 +477,7 @@ fn every_command_reads_back_as_written() {
             unblock_axis: Some(axis(4)),
             external_torques_nm: Some([0.0, 5.0, 0.0, 0.0, 0.0, -1.0]),
             power_cycle: true,
+            true_tool: Some(SimCommand::true_tool(2.0, [0.0, 0.0, 0.06]).unwrap()),
         }
         .into(),
         TakeControl.into(),
@@ -613,6 +627,11 @@ fn every_default_shown_is_the_default_parsed() {
         "pvt_points" => json!({"points": [{"position": zeros, "velocity": zeros}]}),
         "set_torques" => json!({"torques": zeros}),
         "set_velocities" => json!({"velocities": zeros}),
+        "set_tool" => json!({
+            "tcp": {"position": [0, 0, 0], "orientation": [0, 0, 0, 1]},
+            "mass": 0,
+            "center_of_mass": [0, 0, 0]
+        }),
         "sleep" => json!({"duration": 0}),
         _ => json!({}),
     };
@@ -633,5 +652,5 @@ fn every_default_shown_is_the_default_parsed() {
             checked.push(format!("{}.{}", d.name, a.name));
         }
     }
-    assert_eq!(checked.len(), 15, "{checked:?}");
+    assert_eq!(checked.len(), 16, "{checked:?}");
 }

@@ -65,11 +65,18 @@ fn state_sample_layout_is_pinned() {
         (offset_of!(StateSample, owner_client_id), 760),
         (offset_of!(StateSample, bus), 768),
         (offset_of!(StateSample, cartesian), 800),
+        (offset_of!(StateSample, tool), 904),
     ];
     for (i, (got, want)) in expected.iter().enumerate() {
         assert_eq!(got, want, "field #{i} moved");
     }
-    assert_eq!(size_of::<StateSample>(), 904);
+    assert_eq!(size_of::<StateSample>(), 1040);
+    assert_eq!(size_of::<ToolState>(), 136);
+    assert_eq!(offset_of!(ToolState, tcp_position), 0);
+    assert_eq!(offset_of!(ToolState, tcp_orientation), 24);
+    assert_eq!(offset_of!(ToolState, mass), 56);
+    assert_eq!(offset_of!(ToolState, center_of_mass), 64);
+    assert_eq!(offset_of!(ToolState, inertia), 88);
     assert_eq!(size_of::<BusCounters>(), 32);
     assert_eq!(offset_of!(BusCounters, bad_frames), 0);
     assert_eq!(offset_of!(BusCounters, frames_dropped), 8);

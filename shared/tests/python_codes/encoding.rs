@@ -13,14 +13,15 @@
 
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques,
-    SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
+    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTool,
+    SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::protocol::{self, COMMANDS, Command};
 use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Outcome, Response};
 use mcm_shared::sample::{CommandSample, PVT_FLAG_LAST};
+use mcm_shared::tool::{Tcp, Tool};
 use std::fmt::Write;
 
 /// The head of the file.
@@ -121,6 +122,14 @@ fn sim_probes() -> Vec<Probe> {
             "external_torques",
             &torques,
         ),
+        sim(
+            SimCommand {
+                true_tool: Some(SimCommand::true_tool(X1, [0.031, 0.032, 0.033]).unwrap()),
+                ..none
+            },
+            "true_tool",
+            &[X1, 0.031, 0.032, 0.033],
+        ),
     ]
 }
 
@@ -205,6 +214,31 @@ fn probes(kind: CommandKind) -> Vec<Probe> {
             &[("velocities", &six(11.5))],
         )],
         CommandKind::Sim => sim_probes(),
+        CommandKind::SetTool => {
+            // `tcp` travels as its position, then its orientation.
+            let tcp = [0.11, 0.12, 0.13, 0.5, -0.5, 0.5, -0.5];
+            let com = [0.021, 0.022, 0.023];
+            let inertia = [0.031, 0.032, 0.033, 0.0011, 0.0012, 0.0013];
+            let tool = Tool::new(
+                Tcp {
+                    position: [tcp[0], tcp[1], tcp[2]],
+                    orientation: [tcp[3], tcp[4], tcp[5], tcp[6]],
+                },
+                X1,
+                com,
+                Some(inertia),
+            )
+            .expect("the probe's tool is valid");
+            vec![probe(
+                Request::SetTool(SetTool { tool }),
+                &[
+                    ("tcp", &tcp),
+                    ("mass", &[X1]),
+                    ("center_of_mass", &com),
+                    ("inertia", &inertia),
+                ],
+            )]
+        }
     }
 }
 

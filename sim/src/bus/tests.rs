@@ -971,3 +971,22 @@ fn an_event_timer_repeats_tpdo2_without_sync() {
         assert!(tpdo2 >= 4, "node {n}: {tpdo2} TPDO2 in 0.5 s without SYNC");
     }
 }
+
+#[test]
+fn true_tool_changes_the_load_of_the_simulated_arm() {
+    let cfg = RobotConfig::prob2_default();
+    let mut bus = SimBus::new(&cfg);
+    let configured = cfg.arm.tool.active();
+    assert_eq!(bus.arm().model().tool(), &configured);
+    let load = SimCommand::true_tool(2.0, [0.0, 0.0, 0.06]).unwrap();
+    apply(
+        &mut bus,
+        SimCommand {
+            true_tool: Some(load),
+            ..SimCommand::default()
+        },
+    );
+    let tool = bus.arm().model().tool();
+    assert_eq!((tool.mass, tool.center_of_mass), (2.0, [0.0, 0.0, 0.06]));
+    assert!((bus.arm().model().total_mass() - (16.7 - 3.8 + 2.0)).abs() < 1e-9);
+}

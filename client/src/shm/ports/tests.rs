@@ -5,7 +5,7 @@ use mcm_shared::sample::ReplyBlock;
 fn the_expected_types_are_named_with_their_version_and_size() {
     assert_eq!(
         describe::<StateSample>(),
-        "`mcm.StateSample.v6`, 904 bytes, alignment 8"
+        "`mcm.StateSample.v7`, 1040 bytes, alignment 8"
     );
     assert_eq!(
         describe::<CommandSample>(),
@@ -50,7 +50,7 @@ fn a_mismatch_names_the_peer_that_must_be_rebuilt() {
         e.to_string(),
         "service `mcm/x/state` of the running MCM does not match this gateway: its key type is \
          not u32; build the gateway from the same MCM version as the running core (iceoryx2 \
-         =0.10.0, `mcm.StateSample.v6`, 904 bytes, alignment 8)"
+         =0.10.0, `mcm.StateSample.v7`, 1040 bytes, alignment 8)"
     );
     assert!(
         std::error::Error::source(&e).is_some(),

@@ -522,8 +522,8 @@ fn value(spec: &CommandDef, a: &'static ArgDef, t: &Token) -> Result<Value, Line
     match t.form {
         Form::Bracketed => json(&t.value),
         Form::Quoted
-            if (a.kind.numbers().is_some() || a.kind == Kind::Points)
-                && t.value.trim_start().starts_with('[') =>
+            if (a.kind.numbers().is_some() || matches!(a.kind, Kind::Points | Kind::Json))
+                && t.value.trim_start().starts_with(['[', '{']) =>
         {
             json(&t.value)
         }

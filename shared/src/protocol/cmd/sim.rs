@@ -64,6 +64,15 @@ impl Definition for SimCommand {
                 "six torques [Nm] of a hand pushing on the joints, until set back to zeros",
             ),
             arg(
+                "true_tool",
+                "",
+                Kind::Json,
+                false,
+                "",
+                "{\"mass\": kg, \"center_of_mass\": [3 m]}: the load the arm really carries \
+                 (flange frame), whatever set_tool says",
+            ),
+            arg(
                 "power_cycle",
                 "",
                 Kind::Bool,
@@ -94,6 +103,7 @@ impl Definition for SimCommand {
             unblock_axis: args.axis(Arg::UnblockAxis)?,
             external_torques_nm: args.ranged_six(Arg::ExternalTorques, cfg)?,
             power_cycle: args.boolean("power_cycle")?.unwrap_or(false),
+            true_tool: true_tool(args)?,
         })
     }
 
@@ -118,10 +128,43 @@ impl Definition for SimCommand {
         if self.power_cycle {
             m.insert("power_cycle".into(), true.into());
         }
+        if let Some(t) = self.true_tool {
+            let mut load = Map::new();
+            load.insert("mass".into(), t.mass.into());
+            load.insert("center_of_mass".into(), t.center_of_mass.to_vec().into());
+            m.insert("true_tool".into(), load.into());
+        }
         m
     }
 
     fn requests(&self) -> Vec<Request> {
         vec![Request::Sim(*self)]
     }
+}
+
+/// `true_tool` `{"mass","center_of_mass"}`, checked as a tool's load is.
+fn true_tool(args: &Args<'_>) -> Result<Option<crate::tool::Tool>, CommandError> {
+    const EXPECTED: &str = "an object {\"mass\": kg, \"center_of_mass\": [3 m]}";
+    let Some(v) = args.raw("true_tool") else {
+        return Ok(None);
+    };
+    let o = v
+        .as_object()
+        .filter(|o| o.len() == 2 && o.contains_key("mass") && o.contains_key("center_of_mass"))
+        .ok_or_else(|| args.invalid("true_tool", v, EXPECTED))?;
+    let mass = o["mass"]
+        .as_f64()
+        .ok_or_else(|| args.invalid("true_tool.mass", &o["mass"], "a number [kg]"))?;
+    let com = crate::protocol::args::numbers(
+        args,
+        "true_tool.center_of_mass",
+        &o["center_of_mass"],
+        "numbers [m]",
+    )?;
+    SimCommand::true_tool(mass, com)
+        .map(Some)
+        .map_err(|error| CommandError::Tool {
+            command: SimCommand::DEF.name,
+            error,
+        })
 }

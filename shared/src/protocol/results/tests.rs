@@ -111,6 +111,41 @@ fn status_detail_shows_the_bus_counters() {
 }
 
 #[test]
+fn status_detail_shows_the_tool_as_set_tool_takes_it() {
+    let tool = crate::tool::Tool::new(
+        crate::tool::Tcp {
+            position: [0.0, 0.0, 0.15],
+            orientation: [0.0, 0.0, 0.0, 1.0],
+        },
+        2.0,
+        [0.0, 0.0, 0.06],
+        Some([0.01, 0.01, 0.005, 0.0, 0.0, 0.0]),
+    )
+    .unwrap();
+    let s = StateSample {
+        tool: (&tool).into(),
+        ..StateSample::default()
+    };
+    let shown = &status(&s, true)["detail"]["tool"];
+    assert_eq!(
+        *shown,
+        json!({
+            "tcp": {"position": [0.0, 0.0, 0.15], "orientation": [0.0, 0.0, 0.0, 1.0]},
+            "mass": 2.0,
+            "center_of_mass": [0.0, 0.0, 0.06],
+            "inertia": [0.01, 0.01, 0.005, 0.0, 0.0, 0.0]
+        })
+    );
+    // What it shows is what `set_tool` takes.
+    let line = json!({"command": "set_tool", "arguments": shown});
+    let cmd = crate::protocol::Command::from_value(&line, &RobotConfig::prob2_default()).unwrap();
+    assert_eq!(
+        cmd,
+        crate::protocol::Command::SetTool(crate::command::SetTool { tool })
+    );
+}
+
+#[test]
 fn status_detail_shows_the_tail_the_window_and_the_budget() {
     use crate::sample::{CycleTiming, LatencyFigures};
     let timing = CycleTiming {

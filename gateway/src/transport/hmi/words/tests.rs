@@ -174,6 +174,23 @@ fn pvt_points_as_bracketed_or_quoted_json() {
 }
 
 #[test]
+fn set_tool_takes_its_objects_and_arrays_as_json() {
+    for line in [
+        r#"set_tool tcp={"position":[0,0,0.15],"orientation":[0,0,0,1]} mass=2 com=[0,0,0.06]"#,
+        r#"set_tool tcp='{"position":[0,0,0.15],"orientation":[0,0,0,1]}' mass=2 center_of_mass='[0,0,0.06]'"#,
+    ] {
+        let Command::SetTool(t) = cmd(line) else {
+            panic!("{line}")
+        };
+        assert_eq!(t.tool.tcp.position, [0.0, 0.0, 0.15], "{line}");
+        assert_eq!(
+            (t.tool.mass, t.tool.center_of_mass),
+            (2.0, [0.0, 0.0, 0.06])
+        );
+    }
+}
+
+#[test]
 fn json_lines() {
     assert_eq!(
         parse_line(

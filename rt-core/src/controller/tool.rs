@@ -1,0 +1,47 @@
+//! The active tool: `set_tool` replaces the tool of the arm's model, the one model every use
+//! in the core reads (the gravity feed-forward in HOLD and the motion modes, gravity and
+//! friction compensation in RELEASE and TORQUE_CONTROL, the braking check's accelerations),
+//! so all of them see it from the cycle the command arrives in. The configuration's
+//! `[arm.tool]` is the tool at start.
+//!
+//! Runs inside the cycle: the tool is plain `Copy` data, checked when its sample was decoded.
+
+use super::Controller;
+use super::state::{Caller, PvtMotion, State};
+use mcm_shared::command::SetTool;
+use mcm_shared::reply::{Done, Reason};
+use mcm_shared::tool::Tool;
+
+impl Controller {
+    /// The active tool: TCP and load.
+    pub fn tool(&self) -> &Tool {
+        self.model.tool()
+    }
+
+    /// `set_tool`: in HOLD, or in PVT with the arm at standstill (no move, stop or stream
+    /// under way); refused `busy` while the arm moves, `wrong_mode` elsewhere.
+    pub(super) fn on_set_tool(&mut self, c: Caller, t: SetTool) {
+        match self.state {
+            State::Hold { stop: None }
+            | State::Pvt {
+                motion: PvtMotion::Hold,
+                ..
+            } => {
+                self.model.set_tool(&t.tool);
+                self.done(c, Done::Ack);
+            }
+            State::Pvt {
+                motion: PvtMotion::Stream,
+                ..
+            } => {
+                let remaining_s = self.stream.queued() as f64 * self.stream.dt();
+                self.refuse(c, Reason::Busy { remaining_s });
+            }
+            State::Hold { stop: Some(_) } | State::Pvt { .. } => self.busy(c),
+            _ => self.wrong_mode(c),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
