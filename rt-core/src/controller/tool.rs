@@ -43,5 +43,5 @@ impl Controller {
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "sim"))]
 mod tests;
