@@ -33,6 +33,11 @@ class Encode(unittest.TestCase):
         s = wire.sim(emergency_stop=True, block_axis=2, external_torques=[0, 5, 0, 0, 0, 0], power_cycle=True)
         self.assertEqual(s.flags, 1 | (1 << 3) | (1 << 5) | layout.SIM_FLAG_POWER_CYCLE)
         self.assertEqual((s.args[0], s.args[3], s.args[6]), (1.0, 2.0, 5.0))
+        # Request::encode: the true tool's mass and centre of mass in args[11..15], flag bit 6.
+        s = wire.sim(true_tool={"mass": 2.0, "center_of_mass": [0.0, 0.0, 0.06]})
+        self.assertEqual((s.flags, list(s.args[11:15])), (1 << 6, [2.0, 0.0, 0.0, 0.06]))
+        with self.assertRaises(ValueError):
+            wire.sim(true_tool={"mass": 2.0, "center_of_mass": [0.0, 0.06]})
 
     def test_velocity_control_and_set_velocities_as_the_contract_lays_them_out(self) -> None:
         # Request::encode: velocity_control's timeout in args[0] (-1: none), no flags;

@@ -203,8 +203,11 @@ def sim(
     unblock_axis: Optional[int] = None,
     external_torques: Optional[Sequence[float]] = None,
     power_cycle: bool = False,
+    true_tool: Optional[Dict[str, Union[float, Sequence[float]]]] = None,
 ) -> CommandSample:
-    """``sim``: fields left None change nothing."""
+    """``sim``: fields left None change nothing. ``true_tool`` ``{"mass": kg,
+    "center_of_mass": [3 m]}`` is the load the simulated arm really carries (the core checks
+    it as a tool's load)."""
     given: Dict[str, Value] = {}
     if emergency_stop is not None:
         given["emergency_stop"] = enc.EMERGENCY_STOP[bool(emergency_stop)]
@@ -218,6 +221,11 @@ def sim(
             given[name] = _axis(axis, name)
     if external_torques is not None:
         given["external_torques"] = _six(external_torques, "external_torques")
+    if true_tool is not None:
+        com = list(true_tool["center_of_mass"])  # type: ignore[arg-type]
+        if len(com) != 3:
+            raise ValueError("sim: true_tool.center_of_mass takes 3 numbers, got %d" % len(com))
+        given["true_tool"] = [float(true_tool["mass"])] + [float(c) for c in com]  # type: ignore[arg-type]
     flags = SIM_FLAG_POWER_CYCLE if power_cycle else 0
     for name in given:
         flags |= enc.SIM_FLAGS[name]
