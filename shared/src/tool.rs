@@ -18,6 +18,7 @@
 //! ```
 
 use crate::ranges::Num;
+use crate::units::{UNIT_QUATERNION_TOLERANCE, unit_quaternion};
 use core::fmt;
 
 /// The heaviest tool [kg]: the P-Rob2's rated payload (3 kg) plus a gripper of up to 2 kg.
@@ -25,8 +26,6 @@ pub const MAX_MASS_KG: f64 = 5.0;
 /// The farthest the centre of mass or the TCP may lie from the flange's origin [m]: a tool
 /// longer than this would be a second arm (the P-Rob2 reaches 0.775 m).
 pub const MAX_REACH_M: f64 = 0.5;
-/// How far an orientation's norm may be from 1 (it is normalised then).
-pub const ORIENTATION_TOLERANCE: f64 = 1e-3;
 
 /// The TCP: the tool frame as a transform of the flange frame.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -107,7 +106,7 @@ pub enum ToolError {
     #[error(
         "tcp.orientation has the norm {}; expected a unit quaternion [x, y, z, w] (norm 1 within {})",
         Num(*norm),
-        Num(ORIENTATION_TOLERANCE)
+        Num(UNIT_QUATERNION_TOLERANCE)
     )]
     Orientation { norm: f64 },
     #[error(
@@ -164,9 +163,10 @@ impl ToolError {
     pub fn bounds(&self) -> (f64, f64) {
         match self {
             ToolError::Mass { .. } => (0.0, MAX_MASS_KG),
-            ToolError::Orientation { .. } => {
-                (1.0 - ORIENTATION_TOLERANCE, 1.0 + ORIENTATION_TOLERANCE)
-            }
+            ToolError::Orientation { .. } => (
+                1.0 - UNIT_QUATERNION_TOLERANCE,
+                1.0 + UNIT_QUATERNION_TOLERANCE,
+            ),
             ToolError::TooFar { .. } => (0.0, MAX_REACH_M),
             ToolError::Inertia { .. } => (0.0, f64::MAX),
             ToolError::NotFinite { .. } => (f64::MIN, f64::MAX),
@@ -246,7 +246,7 @@ impl Tool {
     };
 
     /// The tool, every value checked: all finite; `mass` from 0 to [`MAX_MASS_KG`]; the
-    /// orientation of norm 1 within [`ORIENTATION_TOLERANCE`] (then normalised); the centre
+    /// orientation of norm 1 within [`UNIT_QUATERNION_TOLERANCE`] (then normalised); the centre
     /// of mass and the TCP within [`MAX_REACH_M`] of the flange; `inertia` (`None`: a point
     /// mass) the inertia of a body.
     pub fn new(
@@ -264,17 +264,15 @@ impl Tool {
         if !(0.0..=MAX_MASS_KG).contains(&mass) {
             return Err(ToolError::Mass { value: mass });
         }
-        let norm = tcp.orientation.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if (norm - 1.0).abs() > ORIENTATION_TOLERANCE {
-            return Err(ToolError::Orientation { norm });
-        }
+        let orientation =
+            unit_quaternion(tcp.orientation).map_err(|norm| ToolError::Orientation { norm })?;
         within_reach(ToolField::TCP_POSITION, &tcp.position)?;
         within_reach(ToolField::CENTER_OF_MASS, &center_of_mass)?;
         physical_inertia(&inertia)?;
         Ok(Tool {
             tcp: Tcp {
                 position: tcp.position,
-                orientation: tcp.orientation.map(|x| x / norm),
+                orientation,
             },
             mass,
             center_of_mass,

@@ -36,3 +36,19 @@ pub fn rad_to_deg6(v: &[f64; 6]) -> [f64; 6] {
 
 #[cfg(test)]
 mod tests;
+
+/// How far from 1 the norm of a quaternion a user gives may be for it to be taken as a unit
+/// quaternion (then normalised): the TCP of a tool (`set_tool`, `[arm.tool.tcp]`) and a pose
+/// (`inverse_kinematics`, `move_to_pose`).
+pub const UNIT_QUATERNION_TOLERANCE: f64 = 1e-3;
+
+/// The quaternion `q` (`[x, y, z, w]`) normalised, when its norm is within
+/// [`UNIT_QUATERNION_TOLERANCE`] of 1; `Err` with its norm otherwise (a NaN norm too).
+pub fn unit_quaternion(q: [f64; 4]) -> Result<[f64; 4], f64> {
+    let norm = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if (norm - 1.0).abs() <= UNIT_QUATERNION_TOLERANCE {
+        Ok(q.map(|x| x / norm))
+    } else {
+        Err(norm)
+    }
+}

@@ -1,16 +1,13 @@
 //! A Cartesian pose as the commands take it (`inverse_kinematics`, `move_to_pose`): the TCP's
 //! `position` [m] and `orientation` (a unit quaternion `[x, y, z, w]`) in the base frame
-//! (`docs/cartesian.md`). A quaternion whose norm is within [`UNIT_TOLERANCE`] of 1 is
-//! normalised; any other is refused, naming its norm. Not used inside the real-time cycle.
+//! (`docs/cartesian.md`). A quaternion whose norm is within
+//! [`crate::units::UNIT_QUATERNION_TOLERANCE`] of 1 is normalised; any other is refused, naming its norm. Not used inside the real-time cycle.
 
 use super::args::numbers;
 use super::spec::{ArgDef, Kind, arg};
 use super::{Args, CommandError};
+use crate::units::{UNIT_QUATERNION_TOLERANCE, unit_quaternion};
 use serde_json::{Map, Value};
-
-/// How far from 1 a quaternion's norm may be for it to be taken as a unit quaternion (and
-/// normalised).
-pub const UNIT_TOLERANCE: f64 = 1e-3;
 
 /// The `position` argument.
 pub(crate) const POSITION: ArgDef = arg(
@@ -47,19 +44,17 @@ impl Pose {
     pub fn parse(args: &Args<'_>) -> Result<Pose, CommandError> {
         let (_, position) = required::<3>(args, POSITION.name, "coordinates x, y, z [m]")?;
         let (raw, q) = required::<4>(args, ORIENTATION.name, "quaternion components x, y, z, w")?;
-        let norm = q.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if (norm - 1.0).abs() > UNIT_TOLERANCE {
-            return Err(args.invalid(
+        let orientation = unit_quaternion(q).map_err(|norm| {
+            args.invalid(
                 ORIENTATION.name,
                 raw,
                 format!(
-                    "a unit quaternion [x, y, z, w]: its norm is {}, not within {UNIT_TOLERANCE} \
-                     of 1",
+                    "a unit quaternion [x, y, z, w]: its norm is {}, not within \
+                     {UNIT_QUATERNION_TOLERANCE} of 1",
                     crate::ranges::Num(norm)
                 ),
-            ));
-        }
-        let orientation = if norm == 1.0 { q } else { q.map(|x| x / norm) };
+            )
+        })?;
         Ok(Pose {
             position,
             orientation,
