@@ -92,15 +92,21 @@ pub enum TcpError {
     NotUnit { norm: f64 },
 }
 
-/// The transform of a tool's TCP as the protocol and the configuration give it
-/// ([`Tcp`]: position [m] and quaternion `[x, y, z, w]` in the flange frame), for
-/// [`Kinematics::set_tcp`] (which refuses it if the quaternion is not of unit norm).
-pub fn tcp_transform(tcp: &Tcp) -> Isometry3<f64> {
-    let [x, y, z, w] = tcp.orientation;
+/// A pose as the protocol and the configuration write it (position [m], unit quaternion
+/// `[x, y, z, w]`, as `mcm_shared::units::unit_quaternion` gives it) as an isometry. The
+/// quaternion is taken as it is: [`Kinematics::set_tcp`] refuses one not of unit norm.
+pub fn isometry(position: [f64; 3], orientation: [f64; 4]) -> Isometry3<f64> {
+    let [x, y, z, w] = orientation;
     Isometry3::from_parts(
-        Translation3::from(tcp.position),
+        Translation3::from(position),
         UnitQuaternion::new_unchecked(Quaternion::new(w, x, y, z)),
     )
+}
+
+/// The transform of a tool's TCP ([`Tcp`]: its pose in the flange frame), for
+/// [`Kinematics::set_tcp`].
+pub fn tcp_transform(tcp: &Tcp) -> Isometry3<f64> {
+    isometry(tcp.position, tcp.orientation)
 }
 
 impl Kinematics {

@@ -22,10 +22,6 @@
 //! assert!(w >= 0.0);
 //! ```
 
-/// The kinematics the TCP's state is computed with, for programs that check it against the
-/// axis values beside it.
-pub use mcm_kinematics;
-
 use mcm_kinematics::{Kinematics, KinematicsError, TcpError, tcp_transform};
 use mcm_shared::NUM_AXES;
 use mcm_shared::config::RobotConfig;

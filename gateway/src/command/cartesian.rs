@@ -8,7 +8,7 @@
 //! ([`active_tcp`]). Runs in the gateway's async tasks, never in the cycle.
 
 use super::{Context, Outcome, STATE_GRACE, bridge_error};
-use mcm_kinematics::{IkError, Kinematics, KinematicsError, TcpError, tcp_transform};
+use mcm_kinematics::{IkError, Kinematics, KinematicsError, TcpError, isometry, tcp_transform};
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{Axis, MoveAll};
 use mcm_shared::config::RobotConfig;
@@ -20,7 +20,7 @@ use mcm_shared::ranges::Num;
 use mcm_shared::reply::Reason;
 use mcm_shared::sample::{AXIS_CALIBRATED, StateSample};
 use mcm_shared::tool::Tool;
-use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
+use nalgebra::Isometry3;
 
 /// The TCP of the active tool: its pose in the flange frame. The tool the core reports in
 /// `state`, the newest state (`set_tool`'s, or the configuration's from start); the
@@ -179,7 +179,7 @@ pub(crate) fn solve(
         (None, None) => return Err(PoseRefusal::NoState),
     };
     let seed = seed_deg.map(f64::to_radians);
-    match kin.inverse(&isometry(pose), &seed) {
+    match kin.inverse(&isometry(pose.position, pose.orientation), &seed) {
         Ok(solutions) => Ok(solutions.iter().map(|s| s.q.map(f64::to_degrees)).collect()),
         Err(error) => Err(PoseRefusal::NoSolution { pose: *pose, error }),
     }
@@ -192,16 +192,6 @@ fn uncalibrated(state: &StateSample) -> Option<Axis> {
         .iter()
         .position(|f| f & AXIS_CALIBRATED == 0)?;
     Axis::ALL.get(i).copied()
-}
-
-/// The pose as an isometry of the base frame.
-fn isometry(pose: &Pose) -> Isometry3<f64> {
-    let [x, y, z] = pose.position;
-    let [qx, qy, qz, qw] = pose.orientation;
-    Isometry3::from_parts(
-        Translation3::new(x, y, z),
-        UnitQuaternion::new_normalize(Quaternion::new(qw, qx, qy, qz)),
-    )
 }
 
 /// `[a, b, c]` as the MCM writes numbers.
