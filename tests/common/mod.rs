@@ -616,6 +616,28 @@ pub fn max_diff(a: &[f64; 6], b: &[f64; 6]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The angle [rad] between two orientations written as quaternions `[x, y, z, w]` (q and -q
+/// are one rotation). Each is normalised first (the protocol's figures are rounded, so their
+/// norm is 1 only to about 1e-6), and the angle is taken with `atan2` of the relative
+/// rotation's vector and scalar parts: `acos` of a dot product near 1 would turn that
+/// rounding into milliradians.
+pub fn orientation_angle(a: &[f64; 4], b: &[f64; 4]) -> f64 {
+    let unit = |q: &[f64; 4]| {
+        let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+        q.map(|x| x / n)
+    };
+    let ([ax, ay, az, aw], [bx, by, bz, bw]) = (unit(a), unit(b));
+    // conj(a) * b: the rotation from a to b.
+    let w = aw * bw + ax * bx + ay * by + az * bz;
+    let v = [
+        aw * bx - bw * ax - (ay * bz - az * by),
+        aw * by - bw * ay - (az * bx - ax * bz),
+        aw * bz - bw * az - (ax * by - ay * bx),
+    ];
+    let v = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    2.0 * v.atan2(w.abs())
+}
+
 /// The largest absolute value of a six-vector.
 pub fn max_abs(a: &[f64; 6]) -> f64 {
     max_diff(a, &[0.0; 6])

@@ -47,8 +47,7 @@ fn distance(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 
 /// The angle between two orientations [deg].
 fn angle_deg(a: &[f64; 4], b: &[f64; 4]) -> f64 {
-    let dot: f64 = (0..4).map(|i| a[i] * b[i]).sum();
-    (2.0 * dot.abs().min(1.0).acos()).to_degrees()
+    common::orientation_angle(a, b).to_degrees()
 }
 
 fn command(name: &str, position: &[f64; 3], orientation: &[f64; 4]) -> String {

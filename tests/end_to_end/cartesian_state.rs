@@ -6,7 +6,7 @@
 
 use crate::common;
 
-use common::{assert_ok, assert_status, max_abs, move_all, six};
+use common::{assert_ok, assert_status, max_abs, move_all, orientation_angle, six};
 use mcm_kinematics::Kinematics;
 use mcm_shared::config::RobotConfig;
 use serde_json::Value;
@@ -52,8 +52,7 @@ fn check_against_kinematics(kin: &Kinematics, status: &Value) -> ([f64; 3], [f64
     // [x, y, z, w], compared up to the sign (q and -q are one rotation).
     let o: [f64; 4] = numbers(&c["orientation"]);
     let e = pose.rotation.quaternion().coords;
-    let dot: f64 = (0..4).map(|i| o[i] * e[i]).sum::<f64>().abs().min(1.0);
-    let angle = 2.0 * dot.acos();
+    let angle = orientation_angle(&o, &[e.x, e.y, e.z, e.w]);
     assert!(angle < ANGULAR, "orientation {angle:e} rad off: {status}");
     assert!(o[3] >= 0.0, "w >= 0: {status}");
 
@@ -174,4 +173,21 @@ fn the_tcp_follows_set_tool_in_the_state_and_in_inverse_kinematics() {
         distance(&first, &target) < 1e-3,
         "the present position first: {first:?}, target {target:?}: {ik}"
     );
+}
+
+/// The orientation check itself: a quaternion as a `status` writes it (rounded to 6 decimals,
+/// so of norm 1 only to about 1e-7) is the same orientation as itself normalised, and a turn
+/// about z is measured as that turn, either sign.
+#[test]
+fn the_orientation_check_reads_rounded_quaternions() {
+    // A figure a status gave (norm 0.99999988); `2 acos(dot)` would read 1e-3 rad here.
+    let rounded = [-0.00213, -1e-6, -0.999967, 0.007811];
+    let n = rounded.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let exact = rounded.map(|x| x / n);
+    assert!(orientation_angle(&rounded, &exact) < 1e-12);
+    let half = 0.15_f64;
+    let turned = [0.0, 0.0, half.sin(), half.cos()];
+    let identity = [0.0, 0.0, 0.0, 1.0];
+    assert!((orientation_angle(&identity, &turned) - 0.3).abs() < 1e-12);
+    assert!((orientation_angle(&identity, &turned.map(|x| -x)) - 0.3).abs() < 1e-12);
 }
