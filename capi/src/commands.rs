@@ -264,6 +264,41 @@ pub unsafe extern "C" fn mcm_tcp_set_tool(client: *mut mcm_tcp_client_t, tool: *
     }
 }
 
+/// Every joint configuration [deg] that puts the TCP at `pose` (base frame), each within the
+/// axis limits, the nearest to `seed_deg` first (six values; NULL: the present position).
+/// Nothing moves; anyone may ask, in any mode. A pose no solution reaches is refused
+/// (`MCM_ERR_REFUSED`, `mcm_tcp_last_reject`: `MCM_CODE_UNREACHABLE`). Executed by the gateway,
+/// so TCP only: over shared memory there is no gateway and no configuration of the arm.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn mcm_tcp_inverse_kinematics(client: *mut mcm_tcp_client_t, pose: *const mcm_pose_t, seed_deg: *const f64, out: *mut mcm_ik_solutions_t) -> mcm_error_t {
+    const F: &str = "mcm_tcp_inverse_kinematics";
+    // SAFETY: the header's contract.
+    unsafe {
+        call(F, client, |h| {
+            let o = convert::out(out, F, "out")?;
+            let a = h.client.inverse_kinematics(convert::pose(pose, F)?, convert::optional_six(seed_deg, F, "seed_deg")?)?;
+            *o = convert::ik_solutions(&a, F)?;
+            Ok(())
+        })
+    }
+}
+
+/// Move the TCP to `pose` (base frame): a joint move, as `mcm_tcp_move_all`, to the inverse
+/// kinematics' solution nearest the present position (PVT mode, control); `result` (may be
+/// NULL): the plan. Executed by the gateway, so TCP only, as `mcm_tcp_inverse_kinematics`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn mcm_tcp_move_to_pose(client: *mut mcm_tcp_client_t, pose: *const mcm_pose_t, velocity_factor: f64, result: *mut mcm_move_all_result_t) -> mcm_error_t {
+    const F: &str = "mcm_tcp_move_to_pose";
+    // SAFETY: the header's contract.
+    unsafe {
+        call(F, client, |h| {
+            let a = h.client.move_to_pose(convert::pose(pose, F)?, velocity_factor)?;
+            put(result, (&a).into());
+            Ok(())
+        })
+    }
+}
+
 /// Take control of the arm's motion (refused while another client controls it).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_tcp_take_control(client: *mut mcm_tcp_client_t) -> mcm_error_t {

@@ -2,13 +2,17 @@
 //! protocol's numbers into the client's types. Each refusal names the function, the argument,
 //! the value and what is allowed.
 
-use crate::error::{Fail, mcm_error_t::MCM_ERR_ARGUMENT};
+use crate::error::{
+    Fail,
+    mcm_error_t::{MCM_ERR_ARGUMENT, MCM_ERR_PROTOCOL},
+};
 use crate::types::{
-    MCM_NUM_AXES, mcm_calibrate_t, mcm_control_options_t, mcm_pvt_point_t, mcm_tool_t,
+    MCM_MAX_IK_SOLUTIONS, MCM_NUM_AXES, mcm_calibrate_t, mcm_control_options_t, mcm_ik_solutions_t,
+    mcm_pose_t, mcm_pvt_point_t, mcm_tool_t,
 };
 use mcm_client::mcm_shared::command::{Calibrate, TorqueControl, VelocityControl};
 use mcm_client::mcm_shared::tool::{Tcp, Tool};
-use mcm_client::tcp::{TorqueOptions, VelocityOptions};
+use mcm_client::tcp::{InverseKinematicsResult, Pose, TorqueOptions, VelocityOptions};
 use mcm_client::{Axis, Direction, PvtPoint, Which};
 use std::ffi::{CStr, c_char};
 
@@ -69,6 +73,56 @@ pub(crate) unsafe fn six(
     // SAFETY: six readable doubles by the caller's promise; `v` holds six.
     unsafe { std::ptr::copy_nonoverlapping(p, v.as_mut_ptr(), MCM_NUM_AXES) };
     Ok(v)
+}
+
+/// Six values from a pointer to six doubles, or none for NULL (an optional argument).
+///
+/// # Safety
+/// `p` is NULL or points to six readable doubles.
+pub(crate) unsafe fn optional_six(
+    p: *const f64,
+    function: &str,
+    name: &str,
+) -> Result<Option<[f64; MCM_NUM_AXES]>, Fail> {
+    if p.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: not NULL; the caller's promise for the rest.
+    unsafe { six(p, function, name) }.map(Some)
+}
+
+/// The pose `p` points to. Its quaternion is checked by the MCM, which words a refusal itself.
+///
+/// # Safety
+/// `p` is NULL or points to a readable `mcm_pose_t`.
+pub(crate) unsafe fn pose(p: *const mcm_pose_t, function: &str) -> Result<Pose, Fail> {
+    // SAFETY: the caller's promise.
+    let p = unsafe { p.as_ref() }.ok_or_else(|| Fail::null(function, "pose"))?;
+    Ok(p.into())
+}
+
+/// The solutions of an `inverse_kinematics` answer; more than the struct holds is an answer
+/// this library cannot read.
+pub(crate) fn ik_solutions(
+    r: &InverseKinematicsResult,
+    function: &str,
+) -> Result<mcm_ik_solutions_t, Fail> {
+    let n = r.solutions.len();
+    if n > MCM_MAX_IK_SOLUTIONS {
+        return Err(Fail::new(
+            MCM_ERR_PROTOCOL,
+            format!(
+                "{function}: the MCM answered {n} solutions; this library holds at most \
+                 {MCM_MAX_IK_SOLUTIONS} (an MCM of another version?)"
+            ),
+        ));
+    }
+    let mut out = mcm_ik_solutions_t {
+        count: n as u32,
+        ..Default::default()
+    };
+    out.solutions[..n].copy_from_slice(&r.solutions);
+    Ok(out)
 }
 
 /// An axis number 1 to 6.

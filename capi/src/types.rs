@@ -5,7 +5,8 @@
 use mcm_client::mcm_shared::sample::{
     BusCounters, CycleTiming, ErrorRecord, LatencyFigures, StateSample, TcpState,
 };
-use mcm_client::tcp::{CartesianState, Info, MoveAllResult, Status};
+use mcm_client::mcm_shared::tool::Tool;
+use mcm_client::tcp::{CartesianState, Info, MoveAllResult, Pose, Status};
 use std::ffi::c_char;
 
 /// Axes of the arm (every per-axis array has this length; index 0 is axis 1).
@@ -274,13 +275,7 @@ impl From<&StateSample> for mcm_state_t {
             owner_client_id: s.owner_client_id,
             bus: bus_counters(&s.bus),
             cartesian: tcp_state(&s.cartesian),
-            tool: mcm_tool_t {
-                tcp_position: s.tool.tcp_position,
-                tcp_orientation: s.tool.tcp_orientation,
-                mass: s.tool.mass,
-                center_of_mass: s.tool.center_of_mass,
-                inertia: s.tool.inertia,
-            },
+            tool: (&Tool::from(&s.tool)).into(),
         }
     }
 }
@@ -320,6 +315,8 @@ pub struct mcm_status_t {
     pub pvt_queued: u32,
     pub pvt_capacity: u32,
     pub pvt_starved: bool,
+    /// The active tool (`detail.tool`: `set_tool`, the configuration's at start).
+    pub tool: mcm_tool_t,
 }
 
 impl From<&Status> for mcm_status_t {
@@ -350,6 +347,7 @@ impl From<&Status> for mcm_status_t {
             out.pvt_queued = d.pvt_queue.queued;
             out.pvt_capacity = d.pvt_queue.capacity;
             out.pvt_starved = d.pvt_queue.starved;
+            out.tool = (&d.tool).into();
         }
         out
     }
@@ -557,6 +555,54 @@ pub struct mcm_tool_t {
     /// `[ixx, iyy, izz, ixy, ixz, iyz]` about the centre of mass [kg m^2]; zeros: a point
     /// mass.
     pub inertia: [f64; 6],
+}
+
+impl From<&Tool> for mcm_tool_t {
+    fn from(t: &Tool) -> Self {
+        mcm_tool_t {
+            tcp_position: t.tcp.position,
+            tcp_orientation: t.tcp.orientation,
+            mass: t.mass,
+            center_of_mass: t.center_of_mass,
+            inertia: t.inertia,
+        }
+    }
+}
+
+/// A pose of the TCP in the base frame, as `inverse_kinematics` and `move_to_pose` take it
+/// (docs/cartesian.md).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct mcm_pose_t {
+    /// [m]
+    pub position: [f64; 3],
+    /// A unit quaternion [x, y, z, w] (the MCM normalises one whose norm is within 0.001 of
+    /// 1 and refuses any other).
+    pub orientation: [f64; 4],
+}
+
+impl From<&mcm_pose_t> for Pose {
+    fn from(p: &mcm_pose_t) -> Pose {
+        Pose {
+            position: p.position,
+            orientation: p.orientation,
+        }
+    }
+}
+
+/// The most solutions `inverse_kinematics` answers (shoulder, elbow and wrist each on one
+/// side or the other).
+pub const MCM_MAX_IK_SOLUTIONS: usize = 8;
+
+/// The answer to `inverse_kinematics`: every joint configuration that puts the TCP at the
+/// pose, within the axis limits, the nearest to the seed first.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct mcm_ik_solutions_t {
+    /// The solutions set, 1 to `MCM_MAX_IK_SOLUTIONS` (a pose without one is refused).
+    pub count: u32,
+    /// The first `count` are set [deg]; the rest are zero.
+    pub solutions: [[f64; MCM_NUM_AXES]; MCM_MAX_IK_SOLUTIONS],
 }
 
 /// `mcm_event_t.kind`: a status of this connection's torque or velocity session (TCP).

@@ -22,6 +22,7 @@
 mod common;
 
 mod argument_texts;
+mod capi_cartesian;
 mod capi_realtime;
 mod cartesian;
 mod cartesian_state;

@@ -89,6 +89,10 @@
 
 #define MCM_MODE_VELOCITY_CONTROL 7
 
+// The most solutions `inverse_kinematics` answers (shoulder, elbow and wrist each on one
+// side or the other).
+#define MCM_MAX_IK_SOLUTIONS 8
+
 // `mcm_event_t.kind`: a status of this connection's torque or velocity session (TCP).
 #define MCM_EVENT_STATUS 1
 
@@ -252,6 +256,21 @@ typedef struct mcm_tcp_state_t {
   double angular_velocity[3];
 } mcm_tcp_state_t;
 
+// A tool as `set_tool` takes it: the TCP in the flange frame, the load.
+typedef struct mcm_tool_t {
+  // The TCP's position in the flange frame [m].
+  double tcp_position[3];
+  // The TCP's orientation in the flange frame, a unit quaternion `[x, y, z, w]`.
+  double tcp_orientation[4];
+  // [kg], from 0 to 5.
+  double mass;
+  // In the flange frame [m].
+  double center_of_mass[3];
+  // `[ixx, iyy, izz, ixy, ixz, iyz]` about the centre of mass [kg m^2]; zeros: a point
+  // mass.
+  double inertia[6];
+} mcm_tool_t;
+
 // The answer to `status` over TCP (and to `hold`, `release`, `pvt`, `torque_control`,
 // `velocity_control`; the status events of a torque or velocity session).
 typedef struct mcm_status_t {
@@ -285,6 +304,8 @@ typedef struct mcm_status_t {
   uint32_t pvt_queued;
   uint32_t pvt_capacity;
   bool pvt_starved;
+  // The active tool (`detail.tool`: `set_tool`, the configuration's at start).
+  struct mcm_tool_t tool;
 } mcm_status_t;
 
 // Something the MCM reported that answers no call.
@@ -358,21 +379,6 @@ typedef struct mcm_bus_counters_t {
   // Frames the bus refused to send or failed to receive.
   uint64_t bus_errors;
 } mcm_bus_counters_t;
-
-// A tool as `set_tool` takes it: the TCP in the flange frame, the load.
-typedef struct mcm_tool_t {
-  // The TCP's position in the flange frame [m].
-  double tcp_position[3];
-  // The TCP's orientation in the flange frame, a unit quaternion `[x, y, z, w]`.
-  double tcp_orientation[4];
-  // [kg], from 0 to 5.
-  double mass;
-  // In the flange frame [m].
-  double center_of_mass[3];
-  // `[ixx, iyy, izz, ixy, ixz, iyz]` about the centre of mass [kg m^2]; zeros: a point
-  // mass.
-  double inertia[6];
-} mcm_tool_t;
 
 // The state of one cycle, as the real-time core publishes it (the shared-memory
 // `StateSample`, field for field; units: deg, deg/s, deg/s^2, A, ns).
@@ -538,6 +544,25 @@ typedef struct mcm_pvt_point_t {
   // [deg/s]
   double velocity[MCM_NUM_AXES];
 } mcm_pvt_point_t;
+
+// A pose of the TCP in the base frame, as `inverse_kinematics` and `move_to_pose` take it
+// (docs/cartesian.md).
+typedef struct mcm_pose_t {
+  // [m]
+  double position[3];
+  // A unit quaternion [x, y, z, w] (the MCM normalises one whose norm is within 0.001 of
+  // 1 and refuses any other).
+  double orientation[4];
+} mcm_pose_t;
+
+// The answer to `inverse_kinematics`: every joint configuration that puts the TCP at the
+// pose, within the axis limits, the nearest to the seed first.
+typedef struct mcm_ik_solutions_t {
+  // The solutions set, 1 to `MCM_MAX_IK_SOLUTIONS` (a pose without one is refused).
+  uint32_t count;
+  // The first `count` are set [deg]; the rest are zero.
+  double solutions[MCM_MAX_IK_SOLUTIONS][MCM_NUM_AXES];
+} mcm_ik_solutions_t;
 
 // The answer to `info` over shared memory.
 typedef struct mcm_shm_info_t {
@@ -710,6 +735,18 @@ enum mcm_error_t mcm_tcp_pvt_points(struct mcm_tcp_client_t *client, const struc
 // Set the tool the arm carries (its TCP and load), from the next cycle; in HOLD, or PVT at
 // standstill. A tool outside its checks is refused here (`MCM_ERR_ARGUMENT`).
 enum mcm_error_t mcm_tcp_set_tool(struct mcm_tcp_client_t *client, const struct mcm_tool_t *tool);
+
+// Every joint configuration [deg] that puts the TCP at `pose` (base frame), each within the
+// axis limits, the nearest to `seed_deg` first (six values; NULL: the present position).
+// Nothing moves; anyone may ask, in any mode. A pose no solution reaches is refused
+// (`MCM_ERR_REFUSED`, `mcm_tcp_last_reject`: `MCM_CODE_UNREACHABLE`). Executed by the gateway,
+// so TCP only: over shared memory there is no gateway and no configuration of the arm.
+enum mcm_error_t mcm_tcp_inverse_kinematics(struct mcm_tcp_client_t *client, const struct mcm_pose_t *pose, const double *seed_deg, struct mcm_ik_solutions_t *out);
+
+// Move the TCP to `pose` (base frame): a joint move, as `mcm_tcp_move_all`, to the inverse
+// kinematics' solution nearest the present position (PVT mode, control); `result` (may be
+// NULL): the plan. Executed by the gateway, so TCP only, as `mcm_tcp_inverse_kinematics`.
+enum mcm_error_t mcm_tcp_move_to_pose(struct mcm_tcp_client_t *client, const struct mcm_pose_t *pose, double velocity_factor, struct mcm_move_all_result_t *result);
 
 // Take control of the arm's motion (refused while another client controls it).
 enum mcm_error_t mcm_tcp_take_control(struct mcm_tcp_client_t *client);

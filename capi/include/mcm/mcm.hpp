@@ -39,6 +39,8 @@ using TcpState = mcm_tcp_state_t;
 using Info = mcm_info_t;
 using ShmInfo = mcm_shm_info_t;
 using MoveAllResult = mcm_move_all_result_t;
+using Pose = mcm_pose_t;
+using Tool = mcm_tool_t;
 using CalibrateOptions = mcm_calibrate_t;
 using ControlOptions = mcm_control_options_t;
 using PvtPoint = mcm_pvt_point_t;
@@ -278,7 +280,7 @@ public:
         return done(MCM_HPP_FN(pvt_points)(h(), points.data(), points.size()));
     }
     /// The tool the arm carries (TCP and load), from the next cycle.
-    Result<void> set_tool(const mcm_tool_t& tool) { return done(MCM_HPP_FN(set_tool)(h(), &tool)); }
+    Result<void> set_tool(const Tool& tool) { return done(MCM_HPP_FN(set_tool)(h(), &tool)); }
     Result<void> take_control() { return done(MCM_HPP_FN(take_control)(h())); }
     Result<void> release_control() { return done(MCM_HPP_FN(release_control)(h())); }
     /// Read the state until pred(state) holds, at most timeout_s.
@@ -344,6 +346,27 @@ public:
         return done(mcm_tcp_authenticate(h(), secret.c_str()));
     }
     Result<void> reconnect() { return done(mcm_tcp_reconnect(h())); }
+    /// Every joint configuration [deg] that puts the TCP at `pose` (base frame), within the
+    /// axis limits, the nearest to `seed_deg` (none: the present position) first. Nothing
+    /// moves. Executed by the gateway: TCP only (docs/cartesian.md).
+    Result<std::vector<Six>> inverse_kinematics(const Pose& pose,
+                                                const std::optional<Six>& seed_deg = {}) {
+        mcm_ik_solutions_t r{};
+        const mcm_error_t c =
+            mcm_tcp_inverse_kinematics(h(), &pose, seed_deg ? seed_deg->data() : nullptr, &r);
+        if (c != MCM_OK) return error(c);
+        std::vector<Six> out(r.count);
+        for (uint32_t i = 0; i < r.count; ++i) {
+            for (size_t a = 0; a < MCM_NUM_AXES; ++a) out[i][a] = r.solutions[i][a];
+        }
+        return out;
+    }
+    /// A joint move (as move_all) to the solution of `pose` nearest the present position
+    /// (PVT mode); the plan. Executed by the gateway: TCP only.
+    Result<MoveAllResult> move_to_pose(const Pose& pose, double velocity_factor) {
+        MoveAllResult r{};
+        return with(mcm_tcp_move_to_pose(h(), &pose, velocity_factor, &r), r);
+    }
     /// The next spontaneous message within timeout_s, or std::nullopt. Its `message` lives
     /// until the next call on this client.
     Result<std::optional<mcm_event_t>> next_event(double timeout_s) {

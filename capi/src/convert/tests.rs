@@ -34,3 +34,35 @@ fn arguments_are_checked_with_words_that_name_them() {
         "mcm_shm_set_torques: argument `torques` is NULL; pass a valid pointer"
     );
 }
+
+#[test]
+fn solutions_fill_the_struct_in_order_and_too_many_are_refused() {
+    assert_eq!(
+        MCM_MAX_IK_SOLUTIONS,
+        mcm_client::mcm_kinematics::MAX_SOLUTIONS
+    );
+    let two = InverseKinematicsResult {
+        solutions: vec![[1.0; 6], [2.0; 6]],
+    };
+    let s = ik_solutions(&two, "f").unwrap();
+    assert_eq!(s.count, 2);
+    assert_eq!(&s.solutions[..3], &[[1.0; 6], [2.0; 6], [0.0; 6]]);
+    let nine = InverseKinematicsResult {
+        solutions: vec![[0.0; 6]; 9],
+    };
+    let e = ik_solutions(&nine, "mcm_tcp_inverse_kinematics").unwrap_err();
+    assert_eq!(e.code, MCM_ERR_PROTOCOL);
+    assert!(e.message.contains("9 solutions"), "{}", e.message);
+    // SAFETY: NULL is allowed for the seed, refused for the pose, before any read.
+    assert_eq!(
+        unsafe { optional_six(std::ptr::null(), "f", "seed_deg") }.unwrap(),
+        None
+    );
+    // SAFETY: as above.
+    let e = unsafe { pose(std::ptr::null(), "mcm_tcp_move_to_pose") }.unwrap_err();
+    assert!(
+        e.message.contains("argument `pose` is NULL"),
+        "{}",
+        e.message
+    );
+}

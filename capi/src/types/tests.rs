@@ -102,3 +102,25 @@ fn the_status_carries_the_tcp_once_calibrated() {
     assert_eq!(after.cartesian, tcp_state(&tcp));
     assert_eq!(after.cartesian.orientation, [0.0, 0.0, 0.6, 0.8]);
 }
+
+#[test]
+fn the_status_detail_carries_the_active_tool() {
+    use mcm_client::mcm_shared::sample::ToolState;
+    let tool = ToolState {
+        tcp_position: [0.0, 0.0, 0.15],
+        tcp_orientation: [0.0, 0.0, 0.6, 0.8],
+        mass: 2.0,
+        center_of_mass: [0.0, 0.01, 0.06],
+        inertia: [0.1, 0.2, 0.3, 0.0, 0.0, 0.0],
+    };
+    let s = StateSample {
+        tool,
+        ..StateSample::default()
+    };
+    let status = Status::from_state(&s, true).unwrap();
+    let c = mcm_status_t::from(&status);
+    assert!(c.has_detail);
+    assert_eq!(c.tool, mcm_state_t::from(&s).tool, "{c:?}");
+    let plain = mcm_status_t::from(&Status::from_state(&s, false).unwrap());
+    assert_eq!(plain.tool, mcm_tool_t::default(), "no detail, no tool");
+}
