@@ -51,6 +51,7 @@ mod forward;
 mod inverse;
 mod limits;
 pub mod line;
+mod rpy;
 pub mod shape;
 mod singularity;
 
@@ -58,6 +59,7 @@ pub use dh::Dh;
 pub use inverse::{Branch, IkError, MAX_SOLUTIONS, Side, Solution, Solutions};
 pub use limits::{AxisRange, LIMIT_TOLERANCE_RAD, travel_time};
 pub use line::{JointLimits, LineError, LinePlan, LineSample, LineTarget};
+pub use rpy::{quaternion_from_rpy_deg, rpy_deg_from_quaternion};
 pub use shape::KinematicsError;
 pub use singularity::{Near, Singularities, SingularityMargins};
 

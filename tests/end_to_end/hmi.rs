@@ -224,7 +224,7 @@ fn reader(mut stream: TcpStream, writer: Arc<Mutex<TcpStream>>, tx: mpsc::Sender
 }
 
 /// A telnet client with an expect-style reader.
-struct Telnet {
+pub(crate) struct Telnet {
     writer: Arc<Mutex<TcpStream>>,
     rx: mpsc::Receiver<Event>,
     /// Every data byte received (telnet commands removed).
@@ -238,7 +238,7 @@ struct Telnet {
 
 impl Telnet {
     /// Connect and send what Linux telnet sends first.
-    fn connect(addr: SocketAddr) -> Telnet {
+    pub(crate) fn connect(addr: SocketAddr) -> Telnet {
         let stream = TcpStream::connect(addr).expect("connect to the HMI");
         stream.set_nodelay(true).unwrap();
         let writer = Arc::new(Mutex::new(stream.try_clone().unwrap()));
@@ -257,7 +257,7 @@ impl Telnet {
         t
     }
 
-    fn send(&mut self, bytes: &[u8]) {
+    pub(crate) fn send(&mut self, bytes: &[u8]) {
         self.writer.lock().unwrap().write_all(bytes).unwrap();
     }
 
@@ -297,7 +297,7 @@ impl Telnet {
     }
 
     /// Read until `needle` appears; return the text up to and including it, and consume it.
-    fn expect(&mut self, needle: &str) -> String {
+    pub(crate) fn expect(&mut self, needle: &str) -> String {
         self.wait_for(&format!("{needle:?}"), |t| t.contains(needle));
         let text = self.text();
         let end = self.seen + text[self.seen..].find(needle).unwrap() + needle.len();
@@ -309,7 +309,7 @@ impl Telnet {
     /// Type `line` with the line end `eol`, check the server echoes exactly the line and a new
     /// row (nothing else before it: no stray prompt, no echoed negotiation), then return the
     /// output up to the next prompt `mcm <mode>> `.
-    fn run(&mut self, line: &str, eol: &[u8], mode: &str) -> String {
+    pub(crate) fn run(&mut self, line: &str, eol: &[u8], mode: &str) -> String {
         let mut bytes = line.as_bytes().to_vec();
         bytes.extend_from_slice(eol);
         self.send(&bytes);

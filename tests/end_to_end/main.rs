@@ -37,6 +37,7 @@ mod examples_python;
 mod examples_ros2;
 mod examples_rust;
 mod hmi;
+mod hmi_cartesian;
 mod hmi_tmux;
 mod hostile_connections;
 mod hostile_lifecycle;

@@ -22,15 +22,19 @@ use mcm_shared::sample::{AXIS_CALIBRATED, StateSample};
 use mcm_shared::tool::Tool;
 use nalgebra::Isometry3;
 
-/// The TCP of the active tool: its pose in the flange frame. The tool the core reports in
-/// `state`, the newest state (`set_tool`'s, or the configuration's from start); the
-/// configured tool's when there is no state yet (the core starts with it).
+/// The active tool: the one the core reports in `state`, the newest state (`set_tool`'s, or
+/// the configuration's from start); the configured tool when there is no state yet (the core
+/// starts with it).
+pub(crate) fn active_tool(cfg: &RobotConfig, state: Option<&StateSample>) -> Tool {
+    match state {
+        Some(s) => Tool::from(&s.tool),
+        None => cfg.arm.tool.active(),
+    }
+}
+
+/// The TCP of the active tool ([`active_tool`]): its pose in the flange frame.
 pub(crate) fn active_tcp(cfg: &RobotConfig, state: Option<&StateSample>) -> Isometry3<f64> {
-    let tcp = match state {
-        Some(s) => Tool::from(&s.tool).tcp,
-        None => cfg.arm.tool.active().tcp,
-    };
-    tcp_transform(&tcp)
+    tcp_transform(&active_tool(cfg, state).tcp)
 }
 
 /// `inverse_kinematics`: every solution, the nearest to the seed first. Without a seed, the

@@ -27,6 +27,21 @@ const SESSION: &[(&str, &str, &str)] = &[
         "jog AXIS [SPEED]",
         "move one axis while `+`/`-` (or an arrow key) is held; `q` leaves (VELOCITY_CONTROL)",
     ),
+    (
+        "pose",
+        "pose",
+        "the TCP in the base frame (mm, roll/pitch/yaw deg) and the active tool",
+    ),
+    (
+        "tool",
+        "tool [X Y Z ROLL PITCH YAW [mass=KG] [com=X,Y,Z]]",
+        "show the tool, or set its TCP (mm, deg, flange frame) and load (com mm) with set_tool",
+    ),
+    (
+        "moveto",
+        "moveto X Y Z ROLL PITCH YAW [vf=F]",
+        "move the TCP to a pose (mm, deg, base frame) with move_to_pose (PVT)",
+    ),
     ("clear", "clear", "clear the screen"),
     (
         "quit",
@@ -79,7 +94,11 @@ pub fn topic(topic: &str, cfg: &RobotConfig) -> String {
         .iter()
         .find(|(n, _, _)| *n == t || (*n == "quit" && t == "exit"))
     {
-        return format!("{BOLD}{name}{RESET} - {what}\nusage:  {usage}\n");
+        let mut s = format!("{BOLD}{name}{RESET} - {what}\nusage:  {usage}\n");
+        if matches!(*name, "pose" | "tool" | "moveto") {
+            s.push_str(super::cartesian::HELP);
+        }
+        return s;
     }
     let words = command_names()
         .chain(SESSION_COMMANDS.iter().copied())

@@ -12,6 +12,14 @@
 //! This file holds the pure parts (keys, the held-key timing, the speed, the line shown); the
 //! screen's loop is part of the HMI session (`session/jog_screen.rs`). Not used inside the
 //! real-time cycle.
+//!
+//! **Cartesian jogging goes here** once the protocol has `set_cartesian_velocity` (issue #41;
+//! it does not yet, so the jog screen jogs axes only): `jog x|y|z|rx|ry|rz [SPEED] [base|tool]`
+//! parsed beside `jog AXIS` (`words::parse_jog`), the same keys and [`Held`] timing, the
+//! velocity sent on each tick built beside [`velocities`] (a twist along or about the chosen
+//! direction in mm/s or deg/s, converted once as `super::cartesian` converts), the loop
+//! entering VELOCITY_CONTROL as it does now, and a status line showing the TCP
+//! (`super::cartesian`'s millimetres and degrees) beside [`status_line`].
 
 use super::keys::{Decoded, Key, KeyDecoder};
 use super::telnet::Input;

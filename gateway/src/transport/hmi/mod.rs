@@ -17,7 +17,8 @@
 //! Layout: [`telnet`] (option negotiation, NVT line ends) -> [`keys`] (the one key decoder:
 //! escape sequences read whole) -> [`editor`] (line editing, echo, history) -> [`words`] (the
 //! line parser, after each command's definition in [`mcm_shared::protocol`]) ->
-//! `crate::command` -> [`render`] (results for people); [`help`] holds the help texts and
+//! `crate::command` -> [`render`] (results for people); [`cartesian`] reads and shows poses
+//! and tools in millimetres and degrees (`pose`, `tool`, `moveto`); [`help`] holds the help texts and
 //! [`session`] ties one connection together; [`jog`] holds the keys and timing of the `jog`
 //! screen (read through [`keys`] too), whose loop is the session's (`session/jog_screen.rs`).
 //! [`run`] accepts connections.
@@ -26,6 +27,7 @@
 //! mode with the server echoing (see [`telnet`]); clients that do not negotiate (`nc`) keep
 //! their terminal's own line editing and get no echo.
 
+mod cartesian;
 mod editor;
 mod help;
 mod jog;

@@ -21,9 +21,10 @@
 use super::editor::{Action, Editor};
 use super::telnet::{Input, Telnet};
 use super::words::{Line, LineError};
-use super::{MAX_LINE_BYTES, help, render};
+use super::{MAX_LINE_BYTES, cartesian, help, render};
 use crate::command::Context;
 use crate::command::access::{Channel, Client, run_command};
+use crate::command::cartesian::active_tool;
 use crate::command::result;
 use crate::core_link::lifecycle::{CoreWatch, Notice};
 use crate::transport::http_line;
@@ -31,6 +32,7 @@ use crate::transport::server::FAREWELL_TIMEOUT;
 use crate::transport::server::admission::Slot;
 use crate::transport::server::timeouts::{Expiry, WRITE_TIMEOUT, deadline};
 use crate::transport::shutdown::Shutdown;
+use mcm_shared::command::SetTool;
 use mcm_shared::protocol::Command;
 use mcm_shared::protocol::results::Answer;
 use std::collections::VecDeque;
@@ -469,6 +471,32 @@ impl Session {
                     return Ok(Flow::Quit);
                 }
             }
+            Ok(Line::Pose) => {
+                let state = self.ctx.bridge.latest_state();
+                self.say(&cartesian::pose_text(state.as_deref(), &cfg));
+            }
+            Ok(Line::Tool(None)) => {
+                let state = self.ctx.bridge.latest_state();
+                self.say(&cartesian::tool_with_note(&active_tool(
+                    &cfg,
+                    state.as_deref(),
+                )));
+            }
+            Ok(Line::Tool(Some(edit))) => {
+                let state = self.ctx.bridge.latest_state();
+                match edit.tool(&active_tool(&cfg, state.as_deref())) {
+                    Ok(tool) => {
+                        let cmd = Command::SetTool(SetTool { tool });
+                        if self.command(cmd, false).await? == Flow::Quit {
+                            return Ok(Flow::Quit);
+                        }
+                    }
+                    Err(e) => self.say(&render::line_error(&LineError::Session {
+                        command: "tool",
+                        what: format!("tool: {e}; nothing was sent"),
+                    })),
+                }
+            }
             Ok(Line::Quit) => {
                 self.say("bye\n");
                 return Ok(Flow::Quit);
@@ -558,6 +586,13 @@ impl Session {
             (Some(v), false) => render::answer(name, v, &self.ctx.cfg, state.as_deref()),
             (None, false) => render::answer(name, &Answer::ok(), &self.ctx.cfg, state.as_deref()),
         };
+        let done = match &outcome.result {
+            Some(Answer::Generic(g)) => g.is_ok(),
+            _ => true,
+        };
+        if let (Command::SetTool(t), false, true) = (&cmd, json, done) {
+            text.push_str(&cartesian::tool_with_note(&t.tool));
+        }
         if let (Command::Status(_), false, Some(st)) = (&cmd, json, &state) {
             let control =
                 crate::command::access::control_words(&self.ctx, &self.client, st.owner_client_id);

@@ -20,7 +20,9 @@ use mcm_shared::ranges::Arg;
 use serde_json::{Map, Value};
 
 /// The session's own commands (not sent to the robot).
-pub const SESSION_COMMANDS: &[&str] = &["help", "watch", "jog", "clear", "quit", "exit"];
+pub const SESSION_COMMANDS: &[&str] = &[
+    "help", "watch", "jog", "pose", "tool", "moveto", "clear", "quit", "exit",
+];
 
 /// One parsed line.
 #[derive(Debug, Clone, PartialEq)]
@@ -40,6 +42,11 @@ pub enum Line {
         /// [deg/s], above 0 and at most the axis's maximum velocity.
         speed: f64,
     },
+    /// `pose`: the TCP and the tool in millimetres and degrees ([`super::cartesian`]).
+    Pose,
+    /// `tool`: show the active tool, or set its TCP (and load) typed in millimetres and
+    /// degrees ([`super::cartesian::ToolEdit`]).
+    Tool(Option<super::cartesian::ToolEdit>),
     /// `quit` or `exit`.
     Quit,
     /// A protocol command; `json` when it was typed as a JSON object.
@@ -357,6 +364,17 @@ pub fn parse_line(text: &str, cfg: &RobotConfig) -> Result<Line, LineError> {
             };
         }
         "jog" => return parse_jog(rest, cfg),
+        "pose" => {
+            return match rest {
+                [] => Ok(Line::Pose),
+                _ => Err(session_error(
+                    "pose",
+                    "pose takes no words: `pose` shows the TCP; `moveto X Y Z ROLL PITCH YAW` moves it",
+                )),
+            };
+        }
+        "tool" => return super::cartesian::parse_tool(rest),
+        "moveto" => return super::cartesian::parse_moveto(rest, cfg),
         "quit" | "exit" => return Ok(Line::Quit),
         "clear" => {
             return match rest {

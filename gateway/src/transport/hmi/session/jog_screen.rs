@@ -93,6 +93,8 @@ impl Session {
                 _ = tick.tick() => {
                     let now = Instant::now().into_std();
                     let direction = held.direction(now);
+                    // The one place the tick's velocity is sent: a Cartesian jog sends its
+                    // `set_cartesian_velocity` here instead (`hmi::jog`'s module text).
                     let set = Command::SetVelocities(SetVelocities {
                         velocities_deg_s: velocities(axis, speed, direction),
                     });
