@@ -7,6 +7,7 @@ import { Jogger } from './jog.js';
 import { fkOrigins, View3d, webglAvailable } from './view3d.js';
 import { loadRecords as loadRecordList } from './records.js';
 import { addError, clearCurrent } from './errors.js';
+import { renderCartesian, setupCartesian } from './cartesian.js';
 import {
   fillModel, jointColours, percentile, renderClients, renderConnections, renderJoints, renderTiming,
   fmt, setText,
@@ -175,6 +176,13 @@ $('#move-go').addEventListener('click', async () => {
   run({ command: 'move_axis', arguments: args });
 });
 
+setupCartesian($, {
+  run,
+  mode: () => currentMode(),
+  state: () => page.state,
+  onError: (text) => addError({ error_message: text }),
+});
+
 function currentMode() {
   return page.state?.status?.operating_mode;
 }
@@ -274,7 +282,7 @@ function thisPageControls() {
 function showAccess() {
   const allowed = motionAllowed() && conn.connected;
   $('#readonly').hidden = page.detail?.access?.motion_allowed_here !== false;
-  const motion = ['#take-control', '#calibrate', '#release', '#pvt', '#move-go', 'button.jog'];
+  const motion = ['#take-control', '#calibrate', '#release', '#pvt', '#move-go', 'button.jog', '#pose-go', '#tool-set'];
   for (const sel of motion) {
     document.querySelectorAll(sel).forEach((b) => { b.disabled = !allowed; });
   }
@@ -323,8 +331,9 @@ function render() {
   }
   if (page.view && page.model) {
     const pts = fkOrigins(page.model.links, st.axis_states?.position || []);
-    page.view.update(pts, jointColours(st, page.model, page.lastError?.axis));
+    page.view.update(pts, jointColours(st, page.model, page.lastError?.axis), st.cartesian_state ?? null);
   }
+  renderCartesian($, st, setText);
 }
 
 // ---- the model, the 3D view, the records -------------------------------------------------
@@ -380,6 +389,7 @@ window.mcmPendant = {
   get latencies() { return page.latencies; },
   get connected() { return conn.connected; },
   get model() { return page.model; },
+  get view() { return page.view; },
   flange() {
     if (!page.model || !page.state) return null;
     const pts = fkOrigins(page.model.links, page.state.status?.axis_states?.position || []);

@@ -125,6 +125,11 @@ export class View3d {
       new THREE.MeshStandardMaterial({ color: 0x1d4ed8 }),
     );
     this.scene.add(this.flangeMesh);
+    // The TCP's frame (the active tool's axes: x red, y green, z blue), where the core reports
+    // the TCP; hidden until every axis is calibrated.
+    this.tcpAxes = new THREE.AxesHelper(0.12);
+    this.tcpAxes.visible = false;
+    this.scene.add(this.tcpAxes);
 
     this.dirty = true;
     this.installOrbit();
@@ -194,11 +199,13 @@ export class View3d {
     }, { passive: false });
   }
 
-  /** Pose the arm at the frame origins `pts` (from fkOrigins); `colours` per joint. */
-  update(pts, colours) {
+  /** Pose the arm at the frame origins `pts` (from fkOrigins); `colours` per joint; `tcp` the
+   * status's `cartesian_state` (null: none), drawn as the TCP's triad. */
+  update(pts, colours, tcp) {
     // Drawn again only when something visible changed (0.1 mm, a colour): WebGL may be rendered
     // in software, and a page showing an arm at rest must cost (almost) nothing.
-    const key = pts.map((p) => p.map((v) => Math.round(v * 1e4)).join(',')).join(';') + colours.join(',');
+    const tcpKey = tcp ? [...tcp.position, ...tcp.orientation].map((v) => Math.round(v * 1e4)).join(',') : '';
+    const key = pts.map((p) => p.map((v) => Math.round(v * 1e4)).join(',')).join(';') + colours.join(',') + tcpKey;
     if (key === this.lastKey) return;
     this.lastKey = key;
     const up = new THREE.Vector3(0, 1, 0);
@@ -218,6 +225,11 @@ export class View3d {
       this.joints[i].material.color.setHex(JOINT_COLOURS[colours[i]] ?? JOINT_COLOURS.uncalibrated);
     }
     this.flangeMesh.position.set(...pts[pts.length - 1]);
+    this.tcpAxes.visible = !!tcp;
+    if (tcp) {
+      this.tcpAxes.position.set(...tcp.position);
+      this.tcpAxes.quaternion.set(...tcp.orientation);
+    }
     this.dirty = true;
     this.draw();
   }

@@ -332,22 +332,42 @@ fn the_pendant_in_chromium_against_the_simulated_arm() {
 /// online first, so that a `calibrate` that got through would start.
 #[test]
 fn cross_protocol_requests_from_a_page_in_chromium() {
-    let test = "cross_protocol_requests_from_a_page_in_chromium";
+    script_against_its_own_mcm(
+        "cross_protocol_requests_from_a_page_in_chromium",
+        "web-cross",
+        "cross_protocol.test.mjs",
+    );
+}
+
+/// Run `script` against an MCM of its own (instance tag `tag`) whose drives are online; fail
+/// when it fails.
+fn script_against_its_own_mcm(test: &str, tag: &str, script: &'static str) {
     let Some(tools) = tools_or_skip(test) else {
         return;
     };
     node_modules(&tools).unwrap_or_else(|e| panic!("{test}: npm ci in tests/web: {e}"));
-    let instance = unique_instance("web-cross");
+    let instance = unique_instance(tag);
     let port = free_port();
     let mcm = start(&instance, port, &[]);
     mcm.client().wait_drives_online();
-    let run = run_script(&tools, "cross_protocol.test.mjs", &mcm, port);
+    let run = run_script(&tools, script, &mcm, port);
     report(&run);
     drop(mcm);
     assert!(
         run.passed,
         "browser test failed: {} (its output is above)",
         run.script
+    );
+}
+
+/// The pendant's Cartesian panel (`tests/web/cartesian.test.mjs`): the TCP and its triad, the
+/// tool form, the move-to-pose form with its solutions, on the simulation's truth.
+#[test]
+fn the_pendants_cartesian_panel_in_chromium() {
+    script_against_its_own_mcm(
+        "the_pendants_cartesian_panel_in_chromium",
+        "web-cart",
+        "cartesian.test.mjs",
     );
 }
 

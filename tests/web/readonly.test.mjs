@@ -63,11 +63,13 @@ test('the page says it is read-only and disables its motion controls', { timeout
   await page.waitForSelector('#readonly', { state: 'visible', timeout: 5000 });
   const banner = await page.textContent('#readonly');
   assert.ok(banner.includes('Read-only') && banner.includes('motion_networks'), banner);
-  for (const sel of ['button.jog', '#calibrate', '#move-go', '#pvt', '#release', '#take-control']) {
+  for (const sel of ['button.jog', '#calibrate', '#move-go', '#pvt', '#release', '#take-control', '#pose-go', '#tool-set']) {
     const enabled = await page.$$eval(sel, (els) => els.filter((e) => !e.disabled).map((e) => e.outerHTML));
     assert.deepEqual(enabled, [], `${sel} disabled when read-only`);
   }
   assert.equal(await page.isEnabled('#hold'), true, '#hold stays enabled');
+  // Solving a pose moves nothing: open to a read-only page as the protocol's command is.
+  assert.equal(await page.isEnabled('#pose-solve'), true, '#pose-solve stays enabled');
 }));
 
 test('hold from a key works when read-only', { timeout: 30000 }, seq.wrap('hold', async () => {

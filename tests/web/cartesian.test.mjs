@@ -1,0 +1,126 @@
+// The pendant's Cartesian panel in a real browser against one simulated MCM, in order: the TCP
+// table shows the status's `cartesian_state` in millimetres and roll/pitch/yaw degrees, the
+// 3D view draws the TCP's triad there; the tool form sets the tool `detail.tool` then reports
+// (the convention checked on a pose where fixed and moving axes differ); the move-to-pose form
+// shows the inverse kinematics' solutions, the first being the JSON port's first, and its Go
+// moves the true arm there (the simulation's truth, then the status's TCP). Run by
+// tests/end_to_end/web.rs; see lib.mjs for the environment it passes.
+
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import {
+  env, launchBrowser, JsonClient, openPendant, waitMode, setField, screenshot, maxDiff, waitUntil,
+  Sequence,
+} from './lib.mjs';
+
+const seq = new Sequence();
+let browser;
+let json;
+let page;
+
+before(async () => {
+  browser = await launchBrowser();
+  json = await JsonClient.connect(env('MCM_JSON'));
+});
+
+after(async () => {
+  json?.close();
+  await browser?.close();
+});
+
+/// Roll, pitch, yaw [deg] of a unit quaternion [x, y, z, w] through its rotation matrix
+/// (fixed axes x, y, z: R = Rz(yaw) Ry(pitch) Rx(roll)), independently of the page's formula.
+function rpyOfMatrix([x, y, z, w]) {
+  const r = [
+    [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+    [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+    [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+  ];
+  const d = 180 / Math.PI;
+  return [Math.atan2(r[2][1], r[2][2]) * d, -Math.asin(r[2][0]) * d, Math.atan2(r[1][0], r[0][0]) * d];
+}
+
+/// The angle between two unit quaternions [deg].
+function angleDeg(a, b) {
+  const dot = Math.abs(a.reduce((s, v, i) => s + v * b[i], 0));
+  return (2 * Math.acos(Math.min(1, dot)) * 180) / Math.PI;
+}
+
+const TCP_CELLS = ['x', 'y', 'z', 'roll', 'pitch', 'yaw'];
+const tcpTable = (p) => p.evaluate((cells) => cells.map((c) => document.querySelector(`#tcp-${c}`).textContent), TCP_CELLS);
+
+test('the TCP table and the 3D triad show the status\'s TCP', { timeout: 90000 }, seq.wrap('tcp', async () => {
+  page = await openPendant(browser);
+  assert.ok((await page.textContent('#tcp-note')).includes('not every axis is calibrated'));
+  await page.click('#take-control');
+  await page.click('#calibrate');
+  await waitUntil('every axis calibrated, in HOLD', 60000, async () => {
+    const s = await json.status();
+    return s.detail.all_calibrated && s.operating_mode === 'HOLD';
+  }, 50);
+  let shown;
+  let expected;
+  await waitUntil('the TCP table to show the status\'s TCP', 5000, async () => {
+    const c = (await json.status()).cartesian_state;
+    expected = [...c.position.map((v) => v * 1000), ...rpyOfMatrix(c.orientation)];
+    shown = (await tcpTable(page)).map(Number);
+    return maxDiff(shown.slice(0, 3), expected.slice(0, 3)) < 0.006 && maxDiff(shown.slice(3), expected.slice(3)) < 0.002;
+  }).catch((e) => { throw new Error(`${e.message}: shown ${shown}, expected ${expected}`); });
+  const triad = await page.evaluate(() => {
+    const a = window.mcmPendant.view?.tcpAxes;
+    return a && { visible: a.visible, p: a.position.toArray(), q: a.quaternion.toArray() };
+  });
+  assert.ok(triad, 'the 3D view runs (WebGL) and has the TCP triad');
+  const c = (await json.status()).cartesian_state;
+  assert.ok(triad.visible, 'the triad shows once calibrated');
+  assert.ok(maxDiff(triad.p, c.position) < 1e-4, `triad at ${triad.p}, TCP at ${c.position}`);
+  assert.ok(angleDeg(triad.q, c.orientation) < 0.01, `triad turned ${triad.q}, TCP ${c.orientation}`);
+}));
+
+test('the tool form sets the tool in millimetres and degrees', { timeout: 30000 }, seq.wrap('tool', async () => {
+  // Roll 90 and yaw 90 about the fixed axes: [0.5, 0.5, 0.5, 0.5] (about moving axes it would
+  // be [0.5, -0.5, 0.5, 0.5]).
+  const form = { '#tool-x': 20, '#tool-y': 0, '#tool-z': 150, '#tool-roll': 90, '#tool-pitch': 0, '#tool-yaw': 90,
+    '#tool-mass': 1.2, '#tool-com-x': 0, '#tool-com-y': 0, '#tool-com-z': 60 };
+  for (const [sel, v] of Object.entries(form)) await setField(page, sel, v);
+  await page.click('#tool-set');
+  const tool = await waitUntil('detail.tool to be the one set', 5000, async () => {
+    const t = (await json.status()).detail.tool;
+    return t.mass === 1.2 ? t : null;
+  });
+  assert.deepEqual(tool.tcp.position, [0.02, 0, 0.15]);
+  assert.ok(maxDiff(tool.tcp.orientation, [0.5, 0.5, 0.5, 0.5]) < 1e-6, `${tool.tcp.orientation}`);
+  assert.deepEqual(tool.center_of_mass, [0, 0, 0.06]);
+  await page.waitForFunction(() => document.querySelector('#tool-now').textContent
+    .includes('TCP at [20.00, 0.00, 150.00] mm, rpy [90.000, 0.000, 90.000] deg'), null, { timeout: 3000 });
+}));
+
+test('the move-to-pose form shows the solutions and moves the TCP there', { timeout: 60000 }, seq.wrap('pose', async () => {
+  await page.click('#pose-here');
+  const here = (await json.status()).cartesian_state;
+  // 80 mm lower, 100 mm further out along x, the same orientation.
+  const z = Number(await page.inputValue('#pose-z'));
+  const x = Number(await page.inputValue('#pose-x'));
+  await setField(page, '#pose-z', (z - 80).toFixed(2));
+  await setField(page, '#pose-x', (x + 100).toFixed(2));
+  const goal = [here.position[0] + 0.1, here.position[1], here.position[2] - 0.08];
+  await page.click('#pose-solve');
+  await page.waitForSelector('#pose-solutions tr.chosen', { timeout: 5000 });
+  const first = await page.$$eval('#pose-solutions tr.chosen td.num', (tds) => tds.map((td) => Number(td.textContent)));
+  const ik = await json.request('inverse_kinematics', { position: goal, orientation: here.orientation });
+  assert.equal(ik.result_type, 'inverse_kinematics', JSON.stringify(ik));
+  assert.ok(maxDiff(first, ik.solutions[0]) < 0.01, `the page's first ${first}, the JSON port's ${ik.solutions[0]}`);
+
+  await setField(page, '#pose-vf', 1);
+  await page.click('#pose-go');
+  await waitMode(page, 'PVT', 5000);
+  await json.waitTruth('the true arm at the first solution, at rest', 30000,
+    (t) => maxDiff(t.position, ik.solutions[0]) < 0.05 && t.velocity.every((v) => Math.abs(v) < 0.1));
+  const c = await waitUntil('the commanded move to end', 10000, async () => {
+    const s = await json.status();
+    return s.axis_states.velocity.every((v) => v === 0) ? s.cartesian_state : null;
+  });
+  assert.ok(maxDiff(c.position, goal) < 1e-3, `the TCP ends at ${c.position}, asked ${goal}`);
+  assert.ok(angleDeg(c.orientation, here.orientation) < 0.1, `turned ${c.orientation} from ${here.orientation}`);
+  await screenshot(page, 'cartesian');
+}));
