@@ -201,6 +201,7 @@ pub fn layout_json() -> String {
             "CALIBRATE_FLAG_FORCE_STOP",
             u64::from(s::CALIBRATE_FLAG_FORCE_STOP),
         ),
+        ("IDENTIFY_FLAG_APPLY", u64::from(s::IDENTIFY_FLAG_APPLY)),
         ("SIM_FLAG_POWER_CYCLE", u64::from(s::SIM_FLAG_POWER_CYCLE)),
         ("STATE_ESTOP", u64::from(s::STATE_ESTOP)),
         ("STATE_SIMULATED", u64::from(s::STATE_SIMULATED)),
