@@ -460,6 +460,8 @@ fn encoded_commands() -> Vec<String> {
         r#"{"command":"set_velocities","arguments":{"velocities":[10,0,0,0,0,-5.5]}}"#,
         r#"{"command":"set_tool","arguments":{"tcp":{"position":[0,0.01,0.15],"orientation":[0.5,-0.5,0.5,0.5]},"mass":2,"center_of_mass":[0,0,0.06]}}"#,
         r#"{"command":"set_tool","arguments":{"tcp":{"position":[0,0,0],"orientation":[0,0,0,1]},"mass":0.5,"center_of_mass":[0.01,0,0],"inertia":[0.01,0.02,0.025,0.001,0,-0.002]}}"#,
+        r#"{"command":"identify_payload","arguments":{"apply":true}}"#,
+        r#"{"command":"identify_payload"}"#,
         r#"{"command":"pvt"}"#,
         r#"{"command":"pvt","arguments":{"dt":0.02}}"#,
         r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":30}}"#,
