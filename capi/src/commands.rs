@@ -299,6 +299,22 @@ pub unsafe extern "C" fn mcm_tcp_move_to_pose(client: *mut mcm_tcp_client_t, pos
     }
 }
 
+/// Estimate the load on the flange (in HOLD at rest, calibrated): the arm moves through a few
+/// poses and back, under 30 s; with `apply` the estimate becomes the tool's mass and centre of
+/// mass. `result` (may be NULL): the estimate.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn mcm_tcp_identify_payload(client: *mut mcm_tcp_client_t, apply: bool, result: *mut mcm_payload_t) -> mcm_error_t {
+    const F: &str = "mcm_tcp_identify_payload";
+    // SAFETY: the header's contract.
+    unsafe {
+        call(F, client, |h| {
+            let a = h.client.identify_payload(apply)?;
+            put(result, (&a).into());
+            Ok(())
+        })
+    }
+}
+
 /// Take control of the arm's motion (refused while another client controls it).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn mcm_tcp_take_control(client: *mut mcm_tcp_client_t) -> mcm_error_t {
@@ -607,6 +623,22 @@ pub unsafe extern "C" fn mcm_shm_set_tool(client: *mut mcm_shm_client_t, tool: *
     unsafe {
         call(F, client, |h| {
             h.client.set_tool(convert::tool(tool, F)?)?;
+            Ok(())
+        })
+    }
+}
+
+/// Estimate the load on the flange (in HOLD at rest, calibrated): the arm moves through a few
+/// poses and back, under 30 s; with `apply` the estimate becomes the tool's mass and centre of
+/// mass. `result` (may be NULL): the estimate.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn mcm_shm_identify_payload(client: *mut mcm_shm_client_t, apply: bool, result: *mut mcm_payload_t) -> mcm_error_t {
+    const F: &str = "mcm_shm_identify_payload";
+    // SAFETY: the header's contract.
+    unsafe {
+        call(F, client, |h| {
+            let a = h.client.identify_payload(apply)?;
+            put(result, (&a).into());
             Ok(())
         })
     }

@@ -6,7 +6,7 @@ use mcm_client::mcm_shared::sample::{
     BusCounters, CycleTiming, ErrorRecord, LatencyFigures, StateSample, TcpState,
 };
 use mcm_client::mcm_shared::tool::Tool;
-use mcm_client::tcp::{CartesianState, Info, MoveAllResult, Pose, Status};
+use mcm_client::tcp::{CartesianState, Info, MoveAllResult, PayloadResult, Pose, Status};
 use std::ffi::c_char;
 
 /// Axes of the arm (every per-axis array has this length; index 0 is axis 1).
@@ -470,6 +470,38 @@ impl From<&mcm_client::mcm_shared::reply::MoveAllPlan> for mcm_move_all_result_t
             velocities: p.velocities_deg_s,
             longest: u32::from(p.longest.number()),
             max_time_to_target: p.duration_s,
+        }
+    }
+}
+
+/// The load `identify_payload` estimated.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct mcm_payload_t {
+    /// [kg]
+    pub mass: f64,
+    /// Flange frame [m] (zeros for a load below 0.05 kg).
+    pub center_of_mass: [f64; 3],
+    /// RMS over every axis and pose of the holding torque the estimate does not explain [N m].
+    pub residual: f64,
+}
+
+impl From<&PayloadResult> for mcm_payload_t {
+    fn from(r: &PayloadResult) -> Self {
+        mcm_payload_t {
+            mass: r.mass,
+            center_of_mass: r.center_of_mass,
+            residual: r.residual,
+        }
+    }
+}
+
+impl From<&mcm_client::mcm_shared::reply::PayloadReply> for mcm_payload_t {
+    fn from(p: &mcm_client::mcm_shared::reply::PayloadReply) -> Self {
+        mcm_payload_t {
+            mass: p.mass_kg,
+            center_of_mass: p.center_of_mass_m,
+            residual: p.residual_nm,
         }
     }
 }

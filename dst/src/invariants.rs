@@ -65,6 +65,7 @@ use mcm_shared::NUM_AXES;
 use mcm_shared::command::{Axis, Request, Which};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
+use mcm_shared::protocol::core_reply_within;
 use mcm_shared::reply::{Outcome, Reason, Response};
 use mcm_shared::sample::{
     AXIS_CALIBRATED, AXIS_ONLINE, CommandSample, Reply, STATE_ESTOP, StateSample,
@@ -200,6 +201,8 @@ pub struct Checker {
     stopping: [Option<Stopping>; NUM_AXES],
     /// Cycles the drives' enabling may take.
     enabling_cycles: u64,
+    /// How long `identify_payload` may take to answer [cycles] (the clients' bound).
+    identify_cycles: u64,
     /// The CPU time a cycle's work may take [ns].
     work_budget_ns: u64,
     /// The most CPU time a cycle's work took [ns].
@@ -260,6 +263,8 @@ impl Checker {
             braking_latency_s: core::array::from_fn(|i| safety.braking_latency_s(i)),
             stopping: [None; NUM_AXES],
             enabling_cycles: enabling_wait_ns(cfg).div_ceil(cfg.cycle_period_ns()),
+            identify_cycles: (core_reply_within(CommandKind::IdentifyPayload).as_nanos() as u64)
+                .div_ceil(cfg.cycle_period_ns()),
             work_budget_ns: cfg.work_budget_ns() * DEBUG_SLOWDOWN,
             max_work_ns: 0,
             asked: HashMap::new(),
@@ -291,6 +296,9 @@ impl Checker {
         );
         let wait = if waits_for_enabling {
             QUEUE_CYCLES + self.enabling_cycles + 1
+        } else if c.kind == CommandKind::IdentifyPayload.to_wire() {
+            // Answered when its procedure ends, within the bound the clients wait.
+            QUEUE_CYCLES + self.identify_cycles
         } else {
             QUEUE_CYCLES
         };

@@ -29,12 +29,17 @@
 mod friction;
 mod mass;
 mod model;
+mod payload;
 mod rnea;
 mod stiction;
 
 pub use friction::{FRICTION_SMOOTHING_RAD_S, JointFriction};
 pub use mass::{inverse_spd, solve_spd};
 pub use model::{ArmModel, Link};
+pub use payload::{
+    MAX_CONDITION, MIN_MASS_FOR_CENTER_KG, PayloadError, PayloadEstimate, PayloadEstimator,
+    Regressor, regressor,
+};
 pub use stiction::solve_friction;
 
 /// Why a configuration could not be turned into an arm model or a simulated arm. Every message

@@ -22,8 +22,8 @@ use mcm_dst::rng::Rng;
 use mcm_dst::run::config;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTool,
-    SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
+    Axis, Calibrate, Direction, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint,
+    Request, SetTool, SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
@@ -189,6 +189,10 @@ enum Cmd {
         center_of_mass: [Num; 3],
         moments: [Num; 3],
     },
+    /// `identify_payload`, with or without `apply`.
+    IdentifyPayload {
+        apply: bool,
+    },
     /// A sample of any kind number, flags and arguments (most do not decode).
     Raw {
         kind: u8,
@@ -264,6 +268,9 @@ impl Cmd {
                 mass: u.arbitrary()?,
                 center_of_mass: u.arbitrary()?,
                 moments: u.arbitrary()?,
+            },
+            CommandKind::IdentifyPayload => Cmd::IdentifyPayload {
+                apply: u.arbitrary()?,
             },
         })
     }
@@ -431,6 +438,9 @@ impl Cmd {
                 // samples.
                 let tool = Tool::new(tcp, m, near(center_of_mass), inertia).unwrap_or(Tool::NONE);
                 Request::SetTool(SetTool { tool })
+            }
+            Cmd::IdentifyPayload { apply } => {
+                Request::IdentifyPayload(IdentifyPayload { apply: *apply })
             }
             Cmd::Raw { kind, flags, args } => return raw(*kind, *flags, args),
         };

@@ -39,6 +39,12 @@ class Encode(unittest.TestCase):
         with self.assertRaises(ValueError):
             wire.sim(true_tool={"mass": 2.0, "center_of_mass": [0.0, 0.06]})
 
+    def test_identify_payload_carries_apply_as_its_flag(self) -> None:
+        # Request::encode: no arguments; `apply` is flag bit 0.
+        s = wire.identify_payload(apply=True)
+        self.assertEqual((s.kind, s.flags, list(s.args[:2])), (19, layout.IDENTIFY_FLAG_APPLY, [0.0, 0.0]))
+        self.assertEqual(wire.identify_payload().flags, 0)
+
     def test_velocity_control_and_set_velocities_as_the_contract_lays_them_out(self) -> None:
         # Request::encode: velocity_control's timeout in args[0] (-1: none), no flags;
         # set_velocities' six velocities in args[0..6].
@@ -85,6 +91,17 @@ class Decode(unittest.TestCase):
         a = wire.decode_reply(self.reply("move_all", codes.REPLY_OK, values=[1, 2, 3, 0, 0, 0, 3, 1.25]))
         assert a.move_all is not None
         self.assertEqual((a.command, a.cycle, a.move_all.longest, a.move_all.max_time_to_target), ("move_all", 99, 3, 1.25))
+
+    def test_payload_figures(self) -> None:
+        # Response::encode: mass, the centre of mass, the residual.
+        a = wire.decode_reply(self.reply("identify_payload", codes.REPLY_OK, values=[2.01, 0.001, -0.002, 0.059, 0.14]))
+        assert a.payload is not None
+        p = a.payload
+        self.assertEqual((p.mass, p.center_of_mass, p.residual), (2.01, [0.001, -0.002, 0.059], 0.14))
+        with self.assertRaises(mcm.CommandError) as e:
+            wire.decode_reply(self.reply("identify_payload", codes.REPLY_REJECTED, code=22, values=[45.0, 15.0]))
+        self.assertEqual((e.exception.code, e.exception.outcome), ("not_identifiable", "refused"))
+        self.assertIn("condition number 45, at most 15", e.exception.message)
 
     def test_refusals_raise_in_the_gateways_words(self) -> None:
         with self.assertRaises(mcm.CommandError) as e:

@@ -33,8 +33,8 @@ use crate::NUM_AXES;
 use crate::mode::CommandKind;
 use crate::ranges::{Arg, Num};
 use crate::sample::{
-    CALIBRATE_FLAG_FORCE_STOP, COMMAND_ARGS, CommandSample, PVT_FLAG_LAST, PVT_POINTS_PER_COMMAND,
-    SIM_FLAG_POWER_CYCLE, TORQUE_FLAG_NO_GRAVITY,
+    CALIBRATE_FLAG_FORCE_STOP, COMMAND_ARGS, CommandSample, IDENTIFY_FLAG_APPLY, PVT_FLAG_LAST,
+    PVT_POINTS_PER_COMMAND, SIM_FLAG_POWER_CYCLE, TORQUE_FLAG_NO_GRAVITY,
 };
 use crate::tool::{Tcp, Tool, ToolError};
 use core::fmt;
@@ -235,6 +235,13 @@ pub struct SetTool {
     pub tool: Tool,
 }
 
+/// `identify_payload`: move the wrist through poses, estimate the load on the flange from the
+/// holding torques, and with `apply` make the estimate the tool's load.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct IdentifyPayload {
+    pub apply: bool,
+}
+
 /// Where a `set_tool` sample carries the tool: TCP position, orientation, mass, centre of
 /// mass, inertia.
 const TOOL_ARGS: [usize; 6] = [0, 3, 7, 8, 11, 17];
@@ -384,6 +391,7 @@ pub enum Request {
     VelocityControl(VelocityControl),
     SetVelocities(SetVelocities),
     SetTool(SetTool),
+    IdentifyPayload(IdentifyPayload),
 }
 
 /// What a value may be, in a [`DecodeError`].
@@ -607,6 +615,7 @@ impl Request {
             Request::VelocityControl(_) => CommandKind::VelocityControl,
             Request::SetVelocities(_) => CommandKind::SetVelocities,
             Request::SetTool(_) => CommandKind::SetTool,
+            Request::IdentifyPayload(_) => CommandKind::IdentifyPayload,
         }
     }
 
@@ -668,6 +677,11 @@ impl Request {
                 a[m] = t.mass;
                 a[c..i].copy_from_slice(&t.center_of_mass);
                 a[i..end].copy_from_slice(&t.inertia);
+            }
+            Request::IdentifyPayload(i) => {
+                if i.apply {
+                    s.flags |= IDENTIFY_FLAG_APPLY;
+                }
             }
             Request::Sim(c) => {
                 let mut set = |bit: usize, value: f64| {
@@ -783,6 +797,12 @@ impl Request {
                 let tool = Tool::new(tcp, a[m], [a[c], a[c + 1], a[c + 2]], Some(inertia))
                     .map_err(|e| d.tool(e))?;
                 Request::SetTool(SetTool { tool })
+            }
+            CommandKind::IdentifyPayload => {
+                d.flags(IDENTIFY_FLAG_APPLY)?;
+                Request::IdentifyPayload(IdentifyPayload {
+                    apply: s.flags & IDENTIFY_FLAG_APPLY != 0,
+                })
             }
             CommandKind::Pvt => {
                 d.flags(0)?;

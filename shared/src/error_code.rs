@@ -170,6 +170,9 @@ error_codes! {
         Overload = 21, "overload",
             "Safety check: an axis derated by i2t (its motor hot) cannot hold; the drives of the braked axes are powered off and the brakes hold the arm.",
             "Let the motor cool, then `hold` (refused with `overload` until the derating has ended).";
+        NotIdentifiable = 22, "not_identifiable",
+            "`identify_payload` from this pose: the poses it would measure at, within the reachable range, do not tell the load's mass and centre of mass apart (the error gives the condition number and its limit); nothing moved.",
+            "Move the arm away from the limits and from the upright pose (e.g. the elbow bent, the wrist away from its limits), then send it again.";
     }
     gateway {
         InvalidJson, "invalid_json",
@@ -262,11 +265,11 @@ impl ErrorCode {
             WrongMode | NotCalibrated | EmergencyStop | DriveDisconnected | DriveFault
             | OutOfRange | NotAvailable | NotSimulated | QueueFull | PositionLimit
             | VelocityLimit | BrakingDistance | FollowingError | CalibrationFailed | Aborted
-            | Busy | PvtPoint | Unreachable | NotOwner | ShuttingDown | Overload | InvalidJson
-            | InvalidCommand | UnknownCommand | UnknownArgument | MissingArgument
-            | InvalidArgument | LineTooLong | TooManyRequests | NetworkRefused
-            | NotAuthenticated | WrongSecret | RemoteSimRefused | CoreUnavailable
-            | OutcomeUnknown | VersionMismatch | InternalError => false,
+            | Busy | PvtPoint | Unreachable | NotOwner | ShuttingDown | Overload
+            | NotIdentifiable | InvalidJson | InvalidCommand | UnknownCommand | UnknownArgument
+            | MissingArgument | InvalidArgument | LineTooLong | TooManyRequests
+            | NetworkRefused | NotAuthenticated | WrongSecret | RemoteSimRefused
+            | CoreUnavailable | OutcomeUnknown | VersionMismatch | InternalError => false,
         }
     }
 

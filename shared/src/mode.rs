@@ -115,6 +115,8 @@ wire_enum!(
         SetVelocities = 17 => "set_velocities",
         /// The tool the arm carries (TCP and load), from the next cycle.
         SetTool = 18 => "set_tool",
+        /// Estimate the load on the flange by moving the wrist through poses (from HOLD).
+        IdentifyPayload = 19 => "identify_payload",
     }
 );
 
@@ -163,6 +165,7 @@ impl CommandKind {
                 | CommandKind::VelocityControl
                 | CommandKind::SetVelocities
                 | CommandKind::SetTool
+                | CommandKind::IdentifyPayload
         )
     }
 }

@@ -51,13 +51,25 @@ pub struct InfoReply {
     pub period_s: f64,
 }
 
-/// What a command that succeeded answers: most say only "done" ([`Done::Ack`]); `info` and
-/// `move_all` carry figures.
+/// What `identify_payload` found: the load on the flange.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PayloadReply {
+    /// [kg]
+    pub mass_kg: f64,
+    /// Flange frame [m] (zeros for a load too light to place).
+    pub center_of_mass_m: [f64; 3],
+    /// RMS of the holding torque the estimate does not explain, over every axis and pose [N·m].
+    pub residual_nm: f64,
+}
+
+/// What a command that succeeded answers: most say only "done" ([`Done::Ack`]); `info`,
+/// `move_all` and `identify_payload` carry figures.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Done {
     Ack,
     Info(InfoReply),
     MoveAll(MoveAllPlan),
+    Payload(PayloadReply),
 }
 
 /// How the core answered a request.
@@ -103,6 +115,11 @@ impl Response {
                         r.values[..NUM_AXES].copy_from_slice(&p.velocities_deg_s);
                         r.values[NUM_AXES] = f64::from(p.longest.number());
                         r.values[NUM_AXES + 1] = p.duration_s;
+                    }
+                    Done::Payload(p) => {
+                        r.values[0] = p.mass_kg;
+                        r.values[1..4].copy_from_slice(&p.center_of_mass_m);
+                        r.values[4] = p.residual_nm;
                     }
                 }
                 return r;
@@ -156,6 +173,14 @@ impl Response {
                         velocities_deg_s,
                         longest,
                         duration_s: v[NUM_AXES + 1],
+                    })
+                }
+                CommandKind::IdentifyPayload => {
+                    let v = &r.values;
+                    Done::Payload(PayloadReply {
+                        mass_kg: v[0],
+                        center_of_mass_m: [v[1], v[2], v[3]],
+                        residual_nm: v[4],
                     })
                 }
                 _ => Done::Ack,

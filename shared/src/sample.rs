@@ -41,6 +41,8 @@ pub const PVT_FLAG_LAST: u32 = 1 << 8;
 pub const TORQUE_FLAG_NO_GRAVITY: u32 = 1;
 /// `CommandSample::flags` for `Calibrate`: use mechanical stops even where light barriers exist.
 pub const CALIBRATE_FLAG_FORCE_STOP: u32 = 1;
+/// `CommandSample::flags` for `IdentifyPayload`: the estimate becomes the tool's load.
+pub const IDENTIFY_FLAG_APPLY: u32 = 1;
 /// `CommandSample::flags` for `Sim`: power cycle the drives.
 pub const SIM_FLAG_POWER_CYCLE: u32 = 1 << 11;
 

@@ -45,6 +45,7 @@ mod hostile_ownership;
 mod kinematics_pinocchio;
 mod modes;
 mod modes_restart;
+mod payload;
 mod protocol_examples;
 mod python_layout;
 mod release;

@@ -202,6 +202,7 @@ enum mcm_error_code_t
   MCM_CODE_NOT_OWNER = 19,
   MCM_CODE_SHUTTING_DOWN = 20,
   MCM_CODE_OVERLOAD = 21,
+  MCM_CODE_NOT_IDENTIFIABLE = 22,
   MCM_CODE_INVALID_JSON = 100,
   MCM_CODE_INVALID_COMMAND = 101,
   MCM_CODE_UNKNOWN_COMMAND = 102,
@@ -564,6 +565,16 @@ typedef struct mcm_ik_solutions_t {
   double solutions[MCM_MAX_IK_SOLUTIONS][MCM_NUM_AXES];
 } mcm_ik_solutions_t;
 
+// The load `identify_payload` estimated.
+typedef struct mcm_payload_t {
+  // [kg]
+  double mass;
+  // Flange frame [m] (zeros for a load below 0.05 kg).
+  double center_of_mass[3];
+  // RMS over every axis and pose of the holding torque the estimate does not explain [N m].
+  double residual;
+} mcm_payload_t;
+
 // The answer to `info` over shared memory.
 typedef struct mcm_shm_info_t {
   uint32_t num_axes;
@@ -748,6 +759,11 @@ enum mcm_error_t mcm_tcp_inverse_kinematics(struct mcm_tcp_client_t *client, con
 // NULL): the plan. Executed by the gateway, so TCP only, as `mcm_tcp_inverse_kinematics`.
 enum mcm_error_t mcm_tcp_move_to_pose(struct mcm_tcp_client_t *client, const struct mcm_pose_t *pose, double velocity_factor, struct mcm_move_all_result_t *result);
 
+// Estimate the load on the flange (in HOLD at rest, calibrated): the arm moves through a few
+// poses and back, under 30 s; with `apply` the estimate becomes the tool's mass and centre of
+// mass. `result` (may be NULL): the estimate.
+enum mcm_error_t mcm_tcp_identify_payload(struct mcm_tcp_client_t *client, bool apply, struct mcm_payload_t *result);
+
 // Take control of the arm's motion (refused while another client controls it).
 enum mcm_error_t mcm_tcp_take_control(struct mcm_tcp_client_t *client);
 
@@ -826,6 +842,11 @@ enum mcm_error_t mcm_shm_pvt_points(struct mcm_shm_client_t *client, const struc
 // Set the tool the arm carries (its TCP and load), from the next cycle; in HOLD, or PVT at
 // standstill. A tool outside its checks is refused here (`MCM_ERR_ARGUMENT`).
 enum mcm_error_t mcm_shm_set_tool(struct mcm_shm_client_t *client, const struct mcm_tool_t *tool);
+
+// Estimate the load on the flange (in HOLD at rest, calibrated): the arm moves through a few
+// poses and back, under 30 s; with `apply` the estimate becomes the tool's mass and centre of
+// mass. `result` (may be NULL): the estimate.
+enum mcm_error_t mcm_shm_identify_payload(struct mcm_shm_client_t *client, bool apply, struct mcm_payload_t *result);
 
 // Take control of the arm's motion (refused while another client controls it).
 enum mcm_error_t mcm_shm_take_control(struct mcm_shm_client_t *client);

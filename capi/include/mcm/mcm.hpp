@@ -41,6 +41,7 @@ using ShmInfo = mcm_shm_info_t;
 using MoveAllResult = mcm_move_all_result_t;
 using Pose = mcm_pose_t;
 using Tool = mcm_tool_t;
+using Payload = mcm_payload_t;
 using CalibrateOptions = mcm_calibrate_t;
 using ControlOptions = mcm_control_options_t;
 using PvtPoint = mcm_pvt_point_t;
@@ -281,6 +282,12 @@ public:
     }
     /// The tool the arm carries (TCP and load), from the next cycle.
     Result<void> set_tool(const Tool& tool) { return done(MCM_HPP_FN(set_tool)(h(), &tool)); }
+    /// Estimate the load on the flange (the arm moves, under 30 s); with apply it becomes
+    /// the tool's load.
+    Result<Payload> identify_payload(bool apply = false) {
+        Payload r{};
+        return with(MCM_HPP_FN(identify_payload)(h(), apply, &r), r);
+    }
     Result<void> take_control() { return done(MCM_HPP_FN(take_control)(h())); }
     Result<void> release_control() { return done(MCM_HPP_FN(release_control)(h())); }
     /// Read the state until pred(state) holds, at most timeout_s.

@@ -45,12 +45,14 @@ pub use ports::{LayoutMismatch, OpenError, SendError, describe};
 use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::prelude::ipc;
 use mcm_shared::command::{
-    Calibrate, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTool, SetTorques,
-    SetVelocities, SimCommand, TorqueControl, VelocityControl,
+    Calibrate, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTool,
+    SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
 use mcm_shared::protocol::core_reply_within;
-use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Outcome, Response, SafetyError};
+use mcm_shared::reply::{
+    Done, InfoReply, MoveAllPlan, Outcome, PayloadReply, Response, SafetyError,
+};
 use mcm_shared::sample::StateSample;
 use mcm_shared::service::{COMMAND_BUFFER, ServiceNames};
 use mcm_shared::tool::Tool;
@@ -428,6 +430,15 @@ impl ShmClient {
         self.ack(Request::SetTool(SetTool { tool }))
     }
 
+    /// Estimate the load on the flange; answers once the arm is back where it started (under
+    /// 30 s). With `apply` the estimate becomes the tool's mass and centre of mass.
+    pub fn identify_payload(&mut self, apply: bool) -> Result<PayloadReply, RequestError> {
+        match self.request(&Request::IdentifyPayload(IdentifyPayload { apply }))? {
+            Done::Payload(p) => Ok(p),
+            other => Err(mismatch(CommandKind::IdentifyPayload, other)),
+        }
+    }
+
     /// Move one axis (OK as the motion starts).
     pub fn move_axis(&mut self, m: MoveAxis) -> Result<(), RequestError> {
         self.ack(Request::MoveAxis(m))
@@ -510,6 +521,7 @@ fn mismatch(kind: CommandKind, got: Done) -> RequestError {
                 Done::Ack => "a plain OK where figures were expected",
                 Done::Info(_) => "an `info` answer",
                 Done::MoveAll(_) => "a `move_all` answer",
+                Done::Payload(_) => "an `identify_payload` answer",
             },
         },
     }

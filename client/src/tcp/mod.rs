@@ -33,11 +33,13 @@ mod wire;
 pub use error::{Error, ErrorKind, McmError, ProtocolProblem};
 pub use types::{
     AxisInfo, AxisStates, Calibrate, CartesianState, Detail, Event, Info, InverseKinematicsResult,
-    MoveAllResult, Pose, PvtQueue, SimResult, Six, Status, TorqueOptions, VelocityOptions,
+    MoveAllResult, PayloadResult, Pose, PvtQueue, SimResult, Six, Status, TorqueOptions,
+    VelocityOptions,
 };
 
 use mcm_shared::command::{
-    MoveAll, MoveAxis, Pvt, PvtPoint, SetTool, SetTorques, SetVelocities, SimCommand,
+    IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtPoint, SetTool, SetTorques, SetVelocities,
+    SimCommand,
 };
 use mcm_shared::mode::Mode;
 use mcm_shared::protocol::results::Answer;
@@ -473,6 +475,16 @@ impl TcpClient {
     /// next cycle; in HOLD, or PVT at standstill.
     pub fn set_tool(&mut self, tool: Tool) -> Result<(), Error> {
         self.call_ok(SetTool { tool })
+    }
+
+    /// Estimate the load on the flange (in HOLD at rest, calibrated): the arm moves through a
+    /// few poses and back (under 30 s); with `apply` the estimate becomes the tool's mass and
+    /// centre of mass.
+    pub fn identify_payload(&mut self, apply: bool) -> Result<PayloadResult, Error> {
+        self.call_typed(IdentifyPayload { apply }, |a| match a {
+            Answer::Payload(p) => Ok(p),
+            other => Err(Box::new(other)),
+        })
     }
 
     /// Move one axis (1..6) to `target_deg` at `velocity_factor` (0, 1] of its limits; OK as

@@ -8,7 +8,7 @@ pub use mcm_shared::command::Calibrate;
 pub use mcm_shared::protocol::Pose;
 pub use mcm_shared::protocol::results::{
     AxisInfo, AxisStates, CartesianState, Detail, Info, InverseKinematicsResult, MoveAllResult,
-    PvtQueue, SimResult, Six, Status,
+    PayloadResult, PvtQueue, SimResult, Six, Status,
 };
 
 /// Options of `torque_control`.

@@ -6,7 +6,8 @@
 use super::{Client, Limits, calibrate, move_all, move_axis};
 use crate::rng::Rng;
 use mcm_shared::command::{
-    Pvt, Request, SetTool, SetTorques, SetVelocities, TorqueControl, VelocityControl,
+    IdentifyPayload, Pvt, Request, SetTool, SetTorques, SetVelocities, TorqueControl,
+    VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
 use mcm_shared::sample::StateSample;
@@ -42,7 +43,8 @@ impl Sender {
             | CommandKind::ReleaseControl
             | CommandKind::VelocityControl
             | CommandKind::SetVelocities
-            | CommandKind::SetTool => Sender::Clients,
+            | CommandKind::SetTool
+            | CommandKind::IdentifyPayload => Sender::Clients,
             CommandKind::Sim => Sender::FaultInjector,
             CommandKind::ClientGone => Sender::Disconnecting,
         }
@@ -127,6 +129,9 @@ impl Client {
             }),
             CommandKind::SetTool => Request::SetTool(SetTool {
                 tool: random_tool(rng),
+            }),
+            CommandKind::IdentifyPayload => Request::IdentifyPayload(IdentifyPayload {
+                apply: rng.chance(0.5),
             }),
             CommandKind::Sim | CommandKind::ClientGone => return None,
         })

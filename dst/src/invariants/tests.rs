@@ -892,3 +892,38 @@ fn a_tcp_state_before_every_axis_is_calibrated_is_a_violation() {
     s.cartesian.position[2] = 1.0;
     broken(check(&mut checker(), 1, &s, &[]), "cartesian_state present");
 }
+
+/// `identify_payload` is answered when its procedure ends (about 20 s of moves and
+/// measurements): not overdue before the bound the clients wait for it, overdue after.
+#[test]
+fn identify_payload_may_take_its_procedure_and_no_longer() {
+    let mut c = checker();
+    let s = state(Mode::Hold);
+    let identify = Request::IdentifyPayload(mcm_shared::command::IdentifyPayload { apply: true });
+    let period_ns = RobotConfig::prob2_default().cycle_period_ns();
+    let bound = (core_reply_within(CommandKind::IdentifyPayload).as_nanos() as u64)
+        .div_ceil(period_ns)
+        + QUEUE_CYCLES;
+    // 25 s of robot time, then its answer.
+    let took = 25_000_000_000 / period_ns;
+    c.asked(&sample(identify, 1), 0);
+    for k in 1..took {
+        check(&mut c, k, &s, &[]).unwrap();
+    }
+    let payload = Done::Payload(mcm_shared::reply::PayloadReply {
+        mass_kg: 2.0,
+        center_of_mass_m: [0.0, 0.0, 0.06],
+        residual_nm: 0.1,
+    });
+    let done = answer(1, CommandKind::IdentifyPayload, Outcome::Done(payload));
+    check(&mut c, took, &s, &[done]).unwrap();
+    // One never answered is overdue once the bound has passed.
+    c.asked(&sample(identify, 2), took);
+    for k in took + 1..=took + bound {
+        check(&mut c, k, &s, &[]).unwrap();
+    }
+    broken(
+        check(&mut c, took + bound + 1, &s, &[]),
+        "not answered by cycle",
+    );
+}

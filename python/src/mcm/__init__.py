@@ -30,6 +30,7 @@ from .types import (
     Info,
     InverseKinematicsResult,
     MoveAllResult,
+    PayloadResult,
     PvtPoint,
     SafetyErrorEvent,
     SimResult,

@@ -45,6 +45,7 @@ KINDS: Dict[str, int] = {
     "velocity_control": 16,
     "set_velocities": 17,
     "set_tool": 18,
+    "identify_payload": 19,
 }
 KIND_NAMES: Dict[int, str] = {v: k for k, v in KINDS.items()}
 
@@ -72,6 +73,7 @@ COMMANDS: Tuple[str, ...] = (
     "authenticate",
     "inverse_kinematics",
     "set_tool",
+    "identify_payload",
 )
 
 #: The ``result_type`` of each command's result on success (``CommandDef::success``);
@@ -98,6 +100,7 @@ RESULT_TYPES: Dict[str, Optional[str]] = {
     "authenticate": "generic",
     "inverse_kinematics": "inverse_kinematics",
     "set_tool": "generic",
+    "identify_payload": "payload",
 }
 
 #: Commands that answer nothing on success (``Success::Nothing``): a refusal comes later,
@@ -122,6 +125,7 @@ NEEDS_CONTROL = frozenset(
         "move_to_pose",
         "pvt_points",
         "set_tool",
+        "identify_payload",
     ]
 )
 
@@ -154,6 +158,7 @@ REJECT_CODES: Dict[int, str] = {
     19: "not_owner",
     20: "shutting_down",
     21: "overload",
+    22: "not_identifiable",
 }
 
 # The words of an argument refusal (``ArgRefusal``'s), per argument code
@@ -366,6 +371,11 @@ def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
             "current": "%.2f" % v[0],
             "limit": "%.2f" % v[1],
         }
+    if name == "not_identifiable":
+        return "the load cannot be identified from this pose: the poses within the reachable range do not tell its mass and centre of mass apart (condition number %(condition)s, at most %(limit)s); move the arm away from its limits and from the upright pose" % {
+            "condition": num(v[0]),
+            "limit": num(v[1]),
+        }
     if name == "calibration_failed" and int(v[0]) == 1:
         return "calibration of axis %(axis)s failed: no mechanical stop found within %(searched)s deg; the arm holds where it is" % {
             "axis": str(axis),
@@ -469,6 +479,7 @@ class ErrorCode(str, Enum):
     NOT_OWNER = "not_owner"
     SHUTTING_DOWN = "shutting_down"
     OVERLOAD = "overload"
+    NOT_IDENTIFIABLE = "not_identifiable"
     INVALID_JSON = "invalid_json"
     INVALID_COMMAND = "invalid_command"
     UNKNOWN_COMMAND = "unknown_command"

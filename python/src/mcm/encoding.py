@@ -94,10 +94,12 @@ PVT_POINT_POSITION = 0
 PVT_POINT_VELOCITY = 6
 MAX_POINTS_PER_BATCH = 1000
 
-#: Where ``Reply.values`` hold the figures of an ``info`` and of a ``move_all`` that
-#: succeeded (``Response::encode``): the index of each, or of the first of six.
+#: Where ``Reply.values`` hold the figures of an ``info``, a ``move_all`` and an
+#: ``identify_payload`` that succeeded (``Response::encode``): the index of each, or of the
+#: first of six (of three for the centre of mass).
 INFO_VALUES: Dict[str, int] = {"num_axes": 0, "period_s": 1}
 MOVE_ALL_VALUES: Dict[str, int] = {"velocities_deg_s": 0, "longest": 6, "duration_s": 7}
+PAYLOAD_VALUES: Dict[str, int] = {"mass_kg": 0, "center_of_mass_m": 1, "residual_nm": 4}
 
 #: The protocol's defaults (``shared/src/protocol/cmd/``).
 DEFAULT_WHICH = "ALL"

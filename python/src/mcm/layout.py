@@ -37,6 +37,8 @@ PVT_FLAG_LAST = 1 << 8
 TORQUE_FLAG_NO_GRAVITY = 1
 #: ``CommandSample.flags`` of ``calibrate``: use mechanical stops even where light barriers exist.
 CALIBRATE_FLAG_FORCE_STOP = 1
+#: ``CommandSample.flags`` of ``identify_payload``: the estimate becomes the tool's load.
+IDENTIFY_FLAG_APPLY = 1
 #: ``CommandSample.flags`` of ``sim``: power cycle the drives.
 SIM_FLAG_POWER_CYCLE = 1 << 11
 

@@ -38,7 +38,7 @@ from .layout import (
     StateSample,
     reply_location,
 )
-from .types import MoveAllResult, PvtPoint, SafetyErrorEvent, Velocities
+from .types import MoveAllResult, PayloadResult, PvtPoint, SafetyErrorEvent, Velocities
 
 #: The iceoryx2 version the MCM is built with; the Python package must be the same.
 ICEORYX2_VERSION = "0.10.0"
@@ -380,6 +380,13 @@ class ShmClient:
         """Set the tool the arm carries (as :meth:`mcm.Client.set_tool`), from the next cycle."""
         tcp = {"position": list(tcp_position), "orientation": list(tcp_orientation)}
         self.request(wire.set_tool(tcp, mass, center_of_mass, inertia))
+
+    def identify_payload(self, apply: bool = False) -> PayloadResult:
+        """Estimate the load on the flange (as :meth:`mcm.Client.identify_payload`); returns
+        once the arm is back where it started (under 30 s)."""
+        a = self.request(wire.identify_payload(apply), timeout=60.0)
+        assert a.payload is not None
+        return a.payload
 
     def pvt(self, dt: float = enc.DEFAULT_PVT_DT) -> None:
         """Enter PVT mode with point spacing ``dt`` [s]."""

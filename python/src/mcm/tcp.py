@@ -36,6 +36,7 @@ from .types import (
     Info,
     InverseKinematicsResult,
     MoveAllResult,
+    PayloadResult,
     PvtPoint,
     SafetyErrorEvent,
     SimResult,
@@ -66,8 +67,9 @@ _STATUS_RESULT = frozenset(c for c, t in codes.RESULT_TYPES.items() if t == "sta
 _SESSIONS = {"torque_control": "TORQUE_CONTROL", "velocity_control": "VELOCITY_CONTROL"}
 
 # The longest a command may take on top of the client's timeout (`calibrate` takes about 12 s
-# on the simulated arm; the gateway itself waits up to 600 s for it).
-_EXTRA_TIME = {"calibrate": 600.0}
+# on the simulated arm, the gateway itself waits up to 600 s for it; `identify_payload` under
+# 30 s, the gateway waits up to 60 s).
+_EXTRA_TIME = {"calibrate": 600.0, "identify_payload": 60.0}
 
 
 def _given(**arguments: Any) -> Optional[Dict[str, Any]]:
@@ -411,6 +413,13 @@ class Client:
         if inertia is not None:
             arguments["inertia"] = [float(v) for v in inertia]
         self._expect("set_tool", arguments)
+
+    def identify_payload(self, apply: bool = False) -> PayloadResult:
+        """Estimate the load on the flange (in HOLD, at rest, calibrated): the arm moves through
+        a few poses and back (under 30 s), measuring the holding torques; the result gives the
+        ``mass`` [kg], ``center_of_mass`` [m] in the flange frame and the ``residual`` [N m].
+        With ``apply`` the estimate becomes the tool's mass and centre of mass."""
+        return PayloadResult.from_json(self._expect("identify_payload", {"apply": bool(apply)}))
 
     def _raise_refusal(self, command: str) -> None:
         """Raise the first queued refusal of `command` (one without a result on success)."""

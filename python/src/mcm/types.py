@@ -155,6 +155,27 @@ class MoveAllResult:
 
 
 @dataclass
+class PayloadResult:
+    """A ``payload`` result (``identify_payload``): the load's ``mass`` [kg], its
+    ``center_of_mass`` [m] in the flange frame (zeros below 0.05 kg), and the ``residual`` [N m]:
+    the RMS over every axis and pose of the holding torque the estimate does not explain."""
+
+    mass: float
+    center_of_mass: List[float]
+    residual: float
+    raw: Dict[str, Any] = field(default_factory=dict, repr=False)
+
+    @classmethod
+    def from_json(cls, v: Dict[str, Any]) -> "PayloadResult":
+        return cls(
+            mass=float(v["mass"]),
+            center_of_mass=[float(x) for x in v["center_of_mass"]],
+            residual=float(v["residual"]),
+            raw=v,
+        )
+
+
+@dataclass
 class InverseKinematicsResult:
     """An ``inverse_kinematics`` result: every joint configuration [deg] that puts the TCP at
     the pose, each within the axis limits, the nearest to the seed first."""

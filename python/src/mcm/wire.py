@@ -14,6 +14,7 @@ from . import encoding as enc
 from .errors import CommandError
 from .layout import (
     CALIBRATE_FLAG_FORCE_STOP,
+    IDENTIFY_FLAG_APPLY,
     NUM_AXES,
     PVT_FLAG_LAST,
     PVT_POINTS_PER_COMMAND,
@@ -22,7 +23,7 @@ from .layout import (
     CommandSample,
     Reply,
 )
-from .types import MoveAllResult, PvtPoint
+from .types import MoveAllResult, PayloadResult, PvtPoint
 
 Value = Union[float, Sequence[float]]
 
@@ -96,6 +97,11 @@ def calibrate(
         elbow_direction=elbow_direction,
         wrist_direction=wrist_direction,
     )
+
+
+def identify_payload(apply: bool = False) -> CommandSample:
+    """``identify_payload``; with ``apply`` the estimate becomes the tool's load."""
+    return command("identify_payload", IDENTIFY_FLAG_APPLY if apply else 0)
 
 
 def torque_control(
@@ -235,12 +241,13 @@ def sim(
 @dataclass
 class Answer:
     """A decoded reply: the command answered, the cycle (``StateSample.seq``) that gave it,
-    and for ``info``/``move_all`` their figures."""
+    and for ``info``/``move_all``/``identify_payload`` their figures."""
 
     command: str
     request_id: int
     cycle: int
     move_all: Optional[MoveAllResult] = None
+    payload: Optional[PayloadResult] = None
     num_axes: Optional[int] = None
     period_s: Optional[float] = None
 
@@ -256,6 +263,10 @@ def decode_reply(r: Reply) -> Answer:
             m = enc.MOVE_ALL_VALUES
             at = m["velocities_deg_s"]
             a.move_all = MoveAllResult(v[at : at + NUM_AXES], int(v[m["longest"]]), v[m["duration_s"]])
+        elif command == "identify_payload":
+            p = enc.PAYLOAD_VALUES
+            at = p["center_of_mass_m"]
+            a.payload = PayloadResult(v[p["mass_kg"]], v[at : at + 3], v[p["residual_nm"]])
         elif command == "info":
             i = enc.INFO_VALUES
             a.num_axes, a.period_s = int(v[i["num_axes"]]), v[i["period_s"]]

@@ -49,6 +49,20 @@ impl Controller {
     }
 
     pub(super) fn on_request(&mut self, c: Caller, req: Request) {
+        // An identification runs: only a stop, the state and control change get through.
+        if !matches!(
+            req,
+            Request::Status
+                | Request::Info
+                | Request::Hold
+                | Request::Sim(_)
+                | Request::TakeControl
+                | Request::ReleaseControl
+                | Request::ClientGone
+        ) && self.busy_identifying(c)
+        {
+            return;
+        }
         match req {
             Request::Status => self.done(c, Done::Ack),
             Request::Info => self.done(
@@ -94,6 +108,7 @@ impl Controller {
             }
             Request::SetVelocities(v) => self.on_set_velocities(c, v),
             Request::SetTool(t) => self.on_set_tool(c, t),
+            Request::IdentifyPayload(i) => self.on_identify_payload(c, i),
             Request::SetTorques(t) => self.on_set_torques(c, t),
             Request::MoveAxis(m) => {
                 let mut target = self.cmd.position;
@@ -136,6 +151,7 @@ impl Controller {
                 self.begin_enabling(c, After::Hold);
             }
             State::Hold { .. }
+            | State::Identify { .. }
             | State::Calibration { .. }
             | State::Pvt { .. }
             | State::Release

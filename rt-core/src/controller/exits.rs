@@ -22,6 +22,8 @@
 //!   stop's spring once every stop has ended ([`Controller::relax_searched_axes`]): held at
 //!   its measured position there, its drive would press with the full current for good; then
 //!   as below.
+//! - `identify_payload` (a procedure of HOLD): its caller is failed as a calibration's is, then
+//!   as below.
 //! - PVT (a move, a stop or a stream), RELEASE, TORQUE_CONTROL, VELOCITY_CONTROL, CALIBRATION:
 //!   HOLD with the controlled stop `hold` uses ([`Controller::stop_motion`]: from the commanded
 //!   state in the position modes, from the measured state in the torque modes and the
@@ -129,6 +131,10 @@ impl Controller {
             State::Calibration { caller, .. } => {
                 self.relax_searched_axes();
                 self.restore_previous_calibration();
+                self.fail(caller, why.reason());
+                self.stop_for(why)
+            }
+            State::Identify { caller, .. } => {
                 self.fail(caller, why.reason());
                 self.stop_for(why)
             }

@@ -27,6 +27,7 @@ mod calibrate;
 mod calibrate_relax;
 mod commands;
 mod exits;
+mod identify_payload;
 mod motion;
 mod moves;
 mod overload;

@@ -134,6 +134,7 @@ impl Controller {
                 // Calibration done.
                 None => self.arrive_in_hold(caller),
             },
+            State::Identify { caller, run } => self.advance_identification(caller, run, dt),
             State::Release => {
                 let q = self.measured();
                 let qd = self.measured_velocity();

@@ -156,7 +156,7 @@ impl Controller {
         Ok(plan)
     }
 
-    fn unreachable(&self, i: usize, q: f64) -> Reason {
+    pub(super) fn unreachable(&self, i: usize, q: f64) -> Reason {
         Reason::Unreachable {
             axis: Axis::ALL[i],
             target_deg: rad_to_deg(q),

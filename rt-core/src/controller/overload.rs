@@ -69,7 +69,10 @@ impl Controller {
         // cover are `held`).
         let follows = matches!(
             self.state,
-            State::Hold { stop: Some(_) } | State::Pvt { .. } | State::Velocity { .. }
+            State::Hold { stop: Some(_) }
+                | State::Identify { .. }
+                | State::Pvt { .. }
+                | State::Velocity { .. }
         );
         // During a calibration's searches, the axes it does not cover hold where they are, and
         // one whose derated current cannot hold it is overloaded as it would be in HOLD.

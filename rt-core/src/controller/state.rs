@@ -5,6 +5,7 @@
 //!
 //! Runs inside the cycle: plain `Copy` data, no allocation.
 
+use super::identify_payload::Identification;
 use crate::calibration::{AxisCalibration, AxisSettings};
 use crate::trajectory::{JointPlan, StopPlan};
 use mcm_shared::NUM_AXES;
@@ -141,6 +142,12 @@ pub(crate) enum State {
         caller: Caller,
         phase: CalPhase,
     },
+    /// `identify_payload`: a procedure of HOLD (the wire mode stays HOLD) that moves the wrist
+    /// through poses and measures what the drives hold there (`identify_payload.rs`).
+    Identify {
+        caller: Caller,
+        run: Identification,
+    },
     Pvt {
         motion: PvtMotion,
         /// The stream ran dry while moving (cleared by the next move, batch or PVT entry).
@@ -193,7 +200,7 @@ impl State {
                 ..
             }
             | State::Error { .. } => Mode::Error,
-            State::Hold { .. } => Mode::Hold,
+            State::Hold { .. } | State::Identify { .. } => Mode::Hold,
             State::Calibration { .. } => Mode::Calibration,
             State::Pvt { .. } => Mode::Pvt,
             State::Release => Mode::Release,
@@ -227,6 +234,7 @@ impl State {
                 phase: CalPhase::Return(m),
                 ..
             } => Some(mv(m)),
+            State::Identify { run, .. } => run.moving().map(mv),
             _ => None,
         }
     }

@@ -18,6 +18,12 @@ impl Controller {
         self.model.tool()
     }
 
+    /// Make `tool` the active tool, from this cycle on (`set_tool`, `identify_payload` with
+    /// `apply`).
+    pub(super) fn use_tool(&mut self, tool: &Tool) {
+        self.model.set_tool(tool);
+    }
+
     /// `set_tool`: in HOLD, or in PVT with the arm at standstill (no move, stop or stream
     /// under way); refused `busy` while the arm moves, `wrong_mode` elsewhere.
     pub(super) fn on_set_tool(&mut self, c: Caller, t: SetTool) {
@@ -27,7 +33,7 @@ impl Controller {
                 motion: PvtMotion::Hold,
                 ..
             } => {
-                self.model.set_tool(&t.tool);
+                self.use_tool(&t.tool);
                 self.done(c, Done::Ack);
             }
             State::Pvt {

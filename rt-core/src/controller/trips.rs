@@ -137,6 +137,7 @@ impl Controller {
             mode: self.mode(),
             calibrating,
             planned_motion: self.state.planned_motion(),
+            procedure: matches!(self.state, State::Identify { .. }),
             disabled: self
                 .planted
                 .braking_check_off

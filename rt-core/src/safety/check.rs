@@ -31,18 +31,23 @@ pub struct Situation {
     /// A planned move or controlled stop runs (validated when planned: its whole path lies in
     /// the reachable range).
     pub planned_motion: bool,
+    /// A procedure of HOLD moves the arm (`identify_payload`): its moves and its holds between
+    /// them are watched as PVT's are.
+    pub procedure: bool,
     /// A check the simulation tester planted off (`controller/planted.rs`); `None` in `mcm-rt`.
     pub disabled: Option<Check>,
 }
 
 impl Situation {
     /// A mode in which a motion other than a planned one can run (RELEASE, TORQUE_CONTROL,
-    /// PVT, VELOCITY_CONTROL): the position, velocity and braking checks watch it.
+    /// PVT, VELOCITY_CONTROL), or a procedure of HOLD that moves the arm: the position,
+    /// velocity and braking checks watch it.
     pub fn free_motion_mode(&self) -> bool {
-        matches!(
-            self.mode,
-            Mode::Release | Mode::TorqueControl | Mode::Pvt | Mode::VelocityControl
-        )
+        self.procedure
+            || matches!(
+                self.mode,
+                Mode::Release | Mode::TorqueControl | Mode::Pvt | Mode::VelocityControl
+            )
     }
 }
 

@@ -32,6 +32,7 @@
 //!     mode: Mode::Pvt,
 //!     calibrating: Calibrating::No,
 //!     planned_motion: false,
+//!     procedure: false,
 //!     disabled: None,
 //! };
 //! let q = [0.0; 6];

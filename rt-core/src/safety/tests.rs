@@ -14,6 +14,7 @@ fn in_mode(mode: Mode) -> Situation {
         mode,
         calibrating: Calibrating::No,
         planned_motion: false,
+        procedure: false,
         disabled: None,
     }
 }
@@ -101,6 +102,19 @@ fn mode_table_follows_the_manual() {
         assert!(c.following.runs(&now), "{calibrating:?}");
         assert!(!c.position.runs(&now) && !c.velocity.runs(&now) && !c.braking.runs(&now));
     }
+    // `identify_payload` in HOLD: its moves are watched as PVT's planned moves, its holds
+    // between them as PVT at rest.
+    let procedure = Situation {
+        procedure: true,
+        ..in_mode(Mode::Hold)
+    };
+    assert!(c.position.runs(&procedure) && c.velocity.runs(&procedure));
+    assert!(c.following.runs(&procedure) && c.braking.runs(&procedure));
+    let moving = Situation {
+        planned_motion: true,
+        ..procedure
+    };
+    assert!(c.position.runs(&moving) && c.velocity.runs(&moving) && !c.braking.runs(&moving));
 }
 
 #[test]

@@ -12,7 +12,7 @@
 //!
 //! The scenario: boot, hold, calibration of all axes, PVT with `move_all` (re-planned by a second
 //! `move_all` while the arm moves) and a `pvt_points` batch of many chunks streamed to its end,
-//! release, torque control with `set_torques`, velocity control with `set_velocities` and its
+//! `identify_payload` with `apply`, release, torque control with `set_torques`, velocity control with `set_velocities` and its
 //! timeout, a move blocked through the simulator's edge (following-error trip, quick stop,
 //! flight-recorder hand-off), more fault injection, and the way back to HOLD. Every command must be
 //! answered OK and every mode reached, so the count cannot be zero for lack of work.
@@ -30,12 +30,12 @@ use mcm_rt_core::flight::{FlightRecorder, FlightWriter};
 use mcm_rt_core::ipc::RtIpc;
 use mcm_rt_core::sim_edge::SimEdge;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques,
-    SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
+    Axis, Calibrate, Direction, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint,
+    Request, SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{Mode, RejectCode};
-use mcm_shared::reply::{Outcome, Response};
+use mcm_shared::reply::{Done, Outcome, Response};
 use mcm_shared::sample::{
     AXIS_ONLINE, CommandSample, ReplyEntries, STATE_ALL_CALIBRATED, STATE_CARTESIAN,
     STATE_SIMULATED, StateSample, flight_recorder_file, open_reply_entries, read_reply,
@@ -343,8 +343,19 @@ fn the_edge_allocates_nothing_in_any_mode() {
     calibrate(&mut rig);
     pvt(&mut rig);
 
-    // RELEASE, with a hand pushing on a joint.
+    // `identify_payload` in HOLD (its moves, settles and averages, the estimate, `apply`).
     rig.ok(Request::Hold, 5);
+    rig.at_rest();
+    let identified = rig.ok(
+        Request::IdentifyPayload(IdentifyPayload { apply: true }),
+        8_000,
+    );
+    assert!(
+        matches!(identified.outcome, Outcome::Done(Done::Payload(_))),
+        "{identified:?}"
+    );
+
+    // RELEASE, with a hand pushing on a joint.
     rig.ok(Request::Release, 5);
     let mut push = [0.0; 6];
     push[0] = 3.0;

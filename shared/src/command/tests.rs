@@ -110,6 +110,7 @@ pub(crate) fn request() -> impl Strategy<Value = Request> {
             velocities_deg_s
         })),
         tool().prop_map(|tool| Request::SetTool(SetTool { tool })),
+        any::<bool>().prop_map(|apply| Request::IdentifyPayload(IdentifyPayload { apply })),
     ]
 }
 

@@ -28,6 +28,7 @@ fn the_wire_numbers_do_not_change() {
         (RejectCode::NotOwner, 19),
         (RejectCode::ShuttingDown, 20),
         (RejectCode::Overload, 21),
+        (RejectCode::NotIdentifiable, 22),
     ];
     assert_eq!(
         RejectCode::ALL.len(),

@@ -60,10 +60,11 @@ pub use cmd::torque_control::{DEFAULT_MODE_TIMEOUT, TorqueControl};
 pub use cmd::velocity_control::VelocityControl;
 pub use pose::Pose;
 pub use spec::{ArgDef, CommandDef, Group, Kind, Success};
-pub use wait::{CALIBRATION_TIMEOUT, REPLY_TIMEOUT, core_reply_within};
+pub use wait::{CALIBRATION_TIMEOUT, IDENTIFY_PAYLOAD_TIMEOUT, REPLY_TIMEOUT, core_reply_within};
 
 use crate::command::{
-    Calibrate, MoveAll, MoveAxis, Pvt, Request, SetTool, SetTorques, SetVelocities, SimCommand,
+    Calibrate, IdentifyPayload, MoveAll, MoveAxis, Pvt, Request, SetTool, SetTorques,
+    SetVelocities, SimCommand,
 };
 use crate::config::RobotConfig;
 use json::json_kind;
@@ -175,6 +176,7 @@ commands! {
     Authenticate(Authenticate),
     InverseKinematics(InverseKinematics),
     SetTool(SetTool),
+    IdentifyPayload(IdentifyPayload),
 }
 
 /// The command called `name` (any case).

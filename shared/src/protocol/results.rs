@@ -17,7 +17,7 @@ use crate::config::RobotConfig;
 use crate::error_code::ErrorCode;
 use crate::mode::{CommandKind, Mode, RejectCode};
 use crate::protocol::CommandError;
-use crate::reply::{InfoReply, MoveAllPlan, Outcome, SafetyError};
+use crate::reply::{InfoReply, MoveAllPlan, Outcome, PayloadReply, SafetyError};
 use crate::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord,
     STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, STATE_SHUTTING_DOWN,
@@ -45,6 +45,7 @@ pub enum Answer {
     MoveAll(MoveAllResult),
     Sim(SimResult),
     InverseKinematics(InverseKinematicsResult),
+    Payload(PayloadResult),
 }
 
 impl Answer {
@@ -77,6 +78,7 @@ impl Answer {
             Answer::MoveAll(_) => "move_all",
             Answer::Sim(_) => "sim",
             Answer::InverseKinematics(_) => "inverse_kinematics",
+            Answer::Payload(_) => "payload",
         }
     }
 
@@ -761,6 +763,27 @@ impl InverseKinematicsResult {
     pub fn new(solutions: impl IntoIterator<Item = Six>) -> InverseKinematicsResult {
         InverseKinematicsResult {
             solutions: solutions.into_iter().map(|q| six(&q)).collect(),
+        }
+    }
+}
+
+/// The `payload` result (`identify_payload`): the load the real-time core estimated.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PayloadResult {
+    /// [kg]
+    pub mass: f64,
+    /// [m], flange frame; zeros for a load too light to place (below 0.05 kg).
+    pub center_of_mass: [f64; 3],
+    /// RMS over every axis and pose of the holding torque the estimate does not explain [N m].
+    pub residual: f64,
+}
+
+impl From<&PayloadReply> for PayloadResult {
+    fn from(p: &PayloadReply) -> PayloadResult {
+        PayloadResult {
+            mass: round(p.mass_kg),
+            center_of_mass: p.center_of_mass_m.map(round),
+            residual: round(p.residual_nm),
         }
     }
 }

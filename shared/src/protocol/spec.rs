@@ -25,6 +25,8 @@ pub enum Success {
     Sim,
     /// The `inverse_kinematics` result.
     InverseKinematics,
+    /// The `payload` result (`identify_payload`).
+    Payload,
 }
 
 impl Success {
@@ -39,6 +41,7 @@ impl Success {
             Success::MoveAll => Some("move_all"),
             Success::Sim => Some("sim"),
             Success::InverseKinematics => Some("inverse_kinematics"),
+            Success::Payload => Some("payload"),
         }
     }
 

@@ -448,6 +448,7 @@ fn every_command_reads_back_as_written() {
             .unwrap(),
         }
         .into(),
+        crate::command::IdentifyPayload { apply: true }.into(),
         Pvt { dt_s: 0.02 }.into(),
         MoveAxis {
             axis: axis(3),
@@ -652,5 +653,5 @@ fn every_default_shown_is_the_default_parsed() {
             checked.push(format!("{}.{}", d.name, a.name));
         }
     }
-    assert_eq!(checked.len(), 16, "{checked:?}");
+    assert_eq!(checked.len(), 17, "{checked:?}");
 }

@@ -6,17 +6,23 @@ use super::Command;
 use crate::mode::CommandKind;
 use std::time::Duration;
 
-/// Longest wait for the real-time core's reply to a command other than `calibrate`: after it
+/// Longest wait for the real-time core's reply to a command other than `calibrate` and
+/// `identify_payload`: after it
 /// the gateway says the outcome is unknown.
 pub const REPLY_TIMEOUT: Duration = Duration::from_secs(5);
 
 /// Longest wait for a calibration to finish.
 pub const CALIBRATION_TIMEOUT: Duration = Duration::from_secs(600);
 
+/// Longest wait for `identify_payload` to answer: the procedure takes under 30 s of robot
+/// time; twice that leaves room for a core that runs late.
+pub const IDENTIFY_PAYLOAD_TIMEOUT: Duration = Duration::from_secs(60);
+
 /// The longest the real-time core takes to reply to a request of `kind`.
 pub const fn core_reply_within(kind: CommandKind) -> Duration {
     match kind {
         CommandKind::Calibrate => CALIBRATION_TIMEOUT,
+        CommandKind::IdentifyPayload => IDENTIFY_PAYLOAD_TIMEOUT,
         _ => REPLY_TIMEOUT,
     }
 }

@@ -495,6 +495,11 @@ reasons! {
     /// cools.
     Overload { axis @ axis: Axis, current_a @ 0: f64, limit_a @ 1: f64 } = Overload,
         |f| write!(f, "overload: axis {axis} cannot hold with its derated current of {limit_a:.2} A (its motor is hot, i2t; current {current_a:.2} A): the drives of the axes with a brake are powered off and the brakes hold the arm; send hold once the motor has cooled");
+    /// `identify_payload`: from this pose the poses it would measure at do not tell the load's
+    /// mass and centre of mass apart; `condition` is the condition number of their
+    /// column-scaled regressor (`f64::MAX` for none at all), `limit` the largest allowed.
+    NotIdentifiable { condition @ 0: f64, limit @ 1: f64 } = NotIdentifiable,
+        |f| write!(f, "the load cannot be identified from this pose: the poses within the reachable range do not tell its mass and centre of mass apart (condition number {}, at most {}); move the arm away from its limits and from the upright pose", Num(condition), Num(limit));
 }
 
 /// The words of [`Reason::DriveDisconnected`]: one axis, or the list of every axis lost.

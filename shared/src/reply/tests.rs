@@ -124,6 +124,7 @@ pub(crate) fn reason() -> impl Strategy<Value = Reason> {
         }),
         any::<u64>().prop_map(|owner| Reason::NotOwner { owner }),
         Just(Reason::ShuttingDown),
+        (x(), x()).prop_map(|(condition, limit)| Reason::NotIdentifiable { condition, limit }),
     ]
 }
 
@@ -140,6 +141,15 @@ fn response() -> impl Strategy<Value = Response> {
                         velocities_deg_s,
                         longest,
                         duration_s,
+                    })
+                })
+                .boxed(),
+            CommandKind::IdentifyPayload => (x(), prop::array::uniform3(x()), x())
+                .prop_map(|(mass_kg, center_of_mass_m, residual_nm)| {
+                    Done::Payload(PayloadReply {
+                        mass_kg,
+                        center_of_mass_m,
+                        residual_nm,
                     })
                 })
                 .boxed(),
@@ -266,7 +276,7 @@ fn undecodable_samples_are_refused_with_their_own_kind_and_ids() {
     assert_eq!((r.client_id, r.request_id, r.kind), (4, 8, 99));
     assert_eq!(r.status, ReplyStatus::Rejected.to_wire());
     assert_eq!(r.code, RejectCode::OutOfRange.to_wire());
-    assert_eq!(&r.values[..3], &[99.0, 1.0, 18.0]);
+    assert_eq!(&r.values[..3], &[99.0, 1.0, 19.0]);
 
     let mut s = crate::command::Request::Hold.encode();
     s.kind = CommandKind::MoveAll.to_wire();

@@ -19,7 +19,7 @@ use mcm_shared::command::{
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::protocol::{self, COMMANDS, Command};
-use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Outcome, Response};
+use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Outcome, PayloadReply, Response};
 use mcm_shared::sample::{CommandSample, PVT_FLAG_LAST};
 use mcm_shared::tool::{Tcp, Tool};
 use std::fmt::Write;
@@ -146,6 +146,8 @@ fn probes(kind: CommandKind) -> Vec<Probe> {
         | CommandKind::TakeControl
         | CommandKind::ReleaseControl
         | CommandKind::ClientGone
+        // `apply` travels as a flag (`IDENTIFY_FLAG_APPLY`, in `layout.py`).
+        | CommandKind::IdentifyPayload
         | CommandKind::PvtPoints => vec![],
         CommandKind::Calibrate => vec![
             probe(
@@ -477,7 +479,7 @@ MAX_POINTS_PER_BATCH = {max}
     )
 }
 
-/// `INFO_VALUES` and `MOVE_ALL_VALUES`: where `Reply.values` hold an answer's figures.
+/// `INFO_VALUES`, `MOVE_ALL_VALUES` and `PAYLOAD_VALUES`: where `Reply.values` hold an answer's figures.
 fn answers() -> String {
     let values = |kind, done| {
         Response {
@@ -504,17 +506,31 @@ fn answers() -> String {
             duration_s: X1,
         }),
     );
+    let com = [0.021, 0.022, 0.023];
+    let payload = values(
+        CommandKind::IdentifyPayload,
+        Done::Payload(PayloadReply {
+            mass_kg: X1,
+            center_of_mass_m: com,
+            residual_nm: 0.0123,
+        }),
+    );
     format!(
-        "#: Where ``Reply.values`` hold the figures of an ``info`` and of a ``move_all`` that
-#: succeeded (``Response::encode``): the index of each, or of the first of six.
+        "#: Where ``Reply.values`` hold the figures of an ``info``, a ``move_all`` and an
+#: ``identify_payload`` that succeeded (``Response::encode``): the index of each, or of the
+#: first of six (of three for the centre of mass).
 INFO_VALUES: Dict[str, int] = {{\"num_axes\": {}, \"period_s\": {}}}
 MOVE_ALL_VALUES: Dict[str, int] = {{\"velocities_deg_s\": {}, \"longest\": {}, \"duration_s\": {}}}
+PAYLOAD_VALUES: Dict[str, int] = {{\"mass_kg\": {}, \"center_of_mass_m\": {}, \"residual_nm\": {}}}
 ",
         place(&info, &[COUNT], "info's num_axes"),
         place(&info, &[X1], "info's period_s"),
         place(&plan, &six(11.5), "move_all's velocities"),
         place(&plan, &[f64::from(AXIS)], "move_all's longest axis"),
         place(&plan, &[X1], "move_all's duration"),
+        place(&payload, &[X1], "identify_payload's mass"),
+        place(&payload, &com, "identify_payload's centre of mass"),
+        place(&payload, &[0.0123], "identify_payload's residual"),
     )
 }
 

@@ -265,6 +265,16 @@ fn cases() -> Vec<Case> {
             figure(r, "limit", s1, Fmt::F2),
         ]
     }));
+    let not_identifiable = Reason::NotIdentifiable {
+        condition: s0,
+        limit: s1,
+    };
+    out.push(case(not_identifiable, "", |r| {
+        vec![
+            figure(r, "condition", s0, Fmt::Num),
+            figure(r, "limit", s1, Fmt::Num),
+        ]
+    }));
     // Calibration: the cause is the first value.
     for cause in [
         CalibrationFailure::NoStop { searched_deg: s1 },

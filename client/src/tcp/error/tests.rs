@@ -235,6 +235,10 @@ fn every_reason_of_the_core_is_read_back_to_its_code() {
         },
         Reason::NotOwner { owner: 7 },
         Reason::ShuttingDown,
+        Reason::NotIdentifiable {
+            condition: 45.0,
+            limit: 15.0,
+        },
     ];
     for code in RejectCode::ALL.iter().filter(|&&c| c != RejectCode::None) {
         assert!(

@@ -15,7 +15,8 @@ use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::Mode;
 use mcm_shared::protocol;
 use mcm_shared::protocol::results::{
-    Answer, Detail, Generic, Info, InverseKinematicsResult, MoveAllResult, SimResult, Status,
+    Answer, Detail, Generic, Info, InverseKinematicsResult, MoveAllResult, PayloadResult,
+    SimResult, Status,
 };
 use mcm_shared::sample::{
     AXIS_CALIBRATED, STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_PVT_STARVED, StateSample,
@@ -152,6 +153,7 @@ pub fn answer(command: &str, v: &Answer, cfg: &RobotConfig, state: Option<&State
         Answer::Initialization(i) => info(i),
         Answer::Sim(r) => sim(r, cfg),
         Answer::InverseKinematics(r) => inverse_kinematics(r),
+        Answer::Payload(p) => payload(p),
         Answer::Generic(g) if g.is_ok() => {
             let words = protocol::find(command).map_or("", |d| d.ok_words);
             format!("{GREEN}OK{RESET}{words}\n")
@@ -486,6 +488,19 @@ pub fn inverse_kinematics(v: &InverseKinematicsResult) -> String {
         s.push('\n');
     }
     s
+}
+
+/// The `payload` result (`identify_payload`).
+pub fn payload(p: &PayloadResult) -> String {
+    let [x, y, z] = p.center_of_mass.map(|v| v * 1000.0);
+    format!(
+        "{GREEN}OK{RESET} - payload {} kg, centre of mass ({}, {}, {}) mm in the flange frame, residual {} N m\n",
+        num(p.mass, 0, 3).trim(),
+        num(x, 0, 1).trim(),
+        num(y, 0, 1).trim(),
+        num(z, 0, 1).trim(),
+        num(p.residual, 0, 3).trim()
+    )
 }
 
 /// The initialization result (`info`).

@@ -6,6 +6,7 @@
 pub mod authenticate;
 pub mod calibrate;
 pub mod hold;
+pub mod identify_payload;
 pub mod info;
 pub mod inverse_kinematics;
 pub mod move_all;

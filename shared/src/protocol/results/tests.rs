@@ -319,6 +319,23 @@ fn move_all_result() {
     assert_eq!(v["velocities"], json!([10.0, 20.0, 0.0, 0.0, 0.0, 30.0]));
 }
 
+/// The `payload` result carries the core's figures by the contract's names, rounded as every
+/// figure is, and reads back.
+#[test]
+fn payload_result() {
+    let reply = crate::reply::PayloadReply {
+        mass_kg: 2.012_345_678,
+        center_of_mass_m: [0.001, -0.002, 0.059_876_543_21],
+        residual_nm: 0.137,
+    };
+    let v = Answer::Payload(PayloadResult::from(&reply)).to_value();
+    assert_eq!(v["result_type"], "payload");
+    assert_eq!(v["mass"], 2.012346);
+    assert_eq!(v["center_of_mass"], json!([0.001, -0.002, 0.059877]));
+    assert_eq!(v["residual"], 0.137);
+    assert!(matches!(Answer::from_value(&v), Ok(Answer::Payload(_))));
+}
+
 #[test]
 fn info_takes_simulated_from_the_state() {
     let cfg = RobotConfig::prob2_default();
@@ -358,6 +375,11 @@ fn one_of_each() -> Vec<Answer> {
         }),
         Answer::Sim(SimResult::from_state(&state)),
         Answer::InverseKinematics(InverseKinematicsResult::new([[1.0; 6], [2.0; 6]])),
+        Answer::Payload(PayloadResult {
+            mass: 2.0,
+            center_of_mass: [0.0, 0.0, 0.06],
+            residual: 0.1,
+        }),
     ];
     for a in &each {
         match a {
@@ -366,7 +388,8 @@ fn one_of_each() -> Vec<Answer> {
             | Answer::Initialization(_)
             | Answer::MoveAll(_)
             | Answer::Sim(_)
-            | Answer::InverseKinematics(_) => {}
+            | Answer::InverseKinematics(_)
+            | Answer::Payload(_) => {}
         }
     }
     each
@@ -390,6 +413,7 @@ fn every_result_type_is_the_one_a_success_names() {
         Success::MoveAll,
         Success::Sim,
         Success::InverseKinematics,
+        Success::Payload,
     ];
     let mut named = std::collections::BTreeSet::new();
     for s in successes {
@@ -400,7 +424,8 @@ fn every_result_type_is_the_one_a_success_names() {
             | Success::Initialization
             | Success::MoveAll
             | Success::Sim
-            | Success::InverseKinematics => {}
+            | Success::InverseKinematics
+            | Success::Payload => {}
         }
         let answering: Vec<&Answer> = each.iter().filter(|a| s.answers(a)).collect();
         match s.result_type() {

@@ -15,6 +15,9 @@ fn calibrate_and_sleep_may_take_longer_than_any_other_command() {
         calibrate.extra_reply_time(),
         CALIBRATION_TIMEOUT - REPLY_TIMEOUT
     );
+    let identify = Command::IdentifyPayload(crate::command::IdentifyPayload { apply: false });
+    assert_eq!(identify.reply_within(), IDENTIFY_PAYLOAD_TIMEOUT);
+    assert!(IDENTIFY_PAYLOAD_TIMEOUT >= Duration::from_secs(30));
     let hour = Duration::from_secs(3600);
     let sleep = Command::Sleep(Sleep { duration: hour });
     assert_eq!(sleep.reply_within(), hour);
