@@ -9,9 +9,9 @@
 //! the reason goes to stderr, once per run of rejections), so a burst of goals costs a bounded
 //! amount of memory and every goal of it is answered.
 
-use crate::arm::ToArm;
 use crate::distro::RosDistro;
 use crate::driver::Event;
+use crate::motion::ToArm;
 use crate::msgs::control::{
     FeedbackOnWire, FollowJointTrajectoryGoal, FollowJointTrajectoryResult,
 };

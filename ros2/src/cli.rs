@@ -1,5 +1,6 @@
 //! `mcm-ros2`'s command line (also `mcm ros2 ...`, which the launcher starts).
 
+use crate::access::Access;
 use crate::distro::RosDistro;
 use crate::node::{Ros2Options, run};
 use clap::Parser;
@@ -14,7 +15,8 @@ use std::sync::atomic::AtomicBool;
 
 /// The MCM as a ROS 2 node (docs/ros2.md): /joint_states, /robot_description,
 /// follow_joint_trajectory, joint_trajectory, the hold/calibrate/release/take_control/
-/// release_control services and /diagnostics, over DDS. Runs next to a running MCM (its
+/// release_control services and /diagnostics, over DDS (with --ros2-read-only only
+/// /joint_states, /robot_description and /diagnostics). Runs next to a running MCM (its
 /// shared-memory services); needs no ROS installation.
 #[derive(Parser, Debug)]
 #[command(name = "mcm-ros2", version)]
@@ -53,6 +55,12 @@ pub struct Cli {
     /// names one of them, else jazzy.
     #[arg(long)]
     pub ros_distro: Option<RosDistro>,
+    /// Offer no motion interface: only the joint states, the robot description and the
+    /// diagnostics; no follow_joint_trajectory action, joint_trajectory subscription, services
+    /// or parameter services. The node then never sends the MCM a command (for a DDS network
+    /// where not everyone may move the arm; docs/security.md).
+    #[arg(long = "ros2-read-only")]
+    pub read_only: bool,
 }
 
 fn parse_lead(s: &str) -> Result<f64, String> {
@@ -140,6 +148,7 @@ where
         lead_s: cli.lead,
         service_mapping: cli.service_mapping,
         distro,
+        access: Access::from_read_only(cli.read_only),
     };
     match run(opts, &stop) {
         Ok(()) => ExitCode::SUCCESS,

@@ -6,6 +6,7 @@
 //! HOLD); the effort is the motor current times the axis's torque per ampere (measured in PVT
 //! and HOLD, commanded in RELEASE and TORQUE_CONTROL, as the core's `current` is).
 
+use crate::access::Access;
 use crate::msgs::builtin::Time;
 use crate::msgs::diagnostic::{DiagnosticArray, DiagnosticStatus, KeyValue, level};
 use crate::msgs::sensor::JointState;
@@ -93,6 +94,8 @@ pub struct DiagnosticsContext<'a> {
     pub not_sent: u64,
     /// [`crate::driver::Driver::last_start_latency_cycles`].
     pub start_latency_cycles: Option<u64>,
+    /// Whether the node offers its motion interface.
+    pub access: Access,
 }
 
 /// One `DiagnosticStatus` named "mcm: <robot>" with the mode, calibration, errors, owner, the
@@ -148,6 +151,10 @@ pub fn diagnostics(s: &StateSample, cx: &DiagnosticsContext<'_>, stamp: Time) ->
         kv("drives enabled", axes_with(AXIS_ENABLED)),
         kv("emergency stop", estop.to_string()),
         kv("owner", owner),
+        kv(
+            "motion interface",
+            cx.access.diagnostics_value().to_string(),
+        ),
         kv(
             "last error",
             cx.last_error

@@ -2,24 +2,31 @@
 //!
 //! Threads: the arm loop ([`crate::arm`], the caller's thread), the action server
 //! ([`crate::action`], `mcm-ros2-action`) and ros2-client's spinner (discovery and the ROS
-//! graph) on the same executor. None of them runs real-time: the node is a client of the core
-//! like any other, and the core never waits for it.
+//! graph) on the same executor; a read-only node ([`Access::ReadOnly`]) has no action server,
+//! its spinner runs alone (`mcm-ros2-spin`). None of them runs real-time: the node is a client
+//! of the core like any other, and the core never waits for it.
 
+use crate::access::Access;
 use crate::action;
-use crate::arm::{Arm, ArmError, ServiceKind, Services, ToArm};
+use crate::arm::{Arm, ArmError};
 use crate::convert::JointStates;
 use crate::distro::RosDistro;
-use crate::driver::{Driver, DriverOptions};
+use crate::driver::{Driver, DriverOptions, Event};
+use crate::motion::{Motion, ServiceKind, Services, ToArm};
 use crate::msgs::std_msgs::StringMsg;
+use crate::msgs::std_srvs::{TriggerRequest, TriggerResponse};
+use crate::msgs::trajectory::JointTrajectory;
 use crate::trajectory::{Joints, ToleranceDefaults};
 use mcm_client::shm::{OpenError, RequestError, ShmClient};
 use mcm_shared::config::RobotConfig;
 use ros2_client::action::ActionServerQosPolicies;
+use ros2_client::action::GoalId;
 use ros2_client::dds::rustdds::DomainParticipantBuilder;
-use ros2_client::dds::{Context, ServiceMapping};
+use ros2_client::dds::{Context, Server, ServiceMapping, Subscription};
 use ros2_client::qos::{Durability, History, Reliability, WhenFull};
 use ros2_client::{
-    ActionTypeName, MessageTypeName, Name, NodeName, NodeOptions, QosProfile, ServiceTypeName,
+    ActionTypeName, MessageTypeName, Name, Node, NodeName, NodeOptions, QosProfile,
+    ServiceTypeName, Spinner,
 };
 use std::net::IpAddr;
 use std::path::PathBuf;
@@ -47,6 +54,8 @@ pub struct Ros2Options {
     pub service_mapping: ServiceMapping,
     /// The distribution whose peers the node serves (the feedback's layout).
     pub distro: RosDistro,
+    /// Whether the motion interface is offered.
+    pub access: Access,
 }
 
 /// Why the node stopped.
@@ -151,7 +160,9 @@ pub fn run(opts: Ros2Options, stop: &AtomicBool) -> Result<(), Ros2Error> {
     let mut node = context
         .new_node(
             NodeName::new(ns, &opts.node_name).map_err(name_err("node", &opts.node_name))?,
-            NodeOptions::new().enable_rosout(false),
+            NodeOptions::new()
+                .enable_rosout(false)
+                .start_parameter_services(opts.access.offers_motion()),
         )
         .map_err(|e| de(&e))?;
     let name = |base: &str| Name::new(ns, base).map_err(name_err("name", base));
@@ -201,84 +212,29 @@ pub fn run(opts: Ros2Options, stop: &AtomicBool) -> Result<(), Ros2Error> {
         )
         .map_err(|e| de(&e))?;
     let diagnostics_pub = node.create_publisher(&topic, None).map_err(|e| de(&e))?;
-    let sub_qos = QosProfile::publisher_default().history(History::KeepLast { depth: 10 });
-    let topic = node
-        .create_topic(
-            &name("joint_trajectory")?,
-            MessageTypeName::new("trajectory_msgs", "JointTrajectory"),
-            &sub_qos,
-        )
-        .map_err(|e| de(&e))?;
-    let trajectory_sub = node.create_subscription(&topic, None).map_err(|e| de(&e))?;
-
-    let service_qos = QosProfile::publisher_default()
-        .durability(Durability::Volatile)
-        .history(History::KeepLast { depth: 10 });
-    let mut servers = Vec::new();
-    for kind in ServiceKind::ALL {
-        let server = node
-            .create_server(
-                opts.service_mapping,
-                &name(kind.name())?,
-                &ServiceTypeName::new("std_srvs", "Trigger"),
-                service_qos.clone(),
-                service_qos.clone(),
-            )
-            .map_err(|e| de(&e))?;
-        servers.push((kind, server));
-    }
-
-    let action_qos = action_qos();
-    let action_server = action::Server::new(
-        node.create_action_server(
-            opts.service_mapping,
-            &name("follow_joint_trajectory")?,
-            &ActionTypeName::new("control_msgs", "FollowJointTrajectory"),
-            action_qos,
-        )
-        .map_err(|e| de(&e))?,
-    );
+    let motion = match opts.access {
+        Access::Motion => Some(MotionEntities::create(&mut node, &opts, &name)?),
+        Access::ReadOnly => None,
+    };
     let spinner = node.spinner().map_err(|e| de(&e))?;
-
-    let distro = opts.distro;
-    let (to_arm, from_action) = std::sync::mpsc::channel::<ToArm<_>>();
-    let (to_action, from_arm) = futures::channel::mpsc::unbounded();
-    std::thread::Builder::new()
-        .name("mcm-ros2-action".into())
-        .spawn(move || {
-            futures::executor::block_on(async move {
-                let spin = spinner.spin();
-                futures::pin_mut!(spin);
-                let serve = action::serve(action_server, distro, to_arm, from_arm);
-                futures::pin_mut!(serve);
-                futures::future::select(spin, serve).await;
-            })
-        })
-        .map_err(Ros2Error::Thread)?;
-
     let joints = Joints::from_config(&opts.config, &opts.joint_prefix)
         .map_err(|e| Ros2Error::Config(e.to_string()))?;
     let names = joints.names().to_vec();
-    let driver = Driver::new(
-        DriverOptions {
-            dt,
-            lead_s: opts.lead_s,
-            feedback_every: ((0.02 / dt).round() as u64).max(1),
-            tolerances: ToleranceDefaults::default(),
-        },
-        joints,
-    );
+    let motion = match motion {
+        Some(entities) => Some(entities.start(spinner, &opts, joints, dt)?),
+        None => {
+            spawn_spinner_alone(spinner)?;
+            None
+        }
+    };
+    eprintln!("{}", opts.access.start_line());
     let bus = mcm_shared::busload::BusLoad::of_config(&opts.config);
     let arm = Arm {
-        joint_states: JointStates::new(names.clone(), &opts.config),
+        joint_states: JointStates::new(names, &opts.config),
         client,
-        driver,
         joint_state_pub,
         diagnostics_pub,
-        services: Services { servers },
-        trajectory_sub,
-        from_action,
-        to_action,
+        motion,
         hardware_id: format!(
             "{} (MCM instance {})",
             opts.config.robot.name, opts.instance
@@ -300,4 +256,119 @@ pub fn run(opts: Ros2Options, stop: &AtomicBool) -> Result<(), Ros2Error> {
     arm.run(stop)?;
     drop(node);
     Ok(())
+}
+
+/// The motion interface's DDS entities, made before the node's spinner (which announces them).
+struct MotionEntities {
+    trajectory_sub: Subscription<JointTrajectory>,
+    servers: Vec<(ServiceKind, Server<TriggerRequest, TriggerResponse>)>,
+    action_server: action::Server,
+}
+
+impl MotionEntities {
+    fn create(
+        node: &mut Node,
+        opts: &Ros2Options,
+        name: &dyn Fn(&str) -> Result<Name, Ros2Error>,
+    ) -> Result<MotionEntities, Ros2Error> {
+        let de = dds_err(opts.domain_id);
+        let sub_qos = QosProfile::publisher_default().history(History::KeepLast { depth: 10 });
+        let topic = node
+            .create_topic(
+                &name("joint_trajectory")?,
+                MessageTypeName::new("trajectory_msgs", "JointTrajectory"),
+                &sub_qos,
+            )
+            .map_err(|e| de(&e))?;
+        let trajectory_sub = node.create_subscription(&topic, None).map_err(|e| de(&e))?;
+
+        let service_qos = QosProfile::publisher_default()
+            .durability(Durability::Volatile)
+            .history(History::KeepLast { depth: 10 });
+        let mut servers = Vec::new();
+        for kind in ServiceKind::ALL {
+            let server = node
+                .create_server(
+                    opts.service_mapping,
+                    &name(kind.name())?,
+                    &ServiceTypeName::new("std_srvs", "Trigger"),
+                    service_qos.clone(),
+                    service_qos.clone(),
+                )
+                .map_err(|e| de(&e))?;
+            servers.push((kind, server));
+        }
+
+        let action_server = action::Server::new(
+            node.create_action_server(
+                opts.service_mapping,
+                &name("follow_joint_trajectory")?,
+                &ActionTypeName::new("control_msgs", "FollowJointTrajectory"),
+                action_qos(),
+            )
+            .map_err(|e| de(&e))?,
+        );
+        Ok(MotionEntities {
+            trajectory_sub,
+            servers,
+            action_server,
+        })
+    }
+
+    /// Start the action server's thread (with the spinner) and make the arm loop's part.
+    fn start(
+        self,
+        spinner: Spinner,
+        opts: &Ros2Options,
+        joints: Joints,
+        dt: f64,
+    ) -> Result<Motion<GoalId>, Ros2Error> {
+        let distro = opts.distro;
+        let action_server = self.action_server;
+        let (to_arm, from_action) = std::sync::mpsc::channel::<ToArm<_>>();
+        let (to_action, from_arm) = futures::channel::mpsc::unbounded::<Event<_>>();
+        std::thread::Builder::new()
+            .name("mcm-ros2-action".into())
+            .spawn(move || {
+                futures::executor::block_on(async move {
+                    let spin = spinner.spin();
+                    futures::pin_mut!(spin);
+                    let serve = action::serve(action_server, distro, to_arm, from_arm);
+                    futures::pin_mut!(serve);
+                    futures::future::select(spin, serve).await;
+                })
+            })
+            .map_err(Ros2Error::Thread)?;
+        let driver = Driver::new(
+            DriverOptions {
+                dt,
+                lead_s: opts.lead_s,
+                feedback_every: ((0.02 / dt).round() as u64).max(1),
+                tolerances: ToleranceDefaults::default(),
+            },
+            joints,
+        );
+        Ok(Motion::new(
+            driver,
+            Services {
+                servers: self.servers,
+            },
+            self.trajectory_sub,
+            from_action,
+            to_action,
+        ))
+    }
+}
+
+/// A read-only node's spinner (discovery, the ROS graph) on a thread of its own.
+fn spawn_spinner_alone(spinner: Spinner) -> Result<(), Ros2Error> {
+    std::thread::Builder::new()
+        .name("mcm-ros2-spin".into())
+        .spawn(move || {
+            futures::executor::block_on(async move {
+                let _ = spinner.spin().await;
+            })
+        })
+        .map(drop)
+        .map_err(Ros2Error::Thread)
 }

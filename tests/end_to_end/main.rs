@@ -51,6 +51,7 @@ mod python_layout;
 mod release;
 mod replan;
 mod ros2;
+mod ros2_read_only;
 mod ros2_venv;
 mod safety;
 mod sd_notify;

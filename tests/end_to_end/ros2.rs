@@ -26,7 +26,8 @@ fn run_checks(ns: &Netns, py: &Path, domain: u32, args: &[&str]) -> Vec<String> 
     lines.into_iter().filter(|l| l.starts_with("ok ")).collect()
 }
 
-fn expect_checks(lines: &[String], names: &[&str]) {
+/// Every check of `names` reported `ok NAME ...` among a script's `lines`.
+pub(crate) fn expect_checks(lines: &[String], names: &[&str]) {
     for n in names {
         assert!(
             lines.iter().any(|l| l.starts_with(&format!("ok {n}"))),

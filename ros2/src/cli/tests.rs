@@ -25,3 +25,13 @@ fn an_unknown_ros_distro_is_refused_naming_it_and_the_allowed_ones() {
         "{e}"
     );
 }
+
+#[test]
+fn ros2_read_only_is_a_flag_off_by_default() {
+    assert!(!parse(&[]).expect("parses").read_only);
+    assert!(parse(&["--ros2-read-only"]).expect("parses").read_only);
+    let e = parse(&["--ros2-read-only=yes"])
+        .expect_err("a flag takes no value")
+        .to_string();
+    assert!(e.contains("--ros2-read-only"), "{e}");
+}
