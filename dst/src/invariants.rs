@@ -711,6 +711,7 @@ impl Checker {
                                     k,
                                     CommandKind::SetTorques
                                         | CommandKind::SetVelocities
+                                        | CommandKind::SetCartesianVelocity
                                         | CommandKind::PvtPoints
                                         | CommandKind::MoveAxis
                                         | CommandKind::MoveAll

@@ -22,8 +22,9 @@ use mcm_dst::rng::Rng;
 use mcm_dst::run::config;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTool,
-    SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
+    Axis, Calibrate, CartesianFrame, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint,
+    Request, SetCartesianVelocity, SetTool, SetTorques, SetVelocities, SimCommand, TorqueControl,
+    VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
@@ -189,6 +190,12 @@ enum Cmd {
         center_of_mass: [Num; 3],
         moments: [Num; 3],
     },
+    /// `set_cartesian_velocity`: the linear and angular velocity, in the tool frame or not.
+    SetCartesianVelocity {
+        linear: [Num; 3],
+        angular: [Num; 3],
+        tool: bool,
+    },
     /// A sample of any kind number, flags and arguments (most do not decode).
     Raw {
         kind: u8,
@@ -264,6 +271,11 @@ impl Cmd {
                 mass: u.arbitrary()?,
                 center_of_mass: u.arbitrary()?,
                 moments: u.arbitrary()?,
+            },
+            CommandKind::SetCartesianVelocity => Cmd::SetCartesianVelocity {
+                linear: u.arbitrary()?,
+                angular: u.arbitrary()?,
+                tool: u.arbitrary()?,
             },
         })
     }
@@ -432,6 +444,19 @@ impl Cmd {
                 let tool = Tool::new(tcp, m, near(center_of_mass), inertia).unwrap_or(Tool::NONE);
                 Request::SetTool(SetTool { tool })
             }
+            Cmd::SetCartesianVelocity {
+                linear,
+                angular,
+                tool,
+            } => Request::SetCartesianVelocity(SetCartesianVelocity {
+                linear_m_s: linear.map(|x| x.within(-1.0, 1.0)),
+                angular_deg_s: angular.map(|x| x.within(-180.0, 180.0)),
+                frame: if *tool {
+                    CartesianFrame::Tool
+                } else {
+                    CartesianFrame::Base
+                },
+            }),
             Cmd::Raw { kind, flags, args } => return raw(*kind, *flags, args),
         };
         request.encode()

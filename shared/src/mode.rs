@@ -115,6 +115,8 @@ wire_enum!(
         SetVelocities = 17 => "set_velocities",
         /// The tool the arm carries (TCP and load), from the next cycle.
         SetTool = 18 => "set_tool",
+        /// The TCP's velocity (linear and angular, base or tool frame) in VELOCITY_CONTROL.
+        SetCartesianVelocity = 19 => "set_cartesian_velocity",
     }
 );
 
@@ -163,6 +165,7 @@ impl CommandKind {
                 | CommandKind::VelocityControl
                 | CommandKind::SetVelocities
                 | CommandKind::SetTool
+                | CommandKind::SetCartesianVelocity
         )
     }
 }
