@@ -25,6 +25,7 @@ mod argument_texts;
 mod capi_realtime;
 mod cartesian;
 mod cartesian_state;
+mod cartesian_velocity;
 mod command_path;
 mod cross_protocol;
 mod deb_package;
