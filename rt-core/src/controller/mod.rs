@@ -37,7 +37,7 @@ mod shutdown_sequence;
 mod state;
 mod tool;
 mod trips;
-mod velocity;
+pub mod velocity;
 mod view;
 
 use crate::calibration::AxisSettings;
