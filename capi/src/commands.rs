@@ -206,6 +206,21 @@ pub unsafe extern "C" fn mcm_tcp_set_velocities(client: *mut mcm_tcp_client_t, v
     }
 }
 
+/// Set the TCP's velocity in VELOCITY_CONTROL without waiting for the answer: `linear` three
+/// values [m/s], `angular` three values [deg/s], in the axes of the base frame (`frame` 0) or
+/// of the TCP's own (`frame` 1).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn mcm_tcp_set_cartesian_velocity(client: *mut mcm_tcp_client_t, linear: *const f64, angular: *const f64, frame: u32) -> mcm_error_t {
+    const F: &str = "mcm_tcp_set_cartesian_velocity";
+    // SAFETY: the header's contract.
+    unsafe {
+        call(F, client, |h| {
+            h.client.set_cartesian_velocity(convert::three(linear, F, "linear")?, convert::three(angular, F, "angular")?, convert::frame(frame, F)?)?;
+            Ok(())
+        })
+    }
+}
+
 /// Move axis `axis` (1 to 6) to `target_deg` at `velocity_factor` (0.001 to 1) of its limits;
 /// returns as the motion starts (PVT mode).
 #[unsafe(no_mangle)]
@@ -567,6 +582,22 @@ pub unsafe extern "C" fn mcm_shm_set_velocities(client: *mut mcm_shm_client_t, v
     unsafe {
         call(F, client, |h| {
             h.client.set_velocities(six(velocities, F, "velocities")?)?;
+            Ok(())
+        })
+    }
+}
+
+/// Set the TCP's velocity in VELOCITY_CONTROL without waiting for the answer: `linear` three
+/// values [m/s], `angular` three values [deg/s], in the axes of the base frame (`frame` 0) or
+/// of the TCP's own (`frame` 1). Real-time safe (one small allocation inside iceoryx2's
+/// publisher).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn mcm_shm_set_cartesian_velocity(client: *mut mcm_shm_client_t, linear: *const f64, angular: *const f64, frame: u32) -> mcm_error_t {
+    const F: &str = "mcm_shm_set_cartesian_velocity";
+    // SAFETY: the header's contract.
+    unsafe {
+        call(F, client, |h| {
+            h.client.set_cartesian_velocity(convert::cartesian_velocity(linear, angular, frame, F)?)?;
             Ok(())
         })
     }

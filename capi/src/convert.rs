@@ -10,7 +10,9 @@ use crate::types::{
     MCM_MAX_IK_SOLUTIONS, MCM_NUM_AXES, mcm_calibrate_t, mcm_control_options_t, mcm_ik_solutions_t,
     mcm_pose_t, mcm_pvt_point_t, mcm_tool_t,
 };
-use mcm_client::mcm_shared::command::{Calibrate, TorqueControl, VelocityControl};
+use mcm_client::mcm_shared::command::{
+    Calibrate, CartesianFrame, SetCartesianVelocity, TorqueControl, VelocityControl,
+};
 use mcm_client::mcm_shared::tool::{Tcp, Tool};
 use mcm_client::tcp::{InverseKinematicsResult, Pose, TorqueOptions, VelocityOptions};
 use mcm_client::{Axis, Direction, PvtPoint, Which};
@@ -66,12 +68,34 @@ pub(crate) unsafe fn six(
     function: &str,
     name: &str,
 ) -> Result<[f64; MCM_NUM_AXES], Fail> {
+    // SAFETY: the caller's promise.
+    unsafe { numbers(p, function, name) }
+}
+
+/// Three values from a pointer to at least three doubles (a Cartesian vector).
+///
+/// # Safety
+/// `p` is NULL or points to three readable doubles.
+pub(crate) unsafe fn three(p: *const f64, function: &str, name: &str) -> Result<[f64; 3], Fail> {
+    // SAFETY: the caller's promise.
+    unsafe { numbers(p, function, name) }
+}
+
+/// `N` values from a pointer to at least `N` doubles.
+///
+/// # Safety
+/// `p` is NULL or points to `N` readable doubles.
+unsafe fn numbers<const N: usize>(
+    p: *const f64,
+    function: &str,
+    name: &str,
+) -> Result<[f64; N], Fail> {
     if p.is_null() {
         return Err(Fail::null(function, name));
     }
-    let mut v = [0.0; MCM_NUM_AXES];
-    // SAFETY: six readable doubles by the caller's promise; `v` holds six.
-    unsafe { std::ptr::copy_nonoverlapping(p, v.as_mut_ptr(), MCM_NUM_AXES) };
+    let mut v = [0.0; N];
+    // SAFETY: N readable doubles by the caller's promise; `v` holds N.
+    unsafe { std::ptr::copy_nonoverlapping(p, v.as_mut_ptr(), N) };
     Ok(v)
 }
 
@@ -123,6 +147,40 @@ pub(crate) fn ik_solutions(
     };
     out.solutions[..n].copy_from_slice(&r.solutions);
     Ok(out)
+}
+
+/// The frame of a Cartesian velocity: 0 the base frame, 1 the tool's.
+pub(crate) fn frame(number: u32, function: &str) -> Result<CartesianFrame, Fail> {
+    match number {
+        0 => Ok(CartesianFrame::Base),
+        1 => Ok(CartesianFrame::Tool),
+        _ => Err(Fail::new(
+            MCM_ERR_ARGUMENT,
+            format!(
+                "{function}: argument `frame` = {number} is not allowed; expected 0 (base) or 1 \
+                 (tool)"
+            ),
+        )),
+    }
+}
+
+/// `set_cartesian_velocity`'s arguments (their ranges are the MCM's to check).
+///
+/// # Safety
+/// `linear` and `angular` are NULL or point to three readable doubles each.
+pub(crate) unsafe fn cartesian_velocity(
+    linear: *const f64,
+    angular: *const f64,
+    frame_number: u32,
+    function: &str,
+) -> Result<SetCartesianVelocity, Fail> {
+    Ok(SetCartesianVelocity {
+        // SAFETY: the caller's promise.
+        linear_m_s: unsafe { three(linear, function, "linear") }?,
+        // SAFETY: the caller's promise.
+        angular_deg_s: unsafe { three(angular, function, "angular") }?,
+        frame: frame(frame_number, function)?,
+    })
 }
 
 /// An axis number 1 to 6.

@@ -2,7 +2,8 @@
 //! [`requests::Sender`] gives the clients (all but `sim`, the fault injector's,
 //! [`crate::faults`], and `client_gone`, sent when a client disconnects, then a new connection
 //! with a new id), valid and invalid, at its own random cadence, taking and losing control,
-//! streaming `pvt_points`, `set_torques` and `set_velocities`, and sending `hold` at random
+//! streaming `pvt_points`, `set_torques`, `set_velocities` and `set_cartesian_velocity`, and
+//! sending `hold` at random
 //! moments; besides, garbage samples of any kind number from 0 to two beyond the last known
 //! (those two kinds included), with wild arguments.
 //!
@@ -15,8 +16,9 @@ use crate::rng::Rng;
 use crate::stamp::Stamp;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTorques,
-    SetVelocities, TorqueControl, VelocityControl, Which,
+    Axis, Calibrate, CartesianFrame, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint,
+    Request, SetCartesianVelocity, SetTorques, SetVelocities, TorqueControl, VelocityControl,
+    Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
@@ -177,6 +179,14 @@ impl Client {
             (Mode::TorqueControl, _) => Request::SetTorques(SetTorques {
                 torques_nm: core::array::from_fn(|_| rng.range(-3.0, 3.0)),
             }),
+            // The TCP's velocity now and then, in either frame.
+            (Mode::VelocityControl, _) if rng.chance(0.3) => {
+                Request::SetCartesianVelocity(SetCartesianVelocity {
+                    linear_m_s: core::array::from_fn(|_| rng.range(-0.1, 0.1)),
+                    angular_deg_s: core::array::from_fn(|_| rng.range(-20.0, 20.0)),
+                    frame: rng.pick(&CartesianFrame::ALL),
+                })
+            }
             (Mode::VelocityControl, _) => Request::SetVelocities(SetVelocities {
                 velocities_deg_s: core::array::from_fn(|i| {
                     rng.range(-0.5, 0.5) * lim.max_velocity[i]

@@ -719,6 +719,7 @@ impl Checker {
                                     k,
                                     CommandKind::SetTorques
                                         | CommandKind::SetVelocities
+                                        | CommandKind::SetCartesianVelocity
                                         | CommandKind::PvtPoints
                                         | CommandKind::MoveAxis
                                         | CommandKind::MoveAll

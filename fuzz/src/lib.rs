@@ -22,8 +22,9 @@ use mcm_dst::rng::Rng;
 use mcm_dst::run::config;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint,
-    Request, SetTool, SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
+    Axis, Calibrate, CartesianFrame, Direction, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtChunk,
+    PvtPoint, Request, SetCartesianVelocity, SetTool, SetTorques, SetVelocities, SimCommand,
+    TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
@@ -193,6 +194,12 @@ enum Cmd {
     IdentifyPayload {
         apply: bool,
     },
+    /// `set_cartesian_velocity`: the linear and angular velocity, in the tool frame or not.
+    SetCartesianVelocity {
+        linear: [Num; 3],
+        angular: [Num; 3],
+        tool: bool,
+    },
     /// A sample of any kind number, flags and arguments (most do not decode).
     Raw {
         kind: u8,
@@ -271,6 +278,11 @@ impl Cmd {
             },
             CommandKind::IdentifyPayload => Cmd::IdentifyPayload {
                 apply: u.arbitrary()?,
+            },
+            CommandKind::SetCartesianVelocity => Cmd::SetCartesianVelocity {
+                linear: u.arbitrary()?,
+                angular: u.arbitrary()?,
+                tool: u.arbitrary()?,
             },
         })
     }
@@ -442,6 +454,19 @@ impl Cmd {
             Cmd::IdentifyPayload { apply } => {
                 Request::IdentifyPayload(IdentifyPayload { apply: *apply })
             }
+            Cmd::SetCartesianVelocity {
+                linear,
+                angular,
+                tool,
+            } => Request::SetCartesianVelocity(SetCartesianVelocity {
+                linear_m_s: linear.map(|x| x.within(-1.0, 1.0)),
+                angular_deg_s: angular.map(|x| x.within(-180.0, 180.0)),
+                frame: if *tool {
+                    CartesianFrame::Tool
+                } else {
+                    CartesianFrame::Base
+                },
+            }),
             Cmd::Raw { kind, flags, args } => return raw(*kind, *flags, args),
         };
         request.encode()

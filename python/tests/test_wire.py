@@ -62,6 +62,22 @@ class Encode(unittest.TestCase):
         with self.assertRaises(ValueError):
             wire.set_velocities([float("nan")] + [0] * 5)
 
+    def test_set_cartesian_velocity_as_the_contract_lays_it_out(self) -> None:
+        # Request::encode: linear in args[0..3], angular in args[3..6], the frame in args[6]
+        # (0 base, 1 tool), no flags.
+        s = wire.set_cartesian_velocity([0.05, 0, -0.01], [0, 10, 0], "tool")
+        self.assertEqual(
+            (s.kind, s.flags, list(s.args[:8])),
+            (codes.KINDS["set_cartesian_velocity"], 0, [0.05, 0, -0.01, 0, 10.0, 0, 1.0, 0.0]),
+        )
+        self.assertEqual(wire.set_cartesian_velocity([0, 0, 0], [0, 0, 0]).args[6], 0.0)
+        with self.assertRaises(ValueError):
+            wire.set_cartesian_velocity([0, 0, 0], [0, 0, 0], "world")
+        with self.assertRaises(ValueError):
+            wire.set_cartesian_velocity([0, 0], [0, 0, 0])
+        with self.assertRaises(ValueError):
+            wire.set_cartesian_velocity([0, 0, float("inf")], [0, 0, 0])
+
     def test_bad_values_are_refused_before_sending(self) -> None:
         with self.assertRaises(ValueError):
             wire.move_axis(7, 0)

@@ -14,6 +14,15 @@
 //! - `cartesian/compose`: the TCP's state the cycle adds to the sample once calibrated
 //!   ([`Cartesian::compose`]: forward kinematics, Jacobian times the axis velocities, the
 //!   conversions), for a moving configuration of the P-Rob2.
+//! - `cycle/run_velocity_joint_sim`, `cycle/run_velocity_cartesian_sim`: one whole cycle in
+//!   VELOCITY_CONTROL, calibrated, from a pose away from the singularities, the arm moving:
+//!   under `set_velocities`, and under `set_cartesian_velocity` (the TCP's velocity through
+//!   the Jacobian every cycle, `controller/velocity/twist.rs`); both ramped by the same ramp,
+//!   the direction reversed every 400 cycles (2 s) so that the arm keeps moving.
+//! - `cartesian/velocity_target`: the work the cycle adds under `set_cartesian_velocity` alone
+//!   (`controller::velocity::twist::joint_target`: the twist in the tool frame turned into the
+//!   base frame, the Jacobian, the singularity measures twice, the solve, the shares of the
+//!   limits), at the configuration of the VELOCITY_CONTROL benchmarks.
 //! - `canopen/master_hold`: the CANopen master alone, `handle_frame` for one cycle's received
 //!   frames plus `cycle` (RPDOs, SYNC), replaying frames recorded from the simulated drives in
 //!   HOLD.
@@ -25,7 +34,16 @@ use mcm_bus::{Bus, Frame};
 use mcm_dynamics::ArmModel;
 use mcm_rt_core::canopen::{DriveRequest, FrameBuf, Master};
 use mcm_rt_core::cartesian::Cartesian;
+use mcm_rt_core::controller::velocity::ramp::RampLimits;
+use mcm_rt_core::controller::velocity::ramp_limits;
+use mcm_rt_core::controller::velocity::twist::{Twist, joint_target};
+use mcm_rt_core::params::JointParams;
+use mcm_rt_core::safety::SafetyParams;
 use mcm_rt_core::sim_edge::SimCycle;
+use mcm_shared::command::{
+    Calibrate, CartesianFrame, MoveAll, Pvt, Request, SetCartesianVelocity, SetVelocities,
+    VelocityControl,
+};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::sample::{CommandSample, STATE_ALL_CALIBRATED, STATE_CARTESIAN, StateSample};
@@ -69,6 +87,115 @@ fn cycle_in_hold(c: &mut Criterion) {
         })
     });
     assert_eq!(cycle.controller().mode(), Mode::Hold, "held throughout");
+}
+
+/// Cycles between two reversals of the velocity in the VELOCITY_CONTROL benchmarks.
+const REVERSE_CYCLES: u64 = 400;
+
+/// The simulated robot stepped cycle by cycle, with the commands of one client.
+struct Driver {
+    cycle: SimCycle,
+    k: u64,
+    period: u64,
+    id: u64,
+}
+
+impl Driver {
+    /// One cycle, with `req` if given.
+    fn send(&mut self, req: Option<Request>) {
+        let mut s = req.map(|r| r.encode());
+        if let Some(s) = s.as_mut() {
+            self.id += 1;
+            (s.client_id, s.request_id) = (1, self.id);
+        }
+        self.cycle.run(self.k * self.period, s.as_slice());
+        self.k += 1;
+    }
+
+    /// Cycles until `done`.
+    fn until(&mut self, what: &str, done: impl Fn(&SimCycle) -> bool) {
+        let limit = self.k + 40 * BOOT_CYCLES;
+        while !done(&self.cycle) {
+            assert!(self.k < limit, "{what} not reached");
+            self.send(None);
+        }
+    }
+}
+
+/// A calibrated simulated robot in VELOCITY_CONTROL (no timeout) at rest at a pose away from
+/// the singularities.
+fn in_velocity_control(cfg: &RobotConfig) -> Driver {
+    let mut d = Driver {
+        cycle: SimCycle::new(cfg, SimBus::new(cfg)).unwrap(),
+        k: 0,
+        period: cfg.cycle_period_ns(),
+        id: 0,
+    };
+    d.until("drives online", |c| {
+        c.controller().feedback().iter().all(|f| f.online)
+    });
+    d.send(Some(Request::Calibrate(Calibrate::default())));
+    d.until("calibrated in HOLD", |c| {
+        c.controller().mode() == Mode::Hold && c.state().flags & STATE_ALL_CALIBRATED != 0
+    });
+    d.send(Some(Request::Pvt(Pvt { dt_s: 0.01 })));
+    let pose = [17.0, 29.0, 57.0, 23.0, 46.0, -17.0];
+    d.send(Some(Request::MoveAll(MoveAll {
+        targets_deg: pose,
+        velocity_factor: 0.5,
+    })));
+    d.until("at the pose", |c| {
+        let s = c.state();
+        (0..6).all(|i| (s.sim_true_position[i] - pose[i]).abs() < 0.05)
+            && s.sim_true_velocity.iter().all(|v| v.abs() < 0.05)
+    });
+    d.send(Some(Request::Hold));
+    d.send(Some(Request::VelocityControl(VelocityControl {
+        timeout_s: None,
+    })));
+    assert_eq!(d.cycle.controller().mode(), Mode::VelocityControl);
+    d
+}
+
+/// The VELOCITY_CONTROL benchmark `name`: `request(sign)` every [`REVERSE_CYCLES`] cycles.
+fn velocity_bench(c: &mut Criterion, name: &str, request: impl Fn(f64) -> Request) {
+    let mut d = in_velocity_control(&RobotConfig::prob2_default());
+    let start = d.k;
+    c.bench_function(name, |b| {
+        b.iter(|| {
+            let n = d.k - start;
+            let req = n.is_multiple_of(REVERSE_CYCLES).then(|| {
+                let sign = if (n / REVERSE_CYCLES).is_multiple_of(2) {
+                    1.0
+                } else {
+                    -1.0
+                };
+                request(sign)
+            });
+            d.send(black_box(req));
+        })
+    });
+    assert_eq!(
+        d.cycle.controller().mode(),
+        Mode::VelocityControl,
+        "{name}: no trip, no timeout"
+    );
+}
+
+fn cycle_in_velocity_control(c: &mut Criterion) {
+    // About the same joint speeds in both: 0.05 m/s of the TCP at this pose is a few deg/s.
+    velocity_bench(c, "cycle/run_velocity_joint_sim", |sign| {
+        Request::SetVelocities(SetVelocities {
+            velocities_deg_s: [3.0 * sign, -3.0 * sign, 4.0 * sign, 0.0, 2.0 * sign, 0.0],
+        })
+    });
+    velocity_bench(c, "cycle/run_velocity_cartesian_sim", |sign| {
+        Request::SetCartesianVelocity(SetCartesianVelocity {
+            linear_m_s: [0.05 * sign, 0.0, 0.0],
+            angular_deg_s: [0.0; 3],
+            frame: CartesianFrame::Base,
+        })
+    });
 }
 
 fn dynamics(c: &mut Criterion) {
@@ -172,6 +299,22 @@ fn cartesian(c: &mut Criterion) {
         b.iter(|| cartesian.compose(black_box(&mut s)))
     });
     assert_ne!(s.flags & STATE_CARTESIAN, 0, "composed");
+    let cfg = RobotConfig::prob2_default();
+    let (p, safety) = (
+        JointParams::from_config(&cfg),
+        SafetyParams::from_config(&cfg),
+    );
+    let limits: [RampLimits; 6] = core::array::from_fn(|i| ramp_limits(&p, &safety, i));
+    let q = [17.0f64, 29.0, 57.0, 23.0, 46.0, -17.0].map(f64::to_radians);
+    let t = Twist {
+        linear: [0.05, -0.02, 0.01],
+        angular: [0.0, 0.1, -0.1],
+        frame: CartesianFrame::Tool,
+    };
+    let kin = cartesian.kinematics();
+    c.bench_function("cartesian/velocity_target", |b| {
+        b.iter(|| joint_target(kin, black_box(&q), black_box(&t), &limits))
+    });
 }
 
 criterion_group! {
@@ -179,6 +322,6 @@ criterion_group! {
     config = Criterion::default()
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(3));
-    targets = cycle_in_hold, dynamics, cartesian, master_alone
+    targets = cycle_in_hold, cycle_in_velocity_control, dynamics, cartesian, master_alone
 }
 criterion_main!(benches);

@@ -63,9 +63,9 @@ impl Cartesian {
     }
 
     /// The one place the core's TCP is set: make the active tool's `tcp` the TCP of every
-    /// following sample, if it is not already (the cycle calls this with the controller's
-    /// tool before each sample is composed, so a sample's `cartesian` is computed with the
-    /// tool the same sample reports). Refused, the
+    /// following sample, if it is not already (the controller calls this when `set_tool`
+    /// changes its tool, in the cycle the tool changes, so a sample's `cartesian` is computed
+    /// with the tool the same sample reports). Refused, the
     /// TCP unchanged, when not a transform; the controller's tools are checked when they are
     /// taken (`mcm_shared::tool::Tool::new`), so it is not. Allocation-free.
     pub fn follow_tool(&mut self, tcp: &Tcp) -> Result<(), TcpError> {

@@ -51,25 +51,22 @@ pub struct Cycle<B: Bus> {
     bus_errors: u64,
     /// The published state, composed after each step (kept for its reply ring).
     state: StateSample,
-    /// The kinematics the state's TCP is composed with.
-    cartesian: Cartesian,
 }
 
 impl<B: Bus> Cycle<B> {
-    /// Build the CANopen master (which checks the bus load), the controller over `bus` and the
-    /// kinematics of the state's TCP (which refuse an arm they cannot handle).
+    /// Build the CANopen master (which checks the bus load), the kinematics of the TCP (which
+    /// refuse an arm they cannot handle) and the controller over `bus` with both.
     pub fn new(cfg: &RobotConfig, bus: B) -> Result<Self, CycleSetupError> {
         let master = Master::new(cfg)?;
         let cartesian = Cartesian::from_config(cfg)?;
         Ok(Self {
-            controller: Controller::new(cfg, master),
+            controller: Controller::new(cfg, master, cartesian),
             bus,
             rx: [Frame::default(); RX_PER_CYCLE],
             n_rx: 0,
             tx: FrameBuf::new(),
             bus_errors: 0,
             state: StateSample::default(),
-            cartesian,
         })
     }
 
@@ -89,13 +86,13 @@ impl<B: Bus> Cycle<B> {
     }
 
     /// The controller's view of the last step, the state sample to compose from it and the
-    /// kinematics of its TCP, which follow the controller's active tool (`set_tool`).
+    /// kinematics of its TCP, the controller's, which follow its active tool (`set_tool`).
     pub fn publish_parts(&mut self) -> (&CycleView, &mut StateSample, &Cartesian) {
-        // A tool the controller holds was checked when it was taken, so its TCP is a transform
-        // and never refused here; were it refused, the sample's `cartesian` would not be the
-        // kinematics of the `tool` it reports, which the simulation tester checks every cycle.
-        let _ = self.cartesian.follow_tool(&self.controller.tool().tcp);
-        (self.controller.view(), &mut self.state, &self.cartesian)
+        (
+            self.controller.view(),
+            &mut self.state,
+            self.controller.cartesian(),
+        )
     }
 
     pub fn bus_mut(&mut self) -> &mut B {

@@ -458,6 +458,8 @@ fn encoded_commands() -> Vec<String> {
         r#"{"command":"velocity_control","arguments":{"timeout":0.5}}"#,
         r#"{"command":"velocity_control","arguments":{"timeout":-1}}"#,
         r#"{"command":"set_velocities","arguments":{"velocities":[10,0,0,0,0,-5.5]}}"#,
+        r#"{"command":"set_cartesian_velocity","arguments":{"linear":[0.05,0,-0.01],"angular":[0,10,0]}}"#,
+        r#"{"command":"set_cartesian_velocity","arguments":{"linear":[0,0,0.02],"angular":[-5,0,0],"frame":"tool"}}"#,
         r#"{"command":"set_tool","arguments":{"tcp":{"position":[0,0.01,0.15],"orientation":[0.5,-0.5,0.5,0.5]},"mass":2,"center_of_mass":[0,0,0.06]}}"#,
         r#"{"command":"set_tool","arguments":{"tcp":{"position":[0,0,0],"orientation":[0,0,0,1]},"mass":0.5,"center_of_mass":[0.01,0,0],"inertia":[0.01,0.02,0.025,0.001,0,-0.002]}}"#,
         r#"{"command":"identify_payload","arguments":{"apply":true}}"#,

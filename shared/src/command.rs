@@ -229,6 +229,62 @@ pub struct SetVelocities {
     pub velocities_deg_s: [f64; NUM_AXES],
 }
 
+/// The frame a Cartesian velocity's axes are those of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum CartesianFrame {
+    /// The base frame (DH frame 0, z up along axis 1).
+    #[default]
+    Base,
+    /// The TCP frame as it is in each cycle (the active tool's TCP).
+    Tool,
+}
+
+impl CartesianFrame {
+    /// Every frame, the default first.
+    pub const ALL: [CartesianFrame; 2] = [CartesianFrame::Base, CartesianFrame::Tool];
+
+    /// The protocol's name: `base` or `tool`.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            CartesianFrame::Base => "base",
+            CartesianFrame::Tool => "tool",
+        }
+    }
+
+    /// The frame of the protocol's name.
+    pub fn from_name(name: &str) -> Option<CartesianFrame> {
+        Self::ALL.into_iter().find(|f| f.as_str() == name)
+    }
+
+    /// The value the frame travels as in a sample.
+    pub const fn code(self) -> f64 {
+        match self {
+            CartesianFrame::Base => 0.0,
+            CartesianFrame::Tool => 1.0,
+        }
+    }
+
+    fn from_code(x: f64) -> Option<CartesianFrame> {
+        Self::ALL.into_iter().find(|f| f.code() == x)
+    }
+}
+
+/// `set_cartesian_velocity`: the TCP's velocity in VELOCITY_CONTROL, each component within its
+/// fixed range ([`Arg::Linear`], [`Arg::Angular`]: checked by [`Request::decode`] and the
+/// gateway's parser, with the same table).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SetCartesianVelocity {
+    /// The TCP origin's velocity [m/s], in `frame`'s axes.
+    pub linear_m_s: [f64; 3],
+    /// The TCP frame's angular velocity [deg/s], in `frame`'s axes.
+    pub angular_deg_s: [f64; 3],
+    pub frame: CartesianFrame,
+}
+
+/// Where a `set_cartesian_velocity` sample carries its linear velocity, its angular velocity
+/// and its frame.
+const TWIST_ARGS: [usize; 3] = [0, 3, 6];
+
 /// `set_tool`: the tool the arm carries from the next cycle (checked by [`Tool::new`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SetTool {
@@ -392,6 +448,7 @@ pub enum Request {
     SetVelocities(SetVelocities),
     SetTool(SetTool),
     IdentifyPayload(IdentifyPayload),
+    SetCartesianVelocity(SetCartesianVelocity),
 }
 
 /// What a value may be, in a [`DecodeError`].
@@ -474,12 +531,12 @@ impl Field {
         }
     }
 
-    /// The axis this field concerns, for array fields indexed by axis.
+    /// The axis this field concerns, for array fields indexed by axis (and the element of a
+    /// Cartesian vector, carried the same way: [`Arg::per_axis_array`]).
     pub fn axis(self) -> Option<Axis> {
         match self.name {
-            "target_positions" | "torques" | "external_torques" | "velocities" => {
-                self.index.and_then(|i| Axis::from_index(usize::from(i)))
-            }
+            "target_positions" | "torques" | "external_torques" | "velocities" | "linear"
+            | "angular" => self.index.and_then(|i| Axis::from_index(usize::from(i))),
             _ => None,
         }
     }
@@ -567,6 +624,15 @@ impl Decoder<'_> {
         Err(self.invalid(field, x, allowed))
     }
 
+    /// Three numbers from `args[at..]` of the fixed-range argument `arg` (`name[i]`).
+    fn ranged3(&self, arg: Arg, name: &'static str, at: usize) -> Result<[f64; 3], DecodeError> {
+        let mut v = [0.0; 3];
+        for (i, x) in v.iter_mut().enumerate() {
+            *x = self.ranged(arg, Field::at(name, i), self.s.args[at + i])?;
+        }
+        Ok(v)
+    }
+
     /// A tool that [`Tool::new`] refused, as the field, the value and what is allowed.
     fn tool(&self, e: ToolError) -> DecodeError {
         let f = e.field();
@@ -616,6 +682,7 @@ impl Request {
             Request::SetVelocities(_) => CommandKind::SetVelocities,
             Request::SetTool(_) => CommandKind::SetTool,
             Request::IdentifyPayload(_) => CommandKind::IdentifyPayload,
+            Request::SetCartesianVelocity(_) => CommandKind::SetCartesianVelocity,
         }
     }
 
@@ -682,6 +749,12 @@ impl Request {
                 if i.apply {
                     s.flags |= IDENTIFY_FLAG_APPLY;
                 }
+            }
+            Request::SetCartesianVelocity(v) => {
+                let [l, w, f] = TWIST_ARGS;
+                a[l..l + 3].copy_from_slice(&v.linear_m_s);
+                a[w..w + 3].copy_from_slice(&v.angular_deg_s);
+                a[f] = v.frame.code();
             }
             Request::Sim(c) => {
                 let mut set = |bit: usize, value: f64| {
@@ -802,6 +875,22 @@ impl Request {
                 d.flags(IDENTIFY_FLAG_APPLY)?;
                 Request::IdentifyPayload(IdentifyPayload {
                     apply: s.flags & IDENTIFY_FLAG_APPLY != 0,
+                })
+            }
+            CommandKind::SetCartesianVelocity => {
+                d.flags(0)?;
+                let [l, w, f] = TWIST_ARGS;
+                let frame = CartesianFrame::from_code(a[f]).ok_or_else(|| {
+                    d.invalid(
+                        Field::named("frame"),
+                        a[f],
+                        Allowed::OneOf("0 (base) or 1 (tool)"),
+                    )
+                })?;
+                Request::SetCartesianVelocity(SetCartesianVelocity {
+                    linear_m_s: d.ranged3(Arg::Linear, "linear", l)?,
+                    angular_deg_s: d.ranged3(Arg::Angular, "angular", w)?,
+                    frame,
                 })
             }
             CommandKind::Pvt => {

@@ -117,6 +117,8 @@ wire_enum!(
         SetTool = 18 => "set_tool",
         /// Estimate the load on the flange by moving the wrist through poses (from HOLD).
         IdentifyPayload = 19 => "identify_payload",
+        /// The TCP's velocity (linear and angular, base or tool frame) in VELOCITY_CONTROL.
+        SetCartesianVelocity = 20 => "set_cartesian_velocity",
     }
 );
 
@@ -166,6 +168,7 @@ impl CommandKind {
                 | CommandKind::SetVelocities
                 | CommandKind::SetTool
                 | CommandKind::IdentifyPayload
+                | CommandKind::SetCartesianVelocity
         )
     }
 }

@@ -99,6 +99,8 @@ arguments! {
     BlockAxis = 13, "block_axis", Axis, Bound::Fixed(1.0, 6.0), "", "";
     UnblockAxis = 14, "unblock_axis", Axis, Bound::Fixed(1.0, 6.0), "", "";
     Velocities = 15, "velocities", Range, Bound::MaxVelocity, "deg/s", "the axis's maximum velocity";
+    Linear = 16, "linear", Range, Bound::Fixed(-1.0, 1.0), "m/s", "each component of the TCP's velocity";
+    Angular = 17, "angular", Range, Bound::Fixed(-180.0, 180.0), "deg/s", "each component of the TCP's angular velocity";
 }
 
 /// The range a target of `axis0` (0-based) may lie in [deg]: the software limits less the
@@ -196,11 +198,18 @@ impl Arg {
         }
     }
 
-    /// Whether the argument is an array with one element per axis.
+    /// Whether the argument is an array whose refusal names the element: one element per
+    /// axis, or a Cartesian vector (`linear`, `angular`: the element's index carried as the
+    /// axis of that number).
     pub fn per_axis_array(self) -> bool {
         matches!(
             self,
-            Arg::TargetPositions | Arg::Torques | Arg::ExternalTorques | Arg::Velocities
+            Arg::TargetPositions
+                | Arg::Torques
+                | Arg::ExternalTorques
+                | Arg::Velocities
+                | Arg::Linear
+                | Arg::Angular
         )
     }
 

@@ -8,8 +8,9 @@
 
 use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, Request, SetTorques, SetVelocities,
-    SimCommand, TorqueControl, VelocityControl, Which,
+    Axis, Calibrate, CartesianFrame, Direction, MoveAll, MoveAxis, Pvt, Request,
+    SetCartesianVelocity, SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl,
+    Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::Mode;
@@ -322,6 +323,44 @@ fn cases() -> Vec<Case> {
             sample: |x| {
                 Request::SetVelocities(SetVelocities {
                     velocities_deg_s: six_with(5, x),
+                })
+                .encode()
+            },
+        },
+        Case {
+            command: "set_cartesian_velocity",
+            arg: Arg::Linear,
+            axis0: Some(1),
+            mode: Some(Mode::VelocityControl),
+            json: |x| {
+                format!(
+                    r#"{{"command":"set_cartesian_velocity","arguments":{{"linear":[0.0,{x:?},0.0],"angular":[0,0,0]}}}}"#
+                )
+            },
+            sample: |x| {
+                Request::SetCartesianVelocity(SetCartesianVelocity {
+                    linear_m_s: [0.0, x, 0.0],
+                    angular_deg_s: [0.0; 3],
+                    frame: CartesianFrame::Base,
+                })
+                .encode()
+            },
+        },
+        Case {
+            command: "set_cartesian_velocity",
+            arg: Arg::Angular,
+            axis0: Some(2),
+            mode: Some(Mode::VelocityControl),
+            json: |x| {
+                format!(
+                    r#"{{"command":"set_cartesian_velocity","arguments":{{"linear":[0,0,0],"angular":[0.0,0.0,{x:?}],"frame":"tool"}}}}"#
+                )
+            },
+            sample: |x| {
+                Request::SetCartesianVelocity(SetCartesianVelocity {
+                    linear_m_s: [0.0; 3],
+                    angular_deg_s: [0.0, 0.0, x],
+                    frame: CartesianFrame::Tool,
                 })
                 .encode()
             },

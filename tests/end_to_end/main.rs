@@ -26,6 +26,7 @@ mod capi_cartesian;
 mod capi_realtime;
 mod cartesian;
 mod cartesian_state;
+mod cartesian_velocity;
 mod command_path;
 mod cross_protocol;
 mod deb_package;

@@ -730,6 +730,11 @@ enum mcm_error_t mcm_tcp_velocity_control(struct mcm_tcp_client_t *client, const
 // Set the six joint velocities [deg/s] in VELOCITY_CONTROL without waiting for the answer.
 enum mcm_error_t mcm_tcp_set_velocities(struct mcm_tcp_client_t *client, const double *velocities);
 
+// Set the TCP's velocity in VELOCITY_CONTROL without waiting for the answer: `linear` three
+// values [m/s], `angular` three values [deg/s], in the axes of the base frame (`frame` 0) or
+// of the TCP's own (`frame` 1).
+enum mcm_error_t mcm_tcp_set_cartesian_velocity(struct mcm_tcp_client_t *client, const double *linear, const double *angular, uint32_t frame);
+
 // Move axis `axis` (1 to 6) to `target_deg` at `velocity_factor` (0.001 to 1) of its limits;
 // returns as the motion starts (PVT mode).
 enum mcm_error_t mcm_tcp_move_axis(struct mcm_tcp_client_t *client, uint32_t axis, double target_deg, double velocity_factor);
@@ -827,6 +832,12 @@ enum mcm_error_t mcm_shm_velocity_control(struct mcm_shm_client_t *client, const
 // Set the six joint velocities [deg/s] in VELOCITY_CONTROL without waiting for the answer.
 // Real-time safe (one small allocation inside iceoryx2's publisher).
 enum mcm_error_t mcm_shm_set_velocities(struct mcm_shm_client_t *client, const double *velocities);
+
+// Set the TCP's velocity in VELOCITY_CONTROL without waiting for the answer: `linear` three
+// values [m/s], `angular` three values [deg/s], in the axes of the base frame (`frame` 0) or
+// of the TCP's own (`frame` 1). Real-time safe (one small allocation inside iceoryx2's
+// publisher).
+enum mcm_error_t mcm_shm_set_cartesian_velocity(struct mcm_shm_client_t *client, const double *linear, const double *angular, uint32_t frame);
 
 // Move axis `axis` (1 to 6) to `target_deg` at `velocity_factor` (0.001 to 1) of its limits;
 // returns as the motion starts (PVT mode).

@@ -48,6 +48,10 @@ using PvtPoint = mcm_pvt_point_t;
 using ControlSummary = mcm_control_summary_t;
 using Output = mcm_control_output_t;
 using Six = std::array<double, MCM_NUM_AXES>;
+/// A Cartesian vector: x, y, z.
+using Vec3 = std::array<double, 3>;
+/// The frame whose axes a Cartesian velocity is given in.
+enum class Frame : uint32_t { Base = 0, Tool = 1 };
 
 /// Why a call did not succeed: the C API's code, the MCM's reject code (0: none) and the
 /// message (the MCM's own words where it answered).
@@ -269,6 +273,14 @@ public:
     /// Without waiting for the answer. Real-time safe over shared memory.
     Result<void> set_velocities(const Six& v) {
         return done(MCM_HPP_FN(set_velocities)(h(), v.data()));
+    }
+    /// The TCP's velocity in VELOCITY_CONTROL: linear [m/s], angular [deg/s], in the base
+    /// frame's axes or the TCP's own. Without waiting for the answer. Real-time safe over
+    /// shared memory.
+    Result<void> set_cartesian_velocity(const Vec3& linear, const Vec3& angular,
+                                        Frame frame = Frame::Base) {
+        return done(MCM_HPP_FN(set_cartesian_velocity)(h(), linear.data(), angular.data(),
+                                                       static_cast<uint32_t>(frame)));
     }
     Result<void> move_axis(uint32_t axis, double target_deg, double velocity_factor) {
         return done(MCM_HPP_FN(move_axis)(h(), axis, target_deg, velocity_factor));

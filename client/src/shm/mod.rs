@@ -45,8 +45,9 @@ pub use ports::{LayoutMismatch, OpenError, SendError, describe};
 use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::prelude::ipc;
 use mcm_shared::command::{
-    Calibrate, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTool,
-    SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl,
+    Calibrate, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request,
+    SetCartesianVelocity, SetTool, SetTorques, SetVelocities, SimCommand, TorqueControl,
+    VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
 use mcm_shared::protocol::core_reply_within;
@@ -421,6 +422,14 @@ impl ShmClient {
         velocities_deg_s: [f64; mcm_shared::NUM_AXES],
     ) -> Result<(), SendError> {
         let id = self.send(&Request::SetVelocities(SetVelocities { velocities_deg_s }))?;
+        self.tracker.sent(id, 0);
+        Ok(())
+    }
+
+    /// Set the TCP's velocity (linear [m/s], angular [deg/s], base or tool frame) without
+    /// waiting: a refusal comes as [`ShmEvent::Refused`].
+    pub fn set_cartesian_velocity(&mut self, v: SetCartesianVelocity) -> Result<(), SendError> {
+        let id = self.send(&Request::SetCartesianVelocity(v))?;
         self.tracker.sent(id, 0);
         Ok(())
     }

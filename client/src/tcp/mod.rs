@@ -13,9 +13,9 @@
 //!
 //! Each call writes one command line and reads lines until that command's result; lines that
 //! answer no command (safety errors, the status ticks of a TORQUE_CONTROL or VELOCITY_CONTROL
-//! session, notices) are queued for [`TcpClient::next_event`]. `set_torques` and
-//! `set_velocities` have no result on success: they return once written, and a refusal
-//! arrives later as [`Event::CommandError`].
+//! session, notices) are queued for [`TcpClient::next_event`]. `set_torques`,
+//! `set_velocities` and `set_cartesian_velocity` have no result on success: they return once
+//! written, and a refusal arrives later as [`Event::CommandError`].
 //!
 //! **Reconnecting.** When the connection breaks, the call that saw it fails and the client is
 //! disconnected; so does a call whose result does not come in time ([`Error::Timeout`]: a
@@ -38,8 +38,8 @@ pub use types::{
 };
 
 use mcm_shared::command::{
-    IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtPoint, SetTool, SetTorques, SetVelocities,
-    SimCommand,
+    CartesianFrame, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtPoint, SetCartesianVelocity,
+    SetTool, SetTorques, SetVelocities, SimCommand,
 };
 use mcm_shared::mode::Mode;
 use mcm_shared::protocol::results::Answer;
@@ -469,6 +469,26 @@ impl TcpClient {
     /// [`Event::CommandError`].
     pub fn set_velocities(&mut self, velocities_deg_s: Six) -> Result<(), Error> {
         self.command(SetVelocities { velocities_deg_s }).map(|_| ())
+    }
+
+    /// Set the TCP's velocity in VELOCITY_CONTROL: linear [m/s] and angular [deg/s], in the
+    /// axes of the base frame or of the TCP's own (`frame`); each component within its range
+    /// (1 m/s, 180 deg/s). The arm follows within every axis's limits, slower along the same
+    /// direction where an axis or a singularity needs it (`docs/cartesian.md`). Returns once
+    /// written: there is no result on success, and a refusal comes later as
+    /// [`Event::CommandError`].
+    pub fn set_cartesian_velocity(
+        &mut self,
+        linear_m_s: [f64; 3],
+        angular_deg_s: [f64; 3],
+        frame: CartesianFrame,
+    ) -> Result<(), Error> {
+        self.command(SetCartesianVelocity {
+            linear_m_s,
+            angular_deg_s,
+            frame,
+        })
+        .map(|_| ())
     }
 
     /// Set the tool the arm carries (its TCP and load; build it with [`Tool::new`]), from the

@@ -6,8 +6,8 @@
 use super::{Client, Limits, calibrate, move_all, move_axis};
 use crate::rng::Rng;
 use mcm_shared::command::{
-    IdentifyPayload, Pvt, Request, SetTool, SetTorques, SetVelocities, TorqueControl,
-    VelocityControl,
+    CartesianFrame, IdentifyPayload, Pvt, Request, SetCartesianVelocity, SetTool, SetTorques,
+    SetVelocities, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
 use mcm_shared::sample::StateSample;
@@ -44,7 +44,8 @@ impl Sender {
             | CommandKind::VelocityControl
             | CommandKind::SetVelocities
             | CommandKind::SetTool
-            | CommandKind::IdentifyPayload => Sender::Clients,
+            | CommandKind::IdentifyPayload
+            | CommandKind::SetCartesianVelocity => Sender::Clients,
             CommandKind::Sim => Sender::FaultInjector,
             CommandKind::ClientGone => Sender::Disconnecting,
         }
@@ -133,6 +134,14 @@ impl Client {
             CommandKind::IdentifyPayload => Request::IdentifyPayload(IdentifyPayload {
                 apply: rng.chance(0.5),
             }),
+            // Up to 1.2 times each component's range (a few refused), in either frame.
+            CommandKind::SetCartesianVelocity => {
+                Request::SetCartesianVelocity(SetCartesianVelocity {
+                    linear_m_s: core::array::from_fn(|_| rng.range(-1.2, 1.2)),
+                    angular_deg_s: core::array::from_fn(|_| rng.range(-216.0, 216.0)),
+                    frame: rng.pick(&CartesianFrame::ALL),
+                })
+            }
             CommandKind::Sim | CommandKind::ClientGone => return None,
         })
     }

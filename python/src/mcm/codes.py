@@ -46,6 +46,7 @@ KINDS: Dict[str, int] = {
     "set_velocities": 17,
     "set_tool": 18,
     "identify_payload": 19,
+    "set_cartesian_velocity": 20,
 }
 KIND_NAMES: Dict[int, str] = {v: k for k, v in KINDS.items()}
 
@@ -61,6 +62,7 @@ COMMANDS: Tuple[str, ...] = (
     "set_torques",
     "velocity_control",
     "set_velocities",
+    "set_cartesian_velocity",
     "pvt",
     "move_axis",
     "move_all",
@@ -88,6 +90,7 @@ RESULT_TYPES: Dict[str, Optional[str]] = {
     "set_torques": None,
     "velocity_control": "status",
     "set_velocities": None,
+    "set_cartesian_velocity": None,
     "pvt": "status",
     "move_axis": "generic",
     "move_all": "move_all",
@@ -108,6 +111,7 @@ RESULT_TYPES: Dict[str, Optional[str]] = {
 NO_RESULT: Tuple[str, ...] = (
     "set_torques",
     "set_velocities",
+    "set_cartesian_velocity",
 )
 
 #: Commands only the client that controls the arm may send (``CommandDef::needs_control``).
@@ -119,6 +123,7 @@ NEEDS_CONTROL = frozenset(
         "set_torques",
         "velocity_control",
         "set_velocities",
+        "set_cartesian_velocity",
         "pvt",
         "move_axis",
         "move_all",
@@ -224,6 +229,14 @@ _ARG_WORDS: Dict[int, Tuple[str, str]] = {
     15: (
         "argument \"velocities\" = %(value)s is not allowed; expected a number from %(lo)s to %(hi)s deg/s (the axis's maximum velocity)",
         "argument \"velocities[%(index)s]\" = %(value)s is not allowed; expected a number from %(lo)s to %(hi)s deg/s (the axis's maximum velocity)",
+    ),
+    16: (
+        "argument \"linear\" = %(value)s is not allowed; expected a number from %(lo)s to %(hi)s m/s (each component of the TCP's velocity)",
+        "argument \"linear[%(index)s]\" = %(value)s is not allowed; expected a number from %(lo)s to %(hi)s m/s (each component of the TCP's velocity)",
+    ),
+    17: (
+        "argument \"angular\" = %(value)s is not allowed; expected a number from %(lo)s to %(hi)s deg/s (each component of the TCP's angular velocity)",
+        "argument \"angular[%(index)s]\" = %(value)s is not allowed; expected a number from %(lo)s to %(hi)s deg/s (each component of the TCP's angular velocity)",
     ),
 }
 

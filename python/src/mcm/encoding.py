@@ -58,6 +58,11 @@ ARGS: Dict[str, Dict[str, int]] = {
         "center_of_mass": 8,
         "inertia": 11,
     },
+    "set_cartesian_velocity": {
+        "linear": 0,
+        "angular": 3,
+        "frame": 6,
+    },
 }
 
 #: ``calibrate``'s ``which``: the value of each group (one axis travels as its number).
@@ -70,6 +75,11 @@ CALIBRATE_WHICH: Dict[str, float] = {
 DIRECTIONS: Tuple[float, ...] = (1.0, -1.0)
 #: ``timeout`` of ``torque_control`` and ``velocity_control`` for "no timeout".
 NO_TIMEOUT = -1.0
+#: ``set_cartesian_velocity``'s ``frame``: the value of each frame (the default first).
+CARTESIAN_FRAMES: Dict[str, float] = {
+    "base": 0.0,
+    "tool": 1.0,
+}
 #: ``sim``'s ``emergency_stop``: pressed, released.
 EMERGENCY_STOP: Dict[bool, float] = {True: 1.0, False: 0.0}
 

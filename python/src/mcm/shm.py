@@ -369,6 +369,13 @@ class ShmClient:
         is read with :meth:`wait_reply`)."""
         return self.send(wire.set_velocities(velocities))
 
+    def set_cartesian_velocity(
+        self, linear: Sequence[float], angular: Sequence[float], frame: str = "base"
+    ) -> int:
+        """Send the TCP's velocity (as :meth:`mcm.Client.set_cartesian_velocity`) without
+        waiting; returns the request id (a refusal is read with :meth:`wait_reply`)."""
+        return self.send(wire.set_cartesian_velocity(linear, angular, frame))
+
     def set_tool(
         self,
         mass: float,

@@ -389,6 +389,24 @@ class Client:
             raise ValueError("set_velocities: expected six velocities, got %d" % len(values))
         self.command("set_velocities", {"velocities": values})
 
+    def set_cartesian_velocity(
+        self, linear: Sequence[float], angular: Sequence[float], frame: str = "base"
+    ) -> None:
+        """Send the TCP's velocity in VELOCITY_CONTROL: ``linear`` [m/s] and ``angular``
+        [deg/s], three components each, in the axes of ``frame`` (``"base"`` or ``"tool"``, the
+        TCP's own). The arm follows within every axis's limits, slower along the same
+        direction where an axis or a singularity needs it. No result on success, as for
+        :meth:`set_velocities`: a refusal arrives later as a :class:`CommandErrorEvent`, and is
+        raised by the next ``set_cartesian_velocity`` (or read with :meth:`events`)."""
+        self._raise_refusal("set_cartesian_velocity")
+        vectors = {}
+        for name, given in (("linear", linear), ("angular", angular)):
+            values = [float(v) for v in given]
+            if len(values) != 3:
+                raise ValueError("set_cartesian_velocity: %s takes three numbers, got %d" % (name, len(values)))
+            vectors[name] = values
+        self.command("set_cartesian_velocity", dict(vectors, frame=frame))
+
     def set_tool(
         self,
         mass: float,

@@ -122,6 +122,25 @@ def set_velocities(velocities: Sequence[float]) -> CommandSample:
     return command("set_velocities", velocities=_six(velocities, "velocities"))
 
 
+def set_cartesian_velocity(
+    linear: Sequence[float], angular: Sequence[float], frame: str = "base"
+) -> CommandSample:
+    """``set_cartesian_velocity``: the TCP's ``linear`` [m/s] and ``angular`` [deg/s] velocity
+    in the axes of ``frame`` (``base`` or ``tool``); the core checks each component's range."""
+    code = enc.CARTESIAN_FRAMES.get(frame)
+    if code is None:
+        raise ValueError(
+            "frame = %r is not allowed; expected %s" % (frame, " or ".join(enc.CARTESIAN_FRAMES))
+        )
+    vectors = []
+    for name, values in (("linear", linear), ("angular", angular)):
+        v = [float(x) for x in values]
+        if len(v) != 3 or not all(math.isfinite(x) for x in v):
+            raise ValueError("%s: expected three finite numbers, got %r" % (name, list(values)))
+        vectors.append(v)
+    return command("set_cartesian_velocity", linear=vectors[0], angular=vectors[1], frame=code)
+
+
 def set_tool(
     tcp: Dict[str, Sequence[float]],
     mass: float,

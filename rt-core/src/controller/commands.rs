@@ -107,6 +107,7 @@ impl Controller {
                 }
             }
             Request::SetVelocities(v) => self.on_set_velocities(c, v),
+            Request::SetCartesianVelocity(v) => self.on_set_cartesian_velocity(c, v),
             Request::SetTool(t) => self.on_set_tool(c, t),
             Request::IdentifyPayload(i) => self.on_identify_payload(c, i),
             Request::SetTorques(t) => self.on_set_torques(c, t),

@@ -20,7 +20,7 @@
 //! `motion.rs` (the per-cycle reference of each motion), `ownership.rs` (which client controls the
 //! arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a cycle reports),
 //! `shutdown_sequence.rs` (the controlled stop and disable when `mcm-rt` is asked to stop),
-//! `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft speed limit),
+//! `velocity.rs` (VELOCITY_CONTROL, its ramp and the joint velocities of a TCP velocity), `release.rs` (RELEASE's soft speed limit),
 //! `tool.rs` (the active tool, `set_tool`).
 
 mod calibrate;
@@ -38,11 +38,12 @@ mod shutdown_sequence;
 mod state;
 mod tool;
 mod trips;
-mod velocity;
+pub mod velocity;
 mod view;
 
 use crate::calibration::AxisSettings;
 use crate::canopen::{AxisFeedback, DriveRequest, FrameBuf, Master};
+use crate::cartesian::Cartesian;
 use crate::params::JointParams;
 use crate::pvt::PvtStream;
 use crate::safety::{CycleChecks, I2t, SafetyParams};
@@ -77,6 +78,9 @@ pub struct Controller {
     master: Master,
     p: JointParams,
     model: ArmModel,
+    /// The kinematics with the active tool's TCP (`tool.rs` keeps them with the model's tool):
+    /// the published TCP state and VELOCITY_CONTROL's TCP velocity.
+    cartesian: Cartesian,
     i2t: I2t,
     safety: SafetyParams,
     /// The per-cycle safety checks with their parameters (`trips.rs` runs them).
@@ -130,8 +134,9 @@ pub struct Controller {
 }
 
 impl Controller {
-    /// Build the controller of the arm `cfg` describes, over the CANopen `master`.
-    pub fn new(cfg: &RobotConfig, master: Master) -> Controller {
+    /// Build the controller of the arm `cfg` describes, over the CANopen `master`, with the
+    /// arm's kinematics with the configured tool's TCP (`Cartesian::from_config`).
+    pub fn new(cfg: &RobotConfig, master: Master, cartesian: Cartesian) -> Controller {
         let p = JointParams::from_config(cfg);
         let stream = PvtStream::new();
         let view = CycleView {
@@ -141,6 +146,7 @@ impl Controller {
         Controller {
             master,
             model: ArmModel::from_config(cfg),
+            cartesian,
             i2t: I2t::new(&SafetyParams::from_config(cfg)),
             safety: SafetyParams::from_config(cfg),
             checks: CycleChecks::from_config(cfg),

@@ -6,6 +6,7 @@
 //! Runs inside the cycle: plain `Copy` data, no allocation.
 
 use super::identify_payload::Identification;
+use super::velocity::VelocityTarget;
 use crate::calibration::{AxisCalibration, AxisSettings};
 use crate::trajectory::{JointPlan, StopPlan};
 use mcm_shared::NUM_AXES;
@@ -162,11 +163,11 @@ pub(crate) enum State {
         /// Fed by `set_torques` (`None`: no timeout).
         watchdog: Option<Watchdog>,
     },
-    /// Joint velocities from `set_velocities`, ramped (`velocity.rs`).
+    /// Joint velocities from `set_velocities`, or from the TCP's velocity of
+    /// `set_cartesian_velocity`, ramped (`velocity.rs`).
     Velocity {
-        /// Target velocity of each axis [rad/s].
-        target: [f64; NUM_AXES],
-        /// Fed by `set_velocities` (`None`: no timeout).
+        target: VelocityTarget,
+        /// Fed by `set_velocities` and `set_cartesian_velocity` (`None`: no timeout).
         watchdog: Option<Watchdog>,
     },
     /// After a safety trip: the quick stop, then holding (drives that dropped out stay off).

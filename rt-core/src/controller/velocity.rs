@@ -1,12 +1,15 @@
-//! VELOCITY_CONTROL: joint velocities from `set_velocities`, ramped within each axis's
-//! velocity, acceleration and jerk limits ([`ramp`]) and braked before the joint limits, under
-//! position control (the drives follow the integrated reference, as in PVT), with every safety
-//! check of a motion mode active. No `set_velocities` within the timeout: the controlled stop
-//! to HOLD, as `hold` does.
+//! VELOCITY_CONTROL: joint velocities from `set_velocities`, or the TCP's velocity from
+//! `set_cartesian_velocity` turned into joint velocities every cycle ([`twist`]), ramped within
+//! each axis's velocity, acceleration and jerk limits ([`ramp`]) and braked before the joint
+//! limits, under position control (the drives follow the integrated reference, as in PVT),
+//! with every safety check of a motion mode active. Either command replaces the target of the
+//! other; the ramp goes on from the commanded state. Neither within the timeout: the
+//! controlled stop to HOLD, as `hold` does.
 //!
 //! Runs inside the cycle: no allocation, plain `Copy` data.
 
 pub mod ramp;
+pub mod twist;
 
 use super::Controller;
 use super::exits::Exit;
@@ -14,11 +17,21 @@ use super::state::{Caller, State, Watchdog};
 use crate::params::JointParams;
 use crate::safety::SafetyParams;
 use mcm_shared::NUM_AXES;
-use mcm_shared::command::{Axis, SetVelocities, VelocityControl};
+use mcm_shared::command::{Axis, SetCartesianVelocity, SetVelocities, VelocityControl};
 use mcm_shared::ranges::Arg;
 use mcm_shared::reply::{Done, Reason};
 use mcm_shared::units::deg_to_rad;
 use ramp::{AxisRamp, RampLimits};
+use twist::Twist;
+
+/// What VELOCITY_CONTROL drives the axes towards.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum VelocityTarget {
+    /// Each axis's velocity [rad/s] (`set_velocities`).
+    Joint([f64; NUM_AXES]),
+    /// The TCP's velocity (`set_cartesian_velocity`), turned into joint velocities each cycle.
+    Cartesian(Twist),
+}
 
 /// Share of the braking-distance check's deceleration (`safety.braking_efficiency` x the
 /// maximum acceleration) that velocity control plans to brake with before a limit: the
@@ -53,7 +66,7 @@ impl Controller {
     /// smoothly).
     pub(super) fn enter_velocity_control(&mut self, c: Caller, v: VelocityControl) {
         self.state = State::Velocity {
-            target: [0.0; NUM_AXES],
+            target: VelocityTarget::Joint([0.0; NUM_AXES]),
             watchdog: Watchdog::start(v.timeout_s, self.now_ns),
         };
         self.done(c, Done::Ack);
@@ -76,6 +89,30 @@ impl Controller {
             let max = self.p.limits[i].velocity;
             target[i] = deg_to_rad(deg_s).clamp(-max, max);
         }
+        self.set_velocity_target(c, VelocityTarget::Joint(target), watchdog);
+    }
+
+    /// A new TCP velocity (its ranges checked when its sample was decoded: [`Arg::Linear`],
+    /// [`Arg::Angular`]).
+    pub(super) fn on_set_cartesian_velocity(&mut self, c: Caller, v: SetCartesianVelocity) {
+        let State::Velocity { watchdog, .. } = self.state else {
+            return self.wrong_mode(c);
+        };
+        let twist = Twist {
+            linear: v.linear_m_s,
+            angular: v.angular_deg_s.map(deg_to_rad),
+            frame: v.frame,
+        };
+        self.set_velocity_target(c, VelocityTarget::Cartesian(twist), watchdog);
+    }
+
+    /// The new target of VELOCITY_CONTROL, the timeout fed.
+    fn set_velocity_target(
+        &mut self,
+        c: Caller,
+        target: VelocityTarget,
+        watchdog: Option<Watchdog>,
+    ) {
         self.state = State::Velocity {
             target,
             watchdog: watchdog.map(|w| w.fed(self.now_ns)),
@@ -84,14 +121,22 @@ impl Controller {
     }
 
     /// One cycle of VELOCITY_CONTROL: the ramp towards the targets, or, once the timeout
-    /// passed without `set_velocities`, the controlled stop to HOLD.
-    pub(super) fn advance_velocity(&mut self, target: [f64; NUM_AXES], watchdog: Option<Watchdog>) {
+    /// passed without `set_velocities` or `set_cartesian_velocity`, the controlled stop to
+    /// HOLD.
+    pub(super) fn advance_velocity(&mut self, target: VelocityTarget, watchdog: Option<Watchdog>) {
         if watchdog.is_some_and(|w| w.expired(self.now_ns)) {
             return self.leave(Exit::Timeout);
         }
         let dt = self.p.period;
-        for (i, t) in target.iter().copied().enumerate() {
-            let l = ramp_limits(&self.p, &self.safety, i);
+        let limits: [RampLimits; NUM_AXES] =
+            core::array::from_fn(|i| ramp_limits(&self.p, &self.safety, i));
+        let target = match target {
+            VelocityTarget::Joint(t) => t,
+            VelocityTarget::Cartesian(twist) => {
+                twist::joint_target(self.kinematics(), &self.cmd.position, &twist, &limits)
+            }
+        };
+        for (i, (t, l)) in target.iter().copied().zip(&limits).enumerate() {
             let s = ramp::step(
                 AxisRamp {
                     position: self.cmd.position[i],
@@ -99,7 +144,7 @@ impl Controller {
                     acceleration: self.cmd.acceleration[i],
                 },
                 t,
-                &l,
+                l,
                 dt,
             );
             self.cmd.position[i] = s.position;

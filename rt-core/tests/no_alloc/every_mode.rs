@@ -12,8 +12,10 @@
 //!
 //! The scenario: boot, hold, calibration of all axes, PVT with `move_all` (re-planned by a second
 //! `move_all` while the arm moves) and a `pvt_points` batch of many chunks streamed to its end,
-//! `identify_payload` with `apply`, release, torque control with `set_torques`, velocity control with `set_velocities` and its
-//! timeout, a move blocked through the simulator's edge (following-error trip, quick stop,
+//! `identify_payload` with `apply`, release, torque control with `set_torques`, velocity control
+//! with `set_velocities`, then `set_cartesian_velocity` in the base and the tool frame (the TCP's
+//! velocity through the Jacobian every cycle), back to `set_velocities`, and the timeout, a move
+//! blocked through the simulator's edge (following-error trip, quick stop,
 //! flight-recorder hand-off), more fault injection, and the way back to HOLD. Every command must be
 //! answered OK and every mode reached, so the count cannot be zero for lack of work.
 
@@ -30,8 +32,9 @@ use mcm_rt_core::flight::{FlightRecorder, FlightWriter};
 use mcm_rt_core::ipc::RtIpc;
 use mcm_rt_core::sim_edge::SimEdge;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint,
-    Request, SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
+    Axis, Calibrate, CartesianFrame, Direction, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtChunk,
+    PvtPoint, Request, SetCartesianVelocity, SetTorques, SetVelocities, SimCommand, TorqueControl,
+    VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{Mode, RejectCode};
@@ -408,6 +411,35 @@ fn the_edge_allocates_nothing_in_any_mode() {
         );
         rig.run(3);
     }
+    // The TCP's velocity, in the base frame and then the tool's: the joint velocities of the
+    // twist every cycle, then joint velocities again.
+    for frame in CartesianFrame::ALL {
+        for _ in 0..20 {
+            rig.ok(
+                Request::SetCartesianVelocity(SetCartesianVelocity {
+                    linear_m_s: [0.03, -0.02, 0.01],
+                    angular_deg_s: [0.0, 5.0, -5.0],
+                    frame,
+                }),
+                5,
+            );
+            rig.run(3);
+        }
+        let s = rig.cycle();
+        assert_eq!(s.mode, Mode::VelocityControl.to_wire());
+        assert!(
+            s.cartesian.linear_velocity.iter().any(|v| v.abs() > 0.005),
+            "the TCP moves in the {} frame: {:?}",
+            frame.as_str(),
+            s.cartesian
+        );
+    }
+    rig.ok(
+        Request::SetVelocities(SetVelocities {
+            velocities_deg_s: [0.0, 0.0, 5.0, 0.0, 0.0, 0.0],
+        }),
+        5,
+    );
     assert_eq!(rig.cycle().mode, Mode::VelocityControl.to_wire());
     rig.run_until("the timeout's HOLD", 200, |s| {
         s.mode == Mode::Hold.to_wire()

@@ -111,6 +111,18 @@ pub(crate) fn request() -> impl Strategy<Value = Request> {
         })),
         tool().prop_map(|tool| Request::SetTool(SetTool { tool })),
         any::<bool>().prop_map(|apply| Request::IdentifyPayload(IdentifyPayload { apply })),
+        (
+            prop::array::uniform3(-1.0f64..=1.0),
+            prop::array::uniform3(-180.0f64..=180.0),
+            prop::sample::select(CartesianFrame::ALL.to_vec()),
+        )
+            .prop_map(|(linear_m_s, angular_deg_s, frame)| {
+                Request::SetCartesianVelocity(SetCartesianVelocity {
+                    linear_m_s,
+                    angular_deg_s,
+                    frame,
+                })
+            }),
     ]
 }
 
@@ -318,6 +330,39 @@ fn velocity_control_timeout_and_velocities() {
     };
     assert_eq!(field.to_string(), "velocities[3]");
     assert_eq!(field.axis(), Axis::new(4));
+}
+
+#[test]
+fn a_cartesian_velocity_decodes_within_its_ranges_and_frames() {
+    let r = Request::SetCartesianVelocity(SetCartesianVelocity {
+        linear_m_s: [1.0, -1.0, 0.05],
+        angular_deg_s: [180.0, -180.0, 0.0],
+        frame: CartesianFrame::Tool,
+    });
+    assert_eq!(Request::decode(&r.encode()), Ok(r), "the bounds themselves");
+    let kind = CommandKind::SetCartesianVelocity;
+    let e = Request::decode(&sample(kind, &[0.0, 1.5, 0.0, 0.0, 0.0, 0.0, 0.0], 0)).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "set_cartesian_velocity: linear[1] = 1.5 is not allowed; allowed: from -1 to 1"
+    );
+    let DecodeError::Invalid { field, .. } = e else {
+        panic!("{e:?}")
+    };
+    // A refusal names the element as the gateway's does (`linear[1]`).
+    assert_eq!(field.axis(), Axis::new(2));
+    let e =
+        Request::decode(&sample(kind, &[0.0, 0.0, 0.0, 0.0, 0.0, f64::NAN, 0.0], 0)).unwrap_err();
+    assert!(e.to_string().contains("angular[2] = NaN"), "{e}");
+    let e = Request::decode(&sample(kind, &[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0], 0)).unwrap_err();
+    assert!(
+        e.to_string().contains("frame = 2") && e.to_string().contains("0 (base) or 1 (tool)"),
+        "{e}"
+    );
+    assert!(
+        Request::decode(&sample(kind, &[0.0; 7], 1)).is_err(),
+        "no flags"
+    );
 }
 
 #[test]

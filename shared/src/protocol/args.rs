@@ -229,20 +229,7 @@ impl<'a> Args<'a> {
         arg: Arg,
         cfg: &RobotConfig,
     ) -> Result<Option<[f64; 6]>, CommandError> {
-        let name = arg.name();
-        let Some(v) = self.get(name) else {
-            return Ok(None);
-        };
-        let arr = v
-            .as_array()
-            .filter(|a| a.len() == 6)
-            .ok_or_else(|| self.invalid(name, v, six_expected(arg, cfg)))?;
-        let mut out = [0.0; 6];
-        for (i, x) in arr.iter().enumerate() {
-            let bounds = arg.bounds(cfg, Some(i));
-            out[i] = ranged_value(self, arg, &format!("{name}[{i}]"), x, bounds)?;
-        }
-        Ok(Some(out))
+        self.ranged_array(arg, cfg)
     }
 
     /// A required array of six numbers of the per-axis argument `arg`.
@@ -251,8 +238,41 @@ impl<'a> Args<'a> {
         arg: Arg,
         cfg: &RobotConfig,
     ) -> Result<[f64; 6], CommandError> {
-        self.ranged_six(arg, cfg)?
-            .ok_or_else(|| self.missing(arg.name(), &six_expected(arg, cfg)))
+        self.required_ranged_array(arg, cfg)
+    }
+
+    /// An optional array of `N` numbers of the argument `arg`, element `i` within the range
+    /// of the table for index `i` ([`Arg::bounds`] with `cfg`: axis `i + 1`'s for a per-axis
+    /// argument, the fixed range for a Cartesian vector).
+    pub fn ranged_array<const N: usize>(
+        &self,
+        arg: Arg,
+        cfg: &RobotConfig,
+    ) -> Result<Option<[f64; N]>, CommandError> {
+        let name = arg.name();
+        let Some(v) = self.get(name) else {
+            return Ok(None);
+        };
+        let arr = v
+            .as_array()
+            .filter(|a| a.len() == N)
+            .ok_or_else(|| self.invalid(name, v, array_expected(N, arg, cfg)))?;
+        let mut out = [0.0; N];
+        for (i, x) in arr.iter().enumerate() {
+            let bounds = arg.bounds(cfg, Some(i));
+            out[i] = ranged_value(self, arg, &format!("{name}[{i}]"), x, bounds)?;
+        }
+        Ok(Some(out))
+    }
+
+    /// A required array of `N` numbers of the argument `arg` ([`Args::ranged_array`]).
+    pub fn required_ranged_array<const N: usize>(
+        &self,
+        arg: Arg,
+        cfg: &RobotConfig,
+    ) -> Result<[f64; N], CommandError> {
+        self.ranged_array(arg, cfg)?
+            .ok_or_else(|| self.missing(arg.name(), &array_expected(N, arg, cfg)))
     }
 
     /// An optional boolean; `0` and `1` are accepted too (the manual writes `<bool>` as 1).
@@ -296,10 +316,11 @@ impl<'a> Args<'a> {
     }
 }
 
-/// What an array of the per-axis argument `arg` must hold (the range of axis 1 shown).
-fn six_expected(arg: Arg, cfg: &RobotConfig) -> String {
+/// What an array of `n` numbers of the argument `arg` must hold (the range of its first
+/// element shown).
+fn array_expected(n: usize, arg: Arg, cfg: &RobotConfig) -> String {
     let (lo, hi) = arg.bounds(cfg, Some(0));
-    format!("an array of 6 numbers, each {}", arg.expected(lo, hi))
+    format!("an array of {n} numbers, each {}", arg.expected(lo, hi))
 }
 
 /// The number `v` of the argument `arg` (shown as `name`: an array's element is `name[i]`)

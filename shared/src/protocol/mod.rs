@@ -63,8 +63,8 @@ pub use spec::{ArgDef, CommandDef, Group, Kind, Success};
 pub use wait::{CALIBRATION_TIMEOUT, IDENTIFY_PAYLOAD_TIMEOUT, REPLY_TIMEOUT, core_reply_within};
 
 use crate::command::{
-    Calibrate, IdentifyPayload, MoveAll, MoveAxis, Pvt, Request, SetTool, SetTorques,
-    SetVelocities, SimCommand,
+    Calibrate, IdentifyPayload, MoveAll, MoveAxis, Pvt, Request, SetCartesianVelocity, SetTool,
+    SetTorques, SetVelocities, SimCommand,
 };
 use crate::config::RobotConfig;
 use json::json_kind;
@@ -164,6 +164,7 @@ commands! {
     SetTorques(SetTorques),
     VelocityControl(VelocityControl),
     SetVelocities(SetVelocities),
+    SetCartesianVelocity(SetCartesianVelocity),
     Pvt(Pvt),
     MoveAxis(MoveAxis),
     MoveAll(MoveAll),

@@ -15,7 +15,8 @@ pub enum Success {
     Ok,
     /// A `status` result.
     Status,
-    /// Nothing: a refusal comes as an ERROR later (`set_torques`, `set_velocities`).
+    /// Nothing: a refusal comes as an ERROR later (`set_torques`, `set_velocities`,
+    /// `set_cartesian_velocity`).
     Nothing,
     /// The `initialization` result (`info`).
     Initialization,
@@ -110,6 +111,8 @@ pub enum Kind {
     Six,
     /// A Cartesian position: three numbers [m] (`x,y,z`), written as [`Kind::Six`] is.
     Position,
+    /// A Cartesian vector (a velocity): three numbers `x,y,z`, written as [`Kind::Six`] is.
+    Vector,
     /// An orientation: the four numbers of a unit quaternion (`x,y,z,w`), written as
     /// [`Kind::Six`] is.
     Orientation,
@@ -133,7 +136,7 @@ impl Kind {
             Kind::Axis => "1..6",
             Kind::Bool => "true|false",
             Kind::Six => "a,b,c,d,e,f",
-            Kind::Position => "x,y,z",
+            Kind::Position | Kind::Vector => "x,y,z",
             Kind::Orientation => "x,y,z,w",
             Kind::Which => "ALL|ELBOW|WRIST|1..6",
             Kind::Direction => "1|-1",
@@ -143,12 +146,13 @@ impl Kind {
         }
     }
 
-    /// For a kind of several numbers ([`Kind::Six`], [`Kind::Position`],
+    /// For a kind of several numbers ([`Kind::Six`], [`Kind::Position`], [`Kind::Vector`],
     /// [`Kind::Orientation`]): how many, and what they are in words; `None` for the others.
     pub const fn numbers(self) -> Option<(usize, &'static str)> {
         match self {
             Kind::Six => Some((6, "one per axis")),
             Kind::Position => Some((3, "x, y, z in metres")),
+            Kind::Vector => Some((3, "x, y, z")),
             Kind::Orientation => Some((4, "a quaternion x, y, z, w")),
             Kind::Number
             | Kind::Axis

@@ -369,6 +369,63 @@ fn velocity_control_and_set_velocities() {
 }
 
 #[test]
+fn set_cartesian_velocity_checks_each_component_and_the_frame() {
+    use crate::command::{CartesianFrame, SetCartesianVelocity};
+    let s = parse(
+        r#"{"command":"set_cartesian_velocity","arguments":{"linear":[0.05,0,-1],"angular":[0,180,-2.5]}}"#,
+    )
+    .unwrap();
+    assert_eq!(
+        s.requests(),
+        [Request::SetCartesianVelocity(SetCartesianVelocity {
+            linear_m_s: [0.05, 0.0, -1.0],
+            angular_deg_s: [0.0, 180.0, -2.5],
+            frame: CartesianFrame::Base,
+        })],
+        "the base frame by default, the bounds included"
+    );
+    let t = parse(
+        r#"{"command":"set_cartesian_velocity","arguments":{"linear":[0,0,0.02],"angular":[0,0,0],"frame":"tool"}}"#,
+    )
+    .unwrap();
+    assert!(matches!(
+        t.requests()[..],
+        [Request::SetCartesianVelocity(SetCartesianVelocity {
+            frame: CartesianFrame::Tool,
+            ..
+        })]
+    ));
+    let e = err(
+        r#"{"command":"set_cartesian_velocity","arguments":{"linear":[0,1.5,0],"angular":[0,0,0]}}"#,
+    );
+    assert_eq!(
+        e,
+        "set_cartesian_velocity: argument \"linear[1]\" = 1.5 is not allowed; expected a number \
+         from -1 to 1 m/s (each component of the TCP's velocity)"
+    );
+    let e = err(
+        r#"{"command":"set_cartesian_velocity","arguments":{"linear":[0,0,0],"angular":[0,0,-181]}}"#,
+    );
+    assert!(
+        e.contains("\"angular[2]\" = -181") && e.contains("-180 to 180 deg/s"),
+        "{e}"
+    );
+    let e = err(
+        r#"{"command":"set_cartesian_velocity","arguments":{"linear":[0,0,0],"angular":[0,0,0],"frame":"world"}}"#,
+    );
+    assert!(
+        e.contains("\"frame\"") && e.contains("\"base\" or \"tool\""),
+        "{e}"
+    );
+    let e = err(
+        r#"{"command":"set_cartesian_velocity","arguments":{"linear":[0,0],"angular":[0,0,0]}}"#,
+    );
+    assert!(e.contains("an array of 3 numbers"), "{e}");
+    let e = err(r#"{"command":"set_cartesian_velocity","arguments":{"angular":[0,0,0]}}"#);
+    assert!(e.contains("missing argument \"linear\""), "{e}");
+}
+
+#[test]
 fn calibrate_takes_an_axis_number_as_move_axis_does() {
     for which in ["6", "6.0", "\"6\""] {
         let text = format!(r#"{{"command":"calibrate","arguments":{{"which":{which}}}}}"#);
@@ -433,6 +490,12 @@ fn every_command_reads_back_as_written() {
         .into(),
         SetVelocities {
             velocities_deg_s: [0.0, 10.0, -5.0, 0.0, 1.0, 0.0],
+        }
+        .into(),
+        crate::command::SetCartesianVelocity {
+            linear_m_s: [0.05, -0.01, 0.0],
+            angular_deg_s: [0.0, 2.5, -10.0],
+            frame: crate::command::CartesianFrame::Tool,
         }
         .into(),
         crate::command::SetTool {
@@ -536,7 +599,10 @@ fn the_lists_are_derived_from_the_definitions() {
         .filter(|d| d.success == Success::Nothing)
         .map(|d| d.name)
         .collect();
-    assert_eq!(nothing, ["set_torques", "set_velocities"]);
+    assert_eq!(
+        nothing,
+        ["set_torques", "set_velocities", "set_cartesian_velocity"]
+    );
     for d in COMMANDS {
         assert_eq!(find(&d.name.to_ascii_uppercase()), Some(*d));
         // Every command of the core has its wire kind, and the kind's name is the command's.
@@ -628,6 +694,7 @@ fn every_default_shown_is_the_default_parsed() {
         "pvt_points" => json!({"points": [{"position": zeros, "velocity": zeros}]}),
         "set_torques" => json!({"torques": zeros}),
         "set_velocities" => json!({"velocities": zeros}),
+        "set_cartesian_velocity" => json!({"linear": [0, 0, 0], "angular": [0, 0, 0]}),
         "set_tool" => json!({
             "tcp": {"position": [0, 0, 0], "orientation": [0, 0, 0, 1]},
             "mass": 0,
@@ -653,5 +720,5 @@ fn every_default_shown_is_the_default_parsed() {
             checked.push(format!("{}.{}", d.name, a.name));
         }
     }
-    assert_eq!(checked.len(), 17, "{checked:?}");
+    assert_eq!(checked.len(), 18, "{checked:?}");
 }

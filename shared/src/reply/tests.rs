@@ -276,7 +276,7 @@ fn undecodable_samples_are_refused_with_their_own_kind_and_ids() {
     assert_eq!((r.client_id, r.request_id, r.kind), (4, 8, 99));
     assert_eq!(r.status, ReplyStatus::Rejected.to_wire());
     assert_eq!(r.code, RejectCode::OutOfRange.to_wire());
-    assert_eq!(&r.values[..3], &[99.0, 1.0, 19.0]);
+    assert_eq!(&r.values[..3], &[99.0, 1.0, 20.0]);
 
     let mut s = crate::command::Request::Hold.encode();
     s.kind = CommandKind::MoveAll.to_wire();

@@ -13,8 +13,9 @@
 
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTool,
-    SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
+    Axis, Calibrate, CartesianFrame, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint,
+    Request, SetCartesianVelocity, SetTool, SetTorques, SetVelocities, SimCommand, TorqueControl,
+    VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
@@ -216,6 +217,22 @@ fn probes(kind: CommandKind) -> Vec<Probe> {
             &[("velocities", &six(11.5))],
         )],
         CommandKind::Sim => sim_probes(),
+        CommandKind::SetCartesianVelocity => {
+            let (linear, angular) = ([0.11, 0.12, 0.13], [21.5, 22.5, 23.5]);
+            let frame = CartesianFrame::Tool;
+            vec![probe(
+                Request::SetCartesianVelocity(SetCartesianVelocity {
+                    linear_m_s: linear,
+                    angular_deg_s: angular,
+                    frame,
+                }),
+                &[
+                    ("linear", &linear),
+                    ("angular", &angular),
+                    ("frame", &[frame.code()]),
+                ],
+            )]
+        }
         CommandKind::SetTool => {
             // `tcp` travels as its position, then its orientation.
             let tcp = [0.11, 0.12, 0.13, 0.5, -0.5, 0.5, -0.5];
@@ -415,6 +432,24 @@ DIRECTIONS: Tuple[float, ...] = ({:?}, {:?})",
         "#: ``timeout`` of ``torque_control`` and ``velocity_control`` for \"no timeout\".
 NO_TIMEOUT = {torque:?}"
     );
+    let _ = writeln!(
+        out,
+        "#: ``set_cartesian_velocity``'s ``frame``: the value of each frame (the default first).
+CARTESIAN_FRAMES: Dict[str, float] = {{"
+    );
+    for frame in CartesianFrame::ALL {
+        let v = value_of(
+            CommandKind::SetCartesianVelocity,
+            "frame",
+            Request::SetCartesianVelocity(SetCartesianVelocity {
+                linear_m_s: [0.0; 3],
+                angular_deg_s: [0.0; 3],
+                frame,
+            }),
+        );
+        let _ = writeln!(out, "    \"{}\": {v:?},", frame.as_str());
+    }
+    out.push_str("}\n");
     let estop = |on| {
         value_of(
             CommandKind::Sim,

@@ -9,6 +9,8 @@ use mcm_shared::mode::Mode;
 use mcm_shared::ranges::{Arg, ArgRefusal};
 use mcm_shared::reply::{Done, Reason};
 
+mod cartesian;
+
 fn velocity_control(timeout_s: Option<f64>) -> Request {
     Request::VelocityControl(VelocityControl { timeout_s })
 }

@@ -16,6 +16,7 @@ pub mod pvt;
 pub mod pvt_points;
 pub mod release;
 pub mod release_control;
+pub mod set_cartesian_velocity;
 pub mod set_tool;
 pub mod set_torques;
 pub mod set_velocities;
