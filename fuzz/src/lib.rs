@@ -22,8 +22,8 @@ use mcm_dst::rng::Rng;
 use mcm_dst::run::config;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request, SetTool,
-    SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
+    Axis, Calibrate, Direction, MoveAll, MoveAxis, MoveLinear, Pvt, PvtChunk, PvtPoint, Request,
+    SetTool, SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
@@ -189,6 +189,14 @@ enum Cmd {
         center_of_mass: [Num; 3],
         moments: [Num; 3],
     },
+    /// `move_linear`: the TCP's target as an offset from a point in front of the arm, an
+    /// optional turn about z, speed and acceleration.
+    MoveLinear {
+        offset: [Num; 3],
+        turn: Option<Num>,
+        velocity: Option<Num>,
+        acceleration: Option<Num>,
+    },
     /// A sample of any kind number, flags and arguments (most do not decode).
     Raw {
         kind: u8,
@@ -264,6 +272,12 @@ impl Cmd {
                 mass: u.arbitrary()?,
                 center_of_mass: u.arbitrary()?,
                 moments: u.arbitrary()?,
+            },
+            CommandKind::MoveLinear => Cmd::MoveLinear {
+                offset: u.arbitrary()?,
+                turn: u.arbitrary()?,
+                velocity: u.arbitrary()?,
+                acceleration: u.arbitrary()?,
             },
         })
     }
@@ -431,6 +445,24 @@ impl Cmd {
                 // samples.
                 let tool = Tool::new(tcp, m, near(center_of_mass), inertia).unwrap_or(Tool::NONE);
                 Request::SetTool(SetTool { tool })
+            }
+            Cmd::MoveLinear {
+                offset,
+                turn,
+                velocity,
+                acceleration,
+            } => {
+                // Up to 2 m from a point in front of the arm: near lines and unreachable ones.
+                let [x, y, z] = offset.map(|v| v.within(-1.0, 1.0));
+                Request::MoveLinear(MoveLinear {
+                    position: [0.4 + x, y, 0.4 + z],
+                    orientation: turn.map(|t| {
+                        let h = t.within(-1.6, 1.6);
+                        [0.0, 0.0, h.sin(), h.cos()]
+                    }),
+                    velocity: velocity.map(|v| v.within(0.001, 1.0)),
+                    acceleration: acceleration.map(|a| a.within(0.01, 10.0)),
+                })
             }
             Cmd::Raw { kind, flags, args } => return raw(*kind, *flags, args),
         };

@@ -20,7 +20,9 @@ use crate::core_link::bridge::{Bridge, BridgeError};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::CommandKind;
-use mcm_shared::protocol::results::{Answer, ErrorOutcome, Info, MoveAllResult, SimResult};
+use mcm_shared::protocol::results::{
+    Answer, ErrorOutcome, Info, MoveAllResult, MoveLinearResult, SimResult,
+};
 use mcm_shared::protocol::{Command, Success};
 use mcm_shared::reply::{self, Done};
 use mcm_shared::sample::{STATE_SIMULATED, StateSample};
@@ -241,6 +243,10 @@ fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Op
         },
         Success::MoveAll => match done {
             Done::MoveAll(plan) => Answer::MoveAll(MoveAllResult::from(plan)),
+            other => mismatch(other),
+        },
+        Success::MoveLinear => match done {
+            Done::MoveLinear(plan) => Answer::MoveLinear(MoveLinearResult::from(plan)),
             other => mismatch(other),
         },
         Success::Sim => Answer::Sim(SimResult::from_state(state)),

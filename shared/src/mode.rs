@@ -115,6 +115,8 @@ wire_enum!(
         SetVelocities = 17 => "set_velocities",
         /// The tool the arm carries (TCP and load), from the next cycle.
         SetTool = 18 => "set_tool",
+        /// The TCP on a straight line to a target (PVT), planned beside the cycle.
+        MoveLinear = 19 => "move_linear",
     }
 );
 
@@ -163,6 +165,7 @@ impl CommandKind {
                 | CommandKind::VelocityControl
                 | CommandKind::SetVelocities
                 | CommandKind::SetTool
+                | CommandKind::MoveLinear
         )
     }
 }

@@ -99,6 +99,8 @@ arguments! {
     BlockAxis = 13, "block_axis", Axis, Bound::Fixed(1.0, 6.0), "", "";
     UnblockAxis = 14, "unblock_axis", Axis, Bound::Fixed(1.0, 6.0), "", "";
     Velocities = 15, "velocities", Range, Bound::MaxVelocity, "deg/s", "the axis's maximum velocity";
+    LinearVelocity = 16, "velocity", Range, Bound::Fixed(0.001, 1.0), "m/s", "the TCP's speed on the line";
+    LinearAcceleration = 17, "acceleration", Range, Bound::Fixed(0.01, 10.0), "m/s^2", "the TCP's acceleration on the line";
 }
 
 /// The range a target of `axis0` (0-based) may lie in [deg]: the software limits less the

@@ -39,6 +39,8 @@ using TcpState = mcm_tcp_state_t;
 using Info = mcm_info_t;
 using ShmInfo = mcm_shm_info_t;
 using MoveAllResult = mcm_move_all_result_t;
+using MoveLinear = mcm_move_linear_t;
+using MoveLinearResult = mcm_move_linear_result_t;
 using CalibrateOptions = mcm_calibrate_t;
 using ControlOptions = mcm_control_options_t;
 using PvtPoint = mcm_pvt_point_t;
@@ -273,6 +275,11 @@ public:
     Result<MoveAllResult> move_all(const Six& targets_deg, double velocity_factor) {
         MoveAllResult r{};
         return with(MCM_HPP_FN(move_all)(h(), targets_deg.data(), velocity_factor, &r), r);
+    }
+    /// The TCP on a straight line; answered once the MCM has checked the whole path.
+    Result<MoveLinearResult> move_linear(const MoveLinear& line) {
+        MoveLinearResult r{};
+        return with(MCM_HPP_FN(move_linear)(h(), &line, &r), r);
     }
     Result<void> pvt_points(const std::vector<PvtPoint>& points) {
         return done(MCM_HPP_FN(pvt_points)(h(), points.data(), points.size()));

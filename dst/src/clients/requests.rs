@@ -6,7 +6,7 @@
 use super::{Client, Limits, calibrate, move_all, move_axis};
 use crate::rng::Rng;
 use mcm_shared::command::{
-    Pvt, Request, SetTool, SetTorques, SetVelocities, TorqueControl, VelocityControl,
+    MoveLinear, Pvt, Request, SetTool, SetTorques, SetVelocities, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
 use mcm_shared::sample::StateSample;
@@ -42,7 +42,8 @@ impl Sender {
             | CommandKind::ReleaseControl
             | CommandKind::VelocityControl
             | CommandKind::SetVelocities
-            | CommandKind::SetTool => Sender::Clients,
+            | CommandKind::SetTool
+            | CommandKind::MoveLinear => Sender::Clients,
             CommandKind::Sim => Sender::FaultInjector,
             CommandKind::ClientGone => Sender::Disconnecting,
         }
@@ -128,8 +129,24 @@ impl Client {
             CommandKind::SetTool => Request::SetTool(SetTool {
                 tool: random_tool(rng),
             }),
+            CommandKind::MoveLinear => Request::MoveLinear(move_linear(s, rng)),
             CommandKind::Sim | CommandKind::ClientGone => return None,
         })
+    }
+}
+
+/// A straight line from where the TCP is (the state's `cartesian`): mostly a few centimetres
+/// (planned and run), sometimes a metre or two (refused `unreachable` or `out_of_range`), some
+/// with a turn about z, speed and acceleration.
+fn move_linear(s: &StateSample, rng: &mut Rng) -> MoveLinear {
+    let reach = rng.pick(&[0.05, 0.05, 0.15, 2.0]);
+    let here = s.cartesian.position;
+    let turn = rng.range(-0.5, 0.5);
+    MoveLinear {
+        position: core::array::from_fn(|i| here[i] + rng.range(-reach, reach)),
+        orientation: rng.chance(0.3).then(|| [0.0, 0.0, turn.sin(), turn.cos()]),
+        velocity: rng.chance(0.5).then(|| rng.range(0.01, 1.0)),
+        acceleration: rng.chance(0.5).then(|| rng.range(0.1, 10.0)),
     }
 }
 

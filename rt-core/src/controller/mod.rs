@@ -21,12 +21,14 @@
 //! arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a cycle reports),
 //! `shutdown_sequence.rs` (the controlled stop and disable when `mcm-rt` is asked to stop),
 //! `velocity.rs` (VELOCITY_CONTROL and its ramp), `release.rs` (RELEASE's soft speed limit),
-//! `tool.rs` (the active tool, `set_tool`).
+//! `tool.rs` (the active tool, `set_tool`), `linear.rs` (`move_linear`, its line planned beside
+//! the cycle).
 
 mod calibrate;
 mod calibrate_relax;
 mod commands;
 mod exits;
+mod linear;
 mod motion;
 mod moves;
 mod overload;
@@ -126,6 +128,13 @@ pub struct Controller {
     shutdown: Option<ShutdownStatus>,
     /// Bugs planted by the simulation tester (`planted.rs`): none in `mcm-rt`.
     planted: planted::Planted,
+    /// A line to plan, posted for the cycle to hand to the planner (`linear.rs`).
+    line_request: Option<crate::line_planner::LineRequest>,
+    /// The plan of the line that runs, or ran last (about 13 kB, kept here rather than in
+    /// [`State`], which is copied every cycle).
+    line: Option<mcm_kinematics::LinePlan>,
+    /// The id of the last line requested.
+    line_ids: u64,
 }
 
 impl Controller {
@@ -176,6 +185,9 @@ impl Controller {
             owner: 0,
             shutdown: None,
             planted: planted::Planted::default(),
+            line_request: None,
+            line: None,
+            line_ids: 0,
         }
     }
 

@@ -63,7 +63,8 @@ pub use spec::{ArgDef, CommandDef, Group, Kind, Success};
 pub use wait::{CALIBRATION_TIMEOUT, REPLY_TIMEOUT, core_reply_within};
 
 use crate::command::{
-    Calibrate, MoveAll, MoveAxis, Pvt, Request, SetTool, SetTorques, SetVelocities, SimCommand,
+    Calibrate, MoveAll, MoveAxis, MoveLinear, Pvt, Request, SetTool, SetTorques, SetVelocities,
+    SimCommand,
 };
 use crate::config::RobotConfig;
 use json::json_kind;
@@ -167,6 +168,7 @@ commands! {
     MoveAxis(MoveAxis),
     MoveAll(MoveAll),
     MoveToPose(MoveToPose),
+    MoveLinear(MoveLinear),
     PvtPoints(PvtPoints),
     Sleep(Sleep),
     Sim(SimCommand),
