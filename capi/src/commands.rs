@@ -249,6 +249,22 @@ pub unsafe extern "C" fn mcm_tcp_move_all(client: *mut mcm_tcp_client_t, targets
     }
 }
 
+/// Move the TCP on a straight line (`line`: base frame; PVT mode); `result` (may be NULL): the
+/// line as planned. Answered once the MCM has checked the whole path; a path the arm cannot
+/// follow is refused (`unreachable`, `out_of_range`) and nothing moves.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn mcm_tcp_move_linear(client: *mut mcm_tcp_client_t, line: *const mcm_move_linear_t, result: *mut mcm_move_linear_result_t) -> mcm_error_t {
+    const F: &str = "mcm_tcp_move_linear";
+    // SAFETY: the header's contract.
+    unsafe {
+        call(F, client, |h| {
+            let a = h.client.move_linear(convert::move_linear(line, F)?)?;
+            put(result, (&a).into());
+            Ok(())
+        })
+    }
+}
+
 /// Queue `count` PVT points, spaced by `pvt`'s `dt`. Any count from 1: up to 1000 points that
 /// fit one line go as one command, queued whole or not at all; longer lists go as several
 /// commands in order, and the first refused one ends the call (the commands before it stay
@@ -625,6 +641,22 @@ pub unsafe extern "C" fn mcm_shm_move_all(client: *mut mcm_shm_client_t, targets
     unsafe {
         call(F, client, |h| {
             let a = h.client.move_all(MoveAll { targets_deg: six(targets_deg, F, "targets_deg")?, velocity_factor })?;
+            put(result, (&a).into());
+            Ok(())
+        })
+    }
+}
+
+/// Move the TCP on a straight line (`line`: base frame; PVT mode); `result` (may be NULL): the
+/// line as planned. Answered once the MCM has checked the whole path; a path the arm cannot
+/// follow is refused (`unreachable`, `out_of_range`) and nothing moves.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn mcm_shm_move_linear(client: *mut mcm_shm_client_t, line: *const mcm_move_linear_t, result: *mut mcm_move_linear_result_t) -> mcm_error_t {
+    const F: &str = "mcm_shm_move_linear";
+    // SAFETY: the header's contract.
+    unsafe {
+        call(F, client, |h| {
+            let a = h.client.move_linear(convert::move_linear(line, F)?)?;
             put(result, (&a).into());
             Ok(())
         })

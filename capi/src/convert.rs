@@ -8,10 +8,10 @@ use crate::error::{
 };
 use crate::types::{
     MCM_MAX_IK_SOLUTIONS, MCM_NUM_AXES, mcm_calibrate_t, mcm_control_options_t, mcm_ik_solutions_t,
-    mcm_pose_t, mcm_pvt_point_t, mcm_tool_t,
+    mcm_move_linear_t, mcm_pose_t, mcm_pvt_point_t, mcm_tool_t,
 };
 use mcm_client::mcm_shared::command::{
-    Calibrate, CartesianFrame, SetCartesianVelocity, TorqueControl, VelocityControl,
+    Calibrate, CartesianFrame, MoveLinear, SetCartesianVelocity, TorqueControl, VelocityControl,
 };
 use mcm_client::mcm_shared::tool::{Tcp, Tool};
 use mcm_client::tcp::{InverseKinematicsResult, Pose, TorqueOptions, VelocityOptions};
@@ -337,6 +337,26 @@ pub(crate) unsafe fn tool(p: *const mcm_tool_t, function: &str) -> Result<Tool, 
             MCM_ERR_ARGUMENT,
             format!("{function}: argument `tool`: {e}"),
         )
+    })
+}
+
+/// A `move_linear` line; 0 for its speed or acceleration is the MCM's default. Its values are
+/// the MCM's to check (it words a refusal itself).
+///
+/// # Safety
+/// `p` is NULL or points to a valid `mcm_move_linear_t`.
+pub(crate) unsafe fn move_linear(
+    p: *const mcm_move_linear_t,
+    function: &str,
+) -> Result<MoveLinear, Fail> {
+    // SAFETY: the caller's promise.
+    let l = unsafe { p.as_ref() }.ok_or_else(|| Fail::null(function, "line"))?;
+    let given = |x: f64| (x != 0.0).then_some(x);
+    Ok(MoveLinear {
+        position: l.position,
+        orientation: l.has_orientation.then_some(l.orientation),
+        velocity: given(l.velocity),
+        acceleration: given(l.acceleration),
     })
 }
 

@@ -6,7 +6,9 @@ use mcm_client::mcm_shared::sample::{
     BusCounters, CycleTiming, ErrorRecord, LatencyFigures, StateSample, TcpState,
 };
 use mcm_client::mcm_shared::tool::Tool;
-use mcm_client::tcp::{CartesianState, Info, MoveAllResult, PayloadResult, Pose, Status};
+use mcm_client::tcp::{
+    CartesianState, Info, MoveAllResult, MoveLinearResult, PayloadResult, Pose, Status,
+};
 use std::ffi::c_char;
 
 /// Axes of the arm (every per-axis array has this length; index 0 is axis 1).
@@ -496,12 +498,58 @@ impl From<&PayloadResult> for mcm_payload_t {
     }
 }
 
+/// A straight line of the TCP as `move_linear` takes it, in the base frame. A zeroed one keeps
+/// the orientation and takes the MCM's default speed and acceleration.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct mcm_move_linear_t {
+    /// The TCP's target position [m].
+    pub position: [f64; 3],
+    /// The TCP's target orientation, a unit quaternion `[x, y, z, w]` (with
+    /// `has_orientation`).
+    pub orientation: [f64; 4],
+    /// `orientation` is given; false: the present orientation is kept.
+    pub has_orientation: bool,
+    /// The TCP's speed [m/s], from 0.001 to 1; 0: the default (0.25).
+    pub velocity: f64,
+    /// The TCP's acceleration [m/s^2], from 0.01 to 10; 0: the default (1.2).
+    pub acceleration: f64,
+}
+
+/// The line `move_linear` planned.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct mcm_move_linear_result_t {
+    /// Time from now to the target [s].
+    pub duration: f64,
+    /// Each axis's position at the target [deg].
+    pub joint_target: [f64; MCM_NUM_AXES],
+}
+
+impl From<&MoveLinearResult> for mcm_move_linear_result_t {
+    fn from(r: &MoveLinearResult) -> Self {
+        mcm_move_linear_result_t {
+            duration: r.duration,
+            joint_target: r.joint_target,
+        }
+    }
+}
+
 impl From<&mcm_client::mcm_shared::reply::PayloadReply> for mcm_payload_t {
     fn from(p: &mcm_client::mcm_shared::reply::PayloadReply) -> Self {
         mcm_payload_t {
             mass: p.mass_kg,
             center_of_mass: p.center_of_mass_m,
             residual: p.residual_nm,
+        }
+    }
+}
+
+impl From<&mcm_client::mcm_shared::reply::MoveLinearPlan> for mcm_move_linear_result_t {
+    fn from(p: &mcm_client::mcm_shared::reply::MoveLinearPlan) -> Self {
+        mcm_move_linear_result_t {
+            duration: p.duration_s,
+            joint_target: p.joint_target_deg,
         }
     }
 }

@@ -22,9 +22,9 @@ use mcm_dst::rng::Rng;
 use mcm_dst::run::config;
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, CartesianFrame, Direction, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtChunk,
-    PvtPoint, Request, SetCartesianVelocity, SetTool, SetTorques, SetVelocities, SimCommand,
-    TorqueControl, VelocityControl, Which,
+    Axis, Calibrate, CartesianFrame, Direction, IdentifyPayload, MoveAll, MoveAxis, MoveLinear,
+    Pvt, PvtChunk, PvtPoint, Request, SetCartesianVelocity, SetTool, SetTorques, SetVelocities,
+    SimCommand, TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
@@ -200,6 +200,14 @@ enum Cmd {
         angular: [Num; 3],
         tool: bool,
     },
+    /// `move_linear`: the TCP's target as an offset from a point in front of the arm, an
+    /// optional turn about z, speed and acceleration.
+    MoveLinear {
+        offset: [Num; 3],
+        turn: Option<Num>,
+        velocity: Option<Num>,
+        acceleration: Option<Num>,
+    },
     /// A sample of any kind number, flags and arguments (most do not decode).
     Raw {
         kind: u8,
@@ -283,6 +291,12 @@ impl Cmd {
                 linear: u.arbitrary()?,
                 angular: u.arbitrary()?,
                 tool: u.arbitrary()?,
+            },
+            CommandKind::MoveLinear => Cmd::MoveLinear {
+                offset: u.arbitrary()?,
+                turn: u.arbitrary()?,
+                velocity: u.arbitrary()?,
+                acceleration: u.arbitrary()?,
             },
         })
     }
@@ -467,6 +481,24 @@ impl Cmd {
                     CartesianFrame::Base
                 },
             }),
+            Cmd::MoveLinear {
+                offset,
+                turn,
+                velocity,
+                acceleration,
+            } => {
+                // Up to 2 m from a point in front of the arm: near lines and unreachable ones.
+                let [x, y, z] = offset.map(|v| v.within(-1.0, 1.0));
+                Request::MoveLinear(MoveLinear {
+                    position: [0.4 + x, y, 0.4 + z],
+                    orientation: turn.map(|t| {
+                        let h = t.within(-1.6, 1.6);
+                        [0.0, 0.0, h.sin(), h.cos()]
+                    }),
+                    velocity: velocity.map(|v| v.within(0.001, 1.0)),
+                    acceleration: acceleration.map(|a| a.within(0.01, 10.0)),
+                })
+            }
             Cmd::Raw { kind, flags, args } => return raw(*kind, *flags, args),
         };
         request.encode()

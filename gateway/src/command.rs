@@ -21,7 +21,7 @@ use mcm_shared::config::RobotConfig;
 use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::protocol::results::{
-    Answer, ErrorOutcome, Info, MoveAllResult, PayloadResult, SimResult,
+    Answer, ErrorOutcome, Info, MoveAllResult, MoveLinearResult, PayloadResult, SimResult,
 };
 use mcm_shared::protocol::{Command, Success};
 use mcm_shared::reply::{self, Done};
@@ -247,6 +247,10 @@ fn success(ctx: &Context, cmd: &Command, done: &Done, state: &StateSample) -> Op
         },
         Success::Payload => match done {
             Done::Payload(p) => Answer::Payload(PayloadResult::from(p)),
+            other => mismatch(other),
+        },
+        Success::MoveLinear => match done {
+            Done::MoveLinear(plan) => Answer::MoveLinear(MoveLinearResult::from(plan)),
             other => mismatch(other),
         },
         Success::Sim => Answer::Sim(SimResult::from_state(state)),

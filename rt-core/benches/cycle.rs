@@ -9,6 +9,11 @@
 //!   CANopen master, six simulated CiA 402 drives and the arm physics (10 physics sub-steps of
 //!   500 µs). On a real arm the simulation is replaced by SocketCAN
 //!   system calls, so this is an upper bound of the controller's share.
+//! - `cycle/run_joint_move_sim`, `cycle/run_line_sim`: the same whole cycle, calibrated in PVT,
+//!   while a joint move (`move_all`) runs, and while a 15 cm `move_linear` line runs (its
+//!   reference sampled from the line's plan each cycle); the moves go back and forth, and the
+//!   cycles that take a command in and answer it (with the line's planning, which `mcm-rt`
+//!   does on its planner thread) are not counted.
 //! - `dynamics/gravity_torques`, `dynamics/forward_dynamics`: the arm model's per-call
 //!   functions (RNEA; mass matrix + RNEA + Cholesky solve).
 //! - `cartesian/compose`: the TCP's state the cycle adds to the sample once calibrated
@@ -41,15 +46,15 @@ use mcm_rt_core::params::JointParams;
 use mcm_rt_core::safety::SafetyParams;
 use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::command::{
-    Calibrate, CartesianFrame, MoveAll, Pvt, Request, SetCartesianVelocity, SetVelocities,
-    VelocityControl,
+    Calibrate, CartesianFrame, MoveAll, MoveLinear, Pvt, Request, SetCartesianVelocity,
+    SetVelocities, VelocityControl,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::sample::{CommandSample, STATE_ALL_CALIBRATED, STATE_CARTESIAN, StateSample};
 use mcm_sim::SimBus;
 use std::hint::black_box;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// Longest the drives may take to boot and enable (virtual time).
 const BOOT_CYCLES: u64 = 2_000;
@@ -198,6 +203,132 @@ fn cycle_in_velocity_control(c: &mut Criterion) {
     });
 }
 
+/// A calibrated robot in PVT at rest at `at` [deg], and its next cycle index.
+fn robot_in_pvt(at: [f64; 6]) -> (SimCycle, u64) {
+    let cfg = RobotConfig::prob2_default();
+    let period = cfg.cycle_period_ns();
+    let mut cycle = SimCycle::new(&cfg, SimBus::new(&cfg)).unwrap();
+    let mut k = 0u64;
+    let mut until =
+        |cycle: &mut SimCycle, req: Option<Request>, done: &dyn Fn(&SimCycle) -> bool| {
+            let mut sample = req.map(|r| {
+                let mut s = r.encode();
+                (s.client_id, s.request_id) = (1, k + 1);
+                s
+            });
+            for _ in 0..20 * BOOT_CYCLES {
+                cycle.run(k * period, sample.as_slice());
+                sample = None;
+                k += 1;
+                if done(cycle) {
+                    return;
+                }
+            }
+            panic!("{req:?}: not done");
+        };
+    until(&mut cycle, None, &|c| {
+        c.controller().feedback().iter().all(|f| f.online)
+    });
+    until(
+        &mut cycle,
+        Some(Request::Calibrate(Calibrate::default())),
+        &|c| c.controller().mode() == Mode::Hold && c.state().flags & STATE_ALL_CALIBRATED != 0,
+    );
+    until(&mut cycle, Some(Request::Pvt(Pvt { dt_s: 0.01 })), &|c| {
+        c.controller().mode() == Mode::Pvt
+    });
+    let to_start = Request::MoveAll(MoveAll {
+        targets_deg: at,
+        velocity_factor: 1.0,
+    });
+    until(&mut cycle, Some(to_start), &|c| {
+        let s = c.state();
+        s.position
+            .iter()
+            .zip(&at)
+            .all(|(p, q)| (p - q).abs() < 1e-9)
+            && s.velocity.iter().all(|v| *v == 0.0)
+    });
+    (cycle, k)
+}
+
+/// Time whole cycles while the motions `there` and `back` run in turn; the cycle that takes
+/// each in and the next (its answer: for a line, its planning) are not counted.
+fn cycle_while(c: &mut Criterion, name: &str, start: [f64; 6], there: Request, back: Request) {
+    let period = RobotConfig::prob2_default().cycle_period_ns();
+    let (mut cycle, mut k) = robot_in_pvt(start);
+    let mut next = [there, back].into_iter().cycle();
+    let mut since_command = 0u64;
+    c.bench_function(name, |b| {
+        b.iter_custom(|iters| {
+            let mut timed = Duration::ZERO;
+            let mut counted = 0;
+            while counted < iters {
+                let at_rest = cycle.state().velocity.iter().all(|v| *v == 0.0);
+                if since_command > 2 && at_rest {
+                    let mut s = next.next().unwrap().encode();
+                    (s.client_id, s.request_id) = (1, k + 1);
+                    cycle.run(k * period, &[s]);
+                    k += 1;
+                    since_command = 0;
+                    continue;
+                }
+                let t0 = Instant::now();
+                cycle.run(k * period, black_box(&[]));
+                let dt = t0.elapsed();
+                k += 1;
+                since_command += 1;
+                if since_command > 1 {
+                    timed += dt;
+                    counted += 1;
+                }
+            }
+            timed
+        })
+    });
+    assert_eq!(cycle.controller().mode(), Mode::Pvt, "moved throughout");
+}
+
+/// A joint move and a 15 cm line between the same two configurations of the P-Rob2.
+fn cycle_moving(c: &mut Criterion) {
+    let start = [20.0, 30.0, 60.0, -40.0, 50.0, 10.0];
+    let kin = mcm_kinematics::Kinematics::from_config(&RobotConfig::prob2_default()).unwrap();
+    let rad = start.map(f64::to_radians);
+    let a = kin.tcp_pose(&rad).translation.vector;
+    let b = a + nalgebra::Vector3::new(0.0, 0.134, -0.067);
+    let line = |p: nalgebra::Vector3<f64>| {
+        Request::MoveLinear(MoveLinear {
+            position: [p.x, p.y, p.z],
+            orientation: None,
+            velocity: Some(0.25),
+            acceleration: None,
+        })
+    };
+    // The line's joint target, for the joint move between the same ends.
+    let target = kin
+        .inverse_branch(
+            &nalgebra::Isometry3::from_parts(b.into(), kin.tcp_pose(&rad).rotation),
+            kin.branch(&rad),
+            &rad,
+        )
+        .unwrap()
+        .map(f64::to_degrees);
+    let joint = |targets_deg| {
+        Request::MoveAll(MoveAll {
+            targets_deg,
+            velocity_factor: 0.5,
+        })
+    };
+    cycle_while(
+        c,
+        "cycle/run_joint_move_sim",
+        start,
+        joint(target),
+        joint(start),
+    );
+    cycle_while(c, "cycle/run_line_sim", start, line(b), line(a));
+}
+
 fn dynamics(c: &mut Criterion) {
     let cfg = RobotConfig::prob2_default();
     let model = ArmModel::from_config(&cfg);
@@ -322,6 +453,6 @@ criterion_group! {
     config = Criterion::default()
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(3));
-    targets = cycle_in_hold, cycle_in_velocity_control, dynamics, cartesian, master_alone
+    targets = cycle_in_hold, cycle_in_velocity_control, cycle_moving, dynamics, cartesian, master_alone
 }
 criterion_main!(benches);

@@ -1,5 +1,6 @@
 //! One cycle of the real-time core against a bus: read the frames, step the controller, send
-//! the frames. The cycle also owns the state sample it publishes, which
+//! the frames; and between the steps, the lines of `move_linear` to and from their planner
+//! ([`crate::line_planner`]). The cycle also owns the state sample it publishes, which
 //! [`crate::publish::compose`] writes after the step (from [`crate::runner::run_cycle`]).
 //!
 //! Runs inside the cycle; used by the real-time loop ([`crate::runner`]) and, with virtual
@@ -23,6 +24,8 @@
 use crate::canopen::{FrameBuf, Master, MasterSetupError};
 use crate::cartesian::{Cartesian, CartesianSetupError};
 use crate::controller::{Controller, CycleView};
+use crate::line_planner::{LineJob, LinePlanner, joint_limits};
+use crate::params::JointParams;
 use mcm_bus::{Bus, Frame};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::sample::{CommandSample, StateSample};
@@ -51,6 +54,11 @@ pub struct Cycle<B: Bus> {
     bus_errors: u64,
     /// The published state, composed after each step (kept for its reply ring).
     state: StateSample,
+    /// Where the controller's lines are planned ([`crate::line_planner`]).
+    planner: LinePlanner,
+    /// A line the controller asked for while the planner was busy: handed over when it is
+    /// free.
+    line_waiting: Option<LineJob>,
 }
 
 impl<B: Bus> Cycle<B> {
@@ -67,7 +75,15 @@ impl<B: Bus> Cycle<B> {
             tx: FrameBuf::new(),
             bus_errors: 0,
             state: StateSample::default(),
+            planner: LinePlanner::inline(joint_limits(&JointParams::from_config(cfg))),
+            line_waiting: None,
         })
+    }
+
+    /// Plan the controller's lines with `planner` (the runner's planner thread) instead of
+    /// on the cycle's thread.
+    pub fn plan_lines_with(&mut self, planner: LinePlanner) {
+        self.planner = planner;
     }
 
     pub fn controller(&self) -> &Controller {
@@ -145,14 +161,37 @@ impl<B: Bus> Cycle<B> {
         let n_rx = core::mem::take(&mut self.n_rx);
         let commands = &commands[..commands.len().min(COMMANDS_PER_CYCLE)];
         self.tx.clear();
+        if let Some(planned) = self.planner.finished() {
+            self.controller.line_planned(planned);
+            self.planner.release();
+        }
         self.controller
             .step(now_ns, &self.rx[..n_rx], commands, &mut self.tx);
+        self.hand_over_line();
         for f in self.tx.iter() {
             if self.bus.send(f).is_err() {
                 self.bus_errors += 1;
             }
         }
         self.controller.note_bus_errors(self.bus_errors);
+    }
+
+    /// Give the planner the line the controller asked for, with the kinematics of the active
+    /// tool's TCP; one that finds the planner busy waits for the next cycle.
+    fn hand_over_line(&mut self) {
+        if let Some(request) = self.controller.take_line_request() {
+            // The controller's kinematics follow its active tool (`Controller::use_tool`): the
+            // line is planned for the TCP the state reports.
+            self.line_waiting = Some(LineJob {
+                request,
+                kin: *self.controller.cartesian().kinematics(),
+            });
+        }
+        if let Some(job) = &self.line_waiting
+            && self.planner.post(job)
+        {
+            self.line_waiting = None;
+        }
     }
 }
 

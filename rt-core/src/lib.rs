@@ -20,6 +20,7 @@ pub mod flight;
 pub mod histogram;
 pub mod intake;
 pub mod ipc;
+pub mod line_planner;
 pub mod params;
 pub mod preflight;
 pub mod process_stop;

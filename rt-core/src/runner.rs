@@ -24,6 +24,8 @@ use crate::cycle::Cycle;
 use crate::edge::{Edge, Figures};
 use crate::flight::FlightRecorder;
 use crate::ipc::{IpcSetupError, RtIpc};
+use crate::line_planner::{LinePlanner, joint_limits};
+use crate::params::JointParams;
 use crate::process_stop::{StopOutcome, StopSequence};
 use crate::publish::{self, CycleClock};
 use crate::realtime::{self, RtReport};
@@ -77,6 +79,8 @@ pub enum RunError {
     Panicked,
     #[error("cannot start the flight recorder: {0}")]
     FlightRecorder(String),
+    #[error("cannot start the thread that plans move_linear's lines: {0}")]
+    LinePlanner(String),
     #[error("cannot place the helper threads away from the cycle's CPU: {0}")]
     Placement(String),
     #[error(
@@ -234,11 +238,16 @@ fn spawn<B: Bus + 'static>(
                 opts.names.instance(),
             )
             .map_err(|e| RunError::FlightRecorder(e.to_string()))?;
+            // The lines' planner thread, started here so that it stays at normal policy away
+            // from the cycle's CPU.
+            let planner = LinePlanner::thread(joint_limits(&JointParams::from_config(cfg)))
+                .map_err(|e| RunError::LinePlanner(e.to_string()))?;
             let report = realtime::setup_current_thread(cfg.cycle.priority, cfg.cycle.cpu);
             if !report.is_realtime() && !opts.allow_non_realtime {
                 return Err(RunError::NotRealtime { report });
             }
-            let cycle = Box::new(Cycle::new(cfg, bus)?);
+            let mut cycle = Box::new(Cycle::new(cfg, bus)?);
+            cycle.plan_lines_with(planner);
             let ipc = RtIpc::create(&opts.names)?;
             let mut edge = Edge::new(
                 cycle,

@@ -123,7 +123,13 @@ fn only_the_cycle_thread_is_real_time_and_the_others_keep_off_its_cpu() {
     assert!(status.success(), "{status}: {err}");
 
     let names: Vec<&str> = seen.iter().map(|t| t.comm.as_str()).collect();
-    for expected in ["mcm-rt", "mcm-rt-cycle", "mcm-candump", "mcm-flight-reco"] {
+    for expected in [
+        "mcm-rt",
+        "mcm-rt-cycle",
+        "mcm-candump",
+        "mcm-flight-reco",
+        "mcm-rt-line",
+    ] {
         assert!(names.contains(&expected), "no thread {expected}: {seen:#?}");
     }
     let not_realtime = err.contains("NOT real-time");

@@ -243,7 +243,7 @@ pub fn layout_json() -> String {
 fn reasons() -> Vec<String> {
     use mcm_shared::command::Axis;
     use mcm_shared::mode::Mode;
-    use mcm_shared::reply::{CalibrationFailure, PvtQuantity, Reason};
+    use mcm_shared::reply::{CalibrationFailure, LineFault, PvtQuantity, Reason, Singularity};
     let a = |n| Axis::new(n).expect("axis 1..6");
     [
         Reason::WrongMode { mode: Mode::Hold },
@@ -379,6 +379,44 @@ fn reasons() -> Vec<String> {
         Reason::NotOwner {
             owner: 0x1a2b_0000_0003,
         },
+        Reason::LineUnreachable {
+            axis: None,
+            fault: LineFault::NoSolution { fraction: 0.3125 },
+        },
+        Reason::LineUnreachable {
+            axis: None,
+            fault: LineFault::Singular {
+                fraction: 0.5,
+                singularity: Singularity::Wrist,
+                value: 1.25,
+                margin: 2.0,
+            },
+        },
+        Reason::LineUnreachable {
+            axis: None,
+            fault: LineFault::Singular {
+                fraction: 0.1,
+                singularity: Singularity::Shoulder,
+                value: 0.0123,
+                margin: 0.05,
+            },
+        },
+        Reason::LineUnreachable {
+            axis: Some(a(4)),
+            fault: LineFault::JointJump {
+                fraction: 0.75,
+                step_deg: 40.5,
+                allowed_deg: 3.25,
+            },
+        },
+        Reason::LineOutOfRange {
+            axis: a(5),
+            fault: LineFault::OutOfRange {
+                fraction: 0.26171875,
+                value_deg: 119.08659727,
+                limit_deg: 119.0,
+            },
+        },
         Reason::ShuttingDown,
     ]
     .into_iter()
@@ -464,6 +502,9 @@ fn encoded_commands() -> Vec<String> {
         r#"{"command":"set_tool","arguments":{"tcp":{"position":[0,0,0],"orientation":[0,0,0,1]},"mass":0.5,"center_of_mass":[0.01,0,0],"inertia":[0.01,0.02,0.025,0.001,0,-0.002]}}"#,
         r#"{"command":"identify_payload","arguments":{"apply":true}}"#,
         r#"{"command":"identify_payload"}"#,
+        r#"{"command":"move_linear","arguments":{"position":[0.4,-0.1,0.5]}}"#,
+        r#"{"command":"move_linear","arguments":{"position":[0.35,0.2,0.45],"orientation":[0,1,0,0],"velocity":0.1,"acceleration":2.5}}"#,
+        r#"{"command":"move_linear","arguments":{"position":[0.3,0,0.6],"acceleration":0.5}}"#,
         r#"{"command":"pvt"}"#,
         r#"{"command":"pvt","arguments":{"dt":0.02}}"#,
         r#"{"command":"move_axis","arguments":{"axis_index":2,"target_position":30}}"#,

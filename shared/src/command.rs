@@ -335,6 +335,27 @@ pub struct MoveAll {
     pub velocity_factor: f64,
 }
 
+/// `move_linear`: the TCP on a straight line to `position`, its orientation turned on the
+/// shortest arc to `orientation` (kept when `None`), at most at `velocity` [m/s] and
+/// `acceleration` [m/s²] (`None`: the planner's defaults). Base frame, metres; the orientation
+/// a unit quaternion `[x, y, z, w]` (decoding normalises one within
+/// [`crate::units::UNIT_QUATERNION_TOLERANCE`] of unit norm and refuses any other).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MoveLinear {
+    pub position: [f64; 3],
+    pub orientation: Option<[f64; 4]>,
+    pub velocity: Option<f64>,
+    pub acceleration: Option<f64>,
+}
+
+/// `CommandSample::flags` of `MoveLinear`: which optional arguments the sample carries.
+const LINE_FLAG_ORIENTATION: u32 = 1;
+const LINE_FLAG_VELOCITY: u32 = 2;
+const LINE_FLAG_ACCELERATION: u32 = 4;
+/// Where a `move_linear` sample carries its arguments: position, orientation, velocity,
+/// acceleration.
+const LINE_ARGS: [usize; 4] = [0, 3, 7, 8];
+
 /// One point of a `pvt_points` stream.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PvtPoint {
@@ -449,6 +470,7 @@ pub enum Request {
     SetTool(SetTool),
     IdentifyPayload(IdentifyPayload),
     SetCartesianVelocity(SetCartesianVelocity),
+    MoveLinear(MoveLinear),
 }
 
 /// What a value may be, in a [`DecodeError`].
@@ -683,6 +705,7 @@ impl Request {
             Request::SetTool(_) => CommandKind::SetTool,
             Request::IdentifyPayload(_) => CommandKind::IdentifyPayload,
             Request::SetCartesianVelocity(_) => CommandKind::SetCartesianVelocity,
+            Request::MoveLinear(_) => CommandKind::MoveLinear,
         }
     }
 
@@ -755,6 +778,22 @@ impl Request {
                 a[l..l + 3].copy_from_slice(&v.linear_m_s);
                 a[w..w + 3].copy_from_slice(&v.angular_deg_s);
                 a[f] = v.frame.code();
+            }
+            Request::MoveLinear(m) => {
+                let [p, o, v, acc] = LINE_ARGS;
+                a[p..o].copy_from_slice(&m.position);
+                if let Some(q) = m.orientation {
+                    a[o..v].copy_from_slice(&q);
+                    s.flags |= LINE_FLAG_ORIENTATION;
+                }
+                if let Some(x) = m.velocity {
+                    a[v] = x;
+                    s.flags |= LINE_FLAG_VELOCITY;
+                }
+                if let Some(x) = m.acceleration {
+                    a[acc] = x;
+                    s.flags |= LINE_FLAG_ACCELERATION;
+                }
             }
             Request::Sim(c) => {
                 let mut set = |bit: usize, value: f64| {
@@ -891,6 +930,44 @@ impl Request {
                     linear_m_s: d.ranged3(Arg::Linear, "linear", l)?,
                     angular_deg_s: d.ranged3(Arg::Angular, "angular", w)?,
                     frame,
+                })
+            }
+            CommandKind::MoveLinear => {
+                d.flags(LINE_FLAG_ORIENTATION | LINE_FLAG_VELOCITY | LINE_FLAG_ACCELERATION)?;
+                let [p, o, v, acc] = LINE_ARGS;
+                let mut position = [0.0; 3];
+                for (i, x) in position.iter_mut().enumerate() {
+                    *x = d.finite(Field::at("position", i), a[p + i])?;
+                }
+                let orientation = if s.flags & LINE_FLAG_ORIENTATION != 0 {
+                    let q = [a[o], a[o + 1], a[o + 2], a[o + 3]];
+                    for (i, x) in q.iter().enumerate() {
+                        d.finite(Field::at("orientation", i), *x)?;
+                    }
+                    Some(crate::units::unit_quaternion(q).map_err(|norm| {
+                        d.invalid(
+                            Field::named("orientation (its norm)"),
+                            norm,
+                            Allowed::OneOf("a unit quaternion [x, y, z, w] (norm 1)"),
+                        )
+                    })?)
+                } else {
+                    None
+                };
+                let optional = |flag: u32, arg: Arg, x: f64| {
+                    (s.flags & flag != 0)
+                        .then(|| d.ranged(arg, Field::named(arg.name()), x))
+                        .transpose()
+                };
+                Request::MoveLinear(MoveLinear {
+                    position,
+                    orientation,
+                    velocity: optional(LINE_FLAG_VELOCITY, Arg::LinearVelocity, a[v])?,
+                    acceleration: optional(
+                        LINE_FLAG_ACCELERATION,
+                        Arg::LinearAcceleration,
+                        a[acc],
+                    )?,
                 })
             }
             CommandKind::Pvt => {

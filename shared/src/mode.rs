@@ -119,6 +119,8 @@ wire_enum!(
         IdentifyPayload = 19 => "identify_payload",
         /// The TCP's velocity (linear and angular, base or tool frame) in VELOCITY_CONTROL.
         SetCartesianVelocity = 20 => "set_cartesian_velocity",
+        /// The TCP on a straight line to a target (PVT), planned beside the cycle.
+        MoveLinear = 21 => "move_linear",
     }
 );
 
@@ -169,6 +171,7 @@ impl CommandKind {
                 | CommandKind::SetTool
                 | CommandKind::IdentifyPayload
                 | CommandKind::SetCartesianVelocity
+                | CommandKind::MoveLinear
         )
     }
 }

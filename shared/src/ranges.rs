@@ -101,6 +101,8 @@ arguments! {
     Velocities = 15, "velocities", Range, Bound::MaxVelocity, "deg/s", "the axis's maximum velocity";
     Linear = 16, "linear", Range, Bound::Fixed(-1.0, 1.0), "m/s", "each component of the TCP's velocity";
     Angular = 17, "angular", Range, Bound::Fixed(-180.0, 180.0), "deg/s", "each component of the TCP's angular velocity";
+    LinearVelocity = 18, "velocity", Range, Bound::Fixed(0.001, 1.0), "m/s", "the TCP's speed on the line";
+    LinearAcceleration = 19, "acceleration", Range, Bound::Fixed(0.01, 10.0), "m/s^2", "the TCP's acceleration on the line";
 }
 
 /// The range a target of `axis0` (0-based) may lie in [deg]: the software limits less the

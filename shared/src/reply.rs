@@ -30,7 +30,7 @@ use crate::ranges::{Arg, ArgRefusal};
 use crate::sample::{CommandSample, ErrorRecord, Reply};
 
 mod reason;
-pub use reason::{CalibrationFailure, PvtQuantity, Reason, WireReason};
+pub use reason::{CalibrationFailure, LineFault, PvtQuantity, Reason, Singularity, WireReason};
 
 /// The move a `move_all` planned.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -41,6 +41,15 @@ pub struct MoveAllPlan {
     pub longest: Axis,
     /// Time from now to arrival [s].
     pub duration_s: f64,
+}
+
+/// The line a `move_linear` planned.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MoveLinearPlan {
+    /// Time from now to arrival [s].
+    pub duration_s: f64,
+    /// Each axis's position at the end of the line [deg].
+    pub joint_target_deg: [f64; NUM_AXES],
 }
 
 /// What the core says about itself in answer to `info`.
@@ -70,6 +79,7 @@ pub enum Done {
     Info(InfoReply),
     MoveAll(MoveAllPlan),
     Payload(PayloadReply),
+    MoveLinear(MoveLinearPlan),
 }
 
 /// How the core answered a request.
@@ -120,6 +130,10 @@ impl Response {
                         r.values[0] = p.mass_kg;
                         r.values[1..4].copy_from_slice(&p.center_of_mass_m);
                         r.values[4] = p.residual_nm;
+                    }
+                    Done::MoveLinear(p) => {
+                        r.values[..NUM_AXES].copy_from_slice(&p.joint_target_deg);
+                        r.values[NUM_AXES] = p.duration_s;
                     }
                 }
                 return r;
@@ -181,6 +195,14 @@ impl Response {
                         mass_kg: v[0],
                         center_of_mass_m: [v[1], v[2], v[3]],
                         residual_nm: v[4],
+                    })
+                }
+                CommandKind::MoveLinear => {
+                    let mut joint_target_deg = [0.0; NUM_AXES];
+                    joint_target_deg.copy_from_slice(&r.values[..NUM_AXES]);
+                    Done::MoveLinear(MoveLinearPlan {
+                        duration_s: r.values[NUM_AXES],
+                        joint_target_deg,
                     })
                 }
                 _ => Done::Ack,

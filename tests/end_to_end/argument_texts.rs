@@ -8,12 +8,12 @@
 
 use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::command::{
-    Axis, Calibrate, CartesianFrame, Direction, MoveAll, MoveAxis, Pvt, Request,
+    Axis, Calibrate, CartesianFrame, Direction, MoveAll, MoveAxis, MoveLinear, Pvt, Request,
     SetCartesianVelocity, SetTorques, SetVelocities, SimCommand, TorqueControl, VelocityControl,
     Which,
 };
 use mcm_shared::config::RobotConfig;
-use mcm_shared::mode::Mode;
+use mcm_shared::mode::{CommandKind, Mode};
 use mcm_shared::protocol::Command;
 use mcm_shared::protocol::results::Generic;
 use mcm_shared::ranges::{ARGS, Arg};
@@ -521,10 +521,49 @@ fn arguments_only_the_gateway_reads_are_refused_in_the_table_s_words() {
     }
 }
 
+/// `move_linear`'s speed and acceleration: the core refuses them as it decodes the sample,
+/// before any line is planned (a value the table accepts starts a plan, whose own outcome
+/// depends on where the arm is), so the core's words are those of its refusal of the sample.
+#[test]
+fn move_linear_s_arguments_are_refused_in_the_same_words_by_the_gateway_and_the_core() {
+    let cfg = RobotConfig::prob2_default();
+    for arg in [Arg::LinearVelocity, Arg::LinearAcceleration] {
+        let bounds = arg.fixed_bounds();
+        for x in values(bounds) {
+            let json = format!(
+                r#"{{"command":"move_linear","arguments":{{"position":[0.4,0,0.5],"{}":{x:?}}}}}"#,
+                arg.name()
+            );
+            let given = |a: Arg| (arg == a).then_some(x);
+            let request = MoveLinear {
+                position: [0.4, 0.0, 0.5],
+                orientation: None,
+                velocity: given(Arg::LinearVelocity),
+                acceleration: given(Arg::LinearAcceleration),
+            };
+            let gateway = gateway_text(&cfg, &json);
+            let sample = Request::MoveLinear(request).encode();
+            let core = Request::decode(&sample).err().map(|e| {
+                let reply = mcm_shared::reply::refuse_undecodable(&sample, &e);
+                let outcome = Response::decode(&reply)
+                    .expect("a well-formed reply")
+                    .outcome;
+                Generic::reply_error(CommandKind::MoveLinear, &outcome)
+                    .error_message
+                    .expect("words")
+            });
+            assert_eq!(gateway, core, "{json}");
+            assert_eq!(gateway.is_none(), arg.accepts(x, bounds), "{json}");
+        }
+    }
+}
+
 #[test]
 fn every_numeric_argument_of_the_table_is_walked() {
     let mut walked: Vec<Arg> = cases().iter().map(|c| c.arg).collect();
     walked.extend([Arg::DtStatus, Arg::Duration]);
+    // Walked by `move_linear_s_arguments_are_refused_in_the_same_words_by_the_gateway_and_the_core`.
+    walked.extend([Arg::LinearVelocity, Arg::LinearAcceleration]);
     // The sim axes share block_axis's check (one decode function, one table shape).
     walked.extend([Arg::DisconnectAxis, Arg::ReconnectAxis, Arg::UnblockAxis]);
     for spec in ARGS {

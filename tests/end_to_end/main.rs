@@ -46,6 +46,7 @@ mod hostile_ownership;
 mod kinematics_pinocchio;
 mod modes;
 mod modes_restart;
+mod move_linear;
 mod payload;
 mod protocol_examples;
 mod python_layout;

@@ -538,6 +538,30 @@ typedef struct mcm_move_all_result_t {
   double max_time_to_target;
 } mcm_move_all_result_t;
 
+// A straight line of the TCP as `move_linear` takes it, in the base frame. A zeroed one keeps
+// the orientation and takes the MCM's default speed and acceleration.
+typedef struct mcm_move_linear_t {
+  // The TCP's target position [m].
+  double position[3];
+  // The TCP's target orientation, a unit quaternion `[x, y, z, w]` (with
+  // `has_orientation`).
+  double orientation[4];
+  // `orientation` is given; false: the present orientation is kept.
+  bool has_orientation;
+  // The TCP's speed [m/s], from 0.001 to 1; 0: the default (0.25).
+  double velocity;
+  // The TCP's acceleration [m/s^2], from 0.01 to 10; 0: the default (1.2).
+  double acceleration;
+} mcm_move_linear_t;
+
+// The line `move_linear` planned.
+typedef struct mcm_move_linear_result_t {
+  // Time from now to the target [s].
+  double duration;
+  // Each axis's position at the target [deg].
+  double joint_target[MCM_NUM_AXES];
+} mcm_move_linear_result_t;
+
 // One point of a PVT stream.
 typedef struct mcm_pvt_point_t {
   // [deg]
@@ -742,6 +766,11 @@ enum mcm_error_t mcm_tcp_move_axis(struct mcm_tcp_client_t *client, uint32_t axi
 // Move all axes together to the six `targets_deg`; `result` (may be NULL): the plan.
 enum mcm_error_t mcm_tcp_move_all(struct mcm_tcp_client_t *client, const double *targets_deg, double velocity_factor, struct mcm_move_all_result_t *result);
 
+// Move the TCP on a straight line (`line`: base frame; PVT mode); `result` (may be NULL): the
+// line as planned. Answered once the MCM has checked the whole path; a path the arm cannot
+// follow is refused (`unreachable`, `out_of_range`) and nothing moves.
+enum mcm_error_t mcm_tcp_move_linear(struct mcm_tcp_client_t *client, const struct mcm_move_linear_t *line, struct mcm_move_linear_result_t *result);
+
 // Queue `count` PVT points, spaced by `pvt`'s `dt`. Any count from 1: up to 1000 points that
 // fit one line go as one command, queued whole or not at all; longer lists go as several
 // commands in order, and the first refused one ends the call (the commands before it stay
@@ -845,6 +874,11 @@ enum mcm_error_t mcm_shm_move_axis(struct mcm_shm_client_t *client, uint32_t axi
 
 // Move all axes together to the six `targets_deg`; `result` (may be NULL): the plan.
 enum mcm_error_t mcm_shm_move_all(struct mcm_shm_client_t *client, const double *targets_deg, double velocity_factor, struct mcm_move_all_result_t *result);
+
+// Move the TCP on a straight line (`line`: base frame; PVT mode); `result` (may be NULL): the
+// line as planned. Answered once the MCM has checked the whole path; a path the arm cannot
+// follow is refused (`unreachable`, `out_of_range`) and nothing moves.
+enum mcm_error_t mcm_shm_move_linear(struct mcm_shm_client_t *client, const struct mcm_move_linear_t *line, struct mcm_move_linear_result_t *result);
 
 // Queue `count` PVT points, spaced by `pvt`'s `dt`. 1 to 1000 points, queued whole or not at
 // all.

@@ -42,6 +42,8 @@ using MoveAllResult = mcm_move_all_result_t;
 using Pose = mcm_pose_t;
 using Tool = mcm_tool_t;
 using Payload = mcm_payload_t;
+using MoveLinear = mcm_move_linear_t;
+using MoveLinearResult = mcm_move_linear_result_t;
 using CalibrateOptions = mcm_calibrate_t;
 using ControlOptions = mcm_control_options_t;
 using PvtPoint = mcm_pvt_point_t;
@@ -288,6 +290,11 @@ public:
     Result<MoveAllResult> move_all(const Six& targets_deg, double velocity_factor) {
         MoveAllResult r{};
         return with(MCM_HPP_FN(move_all)(h(), targets_deg.data(), velocity_factor, &r), r);
+    }
+    /// The TCP on a straight line; answered once the MCM has checked the whole path.
+    Result<MoveLinearResult> move_linear(const MoveLinear& line) {
+        MoveLinearResult r{};
+        return with(MCM_HPP_FN(move_linear)(h(), &line, &r), r);
     }
     Result<void> pvt_points(const std::vector<PvtPoint>& points) {
         return done(MCM_HPP_FN(pvt_points)(h(), points.data(), points.size()));

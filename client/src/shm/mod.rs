@@ -45,14 +45,14 @@ pub use ports::{LayoutMismatch, OpenError, SendError, describe};
 use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::prelude::ipc;
 use mcm_shared::command::{
-    Calibrate, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint, Request,
+    Calibrate, IdentifyPayload, MoveAll, MoveAxis, MoveLinear, Pvt, PvtChunk, PvtPoint, Request,
     SetCartesianVelocity, SetTool, SetTorques, SetVelocities, SimCommand, TorqueControl,
     VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
 use mcm_shared::protocol::core_reply_within;
 use mcm_shared::reply::{
-    Done, InfoReply, MoveAllPlan, Outcome, PayloadReply, Response, SafetyError,
+    Done, InfoReply, MoveAllPlan, MoveLinearPlan, Outcome, PayloadReply, Response, SafetyError,
 };
 use mcm_shared::sample::StateSample;
 use mcm_shared::service::{COMMAND_BUFFER, ServiceNames};
@@ -461,6 +461,15 @@ impl ShmClient {
         }
     }
 
+    /// Move the TCP on a straight line (`move_linear`); the line as planned (answered once the
+    /// core's planner has checked the whole path, a few cycles after the request).
+    pub fn move_linear(&mut self, m: MoveLinear) -> Result<MoveLinearPlan, RequestError> {
+        match self.request(&Request::MoveLinear(m))? {
+            Done::MoveLinear(p) => Ok(p),
+            other => Err(mismatch(CommandKind::MoveLinear, other)),
+        }
+    }
+
     /// Queue a batch of PVT points (whole or not at all; at most
     /// [`MAX_POINTS_PER_BATCH`](mcm_shared::protocol::MAX_POINTS_PER_BATCH) points a batch, as
     /// over TCP).
@@ -531,6 +540,7 @@ fn mismatch(kind: CommandKind, got: Done) -> RequestError {
                 Done::Info(_) => "an `info` answer",
                 Done::MoveAll(_) => "a `move_all` answer",
                 Done::Payload(_) => "an `identify_payload` answer",
+                Done::MoveLinear(_) => "a `move_linear` answer",
             },
         },
     }

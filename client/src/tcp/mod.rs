@@ -33,8 +33,8 @@ mod wire;
 pub use error::{Error, ErrorKind, McmError, ProtocolProblem};
 pub use types::{
     AxisInfo, AxisStates, Calibrate, CartesianState, Detail, Event, Info, InverseKinematicsResult,
-    MoveAllResult, PayloadResult, Pose, PvtQueue, SimResult, Six, Status, TorqueOptions,
-    VelocityOptions,
+    MoveAllResult, MoveLinear, MoveLinearResult, PayloadResult, Pose, PvtQueue, SimResult, Six,
+    Status, TorqueOptions, VelocityOptions,
 };
 
 use mcm_shared::command::{
@@ -564,6 +564,17 @@ impl TcpClient {
         };
         self.call_typed(cmd, |a| match a {
             Answer::MoveAll(m) => Ok(m),
+            other => Err(Box::new(other)),
+        })
+    }
+
+    /// Move the TCP on a straight line to `line.position` (PVT mode; `docs/cartesian.md`):
+    /// answered once the MCM has checked the whole path, with the time to the target and each
+    /// axis's position there; a path the arm cannot follow is refused (`unreachable`,
+    /// `out_of_range`) and nothing moves.
+    pub fn move_linear(&mut self, line: MoveLinear) -> Result<MoveLinearResult, Error> {
+        self.call_typed(line, |a| match a {
+            Answer::MoveLinear(m) => Ok(m),
             other => Err(Box::new(other)),
         })
     }

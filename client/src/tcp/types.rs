@@ -4,11 +4,11 @@
 
 use mcm_shared::mode::RejectCode;
 
-pub use mcm_shared::command::Calibrate;
+pub use mcm_shared::command::{Calibrate, MoveLinear};
 pub use mcm_shared::protocol::Pose;
 pub use mcm_shared::protocol::results::{
     AxisInfo, AxisStates, CartesianState, Detail, Info, InverseKinematicsResult, MoveAllResult,
-    PayloadResult, PvtQueue, SimResult, Six, Status,
+    MoveLinearResult, PayloadResult, PvtQueue, SimResult, Six, Status,
 };
 
 /// Options of `torque_control`.

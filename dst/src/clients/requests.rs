@@ -6,8 +6,8 @@
 use super::{Client, Limits, calibrate, move_all, move_axis};
 use crate::rng::Rng;
 use mcm_shared::command::{
-    CartesianFrame, IdentifyPayload, Pvt, Request, SetCartesianVelocity, SetTool, SetTorques,
-    SetVelocities, TorqueControl, VelocityControl,
+    CartesianFrame, IdentifyPayload, MoveLinear, Pvt, Request, SetCartesianVelocity, SetTool,
+    SetTorques, SetVelocities, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
 use mcm_shared::sample::StateSample;
@@ -45,7 +45,8 @@ impl Sender {
             | CommandKind::SetVelocities
             | CommandKind::SetTool
             | CommandKind::IdentifyPayload
-            | CommandKind::SetCartesianVelocity => Sender::Clients,
+            | CommandKind::SetCartesianVelocity
+            | CommandKind::MoveLinear => Sender::Clients,
             CommandKind::Sim => Sender::FaultInjector,
             CommandKind::ClientGone => Sender::Disconnecting,
         }
@@ -142,8 +143,24 @@ impl Client {
                     frame: rng.pick(&CartesianFrame::ALL),
                 })
             }
+            CommandKind::MoveLinear => Request::MoveLinear(move_linear(s, rng)),
             CommandKind::Sim | CommandKind::ClientGone => return None,
         })
+    }
+}
+
+/// A straight line from where the TCP is (the state's `cartesian`): mostly a few centimetres
+/// (planned and run), sometimes a metre or two (refused `unreachable` or `out_of_range`), some
+/// with a turn about z, speed and acceleration.
+fn move_linear(s: &StateSample, rng: &mut Rng) -> MoveLinear {
+    let reach = rng.pick(&[0.05, 0.05, 0.15, 2.0]);
+    let here = s.cartesian.position;
+    let turn = rng.range(-0.5, 0.5);
+    MoveLinear {
+        position: core::array::from_fn(|i| here[i] + rng.range(-reach, reach)),
+        orientation: rng.chance(0.3).then(|| [0.0, 0.0, turn.sin(), turn.cos()]),
+        velocity: rng.chance(0.5).then(|| rng.range(0.01, 1.0)),
+        acceleration: rng.chance(0.5).then(|| rng.range(0.1, 10.0)),
     }
 }
 

@@ -28,36 +28,9 @@ impl fmt::Display for PathPoint {
     }
 }
 
-/// One of the arm's singularities ([`crate::Singularities`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Singularity {
-    /// Axes 4 and 6 aligned; measured in degrees.
-    Wrist,
-    /// The arm stretched or folded; measured in degrees.
-    Elbow,
-    /// The wrist centre on axis 1; measured in metres.
-    Shoulder,
-}
-
-impl Singularity {
-    /// The unit of its measure in [`LineError::Singular`].
-    pub fn unit(self) -> &'static str {
-        match self {
-            Singularity::Wrist | Singularity::Elbow => "deg",
-            Singularity::Shoulder => "m",
-        }
-    }
-}
-
-impl fmt::Display for Singularity {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Singularity::Wrist => "wrist singularity (axes 4 and 6 aligned)",
-            Singularity::Elbow => "elbow singularity (the arm stretched or folded)",
-            Singularity::Shoulder => "shoulder singularity (the wrist centre on axis 1)",
-        })
-    }
-}
+/// One of the arm's singularities ([`crate::Singularities`]): the contract's, which the
+/// core's refusal of a line carries.
+pub use mcm_shared::reply::Singularity;
 
 /// Why [`crate::LinePlan::plan`] refused a line; nothing has moved.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -47,6 +47,7 @@ KINDS: Dict[str, int] = {
     "set_tool": 18,
     "identify_payload": 19,
     "set_cartesian_velocity": 20,
+    "move_linear": 21,
 }
 KIND_NAMES: Dict[int, str] = {v: k for k, v in KINDS.items()}
 
@@ -67,6 +68,7 @@ COMMANDS: Tuple[str, ...] = (
     "move_axis",
     "move_all",
     "move_to_pose",
+    "move_linear",
     "pvt_points",
     "sleep",
     "sim",
@@ -95,6 +97,7 @@ RESULT_TYPES: Dict[str, Optional[str]] = {
     "move_axis": "generic",
     "move_all": "move_all",
     "move_to_pose": "move_all",
+    "move_linear": "move_linear",
     "pvt_points": "generic",
     "sleep": "generic",
     "sim": "sim",
@@ -128,6 +131,7 @@ NEEDS_CONTROL = frozenset(
         "move_axis",
         "move_all",
         "move_to_pose",
+        "move_linear",
         "pvt_points",
         "set_tool",
         "identify_payload",
@@ -238,6 +242,14 @@ _ARG_WORDS: Dict[int, Tuple[str, str]] = {
         "argument \"angular\" = %(value)s is not allowed; expected a number from %(lo)s to %(hi)s deg/s (each component of the TCP's angular velocity)",
         "argument \"angular[%(index)s]\" = %(value)s is not allowed; expected a number from %(lo)s to %(hi)s deg/s (each component of the TCP's angular velocity)",
     ),
+    18: (
+        "argument \"velocity\" = %(value)s is not allowed; expected a number from %(lo)s to %(hi)s m/s (the TCP's speed on the line)",
+        "",
+    ),
+    19: (
+        "argument \"acceleration\" = %(value)s is not allowed; expected a number from %(lo)s to %(hi)s m/s^2 (the TCP's acceleration on the line)",
+        "",
+    ),
 }
 
 
@@ -294,7 +306,7 @@ def _every_finite_number(v: Sequence[float]) -> bool:
 def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
     """The words for a refusal, failure or safety trip, as the core's ``Reason`` gives them."""
     name = REJECT_CODES.get(code)
-    if name == "out_of_range" and int(v[3]) != 0:
+    if name == "out_of_range" and 0 < int(v[3]) < 256:
         return argument_text(int(v[3]), axis, v[0], v[1], v[2])
     if name == "wrong_mode":
         return "not allowed in mode %(mode)s" % {
@@ -306,6 +318,42 @@ def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
         }
     if name == "emergency_stop":
         return "the emergency stop is pressed; release it, then send `hold`"
+    if name == "unreachable" and v[3] == 257.0:
+        return "unreachable at %(at)s %% of the path: no configuration of the start's branch puts the TCP there; nothing moved" % {
+            "at": num(v[0] * 100.0),
+        }
+    if name == "unreachable" and v[3] == 258.0:
+        return "unreachable at %(at)s %% of the path: it comes within %(value)s deg of the wrist singularity (axes 4 and 6 aligned); it must stay at least %(margin)s deg away; nothing moved" % {
+            "at": num(v[0] * 100.0),
+            "value": num(v[1]),
+            "margin": num(v[2]),
+        }
+    if name == "unreachable" and v[3] == 259.0:
+        return "unreachable at %(at)s %% of the path: it comes within %(value)s deg of the elbow singularity (the arm stretched or folded); it must stay at least %(margin)s deg away; nothing moved" % {
+            "at": num(v[0] * 100.0),
+            "value": num(v[1]),
+            "margin": num(v[2]),
+        }
+    if name == "unreachable" and v[3] == 260.0:
+        return "unreachable at %(at)s %% of the path: it comes within %(value)s m of the shoulder singularity (the wrist centre on axis 1); it must stay at least %(margin)s m away; nothing moved" % {
+            "at": num(v[0] * 100.0),
+            "value": num(v[1]),
+            "margin": num(v[2]),
+        }
+    if name == "unreachable" and v[3] == 261.0:
+        return "unreachable at %(at)s %% of the path: axis %(axis)s would jump by %(step)s deg where its rate allows at most %(allowed)s deg: the arm cannot follow the line there in the start's configuration; nothing moved" % {
+            "at": num(v[0] * 100.0),
+            "axis": str(axis),
+            "step": num(v[1]),
+            "allowed": num(v[2]),
+        }
+    if name == "out_of_range" and v[3] == 262.0:
+        return "out of range at %(at)s %% of the path: axis %(axis)s would be at %(value)s deg, beyond the end of its reachable range at %(limit)s deg; nothing moved" % {
+            "at": num(v[0] * 100.0),
+            "axis": str(axis),
+            "value": num(v[1]),
+            "limit": num(v[2]),
+        }
     if name == "drive_disconnected" and len(_lost_axes(axis, v[0])) <= 1:
         return "the drive of axis %(axis)s does not answer on the bus" % {
             "axis": str(axis),

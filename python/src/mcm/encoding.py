@@ -63,6 +63,15 @@ ARGS: Dict[str, Dict[str, int]] = {
         "angular": 3,
         "frame": 6,
     },
+    "move_linear": {
+        "position": 0,
+        "position": 0,
+        "orientation": 3,
+        "position": 0,
+        "velocity": 7,
+        "position": 0,
+        "acceleration": 8,
+    },
 }
 
 #: ``calibrate``'s ``which``: the value of each group (one axis travels as its number).
@@ -95,6 +104,14 @@ SIM_FLAGS: Dict[str, int] = {
     "true_tool": 64,
 }
 
+#: ``move_linear``: the bit of ``CommandSample.flags`` that says an optional argument is
+#: given.
+MOVE_LINEAR_FLAGS: Dict[str, int] = {
+    "orientation": 1,
+    "velocity": 2,
+    "acceleration": 4,
+}
+
 #: ``pvt_points``: the arguments one point takes, where its six positions and its six
 #: velocities start (from ``PVT_POINT_ARGS * j`` for point ``j``); ``CommandSample.flags`` is the
 #: number of points, with ``layout.PVT_FLAG_LAST`` on the sample that closes the batch. A batch
@@ -104,12 +121,13 @@ PVT_POINT_POSITION = 0
 PVT_POINT_VELOCITY = 6
 MAX_POINTS_PER_BATCH = 1000
 
-#: Where ``Reply.values`` hold the figures of an ``info``, a ``move_all`` and an
-#: ``identify_payload`` that succeeded (``Response::encode``): the index of each, or of the
-#: first of six (of three for the centre of mass).
+#: Where ``Reply.values`` hold the figures of an ``info``, a ``move_all``, an
+#: ``identify_payload`` and a ``move_linear`` that succeeded (``Response::encode``): the index of
+#: each, or of the first of six (of three for the centre of mass).
 INFO_VALUES: Dict[str, int] = {"num_axes": 0, "period_s": 1}
 MOVE_ALL_VALUES: Dict[str, int] = {"velocities_deg_s": 0, "longest": 6, "duration_s": 7}
 PAYLOAD_VALUES: Dict[str, int] = {"mass_kg": 0, "center_of_mass_m": 1, "residual_nm": 4}
+MOVE_LINEAR_VALUES: Dict[str, int] = {"duration_s": 6, "joint_target_deg": 0}
 
 #: The protocol's defaults (``shared/src/protocol/cmd/``).
 DEFAULT_WHICH = "ALL"

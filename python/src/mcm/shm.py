@@ -38,7 +38,7 @@ from .layout import (
     StateSample,
     reply_location,
 )
-from .types import MoveAllResult, PayloadResult, PvtPoint, SafetyErrorEvent, Velocities
+from .types import MoveAllResult, MoveLinearResult, PayloadResult, PvtPoint, SafetyErrorEvent, Velocities
 
 #: The iceoryx2 version the MCM is built with; the Python package must be the same.
 ICEORYX2_VERSION = "0.10.0"
@@ -412,6 +412,19 @@ class ShmClient:
         a = self.request(wire.move_all(target_positions, velocity_factor))
         assert a.move_all is not None
         return a.move_all
+
+    def move_linear(
+        self,
+        position: Sequence[float],
+        orientation: Optional[Sequence[float]] = None,
+        velocity: Optional[float] = None,
+        acceleration: Optional[float] = None,
+    ) -> MoveLinearResult:
+        """Move the TCP on a straight line (as :meth:`mcm.Client.move_linear`); returns the
+        line as planned, once the core's planner has checked the whole path."""
+        a = self.request(wire.move_linear(position, orientation, velocity, acceleration))
+        assert a.move_linear is not None
+        return a.move_linear
 
     def pvt_points(self, points: Sequence[PvtPoint]) -> None:
         """Queue a batch of points (all or none); at most 8 samples are in flight at once."""

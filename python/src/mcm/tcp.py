@@ -37,6 +37,7 @@ from .types import (
     InverseKinematicsResult,
     MoveAllResult,
     PayloadResult,
+    MoveLinearResult,
     PvtPoint,
     SafetyErrorEvent,
     SimResult,
@@ -482,6 +483,26 @@ class Client:
             velocity_factor=velocity_factor,
         )
         return MoveAllResult.from_json(self._expect("move_to_pose", args))
+
+    def move_linear(
+        self,
+        position: Sequence[float],
+        orientation: Optional[Sequence[float]] = None,
+        velocity: Optional[float] = None,
+        acceleration: Optional[float] = None,
+    ) -> MoveLinearResult:
+        """Move the TCP on a straight line to ``position`` [m], turning on the shortest arc to
+        ``orientation`` (a unit quaternion x, y, z, w; None: kept), at most at ``velocity``
+        [m/s] and ``acceleration`` [m/s²] (None: 0.25 and 1.2), base frame (PVT mode).
+        Answered once the whole path is checked; a path the arm cannot follow raises
+        :class:`CommandError` (``unreachable``, ``out_of_range``) and nothing moves."""
+        args = _given(
+            position=[float(x) for x in position],
+            orientation=[float(x) for x in orientation] if orientation is not None else None,
+            velocity=velocity,
+            acceleration=acceleration,
+        )
+        return MoveLinearResult.from_json(self._expect("move_linear", args))
 
     def inverse_kinematics(
         self,

@@ -176,6 +176,24 @@ class PayloadResult:
 
 
 @dataclass
+class MoveLinearResult:
+    """A ``move_linear`` result: the time to the target [s] and each axis's position there
+    [deg]."""
+
+    duration: float
+    joint_target: Six
+    raw: Dict[str, Any] = field(default_factory=dict, repr=False)
+
+    @classmethod
+    def from_json(cls, v: Dict[str, Any]) -> "MoveLinearResult":
+        return cls(
+            duration=float(v["duration"]),
+            joint_target=_six(v.get("joint_target"), "joint_target"),
+            raw=v,
+        )
+
+
+@dataclass
 class InverseKinematicsResult:
     """An ``inverse_kinematics`` result: every joint configuration [deg] that puts the TCP at
     the pose, each within the axis limits, the nearest to the seed first."""

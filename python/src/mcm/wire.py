@@ -23,7 +23,7 @@ from .layout import (
     CommandSample,
     Reply,
 )
-from .types import MoveAllResult, PayloadResult, PvtPoint
+from .types import MoveAllResult, MoveLinearResult, PayloadResult, PvtPoint
 
 Value = Union[float, Sequence[float]]
 
@@ -193,6 +193,29 @@ def move_all(
     )
 
 
+def move_linear(
+    position: Sequence[float],
+    orientation: Optional[Sequence[float]] = None,
+    velocity: Optional[float] = None,
+    acceleration: Optional[float] = None,
+) -> CommandSample:
+    """``move_linear``: ``position`` [m], ``orientation`` a unit quaternion x, y, z, w (None:
+    kept), ``velocity`` [m/s], ``acceleration`` [m/s²] (None: the core's defaults). The core
+    checks the values as the gateway does."""
+    if len(position) != 3 or (orientation is not None and len(orientation) != 4):
+        raise ValueError("move_linear: position takes 3 numbers, orientation 4")
+    given: Dict[str, Value] = {"position": [float(x) for x in position]}
+    flags = 0
+    if orientation is not None:
+        given["orientation"] = [float(x) for x in orientation]
+        flags |= enc.MOVE_LINEAR_FLAGS["orientation"]
+    for name, x in (("velocity", velocity), ("acceleration", acceleration)):
+        if x is not None:
+            given[name] = float(x)
+            flags |= enc.MOVE_LINEAR_FLAGS[name]
+    return command("move_linear", flags, **given)
+
+
 def set_torques(torques: Sequence[float]) -> CommandSample:
     """``set_torques`` [Nm]."""
     return command("set_torques", torques=_six(torques, "torques"))
@@ -267,6 +290,7 @@ class Answer:
     cycle: int
     move_all: Optional[MoveAllResult] = None
     payload: Optional[PayloadResult] = None
+    move_linear: Optional[MoveLinearResult] = None
     num_axes: Optional[int] = None
     period_s: Optional[float] = None
 
@@ -286,6 +310,10 @@ def decode_reply(r: Reply) -> Answer:
             p = enc.PAYLOAD_VALUES
             at = p["center_of_mass_m"]
             a.payload = PayloadResult(v[p["mass_kg"]], v[at : at + 3], v[p["residual_nm"]])
+        elif command == "move_linear":
+            m = enc.MOVE_LINEAR_VALUES
+            at = m["joint_target_deg"]
+            a.move_linear = MoveLinearResult(v[m["duration_s"]], v[at : at + NUM_AXES])
         elif command == "info":
             i = enc.INFO_VALUES
             a.num_axes, a.period_s = int(v[i["num_axes"]]), v[i["period_s"]]

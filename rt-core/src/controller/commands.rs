@@ -120,6 +120,7 @@ impl Controller {
                 self.on_move(c, deg_to_rad6(&m.targets_deg), m.velocity_factor, None)
             }
             Request::PvtPoints(chunk) => self.on_pvt_points(c, &chunk),
+            Request::MoveLinear(m) => self.on_move_linear(c, m),
             // Fault injection is served by the simulator's edge (`crate::sim_edge`) before the
             // controller steps; reaching here means there is no simulated robot.
             Request::Sim(_) => self.refuse(c, Reason::NotSimulated),
@@ -251,7 +252,7 @@ impl Controller {
                 return self.refuse_batch(c, e);
             }
         }
-        if matches!(motion, PvtMotion::Move(_) | PvtMotion::Stop(_)) {
+        if !matches!(motion, PvtMotion::Hold | PvtMotion::Stream) {
             return self.busy(c);
         }
         let start = self.cmd;

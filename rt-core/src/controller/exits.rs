@@ -39,7 +39,7 @@
 //! The PVT queue is left as it is: entering PVT again empties it.
 
 use super::Controller;
-use super::state::{After, Before, CalPhase, Caller, State};
+use super::state::{After, Before, CalPhase, Caller, PvtMotion, State};
 use mcm_shared::reply::Reason;
 
 /// Why the mode that runs ends before its time.
@@ -136,6 +136,13 @@ impl Controller {
             }
             State::Identify { caller, .. } => {
                 self.fail(caller, why.reason());
+                self.stop_for(why)
+            }
+            State::Pvt {
+                motion: PvtMotion::LinePending(p),
+                ..
+            } => {
+                self.fail(p.caller, why.reason());
                 self.stop_for(why)
             }
             State::Hold { .. }

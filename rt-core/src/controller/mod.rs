@@ -21,13 +21,15 @@
 //! arm's motion), `trips.rs` (drive events and safety trips), `view.rs` (what a cycle reports),
 //! `shutdown_sequence.rs` (the controlled stop and disable when `mcm-rt` is asked to stop),
 //! `velocity.rs` (VELOCITY_CONTROL, its ramp and the joint velocities of a TCP velocity), `release.rs` (RELEASE's soft speed limit),
-//! `tool.rs` (the active tool, `set_tool`).
+//! `tool.rs` (the active tool, `set_tool`), `linear.rs` (`move_linear`, its line planned beside
+//! the cycle).
 
 mod calibrate;
 mod calibrate_relax;
 mod commands;
 mod exits;
 mod identify_payload;
+mod linear;
 mod motion;
 mod moves;
 mod overload;
@@ -131,6 +133,13 @@ pub struct Controller {
     shutdown: Option<ShutdownStatus>,
     /// Bugs planted by the simulation tester (`planted.rs`): none in `mcm-rt`.
     planted: planted::Planted,
+    /// A line to plan, posted for the cycle to hand to the planner (`linear.rs`).
+    line_request: Option<crate::line_planner::LineRequest>,
+    /// The plan of the line that runs, or ran last (about 13 kB, kept here rather than in
+    /// [`State`], which is copied every cycle).
+    line: Option<mcm_kinematics::LinePlan>,
+    /// The id of the last line requested.
+    line_ids: u64,
 }
 
 impl Controller {
@@ -183,6 +192,9 @@ impl Controller {
             owner: 0,
             shutdown: None,
             planted: planted::Planted::default(),
+            line_request: None,
+            line: None,
+            line_ids: 0,
         }
     }
 

@@ -71,7 +71,7 @@ impl Controller {
     }
 
     /// Advance a stop by `dt`; `None` once it ended (the axes at rest where it ended).
-    fn advance_stop(&mut self, stop: Option<Stopping>, dt: f64) -> Option<Stopping> {
+    pub(super) fn advance_stop(&mut self, stop: Option<Stopping>, dt: f64) -> Option<Stopping> {
         let Stopping { plan, t } = stop?;
         let t = t + dt;
         self.cmd = plan.sample(t);
@@ -198,6 +198,8 @@ impl Controller {
                 }
                 (StreamState::Idle, _) => PvtMotion::Hold,
             },
+            PvtMotion::LinePending(p) => self.advance_pending_line(p, dt),
+            PvtMotion::Line(run) => self.advance_line(run, dt),
         };
         self.state = State::Pvt { motion, starved };
     }

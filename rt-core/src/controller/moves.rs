@@ -60,7 +60,24 @@ impl Controller {
         let running = match motion {
             PvtMotion::Hold => None,
             PvtMotion::Move(m) => Some(m.plan),
-            PvtMotion::Stop(_) | PvtMotion::Stream => return self.busy(c),
+            // The axes a `move_axis` does not name go on to where the line was taking them,
+            // each re-planned from its present reference.
+            PvtMotion::Line(_) => {
+                let to = self.line_joint_target().unwrap_or(self.cmd.position);
+                let mut axes = [AxisPlan::hold(0.0); NUM_AXES];
+                for (i, axis) in axes.iter_mut().enumerate() {
+                    *axis = match self.plan_axis(i, to[i], factor) {
+                        Ok(plan) => plan,
+                        Err(reason) => return self.refuse(c, reason),
+                    };
+                }
+                Some(JointPlan::new(axes))
+            }
+            // A line still being planned, the arm at rest: superseded (`start_moving`).
+            PvtMotion::LinePending(p) if p.stop.is_none() => None,
+            PvtMotion::Stop(_) | PvtMotion::Stream | PvtMotion::LinePending(_) => {
+                return self.busy(c);
+            }
         };
         for (i, q) in target.iter().copied().enumerate() {
             if only.is_some_and(|a| a.index() != i) {
@@ -128,6 +145,13 @@ impl Controller {
     }
 
     fn start_moving(&mut self, plan: JointPlan) {
+        if let State::Pvt {
+            motion: PvtMotion::LinePending(p),
+            ..
+        } = self.state
+        {
+            self.fail(p.caller, Reason::Aborted);
+        }
         self.state = State::Pvt {
             motion: PvtMotion::Move(Moving { plan }),
             starved: false,

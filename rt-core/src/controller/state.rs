@@ -8,6 +8,7 @@
 use super::identify_payload::Identification;
 use super::velocity::VelocityTarget;
 use crate::calibration::{AxisCalibration, AxisSettings};
+use crate::line_planner::LineRequest;
 use crate::trajectory::{JointPlan, StopPlan};
 use mcm_shared::NUM_AXES;
 use mcm_shared::mode::{CommandKind, Mode};
@@ -81,6 +82,30 @@ pub(crate) enum PvtMotion {
     Stop(Stopping),
     /// Follow the PVT stream.
     Stream,
+    /// A `move_linear` waits: the running motion comes to rest, then its line is planned
+    /// beside the cycle (`linear.rs`); the arm holds meanwhile.
+    LinePending(PendingLine),
+    /// A `move_linear` line under way (its plan is the controller's `line`).
+    Line(LineRun),
+}
+
+/// A `move_linear` until its line runs.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PendingLine {
+    pub caller: Caller,
+    /// The request, its `start` set when it is posted.
+    pub request: LineRequest,
+    /// The motion that ran coming to rest first (`None`: at rest).
+    pub stop: Option<Stopping>,
+    /// The request went out to the planner.
+    pub posted: bool,
+}
+
+/// A line under way: `t` seconds since it started, of `duration`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct LineRun {
+    pub t: f64,
+    pub duration: f64,
 }
 
 /// What a calibration is doing.
@@ -236,6 +261,14 @@ impl State {
                 ..
             } => Some(mv(m)),
             State::Identify { run, .. } => run.moving().map(mv),
+            State::Pvt {
+                motion: PvtMotion::LinePending(p),
+                ..
+            } => Some(p.stop.as_ref().map_or(0.0, stop)),
+            State::Pvt {
+                motion: PvtMotion::Line(l),
+                ..
+            } => Some((l.duration - l.t).max(0.0)),
             _ => None,
         }
     }

@@ -11,7 +11,8 @@
 //! is k x period.
 //!
 //! The scenario: boot, hold, calibration of all axes, PVT with `move_all` (re-planned by a second
-//! `move_all` while the arm moves) and a `pvt_points` batch of many chunks streamed to its end,
+//! `move_all` while the arm moves), a `pvt_points` batch of many chunks streamed to its end and
+//! `move_linear` lines (one from rest, one during a `move_all`: planned and sampled in the cycle),
 //! `identify_payload` with `apply`, release, torque control with `set_torques`, velocity control
 //! with `set_velocities`, then `set_cartesian_velocity` in the base and the tool frame (the TCP's
 //! velocity through the Jacobian every cycle), back to `set_velocities`, and the timeout, a move
@@ -32,9 +33,9 @@ use mcm_rt_core::flight::{FlightRecorder, FlightWriter};
 use mcm_rt_core::ipc::RtIpc;
 use mcm_rt_core::sim_edge::SimEdge;
 use mcm_shared::command::{
-    Axis, Calibrate, CartesianFrame, Direction, IdentifyPayload, MoveAll, MoveAxis, Pvt, PvtChunk,
-    PvtPoint, Request, SetCartesianVelocity, SetTorques, SetVelocities, SimCommand, TorqueControl,
-    VelocityControl, Which,
+    Axis, Calibrate, CartesianFrame, Direction, IdentifyPayload, MoveAll, MoveAxis, MoveLinear,
+    Pvt, PvtChunk, PvtPoint, Request, SetCartesianVelocity, SetTorques, SetVelocities, SimCommand,
+    TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{Mode, RejectCode};
@@ -337,6 +338,51 @@ fn pvt(rig: &mut Rig) {
         "back at the target: {:?}",
         s.sim_true_position
     );
+    lines(rig, &target);
+}
+
+/// `move_linear` (each line planned in the measured cycle that hands it over: the inline
+/// planner), from rest to its end; then one during a `move_all`: the move comes to rest, the
+/// line runs back to where the first one started.
+fn lines(rig: &mut Rig, target: &[f64; 6]) {
+    let line = |position| {
+        Request::MoveLinear(MoveLinear {
+            position,
+            orientation: None,
+            velocity: Some(0.2),
+            acceleration: None,
+        })
+    };
+    let arrived = |at: [f64; 3]| {
+        move |s: &StateSample| {
+            let d: f64 = (0..3)
+                .map(|i| (s.cartesian.position[i] - at[i]).powi(2))
+                .sum();
+            d.sqrt() < 1e-6 && s.velocity.iter().all(|v| *v == 0.0)
+        }
+    };
+    let start = rig.cycle().cartesian.position;
+    let to = [start[0], start[1] + 0.05, start[2] - 0.03];
+    rig.ok(line(to), 5);
+    let s = rig.run_until("moving on the line", 20, |s| {
+        s.cartesian.linear_velocity.iter().any(|v| v.abs() > 1e-3)
+    });
+    assert_eq!(s.mode, Mode::Pvt.to_wire());
+    rig.run_until("the line's end", 1_000, arrived(to));
+    let mut away = *target;
+    away[0] += 20.0;
+    rig.ok(
+        Request::MoveAll(MoveAll {
+            targets_deg: away,
+            velocity_factor: 0.5,
+        }),
+        5,
+    );
+    rig.run_until("the move_all moving", 200, |s| {
+        s.velocity.iter().any(|v| v.abs() > 5.0)
+    });
+    rig.ok(line(start), 400);
+    rig.run_until("back on the line's start", 2_000, arrived(start));
 }
 
 #[test]

@@ -63,8 +63,8 @@ pub use spec::{ArgDef, CommandDef, Group, Kind, Success};
 pub use wait::{CALIBRATION_TIMEOUT, IDENTIFY_PAYLOAD_TIMEOUT, REPLY_TIMEOUT, core_reply_within};
 
 use crate::command::{
-    Calibrate, IdentifyPayload, MoveAll, MoveAxis, Pvt, Request, SetCartesianVelocity, SetTool,
-    SetTorques, SetVelocities, SimCommand,
+    Calibrate, IdentifyPayload, MoveAll, MoveAxis, MoveLinear, Pvt, Request, SetCartesianVelocity,
+    SetTool, SetTorques, SetVelocities, SimCommand,
 };
 use crate::config::RobotConfig;
 use json::json_kind;
@@ -169,6 +169,7 @@ commands! {
     MoveAxis(MoveAxis),
     MoveAll(MoveAll),
     MoveToPose(MoveToPose),
+    MoveLinear(MoveLinear),
     PvtPoints(PvtPoints),
     Sleep(Sleep),
     Sim(SimCommand),

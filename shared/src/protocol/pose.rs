@@ -42,9 +42,31 @@ pub struct Pose {
 impl Pose {
     /// The pose of a command's `position` and `orientation` arguments (both required).
     pub fn parse(args: &Args<'_>) -> Result<Pose, CommandError> {
-        let (_, position) = required::<3>(args, POSITION.name, "coordinates x, y, z [m]")?;
+        let position = Pose::position(args)?;
+        let orientation = Pose::orientation(args)?.ok_or_else(|| {
+            args.missing(
+                ORIENTATION.name,
+                "an array of 4 quaternion components x, y, z, w",
+            )
+        })?;
+        Ok(Pose {
+            position,
+            orientation,
+        })
+    }
+
+    /// The required `position` argument [m].
+    pub fn position(args: &Args<'_>) -> Result<[f64; 3], CommandError> {
+        Ok(required::<3>(args, POSITION.name, "coordinates x, y, z [m]")?.1)
+    }
+
+    /// The `orientation` argument, normalised; `None` when absent.
+    pub fn orientation(args: &Args<'_>) -> Result<Option<[f64; 4]>, CommandError> {
+        if args.raw(ORIENTATION.name).is_none() {
+            return Ok(None);
+        }
         let (raw, q) = required::<4>(args, ORIENTATION.name, "quaternion components x, y, z, w")?;
-        let orientation = unit_quaternion(q).map_err(|norm| {
+        unit_quaternion(q).map(Some).map_err(|norm| {
             args.invalid(
                 ORIENTATION.name,
                 raw,
@@ -54,10 +76,6 @@ impl Pose {
                     crate::ranges::Num(norm)
                 ),
             )
-        })?;
-        Ok(Pose {
-            position,
-            orientation,
         })
     }
 

@@ -17,7 +17,7 @@ use crate::config::RobotConfig;
 use crate::error_code::ErrorCode;
 use crate::mode::{CommandKind, Mode, RejectCode};
 use crate::protocol::CommandError;
-use crate::reply::{InfoReply, MoveAllPlan, Outcome, PayloadReply, SafetyError};
+use crate::reply::{InfoReply, MoveAllPlan, MoveLinearPlan, Outcome, PayloadReply, SafetyError};
 use crate::sample::{
     AXIS_CALIBRATED, AXIS_ENABLED, AXIS_FAULT, AXIS_I2T_DERATED, AXIS_ONLINE, ErrorRecord,
     STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_NOT_REALTIME, STATE_PVT_STARVED, STATE_SHUTTING_DOWN,
@@ -43,6 +43,7 @@ pub enum Answer {
     /// The answer to `info`.
     Initialization(Info),
     MoveAll(MoveAllResult),
+    MoveLinear(MoveLinearResult),
     Sim(SimResult),
     InverseKinematics(InverseKinematicsResult),
     Payload(PayloadResult),
@@ -76,6 +77,7 @@ impl Answer {
             Answer::Status(_) => "status",
             Answer::Initialization(_) => "initialization",
             Answer::MoveAll(_) => "move_all",
+            Answer::MoveLinear(_) => "move_linear",
             Answer::Sim(_) => "sim",
             Answer::InverseKinematics(_) => "inverse_kinematics",
             Answer::Payload(_) => "payload",
@@ -746,6 +748,24 @@ impl From<&MoveAllPlan> for MoveAllResult {
             velocities: six(&plan.velocities_deg_s),
             longest: plan.longest.number(),
             max_time_to_target: round(plan.duration_s),
+        }
+    }
+}
+
+/// The `move_linear` result: the line the MCM planned.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MoveLinearResult {
+    /// Time from now to the target [s].
+    pub duration: f64,
+    /// Each axis's position at the target [deg].
+    pub joint_target: Six,
+}
+
+impl From<&MoveLinearPlan> for MoveLinearResult {
+    fn from(plan: &MoveLinearPlan) -> MoveLinearResult {
+        MoveLinearResult {
+            duration: round(plan.duration_s),
+            joint_target: six(&plan.joint_target_deg),
         }
     }
 }

@@ -22,6 +22,8 @@ pub enum Success {
     Initialization,
     /// The `move_all` result.
     MoveAll,
+    /// The `move_linear` result.
+    MoveLinear,
     /// The `sim` result.
     Sim,
     /// The `inverse_kinematics` result.
@@ -40,6 +42,7 @@ impl Success {
             Success::Nothing => None,
             Success::Initialization => Some("initialization"),
             Success::MoveAll => Some("move_all"),
+            Success::MoveLinear => Some("move_linear"),
             Success::Sim => Some("sim"),
             Success::InverseKinematics => Some("inverse_kinematics"),
             Success::Payload => Some("payload"),

@@ -574,6 +574,20 @@ fn every_command_reads_back_as_written() {
             seed_deg: None,
         }
         .into(),
+        MoveLinear {
+            position: [0.4, -0.1, 0.5],
+            orientation: Some([0.0, 1.0, 0.0, 0.0]),
+            velocity: Some(0.1),
+            acceleration: Some(0.5),
+        }
+        .into(),
+        MoveLinear {
+            position: [0.4, -0.1, 0.45],
+            orientation: None,
+            velocity: None,
+            acceleration: None,
+        }
+        .into(),
     ];
     let mut seen = std::collections::BTreeSet::new();
     for c in &commands {
@@ -688,6 +702,7 @@ fn every_default_shown_is_the_default_parsed() {
         "authenticate" => json!({"secret": "s"}),
         "move_all" => json!({"target_positions": zeros}),
         "move_axis" => json!({"axis_index": 1, "target_position": 0}),
+        "move_linear" => json!({"position": [0.4, 0, 0.5]}),
         "move_to_pose" | "inverse_kinematics" => {
             json!({"position": [0.4, 0, 0.5], "orientation": [0, 0, 0, 1]})
         }

@@ -73,6 +73,147 @@ impl PvtQuantity {
     }
 }
 
+/// One of the arm's singularities, in a [`LineFault`] (`Display`: its words).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Singularity {
+    /// Axes 4 and 6 aligned (measured in degrees).
+    Wrist,
+    /// The arm stretched or folded (measured in degrees).
+    Elbow,
+    /// The wrist centre on axis 1 (measured in metres).
+    Shoulder,
+}
+
+impl Singularity {
+    /// The unit of its measure: degrees, or metres for the shoulder.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Singularity::Wrist | Singularity::Elbow => "deg",
+            Singularity::Shoulder => "m",
+        }
+    }
+}
+
+impl fmt::Display for Singularity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Singularity::Wrist => "wrist singularity (axes 4 and 6 aligned)",
+            Singularity::Elbow => "elbow singularity (the arm stretched or folded)",
+            Singularity::Shoulder => "shoulder singularity (the wrist centre on axis 1)",
+        })
+    }
+}
+
+/// Where and why the straight line of a `move_linear` cannot be followed: `fraction` is the
+/// share of the path from the start (0) to the target (1) where the planner found it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LineFault {
+    /// No configuration of the start's branch puts the TCP there (beyond the reach).
+    NoSolution { fraction: f64 },
+    /// The path comes within `value` of a singularity whose margin is `margin` (its unit).
+    Singular {
+        fraction: f64,
+        singularity: Singularity,
+        value: f64,
+        margin: f64,
+    },
+    /// The reason's axis would jump by `step_deg` where its rate allows at most `allowed_deg`.
+    JointJump {
+        fraction: f64,
+        step_deg: f64,
+        allowed_deg: f64,
+    },
+    /// The reason's axis would be at `value_deg`, beyond its reachable range's end `limit_deg`.
+    OutOfRange {
+        fraction: f64,
+        value_deg: f64,
+        limit_deg: f64,
+    },
+}
+
+/// The first number of a [`LineFault`]'s kind in the last slot: above every argument code
+/// (`u8`) of an [`Reason::InvalidArgument`] and never 0, so the faults of a line share the
+/// codes `unreachable` and `out_of_range` with the joint moves' reasons and stay told apart.
+const LINE_FAULT_BASE: f64 = 256.0;
+
+impl LineFault {
+    /// The share of the path where it was found.
+    pub fn fraction(&self) -> f64 {
+        match *self {
+            LineFault::NoSolution { fraction }
+            | LineFault::Singular { fraction, .. }
+            | LineFault::JointJump { fraction, .. }
+            | LineFault::OutOfRange { fraction, .. } => fraction,
+        }
+    }
+}
+
+/// Four slots from `at`: the fraction, two figures, then the kind from [`LINE_FAULT_BASE`].
+impl Field for LineFault {
+    fn put(self, w: &mut WireReason, at: usize) {
+        let (kind, x, y) = match self {
+            LineFault::NoSolution { .. } => (1.0, 0.0, 0.0),
+            LineFault::Singular {
+                singularity,
+                value,
+                margin,
+                ..
+            } => {
+                let k = match singularity {
+                    Singularity::Wrist => 2.0,
+                    Singularity::Elbow => 3.0,
+                    Singularity::Shoulder => 4.0,
+                };
+                (k, value, margin)
+            }
+            LineFault::JointJump {
+                step_deg,
+                allowed_deg,
+                ..
+            } => (5.0, step_deg, allowed_deg),
+            LineFault::OutOfRange {
+                value_deg,
+                limit_deg,
+                ..
+            } => (6.0, value_deg, limit_deg),
+        };
+        let v = [self.fraction(), x, y, LINE_FAULT_BASE + kind];
+        w.values[at..at + 4].copy_from_slice(&v);
+    }
+    fn take(w: &WireReason, at: usize, _: &'static str) -> Result<Self, DecodeError> {
+        let [fraction, x, y] = [w.values[at], w.values[at + 1], w.values[at + 2]];
+        let singular = |singularity| LineFault::Singular {
+            fraction,
+            singularity,
+            value: x,
+            margin: y,
+        };
+        let kind = whole(w.values[at + 3] - LINE_FAULT_BASE, "line fault")?;
+        Ok(match kind {
+            1 => LineFault::NoSolution { fraction },
+            2 => singular(Singularity::Wrist),
+            3 => singular(Singularity::Elbow),
+            4 => singular(Singularity::Shoulder),
+            5 => LineFault::JointJump {
+                fraction,
+                step_deg: x,
+                allowed_deg: y,
+            },
+            6 => LineFault::OutOfRange {
+                fraction,
+                value_deg: x,
+                limit_deg: y,
+            },
+            n => {
+                return Err(DecodeError::Unknown {
+                    what: "line fault",
+                    value: n,
+                });
+            }
+        })
+    }
+}
+
 /// The wire form of a reason: its code, axis (0: none) and figures.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WireReason {
@@ -422,6 +563,9 @@ reasons! {
         max @ 2: f64,
     } = OutOfRange if |v| v[3] == 0.0,
         |f| out_of_range(f, axis, value, min, max);
+    /// An axis would leave its reachable range on the straight line of a `move_linear`.
+    LineOutOfRange { axis @ axis: Axis, fault @ 0: LineFault } = OutOfRange if |v| v[3] > LINE_FAULT_BASE,
+        |f| line_fault(f, Some(axis), fault);
     /// An argument of the protocol ([`crate::ranges`]) outside its range: on the wire an
     /// `out_of_range` that carries the argument's code, worded exactly as the gateway words
     /// the same value.
@@ -469,6 +613,10 @@ reasons! {
                 Num(limit)
             )
         };
+    /// The straight line of a `move_linear` leaves what the arm can follow (its reach, a
+    /// singularity's margin, a continuous motion of an axis).
+    LineUnreachable { axis @ axis: Option<Axis>, fault @ 0: LineFault } = Unreachable if |v| v[3] > LINE_FAULT_BASE,
+        |f| line_fault(f, axis, fault);
     /// The target is outside the reachable range (the limits less the safety margin).
     Unreachable {
         axis @ axis: Axis,
@@ -524,6 +672,68 @@ fn drives_lost(f: &mut fmt::Formatter<'_>, axis: Axis, also: u8) -> fmt::Result 
         write!(f, "{sep}{a}")?;
     }
     f.write_str(" do not answer on the bus")
+}
+
+/// The words of [`Reason::LineUnreachable`] and [`Reason::LineOutOfRange`]: where on the
+/// path, what, the value and what is allowed.
+fn line_fault(f: &mut fmt::Formatter<'_>, axis: Option<Axis>, fault: LineFault) -> fmt::Result {
+    let at = Num(fault.fraction() * 100.0);
+    let axis = |f: &mut fmt::Formatter<'_>| match axis {
+        Some(a) => write!(f, "axis {a}"),
+        None => f.write_str("an axis"),
+    };
+    match fault {
+        LineFault::NoSolution { .. } => write!(
+            f,
+            "unreachable at {at} % of the path: no configuration of the start's \
+             branch puts the TCP there; nothing moved"
+        ),
+        LineFault::Singular {
+            singularity,
+            value,
+            margin,
+            ..
+        } => {
+            let unit = singularity.unit();
+            write!(
+                f,
+                "unreachable at {at} % of the path: it comes within {} {unit} of \
+                 the {singularity}; it must stay at least {} {unit} away; nothing moved",
+                Num(value),
+                Num(margin)
+            )
+        }
+        LineFault::JointJump {
+            step_deg,
+            allowed_deg,
+            ..
+        } => {
+            write!(f, "unreachable at {at} % of the path: ")?;
+            axis(f)?;
+            write!(
+                f,
+                " would jump by {} deg where its rate allows at most {} deg: the arm cannot \
+                 follow the line there in the start's configuration; nothing moved",
+                Num(step_deg),
+                Num(allowed_deg)
+            )
+        }
+        LineFault::OutOfRange {
+            value_deg,
+            limit_deg,
+            ..
+        } => {
+            write!(f, "out of range at {at} % of the path: ")?;
+            axis(f)?;
+            write!(
+                f,
+                " would be at {} deg, beyond the end of its reachable range at {} deg; nothing \
+                 moved",
+                Num(value_deg),
+                Num(limit_deg)
+            )
+        }
+    }
 }
 
 /// The words of [`Reason::OutOfRange`]: the range, or "a finite number" when any is allowed.

@@ -123,8 +123,40 @@ pub(crate) fn reason() -> impl Strategy<Value = Reason> {
             max_deg: b
         }),
         any::<u64>().prop_map(|owner| Reason::NotOwner { owner }),
+        (prop::option::of(axis()), line_fault())
+            .prop_map(|(axis, fault)| Reason::LineUnreachable { axis, fault }),
+        (axis(), line_fault()).prop_map(|(axis, fault)| Reason::LineOutOfRange { axis, fault }),
         Just(Reason::ShuttingDown),
         (x(), x()).prop_map(|(condition, limit)| Reason::NotIdentifiable { condition, limit }),
+    ]
+}
+
+fn line_fault() -> impl Strategy<Value = LineFault> {
+    let singularity = prop_oneof![
+        Just(Singularity::Wrist),
+        Just(Singularity::Elbow),
+        Just(Singularity::Shoulder),
+    ];
+    prop_oneof![
+        x().prop_map(|fraction| LineFault::NoSolution { fraction }),
+        (x(), singularity, x(), x()).prop_map(|(fraction, singularity, value, margin)| {
+            LineFault::Singular {
+                fraction,
+                singularity,
+                value,
+                margin,
+            }
+        }),
+        (x(), x(), x()).prop_map(|(fraction, step_deg, allowed_deg)| LineFault::JointJump {
+            fraction,
+            step_deg,
+            allowed_deg
+        }),
+        (x(), x(), x()).prop_map(|(fraction, value_deg, limit_deg)| LineFault::OutOfRange {
+            fraction,
+            value_deg,
+            limit_deg
+        }),
     ]
 }
 
@@ -150,6 +182,14 @@ fn response() -> impl Strategy<Value = Response> {
                         mass_kg,
                         center_of_mass_m,
                         residual_nm,
+                    })
+                })
+                .boxed(),
+            CommandKind::MoveLinear => (x(), prop::array::uniform6(x()))
+                .prop_map(|(duration_s, joint_target_deg)| {
+                    Done::MoveLinear(MoveLinearPlan {
+                        duration_s,
+                        joint_target_deg,
                     })
                 })
                 .boxed(),
@@ -276,7 +316,14 @@ fn undecodable_samples_are_refused_with_their_own_kind_and_ids() {
     assert_eq!((r.client_id, r.request_id, r.kind), (4, 8, 99));
     assert_eq!(r.status, ReplyStatus::Rejected.to_wire());
     assert_eq!(r.code, RejectCode::OutOfRange.to_wire());
-    assert_eq!(&r.values[..3], &[99.0, 1.0, 20.0]);
+    assert_eq!(
+        &r.values[..3],
+        &[
+            99.0,
+            1.0,
+            f64::from(CommandKind::ALL.last().unwrap().to_wire())
+        ]
+    );
 
     let mut s = crate::command::Request::Hold.encode();
     s.kind = CommandKind::MoveAll.to_wire();

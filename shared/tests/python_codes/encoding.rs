@@ -13,14 +13,16 @@
 
 use mcm_shared::NUM_AXES;
 use mcm_shared::command::{
-    Axis, Calibrate, CartesianFrame, Direction, MoveAll, MoveAxis, Pvt, PvtChunk, PvtPoint,
-    Request, SetCartesianVelocity, SetTool, SetTorques, SetVelocities, SimCommand, TorqueControl,
-    VelocityControl, Which,
+    Axis, Calibrate, CartesianFrame, Direction, MoveAll, MoveAxis, MoveLinear, Pvt, PvtChunk,
+    PvtPoint, Request, SetCartesianVelocity, SetTool, SetTorques, SetVelocities, SimCommand,
+    TorqueControl, VelocityControl, Which,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
 use mcm_shared::protocol::{self, COMMANDS, Command};
-use mcm_shared::reply::{Done, InfoReply, MoveAllPlan, Outcome, PayloadReply, Response};
+use mcm_shared::reply::{
+    Done, InfoReply, MoveAllPlan, MoveLinearPlan, Outcome, PayloadReply, Response,
+};
 use mcm_shared::sample::{CommandSample, PVT_FLAG_LAST};
 use mcm_shared::tool::{Tcp, Tool};
 use std::fmt::Write;
@@ -66,6 +68,52 @@ fn probe(request: Request, args: &[(&'static str, &[f64])]) -> Probe {
         request,
         args: args.iter().map(|(n, v)| (*n, v.to_vec())).collect(),
     }
+}
+
+/// `move_linear`: the position alone, then each optional argument with it (its flag bit is
+/// the sample's flags less the position's).
+fn move_linear_probes() -> Vec<Probe> {
+    let position = [0.11, 0.12, 0.13];
+    let orientation = [0.5, -0.5, 0.5, -0.5];
+    let only = MoveLinear {
+        position,
+        orientation: None,
+        velocity: None,
+        acceleration: None,
+    };
+    let line = |m: MoveLinear, name, values: &[f64]| {
+        probe(
+            Request::MoveLinear(m),
+            &[("position", &position), (name, values)],
+        )
+    };
+    vec![
+        probe(Request::MoveLinear(only), &[("position", &position)]),
+        line(
+            MoveLinear {
+                orientation: Some(orientation),
+                ..only
+            },
+            "orientation",
+            &orientation,
+        ),
+        line(
+            MoveLinear {
+                velocity: Some(X1),
+                ..only
+            },
+            "velocity",
+            &[X1],
+        ),
+        line(
+            MoveLinear {
+                acceleration: Some(X3),
+                ..only
+            },
+            "acceleration",
+            &[X3],
+        ),
+    ]
 }
 
 /// The `sim` fields, each given alone (its flag bit is the sample's flags).
@@ -233,6 +281,7 @@ fn probes(kind: CommandKind) -> Vec<Probe> {
                 ],
             )]
         }
+        CommandKind::MoveLinear => move_linear_probes(),
         CommandKind::SetTool => {
             // `tcp` travels as its position, then its orientation.
             let tcp = [0.11, 0.12, 0.13, 0.5, -0.5, 0.5, -0.5];
@@ -339,6 +388,22 @@ SIM_FLAGS: Dict[str, int] = {
     );
     for p in sim_probes() {
         let (name, _) = &p.args[0];
+        let _ = writeln!(out, "    \"{name}\": {},", encode(&p.request).flags);
+    }
+    out.push_str("}\n");
+    out
+}
+
+/// `MOVE_LINEAR_FLAGS`: the flag bit that says an optional `move_linear` argument is given.
+fn move_linear_flags() -> String {
+    let mut out = String::from(
+        "#: ``move_linear``: the bit of ``CommandSample.flags`` that says an optional argument is
+#: given.
+MOVE_LINEAR_FLAGS: Dict[str, int] = {
+",
+    );
+    for p in move_linear_probes().iter().skip(1) {
+        let (name, _) = &p.args[1];
         let _ = writeln!(out, "    \"{name}\": {},", encode(&p.request).flags);
     }
     out.push_str("}\n");
@@ -550,13 +615,21 @@ fn answers() -> String {
             residual_nm: 0.0123,
         }),
     );
+    let line = values(
+        CommandKind::MoveLinear,
+        Done::MoveLinear(MoveLinearPlan {
+            duration_s: X1,
+            joint_target_deg: six(11.5),
+        }),
+    );
     format!(
-        "#: Where ``Reply.values`` hold the figures of an ``info``, a ``move_all`` and an
-#: ``identify_payload`` that succeeded (``Response::encode``): the index of each, or of the
-#: first of six (of three for the centre of mass).
+        "#: Where ``Reply.values`` hold the figures of an ``info``, a ``move_all``, an
+#: ``identify_payload`` and a ``move_linear`` that succeeded (``Response::encode``): the index of
+#: each, or of the first of six (of three for the centre of mass).
 INFO_VALUES: Dict[str, int] = {{\"num_axes\": {}, \"period_s\": {}}}
 MOVE_ALL_VALUES: Dict[str, int] = {{\"velocities_deg_s\": {}, \"longest\": {}, \"duration_s\": {}}}
 PAYLOAD_VALUES: Dict[str, int] = {{\"mass_kg\": {}, \"center_of_mass_m\": {}, \"residual_nm\": {}}}
+MOVE_LINEAR_VALUES: Dict[str, int] = {{\"duration_s\": {}, \"joint_target_deg\": {}}}
 ",
         place(&info, &[COUNT], "info's num_axes"),
         place(&info, &[X1], "info's period_s"),
@@ -566,6 +639,8 @@ PAYLOAD_VALUES: Dict[str, int] = {{\"mass_kg\": {}, \"center_of_mass_m\": {}, \"
         place(&payload, &[X1], "identify_payload's mass"),
         place(&payload, &com, "identify_payload's centre of mass"),
         place(&payload, &[0.0123], "identify_payload's residual"),
+        place(&line, &[X1], "move_linear's duration"),
+        place(&line, &six(11.5), "move_linear's joint target"),
     )
 }
 
@@ -595,6 +670,7 @@ pub fn render() -> String {
         arg_places(),
         values(),
         sim_flags(),
+        move_linear_flags(),
         pvt_points(),
         answers(),
         defaults(),

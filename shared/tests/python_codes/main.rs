@@ -28,7 +28,7 @@ use mcm_shared::mode::{CommandKind, Mode, RejectCode, ReplyStatus};
 use mcm_shared::protocol::results::ErrorOutcome;
 use mcm_shared::protocol::{COMMANDS, Success};
 use mcm_shared::ranges::{ARGS, ArgRefusal, Num};
-use mcm_shared::reply::{CalibrationFailure, PvtQuantity, Reason};
+use mcm_shared::reply::{CalibrationFailure, LineFault, PvtQuantity, Reason, Singularity};
 use std::fmt::Write;
 use std::path::Path;
 use text::{FUNCTIONS, PRELUDE};
@@ -148,6 +148,7 @@ fn cases() -> Vec<Case> {
         case(Reason::NotCalibrated { axis: a }, "", |_| vec![axis_slot()]),
         case(Reason::EmergencyStop, "", |_| vec![]),
     ];
+    out.extend(line_cases());
     // One drive, or several (the others in a mask).
     let several = Reason::DriveDisconnected {
         axis: Axis::new(1).expect("axis 1"),
@@ -373,6 +374,95 @@ fn cases() -> Vec<Case> {
     out
 }
 
+/// The faults of a `move_linear` line (before the other reasons of their codes): told apart by
+/// their kind in the last figure.
+fn line_cases() -> Vec<Case> {
+    let a = axis();
+    let [s0, s1, s2, _] = S;
+    let fraction = s0 / 100.0;
+    let at = || {
+        custom(
+            Num(fraction * 100.0).to_string(),
+            "at",
+            "num(v[0] * 100.0)".into(),
+        )
+    };
+    let mut out = Vec::new();
+    let mut push = |reason: Reason, slots: fn(&Reason) -> Vec<Slot>| {
+        let kind = reason.to_wire().values[3];
+        out.push(case(reason, &format!("v[3] == {kind:.1}"), |r| {
+            let mut all = vec![at()];
+            all.extend(slots(r));
+            all
+        }));
+    };
+    push(
+        Reason::LineUnreachable {
+            axis: None,
+            fault: LineFault::NoSolution { fraction },
+        },
+        |_| vec![],
+    );
+    for singularity in [
+        Singularity::Wrist,
+        Singularity::Elbow,
+        Singularity::Shoulder,
+    ] {
+        push(
+            Reason::LineUnreachable {
+                axis: None,
+                fault: LineFault::Singular {
+                    fraction,
+                    singularity,
+                    value: s1,
+                    margin: s2,
+                },
+            },
+            |r| {
+                vec![
+                    figure(r, "value", S[1], Fmt::Num),
+                    figure(r, "margin", S[2], Fmt::Num),
+                ]
+            },
+        );
+    }
+    push(
+        Reason::LineUnreachable {
+            axis: Some(a),
+            fault: LineFault::JointJump {
+                fraction,
+                step_deg: s1,
+                allowed_deg: s2,
+            },
+        },
+        |r| {
+            vec![
+                axis_slot(),
+                figure(r, "step", S[1], Fmt::Num),
+                figure(r, "allowed", S[2], Fmt::Num),
+            ]
+        },
+    );
+    push(
+        Reason::LineOutOfRange {
+            axis: a,
+            fault: LineFault::OutOfRange {
+                fraction,
+                value_deg: s1,
+                limit_deg: s2,
+            },
+        },
+        |r| {
+            vec![
+                axis_slot(),
+                figure(r, "value", S[1], Fmt::Num),
+                figure(r, "limit", S[2], Fmt::Num),
+            ]
+        },
+    );
+    out
+}
+
 /// `s` as a Python string literal.
 fn py_str(s: &str) -> String {
     format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
@@ -404,7 +494,7 @@ fn reason_text() -> String {
         "def reason_text(code: int, axis: int, v: Sequence[float]) -> str:
     \"\"\"The words for a refusal, failure or safety trip, as the core's ``Reason`` gives them.\"\"\"
     name = REJECT_CODES.get(code)
-    if name == \"out_of_range\" and int(v[3]) != 0:
+    if name == \"out_of_range\" and 0 < int(v[3]) < 256:
         return argument_text(int(v[3]), axis, v[0], v[1], v[2])
 ",
     );

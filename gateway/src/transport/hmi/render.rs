@@ -15,8 +15,8 @@ use mcm_shared::error_code::ErrorCode;
 use mcm_shared::mode::Mode;
 use mcm_shared::protocol;
 use mcm_shared::protocol::results::{
-    Answer, Detail, Generic, Info, InverseKinematicsResult, MoveAllResult, PayloadResult,
-    SimResult, Status,
+    Answer, Detail, Generic, Info, InverseKinematicsResult, MoveAllResult, MoveLinearResult,
+    PayloadResult, SimResult, Status,
 };
 use mcm_shared::sample::{
     AXIS_CALIBRATED, STATE_ALL_CALIBRATED, STATE_ESTOP, STATE_PVT_STARVED, StateSample,
@@ -150,6 +150,7 @@ pub fn answer(command: &str, v: &Answer, cfg: &RobotConfig, state: Option<&State
     match v {
         Answer::Status(st) => status(st, cfg, state),
         Answer::MoveAll(m) => move_all(m, cfg),
+        Answer::MoveLinear(m) => move_linear(m),
         Answer::Initialization(i) => info(i),
         Answer::Sim(r) => sim(r, cfg),
         Answer::InverseKinematics(r) => inverse_kinematics(r),
@@ -465,6 +466,19 @@ pub fn move_all(v: &MoveAllResult, cfg: &RobotConfig) -> String {
 
 /// The inverse_kinematics result: one row per solution, the nearest to the seed first, one
 /// column per axis.
+/// The move_linear result: when the TCP arrives, and each axis's position there.
+pub fn move_linear(v: &MoveLinearResult) -> String {
+    let mut s = format!(
+        "{GREEN}OK{RESET} - the TCP arrives in {} s; the axes there [deg]:",
+        num(v.duration, 0, 3)
+    );
+    for x in &v.joint_target {
+        let _ = write!(s, " {}", num(*x, 0, 3));
+    }
+    s.push('\n');
+    s
+}
+
 pub fn inverse_kinematics(v: &InverseKinematicsResult) -> String {
     let n = v.solutions.len();
     let mut s = format!(

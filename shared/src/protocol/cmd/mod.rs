@@ -11,6 +11,7 @@ pub mod info;
 pub mod inverse_kinematics;
 pub mod move_all;
 pub mod move_axis;
+pub mod move_linear;
 pub mod move_to_pose;
 pub mod pvt;
 pub mod pvt_points;

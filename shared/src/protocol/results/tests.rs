@@ -373,6 +373,10 @@ fn one_of_each() -> Vec<Answer> {
             longest: 2,
             max_time_to_target: 0.5,
         }),
+        Answer::MoveLinear(MoveLinearResult {
+            duration: 0.5,
+            joint_target: [1.0; 6],
+        }),
         Answer::Sim(SimResult::from_state(&state)),
         Answer::InverseKinematics(InverseKinematicsResult::new([[1.0; 6], [2.0; 6]])),
         Answer::Payload(PayloadResult {
@@ -387,6 +391,7 @@ fn one_of_each() -> Vec<Answer> {
             | Answer::Status(_)
             | Answer::Initialization(_)
             | Answer::MoveAll(_)
+            | Answer::MoveLinear(_)
             | Answer::Sim(_)
             | Answer::InverseKinematics(_)
             | Answer::Payload(_) => {}
@@ -411,6 +416,7 @@ fn every_result_type_is_the_one_a_success_names() {
         Success::Nothing,
         Success::Initialization,
         Success::MoveAll,
+        Success::MoveLinear,
         Success::Sim,
         Success::InverseKinematics,
         Success::Payload,
@@ -423,6 +429,7 @@ fn every_result_type_is_the_one_a_success_names() {
             | Success::Nothing
             | Success::Initialization
             | Success::MoveAll
+            | Success::MoveLinear
             | Success::Sim
             | Success::InverseKinematics
             | Success::Payload => {}
