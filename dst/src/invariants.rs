@@ -139,6 +139,28 @@ fn enabling_wait_ns(cfg: &RobotConfig) -> u64 {
     2_000_000_000.max(u64::from(cfg.bus.boot_timeout_ms) * 1_000_000)
 }
 
+/// Cycles the planner may take to hand a line back: the request goes out at the end of the
+/// cycle that asks for it, the plan comes in at the start of a later one (the simulation plans
+/// inline: the next), and a request that finds the planner busy waits a cycle.
+const LINE_PLANNING_CYCLES: u64 = 3;
+
+/// How long a `move_linear` may wait for its answer [ns]: a line that comes during motion
+/// first brings the running motion to rest, each axis within its acceleration and jerk limits
+/// (rt-core's `Controller::stop_jerk_limited`), then is planned. From any velocity within the
+/// axis's maximum and any acceleration within its limit, that stop lasts at most v/a + 2a/j
+/// (a/j to bring the acceleration round, v/a to brake, a/j to end it); the longest axis's.
+fn line_stop_ns(cfg: &RobotConfig) -> u64 {
+    let longest = cfg
+        .axes
+        .iter()
+        .map(|a| {
+            let (v, acc) = (a.max_velocity_deg_s, a.max_acceleration_deg_s2);
+            v / acc + a.max_jerk_deg_s3.map_or(0.0, |j| 2.0 * acc / j)
+        })
+        .fold(0.0, f64::max);
+    (longest * 1e9).ceil() as u64
+}
+
 /// What a cycle's work cost: the allocations counted and the thread's CPU time.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Work {
@@ -203,6 +225,8 @@ pub struct Checker {
     enabling_cycles: u64,
     /// How long `identify_payload` may take to answer [cycles] (the clients' bound).
     identify_cycles: u64,
+    /// How long `move_linear` may take to answer [cycles]: the stop before it and its planning.
+    line_cycles: u64,
     /// The CPU time a cycle's work may take [ns].
     work_budget_ns: u64,
     /// The most CPU time a cycle's work took [ns].
@@ -265,6 +289,7 @@ impl Checker {
             enabling_cycles: enabling_wait_ns(cfg).div_ceil(cfg.cycle_period_ns()),
             identify_cycles: (core_reply_within(CommandKind::IdentifyPayload).as_nanos() as u64)
                 .div_ceil(cfg.cycle_period_ns()),
+            line_cycles: line_stop_ns(cfg).div_ceil(cfg.cycle_period_ns()) + LINE_PLANNING_CYCLES,
             work_budget_ns: cfg.work_budget_ns() * DEBUG_SLOWDOWN,
             max_work_ns: 0,
             asked: HashMap::new(),
@@ -299,6 +324,9 @@ impl Checker {
         } else if c.kind == CommandKind::IdentifyPayload.to_wire() {
             // Answered when its procedure ends, within the bound the clients wait.
             QUEUE_CYCLES + self.identify_cycles
+        } else if c.kind == CommandKind::MoveLinear.to_wire() {
+            // Answered once the motion under way has stopped and the line is planned.
+            QUEUE_CYCLES + self.line_cycles
         } else {
             QUEUE_CYCLES
         };

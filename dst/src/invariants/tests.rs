@@ -927,3 +927,27 @@ fn identify_payload_may_take_its_procedure_and_no_longer() {
         "not answered by cycle",
     );
 }
+
+/// `move_linear` during motion is answered once the motion under way has stopped and the line
+/// is planned: not overdue within the longest such stop, overdue after it.
+#[test]
+fn move_linear_may_wait_for_the_stop_before_it_and_no_longer() {
+    let cfg = RobotConfig::prob2_default();
+    let mut c = checker();
+    let s = state(Mode::Hold);
+    let line = Request::MoveLinear(mcm_shared::command::MoveLinear {
+        position: [0.4, 0.0, 0.4],
+        orientation: None,
+        velocity: None,
+        acceleration: None,
+    });
+    let bound =
+        QUEUE_CYCLES + line_stop_ns(&cfg).div_ceil(cfg.cycle_period_ns()) + LINE_PLANNING_CYCLES;
+    // The stop of an axis at full speed lasts longer than the queue's bound alone.
+    assert!(bound > 2 * QUEUE_CYCLES, "{bound}");
+    c.asked(&sample(line, 1), 0);
+    for k in 1..=bound {
+        check(&mut c, k, &s, &[]).unwrap();
+    }
+    broken(check(&mut c, bound + 1, &s, &[]), "not answered by cycle");
+}
