@@ -11,6 +11,7 @@ pub mod machine;
 pub mod netns;
 pub mod python;
 pub mod ros2;
+pub mod square;
 pub mod virtual_arm;
 pub mod vm;
 
@@ -577,6 +578,11 @@ pub fn move_axis(axis: usize, target: f64, velocity_factor: f64) -> String {
                          "velocity_factor": velocity_factor}})
     .to_string()
 }
+
+/// `pvt` with points 20 ms apart: one cycle at 50 Hz, the rate of the test guest over SocketCAN
+/// (`MCM_TEST_EMULATED`; the manual's default of 10 ms is less than a cycle there and refused),
+/// for tests that move in PVT without streaming points.
+pub const PVT_ANY_RATE: &str = r#"{"command":"pvt","arguments":{"dt":0.02}}"#;
 
 /// The `move_all` command line.
 pub fn move_all(target: &[f64; 6], velocity_factor: f64) -> String {

@@ -93,7 +93,7 @@ fn move_to(c: &mut Client, target: &[f64; 6]) -> [f64; 6] {
 /// Start calibrated, in PVT at [`START`].
 fn at_start(tag: &str) -> (Mcm, Client) {
     let (mcm, mut c) = calibrated(tag);
-    assert_status(&c.request(r#"{"command":"pvt"}"#), "PVT");
+    assert_status(&c.request(common::PVT_ANY_RATE), "PVT");
     let p = move_to(&mut c, &START);
     assert!(max_diff(&p, &START) < 0.05, "{p:?}");
     (mcm, c)

@@ -11,6 +11,7 @@
 
 use crate::common;
 
+use common::square::{TcpWatch, assert_square};
 use common::{Mcm, find_program, number_after};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -253,6 +254,13 @@ fn cpp_examples_build_with_cmake_and_run_against_the_simulated_arm() {
     assert!(number_after(&out, "%), ") < 3.0, "unanswered: {out}");
     let status = mcm.client().request(r#"{"command":"status"}"#);
     assert_eq!(status["operating_mode"], "HOLD", "{status}");
+
+    // A square of 10 cm in the air with move_linear, watched on the ground truth.
+    let watch = TcpWatch::start(&mcm);
+    let out = run_ok(&bin.join("draw_square"), &["--addr", &addr]);
+    let stray = assert_square(&out, &watch.finish(), 0.1);
+    assert!(out.contains("square of 0.100 m drawn"), "{out}");
+    eprintln!("draw_square (C++): the true TCP within {stray:.6} m of the square");
 
     // An instance that does not run: the error names it, the exit code says it failed.
     let (ok, _, err) = run(

@@ -10,7 +10,8 @@
 use crate::common;
 
 use common::python::venv_or_skip;
-use common::{Client, Mcm, WAIT, assert_ok, python, six};
+use common::square::{TcpWatch, assert_square};
+use common::{Client, Mcm, WAIT, assert_ok, max_diff, move_all, python, six};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -182,6 +183,23 @@ fn tcp_examples_move_the_simulated_arm() {
             i + 1
         );
     }
+
+    // A square of 10 cm in the air with move_linear, watched on the ground truth.
+    let watch = TcpWatch::start(&mcm);
+    let out = example(&py, &mcm, "draw_square", &[]);
+    let stray = assert_square(&out, &watch.finish(), 0.1);
+    assert!(out.contains("square of 0.100 m drawn"), "{out}");
+    eprintln!("draw_square.py: the true TCP within {stray:.6} m of the square");
+    // Back where `move_all` left the arm, which the examples and the trip below start from;
+    // then the control this client took is given up for the next example.
+    let pvt = c.request(r#"{"command":"pvt"}"#);
+    assert_eq!(pvt["operating_mode"], "PVT", "{pvt}");
+    let back = c.request(&move_all(&targets, 1.0));
+    assert_eq!(back["result_type"], "move_all", "{back}");
+    c.wait_truth("back at the move_all targets", |p, v| {
+        max_diff(p, &targets) < 0.05 && v.iter().all(|x| x.abs() < 0.01)
+    });
+    assert_ok(&c.request(r#"{"command":"release_control"}"#));
 
     let out = example(
         &py,

@@ -4,6 +4,7 @@
 
 use crate::common;
 
+use common::square::{TcpWatch, assert_square};
 use common::{Mcm, number_after};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
@@ -154,6 +155,44 @@ fn every_rust_example_runs_against_the_simulated_arm() {
     let gaps = seqs.last().unwrap() - seqs[0] + 1 - 200;
     assert_eq!(number_after(&out, "missed ") as u64, gaps, "{out}");
     assert!(rows[1].split(',').nth(2) == Some("HOLD"), "{}", rows[1]);
+
+    // A square of 10 cm in the air with move_linear, watched on the ground truth.
+    let watch = TcpWatch::start(&mcm);
+    let out = run("draw_square", &tcp);
+    let stray = assert_square(&out, &watch.finish(), 0.1);
+    assert!(out.contains("square of 0.100 m drawn"), "{out}");
+    eprintln!("draw_square: the true TCP within {stray:.6} m of the square");
     // Dropped, not `stop`ped: the simulation's saved state is removed with it.
     drop(mcm);
+}
+
+/// The square check of the examples fails a path that leaves the square: a corner cut on the
+/// diagonal, a side 2 mm above the plane; it passes the square itself.
+#[test]
+fn the_square_check_fails_a_path_off_the_square() {
+    let out = "start corner [m]: 0.1000 0.2000 0.3000\n";
+    let side = 0.1;
+    let along = |a: [f64; 3], b: [f64; 3]| {
+        (0..=100).map(move |i| {
+            let s = f64::from(i) / 100.0;
+            [0, 1, 2].map(|k| a[k] + s * (b[k] - a[k]))
+        })
+    };
+    let c = [
+        [0.1, 0.2, 0.3],
+        [0.2, 0.2, 0.3],
+        [0.2, 0.3, 0.3],
+        [0.1, 0.3, 0.3],
+    ];
+    let square: Vec<[f64; 3]> = (0..4).flat_map(|i| along(c[i], c[(i + 1) % 4])).collect();
+    assert!(assert_square(out, &square, side) < 1e-12);
+    let cut: Vec<[f64; 3]> = along(c[0], c[2]).chain(along(c[2], c[0])).collect();
+    let mut high = square.clone();
+    for p in &mut high[110..190] {
+        p[2] += 0.002;
+    }
+    for path in [cut, high] {
+        let failed = std::panic::catch_unwind(|| assert_square(out, &path, side)).is_err();
+        assert!(failed, "a path off the square passed");
+    }
 }

@@ -79,7 +79,7 @@ fn move_linear(position: &[f64; 3], velocity: f64) -> String {
 /// Start calibrated, in PVT, at rest at [`START`].
 fn at_start(tag: &str) -> (Mcm, Client) {
     let (mcm, mut c) = calibrated(tag);
-    assert_status(&c.request(r#"{"command":"pvt"}"#), "PVT");
+    assert_status(&c.request(common::PVT_ANY_RATE), "PVT");
     let r = c.request(&move_all(&START, 1.0));
     assert_eq!(r["result_type"], "move_all", "{r}");
     let (p, _) = c.wait_truth("at START", |p, v| {

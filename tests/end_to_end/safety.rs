@@ -31,9 +31,8 @@ use std::time::{Duration, Instant};
 const STATUS: &str = r#"{"command":"status"}"#;
 const STATUS_DETAIL: &str = r#"{"command":"status","arguments":{"detail":true}}"#;
 const HOLD: &str = r#"{"command":"hold"}"#;
-/// PVT with points 20 ms apart: one cycle at 50 Hz, the rate of the test guest (the manual's
-/// default of 10 ms is less than a cycle there and refused); no test here streams points.
-const PVT: &str = r#"{"command":"pvt","arguments":{"dt":0.02}}"#;
+/// No test here streams points.
+const PVT: &str = common::PVT_ANY_RATE;
 const RELEASE: &str = r#"{"command":"release"}"#;
 const TORQUE_CONTROL: &str = r#"{"command":"torque_control","arguments":{"timeout":1.0,"dt_status":0,"gravity_compensation":true}}"#;
 const ZERO_TORQUES: &str = r#"{"command":"set_torques","arguments":{"torques":[0,0,0,0,0,0]}}"#;

@@ -11,7 +11,8 @@
 //! it, tests/common/virtual_arm.rs) and `MCM_TEST_EMULATED=1` (the cycle rate and bus timing
 //! emulation can hold). Every one of its tests must pass. Then its `safety::` tests
 //! (`tests/end_to_end/safety.rs`) the same way: its trips over SocketCAN, two tests left out
-//! ([`SAFETY_SKIPPED`]).
+//! ([`SAFETY_SKIPPED`]); and the Cartesian scenario ([`CARTESIAN_TESTS`]): `move_to_pose` and
+//! `move_linear` on the virtual arm.
 
 use crate::common::{self, vm};
 use std::time::Duration;
@@ -40,6 +41,13 @@ const SAFETY_SKIPPED: [&str; 2] = [
 /// The tests of `tests/end_to_end/safety.rs` that must pass in the guest: all but
 /// [`SAFETY_SKIPPED`].
 const SAFETY_TESTS: usize = 5;
+/// The Cartesian scenario over SocketCAN in the guest: filters of the end-to-end tests
+/// (`tests/end_to_end/cartesian.rs`, `move_linear.rs`), each matching one test.
+const CARTESIAN_TESTS: [&str; 3] = [
+    "cartesian::move_to_pose_brings_the_tcp_there",
+    "move_linear::a_15_cm_line_keeps_the_true_tcp_on_it_and_within_the_speed",
+    "move_linear::an_unreachable_line_is_refused_and_the_arm_does_not_move",
+];
 
 /// `output` without the virtual arm's notes of SYNC lost and back, which are many under
 /// emulation; its counters line stays.
@@ -144,6 +152,15 @@ pub fn run(guest: &mut vm::Guest) {
         SAFETY_SKIPPED[0], SAFETY_SKIPPED[1],
     );
     must_pass(guest, "tests/end_to_end/safety.rs", &script, SAFETY_TESTS);
+
+    // Cartesian motion over the kernel's CAN: the inverse kinematics, `move_to_pose` and a
+    // straight line (`move_linear`, planned beside the cycle) and its refusal, each checked on
+    // the virtual arm's ground truth.
+    let script = format!(
+        "cd /tmp; MCM_TEST_BUS=socketcan MCM_TEST_EMULATED=1 {GUEST_E2E} {} --exact --test-threads=1",
+        CARTESIAN_TESTS.join(" ")
+    );
+    must_pass(guest, "the Cartesian tests", &script, CARTESIAN_TESTS.len());
 
     // The MCMs above ran as root and made, owned by root, the flight recorder's directory of
     // the embedded configuration (`/tmp/mcm-flight-recorder`) and iceoryx2's directories of
