@@ -155,7 +155,7 @@ fn a_15_cm_line_keeps_the_true_tcp_on_it_and_within_the_speed() {
 #[test]
 fn an_unreachable_line_is_refused_and_the_arm_does_not_move() {
     let kin = kinematics();
-    let (_mcm, mut c) = at_start("move-linear-unreachable");
+    let (_mcm, mut c) = at_start("line-unreachable");
     let (before, v) = c.truth();
     let here = true_tcp(&kin, &before, &v).position;
     // 1.5 m straight up: beyond the reach part of the way.
