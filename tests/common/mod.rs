@@ -79,20 +79,16 @@ pub fn number_after(text: &str, before: &str) -> f64 {
         .unwrap_or_else(|e| panic!("{before:?}: {e} in {text}"))
 }
 
-/// The longest tag [`unique_instance`] takes: an instance name has at most 32 characters, and
-/// `t<pid>-<n>-` takes up to 13 of them (a pid up to Linux's largest, 4194304, and up to 999
-/// instances per test process). A longer tag fails every time, not only under a long pid.
+/// The longest tag an MCM's instance name may be made from ([`Mcm::start_with`]): an instance
+/// name has at most 32 characters, and [`unique_instance`]'s `t<pid>-<n>-` takes up to 13 of
+/// them (a pid up to Linux's largest, 4194304, and up to 999 names per test process). A longer
+/// tag fails every time, not only under a long pid. (Names made for other things, directories
+/// and topics, have no such limit.)
 pub const MAX_TAG: usize = 32 - 13;
 
 /// A unique instance name for this test process. The test shares the machine from here on
 /// ([`machine::share`]): an instance name is the start of an MCM.
 pub fn unique_instance(tag: &str) -> String {
-    assert!(
-        tag.len() <= MAX_TAG,
-        "instance tag {tag:?} has {} characters; at most {MAX_TAG} leave room for the pid and the \
-         count in a name of 32",
-        tag.len()
-    );
     machine::share();
     format!(
         "t{}-{}-{}",
@@ -127,6 +123,12 @@ impl Mcm {
 
     /// Start with extra launcher arguments.
     pub fn start_with(tag: &str, extra: &[&str]) -> Mcm {
+        assert!(
+            tag.len() <= MAX_TAG,
+            "instance tag {tag:?} has {} characters; at most {MAX_TAG} leave room for the pid and \
+             the count in an instance name of 32",
+            tag.len()
+        );
         Self::start_named(&unique_instance(tag), extra)
     }
 
