@@ -105,6 +105,13 @@ pub fn isometry(position: [f64; 3], orientation: [f64; 4]) -> Isometry3<f64> {
     )
 }
 
+/// The rotation of a quaternion as the protocol writes it, `[x, y, z, w]` (nalgebra's
+/// constructor takes `w` first), normalised.
+pub fn rotation(q: [f64; 4]) -> UnitQuaternion<f64> {
+    let [x, y, z, w] = q;
+    UnitQuaternion::new_normalize(Quaternion::new(w, x, y, z))
+}
+
 /// The transform of a tool's TCP ([`Tcp`]: its pose in the flange frame), for
 /// [`Kinematics::set_tcp`].
 pub fn tcp_transform(tcp: &Tcp) -> Isometry3<f64> {

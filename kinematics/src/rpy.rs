@@ -4,7 +4,7 @@
 //! axis, then pitch about its y axis, then yaw about its z axis, each about the fixed frame's
 //! axis. Angles in degrees. Not used inside the real-time cycle (it may be: no allocation).
 
-use nalgebra::{Quaternion, UnitQuaternion};
+use nalgebra::UnitQuaternion;
 
 /// The unit quaternion `[x, y, z, w]` (`w >= 0`) of roll, pitch and yaw [deg].
 pub fn quaternion_from_rpy_deg(rpy_deg: [f64; 3]) -> [f64; 4] {
@@ -19,8 +19,7 @@ pub fn quaternion_from_rpy_deg(rpy_deg: [f64; 3]) -> [f64; 4] {
 /// [-180, 180], pitch in [-90, 90]. At pitch ±90° roll and yaw turn about the same line: the
 /// rotation is kept, not how it was split between them.
 pub fn rpy_deg_from_quaternion(q: [f64; 4]) -> [f64; 3] {
-    let [x, y, z, w] = q;
-    let (r, p, yaw) = UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z)).euler_angles();
+    let (r, p, yaw) = crate::rotation(q).euler_angles();
     [r, p, yaw].map(f64::to_degrees)
 }
 

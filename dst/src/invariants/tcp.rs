@@ -11,7 +11,7 @@ use mcm_kinematics::{Kinematics, KinematicsError, tcp_transform};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::sample::{STATE_ALL_CALIBRATED, STATE_CARTESIAN, StateSample, TcpState};
 use mcm_shared::tool::Tool;
-use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector6};
+use nalgebra::{Vector3, Vector6};
 
 /// How far the reported TCP position may be from the forward kinematics [m].
 pub const POSITION_M: f64 = 1e-9;
@@ -64,8 +64,7 @@ impl TcpCheck {
         let pose = kin.tcp_pose(&q);
         let twist = kin.tcp_jacobian(&q) * Vector6::from(s.velocity.map(f64::to_radians));
         let t = &s.cartesian;
-        let [x, y, z, w] = t.orientation;
-        let reported = UnitQuaternion::new_normalize(Quaternion::new(w, x, y, z));
+        let reported = mcm_kinematics::rotation(t.orientation);
         let differences = [
             (
                 "position",
@@ -81,7 +80,7 @@ impl TcpCheck {
             ),
             (
                 "orientation's norm",
-                (Quaternion::new(w, x, y, z).norm() - 1.0).abs(),
+                (t.orientation.iter().map(|c| c * c).sum::<f64>().sqrt() - 1.0).abs(),
                 ORIENTATION_RAD,
                 "",
             ),

@@ -1,5 +1,5 @@
 use super::*;
-use nalgebra::{Unit, Vector3};
+use nalgebra::{Quaternion, Unit, Vector3};
 
 fn rotation(axis: Vector3<f64>, deg: f64) -> UnitQuaternion<f64> {
     UnitQuaternion::from_axis_angle(&Unit::new_normalize(axis), deg.to_radians())

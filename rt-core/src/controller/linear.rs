@@ -28,7 +28,7 @@ use mcm_shared::NUM_AXES;
 use mcm_shared::command::{Axis, MoveLinear};
 use mcm_shared::reply::{Done, LineFault, MoveLinearPlan, Reason};
 use mcm_shared::units::rad_to_deg6;
-use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use nalgebra::Vector3;
 
 impl Controller {
     /// `move_linear`: wait for the running motion to stop, then have the line planned.
@@ -48,9 +48,7 @@ impl Controller {
         self.line_ids += 1;
         let target = LineTarget {
             position: Vector3::from(m.position),
-            orientation: m
-                .orientation
-                .map(|[x, y, z, w]| UnitQuaternion::new_normalize(Quaternion::new(w, x, y, z))),
+            orientation: m.orientation.map(mcm_kinematics::rotation),
             velocity: m.velocity,
             acceleration: m.acceleration,
         };
