@@ -33,7 +33,6 @@ use std::cell::UnsafeCell;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 use std::thread::{JoinHandle, Thread};
-use std::time::Duration;
 
 /// A line the controller wants planned: from `start` [rad] (the arm at rest there) to
 /// `target`. `id` tells its result from that of an earlier request.
@@ -169,10 +168,6 @@ struct ThreadPlanner {
     handle: Option<JoinHandle<()>>,
 }
 
-/// How long the planner thread sleeps between looks at the slot when nobody wakes it (a
-/// wake-up can only be missed by a race the next look catches).
-const PLANNER_NAP: Duration = Duration::from_millis(50);
-
 impl ThreadPlanner {
     fn start(limits: JointLimits) -> std::io::Result<ThreadPlanner> {
         let slot = Arc::new(Slot {
@@ -235,7 +230,9 @@ impl Drop for ThreadPlanner {
 fn plan_loop(slot: &Slot, limits: &JointLimits) {
     while !slot.stop.load(Ordering::Acquire) {
         if slot.state.load(Ordering::Acquire) != REQUESTED {
-            std::thread::park_timeout(PLANNER_NAP);
+            // Woken by `post` or `drop` (an `unpark` before this `park` makes it return at
+            // once, so no wake-up is lost); a spurious return only looks again.
+            std::thread::park();
             continue;
         }
         // SAFETY: REQUESTED: this thread owns the slot until it stores DONE.
