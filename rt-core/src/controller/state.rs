@@ -101,7 +101,9 @@ pub(crate) struct PendingLine {
     pub posted: bool,
 }
 
-/// A line under way: `t` seconds since it started, of `duration`.
+/// A line under way: `t` seconds since it started, of `duration`. The plan itself (13 kB) is
+/// the controller's `line`; its duration is kept here too so that the state alone says how
+/// long its motion has left ([`State::remaining`]), as it does for every other motion.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct LineRun {
     pub t: f64,
