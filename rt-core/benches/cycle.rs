@@ -46,8 +46,8 @@ use mcm_rt_core::params::JointParams;
 use mcm_rt_core::safety::SafetyParams;
 use mcm_rt_core::sim_edge::SimCycle;
 use mcm_shared::command::{
-    Calibrate, CartesianFrame, MoveAll, MoveLinear, Pvt, Request, SetCartesianVelocity,
-    SetVelocities, VelocityControl,
+    Calibrate, CartesianFrame, IdentifyPayload, MoveAll, MoveLinear, Pvt, Request,
+    SetCartesianVelocity, SetVelocities, VelocityControl,
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::{CommandKind, Mode};
@@ -129,31 +129,8 @@ impl Driver {
 
 /// A calibrated simulated robot in VELOCITY_CONTROL (no timeout) at rest at a pose away from
 /// the singularities.
-fn in_velocity_control(cfg: &RobotConfig) -> Driver {
-    let mut d = Driver {
-        cycle: SimCycle::new(cfg, SimBus::new(cfg)).unwrap(),
-        k: 0,
-        period: cfg.cycle_period_ns(),
-        id: 0,
-    };
-    d.until("drives online", |c| {
-        c.controller().feedback().iter().all(|f| f.online)
-    });
-    d.send(Some(Request::Calibrate(Calibrate::default())));
-    d.until("calibrated in HOLD", |c| {
-        c.controller().mode() == Mode::Hold && c.state().flags & STATE_ALL_CALIBRATED != 0
-    });
-    d.send(Some(Request::Pvt(Pvt { dt_s: 0.01 })));
-    let pose = [17.0, 29.0, 57.0, 23.0, 46.0, -17.0];
-    d.send(Some(Request::MoveAll(MoveAll {
-        targets_deg: pose,
-        velocity_factor: 0.5,
-    })));
-    d.until("at the pose", |c| {
-        let s = c.state();
-        (0..6).all(|i| (s.sim_true_position[i] - pose[i]).abs() < 0.05)
-            && s.sim_true_velocity.iter().all(|v| v.abs() < 0.05)
-    });
+fn in_velocity_control() -> Driver {
+    let mut d = robot_in_pvt([17.0, 29.0, 57.0, 23.0, 46.0, -17.0]);
     d.send(Some(Request::Hold));
     d.send(Some(Request::VelocityControl(VelocityControl {
         timeout_s: None,
@@ -164,7 +141,7 @@ fn in_velocity_control(cfg: &RobotConfig) -> Driver {
 
 /// The VELOCITY_CONTROL benchmark `name`: `request(sign)` every [`REVERSE_CYCLES`] cycles.
 fn velocity_bench(c: &mut Criterion, name: &str, request: impl Fn(f64) -> Request) {
-    let mut d = in_velocity_control(&RobotConfig::prob2_default());
+    let mut d = in_velocity_control();
     let start = d.k;
     c.bench_function(name, |b| {
         b.iter(|| {
@@ -203,45 +180,28 @@ fn cycle_in_velocity_control(c: &mut Criterion) {
     });
 }
 
-/// A calibrated robot in PVT at rest at `at` [deg], and its next cycle index.
-fn robot_in_pvt(at: [f64; 6]) -> (SimCycle, u64) {
+/// A calibrated robot in PVT at rest at `at` [deg].
+fn robot_in_pvt(at: [f64; 6]) -> Driver {
     let cfg = RobotConfig::prob2_default();
-    let period = cfg.cycle_period_ns();
-    let mut cycle = SimCycle::new(&cfg, SimBus::new(&cfg)).unwrap();
-    let mut k = 0u64;
-    let mut until =
-        |cycle: &mut SimCycle, req: Option<Request>, done: &dyn Fn(&SimCycle) -> bool| {
-            let mut sample = req.map(|r| {
-                let mut s = r.encode();
-                (s.client_id, s.request_id) = (1, k + 1);
-                s
-            });
-            for _ in 0..20 * BOOT_CYCLES {
-                cycle.run(k * period, sample.as_slice());
-                sample = None;
-                k += 1;
-                if done(cycle) {
-                    return;
-                }
-            }
-            panic!("{req:?}: not done");
-        };
-    until(&mut cycle, None, &|c| {
+    let mut d = Driver {
+        cycle: SimCycle::new(&cfg, SimBus::new(&cfg)).unwrap(),
+        k: 0,
+        period: cfg.cycle_period_ns(),
+        id: 0,
+    };
+    d.until("drives online", |c| {
         c.controller().feedback().iter().all(|f| f.online)
     });
-    until(
-        &mut cycle,
-        Some(Request::Calibrate(Calibrate::default())),
-        &|c| c.controller().mode() == Mode::Hold && c.state().flags & STATE_ALL_CALIBRATED != 0,
-    );
-    until(&mut cycle, Some(Request::Pvt(Pvt { dt_s: 0.01 })), &|c| {
-        c.controller().mode() == Mode::Pvt
+    d.send(Some(Request::Calibrate(Calibrate::default())));
+    d.until("calibrated in HOLD", |c| {
+        c.controller().mode() == Mode::Hold && c.state().flags & STATE_ALL_CALIBRATED != 0
     });
-    let to_start = Request::MoveAll(MoveAll {
+    d.send(Some(Request::Pvt(Pvt { dt_s: 0.01 })));
+    d.send(Some(Request::MoveAll(MoveAll {
         targets_deg: at,
         velocity_factor: 1.0,
-    });
-    until(&mut cycle, Some(to_start), &|c| {
+    })));
+    d.until("at rest at the start", |c| {
         let s = c.state();
         s.position
             .iter()
@@ -249,14 +209,14 @@ fn robot_in_pvt(at: [f64; 6]) -> (SimCycle, u64) {
             .all(|(p, q)| (p - q).abs() < 1e-9)
             && s.velocity.iter().all(|v| *v == 0.0)
     });
-    (cycle, k)
+    assert_eq!(d.cycle.controller().mode(), Mode::Pvt);
+    d
 }
 
 /// Time whole cycles while the motions `there` and `back` run in turn; the cycle that takes
 /// each in and the next (its answer: for a line, its planning) are not counted.
 fn cycle_while(c: &mut Criterion, name: &str, start: [f64; 6], there: Request, back: Request) {
-    let period = RobotConfig::prob2_default().cycle_period_ns();
-    let (mut cycle, mut k) = robot_in_pvt(start);
+    let mut d = robot_in_pvt(start);
     let mut next = [there, back].into_iter().cycle();
     let mut since_command = 0u64;
     c.bench_function(name, |b| {
@@ -264,19 +224,16 @@ fn cycle_while(c: &mut Criterion, name: &str, start: [f64; 6], there: Request, b
             let mut timed = Duration::ZERO;
             let mut counted = 0;
             while counted < iters {
-                let at_rest = cycle.state().velocity.iter().all(|v| *v == 0.0);
+                let at_rest = d.cycle.state().velocity.iter().all(|v| *v == 0.0);
                 if since_command > 2 && at_rest {
-                    let mut s = next.next().unwrap().encode();
-                    (s.client_id, s.request_id) = (1, k + 1);
-                    cycle.run(k * period, &[s]);
-                    k += 1;
+                    d.send(next.next());
                     since_command = 0;
                     continue;
                 }
                 let t0 = Instant::now();
-                cycle.run(k * period, black_box(&[]));
+                d.cycle.run(d.k * d.period, black_box(&[]));
                 let dt = t0.elapsed();
-                k += 1;
+                d.k += 1;
                 since_command += 1;
                 if since_command > 1 {
                     timed += dt;
@@ -286,7 +243,36 @@ fn cycle_while(c: &mut Criterion, name: &str, start: [f64; 6], there: Request, b
             timed
         })
     });
-    assert_eq!(cycle.controller().mode(), Mode::Pvt, "moved throughout");
+    assert_eq!(d.cycle.controller().mode(), Mode::Pvt, "moved throughout");
+}
+
+/// The cycle that takes `identify_payload` in: it judges the poses and plans the whole
+/// sequence before anything moves (17 joint moves, the estimator's regressor at four poses);
+/// each accepted run is aborted with `hold` and the arm left to come to rest before the next.
+fn cycle_accepting_identify_payload(c: &mut Criterion) {
+    let mut d = robot_in_pvt([20.0, 30.0, 60.0, -40.0, 50.0, 10.0]);
+    d.send(Some(Request::Hold));
+    let at_rest = |c: &SimCycle| {
+        c.controller().mode() == Mode::Hold && c.state().velocity.iter().all(|v| *v == 0.0)
+    };
+    d.until("at rest in HOLD", at_rest);
+    c.bench_function("cycle/accept_identify_payload_sim", |b| {
+        b.iter_custom(|iters| {
+            let mut timed = Duration::ZERO;
+            for _ in 0..iters {
+                let t0 = Instant::now();
+                d.send(black_box(Some(Request::IdentifyPayload(IdentifyPayload {
+                    apply: false,
+                }))));
+                timed += t0.elapsed();
+                // Accepted: answered only when the procedure ends (a refusal answers at once).
+                assert!(d.cycle.replies().is_empty(), "{:?}", d.cycle.replies());
+                d.send(Some(Request::Hold));
+                d.until("at rest in HOLD again", at_rest);
+            }
+            timed
+        })
+    });
 }
 
 /// A joint move and a 15 cm line between the same two configurations of the P-Rob2.
@@ -453,6 +439,7 @@ criterion_group! {
     config = Criterion::default()
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(3));
-    targets = cycle_in_hold, cycle_in_velocity_control, cycle_moving, dynamics, cartesian, master_alone
+    targets = cycle_in_hold, cycle_in_velocity_control, cycle_moving,
+        cycle_accepting_identify_payload, dynamics, cartesian, master_alone
 }
 criterion_main!(benches);
