@@ -14,6 +14,12 @@
 //!   reference sampled from the line's plan each cycle); the moves go back and forth, and the
 //!   cycles that take a command in and answer it (with the line's planning, which `mcm-rt`
 //!   does on its planner thread) are not counted.
+//! - `reference/joint_move`, `reference/line`: the one part of those cycles that differs, the
+//!   cycle's reference: `JointPlan::advance` of the joint move against `LinePlan::sample` of
+//!   the line (one branch of the inverse kinematics, a 6×6 solve), along the same 15 cm.
+//! - `cycle/accept_identify_payload_sim`: the cycle that takes `identify_payload` in, which
+//!   judges the poses and plans the whole sequence of moves before anything moves (each run
+//!   aborted with `hold`, the arm at rest again before the next).
 //! - `dynamics/gravity_torques`, `dynamics/forward_dynamics`: the arm model's per-call
 //!   functions (RNEA; mass matrix + RNEA + Cholesky solve).
 //! - `cartesian/compose`: the TCP's state the cycle adds to the sample once calibrated
@@ -42,9 +48,11 @@ use mcm_rt_core::cartesian::Cartesian;
 use mcm_rt_core::controller::velocity::ramp::RampLimits;
 use mcm_rt_core::controller::velocity::ramp_limits;
 use mcm_rt_core::controller::velocity::twist::{Twist, joint_target};
+use mcm_rt_core::line_planner::joint_limits;
 use mcm_rt_core::params::JointParams;
 use mcm_rt_core::safety::SafetyParams;
 use mcm_rt_core::sim_edge::SimCycle;
+use mcm_rt_core::trajectory::{JointPlan, MovePlan};
 use mcm_shared::command::{
     Calibrate, CartesianFrame, IdentifyPayload, MoveAll, MoveLinear, Pvt, Request,
     SetCartesianVelocity, SetVelocities, VelocityControl,
@@ -275,22 +283,55 @@ fn cycle_accepting_identify_payload(c: &mut Criterion) {
     });
 }
 
-/// A joint move and a 15 cm line between the same two configurations of the P-Rob2.
-fn cycle_moving(c: &mut Criterion) {
-    let start = [20.0, 30.0, 60.0, -40.0, 50.0, 10.0];
-    let kin = mcm_kinematics::Kinematics::from_config(&RobotConfig::prob2_default()).unwrap();
-    let rad = start.map(f64::to_radians);
-    let a = kin.tcp_pose(&rad).translation.vector;
-    let b = a + nalgebra::Vector3::new(0.0, 0.134, -0.067);
-    let line = |p: nalgebra::Vector3<f64>| {
-        Request::MoveLinear(MoveLinear {
-            position: [p.x, p.y, p.z],
+/// The one part of a cycle in which a line differs from a joint move: the reference of the
+/// cycle, `LinePlan::sample` against `JointPlan::advance`, along the same 15 cm (the ends of
+/// [`cycle_moving`]), time stepping by the cycle period and starting over at the end.
+fn reference_step(c: &mut Criterion) {
+    let cfg = RobotConfig::prob2_default();
+    let p = JointParams::from_config(&cfg);
+    let dt = cfg.cycle_period_ns() as f64 * 1e-9;
+    let (start, b, target) = line_ends();
+    let start = start.map(f64::to_radians);
+    let move_plan = MovePlan::plan(start, target.map(f64::to_radians), &p.limits, 0.5).unwrap();
+    let joint = JointPlan::from_move(&move_plan).unwrap();
+    let mut running = joint;
+    c.bench_function("reference/joint_move", |bench| {
+        bench.iter(|| {
+            if running.finished() {
+                running = joint;
+            }
+            black_box(running.advance(dt))
+        })
+    });
+    let kin = mcm_kinematics::Kinematics::from_config(&cfg).unwrap();
+    let line = mcm_kinematics::LinePlan::plan(
+        &kin,
+        &joint_limits(&p),
+        &start,
+        &mcm_kinematics::LineTarget {
+            position: b,
             orientation: None,
             velocity: Some(0.25),
             acceleration: None,
+        },
+    )
+    .unwrap();
+    let mut t = 0.0;
+    c.bench_function("reference/line", |bench| {
+        bench.iter(|| {
+            t = if t > line.duration() { 0.0 } else { t + dt };
+            black_box(line.sample(black_box(t)))
         })
-    };
-    // The line's joint target, for the joint move between the same ends.
+    });
+}
+
+/// The ends of the benchmarks' 15 cm line: the start configuration [deg], the target TCP
+/// position, and the start's branch of the inverse kinematics there [deg].
+fn line_ends() -> ([f64; 6], nalgebra::Vector3<f64>, [f64; 6]) {
+    let start = [20.0, 30.0, 60.0, -40.0, 50.0, 10.0];
+    let kin = mcm_kinematics::Kinematics::from_config(&RobotConfig::prob2_default()).unwrap();
+    let rad = start.map(f64::to_radians);
+    let b = kin.tcp_pose(&rad).translation.vector + nalgebra::Vector3::new(0.0, 0.134, -0.067);
     let target = kin
         .inverse_branch(
             &nalgebra::Isometry3::from_parts(b.into(), kin.tcp_pose(&rad).rotation),
@@ -299,6 +340,22 @@ fn cycle_moving(c: &mut Criterion) {
         )
         .unwrap()
         .map(f64::to_degrees);
+    (start, b, target)
+}
+
+/// A joint move and a 15 cm line between the same two configurations of the P-Rob2.
+fn cycle_moving(c: &mut Criterion) {
+    let (start, b, target) = line_ends();
+    let kin = mcm_kinematics::Kinematics::from_config(&RobotConfig::prob2_default()).unwrap();
+    let a = kin.tcp_pose(&start.map(f64::to_radians)).translation.vector;
+    let line = |p: nalgebra::Vector3<f64>| {
+        Request::MoveLinear(MoveLinear {
+            position: [p.x, p.y, p.z],
+            orientation: None,
+            velocity: Some(0.25),
+            acceleration: None,
+        })
+    };
     let joint = |targets_deg| {
         Request::MoveAll(MoveAll {
             targets_deg,
@@ -412,10 +469,11 @@ fn cartesian(c: &mut Criterion) {
         velocity: [30.0, -17.0, 45.0, -57.0, 11.0, 86.0],
         ..StateSample::default()
     };
+    cartesian.compose(&mut s);
+    assert_ne!(s.flags & STATE_CARTESIAN, 0, "composed");
     c.bench_function("cartesian/compose", |b| {
         b.iter(|| cartesian.compose(black_box(&mut s)))
     });
-    assert_ne!(s.flags & STATE_CARTESIAN, 0, "composed");
     let cfg = RobotConfig::prob2_default();
     let (p, safety) = (
         JointParams::from_config(&cfg),
@@ -440,6 +498,6 @@ criterion_group! {
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(3));
     targets = cycle_in_hold, cycle_in_velocity_control, cycle_moving,
-        cycle_accepting_identify_payload, dynamics, cartesian, master_alone
+        cycle_accepting_identify_payload, reference_step, dynamics, cartesian, master_alone
 }
 criterion_main!(benches);
