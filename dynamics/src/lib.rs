@@ -38,7 +38,6 @@ pub use mass::{inverse_spd, solve_spd};
 pub use model::{ArmModel, Link};
 pub use payload::{
     MAX_CONDITION, MIN_MASS_FOR_CENTER_KG, PayloadError, PayloadEstimate, PayloadEstimator,
-    Regressor, regressor,
 };
 pub use stiction::solve_friction;
 

@@ -46,11 +46,12 @@ const N: usize = NUM_AXES;
 
 /// The regressor of one pose: the gravity torque per unit of each unknown (columns m, m·cx,
 /// m·cy, m·cz) [N·m/kg, N·m/(kg·m)].
-pub type Regressor = SMatrix<f64, N, 4>;
+type Regressor = SMatrix<f64, N, 4>;
 
 /// The largest condition number of the column-scaled regressor an estimate is made with: the
 /// relative error of the estimate is at most this many times that of the torques (the
-/// procedure's poses have about 6; bending the elbow by only a degree makes it 45).
+/// procedure's poses have at most 5.8 from starts across the reach; bending the elbow by only
+/// a degree takes it above this).
 pub const MAX_CONDITION: f64 = 15.0;
 
 /// Below this mass [kg] the centre of mass is not reported (a first moment divided by almost
@@ -84,7 +85,7 @@ pub struct PayloadEstimate {
 
 /// The regressor at `q` and the gravity torque of the arm without a load (the model's
 /// links, its tool's mass taken off) [N·m].
-pub fn regressor(model: &ArmModel, q: &[f64; N]) -> (Regressor, [f64; N]) {
+fn regressor(model: &ArmModel, q: &[f64; N]) -> (Regressor, [f64; N]) {
     let mut scratch = model.clone();
     let tool = *model.tool();
     let at = |scratch: &mut ArmModel, mass: f64, c: [f64; 3]| {

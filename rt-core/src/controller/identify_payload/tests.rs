@@ -61,6 +61,7 @@ fn two_kilograms_at_sixty_millimetres_are_found_within_the_targets() {
     let mut r = loaded_robot(2.0, [0.0, 0.0, 0.06]);
     let start = r.measured();
     let (p, seconds) = identify(&mut r, IDENTIFY);
+    eprintln!("identified {p:?} in {seconds:.2} s of robot time");
     assert!((p.mass_kg - 2.0).abs() < 0.1, "{p:?}");
     let c = p.center_of_mass_m;
     let err = (c[0].powi(2) + c[1].powi(2) + (c[2] - 0.06).powi(2)).sqrt();
@@ -230,4 +231,45 @@ fn it_needs_control() {
         reply.outcome,
         Outcome::Refused(Reason::NotOwner { owner: 42 })
     ));
+}
+
+/// From starts across the reach, the poses the procedure takes tell the load apart: each is
+/// judged well within [`MAX_CONDITION`] (the figure `docs/cartesian.md` gives is this test's
+/// largest), and none is refused `not_identifiable`; a start whose poses leave the reach is
+/// refused `unreachable`, which is a different matter.
+#[test]
+fn from_starts_across_the_reach_the_poses_tell_the_load_apart() {
+    use mcm_dynamics::{MAX_CONDITION, PayloadEstimator};
+    let mut r = Robot::with_config(&no_load_config());
+    r.calibrate_all();
+    let ctl = r.cycle.controller_mut();
+    let (mut judged, mut unreachable, mut worst) = (0, 0, 0.0f64);
+    for a2 in [-60.0f64, -30.0, 0.0, 30.0, 60.0] {
+        for a3 in [-120.0f64, -90.0, -60.0, -30.0, 0.0, 30.0, 60.0, 90.0, 120.0] {
+            for a4 in [-90.0f64, 0.0, 90.0] {
+                for a5 in [-90.0f64, -45.0, 45.0, 90.0] {
+                    let start = [0.0, a2, a3, a4, a5, 0.0].map(f64::to_radians);
+                    if !(0..6).all(|i| ctl.p.reachable(i, start[i])) {
+                        continue;
+                    }
+                    ctl.cmd.position = start;
+                    match ctl.plan_identification(false) {
+                        Ok(run) => {
+                            let mut e = PayloadEstimator::new();
+                            for pose in &run.poses {
+                                e.add_pose(&ctl.model, pose);
+                            }
+                            worst = worst.max(e.condition());
+                            judged += 1;
+                        }
+                        Err(Reason::Unreachable { .. }) => unreachable += 1,
+                        Err(other) => panic!("from {start:?}: {other:?}"),
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("{judged} starts judged (largest condition {worst:.2}), {unreachable} unreachable");
+    assert!(judged >= 100, "{judged} starts judged");
+    assert!(worst < MAX_CONDITION, "condition {worst}");
 }
