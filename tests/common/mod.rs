@@ -12,6 +12,7 @@ pub mod netns;
 pub mod python;
 pub mod ros2;
 pub mod square;
+pub mod tcp;
 pub mod virtual_arm;
 pub mod vm;
 

@@ -4,9 +4,8 @@
 //! tool) for as long as the example runs, and [`assert_square`] checks the path it saw against
 //! the square the example says it started from.
 
+use super::tcp::{kinematics, minus, norm, true_tcp};
 use super::{Client, Mcm};
-use mcm_kinematics::Kinematics;
-use mcm_shared::config::RobotConfig;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
@@ -30,15 +29,13 @@ impl TcpWatch {
     pub fn start(mcm: &Mcm) -> TcpWatch {
         let stop = Arc::new(AtomicBool::new(false));
         let mut c: Client = mcm.client();
-        let kin = Kinematics::from_config(&RobotConfig::prob2_default())
-            .expect("the P-Rob2's kinematics");
+        let kin = kinematics();
         let until = stop.clone();
         let thread = std::thread::spawn(move || {
             let mut seen = Vec::new();
             while !until.load(Ordering::Relaxed) {
-                let q = c.truth().0.map(f64::to_radians);
-                let p = kin.tcp_pose(&q).translation.vector;
-                seen.push([p.x, p.y, p.z]);
+                let (q, v) = c.truth();
+                seen.push(true_tcp(&kin, &q, &v).position);
                 std::thread::sleep(Duration::from_millis(5));
             }
             seen
@@ -80,9 +77,7 @@ pub fn assert_square(out: &str, seen: &[[f64; 3]], side: f64) -> f64 {
         [x + side, y + side, z],
         [x, y + side, z],
     ];
-    let dist = |a: &[f64; 3], b: &[f64; 3]| {
-        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-    };
+    let dist = |a: &[f64; 3], b: &[f64; 3]| norm(&minus(a, b));
     // The first corner is reached by a joint move before the example prints it: from then on.
     let from = seen
         .iter()

@@ -6,14 +6,12 @@
 
 use crate::common;
 
+use common::tcp::{START, kinematics, minus, norm, true_tcp};
 use common::{Client, Mcm, WAIT, assert_status, calibrated, max_diff, move_all, six, time_of};
 use mcm_kinematics::Kinematics;
-use mcm_shared::config::RobotConfig;
 use serde_json::{Value, json};
 use std::time::{Duration, Instant};
 
-/// A configuration [deg] away from the singularities, within every axis's range.
-const START: [f64; 6] = [20.0, 30.0, 60.0, -40.0, 50.0, 10.0];
 /// The configuration whose TCP pose `move_to_pose` is sent to [deg].
 const GOAL: [f64; 6] = [-25.0, 15.0, 75.0, 30.0, -45.0, 60.0];
 /// How far the true TCP may end from the pose [m].
@@ -28,21 +26,15 @@ const HELD_DEG: f64 = 0.01;
 /// The status with its detail (the commanded position).
 const DETAIL: &str = r#"{"command":"status","arguments":{"detail":true}}"#;
 
-fn kinematics() -> Kinematics {
-    Kinematics::from_config(&RobotConfig::prob2_default()).expect("the P-Rob2's kinematics")
-}
-
 /// The TCP pose of `q_deg`: position [m] and unit quaternion [x, y, z, w].
 fn pose(kin: &Kinematics, q_deg: &[f64; 6]) -> ([f64; 3], [f64; 4]) {
-    let p = kin.tcp_pose(&q_deg.map(f64::to_radians));
-    let t = p.translation.vector;
-    let q = p.rotation.coords;
-    ([t.x, t.y, t.z], [q.x, q.y, q.z, q.w])
+    let t = true_tcp(kin, q_deg, &[0.0; 6]);
+    (t.position, t.orientation)
 }
 
 /// The distance between two positions [m].
 fn distance(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt()
+    norm(&minus(a, b))
 }
 
 /// The angle between two orientations [deg].

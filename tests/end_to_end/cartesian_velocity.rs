@@ -6,52 +6,18 @@
 
 use crate::common;
 
+use common::tcp::{self, START, TrueTcp, kinematics, minus, norm};
 use common::{Client, WAIT, assert_status, calibrated, max_diff, move_all, time_of};
 use mcm_kinematics::Kinematics;
-use mcm_shared::config::RobotConfig;
 use serde_json::json;
 use std::time::{Duration, Instant};
 
-/// A configuration [deg] away from the singularities (the wrist bent 50 deg, the elbow 60 deg).
-const START: [f64; 6] = [20.0, 30.0, 60.0, -40.0, 50.0, 10.0];
 const STATUS: &str = r#"{"command":"status"}"#;
 
-fn kinematics() -> Kinematics {
-    Kinematics::from_config(&RobotConfig::prob2_default()).expect("the P-Rob2's kinematics")
-}
-
-/// The true TCP: position [m], orientation `[x, y, z, w]`, its z axis in the base frame, and
-/// its linear velocity [m/s].
-struct Tcp {
-    position: [f64; 3],
-    orientation: [f64; 4],
-    z: [f64; 3],
-    velocity: [f64; 3],
-}
-
-fn true_tcp(c: &mut Client, kin: &Kinematics) -> Tcp {
+/// The true TCP now.
+fn true_tcp(c: &mut Client, kin: &Kinematics) -> TrueTcp {
     let (p, v) = c.truth();
-    let q = p.map(f64::to_radians);
-    let qd = v.map(f64::to_radians);
-    let pose = kin.tcp_pose(&q);
-    let j = kin.tcp_jacobian(&q);
-    let r = pose.rotation.to_rotation_matrix();
-    let t = pose.translation.vector;
-    let o = pose.rotation.coords;
-    Tcp {
-        position: [t.x, t.y, t.z],
-        orientation: [o.x, o.y, o.z, o.w],
-        z: core::array::from_fn(|i| r[(i, 2)]),
-        velocity: core::array::from_fn(|i| (0..6).map(|k| j[(i, k)] * qd[k]).sum()),
-    }
-}
-
-fn minus(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    core::array::from_fn(|i| a[i] - b[i])
-}
-
-fn norm(a: &[f64; 3]) -> f64 {
-    a.iter().map(|x| x * x).sum::<f64>().sqrt()
+    tcp::true_tcp(kin, &p, &v)
 }
 
 /// The angle between two vectors [deg].

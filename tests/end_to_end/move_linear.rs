@@ -6,14 +6,11 @@
 
 use crate::common;
 
+use common::tcp::{START, kinematics, minus, norm, true_tcp};
 use common::{Client, Mcm, WAIT, assert_status, calibrated, max_diff, move_all, six, time_of};
-use mcm_kinematics::Kinematics;
-use mcm_shared::config::RobotConfig;
 use serde_json::{Value, json};
 use std::time::{Duration, Instant};
 
-/// A configuration [deg] away from the singularities, within every axis's range.
-const START: [f64; 6] = [20.0, 30.0, 60.0, -40.0, 50.0, 10.0];
 /// The line's length [m] and the TCP's requested speed [m/s].
 const LENGTH_M: f64 = 0.15;
 const SPEED_M_S: f64 = 0.25;
@@ -29,43 +26,9 @@ const STILL_DEG_S: f64 = 0.1;
 const HELD_DEG: f64 = 0.05;
 const DETAIL: &str = r#"{"command":"status","arguments":{"detail":true}}"#;
 
-fn kinematics() -> Kinematics {
-    Kinematics::from_config(&RobotConfig::prob2_default()).expect("the P-Rob2's kinematics")
-}
-
-/// The true TCP's position [m], orientation [x, y, z, w] and linear velocity [m/s].
-fn true_tcp(kin: &Kinematics, q_deg: &[f64; 6], v_deg_s: &[f64; 6]) -> TcpNow {
-    let q = q_deg.map(f64::to_radians);
-    let pose = kin.tcp_pose(&q);
-    let j = kin.tcp_jacobian(&q);
-    let linear: [f64; 3] =
-        core::array::from_fn(|r| (0..6).map(|k| j[(r, k)] * v_deg_s[k].to_radians()).sum());
-    let t = pose.translation.vector;
-    let o = pose.rotation.coords;
-    TcpNow {
-        position: [t.x, t.y, t.z],
-        orientation: [o.x, o.y, o.z, o.w],
-        speed: norm(&linear),
-    }
-}
-
-fn norm(v: &[f64; 3]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
-
-fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    core::array::from_fn(|i| a[i] - b[i])
-}
-
-struct TcpNow {
-    position: [f64; 3],
-    orientation: [f64; 4],
-    speed: f64,
-}
-
 /// The distance of `p` from the segment `a`-`b` [m].
 fn off_line(p: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    let (d, pa) = (sub(b, a), sub(p, a));
+    let (d, pa) = (minus(b, a), minus(p, a));
     let along = (0..3).map(|i| pa[i] * d[i]).sum::<f64>() / norm(&d).powi(2);
     let s = along.clamp(0.0, 1.0);
     norm(&core::array::from_fn(|i| pa[i] - s * d[i]))
@@ -112,7 +75,7 @@ fn a_15_cm_line_keeps_the_true_tcp_on_it_and_within_the_speed() {
         let (q, v) = c.truth();
         let now = true_tcp(&kin, &q, &v);
         worst_off = worst_off.max(off_line(&now.position, &a, &b));
-        fastest = fastest.max(now.speed);
+        fastest = fastest.max(norm(&now.velocity));
         samples += 1;
         let t = time_of(&c.request(DETAIL));
         if t >= ends && v.iter().all(|x| x.abs() < STILL_DEG_S) {
@@ -139,7 +102,7 @@ fn a_15_cm_line_keeps_the_true_tcp_on_it_and_within_the_speed() {
         fastest > 0.8 * SPEED_M_S,
         "the line never came near its speed: {fastest} m/s"
     );
-    let missed = norm(&sub(&last.position, &b));
+    let missed = norm(&minus(&last.position, &b));
     assert!(missed < ARRIVED_M, "ended {missed} m from the target");
     let turned = common::orientation_angle(&last.orientation, &from.orientation).to_degrees();
     assert!(
