@@ -32,9 +32,7 @@ pub enum ToArm<G> {
 }
 
 /// The services of the node (`std_srvs/Trigger`), in [`ServiceKind::ALL`] order.
-pub struct Services {
-    pub servers: Vec<(ServiceKind, Server<TriggerRequest, TriggerResponse>)>,
-}
+pub type Services = Vec<(ServiceKind, Server<TriggerRequest, TriggerResponse>)>;
 
 /// Which service.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -189,7 +187,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Motion<G> {
 
     /// One request per server per cycle, sent on; the replies that came, answered.
     fn services(&mut self, client: &mut ShmClient) {
-        for (i, (kind, server)) in self.services.servers.iter().enumerate() {
+        for (i, (kind, server)) in self.services.iter().enumerate() {
             if let Ok(Some((req_id, _))) = server.receive_request() {
                 let req = kind.request();
                 match client.submit(&req) {
@@ -219,7 +217,7 @@ impl<G: Copy + PartialEq + std::fmt::Debug> Motion<G> {
                 }
             }
         }
-        let servers = &self.services.servers;
+        let servers = &self.services;
         self.calls.retain(|c| {
             let outcome = match client.take_reply(&c.sub) {
                 Some(r) => r

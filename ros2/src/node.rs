@@ -14,7 +14,6 @@ use crate::distro::RosDistro;
 use crate::driver::{Driver, DriverOptions, Event};
 use crate::motion::{Motion, ServiceKind, Services, ToArm};
 use crate::msgs::std_msgs::StringMsg;
-use crate::msgs::std_srvs::{TriggerRequest, TriggerResponse};
 use crate::msgs::trajectory::JointTrajectory;
 use crate::trajectory::{Joints, ToleranceDefaults};
 use mcm_client::shm::{OpenError, RequestError, ShmClient};
@@ -22,7 +21,7 @@ use mcm_shared::config::RobotConfig;
 use ros2_client::action::ActionServerQosPolicies;
 use ros2_client::action::GoalId;
 use ros2_client::dds::rustdds::DomainParticipantBuilder;
-use ros2_client::dds::{Context, Server, ServiceMapping, Subscription};
+use ros2_client::dds::{Context, ServiceMapping, Subscription};
 use ros2_client::qos::{Durability, History, Reliability, WhenFull};
 use ros2_client::{
     ActionTypeName, MessageTypeName, Name, Node, NodeName, NodeOptions, QosProfile,
@@ -261,7 +260,7 @@ pub fn run(opts: Ros2Options, stop: &AtomicBool) -> Result<(), Ros2Error> {
 /// The motion interface's DDS entities, made before the node's spinner (which announces them).
 struct MotionEntities {
     trajectory_sub: Subscription<JointTrajectory>,
-    servers: Vec<(ServiceKind, Server<TriggerRequest, TriggerResponse>)>,
+    servers: Services,
     action_server: action::Server,
 }
 
@@ -350,9 +349,7 @@ impl MotionEntities {
         );
         Ok(Motion::new(
             driver,
-            Services {
-                servers: self.servers,
-            },
+            self.servers,
             self.trajectory_sub,
             from_action,
             to_action,
