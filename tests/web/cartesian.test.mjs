@@ -10,7 +10,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import {
   env, launchBrowser, JsonClient, openPendant, waitMode, setField, screenshot, maxDiff, waitUntil,
-  Sequence,
+  Sequence, orientationAngleDeg,
 } from './lib.mjs';
 
 const seq = new Sequence();
@@ -38,12 +38,6 @@ function rpyOfMatrix([x, y, z, w]) {
   ];
   const d = 180 / Math.PI;
   return [Math.atan2(r[2][1], r[2][2]) * d, -Math.asin(r[2][0]) * d, Math.atan2(r[1][0], r[0][0]) * d];
-}
-
-/// The angle between two unit quaternions [deg].
-function angleDeg(a, b) {
-  const dot = Math.abs(a.reduce((s, v, i) => s + v * b[i], 0));
-  return (2 * Math.acos(Math.min(1, dot)) * 180) / Math.PI;
 }
 
 const TCP_CELLS = ['x', 'y', 'z', 'roll', 'pitch', 'yaw'];
@@ -74,7 +68,7 @@ test('the TCP table and the 3D triad show the status\'s TCP', { timeout: 90000 }
   const c = (await json.status()).cartesian_state;
   assert.ok(triad.visible, 'the triad shows once calibrated');
   assert.ok(maxDiff(triad.p, c.position) < 1e-4, `triad at ${triad.p}, TCP at ${c.position}`);
-  assert.ok(angleDeg(triad.q, c.orientation) < 0.01, `triad turned ${triad.q}, TCP ${c.orientation}`);
+  assert.ok(orientationAngleDeg(triad.q, c.orientation) < 0.01, `triad turned ${triad.q}, TCP ${c.orientation}`);
 }));
 
 test('the tool form sets the tool in millimetres and degrees', { timeout: 30000 }, seq.wrap('tool', async () => {
@@ -121,6 +115,6 @@ test('the move-to-pose form shows the solutions and moves the TCP there', { time
     return s.axis_states.velocity.every((v) => v === 0) ? s.cartesian_state : null;
   });
   assert.ok(maxDiff(c.position, goal) < 1e-3, `the TCP ends at ${c.position}, asked ${goal}`);
-  assert.ok(angleDeg(c.orientation, here.orientation) < 0.1, `turned ${c.orientation} from ${here.orientation}`);
+  assert.ok(orientationAngleDeg(c.orientation, here.orientation) < 0.1, `turned ${c.orientation} from ${here.orientation}`);
   await screenshot(page, 'cartesian');
 }));

@@ -1,6 +1,7 @@
 // Shared by the browser tests of the pendant (run by tests/end_to_end/web.rs): Chromium through
 // playwright-core, a JSON-protocol client for the simulation's truth, bounded waits, the
-// screenshots for docs/web.md and the arm's forward kinematics.
+// screenshots for docs/web.md, the arm's forward kinematics and the angle between two
+// orientations.
 //
 // What the Rust side passes in the environment:
 //   MCM_WEB_URL          the pendant's page, e.g. http://127.0.0.1:40123/
@@ -243,6 +244,27 @@ export function flange(links, qDeg) {
     ]);
   });
   return [m[0][3], m[1][3], m[2][3]];
+}
+
+/// The angle [deg] between two orientations written as quaternions [x, y, z, w] (q and -q are
+/// one rotation), as tests/common/mod.rs's `orientation_angle`: each is normalised first (the
+/// protocol's figures are rounded, so their norm is 1 only to about 1e-6), and the angle is
+/// taken with `atan2` of the relative rotation's vector and scalar parts: `acos` of a dot
+/// product near 1 would turn that rounding into hundredths of a degree.
+export function orientationAngleDeg(a, b) {
+  const unit = (q) => {
+    const n = Math.hypot(...q);
+    return q.map((v) => v / n);
+  };
+  const [[ax, ay, az, aw], [bx, by, bz, bw]] = [unit(a), unit(b)];
+  // conj(a) * b: the rotation from a to b.
+  const w = aw * bw + ax * bx + ay * by + az * bz;
+  const v = Math.hypot(
+    aw * bx - bw * ax - (ay * bz - az * by),
+    aw * by - bw * ay - (az * bx - ax * bz),
+    aw * bz - bw * az - (ax * by - ay * bx),
+  );
+  return (2 * Math.atan2(v, Math.abs(w)) * 180) / Math.PI;
 }
 
 /// Steps that depend on the ones before: once one fails, the later ones fail at once, naming
