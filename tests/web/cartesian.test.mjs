@@ -3,8 +3,9 @@
 // 3D view draws the TCP's triad there; the tool form sets the tool `detail.tool` then reports
 // (the convention checked on a pose where fixed and moving axes differ); the move-to-pose form
 // shows the inverse kinematics' solutions, the first being the JSON port's first, and its Go
-// moves the true arm there (the simulation's truth, then the status's TCP). Run by
-// tests/end_to_end/web.rs; see lib.mjs for the environment it passes.
+// moves the true arm there (the simulation's truth, then the status's TCP), entering PVT from
+// HOLD with a `dt` the core takes (it runs at 50 Hz here, where 0.01 s is under one cycle). Run
+// by tests/end_to_end/web.rs; see lib.mjs for the environment it passes.
 
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
