@@ -7,10 +7,10 @@
 // Roll, pitch and yaw are the URDF's rpy: fixed axes x, then y, then z, R = Rz(yaw) Ry(pitch)
 // Rx(roll), as the HMI shows them.
 //
-// Cartesian jogging (X/Y/Z/Rx/Ry/Rz in the base or the tool frame, `set_cartesian_velocity`)
-// is not offered yet: the protocol does not have it. Its buttons go into this panel, its
-// dead-man timing is jog.js's Jogger (whose beat() then sends the twist instead of joint
-// velocities), under the same access rule (`motion` in setup()).
+// The page does not offer Cartesian jogging (X/Y/Z/Rx/Ry/Rz in the base or the tool frame, the
+// protocol's `set_cartesian_velocity`) or a straight-line move (`move_linear`) yet. The jog
+// buttons go into this panel, their dead-man timing is jog.js's Jogger (whose beat() then sends
+// the twist instead of joint velocities), under the same access rule (`motion` in setup()).
 
 const DEG = Math.PI / 180;
 const MM = 1000;
