@@ -7,27 +7,16 @@
 // HOLD with a `dt` the core takes (it runs at 50 Hz here, where 0.01 s is under one cycle). Run
 // by tests/end_to_end/web.rs; see lib.mjs for the environment it passes.
 
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  env, launchBrowser, JsonClient, openPendant, waitMode, setField, screenshot, maxDiff, waitUntil,
-  Sequence, orientationAngleDeg,
+  browserAndJson, openPendant, waitMode, setField, screenshot, maxDiff, waitUntil, Sequence,
+  orientationAngleDeg,
 } from './lib.mjs';
 
 const seq = new Sequence();
-let browser;
-let json;
+const { browser, json } = await browserAndJson();
 let page;
-
-before(async () => {
-  browser = await launchBrowser();
-  json = await JsonClient.connect(env('MCM_JSON'));
-});
-
-after(async () => {
-  json?.close();
-  await browser?.close();
-});
 
 /// Roll, pitch, yaw [deg] of a unit quaternion [x, y, z, w] through its rotation matrix
 /// (fixed axes x, y, z: R = Rz(yaw) Ry(pitch) Rx(roll)), independently of the page's formula.

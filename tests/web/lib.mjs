@@ -11,6 +11,7 @@
 //   MCM_SCREENSHOT_DIR   where to write the PNGs of docs/web.md (unset: none are written)
 
 import { chromium } from 'playwright-core';
+import { after } from 'node:test';
 import net from 'node:net';
 import path from 'node:path';
 import { setTimeout as delay } from 'node:timers/promises';
@@ -33,6 +34,16 @@ export async function launchBrowser(extraArgs = []) {
       ...extraArgs,
     ],
   });
+}
+
+/// For a file of tests, awaited at its top: Chromium (with `extraArgs`) and a JSON client of the
+/// MCM, both closed by `after` hooks once the file's tests have run.
+export async function browserAndJson(extraArgs = []) {
+  const browser = await launchBrowser(extraArgs);
+  after(() => browser.close());
+  const json = await JsonClient.connect(env('MCM_JSON'));
+  after(() => json.close());
+  return { browser, json };
 }
 
 /// Poll `probe()` (async) until it returns a truthy value, at most `ms`; that value. The poll
