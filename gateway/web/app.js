@@ -26,6 +26,7 @@ const page = {
   slowRenderedAt: -Infinity, // when the timing figures were last drawn
   view: null,
   names: [],
+  cycleTime: null, // the core's cycle period [s] (`info`), asked once per connection
 };
 
 // ---- the connection ---------------------------------------------------------------------
@@ -44,6 +45,7 @@ const conn = new Connection({
       jog.stop('lost');
       jog.sessionEnded();
       page.detail = null;
+      page.cycleTime = null;
       showAccess();
     }
   },
@@ -149,7 +151,7 @@ $('#hold').addEventListener('click', hold);
 $('#take-control').addEventListener('click', () => run({ command: 'take_control' }));
 $('#release-control').addEventListener('click', () => run({ command: 'release_control' }));
 $('#release').addEventListener('click', () => run({ command: 'release' }));
-$('#pvt').addEventListener('click', () => run({ command: 'pvt', arguments: { dt: 0.01 } }));
+$('#pvt').addEventListener('click', enterPvt);
 $('#calibrate').addEventListener('click', () => {
   const w = $('#cal-which').value;
   run({
@@ -169,22 +171,36 @@ $('#move-go').addEventListener('click', async () => {
     target_position: Number($('#move-target').value),
     velocity_factor: Number($('#move-vf').value),
   };
-  if (currentMode() === 'HOLD') {
-    const r = await run({ command: 'pvt', arguments: { dt: 0.01 } });
-    if (!r || r.operating_mode !== 'PVT') return;
-  }
-  run({ command: 'move_axis', arguments: args });
+  if (await enterPvtFromHold()) run({ command: 'move_axis', arguments: args });
 });
 
 setupCartesian($, {
   run,
-  mode: () => currentMode(),
+  enterPvtFromHold,
   state: () => page.state,
   onError: (text) => addError({ error_message: text }),
 });
 
 function currentMode() {
   return page.state?.status?.operating_mode;
+}
+
+/** Enter PVT with the `dt` every core accepts: 0.01 s, or one cycle (`info`'s `cycle_time`)
+ * when the cycle is longer (`pvt` refuses a `dt` under one cycle). Resolves whether the arm is
+ * in PVT now. */
+async function enterPvt() {
+  if (page.cycleTime === null) {
+    const info = await run({ command: 'info' });
+    if (info?.result_type !== 'initialization') return false;
+    page.cycleTime = info.cycle_time;
+  }
+  const r = await run({ command: 'pvt', arguments: { dt: Math.max(0.01, page.cycleTime) } });
+  return r?.operating_mode === 'PVT';
+}
+
+/** Before a move: enter PVT when in HOLD (a move needs PVT). Resolves false when that failed. */
+async function enterPvtFromHold() {
+  return currentMode() !== 'HOLD' || enterPvt();
 }
 
 // ---- jogging -----------------------------------------------------------------------------

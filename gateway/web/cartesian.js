@@ -7,10 +7,10 @@
 // Roll, pitch and yaw are the URDF's rpy: fixed axes x, then y, then z, R = Rz(yaw) Ry(pitch)
 // Rx(roll), as the HMI shows them.
 //
-// Cartesian jogging (X/Y/Z/Rx/Ry/Rz in the base or the tool frame, `set_cartesian_velocity`)
-// is not offered yet: the protocol does not have it. Its buttons go into this panel, its
-// dead-man timing is jog.js's Jogger (whose beat() then sends the twist instead of joint
-// velocities), under the same access rule (`motion` in setup()).
+// The page does not offer Cartesian jogging (X/Y/Z/Rx/Ry/Rz in the base or the tool frame, the
+// protocol's `set_cartesian_velocity`) or a straight-line move (`move_linear`) yet. The jog
+// buttons go into this panel, their dead-man timing is jog.js's Jogger (whose beat() then sends
+// the twist instead of joint velocities), under the same access rule (`motion` in setup()).
 
 const DEG = Math.PI / 180;
 const MM = 1000;
@@ -64,10 +64,10 @@ const TOOL_FIELDS = ['tool-x', 'tool-y', 'tool-z', 'tool-roll', 'tool-pitch', 't
 
 /**
  * Wire the panel. `run(cmd)`: send a command, show its outcome, resolve with the reply (null
- * when it failed); `mode()`: the operating mode now; `state()`: the newest state frame;
- * `onError(text)`: show a mistake of the form.
+ * when it failed); `enterPvtFromHold()`: enter PVT when in HOLD, resolve false when that
+ * failed; `state()`: the newest state frame; `onError(text)`: show a mistake of the form.
  */
-export function setupCartesian($, { run, mode, state, onError }) {
+export function setupCartesian($, { run, enterPvtFromHold, state, onError }) {
   const setFields = (ids, mm, rpy) => {
     ids.forEach((id, i) => { $(`#${id}`).value = fixed(i < 3 ? mm[i] : rpy[i - 3], i < 3 ? 2 : 3); });
   };
@@ -98,10 +98,7 @@ export function setupCartesian($, { run, mode, state, onError }) {
   $('#pose-go').addEventListener('click', async () => {
     const pose = poseArgs();
     if (!pose) return;
-    if (mode() === 'HOLD') {
-      const r = await run({ command: 'pvt', arguments: { dt: 0.01 } });
-      if (!r || r.operating_mode !== 'PVT') return;
-    }
+    if (!(await enterPvtFromHold())) return;
     const r = await run({
       command: 'move_to_pose',
       arguments: { ...pose, velocity_factor: Number($('#pose-vf').value) },

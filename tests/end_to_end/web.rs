@@ -336,19 +336,20 @@ fn cross_protocol_requests_from_a_page_in_chromium() {
         "cross_protocol_requests_from_a_page_in_chromium",
         "web-cross",
         "cross_protocol.test.mjs",
+        &[],
     );
 }
 
-/// Run `script` against an MCM of its own (instance tag `tag`) whose drives are online; fail
-/// when it fails.
-fn script_against_its_own_mcm(test: &str, tag: &str, script: &'static str) {
+/// Run `script` against an MCM of its own (instance tag `tag`, `extra` launcher arguments)
+/// whose drives are online; fail when it fails.
+fn script_against_its_own_mcm(test: &str, tag: &str, script: &'static str, extra: &[&str]) {
     let Some(tools) = tools_or_skip(test) else {
         return;
     };
     node_modules(&tools).unwrap_or_else(|e| panic!("{test}: npm ci in tests/web: {e}"));
     let instance = unique_instance(tag);
     let port = free_port();
-    let mcm = start(&instance, port, &[]);
+    let mcm = start(&instance, port, extra);
     mcm.client().wait_drives_online();
     let run = run_script(&tools, script, &mcm, port);
     report(&run);
@@ -361,13 +362,21 @@ fn script_against_its_own_mcm(test: &str, tag: &str, script: &'static str) {
 }
 
 /// The pendant's Cartesian panel (`tests/web/cartesian.test.mjs`): the TCP and its triad, the
-/// tool form, the move-to-pose form with its solutions, on the simulation's truth.
+/// tool form, the move-to-pose form with its solutions, on the simulation's truth. The core runs
+/// at 50 Hz: a cycle longer than the 0.01 s `dt` the page takes for PVT when it can, so that
+/// the move from HOLD shows the page entering PVT with a `dt` of one cycle.
 #[test]
 fn the_pendants_cartesian_panel_in_chromium() {
+    let config = config_file("web-cart", |base| {
+        let slow = base.replace("\nrate_hz = 200\n", "\nrate_hz = 50\n");
+        assert_ne!(slow, base, "the configuration's `rate_hz = 200` line moved");
+        slow
+    });
     script_against_its_own_mcm(
         "the_pendants_cartesian_panel_in_chromium",
         "web-cart",
         "cartesian.test.mjs",
+        &["--config", config.path()],
     );
 }
 

@@ -3,30 +3,20 @@
 // 3D view draws the TCP's triad there; the tool form sets the tool `detail.tool` then reports
 // (the convention checked on a pose where fixed and moving axes differ); the move-to-pose form
 // shows the inverse kinematics' solutions, the first being the JSON port's first, and its Go
-// moves the true arm there (the simulation's truth, then the status's TCP). Run by
-// tests/end_to_end/web.rs; see lib.mjs for the environment it passes.
+// moves the true arm there (the simulation's truth, then the status's TCP), entering PVT from
+// HOLD with a `dt` the core takes (it runs at 50 Hz here, where 0.01 s is under one cycle). Run
+// by tests/end_to_end/web.rs; see lib.mjs for the environment it passes.
 
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  env, launchBrowser, JsonClient, openPendant, waitMode, setField, screenshot, maxDiff, waitUntil,
-  Sequence,
+  browserAndJson, openPendant, waitMode, setField, screenshot, maxDiff, waitUntil, Sequence,
+  orientationAngleDeg,
 } from './lib.mjs';
 
 const seq = new Sequence();
-let browser;
-let json;
+const { browser, json } = await browserAndJson();
 let page;
-
-before(async () => {
-  browser = await launchBrowser();
-  json = await JsonClient.connect(env('MCM_JSON'));
-});
-
-after(async () => {
-  json?.close();
-  await browser?.close();
-});
 
 /// Roll, pitch, yaw [deg] of a unit quaternion [x, y, z, w] through its rotation matrix
 /// (fixed axes x, y, z: R = Rz(yaw) Ry(pitch) Rx(roll)), independently of the page's formula.
@@ -38,12 +28,6 @@ function rpyOfMatrix([x, y, z, w]) {
   ];
   const d = 180 / Math.PI;
   return [Math.atan2(r[2][1], r[2][2]) * d, -Math.asin(r[2][0]) * d, Math.atan2(r[1][0], r[0][0]) * d];
-}
-
-/// The angle between two unit quaternions [deg].
-function angleDeg(a, b) {
-  const dot = Math.abs(a.reduce((s, v, i) => s + v * b[i], 0));
-  return (2 * Math.acos(Math.min(1, dot)) * 180) / Math.PI;
 }
 
 const TCP_CELLS = ['x', 'y', 'z', 'roll', 'pitch', 'yaw'];
@@ -74,7 +58,7 @@ test('the TCP table and the 3D triad show the status\'s TCP', { timeout: 90000 }
   const c = (await json.status()).cartesian_state;
   assert.ok(triad.visible, 'the triad shows once calibrated');
   assert.ok(maxDiff(triad.p, c.position) < 1e-4, `triad at ${triad.p}, TCP at ${c.position}`);
-  assert.ok(angleDeg(triad.q, c.orientation) < 0.01, `triad turned ${triad.q}, TCP ${c.orientation}`);
+  assert.ok(orientationAngleDeg(triad.q, c.orientation) < 0.01, `triad turned ${triad.q}, TCP ${c.orientation}`);
 }));
 
 test('the tool form sets the tool in millimetres and degrees', { timeout: 30000 }, seq.wrap('tool', async () => {
@@ -121,6 +105,6 @@ test('the move-to-pose form shows the solutions and moves the TCP there', { time
     return s.axis_states.velocity.every((v) => v === 0) ? s.cartesian_state : null;
   });
   assert.ok(maxDiff(c.position, goal) < 1e-3, `the TCP ends at ${c.position}, asked ${goal}`);
-  assert.ok(angleDeg(c.orientation, here.orientation) < 0.1, `turned ${c.orientation} from ${here.orientation}`);
+  assert.ok(orientationAngleDeg(c.orientation, here.orientation) < 0.1, `turned ${c.orientation} from ${here.orientation}`);
   await screenshot(page, 'cartesian');
 }));

@@ -1,6 +1,7 @@
 // Shared by the browser tests of the pendant (run by tests/end_to_end/web.rs): Chromium through
 // playwright-core, a JSON-protocol client for the simulation's truth, bounded waits, the
-// screenshots for docs/web.md and the arm's forward kinematics.
+// screenshots for docs/web.md, the arm's forward kinematics and the angle between two
+// orientations.
 //
 // What the Rust side passes in the environment:
 //   MCM_WEB_URL          the pendant's page, e.g. http://127.0.0.1:40123/
@@ -10,6 +11,7 @@
 //   MCM_SCREENSHOT_DIR   where to write the PNGs of docs/web.md (unset: none are written)
 
 import { chromium } from 'playwright-core';
+import { after } from 'node:test';
 import net from 'node:net';
 import path from 'node:path';
 import { setTimeout as delay } from 'node:timers/promises';
@@ -32,6 +34,16 @@ export async function launchBrowser(extraArgs = []) {
       ...extraArgs,
     ],
   });
+}
+
+/// For a file of tests, awaited at its top: Chromium (with `extraArgs`) and a JSON client of the
+/// MCM, both closed by `after` hooks once the file's tests have run.
+export async function browserAndJson(extraArgs = []) {
+  const browser = await launchBrowser(extraArgs);
+  after(() => browser.close());
+  const json = await JsonClient.connect(env('MCM_JSON'));
+  after(() => json.close());
+  return { browser, json };
 }
 
 /// Poll `probe()` (async) until it returns a truthy value, at most `ms`; that value. The poll
@@ -243,6 +255,27 @@ export function flange(links, qDeg) {
     ]);
   });
   return [m[0][3], m[1][3], m[2][3]];
+}
+
+/// The angle [deg] between two orientations written as quaternions [x, y, z, w] (q and -q are
+/// one rotation), as tests/common/mod.rs's `orientation_angle`: each is normalised first (the
+/// protocol's figures are rounded, so their norm is 1 only to about 1e-6), and the angle is
+/// taken with `atan2` of the relative rotation's vector and scalar parts: `acos` of a dot
+/// product near 1 would turn that rounding into hundredths of a degree.
+export function orientationAngleDeg(a, b) {
+  const unit = (q) => {
+    const n = Math.hypot(...q);
+    return q.map((v) => v / n);
+  };
+  const [[ax, ay, az, aw], [bx, by, bz, bw]] = [unit(a), unit(b)];
+  // conj(a) * b: the rotation from a to b.
+  const w = aw * bw + ax * bx + ay * by + az * bz;
+  const v = Math.hypot(
+    aw * bx - bw * ax - (ay * bz - az * by),
+    aw * by - bw * ay - (az * bx - ax * bz),
+    aw * bz - bw * az - (ax * by - ay * bx),
+  );
+  return (2 * Math.atan2(v, Math.abs(w)) * 180) / Math.PI;
 }
 
 /// Steps that depend on the ones before: once one fails, the later ones fail at once, naming

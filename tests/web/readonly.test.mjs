@@ -5,26 +5,15 @@
 // MCM was restarted with the calibration its drives kept), so only the access rule stops it.
 // Run by tests/end_to_end/web.rs; see lib.mjs for the environment it passes.
 
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  env, launchBrowser, JsonClient, openPendant, waitMode, blur, screenshot, maxDiff, waitUntil, Sequence,
+  browserAndJson, openPendant, waitMode, blur, screenshot, maxDiff, waitUntil, Sequence,
 } from './lib.mjs';
 
 const seq = new Sequence();
-let browser;
-let json;
+const { browser, json } = await browserAndJson();
 let page;
-
-before(async () => {
-  browser = await launchBrowser();
-  json = await JsonClient.connect(env('MCM_JSON'));
-});
-
-after(async () => {
-  json?.close();
-  await browser?.close();
-});
 
 /// Poll the truth for `seconds` of robot time; every sample within 0.01 deg of `from`.
 async function assertStill(from, seconds, what) {

@@ -11,8 +11,9 @@
 //! - `moveto X Y Z ROLL PITCH YAW [vf=F]`: `move_to_pose` (a joint move to the solution nearest
 //!   the present position).
 //!
-//! A Cartesian straight-line move (`movel`, after `move_linear`) is parsed here too, with
-//! [`PoseWords`] and the same conversion, when the protocol has it.
+//! `move_linear` is reachable as the protocol types it (metres and a quaternion, through the
+//! generic words); a straight-line move in millimetres and degrees (`movel`) is not offered yet.
+//! It belongs here, parsed with [`PoseWords`] and the same conversion.
 //!
 //! Runs in the gateway's async tasks, never in the real-time cycle.
 

@@ -13,8 +13,8 @@
 //! screen's loop is part of the HMI session (`session/jog_screen.rs`). Not used inside the
 //! real-time cycle.
 //!
-//! **Cartesian jogging goes here** once the protocol has `set_cartesian_velocity` (issue #41;
-//! it does not yet, so the jog screen jogs axes only): `jog x|y|z|rx|ry|rz [SPEED] [base|tool]`
+//! **Cartesian jogging goes here**; the jog screen does not offer it yet (it jogs axes only),
+//! though the protocol has `set_cartesian_velocity`: `jog x|y|z|rx|ry|rz [SPEED] [base|tool]`
 //! parsed beside `jog AXIS` (`words::parse_jog`), the same keys and [`Held`] timing, the
 //! velocity sent on each tick built beside [`velocities`] (a twist along or about the chosen
 //! direction in mm/s or deg/s, converted once as `super::cartesian` converts), the loop

@@ -464,8 +464,6 @@ pub fn move_all(v: &MoveAllResult, cfg: &RobotConfig) -> String {
     s
 }
 
-/// The inverse_kinematics result: one row per solution, the nearest to the seed first, one
-/// column per axis.
 /// The move_linear result: when the TCP arrives, and each axis's position there.
 pub fn move_linear(v: &MoveLinearResult) -> String {
     let mut s = format!(
@@ -479,6 +477,8 @@ pub fn move_linear(v: &MoveLinearResult) -> String {
     s
 }
 
+/// The inverse_kinematics result: one row per solution, the nearest to the seed first, one
+/// column per axis.
 pub fn inverse_kinematics(v: &InverseKinematicsResult) -> String {
     let n = v.solutions.len();
     let mut s = format!(
