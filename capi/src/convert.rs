@@ -11,7 +11,7 @@ use crate::types::{
     mcm_move_linear_t, mcm_pose_t, mcm_pvt_point_t, mcm_tool_t,
 };
 use mcm_client::mcm_shared::command::{
-    Calibrate, CartesianFrame, MoveLinear, SetCartesianVelocity, TorqueControl, VelocityControl,
+    Calibrate, CartesianFrame, MoveLinear, TorqueControl, VelocityControl,
 };
 use mcm_client::mcm_shared::tool::{Tcp, Tool};
 use mcm_client::tcp::{InverseKinematicsResult, Pose, TorqueOptions, VelocityOptions};
@@ -162,25 +162,6 @@ pub(crate) fn frame(number: u32, function: &str) -> Result<CartesianFrame, Fail>
             ),
         )),
     }
-}
-
-/// `set_cartesian_velocity`'s arguments (their ranges are the MCM's to check).
-///
-/// # Safety
-/// `linear` and `angular` are NULL or point to three readable doubles each.
-pub(crate) unsafe fn cartesian_velocity(
-    linear: *const f64,
-    angular: *const f64,
-    frame_number: u32,
-    function: &str,
-) -> Result<SetCartesianVelocity, Fail> {
-    Ok(SetCartesianVelocity {
-        // SAFETY: the caller's promise.
-        linear_m_s: unsafe { three(linear, function, "linear") }?,
-        // SAFETY: the caller's promise.
-        angular_deg_s: unsafe { three(angular, function, "angular") }?,
-        frame: frame(frame_number, function)?,
-    })
 }
 
 /// An axis number 1 to 6.
