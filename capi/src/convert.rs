@@ -151,17 +151,15 @@ pub(crate) fn ik_solutions(
 
 /// The frame of a Cartesian velocity: 0 the base frame, 1 the tool's.
 pub(crate) fn frame(number: u32, function: &str) -> Result<CartesianFrame, Fail> {
-    match number {
-        0 => Ok(CartesianFrame::Base),
-        1 => Ok(CartesianFrame::Tool),
-        _ => Err(Fail::new(
+    CartesianFrame::from_code(f64::from(number)).ok_or_else(|| {
+        Fail::new(
             MCM_ERR_ARGUMENT,
             format!(
                 "{function}: argument `frame` = {number} is not allowed; expected 0 (base) or 1 \
                  (tool)"
             ),
-        )),
-    }
+        )
+    })
 }
 
 /// An axis number 1 to 6.

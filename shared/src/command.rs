@@ -264,7 +264,8 @@ impl CartesianFrame {
         }
     }
 
-    fn from_code(x: f64) -> Option<CartesianFrame> {
+    /// The frame a sample's (or a binding's) value stands for.
+    pub fn from_code(x: f64) -> Option<CartesianFrame> {
         Self::ALL.into_iter().find(|f| f.code() == x)
     }
 }
