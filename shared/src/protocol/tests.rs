@@ -760,14 +760,25 @@ fn move_linear_texts_state_the_defaults_and_ranges_of_the_contract() {
     for (file, want) in [
         (
             "capi/src/types.rs",
-            format!("from {} to {}; 0: the default ({v})", lv.fixed_bounds().0, lv.fixed_bounds().1),
+            format!(
+                "from {} to {}; 0: the default ({v})",
+                lv.fixed_bounds().0,
+                lv.fixed_bounds().1
+            ),
         ),
         (
             "capi/src/types.rs",
-            format!("from {} to {}; 0: the default ({a})", la.fixed_bounds().0, la.fixed_bounds().1),
+            format!(
+                "from {} to {}; 0: the default ({a})",
+                la.fixed_bounds().0,
+                la.fixed_bounds().1
+            ),
         ),
         ("python/src/mcm/tcp.py", format!("(None: {v} and {a})")),
-        ("docs/clients.md", format!("(absent: kept, {v} m/s, {a} m/s²)")),
+        (
+            "docs/clients.md",
+            format!("(absent: kept, {v} m/s, {a} m/s²)"),
+        ),
     ] {
         let text = std::fs::read_to_string(root.join(file)).expect(file);
         assert!(text.contains(&want), "{file} lacks {want:?}");
