@@ -613,7 +613,7 @@ pub unsafe extern "C" fn mcm_shm_set_cartesian_velocity(client: *mut mcm_shm_cli
     // SAFETY: the header's contract.
     unsafe {
         call(F, client, |h| {
-            h.client.set_cartesian_velocity(convert::cartesian_velocity(linear, angular, frame, F)?)?;
+            h.client.set_cartesian_velocity(convert::three(linear, F, "linear")?, convert::three(angular, F, "angular")?, convert::frame(frame, F)?)?;
             Ok(())
         })
     }

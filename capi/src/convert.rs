@@ -11,7 +11,7 @@ use crate::types::{
     mcm_move_linear_t, mcm_pose_t, mcm_pvt_point_t, mcm_tool_t,
 };
 use mcm_client::mcm_shared::command::{
-    Calibrate, CartesianFrame, MoveLinear, SetCartesianVelocity, TorqueControl, VelocityControl,
+    Calibrate, CartesianFrame, MoveLinear, TorqueControl, VelocityControl,
 };
 use mcm_client::mcm_shared::tool::{Tcp, Tool};
 use mcm_client::tcp::{InverseKinematicsResult, Pose, TorqueOptions, VelocityOptions};
@@ -151,35 +151,14 @@ pub(crate) fn ik_solutions(
 
 /// The frame of a Cartesian velocity: 0 the base frame, 1 the tool's.
 pub(crate) fn frame(number: u32, function: &str) -> Result<CartesianFrame, Fail> {
-    match number {
-        0 => Ok(CartesianFrame::Base),
-        1 => Ok(CartesianFrame::Tool),
-        _ => Err(Fail::new(
+    CartesianFrame::from_code(f64::from(number)).ok_or_else(|| {
+        Fail::new(
             MCM_ERR_ARGUMENT,
             format!(
                 "{function}: argument `frame` = {number} is not allowed; expected 0 (base) or 1 \
                  (tool)"
             ),
-        )),
-    }
-}
-
-/// `set_cartesian_velocity`'s arguments (their ranges are the MCM's to check).
-///
-/// # Safety
-/// `linear` and `angular` are NULL or point to three readable doubles each.
-pub(crate) unsafe fn cartesian_velocity(
-    linear: *const f64,
-    angular: *const f64,
-    frame_number: u32,
-    function: &str,
-) -> Result<SetCartesianVelocity, Fail> {
-    Ok(SetCartesianVelocity {
-        // SAFETY: the caller's promise.
-        linear_m_s: unsafe { three(linear, function, "linear") }?,
-        // SAFETY: the caller's promise.
-        angular_deg_s: unsafe { three(angular, function, "angular") }?,
-        frame: frame(frame_number, function)?,
+        )
     })
 }
 

@@ -28,6 +28,7 @@ use mcm_shared::command::{
 };
 use mcm_shared::config::RobotConfig;
 use mcm_shared::mode::CommandKind;
+use mcm_shared::ranges::Arg;
 use mcm_shared::sample::{COMMAND_ARGS, CommandSample, PVT_POINTS_PER_COMMAND};
 use mcm_shared::tool::{MAX_MASS_KG, Tcp, Tool};
 
@@ -83,6 +84,12 @@ impl Num {
             Num::In(x) => lo + (hi - lo) * (f64::from(x) / f64::from(u16::MAX) * 1.2 - 0.1),
             Num::Out(w) => w.value(),
         }
+    }
+
+    /// [`Num::within`] the argument table's fixed range of `arg`.
+    fn within_range_of(self, arg: Arg) -> f64 {
+        let (lo, hi) = arg.fixed_bounds();
+        self.within(lo, hi)
     }
 }
 
@@ -473,8 +480,8 @@ impl Cmd {
                 angular,
                 tool,
             } => Request::SetCartesianVelocity(SetCartesianVelocity {
-                linear_m_s: linear.map(|x| x.within(-1.0, 1.0)),
-                angular_deg_s: angular.map(|x| x.within(-180.0, 180.0)),
+                linear_m_s: linear.map(|x| x.within_range_of(Arg::Linear)),
+                angular_deg_s: angular.map(|x| x.within_range_of(Arg::Angular)),
                 frame: if *tool {
                     CartesianFrame::Tool
                 } else {
@@ -495,8 +502,8 @@ impl Cmd {
                         let h = t.within(-1.6, 1.6);
                         [0.0, 0.0, h.sin(), h.cos()]
                     }),
-                    velocity: velocity.map(|v| v.within(0.001, 1.0)),
-                    acceleration: acceleration.map(|a| a.within(0.01, 10.0)),
+                    velocity: velocity.map(|v| v.within_range_of(Arg::LinearVelocity)),
+                    acceleration: acceleration.map(|a| a.within_range_of(Arg::LinearAcceleration)),
                 })
             }
             Cmd::Raw { kind, flags, args } => return raw(*kind, *flags, args),

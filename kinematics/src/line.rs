@@ -40,6 +40,7 @@ mod scaling;
 pub use error::{LineError, PathPoint, Singularity};
 
 use crate::{Branch, Kinematics, N};
+use mcm_shared::command::MoveLinear;
 use mcm_shared::config::RobotConfig;
 use nalgebra::{Isometry3, Matrix6, UnitQuaternion, Vector3, Vector6};
 pub use profile::MAX_SEGMENTS;
@@ -56,11 +57,13 @@ pub const KNOTS: usize = 64;
 /// The most intervals the path is checked in (the planner's bound on its work).
 pub const MAX_INTERVALS: usize = 2048;
 
-/// The TCP speed when the request gives none [m/s], and the most it may ask for.
-pub const DEFAULT_VELOCITY_M_S: f64 = 0.25;
+/// The TCP speed when the request gives none [m/s] (the contract's), and the most it may ask
+/// for.
+pub const DEFAULT_VELOCITY_M_S: f64 = MoveLinear::DEFAULT_VELOCITY_M_S;
 pub const MAX_VELOCITY_M_S: f64 = 1.0;
-/// The TCP acceleration when the request gives none [m/s²], and the most it may ask for.
-pub const DEFAULT_ACCELERATION_M_S2: f64 = 1.2;
+/// The TCP acceleration when the request gives none [m/s²] (the contract's), and the most it
+/// may ask for.
+pub const DEFAULT_ACCELERATION_M_S2: f64 = MoveLinear::DEFAULT_ACCELERATION_M_S2;
 pub const MAX_ACCELERATION_M_S2: f64 = 10.0;
 /// The rotation's speed limit: the TCP turns at most at the requested speed divided by this
 /// radius (rad/s per m/s), its angular acceleration at most the requested acceleration

@@ -197,6 +197,18 @@ class TcpClient(unittest.TestCase):
         self.assertEqual(c.hold().operating_mode, "HOLD")
         self.assertEqual([type(x).__name__ for x in c.events()], ["StatusEvent"])
 
+    def test_set_cartesian_velocity_sends_three_finite_numbers_per_vector(self) -> None:
+        c = self.connect(lambda cmd: [] if cmd["command"] == "set_cartesian_velocity" else [status()])
+        c.set_cartesian_velocity([0, 0, 0.02], [-5, 0, 0], "tool")
+        c.status()  # the fake has read what came before it
+        self.assertEqual(self.fake.received[0], {"command": "set_cartesian_velocity", "arguments": {
+            "linear": [0.0, 0.0, 0.02], "angular": [-5.0, 0.0, 0.0], "frame": "tool"}})
+        for linear, angular in (([0, 0], [0, 0, 0]), ([0, 0, 0], [0, 0, float("inf")])):
+            with self.assertRaisesRegex(ValueError, "expected three finite numbers"):
+                c.set_cartesian_velocity(linear, angular)
+        c.status()
+        self.assertEqual([x["command"] for x in self.fake.received], ["set_cartesian_velocity", "status", "status"])
+
     def test_control_loop_sends_velocities_in_velocity_control(self) -> None:
         ticks = iter(range(100))
 

@@ -264,7 +264,8 @@ impl CartesianFrame {
         }
     }
 
-    fn from_code(x: f64) -> Option<CartesianFrame> {
+    /// The frame a sample's (or a binding's) value stands for.
+    pub fn from_code(x: f64) -> Option<CartesianFrame> {
         Self::ALL.into_iter().find(|f| f.code() == x)
     }
 }
@@ -337,7 +338,8 @@ pub struct MoveAll {
 
 /// `move_linear`: the TCP on a straight line to `position`, its orientation turned on the
 /// shortest arc to `orientation` (kept when `None`), at most at `velocity` [m/s] and
-/// `acceleration` [m/s²] (`None`: the planner's defaults). Base frame, metres; the orientation
+/// `acceleration` [m/s²] (`None`: [`MoveLinear::DEFAULT_VELOCITY_M_S`],
+/// [`MoveLinear::DEFAULT_ACCELERATION_M_S2`]). Base frame, metres; the orientation
 /// a unit quaternion `[x, y, z, w]` (decoding normalises one within
 /// [`crate::units::UNIT_QUATERNION_TOLERANCE`] of unit norm and refuses any other).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -346,6 +348,13 @@ pub struct MoveLinear {
     pub orientation: Option<[f64; 4]>,
     pub velocity: Option<f64>,
     pub acceleration: Option<f64>,
+}
+
+impl MoveLinear {
+    /// The TCP's speed when the request gives none [m/s].
+    pub const DEFAULT_VELOCITY_M_S: f64 = 0.25;
+    /// The TCP's acceleration when the request gives none [m/s²].
+    pub const DEFAULT_ACCELERATION_M_S2: f64 = 1.2;
 }
 
 /// `CommandSample::flags` of `MoveLinear`: which optional arguments the sample carries.
@@ -609,8 +618,13 @@ impl Decoder<'_> {
         }
     }
 
-    fn finite6(&self, name: &'static str, at: usize) -> Result<[f64; NUM_AXES], DecodeError> {
-        let mut v = [0.0; NUM_AXES];
+    /// `N` finite numbers from `args[at..]` (`name[i]`).
+    fn finite_array<const N: usize>(
+        &self,
+        name: &'static str,
+        at: usize,
+    ) -> Result<[f64; N], DecodeError> {
+        let mut v = [0.0; N];
         for (i, x) in v.iter_mut().enumerate() {
             *x = self.finite(Field::at(name, i), self.s.args[at + i])?;
         }
@@ -646,9 +660,14 @@ impl Decoder<'_> {
         Err(self.invalid(field, x, allowed))
     }
 
-    /// Three numbers from `args[at..]` of the fixed-range argument `arg` (`name[i]`).
-    fn ranged3(&self, arg: Arg, name: &'static str, at: usize) -> Result<[f64; 3], DecodeError> {
-        let mut v = [0.0; 3];
+    /// `N` numbers from `args[at..]` of the fixed-range argument `arg` (`name[i]`).
+    fn ranged_array<const N: usize>(
+        &self,
+        arg: Arg,
+        name: &'static str,
+        at: usize,
+    ) -> Result<[f64; N], DecodeError> {
+        let mut v = [0.0; N];
         for (i, x) in v.iter_mut().enumerate() {
             *x = self.ranged(arg, Field::at(name, i), self.s.args[at + i])?;
         }
@@ -894,7 +913,7 @@ impl Request {
             CommandKind::SetVelocities => {
                 d.flags(0)?;
                 Request::SetVelocities(SetVelocities {
-                    velocities_deg_s: d.finite6("velocities", 0)?,
+                    velocities_deg_s: d.finite_array("velocities", 0)?,
                 })
             }
             CommandKind::SetTool => {
@@ -927,23 +946,17 @@ impl Request {
                     )
                 })?;
                 Request::SetCartesianVelocity(SetCartesianVelocity {
-                    linear_m_s: d.ranged3(Arg::Linear, "linear", l)?,
-                    angular_deg_s: d.ranged3(Arg::Angular, "angular", w)?,
+                    linear_m_s: d.ranged_array(Arg::Linear, "linear", l)?,
+                    angular_deg_s: d.ranged_array(Arg::Angular, "angular", w)?,
                     frame,
                 })
             }
             CommandKind::MoveLinear => {
                 d.flags(LINE_FLAG_ORIENTATION | LINE_FLAG_VELOCITY | LINE_FLAG_ACCELERATION)?;
                 let [p, o, v, acc] = LINE_ARGS;
-                let mut position = [0.0; 3];
-                for (i, x) in position.iter_mut().enumerate() {
-                    *x = d.finite(Field::at("position", i), a[p + i])?;
-                }
+                let position = d.finite_array("position", p)?;
                 let orientation = if s.flags & LINE_FLAG_ORIENTATION != 0 {
-                    let q = [a[o], a[o + 1], a[o + 2], a[o + 3]];
-                    for (i, x) in q.iter().enumerate() {
-                        d.finite(Field::at("orientation", i), *x)?;
-                    }
+                    let q = d.finite_array("orientation", o)?;
                     Some(crate::units::unit_quaternion(q).map_err(|norm| {
                         d.invalid(
                             Field::named("orientation (its norm)"),
@@ -988,7 +1001,7 @@ impl Request {
             CommandKind::MoveAll => {
                 d.flags(0)?;
                 Request::MoveAll(MoveAll {
-                    targets_deg: d.finite6("target_positions", 0)?,
+                    targets_deg: d.finite_array("target_positions", 0)?,
                     velocity_factor: d.velocity_factor(a[NUM_AXES])?,
                 })
             }
@@ -1023,7 +1036,7 @@ impl Request {
             CommandKind::SetTorques => {
                 d.flags(0)?;
                 Request::SetTorques(SetTorques {
-                    torques_nm: d.finite6("torques", 0)?,
+                    torques_nm: d.finite_array("torques", 0)?,
                 })
             }
             CommandKind::Sim => {

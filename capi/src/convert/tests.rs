@@ -25,6 +25,15 @@ fn arguments_are_checked_with_words_that_name_them() {
     // SAFETY: NULL is allowed.
     let c = unsafe { calibrate(std::ptr::null(), "f") }.unwrap();
     assert_eq!(c.which, Which::All);
+    assert_eq!(frame(0, "f").unwrap(), CartesianFrame::Base);
+    assert_eq!(frame(1, "f").unwrap(), CartesianFrame::Tool);
+    assert_eq!(
+        frame(2, "mcm_shm_set_cartesian_velocity")
+            .unwrap_err()
+            .message,
+        "mcm_shm_set_cartesian_velocity: argument `frame` = 2 is not allowed; expected 0 (base) \
+         or 1 (tool)"
+    );
     assert!(seconds(-1.0, "f", "timeout_s").is_err());
     assert_eq!(timeout(-1.0), None);
     // SAFETY: NULL is refused before any read.

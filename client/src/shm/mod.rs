@@ -45,9 +45,9 @@ pub use ports::{LayoutMismatch, OpenError, SendError, describe};
 use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::prelude::ipc;
 use mcm_shared::command::{
-    Calibrate, IdentifyPayload, MoveAll, MoveAxis, MoveLinear, Pvt, PvtChunk, PvtPoint, Request,
-    SetCartesianVelocity, SetTool, SetTorques, SetVelocities, SimCommand, TorqueControl,
-    VelocityControl,
+    Calibrate, CartesianFrame, IdentifyPayload, MoveAll, MoveAxis, MoveLinear, Pvt, PvtChunk,
+    PvtPoint, Request, SetCartesianVelocity, SetTool, SetTorques, SetVelocities, SimCommand,
+    TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
 use mcm_shared::protocol::core_reply_within;
@@ -428,8 +428,17 @@ impl ShmClient {
 
     /// Set the TCP's velocity (linear [m/s], angular [deg/s], base or tool frame) without
     /// waiting: a refusal comes as [`ShmEvent::Refused`].
-    pub fn set_cartesian_velocity(&mut self, v: SetCartesianVelocity) -> Result<(), SendError> {
-        let id = self.send(&Request::SetCartesianVelocity(v))?;
+    pub fn set_cartesian_velocity(
+        &mut self,
+        linear_m_s: [f64; 3],
+        angular_deg_s: [f64; 3],
+        frame: CartesianFrame,
+    ) -> Result<(), SendError> {
+        let id = self.send(&Request::SetCartesianVelocity(SetCartesianVelocity {
+            linear_m_s,
+            angular_deg_s,
+            frame,
+        }))?;
         self.tracker.sent(id, 0);
         Ok(())
     }

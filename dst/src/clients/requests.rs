@@ -10,6 +10,7 @@ use mcm_shared::command::{
     SetTorques, SetVelocities, TorqueControl, VelocityControl,
 };
 use mcm_shared::mode::CommandKind;
+use mcm_shared::ranges::Arg;
 use mcm_shared::sample::StateSample;
 use mcm_shared::tool::{MAX_MASS_KG, Tcp, Tool};
 
@@ -138,8 +139,8 @@ impl Client {
             // Up to 1.2 times each component's range (a few refused), in either frame.
             CommandKind::SetCartesianVelocity => {
                 Request::SetCartesianVelocity(SetCartesianVelocity {
-                    linear_m_s: core::array::from_fn(|_| rng.range(-1.2, 1.2)),
-                    angular_deg_s: core::array::from_fn(|_| rng.range(-216.0, 216.0)),
+                    linear_m_s: core::array::from_fn(|_| beyond(rng, Arg::Linear)),
+                    angular_deg_s: core::array::from_fn(|_| beyond(rng, Arg::Angular)),
                     frame: rng.pick(&CartesianFrame::ALL),
                 })
             }
@@ -177,4 +178,10 @@ fn random_tool(rng: &mut Rng) -> Tool {
     let mass = rng.range(0.0, MAX_MASS_KG);
     let com = near(rng);
     Tool::new(tcp, mass, com, None).unwrap_or(Tool::NONE)
+}
+
+/// A value up to 1.2 times the argument table's fixed range of `arg` (a few refused).
+fn beyond(rng: &mut Rng, arg: Arg) -> f64 {
+    let (lo, hi) = arg.fixed_bounds();
+    rng.range(1.2 * lo, 1.2 * hi)
 }

@@ -30,6 +30,7 @@ from typing import Any, Callable, Deque, Dict, List, Optional, Sequence, Union
 
 from . import codes
 from . import encoding as enc
+from . import wire
 from .errors import CommandError, ConnectionLost, McmTimeout, OutcomeUnknown, ProtocolError
 from .types import (
     CommandErrorEvent,
@@ -400,12 +401,7 @@ class Client:
         :meth:`set_velocities`: a refusal arrives later as a :class:`CommandErrorEvent`, and is
         raised by the next ``set_cartesian_velocity`` (or read with :meth:`events`)."""
         self._raise_refusal("set_cartesian_velocity")
-        vectors = {}
-        for name, given in (("linear", linear), ("angular", angular)):
-            values = [float(v) for v in given]
-            if len(values) != 3:
-                raise ValueError("set_cartesian_velocity: %s takes three numbers, got %d" % (name, len(values)))
-            vectors[name] = values
+        vectors = {"linear": wire.three(linear, "linear"), "angular": wire.three(angular, "angular")}
         self.command("set_cartesian_velocity", dict(vectors, frame=frame))
 
     def set_tool(

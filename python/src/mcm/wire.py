@@ -35,6 +35,14 @@ def _six(values: Sequence[float], name: str) -> List[float]:
     return v
 
 
+def three(values: Sequence[float], name: str) -> List[float]:
+    """A Cartesian vector's three finite numbers (``name`` for the error)."""
+    v = [float(x) for x in values]
+    if len(v) != 3 or not all(math.isfinite(x) for x in v):
+        raise ValueError("%s: expected three finite numbers, got %r" % (name, list(values)))
+    return v
+
+
 def _axis(n: int, name: str) -> float:
     if not (isinstance(n, int) and 1 <= n <= NUM_AXES):
         raise ValueError("%s = %r is not allowed; expected an axis number from 1 to 6" % (name, n))
@@ -132,13 +140,12 @@ def set_cartesian_velocity(
         raise ValueError(
             "frame = %r is not allowed; expected %s" % (frame, " or ".join(enc.CARTESIAN_FRAMES))
         )
-    vectors = []
-    for name, values in (("linear", linear), ("angular", angular)):
-        v = [float(x) for x in values]
-        if len(v) != 3 or not all(math.isfinite(x) for x in v):
-            raise ValueError("%s: expected three finite numbers, got %r" % (name, list(values)))
-        vectors.append(v)
-    return command("set_cartesian_velocity", linear=vectors[0], angular=vectors[1], frame=code)
+    return command(
+        "set_cartesian_velocity",
+        linear=three(linear, "linear"),
+        angular=three(angular, "angular"),
+        frame=code,
+    )
 
 
 def set_tool(

@@ -222,25 +222,6 @@ impl<'a> Args<'a> {
             .ok_or_else(|| self.missing(arg.name(), &arg.expected(bounds.0, bounds.1).to_string()))
     }
 
-    /// An optional array of six numbers of the per-axis argument `arg`, element `i` within
-    /// axis `i + 1`'s range of the table ([`Arg::bounds`] with `cfg`).
-    pub fn ranged_six(
-        &self,
-        arg: Arg,
-        cfg: &RobotConfig,
-    ) -> Result<Option<[f64; 6]>, CommandError> {
-        self.ranged_array(arg, cfg)
-    }
-
-    /// A required array of six numbers of the per-axis argument `arg`.
-    pub fn required_ranged_six(
-        &self,
-        arg: Arg,
-        cfg: &RobotConfig,
-    ) -> Result<[f64; 6], CommandError> {
-        self.required_ranged_array(arg, cfg)
-    }
-
     /// An optional array of `N` numbers of the argument `arg`, element `i` within the range
     /// of the table for index `i` ([`Arg::bounds`] with `cfg`: axis `i + 1`'s for a per-axis
     /// argument, the fixed range for a Cartesian vector).

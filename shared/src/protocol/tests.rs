@@ -737,3 +737,50 @@ fn every_default_shown_is_the_default_parsed() {
     }
     assert_eq!(checked.len(), 18, "{checked:?}");
 }
+
+/// `move_linear`'s defaults and ranges are typed as words in its help and in the clients'
+/// texts: each must state the values of [`MoveLinear`]'s constants and of the argument table.
+#[test]
+fn move_linear_texts_state_the_defaults_and_ranges_of_the_contract() {
+    use crate::command::MoveLinear;
+    use crate::ranges::Arg;
+    let (v, a) = (
+        MoveLinear::DEFAULT_VELOCITY_M_S,
+        MoveLinear::DEFAULT_ACCELERATION_M_S2,
+    );
+    for (arg, default) in [(Arg::LinearVelocity, v), (Arg::LinearAcceleration, a)] {
+        let def = MoveLinear::DEF.args.iter().find(|d| d.name == arg.name());
+        let help = def.expect("a move_linear argument").help;
+        let (min, max) = arg.fixed_bounds();
+        let want = format!("from {min} to {max}; absent: {default}");
+        assert!(help.contains(&want), "{help:?} lacks {want:?}");
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let (lv, la) = (Arg::LinearVelocity, Arg::LinearAcceleration);
+    for (file, want) in [
+        (
+            "capi/src/types.rs",
+            format!(
+                "from {} to {}; 0: the default ({v})",
+                lv.fixed_bounds().0,
+                lv.fixed_bounds().1
+            ),
+        ),
+        (
+            "capi/src/types.rs",
+            format!(
+                "from {} to {}; 0: the default ({a})",
+                la.fixed_bounds().0,
+                la.fixed_bounds().1
+            ),
+        ),
+        ("python/src/mcm/tcp.py", format!("(None: {v} and {a})")),
+        (
+            "docs/clients.md",
+            format!("(absent: kept, {v} m/s, {a} m/s²)"),
+        ),
+    ] {
+        let text = std::fs::read_to_string(root.join(file)).expect(file);
+        assert!(text.contains(&want), "{file} lacks {want:?}");
+    }
+}

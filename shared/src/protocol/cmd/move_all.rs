@@ -41,7 +41,7 @@ impl Definition for MoveAll {
 
     fn parse(args: &Args<'_>, cfg: &RobotConfig) -> Result<Self, CommandError> {
         Ok(MoveAll {
-            targets_deg: args.required_ranged_six(Arg::TargetPositions, cfg)?,
+            targets_deg: args.required_ranged_array(Arg::TargetPositions, cfg)?,
             velocity_factor: velocity_factor(args)?,
         })
     }

@@ -30,7 +30,7 @@ impl Definition for SetTorques {
 
     fn parse(args: &Args<'_>, cfg: &RobotConfig) -> Result<Self, CommandError> {
         Ok(SetTorques {
-            torques_nm: args.required_ranged_six(Arg::Torques, cfg)?,
+            torques_nm: args.required_ranged_array(Arg::Torques, cfg)?,
         })
     }
 

@@ -32,7 +32,7 @@ impl Definition for SetVelocities {
 
     fn parse(args: &Args<'_>, cfg: &RobotConfig) -> Result<Self, CommandError> {
         Ok(SetVelocities {
-            velocities_deg_s: args.required_ranged_six(Arg::Velocities, cfg)?,
+            velocities_deg_s: args.required_ranged_array(Arg::Velocities, cfg)?,
         })
     }
 

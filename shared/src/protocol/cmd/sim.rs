@@ -101,7 +101,7 @@ impl Definition for SimCommand {
             reconnect_axis: args.axis(Arg::ReconnectAxis)?,
             block_axis: args.axis(Arg::BlockAxis)?,
             unblock_axis: args.axis(Arg::UnblockAxis)?,
-            external_torques_nm: args.ranged_six(Arg::ExternalTorques, cfg)?,
+            external_torques_nm: args.ranged_array(Arg::ExternalTorques, cfg)?,
             power_cycle: args.boolean("power_cycle")?.unwrap_or(false),
             true_tool: true_tool(args)?,
         })
