@@ -39,6 +39,7 @@ mod examples_ros2;
 mod examples_rust;
 mod hmi;
 mod hmi_cartesian;
+mod hmi_cartesian_motion;
 mod hmi_tmux;
 mod hostile_connections;
 mod hostile_lifecycle;

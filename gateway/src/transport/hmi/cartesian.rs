@@ -10,10 +10,8 @@
 //!   given (a point mass then; the other of the two kept).
 //! - `moveto X Y Z ROLL PITCH YAW [vf=F]`: `move_to_pose` (a joint move to the solution nearest
 //!   the present position).
-//!
-//! `move_linear` is reachable as the protocol types it (metres and a quaternion, through the
-//! generic words); a straight-line move in millimetres and degrees (`movel`) is not offered yet.
-//! It belongs here, parsed with [`PoseWords`] and the same conversion.
+//! - `movel X Y Z [ROLL PITCH YAW] [v=MM_S]`: `move_linear` (the TCP on a straight line; the
+//!   orientation kept when not typed; the speed in mm/s).
 //!
 //! Runs in the gateway's async tasks, never in the real-time cycle.
 
@@ -22,6 +20,7 @@ use crate::command::cartesian::active_tool;
 use mcm_kinematics::{quaternion_from_rpy_deg, rpy_deg_from_quaternion};
 use mcm_shared::config::RobotConfig;
 use mcm_shared::protocol::{self, Command, Pose};
+use mcm_shared::ranges::{Arg, Num};
 use mcm_shared::sample::{STATE_CARTESIAN, StateSample};
 use mcm_shared::tool::{Tcp, Tool, ToolError};
 use serde_json::{Map, Value};
@@ -32,20 +31,26 @@ const MM: f64 = 1000.0;
 
 /// The words after `moveto`, in its usage line.
 pub const MOVETO_USAGE: &str = "usage: `moveto X Y Z ROLL PITCH YAW [vf=F]` (mm and deg, base frame), e.g. `moveto 400 0 500 180 0 0 vf=0.3`";
+/// The words after `movel`, in its usage line.
+pub const MOVEL_USAGE: &str = "usage: `movel X Y Z [ROLL PITCH YAW] [v=MM_S]` (mm and deg, base frame; speed in mm/s), e.g. `movel 400 0 500 180 0 0 v=100`";
 /// The words after `tool`, in its usage line.
 pub const TOOL_USAGE: &str = "usage: `tool` shows the tool; `tool X Y Z ROLL PITCH YAW [mass=KG] [com=X,Y,Z]` sets its TCP (mm and deg, flange frame) and load (com in mm), e.g. `tool 0 0 150 0 0 90 mass=1.2 com=0,0,60`";
 
-/// What `help pose`, `help tool` and `help moveto` add: the units and the convention.
+/// What `help pose`, `help tool`, `help moveto` and `help movel` add: the units and the
+/// convention.
 pub const HELP: &str = "\
 Positions in millimetres, angles in degrees. Roll, pitch and yaw turn about the fixed axes
-x, then y, then z (the URDF's rpy: R = Rz(yaw) Ry(pitch) Rx(roll)). `pose` and `moveto` use
-the base frame (the TCP of the active tool); `tool` the flange frame. Without mass= and com=
-`tool` keeps the active load; with either the load becomes a point mass (the other value
-kept). The protocol's set_tool, inverse_kinematics and move_to_pose take metres and
-quaternions [x, y, z, w].
+x, then y, then z (the URDF's rpy: R = Rz(yaw) Ry(pitch) Rx(roll)). `pose`, `moveto` and
+`movel` use the base frame (the TCP of the active tool); `tool` the flange frame. `movel`
+keeps the TCP's orientation when no roll, pitch and yaw are typed; its speed v= is in mm/s.
+Without mass= and com= `tool` keeps the active load; with either the load becomes a point
+mass (the other value kept). The protocol's set_tool, inverse_kinematics, move_to_pose and
+move_linear take metres and quaternions [x, y, z, w].
 examples:
   pose
   moveto 400 0 500 180 0 0 vf=0.3
+  movel 400 0 400 v=100
+  movel 400 0 500 180 0 0 v=50
   tool 0 0 150 0 0 90
   tool 0 0 150 0 0 90 mass=1.2 com=0,0,60
 ";
@@ -119,6 +124,49 @@ fn number(command: &'static str, name: &str, w: &str, usage: &str) -> Result<f64
         })
 }
 
+/// The numbers at the start of a pose's words, and the named words after them.
+struct PoseNumbers<'a> {
+    position_mm: [f64; 3],
+    /// Absent when only X Y Z were typed.
+    rpy_deg: Option<[f64; 3]>,
+    rest: &'a [Token],
+}
+
+/// The plain numbers at the start of `tokens` (X Y Z, then ROLL PITCH YAW) and the named words
+/// after them; `rpy_optional`: three numbers (no orientation) are allowed too.
+fn pose_numbers<'a>(
+    command: &'static str,
+    tokens: &'a [Token],
+    usage: &str,
+    rpy_optional: bool,
+) -> Result<PoseNumbers<'a>, LineError> {
+    const NAMES: [&str; 6] = ["X", "Y", "Z", "ROLL", "PITCH", "YAW"];
+    let plain = tokens
+        .iter()
+        .take_while(|t| t.name.is_none() && t.form == Form::Plain)
+        .count();
+    if plain != NAMES.len() && !(rpy_optional && plain == 3) {
+        let needs = if rpy_optional {
+            "3 numbers X Y Z or 6 X Y Z ROLL PITCH YAW"
+        } else {
+            "6 numbers X Y Z ROLL PITCH YAW"
+        };
+        return Err(session_error(
+            command,
+            format!("{command}: needs {needs}, got {plain}; {usage}"),
+        ));
+    }
+    let mut v = [0.0; 6];
+    for (i, t) in tokens[..plain].iter().enumerate() {
+        v[i] = number(command, NAMES[i], &t.value, usage)?;
+    }
+    Ok(PoseNumbers {
+        position_mm: [v[0], v[1], v[2]],
+        rpy_deg: (plain == 6).then_some([v[3], v[4], v[5]]),
+        rest: &tokens[plain..],
+    })
+}
+
 /// The six plain numbers at the start of `tokens` (X Y Z ROLL PITCH YAW) and the named words
 /// after them.
 fn pose_words<'a>(
@@ -126,29 +174,15 @@ fn pose_words<'a>(
     tokens: &'a [Token],
     usage: &str,
 ) -> Result<(PoseWords, &'a [Token]), LineError> {
-    const NAMES: [&str; 6] = ["X", "Y", "Z", "ROLL", "PITCH", "YAW"];
-    let plain = tokens
-        .iter()
-        .take_while(|t| t.name.is_none() && t.form == Form::Plain)
-        .count();
-    if plain != NAMES.len() {
-        return Err(session_error(
-            command,
-            format!("{command}: needs 6 numbers X Y Z ROLL PITCH YAW, got {plain}; {usage}"),
-        ));
-    }
-    let mut v = [0.0; 6];
-    for (i, t) in tokens[..6].iter().enumerate() {
-        v[i] = number(command, NAMES[i], &t.value, usage)?;
-    }
+    let n = pose_numbers(command, tokens, usage, false)?;
     let words = PoseWords {
-        position_mm: [v[0], v[1], v[2]],
-        rpy_deg: [v[3], v[4], v[5]],
+        position_mm: n.position_mm,
+        rpy_deg: n.rpy_deg.unwrap_or_default(),
     };
-    Ok((words, &tokens[6..]))
+    Ok((words, n.rest))
 }
 
-/// The value of the named word `t` (after the six numbers), `name` being one of `names`.
+/// The value of the named word `t` (after the numbers), `name` being one of `names`.
 fn named<'a>(
     command: &'static str,
     t: &'a Token,
@@ -160,7 +194,7 @@ fn named<'a>(
         _ => Err(session_error(
             command,
             format!(
-                "{command}: unexpected `{}` after the six numbers; {usage}",
+                "{command}: unexpected `{}` after the numbers; {usage}",
                 t.value.chars().take(40).collect::<String>()
             ),
         )),
@@ -178,13 +212,64 @@ pub fn parse_moveto(tokens: &[Token], cfg: &RobotConfig) -> Result<Line, LineErr
         let vf = number("moveto", "vf", v, MOVETO_USAGE)?;
         args.insert("velocity_factor".into(), vf.into());
     }
-    let spec = protocol::find("move_to_pose").expect("move_to_pose is a command");
+    protocol_command("move_to_pose", args, cfg)
+}
+
+/// The protocol's command `name` of the JSON `args`, checked by the protocol's own parser.
+fn protocol_command(
+    name: &str,
+    args: Map<String, Value>,
+    cfg: &RobotConfig,
+) -> Result<Line, LineError> {
+    let spec = protocol::find(name).expect("the HMI's Cartesian words send protocol commands");
     Command::parse(spec, Some(&Value::Object(args)), cfg)
         .map(|cmd| Line::Command { cmd, json: false })
         .map_err(|error| LineError::Rejected {
             command: spec.name,
             error,
         })
+}
+
+/// `movel X Y Z [ROLL PITCH YAW] [v=MM_S]`: the `move_linear` command (metres, the quaternion
+/// of the roll, pitch and yaw typed, the speed in m/s), checked by the protocol's own parser.
+/// The speed is checked here, against the protocol's range in mm/s, so its refusal speaks the
+/// unit it was typed in.
+pub fn parse_movel(tokens: &[Token], cfg: &RobotConfig) -> Result<Line, LineError> {
+    let PoseNumbers {
+        position_mm,
+        rpy_deg,
+        rest,
+    } = pose_numbers("movel", tokens, MOVEL_USAGE, true)?;
+    let mut args = Map::new();
+    args.insert(
+        "position".into(),
+        position_mm.map(|x| x / MM).to_vec().into(),
+    );
+    if let Some(rpy) = rpy_deg {
+        args.insert(
+            "orientation".into(),
+            quaternion_from_rpy_deg(rpy).to_vec().into(),
+        );
+    }
+    for t in rest {
+        let (_, v) = named("movel", t, &["v", "speed", "velocity"], MOVEL_USAGE)?;
+        let speed = number("movel", "speed", v, MOVEL_USAGE)?;
+        let (lo, hi) = Arg::LinearVelocity.fixed_bounds();
+        if !Arg::LinearVelocity.accepts(speed / MM, (lo, hi)) {
+            return Err(session_error(
+                "movel",
+                format!(
+                    "movel: speed = {} mm/s is not allowed; expected a number from {} to {} mm/s \
+                     (the TCP's speed on the line); {MOVEL_USAGE}",
+                    Num(speed),
+                    Num(lo * MM),
+                    Num(hi * MM)
+                ),
+            ));
+        }
+        args.insert("velocity".into(), (speed / MM).into());
+    }
+    protocol_command("move_linear", args, cfg)
 }
 
 /// `tool` (show) or `tool X Y Z ROLL PITCH YAW [mass=KG] [com=X,Y,Z]` (set).
@@ -221,7 +306,7 @@ pub fn parse_tool(tokens: &[Token]) -> Result<Line, LineError> {
 }
 
 /// Three numbers with `decimals`, each right-aligned in 10 columns.
-fn three(v: [f64; 3], decimals: usize) -> String {
+pub(super) fn three(v: [f64; 3], decimals: usize) -> String {
     v.iter()
         .map(|x| format!("{:>10.decimals$}", x + 0.0))
         .collect::<String>()

@@ -42,6 +42,11 @@ const SESSION: &[(&str, &str, &str)] = &[
         "moveto X Y Z ROLL PITCH YAW [vf=F]",
         "move the TCP to a pose (mm, deg, base frame) with move_to_pose (PVT)",
     ),
+    (
+        "movel",
+        "movel X Y Z [ROLL PITCH YAW] [v=MM_S]",
+        "move the TCP on a straight line (mm, deg, base frame; mm/s) with move_linear (PVT)",
+    ),
     ("clear", "clear", "clear the screen"),
     (
         "quit",
@@ -95,7 +100,7 @@ pub fn topic(topic: &str, cfg: &RobotConfig) -> String {
         .find(|(n, _, _)| *n == t || (*n == "quit" && t == "exit"))
     {
         let mut s = format!("{BOLD}{name}{RESET} - {what}\nusage:  {usage}\n");
-        if matches!(*name, "pose" | "tool" | "moveto") {
+        if matches!(*name, "pose" | "tool" | "moveto" | "movel") {
             s.push_str(super::cartesian::HELP);
         }
         return s;

@@ -9,23 +9,23 @@
 //! repeat; any other key stops at once. If the gateway stops sending, the core's own timeout
 //! ([`JOG_TIMEOUT_S`]) stops the axis.
 //!
-//! This file holds the pure parts (keys, the held-key timing, the speed, the line shown); the
-//! screen's loop is part of the HMI session (`session/jog_screen.rs`). Not used inside the
-//! real-time cycle.
+//! `jog x|y|z|rx|ry|rz [SPEED] [base|tool]` jogs the TCP the same way, with
+//! `set_cartesian_velocity`: along (mm/s) or about (deg/s) one axis of the base or the tool
+//! frame. On its screen `x`, `y`, `z` choose a direction to move along, `X`, `Y`, `Z` one to
+//! turn about, `f` switches between the base and the tool frame (each of them stops first).
 //!
-//! **Cartesian jogging goes here**; the jog screen does not offer it yet (it jogs axes only),
-//! though the protocol has `set_cartesian_velocity`: `jog x|y|z|rx|ry|rz [SPEED] [base|tool]`
-//! parsed beside `jog AXIS` (`words::parse_jog`), the same keys and [`Held`] timing, the
-//! velocity sent on each tick built beside [`velocities`] (a twist along or about the chosen
-//! direction in mm/s or deg/s, converted once as `super::cartesian` converts), the loop
-//! entering VELOCITY_CONTROL as it does now, and a status line showing the TCP
-//! (`super::cartesian`'s millimetres and degrees) beside [`status_line`].
+//! This file holds the pure parts (keys, the held-key timing, the speeds, the velocity sent on
+//! each tick, the line shown); the screen's loop is part of the HMI session
+//! (`session/jog_screen.rs`). Not used inside the real-time cycle.
 
+use super::cartesian::three;
 use super::keys::{Decoded, Key, KeyDecoder};
 use super::telnet::Input;
-use mcm_shared::command::Axis;
+use mcm_kinematics::rpy_deg_from_quaternion;
+use mcm_shared::command::{Axis, CartesianFrame, SetCartesianVelocity};
 use mcm_shared::config::RobotConfig;
-use mcm_shared::ranges::{Num, max_velocity_deg_s};
+use mcm_shared::ranges::{Arg, Num, max_velocity_deg_s};
+use mcm_shared::sample::{STATE_CARTESIAN, StateSample};
 use std::time::{Duration, Instant};
 
 /// Interval of `set_velocities` and of the position shown.
@@ -39,6 +39,97 @@ pub const REPEAT_GAP: Duration = Duration::from_millis(200);
 pub const JOG_TIMEOUT_S: f64 = 0.5;
 /// The speed of `jog AXIS` without a speed [deg/s] (at most the axis's maximum).
 pub const DEFAULT_JOG_SPEED: f64 = 10.0;
+/// The TCP's speed of `jog x|y|z` without a speed [mm/s].
+pub const DEFAULT_TCP_SPEED_MM_S: f64 = 20.0;
+/// The TCP's turning speed of `jog rx|ry|rz` without a speed [deg/s].
+pub const DEFAULT_TCP_TURN_DEG_S: f64 = 10.0;
+/// Millimetres per metre.
+const MM: f64 = 1000.0;
+
+/// A direction the TCP is jogged in: along (`Along`) or about (`About`) the x (0), y (1) or
+/// z (2) axis of the jog's frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TcpDirection {
+    Along(usize),
+    About(usize),
+}
+
+impl TcpDirection {
+    /// Every direction, in the order of the words `x y z rx ry rz`.
+    pub const ALL: [TcpDirection; 6] = [
+        TcpDirection::Along(0),
+        TcpDirection::Along(1),
+        TcpDirection::Along(2),
+        TcpDirection::About(0),
+        TcpDirection::About(1),
+        TcpDirection::About(2),
+    ];
+
+    /// The word of `jog WORD`: `x`, `y`, `z`, `rx`, `ry`, `rz`.
+    pub fn word(self) -> &'static str {
+        match self {
+            TcpDirection::Along(i) => ["x", "y", "z"][i],
+            TcpDirection::About(i) => ["rx", "ry", "rz"][i],
+        }
+    }
+
+    /// The direction of `word` (any case).
+    pub fn from_word(word: &str) -> Option<TcpDirection> {
+        let w = word.to_ascii_lowercase();
+        Self::ALL.into_iter().find(|d| d.word() == w)
+    }
+}
+
+/// A jog of the TCP: its direction, frame and speeds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TcpJog {
+    pub direction: TcpDirection,
+    pub frame: CartesianFrame,
+    /// Along a direction [mm/s].
+    pub linear_mm_s: f64,
+    /// About a direction [deg/s].
+    pub angular_deg_s: f64,
+}
+
+impl TcpJog {
+    /// The speed of the present direction and its unit.
+    pub fn speed(&self) -> (f64, &'static str) {
+        match self.direction {
+            TcpDirection::Along(_) => (self.linear_mm_s, "mm/s"),
+            TcpDirection::About(_) => (self.angular_deg_s, "deg/s"),
+        }
+    }
+
+    /// The `set_cartesian_velocity` of one tick, `direction` held (`+1`, `-1`, `0`).
+    pub fn velocity(&self, direction: i8) -> SetCartesianVelocity {
+        let sign = f64::from(direction);
+        let (mut linear_m_s, mut angular_deg_s) = ([0.0; 3], [0.0; 3]);
+        match self.direction {
+            TcpDirection::Along(i) => linear_m_s[i] = sign * self.linear_mm_s / MM,
+            TcpDirection::About(i) => angular_deg_s[i] = sign * self.angular_deg_s,
+        }
+        SetCartesianVelocity {
+            linear_m_s,
+            angular_deg_s,
+            frame: self.frame,
+        }
+    }
+
+    /// The other frame.
+    pub fn toggle_frame(&mut self) {
+        self.frame = match self.frame {
+            CartesianFrame::Base => CartesianFrame::Tool,
+            CartesianFrame::Tool => CartesianFrame::Base,
+        };
+    }
+}
+
+/// What a jog moves: one axis at `speed` [deg/s], or the TCP.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Jogged {
+    Axis { axis: Axis, speed: f64 },
+    Tcp(TcpJog),
+}
 
 /// What a key means on the jog screen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -49,6 +140,11 @@ pub enum JogKey {
     Minus,
     /// `q`, `Q`, Ctrl-C, Ctrl-D: stop and leave.
     Quit,
+    /// `x`, `y`, `z` (along), `X`, `Y`, `Z` (about): jog the TCP in this direction (stops
+    /// first; an axis jog just stops).
+    Choose(TcpDirection),
+    /// `f`, `F`: jog the TCP in the other frame (stops first; an axis jog just stops).
+    Frame,
     /// Any other key: stop.
     Stop,
 }
@@ -81,6 +177,13 @@ impl JogKeys {
             Some(Key::Typed(b'+' | b'=')) => Some(JogKey::Plus),
             Some(Key::Typed(b'-' | b'_')) => Some(JogKey::Minus),
             Some(Key::Typed(b'q' | b'Q' | 0x03 | 0x04)) => Some(JogKey::Quit),
+            Some(Key::Typed(b @ b'x'..=b'z')) => {
+                Some(JogKey::Choose(TcpDirection::Along(usize::from(b - b'x'))))
+            }
+            Some(Key::Typed(b @ b'X'..=b'Z')) => {
+                Some(JogKey::Choose(TcpDirection::About(usize::from(b - b'X'))))
+            }
+            Some(Key::Typed(b'f' | b'F')) => Some(JogKey::Frame),
             Some(Key::Typed(_)) => Some(JogKey::Stop),
             // Up and Right, Down and Left (with modifiers too, e.g. `ESC [ 1 ; 5 C`).
             Some(Key::Csi(k)) => Some(match k.last {
@@ -162,7 +265,16 @@ pub fn check_speed(cfg: &RobotConfig, axis: Axis, speed: f64) -> Result<f64, Str
     }
 }
 
-/// The status line of the jog screen (one row, redrawn in place).
+/// The arrow of the held direction.
+fn arrow(direction: i8) -> &'static str {
+    match direction {
+        1 => "  >>> +",
+        -1 => "  - <<<",
+        _ => "  stop ",
+    }
+}
+
+/// The status line of the jog screen of an axis (one row, redrawn in place).
 pub fn status_line(
     axis: Axis,
     name: &str,
@@ -171,14 +283,55 @@ pub fn status_line(
     speed: f64,
     direction: i8,
 ) -> String {
-    let arrow = match direction {
-        1 => "  >>> +",
-        -1 => "  - <<<",
-        _ => "  stop ",
-    };
+    let arrow = arrow(direction);
     format!(
         "jog axis {axis} {name:<9} position {position_deg:>9.3} deg  velocity {velocity_deg_s:>8.3} \
          deg/s  {arrow} ({speed} deg/s)"
+    )
+}
+
+/// Check the speed of a TCP jog in `direction` (mm/s along, deg/s about): above 0, at most
+/// what `set_cartesian_velocity` takes for one component ([`Arg::Linear`] in mm/s,
+/// [`Arg::Angular`]).
+pub fn check_tcp_speed(direction: TcpDirection, speed: f64) -> Result<f64, String> {
+    let (max, unit, what) = match direction {
+        TcpDirection::Along(_) => (Arg::Linear.fixed_bounds().1 * MM, "mm/s", "along"),
+        TcpDirection::About(_) => (Arg::Angular.fixed_bounds().1, "deg/s", "about"),
+    };
+    if speed > 0.0 && speed <= max {
+        Ok(speed)
+    } else {
+        Err(format!(
+            "jog: speed = {} is not allowed; expected a speed above 0 and at most {} {unit} \
+             (the TCP's speed {what} one axis)",
+            Num(speed),
+            Num(max)
+        ))
+    }
+}
+
+/// The status line of the jog screen of the TCP: its pose in the base frame [mm, deg], the
+/// direction, the frame and the speed.
+pub fn tcp_status_line(jog: &TcpJog, state: &StateSample, direction: i8) -> String {
+    let (speed, unit) = jog.speed();
+    let what = match jog.direction {
+        TcpDirection::Along(i) => format!("along {} ", ["X", "Y", "Z"][i]),
+        TcpDirection::About(i) => format!("about {}", ["X", "Y", "Z"][i]),
+    };
+    let pose = if state.flags & STATE_CARTESIAN == 0 {
+        "no TCP pose (not calibrated)".to_string()
+    } else {
+        let c = &state.cartesian;
+        format!(
+            "TCP{} mm{} deg",
+            three(c.position.map(|x| x * MM), 2),
+            three(rpy_deg_from_quaternion(c.orientation), 3)
+        )
+    };
+    format!(
+        "jog TCP {what} {} frame  {pose}  {} ({speed} {unit})",
+        jog.frame.as_str(),
+        arrow(direction)
     )
 }
 

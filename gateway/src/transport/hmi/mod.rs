@@ -18,9 +18,10 @@
 //! escape sequences read whole) -> [`editor`] (line editing, echo, history) -> [`words`] (the
 //! line parser, after each command's definition in [`mcm_shared::protocol`]) ->
 //! `crate::command` -> [`render`] (results for people); [`cartesian`] reads and shows poses
-//! and tools in millimetres and degrees (`pose`, `tool`, `moveto`); [`help`] holds the help texts and
-//! [`session`] ties one connection together; [`jog`] holds the keys and timing of the `jog`
-//! screen (read through [`keys`] too), whose loop is the session's (`session/jog_screen.rs`).
+//! and tools in millimetres and degrees (`pose`, `tool`, `moveto`, `movel`); [`help`] holds the
+//! help texts and [`session`] ties one connection together; [`jog`] holds the keys, timing and
+//! velocities of the `jog` screen (an axis, or the TCP; read through [`keys`] too), whose loop
+//! is the session's (`session/jog_screen.rs`).
 //! [`run`] accepts connections.
 //!
 //! Telnet choice: the server offers `WILL ECHO` and `WILL SUPPRESS-GO-AHEAD`, i.e. character

@@ -463,9 +463,9 @@ impl Session {
             Ok(Line::Help(None)) => self.say(&help::overview()),
             Ok(Line::Help(Some(t))) => self.say(&help::topic(&t, &cfg)),
             Ok(Line::Clear) => self.out.extend_from_slice(b"\x1b[H\x1b[2J"),
-            Ok(Line::Jog { axis, speed }) => {
+            Ok(Line::Jog(jogged)) => {
                 self.slot.set_busy(true);
-                let flow = self.jog(axis, speed).await;
+                let flow = self.jog(jogged).await;
                 self.slot.set_busy(false);
                 if flow? == Flow::Quit {
                     return Ok(Flow::Quit);

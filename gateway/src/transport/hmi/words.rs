@@ -13,6 +13,7 @@
 //! that [`Command::parse`] validates, exactly as for the JSON channel. A line starting with `{`
 //! is a JSON command ([`Command::from_json`]).
 
+use mcm_shared::command::CartesianFrame;
 use mcm_shared::config::RobotConfig;
 use mcm_shared::protocol::CommandError;
 use mcm_shared::protocol::{self, ArgDef, Command, CommandDef, Kind, command_names, suggest};
@@ -21,7 +22,7 @@ use serde_json::{Map, Value};
 
 /// The session's own commands (not sent to the robot).
 pub const SESSION_COMMANDS: &[&str] = &[
-    "help", "watch", "jog", "pose", "tool", "moveto", "clear", "quit", "exit",
+    "help", "watch", "jog", "pose", "tool", "moveto", "movel", "clear", "quit", "exit",
 ];
 
 /// One parsed line.
@@ -36,12 +37,9 @@ pub enum Line {
     },
     /// `clear`: clear the screen.
     Clear,
-    /// `jog AXIS [SPEED]`: drive one axis from the keyboard ([`super::jog`]).
-    Jog {
-        axis: mcm_shared::command::Axis,
-        /// [deg/s], above 0 and at most the axis's maximum velocity.
-        speed: f64,
-    },
+    /// `jog AXIS [SPEED]` or `jog x|y|z|rx|ry|rz [SPEED] [base|tool]`: drive one axis or the
+    /// TCP from the keyboard ([`super::jog`]); the speed checked.
+    Jog(super::jog::Jogged),
     /// `pose`: the TCP and the tool in millimetres and degrees ([`super::cartesian`]).
     Pose,
     /// `tool`: show the active tool, or set its TCP (and load) typed in millimetres and
@@ -281,19 +279,64 @@ fn is_name(s: &str) -> bool {
         && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
-/// `jog AXIS [SPEED]`: an axis number and an optional speed [deg/s] (plain words).
+/// `jog AXIS [SPEED]`: an axis number and an optional speed [deg/s]; or `jog DIRECTION
+/// [SPEED] [base|tool]`: a direction of the TCP (`x y z rx ry rz`), an optional speed (mm/s
+/// along, deg/s about) and frame (plain words).
 fn parse_jog(rest: &[Token], cfg: &RobotConfig) -> Result<Line, LineError> {
-    let usage = "usage: `jog AXIS [SPEED]`, e.g. `jog 2` or `jog 2 20` (speed in deg/s)";
+    use super::jog::{self, Jogged, TcpDirection, TcpJog};
+    let usage = "usage: `jog AXIS [SPEED]` (deg/s) or `jog x|y|z|rx|ry|rz [SPEED] [base|tool]` \
+                 (mm/s along, deg/s about an axis of the frame), e.g. `jog 2 20` or `jog z 50 tool`";
     let words: Option<Vec<&str>> = rest
         .iter()
         .map(|t| (t.form == Form::Plain && t.name.is_none()).then_some(t.value.as_str()))
         .collect();
-    let (axis, speed) = match words.as_deref() {
-        Some([a]) => (*a, None),
-        Some([a, s]) => (*a, Some(*s)),
+    let Some((first, more)) = words.as_deref().and_then(<[&str]>::split_first) else {
+        return Err(session_error("jog", usage));
+    };
+    let speed_of = |s: &str| {
+        s.parse::<f64>().map_err(|_| {
+            session_error("jog", &format!("jog: speed = {s} is not a number; {usage}"))
+        })
+    };
+    if let Some(direction) = TcpDirection::from_word(first) {
+        let (speed, frame) = match more {
+            [] => (None, None),
+            [f] if CartesianFrame::from_name(&f.to_ascii_lowercase()).is_some() => (None, Some(*f)),
+            [s] => (Some(*s), None),
+            [s, f] => (Some(*s), Some(*f)),
+            _ => return Err(session_error("jog", usage)),
+        };
+        let frame = match frame {
+            None => CartesianFrame::default(),
+            Some(f) => CartesianFrame::from_name(&f.to_ascii_lowercase()).ok_or_else(|| {
+                session_error(
+                    "jog",
+                    &format!("jog: frame = {f} is not allowed; expected base or tool; {usage}"),
+                )
+            })?,
+        };
+        let mut tcp = TcpJog {
+            direction,
+            frame,
+            linear_mm_s: jog::DEFAULT_TCP_SPEED_MM_S,
+            angular_deg_s: jog::DEFAULT_TCP_TURN_DEG_S,
+        };
+        if let Some(s) = speed {
+            let v = jog::check_tcp_speed(direction, speed_of(s)?)
+                .map_err(|e| session_error("jog", &e))?;
+            match direction {
+                TcpDirection::Along(_) => tcp.linear_mm_s = v,
+                TcpDirection::About(_) => tcp.angular_deg_s = v,
+            }
+        }
+        return Ok(Line::Jog(Jogged::Tcp(tcp)));
+    }
+    let speed = match more {
+        [] => None,
+        [s] => Some(*s),
         _ => return Err(session_error("jog", usage)),
     };
-    let axis = axis
+    let axis = first
         .parse::<u8>()
         .ok()
         .and_then(mcm_shared::command::Axis::new)
@@ -302,19 +345,19 @@ fn parse_jog(rest: &[Token], cfg: &RobotConfig) -> Result<Line, LineError> {
             let expected = Arg::AxisIndex.expected(lo, hi);
             session_error(
                 "jog",
-                &format!("jog: axis = {axis} is not allowed; expected {expected}; {usage}"),
+                &format!(
+                    "jog: axis = {first} is not allowed; expected {expected}, or a direction of \
+                     the TCP: x, y, z, rx, ry, rz; {usage}"
+                ),
             )
         })?;
     let speed = match speed {
-        None => super::jog::default_speed(cfg, axis),
+        None => jog::default_speed(cfg, axis),
         Some(s) => {
-            let v = s.parse::<f64>().map_err(|_| {
-                session_error("jog", &format!("jog: speed = {s} is not a number; {usage}"))
-            })?;
-            super::jog::check_speed(cfg, axis, v).map_err(|e| session_error("jog", &e))?
+            jog::check_speed(cfg, axis, speed_of(s)?).map_err(|e| session_error("jog", &e))?
         }
     };
-    Ok(Line::Jog { axis, speed })
+    Ok(Line::Jog(Jogged::Axis { axis, speed }))
 }
 
 /// Parse one line typed by a person.
@@ -375,6 +418,7 @@ pub fn parse_line(text: &str, cfg: &RobotConfig) -> Result<Line, LineError> {
         }
         "tool" => return super::cartesian::parse_tool(rest),
         "moveto" => return super::cartesian::parse_moveto(rest, cfg),
+        "movel" => return super::cartesian::parse_movel(rest, cfg),
         "quit" | "exit" => return Ok(Line::Quit),
         "clear" => {
             return match rest {

@@ -45,6 +45,68 @@ fn moveto_converts_millimetres_and_degrees_into_move_to_pose() {
 }
 
 #[test]
+fn movel_converts_millimetres_degrees_and_mm_per_second_into_move_linear() {
+    let Ok(Line::Command {
+        cmd: Command::MoveLinear(m),
+        json: false,
+    }) = parse("movel 400 -50 500 180 0 90 v=120")
+    else {
+        panic!("{:?}", parse("movel 400 -50 500 180 0 90 v=120"));
+    };
+    assert!(close(&m.position, &[0.4, -0.05, 0.5]), "{m:?}");
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    assert!(close(&m.orientation.unwrap(), &[h, h, 0.0, 0.0]), "{m:?}");
+    assert!(close(&[m.velocity.unwrap()], &[0.12]), "{m:?}");
+    assert_eq!(m.acceleration, None);
+    // Without roll, pitch and yaw the orientation is kept; without a speed the protocol's.
+    let Ok(Line::Command {
+        cmd: Command::MoveLinear(m),
+        ..
+    }) = parse("movel 400 0 450")
+    else {
+        panic!("{:?}", parse("movel 400 0 450"))
+    };
+    assert_eq!((m.orientation, m.velocity), (None, None));
+    assert!(close(&m.position, &[0.4, 0.0, 0.45]), "{m:?}");
+    let Ok(Line::Command {
+        cmd: Command::MoveLinear(m),
+        ..
+    }) = parse("movel 400 0 450 speed=1000")
+    else {
+        panic!()
+    };
+    assert_eq!(m.velocity, Some(1.0));
+}
+
+#[test]
+fn movel_refuses_what_it_cannot_move_to_naming_the_value_and_what_is_allowed() {
+    for (line, words) in [
+        (
+            "movel",
+            "needs 3 numbers X Y Z or 6 X Y Z ROLL PITCH YAW, got 0",
+        ),
+        ("movel 400 0 500 180", "got 4"),
+        ("movel 400 0 500 180 0 0 0", "got 7"),
+        ("movel 400 zero 500", "Y = zero is not a number"),
+        ("movel 400 0 500 0 0 nan", "YAW = nan is not a number"),
+        ("movel 400 0 500 v=fast", "speed = fast is not a number"),
+        (
+            "movel 400 0 500 v=2000",
+            "speed = 2000 mm/s is not allowed; expected a number from 1 to 1000 mm/s",
+        ),
+        ("movel 400 0 500 v=0.5", "speed = 0.5 mm/s is not allowed"),
+        (
+            "movel 400 0 500 vf=0.5",
+            "unexpected `0.5` after the numbers",
+        ),
+    ] {
+        let e = parse(line).unwrap_err().to_string();
+        assert!(e.contains(words), "{line}: {e}");
+        assert!(e.contains("usage: `movel X Y Z"), "{line}: {e}");
+    }
+}
+
+#[test]
 fn moveto_and_tool_refuse_what_is_not_six_numbers_in_words_that_say_so() {
     let e = parse("moveto 400 0 500").unwrap_err().to_string();
     assert!(
@@ -56,7 +118,7 @@ fn moveto_and_tool_refuse_what_is_not_six_numbers_in_words_that_say_so() {
     let e = parse("moveto 400 0 500 0 0 0 speed=2")
         .unwrap_err()
         .to_string();
-    assert!(e.contains("unexpected `2` after the six numbers"), "{e}");
+    assert!(e.contains("unexpected `2` after the numbers"), "{e}");
     // The velocity factor's range is the protocol's, in its words.
     let e = parse("moveto 400 0 500 0 0 0 vf=3").unwrap_err();
     assert!(

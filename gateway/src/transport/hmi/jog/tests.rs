@@ -22,7 +22,20 @@ fn keys_and_arrows() {
     );
     assert_eq!(keys(b"\x1bOA\x1b[1;5C"), [Plus, Plus]);
     assert_eq!(keys(b"qQ\x03\x04"), [Quit, Quit, Quit, Quit]);
-    assert_eq!(keys(b" x\x1b[H"), [Stop, Stop, Stop]);
+    assert_eq!(keys(b" w\x1b[H"), [Stop, Stop, Stop]);
+    assert_eq!(
+        keys(b"xyzXYZfF"),
+        [
+            Choose(TcpDirection::Along(0)),
+            Choose(TcpDirection::Along(1)),
+            Choose(TcpDirection::Along(2)),
+            Choose(TcpDirection::About(0)),
+            Choose(TcpDirection::About(1)),
+            Choose(TcpDirection::About(2)),
+            Frame,
+            Frame
+        ]
+    );
     let mut d = JogKeys::default();
     assert_eq!(d.feed(Input::Interrupt), Some(Quit));
     assert_eq!(d.feed(Input::Enter), Some(Stop));
@@ -53,6 +66,13 @@ proptest! {
                             b'+' | b'=' => JogKey::Plus,
                             b'-' | b'_' => JogKey::Minus,
                             b'q' | b'Q' => JogKey::Quit,
+                            b'x' => JogKey::Choose(TcpDirection::Along(0)),
+                            b'y' => JogKey::Choose(TcpDirection::Along(1)),
+                            b'z' => JogKey::Choose(TcpDirection::Along(2)),
+                            b'X' => JogKey::Choose(TcpDirection::About(0)),
+                            b'Y' => JogKey::Choose(TcpDirection::About(1)),
+                            b'Z' => JogKey::Choose(TcpDirection::About(2)),
+                            b'f' | b'F' => JogKey::Frame,
                             _ => JogKey::Stop,
                         };
                         prop_assert_eq!(key, Some(expected));
@@ -115,6 +135,75 @@ fn speeds_and_velocities() {
     let line = status_line(axis, "shoulder", 12.3456, -5.0, 5.0, -1);
     assert!(
         line.contains("12.346 deg") && line.contains("<<<"),
+        "{line}"
+    );
+}
+
+#[test]
+fn a_tcp_jog_sends_its_direction_in_metres_or_degrees_in_its_frame() {
+    let mut jog = TcpJog {
+        direction: TcpDirection::Along(1),
+        frame: CartesianFrame::Base,
+        linear_mm_s: 25.0,
+        angular_deg_s: 15.0,
+    };
+    let v = jog.velocity(-1);
+    assert_eq!(
+        (v.linear_m_s, v.angular_deg_s, v.frame),
+        ([0.0, -0.025, 0.0], [0.0; 3], CartesianFrame::Base)
+    );
+    assert_eq!(jog.speed(), (25.0, "mm/s"));
+    jog.direction = TcpDirection::About(2);
+    jog.toggle_frame();
+    let v = jog.velocity(1);
+    assert_eq!(
+        (v.linear_m_s, v.angular_deg_s, v.frame),
+        ([0.0; 3], [0.0, 0.0, 15.0], CartesianFrame::Tool)
+    );
+    assert_eq!(jog.velocity(0).angular_deg_s, [0.0; 3]);
+    assert_eq!(jog.speed(), (15.0, "deg/s"));
+    jog.toggle_frame();
+    assert_eq!(jog.frame, CartesianFrame::Base);
+
+    assert_eq!(check_tcp_speed(TcpDirection::Along(0), 1000.0), Ok(1000.0));
+    let e = check_tcp_speed(TcpDirection::Along(0), 1000.5).unwrap_err();
+    assert!(
+        e.contains("speed = 1000.5") && e.contains("at most 1000 mm/s"),
+        "{e}"
+    );
+    let e = check_tcp_speed(TcpDirection::About(0), -1.0).unwrap_err();
+    assert!(
+        e.contains("above 0") && e.contains("at most 180 deg/s"),
+        "{e}"
+    );
+    for w in ["x", "y", "z", "rx", "ry", "rz"] {
+        assert_eq!(TcpDirection::from_word(w).map(TcpDirection::word), Some(w));
+    }
+    assert_eq!(TcpDirection::from_word("RX"), Some(TcpDirection::About(0)));
+    assert_eq!(TcpDirection::from_word("w"), None);
+}
+
+#[test]
+fn the_tcp_status_line_shows_the_pose_the_direction_and_the_frame() {
+    let jog = TcpJog {
+        direction: TcpDirection::About(0),
+        frame: CartesianFrame::Tool,
+        linear_mm_s: 20.0,
+        angular_deg_s: 10.0,
+    };
+    let mut s = StateSample::default();
+    let line = tcp_status_line(&jog, &s, 0);
+    assert!(line.contains("no TCP pose"), "{line}");
+    s.flags |= STATE_CARTESIAN;
+    s.cartesian.position = [0.4, -0.05, 0.5];
+    s.cartesian.orientation = [1.0, 0.0, 0.0, 0.0];
+    let line = tcp_status_line(&jog, &s, 1);
+    assert!(
+        line.contains("about X tool frame")
+            && line.contains("400.00    -50.00    500.00 mm")
+            && line.contains("180.000")
+            && line.contains(">>>")
+            && line.contains("(10 deg/s)"),
         "{line}"
     );
 }

@@ -1,13 +1,15 @@
-//! The jog screen of a session (`jog AXIS [SPEED]`, see [`crate::transport::hmi::jog`]): enter
-//! VELOCITY_CONTROL, send the held direction's velocity every period, show the axis live, and
-//! leave with `hold`.
+//! The jog screen of a session (`jog AXIS [SPEED]` and `jog x|y|z|rx|ry|rz [SPEED] [base|tool]`,
+//! see [`crate::transport::hmi::jog`]): enter VELOCITY_CONTROL, send the held direction's
+//! velocity (of the axis, or of the TCP) every period, show the axis or the TCP live, and leave
+//! with `hold`.
 
 use super::{Flow, Session};
 use crate::transport::hmi::jog::{
-    Held, JOG_PERIOD, JOG_TIMEOUT_S, JogKey, JogKeys, status_line, velocities,
+    Held, JOG_PERIOD, JOG_TIMEOUT_S, JogKey, JogKeys, Jogged, TcpDirection, status_line,
+    tcp_status_line, velocities,
 };
 use crate::transport::hmi::render;
-use mcm_shared::command::{self, Axis, SetVelocities};
+use mcm_shared::command::{self, SetVelocities};
 use mcm_shared::mode::Mode;
 use mcm_shared::protocol::results::{Answer, Generic};
 use mcm_shared::protocol::{Command, Hold, VelocityControl};
@@ -25,7 +27,7 @@ enum End {
 }
 
 impl Session {
-    pub(super) async fn jog(&mut self, axis: Axis, speed: f64) -> io::Result<Flow> {
+    pub(super) async fn jog(&mut self, jogged: Jogged) -> io::Result<Flow> {
         let enter = Command::VelocityControl(VelocityControl {
             request: command::VelocityControl {
                 timeout_s: Some(JOG_TIMEOUT_S),
@@ -36,14 +38,31 @@ impl Session {
             self.say(&render::error("velocity_control", &error, None));
             return Ok(Flow::Continue);
         }
-        let name = render::axis_name(&self.ctx.cfg, axis.index()).into_owned();
-        self.say(&format!(
-            "jogging axis {axis} ({name}) at {speed} deg/s: hold `+` or `-` (or the arrow keys) \
-             to move, any other key stops, `q` stops and leaves (mode HOLD)\n"
-        ));
+        let name = match jogged {
+            Jogged::Axis { axis, speed } => {
+                let name = render::axis_name(&self.ctx.cfg, axis.index()).into_owned();
+                self.say(&format!(
+                    "jogging axis {axis} ({name}) at {speed} deg/s: hold `+` or `-` (or the arrow \
+                     keys) to move, any other key stops, `q` stops and leaves (mode HOLD)\n"
+                ));
+                name
+            }
+            Jogged::Tcp(tcp) => {
+                let (speed, unit) = tcp.speed();
+                self.say(&format!(
+                    "jogging the TCP {} in the {} frame at {speed} {unit}: hold `+` or `-` (or \
+                     the arrow keys) to move; `x` `y` `z` move along, `X` `Y` `Z` turn about \
+                     that axis, `f` switches the frame (base/tool); any other key stops, `q` \
+                     stops and leaves (mode HOLD)\n",
+                    tcp.direction.word(),
+                    tcp.frame.as_str()
+                ));
+                String::new()
+            }
+        };
         self.out.extend_from_slice(b"\x1b[?25l");
         self.flush().await?;
-        let end = self.jog_loop(axis, speed, &name).await?;
+        let end = self.jog_loop(jogged, &name).await?;
         self.out.extend_from_slice(b"\r\n\x1b[?25h");
         let reason = match end {
             End::Quit => None,
@@ -83,7 +102,7 @@ impl Session {
         }
     }
 
-    async fn jog_loop(&mut self, axis: Axis, speed: f64, name: &str) -> io::Result<End> {
+    async fn jog_loop(&mut self, mut jogged: Jogged, name: &str) -> io::Result<End> {
         let mut tick = interval(JOG_PERIOD);
         tick.set_missed_tick_behavior(MissedTickBehavior::Skip);
         let mut keys = JogKeys::default();
@@ -93,11 +112,12 @@ impl Session {
                 _ = tick.tick() => {
                     let now = Instant::now().into_std();
                     let direction = held.direction(now);
-                    // The one place the tick's velocity is sent: a Cartesian jog sends its
-                    // `set_cartesian_velocity` here instead (`hmi::jog`'s module text).
-                    let set = Command::SetVelocities(SetVelocities {
-                        velocities_deg_s: velocities(axis, speed, direction),
-                    });
+                    let set = match jogged {
+                        Jogged::Axis { axis, speed } => Command::SetVelocities(SetVelocities {
+                            velocities_deg_s: velocities(axis, speed, direction),
+                        }),
+                        Jogged::Tcp(tcp) => Command::SetCartesianVelocity(tcp.velocity(direction)),
+                    };
                     if let Some(e) = self.jog_command(&set).await {
                         return Ok(End::Lost(e.message().to_string()));
                     }
@@ -108,8 +128,13 @@ impl Session {
                         let mode = Mode::try_from(s.mode).map_or("unknown", Mode::as_str);
                         return Ok(End::Lost(format!("the mode changed to {mode}")));
                     }
-                    let i = axis.index();
-                    let line = status_line(axis, name, s.position[i], s.velocity[i], speed, direction);
+                    let line = match jogged {
+                        Jogged::Axis { axis, speed } => {
+                            let i = axis.index();
+                            status_line(axis, name, s.position[i], s.velocity[i], speed, direction)
+                        }
+                        Jogged::Tcp(tcp) => tcp_status_line(&tcp, &s, direction),
+                    };
                     self.out.extend_from_slice(b"\r");
                     self.say(&line);
                     self.out.extend_from_slice(b"\x1b[K");
@@ -128,6 +153,8 @@ impl Session {
                             Some(JogKey::Plus) => held.press(1, now),
                             Some(JogKey::Minus) => held.press(-1, now),
                             Some(JogKey::Stop) => held.stop(),
+                            Some(JogKey::Choose(d)) => choose(&mut jogged, &mut held, Some(d)),
+                            Some(JogKey::Frame) => choose(&mut jogged, &mut held, None),
                             Some(JogKey::Quit) => return Ok(End::Quit),
                             None => {}
                         }
@@ -142,6 +169,18 @@ impl Session {
                 why = self.slot.evicted() => return Ok(End::Lost(why)),
             }
             self.flush().await?;
+        }
+    }
+}
+
+/// A key choosing the TCP's direction (`Some`) or switching its frame (`None`): the jog stops,
+/// then a TCP jog takes the new direction or frame; an axis jog only stops.
+fn choose(jogged: &mut Jogged, held: &mut Held, direction: Option<TcpDirection>) {
+    held.stop();
+    if let Jogged::Tcp(tcp) = jogged {
+        match direction {
+            Some(d) => tcp.direction = d,
+            None => tcp.toggle_frame(),
         }
     }
 }

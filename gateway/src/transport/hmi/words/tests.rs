@@ -1,4 +1,5 @@
 use super::*;
+use crate::transport::hmi::jog::{Jogged, TcpDirection, TcpJog};
 use mcm_shared::command::{
     Axis, Calibrate, Direction, MoveAll, MoveAxis, PvtPoint, SetTorques, SimCommand, Which,
 };
@@ -316,15 +317,44 @@ fn syntax_errors() {
 }
 
 #[test]
+fn jog_takes_a_direction_of_the_tcp_a_speed_and_a_frame() {
+    let tcp = |direction, frame, linear_mm_s, angular_deg_s| {
+        Ok(Line::Jog(Jogged::Tcp(TcpJog {
+            direction,
+            frame,
+            linear_mm_s,
+            angular_deg_s,
+        })))
+    };
+    let (base, tool) = (CartesianFrame::Base, CartesianFrame::Tool);
+    assert_eq!(
+        parse_line("jog x", &cfg()),
+        tcp(TcpDirection::Along(0), base, 20.0, 10.0)
+    );
+    assert_eq!(
+        parse_line("jog Z 50 tool", &cfg()),
+        tcp(TcpDirection::Along(2), tool, 50.0, 10.0)
+    );
+    assert_eq!(
+        parse_line("jog ry tool", &cfg()),
+        tcp(TcpDirection::About(1), tool, 20.0, 10.0)
+    );
+    assert_eq!(
+        parse_line("jog rz 30 base", &cfg()),
+        tcp(TcpDirection::About(2), base, 20.0, 30.0)
+    );
+}
+
+#[test]
 fn jog_takes_an_axis_and_a_speed() {
     let axis = Axis::new(2).unwrap();
     assert_eq!(
         parse_line("jog 2", &cfg()),
-        Ok(Line::Jog { axis, speed: 10.0 })
+        Ok(Line::Jog(Jogged::Axis { axis, speed: 10.0 }))
     );
     assert_eq!(
         parse_line("jog 2 45.5", &cfg()),
-        Ok(Line::Jog { axis, speed: 45.5 })
+        Ok(Line::Jog(Jogged::Axis { axis, speed: 45.5 }))
     );
     for (line, words) in [
         ("jog", "usage: `jog AXIS [SPEED]`"),
@@ -333,6 +363,17 @@ fn jog_takes_an_axis_and_a_speed() {
         ("jog 2 0", "above 0"),
         ("jog 2 fast", "speed = fast is not a number"),
         ("jog 2 10 3", "usage"),
+        ("jog w", "axis = w is not allowed"),
+        ("jog w", "or a direction of the TCP: x, y, z, rx, ry, rz"),
+        ("jog x 1001", "at most 1000 mm/s"),
+        ("jog rz 181", "at most 180 deg/s"),
+        ("jog y 0", "above 0"),
+        ("jog z slow", "speed = slow is not a number"),
+        (
+            "jog z 10 flange",
+            "frame = flange is not allowed; expected base or tool",
+        ),
+        ("jog z 10 tool 3", "usage"),
     ] {
         let e = err(line).to_string();
         assert!(e.contains(words), "{line}: {e}");
