@@ -71,7 +71,7 @@ const conn = new Connection({
       // A set_velocities refusal names its `command`; notices of the core or the gateway
       // stopping name none.
       addError(msg, msg.command);
-      if (kind === 'set_velocities') jog.stop('refused');
+      if (kind === 'set_velocities' || kind === 'set_cartesian_velocity') jog.stop('refused');
     }
   },
   onReply(cmd, msg) {
@@ -208,13 +208,20 @@ async function enterPvtFromHold() {
 const jog = new Jogger(conn, {
   maxVelocity: (axis) => page.model?.axes?.[axis - 1]?.max_velocity_deg_s ?? 0,
   speed: () => Number($('#jog-speed').value) || 0.2,
+  tcp: () => ({
+    linearMmS: Number($('#cjog-linear').value) || 0,
+    angularDegS: Number($('#cjog-angular').value) || 0,
+    frame: $('#cjog-frame').value,
+  }),
   onError: (text) => addError({ error_message: text }, 'jog'),
   onChange: (a) => {
     document.querySelectorAll('button.jog.active').forEach((b) => b.classList.remove('active'));
     const s = $('#jog-state');
     if (a) {
       $(`button.jog[data-axis="${a.axis}"][data-dir="${a.dir > 0 ? '+' : '-'}"]`)?.classList.add('active');
-      s.textContent = `jogging axis ${a.axis} ${a.dir > 0 ? '+' : '-'}`;
+      s.textContent = typeof a.axis === 'number'
+        ? `jogging axis ${a.axis} ${a.dir > 0 ? '+' : '-'}`
+        : `jogging the TCP ${a.axis} ${a.dir > 0 ? '+' : '-'} (${$('#cjog-frame').value} frame)`;
       s.className = 'jogging';
     } else {
       s.textContent = 'idle';
@@ -223,14 +230,15 @@ const jog = new Jogger(conn, {
   },
 });
 
+// The axes' buttons (data-axis 1..6) and the TCP's (data-axis x, y, z, rx, ry, rz).
 for (const b of document.querySelectorAll('button.jog')) {
-  const axis = Number(b.dataset.axis);
+  const axis = /^[1-6]$/.test(b.dataset.axis) ? Number(b.dataset.axis) : b.dataset.axis;
   const dir = b.dataset.dir === '+' ? 1 : -1;
   b.addEventListener('pointerdown', (e) => {
     if (b.disabled || e.button !== 0) return;
     e.preventDefault();
     b.setPointerCapture(e.pointerId);
-    selectJogAxis(axis);
+    if (typeof axis === 'number') selectJogAxis(axis);
     jog.start(axis, dir, 'pointer');
   });
   for (const ev of ['pointerup', 'pointercancel', 'lostpointercapture']) {
@@ -298,7 +306,7 @@ function thisPageControls() {
 function showAccess() {
   const allowed = motionAllowed() && conn.connected;
   $('#readonly').hidden = page.detail?.access?.motion_allowed_here !== false;
-  const motion = ['#take-control', '#calibrate', '#release', '#pvt', '#move-go', 'button.jog', '#pose-go', '#tool-set'];
+  const motion = ['#take-control', '#calibrate', '#release', '#pvt', '#move-go', 'button.jog', '#pose-go', '#line-go', '#tool-set'];
   for (const sel of motion) {
     document.querySelectorAll(sel).forEach((b) => { b.disabled = !allowed; });
   }

@@ -1,16 +1,15 @@
 // The pendant's Cartesian panel: the TCP's pose live (millimetres, roll/pitch/yaw degrees),
-// the active tool and a form that sets it (`set_tool`), and a move-to-pose form that shows the
+// the active tool and a form that sets it (`set_tool`), a move-to-pose form that shows the
 // inverse kinematics' solutions (`inverse_kinematics`; the first is the one `move_to_pose`
-// takes) and moves there (`move_to_pose`). The protocol speaks metres and unit quaternions
-// [x, y, z, w] (docs/cartesian.md); the page converts for people here, in one place.
+// takes) and moves there (`move_to_pose`), and a straight-line form (`move_linear`, speed in
+// mm/s). The protocol speaks metres and unit quaternions [x, y, z, w] (docs/cartesian.md); the
+// page converts for people here, in one place.
 //
 // Roll, pitch and yaw are the URDF's rpy: fixed axes x, then y, then z, R = Rz(yaw) Ry(pitch)
 // Rx(roll), as the HMI shows them.
 //
-// The page does not offer Cartesian jogging (X/Y/Z/Rx/Ry/Rz in the base or the tool frame, the
-// protocol's `set_cartesian_velocity`) or a straight-line move (`move_linear`) yet. The jog
-// buttons go into this panel, their dead-man timing is jog.js's Jogger (whose beat() then sends
-// the twist instead of joint velocities), under the same access rule (`motion` in setup()).
+// The panel's jog buttons (X/Y/Z/Rx/Ry/Rz in the base or the tool frame) are driven by jog.js's
+// Jogger, under the joint jog's dead-man rule (app.js).
 
 const DEG = Math.PI / 180;
 const MM = 1000;
@@ -60,6 +59,7 @@ function sixFields($, ids) {
 }
 
 const POSE_FIELDS = ['pose-x', 'pose-y', 'pose-z', 'pose-roll', 'pose-pitch', 'pose-yaw'];
+const LINE_FIELDS = ['line-x', 'line-y', 'line-z', 'line-roll', 'line-pitch', 'line-yaw'];
 const TOOL_FIELDS = ['tool-x', 'tool-y', 'tool-z', 'tool-roll', 'tool-pitch', 'tool-yaw'];
 
 /**
@@ -72,12 +72,14 @@ export function setupCartesian($, { run, enterPvtFromHold, state, onError }) {
     ids.forEach((id, i) => { $(`#${id}`).value = fixed(i < 3 ? mm[i] : rpy[i - 3], i < 3 ? 2 : 3); });
   };
 
-  $('#pose-here').addEventListener('click', () => {
+  const fillWithTcp = (ids) => () => {
     const c = state()?.status?.cartesian_state;
     if (!c) return onError('no TCP pose yet: every axis must be calibrated');
     const p = poseForPeople(c.position, c.orientation);
-    setFields(POSE_FIELDS, p.mm, p.rpy);
-  });
+    setFields(ids, p.mm, p.rpy);
+  };
+  $('#pose-here').addEventListener('click', fillWithTcp(POSE_FIELDS));
+  $('#line-here').addEventListener('click', fillWithTcp(LINE_FIELDS));
 
   const poseArgs = () => {
     const f = sixFields($, POSE_FIELDS);
@@ -109,6 +111,19 @@ export function setupCartesian($, { run, enterPvtFromHold, state, onError }) {
     }
   });
 
+  $('#line-go').addEventListener('click', async () => {
+    const args = lineArgs($, onError);
+    if (!args) return;
+    $('#line-result').textContent = '';
+    if (!(await enterPvtFromHold())) return;
+    const r = await run({ command: 'move_linear', arguments: args });
+    if (r && r.result_type === 'move_linear') {
+      $('#line-result').textContent = `move_linear: OK, the TCP arrives in ${fixed(r.duration, 2)} s`;
+    } else if (r && r.error_message) {
+      $('#line-result').textContent = `move_linear refused: ${r.error_message}`;
+    }
+  });
+
   $('#tool-here').addEventListener('click', () => {
     const t = state()?.status?.detail?.tool;
     if (!t) return;
@@ -129,6 +144,30 @@ export function setupCartesian($, { run, enterPvtFromHold, state, onError }) {
     const tcp = poseOfPeople(f.mm, f.rpy);
     run({ command: 'set_tool', arguments: { tcp, mass, center_of_mass: com } });
   });
+}
+
+/** The `move_linear` arguments of the straight-line form: the position [m]; the orientation
+ * when roll, pitch and yaw are all given (all empty: kept); the speed [m/s]. Null, with the
+ * mistake shown, when a field is not a number. */
+function lineArgs($, onError) {
+  const raw = LINE_FIELDS.map((id) => $(`#${id}`).value.trim());
+  const keep = raw.slice(3).every((t) => t === '');
+  const bad = raw.findIndex((t, i) => !(keep && i >= 3) && (t === '' || !Number.isFinite(Number(t))));
+  if (bad >= 0) {
+    onError(`straight line: ${LINE_FIELDS[bad].replace('line-', '')} is not a number`
+      + (bad >= 3 ? ' (leave roll, pitch and yaw all empty to keep the orientation)' : ''));
+    return null;
+  }
+  const v = Number($('#line-v').value);
+  // Its range is the protocol's (move_linear's `velocity`), refused by the MCM in its words.
+  if ($('#line-v').value.trim() === '' || !Number.isFinite(v)) {
+    onError('straight line: the speed [mm/s] is not a number');
+    return null;
+  }
+  const mm = raw.slice(0, 3).map(Number);
+  const args = { position: mm.map((x) => x / MM), velocity: v / MM };
+  if (!keep) args.orientation = quaternionFromRpy(raw.slice(3).map(Number));
+  return args;
 }
 
 /** The solutions of an `inverse_kinematics` reply (or its refusal) as a table. */

@@ -1,29 +1,47 @@
 // Jogging under the dead-man rule: the arm moves only while a jog button is held down (or an
 // arrow key, after choosing the axis with 1..6). `velocity_control` (timeout 0.2 s) once, then
-// `set_velocities` every 50 ms; on release, blur, a hidden page or a lost socket: zeros, then
-// `hold`. If the messages stop for any reason the core's 0.2 s timeout stops the arm itself.
+// every 50 ms `set_velocities` (an axis) or `set_cartesian_velocity` (the TCP along or about
+// x, y or z of the base or the tool frame); on release, blur, a hidden page or a lost socket:
+// zeros, then `hold`. If the messages stop for any reason the core's 0.2 s timeout stops the
+// arm itself.
 
 export const JOG_PERIOD_MS = 50;
 export const JOG_TIMEOUT_S = 0.2;
 
+/** The TCP's jog directions: along x, y, z (linear) and about them (angular). */
+export const TCP_DIRECTIONS = ['x', 'y', 'z', 'rx', 'ry', 'rz'];
+
+/** The `set_cartesian_velocity` arguments of a TCP jog of `target` (one of TCP_DIRECTIONS) in
+ * `dir` (+1/-1, 0 for none): `linearMmS` [mm/s] along, `angularDegS` [deg/s] about, in `frame`. */
+export function cartesianVelocity(target, dir, { linearMmS, angularDegS, frame }) {
+  const linear = [0, 0, 0];
+  const angular = [0, 0, 0];
+  const i = TCP_DIRECTIONS.indexOf(target);
+  if (i >= 0 && i < 3) linear[i] = Math.round(dir * linearMmS * 1000) / 1e6;
+  else if (i >= 3) angular[i - 3] = Math.round(dir * angularDegS * 1000) / 1000;
+  return { linear, angular, frame };
+}
+
 export class Jogger {
   /**
    * conn: the Connection; maxVelocity(axis) -> deg/s; speed() -> fraction 0.05..1;
-   * onError(text); onChange(active|null).
+   * tcp() -> {linearMmS, angularDegS, frame} of a TCP jog; onError(text); onChange(active|null).
    */
-  constructor(conn, { maxVelocity, speed, onError, onChange }) {
+  constructor(conn, { maxVelocity, speed, tcp, onError, onChange }) {
     this.conn = conn;
     this.maxVelocity = maxVelocity;
     this.speed = speed;
+    this.tcp = tcp;
     this.onError = onError;
     this.onChange = onChange;
-    this.active = null; // {axis, dir, source}
+    this.active = null; // {axis, dir, source}: axis 1..6, or a TCP direction ('x' .. 'rz')
     this.session = false; // our VELOCITY_CONTROL is running
     this.entering = false; // velocity_control sent, no reply yet
     this.timer = null;
   }
 
-  /** Start jogging `axis` (1..6) in `dir` (+1/-1); `source` says who holds it (pointer, key). */
+  /** Start jogging `axis` (1..6, or a TCP direction of TCP_DIRECTIONS) in `dir` (+1/-1);
+   * `source` says who holds it (pointer, key). */
   start(axis, dir, source) {
     if (this.active && this.active.axis === axis && this.active.dir === dir) return;
     this.active = { axis, dir, source };
@@ -63,7 +81,7 @@ export class Jogger {
 
   velocities() {
     const v = [0, 0, 0, 0, 0, 0];
-    if (this.active) {
+    if (this.active && !TCP_DIRECTIONS.includes(this.active.axis)) {
       const a = this.active.axis;
       const raw = this.active.dir * this.speed() * this.maxVelocity(a);
       v[a - 1] = Math.round(raw * 1000) / 1000;
@@ -71,9 +89,18 @@ export class Jogger {
     return v;
   }
 
+  /** The command of one beat: the axis's velocities, or the TCP's. */
+  message() {
+    const a = this.active;
+    if (a && TCP_DIRECTIONS.includes(a.axis)) {
+      return { command: 'set_cartesian_velocity', arguments: cartesianVelocity(a.axis, a.dir, this.tcp()) };
+    }
+    return { command: 'set_velocities', arguments: { velocities: this.velocities() } };
+  }
+
   beat() {
     if (!this.session) return;
-    if (!this.conn.fire({ command: 'set_velocities', arguments: { velocities: this.velocities() } })) {
+    if (!this.conn.fire(this.message())) {
       this.stop('lost');
     }
   }

@@ -362,7 +362,8 @@ fn script_against_its_own_mcm(test: &str, tag: &str, script: &'static str, extra
 }
 
 /// The pendant's Cartesian panel (`tests/web/cartesian.test.mjs`): the TCP and its triad, the
-/// tool form, the move-to-pose form with its solutions, on the simulation's truth. The core runs
+/// tool form, the move-to-pose form with its solutions, the TCP's jog buttons and the
+/// straight-line form, on the simulation's truth. The core runs
 /// at 50 Hz: a cycle longer than the 0.01 s `dt` the page takes for PVT when it can, so that
 /// the move from HOLD shows the page entering PVT with a `dt` of one cycle.
 #[test]

@@ -4,14 +4,17 @@
 // (the convention checked on a pose where fixed and moving axes differ); the move-to-pose form
 // shows the inverse kinematics' solutions, the first being the JSON port's first, and its Go
 // moves the true arm there (the simulation's truth, then the status's TCP), entering PVT from
-// HOLD with a `dt` the core takes (it runs at 50 Hz here, where 0.01 s is under one cycle). Run
-// by tests/end_to_end/web.rs; see lib.mjs for the environment it passes.
+// HOLD with a `dt` the core takes (it runs at 50 Hz here, where 0.01 s is under one cycle); the
+// Cartesian jog buttons move the true TCP along the base's x and against the tool's z while
+// held and stop when let go; the straight-line form moves the true TCP on a line to its target
+// and shows a refusal. Run by tests/end_to_end/web.rs; see lib.mjs for the environment it
+// passes.
 
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  browserAndJson, openPendant, waitMode, setField, screenshot, maxDiff, waitUntil, Sequence,
-  orientationAngleDeg,
+  browserAndJson, openPendant, waitMode, setField, screenshot, maxDiff, maxAbs, waitUntil, Sequence,
+  orientationAngleDeg, tcpOf, env,
 } from './lib.mjs';
 
 const seq = new Sequence();
@@ -107,4 +110,97 @@ test('the move-to-pose form shows the solutions and moves the TCP there', { time
   assert.ok(maxDiff(c.position, goal) < 1e-3, `the TCP ends at ${c.position}, asked ${goal}`);
   assert.ok(orientationAngleDeg(c.orientation, here.orientation) < 0.1, `turned ${c.orientation} from ${here.orientation}`);
   await screenshot(page, 'cartesian');
+}));
+
+/// The true TCP now (the simulation's truth through the DH links and the active tool's TCP).
+async function trueTcp(links, tcp) {
+  return tcpOf(links, (await json.truth()).position, tcp);
+}
+
+const minus = (a, b) => a.map((v, i) => v - b[i]);
+const dot = (a, b) => a.reduce((s, v, i) => s + v * b[i], 0);
+const norm = (a) => Math.hypot(...a);
+
+/// Hold the pendant's jog button of `direction` ('x' .. 'rz', '+' or '-') down until the true
+/// TCP has moved `metres` from where it was, then let go; wait for the arm at rest and in HOLD
+/// (the jog's stop). The TCP before and after.
+async function jogTcp(links, tcp, direction, sign, metres) {
+  const start = await trueTcp(links, tcp);
+  await page.hover(`button.jog[data-axis="${direction}"][data-dir="${sign}"]`);
+  await page.mouse.down();
+  try {
+    await waitUntil(`the true TCP ${metres} m from where it was (${direction} ${sign})`, 10000,
+      async () => norm(minus((await trueTcp(links, tcp)).position, start.position)) >= metres);
+  } finally {
+    await page.mouse.up();
+  }
+  await json.waitAtRest('the arm at rest once the button was let go', 5000, 0.05);
+  await waitMode(page, 'HOLD', 5000);
+  return { start, end: await trueTcp(links, tcp) };
+}
+
+test('the Cartesian jog buttons move the true TCP along the base\'s and the tool\'s axes while held', { timeout: 60000 }, seq.wrap('cartesian-jog', async () => {
+  const model = await (await fetch(new URL('/api/model', env('MCM_WEB_URL')))).json();
+  const { tcp } = (await json.status()).detail.tool;
+  await page.click('#hold');
+  await waitMode(page, 'HOLD', 5000);
+  await setField(page, '#cjog-frame', 'base');
+  await setField(page, '#cjog-linear', 40);
+  // Base frame: along +x only.
+  let { start, end } = await jogTcp(model.links, tcp, 'x', '+', 0.03);
+  let d = minus(end.position, start.position);
+  assert.ok(d[0] > 0.03 && Math.abs(d[1]) < 0.003 && Math.abs(d[2]) < 0.003, `along the base's x: ${d}`);
+  // Stopped: nothing moves after the release.
+  const rest = await trueTcp(model.links, tcp);
+  assert.ok(norm(minus(rest.position, end.position)) < 1e-4, `still moving: ${rest.position} after ${end.position}`);
+
+  // Tool frame: against the TCP's own z axis (not the base's).
+  await setField(page, '#cjog-frame', 'tool');
+  ({ start, end } = await jogTcp(model.links, tcp, 'z', '-', 0.03));
+  const z = start.axes[2];
+  assert.ok(Math.abs(z[2]) < 0.98, `the TCP's z ${z} differs from the base's`);
+  d = minus(end.position, start.position);
+  const along = -dot(d, z);
+  const across = norm(d.map((v, i) => v + along * z[i]));
+  assert.ok(along > 0.03 && across < 0.003, `against the TCP's z ${z}: ${d} (${along} along, ${across} across)`);
+  assert.equal(await page.textContent('#jog-state'), 'idle');
+}));
+
+test('the straight-line form moves the true TCP to its target', { timeout: 60000 }, seq.wrap('line', async () => {
+  const model = await (await fetch(new URL('/api/model', env('MCM_WEB_URL')))).json();
+  const { tcp } = (await json.status()).detail.tool;
+  await page.click('#line-here');
+  const start = await trueTcp(model.links, tcp);
+  const here = (await json.status()).cartesian_state;
+  // 100 mm along y, the orientation as it is (roll, pitch, yaw left as filled in).
+  const y = Number(await page.inputValue('#line-y'));
+  await setField(page, '#line-y', (y + 100).toFixed(2));
+  await setField(page, '#line-v', 150);
+  const goal = [start.position[0], start.position[1] + 0.1, start.position[2]];
+  await page.click('#line-go');
+  await page.waitForFunction(() => document.querySelector('#line-result').textContent.includes('move_linear: OK, the TCP arrives in'),
+    null, { timeout: 5000 });
+  await waitMode(page, 'PVT', 5000);
+  let worst = 0;
+  await waitUntil('the true TCP at the line\'s target, at rest', 20000, async () => {
+    const t = await json.truth();
+    const now = tcpOf(model.links, t.position, tcp).position;
+    worst = Math.max(worst, Math.hypot(now[0] - start.position[0], now[2] - start.position[2]));
+    return norm(minus(now, goal)) < 1e-3 && maxAbs(t.velocity) < 0.05;
+  });
+  assert.ok(worst < 1e-3, `${worst} m off the line`);
+  const c = await waitUntil('the commanded line to end', 10000, async () => {
+    const s = await json.status();
+    return s.axis_states.velocity.every((v) => v === 0) ? s.cartesian_state : null;
+  });
+  assert.ok(orientationAngleDeg(c.orientation, here.orientation) < 0.1, `turned ${c.orientation} from ${here.orientation}`);
+
+  // An unreachable target is refused in the MCM's words; nothing moves.
+  const before = (await json.waitAtRest('the arm settled at the line\'s end', 5000)).truth.position;
+  await setField(page, '#line-x', 3000);
+  await page.click('#line-go');
+  await page.waitForFunction(() => document.querySelector('#line-result').textContent.includes('move_linear refused'),
+    null, { timeout: 5000 });
+  const after = await json.truth();
+  assert.ok(maxDiff(after.position, before) < 0.01 && maxAbs(after.velocity) < 0.05, `moved: ${before} -> ${after.position}`);
 }));

@@ -238,23 +238,47 @@ export async function screenshot(page, name) {
   await page.screenshot({ path: path.join(dir, `${name}.png`) });
 }
 
-/// The flange's position [m] for joint angles `q_deg` and the standard DH links of
-/// /api/model: frame i = frame i-1 * RotZ(q_i + offset_i) * TransZ(d_i) * TransX(a_i) * RotX(alpha_i).
-export function flange(links, qDeg) {
+const mul4 = (a, b) => a.map((row) => b[0].map((_, j) => row.reduce((s, x, k) => s + x * b[k][j], 0)));
+
+/// The flange's pose (a 4x4 matrix, metres) for joint angles `q_deg` and the standard DH links
+/// of /api/model: frame i = frame i-1 * RotZ(q_i + offset_i) * TransZ(d_i) * TransX(a_i) * RotX(alpha_i).
+export function flangeMatrix(links, qDeg) {
   let m = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]];
-  const mul = (a, b) => a.map((row) => b[0].map((_, j) => row.reduce((s, x, k) => s + x * b[k][j], 0)));
   links.forEach((l, i) => {
     const th = ((qDeg[i] + l.offset_deg) * Math.PI) / 180;
     const al = (l.alpha_deg * Math.PI) / 180;
     const [ct, st, ca, sa] = [Math.cos(th), Math.sin(th), Math.cos(al), Math.sin(al)];
-    m = mul(m, [
+    m = mul4(m, [
       [ct, -st * ca, st * sa, l.a * ct],
       [st, ct * ca, -ct * sa, l.a * st],
       [0, sa, ca, l.d],
       [0, 0, 0, 1],
     ]);
   });
+  return m;
+}
+
+/// The flange's position [m] (of [`flangeMatrix`]).
+export function flange(links, qDeg) {
+  const m = flangeMatrix(links, qDeg);
   return [m[0][3], m[1][3], m[2][3]];
+}
+
+/// The TCP for joint angles `q_deg`, the tool's `tcp` ({position [m], orientation [x, y, z, w]}
+/// in the flange frame, as `detail.tool.tcp`): its position [m] and the columns of its
+/// rotation (its x, y and z axes in the base frame).
+export function tcpOf(links, qDeg, tcp) {
+  const [x, y, z, w] = tcp.orientation;
+  const [px, py, pz] = tcp.position;
+  const t = [
+    [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w), px],
+    [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w), py],
+    [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y), pz],
+    [0, 0, 0, 1],
+  ];
+  const m = mul4(flangeMatrix(links, qDeg), t);
+  const column = (j) => [m[0][j], m[1][j], m[2][j]];
+  return { position: column(3), axes: [column(0), column(1), column(2)] };
 }
 
 /// The angle [deg] between two orientations written as quaternions [x, y, z, w] (q and -q are

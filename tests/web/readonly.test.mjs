@@ -52,7 +52,7 @@ test('the page says it is read-only and disables its motion controls', { timeout
   await page.waitForSelector('#readonly', { state: 'visible', timeout: 5000 });
   const banner = await page.textContent('#readonly');
   assert.ok(banner.includes('Read-only') && banner.includes('motion_networks'), banner);
-  for (const sel of ['button.jog', '#calibrate', '#move-go', '#pvt', '#release', '#take-control', '#pose-go', '#tool-set']) {
+  for (const sel of ['button.jog', '#calibrate', '#move-go', '#pvt', '#release', '#take-control', '#pose-go', '#line-go', '#tool-set']) {
     const enabled = await page.$$eval(sel, (els) => els.filter((e) => !e.disabled).map((e) => e.outerHTML));
     assert.deepEqual(enabled, [], `${sel} disabled when read-only`);
   }
