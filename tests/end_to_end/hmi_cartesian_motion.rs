@@ -206,6 +206,23 @@ fn the_jog_screen_jogs_the_tcp_along_an_axis_of_the_base_or_the_tool_frame() {
     let tilt = norm(&minus(&end.z, &start.z));
     assert!(tilt < 0.01, "its z moved by {tilt}");
 
+    // One press and no repeats (a key tapped): the jog moves for the first repeat's delay
+    // (0.7 s, about 21 mm at 30 mm/s), then stops by itself, the mode kept.
+    t.send(b"x");
+    t.expect("jog TCP along X  tool frame");
+    let start = end;
+    t.send(b"+");
+    c.wait_truth("the tap moving the arm", |_, v| {
+        v.iter().any(|x| x.abs() > 0.5)
+    });
+    let end = at_rest(&mut c, &kin, "stopped after the tap");
+    let moved = norm(&minus(&end.position, &start.position));
+    assert!(
+        (0.01..0.03).contains(&moved),
+        "a tap moved the TCP {moved} m"
+    );
+    assert_status(&c.request(STATUS), "VELOCITY_CONTROL");
+
     // `q` stops with `hold`.
     t.send(b"q");
     t.expect("jog ended; mode HOLD");
