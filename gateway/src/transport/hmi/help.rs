@@ -28,6 +28,11 @@ const SESSION: &[(&str, &str, &str)] = &[
         "move one axis while `+`/`-` (or an arrow key) is held; `q` leaves (VELOCITY_CONTROL)",
     ),
     (
+        "jog",
+        "jog x|y|z|rx|ry|rz [SPEED] [base|tool]",
+        "move the TCP along or about an axis while `+`/`-` is held (mm/s, deg/s)",
+    ),
+    (
         "pose",
         "pose",
         "the TCP in the base frame (mm, roll/pitch/yaw deg) and the active tool",
@@ -102,6 +107,9 @@ pub fn topic(topic: &str, cfg: &RobotConfig) -> String {
         let mut s = format!("{BOLD}{name}{RESET} - {what}\nusage:  {usage}\n");
         if matches!(*name, "pose" | "tool" | "moveto" | "movel") {
             s.push_str(super::cartesian::HELP);
+        }
+        if *name == "jog" {
+            s.push_str(super::jog::HELP);
         }
         return s;
     }

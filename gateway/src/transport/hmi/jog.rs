@@ -28,6 +28,21 @@ use mcm_shared::ranges::{Arg, Num, max_velocity_deg_s};
 use mcm_shared::sample::{STATE_CARTESIAN, StateSample};
 use std::time::{Duration, Instant};
 
+/// What `help jog` adds: both forms, the keys of the screen.
+pub const HELP: &str = "\
+        jog x|y|z|rx|ry|rz [SPEED] [base|tool]
+Hold `+` or `-` (or the arrow keys) to move; letting go stops, any other key stops at once,
+`q` stops and leaves in HOLD. An axis moves at SPEED deg/s (default 10, at most its maximum
+velocity). The TCP moves along x, y or z at SPEED mm/s (default 20, at most 1000) or turns
+about it (rx, ry, rz) at SPEED deg/s (default 10, at most 180), in the axes of the base frame
+(the default) or of the tool frame (the TCP's own, as it turns). On the TCP's screen `x` `y`
+`z` choose a direction to move along, `X` `Y` `Z` one to turn about, `f` switches the frame.
+examples:
+  jog 2 20
+  jog z 50 tool
+  jog rz 15
+";
+
 /// Interval of `set_velocities` and of the position shown.
 pub const JOG_PERIOD: Duration = Duration::from_millis(50);
 /// How long a key press counts as held before its auto-repeat starts.

@@ -83,3 +83,23 @@ fn every_command_has_help() {
         );
     }
 }
+
+#[test]
+fn help_jog_and_movel_explain_the_tcps_words() {
+    let text = strip_ansi(&overview());
+    for w in [
+        "jog AXIS [SPEED]",
+        "jog x|y|z|rx|ry|rz [SPEED] [base|tool]",
+        "movel X Y Z [ROLL PITCH YAW] [v=MM_S]",
+    ] {
+        assert!(text.contains(w), "{w}:\n{text}");
+    }
+    let text = strip_ansi(&topic("jog", &cfg()));
+    for w in ["jog z 50 tool", "`f` switches the frame", "at most 1000"] {
+        assert!(text.contains(w), "{w}:\n{text}");
+    }
+    let text = strip_ansi(&topic("movel", &cfg()));
+    for w in ["movel 400 0 400 v=100", "its speed v= is in mm/s"] {
+        assert!(text.contains(w), "{w}:\n{text}");
+    }
+}
