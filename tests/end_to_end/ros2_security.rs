@@ -246,3 +246,52 @@ fn a_node_with_an_incomplete_enclave_refuses_to_start() {
     );
     let _ = std::fs::remove_dir_all(&keystore);
 }
+
+/// The traffic on the wire is encrypted: while a read-only peer reads 200 joint states (about
+/// a second of them), every frame in the namespace is captured, and no UDP frame holds a
+/// joint's name as a CDR string, which every `joint_states` message carries in clear without
+/// DDS Security.
+#[test]
+fn the_joint_states_are_encrypted_on_the_wire() {
+    let test = "the_joint_states_are_encrypted_on_the_wire";
+    let Some(s) = setup(test, "sros-wire") else {
+        return;
+    };
+    let ns_name = s.ns.name.clone();
+    let capture = std::thread::scope(|scope| {
+        let capture = scope.spawn(|| s.ns.capture(std::time::Duration::from_secs(4)));
+        let (out, ok) = s.read(Some("viewer"), 200, 30.0);
+        assert!(ok, "{out}");
+        capture.join().expect("the capture")
+    })
+    .unwrap_or_else(|e| panic!("capture in {ns_name}: {e}"));
+    // DDS is UDP (the test's JSON client, TCP, names the joints too): IPv4 (EtherType 0x0800
+    // after the two addresses) and protocol 17 at byte 9 of the IP header.
+    let udp: Vec<&[u8]> = capture
+        .iter()
+        .filter(|f| f.len() > 34 && f[12..14] == [0x08, 0x00] && f[14 + 9] == 17)
+        .map(Vec::as_slice)
+        .collect();
+    let bytes: usize = udp.iter().map(|f| f.len()).sum();
+    assert!(bytes > 10_000, "{bytes} bytes of UDP captured");
+    for joint in JOINTS {
+        // A joint's name as a `joint_states` message carries it: a CDR string (its length with
+        // the NUL, little-endian, then the bytes and the NUL). The handshake's certificates and
+        // permissions, which DDS Security sends in clear, are text and base64.
+        let mut cdr = ((joint.len() + 1) as u32).to_le_bytes().to_vec();
+        cdr.extend_from_slice(joint.as_bytes());
+        cdr.push(0);
+        let clear: Vec<&[u8]> = udp
+            .iter()
+            .copied()
+            .filter(|f| f.windows(cdr.len()).any(|w| w == cdr))
+            .collect();
+        assert!(
+            clear.is_empty(),
+            "{joint:?} is in clear in {} of {} UDP frames ({bytes} bytes); the first: {}",
+            clear.len(),
+            udp.len(),
+            clear[0].escape_ascii()
+        );
+    }
+}
