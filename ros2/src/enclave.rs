@@ -1,5 +1,5 @@
 //! DDS Security for the node: which SROS2 enclave it uses, if any, and whether the enclave's
-//! files are there and look like what they should be before DDS reads them.
+//! files are there, of their kinds and signed as they should be before DDS reads them.
 //!
 //! The enclave comes from `--ros2-enclave DIR`, or from the variables SROS2 names:
 //! `ROS_SECURITY_ENABLE=true` with `ROS_SECURITY_KEYSTORE` (the keystore) and
@@ -129,6 +129,8 @@ pub enum EnclaveError {
         file: PathBuf,
         expected: &'static str,
     },
+    #[error("the enclave's file {file} {problem}")]
+    Signature { file: PathBuf, problem: String },
 }
 
 /// The enclave to use: `--ros2-enclave` (`flag`) first, else SROS2's variables (`env`).
@@ -229,6 +231,74 @@ pub fn check_files(dir: &Path) -> Result<(), EnclaveError> {
         holds
             .check(&String::from_utf8_lossy(&text))
             .map_err(|expected| EnclaveError::Content { file, expected })?;
+    }
+    check_signatures(dir)
+}
+
+/// Whether the enclave's files fit together: `cert.pem` signed by `identity_ca.cert.pem`,
+/// `key.pem` the key of `cert.pem`, `governance.p7s` and `permissions.p7s` signed by
+/// `permissions_ca.cert.pem`. DDS Security checks the same when the participant is made, but
+/// without naming the file.
+fn check_signatures(dir: &Path) -> Result<(), EnclaveError> {
+    use openssl::pkcs7::{Pkcs7, Pkcs7Flags};
+    use openssl::pkey::PKey;
+    use openssl::stack::Stack;
+    use openssl::x509::X509;
+    use openssl::x509::store::X509StoreBuilder;
+    let bad = |name: &str, problem: String| EnclaveError::Signature {
+        file: dir.join(name),
+        problem,
+    };
+    // The files were read and checked for their kind just before: a failure now is a file
+    // that looks right and is not.
+    let read = |name: &str| std::fs::read(dir.join(name)).map_err(|e| bad(name, e.to_string()));
+    let cert = |name: &str| X509::from_pem(&read(name)?).map_err(|e| bad(name, e.to_string()));
+    let identity_ca = cert("identity_ca.cert.pem")?;
+    let own = cert("cert.pem")?;
+    let signed_by_ca = identity_ca
+        .public_key()
+        .and_then(|k| own.verify(&k))
+        .map_err(|e| bad("identity_ca.cert.pem", e.to_string()))?;
+    if !signed_by_ca {
+        return Err(bad(
+            "cert.pem",
+            "is not signed by the identity CA (identity_ca.cert.pem)".into(),
+        ));
+    }
+    let key =
+        PKey::private_key_from_pem(&read("key.pem")?).map_err(|e| bad("key.pem", e.to_string()))?;
+    let cert_key = own
+        .public_key()
+        .map_err(|e| bad("cert.pem", e.to_string()))?;
+    if !cert_key.public_eq(&key) {
+        return Err(bad(
+            "key.pem",
+            "is not the key of the certificate cert.pem".into(),
+        ));
+    }
+    let permissions_ca = cert("permissions_ca.cert.pem")?;
+    for name in ["governance.p7s", "permissions.p7s"] {
+        let (pkcs7, content) =
+            Pkcs7::from_smime(&read(name)?).map_err(|e| bad(name, e.to_string()))?;
+        let mut store = X509StoreBuilder::new().map_err(|e| bad(name, e.to_string()))?;
+        store
+            .add_cert(permissions_ca.clone())
+            .map_err(|e| bad("permissions_ca.cert.pem", e.to_string()))?;
+        let no_more = Stack::new().map_err(|e| bad(name, e.to_string()))?;
+        pkcs7
+            .verify(
+                &no_more,
+                &store.build(),
+                content.as_deref(),
+                None,
+                Pkcs7Flags::empty(),
+            )
+            .map_err(|e| {
+                bad(
+                    name,
+                    format!("is not signed by the permissions CA (permissions_ca.cert.pem): {e}"),
+                )
+            })?;
     }
     Ok(())
 }

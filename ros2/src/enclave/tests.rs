@@ -16,19 +16,31 @@ fn scratch() -> PathBuf {
 
 const CERT: &str = "-----BEGIN CERTIFICATE-----\nMII\n-----END CERTIFICATE-----\n";
 const KEY: &str = "-----BEGIN PRIVATE KEY-----\nMIG\n-----END PRIVATE KEY-----\n";
-const SIGNED: &str = "MIME-Version: 1.0\nContent-Type: multipart/signed; \
-                      protocol=\"application/x-pkcs7-signature\"\n";
 
-/// An enclave of six files of the right kinds in `dir`.
+/// A keystore made by `scripts/ros2-keystore` (openssl) in `ks`, with the enclaves `/mcm` and
+/// `/viewer`.
+fn keystore_in(ks: &Path) {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/ros2-keystore");
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(&script)
+            .args(args)
+            .output()
+            .expect("run scripts/ros2-keystore (needs openssl)");
+        assert!(out.status.success(), "{args:?}: {out:?}");
+    };
+    let k = ks.to_str().unwrap();
+    run(&["init", k]);
+    run(&["enclave", k, "/mcm", "node"]);
+    run(&["enclave", k, "/viewer", "read-only"]);
+}
+
+/// An enclave of six files that fit together in `dir` (the `/mcm` of a new keystore).
 fn enclave_in(dir: &Path) {
+    let ks = scratch();
+    keystore_in(&ks);
     std::fs::create_dir_all(dir).unwrap();
-    for (name, holds) in FILES {
-        let text = match holds {
-            Holds::Certificate => CERT,
-            Holds::PrivateKey => KEY,
-            Holds::Signed => SIGNED,
-        };
-        std::fs::write(dir.join(name), text).unwrap();
+    for (name, _) in FILES {
+        std::fs::copy(ks.join("enclaves/mcm").join(name), dir.join(name)).unwrap();
     }
 }
 
@@ -169,4 +181,33 @@ fn unknown_values_of_the_variables_are_refused() {
         choose(None, &env(Some("yes"), None, None)),
         Err(EnclaveError::Enable("yes".into()))
     );
+}
+
+#[test]
+fn files_that_do_not_fit_together_are_refused_by_name() {
+    let ks = scratch();
+    keystore_in(&ks);
+    let other = scratch();
+    keystore_in(&other);
+    let mcm = ks.join("enclaves/mcm");
+    // (the file replaced, where from)
+    let cases = [
+        ("cert.pem", other.join("enclaves/mcm")),
+        ("key.pem", ks.join("enclaves/viewer")),
+        ("governance.p7s", other.join("enclaves/mcm")),
+        ("permissions.p7s", other.join("enclaves/mcm")),
+    ];
+    for (name, from) in cases {
+        let dir = scratch();
+        for (f, _) in FILES {
+            std::fs::copy(mcm.join(f), dir.join(f)).unwrap();
+        }
+        assert_eq!(check_files(&dir), Ok(()));
+        std::fs::copy(from.join(name), dir.join(name)).unwrap();
+        let e = check_files(&dir).unwrap_err();
+        assert!(
+            matches!(&e, EnclaveError::Signature { file, .. } if file == &dir.join(name)),
+            "{name}: {e}"
+        );
+    }
 }
