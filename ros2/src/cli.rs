@@ -2,6 +2,7 @@
 
 use crate::access::Access;
 use crate::distro::RosDistro;
+use crate::enclave::{self, SecurityEnv};
 use crate::node::{Ros2Options, run};
 use clap::Parser;
 use mcm_shared::cli::CommonArgs;
@@ -61,6 +62,13 @@ pub struct Cli {
     /// where not everyone may move the arm; docs/security.md).
     #[arg(long = "ros2-read-only")]
     pub read_only: bool,
+    /// Use DDS Security with this SROS2 enclave (a directory of identity_ca.cert.pem,
+    /// cert.pem, key.pem, permissions_ca.cert.pem, governance.p7s and permissions.p7s;
+    /// docs/security.md). Without it, ROS_SECURITY_ENABLE=true with ROS_SECURITY_KEYSTORE
+    /// (and ROS_SECURITY_ENCLAVE_OVERRIDE, default /mcm) chooses the enclave, as SROS2 does;
+    /// ROS_SECURITY_STRATEGY=Enforce refuses to run without one.
+    #[arg(long = "ros2-enclave", value_name = "DIR")]
+    pub enclave: Option<PathBuf>,
 }
 
 fn parse_lead(s: &str) -> Result<f64, String> {
@@ -129,6 +137,19 @@ where
         distro
     });
     eprintln!("mcm-ros2: serving ROS 2 {distro}'s peers");
+    let security = match enclave::choose(cli.enclave.as_deref(), &SecurityEnv::from_process()) {
+        Ok(chosen) => {
+            if let Some(w) = chosen.warning {
+                eprintln!("mcm-ros2: {w}");
+            }
+            eprintln!("mcm-ros2: DDS Security: {}", chosen.security);
+            chosen.security
+        }
+        Err(e) => {
+            eprintln!("mcm-ros2: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
     let stop = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGINT] {
         if let Err(e) = signal_hook::flag::register(sig, Arc::clone(&stop)) {
@@ -149,6 +170,7 @@ where
         service_mapping: cli.service_mapping,
         distro,
         access: Access::from_read_only(cli.read_only),
+        security,
     };
     match run(opts, &stop) {
         Ok(()) => ExitCode::SUCCESS,

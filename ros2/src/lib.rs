@@ -12,6 +12,7 @@
 //! - [`urdf`] generates the robot description from the configuration.
 //! - [`msgs`] are the ROS 2 messages as serde structs; [`distro`] is the distribution served
 //!   and what differs between them.
+//! - [`enclave`] chooses and checks the SROS2 enclave of DDS Security.
 //! - [`dds_threads`] tells whether DDS still runs in the process.
 //! - [`allocator`] gives back the memory of large received samples.
 
@@ -24,6 +25,7 @@ pub mod convert;
 pub mod dds_threads;
 pub mod distro;
 pub mod driver;
+pub mod enclave;
 pub mod motion;
 pub mod msgs;
 pub mod node;

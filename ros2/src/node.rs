@@ -12,6 +12,7 @@ use crate::arm::{Arm, ArmError};
 use crate::convert::JointStates;
 use crate::distro::RosDistro;
 use crate::driver::{Driver, DriverOptions, Event};
+use crate::enclave::Security;
 use crate::motion::{Motion, ServiceKind, Services, ToArm};
 use crate::msgs::std_msgs::StringMsg;
 use crate::msgs::trajectory::JointTrajectory;
@@ -20,7 +21,7 @@ use mcm_client::shm::{OpenError, RequestError, ShmClient};
 use mcm_shared::config::RobotConfig;
 use ros2_client::action::ActionServerQosPolicies;
 use ros2_client::action::GoalId;
-use ros2_client::dds::rustdds::DomainParticipantBuilder;
+use ros2_client::dds::rustdds::{DomainParticipantBuilder, DomainParticipantSecurityConfigFiles};
 use ros2_client::dds::{Context, ServiceMapping, Subscription};
 use ros2_client::qos::{Durability, History, Reliability, WhenFull};
 use ros2_client::{
@@ -55,6 +56,8 @@ pub struct Ros2Options {
     pub distro: RosDistro,
     /// Whether the motion interface is offered.
     pub access: Access,
+    /// DDS Security: off, or the enclave the participant authenticates with.
+    pub security: Security,
 }
 
 /// Why the node stopped.
@@ -68,6 +71,8 @@ pub enum Ros2Error {
     Info(RequestError),
     #[error("cannot start DDS (domain {domain_id}): {detail}")]
     Dds { domain_id: u16, detail: String },
+    #[error("cannot start DDS Security with the enclave {enclave}: {detail}")]
+    Security { enclave: PathBuf, detail: String },
     #[error("invalid ROS name {what} {value:?}: {detail}")]
     Name {
         what: &'static str,
@@ -144,7 +149,19 @@ pub fn run(opts: Ros2Options, stop: &AtomicBool) -> Result<(), Ros2Error> {
     if !opts.dds_interfaces.is_empty() {
         builder = builder.with_only_networks(opts.dds_interfaces.iter().copied());
     }
-    let participant = builder.build().map_err(|e| de(&e))?;
+    if let Security::Enclave(dir) = &opts.security {
+        // The enclave's key has no password (enclave::check_files refuses an encrypted one).
+        builder = builder.builtin_security(
+            DomainParticipantSecurityConfigFiles::with_ros_default_names(dir, String::new()),
+        );
+    }
+    let participant = builder.build().map_err(|e| match &opts.security {
+        Security::Enclave(dir) => Ros2Error::Security {
+            enclave: dir.clone(),
+            detail: e.to_string(),
+        },
+        Security::Off => de(&e),
+    })?;
     let dds = crate::dds_threads::DdsThreads::find();
     let context = Context::from_domain_participant(participant).map_err(|e| de(&e))?;
     let name_err = |what: &'static str, value: &str| {

@@ -11,6 +11,7 @@ pub mod machine;
 pub mod netns;
 pub mod python;
 pub mod ros2;
+pub mod secure_peer;
 pub mod square;
 pub mod tcp;
 pub mod virtual_arm;

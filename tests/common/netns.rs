@@ -10,7 +10,7 @@
 
 use std::ffi::OsStr;
 use std::net::{SocketAddr, TcpStream};
-use std::os::fd::AsRawFd;
+use std::os::fd::{AsRawFd, FromRawFd};
 use std::process::Command;
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -92,6 +92,60 @@ impl Netns {
         })
         .join()
         .expect("the connecting thread does not panic")
+    }
+
+    /// Every frame on every interface of this namespace for `duration` (an `AF_PACKET` socket,
+    /// which needs root like the namespace itself), each with its Ethernet header: what a
+    /// program watching the namespace's network sees.
+    pub fn capture(&self, duration: std::time::Duration) -> std::io::Result<Vec<Vec<u8>>> {
+        let file = std::fs::File::open(format!("/run/netns/{}", self.name))?;
+        std::thread::spawn(move || {
+            // SAFETY: `file` is an open namespace file for the whole call; setns changes only
+            // this (short-lived) thread's network namespace.
+            if unsafe { libc::setns(file.as_raw_fd(), libc::CLONE_NEWNET) } != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            let protocol = (libc::ETH_P_ALL as u16).to_be() as i32;
+            // SAFETY: a plain socket(2) call; the descriptor is owned by `fd` below.
+            let raw = unsafe { libc::socket(libc::AF_PACKET, libc::SOCK_RAW, protocol) };
+            if raw < 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            // SAFETY: `raw` is a descriptor this thread just opened and nothing else owns.
+            let fd = unsafe { std::os::fd::OwnedFd::from_raw_fd(raw) };
+            let timeout = libc::timeval {
+                tv_sec: 0,
+                tv_usec: 100_000,
+            };
+            // SAFETY: `timeout` is a valid timeval for the call's duration, its size given.
+            let r = unsafe {
+                libc::setsockopt(
+                    fd.as_raw_fd(),
+                    libc::SOL_SOCKET,
+                    libc::SO_RCVTIMEO,
+                    (&timeout as *const libc::timeval).cast(),
+                    std::mem::size_of::<libc::timeval>() as libc::socklen_t,
+                )
+            };
+            if r != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            let end = std::time::Instant::now() + duration;
+            let mut seen = Vec::new();
+            let mut frame = vec![0u8; 65536];
+            while std::time::Instant::now() < end {
+                // SAFETY: `frame` is writable for its whole length, which is passed.
+                let n = unsafe {
+                    libc::recv(fd.as_raw_fd(), frame.as_mut_ptr().cast(), frame.len(), 0)
+                };
+                if n > 0 {
+                    seen.push(frame[..n as usize].to_vec());
+                }
+            }
+            Ok(seen)
+        })
+        .join()
+        .expect("the capturing thread does not panic")
     }
 
     /// A command that runs `program` inside this namespace.

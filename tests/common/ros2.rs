@@ -195,6 +195,26 @@ pub fn joint_values(out: &str, prefix: &str) -> Vec<(String, f64)> {
         .collect()
 }
 
+/// The simulated arm's joints, in order.
+pub const JOINTS: [&str; 6] = ["base", "shoulder", "elbow", "forearm", "wrist", "flange"];
+
+/// The last `at: name=deg ...` line of a peer's output `out` names the simulated arm's joints in
+/// order, each within 0.01 deg of the position the MCM measures now (`json`'s `status`): what
+/// the peer decoded is the arm's state.
+pub fn assert_read_the_arm(out: &str, json: &mut super::Client) {
+    let at = joint_values(out, "at: ");
+    let measured = super::six(&json.request(r#"{"command":"status"}"#)["axis_states"]["position"]);
+    assert_eq!(at.len(), 6, "{out}");
+    for (i, (n, deg)) in at.iter().enumerate() {
+        assert_eq!(n, JOINTS[i], "{out}");
+        assert!(
+            (deg - measured[i]).abs() < 0.01,
+            "{n}: the peer read {deg} deg, the MCM measures {} deg",
+            measured[i]
+        );
+    }
+}
+
 /// `tests/ros2/` of the repository.
 pub fn dir() -> PathBuf {
     super::python::repo_root().join("tests").join("ros2")

@@ -55,6 +55,7 @@ mod release;
 mod replan;
 mod ros2;
 mod ros2_read_only;
+mod ros2_security;
 mod ros2_venv;
 mod safety;
 mod sd_notify;

@@ -11,7 +11,7 @@ use crate::common;
 
 use common::Client;
 use common::netns::Netns;
-use common::ros2::{self, Distro, joint_values, mcm_in};
+use common::ros2::{self, Distro, mcm_in};
 use mcm_client::launch::SimulatedMcm;
 use std::path::Path;
 use std::time::Duration;
@@ -186,18 +186,7 @@ fn cyclone_dds_reads_the_joint_states() {
     );
     let out = lines.join("\n");
     assert!(out.contains("ok cyclone_joint_states messages="), "{out}");
-    let at = joint_values(&out, "at: ");
-    let measured = common::six(&json.request(r#"{"command":"status"}"#)["axis_states"]["position"]);
-    let names = ["base", "shoulder", "elbow", "forearm", "wrist", "flange"];
-    assert_eq!(at.len(), 6, "{out}");
-    for (i, (n, deg)) in at.iter().enumerate() {
-        assert_eq!(n, names[i], "{out}");
-        assert!(
-            (deg - measured[i]).abs() < 0.01,
-            "{n}: Cyclone DDS read {deg} deg, the MCM measures {} deg",
-            measured[i]
-        );
-    }
+    ros2::assert_read_the_arm(&out, &mut json);
 }
 
 /// The pid of the `mcm-ros2` process serving `instance` (its command line is `mcm-ros2 ros2

@@ -305,10 +305,17 @@ pub const ECDSA_SIGNATURE_ALGO_NAME: &[u8] = b"ECDSA-SHA256";
 
 // Recognize standard string constatns and convert to
 // corresponging algorithm identifiers in ring library.
+/// An algorithm name as a peer sends it in a handshake, without the terminating NUL that some
+/// implementations (Cyclone DDS) include in the property's bytes. Only for recognising the
+/// name: hashes and signatures cover the bytes as sent.
+pub(crate) fn algo_name(bytes: &[u8]) -> &[u8] {
+  bytes.strip_suffix(&[0]).unwrap_or(bytes)
+}
+
 pub(crate) fn parse_signature_algo_name_to_ring(
-  algo_name: &[u8],
+  name: &[u8],
 ) -> SecurityResult<&'static dyn ring::signature::VerificationAlgorithm> {
-  match algo_name {
+  match algo_name(name) {
     RSA_SIGNATURE_ALGO_NAME => Ok(&ring::signature::RSA_PSS_2048_8192_SHA256),
     ECDSA_SIGNATURE_ALGO_NAME => Ok(&ring::signature::ECDSA_P256_SHA256_ASN1),
     _other =>

@@ -290,7 +290,19 @@ impl TryFrom<Vec<CryptoToken>> for KeyMaterial_AES_GCM_GMAC_seq {
 impl TryFrom<KeyMaterial_AES_GCM_GMAC_seq> for Vec<CryptoToken> {
   type Error = SecurityError;
   fn try_from(key_materials: KeyMaterial_AES_GCM_GMAC_seq) -> Result<Self, Self::Error> {
-    Vec::from(key_materials)
+    let key_materials = match key_materials {
+      // A payload key material of kind NONE (the payload is not protected) is not sent: a peer
+      // takes a second token for the payload's key, and Cyclone DDS refuses one of kind NONE
+      // for an endpoint whose submessages are protected (the built-in secure endpoints).
+      KeyMaterial_AES_GCM_GMAC_seq::Two(key_material, payload_key_material)
+        if payload_key_material.transformation_kind
+          == BuiltinCryptoTransformationKind::CRYPTO_TRANSFORMATION_KIND_NONE =>
+      {
+        vec![key_material]
+      }
+      other => Vec::from(other),
+    };
+    key_materials
       .iter()
       .map(|key_material| CryptoToken::try_from(key_material.clone()))
       .collect()
