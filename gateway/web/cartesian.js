@@ -164,10 +164,10 @@ function lineArgs($, onError) {
     onError('straight line: the speed [mm/s] is not a number');
     return null;
   }
-  const mm = raw.slice(0, 3).map(Number);
-  const args = { position: mm.map((x) => x / MM), velocity: v / MM };
-  if (!keep) args.orientation = quaternionFromRpy(raw.slice(3).map(Number));
-  return args;
+  const pose = poseOfPeople(raw.slice(0, 3).map(Number), keep ? [0, 0, 0] : raw.slice(3).map(Number));
+  return keep
+    ? { position: pose.position, velocity: v / MM }
+    : { ...pose, velocity: v / MM };
 }
 
 /** The solutions of an `inverse_kinematics` reply (or its refusal) as a table. */
