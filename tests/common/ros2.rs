@@ -104,6 +104,19 @@ pub fn mcm_in(ns: &Netns, instance: &str, distro: Distro, ros2_args: &[String]) 
     .unwrap_or_else(|e| panic!("start mcm --ros2 in {}: {e}", ns.name))
 }
 
+/// A JSON client of `mcm` from inside `ns`, once the drives are online and the arm calibrated,
+/// control released again, so that the node (or any other client) may take it.
+pub fn calibrated_client(ns: &Netns, mcm: &SimulatedMcm) -> super::Client {
+    let mut json = super::Client::on(
+        ns.connect(mcm.json)
+            .expect("the JSON port, from the namespace"),
+    );
+    json.wait_drives_online();
+    super::assert_ok(&json.request(r#"{"command":"calibrate"}"#));
+    super::assert_ok(&json.request(r#"{"command":"release_control"}"#));
+    json
+}
+
 /// Start `script args...` with the venv's Python `py` inside `ns`, in the ROS 2 domain
 /// `domain`: its name (for messages), the child, and its stdout lines (each also echoed as
 /// `[name] line`) as they come.

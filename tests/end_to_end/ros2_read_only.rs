@@ -7,7 +7,7 @@ use crate::ros2::expect_checks;
 
 use common::netns::Netns;
 use common::ros2::{self, Distro, mcm_in};
-use common::{Client, assert_ok};
+
 use std::time::Duration;
 
 /// A read-only node on a calibrated arm that nobody controls (so any motion interface would
@@ -33,13 +33,7 @@ fn a_read_only_node_offers_no_motion_interface() {
         Distro::Kilted,
         &[format!("--domain-id={domain}"), "--ros2-read-only".into()],
     );
-    let mut json = Client::on(
-        ns.connect(mcm.json)
-            .expect("the JSON port, from the namespace"),
-    );
-    json.wait_drives_online();
-    assert_ok(&json.request(r#"{"command":"calibrate"}"#));
-    assert_ok(&json.request(r#"{"command":"release_control"}"#));
+    let _json = ros2::calibrated_client(&ns, &mcm);
     let json_addr = mcm.json.to_string();
     let lines = ros2::run_in(
         &ns,

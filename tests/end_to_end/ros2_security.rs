@@ -5,10 +5,10 @@
 
 use crate::common;
 
+use common::Client;
 use common::netns::Netns;
 use common::ros2::{self, Distro, JOINTS, mcm_in};
 use common::secure_peer::{self, cyclone_config};
-use common::{Client, assert_ok};
 use mcm_client::launch::SimulatedMcm;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -39,13 +39,7 @@ fn setup(test: &str, tag: &str) -> Option<Setup> {
             format!("--ros2-enclave={}", enclave.display()),
         ],
     );
-    let mut json = Client::on(
-        ns.connect(mcm.json)
-            .expect("the JSON port, from the namespace"),
-    );
-    json.wait_drives_online();
-    assert_ok(&json.request(r#"{"command":"calibrate"}"#));
-    assert_ok(&json.request(r#"{"command":"release_control"}"#));
+    let json = ros2::calibrated_client(&ns, &mcm);
     Some(Setup {
         ns,
         domain,
