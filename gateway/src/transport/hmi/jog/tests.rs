@@ -207,3 +207,20 @@ fn the_tcp_status_line_shows_the_pose_the_direction_and_the_frame() {
         "{line}"
     );
 }
+
+/// `help jog` types the TCP's default speeds and their limits as words: they must be the
+/// constants the jog uses and the argument table's ranges `set_cartesian_velocity` takes.
+#[test]
+fn the_help_states_the_tcp_jogs_defaults_and_limits() {
+    use mcm_shared::ranges::Arg;
+    for (default, arg, per) in [
+        (DEFAULT_TCP_SPEED_MM_S, Arg::Linear, 1000.0),
+        (DEFAULT_TCP_TURN_DEG_S, Arg::Angular, 1.0),
+    ] {
+        let want = format!(
+            "(default {default}, at most {})",
+            arg.fixed_bounds().1 * per
+        );
+        assert!(HELP.contains(&want), "help jog lacks {want:?}:\n{HELP}");
+    }
+}
