@@ -71,7 +71,13 @@ fn movel_brings_the_true_tcp_along_a_line_typed_in_millimetres_and_degrees() {
         "{line}:\n{out}"
     );
     let mut worst: f64 = 0.0;
+    let deadline = std::time::Instant::now() + common::WAIT;
     let end = loop {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the true TCP not at {goal:?} and at rest within {:?}",
+            common::WAIT
+        );
         let (q, v) = c.truth();
         let now = tcp::true_tcp(&kin, &q, &v);
         // Off the line from the start to the goal: only x changes.
